@@ -1,0 +1,48 @@
+// rayspace command-line interface.
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <regex>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "rayspace/error.h"
+#include "render_command.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"rayspace: emulator and verification suite for GPU secondary-ray tracing with ray-space hierarchies"};
+  app.require_subcommand(1);
+  rayspace::app::RenderArgs render;
+  CLI::App* rc = app.add_subcommand("render", "Render a scene through the emulated pipeline and check it with an oracle");
+  rc->add_option("scene", render.scene, "Scene JSON file")->required();
+  rc->add_option("--algo", render.algo, "Tracer for secondary rays: brute (emulated direct tracer) or embree")
+      ->check(CLI::IsMember({"brute", "embree"}));
+  rc->add_option("--size", render.size, "Image size WxH (overrides the scene)");
+  rc->add_option("--out", render.out, "Output image (PNG); default <scene name>.png in the current directory");
+  rc->add_option("--stats", render.stats, "Write statistics as JSON to this file");
+  rc->add_option("--data", render.data, "Data root for mesh paths (default: $RAYSPACE_DATA)");
+  rc->add_option("--threads", render.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
+  rc->add_option("--direct", render.direct, "Direct tracer mode: auto, exhaustive or bvh")
+      ->check(CLI::IsMember({"auto", "exhaustive", "bvh"}));
+  rc->add_flag("--no-oracle", render.no_oracle, "Skip the oracle re-trace");
+  rc->add_flag("--progress", render.progress, "Print each pass and its time on stderr");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "rayspace: %s\n", e.what());
+    return 2;
+  }
+  try {
+    if (rc->parsed()) return rayspace::app::RunRender(render);
+  } catch (const rayspace::InputError& e) {
+    std::fprintf(stderr, "rayspace: error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "rayspace: failure: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

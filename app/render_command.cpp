@@ -1,0 +1,159 @@
+#include "render_command.h"
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <regex>
+
+#include <nlohmann/json.hpp>
+
+#include "rayspace/emu/frame.h"
+#include "rayspace/error.h"
+#include "rayspace/image_io.h"
+#include "rayspace/parallel.h"
+#include "rayspace/refs/embree_tracer.h"
+#include "rayspace/refs/oracle.h"
+#include "rayspace/scene.h"
+
+namespace rayspace::app {
+namespace {
+
+void ParseSize(const std::string& s, int& w, int& h) {
+  static const std::regex re(R"((\d{1,9})x(\d{1,9}))");
+  std::smatch m;
+  if (!std::regex_match(s, m, re)) ThrowInput("--size '{}': expected WxH, e.g. 512x512", s);
+  const long long lw = std::stoll(m[1]), lh = std::stoll(m[2]);
+  if (lw < 1 || lh < 1 || lw > kMaxImageSide || lh > kMaxImageSide)
+    ThrowInput("--size '{}': each side must be in [1, {}]", s, kMaxImageSide);
+  w = static_cast<int>(lw);
+  h = static_cast<int>(lh);
+}
+
+nlohmann::json RaysJson(const std::vector<std::uint64_t>& per_bounce, bool from_one) {
+  std::uint64_t total = 0;
+  nlohmann::json pb = nlohmann::json::array();
+  for (std::size_t b = from_one ? 1 : 0; b < per_bounce.size(); ++b) {
+    total += per_bounce[b];
+    pb.push_back({{"bounce", b}, {"rays", per_bounce[b]}});
+  }
+  return {{"total", total}, {"per_bounce", pb}};
+}
+
+}  // namespace
+
+int RunRender(const RenderArgs& args) {
+  if (args.threads > 0) SetThreadCount(args.threads);
+  LoadOptions lo;
+  lo.data_root = args.data;
+  const Scene scene = LoadScene(args.scene, lo);
+  emu::FrameOptions fo;
+  fo.width = scene.width;
+  fo.height = scene.height;
+  if (!args.size.empty()) ParseSize(args.size, fo.width, fo.height);
+  fo.progress = args.progress;
+  const std::string out = args.out.empty() ? scene.name + ".png" : args.out;
+  {  // Fail on an unwritable output before spending time on the frame.
+    std::ofstream probe(out, std::ios::app);
+    if (!probe) ThrowInput("{}: cannot write the output image", out);
+  }
+
+  const SceneBuffers buffers = FlattenScene(scene);
+  const emu::DirectMode mode = args.direct == "exhaustive" ? emu::DirectMode::kExhaustive
+                               : args.direct == "bvh"      ? emu::DirectMode::kBvh
+                                                           : emu::DirectMode::kAuto;
+  std::unique_ptr<Tracer> direct = emu::MakeDirectTracer(buffers, mode);
+  std::unique_ptr<Tracer> embree = refs::MakeEmbreeTracer(buffers, ThreadCount());
+  Tracer& frame_tracer = args.algo == "embree" ? *embree : *direct;
+  Tracer& oracle_tracer = args.algo == "embree" ? *direct : *embree;
+
+  refs::Oracle oracle(oracle_tracer, buffers);
+  double oracle_ms = 0.0;
+  emu::BatchObserver observer;
+  if (!args.no_oracle) {
+    observer = [&](const emu::Batch& b) {
+      const auto t0 = std::chrono::steady_clock::now();
+      oracle.Check(b);
+      oracle_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    };
+  }
+  emu::FrameResult r = emu::RenderFrame(scene, buffers, frame_tracer, fo, observer);
+  WriteImage(out, r.width, r.height, r.rgb);
+
+  nlohmann::json j;
+  j["scene"] = scene.name;
+  j["scene_file"] = args.scene;
+  j["triangles"] = r.triangles;
+  j["objects"] = scene.objects.size();
+  j["width"] = r.width;
+  j["height"] = r.height;
+  j["max_depth"] = scene.max_depth;
+  j["lights"] = scene.lights.size();
+  j["algorithm"] = args.algo;
+  nlohmann::json tracer;
+  frame_tracer.Describe(tracer);
+  j["tracer"] = tracer;
+  j["threads"] = ThreadCount();
+  j["rays"] = {{"shadow", RaysJson(r.rays[gpu::kRayShadow], false)},
+               {"reflection", RaysJson(r.rays[gpu::kRayReflection], true)},
+               {"refraction", RaysJson(r.rays[gpu::kRayRefraction], true)}};
+  nlohmann::json oj;
+  if (args.no_oracle) {
+    oj = {{"name", "none"}, {"rays_checked", 0}, {"mismatches", 0}, {"skipped", true}};
+  } else {
+    oracle.Report(oj, 100);
+    oj["ms"] = oracle_ms;
+  }
+  j["oracle"] = oj;
+  nlohmann::json passes = nlohmann::json::array();
+  for (const emu::PassRecord& p : r.passes) {
+    nlohmann::json pj = {{"name", p.name}, {"ran", p.ran}};
+    if (p.ran) {
+      pj["ms"] = p.ms;
+      pj["elements"] = p.elements;
+    } else {
+      pj["reason"] = p.reason;
+    }
+    passes.push_back(pj);
+  }
+  j["passes"] = passes;
+  j["digest"] = HexDigest(r.digest.Frame());
+  nlohmann::json buffers_json = nlohmann::json::array();
+  for (const auto& e : r.digest.entries())
+    buffers_json.push_back({{"pass", e.pass}, {"buffer", e.buffer}, {"bytes", e.bytes}, {"hash", HexDigest(e.hash)}});
+  j["buffer_digests"] = buffers_json;
+  j["frame_ms"] = r.total_ms;
+  j["image"] = out;
+  if (!args.stats.empty()) {
+    std::ofstream f(args.stats);
+    if (!f) ThrowInput("{}: cannot write the statistics file", args.stats);
+    f << j.dump(2) << "\n";
+  }
+
+  // Human-readable summary.
+  std::printf("rayspace render: %s (%zu triangles in %zu objects, %dx%d, max_depth %d, %zu light%s)\n",
+              scene.name.c_str(), r.triangles, scene.objects.size(), r.width, r.height, scene.max_depth,
+              scene.lights.size(), scene.lights.size() == 1 ? "" : "s");
+  std::printf("  tracer      %s (%s)\n", args.algo.c_str(), tracer.value("mode", tracer.value("isa", "")).c_str());
+  for (std::uint32_t k = 0; k < 3; ++k) {
+    std::string per;
+    for (std::size_t b = k == 0 ? 0 : 1; b < r.rays[k].size(); ++b)
+      per += fmt::format("{}b{}={}", per.empty() ? "" : " ", b, r.rays[k][b]);
+    std::printf("  %-11s %s\n", emu::RayKindName(k), per.empty() ? "-" : per.c_str());
+  }
+  for (const emu::PassRecord& p : r.passes)
+    if (!p.ran && p.name.rfind("trace.", 0) == 0) std::printf("  skipped     %s: %s\n", p.name.c_str(), p.reason.c_str());
+  if (args.no_oracle) {
+    std::printf("  oracle      skipped\n");
+  } else {
+    std::printf("  oracle      %s: %zu rays checked, %zu mismatches, %zu ties (same distance, shared edge)\n",
+                oj["name"].get<std::string>().c_str(), oracle.rays_checked(), oracle.mismatches().size(),
+                oracle.ties().size());
+  }
+  std::printf("  frame       %.1f ms (oracle %.1f ms)\n", r.total_ms, oracle_ms);
+  std::printf("  digest      %s\n", HexDigest(r.digest.Frame()).c_str());
+  std::printf("  image       %s\n", out.c_str());
+  if (!args.stats.empty()) std::printf("  stats       %s\n", args.stats.c_str());
+  return oracle.mismatches().empty() ? 0 : 3;
+}
+
+}  // namespace rayspace::app

@@ -1,0 +1,36 @@
+// ParallelFor: the one way emulated passes run in parallel. Each element's work must depend only on
+// its index and the pass inputs, so the output is the same for every thread count and schedule.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+
+namespace rayspace {
+
+// Threads used by ParallelFor (0 = OpenMP default). Set once from --threads.
+void SetThreadCount(int n);
+int ThreadCount();
+
+// Elements per scheduling chunk (0 = static even split). Tests vary it to prove schedule independence.
+void SetChunkSize(std::size_t n);
+
+// Runs fn(i) for i in [0, n). `name` labels the loop in logs and timing reports.
+void ParallelFor(const char* name, std::size_t n, const std::function<void(std::size_t)>& fn);
+
+// Sets the CPU's flush-to-zero and denormals-are-zero modes on the calling thread for the lifetime
+// of the object: lavapipe runs its whole draw path (vertex, clip, setup, fragment) in that mode.
+class ScopedFtzDaz {
+ public:
+  ScopedFtzDaz();
+  ~ScopedFtzDaz();
+  ScopedFtzDaz(const ScopedFtzDaz&) = delete;
+  ScopedFtzDaz& operator=(const ScopedFtzDaz&) = delete;
+
+ private:
+  unsigned saved_;
+};
+
+// ParallelFor whose body runs with FTZ/DAZ set on every worker thread.
+void ParallelForFtz(const char* name, std::size_t n, const std::function<void(std::size_t)>& fn);
+
+}  // namespace rayspace

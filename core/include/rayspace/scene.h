@@ -1,0 +1,87 @@
+// The scene model after loading: everything in world space, ready to flatten into GPU buffers.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace rayspace {
+
+struct CameraDesc {
+  glm::vec3 eye{0, 0, 1};
+  glm::vec3 target{0, 0, 0};
+  glm::vec3 up{0, 1, 0};
+  float fov_y_deg = 60.0f;
+};
+
+struct LightDesc {
+  glm::vec3 position{0};
+  glm::vec3 color{1};
+  float intensity = 1.0f;
+  glm::vec3 attenuation{1, 0, 0};  // constant, linear, quadratic
+};
+
+struct MaterialDesc {
+  std::string name;
+  glm::vec3 diffuse{0.8f};
+  glm::vec3 specular{0.0f};
+  float shininess = 0.0f;     // integer exponent
+  float reflectivity = 0.0f;  // 0..1
+  float transparency = 0.0f;  // 0..1
+  float ior = 1.0f;
+};
+
+// A sub-mesh: a triangle soup with three positions (and three normals) per triangle.
+struct SubMesh {
+  std::string name;
+  std::vector<glm::vec3> positions;  // 3 per triangle
+  std::vector<glm::vec3> normals;    // 3 per triangle, or empty (face normals are used)
+  std::vector<int> material;         // per triangle: index into the owning mesh's material list, -1 none
+  std::size_t TriangleCount() const { return positions.size() / 3; }
+};
+
+struct MeshData {
+  std::vector<SubMesh> submeshes;
+  std::vector<MaterialDesc> materials;  // from MTL, or generator defaults
+};
+
+// A sub-mesh placed in the world with resolved scene-level material indices.
+struct Object {
+  std::string name;
+  std::vector<glm::vec3> positions;  // world space, 3 per triangle
+  std::vector<glm::vec3> normals;    // world space, 3 per triangle (face normals filled in if absent)
+  std::vector<std::uint32_t> material;  // per triangle, index into Scene::materials
+  std::size_t TriangleCount() const { return positions.size() / 3; }
+};
+
+struct Scene {
+  std::string name;
+  std::filesystem::path path;
+  CameraDesc camera;
+  int width = 512;
+  int height = 512;
+  std::vector<LightDesc> lights;
+  std::vector<MaterialDesc> materials;
+  std::vector<Object> objects;
+  int max_depth = 1;
+  std::size_t TriangleCount() const;
+};
+
+struct LoadOptions {
+  std::filesystem::path data_root;  // where mesh paths not found beside the scene are looked up
+};
+
+// Largest image side accepted from a scene file or --size.
+inline constexpr int kMaxImageSide = 16384;
+inline constexpr int kMaxDepth = 16;
+
+// Loads and validates a scene JSON. Throws InputError naming the file and field on bad input.
+Scene LoadScene(const std::filesystem::path& path, const LoadOptions& options);
+
+// Mesh loaders. Throw InputError naming the file (and line where known).
+MeshData LoadObj(const std::filesystem::path& path);
+MeshData LoadPly(const std::filesystem::path& path);
+MeshData LoadMesh(const std::filesystem::path& path);  // by extension
+
+}  // namespace rayspace

@@ -1,0 +1,45 @@
+// The scene flattened into the std430 buffers every pass reads, and the per-frame constants.
+#pragma once
+#include <vector>
+
+#include "rayspace/layout.h"
+#include "rayspace/scene.h"
+
+namespace rayspace {
+
+struct SceneBuffers {
+  std::vector<gpu::Triangle> triangles;
+  std::vector<gpu::TriangleNormals> normals;
+  std::vector<gpu::TriangleInfo> info;
+  std::vector<gpu::Material> materials;
+  std::vector<gpu::Light> lights;
+  std::vector<glm::uvec4> objects;  // x first triangle, y triangle count
+  glm::vec3 lo{0}, hi{0};           // bounding box of all vertices
+};
+
+SceneBuffers FlattenScene(const Scene& scene);
+
+// Relative shadow-ray shortening: a shadow ray stops at (1 - 2^-12) of the light-surface distance so
+// the surface it ends on, and coplanar neighbours within rounding, never shadow it.
+inline constexpr float kShadowTmaxFactor = 1.0f - 1.0f / 4096.0f;
+// Absolute ray epsilon relative to the scene's diagonal.
+inline constexpr double kRayEpsilonRelative = 1.0 / (1 << 20);
+
+// Camera, image size and scene-dependent epsilons for one frame (host double math, rounded once).
+gpu::FrameConstants MakeFrameConstants(const Scene& scene, const SceneBuffers& buffers, int width, int height);
+
+// Direction of the ray through the centre of pixel (px, py), exactly as the kernels compute it:
+// (pixel_origin + px * pixel_dx) + py * pixel_dy, each operation rounded to float.
+inline glm::vec3 PixelDirection(const gpu::FrameConstants& fc, std::uint32_t px, std::uint32_t py) {
+  const float fx = static_cast<float>(px), fy = static_cast<float>(py);
+  glm::vec3 d;
+  for (int k = 0; k < 3; ++k) {
+    const float a = fx * fc.pixel_dx[k];
+    const float b = fc.pixel_origin[k] + a;
+    const float c = fy * fc.pixel_dy[k];
+    d[k] = b + c;
+  }
+  return d;
+}
+
+}  // namespace rayspace

@@ -1,0 +1,59 @@
+#include "rayspace/parallel.h"
+
+#include <omp.h>
+
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
+
+namespace rayspace {
+namespace {
+int g_threads = 0;
+std::size_t g_chunk = 0;
+}  // namespace
+
+void SetThreadCount(int n) { g_threads = n; }
+int ThreadCount() { return g_threads > 0 ? g_threads : omp_get_max_threads(); }
+void SetChunkSize(std::size_t n) { g_chunk = n; }
+
+void ParallelFor(const char* /*name*/, std::size_t n, const std::function<void(std::size_t)>& fn) {
+  const long long count = static_cast<long long>(n);
+  const int threads = ThreadCount();
+  if (threads <= 1 || n < 2) {
+    for (long long i = 0; i < count; ++i) fn(static_cast<std::size_t>(i));
+    return;
+  }
+  if (g_chunk == 0) {
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (long long i = 0; i < count; ++i) fn(static_cast<std::size_t>(i));
+  } else {
+    const int chunk = static_cast<int>(g_chunk);
+#pragma omp parallel for schedule(dynamic, chunk) num_threads(threads)
+    for (long long i = 0; i < count; ++i) fn(static_cast<std::size_t>(i));
+  }
+}
+
+ScopedFtzDaz::ScopedFtzDaz() {
+#if defined(__SSE__)
+  saved_ = _mm_getcsr();
+  _mm_setcsr(saved_ | 0x8040u);  // FTZ (bit 15) | DAZ (bit 6)
+#else
+  saved_ = 0;
+#endif
+}
+
+ScopedFtzDaz::~ScopedFtzDaz() {
+#if defined(__SSE__)
+  _mm_setcsr(saved_);
+#endif
+}
+
+void ParallelForFtz(const char* name, std::size_t n, const std::function<void(std::size_t)>& fn) {
+  // The mode is per thread: set it inside each worker, around its share of the work.
+  ParallelFor(name, n, [&](std::size_t i) {
+    ScopedFtzDaz ftz;
+    fn(i);
+  });
+}
+
+}  // namespace rayspace

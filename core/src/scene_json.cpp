@@ -1,0 +1,326 @@
+// Scene JSON loader. Strict: unknown keys, wrong types and out-of-range values are errors that name
+// the file and the field path, because a typo silently ignored renders a different scene.
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <set>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/matrix_inverse.hpp>
+#include <nlohmann/json.hpp>
+
+#include "rayspace/error.h"
+#include "rayspace/procedural.h"
+#include "rayspace/scene.h"
+
+namespace rayspace {
+namespace {
+
+using nlohmann::json;
+
+struct Ctx {
+  std::string file;
+  [[noreturn]] void Fail(const std::string& field, const std::string& msg) const {
+    ThrowInput("{}: {}: {}", file, field, msg);
+  }
+};
+
+void CheckKeys(const Ctx& c, const json& j, const std::string& field, std::initializer_list<const char*> allowed) {
+  if (!j.is_object()) c.Fail(field, "expected an object");
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    bool ok = false;
+    for (const char* a : allowed) ok |= it.key() == a;
+    if (!ok) c.Fail(field + "." + it.key(), "unknown key");
+  }
+}
+
+double Number(const Ctx& c, const json& j, const std::string& field, double lo, double hi) {
+  if (!j.is_number()) c.Fail(field, "expected a number");
+  const double v = j.get<double>();
+  if (!std::isfinite(v)) c.Fail(field, "not finite");
+  if (v < lo || v > hi) c.Fail(field, fmt::format("{} out of range [{}, {}]", v, lo, hi));
+  return v;
+}
+
+int Integer(const Ctx& c, const json& j, const std::string& field, long long lo, long long hi) {
+  if (!j.is_number_integer()) c.Fail(field, "expected an integer");
+  const long long v = j.get<long long>();
+  if (v < lo || v > hi) c.Fail(field, fmt::format("{} out of range [{}, {}]", v, lo, hi));
+  return static_cast<int>(v);
+}
+
+glm::vec3 Vec3(const Ctx& c, const json& j, const std::string& field, double lo = -1e30, double hi = 1e30) {
+  if (!j.is_array() || j.size() != 3) c.Fail(field, "expected an array of 3 numbers");
+  return {static_cast<float>(Number(c, j[0], field + "[0]", lo, hi)),
+          static_cast<float>(Number(c, j[1], field + "[1]", lo, hi)),
+          static_cast<float>(Number(c, j[2], field + "[2]", lo, hi))};
+}
+
+const json& Required(const Ctx& c, const json& j, const char* key, const std::string& field) {
+  auto it = j.find(key);
+  if (it == j.end()) c.Fail(field.empty() ? key : field + "." + key, "missing");
+  return *it;
+}
+
+CameraDesc ParseCamera(const Ctx& c, const json& j) {
+  CheckKeys(c, j, "camera", {"eye", "target", "up", "fov_y_deg"});
+  CameraDesc cam;
+  cam.eye = Vec3(c, Required(c, j, "eye", "camera"), "camera.eye");
+  cam.target = Vec3(c, Required(c, j, "target", "camera"), "camera.target");
+  if (j.contains("up")) cam.up = Vec3(c, j["up"], "camera.up");
+  cam.fov_y_deg = static_cast<float>(Number(c, Required(c, j, "fov_y_deg", "camera"), "camera.fov_y_deg", 1.0, 170.0));
+  const glm::dvec3 f = glm::dvec3(cam.target) - glm::dvec3(cam.eye);
+  if (glm::length(f) == 0.0) c.Fail("camera.target", "equals camera.eye");
+  if (glm::length(glm::cross(glm::normalize(f), glm::dvec3(cam.up))) < 1e-6)
+    c.Fail("camera.up", "is zero or parallel to the viewing direction");
+  return cam;
+}
+
+MaterialDesc ParseMaterial(const Ctx& c, const std::string& name, const json& j) {
+  const std::string f = "materials." + name;
+  CheckKeys(c, j, f, {"diffuse", "specular", "shininess", "reflectivity", "transparency", "ior"});
+  MaterialDesc m;
+  m.name = name;
+  if (j.contains("diffuse")) m.diffuse = Vec3(c, j["diffuse"], f + ".diffuse", 0.0, 1e6);
+  if (j.contains("specular")) m.specular = Vec3(c, j["specular"], f + ".specular", 0.0, 1e6);
+  if (j.contains("shininess")) m.shininess = static_cast<float>(Integer(c, j["shininess"], f + ".shininess", 0, 4096));
+  if (j.contains("reflectivity")) m.reflectivity = static_cast<float>(Number(c, j["reflectivity"], f + ".reflectivity", 0, 1));
+  if (j.contains("transparency")) m.transparency = static_cast<float>(Number(c, j["transparency"], f + ".transparency", 0, 1));
+  if (j.contains("ior")) m.ior = static_cast<float>(Number(c, j["ior"], f + ".ior", 0.01, 100));
+  if (m.reflectivity + m.transparency > 1.0f) c.Fail(f, "reflectivity + transparency exceeds 1");
+  return m;
+}
+
+LightDesc ParseLight(const Ctx& c, const json& j, const std::string& f) {
+  CheckKeys(c, j, f, {"position", "color", "intensity", "attenuation"});
+  LightDesc l;
+  l.position = Vec3(c, Required(c, j, "position", f), f + ".position");
+  if (j.contains("color")) l.color = Vec3(c, j["color"], f + ".color", 0.0, 1e6);
+  if (j.contains("intensity")) l.intensity = static_cast<float>(Number(c, j["intensity"], f + ".intensity", 0.0, 1e12));
+  if (j.contains("attenuation")) l.attenuation = Vec3(c, j["attenuation"], f + ".attenuation", 0.0, 1e12);
+  if (l.attenuation.x == 0 && l.attenuation.y == 0 && l.attenuation.z == 0)
+    c.Fail(f + ".attenuation", "all zero (the light's attenuation would divide by zero)");
+  return l;
+}
+
+// Object-to-world transform: scale, then rotate about X, Y, Z in that order, then translate.
+glm::dmat4 ParseTransform(const Ctx& c, const json& j, const std::string& f) {
+  CheckKeys(c, j, f, {"translate", "rotate_deg", "scale"});
+  glm::dvec3 t(0), r(0), s(1);
+  if (j.contains("translate")) t = Vec3(c, j["translate"], f + ".translate");
+  if (j.contains("rotate_deg")) r = Vec3(c, j["rotate_deg"], f + ".rotate_deg", -3600, 3600);
+  if (j.contains("scale")) {
+    const json& sj = j["scale"];
+    if (sj.is_number()) s = glm::dvec3(Number(c, sj, f + ".scale", 1e-12, 1e12));
+    else s = Vec3(c, sj, f + ".scale", 1e-12, 1e12);
+  }
+  glm::dmat4 m = glm::translate(glm::dmat4(1.0), t);
+  m = glm::rotate(m, glm::radians(r.z), {0, 0, 1});
+  m = glm::rotate(m, glm::radians(r.y), {0, 1, 0});
+  m = glm::rotate(m, glm::radians(r.x), {1, 0, 0});
+  return glm::scale(m, s);
+}
+
+std::filesystem::path ResolveMesh(const Ctx& c, const std::string& field, const std::string& rel,
+                                  const std::filesystem::path& scene_dir, const LoadOptions& opt) {
+  const std::filesystem::path p(rel);
+  std::vector<std::filesystem::path> tried;
+  if (p.is_absolute()) {
+    tried.push_back(p);
+  } else {
+    tried.push_back(scene_dir / p);
+    std::filesystem::path root = opt.data_root;
+    if (root.empty()) {
+      if (const char* env = std::getenv("RAYSPACE_DATA")) root = env;
+    }
+    if (!root.empty()) tried.push_back(root / p);
+  }
+  for (const auto& t : tried)
+    if (std::filesystem::is_regular_file(t)) return t;
+  std::string list;
+  for (const auto& t : tried) list += (list.empty() ? "" : ", ") + t.string();
+  c.Fail(field, fmt::format("mesh '{}' not found (looked at {}{})", rel, list,
+                            tried.size() < 2 ? "; give a data root with --data DIR or RAYSPACE_DATA" : ""));
+}
+
+// Places one sub-mesh in the world. Normals go through the inverse transpose; triangles without
+// (usable) vertex normals get their face normal.
+Object PlaceSubMesh(const Ctx& c, const std::string& field, const SubMesh& sub, const glm::dmat4& m,
+                    const std::vector<std::uint32_t>& material_map, std::uint32_t fixed_material,
+                    std::uint32_t default_material) {
+  Object o;
+  o.name = sub.name;
+  const glm::dmat3 nm = glm::inverseTranspose(glm::dmat3(m));
+  const std::size_t n = sub.TriangleCount();
+  o.positions.resize(3 * n);
+  o.normals.resize(3 * n);
+  o.material.resize(n);
+  for (std::size_t t = 0; t < n; ++t) {
+    glm::dvec3 w[3];
+    for (int k = 0; k < 3; ++k) {
+      const glm::vec3 p = sub.positions[3 * t + k];
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+        c.Fail(field, fmt::format("sub-mesh '{}' triangle {} has a non-finite vertex", sub.name, t));
+      w[k] = glm::dvec3(m * glm::dvec4(glm::dvec3(p), 1.0));
+      o.positions[3 * t + k] = glm::vec3(w[k]);
+      const glm::vec3& q = o.positions[3 * t + k];
+      if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))
+        c.Fail(field, fmt::format("sub-mesh '{}' triangle {} leaves the float range after its transform", sub.name, t));
+    }
+    glm::dvec3 face = glm::cross(w[1] - w[0], w[2] - w[0]);
+    const double fl = glm::length(face);
+    face = fl > 0 ? face / fl : glm::dvec3(0, 0, 1);
+    for (int k = 0; k < 3; ++k) {
+      glm::dvec3 nrm = face;
+      if (!sub.normals.empty()) {
+        glm::dvec3 v = nm * glm::dvec3(sub.normals[3 * t + k]);
+        const double l = glm::length(v);
+        if (l > 0 && std::isfinite(l)) nrm = v / l;
+      }
+      o.normals[3 * t + k] = glm::vec3(nrm);
+    }
+    if (fixed_material != UINT32_MAX) {
+      o.material[t] = fixed_material;
+    } else {
+      const int local = sub.material.empty() ? -1 : sub.material[t];
+      o.material[t] = local >= 0 ? material_map[local] : default_material;
+    }
+  }
+  return o;
+}
+
+}  // namespace
+
+std::size_t Scene::TriangleCount() const {
+  std::size_t n = 0;
+  for (const Object& o : objects) n += o.TriangleCount();
+  return n;
+}
+
+Scene LoadScene(const std::filesystem::path& path, const LoadOptions& options) {
+  Ctx c{path.string()};
+  std::ifstream in(path, std::ios::binary);
+  if (!in) ThrowInput("{}: cannot open scene file", path.string());
+  json root;
+  try {
+    root = json::parse(in);
+  } catch (const json::parse_error& e) {
+    std::string what = e.what();
+    if (auto p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);
+    ThrowInput("{}: invalid JSON: {}", path.string(), what);
+  }
+  CheckKeys(c, root, "scene", {"name", "camera", "image", "lights", "materials", "objects", "max_depth"});
+
+  Scene s;
+  s.path = path;
+  s.name = path.stem().string();
+  if (root.contains("name")) {
+    if (!root["name"].is_string()) c.Fail("name", "expected a string");
+    s.name = root["name"].get<std::string>();
+  }
+  s.camera = ParseCamera(c, Required(c, root, "camera", ""));
+  const json& image = Required(c, root, "image", "");
+  CheckKeys(c, image, "image", {"width", "height"});
+  s.width = Integer(c, Required(c, image, "width", "image"), "image.width", 1, kMaxImageSide);
+  s.height = Integer(c, Required(c, image, "height", "image"), "image.height", 1, kMaxImageSide);
+  if (root.contains("max_depth")) s.max_depth = Integer(c, root["max_depth"], "max_depth", 0, kMaxDepth);
+
+  if (root.contains("lights")) {
+    const json& lights = root["lights"];
+    if (!lights.is_array()) c.Fail("lights", "expected an array");
+    if (lights.size() > 255) c.Fail("lights", "more than 255 lights");
+    for (std::size_t i = 0; i < lights.size(); ++i)
+      s.lights.push_back(ParseLight(c, lights[i], fmt::format("lights[{}]", i)));
+  }
+
+  std::map<std::string, std::uint32_t> by_name;
+  if (root.contains("materials")) {
+    const json& mats = root["materials"];
+    if (!mats.is_object()) c.Fail("materials", "expected an object mapping names to materials");
+    for (auto it = mats.begin(); it != mats.end(); ++it) {
+      by_name[it.key()] = static_cast<std::uint32_t>(s.materials.size());
+      s.materials.push_back(ParseMaterial(c, it.key(), it.value()));
+    }
+  }
+  auto default_material = [&]() -> std::uint32_t {
+    auto it = by_name.find("default");
+    if (it != by_name.end()) return it->second;
+    MaterialDesc d;
+    d.name = "default";
+    by_name["default"] = static_cast<std::uint32_t>(s.materials.size());
+    s.materials.push_back(d);
+    return by_name["default"];
+  };
+
+  const json& objects = Required(c, root, "objects", "");
+  if (!objects.is_array() || objects.empty()) c.Fail("objects", "expected a non-empty array");
+  const std::filesystem::path scene_dir = path.parent_path();
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    const json& oj = objects[i];
+    const std::string f = fmt::format("objects[{}]", i);
+    CheckKeys(c, oj, f, {"name", "mesh", "generator", "params", "transform", "instances", "material"});
+    const bool has_mesh = oj.contains("mesh"), has_gen = oj.contains("generator");
+    if (has_mesh == has_gen) c.Fail(f, "needs exactly one of 'mesh' or 'generator'");
+    if (oj.contains("params") && !has_gen) c.Fail(f + ".params", "only valid with 'generator'");
+    if (oj.contains("transform") && oj.contains("instances")) c.Fail(f, "give 'transform' or 'instances', not both");
+    std::string name;
+    if (oj.contains("name")) {
+      if (!oj["name"].is_string()) c.Fail(f + ".name", "expected a string");
+      name = oj["name"].get<std::string>();
+    }
+
+    MeshData mesh;
+    if (has_mesh) {
+      if (!oj["mesh"].is_string()) c.Fail(f + ".mesh", "expected a path string");
+      mesh = LoadMesh(ResolveMesh(c, f + ".mesh", oj["mesh"].get<std::string>(), scene_dir, options));
+    } else {
+      if (!oj["generator"].is_string()) c.Fail(f + ".generator", "expected a string");
+      static const json kEmpty = json::object();
+      const json& params = oj.contains("params") ? oj["params"] : kEmpty;
+      mesh = Generate(oj["generator"].get<std::string>(), params, c.file + ": " + f);
+    }
+
+    std::uint32_t fixed = UINT32_MAX;
+    if (oj.contains("material")) {
+      if (!oj["material"].is_string()) c.Fail(f + ".material", "expected a material name");
+      auto it = by_name.find(oj["material"].get<std::string>());
+      if (it == by_name.end()) c.Fail(f + ".material", fmt::format("unknown material '{}'", oj["material"].get<std::string>()));
+      fixed = it->second;
+    }
+    // Materials that come with the mesh (MTL) join the scene's list under "object/material".
+    std::vector<std::uint32_t> material_map;
+    if (fixed == UINT32_MAX) {
+      for (const MaterialDesc& m : mesh.materials) {
+        MaterialDesc copy = m;
+        copy.name = (name.empty() ? std::string("mesh") : name) + "/" + m.name;
+        material_map.push_back(static_cast<std::uint32_t>(s.materials.size()));
+        s.materials.push_back(copy);
+      }
+    }
+    const std::uint32_t dflt = fixed == UINT32_MAX ? default_material() : fixed;
+
+    std::vector<glm::dmat4> transforms;
+    if (oj.contains("instances")) {
+      const json& inst = oj["instances"];
+      if (!inst.is_array() || inst.empty()) c.Fail(f + ".instances", "expected a non-empty array of transforms");
+      for (std::size_t k = 0; k < inst.size(); ++k)
+        transforms.push_back(ParseTransform(c, inst[k], fmt::format("{}.instances[{}]", f, k)));
+    } else {
+      transforms.push_back(oj.contains("transform") ? ParseTransform(c, oj["transform"], f + ".transform") : glm::dmat4(1.0));
+    }
+    for (std::size_t k = 0; k < transforms.size(); ++k) {
+      for (const SubMesh& sub : mesh.submeshes) {
+        Object o = PlaceSubMesh(c, f, sub, transforms[k], material_map, fixed, dflt);
+        std::string base = name.empty() ? sub.name : (mesh.submeshes.size() == 1 ? name : name + "/" + sub.name);
+        o.name = transforms.size() > 1 ? fmt::format("{}#{}", base, k) : base;
+        if (o.TriangleCount() > 0) s.objects.push_back(std::move(o));
+      }
+    }
+  }
+  if (s.TriangleCount() == 0) c.Fail("objects", "the scene has no triangles");
+  if (s.TriangleCount() >= (1u << 28)) c.Fail("objects", "more than 2^28 triangles");
+  return s;
+}
+
+}  // namespace rayspace

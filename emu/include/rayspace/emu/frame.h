@@ -1,0 +1,63 @@
+// One frame through the emulated pipeline: prep, raster, then per bounce surfaces -> raygen ->
+// trim -> trace -> shade, and resolve. Which batches run follows from the scene (its lights,
+// materials and max_depth); batches that do not run are reported with the reason.
+//
+// Lifecycle: construct a FrameRunner with the scene, a tracer and an optional observer; call Run()
+// once; read the FrameResult. The observer sees every traced batch (the oracle plugs in there) and
+// lives apart from the pipeline.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "rayspace/digest.h"
+#include "rayspace/emu/passes.h"
+#include "rayspace/emu/tracer.h"
+#include "rayspace/scene.h"
+
+namespace rayspace::emu {
+
+struct PassRecord {
+  std::string name;
+  bool ran = false;
+  std::string reason;  // why it did not run
+  double ms = 0.0;
+  std::size_t elements = 0;
+};
+
+// A traced batch, as handed to the observer.
+struct Batch {
+  std::string name;  // e.g. "shadow.b0", "reflection.b1"
+  std::uint32_t kind = 0;
+  int bounce = 0;
+  const std::vector<gpu::Ray>* rays = nullptr;
+  const std::vector<std::uint64_t>* hits = nullptr;      // closest-hit batches
+  const std::vector<std::uint32_t>* occluded = nullptr;  // shadow batches
+};
+using BatchObserver = std::function<void(const Batch&)>;
+
+struct FrameResult {
+  int width = 0, height = 0;
+  std::size_t triangles = 0;
+  std::vector<PassRecord> passes;
+  // rays[kind][bounce]: shadow bounces 0..max_depth, reflection/refraction 1..max_depth (index 0 unused).
+  std::vector<std::uint64_t> rays[3];
+  DigestLog digest;
+  std::vector<std::uint8_t> rgb;
+  GBuffer gbuffer;
+  std::vector<glm::vec4> triangle_spheres, object_spheres;
+  double total_ms = 0.0;
+};
+
+struct FrameOptions {
+  int width = 0, height = 0;  // 0: the scene's size
+  bool progress = false;      // pass names and times on stderr
+};
+
+FrameResult RenderFrame(const Scene& scene, const SceneBuffers& buffers, Tracer& tracer,
+                        const FrameOptions& options, const BatchObserver& observer = {});
+
+const char* RayKindName(std::uint32_t kind);
+
+}  // namespace rayspace::emu

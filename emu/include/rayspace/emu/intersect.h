@@ -1,0 +1,117 @@
+// Per-element kernel math shared by the emulated passes. Every operation is one IEEE float
+// operation in a fixed order (the build uses -ffp-contract=off), so a GLSL kernel that performs the
+// same operations in the same order on lavapipe produces the same bits.
+#pragma once
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+#include <glm/glm.hpp>
+
+#include "rayspace/layout.h"
+
+namespace rayspace::emu {
+
+inline float Dot(glm::vec3 a, glm::vec3 b) { return (a.x * b.x + a.y * b.y) + a.z * b.z; }
+inline glm::vec3 Cross(glm::vec3 a, glm::vec3 b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+// GLSL normalize on lavapipe: v / sqrt(dot(v, v)).
+inline glm::vec3 Normalize(glm::vec3 v) {
+  const float l = std::sqrt(Dot(v, v));
+  return {v.x / l, v.y / l, v.z / l};
+}
+inline float Length(glm::vec3 v) { return std::sqrt(Dot(v, v)); }
+// GLSL min/max on lavapipe return the first operand when the second is NaN.
+inline float Min(float a, float b) { return b != b ? a : (a < b ? a : b); }
+inline float Max(float a, float b) { return b != b ? a : (a > b ? a : b); }
+inline float Clamp(float x, float lo, float hi) { return Min(Max(x, lo), hi); }
+
+inline std::uint32_t FloatBits(float f) {
+  std::uint32_t u;
+  std::memcpy(&u, &f, 4);
+  return u;
+}
+inline float BitsFloat(std::uint32_t u) {
+  float f;
+  std::memcpy(&f, &u, 4);
+  return f;
+}
+
+// x^n for an integer n >= 0 by repeated squaring, lowest bit first (no pow(): lavapipe's pow is not
+// correctly rounded). x^0 = 1.
+inline float IntPow(float x, std::uint32_t n) {
+  float result = 1.0f, base = x;
+  bool first = true;
+  while (n != 0) {
+    if (n & 1u) {
+      result = first ? base : result * base;  // avoid 1*base: lavapipe folds x*1.0 anyway
+      first = false;
+    }
+    n >>= 1;
+    if (n != 0) base = base * base;
+  }
+  return result;
+}
+
+// A closest hit packed so that the numerically smallest value is the nearest hit, ties broken by the
+// lower primitive id: (float bits of t) << 32 | primitive. t > 0, so its bits order like its value.
+inline constexpr std::uint64_t kMissPacked = ~std::uint64_t{0};
+inline std::uint64_t PackHit(float t, std::uint32_t prim) {
+  return (static_cast<std::uint64_t>(FloatBits(t)) << 32) | prim;
+}
+inline std::uint32_t HitPrim(std::uint64_t h) { return static_cast<std::uint32_t>(h); }
+inline float HitT(std::uint64_t h) { return BitsFloat(static_cast<std::uint32_t>(h >> 32)); }
+
+// Per-ray setup of the watertight ray-triangle test (Woop, Benthin, Wald 2013): the axis where the
+// direction is largest becomes z, and the ray is sheared onto +z.
+struct WatertightRay {
+  glm::vec3 org;
+  int kx, ky, kz;
+  float sx, sy, sz;
+};
+
+inline WatertightRay SetupWatertight(glm::vec3 org, glm::vec3 dir) {
+  WatertightRay r;
+  r.org = org;
+  const glm::vec3 a(std::fabs(dir.x), std::fabs(dir.y), std::fabs(dir.z));
+  int kz = 0;
+  if (a.y > a[kz]) kz = 1;
+  if (a.z > a[kz]) kz = 2;
+  int kx = kz == 2 ? 0 : kz + 1;
+  int ky = kx == 2 ? 0 : kx + 1;
+  if (dir[kz] < 0.0f) std::swap(kx, ky);  // keep the winding of the sheared triangle
+  r.kx = kx;
+  r.ky = ky;
+  r.kz = kz;
+  r.sx = dir[kx] / dir[kz];
+  r.sy = dir[ky] / dir[kz];
+  r.sz = 1.0f / dir[kz];
+  return r;
+}
+
+// Two-sided, edges inclusive. Returns true and t when the ray meets the triangle with
+// tmin < t < tmax. Watertight: a ray through a shared edge hits at least one of its triangles.
+inline bool IntersectWatertight(const WatertightRay& r, glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, float tmin,
+                                float tmax, float& t_out) {
+  const glm::vec3 A = v0 - r.org, B = v1 - r.org, C = v2 - r.org;
+  const float ax = A[r.kx] - r.sx * A[r.kz], ay = A[r.ky] - r.sy * A[r.kz];
+  const float bx = B[r.kx] - r.sx * B[r.kz], by = B[r.ky] - r.sy * B[r.kz];
+  const float cx = C[r.kx] - r.sx * C[r.kz], cy = C[r.ky] - r.sy * C[r.kz];
+  const float u = cx * by - cy * bx;
+  const float v = ax * cy - ay * cx;
+  const float w = bx * ay - by * ax;
+  if ((u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f)) return false;
+  const float det = (u + v) + w;
+  if (det == 0.0f) return false;
+  const float az = r.sz * A[r.kz], bz = r.sz * B[r.kz], cz = r.sz * C[r.kz];
+  const float tt = (u * az + v * bz) + w * cz;
+  const float t = tt / det;
+  if (!(t > tmin && t < tmax)) return false;  // also rejects NaN
+  t_out = t;
+  return true;
+}
+
+inline glm::vec3 Xyz(const glm::vec4& v) { return {v.x, v.y, v.z}; }
+
+}  // namespace rayspace::emu

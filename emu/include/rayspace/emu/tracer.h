@@ -1,0 +1,42 @@
+// Tracers answer batches of secondary rays. The emulator's direct tracer and the Embree oracle both
+// implement this interface, so a frame can be traced by either and checked by the other.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "rayspace/layout.h"
+#include "rayspace/scene_buffers.h"
+
+namespace rayspace {
+
+// Rules every tracer follows (so that answers are comparable):
+// - a ray hits triangle p at t when tmin < t < tmax (origin_tmin.w, direction_tmax.w) and p != info.y;
+// - closest hit: smallest t, ties to the lower primitive id, packed with emu::PackHit (miss = ~0);
+// - shadow rays: occluded = 1 if any such hit exists.
+class Tracer {
+ public:
+  virtual ~Tracer() = default;
+  virtual std::string Name() const = 0;
+  // Describes the configuration (ISA, build quality, ...) for reports.
+  virtual void Describe(nlohmann::json& out) const = 0;
+  virtual void Closest(const std::vector<gpu::Ray>& rays, std::vector<std::uint64_t>& hits) = 0;
+  virtual void Occluded(const std::vector<gpu::Ray>& rays, std::vector<std::uint32_t>& occluded) = 0;
+};
+
+namespace emu {
+
+enum class DirectMode { kAuto, kExhaustive, kBvh };
+
+// The emulator's direct tracer: every ray against every triangle (exhaustive) for small scenes, a
+// bounding-volume hierarchy with conservative box tests for big ones; both give identical answers.
+std::unique_ptr<Tracer> MakeDirectTracer(const SceneBuffers& scene, DirectMode mode);
+
+// Scenes up to this many triangles are traced exhaustively in kAuto mode.
+inline constexpr std::size_t kExhaustiveMaxTriangles = 2048;
+
+}  // namespace emu
+}  // namespace rayspace

@@ -1,0 +1,203 @@
+#include "rayspace/emu/frame.h"
+
+#include <chrono>
+#include <cstdio>
+
+#include "rayspace/error.h"
+
+namespace rayspace::emu {
+
+const char* RayKindName(std::uint32_t kind) {
+  switch (kind) {
+    case gpu::kRayShadow: return "shadow";
+    case gpu::kRayReflection: return "reflection";
+    case gpu::kRayRefraction: return "refraction";
+  }
+  return "unknown";
+}
+
+namespace {
+
+class Clock {
+ public:
+  Clock() : t0_(std::chrono::steady_clock::now()) {}
+  double Ms() const {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0_).count();
+  }
+
+ private:
+  std::chrono::steady_clock::time_point t0_;
+};
+
+class Runner {
+ public:
+  Runner(const Scene& scene, const SceneBuffers& b, Tracer& tracer, const FrameOptions& opt, const BatchObserver& obs)
+      : scene_(scene), b_(b), tracer_(tracer), opt_(opt), observer_(obs) {}
+
+  FrameResult Run() {
+    Clock total;
+    r_.width = opt_.width > 0 ? opt_.width : scene_.width;
+    r_.height = opt_.height > 0 ? opt_.height : scene_.height;
+    r_.triangles = b_.triangles.size();
+    const int depth = scene_.max_depth;
+    for (auto& v : r_.rays) v.assign(static_cast<std::size_t>(depth) + 1, 0);
+    fc_ = MakeFrameConstants(scene_, b_, r_.width, r_.height);
+
+    Pass("prep", [&] {
+      r_.triangle_spheres = PassTriangleSpheres(b_.triangles);
+      r_.object_spheres = PassObjectSpheres(b_);
+      r_.digest.Add("prep", "triangle_spheres", r_.triangle_spheres);
+      r_.digest.Add("prep", "object_spheres", r_.object_spheres);
+      return b_.triangles.size();
+    });
+    Pass("raster", [&] {
+      r_.gbuffer = PassRaster(fc_, b_);
+      const GBuffer& g = r_.gbuffer;
+      r_.digest.Add("raster", "diffuse", g.diffuse);
+      r_.digest.Add("raster", "specular", g.specular);
+      r_.digest.Add("raster", "position", g.position);
+      r_.digest.Add("raster", "normal", g.normal);
+      r_.digest.Add("raster", "prim", g.prim);
+      r_.digest.Add("raster", "depth", g.depth);
+      return g.prim.size();
+    });
+
+    std::vector<std::uint64_t> accum(static_cast<std::size_t>(r_.width) * r_.height * 3, 0);
+    std::vector<gpu::Surface> surfaces;
+    Pass("surfaces.b0", [&] {
+      surfaces = PassSurfacesFromGBuffer(fc_, r_.gbuffer, b_);
+      r_.digest.Add("surfaces.b0", "surfaces", surfaces);
+      return surfaces.size();
+    });
+
+    bool reflective = false, transparent = false;
+    for (const MaterialDesc& m : scene_.materials) {
+      reflective |= m.reflectivity > 0.0f;
+      transparent |= m.transparency > 0.0f;
+    }
+    const bool lights = !b_.lights.empty();
+
+    for (int bounce = 0; bounce <= depth; ++bounce) {
+      const std::string bs = "b" + std::to_string(bounce);
+      // Shadow rays of this generation's surfaces, then shading.
+      SparseRays shadow;
+      Trimmed shadow_trim;
+      std::vector<std::uint32_t> occluded;
+      if (lights) {
+        Pass("raygen.shadow." + bs, [&] {
+          shadow = PassRaygenShadow(fc_, surfaces, b_);
+          r_.digest.Add("raygen.shadow." + bs, "rays", shadow.rays);
+          r_.digest.Add("raygen.shadow." + bs, "flags", shadow.flags);
+          return shadow.rays.size();
+        });
+        Pass("trim.shadow." + bs, [&] {
+          shadow_trim = PassTrim(shadow);
+          r_.digest.Add("trim.shadow." + bs, "rays", shadow_trim.rays);
+          r_.digest.Add("trim.shadow." + bs, "offsets", shadow_trim.offsets);
+          return shadow_trim.rays.size();
+        });
+        r_.rays[gpu::kRayShadow][bounce] = shadow_trim.rays.size();
+        Pass("trace.shadow." + bs, [&] {
+          tracer_.Occluded(shadow_trim.rays, occluded);
+          r_.digest.Add("trace.shadow." + bs, "occluded", occluded);
+          return shadow_trim.rays.size();
+        });
+        if (observer_) observer_({"shadow." + bs, gpu::kRayShadow, bounce, &shadow_trim.rays, nullptr, &occluded});
+      } else {
+        Skip("raygen.shadow." + bs, "the scene has no lights");
+        Skip("trim.shadow." + bs, "the scene has no lights");
+        Skip("trace.shadow." + bs, "the scene has no lights");
+      }
+      Pass("shade." + bs, [&] {
+        PassShade(fc_, surfaces, shadow.flags, shadow_trim.offsets, occluded, b_, accum);
+        r_.digest.Add("shade." + bs, "accum", accum);
+        return surfaces.size();
+      });
+      if (bounce == depth) break;
+
+      // Next generation: reflection and refraction rays, their hits become the next surfaces.
+      const std::string next = "b" + std::to_string(bounce + 1);
+      std::vector<gpu::Surface> next_surfaces;
+      const struct {
+        std::uint32_t kind;
+        bool enabled;
+        const char* reason;
+      } kinds[2] = {{gpu::kRayReflection, reflective, "no material has reflectivity > 0"},
+                    {gpu::kRayRefraction, transparent, "no material has transparency > 0"}};
+      for (const auto& k : kinds) {
+        const std::string kn = RayKindName(k.kind);
+        const std::string sfx = kn + "." + next;
+        if (!k.enabled) {
+          for (const char* p : {"raygen.", "trim.", "trace.", "surfaces."}) Skip(p + sfx, k.reason);
+          continue;
+        }
+        SparseRays sparse;
+        Trimmed trimmed;
+        std::vector<std::uint64_t> hits;
+        Pass("raygen." + sfx, [&] {
+          sparse = k.kind == gpu::kRayReflection ? PassRaygenReflection(fc_, surfaces, b_)
+                                                 : PassRaygenRefraction(fc_, surfaces, b_);
+          r_.digest.Add("raygen." + sfx, "rays", sparse.rays);
+          r_.digest.Add("raygen." + sfx, "flags", sparse.flags);
+          return sparse.rays.size();
+        });
+        Pass("trim." + sfx, [&] {
+          trimmed = PassTrim(sparse);
+          r_.digest.Add("trim." + sfx, "rays", trimmed.rays);
+          r_.digest.Add("trim." + sfx, "offsets", trimmed.offsets);
+          return trimmed.rays.size();
+        });
+        r_.rays[k.kind][bounce + 1] = trimmed.rays.size();
+        Pass("trace." + sfx, [&] {
+          tracer_.Closest(trimmed.rays, hits);
+          r_.digest.Add("trace." + sfx, "hits", hits);
+          return trimmed.rays.size();
+        });
+        if (observer_) observer_({sfx, k.kind, bounce + 1, &trimmed.rays, &hits, nullptr});
+        Pass("surfaces." + sfx, [&] {
+          std::vector<gpu::Surface> s = PassSurfacesFromHits(trimmed.rays, hits, b_);
+          r_.digest.Add("surfaces." + sfx, "surfaces", s);
+          next_surfaces.insert(next_surfaces.end(), s.begin(), s.end());
+          return s.size();
+        });
+      }
+      surfaces = std::move(next_surfaces);
+    }
+    Pass("resolve", [&] {
+      r_.rgb = PassResolve(fc_, accum);
+      r_.digest.Add("resolve", "rgb", r_.rgb);
+      return r_.rgb.size() / 3;
+    });
+    r_.total_ms = total.Ms();
+    return std::move(r_);
+  }
+
+ private:
+  template <typename F>
+  void Pass(const std::string& name, F&& body) {
+    Clock c;
+    const std::size_t n = body();
+    PassRecord rec{name, true, {}, c.Ms(), n};
+    if (opt_.progress) std::fprintf(stderr, "[rayspace] %-28s %10zu elements %9.1f ms\n", name.c_str(), n, rec.ms);
+    r_.passes.push_back(std::move(rec));
+  }
+  void Skip(const std::string& name, const std::string& reason) { r_.passes.push_back({name, false, reason, 0.0, 0}); }
+
+  const Scene& scene_;
+  const SceneBuffers& b_;
+  Tracer& tracer_;
+  const FrameOptions& opt_;
+  const BatchObserver& observer_;
+  gpu::FrameConstants fc_{};
+  FrameResult r_;
+};
+
+}  // namespace
+
+FrameResult RenderFrame(const Scene& scene, const SceneBuffers& buffers, Tracer& tracer, const FrameOptions& options,
+                        const BatchObserver& observer) {
+  RS_CHECK(!buffers.triangles.empty());
+  return Runner(scene, buffers, tracer, options, observer).Run();
+}
+
+}  // namespace rayspace::emu

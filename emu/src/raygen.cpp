@@ -1,0 +1,110 @@
+// Ray generation (thesis eqs. 3.1-3.7). Slots are sparse; trim compacts them in slot order.
+#include <limits>
+
+#include "rayspace/emu/intersect.h"
+#include "rayspace/emu/passes.h"
+#include "rayspace/parallel.h"
+
+namespace rayspace::emu {
+namespace {
+
+bool Finite3(glm::vec3 v) {
+  constexpr float kMax = std::numeric_limits<float>::max();
+  return std::fabs(v.x) <= kMax && std::fabs(v.y) <= kMax && std::fabs(v.z) <= kMax;
+}
+
+}  // namespace
+
+SparseRays PassRaygenShadow(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
+                            const SceneBuffers& scene) {
+  const std::size_t lights = scene.lights.size();
+  SparseRays out;
+  out.rays.assign(surfaces.size() * lights, gpu::Ray{});
+  out.flags.assign(surfaces.size() * lights, 0u);
+  ParallelFor("raygen.shadow", surfaces.size(), [&](std::size_t s) {
+    const gpu::Surface& sf = surfaces[s];
+    if (sf.position.w == 0.0f) return;
+    const glm::vec3 p = Xyz(sf.position);
+    for (std::size_t l = 0; l < lights; ++l) {
+      const glm::vec3 o = Xyz(scene.lights[l].position);  // eq. 3.1: the ray starts at the light
+      const glm::vec3 v = p - o;
+      const float dist = Length(v);
+      if (!(dist > 0.0f) || !Finite3(v)) continue;     // light on the point: no direction
+      const glm::vec3 d(v.x / dist, v.y / dist, v.z / dist);  // eq. 3.2
+      gpu::Ray r;
+      r.origin_tmin = glm::vec4(o, fc.params.x);
+      r.direction_tmax = glm::vec4(d, dist * fc.params.z);
+      r.info = glm::uvec4(sf.info.y, sf.info.x, gpu::kRayShadow, static_cast<std::uint32_t>(s));
+      r.weight = sf.weight;
+      out.rays[s * lights + l] = r;
+      out.flags[s * lights + l] = 1u;
+    }
+  });
+  return out;
+}
+
+SparseRays PassRaygenReflection(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
+                                const SceneBuffers& scene) {
+  SparseRays out;
+  out.rays.assign(surfaces.size(), gpu::Ray{});
+  out.flags.assign(surfaces.size(), 0u);
+  ParallelFor("raygen.reflection", surfaces.size(), [&](std::size_t s) {
+    const gpu::Surface& sf = surfaces[s];
+    if (sf.position.w == 0.0f) return;
+    const gpu::Material& m = scene.materials[sf.info.z];
+    const float kr = m.diffuse_reflectivity.w;
+    if (!(kr > 0.0f)) return;
+    const glm::vec3 i = Xyz(sf.incoming), n = Xyz(sf.normal);
+    const float ni = Dot(n, i);
+    const float k = 2.0f * ni;
+    const glm::vec3 d(i.x - n.x * k, i.y - n.y * k, i.z - n.z * k);  // eq. 3.4: i - 2 n (n.i)
+    if (!(Dot(d, d) > 0.0f)) return;
+    gpu::Ray r;
+    r.origin_tmin = glm::vec4(Xyz(sf.position), fc.params.x);  // eq. 3.3
+    r.direction_tmax = glm::vec4(d, std::numeric_limits<float>::infinity());
+    r.info = glm::uvec4(sf.info.y, sf.info.x, gpu::kRayReflection, static_cast<std::uint32_t>(s));
+    r.weight = glm::vec4(sf.weight.x * kr, sf.weight.y * kr, sf.weight.z * kr, 0.0f);
+    out.rays[s] = r;
+    out.flags[s] = 1u;
+  });
+  return out;
+}
+
+SparseRays PassRaygenRefraction(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
+                                const SceneBuffers& scene) {
+  SparseRays out;
+  out.rays.assign(surfaces.size(), gpu::Ray{});
+  out.flags.assign(surfaces.size(), 0u);
+  ParallelFor("raygen.refraction", surfaces.size(), [&](std::size_t s) {
+    const gpu::Surface& sf = surfaces[s];
+    if (sf.position.w == 0.0f) return;
+    const gpu::Material& m = scene.materials[sf.info.z];
+    const float kt = m.transparency_ior.x;
+    if (!(kt > 0.0f)) return;
+    const glm::vec3 i = Xyz(sf.incoming);
+    glm::vec3 n = Xyz(sf.normal);
+    float cosi = Dot(i, n);
+    // Entering when the ray meets the normal's front side; leaving flips the normal and the ratio.
+    float ri = 1.0f / m.transparency_ior.y;
+    if (cosi > 0.0f) {
+      n = -n;
+      cosi = -cosi;
+      ri = m.transparency_ior.y;
+    }
+    const float k = 1.0f - (ri * ri) * (1.0f - cosi * cosi);  // eq. 3.6
+    if (k < 0.0f) return;                                      // total internal reflection
+    const float a = ri * cosi + std::sqrt(k);
+    const glm::vec3 d(i.x * ri - n.x * a, i.y * ri - n.y * a, i.z * ri - n.z * a);  // eq. 3.7
+    if (!(Dot(d, d) > 0.0f)) return;
+    gpu::Ray r;
+    r.origin_tmin = glm::vec4(Xyz(sf.position), fc.params.x);  // eq. 3.5
+    r.direction_tmax = glm::vec4(d, std::numeric_limits<float>::infinity());
+    r.info = glm::uvec4(sf.info.y, sf.info.x, gpu::kRayRefraction, static_cast<std::uint32_t>(s));
+    r.weight = glm::vec4(sf.weight.x * kt, sf.weight.y * kt, sf.weight.z * kt, 0.0f);
+    out.rays[s] = r;
+    out.flags[s] = 1u;
+  });
+  return out;
+}
+
+}  // namespace rayspace::emu

@@ -1,0 +1,45 @@
+// Order-preserving compaction: exclusive scan of the head flags, then scatter (thesis §3.2.3).
+#include "rayspace/emu/passes.h"
+#include "rayspace/parallel.h"
+
+namespace rayspace::emu {
+
+std::vector<std::uint32_t> ExclusiveScan(const std::vector<std::uint32_t>& in, std::uint32_t* total) {
+  // Three phases over fixed-size blocks, as a GPU scan does: block sums, scan of the sums, block scan.
+  constexpr std::size_t kBlock = 4096;
+  const std::size_t n = in.size(), blocks = (n + kBlock - 1) / kBlock;
+  std::vector<std::uint32_t> sums(blocks, 0), out(n);
+  ParallelFor("scan.reduce", blocks, [&](std::size_t b) {
+    std::uint32_t s = 0;
+    for (std::size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) s += in[i];
+    sums[b] = s;
+  });
+  std::uint32_t run = 0;
+  for (std::size_t b = 0; b < blocks; ++b) {
+    const std::uint32_t s = sums[b];
+    sums[b] = run;
+    run += s;
+  }
+  ParallelFor("scan.downsweep", blocks, [&](std::size_t b) {
+    std::uint32_t s = sums[b];
+    for (std::size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) {
+      out[i] = s;
+      s += in[i];
+    }
+  });
+  if (total) *total = run;
+  return out;
+}
+
+Trimmed PassTrim(const SparseRays& sparse) {
+  Trimmed t;
+  std::uint32_t count = 0;
+  t.offsets = ExclusiveScan(sparse.flags, &count);
+  t.rays.resize(count);
+  ParallelFor("trim.scatter", sparse.flags.size(), [&](std::size_t i) {
+    if (sparse.flags[i]) t.rays[t.offsets[i]] = sparse.rays[i];
+  });
+  return t;
+}
+
+}  // namespace rayspace::emu
