@@ -145,8 +145,8 @@ int RunRender(const RenderArgs& args) {
   if (args.no_oracle) {
     std::printf("  oracle      skipped\n");
   } else {
-    std::printf("  oracle      %s: %zu rays checked, %zu mismatches, %zu ties (same distance, shared edge)\n",
-                oj["name"].get<std::string>().c_str(), oracle.rays_checked(), oracle.mismatches().size(),
+    std::printf("  oracle      %s: %zu rays checked, %zu mismatches; exact arithmetic found the oracle wrong on %zu, %zu exact ties\n",
+                oj["name"].get<std::string>().c_str(), oracle.rays_checked(), oracle.mismatches().size(), oracle.oracle_wrong().size(),
                 oracle.ties().size());
   }
   std::printf("  frame       %.1f ms (oracle %.1f ms)\n", r.total_ms, oracle_ms);

@@ -40,7 +40,6 @@ class Runner {
     r_.height = opt_.height > 0 ? opt_.height : scene_.height;
     r_.triangles = b_.triangles.size();
     const int depth = scene_.max_depth;
-    for (auto& v : r_.rays) v.assign(static_cast<std::size_t>(depth) + 1, 0);
     fc_ = MakeFrameConstants(scene_, b_, r_.width, r_.height);
 
     Pass("prep", [&] {
@@ -76,8 +75,17 @@ class Runner {
       transparent |= m.transparency > 0.0f;
     }
     const bool lights = !b_.lights.empty();
+    // Bounces exist only when some material spawns secondary rays from a hit.
+    const int last = (reflective || transparent) ? depth : 0;
+    for (auto& v : r_.rays) v.assign(static_cast<std::size_t>(last) + 1, 0);
+    if (depth == 0) {
+      for (const char* p : {"raygen.", "trim.", "trace.", "surfaces."}) {
+        Skip(std::string(p) + "reflection", "max_depth is 0");
+        Skip(std::string(p) + "refraction", "max_depth is 0");
+      }
+    }
 
-    for (int bounce = 0; bounce <= depth; ++bounce) {
+    for (int bounce = 0; bounce <= last; ++bounce) {
       const std::string bs = "b" + std::to_string(bounce);
       // Shadow rays of this generation's surfaces, then shading.
       SparseRays shadow;
@@ -113,7 +121,15 @@ class Runner {
         r_.digest.Add("shade." + bs, "accum", accum);
         return surfaces.size();
       });
-      if (bounce == depth) break;
+      if (bounce == last) {
+        if (last == 0 && depth > 0) {
+          for (const char* p : {"raygen.", "trim.", "trace.", "surfaces."}) {
+            Skip(std::string(p) + "reflection", "no material has reflectivity > 0");
+            Skip(std::string(p) + "refraction", "no material has transparency > 0");
+          }
+        }
+        break;
+      }
 
       // Next generation: reflection and refraction rays, their hits become the next surfaces.
       const std::string next = "b" + std::to_string(bounce + 1);

@@ -1,17 +1,17 @@
 #include "rayspace/refs/oracle.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include "rayspace/emu/intersect.h"
+#include "rayspace/refs/exact.h"
 
 namespace rayspace::refs {
 namespace {
-
-// Relative distance below which two different triangles count as hit at the same point.
-constexpr float kTieRelative = 1e-5f;
 
 // Nearest triangle the emulator's intersection test accepts for this ray (exhaustive; used only to
 // describe a disagreement, never on the hot path).
@@ -47,13 +47,15 @@ void Oracle::Check(const emu::Batch& batch) {
       Disagreement d;
       d.batch = batch.name;
       d.ray = i;
+      d.ray_data = rays[i];
       d.frame_prim = emu::HitPrim(eh);
       d.frame_t = eh == emu::kMissPacked ? 0.0f : emu::HitT(eh);
       d.oracle_prim = emu::HitPrim(oh[0]);
       d.oracle_t = oh[0] == emu::kMissPacked ? 0.0f : emu::HitT(oh[0]);
-      d.note = fmt::format("frame says {}, oracle says {} (tmax {})", (*batch.occluded)[i] ? "occluded" : "lit",
-                           mine[i] ? "occluded" : "lit", rays[i].direction_tmax.w);
-      mismatches_.push_back(d);
+      const bool exact = ExactOccluded(rays[i], scene_);
+      d.note = fmt::format("frame says {}, oracle says {}, exact says {}", (*batch.occluded)[i] ? "occluded" : "lit",
+                           mine[i] ? "occluded" : "lit", exact ? "occluded" : "lit");
+      (exact == ((*batch.occluded)[i] != 0) ? oracle_wrong_ : mismatches_).push_back(d);
     }
     return;
   }
@@ -67,15 +69,25 @@ void Oracle::Check(const emu::Batch& batch) {
     Disagreement d;
     d.batch = batch.name;
     d.ray = i;
+    d.ray_data = rays[i];
     d.frame_prim = ha ? pa : gpu::kNoPrim;
     d.oracle_prim = hb ? pb : gpu::kNoPrim;
     d.frame_t = ha ? emu::HitT(a) : 0.0f;
     d.oracle_t = hb ? emu::HitT(b) : 0.0f;
-    if (ha && hb && std::fabs(d.frame_t - d.oracle_t) <= kTieRelative * std::max(d.frame_t, d.oracle_t)) {
-      d.note = "same distance, different triangle (shared edge or vertex)";
+    const std::vector<std::uint32_t> exact = ExactClosest(rays[i], scene_);
+    auto in_exact = [&](bool hit, std::uint32_t p) {
+      return hit ? std::find(exact.begin(), exact.end(), p) != exact.end() : exact.empty();
+    };
+    const bool frame_right = in_exact(ha, pa), oracle_right = in_exact(hb, pb);
+    std::string ex = exact.empty() ? "miss" : fmt::format("{}", fmt::join(exact, ","));
+    if (frame_right && oracle_right) {
+      d.note = "exact tie: both triangles at the same distance (exact closest " + ex + ")";
       ties_.push_back(d);
+    } else if (frame_right) {
+      d.note = "oracle wrong (exact closest " + ex + ")";
+      oracle_wrong_.push_back(d);
     } else {
-      d.note = ha && hb ? "different triangle" : (ha ? "oracle misses" : "frame misses");
+      d.note = "frame wrong (exact closest " + ex + ")";
       mismatches_.push_back(d);
     }
   }
@@ -87,7 +99,10 @@ void Oracle::Report(nlohmann::json& out, std::size_t max_listed) const {
   out = cfg;
   out["rays_checked"] = rays_checked_;
   out["mismatches"] = mismatches_.size();
+  out["disagreements"] = mismatches_.size() + oracle_wrong_.size() + ties_.size();
+  out["oracle_wrong"] = oracle_wrong_.size();
   out["ties"] = ties_.size();
+  out["adjudication"] = "exact rational arithmetic (CGAL Epeck)";
   auto list = [&](const std::vector<Disagreement>& v) {
     nlohmann::json a = nlohmann::json::array();
     for (std::size_t i = 0; i < v.size() && i < max_listed; ++i) {
@@ -95,11 +110,15 @@ void Oracle::Report(nlohmann::json& out, std::size_t max_listed) const {
       a.push_back({{"batch", d.batch}, {"ray", d.ray},
                    {"frame", {{"prim", d.frame_prim == gpu::kNoPrim ? nlohmann::json(nullptr) : nlohmann::json(d.frame_prim)}, {"t", d.frame_t}}},
                    {"oracle", {{"prim", d.oracle_prim == gpu::kNoPrim ? nlohmann::json(nullptr) : nlohmann::json(d.oracle_prim)}, {"t", d.oracle_t}}},
+                   {"origin", {d.ray_data.origin_tmin.x, d.ray_data.origin_tmin.y, d.ray_data.origin_tmin.z}},
+                   {"direction", {d.ray_data.direction_tmax.x, d.ray_data.direction_tmax.y, d.ray_data.direction_tmax.z}},
+                   {"tmin", d.ray_data.origin_tmin.w}, {"tmax", d.ray_data.direction_tmax.w},
                    {"note", d.note}});
     }
     return a;
   };
   out["mismatch_list"] = list(mismatches_);
+  out["oracle_wrong_list"] = list(oracle_wrong_);
   out["tie_list"] = list(ties_);
 }
 

@@ -66,14 +66,15 @@ inline float HitT(std::uint64_t h) { return BitsFloat(static_cast<std::uint32_t>
 // Per-ray setup of the watertight ray-triangle test (Woop, Benthin, Wald 2013): the axis where the
 // direction is largest becomes z, and the ray is sheared onto +z.
 struct WatertightRay {
-  glm::vec3 org;
+  glm::vec3 org, dir;
   int kx, ky, kz;
-  float sx, sy, sz;
+  float sx, sy;
 };
 
 inline WatertightRay SetupWatertight(glm::vec3 org, glm::vec3 dir) {
   WatertightRay r;
   r.org = org;
+  r.dir = dir;
   const glm::vec3 a(std::fabs(dir.x), std::fabs(dir.y), std::fabs(dir.z));
   int kz = 0;
   if (a.y > a[kz]) kz = 1;
@@ -86,12 +87,11 @@ inline WatertightRay SetupWatertight(glm::vec3 org, glm::vec3 dir) {
   r.kz = kz;
   r.sx = dir[kx] / dir[kz];
   r.sy = dir[ky] / dir[kz];
-  r.sz = 1.0f / dir[kz];
   return r;
 }
 
 // Two-sided, edges inclusive. Returns true and t when the ray meets the triangle with
-// tmin < t < tmax. Watertight: a ray through a shared edge hits at least one of its triangles.
+// tmin < t < tmax. The inside decision is Woop's (sheared edge functions); t = (v0 - o).n / d.n. Watertight: a ray through a shared edge hits at least one of its triangles.
 inline bool IntersectWatertight(const WatertightRay& r, glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, float tmin,
                                 float tmax, float& t_out) {
   const glm::vec3 A = v0 - r.org, B = v1 - r.org, C = v2 - r.org;
@@ -104,9 +104,10 @@ inline bool IntersectWatertight(const WatertightRay& r, glm::vec3 v0, glm::vec3 
   if ((u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f)) return false;
   const float det = (u + v) + w;
   if (det == 0.0f) return false;
-  const float az = r.sz * A[r.kz], bz = r.sz * B[r.kz], cz = r.sz * C[r.kz];
-  const float tt = (u * az + v * bz) + w * cz;
-  const float t = tt / det;
+  // The distance comes from the plane, not from Woop's barycentric sum: on long thin triangles that
+  // sum loses about log2(length / width) bits, the plane equation does not.
+  const glm::vec3 n = Cross(v1 - v0, v2 - v0);
+  const float t = Dot(A, n) / Dot(r.dir, n);
   if (!(t > tmin && t < tmax)) return false;  // also rejects NaN
   t_out = t;
   return true;

@@ -36,7 +36,7 @@ enum class DirectMode { kAuto, kExhaustive, kBvh };
 std::unique_ptr<Tracer> MakeDirectTracer(const SceneBuffers& scene, DirectMode mode);
 
 // Scenes up to this many triangles are traced exhaustively in kAuto mode.
-inline constexpr std::size_t kExhaustiveMaxTriangles = 2048;
+inline constexpr std::size_t kExhaustiveMaxTriangles = 256;
 
 }  // namespace emu
 }  // namespace rayspace

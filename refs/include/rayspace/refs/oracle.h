@@ -16,6 +16,7 @@ struct Disagreement {
   std::uint32_t frame_prim = 0, oracle_prim = 0;
   float frame_t = 0, oracle_t = 0;
   std::string note;
+  gpu::Ray ray_data{};
 };
 
 class Oracle {
@@ -24,8 +25,11 @@ class Oracle {
   Oracle(Tracer& tracer, const SceneBuffers& scene) : tracer_(tracer), scene_(scene) {}
   void Check(const emu::Batch& batch);
   std::size_t rays_checked() const { return rays_checked_; }
+  // Every disagreement is settled with exact arithmetic (refs/exact.h) and lands in one list:
+  // the frame is wrong (a mismatch), the oracle is wrong, or both hit triangles at exactly the same
+  // distance (a tie at a shared edge or vertex: both answers are right).
   const std::vector<Disagreement>& mismatches() const { return mismatches_; }
-  // Different triangles hit at the same distance (a shared edge or vertex): both answers are right.
+  const std::vector<Disagreement>& oracle_wrong() const { return oracle_wrong_; }
   const std::vector<Disagreement>& ties() const { return ties_; }
   void Report(nlohmann::json& out, std::size_t max_listed) const;
 
@@ -33,7 +37,7 @@ class Oracle {
   Tracer& tracer_;
   const SceneBuffers& scene_;
   std::size_t rays_checked_ = 0;
-  std::vector<Disagreement> mismatches_, ties_;
+  std::vector<Disagreement> mismatches_, oracle_wrong_, ties_;
 };
 
 }  // namespace rayspace::refs
