@@ -145,7 +145,7 @@ int RunRender(const RenderArgs& args) {
   if (args.no_oracle) {
     std::printf("  oracle      skipped\n");
   } else {
-    std::printf("  oracle      %s: %zu rays checked, %zu mismatches; exact arithmetic found the oracle wrong on %zu, %zu exact ties\n",
+    std::printf("  oracle      %s: %zu rays checked, %zu mismatches; exact arithmetic found the oracle wrong on %zu, %zu exact ties (shared edges, grazed edges)\n",
                 oj["name"].get<std::string>().c_str(), oracle.rays_checked(), oracle.mismatches().size(), oracle.oracle_wrong().size(),
                 oracle.ties().size());
   }

@@ -4,6 +4,8 @@
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/intersections.h>
 
+#include <algorithm>
+
 #include "rayspace/emu/intersect.h"
 
 namespace rayspace::refs {
@@ -35,7 +37,7 @@ bool MaybeHits(const gpu::Ray& r, const gpu::Triangle& t) {
 }
 
 // Exact squared parameter t^2 of the nearest point where the ray (t >= 0) meets the triangle, if any.
-bool NearestT2(const gpu::Ray& r, const gpu::Triangle& t, FT& t2) {
+bool NearestT2(const gpu::Ray& r, const gpu::Triangle& t, FT& t2, bool* boundary = nullptr) {
   const K::Point_3 o = P(r.origin_tmin);
   const K::Vector_3 d(r.direction_tmax.x, r.direction_tmax.y, r.direction_tmax.z);
   const K::Triangle_3 tri(P(t.v0), P(t.v1), P(t.v2));
@@ -52,6 +54,11 @@ bool NearestT2(const gpu::Ray& r, const gpu::Triangle& t, FT& t2) {
     return false;
   }
   t2 = CGAL::squared_distance(o, hit) / d.squared_length();
+  if (boundary) {
+    *boundary = false;
+    for (int e = 0; e < 3; ++e)
+      *boundary = *boundary || K::Segment_3(tri.vertex(e), tri.vertex(e + 1)).has_on(hit);
+  }
   return true;
 }
 
@@ -65,15 +72,18 @@ bool InRange(const gpu::Ray& r, const FT& t2) {
 
 }  // namespace
 
-bool ExactHits(const gpu::Ray& ray, const gpu::Triangle& tri) {
+Contact ExactContact(const gpu::Ray& ray, const gpu::Triangle& tri) {
   FT t2;
-  return NearestT2(ray, tri, t2) && InRange(ray, t2);
+  bool boundary = false;
+  if (!NearestT2(ray, tri, t2, &boundary) || !InRange(ray, t2)) return Contact::kMiss;
+  return boundary ? Contact::kBoundary : Contact::kInterior;
 }
 
-bool ExactOccluded(const gpu::Ray& ray, const SceneBuffers& scene) {
-  for (std::uint32_t p = 0; p < scene.triangles.size(); ++p)
-    if (p != ray.info.y && MaybeHits(ray, scene.triangles[p]) && ExactHits(ray, scene.triangles[p])) return true;
-  return false;
+Contact ExactOccluded(const gpu::Ray& ray, const SceneBuffers& scene) {
+  Contact best = Contact::kMiss;
+  for (std::uint32_t p = 0; p < scene.triangles.size() && best != Contact::kInterior; ++p)
+    if (p != ray.info.y && MaybeHits(ray, scene.triangles[p])) best = std::max(best, ExactContact(ray, scene.triangles[p]));
+  return best;
 }
 
 std::vector<std::uint32_t> ExactClosest(const gpu::Ray& ray, const SceneBuffers& scene) {

@@ -52,10 +52,12 @@ void Oracle::Check(const emu::Batch& batch) {
       d.frame_t = eh == emu::kMissPacked ? 0.0f : emu::HitT(eh);
       d.oracle_prim = emu::HitPrim(oh[0]);
       d.oracle_t = oh[0] == emu::kMissPacked ? 0.0f : emu::HitT(oh[0]);
-      const bool exact = ExactOccluded(rays[i], scene_);
+      const Contact exact = ExactOccluded(rays[i], scene_);
+      const char* verdict = exact == Contact::kInterior ? "occluded" : exact == Contact::kBoundary ? "grazing an edge" : "lit";
       d.note = fmt::format("frame says {}, oracle says {}, exact says {}", (*batch.occluded)[i] ? "occluded" : "lit",
-                           mine[i] ? "occluded" : "lit", exact ? "occluded" : "lit");
-      (exact == ((*batch.occluded)[i] != 0) ? oracle_wrong_ : mismatches_).push_back(d);
+                           mine[i] ? "occluded" : "lit", verdict);
+      if (exact == Contact::kBoundary) ties_.push_back(d);  // the answer depends on the edge convention
+      else ((exact == Contact::kInterior) == ((*batch.occluded)[i] != 0) ? oracle_wrong_ : mismatches_).push_back(d);
     }
     return;
   }

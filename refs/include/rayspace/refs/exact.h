@@ -8,11 +8,17 @@
 
 namespace rayspace::refs {
 
-// Does the ray meet the triangle at some t with tmin < t < tmax (exactly)?
-bool ExactHits(const gpu::Ray& ray, const gpu::Triangle& tri);
+// Where the ray meets a closed triangle: not at all, inside, or exactly on an edge or vertex (where
+// tracers may legitimately differ: Embree counts some edges out, the emulator counts all edges in).
+enum class Contact { kMiss, kBoundary, kInterior };
 
-// Exact answer for a shadow ray: is any triangle other than info.y hit with tmin < t < tmax?
-bool ExactOccluded(const gpu::Ray& ray, const SceneBuffers& scene);
+// Does the ray meet the triangle at some t with tmin < t < tmax (exactly)?
+Contact ExactContact(const gpu::Ray& ray, const gpu::Triangle& tri);
+inline bool ExactHits(const gpu::Ray& ray, const gpu::Triangle& tri) { return ExactContact(ray, tri) != Contact::kMiss; }
+
+// Exact answer for a shadow ray over all triangles other than info.y: kInterior if some triangle is
+// met inside, else kBoundary if one is met only on an edge or vertex, else kMiss.
+Contact ExactOccluded(const gpu::Ray& ray, const SceneBuffers& scene);
 
 // Exact closest hit: every primitive (other than info.y) hit at the exactly smallest t, in id order;
 // empty for a miss. More than one means an exact tie (shared edge or vertex).

@@ -26,8 +26,8 @@ class Oracle {
   void Check(const emu::Batch& batch);
   std::size_t rays_checked() const { return rays_checked_; }
   // Every disagreement is settled with exact arithmetic (refs/exact.h) and lands in one list:
-  // the frame is wrong (a mismatch), the oracle is wrong, or both hit triangles at exactly the same
-  // distance (a tie at a shared edge or vertex: both answers are right).
+  // the frame is wrong (a mismatch), the oracle is wrong, or a tie: both hit triangles at exactly the
+  // same distance, or the only occluder is met exactly on an edge (both answers are defensible).
   const std::vector<Disagreement>& mismatches() const { return mismatches_; }
   const std::vector<Disagreement>& oracle_wrong() const { return oracle_wrong_; }
   const std::vector<Disagreement>& ties() const { return ties_; }
