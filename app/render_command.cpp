@@ -5,6 +5,8 @@
 #include <fstream>
 #include <regex>
 
+#include <unistd.h>
+
 #include <nlohmann/json.hpp>
 
 #include "rayspace/emu/frame.h"
@@ -50,7 +52,7 @@ int RunRender(const RenderArgs& args) {
   fo.width = scene.width;
   fo.height = scene.height;
   if (!args.size.empty()) ParseSize(args.size, fo.width, fo.height);
-  fo.progress = args.progress;
+  fo.progress = args.progress || isatty(STDERR_FILENO);  // progress on stderr when someone watches
   const std::string out = args.out.empty() ? scene.name + ".png" : args.out;
   {  // Fail on an unwritable output before spending time on the frame.
     std::ofstream probe(out, std::ios::app);
@@ -106,13 +108,7 @@ int RunRender(const RenderArgs& args) {
   j["oracle"] = oj;
   nlohmann::json passes = nlohmann::json::array();
   for (const emu::PassRecord& p : r.passes) {
-    nlohmann::json pj = {{"name", p.name}, {"ran", p.ran}};
-    if (p.ran) {
-      pj["ms"] = p.ms;
-      pj["elements"] = p.elements;
-    } else {
-      pj["reason"] = p.reason;
-    }
+    nlohmann::json pj = {{"name", p.name}, {"ran", p.ran}, {"reason", p.reason}, {"ms", p.ms}, {"elements", p.elements}};
     passes.push_back(pj);
   }
   j["passes"] = passes;
