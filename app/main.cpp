@@ -32,7 +32,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "rayspace: %s\n", e.what());
+    std::fprintf(stderr, "rayspace: error: %s\n", e.what());
     return 2;
   }
   try {

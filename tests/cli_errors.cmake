@@ -1,1 +1,171 @@
-message(STATUS placeholder)
+# The CLI's error contract, run as
+#   cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DWORK=<scratch dir> -P cli_errors.cmake
+# Every bad input must exit with code 2 and print exactly one line on stderr that names the input.
+# One positive case renders the Cornell scene and checks the statistics file.
+# All cases run; the failures are listed together at the end.
+cmake_minimum_required(VERSION 3.19)  # string(JSON)
+
+foreach(var RAYSPACE SRC WORK)
+  if(NOT DEFINED ${var} OR "${${var}}" STREQUAL "")
+    message(FATAL_ERROR "cli_errors.cmake: pass -D${var}=...")
+  endif()
+endforeach()
+
+file(REMOVE_RECURSE "${WORK}")
+file(MAKE_DIRECTORY "${WORK}")
+# Mesh lookups must not find anything through the caller's environment.
+unset(ENV{RAYSPACE_DATA})
+
+set(FAILURES "")
+set(CASES 0)
+
+# expect_error(NAME <case> NEEDLES <substring>... ARGS <arg>...)
+# Runs the CLI with ARGS in WORK; expects exit code 2 and one line on stderr containing every needle.
+function(expect_error)
+  cmake_parse_arguments(E "" "NAME" "NEEDLES;ARGS" ${ARGN})
+  math(EXPR n "${CASES} + 1")
+  set(CASES ${n} PARENT_SCOPE)
+  execute_process(COMMAND "${RAYSPACE}" ${E_ARGS}
+                  WORKING_DIRECTORY "${WORK}"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err
+                  TIMEOUT 120)
+  set(problems "")
+  if(NOT "${rc}" STREQUAL "2")
+    list(APPEND problems "exit code '${rc}', expected 2")
+  endif()
+  # Exactly one line: ends in a newline and has no other.
+  string(REGEX MATCHALL "\n" newlines "${err}")
+  list(LENGTH newlines lines)
+  string(LENGTH "${err}" len)
+  if(len EQUAL 0)
+    list(APPEND problems "stderr is empty")
+  elseif(NOT lines EQUAL 1 OR NOT err MATCHES "\n$")
+    list(APPEND problems "stderr is not exactly one line (${lines} newlines)")
+  endif()
+  if(err MATCHES "\r")
+    list(APPEND problems "stderr contains a carriage return")
+  endif()
+  foreach(needle IN LISTS E_NEEDLES)
+    string(FIND "${err}" "${needle}" at)
+    if(at EQUAL -1)
+      list(APPEND problems "stderr does not name '${needle}'")
+    endif()
+  endforeach()
+  if(problems)
+    string(REPLACE ";" "; " problems "${problems}")
+    string(REPLACE ";" " " args "${E_ARGS}")
+    set(FAILURES "${FAILURES}\n  [${E_NAME}] rayspace ${args}\n    ${problems}\n    stderr: ${err}" PARENT_SCOPE)
+  else()
+    string(STRIP "${err}" line)
+    message(STATUS "ok: ${E_NAME}: ${line}")
+  endif()
+endfunction()
+
+# --- Inputs -------------------------------------------------------------------------------------
+set(CAMERA [=["camera": {"eye": [0, 0, 5], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y_deg": 45}]=])
+set(IMAGE [=["image": {"width": 16, "height": 16}]=])
+set(LIGHTS [=["lights": [{"position": [0, 4, 4]}]]=])
+
+# A valid scene (used for the --size/--threads/--algo/--out cases).
+file(WRITE "${WORK}/good.json" "{${CAMERA}, ${IMAGE}, ${LIGHTS}, \"objects\": [{\"generator\": \"box\"}]}\n")
+# Malformed JSON: a stray comma on line 3.
+file(WRITE "${WORK}/malformed.json" "{\n  ${CAMERA},\n  ${IMAGE},,\n  \"objects\": []\n}\n")
+# A number that overflows a double while parsing.
+file(WRITE "${WORK}/overflow.json"
+     "{\"camera\": {\"eye\": [0, 0, 1e400], \"target\": [0, 0, 0], \"fov_y_deg\": 45}, ${IMAGE}, \"objects\": [{\"generator\": \"box\"}]}\n")
+# A scene whose mesh does not exist.
+file(WRITE "${WORK}/missing_mesh.json"
+     "{${CAMERA}, ${IMAGE}, ${LIGHTS}, \"objects\": [{\"name\": \"ghost\", \"mesh\": \"meshes/ghost.obj\"}]}\n")
+# A scene whose OBJ has a NaN coordinate on line 3.
+file(WRITE "${WORK}/nan.obj" "v 0 0 0\nv 1 0 0\nv nan 0 0\nf 1 2 3\n")
+file(WRITE "${WORK}/nan_mesh.json"
+     "{${CAMERA}, ${IMAGE}, ${LIGHTS}, \"objects\": [{\"name\": \"tri\", \"mesh\": \"nan.obj\"}]}\n")
+
+# --- Error cases --------------------------------------------------------------------------------
+expect_error(NAME "malformed scene JSON"
+             NEEDLES "malformed.json" "line 3"
+             ARGS render "${WORK}/malformed.json" --out "${WORK}/x.png")
+expect_error(NAME "scene JSON number overflow (1e400)"
+             NEEDLES "overflow.json"
+             ARGS render "${WORK}/overflow.json" --out "${WORK}/x.png")
+expect_error(NAME "scene references a missing mesh"
+             NEEDLES "missing_mesh.json" "objects[0].mesh" "meshes/ghost.obj" "--data"
+             ARGS render "${WORK}/missing_mesh.json" --out "${WORK}/x.png")
+expect_error(NAME "missing scene file"
+             NEEDLES "no_such_scene.json"
+             ARGS render "${WORK}/no_such_scene.json" --out "${WORK}/x.png")
+expect_error(NAME "--size 0x10"
+             NEEDLES "--size" "0x10"
+             ARGS render "${WORK}/good.json" --size 0x10 --out "${WORK}/x.png")
+expect_error(NAME "--size 99999x10"
+             NEEDLES "--size" "99999x10"
+             ARGS render "${WORK}/good.json" --size 99999x10 --out "${WORK}/x.png")
+expect_error(NAME "--size abc"
+             NEEDLES "--size" "abc"
+             ARGS render "${WORK}/good.json" --size abc --out "${WORK}/x.png")
+expect_error(NAME "--threads 0"
+             NEEDLES "--threads"
+             ARGS render "${WORK}/good.json" --threads 0 --out "${WORK}/x.png")
+expect_error(NAME "--algo nope"
+             NEEDLES "--algo" "nope"
+             ARGS render "${WORK}/good.json" --algo nope --out "${WORK}/x.png")
+expect_error(NAME "OBJ mesh with a NaN coordinate"
+             NEEDLES "nan.obj:3:"
+             ARGS render "${WORK}/nan_mesh.json" --out "${WORK}/x.png")
+expect_error(NAME "unwritable --out (directory does not exist)"
+             NEEDLES "${WORK}/no_such_dir/out.png"
+             ARGS render "${WORK}/good.json" --out "${WORK}/no_such_dir/out.png")
+if(EXISTS "${WORK}/x.png")
+  set(FAILURES "${FAILURES}\n  [error cases] an output image was written although every case failed")
+endif()
+
+# --- Positive case ------------------------------------------------------------------------------
+math(EXPR CASES "${CASES} + 1")
+execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/cornell-mirrors.json" --size 32x32
+                        --out "${WORK}/c.png" --stats "${WORK}/c.json"
+                WORKING_DIRECTORY "${WORK}"
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err
+                TIMEOUT 300)
+set(positive "render cornell-mirrors 32x32")
+if(NOT "${rc}" STREQUAL "0")
+  set(FAILURES "${FAILURES}\n  [${positive}] exit code '${rc}', expected 0\n    stdout: ${out}\n    stderr: ${err}")
+elseif(NOT EXISTS "${WORK}/c.png")
+  set(FAILURES "${FAILURES}\n  [${positive}] no image at ${WORK}/c.png")
+elseif(NOT EXISTS "${WORK}/c.json")
+  set(FAILURES "${FAILURES}\n  [${positive}] no statistics file at ${WORK}/c.json")
+else()
+  file(READ "${WORK}/c.json" stats)
+  string(JSON width ERROR_VARIABLE jerr GET "${stats}" width)
+  if(jerr)
+    set(FAILURES "${FAILURES}\n  [${positive}] stats: cannot read 'width': ${jerr}")
+  elseif(NOT width EQUAL 32)
+    set(FAILURES "${FAILURES}\n  [${positive}] stats: width is '${width}', expected 32")
+  endif()
+  string(JSON height ERROR_VARIABLE jerr GET "${stats}" height)
+  if(jerr OR NOT height EQUAL 32)
+    set(FAILURES "${FAILURES}\n  [${positive}] stats: height is '${height}' (${jerr}), expected 32")
+  endif()
+  string(JSON mismatches ERROR_VARIABLE jerr GET "${stats}" oracle mismatches)
+  if(jerr)
+    set(FAILURES "${FAILURES}\n  [${positive}] stats: cannot read 'oracle.mismatches': ${jerr}")
+  else()
+    # Either a count or a list of mismatching rays: both must be empty / zero.
+    string(JSON mtype TYPE "${stats}" oracle mismatches)
+    if(mtype STREQUAL "ARRAY")
+      string(JSON mcount LENGTH "${stats}" oracle mismatches)
+    else()
+      set(mcount "${mismatches}")
+    endif()
+    if(NOT mcount EQUAL 0)
+      set(FAILURES "${FAILURES}\n  [${positive}] stats: oracle.mismatches is '${mismatches}', expected 0")
+    endif()
+  endif()
+  if(NOT FAILURES MATCHES "\\[${positive}\\]")
+    message(STATUS "ok: ${positive}: width ${width}, oracle.mismatches ${mismatches}")
+  endif()
+endif()
+
+if(NOT FAILURES STREQUAL "")
+  message(FATAL_ERROR "cli.errors: failures among ${CASES} cases:${FAILURES}")
+endif()
+message(STATUS "cli.errors: all ${CASES} cases passed")

@@ -205,7 +205,7 @@ Scene LoadScene(const std::filesystem::path& path, const LoadOptions& options) {
   json root;
   try {
     root = json::parse(in);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // syntax errors and number overflow (1e400) alike
     std::string what = e.what();
     if (auto p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);
     ThrowInput("{}: invalid JSON: {}", path.string(), what);
