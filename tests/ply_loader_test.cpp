@@ -17,6 +17,7 @@
 
 #include "rayspace/error.h"
 #include "rayspace/scene.h"
+#include "test_util.h"
 
 namespace {
 
@@ -24,35 +25,7 @@ namespace fs = std::filesystem;
 using rayspace::LoadPly;
 using rayspace::MeshData;
 
-// A scratch directory, unique per test case, removed when the test case ends.
-class TempDir {
- public:
-  TempDir() {
-    std::random_device random;
-    const std::uint64_t id = (std::uint64_t{random()} << 32) ^ random() ^
-                             static_cast<std::uint64_t>(std::chrono::steady_clock::now().time_since_epoch().count());
-    path_ = fs::temp_directory_path() / fmt::format("rayspace_ply_test_{:016x}", id);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  fs::path Write(const std::string& name, std::string_view bytes) const {
-    const fs::path file = path_ / name;
-    std::ofstream out(file, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    REQUIRE(out.good());
-    return file;
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
+using rayspace::test::TempDir;
 
 // Binary body builder writing each value in the chosen byte order.
 class Bytes {

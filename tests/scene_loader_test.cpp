@@ -21,6 +21,7 @@
 
 #include "rayspace/error.h"
 #include "rayspace/scene.h"
+#include "test_util.h"
 
 namespace {
 
@@ -30,37 +31,7 @@ using rayspace::LoadOptions;
 using rayspace::LoadScene;
 using rayspace::Scene;
 
-// A scratch directory, unique per test case, removed when the test case ends.
-class TempDir {
- public:
-  TempDir() {
-    std::random_device random;
-    const std::uint64_t id = (std::uint64_t{random()} << 32) ^ random() ^
-                             static_cast<std::uint64_t>(std::chrono::steady_clock::now().time_since_epoch().count());
-    path_ = fs::temp_directory_path() / fmt::format("rayspace_scene_test_{:016x}", id);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  fs::path Write(const std::string& name, std::string_view text) const {
-    const fs::path file = path_ / name;
-    fs::create_directories(file.parent_path());
-    std::ofstream out(file, std::ios::binary | std::ios::trunc);
-    out.write(text.data(), static_cast<std::streamsize>(text.size()));
-    out.close();
-    REQUIRE(out.good());
-    return file;
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
+using rayspace::test::TempDir;
 
 // Sets (or unsets) RAYSPACE_DATA for the scope and restores the previous value afterwards.
 class ScopedDataEnv {

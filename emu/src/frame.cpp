@@ -92,18 +92,7 @@ class Runner {
       Trimmed shadow_trim;
       std::vector<std::uint32_t> occluded;
       if (lights) {
-        Pass("raygen.shadow." + bs, [&] {
-          shadow = PassRaygenShadow(fc_, surfaces, b_);
-          r_.digest.Add("raygen.shadow." + bs, "rays", shadow.rays);
-          r_.digest.Add("raygen.shadow." + bs, "flags", shadow.flags);
-          return shadow.rays.size();
-        });
-        Pass("trim.shadow." + bs, [&] {
-          shadow_trim = PassTrim(shadow);
-          r_.digest.Add("trim.shadow." + bs, "rays", shadow_trim.rays);
-          r_.digest.Add("trim.shadow." + bs, "offsets", shadow_trim.offsets);
-          return shadow_trim.rays.size();
-        });
+        RaygenAndTrim("shadow." + bs, [&] { return PassRaygenShadow(fc_, surfaces, b_); }, shadow, shadow_trim);
         r_.rays[gpu::kRayShadow][bounce] = shadow_trim.rays.size();
         Pass("trace.shadow." + bs, [&] {
           tracer_.Occluded(shadow_trim.rays, occluded);
@@ -150,19 +139,13 @@ class Runner {
         SparseRays sparse;
         Trimmed trimmed;
         std::vector<std::uint64_t> hits;
-        Pass("raygen." + sfx, [&] {
-          sparse = k.kind == gpu::kRayReflection ? PassRaygenReflection(fc_, surfaces, b_)
-                                                 : PassRaygenRefraction(fc_, surfaces, b_);
-          r_.digest.Add("raygen." + sfx, "rays", sparse.rays);
-          r_.digest.Add("raygen." + sfx, "flags", sparse.flags);
-          return sparse.rays.size();
-        });
-        Pass("trim." + sfx, [&] {
-          trimmed = PassTrim(sparse);
-          r_.digest.Add("trim." + sfx, "rays", trimmed.rays);
-          r_.digest.Add("trim." + sfx, "offsets", trimmed.offsets);
-          return trimmed.rays.size();
-        });
+        RaygenAndTrim(
+            sfx,
+            [&] {
+              return k.kind == gpu::kRayReflection ? PassRaygenReflection(fc_, surfaces, b_)
+                                                   : PassRaygenRefraction(fc_, surfaces, b_);
+            },
+            sparse, trimmed);
         r_.rays[k.kind][bounce + 1] = trimmed.rays.size();
         Pass("trace." + sfx, [&] {
           tracer_.Closest(trimmed.rays, hits);
@@ -189,6 +172,23 @@ class Runner {
   }
 
  private:
+  // The raygen pass of one batch (`suffix` = kind.bounce) and its compaction.
+  template <typename F>
+  void RaygenAndTrim(const std::string& suffix, F&& raygen, SparseRays& sparse, Trimmed& trimmed) {
+    Pass("raygen." + suffix, [&] {
+      sparse = raygen();
+      r_.digest.Add("raygen." + suffix, "rays", sparse.rays);
+      r_.digest.Add("raygen." + suffix, "flags", sparse.flags);
+      return sparse.rays.size();
+    });
+    Pass("trim." + suffix, [&] {
+      trimmed = PassTrim(sparse);
+      r_.digest.Add("trim." + suffix, "rays", trimmed.rays);
+      r_.digest.Add("trim." + suffix, "offsets", trimmed.offsets);
+      return trimmed.rays.size();
+    });
+  }
+
   template <typename F>
   void Pass(const std::string& name, F&& body) {
     Clock c;
