@@ -102,7 +102,7 @@ int RunRender(const RenderArgs& args) {
   if (args.no_oracle) {
     oj = {{"name", "none"}, {"rays_checked", 0}, {"mismatches", 0}, {"skipped", true}};
   } else {
-    oracle.Report(oj, 100);
+    oracle.Report(oj, 1000);
     oj["ms"] = oracle_ms;
   }
   j["oracle"] = oj;

@@ -273,7 +273,12 @@ Scene LoadScene(const std::filesystem::path& path, const LoadOptions& options) {
     MeshData mesh;
     if (has_mesh) {
       if (!oj["mesh"].is_string()) c.Fail(f + ".mesh", "expected a path string");
-      mesh = LoadMesh(ResolveMesh(c, f + ".mesh", oj["mesh"].get<std::string>(), scene_dir, options));
+      const std::filesystem::path mesh_path = ResolveMesh(c, f + ".mesh", oj["mesh"].get<std::string>(), scene_dir, options);
+      try {
+        mesh = LoadMesh(mesh_path);
+      } catch (const InputError& e) {  // name the object too: the mesh may be shared by several
+        c.Fail(f + (name.empty() ? "" : " (" + name + ")"), e.what());
+      }
     } else {
       if (!oj["generator"].is_string()) c.Fail(f + ".generator", "expected a string");
       static const json kEmpty = json::object();

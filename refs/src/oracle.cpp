@@ -105,9 +105,9 @@ void Oracle::Report(nlohmann::json& out, std::size_t max_listed) const {
   out["oracle_wrong"] = oracle_wrong_.size();
   out["ties"] = ties_.size();
   out["adjudication"] = "exact rational arithmetic (CGAL Epeck)";
-  auto list = [&](const std::vector<Disagreement>& v) {
+  auto list = [&](const std::vector<Disagreement>& v, std::size_t cap) {
     nlohmann::json a = nlohmann::json::array();
-    for (std::size_t i = 0; i < v.size() && i < max_listed; ++i) {
+    for (std::size_t i = 0; i < v.size() && i < cap; ++i) {
       const Disagreement& d = v[i];
       a.push_back({{"batch", d.batch}, {"ray", d.ray},
                    {"frame", {{"prim", d.frame_prim == gpu::kNoPrim ? nlohmann::json(nullptr) : nlohmann::json(d.frame_prim)}, {"t", d.frame_t}}},
@@ -119,9 +119,10 @@ void Oracle::Report(nlohmann::json& out, std::size_t max_listed) const {
     }
     return a;
   };
-  out["mismatch_list"] = list(mismatches_);
-  out["oracle_wrong_list"] = list(oracle_wrong_);
-  out["tie_list"] = list(ties_);
+  // Every disagreement that is not a tie is listed; ties (edge conventions) up to max_listed.
+  out["mismatch_list"] = list(mismatches_, mismatches_.size());
+  out["oracle_wrong_list"] = list(oracle_wrong_, oracle_wrong_.size());
+  out["tie_list"] = list(ties_, max_listed);
 }
 
 }  // namespace rayspace::refs

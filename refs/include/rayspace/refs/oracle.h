@@ -31,6 +31,7 @@ class Oracle {
   const std::vector<Disagreement>& mismatches() const { return mismatches_; }
   const std::vector<Disagreement>& oracle_wrong() const { return oracle_wrong_; }
   const std::vector<Disagreement>& ties() const { return ties_; }
+  // Lists every mismatch and every oracle error; ties up to max_listed.
   void Report(nlohmann::json& out, std::size_t max_listed) const;
 
  private:
