@@ -16,8 +16,18 @@ int main(int argc, char** argv) {
   rayspace::app::RenderArgs render;
   CLI::App* rc = app.add_subcommand("render", "Render a scene through the emulated pipeline and check it with an oracle");
   rc->add_option("scene", render.scene, "Scene JSON file")->required();
-  rc->add_option("--algo", render.algo, "Tracer for secondary rays: brute (emulated direct tracer) or embree")
-      ->check(CLI::IsMember({"brute", "embree"}));
+  rc->add_option("--algo", render.algo,
+                 "Tracer for secondary rays: crsh (ray hashing + sorting, object spheres), rah (same hierarchy over "
+                 "unsorted rays), rah-quadtree (Roger et al.'s screen quadtree), brute (emulated direct tracer), embree")
+      ->check(CLI::IsMember({"crsh", "rah", "rah-quadtree", "brute", "embree"}));
+  rc->add_option("--subdivision", render.subdivision, "Children per hierarchy node")->check(CLI::IsMember({4, 8, 16}));
+  auto* depth = rc->add_option("--depth", render.depth, "Hierarchy levels (rah-quadtree: log2 of the image size)")->check(CLI::Range(1, 12));
+  rc->add_option("--reduction", render.reduction, "Stream reduction: hierarchical (Roger et al.) or scan")
+      ->check(CLI::IsMember({"hierarchical", "scan"}));
+  rc->add_option("--component-size", render.component_size, "Component size s of the hierarchical reduction")
+      ->check(CLI::Range(1, 1 << 20));
+  rc->add_option("--pair-capacity", render.pair_capacity, "Pairs one traversal level may hold; more splits the triangle batch")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 30));
   rc->add_option("--size", render.size, "Image size WxH (overrides the scene)");
   rc->add_option("--out", render.out, "Output image (PNG); default <scene name>.png in the current directory");
   rc->add_option("--stats", render.stats, "Write statistics as JSON to this file");
@@ -35,6 +45,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "rayspace: error: %s\n", e.what());
     return 2;
   }
+  render.depth_given = depth->count() > 0;
   try {
     if (rc->parsed()) return rayspace::app::RunRender(render);
   } catch (const rayspace::InputError& e) {

@@ -1,6 +1,7 @@
 #include "render_command.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <regex>
@@ -10,6 +11,8 @@
 #include <nlohmann/json.hpp>
 
 #include "rayspace/emu/frame.h"
+#include "rayspace/emu/hierarchy.h"
+#include "statistics.h"
 #include "rayspace/error.h"
 #include "rayspace/image_io.h"
 #include "rayspace/parallel.h"
@@ -65,7 +68,28 @@ int RunRender(const RenderArgs& args) {
                                                            : emu::DirectMode::kAuto;
   std::unique_ptr<Tracer> direct = emu::MakeDirectTracer(buffers, mode);
   std::unique_ptr<Tracer> embree = refs::MakeEmbreeTracer(buffers, ThreadCount());
-  Tracer& frame_tracer = args.algo == "embree" ? *embree : *direct;
+  std::unique_ptr<emu::HierarchyTracer> hierarchy;
+  if (args.algo == "crsh" || args.algo == "rah" || args.algo == "rah-quadtree") {
+    emu::HierarchyConfig hc;
+    hc.algorithm = args.algo == "crsh" ? emu::Algorithm::kCrsh
+                   : args.algo == "rah" ? emu::Algorithm::kRah
+                                        : emu::Algorithm::kRahQuadtree;
+    hc.subdivision = args.subdivision;
+    hc.depth = args.depth;
+    if (hc.algorithm == emu::Algorithm::kRahQuadtree) {
+      // Roger et al.: 2x2 tiles up to the whole image, depth log2 of the image size.
+      hc.subdivision = 4;
+      if (!args.depth_given) hc.depth = static_cast<int>(std::ceil(std::log2(std::max(fo.width, fo.height))));
+      hc.depth = std::max(hc.depth, 1);
+    }
+    hc.reduction = args.reduction == "scan" ? emu::Reduction::kScan : emu::Reduction::kHierarchical;
+    hc.component_size = args.component_size;
+    hc.pair_capacity = args.pair_capacity;
+    hc.image_width = fo.width;
+    hc.image_height = fo.height;
+    hierarchy = emu::MakeHierarchyTracer(buffers, hc);
+  }
+  Tracer& frame_tracer = hierarchy ? *hierarchy : args.algo == "embree" ? *embree : *direct;
   Tracer& oracle_tracer = args.algo == "embree" ? *direct : *embree;
 
   refs::Oracle oracle(oracle_tracer, buffers);
@@ -98,6 +122,8 @@ int RunRender(const RenderArgs& args) {
   j["rays"] = {{"shadow", RaysJson(r.rays[gpu::kRayShadow], false)},
                {"reflection", RaysJson(r.rays[gpu::kRayReflection], true)},
                {"refraction", RaysJson(r.rays[gpu::kRayRefraction], true)}};
+  Statistics stats = hierarchy ? CollectStatistics(hierarchy->Stats()) : BruteStatistics(r, buffers.triangles.size());
+  stats.ToJson(j);
   nlohmann::json oj;
   if (args.no_oracle) {
     oj = {{"name", "none"}, {"rays_checked", 0}, {"mismatches", 0}, {"skipped", true}};
@@ -138,6 +164,7 @@ int RunRender(const RenderArgs& args) {
   }
   for (const emu::PassRecord& p : r.passes)
     if (!p.ran && p.name.rfind("trace.", 0) == 0) std::printf("  skipped     %s: %s\n", p.name.c_str(), p.reason.c_str());
+  stats.Print(stdout);
   if (args.no_oracle) {
     std::printf("  oracle      skipped\n");
   } else {

@@ -1,11 +1,14 @@
 #pragma once
+#include <cstddef>
 #include <string>
 
 namespace rayspace::app {
 
 struct RenderArgs {
-  std::string scene, algo = "brute", size, out, stats, data, direct = "auto";
-  int threads = 0;
+  std::string scene, algo = "crsh", size, out, stats, data, direct = "auto", reduction = "hierarchical";
+  int threads = 0, subdivision = 8, depth = 2, component_size = 64;
+  std::size_t pair_capacity = std::size_t{1} << 24;
+  bool depth_given = false;
   bool no_oracle = false, progress = false;
 };
 

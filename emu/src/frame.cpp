@@ -49,6 +49,7 @@ class Runner {
       r_.digest.Add("prep", "object_spheres", r_.object_spheres);
       return b_.triangles.size();
     });
+    tracer_.Prepare(r_.triangle_spheres, r_.object_spheres);
     Pass("raster", [&] {
       r_.gbuffer = PassRaster(fc_, b_);
       const GBuffer& g = r_.gbuffer;
@@ -95,6 +96,7 @@ class Runner {
         RaygenAndTrim("shadow." + bs, [&] { return PassRaygenShadow(fc_, surfaces, b_); }, shadow, shadow_trim);
         r_.rays[gpu::kRayShadow][bounce] = shadow_trim.rays.size();
         Pass("trace.shadow." + bs, [&] {
+          Begin("shadow." + bs, gpu::kRayShadow, bounce);
           tracer_.Occluded(shadow_trim.rays, occluded);
           r_.digest.Add("trace.shadow." + bs, "occluded", occluded);
           return shadow_trim.rays.size();
@@ -148,6 +150,7 @@ class Runner {
             sparse, trimmed);
         r_.rays[k.kind][bounce + 1] = trimmed.rays.size();
         Pass("trace." + sfx, [&] {
+          Begin(sfx, k.kind, bounce + 1);
           tracer_.Closest(trimmed.rays, hits);
           r_.digest.Add("trace." + sfx, "hits", hits);
           return trimmed.rays.size();
@@ -189,10 +192,22 @@ class Runner {
     });
   }
 
+  void Begin(const std::string& batch, std::uint32_t kind, int bounce) {
+    subpasses_.clear();
+    tracer_.BeginBatch({batch, kind, bounce, &r_.digest, &subpasses_});
+  }
+
   template <typename F>
   void Pass(const std::string& name, F&& body) {
     Clock c;
+    subpasses_.clear();
     const std::size_t n = body();
+    // A tracer's own passes (hash, sort, build, traverse, ...) are listed before the trace pass.
+    for (const SubPass& sp : subpasses_) {
+      if (opt_.progress) std::fprintf(stderr, "[rayspace]   %-26s %10zu elements %9.1f ms\n", sp.name.c_str(), sp.elements, sp.ms);
+      r_.passes.push_back({sp.name, true, {}, sp.ms, sp.elements});
+    }
+    subpasses_.clear();
     PassRecord rec{name, true, {}, c.Ms(), n};
     if (opt_.progress) std::fprintf(stderr, "[rayspace] %-28s %10zu elements %9.1f ms\n", name.c_str(), n, rec.ms);
     r_.passes.push_back(std::move(rec));
@@ -206,6 +221,7 @@ class Runner {
   const BatchObserver& observer_;
   gpu::FrameConstants fc_{};
   FrameResult r_;
+  std::vector<SubPass> subpasses_;
 };
 
 }  // namespace

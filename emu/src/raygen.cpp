@@ -34,7 +34,7 @@ SparseRays PassRaygenShadow(const gpu::FrameConstants& fc, const std::vector<gpu
       gpu::Ray r;
       r.origin_tmin = glm::vec4(o, fc.params.x);
       r.direction_tmax = glm::vec4(d, dist * fc.params.z);
-      r.info = glm::uvec4(sf.info.y, sf.info.x, gpu::kRayShadow, static_cast<std::uint32_t>(s));
+      r.info = glm::uvec4(sf.info.y, sf.info.x, gpu::kRayShadow, static_cast<std::uint32_t>(l));
       r.weight = sf.weight;
       out.rays[s * lights + l] = r;
       out.flags[s * lights + l] = 1u;

@@ -65,7 +65,8 @@ struct Light {
 struct Ray {
   vec4 origin_tmin;            // xyz origin, w smallest accepted t
   vec4 direction_tmax;         // xyz direction, w largest accepted t
-  uvec4 info;                  // x pixel, y primitive to ignore (the surface it leaves), z kind, w surface slot
+  uvec4 info;                  // x pixel, y primitive to ignore (the surface it leaves), z kind,
+                               // w light index (shadow) or surface slot (reflection, refraction)
   vec4 weight;                 // rgb path weight (product of reflectivity / transparency), a unused
 };
 
@@ -76,6 +77,14 @@ struct Surface {
   vec4 incoming;               // xyz unit direction of the ray that arrived here
   vec4 weight;                 // rgb path weight
   uvec4 info;                  // x primitive, y pixel, z material
+};
+
+// A node of the ray-space hierarchy: a sphere holding the origins of its rays and a cone holding their
+// directions (half-angle alpha in [0, pi], kept as cos and sin so no kernel needs trigonometry).
+struct ConeNode {
+  vec4 sphere;                 // xyz centre, w radius
+  vec4 cone;                   // xyz unit axis, w cos(alpha)
+  vec4 extra;                  // x sin(alpha), y number of rays below, zw unused
 };
 
 // Per-frame constants computed on the host in double and rounded once to float.
@@ -99,6 +108,7 @@ static_assert(sizeof(Material) == 48);
 static_assert(sizeof(Light) == 48);
 static_assert(sizeof(Ray) == 64);
 static_assert(sizeof(Surface) == 80);
+static_assert(sizeof(ConeNode) == 48);
 static_assert(sizeof(FrameConstants) == 64 + 8 * 16);
 static_assert(offsetof(Ray, info) == 32);
 static_assert(offsetof(FrameConstants, dims) == 176);

@@ -9,6 +9,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "rayspace/layout.h"
+#include "rayspace/digest.h"
 #include "rayspace/scene_buffers.h"
 
 namespace rayspace {
@@ -17,9 +18,27 @@ namespace rayspace {
 // - a ray hits triangle p at t when tmin < t < tmax (origin_tmin.w, direction_tmax.w) and p != info.y;
 // - closest hit: smallest t, ties to the lower primitive id, packed with emu::PackHit (miss = ~0);
 // - shadow rays: occluded = 1 if any such hit exists.
+// What the frame tells a tracer before each batch: names for its statistics and sub-pass timings,
+// and the frame's digest log for the buffers its own passes write.
+struct SubPass {
+  std::string name;
+  double ms = 0.0;
+  std::size_t elements = 0;
+};
+struct BatchContext {
+  std::string name;  // e.g. "shadow.b0"
+  std::uint32_t kind = 0;
+  int bounce = 0;
+  DigestLog* digest = nullptr;
+  std::vector<SubPass>* subpasses = nullptr;
+};
+
 class Tracer {
  public:
   virtual ~Tracer() = default;
+  // Called once after the prep pass with its bounding spheres (kept alive for the frame).
+  virtual void Prepare(const std::vector<glm::vec4>& /*triangle_spheres*/, const std::vector<glm::vec4>& /*object_spheres*/) {}
+  virtual void BeginBatch(const BatchContext&) {}
   virtual std::string Name() const = 0;
   // Describes the configuration (ISA, build quality, ...) for reports.
   virtual void Describe(nlohmann::json& out) const = 0;

@@ -1,0 +1,36 @@
+// Intersection statistics counted as the CRSH thesis counts them (DESIGN "Statistics model"):
+// per ray type and level the node-sphere tests (intersections), survivors (hits) and misses; final
+// ray-triangle tests; total = every level's intersections + final tests; brute force = rays x triangles.
+#pragma once
+#include <cstdio>
+#include <map>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "rayspace/emu/frame.h"
+#include "rayspace/emu/hierarchy.h"
+
+namespace rayspace::app {
+
+struct Statistics {
+  bool hierarchy = false;
+  int depth = 0;
+  // Per ray type: per level (index L-1) summed over bounces, final tests, rays, brute force.
+  struct PerType {
+    std::vector<emu::LevelStats> levels;
+    std::uint64_t final_tests = 0, rays = 0, brute_force = 0, object_sphere_tests = 0;
+  };
+  std::map<std::uint32_t, PerType> types;
+  std::vector<emu::BatchStats> batches;
+  std::uint64_t total = 0, brute_force = 0, object_sphere_tests = 0;
+
+  void ToJson(nlohmann::json& j) const;
+  void Print(std::FILE* out) const;
+};
+
+Statistics CollectStatistics(const std::vector<emu::BatchStats>& batches);
+// Brute force: every ray against every triangle, no levels.
+Statistics BruteStatistics(const emu::FrameResult& frame, std::size_t triangles);
+
+}  // namespace rayspace::app

@@ -1,0 +1,187 @@
+// Cone-sphere node arithmetic (thesis eqs. 3.8-3.16, Roger et al. eq. 1) without trigonometry: a
+// cone's half-angle alpha is carried as (cos alpha, sin alpha), so every operation is one a GPU
+// computes exactly. The papers' special cases are handled (docs/hierarchy.md):
+// - a ray inside the cone leaves it unchanged (eqs. 3.8-3.11 would shrink it);
+// - a ray along or against the axis (eq. 3.8 divides by zero): unchanged, or the full sphere;
+// - antiparallel axes in a union (eq. 3.12 divides by zero): the full sphere;
+// - half-angles >= pi/2 and spheres behind the apex in the test (eq. 3.16 assumes alpha < pi/2).
+// Each finished node is checked against its rays or children in float (Enclose*) and then widened by
+// small margins (Finish) for the test's own rounding; a proof of these margins is future work.
+#pragma once
+#include "rayspace/emu/intersect.h"
+
+namespace rayspace::emu::cone {
+
+// Margins applied once per finished node: radii grow by a relative 2^-18, half-angles by 2^-20 rad.
+inline constexpr float kRadiusSlack = 1.0f + 1.0f / (1 << 18);
+inline constexpr float kAngleSlack = 1.0f / (1 << 20);
+
+inline gpu::ConeNode FullSphereCone(gpu::ConeNode n) {
+  n.cone = glm::vec4(1.0f, 0.0f, 0.0f, -1.0f);
+  n.extra.x = 0.0f;
+  return n;
+}
+
+inline bool IsFull(const gpu::ConeNode& n) { return n.cone.w <= -1.0f; }
+
+// Widens the half-angle by about kAngleSlack: (cos, sin) move as by a rotation of delta, rounded
+// outward. In the test, s = b cos - a sin then drops by delta * (a cos + b sin) > 0 on the branch
+// that uses it, so the test only accepts more. Sin carries small angles that cos cannot resolve.
+inline void Loosen(gpu::ConeNode& n) {
+  if (IsFull(n)) return;
+  const float c = n.cone.w, s = n.extra.x;
+  const float c2 = std::nextafter(c - kAngleSlack * s, -2.0f);
+  const float s2 = std::nextafter(s + kAngleSlack * c, 2.0f);
+  if (c2 <= -1.0f || s2 < 0.0f) {
+    n = FullSphereCone(n);
+    return;
+  }
+  n.cone.w = c2;
+  n.extra.x = Min(1.0f, s2);
+}
+
+// Makes sure the cone holds a direction (unit r) in float evaluation: if angle(axis, r) exceeds the
+// half-angle, the half-angle becomes that angle. theta <= alpha iff sin(alpha - theta) >= 0.
+inline void EncloseDirection(gpu::ConeNode& n, glm::vec3 r) {
+  if (IsFull(n)) return;
+  const glm::vec3 x = Xyz(n.cone);
+  const float c = Dot(x, r), sr = Length(Cross(x, r));
+  if (n.extra.x * c - n.cone.w * sr >= 0.0f) return;
+  n.cone.w = Clamp(c, -1.0f, 1.0f);
+  n.extra.x = Min(1.0f, sr);
+  if (n.cone.w <= -1.0f) n = FullSphereCone(n);
+}
+
+// Makes sure the cone holds a child cone: angle(axis, child axis) + child half-angle <= half-angle.
+inline void EncloseCone(gpu::ConeNode& n, const gpu::ConeNode& child) {
+  if (IsFull(n)) return;
+  if (IsFull(child)) {
+    n = FullSphereCone(n);
+    return;
+  }
+  const glm::vec3 x = Xyz(n.cone), xc = Xyz(child.cone);
+  const float c = Dot(x, xc), sr = Length(Cross(x, xc));
+  const float cs = c * child.cone.w - sr * child.extra.x;   // cos(theta + alpha_child)
+  const float ss = sr * child.cone.w + c * child.extra.x;   // sin(theta + alpha_child)
+  if (ss < 0.0f || cs <= -1.0f) {                           // past pi
+    n = FullSphereCone(n);
+    return;
+  }
+  if (n.extra.x * cs - n.cone.w * ss >= 0.0f) return;
+  n.cone.w = Clamp(cs, -1.0f, 1.0f);
+  n.extra.x = Min(1.0f, ss);
+}
+
+// Makes sure the sphere holds a point or a child sphere (radius r at c).
+inline void EncloseSphere(gpu::ConeNode& n, glm::vec3 c, float r) {
+  const float need = Length(c - Xyz(n.sphere)) + r;
+  if (need > n.sphere.w) n.sphere.w = need;
+}
+
+inline void Finish(gpu::ConeNode& n) {
+  n.sphere.w = std::nextafter(n.sphere.w * kRadiusSlack, INFINITY);
+  Loosen(n);
+}
+
+// A leaf: one ray (origin, unit direction), radius 0, half-angle 0.
+inline gpu::ConeNode FromRay(glm::vec3 origin, glm::vec3 unit_dir) {
+  gpu::ConeNode n;
+  n.sphere = glm::vec4(origin, 0.0f);
+  n.cone = glm::vec4(unit_dir, 1.0f);
+  n.extra = glm::vec4(0.0f, 1.0f, 0.0f, 0.0f);
+  return n;
+}
+
+// Sphere union, eqs. 3.14-3.15: centre at the midpoint, radius half the distance plus the larger
+// radius (conservative, not minimal).
+inline glm::vec4 SphereUnion(glm::vec4 a, glm::vec4 b) {
+  const glm::vec3 ca = Xyz(a), cb = Xyz(b);
+  const glm::vec3 c = (ca + cb) * 0.5f;
+  const float r = Length(cb - ca) * 0.5f + Max(a.w, b.w);
+  return glm::vec4(c, r);
+}
+
+// Grows a node's cone by one unit ray direction r, eqs. 3.8-3.11.
+inline void GrowCone(gpu::ConeNode& n, glm::vec3 r) {
+  if (IsFull(n)) return;
+  const glm::vec3 x = Xyz(n.cone);
+  const float cosphi = n.cone.w, sinphi = n.extra.x;
+  const float c = Dot(x, r);
+  if (c >= cosphi) return;  // already inside
+  const glm::vec3 qv = x * c - r;  // eq. 3.8 numerator
+  const float ql = Length(qv);
+  if (!(ql > 0.0f)) {  // r against the axis (along it returned above)
+    n = FullSphereCone(n);
+    return;
+  }
+  const glm::vec3 q = qv / ql;
+  const glm::vec3 e = x * cosphi + q * sinphi;  // eq. 3.9: the cone's far edge
+  const glm::vec3 s = e + r;
+  const float sl = Length(s);
+  if (!(sl > 0.0f)) {  // e = -r: the new cone is the whole sphere
+    n = FullSphereCone(n);
+    return;
+  }
+  const glm::vec3 xn = s / sl;                   // eq. 3.10
+  n.cone = glm::vec4(xn, Min(1.0f, Dot(xn, r)));  // eq. 3.11
+  n.extra.x = Min(1.0f, Length(Cross(xn, r)));
+}
+
+// Cone union, eqs. 3.12-3.13 (intent: alpha = angle(x1, x2) / 2 + max(alpha1, alpha2) around
+// normalize(x1 + x2)), with cos/sin of the half angle from the half-angle identities.
+inline glm::vec4 ConeUnion(const gpu::ConeNode& a, const gpu::ConeNode& b, float& sin_out) {
+  if (IsFull(a) || IsFull(b)) {
+    sin_out = 0.0f;
+    return glm::vec4(1, 0, 0, -1);
+  }
+  const glm::vec3 x1 = Xyz(a.cone), x2 = Xyz(b.cone);
+  const glm::vec3 s = x1 + x2;
+  const float sl = Length(s);
+  if (!(sl > 0.0f)) {
+    sin_out = 0.0f;
+    return glm::vec4(1, 0, 0, -1);
+  }
+  const float c = Clamp(Dot(x1, x2), -1.0f, 1.0f);
+  const float ch = std::sqrt((1.0f + c) * 0.5f), sh = std::sqrt((1.0f - c) * 0.5f);  // half of angle(x1, x2)
+  const bool a_wider = a.cone.w <= b.cone.w;
+  const float cm = a_wider ? a.cone.w : b.cone.w, sm = a_wider ? a.extra.x : b.extra.x;
+  const float cn = ch * cm - sh * sm;  // cos(theta/2 + alpha_max)
+  const float sn = sh * cm + ch * sm;  // sin(theta/2 + alpha_max)
+  if (sn < 0.0f) {                     // past pi: every direction
+    sin_out = 0.0f;
+    return glm::vec4(1, 0, 0, -1);
+  }
+  sin_out = sn;
+  return glm::vec4(s / sl, cn);
+}
+
+inline gpu::ConeNode Union(const gpu::ConeNode& a, const gpu::ConeNode& b) {
+  gpu::ConeNode n;
+  n.sphere = SphereUnion(a.sphere, b.sphere);
+  float sn;
+  n.cone = ConeUnion(a, b, sn);
+  n.extra = glm::vec4(sn, a.extra.y + b.extra.y, 0.0f, 0.0f);
+  if (n.cone.w <= -1.0f) n = FullSphereCone(n);
+  return n;
+}
+
+// Does the node's ray bundle possibly meet the sphere (p, radius)? Roger et al.'s eq. 1 generalised:
+// the distance from p to the cone of apex C is at most d + r. With a = (p - C).axis, b = |(p - C) x
+// axis|: inside the cone when b cos(alpha) - a sin(alpha) <= 0; otherwise the nearest cone point is
+// on the surface (distance b cos - a sin) while a cos + b sin > 0, else the apex (distance |p - C|).
+inline bool Test(const gpu::ConeNode& n, glm::vec4 sphere, float eps) {
+  const glm::vec3 v = Xyz(sphere) - Xyz(n.sphere);
+  const float R = (sphere.w + n.sphere.w) * kRadiusSlack + eps;
+  if (IsFull(n)) return true;
+  const glm::vec3 x = Xyz(n.cone);
+  const float a = Dot(v, x);
+  const float b = Length(Cross(v, x));
+  const float cosa = n.cone.w, sina = n.extra.x;
+  const float s = b * cosa - a * sina;
+  if (s <= 0.0f) return true;  // p inside the cone
+  const float c = a * cosa + b * sina;
+  if (c > 0.0f) return s <= R;  // nearest point on the cone's surface
+  return Dot(v, v) <= R * R;    // nearest point is the apex
+}
+
+}  // namespace rayspace::emu::cone

@@ -1,0 +1,80 @@
+// The ray-space hierarchy as a tracer: hash, compress, sort, decompress, build, traverse with stream
+// reduction, intersect — CRSH (Reis 2015) and RAH (Roger et al. 2007) over the same passes, with the
+// thesis's statistics.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rayspace/emu/tracer.h"
+
+namespace rayspace::emu {
+
+enum class Algorithm { kCrsh, kRah, kRahQuadtree };
+enum class Reduction { kHierarchical, kScan };
+
+struct HashConfig {
+  int light_bits = 4;      // shadow keys: light index in the high bits
+  int polar_bits = 14;     // shadow keys: cos(theta) cells
+  int azimuth_bits = 14;   // shadow keys: azimuth cells (pseudo-angle, no trigonometry)
+  int origin_bits = 6;     // reflection/refraction: cells per axis of the scene box (x3, interleaved)
+  int direction_bits = 7;  // reflection/refraction: cells per direction coordinate (x2)
+};
+
+struct HierarchyConfig {
+  Algorithm algorithm = Algorithm::kCrsh;
+  int subdivision = 8;                    // children per node (4, 8, 16)
+  int depth = 2;                          // levels (rah-quadtree: log2 of the image size)
+  Reduction reduction = Reduction::kHierarchical;
+  int component_size = 64;                // Roger's s for the hierarchical reduction
+  std::size_t pair_capacity = 1u << 26;   // pairs a level may hold before the batch is split
+  std::uint32_t max_batch_triangles = 1u << 14;  // 14-bit triangle ids
+  HashConfig hash;
+  int image_width = 0, image_height = 0;  // for rah-quadtree
+};
+
+// Per ray type and level, as the thesis counts (level `depth` = top).
+struct LevelStats {
+  std::uint64_t intersections = 0, hits = 0;
+};
+struct BatchStats {
+  std::string batch;
+  std::uint32_t kind = 0;
+  int bounce = 0;
+  std::uint64_t rays = 0, triangles = 0;
+  std::vector<LevelStats> levels;  // index L-1 for level L
+  std::uint64_t object_sphere_tests = 0, object_sphere_hits = 0;
+  std::uint64_t final_tests = 0;
+  std::uint64_t triangle_batches = 0, overflow_splits = 0;
+  std::uint64_t Total() const;
+  std::uint64_t BruteForce() const { return rays * triangles; }
+};
+
+class HierarchyTracer : public Tracer {
+ public:
+  virtual const std::vector<BatchStats>& Stats() const = 0;
+};
+
+// Needs the frame's bounding spheres: the frame hands them over through Tracer::Prepare.
+std::unique_ptr<HierarchyTracer> MakeHierarchyTracer(const SceneBuffers& scene, const HierarchyConfig& config);
+
+// ---- the passes, exposed for tests ----------------------------------------------------------------
+// 32-bit sort key per ray (DESIGN: shadow = light | direction; others = origin | direction).
+// The scene's bounding box bounds the origin cells.
+std::vector<std::uint32_t> PassHash(const std::vector<gpu::Ray>& rays, const SceneBuffers& scene, const HashConfig& h);
+struct Chunks {
+  std::vector<std::uint32_t> key, base, size;
+};
+Chunks PassCompress(const std::vector<std::uint32_t>& keys);
+// Stable LSD radix sort of chunk keys (8 bits per pass); returns the chunk indices in sorted order.
+std::vector<std::uint32_t> PassSortChunks(const std::vector<std::uint32_t>& chunk_keys);
+// Sorted ray order: the rays of each chunk, chunks in sorted order.
+std::vector<std::uint32_t> PassDecompress(const Chunks& chunks, const std::vector<std::uint32_t>& sorted_chunks);
+
+// Stream reduction of (flag, value) slots to the flagged values in slot order.
+std::vector<std::uint32_t> ReduceScan(const std::vector<std::uint8_t>& flags, const std::vector<std::uint32_t>& values);
+std::vector<std::uint32_t> ReduceHierarchical(const std::vector<std::uint8_t>& flags,
+                                              const std::vector<std::uint32_t>& values, int component);
+
+}  // namespace rayspace::emu

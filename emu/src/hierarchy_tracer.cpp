@@ -1,0 +1,454 @@
+// The ray-space hierarchy tracer: order rays (hash + compress/sort/decompress for CRSH, screen order
+// for RAH, quadtree order for Roger's original), build cone-sphere nodes bottom-up, traverse top-down
+// with (node, triangle) pair streams reduced after every level, and intersect the surviving pairs.
+#include <atomic>
+#include <chrono>
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+#include "rayspace/emu/cone.h"
+#include "rayspace/emu/hierarchy.h"
+#include "rayspace/emu/passes.h"
+#include "rayspace/error.h"
+#include "rayspace/parallel.h"
+
+namespace rayspace::emu {
+
+std::uint64_t BatchStats::Total() const {
+  std::uint64_t t = final_tests;
+  for (const LevelStats& l : levels) t += l.intersections;
+  return t;
+}
+
+namespace {
+
+constexpr int kTriBits = 14;
+constexpr std::uint32_t kTriMask = (1u << kTriBits) - 1u;
+constexpr std::uint32_t kMaxLevelNodes = 1u << 18;  // 18-bit node ids in a packed pair
+// Largest top-level test grid (nodes x triangles) held at once; bigger grids take several node groups.
+constexpr std::size_t kMaxTopGrid = std::size_t{1} << 26;
+
+std::uint32_t Morton2(std::uint32_t x, std::uint32_t y) {
+  std::uint32_t m = 0;
+  for (int b = 15; b >= 0; --b) m = (m << 2) | (((y >> b) & 1u) << 1) | ((x >> b) & 1u);
+  return m;
+}
+
+class Clock {
+ public:
+  double Ms() const { return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0_).count(); }
+
+ private:
+  std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
+};
+
+// Levels 1..D of one batch's hierarchy. first[L-1] is a CSR offset array: the children of level-L
+// node i are [first[i], first[i+1]) among the level L-1 nodes (the sorted rays for L = 1).
+struct Hierarchy {
+  std::vector<std::vector<gpu::ConeNode>> nodes;
+  std::vector<std::vector<std::uint32_t>> first;
+};
+
+class Impl final : public HierarchyTracer {
+ public:
+  Impl(const SceneBuffers& scene, const HierarchyConfig& cfg) : scene_(scene), cfg_(cfg) {
+    RS_CHECK(cfg.subdivision >= 2 && cfg.depth >= 1 && cfg.component_size >= 1);
+    RS_CHECK(cfg.max_batch_triangles >= 1 && cfg.max_batch_triangles <= (1u << kTriBits));
+    const glm::vec3 ext = scene.hi - scene.lo;
+    eps_ = std::max(glm::length(ext), 1e-30f) * 1e-6f;
+  }
+
+  std::string Name() const override {
+    switch (cfg_.algorithm) {
+      case Algorithm::kCrsh: return "crsh";
+      case Algorithm::kRah: return "rah";
+      case Algorithm::kRahQuadtree: return "rah-quadtree";
+    }
+    return "?";
+  }
+  void Describe(nlohmann::json& out) const override {
+    out["name"] = Name();
+    out["subdivision"] = Children();
+    out["depth"] = cfg_.depth;
+    out["reduction"] = cfg_.reduction == Reduction::kHierarchical ? "hierarchical" : "scan";
+    out["component_size"] = cfg_.component_size;
+    out["pair_capacity"] = cfg_.pair_capacity;
+    out["batch_triangles"] = cfg_.max_batch_triangles;
+    out["object_spheres"] = cfg_.algorithm == Algorithm::kCrsh;
+  }
+  void Prepare(const std::vector<glm::vec4>& tri_spheres, const std::vector<glm::vec4>& obj_spheres) override {
+    RS_CHECK(tri_spheres.size() == scene_.triangles.size() && obj_spheres.size() == scene_.objects.size());
+    tri_spheres_ = &tri_spheres;
+    obj_spheres_ = &obj_spheres;
+  }
+  void BeginBatch(const BatchContext& ctx) override { ctx_ = ctx; }
+  const std::vector<BatchStats>& Stats() const override { return stats_; }
+
+  void Closest(const std::vector<gpu::Ray>& rays, std::vector<std::uint64_t>& hits) override {
+    hits.assign(rays.size(), kMissPacked);
+    Run(rays, &hits, nullptr);
+  }
+  void Occluded(const std::vector<gpu::Ray>& rays, std::vector<std::uint32_t>& occluded) override {
+    occluded.assign(rays.size(), 0u);
+    Run(rays, nullptr, &occluded);
+  }
+
+ private:
+  int Children() const { return cfg_.algorithm == Algorithm::kRahQuadtree ? 4 : cfg_.subdivision; }
+
+  template <typename F>
+  auto Sub(const std::string& pass, std::size_t elements, F&& body) {
+    Clock c;
+    if constexpr (std::is_void_v<decltype(body())>) {
+      body();
+      Record(pass, elements, c.Ms());
+    } else {
+      auto r = body();
+      Record(pass, elements, c.Ms());
+      return r;
+    }
+  }
+  void Record(const std::string& pass, std::size_t elements, double ms) {
+    if (ctx_.subpasses) ctx_.subpasses->push_back({pass + "." + ctx_.name, ms, elements});
+  }
+  template <typename T>
+  void Digest(const std::string& pass, const std::string& buffer, const std::vector<T>& v) {
+    if (ctx_.digest) ctx_.digest->Add(pass + "." + ctx_.name, buffer, v);
+  }
+
+  // Ray order and the group id of each sorted ray per level (rays with equal ids share a node).
+  std::vector<std::uint32_t> Order(const std::vector<gpu::Ray>& rays, std::vector<std::uint32_t>& quad_keys) {
+    const std::size_t n = rays.size();
+    if (cfg_.algorithm == Algorithm::kRah) {
+      // Screen order, one run per light: shadow slots interleave the lights (surface x lights + light),
+      // and a node mixing two lights would span the space between them.
+      std::vector<std::uint32_t> order;
+      order.reserve(n);
+      std::uint32_t lights = 1;
+      for (const gpu::Ray& r : rays)
+        if (r.info.z == gpu::kRayShadow) lights = std::max(lights, r.info.w + 1);
+      for (std::uint32_t l = 0; l < lights; ++l)
+        for (std::size_t i = 0; i < n; ++i)
+          if ((rays[i].info.z == gpu::kRayShadow ? rays[i].info.w : 0u) == l) order.push_back(static_cast<std::uint32_t>(i));
+      Digest("order", "ray_order", order);
+      return order;
+    }
+    std::vector<std::uint32_t> keys;
+    if (cfg_.algorithm == Algorithm::kCrsh) {
+      keys = Sub("hash", n, [&] { return PassHash(rays, scene_, cfg_.hash); });
+    } else {
+      // Roger's quadtree: screen tiles in Morton order, one tree per light.
+      const std::uint32_t w = static_cast<std::uint32_t>(std::max(1, cfg_.image_width));
+      keys = Sub("hash", n, [&] {
+        std::vector<std::uint32_t> k(n);
+        ParallelFor("hash", n, [&](std::size_t i) {
+          const std::uint32_t px = rays[i].info.x % w, py = rays[i].info.x / w;
+          const std::uint32_t light = rays[i].info.z == gpu::kRayShadow ? rays[i].info.w : 0u;
+          k[i] = (light << (2 * cfg_.depth)) | Morton2(px, py);
+        });
+        return k;
+      });
+    }
+    Digest("hash", "keys", keys);
+    const Chunks chunks = Sub("compress", n, [&] { return PassCompress(keys); });
+    Digest("compress", "chunk_keys", chunks.key);
+    Digest("compress", "chunk_base", chunks.base);
+    const std::vector<std::uint32_t> sorted = Sub("sort", chunks.key.size(), [&] { return PassSortChunks(chunks.key); });
+    Digest("sort", "chunk_order", sorted);
+    std::vector<std::uint32_t> order = Sub("decompress", n, [&] { return PassDecompress(chunks, sorted); });
+    Digest("decompress", "ray_order", order);
+    if (cfg_.algorithm == Algorithm::kRahQuadtree) {
+      quad_keys.resize(n);
+      for (std::size_t j = 0; j < n; ++j) quad_keys[j] = keys[order[j]];
+    }
+    return order;
+  }
+
+  // CSR offsets grouping `count` consecutive items whose group ids are equal.
+  static std::vector<std::uint32_t> Group(std::size_t count, const std::function<std::uint32_t(std::size_t)>& id) {
+    std::vector<std::uint32_t> first;
+    for (std::size_t i = 0; i < count; ++i)
+      if (i == 0 || id(i) != id(i - 1)) first.push_back(static_cast<std::uint32_t>(i));
+    first.push_back(static_cast<std::uint32_t>(count));
+    return first;
+  }
+
+  Hierarchy Build(const std::vector<gpu::Ray>& rays, const std::vector<std::uint32_t>& order,
+                  const std::vector<std::uint32_t>& quad_keys) {
+    Hierarchy h;
+    const int D = cfg_.depth;
+    const std::uint32_t s = static_cast<std::uint32_t>(Children());
+    h.nodes.resize(D);
+    h.first.resize(D);
+    const bool quad = cfg_.algorithm == Algorithm::kRahQuadtree;
+    // Level 1 groups sorted rays; level L groups level L-1 nodes (fixed fan-out, or quadtree tiles).
+    std::vector<std::uint32_t> rep;  // quadtree key of each item's first ray
+    if (quad) rep = quad_keys;
+    for (int L = 1; L <= D; ++L) {
+      const std::size_t items = L == 1 ? order.size() : h.nodes[L - 2].size();
+      if (quad) {
+        h.first[L - 1] = Group(items, [&](std::size_t i) { return rep[i] >> (2 * L); });
+      } else {
+        h.first[L - 1] = Group(items, [&](std::size_t i) { return static_cast<std::uint32_t>(i / s); });
+      }
+      const auto& f = h.first[L - 1];
+      const std::size_t nodes = f.size() - 1;
+      h.nodes[L - 1].resize(nodes);
+      if (L == 1) {
+        ParallelFor("build.level1", nodes, [&](std::size_t i) {
+          const gpu::Ray& r0 = rays[order[f[i]]];
+          gpu::ConeNode n = cone::FromRay(Xyz(r0.origin_tmin), Normalize(Xyz(r0.direction_tmax)));
+          for (std::uint32_t j = f[i] + 1; j < f[i + 1]; ++j) {  // eqs. 3.8-3.11 and 3.14-3.15
+            const gpu::Ray& r = rays[order[j]];
+            n.sphere = cone::SphereUnion(n.sphere, glm::vec4(Xyz(r.origin_tmin), 0.0f));
+            cone::GrowCone(n, Normalize(Xyz(r.direction_tmax)));
+            n.extra.y += 1.0f;
+          }
+          for (std::uint32_t j = f[i]; j < f[i + 1]; ++j) {  // rounding must not leave a ray outside
+            const gpu::Ray& r = rays[order[j]];
+            cone::EncloseSphere(n, Xyz(r.origin_tmin), 0.0f);
+            cone::EncloseDirection(n, Normalize(Xyz(r.direction_tmax)));
+          }
+          cone::Finish(n);
+          h.nodes[0][i] = n;
+        });
+      } else {
+        const auto& below = h.nodes[L - 2];
+        ParallelFor("build.union", nodes, [&](std::size_t i) {
+          gpu::ConeNode n = below[f[i]];
+          for (std::uint32_t j = f[i] + 1; j < f[i + 1]; ++j) n = cone::Union(n, below[j]);  // eqs. 3.12-3.15
+          for (std::uint32_t j = f[i]; j < f[i + 1]; ++j) {
+            cone::EncloseSphere(n, Xyz(below[j].sphere), below[j].sphere.w);
+            cone::EncloseCone(n, below[j]);
+          }
+          cone::Finish(n);
+          h.nodes[L - 1][i] = n;
+        });
+      }
+      if (quad) {
+        std::vector<std::uint32_t> next(nodes);
+        for (std::size_t i = 0; i < nodes; ++i) next[i] = rep[f[i]];
+        rep.swap(next);
+      }
+    }
+    return h;
+  }
+
+  // Range of level-L descendants of top nodes [lo, hi).
+  std::pair<std::uint32_t, std::uint32_t> Descendants(const Hierarchy& h, int L, std::uint32_t lo, std::uint32_t hi) const {
+    for (int l = cfg_.depth; l > L; --l) {
+      lo = h.first[l - 1][lo];
+      hi = h.first[l - 1][hi];
+    }
+    return {lo, hi};
+  }
+
+  std::vector<std::uint32_t> Reduce(const std::vector<std::uint8_t>& flags, const std::vector<std::uint32_t>& values) const {
+    return cfg_.reduction == Reduction::kHierarchical ? ReduceHierarchical(flags, values, cfg_.component_size)
+                                                      : ReduceScan(flags, values);
+  }
+
+  static std::uint64_t Sum(const std::vector<std::uint8_t>& v) {
+    std::uint64_t s = 0;
+    for (std::uint8_t x : v) s += x;
+    return s;
+  }
+
+  // Traverses one block (top nodes [t0, t1) x triangles [b0, b1)); false when a level overflows the
+  // pair capacity, in which case nothing was written.
+  bool Block(const Hierarchy& h, const std::vector<gpu::Ray>& rays, const std::vector<std::uint32_t>& order,
+             const std::vector<std::uint8_t>& object_mask, std::uint32_t t0, std::uint32_t t1, std::uint32_t b0,
+             std::uint32_t b1, BatchStats& st, std::vector<std::uint64_t>* hits, std::vector<std::uint32_t>* occluded) {
+    const int D = cfg_.depth;
+    const std::uint32_t T = b1 - b0, N = t1 - t0;
+    const std::size_t objects = scene_.objects.size();
+    const bool crsh = cfg_.algorithm == Algorithm::kCrsh;
+    std::vector<LevelStats> lv(D);
+
+    // Top level: every (node, triangle) of the block, skipping triangles whose object sphere the
+    // node missed (CRSH).
+    const std::size_t grid = static_cast<std::size_t>(N) * T;
+    std::vector<std::uint8_t> tested(grid), flags(grid);
+    std::vector<std::uint32_t> values(grid);
+    const auto& top = h.nodes[D - 1];
+    Sub("traverse.L" + std::to_string(D), grid, [&] {
+      ParallelFor("traverse.top", grid, [&](std::size_t e) {
+        const std::uint32_t node = t0 + static_cast<std::uint32_t>(e / T), tri = b0 + static_cast<std::uint32_t>(e % T);
+        const bool test = !crsh || object_mask[static_cast<std::size_t>(node) * objects + scene_.info[tri].ids.y];
+        tested[e] = test;
+        flags[e] = test && cone::Test(top[node], (*tri_spheres_)[tri], eps_);
+        values[e] = ((node - t0) << kTriBits) | (tri - b0);
+      });
+    });
+    lv[D - 1].intersections = Sum(tested);
+    std::vector<std::uint32_t> pairs = Sub("reduce.L" + std::to_string(D), grid, [&] { return Reduce(flags, values); });
+    lv[D - 1].hits = pairs.size();
+    if (pairs.size() > cfg_.pair_capacity) return false;
+    tested.clear();
+    tested.shrink_to_fit();
+
+    // Levels D-1 .. 1: each surviving pair tests the node's children.
+    const std::uint32_t S = static_cast<std::uint32_t>(Children());
+    for (int L = D - 1; L >= 1; --L) {
+      const auto [base_up, unused_up] = Descendants(h, L + 1, t0, t1);
+      const auto [base, unused] = Descendants(h, L, t0, t1);
+      (void)unused_up;
+      (void)unused;
+      const auto& f = h.first[L];  // children of level L+1 nodes among level L nodes
+      const auto& nodes = h.nodes[L - 1];
+      const std::size_t slots = pairs.size() * S;
+      flags.assign(slots, 0);
+      values.assign(slots, 0);
+      std::vector<std::uint8_t> counts(pairs.size());
+      Sub("traverse.L" + std::to_string(L), slots, [&] {
+        ParallelFor("traverse.level", pairs.size(), [&](std::size_t p) {
+          const std::uint32_t parent = base_up + (pairs[p] >> kTriBits), tri_local = pairs[p] & kTriMask;
+          const glm::vec4 sphere = (*tri_spheres_)[b0 + tri_local];
+          const std::uint32_t c0 = f[parent], c1 = f[parent + 1];
+          counts[p] = static_cast<std::uint8_t>(c1 - c0);
+          for (std::uint32_t c = c0; c < c1; ++c) {
+            const std::size_t slot = p * S + (c - c0);
+            flags[slot] = cone::Test(nodes[c], sphere, eps_);
+            values[slot] = ((c - base) << kTriBits) | tri_local;
+          }
+        });
+      });
+      lv[L - 1].intersections = Sum(counts);
+      pairs = Sub("reduce.L" + std::to_string(L), slots, [&] { return Reduce(flags, values); });
+      lv[L - 1].hits = pairs.size();
+      if (pairs.size() > cfg_.pair_capacity) return false;
+    }
+
+    // Final ray-triangle tests on the surviving level-1 pairs.
+    const auto [base1, unused1] = Descendants(h, 1, t0, t1);
+    (void)unused1;
+    const auto& f1 = h.first[0];
+    std::vector<std::uint32_t> tests(pairs.size());
+    Sub("intersect", pairs.size(), [&] {
+      ParallelFor("intersect", pairs.size(), [&](std::size_t p) {
+        const std::uint32_t node = base1 + (pairs[p] >> kTriBits), prim = b0 + (pairs[p] & kTriMask);
+        const gpu::Triangle& t = scene_.triangles[prim];
+        tests[p] = f1[node + 1] - f1[node];
+        for (std::uint32_t j = f1[node]; j < f1[node + 1]; ++j) {
+          const std::uint32_t ray = order[j];
+          const gpu::Ray& r = rays[ray];
+          if (prim == r.info.y) continue;
+          float th;
+          if (!IntersectWatertight(SetupWatertight(Xyz(r.origin_tmin), Xyz(r.direction_tmax)), Xyz(t.v0), Xyz(t.v1),
+                                   Xyz(t.v2), r.origin_tmin.w, r.direction_tmax.w, th))
+            continue;
+          if (hits) {
+            std::atomic_ref<std::uint64_t> a((*hits)[ray]);
+            const std::uint64_t v = PackHit(th, prim);
+            std::uint64_t cur = a.load(std::memory_order_relaxed);
+            while (v < cur && !a.compare_exchange_weak(cur, v, std::memory_order_relaxed)) {
+            }
+          } else {
+            std::atomic_ref<std::uint32_t>((*occluded)[ray]).store(1u, std::memory_order_relaxed);
+          }
+        }
+      });
+    });
+    std::uint64_t performed = 0, expected = 0;
+    for (std::size_t p = 0; p < pairs.size(); ++p) {
+      performed += tests[p];
+      expected += static_cast<std::uint64_t>(h.nodes[0][base1 + (pairs[p] >> kTriBits)].extra.y);
+    }
+    // The thesis's accounting: final tests = rays below the surviving level-1 nodes.
+    RS_CHECK_MSG(performed == expected, "final tests {} != rays below surviving nodes {}", performed, expected);
+    st.final_tests += performed;
+    for (int L = 0; L < D; ++L) {
+      st.levels[L].intersections += lv[L].intersections;
+      st.levels[L].hits += lv[L].hits;
+    }
+    ++st.triangle_batches;
+    return true;
+  }
+
+  void Process(const Hierarchy& h, const std::vector<gpu::Ray>& rays, const std::vector<std::uint32_t>& order,
+               const std::vector<std::uint8_t>& mask, std::uint32_t t0, std::uint32_t t1, std::uint32_t b0, std::uint32_t b1,
+               BatchStats& st, std::vector<std::uint64_t>* hits, std::vector<std::uint32_t>* occluded) {
+    if (Block(h, rays, order, mask, t0, t1, b0, b1, st, hits, occluded)) return;
+    // Overflow: split the triangle batch (or, for a single triangle, the nodes) and go again.
+    ++st.overflow_splits;
+    if (b1 - b0 > 1) {
+      const std::uint32_t mid = b0 + (b1 - b0) / 2;
+      Process(h, rays, order, mask, t0, t1, b0, mid, st, hits, occluded);
+      Process(h, rays, order, mask, t0, t1, mid, b1, st, hits, occluded);
+    } else if (t1 - t0 > 1) {
+      const std::uint32_t mid = t0 + (t1 - t0) / 2;
+      Process(h, rays, order, mask, t0, mid, b0, b1, st, hits, occluded);
+      Process(h, rays, order, mask, mid, t1, b0, b1, st, hits, occluded);
+    } else {
+      ThrowInput("--pair-capacity {}: too small to hold the pairs of one node and one triangle", cfg_.pair_capacity);
+    }
+  }
+
+  void Run(const std::vector<gpu::Ray>& rays, std::vector<std::uint64_t>* hits, std::vector<std::uint32_t>* occluded) {
+    BatchStats st;
+    st.batch = ctx_.name;
+    st.kind = ctx_.kind;
+    st.bounce = ctx_.bounce;
+    st.rays = rays.size();
+    st.triangles = scene_.triangles.size();
+    st.levels.assign(cfg_.depth, {});
+    RS_CHECK_MSG(tri_spheres_ != nullptr, "the hierarchy tracer needs Prepare() before tracing");
+    if (rays.empty()) {
+      stats_.push_back(st);
+      return;
+    }
+    std::vector<std::uint32_t> quad_keys;
+    const std::vector<std::uint32_t> order = Order(rays, quad_keys);
+    const Hierarchy h = Sub("build", rays.size(), [&] { return Build(rays, order, quad_keys); });
+    for (int L = 1; L <= cfg_.depth; ++L) Digest("build", "nodes.L" + std::to_string(L), h.nodes[L - 1]);
+    const std::uint32_t top = static_cast<std::uint32_t>(h.nodes[cfg_.depth - 1].size());
+
+    // CRSH: top nodes against object spheres first, once per batch.
+    std::vector<std::uint8_t> mask;
+    if (cfg_.algorithm == Algorithm::kCrsh) {
+      const std::size_t objects = scene_.objects.size();
+      mask.assign(static_cast<std::size_t>(top) * objects, 0);
+      Sub("traverse.objects", mask.size(), [&] {
+        ParallelFor("traverse.objects", mask.size(), [&](std::size_t e) {
+          mask[e] = cone::Test(h.nodes[cfg_.depth - 1][e / objects], (*obj_spheres_)[e % objects], eps_);
+        });
+      });
+      st.object_sphere_tests = mask.size();
+      st.object_sphere_hits = Sum(mask);
+    }
+
+    // Node groups keep packed node ids within 18 bits and the top-level grid bounded.
+    const std::uint32_t T = static_cast<std::uint32_t>(scene_.triangles.size());
+    std::uint32_t t0 = 0;
+    while (t0 < top) {
+      std::uint32_t t1 = t0 + 1;
+      const std::size_t grid_nodes = std::max<std::size_t>(1, kMaxTopGrid / std::min<std::uint32_t>(T, cfg_.max_batch_triangles));
+      while (t1 < top && t1 - t0 < grid_nodes) {
+        const auto [lo, hi] = Descendants(h, 1, t0, t1 + 1);
+        if (hi - lo > kMaxLevelNodes) break;
+        ++t1;
+      }
+      for (std::uint32_t b0 = 0; b0 < T; b0 += cfg_.max_batch_triangles)
+        Process(h, rays, order, mask, t0, t1, b0, std::min(T, b0 + cfg_.max_batch_triangles), st, hits, occluded);
+      t0 = t1;
+    }
+    stats_.push_back(st);
+  }
+
+  const SceneBuffers& scene_;
+  const std::vector<glm::vec4>* tri_spheres_ = nullptr;
+  const std::vector<glm::vec4>* obj_spheres_ = nullptr;
+  HierarchyConfig cfg_;
+  float eps_ = 0;
+  BatchContext ctx_;
+  std::vector<BatchStats> stats_;
+};
+
+}  // namespace
+
+std::unique_ptr<HierarchyTracer> MakeHierarchyTracer(const SceneBuffers& scene, const HierarchyConfig& config) {
+  return std::make_unique<Impl>(scene, config);
+}
+
+}  // namespace rayspace::emu
