@@ -197,33 +197,12 @@ class Impl final : public HierarchyTracer {
       h.nodes[L - 1].resize(nodes);
       if (L == 1) {
         ParallelFor("build.level1", nodes, [&](std::size_t i) {
-          const gpu::Ray& r0 = rays[order[f[i]]];
-          gpu::ConeNode n = cone::FromRay(Xyz(r0.origin_tmin), Normalize(Xyz(r0.direction_tmax)));
-          for (std::uint32_t j = f[i] + 1; j < f[i + 1]; ++j) {  // eqs. 3.8-3.11 and 3.14-3.15
-            const gpu::Ray& r = rays[order[j]];
-            n.sphere = cone::SphereUnion(n.sphere, glm::vec4(Xyz(r.origin_tmin), 0.0f));
-            cone::GrowCone(n, Normalize(Xyz(r.direction_tmax)));
-            n.extra.y += 1.0f;
-          }
-          for (std::uint32_t j = f[i]; j < f[i + 1]; ++j) {  // rounding must not leave a ray outside
-            const gpu::Ray& r = rays[order[j]];
-            cone::EncloseSphere(n, Xyz(r.origin_tmin), 0.0f);
-            cone::EncloseDirection(n, Normalize(Xyz(r.direction_tmax)));
-          }
-          cone::Finish(n);
-          h.nodes[0][i] = n;
+          h.nodes[0][i] = cone::LeafNode(f[i + 1] - f[i], [&](std::uint32_t k) -> const gpu::Ray& { return rays[order[f[i] + k]]; });
         });
       } else {
         const auto& below = h.nodes[L - 2];
         ParallelFor("build.union", nodes, [&](std::size_t i) {
-          gpu::ConeNode n = below[f[i]];
-          for (std::uint32_t j = f[i] + 1; j < f[i + 1]; ++j) n = cone::Union(n, below[j]);  // eqs. 3.12-3.15
-          for (std::uint32_t j = f[i]; j < f[i + 1]; ++j) {
-            cone::EncloseSphere(n, Xyz(below[j].sphere), below[j].sphere.w);
-            cone::EncloseCone(n, below[j]);
-          }
-          cone::Finish(n);
-          h.nodes[L - 1][i] = n;
+          h.nodes[L - 1][i] = cone::ParentNode(&below[f[i]], f[i + 1] - f[i]);
         });
       }
       if (quad) {
@@ -350,6 +329,13 @@ class Impl final : public HierarchyTracer {
         }
       });
     });
+    if (cfg_.candidate_log) {
+      for (std::uint32_t pair : pairs) {
+        const std::uint32_t node = base1 + (pair >> kTriBits), prim = b0 + (pair & kTriMask);
+        for (std::uint32_t j = f1[node]; j < f1[node + 1]; ++j)
+          cfg_.candidate_log->push_back((static_cast<std::uint64_t>(order[j]) << 32) | prim);
+      }
+    }
     std::uint64_t performed = 0, expected = 0;
     for (std::size_t p = 0; p < pairs.size(); ++p) {
       performed += tests[p];

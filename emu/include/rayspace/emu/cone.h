@@ -177,11 +177,45 @@ inline bool Test(const gpu::ConeNode& n, glm::vec4 sphere, float eps) {
   const float a = Dot(v, x);
   const float b = Length(Cross(v, x));
   const float cosa = n.cone.w, sina = n.extra.x;
-  const float s = b * cosa - a * sina;
-  if (s <= 0.0f) return true;  // p inside the cone
-  const float c = a * cosa + b * sina;
+  const float s = b * cosa - a * sina;  // |v| sin(gamma - alpha), gamma = angle(v, axis)
+  const float c = a * cosa + b * sina;  // |v| cos(gamma - alpha)
+  // Inside when gamma - alpha lies in [-pi, 0]: s <= 0, except s = 0 at gamma - alpha = pi (behind).
+  if (s < 0.0f || (s == 0.0f && c >= 0.0f)) return true;
   if (c > 0.0f) return s <= R;  // nearest point on the cone's surface
   return Dot(v, v) <= R * R;    // nearest point is the apex
+}
+
+// A level-1 node over rays (given by index through `order`): eqs. 3.8-3.11 and 3.14-3.15 folded
+// in order, then checked against every ray and finished with the margins.
+template <typename RayAt>
+gpu::ConeNode LeafNode(std::uint32_t count, RayAt&& ray_at) {
+  const gpu::Ray& r0 = ray_at(0);
+  gpu::ConeNode n = FromRay(Xyz(r0.origin_tmin), Normalize(Xyz(r0.direction_tmax)));
+  for (std::uint32_t j = 1; j < count; ++j) {
+    const gpu::Ray& r = ray_at(j);
+    n.sphere = SphereUnion(n.sphere, glm::vec4(Xyz(r.origin_tmin), 0.0f));
+    GrowCone(n, Normalize(Xyz(r.direction_tmax)));
+    n.extra.y += 1.0f;
+  }
+  for (std::uint32_t j = 0; j < count; ++j) {  // rounding must not leave a ray outside
+    const gpu::Ray& r = ray_at(j);
+    EncloseSphere(n, Xyz(r.origin_tmin), 0.0f);
+    EncloseDirection(n, Normalize(Xyz(r.direction_tmax)));
+  }
+  Finish(n);
+  return n;
+}
+
+// An upper-level node: unions of the children (eqs. 3.12-3.15), checked against each child, finished.
+inline gpu::ConeNode ParentNode(const gpu::ConeNode* children, std::uint32_t count) {
+  gpu::ConeNode n = children[0];
+  for (std::uint32_t j = 1; j < count; ++j) n = Union(n, children[j]);
+  for (std::uint32_t j = 0; j < count; ++j) {
+    EncloseSphere(n, Xyz(children[j].sphere), children[j].sphere.w);
+    EncloseCone(n, children[j]);
+  }
+  Finish(n);
+  return n;
 }
 
 }  // namespace rayspace::emu::cone

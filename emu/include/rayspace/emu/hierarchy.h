@@ -32,6 +32,8 @@ struct HierarchyConfig {
   std::uint32_t max_batch_triangles = 1u << 14;  // 14-bit triangle ids
   HashConfig hash;
   int image_width = 0, image_height = 0;  // for rah-quadtree
+  // Test hook: when set, every final ray-triangle test is logged as (ray index << 32 | primitive).
+  std::vector<std::uint64_t>* candidate_log = nullptr;
 };
 
 // Per ray type and level, as the thesis counts (level `depth` = top).
