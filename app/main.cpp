@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
   rc->add_option("--direct", render.direct, "Direct tracer mode: auto, exhaustive or bvh")
       ->check(CLI::IsMember({"auto", "exhaustive", "bvh"}));
   rc->add_flag("--no-oracle", render.no_oracle, "Skip the oracle re-trace");
+  rc->add_flag("--timings", render.timings, "Print time per phase (the thesis's phases) and tests per second");
   rc->add_flag("--progress", render.progress, "Print each pass and its time on stderr (default when stderr is a terminal)");
   try {
     app.parse(argc, argv);

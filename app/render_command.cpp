@@ -13,6 +13,7 @@
 #include "rayspace/emu/frame.h"
 #include "rayspace/emu/hierarchy.h"
 #include "statistics.h"
+#include "timings.h"
 #include "rayspace/error.h"
 #include "rayspace/image_io.h"
 #include "rayspace/parallel.h"
@@ -124,6 +125,8 @@ int RunRender(const RenderArgs& args) {
                {"refraction", RaysJson(r.rays[gpu::kRayRefraction], true)}};
   Statistics stats = hierarchy ? CollectStatistics(hierarchy->Stats()) : BruteStatistics(r, buffers.triangles.size());
   stats.ToJson(j);
+  const std::vector<Phase> phases = Phases(r.passes);
+  PhasesToJson(j, phases);
   nlohmann::json oj;
   if (args.no_oracle) {
     oj = {{"name", "none"}, {"rays_checked", 0}, {"mismatches", 0}, {"skipped", true}};
@@ -165,6 +168,7 @@ int RunRender(const RenderArgs& args) {
   for (const emu::PassRecord& p : r.passes)
     if (!p.ran && p.name.rfind("trace.", 0) == 0) std::printf("  skipped     %s: %s\n", p.name.c_str(), p.reason.c_str());
   stats.Print(stdout);
+  if (args.timings) PrintPhases(stdout, phases, r.total_ms, stats.total);
   if (args.no_oracle) {
     std::printf("  oracle      skipped\n");
   } else {

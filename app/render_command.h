@@ -9,7 +9,7 @@ struct RenderArgs {
   int threads = 0, subdivision = 8, depth = 2, component_size = 64;
   std::size_t pair_capacity = std::size_t{1} << 24;
   bool depth_given = false;
-  bool no_oracle = false, progress = false;
+  bool no_oracle = false, progress = false, timings = false;
 };
 
 // Runs `rayspace render`; returns the exit code (0 ok, 3 when the oracle found mismatches).

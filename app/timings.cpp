@@ -1,0 +1,64 @@
+#include "timings.h"
+
+#include <algorithm>
+
+#include <nlohmann/json.hpp>
+
+namespace rayspace::app {
+namespace {
+
+bool Starts(const std::string& s, const char* p) { return s.rfind(p, 0) == 0; }
+
+// The thesis's phase for a pass, or "other" (prep, raster, surfaces, shade, resolve).
+const char* PhaseOf(const std::string& pass) {
+  if (Starts(pass, "raygen.") || Starts(pass, "trim.")) return "ray_creation";
+  if (Starts(pass, "hash.") || Starts(pass, "compress.") || Starts(pass, "order.")) return "ray_compression";
+  if (Starts(pass, "sort.")) return "ray_sorting";
+  if (Starts(pass, "decompress.")) return "ray_decompression";
+  if (Starts(pass, "build.")) return "hierarchy_creation";
+  if (Starts(pass, "traverse.") || Starts(pass, "reduce.")) return "hierarchy_traversal";
+  if (Starts(pass, "intersect.")) return "final_intersection_tests";
+  return nullptr;
+}
+
+}  // namespace
+
+std::vector<Phase> Phases(const std::vector<emu::PassRecord>& passes) {
+  std::vector<Phase> out = {{"ray_creation"},       {"ray_compression"},    {"ray_sorting"},
+                            {"ray_decompression"},  {"hierarchy_creation"}, {"hierarchy_traversal"},
+                            {"final_intersection_tests"}, {"other"}};
+  double traced_in_subpasses = 0.0, trace_total = 0.0;
+  for (const emu::PassRecord& p : passes) {
+    if (!p.ran) continue;
+    if (Starts(p.name, "trace.")) {  // a tracer's total; its own passes are listed separately
+      trace_total += p.ms;
+      continue;
+    }
+    const char* ph = PhaseOf(p.name);
+    Phase& dst = ph ? *std::find_if(out.begin(), out.end(), [&](const Phase& x) { return x.name == ph; }) : out.back();
+    dst.ms += p.ms;
+    dst.elements += p.elements;
+    if (ph && std::string(ph) != "ray_creation") traced_in_subpasses += p.ms;
+  }
+  // A tracer without sub-passes (brute, embree) shows as one traversal + intersection lump.
+  if (traced_in_subpasses == 0.0) out[6].ms += trace_total;
+  return out;
+}
+
+void PrintPhases(std::FILE* out, const std::vector<Phase>& phases, double frame_ms, std::uint64_t total_tests) {
+  std::fprintf(out, "  %-26s %10s %7s\n", "phase", "ms", "share");
+  for (const Phase& p : phases)
+    std::fprintf(out, "  %-26s %10.1f %6.1f%%\n", p.name.c_str(), p.ms, frame_ms > 0 ? 100.0 * p.ms / frame_ms : 0.0);
+  const double trav = phases[5].ms + phases[6].ms;
+  if (trav > 0)
+    std::fprintf(out, "  %-26s %10.1f M tests/s (traversal + final tests)\n", "throughput",
+                 static_cast<double>(total_tests) / (trav * 1e3));
+}
+
+void PhasesToJson(nlohmann::json& j, const std::vector<Phase>& phases) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const Phase& p : phases) a.push_back({{"phase", p.name}, {"ms", p.ms}, {"elements", p.elements}});
+  j["phases"] = a;
+}
+
+}  // namespace rayspace::app

@@ -1,0 +1,24 @@
+// Per-phase timings in the thesis's phases (tables 4.25-4.27), summed over a frame's batches.
+#pragma once
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "rayspace/emu/frame.h"
+
+namespace rayspace::app {
+
+struct Phase {
+  std::string name;
+  double ms = 0.0;
+  std::size_t elements = 0;
+};
+
+// Maps pass names (raygen.*, hash.*, sort.*, traverse.*, ...) to the thesis's phases.
+std::vector<Phase> Phases(const std::vector<emu::PassRecord>& passes);
+void PrintPhases(std::FILE* out, const std::vector<Phase>& phases, double frame_ms, std::uint64_t total_tests);
+void PhasesToJson(nlohmann::json& j, const std::vector<Phase>& phases);
+
+}  // namespace rayspace::app
