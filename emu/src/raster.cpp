@@ -1,4 +1,4 @@
-// MRT raster emulating lavapipe (Mesa 22.3, llvmpipe) bit for bit; see docs/raster.md.
+// MRT raster following lavapipe's (Mesa 22.3, llvmpipe) recipe; see docs/raster.md.
 //
 // Coverage follows lavapipe's fixed-point setup: fused viewport transform, 8 subpixel bits, 64-bit
 // edge functions with the top-left rule, and Mesa's C clipper for triangles that cross the clip volume
