@@ -9,6 +9,9 @@
 
 #include "rayspace/error.h"
 #include "render_command.h"
+#ifdef RAYSPACE_HAVE_VULKAN
+#include "diff_command.h"
+#endif
 
 int main(int argc, char** argv) {
   CLI::App app{"rayspace: emulator and verification suite for GPU secondary-ray tracing with ray-space hierarchies"};
@@ -38,6 +41,17 @@ int main(int argc, char** argv) {
   rc->add_flag("--no-oracle", render.no_oracle, "Skip the oracle re-trace");
   rc->add_flag("--timings", render.timings, "Print time per phase (the thesis's phases) and tests per second");
   rc->add_flag("--progress", render.progress, "Print each pass and its time on stderr (default when stderr is a terminal)");
+#ifdef RAYSPACE_HAVE_VULKAN
+  rayspace::app::DiffArgs diff;
+  CLI::App* dc = app.add_subcommand("diff", "Run the passes that have Vulkan kernels on both backends and compare them bitwise");
+  dc->add_option("scene", diff.scene, "Scene JSON file")->required();
+  dc->add_option("--size", diff.size, "Image size WxH (overrides the scene)");
+  dc->add_option("--data", diff.data, "Data root for mesh paths (default: $RAYSPACE_DATA)");
+  dc->add_option("--report", diff.report, "Write the comparison as JSON to this file");
+  dc->add_option("--inject", diff.inject, "Plant a fault in one kernel: PASS[:FAULT] (test use)");
+  dc->add_option("--device", diff.device, "Vulkan device index (default: first non-CPU device, else lavapipe)")
+      ->check(CLI::Range(0, 64));
+#endif
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -49,6 +63,9 @@ int main(int argc, char** argv) {
   render.depth_given = depth->count() > 0;
   try {
     if (rc->parsed()) return rayspace::app::RunRender(render);
+#ifdef RAYSPACE_HAVE_VULKAN
+    if (dc->parsed()) return rayspace::app::RunDiff(diff);
+#endif
   } catch (const rayspace::InputError& e) {
     std::fprintf(stderr, "rayspace: error: %s\n", e.what());
     return 2;

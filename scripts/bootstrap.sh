@@ -9,6 +9,7 @@ PACKAGES=(
   libopenimageio-dev openimageio-tools
   doctest-dev libcli11-dev nlohmann-json3-dev libfmt-dev libtinyobjloader-dev libxxhash-dev
   libbenchmark-dev
+  mesa-vulkan-drivers libvulkan-dev glslc
 )
 
 missing=()

@@ -167,6 +167,7 @@ class Runner {
     }
     Pass("resolve", [&] {
       r_.rgb = PassResolve(fc_, accum);
+      r_.accum = accum;
       r_.digest.Add("resolve", "rgb", r_.rgb);
       return r_.rgb.size() / 3;
     });

@@ -44,6 +44,7 @@ struct FrameResult {
   // rays[kind][bounce]: shadow bounces 0..max_depth, reflection/refraction 1..max_depth (index 0 unused).
   std::vector<std::uint64_t> rays[3];
   DigestLog digest;
+  std::vector<std::uint64_t> accum;  // fixed-point colour before resolve
   std::vector<std::uint8_t> rgb;
   GBuffer gbuffer;
   std::vector<glm::vec4> triangle_spheres, object_spheres;

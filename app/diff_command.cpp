@@ -1,0 +1,168 @@
+#include "diff_command.h"
+
+#include <cstdio>
+#include <fstream>
+#include <regex>
+
+#include <nlohmann/json.hpp>
+
+#include "rayspace/compare.h"
+#include "rayspace/emu/frame.h"
+#include "rayspace/error.h"
+#include "rayspace/gpu/passes.h"
+#include "rayspace/scene.h"
+
+namespace rayspace::app {
+namespace {
+
+// Words of a Ray: origin_tmin, direction_tmax (floats), info (uints), weight (floats).
+constexpr std::uint32_t kRayFloats = 0xF0FFu;
+
+std::string EmulationModel() {
+  std::string m = "x86-64";
+#if defined(__x86_64__)
+  __builtin_cpu_init();
+  if (__builtin_cpu_supports("avx512f")) m += " avx512f";
+  else if (__builtin_cpu_supports("avx2")) m += " avx2";
+  if (__builtin_cpu_supports("fma")) m += " fma";
+#endif
+  return m;
+}
+
+void ParseSize(const std::string& s, int& w, int& h) {
+  static const std::regex re(R"((\d{1,9})x(\d{1,9}))");
+  std::smatch m;
+  if (!std::regex_match(s, m, re)) ThrowInput("--size '{}': expected WxH, e.g. 512x512", s);
+  const long long lw = std::stoll(m[1]), lh = std::stoll(m[2]);
+  if (lw < 1 || lh < 1 || lw > kMaxImageSide || lh > kMaxImageSide)
+    ThrowInput("--size '{}': each side must be in [1, {}]", s, kMaxImageSide);
+  w = static_cast<int>(lw);
+  h = static_cast<int>(lh);
+}
+
+gpu_backend::Faults ParseInject(const std::string& spec) {
+  gpu_backend::Faults f;
+  if (spec.empty()) return f;
+  const auto colon = spec.find(':');
+  const std::string pass = spec.substr(0, colon);
+  std::uint32_t fault = 1;
+  if (colon != std::string::npos) {
+    try {
+      fault = static_cast<std::uint32_t>(std::stoul(spec.substr(colon + 1)));
+    } catch (...) {
+      ThrowInput("--inject '{}': the fault after ':' must be a number", spec);
+    }
+  }
+  std::string known;
+  for (const auto& [name, count] : gpu_backend::KernelPasses()) {
+    known += (known.empty() ? "" : ", ") + fmt::format("{} (faults 1..{})", name, count);
+    if (name == pass) {
+      if (fault < 1 || fault > count) ThrowInput("--inject '{}': {} has faults 1..{}", spec, pass, count);
+      f[pass] = fault;
+      return f;
+    }
+  }
+  ThrowInput("--inject '{}': no kernel named '{}'; kernels: {}", spec, pass, known);
+}
+
+}  // namespace
+
+int RunDiff(const DiffArgs& args) {
+  LoadOptions lo;
+  lo.data_root = args.data;
+  const Scene scene = LoadScene(args.scene, lo);
+  emu::FrameOptions fo;
+  fo.width = scene.width;
+  fo.height = scene.height;
+  if (!args.size.empty()) ParseSize(args.size, fo.width, fo.height);
+  const gpu_backend::Faults faults = ParseInject(args.inject);
+
+  std::unique_ptr<gpu_backend::VulkanPasses> gpu;
+  if (vk::Status s = gpu_backend::VulkanPasses::Create(args.device, faults, gpu); !s)
+    throw std::runtime_error("Vulkan: " + s.message);
+
+  // The emulated frame provides the inputs of the first kernel passes (G-buffer surfaces) and the
+  // accumulator for resolve.
+  const SceneBuffers buffers = FlattenScene(scene);
+  auto direct = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);
+  const emu::FrameResult frame = emu::RenderFrame(scene, buffers, *direct, fo);
+  const gpu::FrameConstants fc = MakeFrameConstants(scene, buffers, fo.width, fo.height);
+  const std::vector<gpu::Surface> surfaces = emu::PassSurfacesFromGBuffer(fc, frame.gbuffer, buffers);
+
+  std::vector<BufferComparison> results;
+  nlohmann::json passes = nlohmann::json::array();
+  std::string first_divergent;
+  auto record = [&](const std::string& pass, std::vector<BufferComparison> cmp, const std::string& note) {
+    bool equal = true;
+    nlohmann::json bl = nlohmann::json::array();
+    for (const BufferComparison& c : cmp) {
+      equal &= c.Equal();
+      nlohmann::json cj;
+      c.ToJson(cj);
+      bl.push_back(cj);
+      std::printf("  %-16s %s\n", pass.c_str(), c.Summary().c_str());
+    }
+    if (!equal && first_divergent.empty()) first_divergent = pass;
+    passes.push_back({{"pass", pass}, {"equal", equal}, {"buffers", bl}, {"hits", note}});
+  };
+  auto fail = [](const vk::Status& s) {
+    if (!s) throw std::runtime_error("Vulkan: " + s.message);
+  };
+
+  std::printf("rayspace diff: %s (%dx%d) on %s; emulation model %s\n", scene.name.c_str(), fo.width, fo.height,
+              gpu->context().device_name().c_str(), EmulationModel().c_str());
+  if (!scene.lights.empty()) {
+    // raygen.shadow: the same surfaces on both sides.
+    emu::SparseRays emu_rays = emu::PassRaygenShadow(fc, surfaces, buffers), gpu_rays;
+    fail(gpu->RaygenShadow(fc, surfaces, buffers, gpu_rays));
+    record("raygen.shadow",
+           {CompareBuffers("raygen.shadow", "rays", emu_rays.rays, gpu_rays.rays, kRayFloats),
+            CompareBuffers("raygen.shadow", "flags", emu_rays.flags, gpu_rays.flags, 0)},
+           "");
+    // trim.shadow: both sides compact the GPU's rays.
+    emu::Trimmed emu_trim = emu::PassTrim(gpu_rays), gpu_trim;
+    fail(gpu->Trim(gpu_rays, gpu_trim));
+    // Would a divergence change a hit? Trace both outputs with the emulator's tracer.
+    std::string hits = "unchanged";
+    if (emu_trim.rays.size() != gpu_trim.rays.size()) {
+      hits = "changed (ray counts differ)";
+    } else {
+      std::vector<std::uint32_t> a, b;
+      direct->Occluded(emu_trim.rays, a);
+      direct->Occluded(gpu_trim.rays, b);
+      std::size_t changed = 0;
+      for (std::size_t i = 0; i < a.size(); ++i) changed += a[i] != b[i];
+      hits = changed ? fmt::format("changed for {} rays", changed) : "unchanged";
+    }
+    record("trim.shadow",
+           {CompareBuffers("trim.shadow", "offsets", emu_trim.offsets, gpu_trim.offsets, 0),
+            CompareBuffers("trim.shadow", "rays", emu_trim.rays, gpu_trim.rays, kRayFloats)},
+           hits);
+  }
+  std::vector<std::uint8_t> gpu_rgb;
+  fail(gpu->Resolve(fc, frame.accum, gpu_rgb));
+  const std::vector<std::uint32_t> emu_wide(frame.rgb.begin(), frame.rgb.end()), gpu_wide(gpu_rgb.begin(), gpu_rgb.end());
+  record("resolve", {CompareBuffers("resolve", "rgb", emu_wide, gpu_wide, 0)}, "");
+
+  const bool equal = first_divergent.empty();
+  std::printf("  %s\n", equal ? "all passes equal" : ("first divergent pass: " + first_divergent).c_str());
+  if (!args.report.empty()) {
+    nlohmann::json j = {{"scene", scene.name},
+                        {"width", fo.width},
+                        {"height", fo.height},
+                        {"device", gpu->context().device_name()},
+                        {"driver", gpu->context().driver()},
+                        {"emulation_model", EmulationModel()},
+                        {"inject", args.inject},
+                        {"passes", passes},
+                        {"emulated_only", {"prep", "raster", "surfaces", "trace", "hierarchy passes", "shade"}},
+                        {"equal", equal},
+                        {"first_divergent_pass", equal ? nlohmann::json(nullptr) : nlohmann::json(first_divergent)}};
+    std::ofstream f(args.report);
+    if (!f) ThrowInput("{}: cannot write the report", args.report);
+    f << j.dump(2) << "\n";
+  }
+  return equal ? 0 : 4;
+}
+
+}  // namespace rayspace::app

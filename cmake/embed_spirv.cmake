@@ -1,0 +1,22 @@
+# Turns a SPIR-V binary into a C++ header with its 32-bit words.
+# cmake -DIN=x.spv -DOUT=x.spv.h -DNAME=kX -P embed_spirv.cmake
+file(READ "${IN}" hex HEX)
+string(LENGTH "${hex}" len)
+math(EXPR words "${len} / 8")
+set(body "")
+set(i 0)
+while(i LESS len)
+  string(SUBSTRING "${hex}" ${i} 8 w)
+  # SPIR-V files are little endian: bytes b0 b1 b2 b3 form the word 0xb3b2b1b0.
+  string(SUBSTRING "${w}" 0 2 b0)
+  string(SUBSTRING "${w}" 2 2 b1)
+  string(SUBSTRING "${w}" 4 2 b2)
+  string(SUBSTRING "${w}" 6 2 b3)
+  string(APPEND body "0x${b3}${b2}${b1}${b0}u,")
+  math(EXPR i "${i} + 8")
+  math(EXPR m "(${i} / 8) % 8")
+  if(m EQUAL 0)
+    string(APPEND body "\n")
+  endif()
+endwhile()
+file(WRITE "${OUT}" "// Generated from ${IN}; do not edit.\n#pragma once\n#include <cstdint>\ninline constexpr std::uint32_t ${NAME}[] = {\n${body}};\n")

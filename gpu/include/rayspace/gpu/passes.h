@@ -1,0 +1,35 @@
+// The passes that run as Vulkan kernels so far, with the same inputs and outputs as their emulated
+// counterparts in emu/passes.h.
+#pragma once
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rayspace/emu/passes.h"
+#include "rayspace/gpu/vulkan.h"
+
+namespace rayspace::gpu_backend {
+
+// Planted faults: pass name -> fault number (1 = the pass's first fault), compiled into the kernel
+// through a specialization constant.
+using Faults = std::map<std::string, std::uint32_t>;
+
+// Names of the passes with kernels, in pipeline order, and how many faults each can plant.
+const std::vector<std::pair<std::string, std::uint32_t>>& KernelPasses();
+
+class VulkanPasses {
+ public:
+  static vk::Status Create(int device, const Faults& faults, std::unique_ptr<VulkanPasses>& out);
+  vk::Status RaygenShadow(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
+                          const SceneBuffers& scene, emu::SparseRays& out);
+  vk::Status Trim(const emu::SparseRays& in, emu::Trimmed& out);
+  vk::Status Resolve(const gpu::FrameConstants& fc, const std::vector<std::uint64_t>& accum, std::vector<std::uint8_t>& out);
+  const vk::Context& context() const { return *ctx_; }
+
+ private:
+  std::unique_ptr<vk::Context> ctx_;
+  vk::Kernel raygen_shadow_, trim_, resolve_;
+};
+
+}  // namespace rayspace::gpu_backend

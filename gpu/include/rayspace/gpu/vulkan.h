@@ -1,0 +1,126 @@
+// A small Vulkan compute runtime. Lifecycle: Context::Create picks a device; buffers and kernels are
+// created from it; a Recorder records dispatches and submits them once; everything is destroyed
+// before the Context. Every call that can fail returns a Status naming the Vulkan call that failed.
+#pragma once
+#include <cstdint>
+#include <cstring>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+namespace rayspace::vk {
+
+struct Status {
+  bool ok = true;
+  std::string message;  // "vkCreateDevice failed: VK_ERROR_INITIALIZATION_FAILED"
+  static Status Ok() { return {}; }
+  static Status Fail(const std::string& call, VkResult r);
+  static Status Fail(const std::string& msg) { return {false, msg}; }
+  explicit operator bool() const { return ok; }
+};
+
+class Context;
+
+// A host-visible, host-coherent storage buffer (lavapipe's memory is host memory anyway).
+class Buffer {
+ public:
+  Buffer() = default;
+  Buffer(const Buffer&) = delete;
+  Buffer& operator=(const Buffer&) = delete;
+  Buffer(Buffer&& o) noexcept { *this = std::move(o); }
+  Buffer& operator=(Buffer&& o) noexcept;
+  ~Buffer();
+  VkBuffer handle() const { return buffer_; }
+  std::size_t size() const { return size_; }
+  void* data() const { return mapped_; }
+  template <typename T>
+  void Upload(const std::vector<T>& v) { std::memcpy(mapped_, v.data(), v.size() * sizeof(T)); }
+  template <typename T>
+  std::vector<T> Download(std::size_t count) const {
+    std::vector<T> v(count);
+    std::memcpy(v.data(), mapped_, count * sizeof(T));
+    return v;
+  }
+
+ private:
+  friend class Context;
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkBuffer buffer_ = VK_NULL_HANDLE;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  std::size_t size_ = 0;
+  void* mapped_ = nullptr;
+};
+
+// A compute pipeline over `bindings` storage buffers with up to 128 bytes of push constants and
+// two specialization constants: id 0 = planted-fault selector (0 = none), id 1 = local size x.
+class Kernel {
+ public:
+  Kernel() = default;
+  Kernel(const Kernel&) = delete;
+  Kernel& operator=(const Kernel&) = delete;
+  ~Kernel();
+  const std::string& name() const { return name_; }
+  std::uint32_t local_size() const { return local_size_; }
+
+ private:
+  friend class Context;
+  friend class Recorder;
+  VkDevice device_ = VK_NULL_HANDLE;
+  std::string name_;
+  std::uint32_t bindings_ = 0, local_size_ = 64;
+  VkShaderModule module_ = VK_NULL_HANDLE;
+  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
+  VkPipelineLayout layout_ = VK_NULL_HANDLE;
+  VkPipeline pipeline_ = VK_NULL_HANDLE;
+};
+
+// Records dispatches (with a full memory barrier between them) into one command buffer.
+class Recorder {
+ public:
+  explicit Recorder(Context& ctx) : ctx_(ctx) {}
+  ~Recorder();
+  // Dispatches ceil(invocations / local size) groups of `k` over `buffers` with push constants.
+  Status Dispatch(const Kernel& k, std::span<const Buffer* const> buffers, const void* push, std::size_t push_size,
+                  std::uint32_t invocations);
+  // Submits everything recorded and waits for it.
+  Status Submit();
+
+ private:
+  Status Begin();
+  Context& ctx_;
+  VkCommandBuffer cmd_ = VK_NULL_HANDLE;
+  VkDescriptorPool pool_ = VK_NULL_HANDLE;
+  bool recording_ = false;
+};
+
+class Context {
+ public:
+  // device < 0: the first non-CPU device, else the first CPU device (lavapipe).
+  static Status Create(int device, std::unique_ptr<Context>& out);
+  ~Context();
+  Status CreateBuffer(std::size_t bytes, Buffer& out);
+  Status CreateKernel(const std::string& name, std::span<const std::uint32_t> spirv, std::uint32_t bindings,
+                      std::uint32_t fault, Kernel& out);
+  const std::string& device_name() const { return device_name_; }
+  std::string driver() const { return driver_; }
+  VkDeviceSize max_storage_buffer_range() const { return max_storage_range_; }
+  // Every physical device, for error messages and --device listings.
+  static std::vector<std::string> ListDevices();
+
+ private:
+  friend class Recorder;
+  VkInstance instance_ = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  std::uint32_t family_ = 0;
+  VkCommandPool pool_ = VK_NULL_HANDLE;
+  VkPhysicalDeviceMemoryProperties memory_{};
+  std::string device_name_, driver_;
+  VkDeviceSize max_storage_range_ = 0;
+};
+
+}  // namespace rayspace::vk

@@ -1,0 +1,47 @@
+#version 460
+// Shadow rays (thesis eqs. 3.1-3.2), one invocation per surface slot; mirrors emu PassRaygenShadow.
+#include "common.glsl"
+
+layout(std430, binding = 0) readonly buffer Surfaces { Surface surfaces[]; };
+layout(std430, binding = 1) readonly buffer Lights { Light lights[]; };
+layout(std430, binding = 2) readonly buffer Frame { FrameConstants fc; };
+layout(std430, binding = 3) writeonly buffer Rays { Ray rays[]; };
+layout(std430, binding = 4) writeonly buffer Flags { uint flags[]; };
+layout(push_constant) uniform Push { uint surface_count; uint light_count; } pc;
+
+const float kFloatMax = 3.40282347e38;
+
+void main() {
+  const uint s = gl_GlobalInvocationID.x;
+  if (s >= pc.surface_count) return;
+  const Surface sf = surfaces[s];
+  for (uint l = 0; l < pc.light_count; ++l) {
+    const uint slot = s * pc.light_count + l;
+    Ray r;
+    r.origin_tmin = vec4(0.0);
+    r.direction_tmax = vec4(0.0);
+    r.info = uvec4(0u);
+    r.weight = vec4(0.0);
+    rays[slot] = r;
+    flags[slot] = 0u;
+  }
+  if (sf.position.w == 0.0) return;
+  const vec3 p = sf.position.xyz;
+  for (uint l = 0; l < pc.light_count; ++l) {
+    const vec3 o = lights[l].position.xyz;
+    precise const vec3 v = p - o;
+    const float dist = Length3(v);
+    if (!(dist > 0.0) || !(abs(v.x) <= kFloatMax && abs(v.y) <= kFloatMax && abs(v.z) <= kFloatMax)) continue;
+    precise const vec3 d = vec3(v.x / dist, v.y / dist, v.z / dist);
+    // Fault 1: the shadow ray runs all the way to the surface (no tmax shortening).
+    precise const float tmax = kFault == 1u ? dist : dist * fc.params.z;
+    Ray r;
+    r.origin_tmin = vec4(o, fc.params.x);
+    r.direction_tmax = vec4(d, tmax);
+    // Fault 2: the ray is credited to the next pixel (an off-by-one in an id).
+    r.info = uvec4(sf.info.y + (kFault == 2u ? 1u : 0u), sf.info.x, kRayShadow, l);
+    r.weight = sf.weight;
+    rays[s * pc.light_count + l] = r;
+    flags[s * pc.light_count + l] = 1u;
+  }
+}

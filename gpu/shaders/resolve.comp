@@ -1,0 +1,18 @@
+#version 460
+// Fixed-point accumulator -> 8-bit value with display gamma 2 (sqrt); mirrors emu PassResolve.
+// One invocation per channel; the byte is written as a uint.
+#include "common.glsl"
+
+layout(std430, binding = 0) readonly buffer Accum { uint64_t accum[]; };
+layout(std430, binding = 1) writeonly buffer Rgb { uint rgb[]; };
+layout(push_constant) uniform Push { uint n; } pc;
+
+void main() {
+  const uint i = gl_GlobalInvocationID.x;
+  if (i >= pc.n) return;
+  precise const float c = float(accum[i]) / kAccumScale;
+  // Fault 1: the gamma step is skipped.
+  const float g = kFault == 1u ? min(max(c, 0.0), 1.0) : sqrt(min(max(c, 0.0), 1.0));
+  precise const float v = g * 255.0 + 0.5;
+  rgb[i] = uint(v);
+}

@@ -1,0 +1,109 @@
+#include <fmt/format.h>
+
+#include "raygen_shadow.spv.h"
+#include "rayspace/gpu/passes.h"
+#include "resolve.spv.h"
+#include "trim.spv.h"
+
+namespace rayspace::gpu_backend {
+namespace {
+
+#define RS_TRY(expr)              \
+  do {                            \
+    vk::Status rs_s = (expr);     \
+    if (!rs_s) return rs_s;       \
+  } while (0)
+
+template <typename T>
+vk::Status Make(vk::Context& c, const std::vector<T>& v, vk::Buffer& b) {
+  RS_TRY(c.CreateBuffer(v.size() * sizeof(T), b));
+  b.Upload(v);
+  return vk::Status::Ok();
+}
+
+constexpr std::uint32_t kTrimBlock = 4096;
+
+}  // namespace
+
+const std::vector<std::pair<std::string, std::uint32_t>>& KernelPasses() {
+  static const std::vector<std::pair<std::string, std::uint32_t>> kPasses = {
+      {"raygen.shadow", 2}, {"trim.shadow", 1}, {"resolve", 1}};
+  return kPasses;
+}
+
+vk::Status VulkanPasses::Create(int device, const Faults& faults, std::unique_ptr<VulkanPasses>& out) {
+  auto p = std::make_unique<VulkanPasses>();
+  RS_TRY(vk::Context::Create(device, p->ctx_));
+  auto fault = [&](const char* pass) {
+    auto it = faults.find(pass);
+    return it == faults.end() ? 0u : it->second;
+  };
+  RS_TRY(p->ctx_->CreateKernel("raygen.shadow", kSpirv_raygen_shadow, 5, fault("raygen.shadow"), p->raygen_shadow_));
+  RS_TRY(p->ctx_->CreateKernel("trim.shadow", kSpirv_trim, 5, fault("trim.shadow"), p->trim_));
+  RS_TRY(p->ctx_->CreateKernel("resolve", kSpirv_resolve, 2, fault("resolve"), p->resolve_));
+  out = std::move(p);
+  return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::RaygenShadow(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
+                                      const SceneBuffers& scene, emu::SparseRays& out) {
+  vk::Context& c = *ctx_;
+  vk::Buffer bs, bl, bf, br, bflags;
+  RS_TRY(Make(c, surfaces, bs));
+  RS_TRY(Make(c, scene.lights, bl));
+  RS_TRY(Make(c, std::vector<gpu::FrameConstants>{fc}, bf));
+  const std::size_t slots = surfaces.size() * scene.lights.size();
+  RS_TRY(c.CreateBuffer(slots * sizeof(gpu::Ray), br));
+  RS_TRY(c.CreateBuffer(slots * sizeof(std::uint32_t), bflags));
+  const std::uint32_t push[2] = {static_cast<std::uint32_t>(surfaces.size()), static_cast<std::uint32_t>(scene.lights.size())};
+  const vk::Buffer* bufs[5] = {&bs, &bl, &bf, &br, &bflags};
+  vk::Recorder rec(c);
+  RS_TRY(rec.Dispatch(raygen_shadow_, bufs, push, sizeof push, static_cast<std::uint32_t>(surfaces.size())));
+  RS_TRY(rec.Submit());
+  out.rays = br.Download<gpu::Ray>(slots);
+  out.flags = bflags.Download<std::uint32_t>(slots);
+  return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::Trim(const emu::SparseRays& in, emu::Trimmed& out) {
+  vk::Context& c = *ctx_;
+  const std::uint32_t n = static_cast<std::uint32_t>(in.flags.size());
+  const std::uint32_t blocks = (n + kTrimBlock - 1) / kTrimBlock;
+  vk::Buffer bflags, bsums, boff, bsparse, bdense;
+  RS_TRY(Make(c, in.flags, bflags));
+  RS_TRY(c.CreateBuffer((blocks + 1) * sizeof(std::uint32_t), bsums));
+  RS_TRY(c.CreateBuffer(n * sizeof(std::uint32_t), boff));
+  RS_TRY(Make(c, in.rays, bsparse));
+  RS_TRY(c.CreateBuffer(n * sizeof(gpu::Ray), bdense));  // upper bound; the count comes from the scan
+  const vk::Buffer* bufs[5] = {&bflags, &bsums, &boff, &bsparse, &bdense};
+  vk::Recorder rec(c);
+  for (std::uint32_t phase = 0; phase < 3; ++phase) {  // one submit for the three dispatches
+    const std::uint32_t push[2] = {n, phase};
+    RS_TRY(rec.Dispatch(trim_, bufs, push, sizeof push, phase == 1 ? 1 : blocks));
+  }
+  RS_TRY(rec.Submit());
+  const std::uint32_t total = bsums.Download<std::uint32_t>(blocks + 1)[blocks];
+  if (total > n) return vk::Status::Fail(fmt::format("trim kernel reported {} rays out of {} slots", total, n));
+  out.offsets = boff.Download<std::uint32_t>(n);
+  out.rays = bdense.Download<gpu::Ray>(total);
+  return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::Resolve(const gpu::FrameConstants& fc, const std::vector<std::uint64_t>& accum,
+                                 std::vector<std::uint8_t>& out) {
+  vk::Context& c = *ctx_;
+  const std::uint32_t n = static_cast<std::uint32_t>(static_cast<std::size_t>(fc.dims.x) * fc.dims.y * 3);
+  vk::Buffer ba, brgb;
+  RS_TRY(Make(c, accum, ba));
+  RS_TRY(c.CreateBuffer(n * sizeof(std::uint32_t), brgb));
+  const vk::Buffer* bufs[2] = {&ba, &brgb};
+  vk::Recorder rec(c);
+  RS_TRY(rec.Dispatch(resolve_, bufs, &n, sizeof n, n));
+  RS_TRY(rec.Submit());
+  const std::vector<std::uint32_t> wide = brgb.Download<std::uint32_t>(n);
+  out.resize(n);
+  for (std::uint32_t i = 0; i < n; ++i) out[i] = static_cast<std::uint8_t>(wide[i]);
+  return vk::Status::Ok();
+}
+
+}  // namespace rayspace::gpu_backend
