@@ -12,11 +12,15 @@
 #include "rayspace/gpu/passes.h"
 #include "rayspace/scene.h"
 
+#include <fmt/format.h>
+
 namespace rayspace::app {
 namespace {
 
 // Words of a Ray: origin_tmin, direction_tmax (floats), info (uints), weight (floats).
 constexpr std::uint32_t kRayFloats = 0xF0FFu;
+// Words of a Surface: position, normal, incoming, weight (floats), info (uints).
+constexpr std::uint32_t kSurfaceFloats = 0xFFFFu;
 
 std::string EmulationModel() {
   std::string m = "x86-64";
@@ -111,32 +115,71 @@ int RunDiff(const DiffArgs& args) {
 
   std::printf("rayspace diff: %s (%dx%d) on %s; emulation model %s\n", scene.name.c_str(), fo.width, fo.height,
               gpu->context().device_name().c_str(), EmulationModel().c_str());
+  // surfaces.b0 from the emulated G-buffer; from here on both sides read the GPU's outputs.
+  std::vector<gpu::Surface> gpu_surfaces;
+  fail(gpu->Surfaces(fc, frame.gbuffer, buffers, gpu_surfaces));
+  record("surfaces", {CompareBuffers("surfaces", "surfaces", surfaces, gpu_surfaces, kSurfaceFloats)}, "");
+
+  emu::SparseRays gpu_rays;
+  emu::Trimmed gpu_trim;
+  std::vector<std::uint32_t> occluded;
   if (!scene.lights.empty()) {
-    // raygen.shadow: the same surfaces on both sides.
-    emu::SparseRays emu_rays = emu::PassRaygenShadow(fc, surfaces, buffers), gpu_rays;
-    fail(gpu->RaygenShadow(fc, surfaces, buffers, gpu_rays));
+    emu::SparseRays emu_rays = emu::PassRaygenShadow(fc, gpu_surfaces, buffers);
+    fail(gpu->RaygenShadow(fc, gpu_surfaces, buffers, gpu_rays));
     record("raygen.shadow",
            {CompareBuffers("raygen.shadow", "rays", emu_rays.rays, gpu_rays.rays, kRayFloats),
             CompareBuffers("raygen.shadow", "flags", emu_rays.flags, gpu_rays.flags, 0)},
            "");
-    // trim.shadow: both sides compact the GPU's rays.
-    emu::Trimmed emu_trim = emu::PassTrim(gpu_rays), gpu_trim;
+    emu::Trimmed emu_trim = emu::PassTrim(gpu_rays);
     fail(gpu->Trim(gpu_rays, gpu_trim));
     // Would a divergence change a hit? Trace both outputs with the emulator's tracer.
     std::string hits = "unchanged";
-    if (emu_trim.rays.size() != gpu_trim.rays.size()) {
+    std::vector<std::uint32_t> a;
+    direct->Occluded(emu_trim.rays, a);
+    direct->Occluded(gpu_trim.rays, occluded);
+    if (a.size() != occluded.size()) {
       hits = "changed (ray counts differ)";
     } else {
-      std::vector<std::uint32_t> a, b;
-      direct->Occluded(emu_trim.rays, a);
-      direct->Occluded(gpu_trim.rays, b);
       std::size_t changed = 0;
-      for (std::size_t i = 0; i < a.size(); ++i) changed += a[i] != b[i];
-      hits = changed ? fmt::format("changed for {} rays", changed) : "unchanged";
+      for (std::size_t i = 0; i < a.size(); ++i) changed += a[i] != occluded[i];
+      if (changed) hits = fmt::format("changed for {} rays", changed);
     }
     record("trim.shadow",
            {CompareBuffers("trim.shadow", "offsets", emu_trim.offsets, gpu_trim.offsets, 0),
             CompareBuffers("trim.shadow", "rays", emu_trim.rays, gpu_trim.rays, kRayFloats)},
+           hits);
+  }
+  // shade.b0: the GPU's surfaces, shadow rays and (emulated) occlusion on both sides.
+  std::vector<std::uint64_t> emu_accum(static_cast<std::size_t>(fo.width) * fo.height * 3, 0), gpu_accum = emu_accum;
+  emu::PassShade(fc, gpu_surfaces, gpu_rays.flags, gpu_trim.offsets, occluded, buffers, emu_accum);
+  fail(gpu->Shade(gpu_surfaces, gpu_rays.flags, gpu_trim.offsets, occluded, buffers, gpu_accum));
+  record("shade", {CompareBuffers("shade", "accum", emu_accum, gpu_accum, 0)}, "");
+
+  bool reflective = false;
+  for (const MaterialDesc& m : scene.materials) reflective |= m.reflectivity > 0.0f;
+  if (reflective && scene.max_depth > 0) {
+    emu::SparseRays emu_refl = emu::PassRaygenReflection(fc, gpu_surfaces, buffers), gpu_refl;
+    fail(gpu->RaygenReflection(fc, gpu_surfaces, buffers, gpu_refl));
+    record("raygen.reflection",
+           {CompareBuffers("raygen.reflection", "rays", emu_refl.rays, gpu_refl.rays, kRayFloats),
+            CompareBuffers("raygen.reflection", "flags", emu_refl.flags, gpu_refl.flags, 0)},
+           "");
+    emu::Trimmed emu_rt = emu::PassTrim(gpu_refl), gpu_rt;
+    fail(gpu->Trim(gpu_refl, gpu_rt, true));
+    std::string hits = "unchanged";
+    if (emu_rt.rays.size() != gpu_rt.rays.size()) {
+      hits = "changed (ray counts differ)";
+    } else {
+      std::vector<std::uint64_t> a, b;
+      direct->Closest(emu_rt.rays, a);
+      direct->Closest(gpu_rt.rays, b);
+      std::size_t changed = 0;
+      for (std::size_t i = 0; i < a.size(); ++i) changed += a[i] != b[i];
+      if (changed) hits = fmt::format("changed for {} rays", changed);
+    }
+    record("trim.reflection",
+           {CompareBuffers("trim.reflection", "offsets", emu_rt.offsets, gpu_rt.offsets, 0),
+            CompareBuffers("trim.reflection", "rays", emu_rt.rays, gpu_rt.rays, kRayFloats)},
            hits);
   }
   std::vector<std::uint8_t> gpu_rgb;
@@ -155,7 +198,7 @@ int RunDiff(const DiffArgs& args) {
                         {"emulation_model", EmulationModel()},
                         {"inject", args.inject},
                         {"passes", passes},
-                        {"emulated_only", {"prep", "raster", "surfaces", "trace", "hierarchy passes", "shade"}},
+                        {"emulated_only", {"prep", "raster", "trace (direct and hierarchy passes)", "refraction", "bounces after the first"}},
                         {"equal", equal},
                         {"first_divergent_pass", equal ? nlohmann::json(nullptr) : nlohmann::json(first_divergent)}};
     std::ofstream f(args.report);

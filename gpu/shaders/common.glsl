@@ -19,3 +19,39 @@ float Dot3(vec3 a, vec3 b) {
   return r;
 }
 float Length3(vec3 v) { return sqrt(Dot3(v, v)); }
+vec3 Normalize3(vec3 v) {
+  const float l = sqrt(Dot3(v, v));
+  precise vec3 r = vec3(v.x / l, v.y / l, v.z / l);
+  return r;
+}
+vec3 Cross3(vec3 a, vec3 b) {
+  precise vec3 r = vec3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+  return r;
+}
+// x^n by repeated squaring, lowest bit first, never multiplying by a literal 1 (emu IntPow).
+float IntPow(float x, uint n) {
+  precise float result = 1.0;
+  precise float base = x;
+  bool first = true;
+  while (n != 0u) {
+    if ((n & 1u) != 0u) {
+      result = first ? base : result * base;
+      first = false;
+    }
+    n >>= 1u;
+    if (n != 0u) base = base * base;
+  }
+  return result;
+}
+// Direction through the centre of pixel (px, py): (origin + px * dx) + py * dy per component.
+vec3 PixelDirection(FrameConstants f, uint px, uint py) {
+  const float fx = float(px), fy = float(py);
+  precise vec3 d;
+  for (int k = 0; k < 3; ++k) {
+    precise float a = fx * f.pixel_dx[k];
+    precise float b = f.pixel_origin[k] + a;
+    precise float c = fy * f.pixel_dy[k];
+    d[k] = b + c;
+  }
+  return d;
+}

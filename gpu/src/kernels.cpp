@@ -1,6 +1,9 @@
 #include <fmt/format.h>
 
+#include "raygen_reflection.spv.h"
 #include "raygen_shadow.spv.h"
+#include "shade.spv.h"
+#include "surfaces.spv.h"
 #include "rayspace/gpu/passes.h"
 #include "resolve.spv.h"
 #include "trim.spv.h"
@@ -27,7 +30,8 @@ constexpr std::uint32_t kTrimBlock = 4096;
 
 const std::vector<std::pair<std::string, std::uint32_t>>& KernelPasses() {
   static const std::vector<std::pair<std::string, std::uint32_t>> kPasses = {
-      {"raygen.shadow", 2}, {"trim.shadow", 1}, {"resolve", 1}};
+      {"surfaces", 1}, {"raygen.shadow", 2}, {"trim.shadow", 1}, {"shade", 1}, {"raygen.reflection", 1},
+      {"trim.reflection", 1}, {"resolve", 1}};
   return kPasses;
 }
 
@@ -39,7 +43,13 @@ vk::Status VulkanPasses::Create(int device, const Faults& faults, std::unique_pt
     return it == faults.end() ? 0u : it->second;
   };
   RS_TRY(p->ctx_->CreateKernel("raygen.shadow", kSpirv_raygen_shadow, 5, fault("raygen.shadow"), p->raygen_shadow_));
+  RS_TRY(p->ctx_->CreateKernel("surfaces", kSpirv_surfaces, 6, fault("surfaces"), p->surfaces_));
+  RS_TRY(p->ctx_->CreateKernel("raygen.reflection", kSpirv_raygen_reflection, 5, fault("raygen.reflection"),
+                               p->raygen_reflection_));
+  RS_TRY(p->ctx_->CreateKernel("shade", kSpirv_shade, 7, fault("shade"), p->shade_));
+  // One trim kernel serves both ray types; a planted trim fault applies to the type it names.
   RS_TRY(p->ctx_->CreateKernel("trim.shadow", kSpirv_trim, 5, fault("trim.shadow"), p->trim_));
+  RS_TRY(p->ctx_->CreateKernel("trim.reflection", kSpirv_trim, 5, fault("trim.reflection"), p->trim_reflection_));
   RS_TRY(p->ctx_->CreateKernel("resolve", kSpirv_resolve, 2, fault("resolve"), p->resolve_));
   out = std::move(p);
   return vk::Status::Ok();
@@ -65,7 +75,68 @@ vk::Status VulkanPasses::RaygenShadow(const gpu::FrameConstants& fc, const std::
   return vk::Status::Ok();
 }
 
-vk::Status VulkanPasses::Trim(const emu::SparseRays& in, emu::Trimmed& out) {
+vk::Status VulkanPasses::Surfaces(const gpu::FrameConstants& fc, const emu::GBuffer& g, const SceneBuffers& scene,
+                                  std::vector<gpu::Surface>& out) {
+  vk::Context& c = *ctx_;
+  const std::uint32_t n = static_cast<std::uint32_t>(g.prim.size());
+  vk::Buffer bp, bn, bprim, binfo, bf, bs;
+  RS_TRY(Make(c, g.position, bp));
+  RS_TRY(Make(c, g.normal, bn));
+  RS_TRY(Make(c, g.prim, bprim));
+  RS_TRY(Make(c, scene.info, binfo));
+  RS_TRY(Make(c, std::vector<gpu::FrameConstants>{fc}, bf));
+  RS_TRY(c.CreateBuffer(n * sizeof(gpu::Surface), bs));
+  const vk::Buffer* bufs[6] = {&bp, &bn, &bprim, &binfo, &bf, &bs};
+  vk::Recorder rec(c);
+  RS_TRY(rec.Dispatch(surfaces_, bufs, &n, sizeof n, n));
+  RS_TRY(rec.Submit());
+  out = bs.Download<gpu::Surface>(n);
+  return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::RaygenReflection(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
+                                          const SceneBuffers& scene, emu::SparseRays& out) {
+  vk::Context& c = *ctx_;
+  const std::uint32_t n = static_cast<std::uint32_t>(surfaces.size());
+  vk::Buffer bs, bm, bf, br, bflags;
+  RS_TRY(Make(c, surfaces, bs));
+  RS_TRY(Make(c, scene.materials, bm));
+  RS_TRY(Make(c, std::vector<gpu::FrameConstants>{fc}, bf));
+  RS_TRY(c.CreateBuffer(n * sizeof(gpu::Ray), br));
+  RS_TRY(c.CreateBuffer(n * sizeof(std::uint32_t), bflags));
+  const vk::Buffer* bufs[5] = {&bs, &bm, &bf, &br, &bflags};
+  vk::Recorder rec(c);
+  RS_TRY(rec.Dispatch(raygen_reflection_, bufs, &n, sizeof n, n));
+  RS_TRY(rec.Submit());
+  out.rays = br.Download<gpu::Ray>(n);
+  out.flags = bflags.Download<std::uint32_t>(n);
+  return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::Shade(const std::vector<gpu::Surface>& surfaces, const std::vector<std::uint32_t>& shadow_flags,
+                               const std::vector<std::uint32_t>& shadow_offsets, const std::vector<std::uint32_t>& occluded,
+                               const SceneBuffers& scene, std::vector<std::uint64_t>& accum) {
+  vk::Context& c = *ctx_;
+  vk::Buffer bs, bfl, boff, bocc, bm, bl, ba;
+  // Empty inputs (no lights) still need a buffer to bind.
+  const std::vector<std::uint32_t> none{0u};
+  RS_TRY(Make(c, surfaces, bs));
+  RS_TRY(Make(c, shadow_flags.empty() ? none : shadow_flags, bfl));
+  RS_TRY(Make(c, shadow_offsets.empty() ? none : shadow_offsets, boff));
+  RS_TRY(Make(c, occluded.empty() ? none : occluded, bocc));
+  RS_TRY(Make(c, scene.materials, bm));
+  RS_TRY(Make(c, scene.lights.empty() ? std::vector<gpu::Light>(1) : scene.lights, bl));
+  RS_TRY(Make(c, accum, ba));
+  const std::uint32_t push[2] = {static_cast<std::uint32_t>(surfaces.size()), static_cast<std::uint32_t>(scene.lights.size())};
+  const vk::Buffer* bufs[7] = {&bs, &bfl, &boff, &bocc, &bm, &bl, &ba};
+  vk::Recorder rec(c);
+  RS_TRY(rec.Dispatch(shade_, bufs, push, sizeof push, push[0]));
+  RS_TRY(rec.Submit());
+  accum = ba.Download<std::uint64_t>(accum.size());
+  return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::Trim(const emu::SparseRays& in, emu::Trimmed& out, bool reflection) {
   vk::Context& c = *ctx_;
   const std::uint32_t n = static_cast<std::uint32_t>(in.flags.size());
   const std::uint32_t blocks = (n + kTrimBlock - 1) / kTrimBlock;
@@ -79,7 +150,7 @@ vk::Status VulkanPasses::Trim(const emu::SparseRays& in, emu::Trimmed& out) {
   vk::Recorder rec(c);
   for (std::uint32_t phase = 0; phase < 3; ++phase) {  // one submit for the three dispatches
     const std::uint32_t push[2] = {n, phase};
-    RS_TRY(rec.Dispatch(trim_, bufs, push, sizeof push, phase == 1 ? 1 : blocks));
+    RS_TRY(rec.Dispatch(reflection ? trim_reflection_ : trim_, bufs, push, sizeof push, phase == 1 ? 1 : blocks));
   }
   RS_TRY(rec.Submit());
   const std::uint32_t total = bsums.Download<std::uint32_t>(blocks + 1)[blocks];

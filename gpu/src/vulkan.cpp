@@ -144,7 +144,15 @@ Status Context::Create(int device, std::unique_ptr<Context>& out) {
   qci.queueFamilyIndex = c->family_;
   qci.queueCount = 1;
   qci.pQueuePriorities = &priority;
+  // 64-bit buffer atomics: the shade kernel's fixed-point accumulator.
+  VkPhysicalDeviceVulkan12Features have12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  f2.pNext = &have12;
+  vkGetPhysicalDeviceFeatures2(c->physical_, &f2);
+  VkPhysicalDeviceVulkan12Features want12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  want12.shaderBufferInt64Atomics = have12.shaderBufferInt64Atomics;
   VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+  dci.pNext = &want12;
   dci.queueCreateInfoCount = 1;
   dci.pQueueCreateInfos = &qci;
   dci.pEnabledFeatures = &features;

@@ -21,15 +21,23 @@ const std::vector<std::pair<std::string, std::uint32_t>>& KernelPasses();
 class VulkanPasses {
  public:
   static vk::Status Create(int device, const Faults& faults, std::unique_ptr<VulkanPasses>& out);
+  vk::Status Surfaces(const gpu::FrameConstants& fc, const emu::GBuffer& g, const SceneBuffers& scene,
+                      std::vector<gpu::Surface>& out);
+  vk::Status RaygenReflection(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
+                              const SceneBuffers& scene, emu::SparseRays& out);
+  // Adds the surfaces' shading into `accum` (in place, like the emulated pass).
+  vk::Status Shade(const std::vector<gpu::Surface>& surfaces, const std::vector<std::uint32_t>& shadow_flags,
+                   const std::vector<std::uint32_t>& shadow_offsets, const std::vector<std::uint32_t>& occluded,
+                   const SceneBuffers& scene, std::vector<std::uint64_t>& accum);
   vk::Status RaygenShadow(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
                           const SceneBuffers& scene, emu::SparseRays& out);
-  vk::Status Trim(const emu::SparseRays& in, emu::Trimmed& out);
+  vk::Status Trim(const emu::SparseRays& in, emu::Trimmed& out, bool reflection = false);
   vk::Status Resolve(const gpu::FrameConstants& fc, const std::vector<std::uint64_t>& accum, std::vector<std::uint8_t>& out);
   const vk::Context& context() const { return *ctx_; }
 
  private:
   std::unique_ptr<vk::Context> ctx_;
-  vk::Kernel raygen_shadow_, trim_, resolve_;
+  vk::Kernel surfaces_, raygen_shadow_, raygen_reflection_, trim_, trim_reflection_, shade_, resolve_;
 };
 
 }  // namespace rayspace::gpu_backend

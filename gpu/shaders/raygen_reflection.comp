@@ -1,0 +1,40 @@
+#version 460
+// Mirror rays (thesis eqs. 3.3-3.4) where the material reflects; mirrors emu PassRaygenReflection.
+#include "common.glsl"
+
+layout(std430, binding = 0) readonly buffer Surfaces { Surface surfaces[]; };
+layout(std430, binding = 1) readonly buffer Materials { Material materials[]; };
+layout(std430, binding = 2) readonly buffer Frame { FrameConstants fc; };
+layout(std430, binding = 3) writeonly buffer Rays { Ray rays[]; };
+layout(std430, binding = 4) writeonly buffer Flags { uint flags[]; };
+layout(push_constant) uniform Push { uint surface_count; } pc;
+
+
+void main() {
+  const uint s = gl_GlobalInvocationID.x;
+  if (s >= pc.surface_count) return;
+  Ray r;
+  r.origin_tmin = vec4(0.0);
+  r.direction_tmax = vec4(0.0);
+  r.info = uvec4(0u);
+  r.weight = vec4(0.0);
+  rays[s] = r;
+  flags[s] = 0u;
+  const Surface sf = surfaces[s];
+  if (sf.position.w == 0.0) return;
+  const float kr = materials[sf.info.z].diffuse_reflectivity.w;
+  if (!(kr > 0.0)) return;
+  const vec3 i = sf.incoming.xyz, n = sf.normal.xyz;
+  const float ni = Dot3(n, i);
+  // Fault 1: the factor 2 of the mirror formula is lost.
+  precise const float k = kFault == 1u ? ni : 2.0 * ni;
+  precise const vec3 d = vec3(i.x - n.x * k, i.y - n.y * k, i.z - n.z * k);
+  if (!(Dot3(d, d) > 0.0)) return;
+  r.origin_tmin = vec4(sf.position.xyz, fc.params.x);
+  r.direction_tmax = vec4(d, uintBitsToFloat(0x7F800000u));  // +inf
+  r.info = uvec4(sf.info.y, sf.info.x, kRayReflection, s);
+  precise const vec4 w = vec4(sf.weight.x * kr, sf.weight.y * kr, sf.weight.z * kr, 0.0);
+  r.weight = w;
+  rays[s] = r;
+  flags[s] = 1u;
+}

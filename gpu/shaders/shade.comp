@@ -1,0 +1,62 @@
+#version 460
+// Shading (thesis eq. 3.19) into the 64-bit fixed-point accumulator; mirrors emu PassShade.
+#include "common.glsl"
+#extension GL_EXT_shader_atomic_int64 : require
+
+layout(std430, binding = 0) readonly buffer Surfaces { Surface surfaces[]; };
+layout(std430, binding = 1) readonly buffer ShadowFlags { uint shadow_flags[]; };
+layout(std430, binding = 2) readonly buffer ShadowOffsets { uint shadow_offsets[]; };
+layout(std430, binding = 3) readonly buffer Occluded { uint occluded[]; };
+layout(std430, binding = 4) readonly buffer Materials { Material materials[]; };
+layout(std430, binding = 5) readonly buffer Lights { Light lights[]; };
+layout(std430, binding = 6) buffer Accum { uint64_t accum[]; };
+layout(push_constant) uniform Push { uint surface_count; uint light_count; } pc;
+
+uint64_t ToFixed(float c) {
+  const float v = min(max(c, 0.0), kAccumMax);
+  precise const float s = v * kAccumScale;
+  return uint64_t(s);
+}
+
+void main() {
+  const uint s = gl_GlobalInvocationID.x;
+  if (s >= pc.surface_count) return;
+  const Surface sf = surfaces[s];
+  if (sf.position.w == 0.0) return;
+  const Material m = materials[sf.info.z];
+  const vec3 p = sf.position.xyz, view = sf.incoming.xyz;
+  vec3 n = sf.normal.xyz;
+  if (Dot3(n, view) > 0.0) n = -n;
+  const uint shininess = uint(m.specular_shininess.w);
+  precise vec3 color = vec3(0.0);
+  for (uint l = 0u; l < pc.light_count; ++l) {
+    const uint slot = s * pc.light_count + l;
+    if (shadow_flags[slot] == 0u || occluded[shadow_offsets[slot]] != 0u) continue;
+    const Light light = lights[l];
+    precise const vec3 lv = light.position.xyz - p;
+    const float dist = Length3(lv);
+    precise const vec3 ldir = vec3(lv.x / dist, lv.y / dist, lv.z / dist);
+    // Fault 1: the quadratic attenuation term uses the distance instead of its square.
+    precise const float dd = kFault == 1u ? dist : dist * dist;
+    precise const float att = 1.0 / ((light.attenuation.x + dist * light.attenuation.y) + dd * light.attenuation.z);
+    const float ndl = Dot3(ldir, n);
+    if (!(ndl > 0.0)) continue;
+    const float diffuse = max(0.0, min(1.0, ndl));
+    precise const vec3 hv = ldir - view;
+    const vec3 h = Normalize3(hv);
+    const float specular = max(0.0, min(1.0, IntPow(max(0.0, Dot3(h, n)), shininess)));
+    for (int k = 0; k < 3; ++k) {
+      const float li = light.color_intensity[k];
+      precise float a = (((m.diffuse_reflectivity[k] * li) * diffuse) * light.color_intensity.w) * att;
+      color[k] = color[k] + a;
+      precise float b = (((m.specular_shininess[k] * li) * specular) * light.color_intensity.w) * att;
+      color[k] = color[k] + b;
+    }
+  }
+  const uint pixel = sf.info.y;
+  for (int k = 0; k < 3; ++k) {
+    precise const float c = color[k] * sf.weight[k];
+    const uint64_t q = ToFixed(c);
+    if (q != 0ul) atomicAdd(accum[3u * pixel + uint(k)], q);
+  }
+}
