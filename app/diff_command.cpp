@@ -8,6 +8,7 @@
 
 #include "rayspace/compare.h"
 #include "rayspace/emu/frame.h"
+#include "rayspace/emu/hierarchy.h"
 #include "rayspace/error.h"
 #include "rayspace/gpu/passes.h"
 #include "rayspace/scene.h"
@@ -148,6 +149,25 @@ int RunDiff(const DiffArgs& args) {
            {CompareBuffers("trim.shadow", "offsets", emu_trim.offsets, gpu_trim.offsets, 0),
             CompareBuffers("trim.shadow", "rays", emu_trim.rays, gpu_trim.rays, kRayFloats)},
            hits);
+
+    // CRSH's ray sorting on the GPU's compacted shadow rays: hash, compress, sort, decompress.
+    const emu::HashConfig hc;
+    std::vector<std::uint32_t> gpu_keys, gpu_sorted, gpu_order;
+    fail(gpu->Hash(gpu_trim.rays, fc, hc, gpu_keys));
+    record("hash.shadow", {CompareBuffers("hash.shadow", "keys", emu::PassHash(gpu_trim.rays, buffers, hc), gpu_keys, 0)}, "");
+    emu::Chunks gpu_chunks;
+    fail(gpu->Compress(gpu_keys, gpu_chunks));
+    const emu::Chunks emu_chunks = emu::PassCompress(gpu_keys);
+    record("compress.shadow",
+           {CompareBuffers("compress.shadow", "chunk_key", emu_chunks.key, gpu_chunks.key, 0),
+            CompareBuffers("compress.shadow", "chunk_base", emu_chunks.base, gpu_chunks.base, 0),
+            CompareBuffers("compress.shadow", "chunk_size", emu_chunks.size, gpu_chunks.size, 0)},
+           "");
+    fail(gpu->SortChunks(gpu_chunks.key, gpu_sorted));
+    record("sort.shadow", {CompareBuffers("sort.shadow", "chunk_order", emu::PassSortChunks(gpu_chunks.key), gpu_sorted, 0)}, "");
+    fail(gpu->Decompress(gpu_chunks, gpu_sorted, gpu_order));
+    record("decompress.shadow",
+           {CompareBuffers("decompress.shadow", "ray_order", emu::PassDecompress(gpu_chunks, gpu_sorted), gpu_order, 0)}, "");
   }
   // shade.b0: the GPU's surfaces, shadow rays and (emulated) occlusion on both sides.
   std::vector<std::uint64_t> emu_accum(static_cast<std::size_t>(fo.width) * fo.height * 3, 0), gpu_accum = emu_accum;

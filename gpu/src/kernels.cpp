@@ -1,6 +1,8 @@
 #include <fmt/format.h>
 
+#include "hash.spv.h"
 #include "raygen_reflection.spv.h"
+#include "sort.spv.h"
 #include "raygen_shadow.spv.h"
 #include "shade.spv.h"
 #include "surfaces.spv.h"
@@ -31,7 +33,8 @@ constexpr std::uint32_t kTrimBlock = 4096;
 const std::vector<std::pair<std::string, std::uint32_t>>& KernelPasses() {
   static const std::vector<std::pair<std::string, std::uint32_t>> kPasses = {
       {"surfaces", 1}, {"raygen.shadow", 2}, {"trim.shadow", 1}, {"shade", 1}, {"raygen.reflection", 1},
-      {"trim.reflection", 1}, {"resolve", 1}};
+      {"trim.reflection", 1}, {"hash.shadow", 1}, {"compress.shadow", 1}, {"sort.shadow", 1},
+      {"decompress.shadow", 1}, {"resolve", 1}};
   return kPasses;
 }
 
@@ -50,6 +53,11 @@ vk::Status VulkanPasses::Create(int device, const Faults& faults, std::unique_pt
   // One trim kernel serves both ray types; a planted trim fault applies to the type it names.
   RS_TRY(p->ctx_->CreateKernel("trim.shadow", kSpirv_trim, 5, fault("trim.shadow"), p->trim_));
   RS_TRY(p->ctx_->CreateKernel("trim.reflection", kSpirv_trim, 5, fault("trim.reflection"), p->trim_reflection_));
+  RS_TRY(p->ctx_->CreateKernel("hash.shadow", kSpirv_hash, 3, fault("hash.shadow"), p->hash_));
+  // One kernel, three passes (phases); each pass gets its own pipeline so a fault stays in its pass.
+  RS_TRY(p->ctx_->CreateKernel("compress.shadow", kSpirv_sort, 9, fault("compress.shadow"), p->compress_));
+  RS_TRY(p->ctx_->CreateKernel("sort.shadow", kSpirv_sort, 9, fault("sort.shadow"), p->sort_));
+  RS_TRY(p->ctx_->CreateKernel("decompress.shadow", kSpirv_sort, 9, fault("decompress.shadow"), p->decompress_));
   RS_TRY(p->ctx_->CreateKernel("resolve", kSpirv_resolve, 2, fault("resolve"), p->resolve_));
   out = std::move(p);
   return vk::Status::Ok();
@@ -157,6 +165,125 @@ vk::Status VulkanPasses::Trim(const emu::SparseRays& in, emu::Trimmed& out, bool
   if (total > n) return vk::Status::Fail(fmt::format("trim kernel reported {} rays out of {} slots", total, n));
   out.offsets = boff.Download<std::uint32_t>(n);
   out.rays = bdense.Download<gpu::Ray>(total);
+  return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::Hash(const std::vector<gpu::Ray>& rays, const gpu::FrameConstants& fc, const emu::HashConfig& h,
+                              std::vector<std::uint32_t>& keys) {
+  vk::Context& c = *ctx_;
+  const std::uint32_t n = static_cast<std::uint32_t>(rays.size());
+  vk::Buffer br, bf, bk;
+  RS_TRY(Make(c, rays.empty() ? std::vector<gpu::Ray>(1) : rays, br));
+  RS_TRY(Make(c, std::vector<gpu::FrameConstants>{fc}, bf));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * 4, bk));
+  const std::int32_t push[6] = {static_cast<std::int32_t>(n), h.light_bits, h.polar_bits, h.azimuth_bits, h.origin_bits,
+                                h.direction_bits};
+  const vk::Buffer* bufs[3] = {&br, &bf, &bk};
+  vk::Recorder rec(c);
+  RS_TRY(rec.Dispatch(hash_, bufs, push, sizeof push, n));
+  RS_TRY(rec.Submit());
+  keys = bk.Download<std::uint32_t>(n);
+  return vk::Status::Ok();
+}
+
+namespace {
+
+// Buffers of the sort kernel (see gpu/shaders/sort.comp for their roles).
+struct SortBuffers {
+  vk::Buffer keys, key, base, size, sorted, order, count, scratch, sums;
+};
+
+std::uint32_t Blocks(std::size_t n) { return static_cast<std::uint32_t>((n + kTrimBlock - 1) / kTrimBlock); }
+
+vk::Status MakeSortBuffers(vk::Context& c, std::size_t n, std::size_t chunks, SortBuffers& b) {
+  const std::size_t w = std::max<std::size_t>(n, 1) * 4, cw = std::max<std::size_t>(chunks, 1) * 4;
+  const std::size_t blocks = std::max<std::size_t>(Blocks(std::max(n, chunks)), 1);
+  RS_TRY(c.CreateBuffer(w, b.keys));
+  RS_TRY(c.CreateBuffer(cw, b.key));
+  RS_TRY(c.CreateBuffer(cw, b.base));
+  RS_TRY(c.CreateBuffer(cw, b.size));
+  RS_TRY(c.CreateBuffer(2 * cw, b.sorted));
+  RS_TRY(c.CreateBuffer(w, b.order));
+  RS_TRY(c.CreateBuffer(4, b.count));
+  RS_TRY(c.CreateBuffer((2 * std::max(n, chunks) + 256 * blocks + 256 + 16) * 4, b.scratch));
+  RS_TRY(c.CreateBuffer((blocks + 1) * 4, b.sums));
+  return vk::Status::Ok();
+}
+
+struct SortPush {
+  std::uint32_t n, phase, shift, src, dst, blocks;
+};
+
+vk::Status Phase(vk::Recorder& rec, const vk::Kernel& k, SortBuffers& b, SortPush push, std::uint32_t invocations) {
+  const vk::Buffer* bufs[9] = {&b.keys, &b.key, &b.base, &b.size, &b.sorted, &b.order, &b.count, &b.scratch, &b.sums};
+  return rec.Dispatch(k, bufs, &push, sizeof push, invocations);
+}
+
+}  // namespace
+
+vk::Status VulkanPasses::Compress(const std::vector<std::uint32_t>& keys, emu::Chunks& out) {
+  const std::uint32_t n = static_cast<std::uint32_t>(keys.size()), blocks = Blocks(n);
+  SortBuffers b;
+  RS_TRY(MakeSortBuffers(*ctx_, n, n, b));
+  if (n) b.keys.Upload(keys);
+  vk::Recorder rec(*ctx_);
+  RS_TRY(Phase(rec, compress_, b, {n, 0, 0, 0, 0, blocks}, n));
+  RS_TRY(Phase(rec, compress_, b, {n, 1, 0, 0, 0, blocks}, blocks));
+  RS_TRY(Phase(rec, compress_, b, {n, 2, 0, 0, 0, blocks}, 1));
+  RS_TRY(Phase(rec, compress_, b, {n, 3, 0, 0, 0, blocks}, blocks));
+  RS_TRY(Phase(rec, compress_, b, {n, 4, 0, 0, 0, blocks}, n));
+  RS_TRY(rec.Submit());
+  const std::uint32_t chunks = b.count.Download<std::uint32_t>(1)[0];
+  if (chunks > n) return vk::Status::Fail(fmt::format("compress kernel reported {} chunks for {} keys", chunks, n));
+  out.key = b.key.Download<std::uint32_t>(chunks);
+  out.base = b.base.Download<std::uint32_t>(chunks);
+  out.size = b.size.Download<std::uint32_t>(chunks);
+  return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::SortChunks(const std::vector<std::uint32_t>& chunk_keys, std::vector<std::uint32_t>& sorted) {
+  const std::uint32_t chunks = static_cast<std::uint32_t>(chunk_keys.size()), blocks = Blocks(chunks);
+  if (blocks > 65535) return vk::Status::Fail(fmt::format("sort: {} chunks exceed the kernel's limit", chunks));
+  SortBuffers b;
+  RS_TRY(MakeSortBuffers(*ctx_, 1, chunks, b));
+  if (chunks) b.key.Upload(chunk_keys);
+  vk::Recorder rec(*ctx_);
+  RS_TRY(Phase(rec, sort_, b, {chunks, 10, 0, 0, 0, blocks}, chunks));
+  std::uint32_t src = 0, dst = chunks;
+  for (std::uint32_t shift = 0; shift < 32; shift += 8) {
+    RS_TRY(Phase(rec, sort_, b, {chunks, 11, shift, src, dst, blocks}, blocks));
+    RS_TRY(Phase(rec, sort_, b, {chunks, 12, shift, src, dst, blocks}, 256));
+    RS_TRY(Phase(rec, sort_, b, {chunks, 13, shift, src, dst, blocks}, 1));
+    RS_TRY(Phase(rec, sort_, b, {chunks, 14, shift, src, dst, blocks}, blocks));
+    std::swap(src, dst);
+  }
+  RS_TRY(rec.Submit());
+  sorted = b.sorted.Download<std::uint32_t>(chunks);  // four passes end in the first half
+  return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::Decompress(const emu::Chunks& chunks, const std::vector<std::uint32_t>& sorted,
+                                    std::vector<std::uint32_t>& order) {
+  std::uint64_t n = 0;
+  for (std::uint32_t s : chunks.size) n += s;
+  const std::uint32_t count = static_cast<std::uint32_t>(chunks.key.size()), blocks = Blocks(count);
+  SortBuffers b;
+  RS_TRY(MakeSortBuffers(*ctx_, n, count, b));
+  if (count) {
+    b.key.Upload(chunks.key);
+    b.base.Upload(chunks.base);
+    b.size.Upload(chunks.size);
+    b.sorted.Upload(sorted);
+  }
+  const std::uint32_t rays = static_cast<std::uint32_t>(n);
+  vk::Recorder rec(*ctx_);
+  RS_TRY(Phase(rec, decompress_, b, {count, 20, rays, 0, 0, blocks}, count));
+  RS_TRY(Phase(rec, decompress_, b, {count, 21, rays, 0, 0, blocks}, blocks));
+  RS_TRY(Phase(rec, decompress_, b, {count, 22, rays, 0, 0, blocks}, 1));
+  RS_TRY(Phase(rec, decompress_, b, {count, 23, rays, 0, 0, blocks}, blocks));
+  RS_TRY(Phase(rec, decompress_, b, {count, 24, rays, 0, 0, blocks}, rays));
+  RS_TRY(rec.Submit());
+  order = b.order.Download<std::uint32_t>(n);
   return vk::Status::Ok();
 }
 

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/passes.h"
 #include "rayspace/gpu/vulkan.h"
 
@@ -29,6 +30,11 @@ class VulkanPasses {
   vk::Status Shade(const std::vector<gpu::Surface>& surfaces, const std::vector<std::uint32_t>& shadow_flags,
                    const std::vector<std::uint32_t>& shadow_offsets, const std::vector<std::uint32_t>& occluded,
                    const SceneBuffers& scene, std::vector<std::uint64_t>& accum);
+  vk::Status Hash(const std::vector<gpu::Ray>& rays, const gpu::FrameConstants& fc, const emu::HashConfig& h,
+                  std::vector<std::uint32_t>& keys);
+  vk::Status Compress(const std::vector<std::uint32_t>& keys, emu::Chunks& out);
+  vk::Status SortChunks(const std::vector<std::uint32_t>& chunk_keys, std::vector<std::uint32_t>& sorted);
+  vk::Status Decompress(const emu::Chunks& chunks, const std::vector<std::uint32_t>& sorted, std::vector<std::uint32_t>& order);
   vk::Status RaygenShadow(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
                           const SceneBuffers& scene, emu::SparseRays& out);
   vk::Status Trim(const emu::SparseRays& in, emu::Trimmed& out, bool reflection = false);
@@ -37,7 +43,7 @@ class VulkanPasses {
 
  private:
   std::unique_ptr<vk::Context> ctx_;
-  vk::Kernel surfaces_, raygen_shadow_, raygen_reflection_, trim_, trim_reflection_, shade_, resolve_;
+  vk::Kernel surfaces_, raygen_shadow_, raygen_reflection_, trim_, trim_reflection_, shade_, resolve_, hash_, compress_, sort_, decompress_;
 };
 
 }  // namespace rayspace::gpu_backend

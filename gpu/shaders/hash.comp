@@ -1,0 +1,67 @@
+#version 460
+// 32-bit sort keys per ray; mirrors emu PassHash (emu/src/ray_sort.cpp).
+#include "common.glsl"
+
+layout(std430, binding = 0) readonly buffer Rays { Ray rays[]; };
+layout(std430, binding = 1) readonly buffer Frame { FrameConstants fc; };
+layout(std430, binding = 2) writeonly buffer Keys { uint keys[]; };
+layout(push_constant) uniform Push {
+  uint n;
+  int light_bits, polar_bits, azimuth_bits, origin_bits, direction_bits;
+} pc;
+
+uint Cell(float f, int bits) {
+  const float cells = float(1u << uint(bits));
+  precise const float scaled = f * cells;
+  const float v = min(max(scaled, 0.0), cells - 1.0);
+  return uint(v);
+}
+
+float DiamondAngle(float x, float y) {
+  const float ax = abs(x), ay = abs(y);
+  precise const float s = ax + ay;
+  if (!(s > 0.0)) return 0.0;
+  precise float r;
+  if (y >= 0.0) r = x >= 0.0 ? y / s : 1.0 + ax / s;
+  else r = x < 0.0 ? 2.0 + ay / s : 3.0 + x / s;
+  return r;
+}
+
+uint DirectionKey(vec3 d, int polar_bits, int azimuth_bits) {
+  precise const float pz = (d.z + 1.0) * 0.5;
+  precise const float az = DiamondAngle(d.x, d.y) * 0.25;
+  const uint p = Cell(pz, polar_bits);
+  // Fault 1: the azimuth cell comes from the wrong coordinate pair (x, z).
+  const uint a = kFault == 1u ? Cell(DiamondAngle(d.x, d.z) * 0.25, azimuth_bits) : Cell(az, azimuth_bits);
+  uint key = 0u;
+  for (int b = max(polar_bits, azimuth_bits) - 1; b >= 0; --b) {
+    if (b < polar_bits) key = (key << 1) | ((p >> uint(b)) & 1u);
+    if (b < azimuth_bits) key = (key << 1) | ((a >> uint(b)) & 1u);
+  }
+  return key;
+}
+
+uint Interleave3(uint x, uint y, uint z, int bits) {
+  uint m = 0u;
+  for (int b = bits - 1; b >= 0; --b)
+    m = (m << 3) | (((x >> uint(b)) & 1u) << 2) | (((y >> uint(b)) & 1u) << 1) | ((z >> uint(b)) & 1u);
+  return m;
+}
+
+void main() {
+  const uint i = gl_GlobalInvocationID.x;
+  if (i >= pc.n) return;
+  const Ray r = rays[i];
+  const vec3 d = Normalize3(r.direction_tmax.xyz);
+  if (r.info.z == kRayShadow) {
+    const uint light = min(r.info.w, (1u << uint(pc.light_bits)) - 1u);
+    keys[i] = (light << uint(pc.polar_bits + pc.azimuth_bits)) | DirectionKey(d, pc.polar_bits, pc.azimuth_bits);
+  } else {
+    precise const vec3 ext = fc.scene_hi.xyz - fc.scene_lo.xyz;
+    precise const vec3 rel = r.origin_tmin.xyz - fc.scene_lo.xyz;
+    const uint cx = Cell(rel.x / ext.x, pc.origin_bits), cy = Cell(rel.y / ext.y, pc.origin_bits),
+               cz = Cell(rel.z / ext.z, pc.origin_bits);
+    keys[i] = (Interleave3(cx, cy, cz, pc.origin_bits) << uint(2 * pc.direction_bits)) |
+              DirectionKey(d, pc.direction_bits, pc.direction_bits);
+  }
+}

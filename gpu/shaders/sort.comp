@@ -1,0 +1,157 @@
+#version 460
+// Chunk compression, radix sort and decompression (thesis §3.2.4-3.2.6) in phases selected by a
+// push constant; mirrors emu PassCompress, PassSortChunks and PassDecompress. Every loop is bounded
+// by a block of 4096 elements, 256 bins or the block count: lavapipe stops any loop after 65,535
+// iterations (observed: a single-invocation compress saturated at 65,535 chunks).
+#include "common.glsl"
+
+layout(std430, binding = 0) readonly buffer Keys { uint keys[]; };
+layout(std430, binding = 1) buffer ChunkKey { uint chunk_key[]; };
+layout(std430, binding = 2) buffer ChunkBase { uint chunk_base[]; };
+layout(std430, binding = 3) buffer ChunkSize { uint chunk_size[]; };
+layout(std430, binding = 4) buffer Sorted { uint sorted[]; };   // chunk indices, 2 x chunks (ping-pong)
+layout(std430, binding = 5) buffer Order { uint order[]; };     // ray order (n)
+layout(std430, binding = 6) buffer Count { uint count[]; };     // [0] number of chunks
+layout(std430, binding = 7) buffer Scratch { uint scratch[]; };
+layout(std430, binding = 8) buffer Sums { uint sums[]; };       // per block, plus a total
+layout(push_constant) uniform Push { uint n; uint phase; uint shift; uint src; uint dst; uint blocks; } pc;
+
+const uint kBlock = 4096u;
+
+void ScanSums(uint blocks) {  // exclusive scan of sums[0..blocks), total in sums[blocks]
+  uint run = 0u;
+  for (uint b = 0u; b < blocks; ++b) {
+    const uint s = sums[b];
+    sums[b] = run;
+    run += s;
+  }
+  sums[blocks] = run;
+}
+
+void main() {
+  const uint t = gl_GlobalInvocationID.x;
+  const uint n = pc.n, blocks = pc.blocks;
+  switch (pc.phase) {
+    // ---- compress over n keys: head flags, block sums, scan, chunk key/base, chunk sizes ----
+    case 0u:
+      if (t < n) scratch[t] = (t == 0u || keys[t] != keys[t - 1u]) ? 1u : 0u;
+      break;
+    case 1u:
+      if (t < blocks) {
+        uint s = 0u;
+        for (uint i = t * kBlock; i < min(n, (t + 1u) * kBlock); ++i) s += scratch[i];
+        sums[t] = s;
+      }
+      break;
+    case 2u:
+      if (t == 0u) {
+        ScanSums(blocks);
+        count[0] = sums[blocks];
+      }
+      break;
+    case 3u:
+      if (t < blocks) {
+        uint k = sums[t];
+        for (uint i = t * kBlock; i < min(n, (t + 1u) * kBlock); ++i) {
+          if (scratch[i] != 0u) {
+            chunk_key[k] = keys[i];
+            chunk_base[k] = i;
+            ++k;
+          }
+        }
+      }
+      break;
+    case 4u: {
+      const uint chunks = count[0];
+      // Fault 1 (compress): the last chunk loses its last ray.
+      const uint end = kFault == 1u ? n - 1u : n;
+      if (t < chunks) chunk_size[t] = (t + 1u < chunks ? chunk_base[t + 1u] : end) - chunk_base[t];
+      break;
+    }
+    // ---- one LSD radix pass over n chunks (8 bits at `shift`), sorted[src..] -> sorted[dst..] ----
+    case 10u:
+      if (t < n) sorted[t] = t;
+      break;
+    case 11u:  // per-block histograms, bin-major: scratch[bin * blocks + block]
+      if (t < blocks) {
+        uint hist[256];
+        for (uint b = 0u; b < 256u; ++b) hist[b] = 0u;
+        for (uint i = t * kBlock; i < min(n, (t + 1u) * kBlock); ++i) ++hist[(chunk_key[sorted[pc.src + i]] >> pc.shift) & 255u];
+        for (uint b = 0u; b < 256u; ++b) scratch[b * blocks + t] = hist[b];
+      }
+      break;
+    case 12u:  // per bin: exclusive scan over blocks, bin total to scratch[256 * blocks + bin]
+      if (t < 256u) {
+        uint run = 0u;
+        for (uint b = 0u; b < blocks; ++b) {
+          const uint h = scratch[t * blocks + b];
+          scratch[t * blocks + b] = run;
+          run += h;
+        }
+        scratch[256u * blocks + t] = run;
+      }
+      break;
+    case 13u:  // exclusive scan of the bin totals
+      if (t == 0u) {
+        uint run = 0u;
+        for (uint b = 0u; b < 256u; ++b) {
+          const uint h = scratch[256u * blocks + b];
+          scratch[256u * blocks + b] = run;
+          run += h;
+        }
+      }
+      break;
+    case 14u:  // stable scatter, one block per invocation in element order
+      if (t < blocks) {
+        uint local[256];
+        for (uint b = 0u; b < 256u; ++b) local[b] = 0u;
+        for (uint i = t * kBlock; i < min(n, (t + 1u) * kBlock); ++i) {
+          const uint c = sorted[pc.src + i];
+          const uint bin = (chunk_key[c] >> pc.shift) & 255u;
+          sorted[pc.dst + scratch[256u * blocks + bin] + scratch[bin * blocks + t] + local[bin]] = c;
+          // Fault 1 (sort): a bin's running position is not advanced in the top byte's pass.
+          if (!(kFault == 1u && pc.shift == 24u)) ++local[bin];
+        }
+      }
+      break;
+    // ---- decompress: sizes in sorted order, scan, then every ray finds its chunk ----
+    case 20u:  // n = chunks here
+      if (t < n) scratch[t] = chunk_size[sorted[t]];
+      break;
+    case 21u:
+      if (t < blocks) {
+        uint s = 0u;
+        for (uint i = t * kBlock; i < min(n, (t + 1u) * kBlock); ++i) s += scratch[i];
+        sums[t] = s;
+      }
+      break;
+    case 22u:
+      if (t == 0u) ScanSums(blocks);
+      break;
+    case 23u:  // chunk starts into scratch[n + j]
+      if (t < blocks) {
+        uint s = sums[t];
+        for (uint i = t * kBlock; i < min(n, (t + 1u) * kBlock); ++i) {
+          scratch[n + i] = s;
+          s += scratch[i];
+        }
+      }
+      break;
+    case 24u: {  // one invocation per ray; pc.shift carries the ray count here
+      const uint rays = pc.shift;
+      if (t >= rays || n == 0u) break;
+      uint lo = 0u, hi = n - 1u;  // last chunk whose start <= t
+      while (lo < hi) {
+        const uint mid = (lo + hi + 1u) >> 1;
+        if (scratch[n + mid] <= t) lo = mid;
+        else hi = mid - 1u;
+      }
+      // Fault 1 (decompress): the chunk is looked up without the sorted permutation.
+      const uint c = kFault == 1u ? lo : sorted[lo], k = t - scratch[n + lo];
+      order[t] = chunk_base[c] + k;
+      break;
+    }
+    default:
+      break;
+  }
+}
