@@ -1,5 +1,6 @@
 #include "diff_command.h"
 
+#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <regex>
@@ -70,6 +71,13 @@ gpu_backend::Faults ParseInject(const std::string& spec) {
   ThrowInput("--inject '{}': no kernel named '{}'; kernels: {}", spec, pass, known);
 }
 
+template <typename F>
+double TimeMs(F&& f) {
+  const auto t0 = std::chrono::steady_clock::now();
+  f();
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
 }  // namespace
 
 int RunDiff(const DiffArgs& args) {
@@ -92,11 +100,13 @@ int RunDiff(const DiffArgs& args) {
   auto direct = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);
   const emu::FrameResult frame = emu::RenderFrame(scene, buffers, *direct, fo);
   const gpu::FrameConstants fc = MakeFrameConstants(scene, buffers, fo.width, fo.height);
-  const std::vector<gpu::Surface> surfaces = emu::PassSurfacesFromGBuffer(fc, frame.gbuffer, buffers);
+  std::vector<gpu::Surface> surfaces;
+  const double surfaces_emu_ms = TimeMs([&] { surfaces = emu::PassSurfacesFromGBuffer(fc, frame.gbuffer, buffers); });
 
   std::vector<BufferComparison> results;
   nlohmann::json passes = nlohmann::json::array();
   std::string first_divergent;
+  double emu_ms = 0.0, gpu_ms = 0.0;  // the latest pass's times on each backend
   auto record = [&](const std::string& pass, std::vector<BufferComparison> cmp, const std::string& note) {
     bool equal = true;
     nlohmann::json bl = nlohmann::json::array();
@@ -108,7 +118,8 @@ int RunDiff(const DiffArgs& args) {
       std::printf("  %-16s %s\n", pass.c_str(), c.Summary().c_str());
     }
     if (!equal && first_divergent.empty()) first_divergent = pass;
-    passes.push_back({{"pass", pass}, {"equal", equal}, {"buffers", bl}, {"hits", note}});
+    std::printf("  %-16s emu %.1f ms, vulkan %.1f ms\n", pass.c_str(), emu_ms, gpu_ms);
+    passes.push_back({{"pass", pass}, {"equal", equal}, {"buffers", bl}, {"hits", note}, {"emu_ms", emu_ms}, {"vulkan_ms", gpu_ms}});
   };
   auto fail = [](const vk::Status& s) {
     if (!s) throw std::runtime_error("Vulkan: " + s.message);
@@ -118,21 +129,24 @@ int RunDiff(const DiffArgs& args) {
               gpu->context().device_name().c_str(), EmulationModel().c_str());
   // surfaces.b0 from the emulated G-buffer; from here on both sides read the GPU's outputs.
   std::vector<gpu::Surface> gpu_surfaces;
-  fail(gpu->Surfaces(fc, frame.gbuffer, buffers, gpu_surfaces));
+  gpu_ms = TimeMs([&] { fail(gpu->Surfaces(fc, frame.gbuffer, buffers, gpu_surfaces)); });
+  emu_ms = surfaces_emu_ms;
   record("surfaces", {CompareBuffers("surfaces", "surfaces", surfaces, gpu_surfaces, kSurfaceFloats)}, "");
 
   emu::SparseRays gpu_rays;
   emu::Trimmed gpu_trim;
   std::vector<std::uint32_t> occluded;
   if (!scene.lights.empty()) {
-    emu::SparseRays emu_rays = emu::PassRaygenShadow(fc, gpu_surfaces, buffers);
-    fail(gpu->RaygenShadow(fc, gpu_surfaces, buffers, gpu_rays));
+    emu::SparseRays emu_rays;
+    emu_ms = TimeMs([&] { emu_rays = emu::PassRaygenShadow(fc, gpu_surfaces, buffers); });
+    gpu_ms = TimeMs([&] { fail(gpu->RaygenShadow(fc, gpu_surfaces, buffers, gpu_rays)); });
     record("raygen.shadow",
            {CompareBuffers("raygen.shadow", "rays", emu_rays.rays, gpu_rays.rays, kRayFloats),
             CompareBuffers("raygen.shadow", "flags", emu_rays.flags, gpu_rays.flags, 0)},
            "");
-    emu::Trimmed emu_trim = emu::PassTrim(gpu_rays);
-    fail(gpu->Trim(gpu_rays, gpu_trim));
+    emu::Trimmed emu_trim;
+    emu_ms = TimeMs([&] { emu_trim = emu::PassTrim(gpu_rays); });
+    gpu_ms = TimeMs([&] { fail(gpu->Trim(gpu_rays, gpu_trim)); });
     // Would a divergence change a hit? Trace both outputs with the emulator's tracer.
     std::string hits = "unchanged";
     std::vector<std::uint32_t> a;
@@ -153,39 +167,47 @@ int RunDiff(const DiffArgs& args) {
     // CRSH's ray sorting on the GPU's compacted shadow rays: hash, compress, sort, decompress.
     const emu::HashConfig hc;
     std::vector<std::uint32_t> gpu_keys, gpu_sorted, gpu_order;
-    fail(gpu->Hash(gpu_trim.rays, fc, hc, gpu_keys));
-    record("hash.shadow", {CompareBuffers("hash.shadow", "keys", emu::PassHash(gpu_trim.rays, buffers, hc), gpu_keys, 0)}, "");
+    gpu_ms = TimeMs([&] { fail(gpu->Hash(gpu_trim.rays, fc, hc, gpu_keys)); });
+    std::vector<std::uint32_t> emu_keys;
+    emu_ms = TimeMs([&] { emu_keys = emu::PassHash(gpu_trim.rays, buffers, hc); });
+    record("hash.shadow", {CompareBuffers("hash.shadow", "keys", emu_keys, gpu_keys, 0)}, "");
     emu::Chunks gpu_chunks;
-    fail(gpu->Compress(gpu_keys, gpu_chunks));
-    const emu::Chunks emu_chunks = emu::PassCompress(gpu_keys);
+    gpu_ms = TimeMs([&] { fail(gpu->Compress(gpu_keys, gpu_chunks)); });
+    emu::Chunks emu_chunks;
+    emu_ms = TimeMs([&] { emu_chunks = emu::PassCompress(gpu_keys); });
     record("compress.shadow",
            {CompareBuffers("compress.shadow", "chunk_key", emu_chunks.key, gpu_chunks.key, 0),
             CompareBuffers("compress.shadow", "chunk_base", emu_chunks.base, gpu_chunks.base, 0),
             CompareBuffers("compress.shadow", "chunk_size", emu_chunks.size, gpu_chunks.size, 0)},
            "");
-    fail(gpu->SortChunks(gpu_chunks.key, gpu_sorted));
-    record("sort.shadow", {CompareBuffers("sort.shadow", "chunk_order", emu::PassSortChunks(gpu_chunks.key), gpu_sorted, 0)}, "");
-    fail(gpu->Decompress(gpu_chunks, gpu_sorted, gpu_order));
-    record("decompress.shadow",
-           {CompareBuffers("decompress.shadow", "ray_order", emu::PassDecompress(gpu_chunks, gpu_sorted), gpu_order, 0)}, "");
+    gpu_ms = TimeMs([&] { fail(gpu->SortChunks(gpu_chunks.key, gpu_sorted)); });
+    std::vector<std::uint32_t> emu_sorted;
+    emu_ms = TimeMs([&] { emu_sorted = emu::PassSortChunks(gpu_chunks.key); });
+    record("sort.shadow", {CompareBuffers("sort.shadow", "chunk_order", emu_sorted, gpu_sorted, 0)}, "");
+    gpu_ms = TimeMs([&] { fail(gpu->Decompress(gpu_chunks, gpu_sorted, gpu_order)); });
+    std::vector<std::uint32_t> emu_order;
+    emu_ms = TimeMs([&] { emu_order = emu::PassDecompress(gpu_chunks, gpu_sorted); });
+    record("decompress.shadow", {CompareBuffers("decompress.shadow", "ray_order", emu_order, gpu_order, 0)}, "");
   }
   // shade.b0: the GPU's surfaces, shadow rays and (emulated) occlusion on both sides.
   std::vector<std::uint64_t> emu_accum(static_cast<std::size_t>(fo.width) * fo.height * 3, 0), gpu_accum = emu_accum;
-  emu::PassShade(fc, gpu_surfaces, gpu_rays.flags, gpu_trim.offsets, occluded, buffers, emu_accum);
-  fail(gpu->Shade(gpu_surfaces, gpu_rays.flags, gpu_trim.offsets, occluded, buffers, gpu_accum));
+  emu_ms = TimeMs([&] { emu::PassShade(fc, gpu_surfaces, gpu_rays.flags, gpu_trim.offsets, occluded, buffers, emu_accum); });
+  gpu_ms = TimeMs([&] { fail(gpu->Shade(gpu_surfaces, gpu_rays.flags, gpu_trim.offsets, occluded, buffers, gpu_accum)); });
   record("shade", {CompareBuffers("shade", "accum", emu_accum, gpu_accum, 0)}, "");
 
   bool reflective = false;
   for (const MaterialDesc& m : scene.materials) reflective |= m.reflectivity > 0.0f;
   if (reflective && scene.max_depth > 0) {
-    emu::SparseRays emu_refl = emu::PassRaygenReflection(fc, gpu_surfaces, buffers), gpu_refl;
-    fail(gpu->RaygenReflection(fc, gpu_surfaces, buffers, gpu_refl));
+    emu::SparseRays emu_refl, gpu_refl;
+    emu_ms = TimeMs([&] { emu_refl = emu::PassRaygenReflection(fc, gpu_surfaces, buffers); });
+    gpu_ms = TimeMs([&] { fail(gpu->RaygenReflection(fc, gpu_surfaces, buffers, gpu_refl)); });
     record("raygen.reflection",
            {CompareBuffers("raygen.reflection", "rays", emu_refl.rays, gpu_refl.rays, kRayFloats),
             CompareBuffers("raygen.reflection", "flags", emu_refl.flags, gpu_refl.flags, 0)},
            "");
-    emu::Trimmed emu_rt = emu::PassTrim(gpu_refl), gpu_rt;
-    fail(gpu->Trim(gpu_refl, gpu_rt, true));
+    emu::Trimmed emu_rt, gpu_rt;
+    emu_ms = TimeMs([&] { emu_rt = emu::PassTrim(gpu_refl); });
+    gpu_ms = TimeMs([&] { fail(gpu->Trim(gpu_refl, gpu_rt, true)); });
     std::string hits = "unchanged";
     if (emu_rt.rays.size() != gpu_rt.rays.size()) {
       hits = "changed (ray counts differ)";
@@ -203,8 +225,10 @@ int RunDiff(const DiffArgs& args) {
            hits);
   }
   std::vector<std::uint8_t> gpu_rgb;
-  fail(gpu->Resolve(fc, frame.accum, gpu_rgb));
-  const std::vector<std::uint32_t> emu_wide(frame.rgb.begin(), frame.rgb.end()), gpu_wide(gpu_rgb.begin(), gpu_rgb.end());
+  gpu_ms = TimeMs([&] { fail(gpu->Resolve(fc, frame.accum, gpu_rgb)); });
+  std::vector<std::uint8_t> emu_rgb;
+  emu_ms = TimeMs([&] { emu_rgb = emu::PassResolve(fc, frame.accum); });
+  const std::vector<std::uint32_t> emu_wide(emu_rgb.begin(), emu_rgb.end()), gpu_wide(gpu_rgb.begin(), gpu_rgb.end());
   record("resolve", {CompareBuffers("resolve", "rgb", emu_wide, gpu_wide, 0)}, "");
 
   const bool equal = first_divergent.empty();
