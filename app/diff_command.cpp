@@ -23,6 +23,8 @@ namespace {
 constexpr std::uint32_t kRayFloats = 0xF0FFu;
 // Words of a Surface: position, normal, incoming, weight (floats), info (uints).
 constexpr std::uint32_t kSurfaceFloats = 0xFFFFu;
+// Words of a ConeNode: all floats.
+constexpr std::uint32_t kNodeFloats = 0xFFFu;
 
 std::string EmulationModel() {
   std::string m = "x86-64";
@@ -133,6 +135,50 @@ int RunDiff(const DiffArgs& args) {
   emu_ms = surfaces_emu_ms;
   record("surfaces", {CompareBuffers("surfaces", "surfaces", surfaces, gpu_surfaces, kSurfaceFloats)}, "");
 
+  // CRSH's ray sorting and hierarchy build on a batch of GPU-compacted rays: hash, compress, sort,
+  // decompress, then level-1 nodes (8 rays each) and one level of unions. The kernels serve every
+  // batch; their planted faults are named after the shadow batch, which runs first.
+  auto SortAndBuild = [&](const std::string& kind, const std::vector<gpu::Ray>& rays) {
+    const emu::HashConfig hc;
+    std::vector<std::uint32_t> gpu_keys, gpu_sorted, gpu_order;
+    gpu_ms = TimeMs([&] { fail(gpu->Hash(rays, fc, hc, gpu_keys)); });
+    std::vector<std::uint32_t> emu_keys;
+    emu_ms = TimeMs([&] { emu_keys = emu::PassHash(rays, buffers, hc); });
+    record("hash." + kind, {CompareBuffers("hash." + kind, "keys", emu_keys, gpu_keys, 0)}, "");
+    emu::Chunks gpu_chunks;
+    gpu_ms = TimeMs([&] { fail(gpu->Compress(gpu_keys, gpu_chunks)); });
+    emu::Chunks emu_chunks;
+    emu_ms = TimeMs([&] { emu_chunks = emu::PassCompress(gpu_keys); });
+    record("compress." + kind,
+           {CompareBuffers("compress." + kind, "chunk_key", emu_chunks.key, gpu_chunks.key, 0),
+            CompareBuffers("compress." + kind, "chunk_base", emu_chunks.base, gpu_chunks.base, 0),
+            CompareBuffers("compress." + kind, "chunk_size", emu_chunks.size, gpu_chunks.size, 0)},
+           "");
+    gpu_ms = TimeMs([&] { fail(gpu->SortChunks(gpu_chunks.key, gpu_sorted)); });
+    std::vector<std::uint32_t> emu_sorted;
+    emu_ms = TimeMs([&] { emu_sorted = emu::PassSortChunks(gpu_chunks.key); });
+    record("sort." + kind, {CompareBuffers("sort." + kind, "chunk_order", emu_sorted, gpu_sorted, 0)}, "");
+    gpu_ms = TimeMs([&] { fail(gpu->Decompress(gpu_chunks, gpu_sorted, gpu_order)); });
+    std::vector<std::uint32_t> emu_order;
+    emu_ms = TimeMs([&] { emu_order = emu::PassDecompress(gpu_chunks, gpu_sorted); });
+    record("decompress." + kind, {CompareBuffers("decompress." + kind, "ray_order", emu_order, gpu_order, 0)}, "");
+
+    // build: level-1 nodes over the GPU's sorted rays (8 per node), then one level of unions.
+    const std::vector<std::uint32_t> first1 = emu::FixedGroups(gpu_order.size(), 8);
+    std::vector<gpu::ConeNode> emu_l1, gpu_l1, emu_l2, gpu_l2;
+    emu_ms = TimeMs([&] { emu_l1 = emu::PassBuildLeaves(rays, gpu_order, first1); });
+    gpu_ms = TimeMs([&] { fail(gpu->BuildLeaves(rays, gpu_order, first1, gpu_l1)); });
+    const std::vector<std::uint32_t> first2 = emu::FixedGroups(gpu_l1.size(), 8);
+    double emu2 = TimeMs([&] { emu_l2 = emu::PassBuildParents(gpu_l1, first2); });
+    double gpu2 = TimeMs([&] { fail(gpu->BuildParents(gpu_l1, first2, gpu_l2)); });
+    emu_ms += emu2;
+    gpu_ms += gpu2;
+    record("build." + kind,
+           {CompareBuffers("build." + kind, "nodes.L1", emu_l1, gpu_l1, kNodeFloats),
+            CompareBuffers("build." + kind, "nodes.L2", emu_l2, gpu_l2, kNodeFloats)},
+           "");
+  };
+
   emu::SparseRays gpu_rays;
   emu::Trimmed gpu_trim;
   std::vector<std::uint32_t> occluded;
@@ -164,30 +210,7 @@ int RunDiff(const DiffArgs& args) {
             CompareBuffers("trim.shadow", "rays", emu_trim.rays, gpu_trim.rays, kRayFloats)},
            hits);
 
-    // CRSH's ray sorting on the GPU's compacted shadow rays: hash, compress, sort, decompress.
-    const emu::HashConfig hc;
-    std::vector<std::uint32_t> gpu_keys, gpu_sorted, gpu_order;
-    gpu_ms = TimeMs([&] { fail(gpu->Hash(gpu_trim.rays, fc, hc, gpu_keys)); });
-    std::vector<std::uint32_t> emu_keys;
-    emu_ms = TimeMs([&] { emu_keys = emu::PassHash(gpu_trim.rays, buffers, hc); });
-    record("hash.shadow", {CompareBuffers("hash.shadow", "keys", emu_keys, gpu_keys, 0)}, "");
-    emu::Chunks gpu_chunks;
-    gpu_ms = TimeMs([&] { fail(gpu->Compress(gpu_keys, gpu_chunks)); });
-    emu::Chunks emu_chunks;
-    emu_ms = TimeMs([&] { emu_chunks = emu::PassCompress(gpu_keys); });
-    record("compress.shadow",
-           {CompareBuffers("compress.shadow", "chunk_key", emu_chunks.key, gpu_chunks.key, 0),
-            CompareBuffers("compress.shadow", "chunk_base", emu_chunks.base, gpu_chunks.base, 0),
-            CompareBuffers("compress.shadow", "chunk_size", emu_chunks.size, gpu_chunks.size, 0)},
-           "");
-    gpu_ms = TimeMs([&] { fail(gpu->SortChunks(gpu_chunks.key, gpu_sorted)); });
-    std::vector<std::uint32_t> emu_sorted;
-    emu_ms = TimeMs([&] { emu_sorted = emu::PassSortChunks(gpu_chunks.key); });
-    record("sort.shadow", {CompareBuffers("sort.shadow", "chunk_order", emu_sorted, gpu_sorted, 0)}, "");
-    gpu_ms = TimeMs([&] { fail(gpu->Decompress(gpu_chunks, gpu_sorted, gpu_order)); });
-    std::vector<std::uint32_t> emu_order;
-    emu_ms = TimeMs([&] { emu_order = emu::PassDecompress(gpu_chunks, gpu_sorted); });
-    record("decompress.shadow", {CompareBuffers("decompress.shadow", "ray_order", emu_order, gpu_order, 0)}, "");
+    SortAndBuild("shadow", gpu_trim.rays);
   }
   // shade.b0: the GPU's surfaces, shadow rays and (emulated) occlusion on both sides.
   std::vector<std::uint64_t> emu_accum(static_cast<std::size_t>(fo.width) * fo.height * 3, 0), gpu_accum = emu_accum;
@@ -223,6 +246,7 @@ int RunDiff(const DiffArgs& args) {
            {CompareBuffers("trim.reflection", "offsets", emu_rt.offsets, gpu_rt.offsets, 0),
             CompareBuffers("trim.reflection", "rays", emu_rt.rays, gpu_rt.rays, kRayFloats)},
            hits);
+    SortAndBuild("reflection", gpu_rt.rays);
   }
   std::vector<std::uint8_t> gpu_rgb;
   gpu_ms = TimeMs([&] { fail(gpu->Resolve(fc, frame.accum, gpu_rgb)); });

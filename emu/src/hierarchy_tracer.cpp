@@ -194,16 +194,10 @@ class Impl final : public HierarchyTracer {
       }
       const auto& f = h.first[L - 1];
       const std::size_t nodes = f.size() - 1;
-      h.nodes[L - 1].resize(nodes);
       if (L == 1) {
-        ParallelFor("build.level1", nodes, [&](std::size_t i) {
-          h.nodes[0][i] = cone::LeafNode(f[i + 1] - f[i], [&](std::uint32_t k) -> const gpu::Ray& { return rays[order[f[i] + k]]; });
-        });
+        h.nodes[0] = PassBuildLeaves(rays, order, f);
       } else {
-        const auto& below = h.nodes[L - 2];
-        ParallelFor("build.union", nodes, [&](std::size_t i) {
-          h.nodes[L - 1][i] = cone::ParentNode(&below[f[i]], f[i + 1] - f[i]);
-        });
+        h.nodes[L - 1] = PassBuildParents(h.nodes[L - 2], f);
       }
       if (quad) {
         std::vector<std::uint32_t> next(nodes);
@@ -432,6 +426,28 @@ class Impl final : public HierarchyTracer {
 };
 
 }  // namespace
+
+std::vector<gpu::ConeNode> PassBuildLeaves(const std::vector<gpu::Ray>& rays, const std::vector<std::uint32_t>& order,
+                                           const std::vector<std::uint32_t>& first) {
+  std::vector<gpu::ConeNode> nodes(first.size() - 1);
+  ParallelFor("build.leaves", nodes.size(), [&](std::size_t i) {
+    nodes[i] = cone::LeafNode(first[i + 1] - first[i], [&](std::uint32_t k) -> const gpu::Ray& { return rays[order[first[i] + k]]; });
+  });
+  return nodes;
+}
+
+std::vector<gpu::ConeNode> PassBuildParents(const std::vector<gpu::ConeNode>& below, const std::vector<std::uint32_t>& first) {
+  std::vector<gpu::ConeNode> nodes(first.size() - 1);
+  ParallelFor("build.parents", nodes.size(), [&](std::size_t i) { nodes[i] = cone::ParentNode(&below[first[i]], first[i + 1] - first[i]); });
+  return nodes;
+}
+
+std::vector<std::uint32_t> FixedGroups(std::size_t count, std::uint32_t per) {
+  std::vector<std::uint32_t> first;
+  for (std::size_t i = 0; i < count; i += per) first.push_back(static_cast<std::uint32_t>(i));
+  first.push_back(static_cast<std::uint32_t>(count));
+  return first;
+}
 
 std::unique_ptr<HierarchyTracer> MakeHierarchyTracer(const SceneBuffers& scene, const HierarchyConfig& config) {
   return std::make_unique<Impl>(scene, config);

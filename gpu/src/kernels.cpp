@@ -1,5 +1,6 @@
 #include <fmt/format.h>
 
+#include "build.spv.h"
 #include "hash.spv.h"
 #include "raygen_reflection.spv.h"
 #include "sort.spv.h"
@@ -34,7 +35,7 @@ const std::vector<std::pair<std::string, std::uint32_t>>& KernelPasses() {
   static const std::vector<std::pair<std::string, std::uint32_t>> kPasses = {
       {"surfaces", 1}, {"raygen.shadow", 2}, {"trim.shadow", 1}, {"shade", 1}, {"raygen.reflection", 1},
       {"trim.reflection", 1}, {"hash.shadow", 1}, {"compress.shadow", 1}, {"sort.shadow", 1},
-      {"decompress.shadow", 1}, {"resolve", 1}};
+      {"decompress.shadow", 1}, {"build.shadow", 1}, {"resolve", 1}};
   return kPasses;
 }
 
@@ -58,6 +59,7 @@ vk::Status VulkanPasses::Create(int device, const Faults& faults, std::unique_pt
   RS_TRY(p->ctx_->CreateKernel("compress.shadow", kSpirv_sort, 9, fault("compress.shadow"), p->compress_));
   RS_TRY(p->ctx_->CreateKernel("sort.shadow", kSpirv_sort, 9, fault("sort.shadow"), p->sort_));
   RS_TRY(p->ctx_->CreateKernel("decompress.shadow", kSpirv_sort, 9, fault("decompress.shadow"), p->decompress_));
+  RS_TRY(p->ctx_->CreateKernel("build.shadow", kSpirv_build, 5, fault("build.shadow"), p->build_));
   RS_TRY(p->ctx_->CreateKernel("resolve", kSpirv_resolve, 2, fault("resolve"), p->resolve_));
   out = std::move(p);
   return vk::Status::Ok();
@@ -284,6 +286,53 @@ vk::Status VulkanPasses::Decompress(const emu::Chunks& chunks, const std::vector
   RS_TRY(Phase(rec, decompress_, b, {count, 24, rays, 0, 0, blocks}, rays));
   RS_TRY(rec.Submit());
   order = b.order.Download<std::uint32_t>(n);
+  return vk::Status::Ok();
+}
+
+namespace {
+
+template <typename T>
+std::vector<T> NonEmpty(const std::vector<T>& v) {  // a buffer binding needs at least one element
+  return v.empty() ? std::vector<T>(1) : v;
+}
+
+}  // namespace
+
+vk::Status VulkanPasses::BuildLeaves(const std::vector<gpu::Ray>& rays, const std::vector<std::uint32_t>& order,
+                                     const std::vector<std::uint32_t>& first, std::vector<gpu::ConeNode>& nodes) {
+  vk::Context& c = *ctx_;
+  const std::uint32_t count = static_cast<std::uint32_t>(first.size() - 1);
+  vk::Buffer br, bo, bf, bb, bn;
+  RS_TRY(Make(c, NonEmpty(rays), br));
+  RS_TRY(Make(c, NonEmpty(order), bo));
+  RS_TRY(Make(c, first, bf));
+  RS_TRY(Make(c, std::vector<gpu::ConeNode>(1), bb));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * sizeof(gpu::ConeNode), bn));
+  const std::uint32_t push[2] = {count, 0};
+  const vk::Buffer* bufs[5] = {&br, &bo, &bf, &bb, &bn};
+  vk::Recorder rec(c);
+  RS_TRY(rec.Dispatch(build_, bufs, push, sizeof push, count));
+  RS_TRY(rec.Submit());
+  nodes = bn.Download<gpu::ConeNode>(count);
+  return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::BuildParents(const std::vector<gpu::ConeNode>& below, const std::vector<std::uint32_t>& first,
+                                      std::vector<gpu::ConeNode>& nodes) {
+  vk::Context& c = *ctx_;
+  const std::uint32_t count = static_cast<std::uint32_t>(first.size() - 1);
+  vk::Buffer br, bo, bf, bb, bn;
+  RS_TRY(Make(c, std::vector<gpu::Ray>(1), br));
+  RS_TRY(Make(c, std::vector<std::uint32_t>(1), bo));
+  RS_TRY(Make(c, first, bf));
+  RS_TRY(Make(c, NonEmpty(below), bb));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * sizeof(gpu::ConeNode), bn));
+  const std::uint32_t push[2] = {count, 1};
+  const vk::Buffer* bufs[5] = {&br, &bo, &bf, &bb, &bn};
+  vk::Recorder rec(c);
+  RS_TRY(rec.Dispatch(build_, bufs, push, sizeof push, count));
+  RS_TRY(rec.Submit());
+  nodes = bn.Download<gpu::ConeNode>(count);
   return vk::Status::Ok();
 }
 

@@ -74,6 +74,14 @@ std::vector<std::uint32_t> PassSortChunks(const std::vector<std::uint32_t>& chun
 // Sorted ray order: the rays of each chunk, chunks in sorted order.
 std::vector<std::uint32_t> PassDecompress(const Chunks& chunks, const std::vector<std::uint32_t>& sorted_chunks);
 
+// Hierarchy build (docs/hierarchy.md). first is a CSR offset array: node i covers items
+// [first[i], first[i+1]) (sorted rays through `order` for level 1, nodes of the level below above).
+std::vector<gpu::ConeNode> PassBuildLeaves(const std::vector<gpu::Ray>& rays, const std::vector<std::uint32_t>& order,
+                                           const std::vector<std::uint32_t>& first);
+std::vector<gpu::ConeNode> PassBuildParents(const std::vector<gpu::ConeNode>& below, const std::vector<std::uint32_t>& first);
+// CSR offsets grouping `count` items `per` at a time (the last group may be smaller).
+std::vector<std::uint32_t> FixedGroups(std::size_t count, std::uint32_t per);
+
 // Stream reduction of (flag, value) slots to the flagged values in slot order.
 std::vector<std::uint32_t> ReduceScan(const std::vector<std::uint8_t>& flags, const std::vector<std::uint32_t>& values);
 std::vector<std::uint32_t> ReduceHierarchical(const std::vector<std::uint8_t>& flags,

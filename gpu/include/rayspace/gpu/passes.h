@@ -35,6 +35,10 @@ class VulkanPasses {
   vk::Status Compress(const std::vector<std::uint32_t>& keys, emu::Chunks& out);
   vk::Status SortChunks(const std::vector<std::uint32_t>& chunk_keys, std::vector<std::uint32_t>& sorted);
   vk::Status Decompress(const emu::Chunks& chunks, const std::vector<std::uint32_t>& sorted, std::vector<std::uint32_t>& order);
+  vk::Status BuildLeaves(const std::vector<gpu::Ray>& rays, const std::vector<std::uint32_t>& order,
+                         const std::vector<std::uint32_t>& first, std::vector<gpu::ConeNode>& nodes);
+  vk::Status BuildParents(const std::vector<gpu::ConeNode>& below, const std::vector<std::uint32_t>& first,
+                          std::vector<gpu::ConeNode>& nodes);
   vk::Status RaygenShadow(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
                           const SceneBuffers& scene, emu::SparseRays& out);
   vk::Status Trim(const emu::SparseRays& in, emu::Trimmed& out, bool reflection = false);
@@ -43,7 +47,7 @@ class VulkanPasses {
 
  private:
   std::unique_ptr<vk::Context> ctx_;
-  vk::Kernel surfaces_, raygen_shadow_, raygen_reflection_, trim_, trim_reflection_, shade_, resolve_, hash_, compress_, sort_, decompress_;
+  vk::Kernel surfaces_, raygen_shadow_, raygen_reflection_, trim_, trim_reflection_, shade_, resolve_, hash_, compress_, sort_, decompress_, build_;
 };
 
 }  // namespace rayspace::gpu_backend
