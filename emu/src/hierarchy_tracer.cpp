@@ -55,8 +55,7 @@ class Impl final : public HierarchyTracer {
   Impl(const SceneBuffers& scene, const HierarchyConfig& cfg) : scene_(scene), cfg_(cfg) {
     RS_CHECK(cfg.subdivision >= 2 && cfg.depth >= 1 && cfg.component_size >= 1);
     RS_CHECK(cfg.max_batch_triangles >= 1 && cfg.max_batch_triangles <= (1u << kTriBits));
-    const glm::vec3 ext = scene.hi - scene.lo;
-    eps_ = std::max(glm::length(ext), 1e-30f) * 1e-6f;
+    eps_ = TraversalEpsilon(scene);
   }
 
   std::string Name() const override {
@@ -241,88 +240,34 @@ class Impl final : public HierarchyTracer {
 
     // Top level: every (node, triangle) of the block, skipping triangles whose object sphere the
     // node missed (CRSH).
+    static const std::vector<std::uint8_t> kNoMask;
     const std::size_t grid = static_cast<std::size_t>(N) * T;
-    std::vector<std::uint8_t> tested(grid), flags(grid);
-    std::vector<std::uint32_t> values(grid);
-    const auto& top = h.nodes[D - 1];
-    Sub("traverse.L" + std::to_string(D), grid, [&] {
-      ParallelFor("traverse.top", grid, [&](std::size_t e) {
-        const std::uint32_t node = t0 + static_cast<std::uint32_t>(e / T), tri = b0 + static_cast<std::uint32_t>(e % T);
-        const bool test = !crsh || object_mask[static_cast<std::size_t>(node) * objects + scene_.info[tri].ids.y];
-        tested[e] = test;
-        flags[e] = test && cone::Test(top[node], (*tri_spheres_)[tri], eps_);
-        values[e] = ((node - t0) << kTriBits) | (tri - b0);
-      });
+    PairSlots slots = Sub("traverse.L" + std::to_string(D), grid, [&] {
+      return PassTraverseTop(h.nodes[D - 1], t0, t1, b0, b1, *tri_spheres_, scene_, crsh ? object_mask : kNoMask, eps_);
     });
-    lv[D - 1].intersections = Sum(tested);
-    std::vector<std::uint32_t> pairs = Sub("reduce.L" + std::to_string(D), grid, [&] { return Reduce(flags, values); });
+    lv[D - 1].intersections = Sum(slots.tested);
+    std::vector<std::uint32_t> pairs = Sub("reduce.L" + std::to_string(D), grid, [&] { return Reduce(slots.flags, slots.values); });
     lv[D - 1].hits = pairs.size();
     if (pairs.size() > cfg_.pair_capacity) return false;
-    tested.clear();
-    tested.shrink_to_fit();
 
     // Levels D-1 .. 1: each surviving pair tests the node's children.
     const std::uint32_t S = static_cast<std::uint32_t>(Children());
     for (int L = D - 1; L >= 1; --L) {
-      const auto [base_up, unused_up] = Descendants(h, L + 1, t0, t1);
-      const auto [base, unused] = Descendants(h, L, t0, t1);
-      (void)unused_up;
-      (void)unused;
-      const auto& f = h.first[L];  // children of level L+1 nodes among level L nodes
-      const auto& nodes = h.nodes[L - 1];
-      const std::size_t slots = pairs.size() * S;
-      flags.assign(slots, 0);
-      values.assign(slots, 0);
-      std::vector<std::uint8_t> counts(pairs.size());
-      Sub("traverse.L" + std::to_string(L), slots, [&] {
-        ParallelFor("traverse.level", pairs.size(), [&](std::size_t p) {
-          const std::uint32_t parent = base_up + (pairs[p] >> kTriBits), tri_local = pairs[p] & kTriMask;
-          const glm::vec4 sphere = (*tri_spheres_)[b0 + tri_local];
-          const std::uint32_t c0 = f[parent], c1 = f[parent + 1];
-          counts[p] = static_cast<std::uint8_t>(c1 - c0);
-          for (std::uint32_t c = c0; c < c1; ++c) {
-            const std::size_t slot = p * S + (c - c0);
-            flags[slot] = cone::Test(nodes[c], sphere, eps_);
-            values[slot] = ((c - base) << kTriBits) | tri_local;
-          }
-        });
+      const std::uint32_t base_up = Descendants(h, L + 1, t0, t1).first, base = Descendants(h, L, t0, t1).first;
+      slots = Sub("traverse.L" + std::to_string(L), pairs.size() * S, [&] {
+        return PassTraverseLevel(pairs, h.nodes[L - 1], h.first[L], base_up, base, S, b0, *tri_spheres_, eps_);
       });
-      lv[L - 1].intersections = Sum(counts);
-      pairs = Sub("reduce.L" + std::to_string(L), slots, [&] { return Reduce(flags, values); });
+      lv[L - 1].intersections = Sum(slots.tested);
+      pairs = Sub("reduce.L" + std::to_string(L), slots.flags.size(), [&] { return Reduce(slots.flags, slots.values); });
       lv[L - 1].hits = pairs.size();
       if (pairs.size() > cfg_.pair_capacity) return false;
     }
 
     // Final ray-triangle tests on the surviving level-1 pairs.
-    const auto [base1, unused1] = Descendants(h, 1, t0, t1);
-    (void)unused1;
+    const std::uint32_t base1 = Descendants(h, 1, t0, t1).first;
     const auto& f1 = h.first[0];
-    std::vector<std::uint32_t> tests(pairs.size());
-    Sub("intersect", pairs.size(), [&] {
-      ParallelFor("intersect", pairs.size(), [&](std::size_t p) {
-        const std::uint32_t node = base1 + (pairs[p] >> kTriBits), prim = b0 + (pairs[p] & kTriMask);
-        const gpu::Triangle& t = scene_.triangles[prim];
-        tests[p] = f1[node + 1] - f1[node];
-        for (std::uint32_t j = f1[node]; j < f1[node + 1]; ++j) {
-          const std::uint32_t ray = order[j];
-          const gpu::Ray& r = rays[ray];
-          if (prim == r.info.y) continue;
-          float th;
-          if (!IntersectWatertight(SetupWatertight(Xyz(r.origin_tmin), Xyz(r.direction_tmax)), Xyz(t.v0), Xyz(t.v1),
-                                   Xyz(t.v2), r.origin_tmin.w, r.direction_tmax.w, th))
-            continue;
-          if (hits) {
-            std::atomic_ref<std::uint64_t> a((*hits)[ray]);
-            const std::uint64_t v = PackHit(th, prim);
-            std::uint64_t cur = a.load(std::memory_order_relaxed);
-            while (v < cur && !a.compare_exchange_weak(cur, v, std::memory_order_relaxed)) {
-            }
-          } else {
-            std::atomic_ref<std::uint32_t>((*occluded)[ray]).store(1u, std::memory_order_relaxed);
-          }
-        }
-      });
-    });
+    const std::vector<std::uint32_t> tests =
+        Sub("intersect", pairs.size(), [&] { return PassIntersect(pairs, f1, base1, b0, order, rays, scene_, hits, occluded); });
     if (cfg_.candidate_log) {
       for (std::uint32_t pair : pairs) {
         const std::uint32_t node = base1 + (pair >> kTriBits), prim = b0 + (pair & kTriMask);
@@ -426,6 +371,83 @@ class Impl final : public HierarchyTracer {
 };
 
 }  // namespace
+
+float TraversalEpsilon(const SceneBuffers& scene) {
+  const glm::vec3 ext = scene.hi - scene.lo;
+  return std::max(glm::length(ext), 1e-30f) * 1e-6f;
+}
+
+PairSlots PassTraverseTop(const std::vector<gpu::ConeNode>& top, std::uint32_t t0, std::uint32_t t1, std::uint32_t b0,
+                          std::uint32_t b1, const std::vector<glm::vec4>& tri_spheres, const SceneBuffers& scene,
+                          const std::vector<std::uint8_t>& object_mask, float eps) {
+  const std::uint32_t T = b1 - b0;
+  const std::size_t grid = static_cast<std::size_t>(t1 - t0) * T, objects = scene.objects.size();
+  PairSlots s;
+  s.flags.resize(grid);
+  s.values.resize(grid);
+  s.tested.resize(grid);
+  ParallelFor("traverse.top", grid, [&](std::size_t e) {
+    const std::uint32_t node = t0 + static_cast<std::uint32_t>(e / T), tri = b0 + static_cast<std::uint32_t>(e % T);
+    const bool test = object_mask.empty() || object_mask[static_cast<std::size_t>(node) * objects + scene.info[tri].ids.y];
+    s.tested[e] = test;
+    s.flags[e] = test && cone::Test(top[node], tri_spheres[tri], eps);
+    s.values[e] = ((node - t0) << kTriBits) | (tri - b0);
+  });
+  return s;
+}
+
+PairSlots PassTraverseLevel(const std::vector<std::uint32_t>& pairs, const std::vector<gpu::ConeNode>& nodes,
+                            const std::vector<std::uint32_t>& first, std::uint32_t base_up, std::uint32_t base,
+                            std::uint32_t children_max, std::uint32_t b0, const std::vector<glm::vec4>& tri_spheres,
+                            float eps) {
+  PairSlots s;
+  s.flags.assign(pairs.size() * children_max, 0);
+  s.values.assign(pairs.size() * children_max, 0);
+  s.tested.assign(pairs.size(), 0);
+  ParallelFor("traverse.level", pairs.size(), [&](std::size_t p) {
+    const std::uint32_t parent = base_up + (pairs[p] >> kTriBits), tri_local = pairs[p] & kTriMask;
+    const glm::vec4 sphere = tri_spheres[b0 + tri_local];
+    const std::uint32_t c0 = first[parent], c1 = first[parent + 1];
+    s.tested[p] = static_cast<std::uint8_t>(c1 - c0);
+    for (std::uint32_t c = c0; c < c1; ++c) {
+      const std::size_t slot = p * children_max + (c - c0);
+      s.flags[slot] = cone::Test(nodes[c], sphere, eps);
+      s.values[slot] = ((c - base) << kTriBits) | tri_local;
+    }
+  });
+  return s;
+}
+
+std::vector<std::uint32_t> PassIntersect(const std::vector<std::uint32_t>& pairs, const std::vector<std::uint32_t>& f1,
+                                         std::uint32_t base1, std::uint32_t b0, const std::vector<std::uint32_t>& order,
+                                         const std::vector<gpu::Ray>& rays, const SceneBuffers& scene,
+                                         std::vector<std::uint64_t>* hits, std::vector<std::uint32_t>* occluded) {
+  std::vector<std::uint32_t> tests(pairs.size());
+  ParallelFor("intersect", pairs.size(), [&](std::size_t p) {
+    const std::uint32_t node = base1 + (pairs[p] >> kTriBits), prim = b0 + (pairs[p] & kTriMask);
+    const gpu::Triangle& t = scene.triangles[prim];
+    tests[p] = f1[node + 1] - f1[node];
+    for (std::uint32_t j = f1[node]; j < f1[node + 1]; ++j) {
+      const std::uint32_t ray = order[j];
+      const gpu::Ray& r = rays[ray];
+      if (prim == r.info.y) continue;
+      float th;
+      if (!IntersectWatertight(SetupWatertight(Xyz(r.origin_tmin), Xyz(r.direction_tmax)), Xyz(t.v0), Xyz(t.v1),
+                               Xyz(t.v2), r.origin_tmin.w, r.direction_tmax.w, th))
+        continue;
+      if (hits) {
+        std::atomic_ref<std::uint64_t> a((*hits)[ray]);
+        const std::uint64_t v = PackHit(th, prim);
+        std::uint64_t cur = a.load(std::memory_order_relaxed);
+        while (v < cur && !a.compare_exchange_weak(cur, v, std::memory_order_relaxed)) {
+        }
+      } else {
+        std::atomic_ref<std::uint32_t>((*occluded)[ray]).store(1u, std::memory_order_relaxed);
+      }
+    }
+  });
+  return tests;
+}
 
 std::vector<gpu::ConeNode> PassBuildLeaves(const std::vector<gpu::Ray>& rays, const std::vector<std::uint32_t>& order,
                                            const std::vector<std::uint32_t>& first) {

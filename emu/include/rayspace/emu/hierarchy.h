@@ -82,6 +82,33 @@ std::vector<gpu::ConeNode> PassBuildParents(const std::vector<gpu::ConeNode>& be
 // CSR offsets grouping `count` items `per` at a time (the last group may be smaller).
 std::vector<std::uint32_t> FixedGroups(std::size_t count, std::uint32_t per);
 
+// ---- traversal of one block: top nodes [t0, t1) x triangles [b0, b1) -------------------------------
+// Pairs are packed (node id - level base) << 14 | (triangle - b0).
+struct PairSlots {
+  std::vector<std::uint8_t> flags;    // 1 where the slot's pair survives the cone-sphere test
+  std::vector<std::uint32_t> values;  // the packed pair of each slot
+  std::vector<std::uint8_t> tested;   // top level: 1 where a test ran; lower levels: children per pair
+};
+inline constexpr int kPairTriangleBits = 14;
+// Absolute margin of the cone-sphere test for a scene.
+float TraversalEpsilon(const SceneBuffers& scene);
+// Top level; `object_mask` (top nodes x objects, CRSH) empty = no object culling.
+PairSlots PassTraverseTop(const std::vector<gpu::ConeNode>& top, std::uint32_t t0, std::uint32_t t1, std::uint32_t b0,
+                          std::uint32_t b1, const std::vector<glm::vec4>& tri_spheres, const SceneBuffers& scene,
+                          const std::vector<std::uint8_t>& object_mask, float eps);
+// One level down: the node of each pair (base_up + id) tests its children [first[.], first[. + 1]) among
+// `nodes`; slots are pairs x children_max; new ids are relative to `base`.
+PairSlots PassTraverseLevel(const std::vector<std::uint32_t>& pairs, const std::vector<gpu::ConeNode>& nodes,
+                            const std::vector<std::uint32_t>& first, std::uint32_t base_up, std::uint32_t base,
+                            std::uint32_t children_max, std::uint32_t b0, const std::vector<glm::vec4>& tri_spheres,
+                            float eps);
+// Final tests of surviving level-1 pairs: every ray of the node (first1 over `order`) against the
+// triangle; closest hits by atomic minimum, shadow rays by atomic store. Returns tests per pair.
+std::vector<std::uint32_t> PassIntersect(const std::vector<std::uint32_t>& pairs, const std::vector<std::uint32_t>& first1,
+                                         std::uint32_t base1, std::uint32_t b0, const std::vector<std::uint32_t>& order,
+                                         const std::vector<gpu::Ray>& rays, const SceneBuffers& scene,
+                                         std::vector<std::uint64_t>* hits, std::vector<std::uint32_t>* occluded);
+
 // Stream reduction of (flag, value) slots to the flagged values in slot order.
 std::vector<std::uint32_t> ReduceScan(const std::vector<std::uint8_t>& flags, const std::vector<std::uint32_t>& values);
 std::vector<std::uint32_t> ReduceHierarchical(const std::vector<std::uint8_t>& flags,
