@@ -131,3 +131,20 @@ ConeNode Union(ConeNode a, ConeNode b) {
   if (n.cone.w <= -1.0) n = FullSphereCone(n);
   return n;
 }
+
+// Does the node's ray bundle possibly meet the sphere? Mirrors emu cone::Test.
+bool ConeTest(ConeNode n, vec4 sphere, float eps) {
+  precise const vec3 v = sphere.xyz - n.sphere.xyz;
+  precise const float R = (sphere.w + n.sphere.w) * kRadiusSlack + eps;
+  if (IsFull(n)) return true;
+  const vec3 x = n.cone.xyz;
+  const float a = Dot3(v, x);
+  const float b = Length3(Cross3(v, x));
+  const float cosa = n.cone.w, sina = n.extra.x;
+  precise const float s = b * cosa - a * sina;
+  precise const float c = a * cosa + b * sina;
+  if (s < 0.0 || (s == 0.0 && c >= 0.0)) return true;
+  if (c > 0.0) return s <= R;
+  precise const float rr = R * R;
+  return Dot3(v, v) <= rr;
+}

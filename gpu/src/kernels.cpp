@@ -2,6 +2,9 @@
 
 #include "build.spv.h"
 #include "hash.spv.h"
+#include "intersect.spv.h"
+#include "reduce.spv.h"
+#include "traverse.spv.h"
 #include "raygen_reflection.spv.h"
 #include "sort.spv.h"
 #include "raygen_shadow.spv.h"
@@ -35,7 +38,8 @@ const std::vector<std::pair<std::string, std::uint32_t>>& KernelPasses() {
   static const std::vector<std::pair<std::string, std::uint32_t>> kPasses = {
       {"surfaces", 1}, {"raygen.shadow", 2}, {"trim.shadow", 1}, {"shade", 1}, {"raygen.reflection", 1},
       {"trim.reflection", 1}, {"hash.shadow", 1}, {"compress.shadow", 1}, {"sort.shadow", 1},
-      {"decompress.shadow", 1}, {"build.shadow", 1}, {"resolve", 1}};
+      {"decompress.shadow", 1}, {"build.shadow", 1}, {"traverse.shadow", 1}, {"reduce.shadow", 1},
+      {"intersect.shadow", 1}, {"resolve", 1}};
   return kPasses;
 }
 
@@ -60,6 +64,9 @@ vk::Status VulkanPasses::Create(int device, const Faults& faults, std::unique_pt
   RS_TRY(p->ctx_->CreateKernel("sort.shadow", kSpirv_sort, 9, fault("sort.shadow"), p->sort_));
   RS_TRY(p->ctx_->CreateKernel("decompress.shadow", kSpirv_sort, 9, fault("decompress.shadow"), p->decompress_));
   RS_TRY(p->ctx_->CreateKernel("build.shadow", kSpirv_build, 5, fault("build.shadow"), p->build_));
+  RS_TRY(p->ctx_->CreateKernel("traverse.shadow", kSpirv_traverse, 9, fault("traverse.shadow"), p->traverse_));
+  RS_TRY(p->ctx_->CreateKernel("reduce.shadow", kSpirv_reduce, 6, fault("reduce.shadow"), p->reduce_));
+  RS_TRY(p->ctx_->CreateKernel("intersect.shadow", kSpirv_intersect, 8, fault("intersect.shadow"), p->intersect_));
   RS_TRY(p->ctx_->CreateKernel("resolve", kSpirv_resolve, 2, fault("resolve"), p->resolve_));
   out = std::move(p);
   return vk::Status::Ok();
@@ -333,6 +340,123 @@ vk::Status VulkanPasses::BuildParents(const std::vector<gpu::ConeNode>& below, c
   RS_TRY(rec.Dispatch(build_, bufs, push, sizeof push, count));
   RS_TRY(rec.Submit());
   nodes = bn.Download<gpu::ConeNode>(count);
+  return vk::Status::Ok();
+}
+
+namespace {
+
+struct TraversePush {
+  std::uint32_t phase, count, t0, b0, tris, objects, use_mask, base_up, base, children_max;
+  float eps;
+};
+
+}  // namespace
+
+vk::Status VulkanPasses::TraverseTop(const std::vector<gpu::ConeNode>& top, std::uint32_t t0, std::uint32_t t1,
+                                     std::uint32_t b0, std::uint32_t b1, const std::vector<glm::vec4>& tri_spheres,
+                                     const SceneBuffers& scene, float eps, std::vector<std::uint32_t>& flags,
+                                     std::vector<std::uint32_t>& values, std::vector<std::uint32_t>& tested) {
+  vk::Context& c = *ctx_;
+  const std::uint32_t count = (t1 - t0) * (b1 - b0);
+  vk::Buffer bn, bs, bi, bm, bp, bf, bfl, bv, bt;
+  RS_TRY(Make(c, NonEmpty(top), bn));
+  RS_TRY(Make(c, tri_spheres, bs));
+  RS_TRY(Make(c, scene.info, bi));
+  RS_TRY(Make(c, std::vector<std::uint32_t>(1), bm));
+  RS_TRY(Make(c, std::vector<std::uint32_t>(1), bp));
+  RS_TRY(Make(c, std::vector<std::uint32_t>(1), bf));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * 4, bfl));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * 4, bv));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * 4, bt));
+  const TraversePush push{0, count, t0, b0, b1 - b0, 0, 0, 0, 0, 0, eps};
+  const vk::Buffer* bufs[9] = {&bn, &bs, &bi, &bm, &bp, &bf, &bfl, &bv, &bt};
+  vk::Recorder rec(c);
+  RS_TRY(rec.Dispatch(traverse_, bufs, &push, sizeof push, count));
+  RS_TRY(rec.Submit());
+  flags = bfl.Download<std::uint32_t>(count);
+  values = bv.Download<std::uint32_t>(count);
+  tested = bt.Download<std::uint32_t>(count);
+  return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::TraverseLevel(const std::vector<std::uint32_t>& pairs, const std::vector<gpu::ConeNode>& nodes,
+                                       const std::vector<std::uint32_t>& first, std::uint32_t base_up, std::uint32_t base,
+                                       std::uint32_t children_max, std::uint32_t b0, const std::vector<glm::vec4>& tri_spheres,
+                                       float eps, std::vector<std::uint32_t>& flags, std::vector<std::uint32_t>& values,
+                                       std::vector<std::uint32_t>& tested) {
+  vk::Context& c = *ctx_;
+  const std::uint32_t count = static_cast<std::uint32_t>(pairs.size()), slots = count * children_max;
+  vk::Buffer bn, bs, bi, bm, bp, bf, bfl, bv, bt;
+  RS_TRY(Make(c, NonEmpty(nodes), bn));
+  RS_TRY(Make(c, tri_spheres, bs));
+  RS_TRY(Make(c, std::vector<gpu::TriangleInfo>(1), bi));
+  RS_TRY(Make(c, std::vector<std::uint32_t>(1), bm));
+  RS_TRY(Make(c, NonEmpty(pairs), bp));
+  RS_TRY(Make(c, first, bf));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(slots, 1) * 4, bfl));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(slots, 1) * 4, bv));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * 4, bt));
+  const TraversePush push{1, count, 0, b0, 0, 0, 0, base_up, base, children_max, eps};
+  const vk::Buffer* bufs[9] = {&bn, &bs, &bi, &bm, &bp, &bf, &bfl, &bv, &bt};
+  vk::Recorder rec(c);
+  RS_TRY(rec.Dispatch(traverse_, bufs, &push, sizeof push, count));
+  RS_TRY(rec.Submit());
+  flags = bfl.Download<std::uint32_t>(slots);
+  values = bv.Download<std::uint32_t>(slots);
+  tested = bt.Download<std::uint32_t>(count);
+  return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::Reduce(const std::vector<std::uint32_t>& flags, const std::vector<std::uint32_t>& values,
+                                std::uint32_t s, std::vector<std::uint32_t>& out) {
+  vk::Context& c = *ctx_;
+  const std::uint32_t n = static_cast<std::uint32_t>(flags.size());
+  const std::uint32_t comps = (n + s - 1) / s, blocks = Blocks(comps);
+  vk::Buffer bf, bv, bl, bc, bs, bo;
+  RS_TRY(Make(c, NonEmpty(flags), bf));
+  RS_TRY(Make(c, NonEmpty(values), bv));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * 4, bl));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(comps, 1) * 4, bc));
+  RS_TRY(c.CreateBuffer((blocks + 1) * 4, bs));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * 4, bo));
+  const vk::Buffer* bufs[6] = {&bf, &bv, &bl, &bc, &bs, &bo};
+  vk::Recorder rec(c);
+  const std::uint32_t invocations[5] = {comps, blocks, 1, blocks, comps};
+  for (std::uint32_t phase = 0; phase < 5; ++phase) {
+    const std::uint32_t push[5] = {n, phase, s, comps, blocks};
+    RS_TRY(rec.Dispatch(reduce_, bufs, push, sizeof push, invocations[phase]));
+  }
+  RS_TRY(rec.Submit());
+  const std::uint32_t total = bs.Download<std::uint32_t>(blocks + 1)[blocks];
+  if (total > n) return vk::Status::Fail(fmt::format("reduce kernel reported {} of {} slots", total, n));
+  out = bo.Download<std::uint32_t>(total);
+  return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::Intersect(const std::vector<std::uint32_t>& pairs, const std::vector<std::uint32_t>& first1,
+                                   std::uint32_t base1, std::uint32_t b0, const std::vector<std::uint32_t>& order,
+                                   const std::vector<gpu::Ray>& rays, const SceneBuffers& scene, bool shadow,
+                                   std::vector<std::uint64_t>& hits, std::vector<std::uint32_t>& occluded,
+                                   std::vector<std::uint32_t>& tests) {
+  vk::Context& c = *ctx_;
+  const std::uint32_t count = static_cast<std::uint32_t>(pairs.size());
+  vk::Buffer bp, bf, bo, br, bt, bh, bocc, btests;
+  RS_TRY(Make(c, NonEmpty(pairs), bp));
+  RS_TRY(Make(c, first1, bf));
+  RS_TRY(Make(c, NonEmpty(order), bo));
+  RS_TRY(Make(c, NonEmpty(rays), br));
+  RS_TRY(Make(c, scene.triangles, bt));
+  RS_TRY(Make(c, std::vector<std::uint64_t>(std::max<std::size_t>(rays.size(), 1), ~std::uint64_t{0}), bh));
+  RS_TRY(Make(c, std::vector<std::uint32_t>(std::max<std::size_t>(rays.size(), 1), 0u), bocc));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * 4, btests));
+  const std::uint32_t push[4] = {count, base1, b0, shadow ? 1u : 0u};
+  const vk::Buffer* bufs[8] = {&bp, &bf, &bo, &br, &bt, &bh, &bocc, &btests};
+  vk::Recorder rec(c);
+  RS_TRY(rec.Dispatch(intersect_, bufs, push, sizeof push, count));
+  RS_TRY(rec.Submit());
+  hits = bh.Download<std::uint64_t>(rays.size());
+  occluded = bocc.Download<std::uint32_t>(rays.size());
+  tests = btests.Download<std::uint32_t>(count);
   return vk::Status::Ok();
 }
 

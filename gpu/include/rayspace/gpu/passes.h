@@ -39,6 +39,21 @@ class VulkanPasses {
                          const std::vector<std::uint32_t>& first, std::vector<gpu::ConeNode>& nodes);
   vk::Status BuildParents(const std::vector<gpu::ConeNode>& below, const std::vector<std::uint32_t>& first,
                           std::vector<gpu::ConeNode>& nodes);
+  // Traversal of one block (see emu PassTraverseTop / PassTraverseLevel); flags and tested as uint32.
+  vk::Status TraverseTop(const std::vector<gpu::ConeNode>& top, std::uint32_t t0, std::uint32_t t1, std::uint32_t b0,
+                         std::uint32_t b1, const std::vector<glm::vec4>& tri_spheres, const SceneBuffers& scene, float eps,
+                         std::vector<std::uint32_t>& flags, std::vector<std::uint32_t>& values, std::vector<std::uint32_t>& tested);
+  vk::Status TraverseLevel(const std::vector<std::uint32_t>& pairs, const std::vector<gpu::ConeNode>& nodes,
+                           const std::vector<std::uint32_t>& first, std::uint32_t base_up, std::uint32_t base,
+                           std::uint32_t children_max, std::uint32_t b0, const std::vector<glm::vec4>& tri_spheres, float eps,
+                           std::vector<std::uint32_t>& flags, std::vector<std::uint32_t>& values, std::vector<std::uint32_t>& tested);
+  // Roger et al.'s hierarchical stream reduction with components of `s` slots.
+  vk::Status Reduce(const std::vector<std::uint32_t>& flags, const std::vector<std::uint32_t>& values, std::uint32_t s,
+                    std::vector<std::uint32_t>& out);
+  vk::Status Intersect(const std::vector<std::uint32_t>& pairs, const std::vector<std::uint32_t>& first1, std::uint32_t base1,
+                       std::uint32_t b0, const std::vector<std::uint32_t>& order, const std::vector<gpu::Ray>& rays,
+                       const SceneBuffers& scene, bool shadow, std::vector<std::uint64_t>& hits,
+                       std::vector<std::uint32_t>& occluded, std::vector<std::uint32_t>& tests);
   vk::Status RaygenShadow(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
                           const SceneBuffers& scene, emu::SparseRays& out);
   vk::Status Trim(const emu::SparseRays& in, emu::Trimmed& out, bool reflection = false);
@@ -47,7 +62,7 @@ class VulkanPasses {
 
  private:
   std::unique_ptr<vk::Context> ctx_;
-  vk::Kernel surfaces_, raygen_shadow_, raygen_reflection_, trim_, trim_reflection_, shade_, resolve_, hash_, compress_, sort_, decompress_, build_;
+  vk::Kernel surfaces_, raygen_shadow_, raygen_reflection_, trim_, trim_reflection_, shade_, resolve_, hash_, compress_, sort_, decompress_, build_, traverse_, reduce_, intersect_;
 };
 
 }  // namespace rayspace::gpu_backend

@@ -1,0 +1,72 @@
+#version 460
+// Final ray-triangle tests on surviving level-1 pairs; mirrors emu PassIntersect (watertight inside
+// test, plane distance, closest hit by 64-bit atomic minimum, shadow rays by atomic store).
+#include "common.glsl"
+#extension GL_EXT_shader_atomic_int64 : require
+
+layout(std430, binding = 0) readonly buffer Pairs { uint pairs[]; };
+layout(std430, binding = 1) readonly buffer First { uint first1[]; };
+layout(std430, binding = 2) readonly buffer Order { uint order[]; };
+layout(std430, binding = 3) readonly buffer Rays { Ray rays[]; };
+layout(std430, binding = 4) readonly buffer Triangles { Triangle triangles[]; };
+layout(std430, binding = 5) buffer Hits { uint64_t hits[]; };
+layout(std430, binding = 6) buffer Occluded { uint occluded[]; };
+layout(std430, binding = 7) writeonly buffer Tests { uint tests[]; };
+layout(push_constant) uniform Push { uint count, base1, b0, shadow; } pc;
+
+const uint kTriBits = 14u, kTriMask = (1u << 14) - 1u;
+
+bool Watertight(vec3 org, vec3 dir, vec3 v0, vec3 v1, vec3 v2, float tmin, float tmax, out float t_out) {
+  const vec3 a = abs(dir);
+  int kz = 0;
+  if (a.y > a[kz]) kz = 1;
+  if (a.z > a[kz]) kz = 2;
+  int kx = kz == 2 ? 0 : kz + 1;
+  int ky = kx == 2 ? 0 : kx + 1;
+  if (dir[kz] < 0.0) {
+    const int tmp = kx;
+    kx = ky;
+    ky = tmp;
+  }
+  precise const float sx = dir[kx] / dir[kz], sy = dir[ky] / dir[kz];
+  precise const vec3 A = v0 - org, B = v1 - org, C = v2 - org;
+  precise const float ax = A[kx] - sx * A[kz], ay = A[ky] - sy * A[kz];
+  precise const float bx = B[kx] - sx * B[kz], by = B[ky] - sy * B[kz];
+  precise const float cx = C[kx] - sx * C[kz], cy = C[ky] - sy * C[kz];
+  precise const float u = cx * by - cy * bx;
+  precise const float v = ax * cy - ay * cx;
+  precise const float w = bx * ay - by * ax;
+  if ((u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0)) return false;
+  precise const float det = (u + v) + w;
+  if (det == 0.0) return false;
+  precise const vec3 e1 = v1 - v0, e2 = v2 - v0;
+  const vec3 n = Cross3(e1, e2);
+  precise const float t = Dot3(A, n) / Dot3(dir, n);
+  // Fault 1: tmin and tmax swapped in the range check (every hit rejected).
+  if (kFault == 1u ? !(t > tmax && t < tmin) : !(t > tmin && t < tmax)) return false;
+  t_out = t;
+  return true;
+}
+
+void main() {
+  const uint p = gl_GlobalInvocationID.x;
+  if (p >= pc.count) return;
+  const uint node = pc.base1 + (pairs[p] >> kTriBits), prim = pc.b0 + (pairs[p] & kTriMask);
+  const Triangle tri = triangles[prim];
+  tests[p] = first1[node + 1u] - first1[node];
+  for (uint j = first1[node]; j < first1[node + 1u]; ++j) {
+    const uint ray = order[j];
+    const Ray r = rays[ray];
+    if (prim == r.info.y) continue;
+    float th;
+    if (!Watertight(r.origin_tmin.xyz, r.direction_tmax.xyz, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, r.origin_tmin.w,
+                    r.direction_tmax.w, th))
+      continue;
+    if (pc.shadow != 0u) {
+      atomicExchange(occluded[ray], 1u);
+    } else {
+      const uint64_t packed = (uint64_t(floatBitsToUint(th)) << 32) | uint64_t(prim);
+      atomicMin(hits[ray], packed);
+    }
+  }
+}

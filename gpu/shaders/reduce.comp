@@ -1,0 +1,58 @@
+#version 460
+// Stream reduction of (flag, value) slots to the flagged values in slot order; mirrors emu
+// ReduceHierarchical (Roger et al.: components of s slots reduced on their own, then concatenated)
+// and ReduceScan. Scans over counts are blocked so no loop passes 65,535 iterations.
+#include "common.glsl"
+
+layout(std430, binding = 0) readonly buffer Flags { uint flags[]; };
+layout(std430, binding = 1) readonly buffer Values { uint values[]; };
+layout(std430, binding = 2) buffer Local { uint local_values[]; };
+layout(std430, binding = 3) buffer Counts { uint counts[]; };   // per component, then exclusive offsets
+layout(std430, binding = 4) buffer Sums { uint sums[]; };       // per block of 4096 counts, plus total
+layout(std430, binding = 5) writeonly buffer Out { uint out_values[]; };
+layout(push_constant) uniform Push { uint n, phase, s, comps, blocks; } pc;
+
+const uint kBlock = 4096u;
+
+void main() {
+  const uint t = gl_GlobalInvocationID.x;
+  if (pc.phase == 0u) {  // reduce each component locally
+    if (t >= pc.comps) return;
+    uint k = 0u;
+    for (uint i = t * pc.s; i < min(pc.n, (t + 1u) * pc.s); ++i) {
+      if (flags[i] != 0u) {
+        local_values[t * pc.s + k] = values[i];
+        ++k;
+      }
+    }
+    counts[t] = k;
+  } else if (pc.phase == 1u) {  // block sums of the counts
+    if (t >= pc.blocks) return;
+    uint sum = 0u;
+    for (uint i = t * kBlock; i < min(pc.comps, (t + 1u) * kBlock); ++i) sum += counts[i];
+    sums[t] = sum;
+  } else if (pc.phase == 2u) {  // scan of the block sums
+    if (t != 0u) return;
+    uint run = 0u;
+    for (uint b = 0u; b < pc.blocks; ++b) {
+      const uint x = sums[b];
+      sums[b] = run;
+      run += x;
+    }
+    sums[pc.blocks] = run;
+  } else if (pc.phase == 3u) {  // counts -> exclusive offsets within each block
+    if (t >= pc.blocks) return;
+    uint run = sums[t];
+    for (uint i = t * kBlock; i < min(pc.comps, (t + 1u) * kBlock); ++i) {
+      const uint x = counts[i];
+      counts[i] = run;
+      run += x;
+    }
+  } else {  // concatenate: component t's segment goes to its offset
+    if (t >= pc.comps) return;
+    const uint next = t + 1u < pc.comps ? counts[t + 1u] : sums[pc.blocks];
+    // Fault 1: the last element of every segment is dropped.
+    const uint len = next - counts[t] - ((kFault == 1u && next > counts[t]) ? 1u : 0u);
+    for (uint k = 0u; k < len; ++k) out_values[counts[t] + k] = local_values[t * pc.s + k];
+  }
+}

@@ -1,0 +1,50 @@
+#version 460
+// Hierarchy traversal of one block: phase 0 tests top nodes x triangles, phase 1 tests the children
+// of each surviving pair's node; mirrors emu PassTraverseTop / PassTraverseLevel.
+#include "common.glsl"
+#include "cone.glsl"
+
+layout(std430, binding = 0) readonly buffer Nodes { ConeNode nodes[]; };
+layout(std430, binding = 1) readonly buffer TriSpheres { vec4 tri_spheres[]; };
+layout(std430, binding = 2) readonly buffer Info { TriangleInfo info[]; };
+layout(std430, binding = 3) readonly buffer Mask { uint object_mask[]; };
+layout(std430, binding = 4) readonly buffer Pairs { uint pairs[]; };
+layout(std430, binding = 5) readonly buffer First { uint first[]; };
+layout(std430, binding = 6) writeonly buffer Flags { uint flags[]; };
+layout(std430, binding = 7) writeonly buffer Values { uint values[]; };
+layout(std430, binding = 8) writeonly buffer Tested { uint tested[]; };
+layout(push_constant) uniform Push {
+  uint phase, count, t0, b0, tris, objects, use_mask, base_up, base, children_max;
+  float eps;
+} pc;
+
+const uint kTriBits = 14u, kTriMask = (1u << 14) - 1u;
+
+void main() {
+  const uint e = gl_GlobalInvocationID.x;
+  if (e >= pc.count) return;
+  if (pc.phase == 0u) {
+    const uint node = pc.t0 + e / pc.tris, tri = pc.b0 + e % pc.tris;
+    const bool test = pc.use_mask == 0u || object_mask[node * pc.objects + info[tri].ids.y] != 0u;
+    tested[e] = test ? 1u : 0u;
+    // Fault 1: the top level ignores the triangle sphere's radius (a too-small bound).
+    vec4 sphere = tri_spheres[tri];
+    if (kFault == 1u) sphere.w = 0.0;
+    flags[e] = (test && ConeTest(nodes[node], sphere, pc.eps)) ? 1u : 0u;
+    values[e] = ((node - pc.t0) << kTriBits) | (tri - pc.b0);
+  } else {
+    const uint parent = pc.base_up + (pairs[e] >> kTriBits), tri_local = pairs[e] & kTriMask;
+    const vec4 sphere = tri_spheres[pc.b0 + tri_local];
+    const uint c0 = first[parent], c1 = first[parent + 1u];
+    tested[e] = c1 - c0;
+    for (uint k = 0u; k < pc.children_max; ++k) {
+      flags[e * pc.children_max + k] = 0u;
+      values[e * pc.children_max + k] = 0u;
+    }
+    for (uint c = c0; c < c1; ++c) {
+      const uint slot = e * pc.children_max + (c - c0);
+      flags[slot] = ConeTest(nodes[c], sphere, pc.eps) ? 1u : 0u;
+      values[slot] = ((c - pc.base) << kTriBits) | tri_local;
+    }
+  }
+}
