@@ -1,4 +1,5 @@
 #include "diff_command.h"
+#include "cli_util.h"
 
 #include <chrono>
 #include <cstdio>
@@ -38,16 +39,6 @@ std::string EmulationModel() {
   return m;
 }
 
-void ParseSize(const std::string& s, int& w, int& h) {
-  static const std::regex re(R"((\d{1,9})x(\d{1,9}))");
-  std::smatch m;
-  if (!std::regex_match(s, m, re)) ThrowInput("--size '{}': expected WxH, e.g. 512x512", s);
-  const long long lw = std::stoll(m[1]), lh = std::stoll(m[2]);
-  if (lw < 1 || lh < 1 || lw > kMaxImageSide || lh > kMaxImageSide)
-    ThrowInput("--size '{}': each side must be in [1, {}]", s, kMaxImageSide);
-  w = static_cast<int>(lw);
-  h = static_cast<int>(lh);
-}
 
 gpu_backend::Faults ParseInject(const std::string& spec) {
   gpu_backend::Faults f;
@@ -72,6 +63,25 @@ gpu_backend::Faults ParseInject(const std::string& spec) {
     }
   }
   ThrowInput("--inject '{}': no kernel named '{}'; kernels: {}", spec, pass, known);
+}
+
+// Would a divergence in a ray batch change any hit? Traces both with the emulator's tracer.
+std::string HitsChanged(Tracer& tracer, const std::vector<gpu::Ray>& expected, const std::vector<gpu::Ray>& actual,
+                        bool shadow) {
+  if (expected.size() != actual.size()) return "changed (ray counts differ)";
+  std::size_t changed = 0;
+  if (shadow) {
+    std::vector<std::uint32_t> a, b;
+    tracer.Occluded(expected, a);
+    tracer.Occluded(actual, b);
+    for (std::size_t i = 0; i < a.size(); ++i) changed += a[i] != b[i];
+  } else {
+    std::vector<std::uint64_t> a, b;
+    tracer.Closest(expected, a);
+    tracer.Closest(actual, b);
+    for (std::size_t i = 0; i < a.size(); ++i) changed += a[i] != b[i];
+  }
+  return changed ? fmt::format("changed for {} rays", changed) : "unchanged";
 }
 
 // Packed (node << 14 | triangle) pairs whose ids are in range.
@@ -253,18 +263,8 @@ int RunDiff(const DiffArgs& args) {
     emu::Trimmed emu_trim;
     emu_ms = TimeMs([&] { emu_trim = emu::PassTrim(gpu_rays); });
     gpu_ms = TimeMs([&] { fail(gpu->Trim(gpu_rays, gpu_trim)); });
-    // Would a divergence change a hit? Trace both outputs with the emulator's tracer.
-    std::string hits = "unchanged";
-    std::vector<std::uint32_t> a;
-    direct->Occluded(emu_trim.rays, a);
     direct->Occluded(gpu_trim.rays, occluded);
-    if (a.size() != occluded.size()) {
-      hits = "changed (ray counts differ)";
-    } else {
-      std::size_t changed = 0;
-      for (std::size_t i = 0; i < a.size(); ++i) changed += a[i] != occluded[i];
-      if (changed) hits = fmt::format("changed for {} rays", changed);
-    }
+    const std::string hits = HitsChanged(*direct, emu_trim.rays, gpu_trim.rays, true);
     record("trim.shadow",
            {CompareBuffers("trim.shadow", "offsets", emu_trim.offsets, gpu_trim.offsets, 0),
             CompareBuffers("trim.shadow", "rays", emu_trim.rays, gpu_trim.rays, kRayFloats)},
@@ -291,17 +291,7 @@ int RunDiff(const DiffArgs& args) {
     emu::Trimmed emu_rt, gpu_rt;
     emu_ms = TimeMs([&] { emu_rt = emu::PassTrim(gpu_refl); });
     gpu_ms = TimeMs([&] { fail(gpu->Trim(gpu_refl, gpu_rt, true)); });
-    std::string hits = "unchanged";
-    if (emu_rt.rays.size() != gpu_rt.rays.size()) {
-      hits = "changed (ray counts differ)";
-    } else {
-      std::vector<std::uint64_t> a, b;
-      direct->Closest(emu_rt.rays, a);
-      direct->Closest(gpu_rt.rays, b);
-      std::size_t changed = 0;
-      for (std::size_t i = 0; i < a.size(); ++i) changed += a[i] != b[i];
-      if (changed) hits = fmt::format("changed for {} rays", changed);
-    }
+    const std::string hits = HitsChanged(*direct, emu_rt.rays, gpu_rt.rays, false);
     record("trim.reflection",
            {CompareBuffers("trim.reflection", "offsets", emu_rt.offsets, gpu_rt.offsets, 0),
             CompareBuffers("trim.reflection", "rays", emu_rt.rays, gpu_rt.rays, kRayFloats)},

@@ -1,4 +1,5 @@
 #include "render_command.h"
+#include "cli_util.h"
 
 #include <chrono>
 #include <cmath>
@@ -23,17 +24,6 @@
 
 namespace rayspace::app {
 namespace {
-
-void ParseSize(const std::string& s, int& w, int& h) {
-  static const std::regex re(R"((\d{1,9})x(\d{1,9}))");
-  std::smatch m;
-  if (!std::regex_match(s, m, re)) ThrowInput("--size '{}': expected WxH, e.g. 512x512", s);
-  const long long lw = std::stoll(m[1]), lh = std::stoll(m[2]);
-  if (lw < 1 || lh < 1 || lw > kMaxImageSide || lh > kMaxImageSide)
-    ThrowInput("--size '{}': each side must be in [1, {}]", s, kMaxImageSide);
-  w = static_cast<int>(lw);
-  h = static_cast<int>(lh);
-}
 
 nlohmann::json RaysJson(const std::vector<std::uint64_t>& per_bounce, bool from_one) {
   std::uint64_t total = 0;

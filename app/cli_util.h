@@ -1,0 +1,23 @@
+// Helpers shared by the CLI's subcommands.
+#pragma once
+#include <regex>
+#include <string>
+
+#include "rayspace/error.h"
+#include "rayspace/scene.h"
+
+namespace rayspace::app {
+
+// Parses --size WxH; each side in [1, kMaxImageSide]. Throws InputError naming the option.
+inline void ParseSize(const std::string& s, int& w, int& h) {
+  static const std::regex re(R"((\d{1,9})x(\d{1,9}))");
+  std::smatch m;
+  if (!std::regex_match(s, m, re)) ThrowInput("--size '{}': expected WxH, e.g. 512x512", s);
+  const long long lw = std::stoll(m[1]), lh = std::stoll(m[2]);
+  if (lw < 1 || lh < 1 || lw > kMaxImageSide || lh > kMaxImageSide)
+    ThrowInput("--size '{}': each side must be in [1, {}]", s, kMaxImageSide);
+  w = static_cast<int>(lw);
+  h = static_cast<int>(lh);
+}
+
+}  // namespace rayspace::app
