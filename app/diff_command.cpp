@@ -148,6 +148,19 @@ int RunDiff(const DiffArgs& args) {
 
   std::printf("rayspace diff: %s (%dx%d) on %s; emulation model %s\n", scene.name.c_str(), fo.width, fo.height,
               gpu->context().device_name().c_str(), EmulationModel().c_str());
+  // raster: lavapipe's fixed-function coverage, clipping and depth test against the emulation.
+  {
+    std::vector<std::uint32_t> gpu_prim;
+    std::vector<float> gpu_depth;
+    emu_ms = 0.0;
+    for (const emu::PassRecord& p : frame.passes)
+      if (p.name == "raster") emu_ms = p.ms;
+    gpu_ms = TimeMs([&] { fail(gpu->Raster(fc, buffers, gpu_prim, gpu_depth)); });
+    record("raster",
+           {CompareBuffers("raster", "prim", frame.gbuffer.prim, gpu_prim, 0),
+            CompareBuffers("raster", "depth", frame.gbuffer.depth, gpu_depth, 1u)},
+           "");
+  }
   // surfaces.b0 from the emulated G-buffer; from here on both sides read the GPU's outputs.
   std::vector<gpu::Surface> gpu_surfaces;
   gpu_ms = TimeMs([&] { fail(gpu->Surfaces(fc, frame.gbuffer, buffers, gpu_surfaces)); });

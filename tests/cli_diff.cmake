@@ -32,7 +32,7 @@ diff_run(office office 128x128 "" 0 "")
 if(EXISTS "${DATA}/sponza_dabrovic/sponza.obj")
   diff_run(sponza sponza 128x128 "" 0 "")
 endif()
-foreach(f surfaces:1 raygen.shadow:1 raygen.shadow:2 trim.shadow:1 hash.shadow:1 compress.shadow:1 sort.shadow:1
+foreach(f raster:1 surfaces:1 raygen.shadow:1 raygen.shadow:2 trim.shadow:1 hash.shadow:1 compress.shadow:1 sort.shadow:1
                 decompress.shadow:1 build.shadow:1 traverse.shadow:1 reduce.shadow:1 intersect.shadow:1 shade:1 raygen.reflection:1 trim.reflection:1 resolve:1)
   string(REPLACE ":" "_" n "${f}")
   string(REGEX REPLACE ":.*" "" pass "${f}")

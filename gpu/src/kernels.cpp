@@ -2,6 +2,9 @@
 
 #include "build.spv.h"
 #include "hash.spv.h"
+#include "raster_frag.spv.h"
+#include "raster_vert.spv.h"
+#include "rayspace/gpu/raster.h"
 #include "intersect.spv.h"
 #include "reduce.spv.h"
 #include "traverse.spv.h"
@@ -36,7 +39,7 @@ constexpr std::uint32_t kTrimBlock = 4096;
 
 const std::vector<std::pair<std::string, std::uint32_t>>& KernelPasses() {
   static const std::vector<std::pair<std::string, std::uint32_t>> kPasses = {
-      {"surfaces", 1}, {"raygen.shadow", 2}, {"trim.shadow", 1}, {"shade", 1}, {"raygen.reflection", 1},
+      {"raster", 1}, {"surfaces", 1}, {"raygen.shadow", 2}, {"trim.shadow", 1}, {"shade", 1}, {"raygen.reflection", 1},
       {"trim.reflection", 1}, {"hash.shadow", 1}, {"compress.shadow", 1}, {"sort.shadow", 1},
       {"decompress.shadow", 1}, {"build.shadow", 1}, {"traverse.shadow", 1}, {"reduce.shadow", 1},
       {"intersect.shadow", 1}, {"resolve", 1}};
@@ -51,6 +54,7 @@ vk::Status VulkanPasses::Create(int device, const Faults& faults, std::unique_pt
     return it == faults.end() ? 0u : it->second;
   };
   RS_TRY(p->ctx_->CreateKernel("raygen.shadow", kSpirv_raygen_shadow, 5, fault("raygen.shadow"), p->raygen_shadow_));
+  p->raster_fault_ = fault("raster");
   RS_TRY(p->ctx_->CreateKernel("surfaces", kSpirv_surfaces, 6, fault("surfaces"), p->surfaces_));
   RS_TRY(p->ctx_->CreateKernel("raygen.reflection", kSpirv_raygen_reflection, 5, fault("raygen.reflection"),
                                p->raygen_reflection_));
@@ -458,6 +462,11 @@ vk::Status VulkanPasses::Intersect(const std::vector<std::uint32_t>& pairs, cons
   occluded = bocc.Download<std::uint32_t>(rays.size());
   tests = btests.Download<std::uint32_t>(count);
   return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::Raster(const gpu::FrameConstants& fc, const SceneBuffers& scene, std::vector<std::uint32_t>& prim,
+                                std::vector<float>& depth) {
+  return RasterPrimitiveIds(*ctx_, kSpirv_raster_vert, kSpirv_raster_frag, fc, scene.triangles, raster_fault_, prim, depth);
 }
 
 vk::Status VulkanPasses::Resolve(const gpu::FrameConstants& fc, const std::vector<std::uint64_t>& accum,

@@ -175,6 +175,12 @@ Context::~Context() {
   if (instance_) vkDestroyInstance(instance_, nullptr);
 }
 
+std::uint32_t Context::FindMemoryType(std::uint32_t bits, VkMemoryPropertyFlags flags) const {
+  for (std::uint32_t i = 0; i < memory_.memoryTypeCount; ++i)
+    if ((bits & (1u << i)) && (memory_.memoryTypes[i].propertyFlags & flags) == flags) return i;
+  return UINT32_MAX;
+}
+
 Status Context::CreateBuffer(std::size_t bytes, Buffer& out) {
   if (bytes > max_storage_range_)
     return Status::Fail(fmt::format("buffer of {} bytes exceeds maxStorageBufferRange {} of '{}'", bytes,
@@ -184,7 +190,7 @@ Status Context::CreateBuffer(std::size_t bytes, Buffer& out) {
   b.size_ = bytes;
   VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   bci.size = std::max<std::size_t>(bytes, 16);
-  bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   RS_VK(vkCreateBuffer(device_, &bci, nullptr, &b.buffer_));
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(device_, b.buffer_, &req);

@@ -22,6 +22,9 @@ const std::vector<std::pair<std::string, std::uint32_t>>& KernelPasses();
 class VulkanPasses {
  public:
   static vk::Status Create(int device, const Faults& faults, std::unique_ptr<VulkanPasses>& out);
+  // The raster as a graphics pipeline: primitive ids and the depth attachment.
+  vk::Status Raster(const gpu::FrameConstants& fc, const SceneBuffers& scene, std::vector<std::uint32_t>& prim,
+                    std::vector<float>& depth);
   vk::Status Surfaces(const gpu::FrameConstants& fc, const emu::GBuffer& g, const SceneBuffers& scene,
                       std::vector<gpu::Surface>& out);
   vk::Status RaygenReflection(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
@@ -62,6 +65,7 @@ class VulkanPasses {
 
  private:
   std::unique_ptr<vk::Context> ctx_;
+  std::uint32_t raster_fault_ = 0;
   vk::Kernel surfaces_, raygen_shadow_, raygen_reflection_, trim_, trim_reflection_, shade_, resolve_, hash_, compress_, sort_, decompress_, build_, traverse_, reduce_, intersect_;
 };
 

@@ -109,6 +109,12 @@ class Context {
   VkDeviceSize max_storage_buffer_range() const { return max_storage_range_; }
   // Every physical device, for error messages and --device listings.
   static std::vector<std::string> ListDevices();
+  // For code that records its own commands (the raster pipeline).
+  VkDevice device() const { return device_; }
+  VkQueue queue() const { return queue_; }
+  VkCommandPool command_pool() const { return pool_; }
+  // A memory type allowed by `bits` with all of `flags`, or UINT32_MAX.
+  std::uint32_t FindMemoryType(std::uint32_t bits, VkMemoryPropertyFlags flags) const;
 
  private:
   friend class Recorder;

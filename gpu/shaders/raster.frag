@@ -1,0 +1,37 @@
+#version 460
+// Raster fragment stage: depth from the pixel-centre ray and the triangle's plane, written as
+// gl_FragDepth, and the primitive id (emu raster::ShadeFragment).
+#extension GL_GOOGLE_include_directive : require
+#include "rayspace/layout.h"
+
+layout(std430, binding = 0) readonly buffer Triangles { Triangle triangles[]; };
+layout(std430, binding = 1) readonly buffer Frame { FrameConstants fc; };
+layout(location = 0) out uint out_prim;
+layout(constant_id = 0) const uint kFault = 0;  // planted fault (0 = none)
+
+float Dot3(vec3 a, vec3 b) {
+  precise float r = (a.x * b.x + a.y * b.y) + a.z * b.z;
+  return r;
+}
+
+void main() {
+  const uint prim = uint(gl_PrimitiveID);
+  const Triangle t = triangles[prim];
+  const uint px = uint(gl_FragCoord.x), py = uint(gl_FragCoord.y);
+  precise vec3 d;
+  for (int k = 0; k < 3; ++k) {
+    precise float a = float(px) * fc.pixel_dx[k];
+    precise float b = fc.pixel_origin[k] + a;
+    precise float c = float(py) * fc.pixel_dy[k];
+    d[k] = b + c;
+  }
+  precise const vec3 e1 = t.v1.xyz - t.v0.xyz, e2 = t.v2.xyz - t.v0.xyz;
+  precise const vec3 n = vec3(e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z, e1.x * e2.y - e1.y * e2.x);
+  precise const vec3 w = t.v0.xyz - fc.eye.xyz;
+  precise const float tt = Dot3(w, n) / Dot3(d, n);
+  if (!(tt > 0.0) || !(tt <= 3.40282347e38)) discard;
+  // Fault 1: the depth is written without the 1/far scale (so it saturates at 1).
+  precise const float depth = kFault == 1u ? tt : tt * fc.params.y;
+  gl_FragDepth = min(depth, 1.0);
+  out_prim = prim;
+}

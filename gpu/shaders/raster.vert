@@ -1,0 +1,21 @@
+#version 460
+// Raster vertex stage: clip = view_proj * position in the emulator's order (emu raster::VertexStage).
+#extension GL_GOOGLE_include_directive : require
+#include "rayspace/layout.h"
+
+layout(std430, binding = 0) readonly buffer Triangles { Triangle triangles[]; };
+layout(std430, binding = 1) readonly buffer Frame { FrameConstants fc; };
+
+void main() {
+  const Triangle t = triangles[gl_VertexIndex / 3];
+  const int k = gl_VertexIndex % 3;
+  const vec3 p = (k == 0 ? t.v0 : (k == 1 ? t.v1 : t.v2)).xyz;
+  precise vec4 c;
+  for (int r = 0; r < 4; ++r) {
+    precise float a = fc.view_proj[0][r] * p.x;
+    precise float b = fc.view_proj[1][r] * p.y;
+    precise float d = fc.view_proj[2][r] * p.z;
+    c[r] = ((a + b) + d) + fc.view_proj[3][r];
+  }
+  gl_Position = c;
+}
