@@ -121,7 +121,6 @@ int RunDiff(const DiffArgs& args) {
   const emu::FrameResult frame = emu::RenderFrame(scene, buffers, *direct, fo);
   const gpu::FrameConstants fc = MakeFrameConstants(scene, buffers, fo.width, fo.height);
   std::vector<gpu::Surface> surfaces;
-  const double surfaces_emu_ms = TimeMs([&] { surfaces = emu::PassSurfacesFromGBuffer(fc, frame.gbuffer, buffers); });
 
   std::vector<BufferComparison> results;
   nlohmann::json passes = nlohmann::json::array();
@@ -149,22 +148,26 @@ int RunDiff(const DiffArgs& args) {
   std::printf("rayspace diff: %s (%dx%d) on %s; emulation model %s\n", scene.name.c_str(), fo.width, fo.height,
               gpu->context().device_name().c_str(), EmulationModel().c_str());
   // raster: lavapipe's fixed-function coverage, clipping and depth test against the emulation.
+  emu::GBuffer gpu_gbuffer;
   {
-    std::vector<std::uint32_t> gpu_prim;
-    std::vector<float> gpu_depth;
     emu_ms = 0.0;
     for (const emu::PassRecord& p : frame.passes)
       if (p.name == "raster") emu_ms = p.ms;
-    gpu_ms = TimeMs([&] { fail(gpu->Raster(fc, buffers, gpu_prim, gpu_depth)); });
+    gpu_ms = TimeMs([&] { fail(gpu->Raster(fc, buffers, gpu_gbuffer)); });
+    const emu::GBuffer& e = frame.gbuffer;
     record("raster",
-           {CompareBuffers("raster", "prim", frame.gbuffer.prim, gpu_prim, 0),
-            CompareBuffers("raster", "depth", frame.gbuffer.depth, gpu_depth, 1u)},
+           {CompareBuffers("raster", "diffuse", e.diffuse, gpu_gbuffer.diffuse, 0xFu),
+            CompareBuffers("raster", "specular", e.specular, gpu_gbuffer.specular, 0xFu),
+            CompareBuffers("raster", "position", e.position, gpu_gbuffer.position, 0xFu),
+            CompareBuffers("raster", "normal", e.normal, gpu_gbuffer.normal, 0xFu),
+            CompareBuffers("raster", "prim", e.prim, gpu_gbuffer.prim, 0),
+            CompareBuffers("raster", "depth", e.depth, gpu_gbuffer.depth, 1u)},
            "");
   }
-  // surfaces.b0 from the emulated G-buffer; from here on both sides read the GPU's outputs.
+  // From here on both sides read the GPU's outputs, starting with its G-buffer.
   std::vector<gpu::Surface> gpu_surfaces;
-  gpu_ms = TimeMs([&] { fail(gpu->Surfaces(fc, frame.gbuffer, buffers, gpu_surfaces)); });
-  emu_ms = surfaces_emu_ms;
+  gpu_ms = TimeMs([&] { fail(gpu->Surfaces(fc, gpu_gbuffer, buffers, gpu_surfaces)); });
+  emu_ms = TimeMs([&] { surfaces = emu::PassSurfacesFromGBuffer(fc, gpu_gbuffer, buffers); });
   record("surfaces", {CompareBuffers("surfaces", "surfaces", surfaces, gpu_surfaces, kSurfaceFloats)}, "");
 
   // CRSH's ray sorting and hierarchy build on a batch of GPU-compacted rays: hash, compress, sort,

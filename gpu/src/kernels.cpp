@@ -464,9 +464,18 @@ vk::Status VulkanPasses::Intersect(const std::vector<std::uint32_t>& pairs, cons
   return vk::Status::Ok();
 }
 
-vk::Status VulkanPasses::Raster(const gpu::FrameConstants& fc, const SceneBuffers& scene, std::vector<std::uint32_t>& prim,
-                                std::vector<float>& depth) {
-  return RasterPrimitiveIds(*ctx_, kSpirv_raster_vert, kSpirv_raster_frag, fc, scene.triangles, raster_fault_, prim, depth);
+vk::Status VulkanPasses::Raster(const gpu::FrameConstants& fc, const SceneBuffers& scene, emu::GBuffer& out) {
+  RasterTargets t;
+  RS_TRY(RasterGBuffer(*ctx_, kSpirv_raster_vert, kSpirv_raster_frag, fc, scene, raster_fault_, t));
+  out.width = static_cast<int>(fc.dims.x);
+  out.height = static_cast<int>(fc.dims.y);
+  out.diffuse = std::move(t.diffuse);
+  out.specular = std::move(t.specular);
+  out.position = std::move(t.position);
+  out.normal = std::move(t.normal);
+  out.prim = std::move(t.prim);
+  out.depth = std::move(t.depth);
+  return vk::Status::Ok();
 }
 
 vk::Status VulkanPasses::Resolve(const gpu::FrameConstants& fc, const std::vector<std::uint64_t>& accum,

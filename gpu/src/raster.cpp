@@ -14,9 +14,10 @@ namespace {
 // Owns every object the raster pass creates, destroyed in reverse order.
 struct RasterObjects {
   VkDevice dev = VK_NULL_HANDLE;
-  VkImage images[2] = {};
-  VkDeviceMemory memory[2] = {};
-  VkImageView views[2] = {};
+  static constexpr int kImages = 6;  // 4 x RGBA32F, R32UI, D32
+  VkImage images[kImages] = {};
+  VkDeviceMemory memory[kImages] = {};
+  VkImageView views[kImages] = {};
   VkRenderPass pass = VK_NULL_HANDLE;
   VkFramebuffer framebuffer = VK_NULL_HANDLE;
   VkShaderModule vert = VK_NULL_HANDLE, frag = VK_NULL_HANDLE;
@@ -39,7 +40,7 @@ struct RasterObjects {
     if (frag) vkDestroyShaderModule(dev, frag, nullptr);
     if (framebuffer) vkDestroyFramebuffer(dev, framebuffer, nullptr);
     if (pass) vkDestroyRenderPass(dev, pass, nullptr);
-    for (int i = 0; i < 2; ++i) {
+    for (int i = 0; i < kImages; ++i) {
       if (views[i]) vkDestroyImageView(dev, views[i], nullptr);
       if (images[i]) vkDestroyImage(dev, images[i], nullptr);
       if (memory[i]) vkFreeMemory(dev, memory[i], nullptr);
@@ -78,47 +79,53 @@ vk::Status MakeImage(vk::Context& ctx, RasterObjects& o, int i, VkFormat format,
 
 }  // namespace
 
-vk::Status RasterPrimitiveIds(vk::Context& ctx, std::span<const std::uint32_t> vert_spirv,
-                              std::span<const std::uint32_t> frag_spirv, const gpu::FrameConstants& fc,
-                              const std::vector<gpu::Triangle>& triangles, std::uint32_t fault,
-                              std::vector<std::uint32_t>& prim, std::vector<float>& depth) {
+vk::Status RasterGBuffer(vk::Context& ctx, std::span<const std::uint32_t> vert_spirv,
+                         std::span<const std::uint32_t> frag_spirv, const gpu::FrameConstants& fc, const SceneBuffers& scene,
+                         std::uint32_t fault, RasterTargets& out) {
+  const std::vector<gpu::Triangle>& triangles = scene.triangles;
   const std::uint32_t w = fc.dims.x, h = fc.dims.y;
+  constexpr int kColors = 5;
+  const VkFormat formats[6] = {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT,
+                               VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32_UINT, VK_FORMAT_D32_SFLOAT};
   RasterObjects o;
   o.dev = ctx.device();
   o.cmd_pool = ctx.command_pool();
-  vk::Status s = MakeImage(ctx, o, 0, VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, VK_IMAGE_ASPECT_COLOR_BIT, w, h);
-  if (!s) return s;
-  s = MakeImage(ctx, o, 1, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT, w, h);
-  if (!s) return s;
-
-  VkAttachmentDescription att[2] = {};
-  att[0].format = VK_FORMAT_R32_UINT;
-  att[1].format = VK_FORMAT_D32_SFLOAT;
-  for (auto& a : att) {
-    a.samples = VK_SAMPLE_COUNT_1_BIT;
-    a.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-    a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    a.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-    a.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-    a.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    a.finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+  for (int i = 0; i < 6; ++i) {
+    const bool depth_image = i == kColors;
+    vk::Status s = MakeImage(ctx, o, i, formats[i],
+                             depth_image ? VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT : VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT,
+                             depth_image ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT, w, h);
+    if (!s) return s;
   }
-  VkAttachmentReference color_ref{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
-  VkAttachmentReference depth_ref{1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+
+  VkAttachmentDescription att[6] = {};
+  VkAttachmentReference color_ref[kColors];
+  for (int i = 0; i < 6; ++i) {
+    att[i].format = formats[i];
+    att[i].samples = VK_SAMPLE_COUNT_1_BIT;
+    att[i].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    att[i].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    att[i].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+    att[i].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    att[i].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    att[i].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    if (i < kColors) color_ref[i] = {static_cast<std::uint32_t>(i), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+  }
+  VkAttachmentReference depth_ref{kColors, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
   VkSubpassDescription sub{};
   sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-  sub.colorAttachmentCount = 1;
-  sub.pColorAttachments = &color_ref;
+  sub.colorAttachmentCount = kColors;
+  sub.pColorAttachments = color_ref;
   sub.pDepthStencilAttachment = &depth_ref;
   VkRenderPassCreateInfo rpci{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
-  rpci.attachmentCount = 2;
+  rpci.attachmentCount = 6;
   rpci.pAttachments = att;
   rpci.subpassCount = 1;
   rpci.pSubpasses = &sub;
   RS_VK(vkCreateRenderPass(o.dev, &rpci, nullptr, &o.pass));
   VkFramebufferCreateInfo fci{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
   fci.renderPass = o.pass;
-  fci.attachmentCount = 2;
+  fci.attachmentCount = 6;
   fci.pAttachments = o.views;
   fci.width = w;
   fci.height = h;
@@ -132,11 +139,12 @@ vk::Status RasterPrimitiveIds(vk::Context& ctx, std::span<const std::uint32_t> v
   smci.codeSize = frag_spirv.size_bytes();
   smci.pCode = frag_spirv.data();
   RS_VK(vkCreateShaderModule(o.dev, &smci, nullptr, &o.frag));
-  VkDescriptorSetLayoutBinding b[2] = {
-      {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
-      {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}};
+  constexpr std::uint32_t kBindings = 5;  // triangles, frame, normals, info, materials
+  VkDescriptorSetLayoutBinding b[kBindings];
+  for (std::uint32_t i = 0; i < kBindings; ++i)
+    b[i] = {i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr};
   VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-  dl.bindingCount = 2;
+  dl.bindingCount = kBindings;
   dl.pBindings = b;
   RS_VK(vkCreateDescriptorSetLayout(o.dev, &dl, nullptr, &o.set_layout));
   VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
@@ -176,11 +184,13 @@ vk::Status RasterPrimitiveIds(vk::Context& ctx, std::span<const std::uint32_t> v
   ds.depthTestEnable = VK_TRUE;
   ds.depthWriteEnable = VK_TRUE;
   ds.depthCompareOp = VK_COMPARE_OP_LESS;
-  VkPipelineColorBlendAttachmentState cba{};
-  cba.colorWriteMask = VK_COLOR_COMPONENT_R_BIT;
+  VkPipelineColorBlendAttachmentState cba[kColors] = {};
+  for (int i = 0; i < kColors; ++i)
+    cba[i].colorWriteMask = i == 4 ? VK_COLOR_COMPONENT_R_BIT
+                                   : VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
   VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-  cb.attachmentCount = 1;
-  cb.pAttachments = &cba;
+  cb.attachmentCount = kColors;
+  cb.pAttachments = cba;
   VkGraphicsPipelineCreateInfo gp{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
   gp.stageCount = 2;
   gp.pStages = stages;
@@ -195,16 +205,23 @@ vk::Status RasterPrimitiveIds(vk::Context& ctx, std::span<const std::uint32_t> v
   gp.renderPass = o.pass;
   RS_VK(vkCreateGraphicsPipelines(o.dev, VK_NULL_HANDLE, 1, &gp, nullptr, &o.pipeline));
 
-  vk::Buffer tri_buf, fc_buf, prim_buf, depth_buf;
-  if (vk::Status st = ctx.CreateBuffer(triangles.size() * sizeof(gpu::Triangle), tri_buf); !st) return st;
-  tri_buf.Upload(triangles);
-  if (vk::Status st = ctx.CreateBuffer(sizeof(gpu::FrameConstants), fc_buf); !st) return st;
-  fc_buf.Upload(std::vector<gpu::FrameConstants>{fc});
+  vk::Buffer in[kBindings];
+  auto upload = [&](vk::Buffer& buf, const auto& v) -> vk::Status {
+    if (vk::Status st = ctx.CreateBuffer(v.size() * sizeof(v[0]), buf); !st) return st;
+    buf.Upload(v);
+    return vk::Status::Ok();
+  };
+  for (vk::Status st : {upload(in[0], triangles), upload(in[1], std::vector<gpu::FrameConstants>{fc}),
+                        upload(in[2], scene.normals), upload(in[3], scene.info), upload(in[4], scene.materials)})
+    if (!st) return st;
   const std::size_t pixels = static_cast<std::size_t>(w) * h;
-  if (vk::Status st = ctx.CreateBuffer(pixels * 4, prim_buf); !st) return st;
-  if (vk::Status st = ctx.CreateBuffer(pixels * 4, depth_buf); !st) return st;
+  vk::Buffer outb[6];
+  for (int i = 0; i < 6; ++i) {
+    const std::size_t texel = i < 4 ? 16 : 4;
+    if (vk::Status st = ctx.CreateBuffer(pixels * texel, outb[i]); !st) return st;
+  }
 
-  VkDescriptorPoolSize ps{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2};
+  VkDescriptorPoolSize ps{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBindings};
   VkDescriptorPoolCreateInfo dp{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   dp.maxSets = 1;
   dp.poolSizeCount = 1;
@@ -216,16 +233,18 @@ vk::Status RasterPrimitiveIds(vk::Context& ctx, std::span<const std::uint32_t> v
   dai.pSetLayouts = &o.set_layout;
   VkDescriptorSet set;
   RS_VK(vkAllocateDescriptorSets(o.dev, &dai, &set));
-  VkDescriptorBufferInfo infos[2] = {{tri_buf.handle(), 0, VK_WHOLE_SIZE}, {fc_buf.handle(), 0, VK_WHOLE_SIZE}};
-  VkWriteDescriptorSet writes[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}, {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
-  for (int i = 0; i < 2; ++i) {
+  VkDescriptorBufferInfo infos[kBindings];
+  VkWriteDescriptorSet writes[kBindings];
+  for (std::uint32_t i = 0; i < kBindings; ++i) {
+    infos[i] = {in[i].handle(), 0, VK_WHOLE_SIZE};
+    writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     writes[i].dstSet = set;
     writes[i].dstBinding = static_cast<std::uint32_t>(i);
     writes[i].descriptorCount = 1;
     writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     writes[i].pBufferInfo = &infos[i];
   }
-  vkUpdateDescriptorSets(o.dev, 2, writes, 0, nullptr);
+  vkUpdateDescriptorSets(o.dev, kBindings, writes, 0, nullptr);
 
   VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
   cai.commandPool = o.cmd_pool;
@@ -235,27 +254,26 @@ vk::Status RasterPrimitiveIds(vk::Context& ctx, std::span<const std::uint32_t> v
   VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   RS_VK(vkBeginCommandBuffer(o.cmd, &bi));
-  VkClearValue clears[2];
-  clears[0].color.uint32[0] = gpu::kNoPrim;
-  clears[0].color.uint32[1] = clears[0].color.uint32[2] = clears[0].color.uint32[3] = 0;
-  clears[1].depthStencil = {1.0f, 0};
+  VkClearValue clears[6] = {};
+  clears[4].color.uint32[0] = gpu::kNoPrim;
+  clears[5].depthStencil = {1.0f, 0};
   VkRenderPassBeginInfo rbi{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
   rbi.renderPass = o.pass;
   rbi.framebuffer = o.framebuffer;
   rbi.renderArea = {{0, 0}, {w, h}};
-  rbi.clearValueCount = 2;
+  rbi.clearValueCount = 6;
   rbi.pClearValues = clears;
   vkCmdBeginRenderPass(o.cmd, &rbi, VK_SUBPASS_CONTENTS_INLINE);
   vkCmdBindPipeline(o.cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, o.pipeline);
   vkCmdBindDescriptorSets(o.cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, o.layout, 0, 1, &set, 0, nullptr);
   vkCmdDraw(o.cmd, static_cast<std::uint32_t>(3 * triangles.size()), 1, 0, 0);
   vkCmdEndRenderPass(o.cmd);
-  VkBufferImageCopy copy{};
-  copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-  copy.imageExtent = {w, h, 1};
-  vkCmdCopyImageToBuffer(o.cmd, o.images[0], VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, prim_buf.handle(), 1, &copy);
-  copy.imageSubresource.aspectMask = VK_IMAGE_ASPECT_DEPTH_BIT;
-  vkCmdCopyImageToBuffer(o.cmd, o.images[1], VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, depth_buf.handle(), 1, &copy);
+  for (int i = 0; i < 6; ++i) {
+    VkBufferImageCopy copy{};
+    copy.imageSubresource = {i == kColors ? VkImageAspectFlags(VK_IMAGE_ASPECT_DEPTH_BIT) : VkImageAspectFlags(VK_IMAGE_ASPECT_COLOR_BIT), 0, 0, 1};
+    copy.imageExtent = {w, h, 1};
+    vkCmdCopyImageToBuffer(o.cmd, o.images[i], VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, outb[i].handle(), 1, &copy);
+  }
   VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
   mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
@@ -268,8 +286,12 @@ vk::Status RasterPrimitiveIds(vk::Context& ctx, std::span<const std::uint32_t> v
   si.pCommandBuffers = &o.cmd;
   RS_VK(vkQueueSubmit(ctx.queue(), 1, &si, o.fence));
   RS_VK(vkWaitForFences(o.dev, 1, &o.fence, VK_TRUE, UINT64_MAX));
-  prim = prim_buf.Download<std::uint32_t>(pixels);
-  depth = depth_buf.Download<float>(pixels);
+  out.diffuse = outb[0].Download<glm::vec4>(pixels);
+  out.specular = outb[1].Download<glm::vec4>(pixels);
+  out.position = outb[2].Download<glm::vec4>(pixels);
+  out.normal = outb[3].Download<glm::vec4>(pixels);
+  out.prim = outb[4].Download<std::uint32_t>(pixels);
+  out.depth = outb[5].Download<float>(pixels);
   return vk::Status::Ok();
 }
 

@@ -22,9 +22,8 @@ const std::vector<std::pair<std::string, std::uint32_t>>& KernelPasses();
 class VulkanPasses {
  public:
   static vk::Status Create(int device, const Faults& faults, std::unique_ptr<VulkanPasses>& out);
-  // The raster as a graphics pipeline: primitive ids and the depth attachment.
-  vk::Status Raster(const gpu::FrameConstants& fc, const SceneBuffers& scene, std::vector<std::uint32_t>& prim,
-                    std::vector<float>& depth);
+  // The raster as a graphics pipeline with all G-buffer targets.
+  vk::Status Raster(const gpu::FrameConstants& fc, const SceneBuffers& scene, emu::GBuffer& out);
   vk::Status Surfaces(const gpu::FrameConstants& fc, const emu::GBuffer& g, const SceneBuffers& scene,
                       std::vector<gpu::Surface>& out);
   vk::Status RaygenReflection(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,

@@ -1,5 +1,6 @@
-// The raster pass as a real Vulkan graphics pipeline: a primitive-id colour target (R32_UINT) and a
-// D32 depth attachment written through gl_FragDepth, LESS depth test, no culling.
+// The raster pass as a real Vulkan graphics pipeline with multiple render targets: diffuse,
+// specular, position, normal (RGBA32F), primitive id (R32_UINT), and a D32 depth attachment written
+// through gl_FragDepth; LESS depth test, no culling.
 #pragma once
 #include <cstdint>
 #include <span>
@@ -7,12 +8,18 @@
 
 #include "rayspace/gpu/vulkan.h"
 #include "rayspace/layout.h"
+#include "rayspace/scene_buffers.h"
 
 namespace rayspace::gpu_backend {
 
-vk::Status RasterPrimitiveIds(vk::Context& ctx, std::span<const std::uint32_t> vert_spirv,
-                              std::span<const std::uint32_t> frag_spirv, const gpu::FrameConstants& fc,
-                              const std::vector<gpu::Triangle>& triangles, std::uint32_t fault,
-                              std::vector<std::uint32_t>& prim, std::vector<float>& depth);
+struct RasterTargets {
+  std::vector<glm::vec4> diffuse, specular, position, normal;
+  std::vector<std::uint32_t> prim;
+  std::vector<float> depth;
+};
+
+vk::Status RasterGBuffer(vk::Context& ctx, std::span<const std::uint32_t> vert_spirv,
+                         std::span<const std::uint32_t> frag_spirv, const gpu::FrameConstants& fc, const SceneBuffers& scene,
+                         std::uint32_t fault, RasterTargets& out);
 
 }  // namespace rayspace::gpu_backend
