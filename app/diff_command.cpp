@@ -111,7 +111,7 @@ int RunDiff(const DiffArgs& args) {
   const gpu_backend::Faults faults = ParseInject(args.inject);
 
   std::unique_ptr<gpu_backend::VulkanPasses> gpu;
-  if (vk::Status s = gpu_backend::VulkanPasses::Create(args.device, faults, gpu); !s)
+  if (vk::Status s = gpu_backend::VulkanPasses::Create(args.device, faults, gpu, static_cast<std::uint32_t>(args.local_size)); !s)
     throw std::runtime_error("Vulkan: " + s.message);
 
   // The emulated frame provides the inputs of the first kernel passes (G-buffer surfaces) and the
@@ -332,6 +332,7 @@ int RunDiff(const DiffArgs& args) {
                         {"driver", gpu->context().driver()},
                         {"emulation_model", EmulationModel()},
                         {"inject", args.inject},
+                        {"local_size", args.local_size},
                         {"passes", passes},
                         {"emulated_only", {"prep", "raster", "trace (direct and hierarchy passes)", "refraction", "bounces after the first"}},
                         {"equal", equal},

@@ -6,6 +6,7 @@ namespace rayspace::app {
 struct DiffArgs {
   std::string scene, size, data, report, inject;
   int device = -1;
+  int local_size = 64;
 };
 
 // Runs every pass that has a Vulkan kernel on both backends with the same input and compares the

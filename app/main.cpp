@@ -49,6 +49,8 @@ int main(int argc, char** argv) {
   dc->add_option("--data", diff.data, "Data root for mesh paths (default: $RAYSPACE_DATA)");
   dc->add_option("--report", diff.report, "Write the comparison as JSON to this file");
   dc->add_option("--inject", diff.inject, "Plant a fault in one kernel: PASS[:FAULT] (test use)");
+  dc->add_option("--local-size", diff.local_size, "Workgroup size of every compute kernel (results must not change)")
+      ->check(CLI::Range(1, 1024));
   dc->add_option("--device", diff.device, "Vulkan device index (default: first non-CPU device, else lavapipe)")
       ->check(CLI::Range(0, 64));
 #endif

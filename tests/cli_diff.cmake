@@ -5,9 +5,9 @@ set(failures "")
 file(MAKE_DIRECTORY "${WORK}")
 
 function(diff_run name scene size inject expect_rc expect_first)
-  set(extra "")
+  set(extra ${ARGN})
   if(inject)
-    set(extra --inject ${inject})
+    list(APPEND extra --inject ${inject})
   endif()
   execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/${scene}.json" --data "${DATA}" --size ${size}
                           --report "${WORK}/${name}.json" ${extra}
@@ -29,6 +29,10 @@ endfunction()
 
 diff_run(cornell cornell-mirrors 512x512 "" 0 "")
 diff_run(office office 128x128 "" 0 "")
+# Workgroup sizes must not change a bit (order-preserving compaction, order-independent reductions).
+foreach(ls 1 7 256)
+  diff_run(cornell_ls${ls} cornell-mirrors 96x96 "" 0 "" --local-size ${ls})
+endforeach()
 if(EXISTS "${DATA}/sponza_dabrovic/sponza.obj")
   diff_run(sponza sponza 128x128 "" 0 "")
 endif()

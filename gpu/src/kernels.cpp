@@ -46,32 +46,33 @@ const std::vector<std::pair<std::string, std::uint32_t>>& KernelPasses() {
   return kPasses;
 }
 
-vk::Status VulkanPasses::Create(int device, const Faults& faults, std::unique_ptr<VulkanPasses>& out) {
+vk::Status VulkanPasses::Create(int device, const Faults& faults, std::unique_ptr<VulkanPasses>& out,
+                                std::uint32_t local_size) {
   auto p = std::make_unique<VulkanPasses>();
   RS_TRY(vk::Context::Create(device, p->ctx_));
   auto fault = [&](const char* pass) {
     auto it = faults.find(pass);
     return it == faults.end() ? 0u : it->second;
   };
-  RS_TRY(p->ctx_->CreateKernel("raygen.shadow", kSpirv_raygen_shadow, 5, fault("raygen.shadow"), p->raygen_shadow_));
+  RS_TRY(p->ctx_->CreateKernel("raygen.shadow", kSpirv_raygen_shadow, 5, fault("raygen.shadow"), p->raygen_shadow_, local_size));
   p->raster_fault_ = fault("raster");
-  RS_TRY(p->ctx_->CreateKernel("surfaces", kSpirv_surfaces, 6, fault("surfaces"), p->surfaces_));
+  RS_TRY(p->ctx_->CreateKernel("surfaces", kSpirv_surfaces, 6, fault("surfaces"), p->surfaces_, local_size));
   RS_TRY(p->ctx_->CreateKernel("raygen.reflection", kSpirv_raygen_reflection, 5, fault("raygen.reflection"),
                                p->raygen_reflection_));
-  RS_TRY(p->ctx_->CreateKernel("shade", kSpirv_shade, 7, fault("shade"), p->shade_));
+  RS_TRY(p->ctx_->CreateKernel("shade", kSpirv_shade, 7, fault("shade"), p->shade_, local_size));
   // One trim kernel serves both ray types; a planted trim fault applies to the type it names.
-  RS_TRY(p->ctx_->CreateKernel("trim.shadow", kSpirv_trim, 5, fault("trim.shadow"), p->trim_));
-  RS_TRY(p->ctx_->CreateKernel("trim.reflection", kSpirv_trim, 5, fault("trim.reflection"), p->trim_reflection_));
-  RS_TRY(p->ctx_->CreateKernel("hash.shadow", kSpirv_hash, 3, fault("hash.shadow"), p->hash_));
+  RS_TRY(p->ctx_->CreateKernel("trim.shadow", kSpirv_trim, 5, fault("trim.shadow"), p->trim_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("trim.reflection", kSpirv_trim, 5, fault("trim.reflection"), p->trim_reflection_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("hash.shadow", kSpirv_hash, 3, fault("hash.shadow"), p->hash_, local_size));
   // One kernel, three passes (phases); each pass gets its own pipeline so a fault stays in its pass.
-  RS_TRY(p->ctx_->CreateKernel("compress.shadow", kSpirv_sort, 9, fault("compress.shadow"), p->compress_));
-  RS_TRY(p->ctx_->CreateKernel("sort.shadow", kSpirv_sort, 9, fault("sort.shadow"), p->sort_));
-  RS_TRY(p->ctx_->CreateKernel("decompress.shadow", kSpirv_sort, 9, fault("decompress.shadow"), p->decompress_));
-  RS_TRY(p->ctx_->CreateKernel("build.shadow", kSpirv_build, 5, fault("build.shadow"), p->build_));
-  RS_TRY(p->ctx_->CreateKernel("traverse.shadow", kSpirv_traverse, 9, fault("traverse.shadow"), p->traverse_));
-  RS_TRY(p->ctx_->CreateKernel("reduce.shadow", kSpirv_reduce, 6, fault("reduce.shadow"), p->reduce_));
-  RS_TRY(p->ctx_->CreateKernel("intersect.shadow", kSpirv_intersect, 8, fault("intersect.shadow"), p->intersect_));
-  RS_TRY(p->ctx_->CreateKernel("resolve", kSpirv_resolve, 2, fault("resolve"), p->resolve_));
+  RS_TRY(p->ctx_->CreateKernel("compress.shadow", kSpirv_sort, 9, fault("compress.shadow"), p->compress_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("sort.shadow", kSpirv_sort, 9, fault("sort.shadow"), p->sort_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("decompress.shadow", kSpirv_sort, 9, fault("decompress.shadow"), p->decompress_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("build.shadow", kSpirv_build, 5, fault("build.shadow"), p->build_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("traverse.shadow", kSpirv_traverse, 9, fault("traverse.shadow"), p->traverse_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("reduce.shadow", kSpirv_reduce, 6, fault("reduce.shadow"), p->reduce_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("intersect.shadow", kSpirv_intersect, 8, fault("intersect.shadow"), p->intersect_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("resolve", kSpirv_resolve, 2, fault("resolve"), p->resolve_, local_size));
   out = std::move(p);
   return vk::Status::Ok();
 }

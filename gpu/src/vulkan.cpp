@@ -210,8 +210,9 @@ Status Context::CreateBuffer(std::size_t bytes, Buffer& out) {
 }
 
 Status Context::CreateKernel(const std::string& name, std::span<const std::uint32_t> spirv, std::uint32_t bindings,
-                             std::uint32_t fault, Kernel& k) {
+                             std::uint32_t fault, Kernel& k, std::uint32_t local_size) {
   k.device_ = device_;
+  k.local_size_ = local_size;
   k.name_ = name;
   k.bindings_ = bindings;
   VkShaderModuleCreateInfo smci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};

@@ -21,7 +21,9 @@ const std::vector<std::pair<std::string, std::uint32_t>>& KernelPasses();
 
 class VulkanPasses {
  public:
-  static vk::Status Create(int device, const Faults& faults, std::unique_ptr<VulkanPasses>& out);
+  // local_size: invocations per workgroup for every compute kernel (results must not depend on it).
+  static vk::Status Create(int device, const Faults& faults, std::unique_ptr<VulkanPasses>& out,
+                           std::uint32_t local_size = 64);
   // The raster as a graphics pipeline with all G-buffer targets.
   vk::Status Raster(const gpu::FrameConstants& fc, const SceneBuffers& scene, emu::GBuffer& out);
   vk::Status Surfaces(const gpu::FrameConstants& fc, const emu::GBuffer& g, const SceneBuffers& scene,

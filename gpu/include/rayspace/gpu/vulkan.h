@@ -103,7 +103,7 @@ class Context {
   ~Context();
   Status CreateBuffer(std::size_t bytes, Buffer& out);
   Status CreateKernel(const std::string& name, std::span<const std::uint32_t> spirv, std::uint32_t bindings,
-                      std::uint32_t fault, Kernel& out);
+                      std::uint32_t fault, Kernel& out, std::uint32_t local_size = 64);
   const std::string& device_name() const { return device_name_; }
   std::string driver() const { return driver_; }
   VkDeviceSize max_storage_buffer_range() const { return max_storage_range_; }
