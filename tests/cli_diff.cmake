@@ -9,7 +9,11 @@ function(diff_run name scene size inject expect_rc expect_first)
   if(inject)
     list(APPEND extra --inject ${inject})
   endif()
-  execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/${scene}.json" --data "${DATA}" --size ${size}
+  set(path "${SRC}/scenes/${scene}.json")
+  if(scene MATCHES "\\.json$")
+    set(path "${scene}")
+  endif()
+  execute_process(COMMAND "${RAYSPACE}" diff "${path}" --data "${DATA}" --size ${size}
                           --report "${WORK}/${name}.json" ${extra}
                   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(NOT rc EQUAL expect_rc)
@@ -29,6 +33,14 @@ endfunction()
 
 diff_run(cornell cornell-mirrors 512x512 "" 0 "")
 diff_run(office office 128x128 "" 0 "")
+# A transparent object brings the refraction kernels in.
+file(READ "${SRC}/scenes/cornell-mirrors.json" cornell)
+string(JSON glass SET "${cornell}" materials clay transparency 0.5)
+string(JSON glass SET "${glass}" materials clay reflectivity 0.2)
+string(JSON glass SET "${glass}" materials clay ior 1.5)
+file(WRITE "${WORK}/glass-scene.json" "${glass}")
+diff_run(glass "${WORK}/glass-scene.json" 128x128 "" 0 "")
+diff_run(inject_refraction "${WORK}/glass-scene.json" 96x96 raygen.refraction:1 4 raygen.refraction)
 # Workgroup sizes must not change a bit (order-preserving compaction, order-independent reductions).
 foreach(ls 1 7 256)
   diff_run(cornell_ls${ls} cornell-mirrors 96x96 "" 0 "" --local-size ${ls})

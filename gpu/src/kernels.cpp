@@ -9,6 +9,7 @@
 #include "reduce.spv.h"
 #include "traverse.spv.h"
 #include "raygen_reflection.spv.h"
+#include "raygen_refraction.spv.h"
 #include "sort.spv.h"
 #include "raygen_shadow.spv.h"
 #include "shade.spv.h"
@@ -40,7 +41,7 @@ constexpr std::uint32_t kTrimBlock = 4096;
 const std::vector<std::pair<std::string, std::uint32_t>>& KernelPasses() {
   static const std::vector<std::pair<std::string, std::uint32_t>> kPasses = {
       {"raster", 1}, {"surfaces", 1}, {"raygen.shadow", 2}, {"trim.shadow", 1}, {"shade", 1}, {"raygen.reflection", 1},
-      {"trim.reflection", 1}, {"hash.shadow", 1}, {"compress.shadow", 1}, {"sort.shadow", 1},
+      {"trim.reflection", 1}, {"raygen.refraction", 1}, {"hash.shadow", 1}, {"compress.shadow", 1}, {"sort.shadow", 1},
       {"decompress.shadow", 1}, {"build.shadow", 1}, {"traverse.shadow", 1}, {"reduce.shadow", 1},
       {"intersect.shadow", 1}, {"resolve", 1}};
   return kPasses;
@@ -59,6 +60,8 @@ vk::Status VulkanPasses::Create(int device, const Faults& faults, std::unique_pt
   RS_TRY(p->ctx_->CreateKernel("surfaces", kSpirv_surfaces, 6, fault("surfaces"), p->surfaces_, local_size));
   RS_TRY(p->ctx_->CreateKernel("raygen.reflection", kSpirv_raygen_reflection, 5, fault("raygen.reflection"),
                                p->raygen_reflection_));
+  RS_TRY(p->ctx_->CreateKernel("raygen.refraction", kSpirv_raygen_refraction, 5, fault("raygen.refraction"),
+                               p->raygen_refraction_, local_size));
   RS_TRY(p->ctx_->CreateKernel("shade", kSpirv_shade, 7, fault("shade"), p->shade_, local_size));
   // One trim kernel serves both ray types; a planted trim fault applies to the type it names.
   RS_TRY(p->ctx_->CreateKernel("trim.shadow", kSpirv_trim, 5, fault("trim.shadow"), p->trim_, local_size));
@@ -118,6 +121,18 @@ vk::Status VulkanPasses::Surfaces(const gpu::FrameConstants& fc, const emu::GBuf
 
 vk::Status VulkanPasses::RaygenReflection(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
                                           const SceneBuffers& scene, emu::SparseRays& out) {
+  return Raygen(raygen_reflection_, fc, surfaces, scene, out);
+}
+
+vk::Status VulkanPasses::RaygenRefraction(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
+                                          const SceneBuffers& scene, emu::SparseRays& out) {
+  return Raygen(raygen_refraction_, fc, surfaces, scene, out);
+}
+
+// One ray slot per surface (reflection and refraction share their buffers and launch).
+vk::Status VulkanPasses::Raygen(const vk::Kernel& kernel, const gpu::FrameConstants& fc,
+                                const std::vector<gpu::Surface>& surfaces, const SceneBuffers& scene,
+                                emu::SparseRays& out) {
   vk::Context& c = *ctx_;
   const std::uint32_t n = static_cast<std::uint32_t>(surfaces.size());
   vk::Buffer bs, bm, bf, br, bflags;
@@ -128,7 +143,7 @@ vk::Status VulkanPasses::RaygenReflection(const gpu::FrameConstants& fc, const s
   RS_TRY(c.CreateBuffer(n * sizeof(std::uint32_t), bflags));
   const vk::Buffer* bufs[5] = {&bs, &bm, &bf, &br, &bflags};
   vk::Recorder rec(c);
-  RS_TRY(rec.Dispatch(raygen_reflection_, bufs, &n, sizeof n, n));
+  RS_TRY(rec.Dispatch(kernel, bufs, &n, sizeof n, n));
   RS_TRY(rec.Submit());
   out.rays = br.Download<gpu::Ray>(n);
   out.flags = bflags.Download<std::uint32_t>(n);

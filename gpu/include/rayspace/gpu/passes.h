@@ -30,6 +30,8 @@ class VulkanPasses {
                       std::vector<gpu::Surface>& out);
   vk::Status RaygenReflection(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
                               const SceneBuffers& scene, emu::SparseRays& out);
+  vk::Status RaygenRefraction(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
+                              const SceneBuffers& scene, emu::SparseRays& out);
   // Adds the surfaces' shading into `accum` (in place, like the emulated pass).
   vk::Status Shade(const std::vector<gpu::Surface>& surfaces, const std::vector<std::uint32_t>& shadow_flags,
                    const std::vector<std::uint32_t>& shadow_offsets, const std::vector<std::uint32_t>& occluded,
@@ -65,9 +67,11 @@ class VulkanPasses {
   const vk::Context& context() const { return *ctx_; }
 
  private:
+  vk::Status Raygen(const vk::Kernel& k, const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
+                    const SceneBuffers& scene, emu::SparseRays& out);
   std::unique_ptr<vk::Context> ctx_;
   std::uint32_t raster_fault_ = 0;
-  vk::Kernel surfaces_, raygen_shadow_, raygen_reflection_, trim_, trim_reflection_, shade_, resolve_, hash_, compress_, sort_, decompress_, build_, traverse_, reduce_, intersect_;
+  vk::Kernel surfaces_, raygen_shadow_, raygen_reflection_, trim_, trim_reflection_, shade_, resolve_, hash_, compress_, sort_, decompress_, build_, traverse_, reduce_, intersect_, raygen_refraction_;
 };
 
 }  // namespace rayspace::gpu_backend
