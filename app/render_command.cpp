@@ -148,7 +148,13 @@ int RunRender(const RenderArgs& args) {
   std::printf("rayspace render: %s (%zu triangles in %zu objects, %dx%d, max_depth %d, %zu light%s)\n",
               scene.name.c_str(), r.triangles, scene.objects.size(), r.width, r.height, scene.max_depth,
               scene.lights.size(), scene.lights.size() == 1 ? "" : "s");
-  std::printf("  tracer      %s (%s)\n", args.algo.c_str(), tracer.value("mode", tracer.value("isa", "")).c_str());
+  std::string how;
+  if (tracer.contains("subdivision"))
+    how = fmt::format("subdivision {}, depth {}, {} reduction", tracer["subdivision"].get<int>(), tracer["depth"].get<int>(),
+                      tracer["reduction"].get<std::string>());
+  else
+    how = tracer.value("mode", tracer.value("isa", std::string()));
+  std::printf("  tracer      %s (%s)\n", args.algo.c_str(), how.c_str());
   for (std::uint32_t k = 0; k < 3; ++k) {
     std::string per;
     for (std::size_t b = k == 0 ? 0 : 1; b < r.rays[k].size(); ++b)
