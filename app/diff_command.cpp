@@ -111,8 +111,10 @@ int RunDiff(const DiffArgs& args) {
   const gpu_backend::Faults faults = ParseInject(args.inject);
 
   std::unique_ptr<gpu_backend::VulkanPasses> gpu;
-  if (vk::Status s = gpu_backend::VulkanPasses::Create(args.device, faults, gpu, static_cast<std::uint32_t>(args.local_size)); !s)
+  if (vk::Status s = gpu_backend::VulkanPasses::Create(args.device, faults, gpu, static_cast<std::uint32_t>(args.local_size)); !s) {
+    if (s.message.rfind("--device", 0) == 0) ThrowInput("{}", s.message);  // a bad argument, not a failure
     throw std::runtime_error("Vulkan: " + s.message);
+  }
 
   // The emulated frame provides the inputs of the first kernel passes (G-buffer surfaces) and the
   // accumulator for resolve.

@@ -55,6 +55,13 @@ foreach(f raster:1 surfaces:1 raygen.shadow:1 raygen.shadow:2 trim.shadow:1 hash
   diff_run(inject_${n} cornell-mirrors 64x64 ${f} 4 ${pass})
 endforeach()
 
+# A device index that does not exist is bad input: exit 2 and one line naming the option.
+execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --device 63
+                RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+if(NOT rc EQUAL 2 OR NOT err MATCHES "--device 63")
+  set(failures "${failures}\n--device 63: exit ${rc}, stderr '${err}'")
+endif()
+
 if(failures)
   message(FATAL_ERROR "${failures}")
 endif()
