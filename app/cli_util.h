@@ -20,4 +20,16 @@ inline void ParseSize(const std::string& s, int& w, int& h) {
   h = static_cast<int>(lh);
 }
 
+// Loads the scene and sets the frame size from the scene or --size.
+inline Scene LoadSceneForFrame(const std::string& path, const std::string& data, const std::string& size, int& width,
+                               int& height) {
+  LoadOptions lo;
+  lo.data_root = data;
+  Scene scene = LoadScene(path, lo);
+  width = scene.width;
+  height = scene.height;
+  if (!size.empty()) ParseSize(size, width, height);
+  return scene;
+}
+
 }  // namespace rayspace::app

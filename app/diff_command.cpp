@@ -101,13 +101,8 @@ double TimeMs(F&& f) {
 }  // namespace
 
 int RunDiff(const DiffArgs& args) {
-  LoadOptions lo;
-  lo.data_root = args.data;
-  const Scene scene = LoadScene(args.scene, lo);
   emu::FrameOptions fo;
-  fo.width = scene.width;
-  fo.height = scene.height;
-  if (!args.size.empty()) ParseSize(args.size, fo.width, fo.height);
+  const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
   const gpu_backend::Faults faults = ParseInject(args.inject);
 
   std::unique_ptr<gpu_backend::VulkanPasses> gpu;

@@ -39,13 +39,8 @@ nlohmann::json RaysJson(const std::vector<std::uint64_t>& per_bounce, bool from_
 
 int RunRender(const RenderArgs& args) {
   if (args.threads > 0) SetThreadCount(args.threads);
-  LoadOptions lo;
-  lo.data_root = args.data;
-  const Scene scene = LoadScene(args.scene, lo);
   emu::FrameOptions fo;
-  fo.width = scene.width;
-  fo.height = scene.height;
-  if (!args.size.empty()) ParseSize(args.size, fo.width, fo.height);
+  const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
   fo.progress = args.progress || isatty(STDERR_FILENO);  // progress on stderr when someone watches
   const std::string out = args.out.empty() ? scene.name + ".png" : args.out;
   {  // Fail on an unwritable output before spending time on the frame.

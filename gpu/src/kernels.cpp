@@ -36,6 +36,14 @@ vk::Status Make(vk::Context& c, const std::vector<T>& v, vk::Buffer& b) {
 
 constexpr std::uint32_t kTrimBlock = 4096;
 
+// Records one dispatch, submits it and waits.
+vk::Status RunKernel(vk::Context& c, const vk::Kernel& k, std::span<const vk::Buffer* const> buffers, const void* push,
+                     std::size_t push_size, std::uint32_t invocations) {
+  vk::Recorder rec(c);
+  RS_TRY(rec.Dispatch(k, buffers, push, push_size, invocations));
+  return rec.Submit();
+}
+
 }  // namespace
 
 const std::vector<std::pair<std::string, std::uint32_t>>& KernelPasses() {
@@ -92,9 +100,7 @@ vk::Status VulkanPasses::RaygenShadow(const gpu::FrameConstants& fc, const std::
   RS_TRY(c.CreateBuffer(slots * sizeof(std::uint32_t), bflags));
   const std::uint32_t push[2] = {static_cast<std::uint32_t>(surfaces.size()), static_cast<std::uint32_t>(scene.lights.size())};
   const vk::Buffer* bufs[5] = {&bs, &bl, &bf, &br, &bflags};
-  vk::Recorder rec(c);
-  RS_TRY(rec.Dispatch(raygen_shadow_, bufs, push, sizeof push, static_cast<std::uint32_t>(surfaces.size())));
-  RS_TRY(rec.Submit());
+  RS_TRY(RunKernel(c, raygen_shadow_, bufs, push, sizeof push, static_cast<std::uint32_t>(surfaces.size())));
   out.rays = br.Download<gpu::Ray>(slots);
   out.flags = bflags.Download<std::uint32_t>(slots);
   return vk::Status::Ok();
@@ -112,9 +118,7 @@ vk::Status VulkanPasses::Surfaces(const gpu::FrameConstants& fc, const emu::GBuf
   RS_TRY(Make(c, std::vector<gpu::FrameConstants>{fc}, bf));
   RS_TRY(c.CreateBuffer(n * sizeof(gpu::Surface), bs));
   const vk::Buffer* bufs[6] = {&bp, &bn, &bprim, &binfo, &bf, &bs};
-  vk::Recorder rec(c);
-  RS_TRY(rec.Dispatch(surfaces_, bufs, &n, sizeof n, n));
-  RS_TRY(rec.Submit());
+  RS_TRY(RunKernel(c, surfaces_, bufs, &n, sizeof n, n));
   out = bs.Download<gpu::Surface>(n);
   return vk::Status::Ok();
 }
@@ -142,9 +146,7 @@ vk::Status VulkanPasses::Raygen(const vk::Kernel& kernel, const gpu::FrameConsta
   RS_TRY(c.CreateBuffer(n * sizeof(gpu::Ray), br));
   RS_TRY(c.CreateBuffer(n * sizeof(std::uint32_t), bflags));
   const vk::Buffer* bufs[5] = {&bs, &bm, &bf, &br, &bflags};
-  vk::Recorder rec(c);
-  RS_TRY(rec.Dispatch(kernel, bufs, &n, sizeof n, n));
-  RS_TRY(rec.Submit());
+  RS_TRY(RunKernel(c, kernel, bufs, &n, sizeof n, n));
   out.rays = br.Download<gpu::Ray>(n);
   out.flags = bflags.Download<std::uint32_t>(n);
   return vk::Status::Ok();
@@ -166,9 +168,7 @@ vk::Status VulkanPasses::Shade(const std::vector<gpu::Surface>& surfaces, const 
   RS_TRY(Make(c, accum, ba));
   const std::uint32_t push[2] = {static_cast<std::uint32_t>(surfaces.size()), static_cast<std::uint32_t>(scene.lights.size())};
   const vk::Buffer* bufs[7] = {&bs, &bfl, &boff, &bocc, &bm, &bl, &ba};
-  vk::Recorder rec(c);
-  RS_TRY(rec.Dispatch(shade_, bufs, push, sizeof push, push[0]));
-  RS_TRY(rec.Submit());
+  RS_TRY(RunKernel(c, shade_, bufs, push, sizeof push, push[0]));
   accum = ba.Download<std::uint64_t>(accum.size());
   return vk::Status::Ok();
 }
@@ -208,9 +208,7 @@ vk::Status VulkanPasses::Hash(const std::vector<gpu::Ray>& rays, const gpu::Fram
   const std::int32_t push[6] = {static_cast<std::int32_t>(n), h.light_bits, h.polar_bits, h.azimuth_bits, h.origin_bits,
                                 h.direction_bits};
   const vk::Buffer* bufs[3] = {&br, &bf, &bk};
-  vk::Recorder rec(c);
-  RS_TRY(rec.Dispatch(hash_, bufs, push, sizeof push, n));
-  RS_TRY(rec.Submit());
+  RS_TRY(RunKernel(c, hash_, bufs, push, sizeof push, n));
   keys = bk.Download<std::uint32_t>(n);
   return vk::Status::Ok();
 }
@@ -337,9 +335,7 @@ vk::Status VulkanPasses::BuildLeaves(const std::vector<gpu::Ray>& rays, const st
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * sizeof(gpu::ConeNode), bn));
   const std::uint32_t push[2] = {count, 0};
   const vk::Buffer* bufs[5] = {&br, &bo, &bf, &bb, &bn};
-  vk::Recorder rec(c);
-  RS_TRY(rec.Dispatch(build_, bufs, push, sizeof push, count));
-  RS_TRY(rec.Submit());
+  RS_TRY(RunKernel(c, build_, bufs, push, sizeof push, count));
   nodes = bn.Download<gpu::ConeNode>(count);
   return vk::Status::Ok();
 }
@@ -356,9 +352,7 @@ vk::Status VulkanPasses::BuildParents(const std::vector<gpu::ConeNode>& below, c
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * sizeof(gpu::ConeNode), bn));
   const std::uint32_t push[2] = {count, 1};
   const vk::Buffer* bufs[5] = {&br, &bo, &bf, &bb, &bn};
-  vk::Recorder rec(c);
-  RS_TRY(rec.Dispatch(build_, bufs, push, sizeof push, count));
-  RS_TRY(rec.Submit());
+  RS_TRY(RunKernel(c, build_, bufs, push, sizeof push, count));
   nodes = bn.Download<gpu::ConeNode>(count);
   return vk::Status::Ok();
 }
@@ -390,9 +384,7 @@ vk::Status VulkanPasses::TraverseTop(const std::vector<gpu::ConeNode>& top, std:
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * 4, bt));
   const TraversePush push{0, count, t0, b0, b1 - b0, 0, 0, 0, 0, 0, eps};
   const vk::Buffer* bufs[9] = {&bn, &bs, &bi, &bm, &bp, &bf, &bfl, &bv, &bt};
-  vk::Recorder rec(c);
-  RS_TRY(rec.Dispatch(traverse_, bufs, &push, sizeof push, count));
-  RS_TRY(rec.Submit());
+  RS_TRY(RunKernel(c, traverse_, bufs, &push, sizeof push, count));
   flags = bfl.Download<std::uint32_t>(count);
   values = bv.Download<std::uint32_t>(count);
   tested = bt.Download<std::uint32_t>(count);
@@ -418,9 +410,7 @@ vk::Status VulkanPasses::TraverseLevel(const std::vector<std::uint32_t>& pairs, 
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * 4, bt));
   const TraversePush push{1, count, 0, b0, 0, 0, 0, base_up, base, children_max, eps};
   const vk::Buffer* bufs[9] = {&bn, &bs, &bi, &bm, &bp, &bf, &bfl, &bv, &bt};
-  vk::Recorder rec(c);
-  RS_TRY(rec.Dispatch(traverse_, bufs, &push, sizeof push, count));
-  RS_TRY(rec.Submit());
+  RS_TRY(RunKernel(c, traverse_, bufs, &push, sizeof push, count));
   flags = bfl.Download<std::uint32_t>(slots);
   values = bv.Download<std::uint32_t>(slots);
   tested = bt.Download<std::uint32_t>(count);
@@ -471,9 +461,7 @@ vk::Status VulkanPasses::Intersect(const std::vector<std::uint32_t>& pairs, cons
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * 4, btests));
   const std::uint32_t push[4] = {count, base1, b0, shadow ? 1u : 0u};
   const vk::Buffer* bufs[8] = {&bp, &bf, &bo, &br, &bt, &bh, &bocc, &btests};
-  vk::Recorder rec(c);
-  RS_TRY(rec.Dispatch(intersect_, bufs, push, sizeof push, count));
-  RS_TRY(rec.Submit());
+  RS_TRY(RunKernel(c, intersect_, bufs, push, sizeof push, count));
   hits = bh.Download<std::uint64_t>(rays.size());
   occluded = bocc.Download<std::uint32_t>(rays.size());
   tests = btests.Download<std::uint32_t>(count);
@@ -502,9 +490,7 @@ vk::Status VulkanPasses::Resolve(const gpu::FrameConstants& fc, const std::vecto
   RS_TRY(Make(c, accum, ba));
   RS_TRY(c.CreateBuffer(n * sizeof(std::uint32_t), brgb));
   const vk::Buffer* bufs[2] = {&ba, &brgb};
-  vk::Recorder rec(c);
-  RS_TRY(rec.Dispatch(resolve_, bufs, &n, sizeof n, n));
-  RS_TRY(rec.Submit());
+  RS_TRY(RunKernel(c, resolve_, bufs, &n, sizeof n, n));
   const std::vector<std::uint32_t> wide = brgb.Download<std::uint32_t>(n);
   out.resize(n);
   for (std::uint32_t i = 0; i < n; ++i) out[i] = static_cast<std::uint8_t>(wide[i]);
