@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <regex>
 
 #include <unistd.h>
@@ -52,8 +53,11 @@ int RunRender(const RenderArgs& args) {
   const emu::DirectMode mode = args.direct == "exhaustive" ? emu::DirectMode::kExhaustive
                                : args.direct == "bvh"      ? emu::DirectMode::kBvh
                                                            : emu::DirectMode::kAuto;
-  std::unique_ptr<Tracer> direct = emu::MakeDirectTracer(buffers, mode);
-  std::unique_ptr<Tracer> embree = refs::MakeEmbreeTracer(buffers, ThreadCount());
+  // Build only the tracers this run uses: the frame's, and the oracle's unless --no-oracle.
+  const bool embree_frames = args.algo == "embree";
+  std::unique_ptr<Tracer> direct, embree;
+  if (args.algo == "brute" || (embree_frames && !args.no_oracle)) direct = emu::MakeDirectTracer(buffers, mode);
+  if (embree_frames || !args.no_oracle) embree = refs::MakeEmbreeTracer(buffers, ThreadCount());
   std::unique_ptr<emu::HierarchyTracer> hierarchy;
   if (args.algo == "crsh" || args.algo == "rah" || args.algo == "rah-quadtree") {
     emu::HierarchyConfig hc;
@@ -75,16 +79,17 @@ int RunRender(const RenderArgs& args) {
     hc.image_height = fo.height;
     hierarchy = emu::MakeHierarchyTracer(buffers, hc);
   }
-  Tracer& frame_tracer = hierarchy ? *hierarchy : args.algo == "embree" ? *embree : *direct;
-  Tracer& oracle_tracer = args.algo == "embree" ? *direct : *embree;
+  Tracer& frame_tracer = hierarchy ? *hierarchy : embree_frames ? *embree : *direct;
+  Tracer* oracle_tracer = embree_frames ? direct.get() : embree.get();
 
-  refs::Oracle oracle(oracle_tracer, buffers);
+  std::optional<refs::Oracle> oracle;
+  if (!args.no_oracle) oracle.emplace(*oracle_tracer, buffers);
   double oracle_ms = 0.0;
   emu::BatchObserver observer;
   if (!args.no_oracle) {
     observer = [&](const emu::Batch& b) {
       const auto t0 = std::chrono::steady_clock::now();
-      oracle.Check(b);
+      oracle->Check(b);
       oracle_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     };
   }
@@ -116,7 +121,7 @@ int RunRender(const RenderArgs& args) {
   if (args.no_oracle) {
     oj = {{"name", "none"}, {"rays_checked", 0}, {"mismatches", 0}, {"skipped", true}};
   } else {
-    oracle.Report(oj, 1000);
+    oracle->Report(oj, 1000);
     oj["ms"] = oracle_ms;
   }
   j["oracle"] = oj;
@@ -164,14 +169,14 @@ int RunRender(const RenderArgs& args) {
     std::printf("  oracle      skipped\n");
   } else {
     std::printf("  oracle      %s: %zu rays checked, %zu mismatches; exact arithmetic found the oracle wrong on %zu, %zu exact ties (shared edges, grazed edges)\n",
-                oj["name"].get<std::string>().c_str(), oracle.rays_checked(), oracle.mismatches().size(), oracle.oracle_wrong().size(),
-                oracle.ties().size());
+                oj["name"].get<std::string>().c_str(), oracle->rays_checked(), oracle->mismatches().size(), oracle->oracle_wrong().size(),
+                oracle->ties().size());
   }
   std::printf("  frame       %.1f ms (oracle %.1f ms)\n", r.total_ms, oracle_ms);
   std::printf("  digest      %s\n", HexDigest(r.digest.Frame()).c_str());
   std::printf("  image       %s\n", out.c_str());
   if (!args.stats.empty()) std::printf("  stats       %s\n", args.stats.c_str());
-  return oracle.mismatches().empty() ? 0 : 3;
+  return !oracle || oracle->mismatches().empty() ? 0 : 3;
 }
 
 }  // namespace rayspace::app

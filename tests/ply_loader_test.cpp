@@ -51,7 +51,8 @@ const glm::vec3 kVertices[] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 0, 0.5f}, {2
 // The quad (1,3,4,2) fans into (1,3,4) and (1,4,2).
 const int kTriangleCorners[] = {0, 1, 2, 1, 3, 4, 1, 4, 2};
 
-void CheckTestMesh(const MeshData& mesh, const std::string& name) {
+// Checks the mesh against the test mesh in detail; returns its triangle count for the caller to assert.
+std::size_t CheckTestMesh(const MeshData& mesh, const std::string& name) {
   REQUIRE(mesh.submeshes.size() == 1);
   const rayspace::SubMesh& sub = mesh.submeshes[0];
   CHECK(sub.name == name);
@@ -64,6 +65,7 @@ void CheckTestMesh(const MeshData& mesh, const std::string& name) {
   CHECK(sub.normals.empty());
   CHECK(sub.material == std::vector<int>{-1, -1, -1});
   CHECK(mesh.materials.empty());
+  return sub.TriangleCount();
 }
 
 const char* const kAsciiTestMesh =
@@ -122,7 +124,7 @@ bool Contains(const std::string& text, std::string_view part) { return text.find
 
 TEST_CASE("LoadPly reads an ascii triangle and fan-triangulates a quad") {
   TempDir dir;
-  CheckTestMesh(LoadPly(dir.Write("ascii_mesh.ply", kAsciiTestMesh)), "ascii_mesh");
+  CHECK(CheckTestMesh(LoadPly(dir.Write("ascii_mesh.ply", kAsciiTestMesh)), "ascii_mesh") == 3);
 }
 
 TEST_CASE("LoadPly tolerates CRLF line endings, blank lines and '+' signs in ascii") {
@@ -136,15 +138,15 @@ TEST_CASE("LoadPly tolerates CRLF line endings, blank lines and '+' signs in asc
   crlf.insert(crlf.find("2 0 0.5"), "\r\n");
   const std::size_t plus = crlf.find("2 0 0.5");
   crlf.replace(plus, 7, "+2 0 +0.5");
-  CheckTestMesh(LoadPly(dir.Write("crlf.ply", crlf)), "crlf");
+  CHECK(CheckTestMesh(LoadPly(dir.Write("crlf.ply", crlf)), "crlf") == 3);
 }
 
 TEST_CASE("LoadPly reads little and big endian binary identically") {
   TempDir dir;
   const MeshData little = LoadPly(dir.Write("little.ply", BinaryTestMesh(false)));
   const MeshData big = LoadPly(dir.Write("big.ply", BinaryTestMesh(true)));
-  CheckTestMesh(little, "little");
-  CheckTestMesh(big, "big");
+  CHECK(CheckTestMesh(little, "little") == 3);
+  CHECK(CheckTestMesh(big, "big") == 3);
   CHECK(little.submeshes[0].positions == big.submeshes[0].positions);
   const MeshData ascii = LoadPly(dir.Write("ascii.ply", kAsciiTestMesh));
   CHECK(ascii.submeshes[0].positions == little.submeshes[0].positions);
@@ -218,7 +220,7 @@ TEST_CASE("LoadPly skips unknown elements and properties, lists included") {
                              "0 0 3 0 1 2 3 4 4 4\n"
                              "1 6 1 2 3 4 5 6 4 1 3 4 2 0\n"
                              "0 2 -1 1\n";
-    CheckTestMesh(LoadPly(dir.Write("unknown_ascii.ply", text)), "unknown_ascii");
+    CHECK(CheckTestMesh(LoadPly(dir.Write("unknown_ascii.ply", text)), "unknown_ascii") == 3);
   }
   SUBCASE("binary") {
     for (bool big : {false, true}) {
@@ -242,7 +244,7 @@ TEST_CASE("LoadPly skips unknown elements and properties, lists included") {
       body << std::uint8_t{4} << std::uint32_t{1} << std::uint32_t{3} << std::uint32_t{4} << std::uint32_t{2};
       body << std::uint8_t{1} << std::uint32_t{9};
       body << std::int32_t{5} << std::int32_t{2} << std::int16_t{-1} << std::int16_t{1};
-      CheckTestMesh(LoadPly(dir.Write("unknown_binary.ply", text + body.str())), "unknown_binary");
+      CHECK(CheckTestMesh(LoadPly(dir.Write("unknown_binary.ply", text + body.str())), "unknown_binary") == 3);
     }
   }
 }
@@ -266,7 +268,7 @@ TEST_CASE("LoadPly accepts vertex_index and a face element declared before the v
       "0 1 0\n"
       "2 0 0.5\n"
       "2 1 -0.25\n";
-  CheckTestMesh(LoadPly(dir.Write("face_first.ply", text)), "face_first");
+  CHECK(CheckTestMesh(LoadPly(dir.Write("face_first.ply", text)), "face_first") == 3);
 }
 
 TEST_CASE("LoadPly reads vertex normals") {

@@ -27,10 +27,8 @@ struct RasterObjects {
   VkDescriptorPool pool = VK_NULL_HANDLE;
   VkCommandBuffer cmd = VK_NULL_HANDLE;
   VkCommandPool cmd_pool = VK_NULL_HANDLE;
-  VkFence fence = VK_NULL_HANDLE;
   ~RasterObjects() {
     if (!dev) return;
-    if (fence) vkDestroyFence(dev, fence, nullptr);
     if (cmd) vkFreeCommandBuffers(dev, cmd_pool, 1, &cmd);
     if (pool) vkDestroyDescriptorPool(dev, pool, nullptr);
     if (pipeline) vkDestroyPipeline(dev, pipeline, nullptr);
@@ -279,13 +277,7 @@ vk::Status RasterGBuffer(vk::Context& ctx, std::span<const std::uint32_t> vert_s
   mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
   vkCmdPipelineBarrier(o.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0, nullptr);
   RS_VK(vkEndCommandBuffer(o.cmd));
-  VkFenceCreateInfo fci2{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-  RS_VK(vkCreateFence(o.dev, &fci2, nullptr, &o.fence));
-  VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-  si.commandBufferCount = 1;
-  si.pCommandBuffers = &o.cmd;
-  RS_VK(vkQueueSubmit(ctx.queue(), 1, &si, o.fence));
-  RS_VK(vkWaitForFences(o.dev, 1, &o.fence, VK_TRUE, UINT64_MAX));
+  if (vk::Status st = ctx.SubmitAndWait(o.cmd); !st) return st;
   out.diffuse = outb[0].Download<glm::vec4>(pixels);
   out.specular = outb[1].Download<glm::vec4>(pixels);
   out.position = outb[2].Download<glm::vec4>(pixels);

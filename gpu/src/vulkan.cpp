@@ -175,6 +175,20 @@ Context::~Context() {
   if (instance_) vkDestroyInstance(instance_, nullptr);
 }
 
+Status Context::SubmitAndWait(VkCommandBuffer cmd) {
+  VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  si.commandBufferCount = 1;
+  si.pCommandBuffers = &cmd;
+  VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  VkFence fence;
+  RS_VK(vkCreateFence(device_, &fci, nullptr, &fence));
+  VkResult r = vkQueueSubmit(queue_, 1, &si, fence);
+  if (r == VK_SUCCESS) r = vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX);
+  vkDestroyFence(device_, fence, nullptr);
+  if (r != VK_SUCCESS) return Status::Fail("vkQueueSubmit/vkWaitForFences", r);
+  return Status::Ok();
+}
+
 std::uint32_t Context::FindMemoryType(std::uint32_t bits, VkMemoryPropertyFlags flags) const {
   for (std::uint32_t i = 0; i < memory_.memoryTypeCount; ++i)
     if ((bits & (1u << i)) && (memory_.memoryTypes[i].propertyFlags & flags) == flags) return i;
@@ -316,16 +330,7 @@ Status Recorder::Submit() {
   if (!recording_) return Status::Ok();
   RS_VK(vkEndCommandBuffer(cmd_));
   recording_ = false;
-  VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-  si.commandBufferCount = 1;
-  si.pCommandBuffers = &cmd_;
-  VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-  VkFence fence;
-  RS_VK(vkCreateFence(ctx_.device_, &fci, nullptr, &fence));
-  VkResult r = vkQueueSubmit(ctx_.queue_, 1, &si, fence);
-  if (r == VK_SUCCESS) r = vkWaitForFences(ctx_.device_, 1, &fence, VK_TRUE, UINT64_MAX);
-  vkDestroyFence(ctx_.device_, fence, nullptr);
-  if (r != VK_SUCCESS) return Status::Fail("vkQueueSubmit/vkWaitForFences", r);
+  if (Status st = ctx_.SubmitAndWait(cmd_); !st) return st;
   RS_VK(vkResetDescriptorPool(ctx_.device_, pool_, 0));
   RS_VK(vkResetCommandBuffer(cmd_, 0));
   return Status::Ok();

@@ -113,6 +113,8 @@ class Context {
   VkDevice device() const { return device_; }
   VkQueue queue() const { return queue_; }
   VkCommandPool command_pool() const { return pool_; }
+  // Submits one ended command buffer to the queue and waits for it.
+  Status SubmitAndWait(VkCommandBuffer cmd);
   // A memory type allowed by `bits` with all of `flags`, or UINT32_MAX.
   std::uint32_t FindMemoryType(std::uint32_t bits, VkMemoryPropertyFlags flags) const;
 
