@@ -1,32 +1,25 @@
 #include "diff_command.h"
+#include "backend_setup.h"
 #include "cli_util.h"
 
-#include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <regex>
-
-#include <nlohmann/json.hpp>
-
-#include "rayspace/compare.h"
-#include "rayspace/emu/frame.h"
-#include "rayspace/emu/hierarchy.h"
-#include "rayspace/emu/intersect.h"
-#include "rayspace/error.h"
-#include "rayspace/gpu/passes.h"
-#include "rayspace/scene.h"
+#include <map>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "rayspace/emu/frame.h"
+#include "rayspace/emu/hierarchy.h"
+#include "rayspace/error.h"
+#include "rayspace/gpu/passes.h"
+#include "rayspace/refs/embree_tracer.h"
+#include "rayspace/scene.h"
+#include "rayspace/verify/differ.h"
 
 namespace rayspace::app {
 namespace {
-
-// Words of a Ray: origin_tmin, direction_tmax (floats), info (uints), weight (floats).
-constexpr std::uint32_t kRayFloats = 0xF0FFu;
-// Words of a Surface: position, normal, incoming, weight (floats), info (uints).
-constexpr std::uint32_t kSurfaceFloats = 0xFFFFu;
-// Words of a ConeNode: all floats.
-constexpr std::uint32_t kNodeFloats = 0xFFFu;
 
 std::string EmulationModel() {
   std::string m = "x86-64";
@@ -36,9 +29,8 @@ std::string EmulationModel() {
   else if (__builtin_cpu_supports("avx2")) m += " avx2";
   if (__builtin_cpu_supports("fma")) m += " fma";
 #endif
-  return m;
+  return m + "; emulated kernels use no FMA contraction (-ffp-contract=off) and only correctly rounded +,-,*,/,sqrt";
 }
-
 
 gpu_backend::Faults ParseInject(const std::string& spec) {
   gpu_backend::Faults f;
@@ -65,299 +57,204 @@ gpu_backend::Faults ParseInject(const std::string& spec) {
   ThrowInput("--inject '{}': no kernel named '{}'; kernels: {}", spec, pass, known);
 }
 
-// Would a divergence in a ray batch change any hit? Traces both with the emulator's tracer.
-std::string HitsChanged(Tracer& tracer, const std::vector<gpu::Ray>& expected, const std::vector<gpu::Ray>& actual,
-                        bool shadow) {
-  if (expected.size() != actual.size()) return "changed (ray counts differ)";
-  std::size_t changed = 0;
-  if (shadow) {
-    std::vector<std::uint32_t> a, b;
-    tracer.Occluded(expected, a);
-    tracer.Occluded(actual, b);
-    for (std::size_t i = 0; i < a.size(); ++i) changed += a[i] != b[i];
-  } else {
-    std::vector<std::uint64_t> a, b;
-    tracer.Closest(expected, a);
-    tracer.Closest(actual, b);
-    for (std::size_t i = 0; i < a.size(); ++i) changed += a[i] != b[i];
+nlohmann::json CallJson(const verify::CallRecord& c) {
+  nlohmann::json bl = nlohmann::json::array();
+  for (const BufferComparison& b : c.buffers) {
+    nlohmann::json j;
+    b.ToJson(j);
+    bl.push_back(j);
   }
-  return changed ? fmt::format("changed for {} rays", changed) : "unchanged";
+  nlohmann::json j = {{"seq", c.seq}, {"pass", c.pass}, {"method", c.method}, {"label", c.label}, {"equal", c.equal},
+                      {"buffers", bl}, {"emu_ms", c.expected_ms}, {"vulkan_ms", c.actual_ms}};
+  if (!c.hits.empty()) j["hits"] = c.hits;
+  if (!c.error.empty()) j["error"] = c.error;
+  if (!c.saved.empty()) j["saved"] = c.saved;
+  return j;
 }
 
-// Packed (node << 14 | triangle) pairs whose ids are in range.
-bool ValidPairs(const std::vector<std::uint32_t>& pairs, std::uint32_t nodes, std::uint32_t tris) {
-  for (std::uint32_t p : pairs)
-    if ((p >> emu::kPairTriangleBits) >= nodes || (p & ((1u << emu::kPairTriangleBits) - 1u)) >= tris) return false;
-  return true;
-}
-
-template <typename F>
-double TimeMs(F&& f) {
-  const auto t0 = std::chrono::steady_clock::now();
-  f();
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
+// Per kernel pass: calls, elements and mismatches per buffer, the first divergent call, and times.
+struct PassTotals {
+  std::size_t calls = 0, first_seq = 0;
+  std::map<std::string, std::pair<std::size_t, std::size_t>> buffers;  // elements, mismatches
+  double emu_ms = 0, vulkan_ms = 0;
+  bool equal = true;
+  const verify::CallRecord* first_divergent = nullptr;
+  std::uint64_t max_ulp = 0;
+};
 
 }  // namespace
 
 int RunDiff(const DiffArgs& args) {
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
-  const gpu_backend::Faults faults = ParseInject(args.inject);
-
-  std::unique_ptr<gpu_backend::VulkanPasses> gpu;
-  if (vk::Status s = gpu_backend::VulkanPasses::Create(args.device, faults, gpu, static_cast<std::uint32_t>(args.local_size)); !s) {
-    if (s.message.rfind("--device", 0) == 0) ThrowInput("{}", s.message);  // a bad argument, not a failure
-    throw std::runtime_error("Vulkan: " + s.message);
-  }
-
-  // The emulated frame provides the inputs of the first kernel passes (G-buffer surfaces) and the
-  // accumulator for resolve.
+  const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, ParseInject(args.inject), args.split_bytes);
   const SceneBuffers buffers = FlattenScene(scene);
   auto direct = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);
-  const emu::FrameResult frame = emu::RenderFrame(scene, buffers, *direct, fo);
-  const gpu::FrameConstants fc = MakeFrameConstants(scene, buffers, fo.width, fo.height);
-  std::vector<gpu::Surface> surfaces;
 
-  std::vector<BufferComparison> results;
+  verify::Backends expected{emu::EmuFramePasses(), emu::EmuHierarchyPasses()};
+  verify::Backends actual{gpu.Frame(), gpu.Hierarchy()};
+  verify::Differ differ(expected, actual, {args.save_inputs, direct.get(), args.inject});
+  fo.passes = &differ.frame();
+
+  // The frame's tracer: a hierarchy whose passes go through the Differ, or a host tracer (brute,
+  // embree) whose traces are not GPU passes.
+  std::unique_ptr<Tracer> host_tracer;
+  std::unique_ptr<emu::HierarchyTracer> hierarchy;
+  if (args.algo == "brute") {
+    host_tracer = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);
+  } else if (args.algo == "embree") {
+    host_tracer = refs::MakeEmbreeTracer(buffers, 0);
+  } else {
+    emu::HierarchyConfig hc;
+    hc.algorithm = args.algo == "crsh" ? emu::Algorithm::kCrsh : args.algo == "rah" ? emu::Algorithm::kRah : emu::Algorithm::kRahQuadtree;
+    hc.subdivision = args.subdivision;
+    hc.depth = args.depth;
+    if (hc.algorithm == emu::Algorithm::kRahQuadtree) {
+      hc.subdivision = 4;
+      hc.depth = std::max(1, static_cast<int>(std::ceil(std::log2(std::max(fo.width, fo.height)))));
+    }
+    hc.reduction = args.reduction == "scan" ? emu::Reduction::kScan : emu::Reduction::kHierarchical;
+    hc.image_width = fo.width;
+    hc.image_height = fo.height;
+    hc.passes = &differ.hierarchy();
+    hierarchy = emu::MakeHierarchyTracer(buffers, hc);
+  }
+  Tracer& tracer = hierarchy ? static_cast<Tracer&>(*hierarchy) : *host_tracer;
+
+  std::printf("rayspace diff: %s (%dx%d, %s) on %s\n  emulation model: %s\n", scene.name.c_str(), fo.width, fo.height,
+              args.algo.c_str(), gpu.device.c_str(), EmulationModel().c_str());
+  std::string stopped;
+  emu::FrameResult frame;
+  try {
+    frame = emu::RenderFrame(scene, buffers, tracer, fo);
+  } catch (const verify::DiffStop& stop) {
+    stopped = stop.what();
+  }
+
+  // Totals per kernel pass, in order of first appearance.
+  std::vector<std::string> order;
+  std::map<std::string, PassTotals> totals;
+  const verify::CallRecord* first = nullptr;
+  for (const verify::CallRecord& c : differ.calls()) {
+    auto [it, fresh] = totals.try_emplace(c.pass);
+    if (fresh) order.push_back(c.pass);
+    PassTotals& t = it->second;
+    ++t.calls;
+    t.emu_ms += c.expected_ms;
+    t.vulkan_ms += c.actual_ms;
+    for (const BufferComparison& b : c.buffers) {
+      auto& e = t.buffers[b.buffer];
+      e.first += b.elements;
+      e.second += b.mismatches + (b.expected_elements != b.actual_elements ? 1 : 0);
+      t.max_ulp = std::max(t.max_ulp, b.max_ulp);
+    }
+    if (!c.equal && t.equal) {
+      t.equal = false;
+      t.first_divergent = &c;
+      if (!first) first = &c;
+    }
+  }
   nlohmann::json passes = nlohmann::json::array();
-  std::string first_divergent;
-  double emu_ms = 0.0, gpu_ms = 0.0;  // the latest pass's times on each backend
-  std::vector<std::string> stopped;   // passes not compared because an earlier output was unusable
-  auto record = [&](const std::string& pass, std::vector<BufferComparison> cmp, const std::string& note) {
-    bool equal = true;
-    nlohmann::json bl = nlohmann::json::array();
-    for (const BufferComparison& c : cmp) {
-      equal &= c.Equal();
-      nlohmann::json cj;
-      c.ToJson(cj);
-      bl.push_back(cj);
-      std::printf("  %-16s %s\n", pass.c_str(), c.Summary().c_str());
+  std::printf("  %-18s %6s %12s %11s %11s  %s\n", "pass", "calls", "mismatches", "emu ms", "vulkan ms", "buffers (elements)");
+  for (const std::string& p : order) {
+    const PassTotals& t = totals[p];
+    std::size_t mism = 0;
+    std::string bufs;
+    nlohmann::json bj = nlohmann::json::array();
+    for (const auto& [name, em] : t.buffers) {
+      mism += em.second;
+      bufs += fmt::format("{}{} ({})", bufs.empty() ? "" : ", ", name, em.first);
+      bj.push_back({{"buffer", name}, {"elements", em.first}, {"mismatches", em.second}});
     }
-    if (!equal && first_divergent.empty()) first_divergent = pass;
-    std::printf("  %-16s emu %.1f ms, vulkan %.1f ms\n", pass.c_str(), emu_ms, gpu_ms);
-    passes.push_back({{"pass", pass}, {"equal", equal}, {"buffers", bl}, {"hits", note}, {"emu_ms", emu_ms}, {"vulkan_ms", gpu_ms}});
-  };
-  auto fail = [](const vk::Status& s) {
-    if (!s) throw std::runtime_error("Vulkan: " + s.message);
-  };
-
-  std::printf("rayspace diff: %s (%dx%d) on %s; emulation model %s\n", scene.name.c_str(), fo.width, fo.height,
-              gpu->context().device_name().c_str(), EmulationModel().c_str());
-  // raster: lavapipe's fixed-function coverage, clipping and depth test against the emulation.
-  emu::GBuffer gpu_gbuffer;
-  {
-    emu_ms = 0.0;
-    for (const emu::PassRecord& p : frame.passes)
-      if (p.name == "raster") emu_ms = p.ms;
-    gpu_ms = TimeMs([&] { fail(gpu->Raster(fc, buffers, gpu_gbuffer)); });
-    const emu::GBuffer& e = frame.gbuffer;
-    record("raster",
-           {CompareBuffers("raster", "diffuse", e.diffuse, gpu_gbuffer.diffuse, 0xFu),
-            CompareBuffers("raster", "specular", e.specular, gpu_gbuffer.specular, 0xFu),
-            CompareBuffers("raster", "position", e.position, gpu_gbuffer.position, 0xFu),
-            CompareBuffers("raster", "normal", e.normal, gpu_gbuffer.normal, 0xFu),
-            CompareBuffers("raster", "prim", e.prim, gpu_gbuffer.prim, 0),
-            CompareBuffers("raster", "depth", e.depth, gpu_gbuffer.depth, 1u)},
-           "");
+    std::printf("  %-18s %6zu %12zu %11.1f %11.1f  %s\n", p.c_str(), t.calls, mism, t.emu_ms, t.vulkan_ms, bufs.c_str());
+    nlohmann::json pj = {{"pass", p}, {"calls", t.calls}, {"equal", t.equal}, {"buffers", bj}, {"max_ulp", t.max_ulp},
+                         {"emu_ms", t.emu_ms}, {"vulkan_ms", t.vulkan_ms}};
+    if (t.first_divergent) pj["first_divergent_call"] = CallJson(*t.first_divergent);
+    passes.push_back(pj);
   }
-  // From here on both sides read the GPU's outputs, starting with its G-buffer.
-  std::vector<gpu::Surface> gpu_surfaces;
-  gpu_ms = TimeMs([&] { fail(gpu->Surfaces(fc, gpu_gbuffer, buffers, gpu_surfaces)); });
-  emu_ms = TimeMs([&] { surfaces = emu::PassSurfacesFromGBuffer(fc, gpu_gbuffer, buffers); });
-  record("surfaces", {CompareBuffers("surfaces", "surfaces", surfaces, gpu_surfaces, kSurfaceFloats)}, "");
-
-  // CRSH's ray sorting and hierarchy build on a batch of GPU-compacted rays: hash, compress, sort,
-  // decompress, then level-1 nodes (8 rays each) and one level of unions. The kernels serve every
-  // batch; their planted faults are named after the shadow batch, which runs first.
-  auto SortAndBuild = [&](const std::string& kind, const std::vector<gpu::Ray>& rays) {
-    const emu::HashConfig hc;
-    std::vector<std::uint32_t> gpu_keys, gpu_sorted, gpu_order;
-    gpu_ms = TimeMs([&] { fail(gpu->Hash(rays, fc, hc, gpu_keys)); });
-    std::vector<std::uint32_t> emu_keys;
-    emu_ms = TimeMs([&] { emu_keys = emu::PassHash(rays, buffers, hc); });
-    record("hash." + kind, {CompareBuffers("hash." + kind, "keys", emu_keys, gpu_keys, 0)}, "");
-    emu::Chunks gpu_chunks;
-    gpu_ms = TimeMs([&] { fail(gpu->Compress(gpu_keys, gpu_chunks)); });
-    emu::Chunks emu_chunks;
-    emu_ms = TimeMs([&] { emu_chunks = emu::PassCompress(gpu_keys); });
-    record("compress." + kind,
-           {CompareBuffers("compress." + kind, "chunk_key", emu_chunks.key, gpu_chunks.key, 0),
-            CompareBuffers("compress." + kind, "chunk_base", emu_chunks.base, gpu_chunks.base, 0),
-            CompareBuffers("compress." + kind, "chunk_size", emu_chunks.size, gpu_chunks.size, 0)},
-           "");
-    gpu_ms = TimeMs([&] { fail(gpu->SortChunks(gpu_chunks.key, gpu_sorted)); });
-    std::vector<std::uint32_t> emu_sorted;
-    emu_ms = TimeMs([&] { emu_sorted = emu::PassSortChunks(gpu_chunks.key); });
-    record("sort." + kind, {CompareBuffers("sort." + kind, "chunk_order", emu_sorted, gpu_sorted, 0)}, "");
-    gpu_ms = TimeMs([&] { fail(gpu->Decompress(gpu_chunks, gpu_sorted, gpu_order)); });
-    std::vector<std::uint32_t> emu_order;
-    emu_ms = TimeMs([&] { emu_order = emu::PassDecompress(gpu_chunks, gpu_sorted); });
-    record("decompress." + kind, {CompareBuffers("decompress." + kind, "ray_order", emu_order, gpu_order, 0)}, "");
-
-    // build: level-1 nodes over the GPU's sorted rays (8 per node), then one level of unions.
-    const std::vector<std::uint32_t> first1 = emu::FixedGroups(gpu_order.size(), 8);
-    std::vector<gpu::ConeNode> emu_l1, gpu_l1, emu_l2, gpu_l2;
-    emu_ms = TimeMs([&] { emu_l1 = emu::PassBuildLeaves(rays, gpu_order, first1); });
-    gpu_ms = TimeMs([&] { fail(gpu->BuildLeaves(rays, gpu_order, first1, gpu_l1)); });
-    const std::vector<std::uint32_t> first2 = emu::FixedGroups(gpu_l1.size(), 8);
-    double emu2 = TimeMs([&] { emu_l2 = emu::PassBuildParents(gpu_l1, first2); });
-    double gpu2 = TimeMs([&] { fail(gpu->BuildParents(gpu_l1, first2, gpu_l2)); });
-    emu_ms += emu2;
-    gpu_ms += gpu2;
-    record("build." + kind,
-           {CompareBuffers("build." + kind, "nodes.L1", emu_l1, gpu_l1, kNodeFloats),
-            CompareBuffers("build." + kind, "nodes.L2", emu_l2, gpu_l2, kNodeFloats)},
-           "");
-
-    // Traversal of one block (top nodes x the first triangle batch, capped at 2^22 slots), stream
-    // reduction after each level, and the final tests; each pass reads the GPU's previous output.
-    const std::uint32_t T = static_cast<std::uint32_t>(std::min<std::size_t>(buffers.triangles.size(), 1u << 14));
-    const std::uint32_t t1 = static_cast<std::uint32_t>(std::min<std::size_t>(gpu_l2.size(), std::max<std::size_t>(1, (1u << 22) / T)));
-    const float eps = emu::TraversalEpsilon(buffers);
-    const auto& spheres = frame.triangle_spheres;
-    auto wide = [](const std::vector<std::uint8_t>& v) { return std::vector<std::uint32_t>(v.begin(), v.end()); };
-    auto narrow = [](const std::vector<std::uint32_t>& v) { return std::vector<std::uint8_t>(v.begin(), v.end()); };
-    std::vector<std::uint32_t> gf, gv, gt;
-    emu::PairSlots es;
-    static const std::vector<std::uint8_t> kNoMask;
-    emu_ms = TimeMs([&] { es = emu::PassTraverseTop(gpu_l2, 0, t1, 0, T, spheres, buffers, kNoMask, eps); });
-    gpu_ms = TimeMs([&] { fail(gpu->TraverseTop(gpu_l2, 0, t1, 0, T, spheres, buffers, eps, gf, gv, gt)); });
-    record("traverse." + kind,
-           {CompareBuffers("traverse." + kind, "top.flags", wide(es.flags), gf, 0),
-            CompareBuffers("traverse." + kind, "top.pairs", es.values, gv, 0),
-            CompareBuffers("traverse." + kind, "top.tested", wide(es.tested), gt, 0)},
-           "");
-    std::vector<std::uint32_t> gpairs, epairs;
-    emu_ms = TimeMs([&] { epairs = emu::ReduceHierarchical(narrow(gf), gv, 64); });
-    gpu_ms = TimeMs([&] { fail(gpu->Reduce(gf, gv, 64, gpairs)); });
-    record("reduce." + kind, {CompareBuffers("reduce." + kind, "top.pairs", epairs, gpairs, 0)}, "");
-    // A diverged pair stream may hold garbage ids; stop this batch rather than index with them.
-    if (!ValidPairs(gpairs, t1, T)) {
-      stopped.push_back("traverse." + kind + ".L1 and after: the GPU's pair stream holds ids out of range");
-      return;
-    }
-    emu_ms = TimeMs([&] { es = emu::PassTraverseLevel(gpairs, gpu_l1, first2, 0, 0, 8, 0, spheres, eps); });
-    gpu_ms = TimeMs([&] { fail(gpu->TraverseLevel(gpairs, gpu_l1, first2, 0, 0, 8, 0, spheres, eps, gf, gv, gt)); });
-    record("traverse." + kind + ".L1",
-           {CompareBuffers("traverse." + kind + ".L1", "flags", wide(es.flags), gf, 0),
-            CompareBuffers("traverse." + kind + ".L1", "pairs", es.values, gv, 0),
-            CompareBuffers("traverse." + kind + ".L1", "tested", wide(es.tested), gt, 0)},
-           "");
-    emu_ms = TimeMs([&] { epairs = emu::ReduceHierarchical(narrow(gf), gv, 64); });
-    gpu_ms = TimeMs([&] { fail(gpu->Reduce(gf, gv, 64, gpairs)); });
-    record("reduce." + kind + ".L1", {CompareBuffers("reduce." + kind + ".L1", "pairs", epairs, gpairs, 0)}, "");
-    if (!ValidPairs(gpairs, static_cast<std::uint32_t>(gpu_l1.size()), T)) {
-      stopped.push_back("intersect." + kind + ": the GPU's pair stream holds ids out of range");
-      return;
-    }
-    const bool shadow = kind == "shadow";
-    std::vector<std::uint64_t> eh(rays.size(), emu::kMissPacked), gh;
-    std::vector<std::uint32_t> eo(rays.size(), 0u), go, etests, gtests;
-    emu_ms = TimeMs([&] { etests = emu::PassIntersect(gpairs, first1, 0, 0, gpu_order, rays, buffers, shadow ? nullptr : &eh, shadow ? &eo : nullptr); });
-    gpu_ms = TimeMs([&] { fail(gpu->Intersect(gpairs, first1, 0, 0, gpu_order, rays, buffers, shadow, gh, go, gtests)); });
-    std::vector<BufferComparison> ic = {CompareBuffers("intersect." + kind, "tests", etests, gtests, 0)};
-    if (shadow) ic.push_back(CompareBuffers("intersect." + kind, "occluded", eo, go, 0));
-    else ic.push_back(CompareBuffers("intersect." + kind, "hits", eh, gh, 0));
-    record("intersect." + kind, ic, "");
-  };
-
-  emu::SparseRays gpu_rays;
-  emu::Trimmed gpu_trim;
-  std::vector<std::uint32_t> occluded;
-  if (!scene.lights.empty()) {
-    emu::SparseRays emu_rays;
-    emu_ms = TimeMs([&] { emu_rays = emu::PassRaygenShadow(fc, gpu_surfaces, buffers); });
-    gpu_ms = TimeMs([&] { fail(gpu->RaygenShadow(fc, gpu_surfaces, buffers, gpu_rays)); });
-    record("raygen.shadow",
-           {CompareBuffers("raygen.shadow", "rays", emu_rays.rays, gpu_rays.rays, kRayFloats),
-            CompareBuffers("raygen.shadow", "flags", emu_rays.flags, gpu_rays.flags, 0)},
-           "");
-    emu::Trimmed emu_trim;
-    emu_ms = TimeMs([&] { emu_trim = emu::PassTrim(gpu_rays); });
-    gpu_ms = TimeMs([&] { fail(gpu->Trim(gpu_rays, gpu_trim)); });
-    direct->Occluded(gpu_trim.rays, occluded);
-    const std::string hits = HitsChanged(*direct, emu_trim.rays, gpu_trim.rays, true);
-    record("trim.shadow",
-           {CompareBuffers("trim.shadow", "offsets", emu_trim.offsets, gpu_trim.offsets, 0),
-            CompareBuffers("trim.shadow", "rays", emu_trim.rays, gpu_trim.rays, kRayFloats)},
-           hits);
-
-    SortAndBuild("shadow", gpu_trim.rays);
+  if (first) {
+    std::printf("  first divergence: %s at %s (call %zu)\n", first->pass.c_str(), first->label.c_str(), first->seq);
+    if (!first->error.empty()) std::printf("    %s\n", first->error.c_str());
+    for (const BufferComparison& b : first->buffers)
+      if (!b.Equal()) std::printf("    %s\n", b.Summary().c_str());
+    if (!first->hits.empty()) std::printf("    hits: %s\n", first->hits.c_str());
   }
-  // shade.b0: the GPU's surfaces, shadow rays and (emulated) occlusion on both sides.
-  std::vector<std::uint64_t> emu_accum(static_cast<std::size_t>(fo.width) * fo.height * 3, 0), gpu_accum = emu_accum;
-  emu_ms = TimeMs([&] { emu::PassShade(fc, gpu_surfaces, gpu_rays.flags, gpu_trim.offsets, occluded, buffers, emu_accum); });
-  gpu_ms = TimeMs([&] { fail(gpu->Shade(gpu_surfaces, gpu_rays.flags, gpu_trim.offsets, occluded, buffers, gpu_accum)); });
-  record("shade", {CompareBuffers("shade", "accum", emu_accum, gpu_accum, 0)}, "");
-
-  bool reflective = false;
-  for (const MaterialDesc& m : scene.materials) reflective |= m.reflectivity > 0.0f;
-  if (reflective && scene.max_depth > 0) {
-    emu::SparseRays emu_refl, gpu_refl;
-    emu_ms = TimeMs([&] { emu_refl = emu::PassRaygenReflection(fc, gpu_surfaces, buffers); });
-    gpu_ms = TimeMs([&] { fail(gpu->RaygenReflection(fc, gpu_surfaces, buffers, gpu_refl)); });
-    record("raygen.reflection",
-           {CompareBuffers("raygen.reflection", "rays", emu_refl.rays, gpu_refl.rays, kRayFloats),
-            CompareBuffers("raygen.reflection", "flags", emu_refl.flags, gpu_refl.flags, 0)},
-           "");
-    emu::Trimmed emu_rt, gpu_rt;
-    emu_ms = TimeMs([&] { emu_rt = emu::PassTrim(gpu_refl); });
-    gpu_ms = TimeMs([&] { fail(gpu->Trim(gpu_refl, gpu_rt, true)); });
-    const std::string hits = HitsChanged(*direct, emu_rt.rays, gpu_rt.rays, false);
-    record("trim.reflection",
-           {CompareBuffers("trim.reflection", "offsets", emu_rt.offsets, gpu_rt.offsets, 0),
-            CompareBuffers("trim.reflection", "rays", emu_rt.rays, gpu_rt.rays, kRayFloats)},
-           hits);
-    SortAndBuild("reflection", gpu_rt.rays);
-  }
-  bool transparent = false;
-  for (const MaterialDesc& m : scene.materials) transparent |= m.transparency > 0.0f;
-  if (transparent && scene.max_depth > 0) {
-    emu::SparseRays emu_refr, gpu_refr;
-    emu_ms = TimeMs([&] { emu_refr = emu::PassRaygenRefraction(fc, gpu_surfaces, buffers); });
-    gpu_ms = TimeMs([&] { fail(gpu->RaygenRefraction(fc, gpu_surfaces, buffers, gpu_refr)); });
-    record("raygen.refraction",
-           {CompareBuffers("raygen.refraction", "rays", emu_refr.rays, gpu_refr.rays, kRayFloats),
-            CompareBuffers("raygen.refraction", "flags", emu_refr.flags, gpu_refr.flags, 0)},
-           "");
-    emu::Trimmed emu_ft, gpu_ft;
-    emu_ms = TimeMs([&] { emu_ft = emu::PassTrim(gpu_refr); });
-    gpu_ms = TimeMs([&] { fail(gpu->Trim(gpu_refr, gpu_ft, true)); });
-    record("trim.refraction",
-           {CompareBuffers("trim.refraction", "offsets", emu_ft.offsets, gpu_ft.offsets, 0),
-            CompareBuffers("trim.refraction", "rays", emu_ft.rays, gpu_ft.rays, kRayFloats)},
-           HitsChanged(*direct, emu_ft.rays, gpu_ft.rays, false));
-  }
-  std::vector<std::uint8_t> gpu_rgb;
-  gpu_ms = TimeMs([&] { fail(gpu->Resolve(fc, frame.accum, gpu_rgb)); });
-  std::vector<std::uint8_t> emu_rgb;
-  emu_ms = TimeMs([&] { emu_rgb = emu::PassResolve(fc, frame.accum); });
-  const std::vector<std::uint32_t> emu_wide(emu_rgb.begin(), emu_rgb.end()), gpu_wide(gpu_rgb.begin(), gpu_rgb.end());
-  record("resolve", {CompareBuffers("resolve", "rgb", emu_wide, gpu_wide, 0)}, "");
-
-  for (const std::string& st : stopped) std::printf("  not compared: %s\n", st.c_str());
-  const bool equal = first_divergent.empty();
-  std::printf("  %s\n", equal ? "all passes equal" : ("first divergent pass: " + first_divergent).c_str());
+  if (!stopped.empty()) std::printf("  stopped: %s\n", stopped.c_str());
+  const bool equal = first == nullptr && stopped.empty();
+  std::printf("  %s\n", equal ? "all passes equal" : ("first divergent pass: " + (first ? first->pass : std::string("?"))).c_str());
+  if (equal) std::printf("  frame digest %s\n", HexDigest(frame.digest.Frame()).c_str());
   if (!args.report.empty()) {
+    nlohmann::json calls = nlohmann::json::array();
+    for (const verify::CallRecord& c : differ.calls()) calls.push_back(CallJson(c));
     nlohmann::json j = {{"scene", scene.name},
                         {"width", fo.width},
                         {"height", fo.height},
-                        {"device", gpu->context().device_name()},
-                        {"driver", gpu->context().driver()},
+                        {"algorithm", args.algo},
+                        {"device", gpu.device},
                         {"emulation_model", EmulationModel()},
                         {"inject", args.inject},
                         {"local_size", args.local_size},
                         {"passes", passes},
-                        {"emulated_only", {"prep", "trace (direct tracer)", "object-sphere culling", "bounces after the first"}},
+                        {"calls", calls},
+                        {"host_only", {"prep (bounding spheres: per-scene preprocessing)", "rah ray order (a stable partition by light)",
+                                       args.algo == "brute" || args.algo == "embree" ? "trace (host tracer)" : "hierarchy groups (CSR offsets)"}},
                         {"equal", equal},
-                        {"stopped", stopped},
-                        {"first_divergent_pass", equal ? nlohmann::json(nullptr) : nlohmann::json(first_divergent)}};
+                        {"stopped", stopped.empty() ? nlohmann::json(nullptr) : nlohmann::json(stopped)},
+                        {"first_divergent_pass", first ? nlohmann::json(first->pass) : nlohmann::json(nullptr)},
+                        {"digest", equal ? nlohmann::json(HexDigest(frame.digest.Frame())) : nlohmann::json(nullptr)}};
     std::ofstream f(args.report);
     if (!f) ThrowInput("{}: cannot write the report", args.report);
     f << j.dump(2) << "\n";
   }
   return equal ? 0 : 4;
+}
+
+int RunReplay(const ReplayArgs& args) {
+  std::string method_name;
+  const verify::BufferSet in = verify::BufferSet::Load(args.dir, method_name);
+  const verify::PassMethod& method = verify::FindPassMethod(method_name);
+  const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, ParseInject(args.inject));
+  verify::Backends expected{emu::EmuFramePasses(), emu::EmuHierarchyPasses()};
+  verify::Backends actual{gpu.Frame(), gpu.Hierarchy()};
+  verify::BufferSet out;
+  const verify::CallRecord r = verify::RunAndCompare(method, in, expected, actual, out);
+  std::printf("rayspace replay: %s (%s) on %s\n", method.pass(in).c_str(), method_name.c_str(), gpu.device.c_str());
+  if (!r.error.empty()) std::printf("  vulkan backend failed: %s\n", r.error.c_str());
+  for (const BufferComparison& b : r.buffers) std::printf("  %s\n", b.Summary().c_str());
+  // The comparison the diff recorded when it saved these inputs, if present: same answer expected.
+  std::ifstream cf(args.dir + "/comparison.json");
+  nlohmann::json recorded;
+  if (cf) {
+    try {
+      recorded = nlohmann::json::parse(cf);
+    } catch (const nlohmann::json::exception&) {
+      ThrowInput("{}/comparison.json: not valid JSON", args.dir);
+    }
+    bool same = recorded.value("equal", !r.equal) == r.equal && recorded.contains("buffers") &&
+                recorded["buffers"].size() == r.buffers.size();
+    if (same) {
+      for (std::size_t i = 0; i < r.buffers.size(); ++i) {
+        nlohmann::json now;
+        r.buffers[i].ToJson(now);
+        now["pass"] = recorded["buffers"][i].value("pass", now["pass"].get<std::string>());
+        same &= now == recorded["buffers"][i];
+      }
+    }
+    std::printf("  recorded comparison: %s\n", same ? "reproduced" : "NOT reproduced");
+    const std::string rec_inject = recorded.value("inject", std::string());
+    if (!same && rec_inject != args.inject)
+      std::printf("  (recorded with --inject '%s', replayed with '%s')\n", rec_inject.c_str(), args.inject.c_str());
+    if (!same) return 5;
+  }
+  std::printf("  %s\n", r.equal ? "equal" : "divergent");
+  if (!args.report.empty()) {
+    nlohmann::json j = CallJson(r);
+    j["dir"] = args.dir;
+    std::ofstream f(args.report);
+    if (!f) ThrowInput("{}: cannot write the report", args.report);
+    f << j.dump(2) << "\n";
+  }
+  return r.equal ? 0 : 4;
 }
 
 }  // namespace rayspace::app

@@ -38,12 +38,21 @@ int main(int argc, char** argv) {
   rc->add_option("--threads", render.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
   rc->add_option("--direct", render.direct, "Direct tracer mode: auto, exhaustive or bvh")
       ->check(CLI::IsMember({"auto", "exhaustive", "bvh"}));
+  rc->add_option("--backend", render.backend,
+                 "Where the passes run: emu (the CPU emulation) or vulkan (the GLSL kernels; same bits expected)")
+      ->check(CLI::IsMember({"emu", "vulkan"}));
+  rc->add_option("--device", render.device, "Vulkan device index for --backend vulkan (default: first non-CPU device, else lavapipe)")
+      ->check(CLI::Range(0, 64));
+  rc->add_option("--split-bytes", render.split_bytes,
+                 "Vulkan: split traversal and reduction dispatches at this many bytes per buffer when below the "
+                 "device's maxStorageBufferRange (test use)")
+      ->check(CLI::Range(std::size_t{64}, std::size_t{1} << 40));
   rc->add_flag("--no-oracle", render.no_oracle, "Skip the oracle re-trace");
   rc->add_flag("--timings", render.timings, "Print time per phase (the thesis's phases) and tests per second");
   rc->add_flag("--progress", render.progress, "Print each pass and its time on stderr (default when stderr is a terminal)");
 #ifdef RAYSPACE_HAVE_VULKAN
   rayspace::app::DiffArgs diff;
-  CLI::App* dc = app.add_subcommand("diff", "Run the passes that have Vulkan kernels on both backends and compare them bitwise");
+  CLI::App* dc = app.add_subcommand("diff", "Run every pass of a frame on the emulator and the Vulkan kernels with the same inputs and compare bitwise");
   dc->add_option("scene", diff.scene, "Scene JSON file")->required();
   dc->add_option("--size", diff.size, "Image size WxH (overrides the scene)");
   dc->add_option("--data", diff.data, "Data root for mesh paths (default: $RAYSPACE_DATA)");
@@ -53,6 +62,21 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1024));
   dc->add_option("--device", diff.device, "Vulkan device index (default: first non-CPU device, else lavapipe)")
       ->check(CLI::Range(0, 64));
+  dc->add_option("--algo", diff.algo, "Tracer: crsh, rah, rah-quadtree (hierarchy passes diffed), brute or embree (host trace)")
+      ->check(CLI::IsMember({"crsh", "rah", "rah-quadtree", "brute", "embree"}));
+  dc->add_option("--subdivision", diff.subdivision, "Children per hierarchy node")->check(CLI::IsMember({4, 8, 16}));
+  dc->add_option("--depth", diff.depth, "Hierarchy levels")->check(CLI::Range(1, 12));
+  dc->add_option("--reduction", diff.reduction, "Stream reduction: hierarchical or scan")->check(CLI::IsMember({"hierarchical", "scan"}));
+  dc->add_option("--save-inputs", diff.save_inputs, "Write every pass call's inputs to DIR/NNNN-PASS/ (for replay)");
+  dc->add_option("--split-bytes", diff.split_bytes, "Split traversal/reduction dispatches at this many bytes per buffer (test use)")
+      ->check(CLI::Range(std::size_t{64}, std::size_t{1} << 40));
+  rayspace::app::ReplayArgs replay;
+  CLI::App* pc = app.add_subcommand("replay", "Run one pass call saved by diff --save-inputs on both backends and compare");
+  pc->add_option("dir", replay.dir, "Directory of the saved call (DIR/NNNN-PASS)")->required();
+  pc->add_option("--report", replay.report, "Write the comparison as JSON to this file");
+  pc->add_option("--inject", replay.inject, "Plant a fault in one kernel: PASS[:FAULT] (test use)");
+  pc->add_option("--local-size", replay.local_size, "Workgroup size of every compute kernel")->check(CLI::Range(1, 1024));
+  pc->add_option("--device", replay.device, "Vulkan device index")->check(CLI::Range(0, 64));
 #endif
   try {
     app.parse(argc, argv);
@@ -67,6 +91,7 @@ int main(int argc, char** argv) {
     if (rc->parsed()) return rayspace::app::RunRender(render);
 #ifdef RAYSPACE_HAVE_VULKAN
     if (dc->parsed()) return rayspace::app::RunDiff(diff);
+    if (pc->parsed()) return rayspace::app::RunReplay(replay);
 #endif
   } catch (const rayspace::InputError& e) {
     std::fprintf(stderr, "rayspace: error: %s\n", e.what());

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "backend_setup.h"
 #include "rayspace/emu/frame.h"
 #include "rayspace/emu/hierarchy.h"
 #include "statistics.h"
@@ -49,6 +50,8 @@ int RunRender(const RenderArgs& args) {
     if (!probe) ThrowInput("{}: cannot write the output image", out);
   }
 
+  const Backend backend = MakeBackend(args.backend, args.device, 64, {}, args.split_bytes);
+  fo.passes = backend.frame;
   const SceneBuffers buffers = FlattenScene(scene);
   const emu::DirectMode mode = args.direct == "exhaustive" ? emu::DirectMode::kExhaustive
                                : args.direct == "bvh"      ? emu::DirectMode::kBvh
@@ -77,6 +80,7 @@ int RunRender(const RenderArgs& args) {
     hc.pair_capacity = args.pair_capacity;
     hc.image_width = fo.width;
     hc.image_height = fo.height;
+    hc.passes = backend.hierarchy;
     hierarchy = emu::MakeHierarchyTracer(buffers, hc);
   }
   Tracer& frame_tracer = hierarchy ? *hierarchy : embree_frames ? *embree : *direct;
@@ -106,6 +110,7 @@ int RunRender(const RenderArgs& args) {
   j["max_depth"] = scene.max_depth;
   j["lights"] = scene.lights.size();
   j["algorithm"] = args.algo;
+  j["backend"] = {{"name", backend.name}, {"device", backend.device}};
   nlohmann::json tracer;
   frame_tracer.Describe(tracer);
   j["tracer"] = tracer;
@@ -137,6 +142,7 @@ int RunRender(const RenderArgs& args) {
     buffers_json.push_back({{"pass", e.pass}, {"buffer", e.buffer}, {"bytes", e.bytes}, {"hash", HexDigest(e.hash)}});
   j["buffer_digests"] = buffers_json;
   j["frame_ms"] = r.total_ms;
+  if (backend.extra_dispatches) j["backend"]["split_dispatches"] = backend.extra_dispatches(backend);
   j["image"] = out;
   if (!args.stats.empty()) {
     std::ofstream f(args.stats);
@@ -154,6 +160,8 @@ int RunRender(const RenderArgs& args) {
                       tracer["reduction"].get<std::string>());
   else
     how = tracer.value("mode", tracer.value("isa", std::string()));
+  std::printf("  backend     %s (%s%s)\n", backend.name.c_str(), backend.device.c_str(),
+              backend.extra_dispatches ? fmt::format(", {} split dispatches", backend.extra_dispatches(backend)).c_str() : "");
   std::printf("  tracer      %s (%s)\n", args.algo.c_str(), how.c_str());
   for (std::uint32_t k = 0; k < 3; ++k) {
     std::string per;

@@ -5,9 +5,11 @@
 namespace rayspace::app {
 
 struct RenderArgs {
-  std::string scene, algo = "crsh", size, out, stats, data, direct = "auto", reduction = "hierarchical";
+  std::string scene, algo = "crsh", size, out, stats, data, direct = "auto", reduction = "hierarchical", backend = "emu";
+  int device = -1;
   int threads = 0, subdivision = 8, depth = 2, component_size = 64;
   std::size_t pair_capacity = std::size_t{1} << 24;
+  std::size_t split_bytes = 0;
   bool depth_given = false;
   bool no_oracle = false, progress = false, timings = false;
 };

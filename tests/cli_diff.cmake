@@ -32,7 +32,12 @@ function(diff_run name scene size inject expect_rc expect_first)
 endfunction()
 
 diff_run(cornell cornell-mirrors 512x512 "" 0 "")
+diff_run(cornell_rah cornell-mirrors 128x128 "" 0 "" --algo rah)
+diff_run(cornell_quadtree cornell-mirrors 96x96 "" 0 "" --algo rah-quadtree)
+diff_run(cornell_scan cornell-mirrors 128x128 "" 0 "" --reduction scan)
+diff_run(cornell_brute cornell-mirrors 96x96 "" 0 "" --algo brute)
 diff_run(office office 128x128 "" 0 "")
+diff_run(office_rah office 96x96 "" 0 "" --algo rah)
 # A transparent object brings the refraction kernels in.
 file(READ "${SRC}/scenes/cornell-mirrors.json" cornell)
 string(JSON glass SET "${cornell}" materials clay transparency 0.5)
@@ -41,19 +46,51 @@ string(JSON glass SET "${glass}" materials clay ior 1.5)
 file(WRITE "${WORK}/glass-scene.json" "${glass}")
 diff_run(glass "${WORK}/glass-scene.json" 128x128 "" 0 "")
 diff_run(inject_refraction "${WORK}/glass-scene.json" 96x96 raygen.refraction:1 4 raygen.refraction)
-# Workgroup sizes must not change a bit (order-preserving compaction, order-independent reductions).
+# Workgroup sizes and dispatch splitting must not change a bit (order-preserving compaction,
+# order-independent reductions).
 foreach(ls 1 7 256)
   diff_run(cornell_ls${ls} cornell-mirrors 96x96 "" 0 "" --local-size ${ls})
 endforeach()
+diff_run(cornell_split cornell-mirrors 96x96 "" 0 "" --split-bytes 4096)
+diff_run(cornell_split_scan cornell-mirrors 96x96 "" 0 "" --split-bytes 4096 --reduction scan)
 if(EXISTS "${DATA}/sponza_dabrovic/sponza.obj")
   diff_run(sponza sponza 128x128 "" 0 "")
+  diff_run(sponza_rah sponza 128x128 "" 0 "" --algo rah)
 endif()
-foreach(f raster:1 surfaces:1 raygen.shadow:1 raygen.shadow:2 trim.shadow:1 hash.shadow:1 compress.shadow:1 sort.shadow:1
-                decompress.shadow:1 build.shadow:1 traverse.shadow:1 reduce.shadow:1 intersect.shadow:1 shade:1 raygen.reflection:1 trim.reflection:1 resolve:1)
+foreach(f raster:1 surfaces:1 raygen.shadow:1 raygen.shadow:2 trim:1 hash:1 compress:1 sort:1 decompress:1 build:1
+          traverse:1 reduce:1 intersect:1 shade:1 raygen.reflection:1 surfaces.hits:1 resolve:1)
   string(REPLACE ":" "_" n "${f}")
   string(REGEX REPLACE ":.*" "" pass "${f}")
   diff_run(inject_${n} cornell-mirrors 64x64 ${f} 4 ${pass})
 endforeach()
+# The scan-based reduction's fault needs the scan reduction.
+diff_run(inject_reduce_2 cornell-mirrors 64x64 reduce:2 4 reduce --reduction scan)
+diff_run(inject_traverse_rah cornell-mirrors 64x64 traverse:1 4 traverse --algo rah)
+
+# Saved inputs replay to the same comparison: with the fault it diverges again ("reproduced"),
+# without it the pass is equal, which differs from the recording (exit 5).
+file(REMOVE_RECURSE "${WORK}/saved")
+diff_run(save cornell-mirrors 64x64 traverse:1 4 traverse --save-inputs "${WORK}/saved")
+file(GLOB saved_top "${WORK}/saved/*-traverse.L2.shadow.b0")
+file(GLOB saved_raster "${WORK}/saved/*-raster")
+function(replay_run name dir expect_rc expect_text)
+  execute_process(COMMAND "${RAYSPACE}" replay "${dir}" ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL expect_rc OR NOT "${out}${err}" MATCHES "${expect_text}")
+    set(failures "${failures}\nreplay ${name}: exit ${rc} (expected ${expect_rc}), output: ${out}${err}" PARENT_SCOPE)
+  endif()
+endfunction()
+if(NOT saved_top OR NOT saved_raster)
+  set(failures "${failures}\nsave: no saved traverse.L2.shadow.b0 or raster call under ${WORK}/saved")
+else()
+  replay_run(top_fault "${saved_top}" 4 "recorded comparison: reproduced" --inject traverse)
+  replay_run(top_clean "${saved_top}" 5 "NOT reproduced")
+  replay_run(raster "${saved_raster}" 0 "raster/prim: 4096 elements equal")
+endif()
+replay_run(missing "${WORK}/no-such-dir" 2 "pass.json: cannot open")
+file(MAKE_DIRECTORY "${WORK}/bad-set")
+file(WRITE "${WORK}/bad-set/pass.json" "{\"method\": \"traverse.top\", \"buffers\": {\"top\": {\"type\": \"cone_node\", \"count\": 3}}}")
+file(WRITE "${WORK}/bad-set/top.bin" "short")
+replay_run(truncated "${WORK}/bad-set" 2 "top.bin: 5 bytes, expected 3 elements of 48 bytes")
 
 # A device index that does not exist is bad input: exit 2 and one line naming the option.
 execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --device 63

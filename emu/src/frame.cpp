@@ -32,7 +32,7 @@ class Clock {
 class Runner {
  public:
   Runner(const Scene& scene, const SceneBuffers& b, Tracer& tracer, const FrameOptions& opt, const BatchObserver& obs)
-      : scene_(scene), b_(b), tracer_(tracer), opt_(opt), observer_(obs) {}
+      : scene_(scene), b_(b), tracer_(tracer), opt_(opt), observer_(obs), passes_(opt.passes ? *opt.passes : EmuFramePasses()) {}
 
   FrameResult Run() {
     Clock total;
@@ -51,7 +51,7 @@ class Runner {
     });
     tracer_.Prepare(r_.triangle_spheres, r_.object_spheres);
     Pass("raster", [&] {
-      r_.gbuffer = PassRaster(fc_, b_);
+      r_.gbuffer = passes_.Raster(fc_, b_);
       const GBuffer& g = r_.gbuffer;
       r_.digest.Add("raster", "diffuse", g.diffuse);
       r_.digest.Add("raster", "specular", g.specular);
@@ -65,7 +65,7 @@ class Runner {
     std::vector<std::uint64_t> accum(static_cast<std::size_t>(r_.width) * r_.height * 3, 0);
     std::vector<gpu::Surface> surfaces;
     Pass("surfaces.b0", [&] {
-      surfaces = PassSurfacesFromGBuffer(fc_, r_.gbuffer, b_);
+      surfaces = passes_.SurfacesFromGBuffer(fc_, r_.gbuffer, b_);
       r_.digest.Add("surfaces.b0", "surfaces", surfaces);
       return surfaces.size();
     });
@@ -93,7 +93,7 @@ class Runner {
       Trimmed shadow_trim;
       std::vector<std::uint32_t> occluded;
       if (lights) {
-        RaygenAndTrim("shadow." + bs, [&] { return PassRaygenShadow(fc_, surfaces, b_); }, shadow, shadow_trim);
+        RaygenAndTrim(gpu::kRayShadow, "shadow." + bs, [&] { return passes_.Raygen(gpu::kRayShadow, fc_, surfaces, b_); }, shadow, shadow_trim);
         r_.rays[gpu::kRayShadow][bounce] = shadow_trim.rays.size();
         Pass("trace.shadow." + bs, [&] {
           Begin("shadow." + bs, gpu::kRayShadow, bounce);
@@ -108,7 +108,7 @@ class Runner {
         Skip("trace.shadow." + bs, "the scene has no lights");
       }
       Pass("shade." + bs, [&] {
-        PassShade(fc_, surfaces, shadow.flags, shadow_trim.offsets, occluded, b_, accum);
+        passes_.Shade(fc_, surfaces, shadow.flags, shadow_trim.offsets, occluded, b_, accum);
         r_.digest.Add("shade." + bs, "accum", accum);
         return surfaces.size();
       });
@@ -142,10 +142,9 @@ class Runner {
         Trimmed trimmed;
         std::vector<std::uint64_t> hits;
         RaygenAndTrim(
-            sfx,
+            k.kind, sfx,
             [&] {
-              return k.kind == gpu::kRayReflection ? PassRaygenReflection(fc_, surfaces, b_)
-                                                   : PassRaygenRefraction(fc_, surfaces, b_);
+              return passes_.Raygen(k.kind, fc_, surfaces, b_);
             },
             sparse, trimmed);
         r_.rays[k.kind][bounce + 1] = trimmed.rays.size();
@@ -157,7 +156,7 @@ class Runner {
         });
         if (observer_) observer_({sfx, k.kind, bounce + 1, &trimmed.rays, &hits, nullptr});
         Pass("surfaces." + sfx, [&] {
-          std::vector<gpu::Surface> s = PassSurfacesFromHits(trimmed.rays, hits, b_);
+          std::vector<gpu::Surface> s = passes_.SurfacesFromHits(trimmed.rays, hits, b_);
           r_.digest.Add("surfaces." + sfx, "surfaces", s);
           next_surfaces.insert(next_surfaces.end(), s.begin(), s.end());
           return s.size();
@@ -166,7 +165,7 @@ class Runner {
       surfaces = std::move(next_surfaces);
     }
     Pass("resolve", [&] {
-      r_.rgb = PassResolve(fc_, accum);
+      r_.rgb = passes_.Resolve(fc_, accum);
       r_.accum = accum;
       r_.digest.Add("resolve", "rgb", r_.rgb);
       return r_.rgb.size() / 3;
@@ -178,7 +177,7 @@ class Runner {
  private:
   // The raygen pass of one batch (`suffix` = kind.bounce) and its compaction.
   template <typename F>
-  void RaygenAndTrim(const std::string& suffix, F&& raygen, SparseRays& sparse, Trimmed& trimmed) {
+  void RaygenAndTrim(std::uint32_t kind, const std::string& suffix, F&& raygen, SparseRays& sparse, Trimmed& trimmed) {
     Pass("raygen." + suffix, [&] {
       sparse = raygen();
       r_.digest.Add("raygen." + suffix, "rays", sparse.rays);
@@ -186,7 +185,7 @@ class Runner {
       return sparse.rays.size();
     });
     Pass("trim." + suffix, [&] {
-      trimmed = PassTrim(sparse);
+      trimmed = passes_.Trim(kind, sparse);
       r_.digest.Add("trim." + suffix, "rays", trimmed.rays);
       r_.digest.Add("trim." + suffix, "offsets", trimmed.offsets);
       return trimmed.rays.size();
@@ -202,6 +201,7 @@ class Runner {
   void Pass(const std::string& name, F&& body) {
     Clock c;
     subpasses_.clear();
+    passes_.Label(name);
     const std::size_t n = body();
     // A tracer's own passes (hash, sort, build, traverse, ...) are listed before the trace pass.
     for (const SubPass& sp : subpasses_) {
@@ -220,6 +220,7 @@ class Runner {
   Tracer& tracer_;
   const FrameOptions& opt_;
   const BatchObserver& observer_;
+  FramePasses& passes_;
   gpu::FrameConstants fc_{};
   FrameResult r_;
   std::vector<SubPass> subpasses_;

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "rayspace/emu/backend.h"
 #include "rayspace/emu/cone.h"
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/passes.h"
@@ -29,12 +30,6 @@ constexpr std::uint32_t kMaxLevelNodes = 1u << 18;  // 18-bit node ids in a pack
 // Largest top-level test grid (nodes x triangles) held at once; bigger grids take several node groups.
 constexpr std::size_t kMaxTopGrid = std::size_t{1} << 26;
 
-std::uint32_t Morton2(std::uint32_t x, std::uint32_t y) {
-  std::uint32_t m = 0;
-  for (int b = 15; b >= 0; --b) m = (m << 2) | (((y >> b) & 1u) << 1) | ((x >> b) & 1u);
-  return m;
-}
-
 class Clock {
  public:
   double Ms() const { return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0_).count(); }
@@ -52,7 +47,8 @@ struct Hierarchy {
 
 class Impl final : public HierarchyTracer {
  public:
-  Impl(const SceneBuffers& scene, const HierarchyConfig& cfg) : scene_(scene), cfg_(cfg) {
+  Impl(const SceneBuffers& scene, const HierarchyConfig& cfg)
+      : scene_(scene), cfg_(cfg), passes_(cfg.passes ? *cfg.passes : EmuHierarchyPasses()) {
     RS_CHECK(cfg.subdivision >= 2 && cfg.depth >= 1 && cfg.component_size >= 1);
     RS_CHECK(cfg.max_batch_triangles >= 1 && cfg.max_batch_triangles <= (1u << kTriBits));
     eps_ = TraversalEpsilon(scene);
@@ -75,6 +71,7 @@ class Impl final : public HierarchyTracer {
     out["pair_capacity"] = cfg_.pair_capacity;
     out["batch_triangles"] = cfg_.max_batch_triangles;
     out["object_spheres"] = cfg_.algorithm == Algorithm::kCrsh;
+    out["backend"] = passes_.Name();
   }
   void Prepare(const std::vector<glm::vec4>& tri_spheres, const std::vector<glm::vec4>& obj_spheres) override {
     RS_CHECK(tri_spheres.size() == scene_.triangles.size() && obj_spheres.size() == scene_.objects.size());
@@ -98,6 +95,7 @@ class Impl final : public HierarchyTracer {
 
   template <typename F>
   auto Sub(const std::string& pass, std::size_t elements, F&& body) {
+    passes_.Label(pass + "." + ctx_.name);
     Clock c;
     if constexpr (std::is_void_v<decltype(body())>) {
       body();
@@ -133,29 +131,17 @@ class Impl final : public HierarchyTracer {
       Digest("order", "ray_order", order);
       return order;
     }
-    std::vector<std::uint32_t> keys;
-    if (cfg_.algorithm == Algorithm::kCrsh) {
-      keys = Sub("hash", n, [&] { return PassHash(rays, scene_, cfg_.hash); });
-    } else {
-      // Roger's quadtree: screen tiles in Morton order, one tree per light.
-      const std::uint32_t w = static_cast<std::uint32_t>(std::max(1, cfg_.image_width));
-      keys = Sub("hash", n, [&] {
-        std::vector<std::uint32_t> k(n);
-        ParallelFor("hash", n, [&](std::size_t i) {
-          const std::uint32_t px = rays[i].info.x % w, py = rays[i].info.x / w;
-          const std::uint32_t light = rays[i].info.z == gpu::kRayShadow ? rays[i].info.w : 0u;
-          k[i] = (light << (2 * cfg_.depth)) | Morton2(px, py);
-        });
-        return k;
-      });
-    }
+    // CRSH hashes directions (and origins); Roger's quadtree orders screen tiles, one tree per light.
+    const bool quad = cfg_.algorithm == Algorithm::kRahQuadtree;
+    const std::uint32_t qw = quad ? static_cast<std::uint32_t>(std::max(1, cfg_.image_width)) : 0u;
+    const std::vector<std::uint32_t> keys = Sub("hash", n, [&] { return passes_.Hash(rays, scene_, cfg_.hash, qw, cfg_.depth); });
     Digest("hash", "keys", keys);
-    const Chunks chunks = Sub("compress", n, [&] { return PassCompress(keys); });
+    const Chunks chunks = Sub("compress", n, [&] { return passes_.Compress(keys); });
     Digest("compress", "chunk_keys", chunks.key);
     Digest("compress", "chunk_base", chunks.base);
-    const std::vector<std::uint32_t> sorted = Sub("sort", chunks.key.size(), [&] { return PassSortChunks(chunks.key); });
+    const std::vector<std::uint32_t> sorted = Sub("sort", chunks.key.size(), [&] { return passes_.SortChunks(chunks.key); });
     Digest("sort", "chunk_order", sorted);
-    std::vector<std::uint32_t> order = Sub("decompress", n, [&] { return PassDecompress(chunks, sorted); });
+    std::vector<std::uint32_t> order = Sub("decompress", n, [&] { return passes_.Decompress(chunks, sorted); });
     Digest("decompress", "ray_order", order);
     if (cfg_.algorithm == Algorithm::kRahQuadtree) {
       quad_keys.resize(n);
@@ -194,9 +180,9 @@ class Impl final : public HierarchyTracer {
       const auto& f = h.first[L - 1];
       const std::size_t nodes = f.size() - 1;
       if (L == 1) {
-        h.nodes[0] = PassBuildLeaves(rays, order, f);
+        h.nodes[0] = passes_.BuildLeaves(rays, order, f);
       } else {
-        h.nodes[L - 1] = PassBuildParents(h.nodes[L - 2], f);
+        h.nodes[L - 1] = passes_.BuildParents(h.nodes[L - 2], f);
       }
       if (quad) {
         std::vector<std::uint32_t> next(nodes);
@@ -216,9 +202,8 @@ class Impl final : public HierarchyTracer {
     return {lo, hi};
   }
 
-  std::vector<std::uint32_t> Reduce(const std::vector<std::uint8_t>& flags, const std::vector<std::uint32_t>& values) const {
-    return cfg_.reduction == Reduction::kHierarchical ? ReduceHierarchical(flags, values, cfg_.component_size)
-                                                      : ReduceScan(flags, values);
+  std::vector<std::uint32_t> Reduce(const std::vector<std::uint8_t>& flags, const std::vector<std::uint32_t>& values) {
+    return passes_.Reduce(cfg_.reduction, cfg_.component_size, flags, values);
   }
 
   static std::uint64_t Sum(const std::vector<std::uint8_t>& v) {
@@ -234,7 +219,6 @@ class Impl final : public HierarchyTracer {
              std::uint32_t b1, BatchStats& st, std::vector<std::uint64_t>* hits, std::vector<std::uint32_t>* occluded) {
     const int D = cfg_.depth;
     const std::uint32_t T = b1 - b0, N = t1 - t0;
-    const std::size_t objects = scene_.objects.size();
     const bool crsh = cfg_.algorithm == Algorithm::kCrsh;
     std::vector<LevelStats> lv(D);
 
@@ -243,7 +227,7 @@ class Impl final : public HierarchyTracer {
     static const std::vector<std::uint8_t> kNoMask;
     const std::size_t grid = static_cast<std::size_t>(N) * T;
     PairSlots slots = Sub("traverse.L" + std::to_string(D), grid, [&] {
-      return PassTraverseTop(h.nodes[D - 1], t0, t1, b0, b1, *tri_spheres_, scene_, crsh ? object_mask : kNoMask, eps_);
+      return passes_.TraverseTop(h.nodes[D - 1], t0, t1, b0, b1, *tri_spheres_, scene_, crsh ? object_mask : kNoMask, eps_);
     });
     lv[D - 1].intersections = Sum(slots.tested);
     std::vector<std::uint32_t> pairs = Sub("reduce.L" + std::to_string(D), grid, [&] { return Reduce(slots.flags, slots.values); });
@@ -255,7 +239,7 @@ class Impl final : public HierarchyTracer {
     for (int L = D - 1; L >= 1; --L) {
       const std::uint32_t base_up = Descendants(h, L + 1, t0, t1).first, base = Descendants(h, L, t0, t1).first;
       slots = Sub("traverse.L" + std::to_string(L), pairs.size() * S, [&] {
-        return PassTraverseLevel(pairs, h.nodes[L - 1], h.first[L], base_up, base, S, b0, *tri_spheres_, eps_);
+        return passes_.TraverseLevel(pairs, h.nodes[L - 1], h.first[L], base_up, base, S, b0, *tri_spheres_, eps_);
       });
       lv[L - 1].intersections = Sum(slots.tested);
       pairs = Sub("reduce.L" + std::to_string(L), slots.flags.size(), [&] { return Reduce(slots.flags, slots.values); });
@@ -267,7 +251,7 @@ class Impl final : public HierarchyTracer {
     const std::uint32_t base1 = Descendants(h, 1, t0, t1).first;
     const auto& f1 = h.first[0];
     const std::vector<std::uint32_t> tests =
-        Sub("intersect", pairs.size(), [&] { return PassIntersect(pairs, f1, base1, b0, order, rays, scene_, hits, occluded); });
+        Sub("intersect", pairs.size(), [&] { return passes_.Intersect(pairs, f1, base1, b0, order, rays, scene_, hits, occluded); });
     if (cfg_.candidate_log) {
       for (std::uint32_t pair : pairs) {
         const std::uint32_t node = base1 + (pair >> kTriBits), prim = b0 + (pair & kTriMask);
@@ -332,13 +316,8 @@ class Impl final : public HierarchyTracer {
     // CRSH: top nodes against object spheres first, once per batch.
     std::vector<std::uint8_t> mask;
     if (cfg_.algorithm == Algorithm::kCrsh) {
-      const std::size_t objects = scene_.objects.size();
-      mask.assign(static_cast<std::size_t>(top) * objects, 0);
-      Sub("traverse.objects", mask.size(), [&] {
-        ParallelFor("traverse.objects", mask.size(), [&](std::size_t e) {
-          mask[e] = cone::Test(h.nodes[cfg_.depth - 1][e / objects], (*obj_spheres_)[e % objects], eps_);
-        });
-      });
+      mask = Sub("traverse.objects", static_cast<std::size_t>(top) * scene_.objects.size(),
+                 [&] { return passes_.ObjectMask(h.nodes[cfg_.depth - 1], *obj_spheres_, eps_); });
       st.object_sphere_tests = mask.size();
       st.object_sphere_hits = Sum(mask);
     }
@@ -365,6 +344,7 @@ class Impl final : public HierarchyTracer {
   const std::vector<glm::vec4>* tri_spheres_ = nullptr;
   const std::vector<glm::vec4>* obj_spheres_ = nullptr;
   HierarchyConfig cfg_;
+  HierarchyPasses& passes_;
   float eps_ = 0;
   BatchContext ctx_;
   std::vector<BatchStats> stats_;
@@ -394,6 +374,14 @@ PairSlots PassTraverseTop(const std::vector<gpu::ConeNode>& top, std::uint32_t t
     s.values[e] = ((node - t0) << kTriBits) | (tri - b0);
   });
   return s;
+}
+
+std::vector<std::uint8_t> PassObjectMask(const std::vector<gpu::ConeNode>& top, const std::vector<glm::vec4>& object_spheres,
+                                         float eps) {
+  const std::size_t objects = object_spheres.size();
+  std::vector<std::uint8_t> mask(top.size() * objects, 0);
+  ParallelFor("traverse.objects", mask.size(), [&](std::size_t e) { mask[e] = cone::Test(top[e / objects], object_spheres[e % objects], eps); });
+  return mask;
 }
 
 PairSlots PassTraverseLevel(const std::vector<std::uint32_t>& pairs, const std::vector<gpu::ConeNode>& nodes,

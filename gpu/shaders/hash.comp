@@ -1,5 +1,6 @@
 #version 460
-// 32-bit sort keys per ray; mirrors emu PassHash (emu/src/ray_sort.cpp).
+// 32-bit sort keys per ray; mirrors emu PassHash (emu/src/ray_sort.cpp), or with quad_width > 0
+// Roger's quadtree keys (emu PassHashQuadtree).
 #include "common.glsl"
 
 layout(std430, binding = 0) readonly buffer Rays { Ray rays[]; };
@@ -8,6 +9,7 @@ layout(std430, binding = 2) writeonly buffer Keys { uint keys[]; };
 layout(push_constant) uniform Push {
   uint n;
   int light_bits, polar_bits, azimuth_bits, origin_bits, direction_bits;
+  uint quad_width, quad_depth;
 } pc;
 
 uint Cell(float f, int bits) {
@@ -48,10 +50,21 @@ uint Interleave3(uint x, uint y, uint z, int bits) {
   return m;
 }
 
+uint Morton2(uint x, uint y) {
+  uint m = 0u;
+  for (int b = 15; b >= 0; --b) m = (m << 2) | (((y >> uint(b)) & 1u) << 1) | ((x >> uint(b)) & 1u);
+  return m;
+}
+
 void main() {
   const uint i = gl_GlobalInvocationID.x;
   if (i >= pc.n) return;
   const Ray r = rays[i];
+  if (pc.quad_width != 0u) {
+    const uint light = r.info.z == kRayShadow ? r.info.w : 0u;
+    keys[i] = (light << (2u * pc.quad_depth)) | Morton2(r.info.x % pc.quad_width, r.info.x / pc.quad_width);
+    return;
+  }
   const vec3 d = Normalize3(r.direction_tmax.xyz);
   if (r.info.z == kRayShadow) {
     const uint light = min(r.info.w, (1u << uint(pc.light_bits)) - 1u);

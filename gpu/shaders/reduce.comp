@@ -1,7 +1,8 @@
 #version 460
 // Stream reduction of (flag, value) slots to the flagged values in slot order; mirrors emu
 // ReduceHierarchical (Roger et al.: components of s slots reduced on their own, then concatenated)
-// and ReduceScan. Scans over counts are blocked so no loop passes 65,535 iterations.
+// and ReduceScan (phases 10-12: block sums of the flags, scan of the sums, block scan and scatter,
+// as emu ExclusiveScan). Scans are blocked so no loop passes 65,535 iterations.
 #include "common.glsl"
 
 layout(std430, binding = 0) readonly buffer Flags { uint flags[]; };
@@ -16,6 +17,25 @@ const uint kBlock = 4096u;
 
 void main() {
   const uint t = gl_GlobalInvocationID.x;
+  if (pc.phase == 10u) {  // scan-based: block sums of the flags
+    if (t >= pc.blocks) return;
+    uint sum = 0u;
+    for (uint i = t * kBlock; i < min(pc.n, (t + 1u) * kBlock); ++i) sum += flags[i];
+    sums[t] = sum;
+    return;
+  }
+  if (pc.phase == 11u) {  // scan-based: block scan and scatter (after phase 2 scanned the sums)
+    if (t >= pc.blocks) return;
+    // Fault 2: each block starts at the previous block's offset (an off-by-one in the scan).
+    uint run = (kFault == 2u && t > 0u) ? sums[t - 1u] : sums[t];
+    for (uint i = t * kBlock; i < min(pc.n, (t + 1u) * kBlock); ++i) {
+      if (flags[i] != 0u) {
+        out_values[run] = values[i];
+        ++run;
+      }
+    }
+    return;
+  }
   if (pc.phase == 0u) {  // reduce each component locally
     if (t >= pc.comps) return;
     uint k = 0u;

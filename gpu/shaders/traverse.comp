@@ -1,6 +1,7 @@
 #version 460
 // Hierarchy traversal of one block: phase 0 tests top nodes x triangles, phase 1 tests the children
-// of each surviving pair's node; mirrors emu PassTraverseTop / PassTraverseLevel.
+// of each surviving pair's node, phase 2 tests top nodes x object spheres (CRSH's culling mask, the
+// spheres bound as binding 1); mirrors emu PassTraverseTop / PassTraverseLevel / PassObjectMask.
 #include "common.glsl"
 #include "cone.glsl"
 
@@ -16,6 +17,7 @@ layout(std430, binding = 8) writeonly buffer Tested { uint tested[]; };
 layout(push_constant) uniform Push {
   uint phase, count, t0, b0, tris, objects, use_mask, base_up, base, children_max;
   float eps;
+  uint id_base;  // phase 0: packed node ids relative to this node (a dispatch may cover part of a block)
 } pc;
 
 const uint kTriBits = 14u, kTriMask = (1u << 14) - 1u;
@@ -31,7 +33,9 @@ void main() {
     vec4 sphere = tri_spheres[tri];
     if (kFault == 1u) sphere.w = 0.0;
     flags[e] = (test && ConeTest(nodes[node], sphere, pc.eps)) ? 1u : 0u;
-    values[e] = ((node - pc.t0) << kTriBits) | (tri - pc.b0);
+    values[e] = ((node - pc.id_base) << kTriBits) | (tri - pc.b0);
+  } else if (pc.phase == 2u) {
+    flags[e] = ConeTest(nodes[e / pc.objects], tri_spheres[e % pc.objects], pc.eps) ? 1u : 0u;
   } else {
     const uint parent = pc.base_up + (pairs[e] >> kTriBits), tri_local = pairs[e] & kTriMask;
     const vec4 sphere = tri_spheres[pc.b0 + tri_local];

@@ -1,3 +1,5 @@
+#include <cstring>
+
 #include <fmt/format.h>
 
 #include "build.spv.h"
@@ -14,6 +16,7 @@
 #include "raygen_shadow.spv.h"
 #include "shade.spv.h"
 #include "surfaces.spv.h"
+#include "surfaces_hits.spv.h"
 #include "rayspace/gpu/passes.h"
 #include "resolve.spv.h"
 #include "trim.spv.h"
@@ -48,10 +51,9 @@ vk::Status RunKernel(vk::Context& c, const vk::Kernel& k, std::span<const vk::Bu
 
 const std::vector<std::pair<std::string, std::uint32_t>>& KernelPasses() {
   static const std::vector<std::pair<std::string, std::uint32_t>> kPasses = {
-      {"raster", 1}, {"surfaces", 1}, {"raygen.shadow", 2}, {"trim.shadow", 1}, {"shade", 1}, {"raygen.reflection", 1},
-      {"trim.reflection", 1}, {"raygen.refraction", 1}, {"hash.shadow", 1}, {"compress.shadow", 1}, {"sort.shadow", 1},
-      {"decompress.shadow", 1}, {"build.shadow", 1}, {"traverse.shadow", 1}, {"reduce.shadow", 1},
-      {"intersect.shadow", 1}, {"resolve", 1}};
+      {"raster", 1}, {"surfaces", 1}, {"raygen.shadow", 2}, {"trim", 1}, {"hash", 1}, {"compress", 1}, {"sort", 1},
+      {"decompress", 1}, {"build", 1}, {"traverse", 1}, {"reduce", 2}, {"intersect", 1}, {"shade", 1},
+      {"raygen.reflection", 1}, {"raygen.refraction", 1}, {"surfaces.hits", 1}, {"resolve", 1}};
   return kPasses;
 }
 
@@ -66,23 +68,24 @@ vk::Status VulkanPasses::Create(int device, const Faults& faults, std::unique_pt
   RS_TRY(p->ctx_->CreateKernel("raygen.shadow", kSpirv_raygen_shadow, 5, fault("raygen.shadow"), p->raygen_shadow_, local_size));
   p->raster_fault_ = fault("raster");
   RS_TRY(p->ctx_->CreateKernel("surfaces", kSpirv_surfaces, 6, fault("surfaces"), p->surfaces_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("surfaces.hits", kSpirv_surfaces_hits, 6, fault("surfaces.hits"), p->surfaces_hits_, local_size));
   RS_TRY(p->ctx_->CreateKernel("raygen.reflection", kSpirv_raygen_reflection, 5, fault("raygen.reflection"),
                                p->raygen_reflection_));
   RS_TRY(p->ctx_->CreateKernel("raygen.refraction", kSpirv_raygen_refraction, 5, fault("raygen.refraction"),
                                p->raygen_refraction_, local_size));
   RS_TRY(p->ctx_->CreateKernel("shade", kSpirv_shade, 7, fault("shade"), p->shade_, local_size));
   // One trim kernel serves both ray types; a planted trim fault applies to the type it names.
-  RS_TRY(p->ctx_->CreateKernel("trim.shadow", kSpirv_trim, 5, fault("trim.shadow"), p->trim_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("trim.reflection", kSpirv_trim, 5, fault("trim.reflection"), p->trim_reflection_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("hash.shadow", kSpirv_hash, 3, fault("hash.shadow"), p->hash_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("trim.shadow", kSpirv_trim, 5, fault("trim"), p->trim_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("trim.reflection", kSpirv_trim, 5, fault("trim"), p->trim_reflection_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("hash.shadow", kSpirv_hash, 3, fault("hash"), p->hash_, local_size));
   // One kernel, three passes (phases); each pass gets its own pipeline so a fault stays in its pass.
-  RS_TRY(p->ctx_->CreateKernel("compress.shadow", kSpirv_sort, 9, fault("compress.shadow"), p->compress_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("sort.shadow", kSpirv_sort, 9, fault("sort.shadow"), p->sort_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("decompress.shadow", kSpirv_sort, 9, fault("decompress.shadow"), p->decompress_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("build.shadow", kSpirv_build, 5, fault("build.shadow"), p->build_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("traverse.shadow", kSpirv_traverse, 9, fault("traverse.shadow"), p->traverse_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("reduce.shadow", kSpirv_reduce, 6, fault("reduce.shadow"), p->reduce_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("intersect.shadow", kSpirv_intersect, 8, fault("intersect.shadow"), p->intersect_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("compress.shadow", kSpirv_sort, 9, fault("compress"), p->compress_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("sort.shadow", kSpirv_sort, 9, fault("sort"), p->sort_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("decompress.shadow", kSpirv_sort, 9, fault("decompress"), p->decompress_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("build.shadow", kSpirv_build, 5, fault("build"), p->build_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("traverse.shadow", kSpirv_traverse, 9, fault("traverse"), p->traverse_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("reduce.shadow", kSpirv_reduce, 6, fault("reduce"), p->reduce_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("intersect.shadow", kSpirv_intersect, 8, fault("intersect"), p->intersect_, local_size));
   RS_TRY(p->ctx_->CreateKernel("resolve", kSpirv_resolve, 2, fault("resolve"), p->resolve_, local_size));
   out = std::move(p);
   return vk::Status::Ok();
@@ -198,15 +201,15 @@ vk::Status VulkanPasses::Trim(const emu::SparseRays& in, emu::Trimmed& out, bool
 }
 
 vk::Status VulkanPasses::Hash(const std::vector<gpu::Ray>& rays, const gpu::FrameConstants& fc, const emu::HashConfig& h,
-                              std::vector<std::uint32_t>& keys) {
+                              std::vector<std::uint32_t>& keys, std::uint32_t quad_width, std::uint32_t quad_depth) {
   vk::Context& c = *ctx_;
   const std::uint32_t n = static_cast<std::uint32_t>(rays.size());
   vk::Buffer br, bf, bk;
   RS_TRY(Make(c, rays.empty() ? std::vector<gpu::Ray>(1) : rays, br));
   RS_TRY(Make(c, std::vector<gpu::FrameConstants>{fc}, bf));
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * 4, bk));
-  const std::int32_t push[6] = {static_cast<std::int32_t>(n), h.light_bits, h.polar_bits, h.azimuth_bits, h.origin_bits,
-                                h.direction_bits};
+  const std::int32_t push[8] = {static_cast<std::int32_t>(n), h.light_bits, h.polar_bits, h.azimuth_bits, h.origin_bits,
+                                h.direction_bits, static_cast<std::int32_t>(quad_width), static_cast<std::int32_t>(quad_depth)};
   const vk::Buffer* bufs[3] = {&br, &bf, &bk};
   RS_TRY(RunKernel(c, hash_, bufs, push, sizeof push, n));
   keys = bk.Download<std::uint32_t>(n);
@@ -362,69 +365,204 @@ namespace {
 struct TraversePush {
   std::uint32_t phase, count, t0, b0, tris, objects, use_mask, base_up, base, children_max;
   float eps;
+  std::uint32_t id_base;  // top level: packed node ids are relative to this node
 };
 
 }  // namespace
 
+std::size_t VulkanPasses::SplitBytes() const {
+  const std::size_t device = static_cast<std::size_t>(ctx_->max_storage_buffer_range());
+  return split_bytes_ ? std::min(split_bytes_, device) : device;
+}
+
+// Rows of top nodes per dispatch so that the flags/values/tested bindings stay within the split size.
 vk::Status VulkanPasses::TraverseTop(const std::vector<gpu::ConeNode>& top, std::uint32_t t0, std::uint32_t t1,
                                      std::uint32_t b0, std::uint32_t b1, const std::vector<glm::vec4>& tri_spheres,
-                                     const SceneBuffers& scene, float eps, std::vector<std::uint32_t>& flags,
-                                     std::vector<std::uint32_t>& values, std::vector<std::uint32_t>& tested) {
+                                     const SceneBuffers& scene, float eps, const std::vector<std::uint32_t>& object_mask,
+                                     std::vector<std::uint32_t>& flags, std::vector<std::uint32_t>& values,
+                                     std::vector<std::uint32_t>& tested) {
+  const std::size_t T = b1 - b0, count = static_cast<std::size_t>(t1 - t0) * T;
+  flags.assign(count, 0);
+  values.assign(count, 0);
+  tested.assign(count, 0);
+  const std::uint32_t rows = static_cast<std::uint32_t>(std::max<std::size_t>(1, SplitBytes() / 4 / std::max<std::size_t>(T, 1)));
+  for (std::uint32_t r0 = t0; r0 < t1; r0 += rows) {
+    const std::uint32_t r1 = std::min(t1, r0 + rows);
+    const std::size_t at = static_cast<std::size_t>(r0 - t0) * T;
+    if (r0 != t0) ++extra_dispatches_;
+    RS_TRY(TraverseTopPart(top, r0, r1, t0, b0, b1, tri_spheres, scene, eps, object_mask, flags.data() + at,
+                           values.data() + at, tested.data() + at));
+  }
+  return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::TraverseTopPart(const std::vector<gpu::ConeNode>& top, std::uint32_t t0, std::uint32_t t1,
+                                         std::uint32_t id_base, std::uint32_t b0, std::uint32_t b1,
+                                         const std::vector<glm::vec4>& tri_spheres, const SceneBuffers& scene, float eps,
+                                         const std::vector<std::uint32_t>& object_mask, std::uint32_t* flags,
+                                         std::uint32_t* values, std::uint32_t* tested) {
   vk::Context& c = *ctx_;
   const std::uint32_t count = (t1 - t0) * (b1 - b0);
+  const std::uint32_t objects = static_cast<std::uint32_t>(scene.objects.size());
   vk::Buffer bn, bs, bi, bm, bp, bf, bfl, bv, bt;
   RS_TRY(Make(c, NonEmpty(top), bn));
   RS_TRY(Make(c, tri_spheres, bs));
   RS_TRY(Make(c, scene.info, bi));
-  RS_TRY(Make(c, std::vector<std::uint32_t>(1), bm));
+  RS_TRY(Make(c, NonEmpty(object_mask), bm));
   RS_TRY(Make(c, std::vector<std::uint32_t>(1), bp));
   RS_TRY(Make(c, std::vector<std::uint32_t>(1), bf));
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * 4, bfl));
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * 4, bv));
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * 4, bt));
-  const TraversePush push{0, count, t0, b0, b1 - b0, 0, 0, 0, 0, 0, eps};
+  const TraversePush push{0, count, t0, b0, b1 - b0, objects, object_mask.empty() ? 0u : 1u, 0, 0, 0, eps, id_base};
   const vk::Buffer* bufs[9] = {&bn, &bs, &bi, &bm, &bp, &bf, &bfl, &bv, &bt};
   RS_TRY(RunKernel(c, traverse_, bufs, &push, sizeof push, count));
-  flags = bfl.Download<std::uint32_t>(count);
-  values = bv.Download<std::uint32_t>(count);
-  tested = bt.Download<std::uint32_t>(count);
+  std::memcpy(flags, bfl.data(), count * 4ull);
+  std::memcpy(values, bv.data(), count * 4ull);
+  std::memcpy(tested, bt.data(), count * 4ull);
   return vk::Status::Ok();
 }
 
+// Pairs per dispatch so that the slot bindings (pairs x children) stay within the split size.
 vk::Status VulkanPasses::TraverseLevel(const std::vector<std::uint32_t>& pairs, const std::vector<gpu::ConeNode>& nodes,
                                        const std::vector<std::uint32_t>& first, std::uint32_t base_up, std::uint32_t base,
                                        std::uint32_t children_max, std::uint32_t b0, const std::vector<glm::vec4>& tri_spheres,
                                        float eps, std::vector<std::uint32_t>& flags, std::vector<std::uint32_t>& values,
                                        std::vector<std::uint32_t>& tested) {
+  const std::size_t count = pairs.size();
+  flags.assign(count * children_max, 0);
+  values.assign(count * children_max, 0);
+  tested.assign(count, 0);
+  const std::size_t per = std::max<std::size_t>(1, SplitBytes() / 4 / children_max);
+  for (std::size_t p0 = 0; p0 < count; p0 += per) {
+    const std::uint32_t n = static_cast<std::uint32_t>(std::min(count - p0, per));
+    if (p0 != 0) ++extra_dispatches_;
+    RS_TRY(TraverseLevelPart(pairs.data() + p0, n, nodes, first, base_up, base, children_max, b0, tri_spheres, eps,
+                             flags.data() + p0 * children_max, values.data() + p0 * children_max, tested.data() + p0));
+  }
+  return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::TraverseLevelPart(const std::uint32_t* pairs, std::uint32_t count, const std::vector<gpu::ConeNode>& nodes,
+                                           const std::vector<std::uint32_t>& first, std::uint32_t base_up, std::uint32_t base,
+                                           std::uint32_t children_max, std::uint32_t b0,
+                                           const std::vector<glm::vec4>& tri_spheres, float eps, std::uint32_t* flags,
+                                           std::uint32_t* values, std::uint32_t* tested) {
   vk::Context& c = *ctx_;
-  const std::uint32_t count = static_cast<std::uint32_t>(pairs.size()), slots = count * children_max;
+  const std::uint32_t slots = count * children_max;
   vk::Buffer bn, bs, bi, bm, bp, bf, bfl, bv, bt;
   RS_TRY(Make(c, NonEmpty(nodes), bn));
   RS_TRY(Make(c, tri_spheres, bs));
   RS_TRY(Make(c, std::vector<gpu::TriangleInfo>(1), bi));
   RS_TRY(Make(c, std::vector<std::uint32_t>(1), bm));
-  RS_TRY(Make(c, NonEmpty(pairs), bp));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * 4, bp));
+  if (count) std::memcpy(bp.data(), pairs, count * 4ull);
   RS_TRY(Make(c, first, bf));
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(slots, 1) * 4, bfl));
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(slots, 1) * 4, bv));
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * 4, bt));
-  const TraversePush push{1, count, 0, b0, 0, 0, 0, base_up, base, children_max, eps};
+  const TraversePush push{1, count, 0, b0, 0, 0, 0, base_up, base, children_max, eps, 0};
   const vk::Buffer* bufs[9] = {&bn, &bs, &bi, &bm, &bp, &bf, &bfl, &bv, &bt};
   RS_TRY(RunKernel(c, traverse_, bufs, &push, sizeof push, count));
-  flags = bfl.Download<std::uint32_t>(slots);
-  values = bv.Download<std::uint32_t>(slots);
-  tested = bt.Download<std::uint32_t>(count);
+  std::memcpy(flags, bfl.data(), slots * 4ull);
+  std::memcpy(values, bv.data(), slots * 4ull);
+  std::memcpy(tested, bt.data(), count * 4ull);
+  return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::ObjectMask(const std::vector<gpu::ConeNode>& top, const std::vector<glm::vec4>& object_spheres,
+                                    float eps, std::vector<std::uint32_t>& mask) {
+  vk::Context& c = *ctx_;
+  const std::uint32_t objects = static_cast<std::uint32_t>(object_spheres.size());
+  const std::uint32_t count = static_cast<std::uint32_t>(top.size()) * objects;
+  vk::Buffer bn, bs, bi, bm, bp, bf, bfl, bv, bt;
+  RS_TRY(Make(c, NonEmpty(top), bn));
+  RS_TRY(Make(c, NonEmpty(object_spheres), bs));
+  RS_TRY(Make(c, std::vector<gpu::TriangleInfo>(1), bi));
+  RS_TRY(Make(c, std::vector<std::uint32_t>(1), bm));
+  RS_TRY(Make(c, std::vector<std::uint32_t>(1), bp));
+  RS_TRY(Make(c, std::vector<std::uint32_t>(1), bf));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * 4, bfl));
+  RS_TRY(c.CreateBuffer(4, bv));
+  RS_TRY(c.CreateBuffer(4, bt));
+  const TraversePush push{2, count, 0, 0, 0, objects, 0, 0, 0, 0, eps, 0};
+  const vk::Buffer* bufs[9] = {&bn, &bs, &bi, &bm, &bp, &bf, &bfl, &bv, &bt};
+  RS_TRY(RunKernel(c, traverse_, bufs, &push, sizeof push, count));
+  mask = bfl.Download<std::uint32_t>(count);
+  return vk::Status::Ok();
+}
+
+// Order-preserving compaction composes: reducing consecutive parts and concatenating their outputs
+// gives the whole stream's result, so big streams are reduced in parts that fit the split size
+// (hierarchical parts end on component boundaries).
+vk::Status VulkanPasses::ReduceScan(const std::vector<std::uint32_t>& flags, const std::vector<std::uint32_t>& values,
+                                    std::vector<std::uint32_t>& out) {
+  out.clear();
+  const std::size_t n = flags.size(), per = std::max<std::size_t>(1, SplitBytes() / 4);
+  for (std::size_t p0 = 0; p0 < n || p0 == 0; p0 += per) {
+    std::vector<std::uint32_t> part;
+    if (p0 != 0) ++extra_dispatches_;
+    RS_TRY(ReduceScanPart(flags.data() + p0, values.data() + p0, static_cast<std::uint32_t>(std::min(n - p0, per)), part));
+    out.insert(out.end(), part.begin(), part.end());
+    if (n == 0) break;
+  }
   return vk::Status::Ok();
 }
 
 vk::Status VulkanPasses::Reduce(const std::vector<std::uint32_t>& flags, const std::vector<std::uint32_t>& values,
                                 std::uint32_t s, std::vector<std::uint32_t>& out) {
+  out.clear();
+  const std::size_t n = flags.size(), per = std::max<std::size_t>(1, SplitBytes() / 4 / s) * s;
+  for (std::size_t p0 = 0; p0 < n || p0 == 0; p0 += per) {
+    std::vector<std::uint32_t> part;
+    if (p0 != 0) ++extra_dispatches_;
+    RS_TRY(ReducePart(flags.data() + p0, values.data() + p0, static_cast<std::uint32_t>(std::min(n - p0, per)), s, part));
+    out.insert(out.end(), part.begin(), part.end());
+    if (n == 0) break;
+  }
+  return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::ReduceScanPart(const std::uint32_t* flags, const std::uint32_t* values, std::uint32_t n,
+                                        std::vector<std::uint32_t>& out) {
   vk::Context& c = *ctx_;
-  const std::uint32_t n = static_cast<std::uint32_t>(flags.size());
+  const std::uint32_t blocks = Blocks(n);
+  vk::Buffer bf, bv, bl, bc, bs, bo;
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * 4, bf));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * 4, bv));
+  if (n) {
+    std::memcpy(bf.data(), flags, n * 4ull);
+    std::memcpy(bv.data(), values, n * 4ull);
+  }
+  RS_TRY(c.CreateBuffer(4, bl));
+  RS_TRY(c.CreateBuffer(4, bc));
+  RS_TRY(c.CreateBuffer((blocks + 1) * 4, bs));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * 4, bo));
+  const vk::Buffer* bufs[6] = {&bf, &bv, &bl, &bc, &bs, &bo};
+  vk::Recorder rec(c);
+  const std::uint32_t phases[3] = {10, 2, 11}, invocations[3] = {blocks, 1, blocks};
+  for (int k = 0; k < 3; ++k) {
+    const std::uint32_t push[5] = {n, phases[k], 1, 0, blocks};
+    RS_TRY(rec.Dispatch(reduce_, bufs, push, sizeof push, invocations[k]));
+  }
+  RS_TRY(rec.Submit());
+  const std::uint32_t total = bs.Download<std::uint32_t>(blocks + 1)[blocks];
+  if (total > n) return vk::Status::Fail(fmt::format("scan reduce kernel reported {} of {} slots", total, n));
+  out = bo.Download<std::uint32_t>(total);
+  return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::ReducePart(const std::uint32_t* flags, const std::uint32_t* values, std::uint32_t n, std::uint32_t s,
+                                    std::vector<std::uint32_t>& out) {
+  vk::Context& c = *ctx_;
   const std::uint32_t comps = (n + s - 1) / s, blocks = Blocks(comps);
   vk::Buffer bf, bv, bl, bc, bs, bo;
-  RS_TRY(Make(c, NonEmpty(flags), bf));
-  RS_TRY(Make(c, NonEmpty(values), bv));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * 4, bf));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * 4, bv));
+  if (n) {
+    std::memcpy(bf.data(), flags, n * 4ull);
+    std::memcpy(bv.data(), values, n * 4ull);
+  }
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * 4, bl));
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(comps, 1) * 4, bc));
   RS_TRY(c.CreateBuffer((blocks + 1) * 4, bs));
@@ -440,6 +578,23 @@ vk::Status VulkanPasses::Reduce(const std::vector<std::uint32_t>& flags, const s
   const std::uint32_t total = bs.Download<std::uint32_t>(blocks + 1)[blocks];
   if (total > n) return vk::Status::Fail(fmt::format("reduce kernel reported {} of {} slots", total, n));
   out = bo.Download<std::uint32_t>(total);
+  return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::SurfacesFromHits(const std::vector<gpu::Ray>& rays, const std::vector<std::uint64_t>& hits,
+                                          const SceneBuffers& scene, std::vector<gpu::Surface>& out) {
+  vk::Context& c = *ctx_;
+  const std::uint32_t n = static_cast<std::uint32_t>(rays.size());
+  vk::Buffer br, bh, bt, bn, bi, bs;
+  RS_TRY(Make(c, NonEmpty(rays), br));
+  RS_TRY(Make(c, NonEmpty(hits), bh));
+  RS_TRY(Make(c, scene.triangles, bt));
+  RS_TRY(Make(c, scene.normals, bn));
+  RS_TRY(Make(c, scene.info, bi));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * sizeof(gpu::Surface), bs));
+  const vk::Buffer* bufs[6] = {&br, &bh, &bt, &bn, &bi, &bs};
+  RS_TRY(RunKernel(c, surfaces_hits_, bufs, &n, sizeof n, n));
+  out = bs.Download<gpu::Surface>(n);
   return vk::Status::Ok();
 }
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "rayspace/digest.h"
+#include "rayspace/emu/backend.h"
 #include "rayspace/emu/passes.h"
 #include "rayspace/emu/tracer.h"
 #include "rayspace/scene.h"
@@ -54,6 +55,7 @@ struct FrameResult {
 struct FrameOptions {
   int width = 0, height = 0;  // 0: the scene's size
   bool progress = false;      // pass names and times on stderr
+  FramePasses* passes = nullptr;  // the backend of the frame's passes (nullptr: the emulator)
 };
 
 FrameResult RenderFrame(const Scene& scene, const SceneBuffers& buffers, Tracer& tracer,

@@ -22,6 +22,8 @@ struct HashConfig {
   int direction_bits = 7;  // reflection/refraction: cells per direction coordinate (x2)
 };
 
+class HierarchyPasses;
+
 struct HierarchyConfig {
   Algorithm algorithm = Algorithm::kCrsh;
   int subdivision = 8;                    // children per node (4, 8, 16)
@@ -32,6 +34,8 @@ struct HierarchyConfig {
   std::uint32_t max_batch_triangles = 1u << 14;  // 14-bit triangle ids
   HashConfig hash;
   int image_width = 0, image_height = 0;  // for rah-quadtree
+  // The passes to run (nullptr: the emulator's); see emu/backend.h.
+  HierarchyPasses* passes = nullptr;
   // Test hook: when set, every final ray-triangle test is logged as (ray index << 32 | primitive).
   std::vector<std::uint64_t>* candidate_log = nullptr;
 };
@@ -92,6 +96,9 @@ struct PairSlots {
 inline constexpr int kPairTriangleBits = 14;
 // Absolute margin of the cone-sphere test for a scene.
 float TraversalEpsilon(const SceneBuffers& scene);
+// CRSH's object culling: 1 where top node e / objects may meet object sphere e % objects.
+std::vector<std::uint8_t> PassObjectMask(const std::vector<gpu::ConeNode>& top, const std::vector<glm::vec4>& object_spheres,
+                                         float eps);
 // Top level; `object_mask` (top nodes x objects, CRSH) empty = no object culling.
 PairSlots PassTraverseTop(const std::vector<gpu::ConeNode>& top, std::uint32_t t0, std::uint32_t t1, std::uint32_t b0,
                           std::uint32_t b1, const std::vector<glm::vec4>& tri_spheres, const SceneBuffers& scene,

@@ -1,0 +1,26 @@
+// Shared by the raster fragment stage and the hit-surface kernel; needs Dot3, Cross3 and Normalize3
+// defined before it is included.
+// Barycentric shading normal from signed sub-areas (emu ShadingNormal).
+vec3 ShadingNormalOf(Triangle t, TriangleNormals tn, vec3 p) {
+  const vec3 v0 = t.v0.xyz, v1 = t.v1.xyz, v2 = t.v2.xyz;
+  precise const vec3 e1 = v1 - v0, e2 = v2 - v0;
+  const vec3 n = Cross3(e1, e2);
+  precise const vec3 p1 = v1 - p, p2 = v2 - p, p0 = v0 - p;
+  const float a0 = Dot3(Cross3(p1, p2), n);
+  const float a1 = Dot3(Cross3(p2, p0), n);
+  const float a2 = Dot3(Cross3(p0, p1), n);
+  precise const float sum = (a0 + a1) + a2;
+  precise vec3 s = vec3(0.0);
+  if (sum != 0.0) {
+    precise const float w0 = a0 / sum, w1 = a1 / sum, w2 = a2 / sum;
+    for (int k = 0; k < 3; ++k) s[k] = (tn.n0[k] * w0 + tn.n1[k] * w1) + tn.n2[k] * w2;
+  }
+  const float len2 = Dot3(s, s);
+  if (!(len2 > 0.0) || !(len2 <= 3.0e38)) {
+    const float nl = Dot3(n, n);
+    if (!(nl > 0.0) || !(nl <= 3.0e38)) return tn.n0.xyz;
+    return Normalize3(n);
+  }
+  return Normalize3(s);
+}
+

@@ -1,0 +1,41 @@
+#version 460
+// Shading points of a later generation, one invocation per traced ray; mirrors emu
+// PassSurfacesFromHits (hit point o + t d, barycentric shading normal).
+#include "common.glsl"
+#include "shading_normal.glsl"
+
+layout(std430, binding = 0) readonly buffer Rays { Ray rays[]; };
+layout(std430, binding = 1) readonly buffer Hits { uvec2 hits[]; };  // (primitive, t bits): little-endian uint64
+layout(std430, binding = 2) readonly buffer Triangles { Triangle triangles[]; };
+layout(std430, binding = 3) readonly buffer Normals { TriangleNormals normals[]; };
+layout(std430, binding = 4) readonly buffer Info { TriangleInfo info[]; };
+layout(std430, binding = 5) writeonly buffer Surfaces { Surface surfaces[]; };
+layout(push_constant) uniform Push { uint n; } pc;
+
+void main() {
+  const uint i = gl_GlobalInvocationID.x;
+  if (i >= pc.n) return;
+  const Ray r = rays[i];
+  const uvec2 h = hits[i];
+  Surface s;
+  s.position = vec4(0.0);
+  s.normal = vec4(0.0);
+  s.incoming = vec4(0.0);
+  s.weight = vec4(0.0);
+  if (h.x != 0xFFFFFFFFu || h.y != 0xFFFFFFFFu) {
+    const uint prim = h.x;
+    const float t = uintBitsToFloat(h.y);
+    const vec3 o = r.origin_tmin.xyz, d = r.direction_tmax.xyz;
+    // Fault 1: the hit point is taken at t from the ray's tmin instead of its origin.
+    const float tt = kFault == 1u ? t + r.origin_tmin.w : t;
+    precise const vec3 p = vec3(o.x + tt * d.x, o.y + tt * d.y, o.z + tt * d.z);
+    s.position = vec4(p, 1.0);
+    s.normal = vec4(ShadingNormalOf(triangles[prim], normals[prim], p), 0.0);
+    s.incoming = vec4(Normalize3(d), 0.0);
+    s.weight = r.weight;
+    s.info = uvec4(prim, r.info.x, info[prim].ids.x, 0u);
+  } else {
+    s.info = uvec4(kNoPrim, r.info.x, 0u, 0u);
+  }
+  surfaces[i] = s;
+}

@@ -1,0 +1,68 @@
+// The pass-by-pass differential harness. A Differ stands between the frame (and the hierarchy
+// tracer) and two backends: every pass call runs on the expected backend (the emulator) and the
+// actual one (the Vulkan kernels) with the same inputs, every output buffer is compared bitwise, and
+// the actual backend's outputs flow on, so each pass is checked on the inputs the GPU would see.
+//
+// Lifecycle: construct with both backends; hand frame() / hierarchy() to RenderFrame and the tracer;
+// run the frame, catching DiffStop; read calls(). A diverged buffer that later passes index with
+// (pair streams, ray orders, offsets) stops the run with DiffStop after its call is recorded.
+#pragma once
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "rayspace/emu/tracer.h"
+#include "rayspace/verify/pass_table.h"
+
+namespace rayspace::verify {
+
+struct CallRecord {
+  std::size_t seq = 0;
+  std::string pass;    // the kernel pass (as `diff --inject` names it)
+  std::string method;  // the pass method (pass_table.h)
+  std::string label;   // where in the frame, e.g. "traverse.L2.shadow.b0"
+  std::vector<BufferComparison> buffers;
+  bool equal = true;
+  double expected_ms = 0, actual_ms = 0;
+  std::string hits;   // for ray batches that differ: whether any ray's hit changed
+  std::string error;  // the actual backend failed on this call
+  std::string saved;  // directory of the saved inputs, when saving
+};
+
+class DiffStop : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct DiffOptions {
+  std::string save_dir;           // non-empty: every call's inputs go to save_dir/NNNN-label/
+  Tracer* hit_tracer = nullptr;   // traces diverged ray batches to tell whether hits change
+  std::string inject;             // the planted fault of the actual backend, recorded with saved inputs
+};
+
+// Runs `method` on both backends with `in`; `actual_out` receives the actual backend's outputs.
+CallRecord RunAndCompare(const PassMethod& method, const BufferSet& in, Backends& expected, Backends& actual,
+                         BufferSet& actual_out, Tracer* hit_tracer = nullptr);
+
+class Differ {
+ public:
+  Differ(Backends expected, Backends actual, DiffOptions options);
+  ~Differ();
+  emu::FramePasses& frame();
+  emu::HierarchyPasses& hierarchy();
+  const std::vector<CallRecord>& calls() const { return calls_; }
+  // Runs one call on both backends, records it, returns the actual outputs (throws DiffStop).
+  BufferSet Call(const std::string& method, const BufferSet& in);
+  void SetLabel(const std::string& label) { label_ = label; }
+
+ private:
+  Backends expected_, actual_;
+  DiffOptions options_;
+  std::string label_;
+  std::vector<CallRecord> calls_;
+  std::unique_ptr<emu::FramePasses> frame_;
+  std::unique_ptr<emu::HierarchyPasses> hierarchy_;
+};
+
+}  // namespace rayspace::verify

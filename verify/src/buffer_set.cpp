@@ -1,0 +1,151 @@
+#include "rayspace/verify/buffer_set.h"
+
+#include <filesystem>
+#include <fstream>
+
+namespace rayspace::verify {
+namespace {
+
+constexpr ElemInfo kInfos[] = {
+    {"u8", 1, 0},          {"u32", 4, 0},         {"u64", 8, 0},          {"f32", 4, 1},
+    {"vec4", 16, 0xF},     {"uvec4", 16, 0},      {"ray", 64, 0xF0FF},    {"surface", 80, 0xFFFF},
+    {"cone_node", 48, 0xFFF}, {"triangle", 48, 0xFFF}, {"triangle_normals", 48, 0xFFF}, {"triangle_info", 16, 0},
+    {"material", 48, 0xFFF}, {"light", 48, 0xFFF},
+    {"frame_constants", 192, 0}};  // 48 words: more than the mask holds; inputs only, never compared
+static_assert(sizeof(gpu::Ray) == 64 && sizeof(gpu::Surface) == 80 && sizeof(gpu::ConeNode) == 48);
+static_assert(sizeof(gpu::FrameConstants) == 192 && sizeof(gpu::Material) == 48 && sizeof(gpu::Light) == 48);
+
+std::vector<std::uint32_t> Words(const Blob& b) {
+  if (Info(b.type).bytes == 1) return {b.bytes.begin(), b.bytes.end()};
+  std::vector<std::uint32_t> w(b.bytes.size() / 4);
+  if (!w.empty()) std::memcpy(w.data(), b.bytes.data(), w.size() * 4);
+  return w;
+}
+
+}  // namespace
+
+const ElemInfo& Info(ElemType t) { return kInfos[static_cast<int>(t)]; }
+
+const Blob& BufferSet::Find(const std::string& name, ElemType type) const {
+  auto it = blobs_.find(name);
+  if (it == blobs_.end()) ThrowInput("{}: no buffer '{}'", origin_, name);
+  if (it->second.type != type)
+    ThrowInput("{}: buffer '{}' holds {}, expected {}", origin_, name, Info(it->second.type).name, Info(type).name);
+  return it->second;
+}
+
+double BufferSet::Scalar(const std::string& name) const {
+  if (!scalars.contains(name) || !scalars[name].is_number()) ThrowInput("{}: no numeric scalar '{}'", origin_, name);
+  return scalars[name].get<double>();
+}
+
+std::uint32_t BufferSet::U32(const std::string& name) const {
+  const double v = Scalar(name);
+  if (!(v >= 0.0 && v <= 4294967295.0) || v != static_cast<double>(static_cast<std::uint32_t>(v)))
+    ThrowInput("{}: scalar '{}' = {} is not a 32-bit unsigned integer", origin_, name, v);
+  return static_cast<std::uint32_t>(v);
+}
+
+void BufferSet::PutScene(const SceneBuffers& s) {
+  Put("scene.triangles", s.triangles);
+  Put("scene.normals", s.normals);
+  Put("scene.info", s.info);
+  Put("scene.materials", s.materials);
+  Put("scene.lights", s.lights);
+  Put("scene.objects", s.objects);
+  Put("scene.box", std::vector<glm::vec4>{glm::vec4(s.lo, 0.0f), glm::vec4(s.hi, 0.0f)});
+}
+
+SceneBuffers BufferSet::GetScene() const {
+  SceneBuffers s;
+  s.triangles = Get<gpu::Triangle>("scene.triangles");
+  s.normals = Get<gpu::TriangleNormals>("scene.normals");
+  s.info = Get<gpu::TriangleInfo>("scene.info");
+  s.materials = Get<gpu::Material>("scene.materials");
+  s.lights = Get<gpu::Light>("scene.lights");
+  s.objects = Get<glm::uvec4>("scene.objects");
+  const std::vector<glm::vec4> box = Get<glm::vec4>("scene.box");
+  if (box.size() != 2) ThrowInput("{}: buffer 'scene.box' must hold 2 elements", origin_);
+  s.lo = glm::vec3(box[0]);
+  s.hi = glm::vec3(box[1]);
+  const std::size_t n = s.triangles.size();
+  if (s.normals.size() != n || s.info.size() != n)
+    ThrowInput("{}: scene buffers disagree on the triangle count ({}, {}, {})", origin_, n, s.normals.size(), s.info.size());
+  for (std::size_t i = 0; i < n; ++i)
+    if (s.info[i].ids.x >= s.materials.size() || s.info[i].ids.y >= s.objects.size())
+      ThrowInput("{}: triangle {} names material {} / object {} out of range", origin_, i, s.info[i].ids.x, s.info[i].ids.y);
+  return s;
+}
+
+void BufferSet::Save(const std::string& dir, const std::string& method) const {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) ThrowInput("{}: cannot create the directory ({})", dir, ec.message());
+  nlohmann::json j = {{"method", method}, {"scalars", scalars}, {"buffers", nlohmann::json::object()}};
+  for (const auto& [name, b] : blobs_) {
+    j["buffers"][name] = {{"type", Info(b.type).name}, {"count", b.count()}};
+    std::ofstream f(fs::path(dir) / (name + ".bin"), std::ios::binary);
+    f.write(reinterpret_cast<const char*>(b.bytes.data()), static_cast<std::streamsize>(b.bytes.size()));
+    if (!f) ThrowInput("{}/{}.bin: cannot write", dir, name);
+  }
+  std::ofstream f(fs::path(dir) / "pass.json");
+  f << j.dump(2) << "\n";
+  if (!f) ThrowInput("{}/pass.json: cannot write", dir);
+}
+
+BufferSet BufferSet::Load(const std::string& dir, std::string& method) {
+  namespace fs = std::filesystem;
+  const fs::path meta = fs::path(dir) / "pass.json";
+  std::ifstream f(meta);
+  if (!f) ThrowInput("{}: cannot open (is '{}' a directory written by diff --save-inputs?)", meta.string(), dir);
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(f);
+  } catch (const nlohmann::json::exception& e) {
+    ThrowInput("{}: {}", meta.string(), e.what());
+  }
+  if (!j.is_object() || !j.contains("method") || !j["method"].is_string() || !j.contains("buffers") ||
+      !j["buffers"].is_object())
+    ThrowInput("{}: expected an object with 'method' and 'buffers'", meta.string());
+  BufferSet s;
+  s.origin_ = dir;
+  method = j["method"].get<std::string>();
+  if (j.contains("scalars") && j["scalars"].is_object()) s.scalars = j["scalars"];
+  for (const auto& [name, desc] : j["buffers"].items()) {
+    if (name.find('/') != std::string::npos || name.find("..") != std::string::npos)
+      ThrowInput("{}: buffer name '{}' is not a plain name", meta.string(), name);
+    if (!desc.is_object() || !desc.contains("type") || !desc["type"].is_string() || !desc.contains("count") ||
+        !desc["count"].is_number_unsigned())
+      ThrowInput("{}: buffer '{}' needs a type and an unsigned count", meta.string(), name);
+    int type = -1;
+    for (int t = 0; t < static_cast<int>(std::size(kInfos)); ++t)
+      if (desc["type"].get<std::string>() == kInfos[t].name) type = t;
+    if (type < 0) ThrowInput("{}: buffer '{}' has unknown type '{}'", meta.string(), name, desc["type"].get<std::string>());
+    Blob b;
+    b.type = static_cast<ElemType>(type);
+    const std::uint64_t count = desc["count"].get<std::uint64_t>();
+    const fs::path bin = fs::path(dir) / (name + ".bin");
+    std::error_code ec;
+    const std::uint64_t size = fs::file_size(bin, ec);
+    if (ec) ThrowInput("{}: cannot read ({})", bin.string(), ec.message());
+    if (size != count * Info(b.type).bytes)
+      ThrowInput("{}: {} bytes, expected {} elements of {} bytes", bin.string(), size, count, Info(b.type).bytes);
+    b.bytes.resize(size);
+    std::ifstream in(bin, std::ios::binary);
+    in.read(reinterpret_cast<char*>(b.bytes.data()), static_cast<std::streamsize>(size));
+    if (!in) ThrowInput("{}: short read", bin.string());
+    s.blobs_[name] = std::move(b);
+  }
+  return s;
+}
+
+BufferComparison CompareBlobs(const std::string& pass, const std::string& name, const Blob& expected, const Blob& actual) {
+  RS_CHECK(expected.type == actual.type);
+  const ElemInfo& info = Info(expected.type);
+  const std::size_t words = info.bytes == 1 ? 1 : info.bytes / 4;
+  const std::vector<std::uint32_t> e = Words(expected), a = Words(actual);
+  return CompareWords(pass, name, e, a, words, info.float_mask);
+}
+
+}  // namespace rayspace::verify
