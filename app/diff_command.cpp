@@ -88,6 +88,7 @@ int RunDiff(const DiffArgs& args) {
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
   const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, ParseInject(args.inject), args.split_bytes);
+  CheckFrameFits(gpu, fo.width, fo.height, scene.lights.size());
   const SceneBuffers buffers = FlattenScene(scene);
   auto direct = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);
 

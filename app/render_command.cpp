@@ -52,6 +52,7 @@ int RunRender(const RenderArgs& args) {
 
   const Backend backend = MakeBackend(args.backend, args.device, 64, {}, args.split_bytes);
   fo.passes = backend.frame;
+  CheckFrameFits(backend, fo.width, fo.height, scene.lights.size());
   const SceneBuffers buffers = FlattenScene(scene);
   const emu::DirectMode mode = args.direct == "exhaustive" ? emu::DirectMode::kExhaustive
                                : args.direct == "bvh"      ? emu::DirectMode::kBvh

@@ -68,6 +68,13 @@ if(EXISTS "${DATA}/sponza_dabrovic/sponza.obj")
   same_frame(sponza_rah "${SRC}/scenes/sponza.json" 128x128 --algo rah)
 endif()
 
+# Per-pixel buffers bigger than the device allows are refused up front, as bad input.
+execute_process(COMMAND "${RAYSPACE}" render "${cornell}" --size 1500x1500 --backend vulkan --no-oracle --out "${WORK}/big.png"
+                RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+if(NOT rc EQUAL 2 OR NOT err MATCHES "--size 1500x1500: per-pixel buffers of 180000000 bytes exceed maxStorageBufferRange")
+  set(failures "${failures}\noversized frame: exit ${rc}, stderr '${err}'")
+endif()
+
 if(failures)
   message(FATAL_ERROR "render --backend vulkan differs from emu:${failures}")
 endif()
