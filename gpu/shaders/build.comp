@@ -21,21 +21,14 @@ void main() {
     n.sphere = vec4(r0.origin_tmin.xyz, 0.0);
     n.cone = vec4(Normalize3(r0.direction_tmax.xyz), 1.0);
     n.extra = vec4(0.0, 1.0, 0.0, 0.0);
+    n = Finish(n);
     for (uint j = f0 + 1u; j < f1; ++j) {
       const Ray r = rays[order[j]];
-      n.sphere = SphereUnion(n.sphere, vec4(r.origin_tmin.xyz, 0.0));
-      n = GrowCone(n, Normalize3(r.direction_tmax.xyz));
-      precise const float rays_below = n.extra.y + 1.0;
-      n.extra.y = rays_below;
+      // Fault 1: the float containment checks of each step are skipped.
+      n = GrowNode(n, r.origin_tmin.xyz, Normalize3(r.direction_tmax.xyz), kFault != 1u);
     }
-    // Fault 1: the float containment check over the rays is skipped.
-    if (kFault != 1u) {
-      for (uint j = f0; j < f1; ++j) {
-        const Ray r = rays[order[j]];
-        n = EncloseSphere(n, r.origin_tmin.xyz, 0.0);
-        n = EncloseDirection(n, Normalize3(r.direction_tmax.xyz));
-      }
-    }
+    nodes[i] = n;
+    return;
   } else {
     n = below[f0];
     for (uint j = f0 + 1u; j < f1; ++j) n = Union(n, below[j]);

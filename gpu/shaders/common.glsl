@@ -14,11 +14,31 @@ layout(constant_id = 0) const uint kFault = 0;  // planted fault (0 = none), sel
 layout(constant_id = 1) const uint kLocalSize = 64;
 layout(local_size_x_id = 1) in;
 
+// 2^-e for the exponent e of m > 0, clamped to normal powers (emu InversePowerOfTwo).
+float InversePowerOfTwo(float m) {
+  const int e = int((floatBitsToUint(m) >> 23) & 0xFFu);
+  return uintBitsToFloat(uint(clamp(254 - e, 1, 254)) << 23);
+}
+
+// The largest magnitude among the components of a and b (emu MaxAbs).
+float MaxAbs(vec3 a, vec3 b) {
+  return max(max(max(abs(a.x), abs(a.y)), abs(a.z)), max(max(abs(b.x), abs(b.y)), abs(b.z)));
+}
+
 float Dot3(vec3 a, vec3 b) {
   precise float r = (a.x * b.x + a.y * b.y) + a.z * b.z;
   return r;
 }
 float Length3(vec3 v) { return sqrt(Dot3(v, v)); }
+// emu ScaledLength: |v| computed at a power-of-two scale where the squares neither over- nor underflow.
+float ScaledLength3(vec3 v) {
+  const float m = max(max(abs(v.x), abs(v.y)), abs(v.z));
+  if (!(m > 0.0) || !(m < uintBitsToFloat(0x7F800000u))) return m;
+  const float k = InversePowerOfTwo(m);
+  precise const vec3 s = vec3(v.x * k, v.y * k, v.z * k);
+  precise const float l = sqrt(Dot3(s, s)) / k;
+  return l;
+}
 vec3 Normalize3(vec3 v) {
   const float l = sqrt(Dot3(v, v));
   precise vec3 r = vec3(v.x / l, v.y / l, v.z / l);

@@ -2,6 +2,7 @@
 // the same order; see docs/hierarchy.md).
 const float kRadiusSlack = 1.000003814697265625;  // 1 + 2^-18
 const float kAngleSlack = 9.5367431640625e-07;    // 2^-20
+const float kTestSlack = 1.9073486328125e-06;     // 2^-19
 
 float NextUp(float x) {
   if (isnan(x) || isinf(x) && x > 0.0) return x;
@@ -61,13 +62,14 @@ ConeNode EncloseCone(ConeNode n, ConeNode child) {
 
 ConeNode EncloseSphere(ConeNode n, vec3 c, float r) {
   precise const vec3 d = c - n.sphere.xyz;
-  precise const float need = Length3(d) + r;
+  precise const float need = ScaledLength3(d) + r;
   if (need > n.sphere.w) n.sphere.w = need;
   return n;
 }
 
 ConeNode Finish(ConeNode n) {
-  precise const float r = n.sphere.w * kRadiusSlack;
+  const float radius_floor = uintBitsToFloat(0x20u);  // 2^-144 (a denormal: 2^5 x 2^-149)
+  precise const float r = n.sphere.w * kRadiusSlack + radius_floor;
   n.sphere.w = NextUp(r);
   return Loosen(n);
 }
@@ -76,7 +78,7 @@ vec4 SphereUnion(vec4 a, vec4 b) {
   precise const vec3 s = a.xyz + b.xyz;
   precise const vec3 c = s * 0.5;
   precise const vec3 d = b.xyz - a.xyz;
-  precise const float r = Length3(d) * 0.5 + max(a.w, b.w);
+  precise const float r = ScaledLength3(d) * 0.5 + max(a.w, b.w);
   return vec4(c, r);
 }
 
@@ -121,6 +123,24 @@ vec4 ConeUnion(ConeNode a, ConeNode b, out float sin_out) {
   return vec4(axis, cn);
 }
 
+// One step of a leaf build (emu cone::GrowNode); `check` false skips the float containment checks
+// (the build pass's planted fault).
+ConeNode GrowNode(ConeNode old, vec3 o, vec3 r, bool check) {
+  ConeNode n = old;
+  n.sphere = SphereUnion(n.sphere, vec4(o, 0.0));
+  n = GrowCone(n, r);
+  if (check) {
+    n = EncloseSphere(n, old.sphere.xyz, old.sphere.w);
+    n = EncloseSphere(n, o, 0.0);
+    n = EncloseCone(n, old);
+    n = EncloseDirection(n, r);
+  }
+  n = Finish(n);
+  precise const float rays = old.extra.y + 1.0;
+  n.extra.y = rays;
+  return n;
+}
+
 ConeNode Union(ConeNode a, ConeNode b) {
   ConeNode n;
   n.sphere = SphereUnion(a.sphere, b.sphere);
@@ -134,9 +154,13 @@ ConeNode Union(ConeNode a, ConeNode b) {
 
 // Does the node's ray bundle possibly meet the sphere? Mirrors emu cone::Test.
 bool ConeTest(ConeNode n, vec4 sphere, float eps) {
-  precise const vec3 v = sphere.xyz - n.sphere.xyz;
-  precise const float R = (sphere.w + n.sphere.w) * kRadiusSlack + eps;
   if (IsFull(n)) return true;
+  precise const vec3 v0 = sphere.xyz - n.sphere.xyz;
+  precise const float R0 = (sphere.w + n.sphere.w) * kRadiusSlack + eps;
+  const float m = max(max(max(abs(v0.x), abs(v0.y)), abs(v0.z)), R0);
+  if (!(m > 0.0) || !(m < uintBitsToFloat(0x7F800000u))) return true;
+  const float k = InversePowerOfTwo(m);
+  precise const vec3 v = vec3(v0.x * k, v0.y * k, v0.z * k);
   const vec3 x = n.cone.xyz;
   const float a = Dot3(v, x);
   const float b = Length3(Cross3(v, x));
@@ -144,6 +168,7 @@ bool ConeTest(ConeNode n, vec4 sphere, float eps) {
   precise const float s = b * cosa - a * sina;
   precise const float c = a * cosa + b * sina;
   if (s < 0.0 || (s == 0.0 && c >= 0.0)) return true;
+  precise const float R = R0 * k + (abs(a) + b) * kTestSlack;
   if (c > 0.0) return s <= R;
   precise const float rr = R * R;
   return Dot3(v, v) <= rr;

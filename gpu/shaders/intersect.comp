@@ -29,7 +29,9 @@ bool Watertight(vec3 org, vec3 dir, vec3 v0, vec3 v1, vec3 v2, float tmin, float
     ky = tmp;
   }
   precise const float sx = dir[kx] / dir[kz], sy = dir[ky] / dir[kz];
-  precise const vec3 A = v0 - org, B = v1 - org, C = v2 - org;
+  precise const vec3 A0 = v0 - org, B0 = v1 - org, C0 = v2 - org;
+  const float ka = InversePowerOfTwo(max(MaxAbs(A0, B0), MaxAbs(C0, C0)));
+  precise const vec3 A = A0 * ka, B = B0 * ka, C = C0 * ka;
   precise const float ax = A[kx] - sx * A[kz], ay = A[ky] - sy * A[kz];
   precise const float bx = B[kx] - sx * B[kz], by = B[ky] - sy * B[kz];
   precise const float cx = C[kx] - sx * C[kz], cy = C[ky] - sy * C[kz];
@@ -40,8 +42,11 @@ bool Watertight(vec3 org, vec3 dir, vec3 v0, vec3 v1, vec3 v2, float tmin, float
   precise const float det = (u + v) + w;
   if (det == 0.0) return false;
   precise const vec3 e1 = v1 - v0, e2 = v2 - v0;
-  const vec3 n = Cross3(e1, e2);
-  precise const float t = Dot3(A, n) / Dot3(dir, n);
+  const float ke = InversePowerOfTwo(MaxAbs(e1, e2));
+  const vec3 n0 = Cross3(e1 * ke, e2 * ke);
+  const float kn = InversePowerOfTwo(MaxAbs(n0, n0));
+  precise const vec3 n = n0 * kn;
+  precise const float t = Dot3(A0, n) / Dot3(dir, n);
   // Fault 1: tmin and tmax swapped in the range check (every hit rejected).
   if (kFault == 1u ? !(t > tmax && t < tmin) : !(t > tmin && t < tmax)) return false;
   t_out = t;

@@ -6,7 +6,9 @@
 // - antiparallel axes in a union (eq. 3.12 divides by zero): the full sphere;
 // - half-angles >= pi/2 and spheres behind the apex in the test (eq. 3.16 assumes alpha < pi/2).
 // Each finished node is checked against its rays or children in float (Enclose*) and then widened by
-// small margins (Finish) for the test's own rounding; a proof of these margins is future work.
+// small margins (Finish) that cover the rounding of those checks; the test adds a margin for its own
+// rounding. Lengths of coordinate differences are computed scaled (ScaledLength) so tiny and huge
+// coordinates neither underflow nor overflow. The bounds and their proofs: docs/numerics.md.
 #pragma once
 #include "rayspace/emu/intersect.h"
 
@@ -15,6 +17,11 @@ namespace rayspace::emu::cone {
 // Margins applied once per finished node: radii grow by a relative 2^-18, half-angles by 2^-20 rad.
 inline constexpr float kRadiusSlack = 1.0f + 1.0f / (1 << 18);
 inline constexpr float kAngleSlack = 1.0f / (1 << 20);
+// Absolute radius margin (2^-144): covers the absolute rounding of denormal-range radii; absorbed by
+// rounding for radii above about 2^-119, so it changes nothing at ordinary scales.
+inline constexpr float kRadiusFloor = 0x1p-144f;
+// The test's own rounding: the distance it computes may be short by this fraction of |a| + |b|.
+inline constexpr float kTestSlack = 1.0f / (1 << 19);
 
 inline gpu::ConeNode FullSphereCone(gpu::ConeNode n) {
   n.cone = glm::vec4(1.0f, 0.0f, 0.0f, -1.0f);
@@ -74,12 +81,12 @@ inline void EncloseCone(gpu::ConeNode& n, const gpu::ConeNode& child) {
 
 // Makes sure the sphere holds a point or a child sphere (radius r at c).
 inline void EncloseSphere(gpu::ConeNode& n, glm::vec3 c, float r) {
-  const float need = Length(c - Xyz(n.sphere)) + r;
+  const float need = ScaledLength(c - Xyz(n.sphere)) + r;
   if (need > n.sphere.w) n.sphere.w = need;
 }
 
 inline void Finish(gpu::ConeNode& n) {
-  n.sphere.w = std::nextafter(n.sphere.w * kRadiusSlack, INFINITY);
+  n.sphere.w = std::nextafter(n.sphere.w * kRadiusSlack + kRadiusFloor, INFINITY);
   Loosen(n);
 }
 
@@ -97,7 +104,7 @@ inline gpu::ConeNode FromRay(glm::vec3 origin, glm::vec3 unit_dir) {
 inline glm::vec4 SphereUnion(glm::vec4 a, glm::vec4 b) {
   const glm::vec3 ca = Xyz(a), cb = Xyz(b);
   const glm::vec3 c = (ca + cb) * 0.5f;
-  const float r = Length(cb - ca) * 0.5f + Max(a.w, b.w);
+  const float r = ScaledLength(cb - ca) * 0.5f + Max(a.w, b.w);
   return glm::vec4(c, r);
 }
 
@@ -169,10 +176,16 @@ inline gpu::ConeNode Union(const gpu::ConeNode& a, const gpu::ConeNode& b) {
 // the distance from p to the cone of apex C is at most d + r. With a = (p - C).axis, b = |(p - C) x
 // axis|: inside the cone when b cos(alpha) - a sin(alpha) <= 0; otherwise the nearest cone point is
 // on the surface (distance b cos - a sin) while a cos + b sin > 0, else the apex (distance |p - C|).
+// Conservative in float (docs/numerics.md): v and R are scaled by a power of two so nothing over- or
+// underflows, and the reach grows by kTestSlack (|a| + |b|) for the rounding of a, b and s.
 inline bool Test(const gpu::ConeNode& n, glm::vec4 sphere, float eps) {
-  const glm::vec3 v = Xyz(sphere) - Xyz(n.sphere);
-  const float R = (sphere.w + n.sphere.w) * kRadiusSlack + eps;
   if (IsFull(n)) return true;
+  const glm::vec3 v0 = Xyz(sphere) - Xyz(n.sphere);
+  const float R0 = (sphere.w + n.sphere.w) * kRadiusSlack + eps;
+  const float m = Max(Max(Max(std::fabs(v0.x), std::fabs(v0.y)), std::fabs(v0.z)), R0);
+  if (!(m > 0.0f) || !(m < INFINITY)) return true;  // at the apex, or out of float range: keep
+  const float k = InversePowerOfTwo(m);
+  const glm::vec3 v(v0.x * k, v0.y * k, v0.z * k);
   const glm::vec3 x = Xyz(n.cone);
   const float a = Dot(v, x);
   const float b = Length(Cross(v, x));
@@ -181,28 +194,38 @@ inline bool Test(const gpu::ConeNode& n, glm::vec4 sphere, float eps) {
   const float c = a * cosa + b * sina;  // |v| cos(gamma - alpha)
   // Inside when gamma - alpha lies in [-pi, 0]: s <= 0, except s = 0 at gamma - alpha = pi (behind).
   if (s < 0.0f || (s == 0.0f && c >= 0.0f)) return true;
+  const float R = R0 * k + (std::fabs(a) + b) * kTestSlack;
   if (c > 0.0f) return s <= R;  // nearest point on the cone's surface
   return Dot(v, v) <= R * R;    // nearest point is the apex
 }
 
-// A level-1 node over rays (given by index through `order`): eqs. 3.8-3.11 and 3.14-3.15 folded
-// in order, then checked against every ray and finished with the margins.
+// One step of a leaf build: the node grown by one ray (origin o, unit direction r) with eqs. 3.8-3.11
+// and 3.14-3.15, checked in float against the old node and the ray, then finished with the margins.
+// It contains both exactly (docs/numerics.md; fuzz/cone_grow), so a leaf folded from these steps
+// contains all its rays.
+inline gpu::ConeNode GrowNode(const gpu::ConeNode& old, glm::vec3 o, glm::vec3 r) {
+  gpu::ConeNode n = old;
+  n.sphere = SphereUnion(n.sphere, glm::vec4(o, 0.0f));
+  GrowCone(n, r);
+  EncloseSphere(n, Xyz(old.sphere), old.sphere.w);
+  EncloseSphere(n, o, 0.0f);
+  EncloseCone(n, old);
+  EncloseDirection(n, r);
+  Finish(n);
+  n.extra.y = old.extra.y + 1.0f;
+  return n;
+}
+
+// A level-1 node over rays (given by index through `order`): a finished one-ray node grown ray by ray.
 template <typename RayAt>
 gpu::ConeNode LeafNode(std::uint32_t count, RayAt&& ray_at) {
   const gpu::Ray& r0 = ray_at(0);
   gpu::ConeNode n = FromRay(Xyz(r0.origin_tmin), Normalize(Xyz(r0.direction_tmax)));
+  Finish(n);
   for (std::uint32_t j = 1; j < count; ++j) {
     const gpu::Ray& r = ray_at(j);
-    n.sphere = SphereUnion(n.sphere, glm::vec4(Xyz(r.origin_tmin), 0.0f));
-    GrowCone(n, Normalize(Xyz(r.direction_tmax)));
-    n.extra.y += 1.0f;
+    n = GrowNode(n, Xyz(r.origin_tmin), Normalize(Xyz(r.direction_tmax)));
   }
-  for (std::uint32_t j = 0; j < count; ++j) {  // rounding must not leave a ray outside
-    const gpu::Ray& r = ray_at(j);
-    EncloseSphere(n, Xyz(r.origin_tmin), 0.0f);
-    EncloseDirection(n, Normalize(Xyz(r.direction_tmax)));
-  }
-  Finish(n);
   return n;
 }
 

@@ -2,6 +2,7 @@
 // operation in a fixed order (the build uses -ffp-contract=off), so a GLSL kernel that performs the
 // same operations in the same order on lavapipe produces the same bits.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -63,6 +64,30 @@ inline std::uint64_t PackHit(float t, std::uint32_t prim) {
 inline std::uint32_t HitPrim(std::uint64_t h) { return static_cast<std::uint32_t>(h); }
 inline float HitT(std::uint64_t h) { return BitsFloat(static_cast<std::uint32_t>(h >> 32)); }
 
+// 2^-e for the exponent e of |m| (m > 0), clamped to normal powers: multiplying by it is exact and
+// brings m into [1, 2). Used to keep products of tiny or huge coordinates in range.
+inline float InversePowerOfTwo(float m) {
+  const std::int32_t e = static_cast<std::int32_t>((FloatBits(m) >> 23) & 0xFFu);
+  return BitsFloat(static_cast<std::uint32_t>(std::clamp(254 - e, 1, 254)) << 23);
+}
+
+// |v| without overflow or underflow of the squares: v is scaled by a power of two first (exact), so
+// for vectors whose squares stay in range the result is Length(v) bit for bit.
+inline float ScaledLength(glm::vec3 v) {
+  const float m = Max(Max(std::fabs(v.x), std::fabs(v.y)), std::fabs(v.z));
+  if (!(m > 0.0f) || !(m < INFINITY)) return m;
+  const float k = InversePowerOfTwo(m);
+  const glm::vec3 s(v.x * k, v.y * k, v.z * k);
+  return std::sqrt(Dot(s, s)) / k;
+}
+
+// The largest magnitude among the components of a and b (NaN-free inputs).
+inline float MaxAbs(glm::vec3 a, glm::vec3 b) {
+  const float x = Max(Max(std::fabs(a.x), std::fabs(a.y)), std::fabs(a.z));
+  const float y = Max(Max(std::fabs(b.x), std::fabs(b.y)), std::fabs(b.z));
+  return Max(x, y);
+}
+
 // Per-ray setup of the watertight ray-triangle test (Woop, Benthin, Wald 2013): the axis where the
 // direction is largest becomes z, and the ray is sheared onto +z.
 struct WatertightRay {
@@ -94,7 +119,11 @@ inline WatertightRay SetupWatertight(glm::vec3 org, glm::vec3 dir) {
 // tmin < t < tmax. The inside decision is Woop's (sheared edge functions); t = (v0 - o).n / d.n. Watertight: a ray through a shared edge hits at least one of its triangles.
 inline bool IntersectWatertight(const WatertightRay& r, glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, float tmin,
                                 float tmax, float& t_out) {
-  const glm::vec3 A = v0 - r.org, B = v1 - r.org, C = v2 - r.org;
+  // Vertices relative to the origin, scaled by a power of two (exact; the signs of the edge functions
+  // and their ratios are unchanged) so the products below neither overflow nor underflow.
+  const glm::vec3 A0 = v0 - r.org, B0 = v1 - r.org, C0 = v2 - r.org;
+  const float ka = InversePowerOfTwo(Max(MaxAbs(A0, B0), MaxAbs(C0, C0)));
+  const glm::vec3 A = A0 * ka, B = B0 * ka, C = C0 * ka;
   const float ax = A[r.kx] - r.sx * A[r.kz], ay = A[r.ky] - r.sy * A[r.kz];
   const float bx = B[r.kx] - r.sx * B[r.kz], by = B[r.ky] - r.sy * B[r.kz];
   const float cx = C[r.kx] - r.sx * C[r.kz], cy = C[r.ky] - r.sy * C[r.kz];
@@ -105,9 +134,15 @@ inline bool IntersectWatertight(const WatertightRay& r, glm::vec3 v0, glm::vec3 
   const float det = (u + v) + w;
   if (det == 0.0f) return false;
   // The distance comes from the plane, not from Woop's barycentric sum: on long thin triangles that
-  // sum loses about log2(length / width) bits, the plane equation does not.
-  const glm::vec3 n = Cross(v1 - v0, v2 - v0);
-  const float t = Dot(A, n) / Dot(r.dir, n);
+  // sum loses about log2(length / width) bits, the plane equation does not. Edges and normal are
+  // scaled by powers of two too (t is unchanged): n.A and n.d stay in range for coordinates from
+  // 2^-60 to 2^60.
+  const glm::vec3 e1 = v1 - v0, e2 = v2 - v0;
+  const float ke = InversePowerOfTwo(MaxAbs(e1, e2));
+  const glm::vec3 n0 = Cross(e1 * ke, e2 * ke);
+  const float kn = InversePowerOfTwo(MaxAbs(n0, n0));
+  const glm::vec3 n = n0 * kn;
+  const float t = Dot(A0, n) / Dot(r.dir, n);
   if (!(t > tmin && t < tmax)) return false;  // also rejects NaN
   t_out = t;
   return true;

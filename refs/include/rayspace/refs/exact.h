@@ -24,4 +24,11 @@ Contact ExactOccluded(const gpu::Ray& ray, const SceneBuffers& scene);
 // empty for a miss. More than one means an exact tie (shared edge or vertex).
 std::vector<std::uint32_t> ExactClosest(const gpu::Ray& ray, const SceneBuffers& scene);
 
+// Does the ray o + t d (t > 0, no upper bound) cross the triangle's interior robustly: does the hit
+// survive moving the vertices (relative to o) by up to rel x M, M the largest coordinate magnitude
+// of o and the vertices? A float test translates the vertices by o and rounds at the scale M, so
+// this is what it can promise (fuzz/ray_triangle uses rel = 2^-16); grazing rays and hits near an
+// edge are not robust. Interval arithmetic first, exact rationals when it cannot decide.
+bool ExactRobustInteriorHit(glm::vec3 o, glm::vec3 d, glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, float rel);
+
 }  // namespace rayspace::refs

@@ -1,0 +1,90 @@
+#!/usr/bin/env python3
+"""Writes the seed corpora of the numeric harnesses (fuzz/corpus/<harness>/) in the documented
+float32 layouts (fuzz/README.md), and a few scene files for scene_load. Run from anywhere; the
+output is committed, so this only needs rerunning to add seeds."""
+import math
+import os
+import struct
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def write(harness, name, floats=None, raw=None):
+    d = os.path.join(HERE, "corpus", harness)
+    os.makedirs(d, exist_ok=True)
+    data = raw if raw is not None else struct.pack("<%df" % len(floats), *floats)
+    with open(os.path.join(d, name), "wb") as f:
+        f.write(data)
+
+
+PI = math.pi
+HUGE, TINY, DENORM = 2.0 ** 60, 2.0 ** -60, 1e-40
+nodes = {
+    "unit": [0, 0, 0, 1, 0, 0, 1, 0.3],
+    "point_ray": [1, 2, 3, 0, 0, 1, 0, 0],
+    "half_space": [0, 0, 0, 0.5, 0, 0, 1, PI / 2],
+    "near_half": [0, 0, 0, 0.5, 1, 1, 0, PI / 2 - 1e-6],
+    "wide": [0, 0, 0, 2, 0, 0, -1, 3.0],
+    "full": [0, 0, 0, 1, 1, 0, 0, PI],
+    "tiny_angle": [5, 5, 5, 0, 0.3, 0.4, 0.5, 1e-7],
+    "huge": [HUGE, -HUGE, HUGE, HUGE, 1, 2, 3, 0.7],
+    "tiny": [TINY, TINY, -TINY, TINY, 3, 2, 1, 0.7],
+    "denormal": [DENORM, 0, 0, DENORM, 0, 1, 0, 0.1],
+}
+pairs = [("unit", "unit"), ("unit", "point_ray"), ("half_space", "near_half"), ("wide", "tiny_angle"),
+         ("full", "unit"), ("huge", "tiny"), ("denormal", "point_ray")]
+for a, b in pairs:
+    write("cone_union", f"{a}-{b}", nodes[a] + nodes[b])
+# antiparallel and nearly antiparallel axes
+write("cone_union", "antiparallel", [0, 0, 0, 1, 0, 0, 1, 0.1] + [0, 0, 0, 1, 0, 0, -1, 0.1])
+write("cone_union", "near_antiparallel", [0, 0, 0, 1, 0, 0, 1, 0.1] + [0, 0, 0, 1, 1e-7, 0, -1, 0.1])
+write("cone_union", "same_axis_zero_angles", [0, 0, 0, 0, 0, 0, 1, 0] + [1, 0, 0, 0, 0, 0, 1, 0])
+
+rays = {
+    "along_axis": [0, 0, 0, 0, 0, 1],
+    "against_axis": [0, 0, 0, 0, 0, -1],
+    "perpendicular": [1, 1, 1, 1, 0, 0],
+    "grazing": [0, 0, 0, 1, 0, 1],
+    "far": [HUGE, 0, 0, 0, 1, 0],
+    "tiny": [TINY, 0, 0, 0, TINY, 1],
+}
+for n in ["unit", "point_ray", "half_space", "tiny_angle", "huge", "wide"]:
+    for r in rays:
+        write("cone_grow", f"{n}-{r}", nodes[n] + rays[r])
+
+spheres = {
+    "on_surface": [1, 0, 1, 0],
+    "behind_apex": [0, 0, -5, 4.9],
+    "at_apex": [0, 0, 0, 0],
+    "far": [HUGE, HUGE, HUGE, 1],
+    "touching": [3, 0, -4, 4],
+    "tiny": [TINY, 0, TINY, 0],
+}
+cone45 = [0, 0, 0, 0, 0, 0, 1, PI / 4]
+for s in spheres:
+    write("cone_sphere", f"cone45-{s}", cone45 + spheres[s])
+    write("cone_sphere", f"half_space-{s}", nodes["half_space"] + spheres[s])
+    write("cone_sphere", f"tiny_angle-{s}", nodes["tiny_angle"] + spheres[s])
+
+tri = [0, 0, 0, 1, 0, 0, 0, 1, 0]
+write("ray_triangle", "interior", [0.25, 0.25, 1, 0, 0, -1] + tri)
+write("ray_triangle", "edge", [0.5, 0, 1, 0, 0, -1] + tri)
+write("ray_triangle", "vertex", [0, 0, 1, 0, 0, -1] + tri)
+write("ray_triangle", "grazing", [-1, 0.25, 0, 1, 0, 0] + tri)
+write("ray_triangle", "degenerate", [0.25, 0, 1, 0, 0, -1] + [0, 0, 0, 1, 0, 0, 2, 0, 0])
+write("ray_triangle", "huge", [HUGE / 4, HUGE / 4, HUGE, 0, 0, -1] + [x * HUGE for x in tri])
+write("ray_triangle", "tiny", [TINY / 4, TINY / 4, TINY, 0, 0, -1] + [x * TINY for x in tri])
+write("ray_triangle", "sliver", [0.5, 1e-4, 1, 0, 0, -1] + [0, 0, 0, 1, 0, 0, 1, 3e-4, 0])
+
+scene = b'{"name": "s", "camera": {"eye": [0, 0, 5], "target": [0, 0, 0], "fov": 45}, "size": [8, 8], ' \
+        b'"materials": {"m": {"diffuse": [1, 1, 1]}}, "objects": [{"type": "box", "material": "m"}], ' \
+        b'"lights": [{"position": [0, 3, 3], "color": [1, 1, 1]}]}'
+write("scene_load", "json-box", raw=b"\x00" + scene)
+write("scene_load", "json-truncated", raw=b"\x00" + scene[:40])
+write("scene_load", "obj-triangle", raw=b"\x01v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+write("scene_load", "obj-bad-index", raw=b"\x01v 0 0 0\nf 1 2 9\n")
+write("scene_load", "ply-triangle", raw=b"\x02ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+      b"property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+      b"0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")
+write("scene_load", "ply-nan", raw=b"\x02ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n"
+      b"property float y\nproperty float z\nend_header\nnan 0 0\n")

@@ -1,0 +1,31 @@
+// Exact decisions about cone-sphere nodes (CGAL's exact rationals; every float is taken as the
+// rational it encodes). They define what a node means and judge the float code against it.
+//
+// A node (layout.h ConeNode) stands for a ray bundle: origins in the ball (sphere.xyz, sphere.w),
+// directions d with angle(axis, d) <= alpha, where axis = cone.xyz (any length) and alpha is the angle
+// of the 2D vector (cos, sin) = (cone.w, extra.x) in [0, pi] (lengths need not be 1). A node is full
+// (every direction) when cone.w <= -1, when (cos, sin) is (0, 0), or when its axis is zero, as the
+// float test treats those. Square roots are avoided by comparing squares with sign case analysis
+// (docs/numerics.md), so every verdict is exact.
+#pragma once
+#include <string>
+
+#include "rayspace/layout.h"
+
+namespace rayspace::refs {
+
+// Is the direction d (any nonzero length) inside the node's cone?
+bool ExactConeContainsDirection(const gpu::ConeNode& n, glm::vec3 d);
+// Is every direction of the child's cone inside the node's cone?
+bool ExactConeContainsCone(const gpu::ConeNode& n, const gpu::ConeNode& child);
+// Is the ball (inner) inside the ball (outer)? |c_inner - c_outer| + r_inner <= r_outer.
+bool ExactBallContainsBall(glm::vec4 outer, glm::vec4 inner);
+// Node containment (ball and cone); `why` names the part that fails.
+bool ExactNodeContains(const gpu::ConeNode& n, const gpu::ConeNode& child, std::string* why = nullptr);
+bool ExactNodeContainsRay(const gpu::ConeNode& n, glm::vec3 origin, glm::vec3 direction, std::string* why = nullptr);
+
+// Does the node's ray bundle meet the ball (centre xyz, radius w)? True iff the distance from the
+// ball's centre to the cone with apex at the node's centre is at most node radius + ball radius.
+bool ExactNodeMeetsSphere(const gpu::ConeNode& n, glm::vec4 sphere);
+
+}  // namespace rayspace::refs

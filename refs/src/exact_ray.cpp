@@ -1,0 +1,59 @@
+#include <glm/glm.hpp>
+
+#include "exact_filter.h"
+#include "rayspace/refs/exact.h"
+
+namespace rayspace::refs {
+namespace {
+
+using detail::Sign;
+
+template <typename NT>
+struct V3 {
+  NT x, y, z;
+};
+template <typename NT>
+V3<NT> Rel(glm::vec3 v, glm::vec3 o) { return {NT(v.x) - NT(o.x), NT(v.y) - NT(o.y), NT(v.z) - NT(o.z)}; }
+template <typename NT>
+V3<NT> Sub(const V3<NT>& a, const V3<NT>& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+template <typename NT>
+NT Dot(const V3<NT>& a, const V3<NT>& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+template <typename NT>
+V3<NT> Cross(const V3<NT>& a, const V3<NT>& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+template <typename NT>
+NT Det(const V3<NT>& a, const V3<NT>& b, const V3<NT>& c) { return Dot(a, Cross(b, c)); }
+
+// With a, b, c the vertices relative to the origin: the line t d crosses the triangle's interior iff
+// the edge volumes Va = [d, b, c], Vb = [d, c, a], Vc = [d, a, b] share a strict sign, on the side
+// t > 0 iff T = [a, b, c] has that sign too. A float test sees the vertices translated and rounded,
+// i.e. moved by up to delta = rel M; moving b and c by delta changes Va by at most
+// |d| delta (|b| + |c| + delta) < 8 |d| delta M (|b|, |c| <= 2 sqrt(3) M), and T by less than 36 delta M^2.
+// The hit is robust when every sign survives that: Va^2 > 64 delta^2 M^2 |d|^2 (and likewise), and
+// T^2 > 2^11 delta^2 M^4.
+template <typename NT>
+bool RobustHit(glm::vec3 o, glm::vec3 dir, glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, float rel, float scale) {
+  const V3<NT> d{NT(dir.x), NT(dir.y), NT(dir.z)};
+  const V3<NT> a = Rel<NT>(v0, o), b = Rel<NT>(v1, o), c = Rel<NT>(v2, o);
+  const NT Va = Det(d, b, c), Vb = Det(d, c, a), Vc = Det(d, a, b);
+  const NT S = Va + Vb + Vc;
+  const int s = Sign<NT>(S);
+  if (s == 0 || Sign<NT>(Va) != s || Sign<NT>(Vb) != s || Sign<NT>(Vc) != s) return false;
+  const NT T = Det(a, b, c);
+  if (Sign<NT>(T) != s) return false;
+  const NT M(scale), delta = NT(rel) * M;
+  const NT edge_bound = NT(64) * delta * delta * M * M * Dot(d, d);
+  const NT side_bound = NT(2048) * delta * delta * M * M * M * M;
+  return Sign<NT>(Va * Va - edge_bound) > 0 && Sign<NT>(Vb * Vb - edge_bound) > 0 && Sign<NT>(Vc * Vc - edge_bound) > 0 &&
+         Sign<NT>(T * T - side_bound) > 0;
+}
+
+float MaxAbs(glm::vec3 v) { return std::max(std::fabs(v.x), std::max(std::fabs(v.y), std::fabs(v.z))); }
+
+}  // namespace
+
+bool ExactRobustInteriorHit(glm::vec3 o, glm::vec3 d, glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, float rel) {
+  const float scale = std::max(std::max(MaxAbs(o), MaxAbs(v0)), std::max(MaxAbs(v1), MaxAbs(v2)));
+  return detail::Filtered([&](auto nt) { return RobustHit<decltype(nt)>(o, d, v0, v1, v2, rel, scale); });
+}
+
+}  // namespace rayspace::refs
