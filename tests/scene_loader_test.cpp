@@ -671,7 +671,7 @@ TEST_CASE("scene: malformed OBJ meshes") {
   }
 }
 
-TEST_CASE("scene: a transform that leaves the float range is an error naming the object") {
+TEST_CASE("scene: a transform that leaves the coordinate domain is an error naming the object") {
   // The vertex is finite as a float in the file but not after the transform: scale 1e12 on the
   // coordinate 1e30 gives 1e42 > FLT_MAX. (A scale of 1e30 itself is rejected as out of range.)
   TempDir dir;
@@ -679,18 +679,22 @@ TEST_CASE("scene: a transform that leaves the float range is an error naming the
   const fs::path scene = dir.Write(
       "far.json", SceneWith(R"({"generator": "box"}, {"name": "far", "mesh": "far.obj", "transform": {"scale": 1e12}})"));
   ScopedDataEnv env(std::nullopt);
-  CHECK_FALSE(ExpectInputError([&] { LoadScene(scene, LoadOptions{}); }, {scene.string(), "objects[1]", "float range"}).empty());
+  CHECK_FALSE(ExpectInputError([&] { LoadScene(scene, LoadOptions{}); }, {scene.string(), "objects[1]", "coordinate domain"}).empty());
 }
 
-TEST_CASE("scene: a large but finite placement loads") {
-  // Radius 1e6 (the generators' limit) scaled by 1e12 and moved by 1e30 stays inside float range.
+TEST_CASE("scene: a placement inside 2^62 loads, one beyond it is an error") {
+  // Radius 1e6 (the generators' limit) scaled by 1e12 and moved by 1e18 stays below 2^62 (4.6e18).
   TempDir dir;
   const fs::path scene = dir.Write(
       "big.json", SceneWith(R"({"generator": "sphere", "params": {"radius": 1e6, "segments": 4, "rings": 2},
-                                "transform": {"scale": 1e12, "translate": [1e30, 0, 0]}})"));
+                                "transform": {"scale": 1e12, "translate": [1e18, 0, 0]}})"));
   const Scene s = LoadScene(scene, LoadOptions{});
   REQUIRE(s.objects.size() == 1);
   for (const glm::vec3& p : s.objects[0].positions) CHECK(std::isfinite(p.x));
+  const fs::path far = dir.Write(
+      "far.json", SceneWith(R"({"generator": "sphere", "params": {"radius": 1e6, "segments": 4, "rings": 2},
+                                "transform": {"scale": 1e12, "translate": [1e30, 0, 0]}})"));
+  CHECK_FALSE(ExpectInputError([&] { LoadScene(far, LoadOptions{}); }, {far.string(), "objects[0]", "2^62"}).empty());
 }
 
 }  // TEST_SUITE

@@ -67,7 +67,9 @@ gpu::FrameConstants MakeFrameConstants(const Scene& scene, const SceneBuffers& b
     const glm::dvec3 corner((k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z);
     far = std::max(far, glm::length(corner - eye));
   }
-  far = far * 1.01 + 1e-3;
+  // Relative margins only, so that scaling the scene by a power of two scales every constant exactly
+  // (tests/metamorphic_test.cpp).
+  far = far > 0.0 ? far * 1.01 : 1.0;
   const double near = far * 1e-4;
 
   // Clip space (Vulkan): x = xc/tx, y = -yc/ty (y points down), z = a*zc + b in [0, w], w = zc.

@@ -17,6 +17,13 @@
 namespace rayspace {
 namespace {
 
+bool InDomain(glm::vec3 p) {
+  for (int k = 0; k < 3; ++k)
+    if (!(std::fabs(static_cast<double>(p[k])) <= kMaxCoordinate)) return false;  // also NaN
+  return true;
+}
+
+
 using nlohmann::json;
 
 struct Ctx {
@@ -68,6 +75,8 @@ CameraDesc ParseCamera(const Ctx& c, const json& j) {
   CameraDesc cam;
   cam.eye = Vec3(c, Required(c, j, "eye", "camera"), "camera.eye");
   cam.target = Vec3(c, Required(c, j, "target", "camera"), "camera.target");
+  if (!InDomain(cam.eye)) c.Fail("camera.eye", "is outside the coordinate domain |x| <= 2^62");
+  if (!InDomain(cam.target)) c.Fail("camera.target", "is outside the coordinate domain |x| <= 2^62");
   if (j.contains("up")) cam.up = Vec3(c, j["up"], "camera.up");
   cam.fov_y_deg = static_cast<float>(Number(c, Required(c, j, "fov_y_deg", "camera"), "camera.fov_y_deg", 1.0, 170.0));
   const glm::dvec3 f = glm::dvec3(cam.target) - glm::dvec3(cam.eye);
@@ -96,6 +105,7 @@ LightDesc ParseLight(const Ctx& c, const json& j, const std::string& f) {
   CheckKeys(c, j, f, {"position", "color", "intensity", "attenuation"});
   LightDesc l;
   l.position = Vec3(c, Required(c, j, "position", f), f + ".position");
+  if (!InDomain(l.position)) c.Fail(f + ".position", "is outside the coordinate domain |x| <= 2^62");
   if (j.contains("color")) l.color = Vec3(c, j["color"], f + ".color", 0.0, 1e6);
   if (j.contains("intensity")) l.intensity = static_cast<float>(Number(c, j["intensity"], f + ".intensity", 0.0, 1e12));
   if (j.contains("attenuation")) l.attenuation = Vec3(c, j["attenuation"], f + ".attenuation", 0.0, 1e12);
@@ -165,8 +175,9 @@ Object PlaceSubMesh(const Ctx& c, const std::string& field, const SubMesh& sub, 
       w[k] = glm::dvec3(m * glm::dvec4(glm::dvec3(p), 1.0));
       o.positions[3 * t + k] = glm::vec3(w[k]);
       const glm::vec3& q = o.positions[3 * t + k];
-      if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))
-        c.Fail(field, fmt::format("sub-mesh '{}' triangle {} leaves the float range after its transform", sub.name, t));
+      if (!InDomain(q))
+        c.Fail(field, fmt::format("sub-mesh '{}' triangle {} leaves the coordinate domain |x| <= 2^62 after its transform",
+                                  sub.name, t));
     }
     glm::dvec3 face = glm::cross(w[1] - w[0], w[2] - w[0]);
     const double fl = glm::length(face);

@@ -179,7 +179,12 @@ Fragment ShadeFragment(const gpu::FrameConstants& fc, const SceneBuffers& scene,
   const gpu::Triangle& t = scene.triangles[prim];
   const glm::vec3 v0 = Xyz(t.v0), v1 = Xyz(t.v1), v2 = Xyz(t.v2);
   const glm::vec3 d = PixelDirection(fc, static_cast<std::uint32_t>(px), static_cast<std::uint32_t>(py));
-  const glm::vec3 n = Cross(v1 - v0, v2 - v0);
+  // Edges and normal scaled by powers of two (exact; tt unchanged) so scenes from 2^-60 to 2^60
+  // neither overflow nor flush (the graphics path runs with FTZ/DAZ).
+  const glm::vec3 e1 = v1 - v0, e2 = v2 - v0;
+  const float ke = InversePowerOfTwo(MaxAbs(e1, e2));
+  const glm::vec3 n0 = Cross(e1 * ke, e2 * ke);
+  const glm::vec3 n = n0 * InversePowerOfTwo(MaxAbs(n0, n0));
   const float tt = Dot(v0 - Xyz(fc.eye), n) / Dot(d, n);
   if (!(tt > 0.0f) || !(tt <= std::numeric_limits<float>::max())) {
     f.discard = true;

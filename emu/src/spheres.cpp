@@ -20,7 +20,11 @@ std::vector<glm::vec4> PassTriangleSpheres(const std::vector<gpu::Triangle>& tri
   std::vector<glm::vec4> out(triangles.size());
   ParallelFor("prep.triangle_spheres", triangles.size(), [&](std::size_t i) {
     const glm::vec3 a = Xyz(triangles[i].v0), b = Xyz(triangles[i].v1), c = Xyz(triangles[i].v2);
-    const glm::vec3 ab = b - a, ac = c - a, bc = c - b;
+    // Edges scaled by a power of two (exact, and every decision below is scale-free) so that the
+    // degree-4 terms neither overflow nor underflow for scenes from 2^-60 to 2^60.
+    const glm::vec3 ab0 = b - a, ac0 = c - a;
+    const float k = InversePowerOfTwo(MaxAbs(ab0, ac0));
+    const glm::vec3 ab = ab0 * k, ac = ac0 * k, bc = (c - b) * k;
     const float dab = Dot(ab, ab), dac = Dot(ac, ac), dbc = Dot(bc, bc);
     glm::vec3 center;
     // An obtuse or right angle puts the minimal sphere on the longest edge's midpoint.
@@ -36,11 +40,11 @@ std::vector<glm::vec4> PassTriangleSpheres(const std::vector<gpu::Triangle>& tri
       const float nn = Dot(n, n);
       const glm::vec3 u = Cross(n, ab), v = Cross(ac, n);
       const float denom = 2.0f * nn;
-      center = a + (u * dac + v * dab) / denom;
+      center = a + ((u * dac + v * dab) / denom) / k;
       if (!(nn > 0.0f) || !std::isfinite(center.x + center.y + center.z)) center = (a + b + c) / 3.0f;
     }
-    const float r2 = Max(Max(Dot(a - center, a - center), Dot(b - center, b - center)), Dot(c - center, c - center));
-    out[i] = glm::vec4(center, std::sqrt(r2) * kRadiusMargin);
+    const float r = Max(Max(ScaledLength(a - center), ScaledLength(b - center)), ScaledLength(c - center));
+    out[i] = glm::vec4(center, r * kRadiusMargin);
   });
   return out;
 }

@@ -10,12 +10,16 @@ glm::vec3 ShadingNormal(const SceneBuffers& scene, std::uint32_t prim, glm::vec3
   const gpu::Triangle& t = scene.triangles[prim];
   const gpu::TriangleNormals& tn = scene.normals[prim];
   const glm::vec3 v0 = Xyz(t.v0), v1 = Xyz(t.v1), v2 = Xyz(t.v2);
-  const glm::vec3 n = Cross(v1 - v0, v2 - v0);
+  // Everything relative to p and scaled by one power of two: the weights are ratios of degree-4
+  // products, unchanged by the scaling, which keeps them in range for scenes from 2^-60 to 2^60.
+  const glm::vec3 e1 = v1 - v0, e2 = v2 - v0, q0 = v0 - p, q1 = v1 - p, q2 = v2 - p;
+  const float k = InversePowerOfTwo(Max(Max(MaxAbs(e1, e2), MaxAbs(q0, q1)), MaxAbs(q2, q2)));
+  const glm::vec3 n = Cross(e1 * k, e2 * k);
   // Signed sub-triangle areas (times |n|); their ratios are the barycentric weights. The thesis's
   // eq. 3.17 normalises these cross products, which loses the areas it needs.
-  const float a0 = Dot(Cross(v1 - p, v2 - p), n);
-  const float a1 = Dot(Cross(v2 - p, v0 - p), n);
-  const float a2 = Dot(Cross(v0 - p, v1 - p), n);
+  const float a0 = Dot(Cross(q1 * k, q2 * k), n);
+  const float a1 = Dot(Cross(q2 * k, q0 * k), n);
+  const float a2 = Dot(Cross(q0 * k, q1 * k), n);
   const float sum = (a0 + a1) + a2;
   glm::vec3 s(0.0f);
   if (sum != 0.0f) {

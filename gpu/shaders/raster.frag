@@ -31,6 +31,15 @@ vec3 Normalize3(vec3 v) {
   return r;
 }
 
+// emu InversePowerOfTwo / MaxAbs (common.glsl is compute-only).
+float InversePowerOfTwo(float m) {
+  const int e = int((floatBitsToUint(m) >> 23) & 0xFFu);
+  return uintBitsToFloat(uint(clamp(254 - e, 1, 254)) << 23);
+}
+float MaxAbs(vec3 a, vec3 b) {
+  return max(max(max(abs(a.x), abs(a.y)), abs(a.z)), max(max(abs(b.x), abs(b.y)), abs(b.z)));
+}
+
 #include "shading_normal.glsl"
 
 vec3 ShadingNormal(uint prim, vec3 p) { return ShadingNormalOf(triangles[prim], normals[prim], p); }
@@ -47,7 +56,9 @@ void main() {
     d[k] = b + c;
   }
   precise const vec3 e1 = t.v1.xyz - t.v0.xyz, e2 = t.v2.xyz - t.v0.xyz;
-  precise const vec3 n = vec3(e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z, e1.x * e2.y - e1.y * e2.x);
+  const float ke = InversePowerOfTwo(MaxAbs(e1, e2));
+  const vec3 n0 = Cross3(e1 * ke, e2 * ke);
+  precise const vec3 n = n0 * InversePowerOfTwo(MaxAbs(n0, n0));
   precise const vec3 w = t.v0.xyz - fc.eye.xyz;
   precise const float tt = Dot3(w, n) / Dot3(d, n);
   if (!(tt > 0.0) || !(tt <= 3.40282347e38)) discard;

@@ -1,14 +1,14 @@
-// Shared by the raster fragment stage and the hit-surface kernel; needs Dot3, Cross3 and Normalize3
-// defined before it is included.
+// Shared by the raster fragment stage and the hit-surface kernel; needs Dot3, Cross3, Normalize3,
+// MaxAbs and InversePowerOfTwo defined before it is included.
 // Barycentric shading normal from signed sub-areas (emu ShadingNormal).
 vec3 ShadingNormalOf(Triangle t, TriangleNormals tn, vec3 p) {
   const vec3 v0 = t.v0.xyz, v1 = t.v1.xyz, v2 = t.v2.xyz;
-  precise const vec3 e1 = v1 - v0, e2 = v2 - v0;
-  const vec3 n = Cross3(e1, e2);
-  precise const vec3 p1 = v1 - p, p2 = v2 - p, p0 = v0 - p;
-  const float a0 = Dot3(Cross3(p1, p2), n);
-  const float a1 = Dot3(Cross3(p2, p0), n);
-  const float a2 = Dot3(Cross3(p0, p1), n);
+  precise const vec3 e1 = v1 - v0, e2 = v2 - v0, q0 = v0 - p, q1 = v1 - p, q2 = v2 - p;
+  const float k = InversePowerOfTwo(max(max(MaxAbs(e1, e2), MaxAbs(q0, q1)), MaxAbs(q2, q2)));
+  const vec3 n = Cross3(e1 * k, e2 * k);
+  const float a0 = Dot3(Cross3(q1 * k, q2 * k), n);
+  const float a1 = Dot3(Cross3(q2 * k, q0 * k), n);
+  const float a2 = Dot3(Cross3(q0 * k, q1 * k), n);
   precise const float sum = (a0 + a1) + a2;
   precise vec3 s = vec3(0.0);
   if (sum != 0.0) {

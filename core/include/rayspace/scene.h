@@ -74,6 +74,9 @@ struct LoadOptions {
 
 // Largest image side accepted from a scene file or --size.
 inline constexpr int kMaxImageSide = 16384;
+// The pipeline's numeric domain: world coordinates (vertices, camera, lights) of magnitude at most
+// 2^62, so that differences and their cross products stay in float range (docs/numerics.md).
+inline constexpr double kMaxCoordinate = 4611686018427387904.0;  // 2^62
 inline constexpr int kMaxDepth = 16;
 
 // Loads and validates a scene JSON. Throws InputError naming the file and field on bad input.
