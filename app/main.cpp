@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rayspace/error.h"
+#include "accuracy_command.h"
 #include "render_command.h"
 #ifdef RAYSPACE_HAVE_VULKAN
 #include "diff_command.h"
@@ -50,6 +51,14 @@ int main(int argc, char** argv) {
   rc->add_flag("--no-oracle", render.no_oracle, "Skip the oracle re-trace");
   rc->add_flag("--timings", render.timings, "Print time per phase (the thesis's phases) and tests per second");
   rc->add_flag("--progress", render.progress, "Print each pass and its time on stderr (default when stderr is a terminal)");
+  rayspace::app::AccuracyArgs accuracy;
+  CLI::App* ac = app.add_subcommand("accuracy", "Measure what accuracy costs: each precision mode of the cone-sphere and ray-triangle tests");
+  ac->add_option("scene", accuracy.scene, "Scene JSON file")->required();
+  ac->add_option("--data", accuracy.data, "Data root for mesh paths (default: $RAYSPACE_DATA)");
+  ac->add_option("--size", accuracy.size, "Image size WxH of the sampled frame (default 128x128)");
+  ac->add_option("--samples", accuracy.samples, "Queries sampled per test (default 100000)");
+  ac->add_option("--out", accuracy.out, "Directory for <scene>-accuracy.md, .csv and .png (default .)");
+  ac->add_flag("!--no-end-to-end", accuracy.end_to_end, "Skip the frames with each cone-sphere mode");
 #ifdef RAYSPACE_HAVE_VULKAN
   rayspace::app::DiffArgs diff;
   CLI::App* dc = app.add_subcommand("diff", "Run every pass of a frame on the emulator and the Vulkan kernels with the same inputs and compare bitwise");
@@ -89,6 +98,7 @@ int main(int argc, char** argv) {
   render.depth_given = depth->count() > 0;
   try {
     if (rc->parsed()) return rayspace::app::RunRender(render);
+    if (ac->parsed()) return rayspace::app::RunAccuracy(accuracy);
 #ifdef RAYSPACE_HAVE_VULKAN
     if (dc->parsed()) return rayspace::app::RunDiff(diff);
     if (pc->parsed()) return rayspace::app::RunReplay(replay);

@@ -2,6 +2,10 @@
 
 #include <cmath>
 
+#include <glm/glm.hpp>
+
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+
 #include "exact_filter.h"
 
 namespace rayspace::refs {
@@ -134,6 +138,29 @@ bool ExactNodeContainsRay(const gpu::ConeNode& n, glm::vec3 origin, glm::vec3 di
 bool ExactNodeMeetsSphere(const gpu::ConeNode& n, glm::vec4 sphere) {
   if (n.sphere.w == INFINITY || sphere.w == INFINITY) return true;
   return Filtered([&](auto nt) { return MeetsSphere<decltype(nt)>(n, sphere); });
+}
+
+bool ExactNodeMeetsSphere(const gpu::ConeNode& n, glm::vec4 sphere, ExactArithmetic arithmetic) {
+  if (n.sphere.w == INFINITY || sphere.w == INFINITY) return true;
+  switch (arithmetic) {
+    case ExactArithmetic::kFiltered: return ExactNodeMeetsSphere(n, sphere);
+    case ExactArithmetic::kRational: return MeetsSphere<CGAL::Exact_rational>(n, sphere);
+    case ExactArithmetic::kLazy: return MeetsSphere<CGAL::Epeck::FT>(n, sphere);
+  }
+  return true;
+}
+
+bool DoubleNodeMeetsSphere(const gpu::ConeNode& n, glm::vec4 sphere) {
+  if (Full(n)) return true;
+  const glm::dvec3 v = glm::dvec3(glm::vec3(sphere)) - glm::dvec3(glm::vec3(n.sphere));
+  const double R = double(sphere.w) + double(n.sphere.w);
+  const glm::dvec3 x(glm::vec3(n.cone));
+  const double a = glm::dot(v, x), b = glm::length(glm::cross(v, x));
+  const double c = n.cone.w, s = n.extra.x;
+  const double sn = b * c - a * s, cs = a * c + b * s;
+  if (sn < 0.0 || (sn == 0.0 && cs >= 0.0)) return true;
+  if (cs > 0.0) return sn <= R;
+  return glm::dot(v, v) <= R * R;
 }
 
 }  // namespace rayspace::refs

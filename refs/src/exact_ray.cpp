@@ -1,3 +1,5 @@
+#include <cmath>
+
 #include <glm/glm.hpp>
 
 #include "exact_filter.h"
@@ -47,6 +49,32 @@ bool RobustHit(glm::vec3 o, glm::vec3 dir, glm::vec3 v0, glm::vec3 v1, glm::vec3
          Sign<NT>(T * T - side_bound) > 0;
 }
 
+template <typename NT>
+bool HitDecision(const gpu::Ray& ray, const gpu::Triangle& tri) {
+  const glm::vec3 o(ray.origin_tmin), dir(ray.direction_tmax);
+  const V3<NT> d{NT(dir.x), NT(dir.y), NT(dir.z)};
+  const V3<NT> a = Rel<NT>(glm::vec3(tri.v0), o), b = Rel<NT>(glm::vec3(tri.v1), o), c = Rel<NT>(glm::vec3(tri.v2), o);
+  const NT Va = Det(d, b, c), Vb = Det(d, c, a), Vc = Det(d, a, b);
+  const NT S = Va + Vb + Vc;
+  const int s = Sign<NT>(S);
+  if (s == 0) return false;
+  // Closed triangle: no edge volume of the opposite sign.
+  if (Sign<NT>(Va) == -s || Sign<NT>(Vb) == -s || Sign<NT>(Vc) == -s) return false;
+  // t = T / S; tmin < t < tmax  <=>  s (T - tmin S) > 0 and s (tmax S - T) > 0.
+  const NT T = Det(a, b, c);
+  if (Sign<NT>(T - NT(ray.origin_tmin.w) * S) != s) return false;
+  if (std::isinf(ray.direction_tmax.w)) return ray.direction_tmax.w > 0;
+  return Sign<NT>(NT(ray.direction_tmax.w) * S - T) == s;
+}
+
+template <typename NT>
+bool InPlane(const gpu::Ray& ray, const gpu::Triangle& tri) {
+  const glm::vec3 o(ray.origin_tmin), dir(ray.direction_tmax);
+  const V3<NT> d{NT(dir.x), NT(dir.y), NT(dir.z)};
+  const V3<NT> a = Rel<NT>(glm::vec3(tri.v0), o), b = Rel<NT>(glm::vec3(tri.v1), o), c = Rel<NT>(glm::vec3(tri.v2), o);
+  return Sign<NT>(Det(a, b, c)) == 0 && Sign<NT>(Det(d, b, c) + Det(d, c, a) + Det(d, a, b)) == 0;
+}
+
 float MaxAbs(glm::vec3 v) { return std::max(std::fabs(v.x), std::max(std::fabs(v.y), std::fabs(v.z))); }
 
 }  // namespace
@@ -54,6 +82,15 @@ float MaxAbs(glm::vec3 v) { return std::max(std::fabs(v.x), std::max(std::fabs(v
 bool ExactRobustInteriorHit(glm::vec3 o, glm::vec3 d, glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, float rel) {
   const float scale = std::max(std::max(MaxAbs(o), MaxAbs(v0)), std::max(MaxAbs(v1), MaxAbs(v2)));
   return detail::Filtered([&](auto nt) { return RobustHit<decltype(nt)>(o, d, v0, v1, v2, rel, scale); });
+}
+
+bool ExactHitDecision(const gpu::Ray& ray, const gpu::Triangle& tri, bool filtered) {
+  if (filtered) return detail::Filtered([&](auto nt) { return HitDecision<decltype(nt)>(ray, tri); });
+  return HitDecision<CGAL::Exact_rational>(ray, tri);
+}
+
+bool ExactInPlane(const gpu::Ray& ray, const gpu::Triangle& tri) {
+  return detail::Filtered([&](auto nt) { return InPlane<decltype(nt)>(ray, tri); });
 }
 
 }  // namespace rayspace::refs

@@ -31,4 +31,11 @@ std::vector<std::uint32_t> ExactClosest(const gpu::Ray& ray, const SceneBuffers&
 // edge are not robust. Interval arithmetic first, exact rationals when it cannot decide.
 bool ExactRobustInteriorHit(glm::vec3 o, glm::vec3 d, glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, float rel);
 
+// Exact hit decision on the closed triangle with tmin < t < tmax from signs of triple products (no
+// constructions); a ray in the triangle's plane counts as a miss, as in float tests. `filtered`:
+// interval arithmetic first; else exact rationals throughout.
+bool ExactHitDecision(const gpu::Ray& ray, const gpu::Triangle& tri, bool filtered = true);
+// Does the ray's line lie in the triangle's plane (origin in the plane, direction parallel to it)?
+bool ExactInPlane(const gpu::Ray& ray, const gpu::Triangle& tri);
+
 }  // namespace rayspace::refs

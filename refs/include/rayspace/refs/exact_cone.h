@@ -28,4 +28,12 @@ bool ExactNodeContainsRay(const gpu::ConeNode& n, glm::vec3 origin, glm::vec3 di
 // ball's centre to the cone with apex at the node's centre is at most node radius + ball radius.
 bool ExactNodeMeetsSphere(const gpu::ConeNode& n, glm::vec4 sphere);
 
+// The same decision with a chosen arithmetic, for measuring what exactness costs (rayspace accuracy):
+// interval filter then exact rationals (the default above), exact rationals only, or CGAL's lazy
+// exact number type (Epeck::FT). All three give the exact answer.
+enum class ExactArithmetic { kFiltered, kRational, kLazy };
+bool ExactNodeMeetsSphere(const gpu::ConeNode& n, glm::vec4 sphere, ExactArithmetic arithmetic);
+// The cone-sphere decision of eqs. 3.8-3.16 evaluated in double without margins (not exact).
+bool DoubleNodeMeetsSphere(const gpu::ConeNode& n, glm::vec4 sphere);
+
 }  // namespace rayspace::refs
