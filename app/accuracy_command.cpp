@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <atomic>
+#include <mutex>
 #include <random>
 
 #include <OpenImageIO/imagebuf.h>
@@ -209,11 +211,37 @@ bool MollerTrumbore(const gpu::Ray& ray, const gpu::Triangle& tri) {
   return t > T(ray.origin_tmin.w) && t < T(ray.direction_tmax.w);
 }
 
+template <typename T>
+bool MollerTrumboreT(const gpu::Ray& ray, const gpu::Triangle& tri, float& t_out) {
+  using V = glm::vec<3, T>;
+  const V o(emu::Xyz(ray.origin_tmin)), d(emu::Xyz(ray.direction_tmax));
+  const V v0(emu::Xyz(tri.v0)), e1 = V(emu::Xyz(tri.v1)) - v0, e2 = V(emu::Xyz(tri.v2)) - v0;
+  const V p = glm::cross(d, e2);
+  const T det = glm::dot(e1, p);
+  if (det == T(0)) return false;
+  const T inv = T(1) / det;
+  const V s = o - v0;
+  const T u = glm::dot(s, p) * inv;
+  if (u < T(0) || u > T(1)) return false;
+  const V q = glm::cross(s, e1);
+  const T v = glm::dot(d, q) * inv;
+  if (v < T(0) || u + v > T(1)) return false;
+  const T t = glm::dot(e2, q) * inv;
+  if (!(t > T(ray.origin_tmin.w) && t < T(ray.direction_tmax.w))) return false;
+  t_out = static_cast<float>(t);
+  return true;
+}
+
 // ---- end to end: the frame with each cone-sphere mode in the traversal --------------------------------
+
+// A ray-triangle mode inside the final tests: the hit and its float distance (exact: nullptr below).
+using TriTest = std::function<bool(const gpu::Ray&, const gpu::Triangle&, float&)>;
 
 class ModeTraversal final : public emu::HierarchyPasses {
  public:
   explicit ModeTraversal(std::function<bool(const gpu::ConeNode&, glm::vec4, float)> test) : test_(std::move(test)) {}
+  // Final tests with a ray-triangle mode; `exact`: the exact decision and exact distance order.
+  ModeTraversal(TriTest tri, bool exact) : tri_(std::move(tri)), exact_(exact) {}
   std::string Name() const override { return "emu (accuracy mode)"; }
   std::vector<std::uint32_t> Hash(const std::vector<gpu::Ray>& r, const SceneBuffers& s, const emu::HashConfig& h,
                                   std::uint32_t qw, int qd) override {
@@ -233,6 +261,7 @@ class ModeTraversal final : public emu::HierarchyPasses {
   }
   std::vector<std::uint8_t> ObjectMask(const std::vector<gpu::ConeNode>& top, const std::vector<glm::vec4>& spheres,
                                        float eps) override {
+    if (!test_) return E().ObjectMask(top, spheres, eps);
     std::vector<std::uint8_t> m(top.size() * spheres.size());
     ParallelFor("accuracy.objects", m.size(), [&](std::size_t e) { m[e] = test_(top[e / spheres.size()], spheres[e % spheres.size()], eps); });
     return m;
@@ -240,6 +269,7 @@ class ModeTraversal final : public emu::HierarchyPasses {
   emu::PairSlots TraverseTop(const std::vector<gpu::ConeNode>& top, std::uint32_t t0, std::uint32_t t1, std::uint32_t b0,
                              std::uint32_t b1, const std::vector<glm::vec4>& ts, const SceneBuffers& scene,
                              const std::vector<std::uint8_t>& mask, float eps) override {
+    if (!test_) return E().TraverseTop(top, t0, t1, b0, b1, ts, scene, mask, eps);
     const std::uint32_t T = b1 - b0;
     const std::size_t grid = static_cast<std::size_t>(t1 - t0) * T, objects = scene.objects.size();
     emu::PairSlots s;
@@ -258,6 +288,7 @@ class ModeTraversal final : public emu::HierarchyPasses {
   emu::PairSlots TraverseLevel(const std::vector<std::uint32_t>& pairs, const std::vector<gpu::ConeNode>& nodes,
                                const std::vector<std::uint32_t>& first, std::uint32_t base_up, std::uint32_t base,
                                std::uint32_t cmax, std::uint32_t b0, const std::vector<glm::vec4>& ts, float eps) override {
+    if (!test_) return E().TraverseLevel(pairs, nodes, first, base_up, base, cmax, b0, ts, eps);
     emu::PairSlots s;
     s.flags.assign(pairs.size() * cmax, 0);
     s.values.assign(pairs.size() * cmax, 0);
@@ -281,12 +312,48 @@ class ModeTraversal final : public emu::HierarchyPasses {
                                        std::uint32_t base1, std::uint32_t b0, const std::vector<std::uint32_t>& order,
                                        const std::vector<gpu::Ray>& rays, const SceneBuffers& scene,
                                        std::vector<std::uint64_t>* hits, std::vector<std::uint32_t>* occ) override {
-    return E().Intersect(pairs, f1, base1, b0, order, rays, scene, hits, occ);
+    if (!tri_) return E().Intersect(pairs, f1, base1, b0, order, rays, scene, hits, occ);
+    std::vector<std::uint32_t> tests(pairs.size());
+    ParallelFor("accuracy.intersect", pairs.size(), [&](std::size_t p) {
+      const std::uint32_t node = base1 + (pairs[p] >> emu::kPairTriangleBits), prim = b0 + (pairs[p] & ((1u << emu::kPairTriangleBits) - 1));
+      const gpu::Triangle& tri = scene.triangles[prim];
+      tests[p] = f1[node + 1] - f1[node];
+      for (std::uint32_t j = f1[node]; j < f1[node + 1]; ++j) {
+        const std::uint32_t ray = order[j];
+        const gpu::Ray& r = rays[ray];
+        if (prim == r.info.y) continue;
+        float t = 0.0f;
+        if (!tri_(r, tri, t)) continue;
+        if (occ) {
+          std::atomic_ref<std::uint32_t>((*occ)[ray]).store(1u, std::memory_order_relaxed);
+        } else if (!exact_) {
+          std::atomic_ref<std::uint64_t> a((*hits)[ray]);
+          const std::uint64_t v = emu::PackHit(t, prim);
+          std::uint64_t cur = a.load(std::memory_order_relaxed);
+          while (v < cur && !a.compare_exchange_weak(cur, v, std::memory_order_relaxed)) {
+          }
+        } else {
+          // Exact order of distances (ties to the lower id): compare with the current best under a lock.
+          std::lock_guard<std::mutex> lock(locks_[ray % kLocks]);
+          const std::uint64_t cur = (*hits)[ray];
+          const bool better = cur == emu::kMissPacked || [&] {
+            const int c = refs::ExactCompareHitDistance(r, tri, scene.triangles[emu::HitPrim(cur)]);
+            return c < 0 || (c == 0 && prim < emu::HitPrim(cur));
+          }();
+          if (better) (*hits)[ray] = emu::PackHit(t, prim);
+        }
+      }
+    });
+    return tests;
   }
 
  private:
   static emu::HierarchyPasses& E() { return emu::EmuHierarchyPasses(); }
+  static constexpr std::size_t kLocks = 4096;
   std::function<bool(const gpu::ConeNode&, glm::vec4, float)> test_;
+  TriTest tri_;
+  bool exact_ = false;
+  std::mutex locks_[kLocks];
 };
 
 struct FrameOutcome {
@@ -316,6 +383,23 @@ std::size_t RaysChanged(const FrameOutcome& a, const FrameOutcome& b) {
   for (std::size_t i = 0; i < a.hits.size() && i < b.hits.size(); ++i) {
     for (std::size_t r = 0; r < a.hits[i].size(); ++r) changed += a.hits[i][r] != b.hits[i][r];
     for (std::size_t r = 0; r < a.occluded[i].size(); ++r) changed += a.occluded[i][r] != b.occluded[i][r];
+  }
+  return changed;
+}
+
+// Rays whose hit primitive (or miss) or occlusion differs; distances are compared only through order.
+std::size_t RaysChangedPrim(const FrameOutcome& a, const FrameOutcome& b) {
+  std::size_t changed = 0;
+  for (std::size_t i = 0; i < a.hits.size() && i < b.hits.size(); ++i) {
+    const std::size_t n = std::min(a.hits[i].size(), b.hits[i].size());
+    changed += std::max(a.hits[i].size(), b.hits[i].size()) - n;
+    for (std::size_t r = 0; r < n; ++r) {
+      const bool ma = a.hits[i][r] == emu::kMissPacked, mb = b.hits[i][r] == emu::kMissPacked;
+      changed += ma != mb || (!ma && emu::HitPrim(a.hits[i][r]) != emu::HitPrim(b.hits[i][r]));
+    }
+    const std::size_t m = std::min(a.occluded[i].size(), b.occluded[i].size());
+    changed += std::max(a.occluded[i].size(), b.occluded[i].size()) - m;
+    for (std::size_t r = 0; r < m; ++r) changed += a.occluded[i][r] != b.occluded[i][r];
   }
   return changed;
 }
@@ -484,7 +568,7 @@ int RunAccuracy(const AccuracyArgs& args) {
     std::uint64_t tests = 0;
     std::size_t changed = 0;
   };
-  std::vector<EndToEnd> e2e;
+  std::vector<EndToEnd> e2e, tri_e2e;
   if (args.end_to_end) {
     ModeTraversal exact_passes([](const gpu::ConeNode& n, glm::vec4 s, float) { return refs::ExactNodeMeetsSphere(n, s); });
     const FrameOutcome exact = RunFrame(scene, b, fo, exact_passes);
@@ -497,6 +581,31 @@ int RunAccuracy(const AccuracyArgs& args) {
            {"float, conservative (rayspace)", fc.ms, fc.tests, RaysChanged(fc, exact)},
            {"double, no margins", fd.ms, fd.tests, RaysChanged(fd, exact)},
            {"CGAL filtered (interval + exact)", exact.ms, exact.tests, 0}};
+    // The final tests with each ray-triangle mode (traversal conservative), against exact decisions
+    // and exact distance order. A changed ray: another primitive (or hit/miss), or another occlusion.
+    auto float_mt = [](const gpu::Ray& r, const gpu::Triangle& t, float& th) {
+      return MollerTrumboreT<float>(r, t, th);
+    };
+    auto double_mt = [](const gpu::Ray& r, const gpu::Triangle& t, float& th) { return MollerTrumboreT<double>(r, t, th); };
+    auto watertight = [](const gpu::Ray& r, const gpu::Triangle& t, float& th) {
+      return emu::IntersectWatertight(emu::SetupWatertight(emu::Xyz(r.origin_tmin), emu::Xyz(r.direction_tmax)), emu::Xyz(t.v0),
+                                      emu::Xyz(t.v1), emu::Xyz(t.v2), r.origin_tmin.w, r.direction_tmax.w, th);
+    };
+    auto exact_hit = [](const gpu::Ray& r, const gpu::Triangle& t, float& th) {
+      if (!refs::ExactHitDecision(r, t)) return false;
+      // The distance the frame shades with: the plane equation in double, rounded once.
+      const glm::dvec3 o(emu::Xyz(r.origin_tmin)), d(emu::Xyz(r.direction_tmax)), v0(emu::Xyz(t.v0));
+      const glm::dvec3 n = glm::cross(glm::dvec3(emu::Xyz(t.v1)) - v0, glm::dvec3(emu::Xyz(t.v2)) - v0);
+      th = static_cast<float>(glm::dot(v0 - o, n) / glm::dot(d, n));
+      return true;
+    };
+    ModeTraversal tri_exact(exact_hit, true), tri_mt(float_mt, false), tri_dmt(double_mt, false), tri_wt(watertight, false);
+    const FrameOutcome rx = RunFrame(scene, b, fo, tri_exact);
+    const FrameOutcome rm = RunFrame(scene, b, fo, tri_mt), rd = RunFrame(scene, b, fo, tri_dmt), rw = RunFrame(scene, b, fo, tri_wt);
+    tri_e2e = {{"float, Moller-Trumbore", rm.ms, rm.tests, RaysChangedPrim(rm, rx)},
+               {"float, watertight (rayspace)", rw.ms, rw.tests, RaysChangedPrim(rw, rx)},
+               {"double, Moller-Trumbore", rd.ms, rd.tests, RaysChangedPrim(rd, rx)},
+               {"CGAL filtered (interval + exact)", rx.ms, rx.tests, 0}};
   }
 
   // 5. Report: markdown, CSV, plot.
@@ -520,6 +629,14 @@ int RunAccuracy(const AccuracyArgs& args) {
     for (const EndToEnd& e : e2e) {
       md += fmt::format("| {} | {:.0f} | {} | {} |\n", e.mode, e.ms, e.tests, e.changed);
       csv += fmt::format("{},cone-sphere,end-to-end,\"{}\",{},{:.1f},{},,\n", scene.name, e.mode, e.tests, e.ms, e.changed);
+    }
+  }
+  if (!tri_e2e.empty()) {
+    md += "\nEnd to end, the frame with each ray-triangle mode in the final tests (traversal conservative), against exact hit decisions and exact distance order; a changed ray hits another primitive, hits where the exact answer misses or the reverse, or changes occlusion (later bounces inherit the differences):\n\n";
+    md += "| mode | frame ms | final and hierarchy tests | rays whose result changes |\n|---|---:|---:|---:|\n";
+    for (const EndToEnd& e : tri_e2e) {
+      md += fmt::format("| {} | {:.0f} | {} | {} |\n", e.mode, e.ms, e.tests, e.changed);
+      csv += fmt::format("{},ray-triangle,end-to-end,\"{}\",{},{:.1f},{},,\n", scene.name, e.mode, e.tests, e.ms, e.changed);
     }
   }
   std::ofstream(base.string() + ".md") << md;

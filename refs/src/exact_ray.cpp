@@ -67,6 +67,25 @@ bool HitDecision(const gpu::Ray& ray, const gpu::Triangle& tri) {
   return Sign<NT>(NT(ray.direction_tmax.w) * S - T) == s;
 }
 
+// t = T / S for the ray against a triangle (vertices relative to the origin).
+template <typename NT>
+void TS(const gpu::Ray& ray, const gpu::Triangle& tri, NT& T, NT& S) {
+  const glm::vec3 o(ray.origin_tmin), dir(ray.direction_tmax);
+  const V3<NT> d{NT(dir.x), NT(dir.y), NT(dir.z)};
+  const V3<NT> a = Rel<NT>(glm::vec3(tri.v0), o), b = Rel<NT>(glm::vec3(tri.v1), o), c = Rel<NT>(glm::vec3(tri.v2), o);
+  T = Det(a, b, c);
+  S = Det(d, b, c) + Det(d, c, a) + Det(d, a, b);
+}
+
+template <typename NT>
+int CompareT(const gpu::Ray& ray, const gpu::Triangle& ta, const gpu::Triangle& tb) {
+  NT Ta, Sa, Tb, Sb;
+  TS(ray, ta, Ta, Sa);
+  TS(ray, tb, Tb, Sb);
+  // Ta / Sa - Tb / Sb = (Ta Sb - Tb Sa) / (Sa Sb).
+  return Sign<NT>(Ta * Sb - Tb * Sa) * Sign<NT>(Sa * Sb);
+}
+
 template <typename NT>
 bool InPlane(const gpu::Ray& ray, const gpu::Triangle& tri) {
   const glm::vec3 o(ray.origin_tmin), dir(ray.direction_tmax);
@@ -87,6 +106,15 @@ bool ExactRobustInteriorHit(glm::vec3 o, glm::vec3 d, glm::vec3 v0, glm::vec3 v1
 bool ExactHitDecision(const gpu::Ray& ray, const gpu::Triangle& tri, bool filtered) {
   if (filtered) return detail::Filtered([&](auto nt) { return HitDecision<decltype(nt)>(ray, tri); });
   return HitDecision<CGAL::Exact_rational>(ray, tri);
+}
+
+int ExactCompareHitDistance(const gpu::Ray& ray, const gpu::Triangle& a, const gpu::Triangle& b) {
+  int r = 0;
+  detail::Filtered([&](auto nt) {
+    r = CompareT<decltype(nt)>(ray, a, b);
+    return true;
+  });
+  return r;
 }
 
 bool ExactInPlane(const gpu::Ray& ray, const gpu::Triangle& tri) {

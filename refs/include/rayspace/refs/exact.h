@@ -35,6 +35,8 @@ bool ExactRobustInteriorHit(glm::vec3 o, glm::vec3 d, glm::vec3 v0, glm::vec3 v1
 // constructions); a ray in the triangle's plane counts as a miss, as in float tests. `filtered`:
 // interval arithmetic first; else exact rationals throughout.
 bool ExactHitDecision(const gpu::Ray& ray, const gpu::Triangle& tri, bool filtered = true);
+// For two triangles the ray hits (ExactHitDecision): the sign of t_a - t_b, exactly.
+int ExactCompareHitDistance(const gpu::Ray& ray, const gpu::Triangle& a, const gpu::Triangle& b);
 // Does the ray's line lie in the triangle's plane (origin in the plane, direction parallel to it)?
 bool ExactInPlane(const gpu::Ray& ray, const gpu::Triangle& tri);
 
