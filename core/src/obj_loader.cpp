@@ -146,11 +146,17 @@ MeshData LoadObj(const std::filesystem::path& path) {
       const int material = f < m.material_ids.size() ? m.material_ids[f] : -1;
       auto vertex = [&](std::size_t k) {
         const auto& idx = m.indices[base + k];
-        RS_CHECK(idx.vertex_index >= 0 && static_cast<std::size_t>(idx.vertex_index) < nv);
+        // The pre-pass checks indices against its own vertex count; tinyobjloader may count the
+        // vertex lines of a malformed file differently, so its indices are checked again here.
+        if (idx.vertex_index < 0 || static_cast<std::size_t>(idx.vertex_index) >= nv)
+          ThrowInput("{}: shape '{}' face {} refers to vertex {}, but the file defines {} vertices", path.string(), sub.name,
+                     f, idx.vertex_index + 1, nv);
         const float* p = &attrib.vertices[3 * idx.vertex_index];
         sub.positions.emplace_back(p[0], p[1], p[2]);
         if (has_normals) {
-          RS_CHECK(static_cast<std::size_t>(idx.normal_index) < nn);
+          if (static_cast<std::size_t>(idx.normal_index) >= nn)
+            ThrowInput("{}: shape '{}' face {} refers to normal {}, but the file defines {} normals", path.string(),
+                       sub.name, f, idx.normal_index + 1, nn);
           const float* n = &attrib.normals[3 * idx.normal_index];
           sub.normals.emplace_back(n[0], n[1], n[2]);
         }
