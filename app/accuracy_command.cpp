@@ -64,35 +64,19 @@ class Reservoir {
 };
 
 // The emulator's hierarchy passes, sampling every cone-sphere and ray-triangle query they answer.
-class Recorder final : public emu::HierarchyPasses {
+class Recorder final : public emu::ForwardingHierarchyPasses {
  public:
-  Recorder(std::size_t n) : cones_(n, 1), tris_(n, 2) {}
+  explicit Recorder(std::size_t n) : cones_(n, 1), tris_(n, 2) {}
   std::string Name() const override { return "emu (sampling)"; }
-  std::vector<std::uint32_t> Hash(const std::vector<gpu::Ray>& r, const SceneBuffers& s, const emu::HashConfig& h,
-                                  std::uint32_t qw, int qd) override {
-    return E().Hash(r, s, h, qw, qd);
-  }
-  emu::Chunks Compress(const std::vector<std::uint32_t>& k) override { return E().Compress(k); }
-  std::vector<std::uint32_t> SortChunks(const std::vector<std::uint32_t>& k) override { return E().SortChunks(k); }
-  std::vector<std::uint32_t> Decompress(const emu::Chunks& c, const std::vector<std::uint32_t>& s) override {
-    return E().Decompress(c, s);
-  }
-  std::vector<gpu::ConeNode> BuildLeaves(const std::vector<gpu::Ray>& r, const std::vector<std::uint32_t>& o,
-                                         const std::vector<std::uint32_t>& f) override {
-    return E().BuildLeaves(r, o, f);
-  }
-  std::vector<gpu::ConeNode> BuildParents(const std::vector<gpu::ConeNode>& b, const std::vector<std::uint32_t>& f) override {
-    return E().BuildParents(b, f);
-  }
   std::vector<std::uint8_t> ObjectMask(const std::vector<gpu::ConeNode>& top, const std::vector<glm::vec4>& spheres,
                                        float eps) override {
     for (std::size_t e = 0; e < top.size() * spheres.size(); ++e) cones_.Offer({top[e / spheres.size()], spheres[e % spheres.size()]});
-    return E().ObjectMask(top, spheres, eps);
+    return ForwardingHierarchyPasses::ObjectMask(top, spheres, eps);
   }
   emu::PairSlots TraverseTop(const std::vector<gpu::ConeNode>& top, std::uint32_t t0, std::uint32_t t1, std::uint32_t b0,
                              std::uint32_t b1, const std::vector<glm::vec4>& ts, const SceneBuffers& scene,
                              const std::vector<std::uint8_t>& mask, float eps) override {
-    emu::PairSlots s = E().TraverseTop(top, t0, t1, b0, b1, ts, scene, mask, eps);
+    emu::PairSlots s = ForwardingHierarchyPasses::TraverseTop(top, t0, t1, b0, b1, ts, scene, mask, eps);
     const std::uint32_t T = b1 - b0;
     for (std::size_t e = 0; e < s.tested.size(); ++e)
       if (s.tested[e]) cones_.Offer({top[t0 + e / T], ts[b0 + e % T]});
@@ -105,11 +89,7 @@ class Recorder final : public emu::HierarchyPasses {
       const std::uint32_t parent = base_up + (p >> emu::kPairTriangleBits), tri = b0 + (p & ((1u << emu::kPairTriangleBits) - 1));
       for (std::uint32_t c = first[parent]; c < first[parent + 1]; ++c) cones_.Offer({nodes[c], ts[tri]});
     }
-    return E().TraverseLevel(pairs, nodes, first, base_up, base, cmax, b0, ts, eps);
-  }
-  std::vector<std::uint32_t> Reduce(emu::Reduction r, int c, const std::vector<std::uint8_t>& f,
-                                    const std::vector<std::uint32_t>& v) override {
-    return E().Reduce(r, c, f, v);
+    return ForwardingHierarchyPasses::TraverseLevel(pairs, nodes, first, base_up, base, cmax, b0, ts, eps);
   }
   std::vector<std::uint32_t> Intersect(const std::vector<std::uint32_t>& pairs, const std::vector<std::uint32_t>& f1,
                                        std::uint32_t base1, std::uint32_t b0, const std::vector<std::uint32_t>& order,
@@ -120,13 +100,10 @@ class Recorder final : public emu::HierarchyPasses {
       for (std::uint32_t j = f1[node]; j < f1[node + 1]; ++j)
         if (rays[order[j]].info.y != prim) tris_.Offer({rays[order[j]], scene.triangles[prim]});
     }
-    return E().Intersect(pairs, f1, base1, b0, order, rays, scene, hits, occ);
+    return ForwardingHierarchyPasses::Intersect(pairs, f1, base1, b0, order, rays, scene, hits, occ);
   }
   Reservoir<ConeQuery> cones_;
   Reservoir<TriQuery> tris_;
-
- private:
-  static emu::HierarchyPasses& E() { return emu::EmuHierarchyPasses(); }
 };
 
 // ---- cone-sphere modes --------------------------------------------------------------------------
@@ -192,25 +169,7 @@ void Evaluate(const std::string& test, const std::string& set, std::size_t n, co
 
 // ---- ray-triangle modes -----------------------------------------------------------------------------
 
-template <typename T>
-bool MollerTrumbore(const gpu::Ray& ray, const gpu::Triangle& tri) {
-  using V = glm::vec<3, T>;
-  const V o(emu::Xyz(ray.origin_tmin)), d(emu::Xyz(ray.direction_tmax));
-  const V v0(emu::Xyz(tri.v0)), e1 = V(emu::Xyz(tri.v1)) - v0, e2 = V(emu::Xyz(tri.v2)) - v0;
-  const V p = glm::cross(d, e2);
-  const T det = glm::dot(e1, p);
-  if (det == T(0)) return false;
-  const T inv = T(1) / det;
-  const V s = o - v0;
-  const T u = glm::dot(s, p) * inv;
-  if (u < T(0) || u > T(1)) return false;
-  const V q = glm::cross(s, e1);
-  const T v = glm::dot(d, q) * inv;
-  if (v < T(0) || u + v > T(1)) return false;
-  const T t = glm::dot(e2, q) * inv;
-  return t > T(ray.origin_tmin.w) && t < T(ray.direction_tmax.w);
-}
-
+// Moller-Trumbore without epsilons in precision T; t rounded to float for the frame.
 template <typename T>
 bool MollerTrumboreT(const gpu::Ray& ray, const gpu::Triangle& tri, float& t_out) {
   using V = glm::vec<3, T>;
@@ -232,36 +191,26 @@ bool MollerTrumboreT(const gpu::Ray& ray, const gpu::Triangle& tri, float& t_out
   return true;
 }
 
+template <typename T>
+bool MollerTrumbore(const gpu::Ray& ray, const gpu::Triangle& tri) {
+  float t;
+  return MollerTrumboreT<T>(ray, tri, t);
+}
+
 // ---- end to end: the frame with each cone-sphere mode in the traversal --------------------------------
 
 // A ray-triangle mode inside the final tests: the hit and its float distance (exact: nullptr below).
 using TriTest = std::function<bool(const gpu::Ray&, const gpu::Triangle&, float&)>;
 
-class ModeTraversal final : public emu::HierarchyPasses {
+class ModeTraversal final : public emu::ForwardingHierarchyPasses {
  public:
   explicit ModeTraversal(std::function<bool(const gpu::ConeNode&, glm::vec4, float)> test) : test_(std::move(test)) {}
   // Final tests with a ray-triangle mode; `exact`: the exact decision and exact distance order.
   ModeTraversal(TriTest tri, bool exact) : tri_(std::move(tri)), exact_(exact) {}
   std::string Name() const override { return "emu (accuracy mode)"; }
-  std::vector<std::uint32_t> Hash(const std::vector<gpu::Ray>& r, const SceneBuffers& s, const emu::HashConfig& h,
-                                  std::uint32_t qw, int qd) override {
-    return E().Hash(r, s, h, qw, qd);
-  }
-  emu::Chunks Compress(const std::vector<std::uint32_t>& k) override { return E().Compress(k); }
-  std::vector<std::uint32_t> SortChunks(const std::vector<std::uint32_t>& k) override { return E().SortChunks(k); }
-  std::vector<std::uint32_t> Decompress(const emu::Chunks& c, const std::vector<std::uint32_t>& s) override {
-    return E().Decompress(c, s);
-  }
-  std::vector<gpu::ConeNode> BuildLeaves(const std::vector<gpu::Ray>& r, const std::vector<std::uint32_t>& o,
-                                         const std::vector<std::uint32_t>& f) override {
-    return E().BuildLeaves(r, o, f);
-  }
-  std::vector<gpu::ConeNode> BuildParents(const std::vector<gpu::ConeNode>& b, const std::vector<std::uint32_t>& f) override {
-    return E().BuildParents(b, f);
-  }
   std::vector<std::uint8_t> ObjectMask(const std::vector<gpu::ConeNode>& top, const std::vector<glm::vec4>& spheres,
                                        float eps) override {
-    if (!test_) return E().ObjectMask(top, spheres, eps);
+    if (!test_) return ForwardingHierarchyPasses::ObjectMask(top, spheres, eps);
     std::vector<std::uint8_t> m(top.size() * spheres.size());
     ParallelFor("accuracy.objects", m.size(), [&](std::size_t e) { m[e] = test_(top[e / spheres.size()], spheres[e % spheres.size()], eps); });
     return m;
@@ -269,7 +218,7 @@ class ModeTraversal final : public emu::HierarchyPasses {
   emu::PairSlots TraverseTop(const std::vector<gpu::ConeNode>& top, std::uint32_t t0, std::uint32_t t1, std::uint32_t b0,
                              std::uint32_t b1, const std::vector<glm::vec4>& ts, const SceneBuffers& scene,
                              const std::vector<std::uint8_t>& mask, float eps) override {
-    if (!test_) return E().TraverseTop(top, t0, t1, b0, b1, ts, scene, mask, eps);
+    if (!test_) return ForwardingHierarchyPasses::TraverseTop(top, t0, t1, b0, b1, ts, scene, mask, eps);
     const std::uint32_t T = b1 - b0;
     const std::size_t grid = static_cast<std::size_t>(t1 - t0) * T, objects = scene.objects.size();
     emu::PairSlots s;
@@ -288,7 +237,7 @@ class ModeTraversal final : public emu::HierarchyPasses {
   emu::PairSlots TraverseLevel(const std::vector<std::uint32_t>& pairs, const std::vector<gpu::ConeNode>& nodes,
                                const std::vector<std::uint32_t>& first, std::uint32_t base_up, std::uint32_t base,
                                std::uint32_t cmax, std::uint32_t b0, const std::vector<glm::vec4>& ts, float eps) override {
-    if (!test_) return E().TraverseLevel(pairs, nodes, first, base_up, base, cmax, b0, ts, eps);
+    if (!test_) return ForwardingHierarchyPasses::TraverseLevel(pairs, nodes, first, base_up, base, cmax, b0, ts, eps);
     emu::PairSlots s;
     s.flags.assign(pairs.size() * cmax, 0);
     s.values.assign(pairs.size() * cmax, 0);
@@ -304,15 +253,11 @@ class ModeTraversal final : public emu::HierarchyPasses {
     });
     return s;
   }
-  std::vector<std::uint32_t> Reduce(emu::Reduction r, int c, const std::vector<std::uint8_t>& f,
-                                    const std::vector<std::uint32_t>& v) override {
-    return E().Reduce(r, c, f, v);
-  }
   std::vector<std::uint32_t> Intersect(const std::vector<std::uint32_t>& pairs, const std::vector<std::uint32_t>& f1,
                                        std::uint32_t base1, std::uint32_t b0, const std::vector<std::uint32_t>& order,
                                        const std::vector<gpu::Ray>& rays, const SceneBuffers& scene,
                                        std::vector<std::uint64_t>* hits, std::vector<std::uint32_t>* occ) override {
-    if (!tri_) return E().Intersect(pairs, f1, base1, b0, order, rays, scene, hits, occ);
+    if (!tri_) return ForwardingHierarchyPasses::Intersect(pairs, f1, base1, b0, order, rays, scene, hits, occ);
     std::vector<std::uint32_t> tests(pairs.size());
     ParallelFor("accuracy.intersect", pairs.size(), [&](std::size_t p) {
       const std::uint32_t node = base1 + (pairs[p] >> emu::kPairTriangleBits), prim = b0 + (pairs[p] & ((1u << emu::kPairTriangleBits) - 1));
@@ -348,7 +293,6 @@ class ModeTraversal final : public emu::HierarchyPasses {
   }
 
  private:
-  static emu::HierarchyPasses& E() { return emu::EmuHierarchyPasses(); }
   static constexpr std::size_t kLocks = 4096;
   std::function<bool(const gpu::ConeNode&, glm::vec4, float)> test_;
   TriTest tri_;

@@ -98,6 +98,11 @@ class EmuHierarchy final : public HierarchyPasses {
 
 }  // namespace
 
+ForwardingHierarchyPasses::ForwardingHierarchyPasses(HierarchyPasses* target)
+    : t_(target ? *target : EmuHierarchyPasses()) {}
+
+std::string ForwardingHierarchyPasses::Name() const { return t_.Name(); }
+
 FramePasses& EmuFramePasses() {
   static EmuFrame f;
   return f;

@@ -15,18 +15,12 @@ using detail::Filtered;
 using detail::Sign;
 using detail::SignSqrt;
 
+using detail::Cross;
+using detail::Dot;
+using detail::Sub;
+using detail::V3;
 template <typename NT>
-struct V3 {
-  NT x, y, z;
-};
-template <typename NT>
-V3<NT> Vec(glm::vec3 v) { return {NT(v.x), NT(v.y), NT(v.z)}; }
-template <typename NT>
-V3<NT> Sub(const V3<NT>& a, const V3<NT>& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-template <typename NT>
-NT Dot(const V3<NT>& a, const V3<NT>& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-template <typename NT>
-V3<NT> Cross(const V3<NT>& a, const V3<NT>& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+V3<NT> Vec(glm::vec3 v) { return detail::Exact<NT>(v); }
 
 bool Full(const gpu::ConeNode& n) {
   return n.cone.w <= -1.0f || (n.cone.w == 0.0f && n.extra.x == 0.0f) ||

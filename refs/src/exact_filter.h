@@ -40,4 +40,21 @@ int SignSqrt(const std::type_identity_t<NT>& A, const std::type_identity_t<NT>& 
   return c > 0 ? sa : c < 0 ? sb : 0;
 }
 
+// 3-vectors of an exact or interval number type, and the operations the predicates need.
+template <typename NT>
+struct V3 {
+  NT x, y, z;
+};
+template <typename NT>
+V3<NT> Sub(const V3<NT>& a, const V3<NT>& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+template <typename NT>
+NT Dot(const V3<NT>& a, const V3<NT>& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+template <typename NT>
+V3<NT> Cross(const V3<NT>& a, const V3<NT>& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+// v - o, each float taken exactly.
+template <typename NT, typename Vec>
+V3<NT> Rel(const Vec& v, const Vec& o) { return {NT(v.x) - NT(o.x), NT(v.y) - NT(o.y), NT(v.z) - NT(o.z)}; }
+template <typename NT, typename Vec>
+V3<NT> Exact(const Vec& v) { return {NT(v.x), NT(v.y), NT(v.z)}; }
+
 }  // namespace rayspace::refs::detail

@@ -10,18 +10,13 @@ namespace {
 
 using detail::Sign;
 
+using detail::Cross;
+using detail::Dot;
+using detail::Sub;
+using detail::V3;
 template <typename NT>
-struct V3 {
-  NT x, y, z;
-};
-template <typename NT>
-V3<NT> Rel(glm::vec3 v, glm::vec3 o) { return {NT(v.x) - NT(o.x), NT(v.y) - NT(o.y), NT(v.z) - NT(o.z)}; }
-template <typename NT>
-V3<NT> Sub(const V3<NT>& a, const V3<NT>& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-template <typename NT>
-NT Dot(const V3<NT>& a, const V3<NT>& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-template <typename NT>
-V3<NT> Cross(const V3<NT>& a, const V3<NT>& b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+V3<NT> Rel(glm::vec3 v, glm::vec3 o) { return detail::Rel<NT>(v, o); }
+
 template <typename NT>
 NT Det(const V3<NT>& a, const V3<NT>& b, const V3<NT>& c) { return Dot(a, Cross(b, c)); }
 

@@ -80,6 +80,58 @@ class HierarchyPasses {
                                                std::vector<std::uint64_t>* hits, std::vector<std::uint32_t>* occluded) = 0;
 };
 
+// Forwards every pass to another backend (the emulator's by default): tools that change or observe
+// one pass override just that one.
+class ForwardingHierarchyPasses : public HierarchyPasses {
+ public:
+  explicit ForwardingHierarchyPasses(HierarchyPasses* target = nullptr);
+  std::string Name() const override;
+  void Label(const std::string& pass) override { t_.Label(pass); }
+  std::vector<std::uint32_t> Hash(const std::vector<gpu::Ray>& rays, const SceneBuffers& scene, const HashConfig& h,
+                                  std::uint32_t quadtree_width, int quadtree_depth) override {
+    return t_.Hash(rays, scene, h, quadtree_width, quadtree_depth);
+  }
+  Chunks Compress(const std::vector<std::uint32_t>& keys) override { return t_.Compress(keys); }
+  std::vector<std::uint32_t> SortChunks(const std::vector<std::uint32_t>& k) override { return t_.SortChunks(k); }
+  std::vector<std::uint32_t> Decompress(const Chunks& c, const std::vector<std::uint32_t>& s) override { return t_.Decompress(c, s); }
+  std::vector<gpu::ConeNode> BuildLeaves(const std::vector<gpu::Ray>& rays, const std::vector<std::uint32_t>& order,
+                                         const std::vector<std::uint32_t>& first) override {
+    return t_.BuildLeaves(rays, order, first);
+  }
+  std::vector<gpu::ConeNode> BuildParents(const std::vector<gpu::ConeNode>& below,
+                                          const std::vector<std::uint32_t>& first) override {
+    return t_.BuildParents(below, first);
+  }
+  std::vector<std::uint8_t> ObjectMask(const std::vector<gpu::ConeNode>& top, const std::vector<glm::vec4>& spheres,
+                                       float eps) override {
+    return t_.ObjectMask(top, spheres, eps);
+  }
+  PairSlots TraverseTop(const std::vector<gpu::ConeNode>& top, std::uint32_t t0, std::uint32_t t1, std::uint32_t b0,
+                        std::uint32_t b1, const std::vector<glm::vec4>& tri_spheres, const SceneBuffers& scene,
+                        const std::vector<std::uint8_t>& object_mask, float eps) override {
+    return t_.TraverseTop(top, t0, t1, b0, b1, tri_spheres, scene, object_mask, eps);
+  }
+  PairSlots TraverseLevel(const std::vector<std::uint32_t>& pairs, const std::vector<gpu::ConeNode>& nodes,
+                          const std::vector<std::uint32_t>& first, std::uint32_t base_up, std::uint32_t base,
+                          std::uint32_t children_max, std::uint32_t b0, const std::vector<glm::vec4>& tri_spheres,
+                          float eps) override {
+    return t_.TraverseLevel(pairs, nodes, first, base_up, base, children_max, b0, tri_spheres, eps);
+  }
+  std::vector<std::uint32_t> Reduce(Reduction reduction, int component, const std::vector<std::uint8_t>& flags,
+                                    const std::vector<std::uint32_t>& values) override {
+    return t_.Reduce(reduction, component, flags, values);
+  }
+  std::vector<std::uint32_t> Intersect(const std::vector<std::uint32_t>& pairs, const std::vector<std::uint32_t>& first1,
+                                       std::uint32_t base1, std::uint32_t b0, const std::vector<std::uint32_t>& order,
+                                       const std::vector<gpu::Ray>& rays, const SceneBuffers& scene,
+                                       std::vector<std::uint64_t>* hits, std::vector<std::uint32_t>* occluded) override {
+    return t_.Intersect(pairs, first1, base1, b0, order, rays, scene, hits, occluded);
+  }
+
+ private:
+  HierarchyPasses& t_;
+};
+
 // The emulator's passes (emu/passes.h, emu/hierarchy.h).
 FramePasses& EmuFramePasses();
 HierarchyPasses& EmuHierarchyPasses();
