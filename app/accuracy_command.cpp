@@ -211,47 +211,19 @@ class ModeTraversal final : public emu::ForwardingHierarchyPasses {
   std::vector<std::uint8_t> ObjectMask(const std::vector<gpu::ConeNode>& top, const std::vector<glm::vec4>& spheres,
                                        float eps) override {
     if (!test_) return ForwardingHierarchyPasses::ObjectMask(top, spheres, eps);
-    std::vector<std::uint8_t> m(top.size() * spheres.size());
-    ParallelFor("accuracy.objects", m.size(), [&](std::size_t e) { m[e] = test_(top[e / spheres.size()], spheres[e % spheres.size()], eps); });
-    return m;
+    return emu::ObjectMaskWith(test_, top, spheres, eps);
   }
   emu::PairSlots TraverseTop(const std::vector<gpu::ConeNode>& top, std::uint32_t t0, std::uint32_t t1, std::uint32_t b0,
                              std::uint32_t b1, const std::vector<glm::vec4>& ts, const SceneBuffers& scene,
                              const std::vector<std::uint8_t>& mask, float eps) override {
     if (!test_) return ForwardingHierarchyPasses::TraverseTop(top, t0, t1, b0, b1, ts, scene, mask, eps);
-    const std::uint32_t T = b1 - b0;
-    const std::size_t grid = static_cast<std::size_t>(t1 - t0) * T, objects = scene.objects.size();
-    emu::PairSlots s;
-    s.flags.resize(grid);
-    s.values.resize(grid);
-    s.tested.resize(grid);
-    ParallelFor("accuracy.top", grid, [&](std::size_t e) {
-      const std::uint32_t node = t0 + static_cast<std::uint32_t>(e / T), tri = b0 + static_cast<std::uint32_t>(e % T);
-      const bool test = mask.empty() || mask[static_cast<std::size_t>(node) * objects + scene.info[tri].ids.y];
-      s.tested[e] = test;
-      s.flags[e] = test && test_(top[node], ts[tri], eps);
-      s.values[e] = ((node - t0) << emu::kPairTriangleBits) | (tri - b0);
-    });
-    return s;
+    return emu::TraverseTopWith(test_, top, t0, t1, b0, b1, ts, scene, mask, eps);
   }
   emu::PairSlots TraverseLevel(const std::vector<std::uint32_t>& pairs, const std::vector<gpu::ConeNode>& nodes,
                                const std::vector<std::uint32_t>& first, std::uint32_t base_up, std::uint32_t base,
                                std::uint32_t cmax, std::uint32_t b0, const std::vector<glm::vec4>& ts, float eps) override {
     if (!test_) return ForwardingHierarchyPasses::TraverseLevel(pairs, nodes, first, base_up, base, cmax, b0, ts, eps);
-    emu::PairSlots s;
-    s.flags.assign(pairs.size() * cmax, 0);
-    s.values.assign(pairs.size() * cmax, 0);
-    s.tested.assign(pairs.size(), 0);
-    ParallelFor("accuracy.level", pairs.size(), [&](std::size_t p) {
-      const std::uint32_t parent = base_up + (pairs[p] >> emu::kPairTriangleBits), local = pairs[p] & ((1u << emu::kPairTriangleBits) - 1);
-      const std::uint32_t c0 = first[parent], c1 = first[parent + 1];
-      s.tested[p] = static_cast<std::uint8_t>(c1 - c0);
-      for (std::uint32_t c = c0; c < c1; ++c) {
-        s.flags[p * cmax + (c - c0)] = test_(nodes[c], ts[b0 + local], eps);
-        s.values[p * cmax + (c - c0)] = ((c - base) << emu::kPairTriangleBits) | local;
-      }
-    });
-    return s;
+    return emu::TraverseLevelWith(test_, pairs, nodes, first, base_up, base, cmax, b0, ts, eps);
   }
   std::vector<std::uint32_t> Intersect(const std::vector<std::uint32_t>& pairs, const std::vector<std::uint32_t>& f1,
                                        std::uint32_t base1, std::uint32_t b0, const std::vector<std::uint32_t>& order,

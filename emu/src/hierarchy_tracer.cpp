@@ -357,53 +357,27 @@ float TraversalEpsilon(const SceneBuffers& scene) {
   return std::max(glm::length(ext), 1e-30f) * 1e-6f;
 }
 
+namespace {
+// A lambda, not a function pointer, so the test inlines into the traversal loops.
+constexpr auto kConeTest = [](const gpu::ConeNode& n, glm::vec4 sphere, float eps) { return cone::Test(n, sphere, eps); };
+}  // namespace
+
 PairSlots PassTraverseTop(const std::vector<gpu::ConeNode>& top, std::uint32_t t0, std::uint32_t t1, std::uint32_t b0,
                           std::uint32_t b1, const std::vector<glm::vec4>& tri_spheres, const SceneBuffers& scene,
                           const std::vector<std::uint8_t>& object_mask, float eps) {
-  const std::uint32_t T = b1 - b0;
-  const std::size_t grid = static_cast<std::size_t>(t1 - t0) * T, objects = scene.objects.size();
-  PairSlots s;
-  s.flags.resize(grid);
-  s.values.resize(grid);
-  s.tested.resize(grid);
-  ParallelFor("traverse.top", grid, [&](std::size_t e) {
-    const std::uint32_t node = t0 + static_cast<std::uint32_t>(e / T), tri = b0 + static_cast<std::uint32_t>(e % T);
-    const bool test = object_mask.empty() || object_mask[static_cast<std::size_t>(node) * objects + scene.info[tri].ids.y];
-    s.tested[e] = test;
-    s.flags[e] = test && cone::Test(top[node], tri_spheres[tri], eps);
-    s.values[e] = ((node - t0) << kTriBits) | (tri - b0);
-  });
-  return s;
+  return TraverseTopWith(kConeTest, top, t0, t1, b0, b1, tri_spheres, scene, object_mask, eps);
 }
 
 std::vector<std::uint8_t> PassObjectMask(const std::vector<gpu::ConeNode>& top, const std::vector<glm::vec4>& object_spheres,
                                          float eps) {
-  const std::size_t objects = object_spheres.size();
-  std::vector<std::uint8_t> mask(top.size() * objects, 0);
-  ParallelFor("traverse.objects", mask.size(), [&](std::size_t e) { mask[e] = cone::Test(top[e / objects], object_spheres[e % objects], eps); });
-  return mask;
+  return ObjectMaskWith(kConeTest, top, object_spheres, eps);
 }
 
 PairSlots PassTraverseLevel(const std::vector<std::uint32_t>& pairs, const std::vector<gpu::ConeNode>& nodes,
                             const std::vector<std::uint32_t>& first, std::uint32_t base_up, std::uint32_t base,
                             std::uint32_t children_max, std::uint32_t b0, const std::vector<glm::vec4>& tri_spheres,
                             float eps) {
-  PairSlots s;
-  s.flags.assign(pairs.size() * children_max, 0);
-  s.values.assign(pairs.size() * children_max, 0);
-  s.tested.assign(pairs.size(), 0);
-  ParallelFor("traverse.level", pairs.size(), [&](std::size_t p) {
-    const std::uint32_t parent = base_up + (pairs[p] >> kTriBits), tri_local = pairs[p] & kTriMask;
-    const glm::vec4 sphere = tri_spheres[b0 + tri_local];
-    const std::uint32_t c0 = first[parent], c1 = first[parent + 1];
-    s.tested[p] = static_cast<std::uint8_t>(c1 - c0);
-    for (std::uint32_t c = c0; c < c1; ++c) {
-      const std::size_t slot = p * children_max + (c - c0);
-      s.flags[slot] = cone::Test(nodes[c], sphere, eps);
-      s.values[slot] = ((c - base) << kTriBits) | tri_local;
-    }
-  });
-  return s;
+  return TraverseLevelWith(kConeTest, pairs, nodes, first, base_up, base, children_max, b0, tri_spheres, eps);
 }
 
 std::vector<std::uint32_t> PassIntersect(const std::vector<std::uint32_t>& pairs, const std::vector<std::uint32_t>& f1,

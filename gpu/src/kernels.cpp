@@ -1,4 +1,5 @@
 #include <cstring>
+#include <span>
 
 #include <fmt/format.h>
 
@@ -34,6 +35,15 @@ template <typename T>
 vk::Status Make(vk::Context& c, const std::vector<T>& v, vk::Buffer& b) {
   RS_TRY(c.CreateBuffer(v.size() * sizeof(T), b));
   b.Upload(v);
+  return vk::Status::Ok();
+}
+
+// A buffer holding `v` (at least one element: an empty input still needs something to bind).
+template <typename T>
+vk::Status MakeFrom(vk::Context& c, std::span<const T> v, vk::Buffer& b) {
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(v.size(), 1) * sizeof(T), b));
+  std::memset(b.data(), 0, b.size());
+  if (!v.empty()) std::memcpy(b.data(), v.data(), v.size_bytes());
   return vk::Status::Ok();
 }
 
@@ -368,6 +378,37 @@ struct TraversePush {
   std::uint32_t id_base;  // top level: packed node ids are relative to this node
 };
 
+// One traverse.comp dispatch: its bindings (empty spans bind a zeroed placeholder) and where its
+// outputs go (flags and values: `slots` words, tested: `tested` words; null to skip).
+struct TraverseIo {
+  std::span<const gpu::ConeNode> nodes;
+  std::span<const glm::vec4> spheres;
+  std::span<const gpu::TriangleInfo> info;
+  std::span<const std::uint32_t> mask, pairs, first;
+  std::size_t slots = 0, tested = 0;
+  std::uint32_t *flags_out = nullptr, *values_out = nullptr, *tested_out = nullptr;
+};
+
+vk::Status RunTraverse(vk::Context& c, const vk::Kernel& k, const TraversePush& push, const TraverseIo& io) {
+  vk::Buffer bn, bs, bi, bm, bp, bf, bfl, bv, bt;
+  RS_TRY(MakeFrom(c, io.nodes, bn));
+  RS_TRY(MakeFrom(c, io.spheres, bs));
+  RS_TRY(MakeFrom(c, io.info, bi));
+  RS_TRY(MakeFrom(c, io.mask, bm));
+  RS_TRY(MakeFrom(c, io.pairs, bp));
+  RS_TRY(MakeFrom(c, io.first, bf));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(io.slots, 1) * 4, bfl));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(io.slots, 1) * 4, bv));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(io.tested, 1) * 4, bt));
+  const vk::Buffer* bufs[9] = {&bn, &bs, &bi, &bm, &bp, &bf, &bfl, &bv, &bt};
+  RS_TRY(RunKernel(c, k, bufs, &push, sizeof push, push.count));
+  if (io.flags_out) std::memcpy(io.flags_out, bfl.data(), io.slots * 4);
+  if (io.values_out) std::memcpy(io.values_out, bv.data(), io.slots * 4);
+  if (io.tested_out) std::memcpy(io.tested_out, bt.data(), io.tested * 4);
+  return vk::Status::Ok();
+}
+
+
 }  // namespace
 
 std::size_t VulkanPasses::SplitBytes() const {
@@ -390,36 +431,13 @@ vk::Status VulkanPasses::TraverseTop(const std::vector<gpu::ConeNode>& top, std:
     const std::uint32_t r1 = std::min(t1, r0 + rows);
     const std::size_t at = static_cast<std::size_t>(r0 - t0) * T;
     if (r0 != t0) ++extra_dispatches_;
-    RS_TRY(TraverseTopPart(top, r0, r1, t0, b0, b1, tri_spheres, scene, eps, object_mask, flags.data() + at,
-                           values.data() + at, tested.data() + at));
+    const std::uint32_t count = static_cast<std::uint32_t>(static_cast<std::size_t>(r1 - r0) * T);
+    const TraversePush push{0, count, r0, b0, static_cast<std::uint32_t>(T), static_cast<std::uint32_t>(scene.objects.size()),
+                            object_mask.empty() ? 0u : 1u, 0, 0, 0, eps, t0};
+    RS_TRY(RunTraverse(*ctx_, traverse_, push,
+                       {top, tri_spheres, scene.info, object_mask, {}, {}, count, count, flags.data() + at, values.data() + at,
+                        tested.data() + at}));
   }
-  return vk::Status::Ok();
-}
-
-vk::Status VulkanPasses::TraverseTopPart(const std::vector<gpu::ConeNode>& top, std::uint32_t t0, std::uint32_t t1,
-                                         std::uint32_t id_base, std::uint32_t b0, std::uint32_t b1,
-                                         const std::vector<glm::vec4>& tri_spheres, const SceneBuffers& scene, float eps,
-                                         const std::vector<std::uint32_t>& object_mask, std::uint32_t* flags,
-                                         std::uint32_t* values, std::uint32_t* tested) {
-  vk::Context& c = *ctx_;
-  const std::uint32_t count = (t1 - t0) * (b1 - b0);
-  const std::uint32_t objects = static_cast<std::uint32_t>(scene.objects.size());
-  vk::Buffer bn, bs, bi, bm, bp, bf, bfl, bv, bt;
-  RS_TRY(Make(c, NonEmpty(top), bn));
-  RS_TRY(Make(c, tri_spheres, bs));
-  RS_TRY(Make(c, scene.info, bi));
-  RS_TRY(Make(c, NonEmpty(object_mask), bm));
-  RS_TRY(Make(c, std::vector<std::uint32_t>(1), bp));
-  RS_TRY(Make(c, std::vector<std::uint32_t>(1), bf));
-  RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * 4, bfl));
-  RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * 4, bv));
-  RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * 4, bt));
-  const TraversePush push{0, count, t0, b0, b1 - b0, objects, object_mask.empty() ? 0u : 1u, 0, 0, 0, eps, id_base};
-  const vk::Buffer* bufs[9] = {&bn, &bs, &bi, &bm, &bp, &bf, &bfl, &bv, &bt};
-  RS_TRY(RunKernel(c, traverse_, bufs, &push, sizeof push, count));
-  std::memcpy(flags, bfl.data(), count * 4ull);
-  std::memcpy(values, bv.data(), count * 4ull);
-  std::memcpy(tested, bt.data(), count * 4ull);
   return vk::Status::Ok();
 }
 
@@ -437,148 +455,85 @@ vk::Status VulkanPasses::TraverseLevel(const std::vector<std::uint32_t>& pairs, 
   for (std::size_t p0 = 0; p0 < count; p0 += per) {
     const std::uint32_t n = static_cast<std::uint32_t>(std::min(count - p0, per));
     if (p0 != 0) ++extra_dispatches_;
-    RS_TRY(TraverseLevelPart(pairs.data() + p0, n, nodes, first, base_up, base, children_max, b0, tri_spheres, eps,
-                             flags.data() + p0 * children_max, values.data() + p0 * children_max, tested.data() + p0));
+    const TraversePush push{1, n, 0, b0, 0, 0, 0, base_up, base, children_max, eps, 0};
+    RS_TRY(RunTraverse(*ctx_, traverse_, push,
+                       {nodes, tri_spheres, {}, {}, std::span(pairs).subspan(p0, n), first, std::size_t{n} * children_max, n,
+                        flags.data() + p0 * children_max, values.data() + p0 * children_max, tested.data() + p0}));
   }
-  return vk::Status::Ok();
-}
-
-vk::Status VulkanPasses::TraverseLevelPart(const std::uint32_t* pairs, std::uint32_t count, const std::vector<gpu::ConeNode>& nodes,
-                                           const std::vector<std::uint32_t>& first, std::uint32_t base_up, std::uint32_t base,
-                                           std::uint32_t children_max, std::uint32_t b0,
-                                           const std::vector<glm::vec4>& tri_spheres, float eps, std::uint32_t* flags,
-                                           std::uint32_t* values, std::uint32_t* tested) {
-  vk::Context& c = *ctx_;
-  const std::uint32_t slots = count * children_max;
-  vk::Buffer bn, bs, bi, bm, bp, bf, bfl, bv, bt;
-  RS_TRY(Make(c, NonEmpty(nodes), bn));
-  RS_TRY(Make(c, tri_spheres, bs));
-  RS_TRY(Make(c, std::vector<gpu::TriangleInfo>(1), bi));
-  RS_TRY(Make(c, std::vector<std::uint32_t>(1), bm));
-  RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * 4, bp));
-  if (count) std::memcpy(bp.data(), pairs, count * 4ull);
-  RS_TRY(Make(c, first, bf));
-  RS_TRY(c.CreateBuffer(std::max<std::size_t>(slots, 1) * 4, bfl));
-  RS_TRY(c.CreateBuffer(std::max<std::size_t>(slots, 1) * 4, bv));
-  RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * 4, bt));
-  const TraversePush push{1, count, 0, b0, 0, 0, 0, base_up, base, children_max, eps, 0};
-  const vk::Buffer* bufs[9] = {&bn, &bs, &bi, &bm, &bp, &bf, &bfl, &bv, &bt};
-  RS_TRY(RunKernel(c, traverse_, bufs, &push, sizeof push, count));
-  std::memcpy(flags, bfl.data(), slots * 4ull);
-  std::memcpy(values, bv.data(), slots * 4ull);
-  std::memcpy(tested, bt.data(), count * 4ull);
   return vk::Status::Ok();
 }
 
 vk::Status VulkanPasses::ObjectMask(const std::vector<gpu::ConeNode>& top, const std::vector<glm::vec4>& object_spheres,
                                     float eps, std::vector<std::uint32_t>& mask) {
-  vk::Context& c = *ctx_;
   const std::uint32_t objects = static_cast<std::uint32_t>(object_spheres.size());
   const std::uint32_t count = static_cast<std::uint32_t>(top.size()) * objects;
-  vk::Buffer bn, bs, bi, bm, bp, bf, bfl, bv, bt;
-  RS_TRY(Make(c, NonEmpty(top), bn));
-  RS_TRY(Make(c, NonEmpty(object_spheres), bs));
-  RS_TRY(Make(c, std::vector<gpu::TriangleInfo>(1), bi));
-  RS_TRY(Make(c, std::vector<std::uint32_t>(1), bm));
-  RS_TRY(Make(c, std::vector<std::uint32_t>(1), bp));
-  RS_TRY(Make(c, std::vector<std::uint32_t>(1), bf));
-  RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * 4, bfl));
-  RS_TRY(c.CreateBuffer(4, bv));
-  RS_TRY(c.CreateBuffer(4, bt));
+  mask.assign(count, 0);
   const TraversePush push{2, count, 0, 0, 0, objects, 0, 0, 0, 0, eps, 0};
-  const vk::Buffer* bufs[9] = {&bn, &bs, &bi, &bm, &bp, &bf, &bfl, &bv, &bt};
-  RS_TRY(RunKernel(c, traverse_, bufs, &push, sizeof push, count));
-  mask = bfl.Download<std::uint32_t>(count);
-  return vk::Status::Ok();
+  return RunTraverse(*ctx_, traverse_, push, {top, object_spheres, {}, {}, {}, {}, count, 0, mask.data(), nullptr, nullptr});
 }
 
-// Order-preserving compaction composes: reducing consecutive parts and concatenating their outputs
-// gives the whole stream's result, so big streams are reduced in parts that fit the split size
-// (hierarchical parts end on component boundaries).
-vk::Status VulkanPasses::ReduceScan(const std::vector<std::uint32_t>& flags, const std::vector<std::uint32_t>& values,
-                                    std::vector<std::uint32_t>& out) {
-  out.clear();
-  const std::size_t n = flags.size(), per = std::max<std::size_t>(1, SplitBytes() / 4);
-  for (std::size_t p0 = 0; p0 < n || p0 == 0; p0 += per) {
-    std::vector<std::uint32_t> part;
-    if (p0 != 0) ++extra_dispatches_;
-    RS_TRY(ReduceScanPart(flags.data() + p0, values.data() + p0, static_cast<std::uint32_t>(std::min(n - p0, per)), part));
-    out.insert(out.end(), part.begin(), part.end());
-    if (n == 0) break;
-  }
-  return vk::Status::Ok();
-}
+namespace {
 
-vk::Status VulkanPasses::Reduce(const std::vector<std::uint32_t>& flags, const std::vector<std::uint32_t>& values,
-                                std::uint32_t s, std::vector<std::uint32_t>& out) {
-  out.clear();
-  const std::size_t n = flags.size(), per = std::max<std::size_t>(1, SplitBytes() / 4 / s) * s;
-  for (std::size_t p0 = 0; p0 < n || p0 == 0; p0 += per) {
-    std::vector<std::uint32_t> part;
-    if (p0 != 0) ++extra_dispatches_;
-    RS_TRY(ReducePart(flags.data() + p0, values.data() + p0, static_cast<std::uint32_t>(std::min(n - p0, per)), s, part));
-    out.insert(out.end(), part.begin(), part.end());
-    if (n == 0) break;
-  }
-  return vk::Status::Ok();
-}
-
-vk::Status VulkanPasses::ReduceScanPart(const std::uint32_t* flags, const std::uint32_t* values, std::uint32_t n,
-                                        std::vector<std::uint32_t>& out) {
-  vk::Context& c = *ctx_;
-  const std::uint32_t blocks = Blocks(n);
+// One stream reduction in reduce.comp: hierarchical with components of s slots (phases 0-4), or
+// scan-based (phases 10, 2, 11) when `scan`.
+vk::Status RunReduce(vk::Context& c, const vk::Kernel& k, std::span<const std::uint32_t> flags,
+                     std::span<const std::uint32_t> values, std::uint32_t s, bool scan, std::vector<std::uint32_t>& out) {
+  const std::uint32_t n = static_cast<std::uint32_t>(flags.size());
+  const std::uint32_t comps = scan ? 0 : (n + s - 1) / s, blocks = Blocks(scan ? n : comps);
   vk::Buffer bf, bv, bl, bc, bs, bo;
-  RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * 4, bf));
-  RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * 4, bv));
-  if (n) {
-    std::memcpy(bf.data(), flags, n * 4ull);
-    std::memcpy(bv.data(), values, n * 4ull);
-  }
-  RS_TRY(c.CreateBuffer(4, bl));
-  RS_TRY(c.CreateBuffer(4, bc));
+  RS_TRY(MakeFrom(c, flags, bf));
+  RS_TRY(MakeFrom(c, values, bv));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(scan ? 1 : n, 1) * 4, bl));      // per-component values
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(comps, 1) * 4, bc));              // per-component counts
   RS_TRY(c.CreateBuffer((blocks + 1) * 4, bs));
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * 4, bo));
   const vk::Buffer* bufs[6] = {&bf, &bv, &bl, &bc, &bs, &bo};
+  static const std::uint32_t kHierPhases[5] = {0, 1, 2, 3, 4}, kScanPhases[3] = {10, 2, 11};
+  const std::span<const std::uint32_t> phases = scan ? std::span<const std::uint32_t>(kScanPhases) : std::span<const std::uint32_t>(kHierPhases);
   vk::Recorder rec(c);
-  const std::uint32_t phases[3] = {10, 2, 11}, invocations[3] = {blocks, 1, blocks};
-  for (int k = 0; k < 3; ++k) {
-    const std::uint32_t push[5] = {n, phases[k], 1, 0, blocks};
-    RS_TRY(rec.Dispatch(reduce_, bufs, push, sizeof push, invocations[k]));
-  }
-  RS_TRY(rec.Submit());
-  const std::uint32_t total = bs.Download<std::uint32_t>(blocks + 1)[blocks];
-  if (total > n) return vk::Status::Fail(fmt::format("scan reduce kernel reported {} of {} slots", total, n));
-  out = bo.Download<std::uint32_t>(total);
-  return vk::Status::Ok();
-}
-
-vk::Status VulkanPasses::ReducePart(const std::uint32_t* flags, const std::uint32_t* values, std::uint32_t n, std::uint32_t s,
-                                    std::vector<std::uint32_t>& out) {
-  vk::Context& c = *ctx_;
-  const std::uint32_t comps = (n + s - 1) / s, blocks = Blocks(comps);
-  vk::Buffer bf, bv, bl, bc, bs, bo;
-  RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * 4, bf));
-  RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * 4, bv));
-  if (n) {
-    std::memcpy(bf.data(), flags, n * 4ull);
-    std::memcpy(bv.data(), values, n * 4ull);
-  }
-  RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * 4, bl));
-  RS_TRY(c.CreateBuffer(std::max<std::size_t>(comps, 1) * 4, bc));
-  RS_TRY(c.CreateBuffer((blocks + 1) * 4, bs));
-  RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * 4, bo));
-  const vk::Buffer* bufs[6] = {&bf, &bv, &bl, &bc, &bs, &bo};
-  vk::Recorder rec(c);
-  const std::uint32_t invocations[5] = {comps, blocks, 1, blocks, comps};
-  for (std::uint32_t phase = 0; phase < 5; ++phase) {
-    const std::uint32_t push[5] = {n, phase, s, comps, blocks};
-    RS_TRY(rec.Dispatch(reduce_, bufs, push, sizeof push, invocations[phase]));
+  for (std::uint32_t phase : phases) {
+    // Invocations: one per component (0, 4), per block (1, 3, 10, 11), or one (2).
+    const std::uint32_t invocations = phase == 2 ? 1 : (phase == 0 || phase == 4) ? comps : blocks;
+    const std::uint32_t push[5] = {n, phase, scan ? 1u : s, comps, blocks};
+    RS_TRY(rec.Dispatch(k, bufs, push, sizeof push, invocations));
   }
   RS_TRY(rec.Submit());
   const std::uint32_t total = bs.Download<std::uint32_t>(blocks + 1)[blocks];
   if (total > n) return vk::Status::Fail(fmt::format("reduce kernel reported {} of {} slots", total, n));
   out = bo.Download<std::uint32_t>(total);
   return vk::Status::Ok();
+}
+
+}  // namespace
+
+// Order-preserving compaction composes: reducing consecutive parts and concatenating their outputs
+// gives the whole stream's result, so big streams are reduced in parts that fit the split size
+// (hierarchical parts end on component boundaries).
+vk::Status VulkanPasses::ReduceInParts(const std::vector<std::uint32_t>& flags, const std::vector<std::uint32_t>& values,
+                                       std::uint32_t s, bool scan, std::vector<std::uint32_t>& out) {
+  out.clear();
+  const std::size_t n = flags.size(), per = scan ? std::max<std::size_t>(1, SplitBytes() / 4)
+                                                 : std::max<std::size_t>(1, SplitBytes() / 4 / s) * s;
+  std::size_t p0 = 0;
+  do {
+    const std::size_t len = std::min(n - p0, per);
+    std::vector<std::uint32_t> part;
+    if (p0 != 0) ++extra_dispatches_;
+    RS_TRY(RunReduce(*ctx_, reduce_, std::span(flags).subspan(p0, len), std::span(values).subspan(p0, len), s, scan, part));
+    out.insert(out.end(), part.begin(), part.end());
+    p0 += len;
+  } while (p0 < n);
+  return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::Reduce(const std::vector<std::uint32_t>& flags, const std::vector<std::uint32_t>& values,
+                                std::uint32_t s, std::vector<std::uint32_t>& out) {
+  return ReduceInParts(flags, values, s, false, out);
+}
+
+vk::Status VulkanPasses::ReduceScan(const std::vector<std::uint32_t>& flags, const std::vector<std::uint32_t>& values,
+                                    std::vector<std::uint32_t>& out) {
+  return ReduceInParts(flags, values, 1, true, out);
 }
 
 vk::Status VulkanPasses::SurfacesFromHits(const std::vector<gpu::Ray>& rays, const std::vector<std::uint64_t>& hits,

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "rayspace/emu/tracer.h"
+#include "rayspace/parallel.h"
 
 namespace rayspace::emu {
 
@@ -115,6 +116,61 @@ std::vector<std::uint32_t> PassIntersect(const std::vector<std::uint32_t>& pairs
                                          std::uint32_t base1, std::uint32_t b0, const std::vector<std::uint32_t>& order,
                                          const std::vector<gpu::Ray>& rays, const SceneBuffers& scene,
                                          std::vector<std::uint64_t>* hits, std::vector<std::uint32_t>* occluded);
+
+// The traversal passes with the node-sphere test as a parameter (the passes above use cone::Test;
+// `rayspace accuracy` swaps in other precisions). test(node, sphere, eps) -> bool.
+template <typename TestFn>
+PairSlots TraverseTopWith(TestFn&& test, const std::vector<gpu::ConeNode>& top, std::uint32_t t0, std::uint32_t t1,
+                          std::uint32_t b0, std::uint32_t b1, const std::vector<glm::vec4>& tri_spheres,
+                          const SceneBuffers& scene, const std::vector<std::uint8_t>& object_mask, float eps) {
+  const std::uint32_t T = b1 - b0;
+  const std::size_t grid = static_cast<std::size_t>(t1 - t0) * T, objects = scene.objects.size();
+  PairSlots s;
+  s.flags.resize(grid);
+  s.values.resize(grid);
+  s.tested.resize(grid);
+  ParallelFor("traverse.top", grid, [&](std::size_t e) {
+    const std::uint32_t node = t0 + static_cast<std::uint32_t>(e / T), tri = b0 + static_cast<std::uint32_t>(e % T);
+    const bool tested = object_mask.empty() || object_mask[static_cast<std::size_t>(node) * objects + scene.info[tri].ids.y];
+    s.tested[e] = tested;
+    s.flags[e] = tested && test(top[node], tri_spheres[tri], eps);
+    s.values[e] = ((node - t0) << kPairTriangleBits) | (tri - b0);
+  });
+  return s;
+}
+
+template <typename TestFn>
+std::vector<std::uint8_t> ObjectMaskWith(TestFn&& test, const std::vector<gpu::ConeNode>& top,
+                                         const std::vector<glm::vec4>& object_spheres, float eps) {
+  const std::size_t objects = object_spheres.size();
+  std::vector<std::uint8_t> mask(top.size() * objects, 0);
+  ParallelFor("traverse.objects", mask.size(), [&](std::size_t e) { mask[e] = test(top[e / objects], object_spheres[e % objects], eps); });
+  return mask;
+}
+
+template <typename TestFn>
+PairSlots TraverseLevelWith(TestFn&& test, const std::vector<std::uint32_t>& pairs, const std::vector<gpu::ConeNode>& nodes,
+                            const std::vector<std::uint32_t>& first, std::uint32_t base_up, std::uint32_t base,
+                            std::uint32_t children_max, std::uint32_t b0, const std::vector<glm::vec4>& tri_spheres,
+                            float eps) {
+  constexpr std::uint32_t kMask = (1u << kPairTriangleBits) - 1u;
+  PairSlots s;
+  s.flags.assign(pairs.size() * children_max, 0);
+  s.values.assign(pairs.size() * children_max, 0);
+  s.tested.assign(pairs.size(), 0);
+  ParallelFor("traverse.level", pairs.size(), [&](std::size_t p) {
+    const std::uint32_t parent = base_up + (pairs[p] >> kPairTriangleBits), tri_local = pairs[p] & kMask;
+    const glm::vec4 sphere = tri_spheres[b0 + tri_local];
+    const std::uint32_t c0 = first[parent], c1 = first[parent + 1];
+    s.tested[p] = static_cast<std::uint8_t>(c1 - c0);
+    for (std::uint32_t c = c0; c < c1; ++c) {
+      const std::size_t slot = p * children_max + (c - c0);
+      s.flags[slot] = test(nodes[c], sphere, eps);
+      s.values[slot] = ((c - base) << kPairTriangleBits) | tri_local;
+    }
+  });
+  return s;
+}
 
 // Stream reduction of (flag, value) slots to the flagged values in slot order.
 std::vector<std::uint32_t> ReduceScan(const std::vector<std::uint8_t>& flags, const std::vector<std::uint32_t>& values);

@@ -82,18 +82,8 @@ class VulkanPasses {
   std::size_t extra_dispatches() const { return extra_dispatches_; }
 
  private:
-  vk::Status ReducePart(const std::uint32_t* flags, const std::uint32_t* values, std::uint32_t n, std::uint32_t s,
-                        std::vector<std::uint32_t>& out);
-  vk::Status ReduceScanPart(const std::uint32_t* flags, const std::uint32_t* values, std::uint32_t n,
-                            std::vector<std::uint32_t>& out);
-  vk::Status TraverseTopPart(const std::vector<gpu::ConeNode>& top, std::uint32_t t0, std::uint32_t t1, std::uint32_t id_base,
-                             std::uint32_t b0, std::uint32_t b1, const std::vector<glm::vec4>& tri_spheres,
-                             const SceneBuffers& scene, float eps, const std::vector<std::uint32_t>& object_mask,
-                             std::uint32_t* flags, std::uint32_t* values, std::uint32_t* tested);
-  vk::Status TraverseLevelPart(const std::uint32_t* pairs, std::uint32_t count, const std::vector<gpu::ConeNode>& nodes,
-                               const std::vector<std::uint32_t>& first, std::uint32_t base_up, std::uint32_t base,
-                               std::uint32_t children_max, std::uint32_t b0, const std::vector<glm::vec4>& tri_spheres,
-                               float eps, std::uint32_t* flags, std::uint32_t* values, std::uint32_t* tested);
+  vk::Status ReduceInParts(const std::vector<std::uint32_t>& flags, const std::vector<std::uint32_t>& values, std::uint32_t s,
+                           bool scan, std::vector<std::uint32_t>& out);
   vk::Status Raygen(const vk::Kernel& k, const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
                     const SceneBuffers& scene, emu::SparseRays& out);
   std::unique_ptr<vk::Context> ctx_;
