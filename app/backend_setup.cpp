@@ -20,19 +20,31 @@ struct VulkanOwner {
 }  // namespace
 #endif
 
-void CheckFrameFits(const Backend& backend, int width, int height, std::size_t lights) {
-  if (backend.max_buffer_bytes == 0) return;
-  // The largest per-pixel binding: surfaces (80 bytes), shadow-ray slots (64 bytes per light), colour
-  // accumulator (3 x 8 bytes); reflection and refraction slots are one ray per pixel.
-  const std::size_t per_pixel = std::max<std::size_t>({sizeof(gpu::Surface), sizeof(gpu::Ray) * std::max<std::size_t>(lights, 1), 24});
+void CheckFrameFits(const Backend& backend, int width, int height, std::size_t lights, std::size_t triangles) {
+  const std::size_t limit = backend.max_buffer_bytes;
+  if (limit == 0) return;
   const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-  if (pixels * per_pixel > backend.max_buffer_bytes)
-    ThrowInput("--size {}x{}: per-pixel buffers of {} bytes exceed maxStorageBufferRange {} of '{}'; at most {} pixels fit",
-               width, height, pixels * per_pixel, backend.max_buffer_bytes, backend.device, backend.max_buffer_bytes / per_pixel);
+  const std::size_t rays = pixels * std::max<std::size_t>(lights, 1);  // the largest batch: shadow rays
+  const std::size_t pages = gpu::kBufferPages;
+  // Scene arrays are bound whole (the raster reads them too).
+  if (triangles * sizeof(gpu::Triangle) > limit)
+    ThrowInput("scene: {} triangles take {} bytes per triangle array, more than one binding of '{}' holds ({} bytes)",
+               triangles, triangles * sizeof(gpu::Triangle), backend.device, limit);
+  if (lights * sizeof(gpu::Ray) > limit)
+    ThrowInput("scene: {} lights need {} bytes of shadow-ray slots per pixel, more than one binding of '{}' holds ({} bytes)",
+               lights, lights * sizeof(gpu::Ray), backend.device, limit);
+  // Everything per pixel or per ray is split into parts or paged over kBufferPages bindings; the
+  // paged ray array is the first to run out. The sort's scratch (about 8 bytes per ray) is bound
+  // whole, and fits whenever the rays do, as long as kBufferPages < 8.
+  static_assert(gpu::kBufferPages * 8 < sizeof(gpu::Ray));
+  const std::size_t max_rays = pages * (limit / sizeof(gpu::Ray));
+  if (rays > max_rays)
+    ThrowInput("--size {}x{}: {} rays per batch ({} light(s)) exceed the {} that {} bindings of {} bytes hold on '{}'; at most {} pixels fit",
+               width, height, rays, lights, max_rays, pages, limit, backend.device, max_rays / std::max<std::size_t>(lights, 1));
 }
 
 Backend MakeBackend(const std::string& name, int device, int local_size, const std::map<std::string, std::uint32_t>& faults,
-                    std::size_t split_bytes) {
+                    const TestLimits& limits) {
   Backend b;
   if (name == "emu") {
     b.device = "host";
@@ -45,24 +57,25 @@ Backend MakeBackend(const std::string& name, int device, int local_size, const s
     if (s.message.rfind("--device", 0) == 0) ThrowInput("{}", s.message);  // a bad argument, not a failure
     throw std::runtime_error("Vulkan: " + s.message);
   }
-  owner->gpu->SetSplitBytes(split_bytes);
+  owner->gpu->LimitForTesting(limits.storage_bytes, limits.groups_x);
   owner->frame = gpu_backend::MakeVulkanFramePasses(*owner->gpu);
   owner->hierarchy = gpu_backend::MakeVulkanHierarchyPasses(*owner->gpu);
   b.name = "vulkan";
   b.device = owner->gpu->context().device_name();
-  b.max_buffer_bytes = static_cast<std::size_t>(owner->gpu->context().max_storage_buffer_range());
+  b.max_buffer_bytes = owner->gpu->SplitBytes();
   b.frame = owner->frame.get();
   b.hierarchy = owner->hierarchy.get();
   b.owner = owner;
   b.extra_dispatches = [](const Backend& be) {
     return static_cast<const VulkanOwner*>(be.owner.get())->gpu->extra_dispatches();
   };
+  b.paged_arrays = [](const Backend& be) { return static_cast<const VulkanOwner*>(be.owner.get())->gpu->paged_arrays(); };
   return b;
 #else
   (void)device;
   (void)local_size;
   (void)faults;
-  (void)split_bytes;
+  (void)limits;
   ThrowInput("--backend vulkan: this build of rayspace has no Vulkan backend (the Vulkan loader or glslc was missing)");
 #endif
 }

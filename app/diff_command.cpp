@@ -87,9 +87,9 @@ struct PassTotals {
 int RunDiff(const DiffArgs& args) {
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
-  const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, ParseInject(args.inject), args.split_bytes);
-  CheckFrameFits(gpu, fo.width, fo.height, scene.lights.size());
+  const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, ParseInject(args.inject), {args.split_bytes, args.max_groups});
   const SceneBuffers buffers = FlattenScene(scene);
+  CheckFrameFits(gpu, fo.width, fo.height, scene.lights.size(), buffers.triangles.size());
   auto direct = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);
 
   verify::Backends expected{emu::EmuFramePasses(), emu::EmuHierarchyPasses()};
@@ -184,6 +184,8 @@ int RunDiff(const DiffArgs& args) {
   const bool equal = first == nullptr && stopped.empty();
   std::printf("  %s\n", equal ? "all passes equal" : ("first divergent pass: " + (first ? first->pass : std::string("?"))).c_str());
   if (equal) std::printf("  frame digest %s\n", HexDigest(frame.digest.Frame()).c_str());
+  std::printf("  vulkan: %zu split dispatches, %zu arrays paged over several bindings\n", gpu.extra_dispatches(gpu),
+              gpu.paged_arrays(gpu));
   if (!args.report.empty()) {
     nlohmann::json calls = nlohmann::json::array();
     for (const verify::CallRecord& c : differ.calls()) calls.push_back(CallJson(c));
@@ -195,6 +197,8 @@ int RunDiff(const DiffArgs& args) {
                         {"emulation_model", EmulationModel()},
                         {"inject", args.inject},
                         {"local_size", args.local_size},
+                        {"split_dispatches", gpu.extra_dispatches(gpu)},
+                        {"paged_arrays", gpu.paged_arrays(gpu)},
                         {"passes", passes},
                         {"calls", calls},
                         {"host_only", {"prep (bounding spheres: per-scene preprocessing)", "rah ray order (a stable partition by light)",

@@ -10,6 +10,7 @@ struct DiffArgs {
   int local_size = 64;
   int subdivision = 8, depth = 2;
   std::size_t split_bytes = 0;
+  std::uint32_t max_groups = 0;
 };
 
 // Runs the whole frame with every pass on both backends (same inputs: the GPU's previous outputs)

@@ -45,9 +45,13 @@ int main(int argc, char** argv) {
   rc->add_option("--device", render.device, "Vulkan device index for --backend vulkan (default: first non-CPU device, else lavapipe)")
       ->check(CLI::Range(0, 64));
   rc->add_option("--split-bytes", render.split_bytes,
-                 "Vulkan: split traversal and reduction dispatches at this many bytes per buffer when below the "
-                 "device's maxStorageBufferRange (test use)")
+                 "Vulkan: bind at most this many bytes per storage buffer when below the device's "
+                 "maxStorageBufferRange, so that passes split and page their buffers on small frames (test use)")
       ->check(CLI::Range(std::size_t{64}, std::size_t{1} << 40));
+  rc->add_option("--max-groups", render.max_groups,
+                 "Vulkan: launch at most this many workgroups per row when below the device's "
+                 "maxComputeWorkGroupCount, so that large launches fold into rows (test use)")
+      ->check(CLI::Range(1u, 65535u));
   rc->add_flag("--no-oracle", render.no_oracle, "Skip the oracle re-trace");
   rc->add_flag("--timings", render.timings, "Print time per phase (the thesis's phases) and tests per second");
   rc->add_flag("--progress", render.progress, "Print each pass and its time on stderr (default when stderr is a terminal)");
@@ -77,8 +81,10 @@ int main(int argc, char** argv) {
   dc->add_option("--depth", diff.depth, "Hierarchy levels")->check(CLI::Range(1, 12));
   dc->add_option("--reduction", diff.reduction, "Stream reduction: hierarchical or scan")->check(CLI::IsMember({"hierarchical", "scan"}));
   dc->add_option("--save-inputs", diff.save_inputs, "Write every pass call's inputs to DIR/NNNN-PASS/ (for replay)");
-  dc->add_option("--split-bytes", diff.split_bytes, "Split traversal/reduction dispatches at this many bytes per buffer (test use)")
+  dc->add_option("--split-bytes", diff.split_bytes, "Vulkan: bind at most this many bytes per storage buffer (test use)")
       ->check(CLI::Range(std::size_t{64}, std::size_t{1} << 40));
+  dc->add_option("--max-groups", diff.max_groups, "Vulkan: launch at most this many workgroups per row (test use)")
+      ->check(CLI::Range(1u, 65535u));
   rayspace::app::ReplayArgs replay;
   CLI::App* pc = app.add_subcommand("replay", "Run one pass call saved by diff --save-inputs on both backends and compare");
   pc->add_option("dir", replay.dir, "Directory of the saved call (DIR/NNNN-PASS)")->required();

@@ -50,10 +50,10 @@ int RunRender(const RenderArgs& args) {
     if (!probe) ThrowInput("{}: cannot write the output image", out);
   }
 
-  const Backend backend = MakeBackend(args.backend, args.device, 64, {}, args.split_bytes);
+  const Backend backend = MakeBackend(args.backend, args.device, 64, {}, {args.split_bytes, args.max_groups});
   fo.passes = backend.frame;
-  CheckFrameFits(backend, fo.width, fo.height, scene.lights.size());
   const SceneBuffers buffers = FlattenScene(scene);
+  CheckFrameFits(backend, fo.width, fo.height, scene.lights.size(), buffers.triangles.size());
   const emu::DirectMode mode = args.direct == "exhaustive" ? emu::DirectMode::kExhaustive
                                : args.direct == "bvh"      ? emu::DirectMode::kBvh
                                                            : emu::DirectMode::kAuto;
@@ -144,6 +144,8 @@ int RunRender(const RenderArgs& args) {
   j["buffer_digests"] = buffers_json;
   j["frame_ms"] = r.total_ms;
   if (backend.extra_dispatches) j["backend"]["split_dispatches"] = backend.extra_dispatches(backend);
+  if (backend.paged_arrays) j["backend"]["paged_arrays"] = backend.paged_arrays(backend);
+  if (backend.max_buffer_bytes) j["backend"]["binding_bytes"] = backend.max_buffer_bytes;
   j["image"] = out;
   if (!args.stats.empty()) {
     std::ofstream f(args.stats);
@@ -162,7 +164,9 @@ int RunRender(const RenderArgs& args) {
   else
     how = tracer.value("mode", tracer.value("isa", std::string()));
   std::printf("  backend     %s (%s%s)\n", backend.name.c_str(), backend.device.c_str(),
-              backend.extra_dispatches ? fmt::format(", {} split dispatches", backend.extra_dispatches(backend)).c_str() : "");
+              backend.extra_dispatches ? fmt::format(", {} split dispatches, {} paged arrays", backend.extra_dispatches(backend),
+                                                     backend.paged_arrays(backend)).c_str()
+                                       : "");
   std::printf("  tracer      %s (%s)\n", args.algo.c_str(), how.c_str());
   for (std::uint32_t k = 0; k < 3; ++k) {
     std::string per;

@@ -10,6 +10,7 @@ struct RenderArgs {
   int threads = 0, subdivision = 8, depth = 2, component_size = 64;
   std::size_t pair_capacity = std::size_t{1} << 24;
   std::size_t split_bytes = 0;
+  std::uint32_t max_groups = 0;
   bool depth_given = false;
   bool no_oracle = false, progress = false, timings = false;
 };

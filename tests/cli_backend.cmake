@@ -1,42 +1,11 @@
 # `rayspace render --backend vulkan` gives the same digest and the same PNG bytes as `--backend emu`
 # for every algorithm, on the bundled scenes (reduced sizes), with bounces, refraction, both
-# reductions and forced dispatch splitting.
+# reductions, forced dispatch splitting and paging, launches folded into rows.
 # Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DDATA=<data root> -DWORK=<scratch> -P cli_backend.cmake
 set(failures "")
 file(MAKE_DIRECTORY "${WORK}")
 
-function(render_digest out_var name path size backend)
-  execute_process(COMMAND "${RAYSPACE}" render "${path}" --data "${DATA}" --size ${size} --no-oracle
-                          --backend ${backend} --out "${WORK}/${name}.png" --stats "${WORK}/${name}.json" ${ARGN}
-                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0)
-    set(failures "${failures}\n${name}: exit ${rc}: ${out}${err}" PARENT_SCOPE)
-    set(${out_var} "" PARENT_SCOPE)
-    return()
-  endif()
-  file(READ "${WORK}/${name}.json" j)
-  string(JSON d GET "${j}" digest)
-  string(JSON be GET "${j}" backend name)
-  if(NOT be STREQUAL backend)
-    set(failures "${failures}\n${name}: the statistics name backend '${be}'" PARENT_SCOPE)
-  endif()
-  set(${out_var} "${d}" PARENT_SCOPE)
-endfunction()
-
-function(same_frame name path size)
-  render_digest(de ${name}_emu "${path}" ${size} emu ${ARGN})
-  render_digest(dv ${name}_vulkan "${path}" ${size} vulkan ${ARGN})
-  if(de STREQUAL "" OR NOT de STREQUAL dv)
-    set(failures "${failures}\n${name}: digest emu '${de}' vs vulkan '${dv}'" PARENT_SCOPE)
-    return()
-  endif()
-  file(SHA256 "${WORK}/${name}_emu.png" he)
-  file(SHA256 "${WORK}/${name}_vulkan.png" hv)
-  if(NOT he STREQUAL hv)
-    set(failures "${failures}\n${name}: PNGs differ" PARENT_SCOPE)
-  endif()
-  set(failures "${failures}" PARENT_SCOPE)
-endfunction()
+include("${CMAKE_CURRENT_LIST_DIR}/cli_same_frame.cmake")
 
 set(cornell "${SRC}/scenes/cornell-mirrors.json")
 foreach(algo crsh rah rah-quadtree brute embree)
@@ -44,15 +13,21 @@ foreach(algo crsh rah rah-quadtree brute embree)
 endforeach()
 same_frame(cornell_scan "${cornell}" 96x80 --reduction scan)
 same_frame(cornell_sub4_d3 "${cornell}" 96x80 --subdivision 4 --depth 3)
-# Dispatches split far below maxStorageBufferRange, and forced pair-capacity splits.
-same_frame(cornell_split "${cornell}" 96x80 --split-bytes 4096)
-same_frame(cornell_split_scan "${cornell}" 96x80 --split-bytes 4096 --reduction scan)
+# Bindings far smaller than maxStorageBufferRange: per-pixel and per-ray buffers run in parts or
+# are paged over several bindings, pair streams split, and launches fold into rows of workgroups.
+same_frame(cornell_paged "${cornell}" 96x80 --split-bytes 131072)
+same_frame(cornell_paged_scan "${cornell}" 96x80 --split-bytes 131072 --reduction scan)
+same_frame(cornell_split "${cornell}" 48x40 --split-bytes 65536)
+same_frame(cornell_rows "${cornell}" 96x80 --max-groups 3)
 same_frame(cornell_capacity "${cornell}" 96x80 --pair-capacity 3000)
-file(READ "${WORK}/cornell_split_vulkan.json" j)
-string(JSON splits GET "${j}" backend split_dispatches)
-if(splits LESS 100)
-  set(failures "${failures}\ncornell_split: only ${splits} split dispatches; the split path did not run")
-endif()
+foreach(run cornell_paged cornell_split)
+  file(READ "${WORK}/${run}_vulkan.json" j)
+  string(JSON splits GET "${j}" backend split_dispatches)
+  string(JSON paged GET "${j}" backend paged_arrays)
+  if(splits LESS 100 OR paged LESS 10)
+    set(failures "${failures}\n${run}: ${splits} split dispatches, ${paged} paged arrays; the split and paging paths did not run")
+  endif()
+endforeach()
 
 file(READ "${cornell}" c)
 string(JSON glass SET "${c}" materials clay transparency 0.5)
@@ -68,11 +43,24 @@ if(EXISTS "${DATA}/sponza_dabrovic/sponza.obj")
   same_frame(sponza_rah "${SRC}/scenes/sponza.json" 128x128 --algo rah)
 endif()
 
-# Per-pixel buffers bigger than the device allows are refused up front, as bad input.
-execute_process(COMMAND "${RAYSPACE}" render "${cornell}" --size 1500x1500 --backend vulkan --no-oracle --out "${WORK}/big.png"
+# A frame whose rays outgrow every page is refused up front, as bad input: with the device's own
+# limit, and with a lowered one.
+execute_process(COMMAND "${RAYSPACE}" render "${cornell}" --size 3000x3000 --backend vulkan --no-oracle --out "${WORK}/big.png"
                 RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
-if(NOT rc EQUAL 2 OR NOT err MATCHES "--size 1500x1500: per-pixel buffers of 180000000 bytes exceed maxStorageBufferRange")
+if(NOT rc EQUAL 2 OR NOT err MATCHES "^rayspace: error: --size 3000x3000: 9000000 rays per batch \\(1 light\\(s\\)\\) exceed the [0-9]+ that 4 bindings")
   set(failures "${failures}\noversized frame: exit ${rc}, stderr '${err}'")
+endif()
+execute_process(COMMAND "${RAYSPACE}" render "${cornell}" --size 128x128 --split-bytes 65536 --backend vulkan --no-oracle
+                        --out "${WORK}/big.png"
+                RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+if(NOT rc EQUAL 2 OR NOT err MATCHES "--size 128x128: 16384 rays per batch \\(1 light\\(s\\)\\) exceed the 4096 that 4 bindings of 65536 bytes hold on .*; at most 4096 pixels fit")
+  set(failures "${failures}\nframe beyond lowered limit: exit ${rc}, stderr '${err}'")
+endif()
+execute_process(COMMAND "${RAYSPACE}" render "${cornell}" --size 8x8 --split-bytes 16384 --backend vulkan --no-oracle
+                        --out "${WORK}/big.png"
+                RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+if(NOT rc EQUAL 2 OR NOT err MATCHES "scene: 828 triangles take 39744 bytes per triangle array, more than one binding of .* holds \\(16384 bytes\\)")
+  set(failures "${failures}\nscene beyond lowered limit: exit ${rc}, stderr '${err}'")
 endif()
 
 if(failures)

@@ -14,6 +14,17 @@ layout(constant_id = 0) const uint kFault = 0;  // planted fault (0 = none), sel
 layout(constant_id = 1) const uint kLocalSize = 64;
 layout(local_size_x_id = 1) in;
 
+// This invocation's index in the launch. The host folds launches wider than
+// maxComputeWorkGroupCount[0] groups into rows of groups (vk::Recorder::Dispatch); rows are read in
+// order, and every kernel skips the indices past its count.
+#ifndef GLOBAL_INDEX_FAULT
+#define GLOBAL_INDEX_FAULT 0u  // a kernel defines it to plant "the row is ignored" as that fault
+#endif
+uint GlobalIndex() {
+  if (GLOBAL_INDEX_FAULT != 0u && kFault == GLOBAL_INDEX_FAULT) return gl_GlobalInvocationID.x;
+  return gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * kLocalSize) + gl_GlobalInvocationID.x;
+}
+
 // 2^-e for the exponent e of m > 0, clamped to normal powers (emu InversePowerOfTwo).
 float InversePowerOfTwo(float m) {
   const int e = int((floatBitsToUint(m) >> 23) & 0xFFu);

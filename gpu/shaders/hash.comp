@@ -1,6 +1,8 @@
 #version 460
 // 32-bit sort keys per ray; mirrors emu PassHash (emu/src/ray_sort.cpp), or with quad_width > 0
 // Roger's quadtree keys (emu PassHashQuadtree).
+// Fault 2 (seen only when a launch is folded into rows, --max-groups): GlobalIndex() drops the row.
+#define GLOBAL_INDEX_FAULT 2u
 #include "common.glsl"
 
 layout(std430, binding = 0) readonly buffer Rays { Ray rays[]; };
@@ -57,7 +59,7 @@ uint Morton2(uint x, uint y) {
 }
 
 void main() {
-  const uint i = gl_GlobalInvocationID.x;
+  const uint i = GlobalIndex();
   if (i >= pc.n) return;
   const Ray r = rays[i];
   if (pc.quad_width != 0u) {

@@ -1,18 +1,29 @@
 #version 460
 // Final ray-triangle tests on surviving level-1 pairs; mirrors emu PassIntersect (watertight inside
 // test, plane distance, closest hit by 64-bit atomic minimum, shadow rays by atomic store).
+// Fault 2 (seen only when the ray arrays span several pages, --split-bytes): every paged load reads
+// the first page.
+#define PAGED_FAULT 2u
 #include "common.glsl"
 #extension GL_EXT_shader_atomic_int64 : require
+#include "paged.glsl"
 
+// pairs and tests hold this dispatch's part of the pair stream; the rest is read or written anywhere
+// (by leaf node, sorted position and ray), so it is paged.
 layout(std430, binding = 0) readonly buffer Pairs { uint pairs[]; };
-layout(std430, binding = 1) readonly buffer First { uint first1[]; };
-layout(std430, binding = 2) readonly buffer Order { uint order[]; };
-layout(std430, binding = 3) readonly buffer Rays { Ray rays[]; };
-layout(std430, binding = 4) readonly buffer Triangles { Triangle triangles[]; };
-layout(std430, binding = 5) buffer Hits { uint64_t hits[]; };
-layout(std430, binding = 6) buffer Occluded { uint occluded[]; };
-layout(std430, binding = 7) writeonly buffer Tests { uint tests[]; };
-layout(push_constant) uniform Push { uint count, base1, b0, shadow; } pc;
+layout(std430, binding = 1) readonly buffer Triangles { Triangle triangles[]; };
+layout(std430, binding = 2) writeonly buffer Tests { uint tests[]; };
+PAGED_BUFFER(readonly, First, uint, 3)
+PAGED_LOAD(First, uint)
+PAGED_BUFFER(readonly, Order, uint, 7)
+PAGED_LOAD(Order, uint)
+PAGED_BUFFER(readonly, Rays, Ray, 11)
+PAGED_LOAD(Rays, Ray)
+PAGED_BUFFER(, Hits, uint64_t, 15)
+PAGED_ATOMIC(atomicMin, Hits, uint64_t)
+PAGED_BUFFER(, Occluded, uint, 19)
+PAGED_ATOMIC(atomicExchange, Occluded, uint)
+layout(push_constant) uniform Push { uint count, base1, b0, shadow, first_page, order_page, ray_page, hit_page, occluded_page; } pc;
 
 const uint kTriBits = 14u, kTriMask = (1u << 14) - 1u;
 
@@ -54,24 +65,25 @@ bool Watertight(vec3 org, vec3 dir, vec3 v0, vec3 v1, vec3 v2, float tmin, float
 }
 
 void main() {
-  const uint p = gl_GlobalInvocationID.x;
+  const uint p = GlobalIndex();
   if (p >= pc.count) return;
   const uint node = pc.base1 + (pairs[p] >> kTriBits), prim = pc.b0 + (pairs[p] & kTriMask);
   const Triangle tri = triangles[prim];
-  tests[p] = first1[node + 1u] - first1[node];
-  for (uint j = first1[node]; j < first1[node + 1u]; ++j) {
-    const uint ray = order[j];
-    const Ray r = rays[ray];
+  const uint f0 = LoadFirst(node, pc.first_page), f1 = LoadFirst(node + 1u, pc.first_page);
+  tests[p] = f1 - f0;
+  for (uint j = f0; j < f1; ++j) {
+    const uint ray = LoadOrder(j, pc.order_page);
+    const Ray r = LoadRays(ray, pc.ray_page);
     if (prim == r.info.y) continue;
     float th;
     if (!Watertight(r.origin_tmin.xyz, r.direction_tmax.xyz, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, r.origin_tmin.w,
                     r.direction_tmax.w, th))
       continue;
     if (pc.shadow != 0u) {
-      atomicExchange(occluded[ray], 1u);
+      atomicExchangeOccluded(ray, pc.occluded_page, 1u);
     } else {
       const uint64_t packed = (uint64_t(floatBitsToUint(th)) << 32) | uint64_t(prim);
-      atomicMin(hits[ray], packed);
+      atomicMinHits(ray, pc.hit_page, packed);
     }
   }
 }

@@ -8,10 +8,10 @@ layout(std430, binding = 1) readonly buffer Materials { Material materials[]; };
 layout(std430, binding = 2) readonly buffer Frame { FrameConstants fc; };
 layout(std430, binding = 3) writeonly buffer Rays { Ray rays[]; };
 layout(std430, binding = 4) writeonly buffer Flags { uint flags[]; };
-layout(push_constant) uniform Push { uint surface_count; } pc;
+layout(push_constant) uniform Push { uint surface_count, base; } pc;  // surfaces base .. base + count - 1
 
 void main() {
-  const uint s = gl_GlobalInvocationID.x;
+  const uint s = GlobalIndex();
   if (s >= pc.surface_count) return;
   Ray r;
   r.origin_tmin = vec4(0.0);
@@ -42,7 +42,7 @@ void main() {
   if (!(Dot3(d, d) > 0.0)) return;
   r.origin_tmin = vec4(sf.position.xyz, fc.params.x);
   r.direction_tmax = vec4(d, uintBitsToFloat(0x7F800000u));
-  r.info = uvec4(sf.info.y, sf.info.x, kRayRefraction, s);
+  r.info = uvec4(sf.info.y, sf.info.x, kRayRefraction, pc.base + s);
   precise const vec4 w = vec4(sf.weight.x * kt, sf.weight.y * kt, sf.weight.z * kt, 0.0);
   r.weight = w;
   rays[s] = r;

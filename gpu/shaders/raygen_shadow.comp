@@ -12,7 +12,7 @@ layout(push_constant) uniform Push { uint surface_count; uint light_count; } pc;
 const float kFloatMax = 3.40282347e38;
 
 void main() {
-  const uint s = gl_GlobalInvocationID.x;
+  const uint s = GlobalIndex();
   if (s >= pc.surface_count) return;
   const Surface sf = surfaces[s];
   for (uint l = 0; l < pc.light_count; ++l) {

@@ -16,7 +16,7 @@ layout(push_constant) uniform Push { uint n, phase, s, comps, blocks; } pc;
 const uint kBlock = 4096u;
 
 void main() {
-  const uint t = gl_GlobalInvocationID.x;
+  const uint t = GlobalIndex();
   if (pc.phase == 10u) {  // scan-based: block sums of the flags
     if (t >= pc.blocks) return;
     uint sum = 0u;

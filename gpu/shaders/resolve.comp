@@ -8,7 +8,7 @@ layout(std430, binding = 1) writeonly buffer Rgb { uint rgb[]; };
 layout(push_constant) uniform Push { uint n; } pc;
 
 void main() {
-  const uint i = gl_GlobalInvocationID.x;
+  const uint i = GlobalIndex();
   if (i >= pc.n) return;
   precise const float c = float(accum[i]) / kAccumScale;
   // Fault 1: the gamma step is skipped.

@@ -1,16 +1,20 @@
 #version 460
 // Shading (thesis eq. 3.19) into the 64-bit fixed-point accumulator; mirrors emu PassShade.
 #include "common.glsl"
+#include "paged.glsl"
 #extension GL_EXT_shader_atomic_int64 : require
 
 layout(std430, binding = 0) readonly buffer Surfaces { Surface surfaces[]; };
 layout(std430, binding = 1) readonly buffer ShadowFlags { uint shadow_flags[]; };
 layout(std430, binding = 2) readonly buffer ShadowOffsets { uint shadow_offsets[]; };
-layout(std430, binding = 3) readonly buffer Occluded { uint occluded[]; };
-layout(std430, binding = 4) readonly buffer Materials { Material materials[]; };
-layout(std430, binding = 5) readonly buffer Lights { Light lights[]; };
-layout(std430, binding = 6) buffer Accum { uint64_t accum[]; };
-layout(push_constant) uniform Push { uint surface_count; uint light_count; } pc;
+layout(std430, binding = 3) readonly buffer Materials { Material materials[]; };
+layout(std430, binding = 4) readonly buffer Lights { Light lights[]; };
+// Indexed by dense shadow ray and by pixel, in any order: paged (bindings 5-8 and 9-12).
+PAGED_BUFFER(readonly, Occluded, uint, 5)
+PAGED_LOAD(Occluded, uint)
+PAGED_BUFFER(, Accum, uint64_t, 9)
+PAGED_ATOMIC(atomicAdd, Accum, uint64_t)
+layout(push_constant) uniform Push { uint surface_count, light_count, occluded_page, accum_page; } pc;
 
 uint64_t ToFixed(float c) {
   const float v = min(max(c, 0.0), kAccumMax);
@@ -19,7 +23,7 @@ uint64_t ToFixed(float c) {
 }
 
 void main() {
-  const uint s = gl_GlobalInvocationID.x;
+  const uint s = GlobalIndex();
   if (s >= pc.surface_count) return;
   const Surface sf = surfaces[s];
   if (sf.position.w == 0.0) return;
@@ -31,7 +35,7 @@ void main() {
   precise vec3 color = vec3(0.0);
   for (uint l = 0u; l < pc.light_count; ++l) {
     const uint slot = s * pc.light_count + l;
-    if (shadow_flags[slot] == 0u || occluded[shadow_offsets[slot]] != 0u) continue;
+    if (shadow_flags[slot] == 0u || LoadOccluded(shadow_offsets[slot], pc.occluded_page) != 0u) continue;
     const Light light = lights[l];
     precise const vec3 lv = light.position.xyz - p;
     const float dist = Length3(lv);
@@ -57,6 +61,6 @@ void main() {
   for (int k = 0; k < 3; ++k) {
     precise const float c = color[k] * sf.weight[k];
     const uint64_t q = ToFixed(c);
-    if (q != 0ul) atomicAdd(accum[3u * pixel + uint(k)], q);
+    if (q != 0ul) atomicAddAccum(3u * pixel + uint(k), pc.accum_page, q);
   }
 }

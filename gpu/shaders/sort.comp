@@ -29,7 +29,7 @@ void ScanSums(uint blocks) {  // exclusive scan of sums[0..blocks), total in sum
 }
 
 void main() {
-  const uint t = gl_GlobalInvocationID.x;
+  const uint t = GlobalIndex();
   const uint n = pc.n, blocks = pc.blocks;
   switch (pc.phase) {
     // ---- compress over n keys: head flags, block sums, scan, chunk key/base, chunk sizes ----

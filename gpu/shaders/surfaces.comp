@@ -9,11 +9,12 @@ layout(std430, binding = 2) readonly buffer Prim { uint prim[]; };
 layout(std430, binding = 3) readonly buffer Info { TriangleInfo info[]; };
 layout(std430, binding = 4) readonly buffer Frame { FrameConstants fc; };
 layout(std430, binding = 5) writeonly buffer Surfaces { Surface surfaces[]; };
-layout(push_constant) uniform Push { uint pixels; } pc;
+layout(push_constant) uniform Push { uint pixels, base; } pc;  // this dispatch: pixels base .. base + pixels - 1
 
 void main() {
-  const uint i = gl_GlobalInvocationID.x;
+  const uint i = GlobalIndex();  // element of this dispatch's buffers
   if (i >= pc.pixels) return;
+  const uint g = pc.base + i;    // pixel of the frame
   Surface s;
   s.position = vec4(0.0);
   s.normal = vec4(0.0);
@@ -23,15 +24,15 @@ void main() {
   if (p != kNoPrim) {
     const uint width = fc.dims.x;
     // Fault 1: rows and columns swapped when the pixel index is split.
-    const uint px = kFault == 1u ? i / width : i % width, py = kFault == 1u ? i % width : i / width;
+    const uint px = kFault == 1u ? g / width : g % width, py = kFault == 1u ? g % width : g / width;
     const vec3 d = PixelDirection(fc, px, py);
     s.position = vec4(position[i].xyz, 1.0);
     s.normal = vec4(normal[i].xyz, 0.0);
     s.incoming = vec4(Normalize3(d), 0.0);
     s.weight = vec4(1.0, 1.0, 1.0, 0.0);
-    s.info = uvec4(p, i, info[p].ids.x, 0u);
+    s.info = uvec4(p, g, info[p].ids.x, 0u);
   } else {
-    s.info = uvec4(kNoPrim, i, 0u, 0u);
+    s.info = uvec4(kNoPrim, g, 0u, 0u);
   }
   surfaces[i] = s;
 }

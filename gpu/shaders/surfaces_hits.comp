@@ -13,7 +13,7 @@ layout(std430, binding = 5) writeonly buffer Surfaces { Surface surfaces[]; };
 layout(push_constant) uniform Push { uint n; } pc;
 
 void main() {
-  const uint i = gl_GlobalInvocationID.x;
+  const uint i = GlobalIndex();
   if (i >= pc.n) return;
   const Ray r = rays[i];
   const uvec2 h = hits[i];

@@ -9,12 +9,14 @@ layout(std430, binding = 1) buffer Sums { uint sums[]; };  // blocks + 1 (the to
 layout(std430, binding = 2) writeonly buffer Offsets { uint offsets[]; };
 layout(std430, binding = 3) readonly buffer Sparse { Ray sparse[]; };
 layout(std430, binding = 4) writeonly buffer Dense { Ray dense[]; };
-layout(push_constant) uniform Push { uint n; uint phase; } pc;
+// carry: flagged slots before this dispatch's part of the stream (a stream larger than one binding
+// is trimmed in consecutive parts; offsets are stream-wide, dense indices part-local).
+layout(push_constant) uniform Push { uint n; uint phase; uint carry; } pc;
 
 const uint kBlock = 4096u;
 
 void main() {
-  const uint b = gl_GlobalInvocationID.x;
+  const uint b = GlobalIndex();
   const uint blocks = (pc.n + kBlock - 1u) / kBlock;
   if (pc.phase == 0u) {
     if (b >= blocks) return;
@@ -36,7 +38,8 @@ void main() {
     for (uint i = b * kBlock; i < min(pc.n, (b + 1u) * kBlock); ++i) {
       // Fault 1: an inclusive scan where an exclusive one belongs (off by one).
       if (kFault == 1u) s += flags[i];
-      offsets[i] = s;
+      // Fault 2 (seen only when a stream is trimmed in parts, --split-bytes): the carry is dropped.
+      offsets[i] = (kFault == 2u ? 0u : pc.carry) + s;
       if (flags[i] != 0u) dense[s - (kFault == 1u ? 1u : 0u)] = sparse[i];
       if (kFault != 1u) s += flags[i];
     }

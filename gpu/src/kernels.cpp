@@ -1,4 +1,6 @@
+#include <array>
 #include <cstring>
+#include <deque>
 #include <span>
 
 #include <fmt/format.h>
@@ -31,12 +33,6 @@ namespace {
     if (!rs_s) return rs_s;       \
   } while (0)
 
-template <typename T>
-vk::Status Make(vk::Context& c, const std::vector<T>& v, vk::Buffer& b) {
-  RS_TRY(c.CreateBuffer(v.size() * sizeof(T), b));
-  b.Upload(v);
-  return vk::Status::Ok();
-}
 
 // A buffer holding `v` (at least one element: an empty input still needs something to bind).
 template <typename T>
@@ -57,12 +53,100 @@ vk::Status RunKernel(vk::Context& c, const vk::Kernel& k, std::span<const vk::Bu
   return rec.Submit();
 }
 
+// An array read or written at any index, bound as gpu::kBufferPages consecutive bindings of `page`
+// elements each (gpu/shaders/paged.glsl). Pages are as large as one binding may be.
+struct Paged {
+  std::array<vk::Buffer, gpu::kBufferPages> pages;
+  std::uint32_t page = 1;  // elements per page
+  std::size_t count = 0;
+  void Bind(std::vector<const vk::Buffer*>& bufs) const {
+    for (const vk::Buffer& b : pages) bufs.push_back(&b);
+  }
+  template <typename T>
+  void Read(std::span<T> out) const {
+    for (std::size_t p = 0, at = 0; p < pages.size() && at < out.size(); ++p, at += page)
+      std::memcpy(out.data() + at, pages[p].data(), std::min<std::size_t>(page, out.size() - at) * sizeof(T));
+  }
+};
+static_assert(gpu::kBufferPages == 4, "paged.glsl declares four bindings per paged array");
+
+// `multi` counts the arrays that needed more than one page (for reports and tests).
+template <typename T>
+vk::Status MakePaged(vk::Context& c, std::span<const T> v, const char* what, Paged& out, std::size_t& multi) {
+  const std::size_t per = std::min<std::size_t>(std::max<VkDeviceSize>(1, c.storage_limit() / sizeof(T)), 0x80000000u);
+  if (v.size() > per * gpu::kBufferPages)
+    return vk::Status::Fail(fmt::format("{}: {} elements of {} bytes need more than {} bindings of {} bytes", what, v.size(),
+                                        sizeof(T), gpu::kBufferPages, c.storage_limit()));
+  out.page = static_cast<std::uint32_t>(per);
+  out.count = v.size();
+  if (v.size() > per) ++multi;
+  for (std::size_t p = 0; p < gpu::kBufferPages; ++p) {
+    const std::size_t at = std::min(v.size(), p * per);
+    RS_TRY(MakeFrom(c, v.subspan(at, std::min(per, v.size() - at)), out.pages[p]));
+  }
+  return vk::Status::Ok();
+}
+
+// Buffers that must live until a recorder's submit.
+class Keep {
+ public:
+  vk::Buffer& New() { return bufs_.emplace_back(); }
+  template <typename T>
+  vk::Status From(vk::Context& c, std::span<const T> v, const vk::Buffer*& out) {
+    vk::Buffer& b = New();
+    RS_TRY(MakeFrom(c, v, b));
+    out = &b;
+    return vk::Status::Ok();
+  }
+  // An output buffer of `bytes` whose contents CopyBack() copies to `dst` (null: none).
+  vk::Status Output(vk::Context& c, std::size_t bytes, const vk::Buffer*& out, void* dst = nullptr) {
+    vk::Buffer& b = New();
+    RS_TRY(c.CreateBuffer(std::max<std::size_t>(bytes, 4), b));
+    out = &b;
+    if (dst && bytes) back_.push_back({&b, dst, bytes});
+    return vk::Status::Ok();
+  }
+  // After the submit.
+  void CopyBack() const {
+    for (const Back& k : back_) std::memcpy(k.dst, k.buf->data(), k.bytes);
+  }
+
+ private:
+  struct Back {
+    const vk::Buffer* buf = nullptr;
+    void* dst;
+    std::size_t bytes;
+  };
+  std::deque<vk::Buffer> bufs_;
+  std::vector<Back> back_;
+};
+
+// Calls part(i0, i1) for consecutive ranges covering [0, n) of at most `per` elements (once for an
+// empty stream); every range after the first counts as an extra dispatch.
+template <typename F>
+vk::Status ForParts(std::size_t n, std::size_t per, std::size_t& extra, F&& part) {
+  per = std::max<std::size_t>(1, std::min<std::size_t>(per, 0x40000000u));
+  std::size_t i0 = 0;
+  do {
+    const std::size_t i1 = std::min(n, i0 + per);
+    if (i0 != 0) ++extra;
+    RS_TRY(part(i0, i1));
+    i0 = i1;
+  } while (i0 < n);
+  return vk::Status::Ok();
+}
+
+template <typename T>
+std::span<const T> Slice(const std::vector<T>& v, std::size_t i0, std::size_t i1) {
+  return std::span<const T>(v).subspan(i0, i1 - i0);
+}
+
 }  // namespace
 
 const std::vector<std::pair<std::string, std::uint32_t>>& KernelPasses() {
   static const std::vector<std::pair<std::string, std::uint32_t>> kPasses = {
-      {"raster", 1}, {"surfaces", 1}, {"raygen.shadow", 2}, {"trim", 1}, {"hash", 1}, {"compress", 1}, {"sort", 1},
-      {"decompress", 1}, {"build", 1}, {"traverse", 1}, {"reduce", 2}, {"intersect", 1}, {"shade", 1},
+      {"raster", 1}, {"surfaces", 1}, {"raygen.shadow", 2}, {"trim", 2}, {"hash", 2}, {"compress", 1}, {"sort", 1},
+      {"decompress", 1}, {"build", 1}, {"traverse", 1}, {"reduce", 2}, {"intersect", 2}, {"shade", 1},
       {"raygen.reflection", 1}, {"raygen.refraction", 1}, {"surfaces.hits", 1}, {"resolve", 1}};
   return kPasses;
 }
@@ -83,7 +167,7 @@ vk::Status VulkanPasses::Create(int device, const Faults& faults, std::unique_pt
                                p->raygen_reflection_));
   RS_TRY(p->ctx_->CreateKernel("raygen.refraction", kSpirv_raygen_refraction, 5, fault("raygen.refraction"),
                                p->raygen_refraction_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("shade", kSpirv_shade, 7, fault("shade"), p->shade_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("shade", kSpirv_shade, 5 + 2 * gpu::kBufferPages, fault("shade"), p->shade_, local_size));
   // One trim kernel serves both ray types; a planted trim fault applies to the type it names.
   RS_TRY(p->ctx_->CreateKernel("trim.shadow", kSpirv_trim, 5, fault("trim"), p->trim_, local_size));
   RS_TRY(p->ctx_->CreateKernel("trim.reflection", kSpirv_trim, 5, fault("trim"), p->trim_reflection_, local_size));
@@ -92,47 +176,72 @@ vk::Status VulkanPasses::Create(int device, const Faults& faults, std::unique_pt
   RS_TRY(p->ctx_->CreateKernel("compress.shadow", kSpirv_sort, 9, fault("compress"), p->compress_, local_size));
   RS_TRY(p->ctx_->CreateKernel("sort.shadow", kSpirv_sort, 9, fault("sort"), p->sort_, local_size));
   RS_TRY(p->ctx_->CreateKernel("decompress.shadow", kSpirv_sort, 9, fault("decompress"), p->decompress_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("build.shadow", kSpirv_build, 5, fault("build"), p->build_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("traverse.shadow", kSpirv_traverse, 9, fault("traverse"), p->traverse_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("build.shadow", kSpirv_build, 2 + 3 * gpu::kBufferPages, fault("build"), p->build_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("traverse.shadow", kSpirv_traverse, 7 + 2 * gpu::kBufferPages, fault("traverse"), p->traverse_, local_size));
   RS_TRY(p->ctx_->CreateKernel("reduce.shadow", kSpirv_reduce, 6, fault("reduce"), p->reduce_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("intersect.shadow", kSpirv_intersect, 8, fault("intersect"), p->intersect_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("intersect.shadow", kSpirv_intersect, 3 + 5 * gpu::kBufferPages, fault("intersect"), p->intersect_, local_size));
   RS_TRY(p->ctx_->CreateKernel("resolve", kSpirv_resolve, 2, fault("resolve"), p->resolve_, local_size));
   out = std::move(p);
   return vk::Status::Ok();
 }
 
+std::size_t VulkanPasses::PerPart(std::size_t bytes_per_element) const {
+  return std::max<std::size_t>(1, SplitBytes() / std::max<std::size_t>(bytes_per_element, 1));
+}
+
+// Element-wise passes run over consecutive parts of their per-element buffers, each part within one
+// binding, all parts in one submit; outputs are copied back part by part.
 vk::Status VulkanPasses::RaygenShadow(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
                                       const SceneBuffers& scene, emu::SparseRays& out) {
   vk::Context& c = *ctx_;
-  vk::Buffer bs, bl, bf, br, bflags;
-  RS_TRY(Make(c, surfaces, bs));
-  RS_TRY(Make(c, scene.lights, bl));
-  RS_TRY(Make(c, std::vector<gpu::FrameConstants>{fc}, bf));
-  const std::size_t slots = surfaces.size() * scene.lights.size();
-  RS_TRY(c.CreateBuffer(slots * sizeof(gpu::Ray), br));
-  RS_TRY(c.CreateBuffer(slots * sizeof(std::uint32_t), bflags));
-  const std::uint32_t push[2] = {static_cast<std::uint32_t>(surfaces.size()), static_cast<std::uint32_t>(scene.lights.size())};
-  const vk::Buffer* bufs[5] = {&bs, &bl, &bf, &br, &bflags};
-  RS_TRY(RunKernel(c, raygen_shadow_, bufs, push, sizeof push, static_cast<std::uint32_t>(surfaces.size())));
-  out.rays = br.Download<gpu::Ray>(slots);
-  out.flags = bflags.Download<std::uint32_t>(slots);
+  const std::size_t lights = scene.lights.size(), slots = surfaces.size() * lights;
+  if (lights * sizeof(gpu::Ray) > SplitBytes())
+    return vk::Status::Fail(fmt::format("{} lights: one surface's {} bytes of shadow-ray slots exceed one binding of {} bytes",
+                                        lights, lights * sizeof(gpu::Ray), SplitBytes()));
+  out.rays.assign(slots, gpu::Ray{});
+  out.flags.assign(slots, 0);
+  Keep keep;
+  const vk::Buffer *bl = nullptr, *bf = nullptr;
+  RS_TRY(keep.From(c, std::span<const gpu::Light>(scene.lights), bl));
+  RS_TRY(keep.From(c, std::span<const gpu::FrameConstants>(&fc, 1), bf));
+  vk::Recorder rec(c);
+  RS_TRY(ForParts(surfaces.size(), PerPart(std::max(sizeof(gpu::Surface), lights * sizeof(gpu::Ray))), extra_dispatches_,
+                  [&](std::size_t i0, std::size_t i1) -> vk::Status {
+                    const vk::Buffer *bs = nullptr, *br = nullptr, *bflags = nullptr;
+                    RS_TRY(keep.From(c, Slice(surfaces, i0, i1), bs));
+                    RS_TRY(keep.Output(c, (i1 - i0) * lights * sizeof(gpu::Ray), br, out.rays.data() + i0 * lights));
+                    RS_TRY(keep.Output(c, (i1 - i0) * lights * 4, bflags, out.flags.data() + i0 * lights));
+                    const std::uint32_t push[2] = {static_cast<std::uint32_t>(i1 - i0), static_cast<std::uint32_t>(lights)};
+                    const vk::Buffer* bufs[5] = {bs, bl, bf, br, bflags};
+                    return rec.Dispatch(raygen_shadow_, bufs, push, sizeof push, push[0]);
+                  }));
+  RS_TRY(rec.Submit());
+  keep.CopyBack();
   return vk::Status::Ok();
 }
 
 vk::Status VulkanPasses::Surfaces(const gpu::FrameConstants& fc, const emu::GBuffer& g, const SceneBuffers& scene,
                                   std::vector<gpu::Surface>& out) {
   vk::Context& c = *ctx_;
-  const std::uint32_t n = static_cast<std::uint32_t>(g.prim.size());
-  vk::Buffer bp, bn, bprim, binfo, bf, bs;
-  RS_TRY(Make(c, g.position, bp));
-  RS_TRY(Make(c, g.normal, bn));
-  RS_TRY(Make(c, g.prim, bprim));
-  RS_TRY(Make(c, scene.info, binfo));
-  RS_TRY(Make(c, std::vector<gpu::FrameConstants>{fc}, bf));
-  RS_TRY(c.CreateBuffer(n * sizeof(gpu::Surface), bs));
-  const vk::Buffer* bufs[6] = {&bp, &bn, &bprim, &binfo, &bf, &bs};
-  RS_TRY(RunKernel(c, surfaces_, bufs, &n, sizeof n, n));
-  out = bs.Download<gpu::Surface>(n);
+  out.assign(g.prim.size(), gpu::Surface{});
+  Keep keep;
+  const vk::Buffer *binfo = nullptr, *bf = nullptr;
+  RS_TRY(keep.From(c, std::span<const gpu::TriangleInfo>(scene.info), binfo));
+  RS_TRY(keep.From(c, std::span<const gpu::FrameConstants>(&fc, 1), bf));
+  vk::Recorder rec(c);
+  RS_TRY(ForParts(g.prim.size(), PerPart(sizeof(gpu::Surface)), extra_dispatches_,
+                  [&](std::size_t i0, std::size_t i1) -> vk::Status {
+                    const vk::Buffer *bp = nullptr, *bn = nullptr, *bprim = nullptr, *bs = nullptr;
+                    RS_TRY(keep.From(c, Slice(g.position, i0, i1), bp));
+                    RS_TRY(keep.From(c, Slice(g.normal, i0, i1), bn));
+                    RS_TRY(keep.From(c, Slice(g.prim, i0, i1), bprim));
+                    RS_TRY(keep.Output(c, (i1 - i0) * sizeof(gpu::Surface), bs, out.data() + i0));
+                    const std::uint32_t push[2] = {static_cast<std::uint32_t>(i1 - i0), static_cast<std::uint32_t>(i0)};
+                    const vk::Buffer* bufs[6] = {bp, bn, bprim, binfo, bf, bs};
+                    return rec.Dispatch(surfaces_, bufs, push, sizeof push, push[0]);
+                  }));
+  RS_TRY(rec.Submit());
+  keep.CopyBack();
   return vk::Status::Ok();
 }
 
@@ -151,17 +260,25 @@ vk::Status VulkanPasses::Raygen(const vk::Kernel& kernel, const gpu::FrameConsta
                                 const std::vector<gpu::Surface>& surfaces, const SceneBuffers& scene,
                                 emu::SparseRays& out) {
   vk::Context& c = *ctx_;
-  const std::uint32_t n = static_cast<std::uint32_t>(surfaces.size());
-  vk::Buffer bs, bm, bf, br, bflags;
-  RS_TRY(Make(c, surfaces, bs));
-  RS_TRY(Make(c, scene.materials, bm));
-  RS_TRY(Make(c, std::vector<gpu::FrameConstants>{fc}, bf));
-  RS_TRY(c.CreateBuffer(n * sizeof(gpu::Ray), br));
-  RS_TRY(c.CreateBuffer(n * sizeof(std::uint32_t), bflags));
-  const vk::Buffer* bufs[5] = {&bs, &bm, &bf, &br, &bflags};
-  RS_TRY(RunKernel(c, kernel, bufs, &n, sizeof n, n));
-  out.rays = br.Download<gpu::Ray>(n);
-  out.flags = bflags.Download<std::uint32_t>(n);
+  out.rays.assign(surfaces.size(), gpu::Ray{});
+  out.flags.assign(surfaces.size(), 0);
+  Keep keep;
+  const vk::Buffer *bm = nullptr, *bf = nullptr;
+  RS_TRY(keep.From(c, std::span<const gpu::Material>(scene.materials), bm));
+  RS_TRY(keep.From(c, std::span<const gpu::FrameConstants>(&fc, 1), bf));
+  vk::Recorder rec(c);
+  RS_TRY(ForParts(surfaces.size(), PerPart(sizeof(gpu::Surface)), extra_dispatches_,
+                  [&](std::size_t i0, std::size_t i1) -> vk::Status {
+                    const vk::Buffer *bs = nullptr, *br = nullptr, *bflags = nullptr;
+                    RS_TRY(keep.From(c, Slice(surfaces, i0, i1), bs));
+                    RS_TRY(keep.Output(c, (i1 - i0) * sizeof(gpu::Ray), br, out.rays.data() + i0));
+                    RS_TRY(keep.Output(c, (i1 - i0) * 4, bflags, out.flags.data() + i0));
+                    const std::uint32_t push[2] = {static_cast<std::uint32_t>(i1 - i0), static_cast<std::uint32_t>(i0)};
+                    const vk::Buffer* bufs[5] = {bs, bm, bf, br, bflags};
+                    return rec.Dispatch(kernel, bufs, push, sizeof push, push[0]);
+                  }));
+  RS_TRY(rec.Submit());
+  keep.CopyBack();
   return vk::Status::Ok();
 }
 
@@ -169,60 +286,87 @@ vk::Status VulkanPasses::Shade(const std::vector<gpu::Surface>& surfaces, const 
                                const std::vector<std::uint32_t>& shadow_offsets, const std::vector<std::uint32_t>& occluded,
                                const SceneBuffers& scene, std::vector<std::uint64_t>& accum) {
   vk::Context& c = *ctx_;
-  vk::Buffer bs, bfl, boff, bocc, bm, bl, ba;
-  // Empty inputs (no lights) still need a buffer to bind.
-  const std::vector<std::uint32_t> none{0u};
-  RS_TRY(Make(c, surfaces, bs));
-  RS_TRY(Make(c, shadow_flags.empty() ? none : shadow_flags, bfl));
-  RS_TRY(Make(c, shadow_offsets.empty() ? none : shadow_offsets, boff));
-  RS_TRY(Make(c, occluded.empty() ? none : occluded, bocc));
-  RS_TRY(Make(c, scene.materials, bm));
-  RS_TRY(Make(c, scene.lights.empty() ? std::vector<gpu::Light>(1) : scene.lights, bl));
-  RS_TRY(Make(c, accum, ba));
-  const std::uint32_t push[2] = {static_cast<std::uint32_t>(surfaces.size()), static_cast<std::uint32_t>(scene.lights.size())};
-  const vk::Buffer* bufs[7] = {&bs, &bfl, &boff, &bocc, &bm, &bl, &ba};
-  RS_TRY(RunKernel(c, shade_, bufs, push, sizeof push, push[0]));
-  accum = ba.Download<std::uint64_t>(accum.size());
+  const std::size_t lights = scene.lights.size();
+  Keep keep;
+  const vk::Buffer *bm = nullptr, *bl = nullptr;
+  RS_TRY(keep.From(c, std::span<const gpu::Material>(scene.materials), bm));
+  RS_TRY(keep.From(c, std::span<const gpu::Light>(scene.lights), bl));
+  // Occlusion is read by dense shadow ray and the accumulator added to by pixel, in any order.
+  Paged occ, acc;
+  RS_TRY(MakePaged(c, std::span<const std::uint32_t>(occluded), "shade: occlusion flags", occ, paged_arrays_));
+  RS_TRY(MakePaged(c, std::span<const std::uint64_t>(accum), "shade: colour accumulator", acc, paged_arrays_));
+  vk::Recorder rec(c);
+  RS_TRY(ForParts(surfaces.size(), PerPart(std::max(sizeof(gpu::Surface), lights * 4)), extra_dispatches_,
+                  [&](std::size_t i0, std::size_t i1) -> vk::Status {
+                    const vk::Buffer *bs = nullptr, *bfl = nullptr, *boff = nullptr;
+                    RS_TRY(keep.From(c, Slice(surfaces, i0, i1), bs));
+                    RS_TRY(keep.From(c, Slice(shadow_flags, i0 * lights, i1 * lights), bfl));
+                    RS_TRY(keep.From(c, Slice(shadow_offsets, i0 * lights, i1 * lights), boff));
+                    const std::uint32_t push[4] = {static_cast<std::uint32_t>(i1 - i0), static_cast<std::uint32_t>(lights),
+                                                   occ.page, acc.page};
+                    std::vector<const vk::Buffer*> bufs = {bs, bfl, boff, bm, bl};
+                    occ.Bind(bufs);
+                    acc.Bind(bufs);
+                    return rec.Dispatch(shade_, bufs, push, sizeof push, push[0]);
+                  }));
+  RS_TRY(rec.Submit());
+  acc.Read(std::span<std::uint64_t>(accum));
   return vk::Status::Ok();
 }
 
+// A stream larger than one binding is trimmed in consecutive parts, one submit each: the part's
+// offsets start at the flagged count of the parts before it (read back from the GPU), and the dense
+// rays of the parts are concatenated, which is what order-preserving compaction of the whole gives.
 vk::Status VulkanPasses::Trim(const emu::SparseRays& in, emu::Trimmed& out, bool reflection) {
   vk::Context& c = *ctx_;
-  const std::uint32_t n = static_cast<std::uint32_t>(in.flags.size());
-  const std::uint32_t blocks = (n + kTrimBlock - 1) / kTrimBlock;
-  vk::Buffer bflags, bsums, boff, bsparse, bdense;
-  RS_TRY(Make(c, in.flags, bflags));
-  RS_TRY(c.CreateBuffer((blocks + 1) * sizeof(std::uint32_t), bsums));
-  RS_TRY(c.CreateBuffer(n * sizeof(std::uint32_t), boff));
-  RS_TRY(Make(c, in.rays, bsparse));
-  RS_TRY(c.CreateBuffer(n * sizeof(gpu::Ray), bdense));  // upper bound; the count comes from the scan
-  const vk::Buffer* bufs[5] = {&bflags, &bsums, &boff, &bsparse, &bdense};
-  vk::Recorder rec(c);
-  for (std::uint32_t phase = 0; phase < 3; ++phase) {  // one submit for the three dispatches
-    const std::uint32_t push[2] = {n, phase};
-    RS_TRY(rec.Dispatch(reflection ? trim_reflection_ : trim_, bufs, push, sizeof push, phase == 1 ? 1 : blocks));
-  }
-  RS_TRY(rec.Submit());
-  const std::uint32_t total = bsums.Download<std::uint32_t>(blocks + 1)[blocks];
-  if (total > n) return vk::Status::Fail(fmt::format("trim kernel reported {} rays out of {} slots", total, n));
-  out.offsets = boff.Download<std::uint32_t>(n);
-  out.rays = bdense.Download<gpu::Ray>(total);
-  return vk::Status::Ok();
+  out.offsets.assign(in.flags.size(), 0);
+  out.rays.clear();
+  std::uint32_t carry = 0;
+  return ForParts(in.flags.size(), PerPart(sizeof(gpu::Ray)), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
+    const std::uint32_t n = static_cast<std::uint32_t>(i1 - i0), blocks = (n + kTrimBlock - 1) / kTrimBlock;
+    vk::Buffer bflags, bsums, boff, bsparse, bdense;
+    RS_TRY(MakeFrom(c, Slice(in.flags, i0, i1), bflags));
+    RS_TRY(c.CreateBuffer((blocks + 1) * sizeof(std::uint32_t), bsums));
+    RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * sizeof(std::uint32_t), boff));
+    RS_TRY(MakeFrom(c, Slice(in.rays, i0, i1), bsparse));
+    RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * sizeof(gpu::Ray), bdense));  // upper bound; the scan gives the count
+    const vk::Buffer* bufs[5] = {&bflags, &bsums, &boff, &bsparse, &bdense};
+    vk::Recorder rec(c);
+    for (std::uint32_t phase = 0; phase < 3; ++phase) {  // one submit for the three dispatches
+      const std::uint32_t push[3] = {n, phase, carry};
+      RS_TRY(rec.Dispatch(reflection ? trim_reflection_ : trim_, bufs, push, sizeof push, phase == 1 ? 1 : blocks));
+    }
+    RS_TRY(rec.Submit());
+    const std::uint32_t total = bsums.Download<std::uint32_t>(blocks + 1)[blocks];
+    if (total > n) return vk::Status::Fail(fmt::format("trim kernel reported {} rays out of {} slots", total, n));
+    if (n) std::memcpy(out.offsets.data() + i0, boff.data(), std::size_t{n} * 4);
+    const std::size_t at = out.rays.size();
+    out.rays.resize(at + total);
+    if (total) std::memcpy(out.rays.data() + at, bdense.data(), std::size_t{total} * sizeof(gpu::Ray));
+    carry += total;
+    return vk::Status::Ok();
+  });
 }
 
 vk::Status VulkanPasses::Hash(const std::vector<gpu::Ray>& rays, const gpu::FrameConstants& fc, const emu::HashConfig& h,
                               std::vector<std::uint32_t>& keys, std::uint32_t quad_width, std::uint32_t quad_depth) {
   vk::Context& c = *ctx_;
-  const std::uint32_t n = static_cast<std::uint32_t>(rays.size());
-  vk::Buffer br, bf, bk;
-  RS_TRY(Make(c, rays.empty() ? std::vector<gpu::Ray>(1) : rays, br));
-  RS_TRY(Make(c, std::vector<gpu::FrameConstants>{fc}, bf));
-  RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * 4, bk));
-  const std::int32_t push[8] = {static_cast<std::int32_t>(n), h.light_bits, h.polar_bits, h.azimuth_bits, h.origin_bits,
-                                h.direction_bits, static_cast<std::int32_t>(quad_width), static_cast<std::int32_t>(quad_depth)};
-  const vk::Buffer* bufs[3] = {&br, &bf, &bk};
-  RS_TRY(RunKernel(c, hash_, bufs, push, sizeof push, n));
-  keys = bk.Download<std::uint32_t>(n);
+  keys.assign(rays.size(), 0);
+  Keep keep;
+  const vk::Buffer* bf = nullptr;
+  RS_TRY(keep.From(c, std::span<const gpu::FrameConstants>(&fc, 1), bf));
+  vk::Recorder rec(c);
+  RS_TRY(ForParts(rays.size(), PerPart(sizeof(gpu::Ray)), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
+    const vk::Buffer *br = nullptr, *bk = nullptr;
+    RS_TRY(keep.From(c, Slice(rays, i0, i1), br));
+    RS_TRY(keep.Output(c, (i1 - i0) * 4, bk, keys.data() + i0));
+    const std::int32_t push[8] = {static_cast<std::int32_t>(i1 - i0), h.light_bits, h.polar_bits, h.azimuth_bits, h.origin_bits,
+                                  h.direction_bits, static_cast<std::int32_t>(quad_width), static_cast<std::int32_t>(quad_depth)};
+    const vk::Buffer* bufs[3] = {br, bf, bk};
+    return rec.Dispatch(hash_, bufs, push, sizeof push, static_cast<std::uint32_t>(i1 - i0));
+  }));
+  RS_TRY(rec.Submit());
+  keep.CopyBack();
   return vk::Status::Ok();
 }
 
@@ -327,47 +471,46 @@ vk::Status VulkanPasses::Decompress(const emu::Chunks& chunks, const std::vector
   return vk::Status::Ok();
 }
 
-namespace {
 
-template <typename T>
-std::vector<T> NonEmpty(const std::vector<T>& v) {  // a buffer binding needs at least one element
-  return v.empty() ? std::vector<T>(1) : v;
+// One build.comp launch over the level's nodes, in parts of the node array (each dispatch gets its
+// slice of `first`, one longer, and of the output); rays, order and the level below are paged.
+vk::Status VulkanPasses::Build(std::uint32_t phase, std::span<const gpu::Ray> rays, std::span<const std::uint32_t> order,
+                               std::span<const gpu::ConeNode> below, const std::vector<std::uint32_t>& first,
+                               std::vector<gpu::ConeNode>& nodes) {
+  vk::Context& c = *ctx_;
+  if (first.empty()) return vk::Status::Fail("build: empty node offsets");
+  const std::size_t count = first.size() - 1;
+  nodes.assign(count, gpu::ConeNode{});
+  Paged pr, po, pb;
+  RS_TRY(MakePaged(c, rays, "build: rays", pr, paged_arrays_));
+  RS_TRY(MakePaged(c, order, "build: sorted order", po, paged_arrays_));
+  RS_TRY(MakePaged(c, below, "build: nodes of the level below", pb, paged_arrays_));
+  Keep keep;
+  vk::Recorder rec(c);
+  RS_TRY(ForParts(count, PerPart(sizeof(gpu::ConeNode)), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
+    const vk::Buffer *bf = nullptr, *bn = nullptr;
+    RS_TRY(keep.From(c, Slice(first, i0, i1 + 1), bf));
+    RS_TRY(keep.Output(c, (i1 - i0) * sizeof(gpu::ConeNode), bn, nodes.data() + i0));
+    const std::uint32_t push[5] = {static_cast<std::uint32_t>(i1 - i0), phase, pr.page, po.page, pb.page};
+    std::vector<const vk::Buffer*> bufs = {bf, bn};
+    pr.Bind(bufs);
+    po.Bind(bufs);
+    pb.Bind(bufs);
+    return rec.Dispatch(build_, bufs, push, sizeof push, push[0]);
+  }));
+  RS_TRY(rec.Submit());
+  keep.CopyBack();
+  return vk::Status::Ok();
 }
-
-}  // namespace
 
 vk::Status VulkanPasses::BuildLeaves(const std::vector<gpu::Ray>& rays, const std::vector<std::uint32_t>& order,
                                      const std::vector<std::uint32_t>& first, std::vector<gpu::ConeNode>& nodes) {
-  vk::Context& c = *ctx_;
-  const std::uint32_t count = static_cast<std::uint32_t>(first.size() - 1);
-  vk::Buffer br, bo, bf, bb, bn;
-  RS_TRY(Make(c, NonEmpty(rays), br));
-  RS_TRY(Make(c, NonEmpty(order), bo));
-  RS_TRY(Make(c, first, bf));
-  RS_TRY(Make(c, std::vector<gpu::ConeNode>(1), bb));
-  RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * sizeof(gpu::ConeNode), bn));
-  const std::uint32_t push[2] = {count, 0};
-  const vk::Buffer* bufs[5] = {&br, &bo, &bf, &bb, &bn};
-  RS_TRY(RunKernel(c, build_, bufs, push, sizeof push, count));
-  nodes = bn.Download<gpu::ConeNode>(count);
-  return vk::Status::Ok();
+  return Build(0, rays, order, {}, first, nodes);
 }
 
 vk::Status VulkanPasses::BuildParents(const std::vector<gpu::ConeNode>& below, const std::vector<std::uint32_t>& first,
                                       std::vector<gpu::ConeNode>& nodes) {
-  vk::Context& c = *ctx_;
-  const std::uint32_t count = static_cast<std::uint32_t>(first.size() - 1);
-  vk::Buffer br, bo, bf, bb, bn;
-  RS_TRY(Make(c, std::vector<gpu::Ray>(1), br));
-  RS_TRY(Make(c, std::vector<std::uint32_t>(1), bo));
-  RS_TRY(Make(c, first, bf));
-  RS_TRY(Make(c, NonEmpty(below), bb));
-  RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * sizeof(gpu::ConeNode), bn));
-  const std::uint32_t push[2] = {count, 1};
-  const vk::Buffer* bufs[5] = {&br, &bo, &bf, &bb, &bn};
-  RS_TRY(RunKernel(c, build_, bufs, push, sizeof push, count));
-  nodes = bn.Download<gpu::ConeNode>(count);
-  return vk::Status::Ok();
+  return Build(1, {}, {}, below, first, nodes);
 }
 
 namespace {
@@ -376,6 +519,7 @@ struct TraversePush {
   std::uint32_t phase, count, t0, b0, tris, objects, use_mask, base_up, base, children_max;
   float eps;
   std::uint32_t id_base;  // top level: packed node ids are relative to this node
+  std::uint32_t node_page = 0, first_page = 0;  // set by RunTraverse
 };
 
 // One traverse.comp dispatch: its bindings (empty spans bind a zeroed placeholder) and where its
@@ -389,18 +533,23 @@ struct TraverseIo {
   std::uint32_t *flags_out = nullptr, *values_out = nullptr, *tested_out = nullptr;
 };
 
-vk::Status RunTraverse(vk::Context& c, const vk::Kernel& k, const TraversePush& push, const TraverseIo& io) {
-  vk::Buffer bn, bs, bi, bm, bp, bf, bfl, bv, bt;
-  RS_TRY(MakeFrom(c, io.nodes, bn));
+vk::Status RunTraverse(vk::Context& c, const vk::Kernel& k, TraversePush push, const TraverseIo& io, std::size_t& multi) {
+  vk::Buffer bs, bi, bm, bp, bfl, bv, bt;
+  Paged pn, pf;  // a level's nodes and child offsets are read by node id
+  RS_TRY(MakePaged(c, io.nodes, "traverse: nodes", pn, multi));
+  RS_TRY(MakePaged(c, io.first, "traverse: child offsets", pf, multi));
   RS_TRY(MakeFrom(c, io.spheres, bs));
   RS_TRY(MakeFrom(c, io.info, bi));
   RS_TRY(MakeFrom(c, io.mask, bm));
   RS_TRY(MakeFrom(c, io.pairs, bp));
-  RS_TRY(MakeFrom(c, io.first, bf));
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(io.slots, 1) * 4, bfl));
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(io.slots, 1) * 4, bv));
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(io.tested, 1) * 4, bt));
-  const vk::Buffer* bufs[9] = {&bn, &bs, &bi, &bm, &bp, &bf, &bfl, &bv, &bt};
+  push.node_page = pn.page;
+  push.first_page = pf.page;
+  std::vector<const vk::Buffer*> bufs = {&bs, &bi, &bm, &bp, &bfl, &bv, &bt};
+  pn.Bind(bufs);
+  pf.Bind(bufs);
   RS_TRY(RunKernel(c, k, bufs, &push, sizeof push, push.count));
   if (io.flags_out) std::memcpy(io.flags_out, bfl.data(), io.slots * 4);
   if (io.values_out) std::memcpy(io.values_out, bv.data(), io.slots * 4);
@@ -411,10 +560,7 @@ vk::Status RunTraverse(vk::Context& c, const vk::Kernel& k, const TraversePush& 
 
 }  // namespace
 
-std::size_t VulkanPasses::SplitBytes() const {
-  const std::size_t device = static_cast<std::size_t>(ctx_->max_storage_buffer_range());
-  return split_bytes_ ? std::min(split_bytes_, device) : device;
-}
+std::size_t VulkanPasses::SplitBytes() const { return static_cast<std::size_t>(ctx_->storage_limit()); }
 
 // Rows of top nodes per dispatch so that the flags/values/tested bindings stay within the split size.
 vk::Status VulkanPasses::TraverseTop(const std::vector<gpu::ConeNode>& top, std::uint32_t t0, std::uint32_t t1,
@@ -436,7 +582,7 @@ vk::Status VulkanPasses::TraverseTop(const std::vector<gpu::ConeNode>& top, std:
                             object_mask.empty() ? 0u : 1u, 0, 0, 0, eps, t0};
     RS_TRY(RunTraverse(*ctx_, traverse_, push,
                        {top, tri_spheres, scene.info, object_mask, {}, {}, count, count, flags.data() + at, values.data() + at,
-                        tested.data() + at}));
+                        tested.data() + at}, paged_arrays_));
   }
   return vk::Status::Ok();
 }
@@ -458,7 +604,7 @@ vk::Status VulkanPasses::TraverseLevel(const std::vector<std::uint32_t>& pairs, 
     const TraversePush push{1, n, 0, b0, 0, 0, 0, base_up, base, children_max, eps, 0};
     RS_TRY(RunTraverse(*ctx_, traverse_, push,
                        {nodes, tri_spheres, {}, {}, std::span(pairs).subspan(p0, n), first, std::size_t{n} * children_max, n,
-                        flags.data() + p0 * children_max, values.data() + p0 * children_max, tested.data() + p0}));
+                        flags.data() + p0 * children_max, values.data() + p0 * children_max, tested.data() + p0}, paged_arrays_));
   }
   return vk::Status::Ok();
 }
@@ -469,7 +615,8 @@ vk::Status VulkanPasses::ObjectMask(const std::vector<gpu::ConeNode>& top, const
   const std::uint32_t count = static_cast<std::uint32_t>(top.size()) * objects;
   mask.assign(count, 0);
   const TraversePush push{2, count, 0, 0, 0, objects, 0, 0, 0, 0, eps, 0};
-  return RunTraverse(*ctx_, traverse_, push, {top, object_spheres, {}, {}, {}, {}, count, 0, mask.data(), nullptr, nullptr});
+  return RunTraverse(*ctx_, traverse_, push, {top, object_spheres, {}, {}, {}, {}, count, 0, mask.data(), nullptr, nullptr},
+                     paged_arrays_);
 }
 
 namespace {
@@ -539,17 +686,24 @@ vk::Status VulkanPasses::ReduceScan(const std::vector<std::uint32_t>& flags, con
 vk::Status VulkanPasses::SurfacesFromHits(const std::vector<gpu::Ray>& rays, const std::vector<std::uint64_t>& hits,
                                           const SceneBuffers& scene, std::vector<gpu::Surface>& out) {
   vk::Context& c = *ctx_;
-  const std::uint32_t n = static_cast<std::uint32_t>(rays.size());
-  vk::Buffer br, bh, bt, bn, bi, bs;
-  RS_TRY(Make(c, NonEmpty(rays), br));
-  RS_TRY(Make(c, NonEmpty(hits), bh));
-  RS_TRY(Make(c, scene.triangles, bt));
-  RS_TRY(Make(c, scene.normals, bn));
-  RS_TRY(Make(c, scene.info, bi));
-  RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * sizeof(gpu::Surface), bs));
-  const vk::Buffer* bufs[6] = {&br, &bh, &bt, &bn, &bi, &bs};
-  RS_TRY(RunKernel(c, surfaces_hits_, bufs, &n, sizeof n, n));
-  out = bs.Download<gpu::Surface>(n);
+  out.assign(rays.size(), gpu::Surface{});
+  Keep keep;
+  const vk::Buffer *bt = nullptr, *bn = nullptr, *bi = nullptr;
+  RS_TRY(keep.From(c, std::span<const gpu::Triangle>(scene.triangles), bt));
+  RS_TRY(keep.From(c, std::span<const gpu::TriangleNormals>(scene.normals), bn));
+  RS_TRY(keep.From(c, std::span<const gpu::TriangleInfo>(scene.info), bi));
+  vk::Recorder rec(c);
+  RS_TRY(ForParts(rays.size(), PerPart(sizeof(gpu::Surface)), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
+    const vk::Buffer *br = nullptr, *bh = nullptr, *bs = nullptr;
+    RS_TRY(keep.From(c, Slice(rays, i0, i1), br));
+    RS_TRY(keep.From(c, Slice(hits, i0, i1), bh));
+    RS_TRY(keep.Output(c, (i1 - i0) * sizeof(gpu::Surface), bs, out.data() + i0));
+    const std::uint32_t n = static_cast<std::uint32_t>(i1 - i0);
+    const vk::Buffer* bufs[6] = {br, bh, bt, bn, bi, bs};
+    return rec.Dispatch(surfaces_hits_, bufs, &n, sizeof n, n);
+  }));
+  RS_TRY(rec.Submit());
+  keep.CopyBack();
   return vk::Status::Ok();
 }
 
@@ -559,22 +713,35 @@ vk::Status VulkanPasses::Intersect(const std::vector<std::uint32_t>& pairs, cons
                                    std::vector<std::uint64_t>& hits, std::vector<std::uint32_t>& occluded,
                                    std::vector<std::uint32_t>& tests) {
   vk::Context& c = *ctx_;
-  const std::uint32_t count = static_cast<std::uint32_t>(pairs.size());
-  vk::Buffer bp, bf, bo, br, bt, bh, bocc, btests;
-  RS_TRY(Make(c, NonEmpty(pairs), bp));
-  RS_TRY(Make(c, first1, bf));
-  RS_TRY(Make(c, NonEmpty(order), bo));
-  RS_TRY(Make(c, NonEmpty(rays), br));
-  RS_TRY(Make(c, scene.triangles, bt));
-  RS_TRY(Make(c, std::vector<std::uint64_t>(std::max<std::size_t>(rays.size(), 1), ~std::uint64_t{0}), bh));
-  RS_TRY(Make(c, std::vector<std::uint32_t>(std::max<std::size_t>(rays.size(), 1), 0u), bocc));
-  RS_TRY(c.CreateBuffer(std::max<std::size_t>(count, 1) * 4, btests));
-  const std::uint32_t push[4] = {count, base1, b0, shadow ? 1u : 0u};
-  const vk::Buffer* bufs[8] = {&bp, &bf, &bo, &br, &bt, &bh, &bocc, &btests};
-  RS_TRY(RunKernel(c, intersect_, bufs, push, sizeof push, count));
-  hits = bh.Download<std::uint64_t>(rays.size());
-  occluded = bocc.Download<std::uint32_t>(rays.size());
-  tests = btests.Download<std::uint32_t>(count);
+  // Pairs go in parts (their tests with them); everything indexed by leaf, sorted position or ray is
+  // paged, and the hit and occlusion pages stay bound across the parts, which all go in one submit.
+  hits.assign(rays.size(), ~std::uint64_t{0});
+  occluded.assign(rays.size(), 0);
+  tests.assign(pairs.size(), 0);
+  Paged pf, po, pr, ph, pocc;
+  RS_TRY(MakePaged(c, std::span<const std::uint32_t>(first1), "intersect: leaf offsets", pf, paged_arrays_));
+  RS_TRY(MakePaged(c, std::span<const std::uint32_t>(order), "intersect: sorted order", po, paged_arrays_));
+  RS_TRY(MakePaged(c, std::span<const gpu::Ray>(rays), "intersect: rays", pr, paged_arrays_));
+  RS_TRY(MakePaged(c, std::span<const std::uint64_t>(hits), "intersect: closest hits", ph, paged_arrays_));
+  RS_TRY(MakePaged(c, std::span<const std::uint32_t>(occluded), "intersect: occlusion flags", pocc, paged_arrays_));
+  Keep keep;
+  const vk::Buffer* bt = nullptr;
+  RS_TRY(keep.From(c, std::span<const gpu::Triangle>(scene.triangles), bt));
+  vk::Recorder rec(c);
+  RS_TRY(ForParts(pairs.size(), PerPart(4), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
+    const vk::Buffer *bp = nullptr, *btests = nullptr;
+    RS_TRY(keep.From(c, Slice(pairs, i0, i1), bp));
+    RS_TRY(keep.Output(c, (i1 - i0) * 4, btests, tests.data() + i0));
+    const std::uint32_t push[9] = {static_cast<std::uint32_t>(i1 - i0), base1, b0, shadow ? 1u : 0u, pf.page, po.page,
+                                   pr.page, ph.page, pocc.page};
+    std::vector<const vk::Buffer*> bufs = {bp, bt, btests};
+    for (const Paged* p : {&pf, &po, &pr, &ph, &pocc}) p->Bind(bufs);
+    return rec.Dispatch(intersect_, bufs, push, sizeof push, push[0]);
+  }));
+  RS_TRY(rec.Submit());
+  keep.CopyBack();
+  ph.Read(std::span<std::uint64_t>(hits));
+  pocc.Read(std::span<std::uint32_t>(occluded));
   return vk::Status::Ok();
 }
 
@@ -595,15 +762,23 @@ vk::Status VulkanPasses::Raster(const gpu::FrameConstants& fc, const SceneBuffer
 vk::Status VulkanPasses::Resolve(const gpu::FrameConstants& fc, const std::vector<std::uint64_t>& accum,
                                  std::vector<std::uint8_t>& out) {
   vk::Context& c = *ctx_;
-  const std::uint32_t n = static_cast<std::uint32_t>(static_cast<std::size_t>(fc.dims.x) * fc.dims.y * 3);
-  vk::Buffer ba, brgb;
-  RS_TRY(Make(c, accum, ba));
-  RS_TRY(c.CreateBuffer(n * sizeof(std::uint32_t), brgb));
-  const vk::Buffer* bufs[2] = {&ba, &brgb};
-  RS_TRY(RunKernel(c, resolve_, bufs, &n, sizeof n, n));
-  const std::vector<std::uint32_t> wide = brgb.Download<std::uint32_t>(n);
+  const std::size_t n = static_cast<std::size_t>(fc.dims.x) * fc.dims.y * 3;
+  if (accum.size() != n) return vk::Status::Fail(fmt::format("resolve: {} accumulator channels for {} pixel channels", accum.size(), n));
+  std::vector<std::uint32_t> wide(n);
+  Keep keep;
+  vk::Recorder rec(c);
+  RS_TRY(ForParts(n, PerPart(sizeof(std::uint64_t)), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
+    const vk::Buffer *ba = nullptr, *brgb = nullptr;
+    RS_TRY(keep.From(c, Slice(accum, i0, i1), ba));
+    RS_TRY(keep.Output(c, (i1 - i0) * 4, brgb, wide.data() + i0));
+    const std::uint32_t part = static_cast<std::uint32_t>(i1 - i0);
+    const vk::Buffer* bufs[2] = {ba, brgb};
+    return rec.Dispatch(resolve_, bufs, &part, sizeof part, part);
+  }));
+  RS_TRY(rec.Submit());
+  keep.CopyBack();
   out.resize(n);
-  for (std::uint32_t i = 0; i < n; ++i) out[i] = static_cast<std::uint8_t>(wide[i]);
+  for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<std::uint8_t>(wide[i]);
   return vk::Status::Ok();
 }
 

@@ -216,7 +216,7 @@ vk::Status RasterGBuffer(vk::Context& ctx, std::span<const std::uint32_t> vert_s
   vk::Buffer outb[6];
   for (int i = 0; i < 6; ++i) {
     const std::size_t texel = i < 4 ? 16 : 4;
-    if (vk::Status st = ctx.CreateBuffer(pixels * texel, outb[i]); !st) return st;
+    if (vk::Status st = ctx.CreateBuffer(pixels * texel, outb[i], /*storage=*/false); !st) return st;
   }
 
   VkDescriptorPoolSize ps{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBindings};

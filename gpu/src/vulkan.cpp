@@ -118,6 +118,9 @@ Status Context::Create(int device, std::unique_ptr<Context>& out) {
   vkGetPhysicalDeviceProperties(c->physical_, &props);
   c->device_name_ = props.deviceName;
   c->max_storage_range_ = props.limits.maxStorageBufferRange;
+  c->storage_limit_ = c->max_storage_range_;
+  c->max_groups_[0] = props.limits.maxComputeWorkGroupCount[0];
+  c->max_groups_[1] = props.limits.maxComputeWorkGroupCount[1];
   VkPhysicalDeviceDriverProperties drv{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
   VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
   p2.pNext = &drv;
@@ -195,16 +198,25 @@ std::uint32_t Context::FindMemoryType(std::uint32_t bits, VkMemoryPropertyFlags 
   return UINT32_MAX;
 }
 
-Status Context::CreateBuffer(std::size_t bytes, Buffer& out) {
-  if (bytes > max_storage_range_)
-    return Status::Fail(fmt::format("buffer of {} bytes exceeds maxStorageBufferRange {} of '{}'", bytes,
-                                    max_storage_range_, device_name_));
+void Context::LimitForTesting(VkDeviceSize storage_bytes, std::uint32_t groups_x) {
+  if (storage_bytes) storage_limit_ = std::min<VkDeviceSize>(storage_limit_, storage_bytes);
+  if (groups_x) max_groups_[0] = std::min(max_groups_[0], groups_x);
+}
+
+Status Context::CreateBuffer(std::size_t bytes, Buffer& out, bool storage) {
+  if (storage && bytes > storage_limit_)
+    return Status::Fail(fmt::format("a storage buffer of {} bytes exceeds {} of '{}'", bytes,
+                                    storage_limit_ == max_storage_range_
+                                        ? fmt::format("maxStorageBufferRange {}", max_storage_range_)
+                                        : fmt::format("the lowered binding limit {} (maxStorageBufferRange {})",
+                                                      storage_limit_, max_storage_range_),
+                                    device_name_));
   Buffer b;
   b.device_ = device_;
   b.size_ = bytes;
   VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   bci.size = std::max<std::size_t>(bytes, 16);
-  bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  bci.usage = (storage ? VK_BUFFER_USAGE_STORAGE_BUFFER_BIT : 0) | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   RS_VK(vkCreateBuffer(device_, &bci, nullptr, &b.buffer_));
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(device_, b.buffer_, &req);
@@ -315,8 +327,15 @@ Status Recorder::Dispatch(const Kernel& k, std::span<const Buffer* const> buffer
   vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.pipeline_);
   vkCmdBindDescriptorSets(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.layout_, 0, 1, &set, 0, nullptr);
   if (push_size) vkCmdPushConstants(cmd_, k.layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, static_cast<std::uint32_t>(push_size), push);
-  const std::uint32_t groups = (invocations + k.local_size_ - 1) / k.local_size_;
-  if (groups > 0) vkCmdDispatch(cmd_, groups, 1, 1);
+  // Launches wider than maxComputeWorkGroupCount[0] groups fold into rows of groups; kernels index
+  // with GlobalIndex() (common.glsl), which reads the grid row-major, and skip indices past the end.
+  const std::uint64_t groups = (std::uint64_t{invocations} + k.local_size_ - 1) / k.local_size_;
+  const std::uint32_t gx = static_cast<std::uint32_t>(std::min<std::uint64_t>(groups, ctx_.max_groups_[0]));
+  const std::uint64_t gy = gx ? (groups + gx - 1) / gx : 0;
+  if (gy > ctx_.max_groups_[1])
+    return Status::Fail(fmt::format("kernel {}: {} invocations need {} x {} workgroups, beyond maxComputeWorkGroupCount",
+                                    k.name_, invocations, gx, gy));
+  if (groups > 0) vkCmdDispatch(cmd_, gx, static_cast<std::uint32_t>(gy), 1);
   VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
   mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_HOST_READ_BIT;

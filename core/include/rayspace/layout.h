@@ -27,6 +27,9 @@ RS_CONST(uint, kRayRefraction, 2u);
 // which contributions arrive (GPU atomics), so the image is deterministic.
 RS_CONST(float, kAccumScale, 4294967296.0);  // 2^32
 RS_CONST(float, kAccumMax, 65535.0);         // contributions are clamped to [0, kAccumMax]
+// Arrays that may outgrow one storage binding (maxStorageBufferRange) are bound as this many
+// consecutive bindings ("pages"); see gpu/shaders/paged.glsl.
+RS_CONST(uint, kBufferPages, 4u);
 // Shininess exponents are integers in [0, kMaxShininess] (pow by repeated squaring; no pow()).
 RS_CONST(uint, kMaxShininess, 4096u);
 

@@ -3,6 +3,7 @@
 #pragma once
 #include <map>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -74,21 +75,31 @@ class VulkanPasses {
   vk::Status Trim(const emu::SparseRays& in, emu::Trimmed& out, bool reflection = false);
   vk::Status Resolve(const gpu::FrameConstants& fc, const std::vector<std::uint64_t>& accum, std::vector<std::uint8_t>& out);
   const vk::Context& context() const { return *ctx_; }
-  // Passes whose buffers grow with the pair streams (traverse, reduce) split their dispatches so no
-  // binding exceeds the device's maxStorageBufferRange, or this many bytes when smaller (tests).
-  void SetSplitBytes(std::size_t bytes) { split_bytes_ = bytes; }
+  // Buffers that grow with the frame never exceed one binding: element-wise passes run over parts
+  // of their streams, and arrays read at any index are paged (gpu/shaders/paged.glsl). This is the
+  // most bytes one binding gets: maxStorageBufferRange, or less after LimitForTesting.
   std::size_t SplitBytes() const;
-  // Dispatches the split-aware passes issued so far beyond one per call (for reports and tests).
+  // Test hook: behave like a device whose bindings hold at most `storage_bytes` and whose launches
+  // have at most `groups_x` workgroups per row (0 keeps the device's limit).
+  void LimitForTesting(std::size_t storage_bytes, std::uint32_t groups_x) { ctx_->LimitForTesting(storage_bytes, groups_x); }
+  // Dispatches beyond one per pass call, from parts and splits (for reports and tests).
   std::size_t extra_dispatches() const { return extra_dispatches_; }
+  // Arrays bound over more than one page so far (for reports and tests).
+  std::size_t paged_arrays() const { return paged_arrays_; }
 
  private:
   vk::Status ReduceInParts(const std::vector<std::uint32_t>& flags, const std::vector<std::uint32_t>& values, std::uint32_t s,
                            bool scan, std::vector<std::uint32_t>& out);
+  vk::Status Build(std::uint32_t phase, std::span<const gpu::Ray> rays, std::span<const std::uint32_t> order,
+                   std::span<const gpu::ConeNode> below, const std::vector<std::uint32_t>& first,
+                   std::vector<gpu::ConeNode>& nodes);
+  // Elements per part when each element takes `bytes_per_element` in the largest per-part binding.
+  std::size_t PerPart(std::size_t bytes_per_element) const;
   vk::Status Raygen(const vk::Kernel& k, const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
                     const SceneBuffers& scene, emu::SparseRays& out);
   std::unique_ptr<vk::Context> ctx_;
   std::uint32_t raster_fault_ = 0;
-  std::size_t split_bytes_ = 0, extra_dispatches_ = 0;
+  std::size_t extra_dispatches_ = 0, paged_arrays_ = 0;
   vk::Kernel surfaces_, surfaces_hits_, raygen_shadow_, raygen_reflection_, trim_, trim_reflection_, shade_, resolve_, hash_, compress_, sort_, decompress_, build_, traverse_, reduce_, intersect_, raygen_refraction_;
 };
 

@@ -101,12 +101,20 @@ class Context {
   // device < 0: the first non-CPU device, else the first CPU device (lavapipe).
   static Status Create(int device, std::unique_ptr<Context>& out);
   ~Context();
-  Status CreateBuffer(std::size_t bytes, Buffer& out);
+  // A storage buffer is refused beyond storage_limit() (one binding must not exceed it); transfer-only
+  // buffers (storage = false, raster read-back) are limited by memory alone.
+  Status CreateBuffer(std::size_t bytes, Buffer& out, bool storage = true);
   Status CreateKernel(const std::string& name, std::span<const std::uint32_t> spirv, std::uint32_t bindings,
                       std::uint32_t fault, Kernel& out, std::uint32_t local_size = 64);
   const std::string& device_name() const { return device_name_; }
   std::string driver() const { return driver_; }
   VkDeviceSize max_storage_buffer_range() const { return max_storage_range_; }
+  // The most bytes one storage binding may hold: maxStorageBufferRange unless lowered for tests.
+  VkDeviceSize storage_limit() const { return storage_limit_; }
+  std::uint32_t max_groups_x() const { return max_groups_[0]; }
+  // Test hook: behave like a device with smaller limits (0 leaves a limit as it is), so that the
+  // splitting, paging and grid-folding paths run on small frames.
+  void LimitForTesting(VkDeviceSize storage_bytes, std::uint32_t groups_x);
   // Every physical device, for error messages and --device listings.
   static std::vector<std::string> ListDevices();
   // For code that records its own commands (the raster pipeline).
@@ -128,7 +136,8 @@ class Context {
   VkCommandPool pool_ = VK_NULL_HANDLE;
   VkPhysicalDeviceMemoryProperties memory_{};
   std::string device_name_, driver_;
-  VkDeviceSize max_storage_range_ = 0;
+  VkDeviceSize max_storage_range_ = 0, storage_limit_ = 0;
+  std::uint32_t max_groups_[2] = {65535, 65535};
 };
 
 }  // namespace rayspace::vk
