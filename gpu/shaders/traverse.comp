@@ -8,21 +8,23 @@
 
 layout(std430, binding = 0) readonly buffer TriSpheres { vec4 tri_spheres[]; };
 layout(std430, binding = 1) readonly buffer Info { TriangleInfo info[]; };
-layout(std430, binding = 2) readonly buffer Mask { uint object_mask[]; };
-layout(std430, binding = 3) readonly buffer Pairs { uint pairs[]; };
-layout(std430, binding = 4) writeonly buffer Flags { uint flags[]; };
-layout(std430, binding = 5) writeonly buffer Values { uint values[]; };
-layout(std430, binding = 6) writeonly buffer Tested { uint tested[]; };
-// A level's nodes and the CSR offsets of their children grow with the rays: paged.
-PAGED_BUFFER(readonly, Nodes, ConeNode, 7)
+layout(std430, binding = 2) readonly buffer Pairs { uint pairs[]; };
+layout(std430, binding = 3) writeonly buffer Flags { uint flags[]; };
+layout(std430, binding = 4) writeonly buffer Values { uint values[]; };
+layout(std430, binding = 5) writeonly buffer Tested { uint tested[]; };
+// A level's nodes, the CSR offsets of their children and the object mask (top nodes x objects)
+// grow with the rays: paged.
+PAGED_BUFFER(readonly, Nodes, ConeNode, 6)
 PAGED_LOAD(Nodes, ConeNode)
-PAGED_BUFFER(readonly, First, uint, 11)
+PAGED_BUFFER(readonly, First, uint, 10)
 PAGED_LOAD(First, uint)
+PAGED_BUFFER(readonly, Mask, uint, 14)
+PAGED_LOAD(Mask, uint)
 layout(push_constant) uniform Push {
   uint phase, count, t0, b0, tris, objects, use_mask, base_up, base, children_max;
   float eps;
   uint id_base;  // phase 0: packed node ids relative to this node (a dispatch may cover part of a block)
-  uint node_page, first_page;
+  uint node_page, first_page, mask_page;
 } pc;
 
 ConeNode NodeAt(uint i) { return LoadNodes(i, pc.node_page); }
@@ -34,7 +36,7 @@ void main() {
   if (e >= pc.count) return;
   if (pc.phase == 0u) {
     const uint node = pc.t0 + e / pc.tris, tri = pc.b0 + e % pc.tris;
-    const bool test = pc.use_mask == 0u || object_mask[node * pc.objects + info[tri].ids.y] != 0u;
+    const bool test = pc.use_mask == 0u || LoadMask(node * pc.objects + info[tri].ids.y, pc.mask_page) != 0u;
     tested[e] = test ? 1u : 0u;
     // Fault 1: the top level ignores the triangle sphere's radius (a too-small bound).
     vec4 sphere = tri_spheres[tri];
@@ -42,7 +44,9 @@ void main() {
     flags[e] = (test && ConeTest(NodeAt(node), sphere, pc.eps)) ? 1u : 0u;
     values[e] = ((node - pc.id_base) << kTriBits) | (tri - pc.b0);
   } else if (pc.phase == 2u) {
-    flags[e] = ConeTest(NodeAt(e / pc.objects), tri_spheres[e % pc.objects], pc.eps) ? 1u : 0u;
+    // Fault 2 (seen only when the mask is computed in parts, --split-bytes): the part's start is dropped.
+    const uint g = (kFault == 2u ? 0u : pc.t0) + e;  // element of the whole mask; this dispatch writes a part of it
+    flags[e] = ConeTest(NodeAt(g / pc.objects), tri_spheres[g % pc.objects], pc.eps) ? 1u : 0u;
   } else {
     const uint parent = pc.base_up + (pairs[e] >> kTriBits), tri_local = pairs[e] & kTriMask;
     const vec4 sphere = tri_spheres[pc.b0 + tri_local];

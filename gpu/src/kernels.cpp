@@ -146,7 +146,7 @@ std::span<const T> Slice(const std::vector<T>& v, std::size_t i0, std::size_t i1
 const std::vector<std::pair<std::string, std::uint32_t>>& KernelPasses() {
   static const std::vector<std::pair<std::string, std::uint32_t>> kPasses = {
       {"raster", 1}, {"surfaces", 1}, {"raygen.shadow", 2}, {"trim", 2}, {"hash", 2}, {"compress", 1}, {"sort", 1},
-      {"decompress", 1}, {"build", 1}, {"traverse", 1}, {"reduce", 2}, {"intersect", 2}, {"shade", 1},
+      {"decompress", 1}, {"build", 1}, {"traverse", 2}, {"reduce", 2}, {"intersect", 2}, {"shade", 1},
       {"raygen.reflection", 1}, {"raygen.refraction", 1}, {"surfaces.hits", 1}, {"resolve", 1}};
   return kPasses;
 }
@@ -177,7 +177,7 @@ vk::Status VulkanPasses::Create(int device, const Faults& faults, std::unique_pt
   RS_TRY(p->ctx_->CreateKernel("sort.shadow", kSpirv_sort, 9, fault("sort"), p->sort_, local_size));
   RS_TRY(p->ctx_->CreateKernel("decompress.shadow", kSpirv_sort, 9, fault("decompress"), p->decompress_, local_size));
   RS_TRY(p->ctx_->CreateKernel("build.shadow", kSpirv_build, 2 + 3 * gpu::kBufferPages, fault("build"), p->build_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("traverse.shadow", kSpirv_traverse, 7 + 2 * gpu::kBufferPages, fault("traverse"), p->traverse_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("traverse.shadow", kSpirv_traverse, 6 + 3 * gpu::kBufferPages, fault("traverse"), p->traverse_, local_size));
   RS_TRY(p->ctx_->CreateKernel("reduce.shadow", kSpirv_reduce, 6, fault("reduce"), p->reduce_, local_size));
   RS_TRY(p->ctx_->CreateKernel("intersect.shadow", kSpirv_intersect, 3 + 5 * gpu::kBufferPages, fault("intersect"), p->intersect_, local_size));
   RS_TRY(p->ctx_->CreateKernel("resolve", kSpirv_resolve, 2, fault("resolve"), p->resolve_, local_size));
@@ -519,7 +519,7 @@ struct TraversePush {
   std::uint32_t phase, count, t0, b0, tris, objects, use_mask, base_up, base, children_max;
   float eps;
   std::uint32_t id_base;  // top level: packed node ids are relative to this node
-  std::uint32_t node_page = 0, first_page = 0;  // set by RunTraverse
+  std::uint32_t node_page = 0, first_page = 0, mask_page = 0;  // set by RunTraverse
 };
 
 // One traverse.comp dispatch: its bindings (empty spans bind a zeroed placeholder) and where its
@@ -534,22 +534,22 @@ struct TraverseIo {
 };
 
 vk::Status RunTraverse(vk::Context& c, const vk::Kernel& k, TraversePush push, const TraverseIo& io, std::size_t& multi) {
-  vk::Buffer bs, bi, bm, bp, bfl, bv, bt;
-  Paged pn, pf;  // a level's nodes and child offsets are read by node id
+  vk::Buffer bs, bi, bp, bfl, bv, bt;
+  Paged pn, pf, pm;  // a level's nodes and child offsets are read by node id, the mask by node and object
   RS_TRY(MakePaged(c, io.nodes, "traverse: nodes", pn, multi));
   RS_TRY(MakePaged(c, io.first, "traverse: child offsets", pf, multi));
+  RS_TRY(MakePaged(c, io.mask, "traverse: object mask", pm, multi));
   RS_TRY(MakeFrom(c, io.spheres, bs));
   RS_TRY(MakeFrom(c, io.info, bi));
-  RS_TRY(MakeFrom(c, io.mask, bm));
   RS_TRY(MakeFrom(c, io.pairs, bp));
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(io.slots, 1) * 4, bfl));
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(io.slots, 1) * 4, bv));
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(io.tested, 1) * 4, bt));
   push.node_page = pn.page;
   push.first_page = pf.page;
-  std::vector<const vk::Buffer*> bufs = {&bs, &bi, &bm, &bp, &bfl, &bv, &bt};
-  pn.Bind(bufs);
-  pf.Bind(bufs);
+  push.mask_page = pm.page;
+  std::vector<const vk::Buffer*> bufs = {&bs, &bi, &bp, &bfl, &bv, &bt};
+  for (const Paged* p : {&pn, &pf, &pm}) p->Bind(bufs);
   RS_TRY(RunKernel(c, k, bufs, &push, sizeof push, push.count));
   if (io.flags_out) std::memcpy(io.flags_out, bfl.data(), io.slots * 4);
   if (io.values_out) std::memcpy(io.values_out, bv.data(), io.slots * 4);
@@ -609,14 +609,20 @@ vk::Status VulkanPasses::TraverseLevel(const std::vector<std::uint32_t>& pairs, 
   return vk::Status::Ok();
 }
 
+// In parts of the mask (top nodes x objects), each within one binding; t0 carries the part's first
+// element.
 vk::Status VulkanPasses::ObjectMask(const std::vector<gpu::ConeNode>& top, const std::vector<glm::vec4>& object_spheres,
                                     float eps, std::vector<std::uint32_t>& mask) {
   const std::uint32_t objects = static_cast<std::uint32_t>(object_spheres.size());
-  const std::uint32_t count = static_cast<std::uint32_t>(top.size()) * objects;
+  const std::size_t count = top.size() * objects;
+  if (count > 0xFFFFFFFFu) return vk::Status::Fail(fmt::format("object mask: {} top nodes x {} objects exceed 2^32", top.size(), objects));
   mask.assign(count, 0);
-  const TraversePush push{2, count, 0, 0, 0, objects, 0, 0, 0, 0, eps, 0};
-  return RunTraverse(*ctx_, traverse_, push, {top, object_spheres, {}, {}, {}, {}, count, 0, mask.data(), nullptr, nullptr},
-                     paged_arrays_);
+  return ForParts(count, PerPart(4), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
+    const std::uint32_t n = static_cast<std::uint32_t>(i1 - i0);
+    const TraversePush push{2, n, static_cast<std::uint32_t>(i0), 0, 0, objects, 0, 0, 0, 0, eps, 0};
+    return RunTraverse(*ctx_, traverse_, push, {top, object_spheres, {}, {}, {}, {}, n, 0, mask.data() + i0, nullptr, nullptr},
+                       paged_arrays_);
+  });
 }
 
 namespace {
