@@ -43,25 +43,23 @@ if(EXISTS "${DATA}/sponza_dabrovic/sponza.obj")
   same_frame(sponza_rah "${SRC}/scenes/sponza.json" 128x128 --algo rah)
 endif()
 
-# A frame whose rays outgrow every page is refused up front, as bad input: with the device's own
-# limit, and with a lowered one.
-execute_process(COMMAND "${RAYSPACE}" render "${cornell}" --size 3000x3000 --backend vulkan --no-oracle --out "${WORK}/big.png"
-                RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
-if(NOT rc EQUAL 2 OR NOT err MATCHES "^rayspace: error: --size 3000x3000: 9000000 rays per batch \\(1 light\\(s\\)\\) exceed the [0-9]+ that 4 bindings")
-  set(failures "${failures}\noversized frame: exit ${rc}, stderr '${err}'")
-endif()
-execute_process(COMMAND "${RAYSPACE}" render "${cornell}" --size 128x128 --split-bytes 65536 --backend vulkan --no-oracle
-                        --out "${WORK}/big.png"
-                RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
-if(NOT rc EQUAL 2 OR NOT err MATCHES "--size 128x128: 16384 rays per batch \\(1 light\\(s\\)\\) exceed the 4096 that 4 bindings of 65536 bytes hold on .*; at most 4096 pixels fit")
-  set(failures "${failures}\nframe beyond lowered limit: exit ${rc}, stderr '${err}'")
-endif()
-execute_process(COMMAND "${RAYSPACE}" render "${cornell}" --size 8x8 --split-bytes 16384 --backend vulkan --no-oracle
-                        --out "${WORK}/big.png"
-                RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
-if(NOT rc EQUAL 2 OR NOT err MATCHES "scene: 828 triangles take 39744 bytes per triangle array, more than one binding of .* holds \\(16384 bytes\\)")
-  set(failures "${failures}\nscene beyond lowered limit: exit ${rc}, stderr '${err}'")
-endif()
+# A frame whose rays outgrow every page, or a scene array beyond one binding, is refused up front
+# as bad input (exit 2, one line): with the device's own limit, and with lowered ones.
+function(refused name pattern)
+  execute_process(COMMAND "${RAYSPACE}" render "${cornell}" --backend vulkan --no-oracle --out "${WORK}/refused.png" ${ARGN}
+                  RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+  if(NOT rc EQUAL 2 OR NOT err MATCHES "^rayspace: error: ${pattern}")
+    set(failures "${failures}\n${name}: exit ${rc}, stderr '${err}'" PARENT_SCOPE)
+  endif()
+endfunction()
+refused(oversized_frame "--size 3000x3000: 9000000 rays per batch \\(1 light\\(s\\)\\) exceed the [0-9]+ that 4 bindings"
+        --size 3000x3000)
+refused(frame_beyond_lowered_limit
+        "--size 128x128: 16384 rays per batch \\(1 light\\(s\\)\\) exceed the 4096 that 4 bindings of 65536 bytes hold on .*; at most 4096 pixels fit"
+        --size 128x128 --split-bytes 65536)
+refused(scene_beyond_lowered_limit
+        "scene: 828 triangles take 39744 bytes per triangle array, more than one binding of .* holds \\(16384 bytes\\)"
+        --size 8x8 --split-bytes 16384)
 
 if(failures)
   message(FATAL_ERROR "render --backend vulkan differs from emu:${failures}")
