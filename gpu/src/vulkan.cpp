@@ -121,6 +121,7 @@ Status Context::Create(int device, std::unique_ptr<Context>& out) {
   c->storage_limit_ = c->max_storage_range_;
   c->max_groups_[0] = props.limits.maxComputeWorkGroupCount[0];
   c->max_groups_[1] = props.limits.maxComputeWorkGroupCount[1];
+  c->max_stage_storage_buffers_ = props.limits.maxPerStageDescriptorStorageBuffers;
   VkPhysicalDeviceDriverProperties drv{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
   VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
   p2.pNext = &drv;
@@ -237,6 +238,10 @@ Status Context::CreateBuffer(std::size_t bytes, Buffer& out, bool storage) {
 
 Status Context::CreateKernel(const std::string& name, std::span<const std::uint32_t> spirv, std::uint32_t bindings,
                              std::uint32_t fault, Kernel& k, std::uint32_t local_size) {
+  // Paged arrays (paged.glsl) take several bindings each; a device with fewer is refused by name.
+  if (bindings > max_stage_storage_buffers_)
+    return Status::Fail(fmt::format("kernel {} needs {} storage-buffer bindings; '{}' allows {} (maxPerStageDescriptorStorageBuffers)",
+                                    name, bindings, device_name_, max_stage_storage_buffers_));
   k.device_ = device_;
   k.local_size_ = local_size;
   k.name_ = name;

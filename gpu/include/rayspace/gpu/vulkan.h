@@ -138,6 +138,7 @@ class Context {
   std::string device_name_, driver_;
   VkDeviceSize max_storage_range_ = 0, storage_limit_ = 0;
   std::uint32_t max_groups_[2] = {65535, 65535};
+  std::uint32_t max_stage_storage_buffers_ = 0;
 };
 
 }  // namespace rayspace::vk
