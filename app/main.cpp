@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
   rc->add_option("--split-bytes", render.split_bytes,
                  "Vulkan: bind at most this many bytes per storage buffer when below the device's "
                  "maxStorageBufferRange, so that passes split and page their buffers on small frames (test use)")
-      ->check(CLI::Range(std::size_t{64}, std::size_t{1} << 40));
+      ->check(CLI::Range(std::size_t{4096}, std::size_t{1} << 40));
   rc->add_option("--max-groups", render.max_groups,
                  "Vulkan: launch at most this many workgroups per row when below the device's "
                  "maxComputeWorkGroupCount, so that large launches fold into rows (test use)")
@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
   dc->add_option("--reduction", diff.reduction, "Stream reduction: hierarchical or scan")->check(CLI::IsMember({"hierarchical", "scan"}));
   dc->add_option("--save-inputs", diff.save_inputs, "Write every pass call's inputs to DIR/NNNN-PASS/ (for replay)");
   dc->add_option("--split-bytes", diff.split_bytes, "Vulkan: bind at most this many bytes per storage buffer (test use)")
-      ->check(CLI::Range(std::size_t{64}, std::size_t{1} << 40));
+      ->check(CLI::Range(std::size_t{4096}, std::size_t{1} << 40));
   dc->add_option("--max-groups", diff.max_groups, "Vulkan: launch at most this many workgroups per row (test use)")
       ->check(CLI::Range(1u, 65535u));
   rayspace::app::ReplayArgs replay;

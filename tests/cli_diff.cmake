@@ -67,7 +67,7 @@ diff_run(inject_trim_2 cornell-mirrors 96x96 trim:2 4 trim --split-bytes 163840)
 diff_run(inject_intersect_2 cornell-mirrors 96x96 intersect:2 4 intersect --split-bytes 163840)
 diff_run(inject_hash_2 cornell-mirrors 96x96 hash:2 4 hash --max-groups 2)
 # 300 small boxes as separate objects make CRSH's object mask (top nodes x objects) outgrow a
-# 256 KiB binding at 128x128, so the mask is computed in parts.
+# 256 KiB binding at 128x128, so the mask is computed in parts and read by rows.
 set(studs "[]")
 foreach(i RANGE 299)
   math(EXPR x "40 + (${i} % 20) * 25")
@@ -77,6 +77,9 @@ endforeach()
 string(JSON studs_scene SET "${cornell}" objects 2 "{\"name\": \"studs\", \"generator\": \"box\", \"params\": {\"size\": 6}, \"material\": \"clay\", \"instances\": ${studs}}")
 file(WRITE "${WORK}/studs-scene.json" "${studs_scene}")
 diff_run(studs_paged "${WORK}/studs-scene.json" 128x128 "" 0 "" --split-bytes 262144)
+# At depth 1 the mask (2,048 top nodes x 307 objects) outgrows even four such bindings: the top
+# level binds only the mask rows of each dispatch's top nodes.
+diff_run(studs_depth1 "${WORK}/studs-scene.json" 128x128 "" 0 "" --split-bytes 262144 --depth 1)
 diff_run(inject_traverse_2 "${WORK}/studs-scene.json" 128x128 traverse:2 4 traverse --split-bytes 262144)
 if(EXISTS "${DATA}/sponza_dabrovic/sponza.obj")
   diff_run(sponza sponza 128x128 "" 0 "")

@@ -106,6 +106,12 @@ expect_error(NAME "--size abc"
 expect_error(NAME "--threads 0"
              NEEDLES "--threads"
              ARGS render "${WORK}/good.json" --threads 0 --out "${WORK}/x.png")
+expect_error(NAME "--split-bytes 100 (below one element of every buffer)"
+             NEEDLES "--split-bytes" "100"
+             ARGS render "${WORK}/good.json" --backend vulkan --split-bytes 100 --out "${WORK}/x.png")
+expect_error(NAME "--max-groups 0"
+             NEEDLES "--max-groups" "0"
+             ARGS diff "${WORK}/good.json" --max-groups 0)
 expect_error(NAME "--algo nope"
              NEEDLES "--algo" "nope"
              ARGS render "${WORK}/good.json" --algo nope --out "${WORK}/x.png")

@@ -8,23 +8,22 @@
 
 layout(std430, binding = 0) readonly buffer TriSpheres { vec4 tri_spheres[]; };
 layout(std430, binding = 1) readonly buffer Info { TriangleInfo info[]; };
-layout(std430, binding = 2) readonly buffer Pairs { uint pairs[]; };
-layout(std430, binding = 3) writeonly buffer Flags { uint flags[]; };
-layout(std430, binding = 4) writeonly buffer Values { uint values[]; };
-layout(std430, binding = 5) writeonly buffer Tested { uint tested[]; };
-// A level's nodes, the CSR offsets of their children and the object mask (top nodes x objects)
-// grow with the rays: paged.
-PAGED_BUFFER(readonly, Nodes, ConeNode, 6)
+// Phase 0: the object mask's rows for this dispatch's top nodes (t0 ..), objects per row.
+layout(std430, binding = 2) readonly buffer Mask { uint object_mask[]; };
+layout(std430, binding = 3) readonly buffer Pairs { uint pairs[]; };
+layout(std430, binding = 4) writeonly buffer Flags { uint flags[]; };
+layout(std430, binding = 5) writeonly buffer Values { uint values[]; };
+layout(std430, binding = 6) writeonly buffer Tested { uint tested[]; };
+// A level's nodes and the CSR offsets of their children grow with the rays: paged.
+PAGED_BUFFER(readonly, Nodes, ConeNode, 7)
 PAGED_LOAD(Nodes, ConeNode)
-PAGED_BUFFER(readonly, First, uint, 10)
+PAGED_BUFFER(readonly, First, uint, 11)
 PAGED_LOAD(First, uint)
-PAGED_BUFFER(readonly, Mask, uint, 14)
-PAGED_LOAD(Mask, uint)
 layout(push_constant) uniform Push {
   uint phase, count, t0, b0, tris, objects, use_mask, base_up, base, children_max;
   float eps;
   uint id_base;  // phase 0: packed node ids relative to this node (a dispatch may cover part of a block)
-  uint node_page, first_page, mask_page;
+  uint node_page, first_page;
 } pc;
 
 ConeNode NodeAt(uint i) { return LoadNodes(i, pc.node_page); }
@@ -36,7 +35,7 @@ void main() {
   if (e >= pc.count) return;
   if (pc.phase == 0u) {
     const uint node = pc.t0 + e / pc.tris, tri = pc.b0 + e % pc.tris;
-    const bool test = pc.use_mask == 0u || LoadMask(node * pc.objects + info[tri].ids.y, pc.mask_page) != 0u;
+    const bool test = pc.use_mask == 0u || object_mask[(node - pc.t0) * pc.objects + info[tri].ids.y] != 0u;
     tested[e] = test ? 1u : 0u;
     // Fault 1: the top level ignores the triangle sphere's radius (a too-small bound).
     vec4 sphere = tri_spheres[tri];

@@ -164,7 +164,7 @@ vk::Status VulkanPasses::Create(int device, const Faults& faults, std::unique_pt
   RS_TRY(p->ctx_->CreateKernel("surfaces", kSpirv_surfaces, 6, fault("surfaces"), p->surfaces_, local_size));
   RS_TRY(p->ctx_->CreateKernel("surfaces.hits", kSpirv_surfaces_hits, 6, fault("surfaces.hits"), p->surfaces_hits_, local_size));
   RS_TRY(p->ctx_->CreateKernel("raygen.reflection", kSpirv_raygen_reflection, 5, fault("raygen.reflection"),
-                               p->raygen_reflection_));
+                               p->raygen_reflection_, local_size));
   RS_TRY(p->ctx_->CreateKernel("raygen.refraction", kSpirv_raygen_refraction, 5, fault("raygen.refraction"),
                                p->raygen_refraction_, local_size));
   RS_TRY(p->ctx_->CreateKernel("shade", kSpirv_shade, 5 + 2 * gpu::kBufferPages, fault("shade"), p->shade_, local_size));
@@ -177,7 +177,7 @@ vk::Status VulkanPasses::Create(int device, const Faults& faults, std::unique_pt
   RS_TRY(p->ctx_->CreateKernel("sort.shadow", kSpirv_sort, 9, fault("sort"), p->sort_, local_size));
   RS_TRY(p->ctx_->CreateKernel("decompress.shadow", kSpirv_sort, 9, fault("decompress"), p->decompress_, local_size));
   RS_TRY(p->ctx_->CreateKernel("build.shadow", kSpirv_build, 2 + 3 * gpu::kBufferPages, fault("build"), p->build_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("traverse.shadow", kSpirv_traverse, 6 + 3 * gpu::kBufferPages, fault("traverse"), p->traverse_, local_size));
+  RS_TRY(p->ctx_->CreateKernel("traverse.shadow", kSpirv_traverse, 7 + 2 * gpu::kBufferPages, fault("traverse"), p->traverse_, local_size));
   RS_TRY(p->ctx_->CreateKernel("reduce.shadow", kSpirv_reduce, 6, fault("reduce"), p->reduce_, local_size));
   RS_TRY(p->ctx_->CreateKernel("intersect.shadow", kSpirv_intersect, 3 + 5 * gpu::kBufferPages, fault("intersect"), p->intersect_, local_size));
   RS_TRY(p->ctx_->CreateKernel("resolve", kSpirv_resolve, 2, fault("resolve"), p->resolve_, local_size));
@@ -519,7 +519,7 @@ struct TraversePush {
   std::uint32_t phase, count, t0, b0, tris, objects, use_mask, base_up, base, children_max;
   float eps;
   std::uint32_t id_base;  // top level: packed node ids are relative to this node
-  std::uint32_t node_page = 0, first_page = 0, mask_page = 0;  // set by RunTraverse
+  std::uint32_t node_page = 0, first_page = 0;  // set by RunTraverse
 };
 
 // One traverse.comp dispatch: its bindings (empty spans bind a zeroed placeholder) and where its
@@ -534,22 +534,21 @@ struct TraverseIo {
 };
 
 vk::Status RunTraverse(vk::Context& c, const vk::Kernel& k, TraversePush push, const TraverseIo& io, std::size_t& multi) {
-  vk::Buffer bs, bi, bp, bfl, bv, bt;
-  Paged pn, pf, pm;  // a level's nodes and child offsets are read by node id, the mask by node and object
+  vk::Buffer bs, bi, bm, bp, bfl, bv, bt;
+  Paged pn, pf;  // a level's nodes and child offsets are read by node id
   RS_TRY(MakePaged(c, io.nodes, "traverse: nodes", pn, multi));
   RS_TRY(MakePaged(c, io.first, "traverse: child offsets", pf, multi));
-  RS_TRY(MakePaged(c, io.mask, "traverse: object mask", pm, multi));
   RS_TRY(MakeFrom(c, io.spheres, bs));
   RS_TRY(MakeFrom(c, io.info, bi));
+  RS_TRY(MakeFrom(c, io.mask, bm));
   RS_TRY(MakeFrom(c, io.pairs, bp));
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(io.slots, 1) * 4, bfl));
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(io.slots, 1) * 4, bv));
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(io.tested, 1) * 4, bt));
   push.node_page = pn.page;
   push.first_page = pf.page;
-  push.mask_page = pm.page;
-  std::vector<const vk::Buffer*> bufs = {&bs, &bi, &bp, &bfl, &bv, &bt};
-  for (const Paged* p : {&pn, &pf, &pm}) p->Bind(bufs);
+  std::vector<const vk::Buffer*> bufs = {&bs, &bi, &bm, &bp, &bfl, &bv, &bt};
+  for (const Paged* p : {&pn, &pf}) p->Bind(bufs);
   RS_TRY(RunKernel(c, k, bufs, &push, sizeof push, push.count));
   if (io.flags_out) std::memcpy(io.flags_out, bfl.data(), io.slots * 4);
   if (io.values_out) std::memcpy(io.values_out, bv.data(), io.slots * 4);
@@ -562,7 +561,8 @@ vk::Status RunTraverse(vk::Context& c, const vk::Kernel& k, TraversePush push, c
 
 std::size_t VulkanPasses::SplitBytes() const { return static_cast<std::size_t>(ctx_->storage_limit()); }
 
-// Rows of top nodes per dispatch so that the flags/values/tested bindings stay within the split size.
+// Rows of top nodes per dispatch so that the flags/values/tested bindings, and the object mask's rows
+// for those nodes, stay within the split size.
 vk::Status VulkanPasses::TraverseTop(const std::vector<gpu::ConeNode>& top, std::uint32_t t0, std::uint32_t t1,
                                      std::uint32_t b0, std::uint32_t b1, const std::vector<glm::vec4>& tri_spheres,
                                      const SceneBuffers& scene, float eps, const std::vector<std::uint32_t>& object_mask,
@@ -572,16 +572,19 @@ vk::Status VulkanPasses::TraverseTop(const std::vector<gpu::ConeNode>& top, std:
   flags.assign(count, 0);
   values.assign(count, 0);
   tested.assign(count, 0);
-  const std::uint32_t rows = static_cast<std::uint32_t>(std::max<std::size_t>(1, SplitBytes() / 4 / std::max<std::size_t>(T, 1)));
+  const std::size_t objects = scene.objects.size(), row_words = std::max<std::size_t>({T, object_mask.empty() ? 1 : objects, 1});
+  const std::uint32_t rows = static_cast<std::uint32_t>(std::max<std::size_t>(1, SplitBytes() / 4 / row_words));
   for (std::uint32_t r0 = t0; r0 < t1; r0 += rows) {
     const std::uint32_t r1 = std::min(t1, r0 + rows);
     const std::size_t at = static_cast<std::size_t>(r0 - t0) * T;
     if (r0 != t0) ++extra_dispatches_;
     const std::uint32_t count = static_cast<std::uint32_t>(static_cast<std::size_t>(r1 - r0) * T);
-    const TraversePush push{0, count, r0, b0, static_cast<std::uint32_t>(T), static_cast<std::uint32_t>(scene.objects.size()),
+    const TraversePush push{0, count, r0, b0, static_cast<std::uint32_t>(T), static_cast<std::uint32_t>(objects),
                             object_mask.empty() ? 0u : 1u, 0, 0, 0, eps, t0};
+    const std::span<const std::uint32_t> mask_rows =
+        object_mask.empty() ? std::span<const std::uint32_t>() : std::span(object_mask).subspan(r0 * objects, (r1 - r0) * objects);
     RS_TRY(RunTraverse(*ctx_, traverse_, push,
-                       {top, tri_spheres, scene.info, object_mask, {}, {}, count, count, flags.data() + at, values.data() + at,
+                       {top, tri_spheres, scene.info, mask_rows, {}, {}, count, count, flags.data() + at, values.data() + at,
                         tested.data() + at}, paged_arrays_));
   }
   return vk::Status::Ok();

@@ -279,7 +279,7 @@ Status Context::CreateKernel(const std::string& name, std::span<const std::uint3
 }
 
 Recorder::~Recorder() {
-  if (pool_) vkDestroyDescriptorPool(ctx_.device_, pool_, nullptr);
+  for (VkDescriptorPool p : pools_) vkDestroyDescriptorPool(ctx_.device_, p, nullptr);
   if (cmd_) vkFreeCommandBuffers(ctx_.device_, ctx_.pool_, 1, &cmd_);
 }
 
@@ -290,12 +290,6 @@ Status Recorder::Begin() {
     ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
     ai.commandBufferCount = 1;
     RS_VK(vkAllocateCommandBuffers(ctx_.device_, &ai, &cmd_));
-    VkDescriptorPoolSize ps{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1024};
-    VkDescriptorPoolCreateInfo dp{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    dp.maxSets = 128;
-    dp.poolSizeCount = 1;
-    dp.pPoolSizes = &ps;
-    RS_VK(vkCreateDescriptorPool(ctx_.device_, &dp, nullptr, &pool_));
   }
   VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
@@ -311,8 +305,28 @@ Status Recorder::Dispatch(const Kernel& k, std::span<const Buffer* const> buffer
     if (!s) return s;
   }
   if (buffers.size() != k.bindings_) return Status::Fail(fmt::format("kernel {} takes {} buffers, got {}", k.name_, k.bindings_, buffers.size()));
+  // A pass may record any number of parts before its submit: when the current descriptor pool has
+  // no room for this set, the next one is used (and created once); all are reset after the submit.
+  if (k.bindings_ > kPoolDescriptors) return Status::Fail(fmt::format("kernel {}: {} bindings exceed a descriptor pool", k.name_, k.bindings_));
+  if (sets_left_ == 0 || descriptors_left_ < k.bindings_) {
+    if (++current_ >= pools_.size()) {
+      VkDescriptorPoolSize ps{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kPoolDescriptors};
+      VkDescriptorPoolCreateInfo dp{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+      dp.maxSets = kPoolSets;
+      dp.poolSizeCount = 1;
+      dp.pPoolSizes = &ps;
+      VkDescriptorPool pool;
+      RS_VK(vkCreateDescriptorPool(ctx_.device_, &dp, nullptr, &pool));
+      pools_.push_back(pool);
+      ++ctx_.descriptor_pools_;
+    }
+    sets_left_ = kPoolSets;
+    descriptors_left_ = kPoolDescriptors;
+  }
+  --sets_left_;
+  descriptors_left_ -= k.bindings_;
   VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-  ai.descriptorPool = pool_;
+  ai.descriptorPool = pools_[current_];
   ai.descriptorSetCount = 1;
   ai.pSetLayouts = &k.set_layout_;
   VkDescriptorSet set;
@@ -355,7 +369,9 @@ Status Recorder::Submit() {
   RS_VK(vkEndCommandBuffer(cmd_));
   recording_ = false;
   if (Status st = ctx_.SubmitAndWait(cmd_); !st) return st;
-  RS_VK(vkResetDescriptorPool(ctx_.device_, pool_, 0));
+  for (VkDescriptorPool p : pools_) RS_VK(vkResetDescriptorPool(ctx_.device_, p, 0));
+  current_ = static_cast<std::size_t>(-1);
+  sets_left_ = descriptors_left_ = 0;
   RS_VK(vkResetCommandBuffer(cmd_, 0));
   return Status::Ok();
 }

@@ -91,8 +91,11 @@ class Recorder {
  private:
   Status Begin();
   Context& ctx_;
+  static constexpr std::uint32_t kPoolSets = 128, kPoolDescriptors = 1024;
   VkCommandBuffer cmd_ = VK_NULL_HANDLE;
-  VkDescriptorPool pool_ = VK_NULL_HANDLE;
+  std::vector<VkDescriptorPool> pools_;                 // grown on demand, reset after each submit
+  std::size_t current_ = static_cast<std::size_t>(-1);  // pool sets are taken from (none yet)
+  std::uint32_t sets_left_ = 0, descriptors_left_ = 0;  // room left in pools_[current_]
   bool recording_ = false;
 };
 
@@ -115,6 +118,9 @@ class Context {
   // Test hook: behave like a device with smaller limits (0 leaves a limit as it is), so that the
   // splitting, paging and grid-folding paths run on small frames.
   void LimitForTesting(VkDeviceSize storage_bytes, std::uint32_t groups_x);
+  // Descriptor pools the recorders have created so far (a recorder adds one when a pass's parts
+  // outgrow the pools it has; for tests).
+  std::size_t descriptor_pools_created() const { return descriptor_pools_; }
   // Every physical device, for error messages and --device listings.
   static std::vector<std::string> ListDevices();
   // For code that records its own commands (the raster pipeline).
@@ -139,6 +145,7 @@ class Context {
   VkDeviceSize max_storage_range_ = 0, storage_limit_ = 0;
   std::uint32_t max_groups_[2] = {65535, 65535};
   std::uint32_t max_stage_storage_buffers_ = 0;
+  std::size_t descriptor_pools_ = 0;
 };
 
 }  // namespace rayspace::vk
