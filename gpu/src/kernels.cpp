@@ -58,7 +58,6 @@ vk::Status RunKernel(vk::Context& c, const vk::Kernel& k, std::span<const vk::Bu
 struct Paged {
   std::array<vk::Buffer, gpu::kBufferPages> pages;
   std::uint32_t page = 1;  // elements per page
-  std::size_t count = 0;
   void Bind(std::vector<const vk::Buffer*>& bufs) const {
     for (const vk::Buffer& b : pages) bufs.push_back(&b);
   }
@@ -78,7 +77,6 @@ vk::Status MakePaged(vk::Context& c, std::span<const T> v, const char* what, Pag
     return vk::Status::Fail(fmt::format("{}: {} elements of {} bytes need more than {} bindings of {} bytes", what, v.size(),
                                         sizeof(T), gpu::kBufferPages, c.storage_limit()));
   out.page = static_cast<std::uint32_t>(per);
-  out.count = v.size();
   if (v.size() > per) ++multi;
   for (std::size_t p = 0; p < gpu::kBufferPages; ++p) {
     const std::size_t at = std::min(v.size(), p * per);
@@ -90,7 +88,6 @@ vk::Status MakePaged(vk::Context& c, std::span<const T> v, const char* what, Pag
 // Buffers that must live until a recorder's submit.
 class Keep {
  public:
-  vk::Buffer& New() { return bufs_.emplace_back(); }
   template <typename T>
   vk::Status From(vk::Context& c, std::span<const T> v, const vk::Buffer*& out) {
     vk::Buffer& b = New();
@@ -117,7 +114,8 @@ class Keep {
     void* dst;
     std::size_t bytes;
   };
-  std::deque<vk::Buffer> bufs_;
+  vk::Buffer& New() { return bufs_.emplace_back(); }
+  std::deque<vk::Buffer> bufs_;  // a deque: addresses stay valid as it grows
   std::vector<Back> back_;
 };
 
@@ -519,50 +517,55 @@ struct TraversePush {
   std::uint32_t phase, count, t0, b0, tris, objects, use_mask, base_up, base, children_max;
   float eps;
   std::uint32_t id_base;  // top level: packed node ids are relative to this node
-  std::uint32_t node_page = 0, first_page = 0;  // set by RunTraverse
+  std::uint32_t node_page = 0, first_page = 0;  // set by Traverser
 };
 
-// One traverse.comp dispatch: its bindings (empty spans bind a zeroed placeholder) and where its
-// outputs go (flags and values: `slots` words, tested: `tested` words; null to skip).
-struct TraverseIo {
-  std::span<const gpu::ConeNode> nodes;
-  std::span<const glm::vec4> spheres;
-  std::span<const gpu::TriangleInfo> info;
-  std::span<const std::uint32_t> mask, pairs, first;
-  std::size_t slots = 0, tested = 0;
-  std::uint32_t *flags_out = nullptr, *values_out = nullptr, *tested_out = nullptr;
+// The traverse.comp inputs one pass call reads whole, uploaded once and bound by every part of the
+// call: the level's nodes and child offsets (paged, read by node id), spheres and triangle info
+// (empty spans bind a zeroed placeholder).
+class Traverser {
+ public:
+  Traverser(vk::Context& c, const vk::Kernel& k) : c_(c), k_(k) {}
+  vk::Status Upload(std::span<const gpu::ConeNode> nodes, std::span<const std::uint32_t> first, std::span<const glm::vec4> spheres,
+                    std::span<const gpu::TriangleInfo> info, std::size_t& multi) {
+    RS_TRY(MakePaged(c_, nodes, "traverse: nodes", nodes_, multi));
+    RS_TRY(MakePaged(c_, first, "traverse: child offsets", first_, multi));
+    RS_TRY(MakeFrom(c_, spheres, spheres_));
+    RS_TRY(MakeFrom(c_, info, info_));
+    return vk::Status::Ok();
+  }
+  // One part, in a submit of its own (its output buffers are freed before the next part): `mask`
+  // and `pairs` are this part's; flags and values (`slots` words) and tested (`tested` words) go to
+  // the given pointers (null: not read back).
+  vk::Status Part(TraversePush push, std::span<const std::uint32_t> mask, std::span<const std::uint32_t> pairs, std::size_t slots,
+                  std::size_t tested, std::uint32_t* flags_out, std::uint32_t* values_out, std::uint32_t* tested_out) const {
+    Keep keep;
+    const vk::Buffer *bm = nullptr, *bp = nullptr, *bfl = nullptr, *bv = nullptr, *bt = nullptr;
+    RS_TRY(keep.From(c_, mask, bm));
+    RS_TRY(keep.From(c_, pairs, bp));
+    RS_TRY(keep.Output(c_, slots * 4, bfl, flags_out));
+    RS_TRY(keep.Output(c_, slots * 4, bv, values_out));
+    RS_TRY(keep.Output(c_, tested * 4, bt, tested_out));
+    push.node_page = nodes_.page;
+    push.first_page = first_.page;
+    std::vector<const vk::Buffer*> bufs = {&spheres_, &info_, bm, bp, bfl, bv, bt};
+    for (const Paged* p : {&nodes_, &first_}) p->Bind(bufs);
+    RS_TRY(RunKernel(c_, k_, bufs, &push, sizeof push, push.count));
+    keep.CopyBack();
+    return vk::Status::Ok();
+  }
+
+ private:
+  vk::Context& c_;
+  const vk::Kernel& k_;
+  Paged nodes_, first_;
+  vk::Buffer spheres_, info_;
 };
-
-vk::Status RunTraverse(vk::Context& c, const vk::Kernel& k, TraversePush push, const TraverseIo& io, std::size_t& multi) {
-  vk::Buffer bs, bi, bm, bp, bfl, bv, bt;
-  Paged pn, pf;  // a level's nodes and child offsets are read by node id
-  RS_TRY(MakePaged(c, io.nodes, "traverse: nodes", pn, multi));
-  RS_TRY(MakePaged(c, io.first, "traverse: child offsets", pf, multi));
-  RS_TRY(MakeFrom(c, io.spheres, bs));
-  RS_TRY(MakeFrom(c, io.info, bi));
-  RS_TRY(MakeFrom(c, io.mask, bm));
-  RS_TRY(MakeFrom(c, io.pairs, bp));
-  RS_TRY(c.CreateBuffer(std::max<std::size_t>(io.slots, 1) * 4, bfl));
-  RS_TRY(c.CreateBuffer(std::max<std::size_t>(io.slots, 1) * 4, bv));
-  RS_TRY(c.CreateBuffer(std::max<std::size_t>(io.tested, 1) * 4, bt));
-  push.node_page = pn.page;
-  push.first_page = pf.page;
-  std::vector<const vk::Buffer*> bufs = {&bs, &bi, &bm, &bp, &bfl, &bv, &bt};
-  for (const Paged* p : {&pn, &pf}) p->Bind(bufs);
-  RS_TRY(RunKernel(c, k, bufs, &push, sizeof push, push.count));
-  if (io.flags_out) std::memcpy(io.flags_out, bfl.data(), io.slots * 4);
-  if (io.values_out) std::memcpy(io.values_out, bv.data(), io.slots * 4);
-  if (io.tested_out) std::memcpy(io.tested_out, bt.data(), io.tested * 4);
-  return vk::Status::Ok();
-}
-
 
 }  // namespace
 
 std::size_t VulkanPasses::SplitBytes() const { return static_cast<std::size_t>(ctx_->storage_limit()); }
 
-// Rows of top nodes per dispatch so that the flags/values/tested bindings, and the object mask's rows
-// for those nodes, stay within the split size.
 vk::Status VulkanPasses::TraverseTop(const std::vector<gpu::ConeNode>& top, std::uint32_t t0, std::uint32_t t1,
                                      std::uint32_t b0, std::uint32_t b1, const std::vector<glm::vec4>& tri_spheres,
                                      const SceneBuffers& scene, float eps, const std::vector<std::uint32_t>& object_mask,
@@ -572,25 +575,23 @@ vk::Status VulkanPasses::TraverseTop(const std::vector<gpu::ConeNode>& top, std:
   flags.assign(count, 0);
   values.assign(count, 0);
   tested.assign(count, 0);
+  Traverser tr(*ctx_, traverse_);
+  RS_TRY(tr.Upload(top, {}, tri_spheres, scene.info, paged_arrays_));
+  // Parts are rows of top nodes, so that the flags/values/tested bindings and the object mask's rows
+  // for those nodes stay within one binding.
   const std::size_t objects = scene.objects.size(), row_words = std::max<std::size_t>({T, object_mask.empty() ? 1 : objects, 1});
-  const std::uint32_t rows = static_cast<std::uint32_t>(std::max<std::size_t>(1, SplitBytes() / 4 / row_words));
-  for (std::uint32_t r0 = t0; r0 < t1; r0 += rows) {
-    const std::uint32_t r1 = std::min(t1, r0 + rows);
-    const std::size_t at = static_cast<std::size_t>(r0 - t0) * T;
-    if (r0 != t0) ++extra_dispatches_;
-    const std::uint32_t count = static_cast<std::uint32_t>(static_cast<std::size_t>(r1 - r0) * T);
-    const TraversePush push{0, count, r0, b0, static_cast<std::uint32_t>(T), static_cast<std::uint32_t>(objects),
+  return ForParts(t1 - t0, PerPart(4 * row_words), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
+    const std::uint32_t r0 = t0 + static_cast<std::uint32_t>(i0), r1 = t0 + static_cast<std::uint32_t>(i1);
+    const std::size_t at = i0 * T, n = (i1 - i0) * T;
+    const TraversePush push{0, static_cast<std::uint32_t>(n), r0, b0, static_cast<std::uint32_t>(T), static_cast<std::uint32_t>(objects),
                             object_mask.empty() ? 0u : 1u, 0, 0, 0, eps, t0};
     const std::span<const std::uint32_t> mask_rows =
         object_mask.empty() ? std::span<const std::uint32_t>() : std::span(object_mask).subspan(r0 * objects, (r1 - r0) * objects);
-    RS_TRY(RunTraverse(*ctx_, traverse_, push,
-                       {top, tri_spheres, scene.info, mask_rows, {}, {}, count, count, flags.data() + at, values.data() + at,
-                        tested.data() + at}, paged_arrays_));
-  }
-  return vk::Status::Ok();
+    return tr.Part(push, mask_rows, {}, n, n, flags.data() + at, values.data() + at, tested.data() + at);
+  });
 }
 
-// Pairs per dispatch so that the slot bindings (pairs x children) stay within the split size.
+// Parts are ranges of pairs, so that the slot bindings (pairs x children) stay within one binding.
 vk::Status VulkanPasses::TraverseLevel(const std::vector<std::uint32_t>& pairs, const std::vector<gpu::ConeNode>& nodes,
                                        const std::vector<std::uint32_t>& first, std::uint32_t base_up, std::uint32_t base,
                                        std::uint32_t children_max, std::uint32_t b0, const std::vector<glm::vec4>& tri_spheres,
@@ -600,19 +601,17 @@ vk::Status VulkanPasses::TraverseLevel(const std::vector<std::uint32_t>& pairs, 
   flags.assign(count * children_max, 0);
   values.assign(count * children_max, 0);
   tested.assign(count, 0);
-  const std::size_t per = std::max<std::size_t>(1, SplitBytes() / 4 / children_max);
-  for (std::size_t p0 = 0; p0 < count; p0 += per) {
-    const std::uint32_t n = static_cast<std::uint32_t>(std::min(count - p0, per));
-    if (p0 != 0) ++extra_dispatches_;
+  Traverser tr(*ctx_, traverse_);
+  RS_TRY(tr.Upload(nodes, first, tri_spheres, {}, paged_arrays_));
+  return ForParts(count, PerPart(4 * std::size_t{children_max}), extra_dispatches_, [&](std::size_t p0, std::size_t p1) -> vk::Status {
+    const std::uint32_t n = static_cast<std::uint32_t>(p1 - p0);
     const TraversePush push{1, n, 0, b0, 0, 0, 0, base_up, base, children_max, eps, 0};
-    RS_TRY(RunTraverse(*ctx_, traverse_, push,
-                       {nodes, tri_spheres, {}, {}, std::span(pairs).subspan(p0, n), first, std::size_t{n} * children_max, n,
-                        flags.data() + p0 * children_max, values.data() + p0 * children_max, tested.data() + p0}, paged_arrays_));
-  }
-  return vk::Status::Ok();
+    return tr.Part(push, {}, Slice(pairs, p0, p1), std::size_t{n} * children_max, n, flags.data() + p0 * children_max,
+                   values.data() + p0 * children_max, tested.data() + p0);
+  });
 }
 
-// In parts of the mask (top nodes x objects), each within one binding; t0 carries the part's first
+// Parts of the mask (top nodes x objects), each within one binding; t0 carries the part's first
 // element.
 vk::Status VulkanPasses::ObjectMask(const std::vector<gpu::ConeNode>& top, const std::vector<glm::vec4>& object_spheres,
                                     float eps, std::vector<std::uint32_t>& mask) {
@@ -620,11 +619,12 @@ vk::Status VulkanPasses::ObjectMask(const std::vector<gpu::ConeNode>& top, const
   const std::size_t count = top.size() * objects;
   if (count > 0xFFFFFFFFu) return vk::Status::Fail(fmt::format("object mask: {} top nodes x {} objects exceed 2^32", top.size(), objects));
   mask.assign(count, 0);
+  Traverser tr(*ctx_, traverse_);
+  RS_TRY(tr.Upload(top, {}, object_spheres, {}, paged_arrays_));
   return ForParts(count, PerPart(4), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
     const std::uint32_t n = static_cast<std::uint32_t>(i1 - i0);
     const TraversePush push{2, n, static_cast<std::uint32_t>(i0), 0, 0, objects, 0, 0, 0, 0, eps, 0};
-    return RunTraverse(*ctx_, traverse_, push, {top, object_spheres, {}, {}, {}, {}, n, 0, mask.data() + i0, nullptr, nullptr},
-                       paged_arrays_);
+    return tr.Part(push, {}, {}, n, 0, mask.data() + i0, nullptr, nullptr);
   });
 }
 
@@ -723,7 +723,9 @@ vk::Status VulkanPasses::Intersect(const std::vector<std::uint32_t>& pairs, cons
                                    std::vector<std::uint32_t>& tests) {
   vk::Context& c = *ctx_;
   // Pairs go in parts (their tests with them); everything indexed by leaf, sorted position or ray is
-  // paged, and the hit and occlusion pages stay bound across the parts, which all go in one submit.
+  // paged, and the hit or occlusion pages stay bound across the parts, which all go in one submit.
+  // A batch writes only hits (closest hit) or only occlusion (shadow): the other stays as initialised
+  // and is bound as a placeholder.
   hits.assign(rays.size(), ~std::uint64_t{0});
   occluded.assign(rays.size(), 0);
   tests.assign(pairs.size(), 0);
@@ -731,8 +733,10 @@ vk::Status VulkanPasses::Intersect(const std::vector<std::uint32_t>& pairs, cons
   RS_TRY(MakePaged(c, std::span<const std::uint32_t>(first1), "intersect: leaf offsets", pf, paged_arrays_));
   RS_TRY(MakePaged(c, std::span<const std::uint32_t>(order), "intersect: sorted order", po, paged_arrays_));
   RS_TRY(MakePaged(c, std::span<const gpu::Ray>(rays), "intersect: rays", pr, paged_arrays_));
-  RS_TRY(MakePaged(c, std::span<const std::uint64_t>(hits), "intersect: closest hits", ph, paged_arrays_));
-  RS_TRY(MakePaged(c, std::span<const std::uint32_t>(occluded), "intersect: occlusion flags", pocc, paged_arrays_));
+  RS_TRY(MakePaged(c, shadow ? std::span<const std::uint64_t>() : std::span<const std::uint64_t>(hits), "intersect: closest hits",
+                   ph, paged_arrays_));
+  RS_TRY(MakePaged(c, shadow ? std::span<const std::uint32_t>(occluded) : std::span<const std::uint32_t>(),
+                   "intersect: occlusion flags", pocc, paged_arrays_));
   Keep keep;
   const vk::Buffer* bt = nullptr;
   RS_TRY(keep.From(c, std::span<const gpu::Triangle>(scene.triangles), bt));
@@ -749,8 +753,10 @@ vk::Status VulkanPasses::Intersect(const std::vector<std::uint32_t>& pairs, cons
   }));
   RS_TRY(rec.Submit());
   keep.CopyBack();
-  ph.Read(std::span<std::uint64_t>(hits));
-  pocc.Read(std::span<std::uint32_t>(occluded));
+  if (shadow)
+    pocc.Read(std::span<std::uint32_t>(occluded));
+  else
+    ph.Read(std::span<std::uint64_t>(hits));
   return vk::Status::Ok();
 }
 

@@ -111,10 +111,8 @@ class Context {
                       std::uint32_t fault, Kernel& out, std::uint32_t local_size = 64);
   const std::string& device_name() const { return device_name_; }
   std::string driver() const { return driver_; }
-  VkDeviceSize max_storage_buffer_range() const { return max_storage_range_; }
   // The most bytes one storage binding may hold: maxStorageBufferRange unless lowered for tests.
   VkDeviceSize storage_limit() const { return storage_limit_; }
-  std::uint32_t max_groups_x() const { return max_groups_[0]; }
   // Test hook: behave like a device with smaller limits (0 leaves a limit as it is), so that the
   // splitting, paging and grid-folding paths run on small frames.
   void LimitForTesting(VkDeviceSize storage_bytes, std::uint32_t groups_x);
