@@ -86,7 +86,7 @@ class Recorder final : public emu::ForwardingHierarchyPasses {
                                const std::vector<std::uint32_t>& first, std::uint32_t base_up, std::uint32_t base,
                                std::uint32_t cmax, std::uint32_t b0, const std::vector<glm::vec4>& ts, float eps) override {
     for (std::uint32_t p : pairs) {
-      const std::uint32_t parent = base_up + (p >> emu::kPairTriangleBits), tri = b0 + (p & ((1u << emu::kPairTriangleBits) - 1));
+      const std::uint32_t parent = base_up + (p >> emu::kPairTriangleBits), tri = b0 + (p & emu::kPairTriangleMask);
       for (std::uint32_t c = first[parent]; c < first[parent + 1]; ++c) cones_.Offer({nodes[c], ts[tri]});
     }
     return ForwardingHierarchyPasses::TraverseLevel(pairs, nodes, first, base_up, base, cmax, b0, ts, eps);
@@ -96,7 +96,7 @@ class Recorder final : public emu::ForwardingHierarchyPasses {
                                        const std::vector<gpu::Ray>& rays, const SceneBuffers& scene,
                                        std::vector<std::uint64_t>* hits, std::vector<std::uint32_t>* occ) override {
     for (std::uint32_t p : pairs) {
-      const std::uint32_t node = base1 + (p >> emu::kPairTriangleBits), prim = b0 + (p & ((1u << emu::kPairTriangleBits) - 1));
+      const std::uint32_t node = base1 + (p >> emu::kPairTriangleBits), prim = b0 + (p & emu::kPairTriangleMask);
       for (std::uint32_t j = f1[node]; j < f1[node + 1]; ++j)
         if (rays[order[j]].info.y != prim) tris_.Offer({rays[order[j]], scene.triangles[prim]});
     }
@@ -232,7 +232,7 @@ class ModeTraversal final : public emu::ForwardingHierarchyPasses {
     if (!tri_) return ForwardingHierarchyPasses::Intersect(pairs, f1, base1, b0, order, rays, scene, hits, occ);
     std::vector<std::uint32_t> tests(pairs.size());
     ParallelFor("accuracy.intersect", pairs.size(), [&](std::size_t p) {
-      const std::uint32_t node = base1 + (pairs[p] >> emu::kPairTriangleBits), prim = b0 + (pairs[p] & ((1u << emu::kPairTriangleBits) - 1));
+      const std::uint32_t node = base1 + (pairs[p] >> emu::kPairTriangleBits), prim = b0 + (pairs[p] & emu::kPairTriangleMask);
       const gpu::Triangle& tri = scene.triangles[prim];
       tests[p] = f1[node + 1] - f1[node];
       for (std::uint32_t j = f1[node]; j < f1[node + 1]; ++j) {

@@ -6,7 +6,9 @@
 #include "rayspace/layout.h"
 #ifdef RAYSPACE_HAVE_VULKAN
 #include "rayspace/gpu/backend.h"
+#include "rayspace/gpu/kernel_check.h"
 #endif
+#include "rayspace/pass_registry.h"
 
 namespace rayspace::app {
 
@@ -17,6 +19,29 @@ struct VulkanOwner {
   std::unique_ptr<emu::FramePasses> frame;
   std::unique_ptr<emu::HierarchyPasses> hierarchy;
 };
+
+// Reads and checks every --kernel PASS=FILE.
+gpu_backend::KernelOverrides LoadKernels(const KernelFiles& specs) {
+  gpu_backend::KernelOverrides out;
+  for (const std::string& spec : specs) {
+    const auto eq = spec.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == spec.size()) ThrowInput("--kernel '{}': expected PASS=FILE", spec);
+    const std::string pass = spec.substr(0, eq), file = spec.substr(eq + 1);
+    const std::optional<PassId> id = FindPass(pass);
+    if (!id) {
+      std::string known;
+      for (const PassSpec& p : kPasses)
+        if (!p.graphics) known += (known.empty() ? "" : ", ") + std::string(p.name);
+      ThrowInput("--kernel '{}': no pass named '{}'; passes with compute kernels: {}", spec, pass, known);
+    }
+    if (out.count(pass)) ThrowInput("--kernel '{}': pass '{}' is given twice", spec, pass);
+    std::vector<std::uint32_t> spirv;
+    if (vk::Status s = gpu_backend::LoadKernelFile(file, spirv); !s) ThrowInput("--kernel '{}': {}", spec, s.message);
+    if (vk::Status s = gpu_backend::CheckKernel(Pass(*id), spirv); !s) ThrowInput("--kernel '{}': {}", spec, s.message);
+    out[pass] = std::move(spirv);
+  }
+  return out;
+}
 }  // namespace
 #endif
 
@@ -44,8 +69,9 @@ void CheckFrameFits(const Backend& backend, int width, int height, std::size_t l
 }
 
 Backend MakeBackend(const std::string& name, int device, int local_size, const std::map<std::string, std::uint32_t>& faults,
-                    const TestLimits& limits) {
+                    const TestLimits& limits, const KernelFiles& kernels) {
   Backend b;
+  if (name == "emu" && !kernels.empty()) ThrowInput("--kernel '{}': user kernels run on --backend vulkan", kernels.front());
   if (name == "emu") {
     b.device = "host";
     return b;
@@ -53,7 +79,9 @@ Backend MakeBackend(const std::string& name, int device, int local_size, const s
   if (name != "vulkan") ThrowInput("--backend '{}': expected emu or vulkan", name);
 #ifdef RAYSPACE_HAVE_VULKAN
   auto owner = std::make_shared<VulkanOwner>();
-  if (vk::Status s = gpu_backend::VulkanPasses::Create(device, faults, owner->gpu, static_cast<std::uint32_t>(local_size)); !s) {
+  const gpu_backend::KernelOverrides overrides = LoadKernels(kernels);
+  if (vk::Status s = gpu_backend::VulkanPasses::Create(device, faults, owner->gpu, static_cast<std::uint32_t>(local_size), overrides);
+      !s) {
     if (s.message.rfind("--device", 0) == 0) ThrowInput("{}", s.message);  // a bad argument, not a failure
     throw std::runtime_error("Vulkan: " + s.message);
   }
@@ -76,6 +104,7 @@ Backend MakeBackend(const std::string& name, int device, int local_size, const s
   (void)local_size;
   (void)faults;
   (void)limits;
+  (void)kernels;
   ThrowInput("--backend vulkan: this build of rayspace has no Vulkan backend (the Vulkan loader or glslc was missing)");
 #endif
 }

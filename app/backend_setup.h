@@ -3,6 +3,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "rayspace/emu/backend.h"
 
@@ -33,9 +34,16 @@ struct TestLimits {
   std::uint32_t groups_x = 0;     // --max-groups: workgroups per launch row
 };
 
+// A user's kernels in place of built-in ones: `--kernel PASS=FILE` (.comp or .spv), each checked
+// against the pass's contract (bindings, push constants, workgroup size) by reflection. Every
+// refusal (unknown pass, unreadable file, GLSL that does not compile, a contract mismatch) is an
+// InputError naming the pass and what is wrong.
+using KernelFiles = std::vector<std::string>;  // "PASS=FILE" as given
+
 // name "emu" or "vulkan"; `faults` plants kernel faults (pass -> fault, diff --inject). A bad --device
 // or a build without Vulkan is an InputError; a failing driver a runtime_error naming the call.
 Backend MakeBackend(const std::string& name, int device, int local_size = 64,
-                    const std::map<std::string, std::uint32_t>& faults = {}, const TestLimits& limits = {});
+                    const std::map<std::string, std::uint32_t>& faults = {}, const TestLimits& limits = {},
+                    const KernelFiles& kernels = {});
 
 }  // namespace rayspace::app

@@ -14,6 +14,7 @@
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/error.h"
 #include "rayspace/gpu/passes.h"
+#include "rayspace/pass_registry.h"
 #include "rayspace/refs/embree_tracer.h"
 #include "rayspace/scene.h"
 #include "rayspace/verify/differ.h"
@@ -46,9 +47,10 @@ gpu_backend::Faults ParseInject(const std::string& spec) {
     }
   }
   std::string known;
-  for (const auto& [name, count] : gpu_backend::KernelPasses()) {
-    known += (known.empty() ? "" : ", ") + fmt::format("{} (faults 1..{})", name, count);
-    if (name == pass) {
+  for (const PassSpec& p : kPasses) {
+    const std::size_t count = p.faults.size();
+    known += (known.empty() ? "" : ", ") + fmt::format("{} (faults 1..{})", p.name, count);
+    if (p.name == pass) {
       if (fault < 1 || fault > count) ThrowInput("--inject '{}': {} has faults 1..{}", spec, pass, count);
       f[pass] = fault;
       return f;

@@ -4,21 +4,19 @@
 
 #include <nlohmann/json.hpp>
 
+#include "rayspace/pass_registry.h"
+
 namespace rayspace::app {
 namespace {
 
 bool Starts(const std::string& s, const char* p) { return s.rfind(p, 0) == 0; }
 
-// The thesis's phase for a pass, or "other" (prep, raster, surfaces, shade, resolve).
-const char* PhaseOf(const std::string& pass) {
-  if (Starts(pass, "raygen.") || Starts(pass, "trim.")) return "ray_creation";
-  if (Starts(pass, "hash.") || Starts(pass, "compress.") || Starts(pass, "order.")) return "ray_compression";
-  if (Starts(pass, "sort.")) return "ray_sorting";
-  if (Starts(pass, "decompress.")) return "ray_decompression";
-  if (Starts(pass, "build.")) return "hierarchy_creation";
-  if (Starts(pass, "traverse.") || Starts(pass, "reduce.")) return "hierarchy_traversal";
-  if (Starts(pass, "intersect.")) return "final_intersection_tests";
-  return nullptr;
+// The thesis's phase for a pass label (the registry's, by the pass the label names), or null for
+// "other" (prep, raster, surfaces, shade, resolve).
+const char* PhaseOf(const std::string& label) {
+  const std::optional<PassId> id = PassOfLabel(label);
+  if (!id || Pass(*id).thesis_phase.empty()) return nullptr;
+  return Pass(*id).thesis_phase.data();
 }
 
 }  // namespace

@@ -2,5 +2,6 @@
 # Configures and builds rayspace in ./build (Release). Used by demo.sh and test.sh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
+# The bootstrap installs the Vulkan backend's dependencies: a missing one must fail the build here.
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DRAYSPACE_VULKAN=ON >/dev/null
 cmake --build build -j"$(nproc)"

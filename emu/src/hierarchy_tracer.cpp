@@ -24,9 +24,9 @@ std::uint64_t BatchStats::Total() const {
 
 namespace {
 
-constexpr int kTriBits = 14;
-constexpr std::uint32_t kTriMask = (1u << kTriBits) - 1u;
-constexpr std::uint32_t kMaxLevelNodes = 1u << 18;  // 18-bit node ids in a packed pair
+constexpr std::uint32_t kTriBits = gpu::kPairTriangleBits;
+constexpr std::uint32_t kTriMask = gpu::kPairTriangleMask;
+constexpr std::uint32_t kMaxLevelNodes = 1u << (32 - kTriBits);  // the node ids left in a packed pair
 // Largest top-level test grid (nodes x triangles) held at once; bigger grids take several node groups.
 constexpr std::size_t kMaxTopGrid = std::size_t{1} << 26;
 

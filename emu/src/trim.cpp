@@ -1,4 +1,5 @@
 // Order-preserving compaction: exclusive scan of the head flags, then scatter (thesis §3.2.3).
+#include "rayspace/contract.h"
 #include "rayspace/emu/passes.h"
 #include "rayspace/parallel.h"
 
@@ -6,7 +7,7 @@ namespace rayspace::emu {
 
 std::vector<std::uint32_t> ExclusiveScan(const std::vector<std::uint32_t>& in, std::uint32_t* total) {
   // Three phases over fixed-size blocks, as a GPU scan does: block sums, scan of the sums, block scan.
-  constexpr std::size_t kBlock = 4096;
+  constexpr std::size_t kBlock = gpu::kScanBlock;
   const std::size_t n = in.size(), blocks = (n + kBlock - 1) / kBlock;
   std::vector<std::uint32_t> sums(blocks, 0), out(n);
   ParallelFor("scan.reduce", blocks, [&](std::size_t b) {

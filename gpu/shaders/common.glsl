@@ -8,7 +8,7 @@
 // folds a - a to 0, (a + b) - b to a and a*b + a*c to a*(b + c), which the emulator does not.
 spirv_execution_mode(extensions = ["SPV_KHR_float_controls"], capabilities = [4466], 4461, 32);
 
-#include "rayspace/layout.h"
+#include "rayspace/contract.h"
 
 layout(constant_id = 0) const uint kFault = 0;  // planted fault (0 = none), selected by `diff --inject`
 layout(constant_id = 1) const uint kLocalSize = 64;

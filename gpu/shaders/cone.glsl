@@ -1,8 +1,6 @@
 // Cone-sphere node arithmetic, the GLSL twin of emu/include/rayspace/emu/cone.h (same operations in
 // the same order; see docs/hierarchy.md).
-const float kRadiusSlack = 1.000003814697265625;  // 1 + 2^-18
-const float kAngleSlack = 9.5367431640625e-07;    // 2^-20
-const float kTestSlack = 1.9073486328125e-06;     // 2^-19
+// kRadiusSlack, kAngleSlack and kTestSlack: rayspace/contract.h.
 
 float NextUp(float x) {
   if (isnan(x) || isinf(x) && x > 0.0) return x;

@@ -5,14 +5,10 @@
 #define GLOBAL_INDEX_FAULT 2u
 #include "common.glsl"
 
-layout(std430, binding = 0) readonly buffer Rays { Ray rays[]; };
-layout(std430, binding = 1) readonly buffer Frame { FrameConstants fc; };
-layout(std430, binding = 2) writeonly buffer Keys { uint keys[]; };
-layout(push_constant) uniform Push {
-  uint n;
-  int light_bits, polar_bits, azimuth_bits, origin_bits, direction_bits;
-  uint quad_width, quad_depth;
-} pc;
+layout(std430, binding = kHashBindRays) readonly buffer Rays { Ray rays[]; };
+layout(std430, binding = kHashBindFrame) readonly buffer Frame { FrameConstants fc; };
+layout(std430, binding = kHashBindKeys) writeonly buffer Keys { uint keys[]; };
+layout(push_constant) uniform Block { HashPush pc; };
 
 uint Cell(float f, int bits) {
   const float cells = float(1u << uint(bits));

@@ -10,22 +10,21 @@
 
 // pairs and tests hold this dispatch's part of the pair stream; the rest is read or written anywhere
 // (by leaf node, sorted position and ray), so it is paged.
-layout(std430, binding = 0) readonly buffer Pairs { uint pairs[]; };
-layout(std430, binding = 1) readonly buffer Triangles { Triangle triangles[]; };
-layout(std430, binding = 2) writeonly buffer Tests { uint tests[]; };
-PAGED_BUFFER(readonly, First, uint, 3)
+layout(std430, binding = kIntersectBindPairs) readonly buffer Pairs { uint pairs[]; };
+layout(std430, binding = kIntersectBindTriangles) readonly buffer Triangles { Triangle triangles[]; };
+layout(std430, binding = kIntersectBindTests) writeonly buffer Tests { uint tests[]; };
+PAGED_BUFFER(readonly, First, uint, kIntersectBindFirst)
 PAGED_LOAD(First, uint)
-PAGED_BUFFER(readonly, Order, uint, 7)
+PAGED_BUFFER(readonly, Order, uint, kIntersectBindOrder)
 PAGED_LOAD(Order, uint)
-PAGED_BUFFER(readonly, Rays, Ray, 11)
+PAGED_BUFFER(readonly, Rays, Ray, kIntersectBindRays)
 PAGED_LOAD(Rays, Ray)
-PAGED_BUFFER(, Hits, uint64_t, 15)
+PAGED_BUFFER(, Hits, uint64_t, kIntersectBindHits)
 PAGED_ATOMIC(atomicMin, Hits, uint64_t)
-PAGED_BUFFER(, Occluded, uint, 19)
+PAGED_BUFFER(, Occluded, uint, kIntersectBindOccluded)
 PAGED_ATOMIC(atomicExchange, Occluded, uint)
-layout(push_constant) uniform Push { uint count, base1, b0, shadow, first_page, order_page, ray_page, hit_page, occluded_page; } pc;
+layout(push_constant) uniform Block { IntersectPush pc; };
 
-const uint kTriBits = 14u, kTriMask = (1u << 14) - 1u;
 
 bool Watertight(vec3 org, vec3 dir, vec3 v0, vec3 v1, vec3 v2, float tmin, float tmax, out float t_out) {
   const vec3 a = abs(dir);
@@ -67,7 +66,7 @@ bool Watertight(vec3 org, vec3 dir, vec3 v0, vec3 v1, vec3 v2, float tmin, float
 void main() {
   const uint p = GlobalIndex();
   if (p >= pc.count) return;
-  const uint node = pc.base1 + (pairs[p] >> kTriBits), prim = pc.b0 + (pairs[p] & kTriMask);
+  const uint node = pc.base1 + (pairs[p] >> kPairTriangleBits), prim = pc.b0 + (pairs[p] & kPairTriangleMask);
   const Triangle tri = triangles[prim];
   const uint f0 = LoadFirst(node, pc.first_page), f1 = LoadFirst(node + 1u, pc.first_page);
   tests[p] = f1 - f0;

@@ -3,12 +3,12 @@
 // PassRaygenRefraction.
 #include "common.glsl"
 
-layout(std430, binding = 0) readonly buffer Surfaces { Surface surfaces[]; };
-layout(std430, binding = 1) readonly buffer Materials { Material materials[]; };
-layout(std430, binding = 2) readonly buffer Frame { FrameConstants fc; };
-layout(std430, binding = 3) writeonly buffer Rays { Ray rays[]; };
-layout(std430, binding = 4) writeonly buffer Flags { uint flags[]; };
-layout(push_constant) uniform Push { uint surface_count, base; } pc;  // surfaces base .. base + count - 1
+layout(std430, binding = kRaygenBindSurfaces) readonly buffer Surfaces { Surface surfaces[]; };
+layout(std430, binding = kRaygenBindLightsOrMaterials) readonly buffer Materials { Material materials[]; };
+layout(std430, binding = kRaygenBindFrame) readonly buffer Frame { FrameConstants fc; };
+layout(std430, binding = kRaygenBindRays) writeonly buffer Rays { Ray rays[]; };
+layout(std430, binding = kRaygenBindFlags) writeonly buffer Flags { uint flags[]; };
+layout(push_constant) uniform Block { RaygenPush pc; };  // surfaces base .. base + count - 1
 
 void main() {
   const uint s = GlobalIndex();

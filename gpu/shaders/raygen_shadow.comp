@@ -2,12 +2,12 @@
 // Shadow rays (thesis eqs. 3.1-3.2), one invocation per surface slot; mirrors emu PassRaygenShadow.
 #include "common.glsl"
 
-layout(std430, binding = 0) readonly buffer Surfaces { Surface surfaces[]; };
-layout(std430, binding = 1) readonly buffer Lights { Light lights[]; };
-layout(std430, binding = 2) readonly buffer Frame { FrameConstants fc; };
-layout(std430, binding = 3) writeonly buffer Rays { Ray rays[]; };
-layout(std430, binding = 4) writeonly buffer Flags { uint flags[]; };
-layout(push_constant) uniform Push { uint surface_count; uint light_count; } pc;
+layout(std430, binding = kRaygenBindSurfaces) readonly buffer Surfaces { Surface surfaces[]; };
+layout(std430, binding = kRaygenBindLightsOrMaterials) readonly buffer Lights { Light lights[]; };
+layout(std430, binding = kRaygenBindFrame) readonly buffer Frame { FrameConstants fc; };
+layout(std430, binding = kRaygenBindRays) writeonly buffer Rays { Ray rays[]; };
+layout(std430, binding = kRaygenBindFlags) writeonly buffer Flags { uint flags[]; };
+layout(push_constant) uniform Block { RaygenShadowPush pc; };
 
 const float kFloatMax = 3.40282347e38;
 

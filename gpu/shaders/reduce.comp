@@ -1,34 +1,32 @@
 #version 460
 // Stream reduction of (flag, value) slots to the flagged values in slot order; mirrors emu
 // ReduceHierarchical (Roger et al.: components of s slots reduced on their own, then concatenated)
-// and ReduceScan (phases 10-12: block sums of the flags, scan of the sums, block scan and scatter,
-// as emu ExclusiveScan). Scans are blocked so no loop passes 65,535 iterations.
+// and ReduceScan (phases FlagSums, ScanSums, Scatter: block sums of the flags, scan of the sums,
+// block scan and scatter, as emu ExclusiveScan). Scans are blocked so no loop passes 65,535 iterations.
 #include "common.glsl"
 
-layout(std430, binding = 0) readonly buffer Flags { uint flags[]; };
-layout(std430, binding = 1) readonly buffer Values { uint values[]; };
-layout(std430, binding = 2) buffer Local { uint local_values[]; };
-layout(std430, binding = 3) buffer Counts { uint counts[]; };   // per component, then exclusive offsets
-layout(std430, binding = 4) buffer Sums { uint sums[]; };       // per block of 4096 counts, plus total
-layout(std430, binding = 5) writeonly buffer Out { uint out_values[]; };
-layout(push_constant) uniform Push { uint n, phase, s, comps, blocks; } pc;
-
-const uint kBlock = 4096u;
+layout(std430, binding = kReduceBindFlags) readonly buffer Flags { uint flags[]; };
+layout(std430, binding = kReduceBindValues) readonly buffer Values { uint values[]; };
+layout(std430, binding = kReduceBindLocal) buffer Local { uint local_values[]; };
+layout(std430, binding = kReduceBindCounts) buffer Counts { uint counts[]; };   // per component, then exclusive offsets
+layout(std430, binding = kReduceBindSums) buffer Sums { uint sums[]; };       // per block of kScanBlock counts, plus total
+layout(std430, binding = kReduceBindOut) writeonly buffer Out { uint out_values[]; };
+layout(push_constant) uniform Block { ReducePush pc; };
 
 void main() {
   const uint t = GlobalIndex();
-  if (pc.phase == 10u) {  // scan-based: block sums of the flags
+  if (pc.phase == kReducePhaseFlagSums) {  // scan-based: block sums of the flags
     if (t >= pc.blocks) return;
     uint sum = 0u;
-    for (uint i = t * kBlock; i < min(pc.n, (t + 1u) * kBlock); ++i) sum += flags[i];
+    for (uint i = t * kScanBlock; i < min(pc.n, (t + 1u) * kScanBlock); ++i) sum += flags[i];
     sums[t] = sum;
     return;
   }
-  if (pc.phase == 11u) {  // scan-based: block scan and scatter (after phase 2 scanned the sums)
+  if (pc.phase == kReducePhaseScatter) {  // scan-based: block scan and scatter (after ScanSums scanned the sums)
     if (t >= pc.blocks) return;
     // Fault 2: each block starts at the previous block's offset (an off-by-one in the scan).
     uint run = (kFault == 2u && t > 0u) ? sums[t - 1u] : sums[t];
-    for (uint i = t * kBlock; i < min(pc.n, (t + 1u) * kBlock); ++i) {
+    for (uint i = t * kScanBlock; i < min(pc.n, (t + 1u) * kScanBlock); ++i) {
       if (flags[i] != 0u) {
         out_values[run] = values[i];
         ++run;
@@ -36,7 +34,7 @@ void main() {
     }
     return;
   }
-  if (pc.phase == 0u) {  // reduce each component locally
+  if (pc.phase == kReducePhaseLocal) {  // reduce each component locally
     if (t >= pc.comps) return;
     uint k = 0u;
     for (uint i = t * pc.s; i < min(pc.n, (t + 1u) * pc.s); ++i) {
@@ -46,12 +44,12 @@ void main() {
       }
     }
     counts[t] = k;
-  } else if (pc.phase == 1u) {  // block sums of the counts
+  } else if (pc.phase == kReducePhaseBlockSums) {  // block sums of the counts
     if (t >= pc.blocks) return;
     uint sum = 0u;
-    for (uint i = t * kBlock; i < min(pc.comps, (t + 1u) * kBlock); ++i) sum += counts[i];
+    for (uint i = t * kScanBlock; i < min(pc.comps, (t + 1u) * kScanBlock); ++i) sum += counts[i];
     sums[t] = sum;
-  } else if (pc.phase == 2u) {  // scan of the block sums
+  } else if (pc.phase == kReducePhaseScanSums) {  // scan of the block sums
     if (t != 0u) return;
     uint run = 0u;
     for (uint b = 0u; b < pc.blocks; ++b) {
@@ -60,10 +58,10 @@ void main() {
       run += x;
     }
     sums[pc.blocks] = run;
-  } else if (pc.phase == 3u) {  // counts -> exclusive offsets within each block
+  } else if (pc.phase == kReducePhaseOffsets) {  // counts -> exclusive offsets within each block
     if (t >= pc.blocks) return;
     uint run = sums[t];
-    for (uint i = t * kBlock; i < min(pc.comps, (t + 1u) * kBlock); ++i) {
+    for (uint i = t * kScanBlock; i < min(pc.comps, (t + 1u) * kScanBlock); ++i) {
       const uint x = counts[i];
       counts[i] = run;
       run += x;

@@ -3,9 +3,9 @@
 // One invocation per channel; the byte is written as a uint.
 #include "common.glsl"
 
-layout(std430, binding = 0) readonly buffer Accum { uint64_t accum[]; };
-layout(std430, binding = 1) writeonly buffer Rgb { uint rgb[]; };
-layout(push_constant) uniform Push { uint n; } pc;
+layout(std430, binding = kResolveBindAccum) readonly buffer Accum { uint64_t accum[]; };
+layout(std430, binding = kResolveBindRgb) writeonly buffer Rgb { uint rgb[]; };
+layout(push_constant) uniform Block { ResolvePush pc; };
 
 void main() {
   const uint i = GlobalIndex();

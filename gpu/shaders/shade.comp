@@ -4,17 +4,17 @@
 #include "paged.glsl"
 #extension GL_EXT_shader_atomic_int64 : require
 
-layout(std430, binding = 0) readonly buffer Surfaces { Surface surfaces[]; };
-layout(std430, binding = 1) readonly buffer ShadowFlags { uint shadow_flags[]; };
-layout(std430, binding = 2) readonly buffer ShadowOffsets { uint shadow_offsets[]; };
-layout(std430, binding = 3) readonly buffer Materials { Material materials[]; };
-layout(std430, binding = 4) readonly buffer Lights { Light lights[]; };
-// Indexed by dense shadow ray and by pixel, in any order: paged (bindings 5-8 and 9-12).
-PAGED_BUFFER(readonly, Occluded, uint, 5)
+layout(std430, binding = kShadeBindSurfaces) readonly buffer Surfaces { Surface surfaces[]; };
+layout(std430, binding = kShadeBindShadowFlags) readonly buffer ShadowFlags { uint shadow_flags[]; };
+layout(std430, binding = kShadeBindShadowOffsets) readonly buffer ShadowOffsets { uint shadow_offsets[]; };
+layout(std430, binding = kShadeBindMaterials) readonly buffer Materials { Material materials[]; };
+layout(std430, binding = kShadeBindLights) readonly buffer Lights { Light lights[]; };
+// Indexed by dense shadow ray and by pixel, in any order: paged (kShadeBindOccluded and kShadeBindAccum, four bindings each).
+PAGED_BUFFER(readonly, Occluded, uint, kShadeBindOccluded)
 PAGED_LOAD(Occluded, uint)
-PAGED_BUFFER(, Accum, uint64_t, 9)
+PAGED_BUFFER(, Accum, uint64_t, kShadeBindAccum)
 PAGED_ATOMIC(atomicAdd, Accum, uint64_t)
-layout(push_constant) uniform Push { uint surface_count, light_count, occluded_page, accum_page; } pc;
+layout(push_constant) uniform Block { ShadePush pc; };
 
 uint64_t ToFixed(float c) {
   const float v = min(max(c, 0.0), kAccumMax);

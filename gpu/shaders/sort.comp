@@ -5,18 +5,16 @@
 // iterations (observed: a single-invocation compress saturated at 65,535 chunks).
 #include "common.glsl"
 
-layout(std430, binding = 0) readonly buffer Keys { uint keys[]; };
-layout(std430, binding = 1) buffer ChunkKey { uint chunk_key[]; };
-layout(std430, binding = 2) buffer ChunkBase { uint chunk_base[]; };
-layout(std430, binding = 3) buffer ChunkSize { uint chunk_size[]; };
-layout(std430, binding = 4) buffer Sorted { uint sorted[]; };   // chunk indices, 2 x chunks (ping-pong)
-layout(std430, binding = 5) buffer Order { uint order[]; };     // ray order (n)
-layout(std430, binding = 6) buffer Count { uint count[]; };     // [0] number of chunks
-layout(std430, binding = 7) buffer Scratch { uint scratch[]; };
-layout(std430, binding = 8) buffer Sums { uint sums[]; };       // per block, plus a total
-layout(push_constant) uniform Push { uint n; uint phase; uint shift; uint src; uint dst; uint blocks; } pc;
-
-const uint kBlock = 4096u;
+layout(std430, binding = kSortBindKeys) readonly buffer Keys { uint keys[]; };
+layout(std430, binding = kSortBindChunkKey) buffer ChunkKey { uint chunk_key[]; };
+layout(std430, binding = kSortBindChunkBase) buffer ChunkBase { uint chunk_base[]; };
+layout(std430, binding = kSortBindChunkSize) buffer ChunkSize { uint chunk_size[]; };
+layout(std430, binding = kSortBindSorted) buffer Sorted { uint sorted[]; };   // chunk indices, 2 x chunks (ping-pong)
+layout(std430, binding = kSortBindOrder) buffer Order { uint order[]; };     // ray order (n)
+layout(std430, binding = kSortBindCount) buffer Count { uint count[]; };     // [0] number of chunks
+layout(std430, binding = kSortBindScratch) buffer Scratch { uint scratch[]; };
+layout(std430, binding = kSortBindSums) buffer Sums { uint sums[]; };       // per block, plus a total
+layout(push_constant) uniform Block { SortPush pc; };
 
 void ScanSums(uint blocks) {  // exclusive scan of sums[0..blocks), total in sums[blocks]
   uint run = 0u;
@@ -33,26 +31,26 @@ void main() {
   const uint n = pc.n, blocks = pc.blocks;
   switch (pc.phase) {
     // ---- compress over n keys: head flags, block sums, scan, chunk key/base, chunk sizes ----
-    case 0u:
+    case kCompressPhaseHeads:
       if (t < n) scratch[t] = (t == 0u || keys[t] != keys[t - 1u]) ? 1u : 0u;
       break;
-    case 1u:
+    case kCompressPhaseBlockSums:
       if (t < blocks) {
         uint s = 0u;
-        for (uint i = t * kBlock; i < min(n, (t + 1u) * kBlock); ++i) s += scratch[i];
+        for (uint i = t * kScanBlock; i < min(n, (t + 1u) * kScanBlock); ++i) s += scratch[i];
         sums[t] = s;
       }
       break;
-    case 2u:
+    case kCompressPhaseScanSums:
       if (t == 0u) {
         ScanSums(blocks);
         count[0] = sums[blocks];
       }
       break;
-    case 3u:
+    case kCompressPhaseChunks:
       if (t < blocks) {
         uint k = sums[t];
-        for (uint i = t * kBlock; i < min(n, (t + 1u) * kBlock); ++i) {
+        for (uint i = t * kScanBlock; i < min(n, (t + 1u) * kScanBlock); ++i) {
           if (scratch[i] != 0u) {
             chunk_key[k] = keys[i];
             chunk_base[k] = i;
@@ -61,7 +59,7 @@ void main() {
         }
       }
       break;
-    case 4u: {
+    case kCompressPhaseSizes: {
       const uint chunks = count[0];
       // Fault 1 (compress): the last chunk loses its last ray.
       const uint end = kFault == 1u ? n - 1u : n;
@@ -69,18 +67,18 @@ void main() {
       break;
     }
     // ---- one LSD radix pass over n chunks (8 bits at `shift`), sorted[src..] -> sorted[dst..] ----
-    case 10u:
+    case kSortPhaseInit:
       if (t < n) sorted[t] = t;
       break;
-    case 11u:  // per-block histograms, bin-major: scratch[bin * blocks + block]
+    case kSortPhaseHistograms:  // per-block histograms, bin-major: scratch[bin * blocks + block]
       if (t < blocks) {
         uint hist[256];
         for (uint b = 0u; b < 256u; ++b) hist[b] = 0u;
-        for (uint i = t * kBlock; i < min(n, (t + 1u) * kBlock); ++i) ++hist[(chunk_key[sorted[pc.src + i]] >> pc.shift) & 255u];
+        for (uint i = t * kScanBlock; i < min(n, (t + 1u) * kScanBlock); ++i) ++hist[(chunk_key[sorted[pc.src + i]] >> pc.shift) & 255u];
         for (uint b = 0u; b < 256u; ++b) scratch[b * blocks + t] = hist[b];
       }
       break;
-    case 12u:  // per bin: exclusive scan over blocks, bin total to scratch[256 * blocks + bin]
+    case kSortPhaseBinScan:  // per bin: exclusive scan over blocks, bin total to scratch[256 * blocks + bin]
       if (t < 256u) {
         uint run = 0u;
         for (uint b = 0u; b < blocks; ++b) {
@@ -91,7 +89,7 @@ void main() {
         scratch[256u * blocks + t] = run;
       }
       break;
-    case 13u:  // exclusive scan of the bin totals
+    case kSortPhaseTotalScan:  // exclusive scan of the bin totals
       if (t == 0u) {
         uint run = 0u;
         for (uint b = 0u; b < 256u; ++b) {
@@ -101,11 +99,11 @@ void main() {
         }
       }
       break;
-    case 14u:  // stable scatter, one block per invocation in element order
+    case kSortPhaseScatter:  // stable scatter, one block per invocation in element order
       if (t < blocks) {
         uint local[256];
         for (uint b = 0u; b < 256u; ++b) local[b] = 0u;
-        for (uint i = t * kBlock; i < min(n, (t + 1u) * kBlock); ++i) {
+        for (uint i = t * kScanBlock; i < min(n, (t + 1u) * kScanBlock); ++i) {
           const uint c = sorted[pc.src + i];
           const uint bin = (chunk_key[c] >> pc.shift) & 255u;
           sorted[pc.dst + scratch[256u * blocks + bin] + scratch[bin * blocks + t] + local[bin]] = c;
@@ -115,29 +113,29 @@ void main() {
       }
       break;
     // ---- decompress: sizes in sorted order, scan, then every ray finds its chunk ----
-    case 20u:  // n = chunks here
+    case kDecompressPhaseSizes:  // n = chunks here
       if (t < n) scratch[t] = chunk_size[sorted[t]];
       break;
-    case 21u:
+    case kDecompressPhaseBlockSums:
       if (t < blocks) {
         uint s = 0u;
-        for (uint i = t * kBlock; i < min(n, (t + 1u) * kBlock); ++i) s += scratch[i];
+        for (uint i = t * kScanBlock; i < min(n, (t + 1u) * kScanBlock); ++i) s += scratch[i];
         sums[t] = s;
       }
       break;
-    case 22u:
+    case kDecompressPhaseScanSums:
       if (t == 0u) ScanSums(blocks);
       break;
-    case 23u:  // chunk starts into scratch[n + j]
+    case kDecompressPhaseStarts:  // chunk starts into scratch[n + j]
       if (t < blocks) {
         uint s = sums[t];
-        for (uint i = t * kBlock; i < min(n, (t + 1u) * kBlock); ++i) {
+        for (uint i = t * kScanBlock; i < min(n, (t + 1u) * kScanBlock); ++i) {
           scratch[n + i] = s;
           s += scratch[i];
         }
       }
       break;
-    case 24u: {  // one invocation per ray; pc.shift carries the ray count here
+    case kDecompressPhaseRays: {  // one invocation per ray; pc.shift carries the ray count here
       const uint rays = pc.shift;
       if (t >= rays || n == 0u) break;
       uint lo = 0u, hi = n - 1u;  // last chunk whose start <= t

@@ -3,13 +3,13 @@
 // emu PassSurfacesFromGBuffer.
 #include "common.glsl"
 
-layout(std430, binding = 0) readonly buffer Position { vec4 position[]; };
-layout(std430, binding = 1) readonly buffer Normal { vec4 normal[]; };
-layout(std430, binding = 2) readonly buffer Prim { uint prim[]; };
-layout(std430, binding = 3) readonly buffer Info { TriangleInfo info[]; };
-layout(std430, binding = 4) readonly buffer Frame { FrameConstants fc; };
-layout(std430, binding = 5) writeonly buffer Surfaces { Surface surfaces[]; };
-layout(push_constant) uniform Push { uint pixels, base; } pc;  // this dispatch: pixels base .. base + pixels - 1
+layout(std430, binding = kSurfacesBindPosition) readonly buffer Position { vec4 position[]; };
+layout(std430, binding = kSurfacesBindNormal) readonly buffer Normal { vec4 normal[]; };
+layout(std430, binding = kSurfacesBindPrim) readonly buffer Prim { uint prim[]; };
+layout(std430, binding = kSurfacesBindInfo) readonly buffer Info { TriangleInfo info[]; };
+layout(std430, binding = kSurfacesBindFrame) readonly buffer Frame { FrameConstants fc; };
+layout(std430, binding = kSurfacesBindSurfaces) writeonly buffer Surfaces { Surface surfaces[]; };
+layout(push_constant) uniform Block { SurfacesPush pc; };  // this dispatch: pixels base .. base + pixels - 1
 
 void main() {
   const uint i = GlobalIndex();  // element of this dispatch's buffers

@@ -4,13 +4,13 @@
 #include "common.glsl"
 #include "shading_normal.glsl"
 
-layout(std430, binding = 0) readonly buffer Rays { Ray rays[]; };
-layout(std430, binding = 1) readonly buffer Hits { uvec2 hits[]; };  // (primitive, t bits): little-endian uint64
-layout(std430, binding = 2) readonly buffer Triangles { Triangle triangles[]; };
-layout(std430, binding = 3) readonly buffer Normals { TriangleNormals normals[]; };
-layout(std430, binding = 4) readonly buffer Info { TriangleInfo info[]; };
-layout(std430, binding = 5) writeonly buffer Surfaces { Surface surfaces[]; };
-layout(push_constant) uniform Push { uint n; } pc;
+layout(std430, binding = kSurfacesHitsBindRays) readonly buffer Rays { Ray rays[]; };
+layout(std430, binding = kSurfacesHitsBindHits) readonly buffer Hits { uvec2 hits[]; };  // (primitive, t bits): little-endian uint64
+layout(std430, binding = kSurfacesHitsBindTriangles) readonly buffer Triangles { Triangle triangles[]; };
+layout(std430, binding = kSurfacesHitsBindNormals) readonly buffer Normals { TriangleNormals normals[]; };
+layout(std430, binding = kSurfacesHitsBindInfo) readonly buffer Info { TriangleInfo info[]; };
+layout(std430, binding = kSurfacesHitsBindSurfaces) writeonly buffer Surfaces { Surface surfaces[]; };
+layout(push_constant) uniform Block { SurfacesHitsPush pc; };
 
 void main() {
   const uint i = GlobalIndex();

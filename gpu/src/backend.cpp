@@ -56,9 +56,9 @@ class VulkanFrame final : public emu::FramePasses {
     }
     return r;
   }
-  emu::Trimmed Trim(std::uint32_t kind, const emu::SparseRays& sparse) override {
+  emu::Trimmed Trim(std::uint32_t /*kind: one kernel trims every kind*/, const emu::SparseRays& sparse) override {
     emu::Trimmed t;
-    Check("trim", gpu_.Trim(sparse, t, kind != gpu::kRayShadow));
+    Check("trim", gpu_.Trim(sparse, t));
     return t;
   }
   void Shade(const gpu::FrameConstants&, const std::vector<gpu::Surface>& surfaces,

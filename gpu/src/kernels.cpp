@@ -5,24 +5,13 @@
 
 #include <fmt/format.h>
 
-#include "build.spv.h"
-#include "hash.spv.h"
+#include "kernel_table.h"
 #include "raster_frag.spv.h"
 #include "raster_vert.spv.h"
-#include "rayspace/gpu/raster.h"
-#include "intersect.spv.h"
-#include "reduce.spv.h"
-#include "traverse.spv.h"
-#include "raygen_reflection.spv.h"
-#include "raygen_refraction.spv.h"
-#include "sort.spv.h"
-#include "raygen_shadow.spv.h"
-#include "shade.spv.h"
-#include "surfaces.spv.h"
-#include "surfaces_hits.spv.h"
 #include "rayspace/gpu/passes.h"
-#include "resolve.spv.h"
-#include "trim.spv.h"
+#include "rayspace/error.h"
+#include "rayspace/gpu/raster.h"
+#include "rayspace/pass_registry.h"
 
 namespace rayspace::gpu_backend {
 namespace {
@@ -43,8 +32,6 @@ vk::Status MakeFrom(vk::Context& c, std::span<const T> v, vk::Buffer& b) {
   return vk::Status::Ok();
 }
 
-constexpr std::uint32_t kTrimBlock = 4096;
-
 // Records one dispatch, submits it and waits.
 vk::Status RunKernel(vk::Context& c, const vk::Kernel& k, std::span<const vk::Buffer* const> buffers, const void* push,
                      std::size_t push_size, std::uint32_t invocations) {
@@ -58,9 +45,6 @@ vk::Status RunKernel(vk::Context& c, const vk::Kernel& k, std::span<const vk::Bu
 struct Paged {
   std::array<vk::Buffer, gpu::kBufferPages> pages;
   std::uint32_t page = 1;  // elements per page
-  void Bind(std::vector<const vk::Buffer*>& bufs) const {
-    for (const vk::Buffer& b : pages) bufs.push_back(&b);
-  }
   template <typename T>
   void Read(std::span<T> out) const {
     for (std::size_t p = 0, at = 0; p < pages.size() && at < out.size(); ++p, at += page)
@@ -68,6 +52,29 @@ struct Paged {
   }
 };
 static_assert(gpu::kBufferPages == 4, "paged.glsl declares four bindings per paged array");
+
+// The buffers of one dispatch, each placed at its binding number from rayspace/contract.h.
+template <std::uint32_t N>
+class Bindings {
+ public:
+  Bindings& Set(std::uint32_t binding, const vk::Buffer* b) {
+    RS_CHECK(binding < N && b);
+    bufs_[binding] = b;
+    return *this;
+  }
+  Bindings& Set(std::uint32_t first, const Paged& p) {
+    for (std::uint32_t k = 0; k < gpu::kBufferPages; ++k) Set(first + k, &p.pages[k]);
+    return *this;
+  }
+  // Every binding must have been set.
+  std::span<const vk::Buffer* const> All() const {
+    for (const vk::Buffer* b : bufs_) RS_CHECK(b != nullptr);
+    return bufs_;
+  }
+
+ private:
+  std::array<const vk::Buffer*, N> bufs_{};
+};
 
 // `multi` counts the arrays that needed more than one page (for reports and tests).
 template <typename T>
@@ -134,6 +141,9 @@ vk::Status ForParts(std::size_t n, std::size_t per, std::size_t& extra, F&& part
   return vk::Status::Ok();
 }
 
+// Blocks of a blocked scan over n elements (one invocation each).
+std::uint32_t Blocks(std::size_t n) { return static_cast<std::uint32_t>((n + gpu::kScanBlock - 1) / gpu::kScanBlock); }
+
 template <typename T>
 std::span<const T> Slice(const std::vector<T>& v, std::size_t i0, std::size_t i1) {
   return std::span<const T>(v).subspan(i0, i1 - i0);
@@ -141,44 +151,37 @@ std::span<const T> Slice(const std::vector<T>& v, std::size_t i0, std::size_t i1
 
 }  // namespace
 
-const std::vector<std::pair<std::string, std::uint32_t>>& KernelPasses() {
-  static const std::vector<std::pair<std::string, std::uint32_t>> kPasses = {
-      {"raster", 1}, {"surfaces", 1}, {"raygen.shadow", 2}, {"trim", 2}, {"hash", 2}, {"compress", 1}, {"sort", 1},
-      {"decompress", 1}, {"build", 1}, {"traverse", 2}, {"reduce", 2}, {"intersect", 2}, {"shade", 1},
-      {"raygen.reflection", 1}, {"raygen.refraction", 1}, {"surfaces.hits", 1}, {"resolve", 1}};
-  return kPasses;
+std::span<const std::uint32_t> BuiltinKernel(std::string_view kernel) {
+  for (const BuiltinSpirv& k : kBuiltinKernels)
+    if (k.name == kernel) return k.spirv;
+  return {};
 }
 
+std::vector<std::string_view> BuiltinKernelNames() {
+  std::vector<std::string_view> names;
+  for (const BuiltinSpirv& k : kBuiltinKernels) names.push_back(k.name);
+  return names;
+}
+
+// One pipeline per registered compute pass, named by the pass (a planted fault stays in its pass even
+// where passes share a kernel file, as compress, sort and decompress do).
 vk::Status VulkanPasses::Create(int device, const Faults& faults, std::unique_ptr<VulkanPasses>& out,
-                                std::uint32_t local_size) {
+                                std::uint32_t local_size, const KernelOverrides& overrides) {
   auto p = std::make_unique<VulkanPasses>();
   RS_TRY(vk::Context::Create(device, p->ctx_));
-  auto fault = [&](const char* pass) {
-    auto it = faults.find(pass);
+  auto fault = [&](std::string_view pass) {
+    auto it = faults.find(std::string(pass));
     return it == faults.end() ? 0u : it->second;
   };
-  RS_TRY(p->ctx_->CreateKernel("raygen.shadow", kSpirv_raygen_shadow, 5, fault("raygen.shadow"), p->raygen_shadow_, local_size));
-  p->raster_fault_ = fault("raster");
-  RS_TRY(p->ctx_->CreateKernel("surfaces", kSpirv_surfaces, 6, fault("surfaces"), p->surfaces_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("surfaces.hits", kSpirv_surfaces_hits, 6, fault("surfaces.hits"), p->surfaces_hits_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("raygen.reflection", kSpirv_raygen_reflection, 5, fault("raygen.reflection"),
-                               p->raygen_reflection_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("raygen.refraction", kSpirv_raygen_refraction, 5, fault("raygen.refraction"),
-                               p->raygen_refraction_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("shade", kSpirv_shade, 5 + 2 * gpu::kBufferPages, fault("shade"), p->shade_, local_size));
-  // One trim kernel serves both ray types; a planted trim fault applies to the type it names.
-  RS_TRY(p->ctx_->CreateKernel("trim.shadow", kSpirv_trim, 5, fault("trim"), p->trim_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("trim.reflection", kSpirv_trim, 5, fault("trim"), p->trim_reflection_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("hash.shadow", kSpirv_hash, 3, fault("hash"), p->hash_, local_size));
-  // One kernel, three passes (phases); each pass gets its own pipeline so a fault stays in its pass.
-  RS_TRY(p->ctx_->CreateKernel("compress.shadow", kSpirv_sort, 9, fault("compress"), p->compress_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("sort.shadow", kSpirv_sort, 9, fault("sort"), p->sort_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("decompress.shadow", kSpirv_sort, 9, fault("decompress"), p->decompress_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("build.shadow", kSpirv_build, 2 + 3 * gpu::kBufferPages, fault("build"), p->build_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("traverse.shadow", kSpirv_traverse, 7 + 2 * gpu::kBufferPages, fault("traverse"), p->traverse_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("reduce.shadow", kSpirv_reduce, 6, fault("reduce"), p->reduce_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("intersect.shadow", kSpirv_intersect, 3 + 5 * gpu::kBufferPages, fault("intersect"), p->intersect_, local_size));
-  RS_TRY(p->ctx_->CreateKernel("resolve", kSpirv_resolve, 2, fault("resolve"), p->resolve_, local_size));
+  for (const PassSpec& spec : kPasses) {
+    if (spec.graphics) continue;
+    std::span<const std::uint32_t> spirv = BuiltinKernel(spec.kernel);
+    if (auto it = overrides.find(std::string(spec.name)); it != overrides.end()) spirv = it->second;
+    if (spirv.empty()) return vk::Status::Fail(fmt::format("pass '{}': no kernel '{}.comp' was built", spec.name, spec.kernel));
+    RS_TRY(p->ctx_->CreateKernel(std::string(spec.name), spirv, spec.bindings, fault(spec.name),
+                                 p->kernels_[static_cast<std::size_t>(spec.id)], local_size));
+  }
+  p->raster_fault_ = fault(Pass(PassId::kRaster).name);
   out = std::move(p);
   return vk::Status::Ok();
 }
@@ -209,9 +212,11 @@ vk::Status VulkanPasses::RaygenShadow(const gpu::FrameConstants& fc, const std::
                     RS_TRY(keep.From(c, Slice(surfaces, i0, i1), bs));
                     RS_TRY(keep.Output(c, (i1 - i0) * lights * sizeof(gpu::Ray), br, out.rays.data() + i0 * lights));
                     RS_TRY(keep.Output(c, (i1 - i0) * lights * 4, bflags, out.flags.data() + i0 * lights));
-                    const std::uint32_t push[2] = {static_cast<std::uint32_t>(i1 - i0), static_cast<std::uint32_t>(lights)};
-                    const vk::Buffer* bufs[5] = {bs, bl, bf, br, bflags};
-                    return rec.Dispatch(raygen_shadow_, bufs, push, sizeof push, push[0]);
+                    const gpu::RaygenShadowPush push{static_cast<std::uint32_t>(i1 - i0), static_cast<std::uint32_t>(lights)};
+                    Bindings<gpu::kRaygenBindings> b;
+                    b.Set(gpu::kRaygenBindSurfaces, bs).Set(gpu::kRaygenBindLightsOrMaterials, bl).Set(gpu::kRaygenBindFrame, bf);
+                    b.Set(gpu::kRaygenBindRays, br).Set(gpu::kRaygenBindFlags, bflags);
+                    return rec.Dispatch(K(PassId::kRaygenShadow), b.All(), &push, sizeof push, push.surface_count);
                   }));
   RS_TRY(rec.Submit());
   keep.CopyBack();
@@ -234,9 +239,11 @@ vk::Status VulkanPasses::Surfaces(const gpu::FrameConstants& fc, const emu::GBuf
                     RS_TRY(keep.From(c, Slice(g.normal, i0, i1), bn));
                     RS_TRY(keep.From(c, Slice(g.prim, i0, i1), bprim));
                     RS_TRY(keep.Output(c, (i1 - i0) * sizeof(gpu::Surface), bs, out.data() + i0));
-                    const std::uint32_t push[2] = {static_cast<std::uint32_t>(i1 - i0), static_cast<std::uint32_t>(i0)};
-                    const vk::Buffer* bufs[6] = {bp, bn, bprim, binfo, bf, bs};
-                    return rec.Dispatch(surfaces_, bufs, push, sizeof push, push[0]);
+                    const gpu::SurfacesPush push{static_cast<std::uint32_t>(i1 - i0), static_cast<std::uint32_t>(i0)};
+                    Bindings<gpu::kSurfacesBindings> b;
+                    b.Set(gpu::kSurfacesBindPosition, bp).Set(gpu::kSurfacesBindNormal, bn).Set(gpu::kSurfacesBindPrim, bprim);
+                    b.Set(gpu::kSurfacesBindInfo, binfo).Set(gpu::kSurfacesBindFrame, bf).Set(gpu::kSurfacesBindSurfaces, bs);
+                    return rec.Dispatch(K(PassId::kSurfaces), b.All(), &push, sizeof push, push.pixels);
                   }));
   RS_TRY(rec.Submit());
   keep.CopyBack();
@@ -245,12 +252,12 @@ vk::Status VulkanPasses::Surfaces(const gpu::FrameConstants& fc, const emu::GBuf
 
 vk::Status VulkanPasses::RaygenReflection(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
                                           const SceneBuffers& scene, emu::SparseRays& out) {
-  return Raygen(raygen_reflection_, fc, surfaces, scene, out);
+  return Raygen(K(PassId::kRaygenReflection), fc, surfaces, scene, out);
 }
 
 vk::Status VulkanPasses::RaygenRefraction(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
                                           const SceneBuffers& scene, emu::SparseRays& out) {
-  return Raygen(raygen_refraction_, fc, surfaces, scene, out);
+  return Raygen(K(PassId::kRaygenRefraction), fc, surfaces, scene, out);
 }
 
 // One ray slot per surface (reflection and refraction share their buffers and launch).
@@ -271,9 +278,11 @@ vk::Status VulkanPasses::Raygen(const vk::Kernel& kernel, const gpu::FrameConsta
                     RS_TRY(keep.From(c, Slice(surfaces, i0, i1), bs));
                     RS_TRY(keep.Output(c, (i1 - i0) * sizeof(gpu::Ray), br, out.rays.data() + i0));
                     RS_TRY(keep.Output(c, (i1 - i0) * 4, bflags, out.flags.data() + i0));
-                    const std::uint32_t push[2] = {static_cast<std::uint32_t>(i1 - i0), static_cast<std::uint32_t>(i0)};
-                    const vk::Buffer* bufs[5] = {bs, bm, bf, br, bflags};
-                    return rec.Dispatch(kernel, bufs, push, sizeof push, push[0]);
+                    const gpu::RaygenPush push{static_cast<std::uint32_t>(i1 - i0), static_cast<std::uint32_t>(i0)};
+                    Bindings<gpu::kRaygenBindings> b;
+                    b.Set(gpu::kRaygenBindSurfaces, bs).Set(gpu::kRaygenBindLightsOrMaterials, bm).Set(gpu::kRaygenBindFrame, bf);
+                    b.Set(gpu::kRaygenBindRays, br).Set(gpu::kRaygenBindFlags, bflags);
+                    return rec.Dispatch(kernel, b.All(), &push, sizeof push, push.surface_count);
                   }));
   RS_TRY(rec.Submit());
   keep.CopyBack();
@@ -300,12 +309,13 @@ vk::Status VulkanPasses::Shade(const std::vector<gpu::Surface>& surfaces, const 
                     RS_TRY(keep.From(c, Slice(surfaces, i0, i1), bs));
                     RS_TRY(keep.From(c, Slice(shadow_flags, i0 * lights, i1 * lights), bfl));
                     RS_TRY(keep.From(c, Slice(shadow_offsets, i0 * lights, i1 * lights), boff));
-                    const std::uint32_t push[4] = {static_cast<std::uint32_t>(i1 - i0), static_cast<std::uint32_t>(lights),
-                                                   occ.page, acc.page};
-                    std::vector<const vk::Buffer*> bufs = {bs, bfl, boff, bm, bl};
-                    occ.Bind(bufs);
-                    acc.Bind(bufs);
-                    return rec.Dispatch(shade_, bufs, push, sizeof push, push[0]);
+                    const gpu::ShadePush push{static_cast<std::uint32_t>(i1 - i0), static_cast<std::uint32_t>(lights), occ.page,
+                                              acc.page};
+                    Bindings<gpu::kShadeBindings> b;
+                    b.Set(gpu::kShadeBindSurfaces, bs).Set(gpu::kShadeBindShadowFlags, bfl).Set(gpu::kShadeBindShadowOffsets, boff);
+                    b.Set(gpu::kShadeBindMaterials, bm).Set(gpu::kShadeBindLights, bl);
+                    b.Set(gpu::kShadeBindOccluded, occ).Set(gpu::kShadeBindAccum, acc);
+                    return rec.Dispatch(K(PassId::kShade), b.All(), &push, sizeof push, push.surface_count);
                   }));
   RS_TRY(rec.Submit());
   acc.Read(std::span<std::uint64_t>(accum));
@@ -315,24 +325,27 @@ vk::Status VulkanPasses::Shade(const std::vector<gpu::Surface>& surfaces, const 
 // A stream larger than one binding is trimmed in consecutive parts, one submit each: the part's
 // offsets start at the flagged count of the parts before it (read back from the GPU), and the dense
 // rays of the parts are concatenated, which is what order-preserving compaction of the whole gives.
-vk::Status VulkanPasses::Trim(const emu::SparseRays& in, emu::Trimmed& out, bool reflection) {
+vk::Status VulkanPasses::Trim(const emu::SparseRays& in, emu::Trimmed& out) {
   vk::Context& c = *ctx_;
   out.offsets.assign(in.flags.size(), 0);
   out.rays.clear();
   std::uint32_t carry = 0;
   return ForParts(in.flags.size(), PerPart(sizeof(gpu::Ray)), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
-    const std::uint32_t n = static_cast<std::uint32_t>(i1 - i0), blocks = (n + kTrimBlock - 1) / kTrimBlock;
+    const std::uint32_t n = static_cast<std::uint32_t>(i1 - i0), blocks = Blocks(n);
     vk::Buffer bflags, bsums, boff, bsparse, bdense;
     RS_TRY(MakeFrom(c, Slice(in.flags, i0, i1), bflags));
     RS_TRY(c.CreateBuffer((blocks + 1) * sizeof(std::uint32_t), bsums));
     RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * sizeof(std::uint32_t), boff));
     RS_TRY(MakeFrom(c, Slice(in.rays, i0, i1), bsparse));
     RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * sizeof(gpu::Ray), bdense));  // upper bound; the scan gives the count
-    const vk::Buffer* bufs[5] = {&bflags, &bsums, &boff, &bsparse, &bdense};
+    Bindings<gpu::kTrimBindings> b;
+    b.Set(gpu::kTrimBindFlags, &bflags).Set(gpu::kTrimBindSums, &bsums).Set(gpu::kTrimBindOffsets, &boff);
+    b.Set(gpu::kTrimBindSparse, &bsparse).Set(gpu::kTrimBindDense, &bdense);
     vk::Recorder rec(c);
-    for (std::uint32_t phase = 0; phase < 3; ++phase) {  // one submit for the three dispatches
-      const std::uint32_t push[3] = {n, phase, carry};
-      RS_TRY(rec.Dispatch(reflection ? trim_reflection_ : trim_, bufs, push, sizeof push, phase == 1 ? 1 : blocks));
+    // One submit for the three dispatches; the scan of the block sums runs on one invocation.
+    for (std::uint32_t phase : {gpu::kTrimPhaseBlockSums, gpu::kTrimPhaseScanSums, gpu::kTrimPhaseScatter}) {
+      const gpu::TrimPush push{n, phase, carry};
+      RS_TRY(rec.Dispatch(K(PassId::kTrim), b.All(), &push, sizeof push, phase == gpu::kTrimPhaseScanSums ? 1 : blocks));
     }
     RS_TRY(rec.Submit());
     const std::uint32_t total = bsums.Download<std::uint32_t>(blocks + 1)[blocks];
@@ -358,10 +371,11 @@ vk::Status VulkanPasses::Hash(const std::vector<gpu::Ray>& rays, const gpu::Fram
     const vk::Buffer *br = nullptr, *bk = nullptr;
     RS_TRY(keep.From(c, Slice(rays, i0, i1), br));
     RS_TRY(keep.Output(c, (i1 - i0) * 4, bk, keys.data() + i0));
-    const std::int32_t push[8] = {static_cast<std::int32_t>(i1 - i0), h.light_bits, h.polar_bits, h.azimuth_bits, h.origin_bits,
-                                  h.direction_bits, static_cast<std::int32_t>(quad_width), static_cast<std::int32_t>(quad_depth)};
-    const vk::Buffer* bufs[3] = {br, bf, bk};
-    return rec.Dispatch(hash_, bufs, push, sizeof push, static_cast<std::uint32_t>(i1 - i0));
+    const gpu::HashPush push{static_cast<std::uint32_t>(i1 - i0), h.light_bits, h.polar_bits, h.azimuth_bits, h.origin_bits,
+                             h.direction_bits, quad_width, quad_depth};
+    Bindings<gpu::kHashBindings> b;
+    b.Set(gpu::kHashBindRays, br).Set(gpu::kHashBindFrame, bf).Set(gpu::kHashBindKeys, bk);
+    return rec.Dispatch(K(PassId::kHash), b.All(), &push, sizeof push, push.n);
   }));
   RS_TRY(rec.Submit());
   keep.CopyBack();
@@ -374,8 +388,6 @@ namespace {
 struct SortBuffers {
   vk::Buffer keys, key, base, size, sorted, order, count, scratch, sums;
 };
-
-std::uint32_t Blocks(std::size_t n) { return static_cast<std::uint32_t>((n + kTrimBlock - 1) / kTrimBlock); }
 
 vk::Status MakeSortBuffers(vk::Context& c, std::size_t n, std::size_t chunks, SortBuffers& b) {
   const std::size_t w = std::max<std::size_t>(n, 1) * 4, cw = std::max<std::size_t>(chunks, 1) * 4;
@@ -392,13 +404,12 @@ vk::Status MakeSortBuffers(vk::Context& c, std::size_t n, std::size_t chunks, So
   return vk::Status::Ok();
 }
 
-struct SortPush {
-  std::uint32_t n, phase, shift, src, dst, blocks;
-};
-
-vk::Status Phase(vk::Recorder& rec, const vk::Kernel& k, SortBuffers& b, SortPush push, std::uint32_t invocations) {
-  const vk::Buffer* bufs[9] = {&b.keys, &b.key, &b.base, &b.size, &b.sorted, &b.order, &b.count, &b.scratch, &b.sums};
-  return rec.Dispatch(k, bufs, &push, sizeof push, invocations);
+vk::Status Phase(vk::Recorder& rec, const vk::Kernel& k, SortBuffers& sb, gpu::SortPush push, std::uint32_t invocations) {
+  Bindings<gpu::kSortBindings> b;
+  b.Set(gpu::kSortBindKeys, &sb.keys).Set(gpu::kSortBindChunkKey, &sb.key).Set(gpu::kSortBindChunkBase, &sb.base);
+  b.Set(gpu::kSortBindChunkSize, &sb.size).Set(gpu::kSortBindSorted, &sb.sorted).Set(gpu::kSortBindOrder, &sb.order);
+  b.Set(gpu::kSortBindCount, &sb.count).Set(gpu::kSortBindScratch, &sb.scratch).Set(gpu::kSortBindSums, &sb.sums);
+  return rec.Dispatch(k, b.All(), &push, sizeof push, invocations);
 }
 
 }  // namespace
@@ -409,11 +420,12 @@ vk::Status VulkanPasses::Compress(const std::vector<std::uint32_t>& keys, emu::C
   RS_TRY(MakeSortBuffers(*ctx_, n, n, b));
   if (n) b.keys.Upload(keys);
   vk::Recorder rec(*ctx_);
-  RS_TRY(Phase(rec, compress_, b, {n, 0, 0, 0, 0, blocks}, n));
-  RS_TRY(Phase(rec, compress_, b, {n, 1, 0, 0, 0, blocks}, blocks));
-  RS_TRY(Phase(rec, compress_, b, {n, 2, 0, 0, 0, blocks}, 1));
-  RS_TRY(Phase(rec, compress_, b, {n, 3, 0, 0, 0, blocks}, blocks));
-  RS_TRY(Phase(rec, compress_, b, {n, 4, 0, 0, 0, blocks}, n));
+  const vk::Kernel& k = K(PassId::kCompress);
+  RS_TRY(Phase(rec, k, b, {n, gpu::kCompressPhaseHeads, 0, 0, 0, blocks}, n));
+  RS_TRY(Phase(rec, k, b, {n, gpu::kCompressPhaseBlockSums, 0, 0, 0, blocks}, blocks));
+  RS_TRY(Phase(rec, k, b, {n, gpu::kCompressPhaseScanSums, 0, 0, 0, blocks}, 1));
+  RS_TRY(Phase(rec, k, b, {n, gpu::kCompressPhaseChunks, 0, 0, 0, blocks}, blocks));
+  RS_TRY(Phase(rec, k, b, {n, gpu::kCompressPhaseSizes, 0, 0, 0, blocks}, n));
   RS_TRY(rec.Submit());
   const std::uint32_t chunks = b.count.Download<std::uint32_t>(1)[0];
   if (chunks > n) return vk::Status::Fail(fmt::format("compress kernel reported {} chunks for {} keys", chunks, n));
@@ -430,13 +442,14 @@ vk::Status VulkanPasses::SortChunks(const std::vector<std::uint32_t>& chunk_keys
   RS_TRY(MakeSortBuffers(*ctx_, 1, chunks, b));
   if (chunks) b.key.Upload(chunk_keys);
   vk::Recorder rec(*ctx_);
-  RS_TRY(Phase(rec, sort_, b, {chunks, 10, 0, 0, 0, blocks}, chunks));
+  const vk::Kernel& k = K(PassId::kSort);
+  RS_TRY(Phase(rec, k, b, {chunks, gpu::kSortPhaseInit, 0, 0, 0, blocks}, chunks));
   std::uint32_t src = 0, dst = chunks;
   for (std::uint32_t shift = 0; shift < 32; shift += 8) {
-    RS_TRY(Phase(rec, sort_, b, {chunks, 11, shift, src, dst, blocks}, blocks));
-    RS_TRY(Phase(rec, sort_, b, {chunks, 12, shift, src, dst, blocks}, 256));
-    RS_TRY(Phase(rec, sort_, b, {chunks, 13, shift, src, dst, blocks}, 1));
-    RS_TRY(Phase(rec, sort_, b, {chunks, 14, shift, src, dst, blocks}, blocks));
+    RS_TRY(Phase(rec, k, b, {chunks, gpu::kSortPhaseHistograms, shift, src, dst, blocks}, blocks));
+    RS_TRY(Phase(rec, k, b, {chunks, gpu::kSortPhaseBinScan, shift, src, dst, blocks}, 256));
+    RS_TRY(Phase(rec, k, b, {chunks, gpu::kSortPhaseTotalScan, shift, src, dst, blocks}, 1));
+    RS_TRY(Phase(rec, k, b, {chunks, gpu::kSortPhaseScatter, shift, src, dst, blocks}, blocks));
     std::swap(src, dst);
   }
   RS_TRY(rec.Submit());
@@ -459,11 +472,12 @@ vk::Status VulkanPasses::Decompress(const emu::Chunks& chunks, const std::vector
   }
   const std::uint32_t rays = static_cast<std::uint32_t>(n);
   vk::Recorder rec(*ctx_);
-  RS_TRY(Phase(rec, decompress_, b, {count, 20, rays, 0, 0, blocks}, count));
-  RS_TRY(Phase(rec, decompress_, b, {count, 21, rays, 0, 0, blocks}, blocks));
-  RS_TRY(Phase(rec, decompress_, b, {count, 22, rays, 0, 0, blocks}, 1));
-  RS_TRY(Phase(rec, decompress_, b, {count, 23, rays, 0, 0, blocks}, blocks));
-  RS_TRY(Phase(rec, decompress_, b, {count, 24, rays, 0, 0, blocks}, rays));
+  const vk::Kernel& k = K(PassId::kDecompress);
+  RS_TRY(Phase(rec, k, b, {count, gpu::kDecompressPhaseSizes, rays, 0, 0, blocks}, count));
+  RS_TRY(Phase(rec, k, b, {count, gpu::kDecompressPhaseBlockSums, rays, 0, 0, blocks}, blocks));
+  RS_TRY(Phase(rec, k, b, {count, gpu::kDecompressPhaseScanSums, rays, 0, 0, blocks}, 1));
+  RS_TRY(Phase(rec, k, b, {count, gpu::kDecompressPhaseStarts, rays, 0, 0, blocks}, blocks));
+  RS_TRY(Phase(rec, k, b, {count, gpu::kDecompressPhaseRays, rays, 0, 0, blocks}, rays));
   RS_TRY(rec.Submit());
   order = b.order.Download<std::uint32_t>(n);
   return vk::Status::Ok();
@@ -489,12 +503,11 @@ vk::Status VulkanPasses::Build(std::uint32_t phase, std::span<const gpu::Ray> ra
     const vk::Buffer *bf = nullptr, *bn = nullptr;
     RS_TRY(keep.From(c, Slice(first, i0, i1 + 1), bf));
     RS_TRY(keep.Output(c, (i1 - i0) * sizeof(gpu::ConeNode), bn, nodes.data() + i0));
-    const std::uint32_t push[5] = {static_cast<std::uint32_t>(i1 - i0), phase, pr.page, po.page, pb.page};
-    std::vector<const vk::Buffer*> bufs = {bf, bn};
-    pr.Bind(bufs);
-    po.Bind(bufs);
-    pb.Bind(bufs);
-    return rec.Dispatch(build_, bufs, push, sizeof push, push[0]);
+    const gpu::BuildPush push{static_cast<std::uint32_t>(i1 - i0), phase, pr.page, po.page, pb.page};
+    Bindings<gpu::kBuildBindings> b;
+    b.Set(gpu::kBuildBindFirst, bf).Set(gpu::kBuildBindNodes, bn);
+    b.Set(gpu::kBuildBindRays, pr).Set(gpu::kBuildBindOrder, po).Set(gpu::kBuildBindBelow, pb);
+    return rec.Dispatch(K(PassId::kBuild), b.All(), &push, sizeof push, push.count);
   }));
   RS_TRY(rec.Submit());
   keep.CopyBack();
@@ -503,22 +516,15 @@ vk::Status VulkanPasses::Build(std::uint32_t phase, std::span<const gpu::Ray> ra
 
 vk::Status VulkanPasses::BuildLeaves(const std::vector<gpu::Ray>& rays, const std::vector<std::uint32_t>& order,
                                      const std::vector<std::uint32_t>& first, std::vector<gpu::ConeNode>& nodes) {
-  return Build(0, rays, order, {}, first, nodes);
+  return Build(gpu::kBuildPhaseLeaves, rays, order, {}, first, nodes);
 }
 
 vk::Status VulkanPasses::BuildParents(const std::vector<gpu::ConeNode>& below, const std::vector<std::uint32_t>& first,
                                       std::vector<gpu::ConeNode>& nodes) {
-  return Build(1, {}, {}, below, first, nodes);
+  return Build(gpu::kBuildPhaseParents, {}, {}, below, first, nodes);
 }
 
 namespace {
-
-struct TraversePush {
-  std::uint32_t phase, count, t0, b0, tris, objects, use_mask, base_up, base, children_max;
-  float eps;
-  std::uint32_t id_base;  // top level: packed node ids are relative to this node
-  std::uint32_t node_page = 0, first_page = 0;  // set by Traverser
-};
 
 // The traverse.comp inputs one pass call reads whole, uploaded once and bound by every part of the
 // call: the level's nodes and child offsets (paged, read by node id), spheres and triangle info
@@ -537,7 +543,7 @@ class Traverser {
   // One part, in a submit of its own (its output buffers are freed before the next part): `mask`
   // and `pairs` are this part's; flags and values (`slots` words) and tested (`tested` words) go to
   // the given pointers (null: not read back).
-  vk::Status Part(TraversePush push, std::span<const std::uint32_t> mask, std::span<const std::uint32_t> pairs, std::size_t slots,
+  vk::Status Part(gpu::TraversePush push, std::span<const std::uint32_t> mask, std::span<const std::uint32_t> pairs, std::size_t slots,
                   std::size_t tested, std::uint32_t* flags_out, std::uint32_t* values_out, std::uint32_t* tested_out) const {
     Keep keep;
     const vk::Buffer *bm = nullptr, *bp = nullptr, *bfl = nullptr, *bv = nullptr, *bt = nullptr;
@@ -548,9 +554,11 @@ class Traverser {
     RS_TRY(keep.Output(c_, tested * 4, bt, tested_out));
     push.node_page = nodes_.page;
     push.first_page = first_.page;
-    std::vector<const vk::Buffer*> bufs = {&spheres_, &info_, bm, bp, bfl, bv, bt};
-    for (const Paged* p : {&nodes_, &first_}) p->Bind(bufs);
-    RS_TRY(RunKernel(c_, k_, bufs, &push, sizeof push, push.count));
+    Bindings<gpu::kTraverseBindings> b;
+    b.Set(gpu::kTraverseBindTriSpheres, &spheres_).Set(gpu::kTraverseBindInfo, &info_).Set(gpu::kTraverseBindMask, bm);
+    b.Set(gpu::kTraverseBindPairs, bp).Set(gpu::kTraverseBindFlags, bfl).Set(gpu::kTraverseBindValues, bv);
+    b.Set(gpu::kTraverseBindTested, bt).Set(gpu::kTraverseBindNodes, nodes_).Set(gpu::kTraverseBindFirst, first_);
+    RS_TRY(RunKernel(c_, k_, b.All(), &push, sizeof push, push.count));
     keep.CopyBack();
     return vk::Status::Ok();
   }
@@ -575,7 +583,7 @@ vk::Status VulkanPasses::TraverseTop(const std::vector<gpu::ConeNode>& top, std:
   flags.assign(count, 0);
   values.assign(count, 0);
   tested.assign(count, 0);
-  Traverser tr(*ctx_, traverse_);
+  Traverser tr(*ctx_, K(PassId::kTraverse));
   RS_TRY(tr.Upload(top, {}, tri_spheres, scene.info, paged_arrays_));
   // Parts are rows of top nodes, so that the flags/values/tested bindings and the object mask's rows
   // for those nodes stay within one binding.
@@ -583,8 +591,8 @@ vk::Status VulkanPasses::TraverseTop(const std::vector<gpu::ConeNode>& top, std:
   return ForParts(t1 - t0, PerPart(4 * row_words), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
     const std::uint32_t r0 = t0 + static_cast<std::uint32_t>(i0), r1 = t0 + static_cast<std::uint32_t>(i1);
     const std::size_t at = i0 * T, n = (i1 - i0) * T;
-    const TraversePush push{0, static_cast<std::uint32_t>(n), r0, b0, static_cast<std::uint32_t>(T), static_cast<std::uint32_t>(objects),
-                            object_mask.empty() ? 0u : 1u, 0, 0, 0, eps, t0};
+    const gpu::TraversePush push{gpu::kTraversePhaseTop, static_cast<std::uint32_t>(n), r0, b0, static_cast<std::uint32_t>(T),
+                                 static_cast<std::uint32_t>(objects), object_mask.empty() ? 0u : 1u, 0, 0, 0, eps, t0, 0, 0};
     const std::span<const std::uint32_t> mask_rows =
         object_mask.empty() ? std::span<const std::uint32_t>() : std::span(object_mask).subspan(r0 * objects, (r1 - r0) * objects);
     return tr.Part(push, mask_rows, {}, n, n, flags.data() + at, values.data() + at, tested.data() + at);
@@ -601,11 +609,11 @@ vk::Status VulkanPasses::TraverseLevel(const std::vector<std::uint32_t>& pairs, 
   flags.assign(count * children_max, 0);
   values.assign(count * children_max, 0);
   tested.assign(count, 0);
-  Traverser tr(*ctx_, traverse_);
+  Traverser tr(*ctx_, K(PassId::kTraverse));
   RS_TRY(tr.Upload(nodes, first, tri_spheres, {}, paged_arrays_));
   return ForParts(count, PerPart(4 * std::size_t{children_max}), extra_dispatches_, [&](std::size_t p0, std::size_t p1) -> vk::Status {
     const std::uint32_t n = static_cast<std::uint32_t>(p1 - p0);
-    const TraversePush push{1, n, 0, b0, 0, 0, 0, base_up, base, children_max, eps, 0};
+    const gpu::TraversePush push{gpu::kTraversePhaseLevel, n, 0, b0, 0, 0, 0, base_up, base, children_max, eps, 0, 0, 0};
     return tr.Part(push, {}, Slice(pairs, p0, p1), std::size_t{n} * children_max, n, flags.data() + p0 * children_max,
                    values.data() + p0 * children_max, tested.data() + p0);
   });
@@ -619,11 +627,11 @@ vk::Status VulkanPasses::ObjectMask(const std::vector<gpu::ConeNode>& top, const
   const std::size_t count = top.size() * objects;
   if (count > 0xFFFFFFFFu) return vk::Status::Fail(fmt::format("object mask: {} top nodes x {} objects exceed 2^32", top.size(), objects));
   mask.assign(count, 0);
-  Traverser tr(*ctx_, traverse_);
+  Traverser tr(*ctx_, K(PassId::kTraverse));
   RS_TRY(tr.Upload(top, {}, object_spheres, {}, paged_arrays_));
   return ForParts(count, PerPart(4), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
     const std::uint32_t n = static_cast<std::uint32_t>(i1 - i0);
-    const TraversePush push{2, n, static_cast<std::uint32_t>(i0), 0, 0, objects, 0, 0, 0, 0, eps, 0};
+    const gpu::TraversePush push{gpu::kTraversePhaseObjects, n, static_cast<std::uint32_t>(i0), 0, 0, objects, 0, 0, 0, 0, eps, 0, 0, 0};
     return tr.Part(push, {}, {}, n, 0, mask.data() + i0, nullptr, nullptr);
   });
 }
@@ -643,15 +651,21 @@ vk::Status RunReduce(vk::Context& c, const vk::Kernel& k, std::span<const std::u
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(comps, 1) * 4, bc));              // per-component counts
   RS_TRY(c.CreateBuffer((blocks + 1) * 4, bs));
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * 4, bo));
-  const vk::Buffer* bufs[6] = {&bf, &bv, &bl, &bc, &bs, &bo};
-  static const std::uint32_t kHierPhases[5] = {0, 1, 2, 3, 4}, kScanPhases[3] = {10, 2, 11};
+  Bindings<gpu::kReduceBindings> b;
+  b.Set(gpu::kReduceBindFlags, &bf).Set(gpu::kReduceBindValues, &bv).Set(gpu::kReduceBindLocal, &bl);
+  b.Set(gpu::kReduceBindCounts, &bc).Set(gpu::kReduceBindSums, &bs).Set(gpu::kReduceBindOut, &bo);
+  static constexpr std::uint32_t kHierPhases[5] = {gpu::kReducePhaseLocal, gpu::kReducePhaseBlockSums, gpu::kReducePhaseScanSums,
+                                                   gpu::kReducePhaseOffsets, gpu::kReducePhaseConcat};
+  static constexpr std::uint32_t kScanPhases[3] = {gpu::kReducePhaseFlagSums, gpu::kReducePhaseScanSums, gpu::kReducePhaseScatter};
   const std::span<const std::uint32_t> phases = scan ? std::span<const std::uint32_t>(kScanPhases) : std::span<const std::uint32_t>(kHierPhases);
   vk::Recorder rec(c);
   for (std::uint32_t phase : phases) {
-    // Invocations: one per component (0, 4), per block (1, 3, 10, 11), or one (2).
-    const std::uint32_t invocations = phase == 2 ? 1 : (phase == 0 || phase == 4) ? comps : blocks;
-    const std::uint32_t push[5] = {n, phase, scan ? 1u : s, comps, blocks};
-    RS_TRY(rec.Dispatch(k, bufs, push, sizeof push, invocations));
+    // Invocations: one per component (Local, Concat), one (ScanSums), else one per block.
+    const std::uint32_t invocations = phase == gpu::kReducePhaseScanSums                                ? 1
+                                      : (phase == gpu::kReducePhaseLocal || phase == gpu::kReducePhaseConcat) ? comps
+                                                                                                            : blocks;
+    const gpu::ReducePush push{n, phase, scan ? 1u : s, comps, blocks};
+    RS_TRY(rec.Dispatch(k, b.All(), &push, sizeof push, invocations));
   }
   RS_TRY(rec.Submit());
   const std::uint32_t total = bs.Download<std::uint32_t>(blocks + 1)[blocks];
@@ -675,7 +689,7 @@ vk::Status VulkanPasses::ReduceInParts(const std::vector<std::uint32_t>& flags, 
     const std::size_t len = std::min(n - p0, per);
     std::vector<std::uint32_t> part;
     if (p0 != 0) ++extra_dispatches_;
-    RS_TRY(RunReduce(*ctx_, reduce_, std::span(flags).subspan(p0, len), std::span(values).subspan(p0, len), s, scan, part));
+    RS_TRY(RunReduce(*ctx_, K(PassId::kReduce), std::span(flags).subspan(p0, len), std::span(values).subspan(p0, len), s, scan, part));
     out.insert(out.end(), part.begin(), part.end());
     p0 += len;
   } while (p0 < n);
@@ -708,8 +722,11 @@ vk::Status VulkanPasses::SurfacesFromHits(const std::vector<gpu::Ray>& rays, con
     RS_TRY(keep.From(c, Slice(hits, i0, i1), bh));
     RS_TRY(keep.Output(c, (i1 - i0) * sizeof(gpu::Surface), bs, out.data() + i0));
     const std::uint32_t n = static_cast<std::uint32_t>(i1 - i0);
-    const vk::Buffer* bufs[6] = {br, bh, bt, bn, bi, bs};
-    return rec.Dispatch(surfaces_hits_, bufs, &n, sizeof n, n);
+    const gpu::SurfacesHitsPush push{n};
+    Bindings<gpu::kSurfacesHitsBindings> b;
+    b.Set(gpu::kSurfacesHitsBindRays, br).Set(gpu::kSurfacesHitsBindHits, bh).Set(gpu::kSurfacesHitsBindTriangles, bt);
+    b.Set(gpu::kSurfacesHitsBindNormals, bn).Set(gpu::kSurfacesHitsBindInfo, bi).Set(gpu::kSurfacesHitsBindSurfaces, bs);
+    return rec.Dispatch(K(PassId::kSurfacesHits), b.All(), &push, sizeof push, n);
   }));
   RS_TRY(rec.Submit());
   keep.CopyBack();
@@ -745,11 +762,13 @@ vk::Status VulkanPasses::Intersect(const std::vector<std::uint32_t>& pairs, cons
     const vk::Buffer *bp = nullptr, *btests = nullptr;
     RS_TRY(keep.From(c, Slice(pairs, i0, i1), bp));
     RS_TRY(keep.Output(c, (i1 - i0) * 4, btests, tests.data() + i0));
-    const std::uint32_t push[9] = {static_cast<std::uint32_t>(i1 - i0), base1, b0, shadow ? 1u : 0u, pf.page, po.page,
-                                   pr.page, ph.page, pocc.page};
-    std::vector<const vk::Buffer*> bufs = {bp, bt, btests};
-    for (const Paged* p : {&pf, &po, &pr, &ph, &pocc}) p->Bind(bufs);
-    return rec.Dispatch(intersect_, bufs, push, sizeof push, push[0]);
+    const gpu::IntersectPush push{static_cast<std::uint32_t>(i1 - i0), base1, b0, shadow ? 1u : 0u, pf.page, po.page,
+                                  pr.page, ph.page, pocc.page};
+    Bindings<gpu::kIntersectBindings> b;
+    b.Set(gpu::kIntersectBindPairs, bp).Set(gpu::kIntersectBindTriangles, bt).Set(gpu::kIntersectBindTests, btests);
+    b.Set(gpu::kIntersectBindFirst, pf).Set(gpu::kIntersectBindOrder, po).Set(gpu::kIntersectBindRays, pr);
+    b.Set(gpu::kIntersectBindHits, ph).Set(gpu::kIntersectBindOccluded, pocc);
+    return rec.Dispatch(K(PassId::kIntersect), b.All(), &push, sizeof push, push.count);
   }));
   RS_TRY(rec.Submit());
   keep.CopyBack();
@@ -786,9 +805,10 @@ vk::Status VulkanPasses::Resolve(const gpu::FrameConstants& fc, const std::vecto
     const vk::Buffer *ba = nullptr, *brgb = nullptr;
     RS_TRY(keep.From(c, Slice(accum, i0, i1), ba));
     RS_TRY(keep.Output(c, (i1 - i0) * 4, brgb, wide.data() + i0));
-    const std::uint32_t part = static_cast<std::uint32_t>(i1 - i0);
-    const vk::Buffer* bufs[2] = {ba, brgb};
-    return rec.Dispatch(resolve_, bufs, &part, sizeof part, part);
+    const gpu::ResolvePush push{static_cast<std::uint32_t>(i1 - i0)};
+    Bindings<gpu::kResolveBindings> b;
+    b.Set(gpu::kResolveBindAccum, ba).Set(gpu::kResolveBindRgb, brgb);
+    return rec.Dispatch(K(PassId::kResolve), b.All(), &push, sizeof push, push.n);
   }));
   RS_TRY(rec.Submit());
   keep.CopyBack();

@@ -5,6 +5,8 @@
 #include <fmt/format.h>
 
 #include "rayspace/emu/frame.h"
+#include "rayspace/error.h"
+#include "rayspace/pass_registry.h"
 
 namespace rayspace::verify {
 namespace {
@@ -58,8 +60,29 @@ BufferSet Slots(const emu::PairSlots& s) {
 
 std::vector<PassMethod> Build() {
   std::vector<PassMethod> m;
-  auto fixed = [](const char* name) { return [name](const BufferSet&) { return std::string(name); }; };
-  m.push_back({"raster", fixed("raster"), {"prim"}, [](const BufferSet& in, Backends& b) {
+  // The registry names each call's pass and its index outputs; the table adds how to run it.
+  auto add = [&m](const char* call, std::function<BufferSet(const BufferSet&, Backends&)> run) {
+    PassMethod pm;
+    pm.method = call;
+    std::optional<PassId> owner;
+    for (const PassSpec& p : kPasses)
+      for (const CallSpec& c : p.calls)
+        if (c.name == call) {
+          if (!owner) {
+            owner = p.id;
+            for (std::string_view b : c.index_outputs) pm.index_outputs.insert(std::string(b));
+          }
+        }
+    RS_CHECK_MSG(owner.has_value(), "pass table: call '{}' is not in the pass registry", call);
+    const std::string name(Pass(*owner).name);
+    if (pm.method == "raygen")  // one call serves raygen.shadow, .reflection and .refraction
+      pm.pass = [](const BufferSet& in) { return std::string("raygen.") + emu::RayKindName(Kind(in)); };
+    else
+      pm.pass = [name](const BufferSet&) { return name; };
+    pm.run = std::move(run);
+    m.push_back(std::move(pm));
+  };
+  add("raster", [](const BufferSet& in, Backends& b) {
                  const emu::GBuffer g = b.frame.Raster(in.GetOne<gpu::FrameConstants>("frame"), in.GetScene());
                  BufferSet out;
                  out.Put("diffuse", g.diffuse);
@@ -69,8 +92,8 @@ std::vector<PassMethod> Build() {
                  out.Put("prim", g.prim);
                  out.Put("depth", g.depth);
                  return out;
-               }});
-  m.push_back({"surfaces", fixed("surfaces"), {}, [](const BufferSet& in, Backends& b) {
+               });
+  add("surfaces", [](const BufferSet& in, Backends& b) {
                  const SceneBuffers scene = in.GetScene();
                  const emu::GBuffer g = GetGBuffer(in);
                  for (std::uint32_t p : g.prim)
@@ -78,8 +101,8 @@ std::vector<PassMethod> Build() {
                  BufferSet out;
                  out.Put("surfaces", b.frame.SurfacesFromGBuffer(in.GetOne<gpu::FrameConstants>("frame"), g, scene));
                  return out;
-               }});
-  m.push_back({"surfaces.hits", fixed("surfaces.hits"), {}, [](const BufferSet& in, Backends& b) {
+               });
+  add("surfaces.hits", [](const BufferSet& in, Backends& b) {
                  const SceneBuffers scene = in.GetScene();
                  const auto rays = in.Get<gpu::Ray>("rays");
                  const auto hits = in.Get<std::uint64_t>("hits");
@@ -90,17 +113,16 @@ std::vector<PassMethod> Build() {
                  BufferSet out;
                  out.Put("surfaces", b.frame.SurfacesFromHits(rays, hits, scene));
                  return out;
-               }});
-  m.push_back({"raygen", [](const BufferSet& in) { return std::string("raygen.") + emu::RayKindName(Kind(in)); }, {},
-               [](const BufferSet& in, Backends& b) {
+               });
+  add("raygen", [](const BufferSet& in, Backends& b) {
                  const emu::SparseRays r = b.frame.Raygen(Kind(in), in.GetOne<gpu::FrameConstants>("frame"),
                                                           in.Get<gpu::Surface>("surfaces"), in.GetScene());
                  BufferSet out;
                  out.Put("rays", r.rays);
                  out.Put("flags", r.flags);
                  return out;
-               }});
-  m.push_back({"trim", fixed("trim"), {"offsets"}, [](const BufferSet& in, Backends& b) {
+               });
+  add("trim", [](const BufferSet& in, Backends& b) {
                  const emu::SparseRays s{in.Get<gpu::Ray>("rays"), in.Get<std::uint32_t>("flags")};
                  if (s.rays.size() != s.flags.size()) ThrowInput("inputs 'rays' and 'flags' differ in length");
                  const emu::Trimmed t = b.frame.Trim(Kind(in), s);
@@ -108,8 +130,8 @@ std::vector<PassMethod> Build() {
                  out.Put("rays", t.rays);
                  out.Put("offsets", t.offsets);
                  return out;
-               }});
-  m.push_back({"shade", fixed("shade"), {}, [](const BufferSet& in, Backends& b) {
+               });
+  add("shade", [](const BufferSet& in, Backends& b) {
                  const SceneBuffers scene = in.GetScene();
                  const auto surfaces = in.Get<gpu::Surface>("surfaces");
                  const auto flags = in.Get<std::uint32_t>("shadow_flags"), offsets = in.Get<std::uint32_t>("shadow_offsets"),
@@ -130,16 +152,16 @@ std::vector<PassMethod> Build() {
                  BufferSet out;
                  out.Put("accum", accum);
                  return out;
-               }});
-  m.push_back({"resolve", fixed("resolve"), {}, [](const BufferSet& in, Backends& b) {
+               });
+  add("resolve", [](const BufferSet& in, Backends& b) {
                  const gpu::FrameConstants fc = in.GetOne<gpu::FrameConstants>("frame");
                  const auto accum = in.Get<std::uint64_t>("accum");
                  if (accum.size() != static_cast<std::size_t>(fc.dims.x) * fc.dims.y * 3) ThrowInput("input 'accum' does not match the frame size");
                  BufferSet out;
                  out.Put("rgb", b.frame.Resolve(fc, accum));
                  return out;
-               }});
-  m.push_back({"hash", fixed("hash"), {}, [](const BufferSet& in, Backends& b) {
+               });
+  add("hash", [](const BufferSet& in, Backends& b) {
                  emu::HashConfig h;
                  h.light_bits = static_cast<int>(in.U32("light_bits"));
                  h.polar_bits = static_cast<int>(in.U32("polar_bits"));
@@ -150,21 +172,21 @@ std::vector<PassMethod> Build() {
                  out.Put("keys", b.hierarchy.Hash(in.Get<gpu::Ray>("rays"), in.GetScene(), h, in.U32("quadtree_width"),
                                                   static_cast<int>(in.U32("quadtree_depth"))));
                  return out;
-               }});
-  m.push_back({"compress", fixed("compress"), {"chunk_key", "chunk_base", "chunk_size"}, [](const BufferSet& in, Backends& b) {
+               });
+  add("compress", [](const BufferSet& in, Backends& b) {
                  const emu::Chunks c = b.hierarchy.Compress(in.Get<std::uint32_t>("keys"));
                  BufferSet out;
                  out.Put("chunk_key", c.key);
                  out.Put("chunk_base", c.base);
                  out.Put("chunk_size", c.size);
                  return out;
-               }});
-  m.push_back({"sort", fixed("sort"), {"chunk_order"}, [](const BufferSet& in, Backends& b) {
+               });
+  add("sort", [](const BufferSet& in, Backends& b) {
                  BufferSet out;
                  out.Put("chunk_order", b.hierarchy.SortChunks(in.Get<std::uint32_t>("chunk_key")));
                  return out;
-               }});
-  m.push_back({"decompress", fixed("decompress"), {"ray_order"}, [](const BufferSet& in, Backends& b) {
+               });
+  add("decompress", [](const BufferSet& in, Backends& b) {
                  const emu::Chunks c = GetChunks(in);
                  const U32 sorted = in.Get<std::uint32_t>("chunk_order");
                  if (c.base.size() != c.key.size() || c.size.size() != c.key.size() || sorted.size() != c.key.size())
@@ -173,8 +195,8 @@ std::vector<PassMethod> Build() {
                  BufferSet out;
                  out.Put("ray_order", b.hierarchy.Decompress(c, sorted));
                  return out;
-               }});
-  m.push_back({"build.leaves", fixed("build"), {}, [](const BufferSet& in, Backends& b) {
+               });
+  add("build.leaves", [](const BufferSet& in, Backends& b) {
                  const auto rays = in.Get<gpu::Ray>("rays");
                  const U32 order = in.Get<std::uint32_t>("order"), first = in.Get<std::uint32_t>("first");
                  CheckIndices("order", order, rays.size());
@@ -182,21 +204,21 @@ std::vector<PassMethod> Build() {
                  BufferSet out;
                  out.Put("nodes", b.hierarchy.BuildLeaves(rays, order, first));
                  return out;
-               }});
-  m.push_back({"build.parents", fixed("build"), {}, [](const BufferSet& in, Backends& b) {
+               });
+  add("build.parents", [](const BufferSet& in, Backends& b) {
                  const auto below = in.Get<gpu::ConeNode>("below");
                  const U32 first = in.Get<std::uint32_t>("first");
                  CheckFirst(first, below.size());
                  BufferSet out;
                  out.Put("nodes", b.hierarchy.BuildParents(below, first));
                  return out;
-               }});
-  m.push_back({"traverse.objects", fixed("traverse"), {}, [](const BufferSet& in, Backends& b) {
+               });
+  add("traverse.objects", [](const BufferSet& in, Backends& b) {
                  BufferSet out;
                  out.Put("mask", b.hierarchy.ObjectMask(in.Get<gpu::ConeNode>("top"), in.Get<glm::vec4>("object_spheres"), Eps(in)));
                  return out;
-               }});
-  m.push_back({"traverse.top", fixed("traverse"), {"values"}, [](const BufferSet& in, Backends& b) {
+               });
+  add("traverse.top", [](const BufferSet& in, Backends& b) {
                  const SceneBuffers scene = in.GetScene();
                  const auto top = in.Get<gpu::ConeNode>("top");
                  const auto spheres = in.Get<glm::vec4>("tri_spheres");
@@ -206,8 +228,8 @@ std::vector<PassMethod> Build() {
                      (!mask.empty() && mask.size() != top.size() * scene.objects.size()))
                    ThrowInput("traverse.top inputs out of range");
                  return Slots(b.hierarchy.TraverseTop(top, t0, t1, b0, b1, spheres, scene, mask, Eps(in)));
-               }});
-  m.push_back({"traverse.level", fixed("traverse"), {"values"}, [](const BufferSet& in, Backends& b) {
+               });
+  add("traverse.level", [](const BufferSet& in, Backends& b) {
                  const auto nodes = in.Get<gpu::ConeNode>("nodes");
                  const U32 pairs = in.Get<std::uint32_t>("pairs"), first = in.Get<std::uint32_t>("first");
                  const auto spheres = in.Get<glm::vec4>("tri_spheres");
@@ -215,13 +237,13 @@ std::vector<PassMethod> Build() {
                  CheckFirst(first, nodes.size());
                  for (std::uint32_t p : pairs) {
                    const std::uint32_t parent = base_up + (p >> emu::kPairTriangleBits);
-                   if (parent + 1 >= first.size() || b0 + (p & ((1u << emu::kPairTriangleBits) - 1)) >= spheres.size() ||
+                   if (parent + 1 >= first.size() || b0 + (p & emu::kPairTriangleMask) >= spheres.size() ||
                        first[parent + 1] - first[parent] > cmax)
                      ThrowInput("input 'pairs' holds {} out of range", p);
                  }
                  return Slots(b.hierarchy.TraverseLevel(pairs, nodes, first, base_up, in.U32("base"), cmax, b0, spheres, Eps(in)));
-               }});
-  m.push_back({"reduce", fixed("reduce"), {"pairs"}, [](const BufferSet& in, Backends& b) {
+               });
+  add("reduce", [](const BufferSet& in, Backends& b) {
                  const auto flags = in.Get<std::uint8_t>("flags");
                  const U32 values = in.Get<std::uint32_t>("values");
                  const std::uint32_t s = in.U32("component");
@@ -230,8 +252,8 @@ std::vector<PassMethod> Build() {
                  out.Put("pairs", b.hierarchy.Reduce(in.U32("scan") ? emu::Reduction::kScan : emu::Reduction::kHierarchical,
                                                      static_cast<int>(s), flags, values));
                  return out;
-               }});
-  m.push_back({"intersect", fixed("intersect"), {"tests"}, [](const BufferSet& in, Backends& b) {
+               });
+  add("intersect", [](const BufferSet& in, Backends& b) {
                  const SceneBuffers scene = in.GetScene();
                  const U32 pairs = in.Get<std::uint32_t>("pairs"), first1 = in.Get<std::uint32_t>("first1"),
                            order = in.Get<std::uint32_t>("order");
@@ -241,7 +263,7 @@ std::vector<PassMethod> Build() {
                  CheckFirst(first1, order.size());
                  for (std::uint32_t p : pairs)
                    if (base1 + (p >> emu::kPairTriangleBits) + 1 >= first1.size() ||
-                       b0 + (p & ((1u << emu::kPairTriangleBits) - 1)) >= scene.triangles.size())
+                       b0 + (p & emu::kPairTriangleMask) >= scene.triangles.size())
                      ThrowInput("input 'pairs' holds {} out of range", p);
                  const bool shadow = in.U32("shadow") != 0;
                  std::vector<std::uint64_t> hits;
@@ -255,7 +277,7 @@ std::vector<PassMethod> Build() {
                  if (shadow) out.Put("occluded", occluded);
                  else out.Put("hits", hits);
                  return out;
-               }});
+               });
   return m;
 }
 

@@ -10,18 +10,19 @@
 // rounding. Lengths of coordinate differences are computed scaled (ScaledLength) so tiny and huge
 // coordinates neither underflow nor overflow. The bounds and their proofs: docs/numerics.md.
 #pragma once
+#include "rayspace/contract.h"
 #include "rayspace/emu/intersect.h"
 
 namespace rayspace::emu::cone {
 
-// Margins applied once per finished node: radii grow by a relative 2^-18, half-angles by 2^-20 rad.
-inline constexpr float kRadiusSlack = 1.0f + 1.0f / (1 << 18);
-inline constexpr float kAngleSlack = 1.0f / (1 << 20);
+// Margins applied once per finished node (radii: relative 2^-18, half-angles: 2^-20 rad) and the
+// test's own rounding slack are part of the kernel contract (rayspace/contract.h).
+using gpu::kAngleSlack;
+using gpu::kRadiusSlack;
+using gpu::kTestSlack;
 // Absolute radius margin (2^-144): covers the absolute rounding of denormal-range radii; absorbed by
 // rounding for radii above about 2^-119, so it changes nothing at ordinary scales.
 inline constexpr float kRadiusFloor = 0x1p-144f;
-// The test's own rounding: the distance it computes may be short by this fraction of |a| + |b|.
-inline constexpr float kTestSlack = 1.0f / (1 << 19);
 
 inline gpu::ConeNode FullSphereCone(gpu::ConeNode n) {
   n.cone = glm::vec4(1.0f, 0.0f, 0.0f, -1.0f);

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "rayspace/contract.h"
 #include "rayspace/emu/tracer.h"
 #include "rayspace/parallel.h"
 
@@ -32,7 +33,7 @@ struct HierarchyConfig {
   Reduction reduction = Reduction::kHierarchical;
   int component_size = 64;                // Roger's s for the hierarchical reduction
   std::size_t pair_capacity = 1u << 26;   // pairs a level may hold before the batch is split
-  std::uint32_t max_batch_triangles = 1u << 14;  // 14-bit triangle ids
+  std::uint32_t max_batch_triangles = 1u << gpu::kPairTriangleBits;  // triangle ids in a packed pair
   HashConfig hash;
   int image_width = 0, image_height = 0;  // for rah-quadtree
   // The passes to run (nullptr: the emulator's); see emu/backend.h.
@@ -88,13 +89,14 @@ std::vector<gpu::ConeNode> PassBuildParents(const std::vector<gpu::ConeNode>& be
 std::vector<std::uint32_t> FixedGroups(std::size_t count, std::uint32_t per);
 
 // ---- traversal of one block: top nodes [t0, t1) x triangles [b0, b1) -------------------------------
-// Pairs are packed (node id - level base) << 14 | (triangle - b0).
+// Pairs are packed (node id - level base) << gpu::kPairTriangleBits | (triangle - b0) (rayspace/contract.h).
 struct PairSlots {
   std::vector<std::uint8_t> flags;    // 1 where the slot's pair survives the cone-sphere test
   std::vector<std::uint32_t> values;  // the packed pair of each slot
   std::vector<std::uint8_t> tested;   // top level: 1 where a test ran; lower levels: children per pair
 };
-inline constexpr int kPairTriangleBits = 14;
+using gpu::kPairTriangleBits;
+using gpu::kPairTriangleMask;
 // Absolute margin of the cone-sphere test for a scene.
 float TraversalEpsilon(const SceneBuffers& scene);
 // CRSH's object culling: 1 where top node e / objects may meet object sphere e % objects.
@@ -153,13 +155,12 @@ PairSlots TraverseLevelWith(TestFn&& test, const std::vector<std::uint32_t>& pai
                             const std::vector<std::uint32_t>& first, std::uint32_t base_up, std::uint32_t base,
                             std::uint32_t children_max, std::uint32_t b0, const std::vector<glm::vec4>& tri_spheres,
                             float eps) {
-  constexpr std::uint32_t kMask = (1u << kPairTriangleBits) - 1u;
   PairSlots s;
   s.flags.assign(pairs.size() * children_max, 0);
   s.values.assign(pairs.size() * children_max, 0);
   s.tested.assign(pairs.size(), 0);
   ParallelFor("traverse.level", pairs.size(), [&](std::size_t p) {
-    const std::uint32_t parent = base_up + (pairs[p] >> kPairTriangleBits), tri_local = pairs[p] & kMask;
+    const std::uint32_t parent = base_up + (pairs[p] >> kPairTriangleBits), tri_local = pairs[p] & kPairTriangleMask;
     const glm::vec4 sphere = tri_spheres[b0 + tri_local];
     const std::uint32_t c0 = first[parent], c1 = first[parent + 1];
     s.tested[p] = static_cast<std::uint8_t>(c1 - c0);

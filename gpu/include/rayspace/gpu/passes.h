@@ -1,6 +1,7 @@
 // The passes that run as Vulkan kernels so far, with the same inputs and outputs as their emulated
 // counterparts in emu/passes.h.
 #pragma once
+#include <array>
 #include <map>
 #include <memory>
 #include <span>
@@ -10,6 +11,7 @@
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/passes.h"
 #include "rayspace/gpu/vulkan.h"
+#include "rayspace/pass_registry.h"
 
 namespace rayspace::gpu_backend {
 
@@ -17,14 +19,20 @@ namespace rayspace::gpu_backend {
 // through a specialization constant.
 using Faults = std::map<std::string, std::uint32_t>;
 
-// Names of the passes with kernels, in pipeline order, and how many faults each can plant.
-const std::vector<std::pair<std::string, std::uint32_t>>& KernelPasses();
+// A user's SPIR-V for a pass, by pass name, run in place of the built-in kernel (`--kernel`).
+using KernelOverrides = std::map<std::string, std::vector<std::uint32_t>>;
+
+// The SPIR-V of a built-in compute kernel by file name (gpu/shaders/<kernel>.comp), or empty.
+std::span<const std::uint32_t> BuiltinKernel(std::string_view kernel);
+// The file names of every built-in compute kernel (gpu/shaders/*.comp), sorted.
+std::vector<std::string_view> BuiltinKernelNames();
 
 class VulkanPasses {
  public:
   // local_size: invocations per workgroup for every compute kernel (results must not depend on it).
+  // One compute pipeline per registered pass (rayspace/pass_registry.h).
   static vk::Status Create(int device, const Faults& faults, std::unique_ptr<VulkanPasses>& out,
-                           std::uint32_t local_size = 64);
+                           std::uint32_t local_size = 64, const KernelOverrides& overrides = {});
   // The raster as a graphics pipeline with all G-buffer targets.
   vk::Status Raster(const gpu::FrameConstants& fc, const SceneBuffers& scene, emu::GBuffer& out);
   vk::Status Surfaces(const gpu::FrameConstants& fc, const emu::GBuffer& g, const SceneBuffers& scene,
@@ -72,7 +80,7 @@ class VulkanPasses {
                        std::vector<std::uint32_t>& occluded, std::vector<std::uint32_t>& tests);
   vk::Status RaygenShadow(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
                           const SceneBuffers& scene, emu::SparseRays& out);
-  vk::Status Trim(const emu::SparseRays& in, emu::Trimmed& out, bool reflection = false);
+  vk::Status Trim(const emu::SparseRays& in, emu::Trimmed& out);
   vk::Status Resolve(const gpu::FrameConstants& fc, const std::vector<std::uint64_t>& accum, std::vector<std::uint8_t>& out);
   const vk::Context& context() const { return *ctx_; }
   // Buffers that grow with the frame never exceed one binding: element-wise passes run over parts
@@ -97,10 +105,11 @@ class VulkanPasses {
   std::size_t PerPart(std::size_t bytes_per_element) const;
   vk::Status Raygen(const vk::Kernel& k, const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
                     const SceneBuffers& scene, emu::SparseRays& out);
+  const vk::Kernel& K(PassId id) const { return kernels_[static_cast<std::size_t>(id)]; }
   std::unique_ptr<vk::Context> ctx_;
   std::uint32_t raster_fault_ = 0;
   std::size_t extra_dispatches_ = 0, paged_arrays_ = 0;
-  vk::Kernel surfaces_, surfaces_hits_, raygen_shadow_, raygen_reflection_, trim_, trim_reflection_, shade_, resolve_, hash_, compress_, sort_, decompress_, build_, traverse_, reduce_, intersect_, raygen_refraction_;
+  std::array<vk::Kernel, kPassCount> kernels_;  // by PassId; the raster's stays empty (a graphics pipeline)
 };
 
 }  // namespace rayspace::gpu_backend

@@ -1,0 +1,290 @@
+// The kernel contract: what a compute kernel and the host code that launches it must agree on, beyond
+// the buffer elements of layout.h. Binding numbers, push-constant blocks, phase numbers, block sizes,
+// the packing of (node, triangle) pairs and the cone margins are declared here once, in the subset of
+// C that is both GLSL and C++, and included by the kernels (gpu/shaders/), the Vulkan host code and the
+// emulator. A user's replacement kernel (`--kernel PASS=FILE`) is checked against these bindings and
+// push-constant sizes (docs/kernels.md).
+//
+// Conventions: kPassBindX is the binding of buffer X of a pass's kernel; a paged array (paged.glsl)
+// takes kBufferPages consecutive bindings from its first; kPassBindings is the number of bindings;
+// kPassPhaseX selects a phase of a kernel that runs in several dispatches; PassPush is its
+// push-constant block (GLSL: `layout(push_constant) uniform Block { PassPush pc; };`).
+#ifndef RAYSPACE_CONTRACT_H
+#define RAYSPACE_CONTRACT_H
+
+#include "rayspace/layout.h"
+
+#ifdef __cplusplus
+namespace rayspace::gpu {
+#define RS_CONST(type, name, value) inline constexpr type name = value
+#else
+#define RS_CONST(type, name, value) const type name = value
+#endif
+
+// ---- shared by several kernels ----------------------------------------------------------------
+// Blocked scans, histograms and scatters walk blocks of this many elements, one invocation a block:
+// lavapipe ends any loop after 65,535 iterations, so no loop may run over a whole stream.
+RS_CONST(uint, kScanBlock, 4096u);
+// A (node, triangle) pair is packed as (node - level base) << kPairTriangleBits | (triangle - b0):
+// a triangle batch holds at most 2^14 triangles and a level at most 2^18 nodes per batch.
+RS_CONST(uint, kPairTriangleBits, 14u);
+RS_CONST(uint, kPairTriangleMask, 16383u);  // (1 << kPairTriangleBits) - 1
+// Margins of the cone-sphere nodes (docs/numerics.md): radii grow by a relative 2^-18 and half-angles
+// by 2^-20 when a node is finished; the cone-sphere test accepts a relative 2^-19 (|a| + |b|) slack.
+RS_CONST(float, kRadiusSlack, 1.000003814697265625);  // 1 + 2^-18
+RS_CONST(float, kAngleSlack, 9.5367431640625e-07);    // 2^-20
+RS_CONST(float, kTestSlack, 1.9073486328125e-06);     // 2^-19
+
+// ---- surfaces: G-buffer pixels -> shading points ----------------------------------------------
+RS_CONST(uint, kSurfacesBindPosition, 0u);
+RS_CONST(uint, kSurfacesBindNormal, 1u);
+RS_CONST(uint, kSurfacesBindPrim, 2u);
+RS_CONST(uint, kSurfacesBindInfo, 3u);
+RS_CONST(uint, kSurfacesBindFrame, 4u);
+RS_CONST(uint, kSurfacesBindSurfaces, 5u);
+RS_CONST(uint, kSurfacesBindings, 6u);
+struct SurfacesPush {
+  uint pixels;  // pixels of this dispatch
+  uint base;    // first pixel of this dispatch
+};
+
+// ---- surfaces.hits: reflection / refraction hits -> shading points ------------------------------
+RS_CONST(uint, kSurfacesHitsBindRays, 0u);
+RS_CONST(uint, kSurfacesHitsBindHits, 1u);
+RS_CONST(uint, kSurfacesHitsBindTriangles, 2u);
+RS_CONST(uint, kSurfacesHitsBindNormals, 3u);
+RS_CONST(uint, kSurfacesHitsBindInfo, 4u);
+RS_CONST(uint, kSurfacesHitsBindSurfaces, 5u);
+RS_CONST(uint, kSurfacesHitsBindings, 6u);
+struct SurfacesHitsPush {
+  uint n;
+};
+
+// ---- raygen.shadow / raygen.reflection / raygen.refraction --------------------------------------
+// The three ray-generation kernels share their bindings; binding 1 holds the lights (shadow) or the
+// materials (reflection, refraction).
+RS_CONST(uint, kRaygenBindSurfaces, 0u);
+RS_CONST(uint, kRaygenBindLightsOrMaterials, 1u);
+RS_CONST(uint, kRaygenBindFrame, 2u);
+RS_CONST(uint, kRaygenBindRays, 3u);
+RS_CONST(uint, kRaygenBindFlags, 4u);
+RS_CONST(uint, kRaygenBindings, 5u);
+struct RaygenShadowPush {
+  uint surface_count;
+  uint light_count;
+};
+struct RaygenPush {  // reflection, refraction
+  uint surface_count;
+  uint base;  // first surface of this dispatch
+};
+
+// ---- trim: order-preserving compaction of sparse rays ------------------------------------------
+RS_CONST(uint, kTrimBindFlags, 0u);
+RS_CONST(uint, kTrimBindSums, 1u);     // per block, then the total
+RS_CONST(uint, kTrimBindOffsets, 2u);
+RS_CONST(uint, kTrimBindSparse, 3u);
+RS_CONST(uint, kTrimBindDense, 4u);
+RS_CONST(uint, kTrimBindings, 5u);
+RS_CONST(uint, kTrimPhaseBlockSums, 0u);
+RS_CONST(uint, kTrimPhaseScanSums, 1u);
+RS_CONST(uint, kTrimPhaseScatter, 2u);
+struct TrimPush {
+  uint n;
+  uint phase;
+  uint carry;  // flagged slots before this dispatch's part of the stream
+};
+
+// ---- hash: 32-bit sort keys per ray ------------------------------------------------------------
+RS_CONST(uint, kHashBindRays, 0u);
+RS_CONST(uint, kHashBindFrame, 1u);
+RS_CONST(uint, kHashBindKeys, 2u);
+RS_CONST(uint, kHashBindings, 3u);
+struct HashPush {
+  uint n;
+  int light_bits;
+  int polar_bits;
+  int azimuth_bits;
+  int origin_bits;
+  int direction_bits;
+  uint quad_width;  // > 0: Roger et al.'s quadtree keys
+  uint quad_depth;
+};
+
+// ---- compress / sort / decompress: one kernel (sort.comp), three passes ------------------------
+RS_CONST(uint, kSortBindKeys, 0u);
+RS_CONST(uint, kSortBindChunkKey, 1u);
+RS_CONST(uint, kSortBindChunkBase, 2u);
+RS_CONST(uint, kSortBindChunkSize, 3u);
+RS_CONST(uint, kSortBindSorted, 4u);   // chunk indices, 2 x chunks (ping-pong)
+RS_CONST(uint, kSortBindOrder, 5u);    // ray order
+RS_CONST(uint, kSortBindCount, 6u);    // [0] number of chunks
+RS_CONST(uint, kSortBindScratch, 7u);
+RS_CONST(uint, kSortBindSums, 8u);     // per block, plus a total
+RS_CONST(uint, kSortBindings, 9u);
+// compress over n keys
+RS_CONST(uint, kCompressPhaseHeads, 0u);
+RS_CONST(uint, kCompressPhaseBlockSums, 1u);
+RS_CONST(uint, kCompressPhaseScanSums, 2u);
+RS_CONST(uint, kCompressPhaseChunks, 3u);
+RS_CONST(uint, kCompressPhaseSizes, 4u);
+// one LSD radix pass over n chunks (8 bits at `shift`), sorted[src..] -> sorted[dst..]
+RS_CONST(uint, kSortPhaseInit, 10u);
+RS_CONST(uint, kSortPhaseHistograms, 11u);
+RS_CONST(uint, kSortPhaseBinScan, 12u);
+RS_CONST(uint, kSortPhaseTotalScan, 13u);
+RS_CONST(uint, kSortPhaseScatter, 14u);
+// decompress: sizes in sorted order, scan, then every ray finds its chunk
+RS_CONST(uint, kDecompressPhaseSizes, 20u);
+RS_CONST(uint, kDecompressPhaseBlockSums, 21u);
+RS_CONST(uint, kDecompressPhaseScanSums, 22u);
+RS_CONST(uint, kDecompressPhaseStarts, 23u);
+RS_CONST(uint, kDecompressPhaseRays, 24u);
+struct SortPush {
+  uint n;
+  uint phase;
+  uint shift;  // decompress: the ray count
+  uint src;
+  uint dst;
+  uint blocks;
+};
+
+// ---- build: cone-sphere nodes from sorted rays (leaves) or from the level below (parents) --------
+RS_CONST(uint, kBuildBindFirst, 0u);
+RS_CONST(uint, kBuildBindNodes, 1u);
+RS_CONST(uint, kBuildBindRays, 2u);    // paged
+RS_CONST(uint, kBuildBindOrder, 6u);   // paged
+RS_CONST(uint, kBuildBindBelow, 10u);  // paged
+RS_CONST(uint, kBuildBindings, 14u);
+RS_CONST(uint, kBuildPhaseLeaves, 0u);
+RS_CONST(uint, kBuildPhaseParents, 1u);
+struct BuildPush {
+  uint count;
+  uint phase;
+  uint ray_page;
+  uint order_page;
+  uint below_page;
+};
+
+// ---- traverse: cone-sphere nodes against triangle or object spheres ----------------------------
+RS_CONST(uint, kTraverseBindTriSpheres, 0u);  // the object spheres in kTraversePhaseObjects
+RS_CONST(uint, kTraverseBindInfo, 1u);
+RS_CONST(uint, kTraverseBindMask, 2u);        // the object mask's rows of this dispatch's top nodes
+RS_CONST(uint, kTraverseBindPairs, 3u);
+RS_CONST(uint, kTraverseBindFlags, 4u);
+RS_CONST(uint, kTraverseBindValues, 5u);
+RS_CONST(uint, kTraverseBindTested, 6u);
+RS_CONST(uint, kTraverseBindNodes, 7u);       // paged
+RS_CONST(uint, kTraverseBindFirst, 11u);      // paged
+RS_CONST(uint, kTraverseBindings, 15u);
+RS_CONST(uint, kTraversePhaseTop, 0u);        // top nodes x triangles
+RS_CONST(uint, kTraversePhaseLevel, 1u);      // children of each surviving pair's node
+RS_CONST(uint, kTraversePhaseObjects, 2u);    // top nodes x object spheres (CRSH's culling mask)
+struct TraversePush {
+  uint phase;
+  uint count;
+  uint t0;
+  uint b0;
+  uint tris;
+  uint objects;
+  uint use_mask;
+  uint base_up;
+  uint base;
+  uint children_max;
+  float eps;
+  uint id_base;  // top: packed node ids relative to this node (a dispatch may cover part of a block)
+  uint node_page;
+  uint first_page;
+};
+
+// ---- reduce: stream reduction of (flag, value) slots -------------------------------------------
+RS_CONST(uint, kReduceBindFlags, 0u);
+RS_CONST(uint, kReduceBindValues, 1u);
+RS_CONST(uint, kReduceBindLocal, 2u);
+RS_CONST(uint, kReduceBindCounts, 3u);  // per component, then exclusive offsets
+RS_CONST(uint, kReduceBindSums, 4u);    // per block of kScanBlock counts, plus the total
+RS_CONST(uint, kReduceBindOut, 5u);
+RS_CONST(uint, kReduceBindings, 6u);
+// hierarchical (Roger et al.): components of s slots reduced on their own, then concatenated
+RS_CONST(uint, kReducePhaseLocal, 0u);
+RS_CONST(uint, kReducePhaseBlockSums, 1u);
+RS_CONST(uint, kReducePhaseScanSums, 2u);  // also the scan-based reduction's middle phase
+RS_CONST(uint, kReducePhaseOffsets, 3u);
+RS_CONST(uint, kReducePhaseConcat, 4u);
+// scan-based
+RS_CONST(uint, kReducePhaseFlagSums, 10u);
+RS_CONST(uint, kReducePhaseScatter, 11u);
+struct ReducePush {
+  uint n;
+  uint phase;
+  uint s;
+  uint comps;
+  uint blocks;
+};
+
+// ---- intersect: final ray-triangle tests of (leaf, triangle) pairs -----------------------------
+RS_CONST(uint, kIntersectBindPairs, 0u);
+RS_CONST(uint, kIntersectBindTriangles, 1u);
+RS_CONST(uint, kIntersectBindTests, 2u);
+RS_CONST(uint, kIntersectBindFirst, 3u);     // paged
+RS_CONST(uint, kIntersectBindOrder, 7u);     // paged
+RS_CONST(uint, kIntersectBindRays, 11u);     // paged
+RS_CONST(uint, kIntersectBindHits, 15u);     // paged
+RS_CONST(uint, kIntersectBindOccluded, 19u); // paged
+RS_CONST(uint, kIntersectBindings, 23u);
+struct IntersectPush {
+  uint count;
+  uint base1;
+  uint b0;
+  uint shadow;
+  uint first_page;
+  uint order_page;
+  uint ray_page;
+  uint hit_page;
+  uint occluded_page;
+};
+
+// ---- shade: direct light at the shading points into the fixed-point accumulator ---------------
+RS_CONST(uint, kShadeBindSurfaces, 0u);
+RS_CONST(uint, kShadeBindShadowFlags, 1u);
+RS_CONST(uint, kShadeBindShadowOffsets, 2u);
+RS_CONST(uint, kShadeBindMaterials, 3u);
+RS_CONST(uint, kShadeBindLights, 4u);
+RS_CONST(uint, kShadeBindOccluded, 5u);  // paged
+RS_CONST(uint, kShadeBindAccum, 9u);     // paged
+RS_CONST(uint, kShadeBindings, 13u);
+struct ShadePush {
+  uint surface_count;
+  uint light_count;
+  uint occluded_page;
+  uint accum_page;
+};
+
+// ---- resolve: accumulator -> 8-bit RGB ---------------------------------------------------------
+RS_CONST(uint, kResolveBindAccum, 0u);
+RS_CONST(uint, kResolveBindRgb, 1u);
+RS_CONST(uint, kResolveBindings, 2u);
+struct ResolvePush {
+  uint n;
+};
+
+#ifdef __cplusplus
+static_assert(kPairTriangleMask == (1u << kPairTriangleBits) - 1u);
+static_assert(kBufferPages == 4, "the paged bindings below assume four pages");
+static_assert(kBuildBindOrder == kBuildBindRays + kBufferPages && kBuildBindBelow == kBuildBindOrder + kBufferPages &&
+              kBuildBindings == kBuildBindBelow + kBufferPages);
+static_assert(kTraverseBindFirst == kTraverseBindNodes + kBufferPages && kTraverseBindings == kTraverseBindFirst + kBufferPages);
+static_assert(kIntersectBindOrder == kIntersectBindFirst + kBufferPages && kIntersectBindRays == kIntersectBindOrder + kBufferPages &&
+              kIntersectBindHits == kIntersectBindRays + kBufferPages &&
+              kIntersectBindOccluded == kIntersectBindHits + kBufferPages && kIntersectBindings == kIntersectBindOccluded + kBufferPages);
+static_assert(kShadeBindAccum == kShadeBindOccluded + kBufferPages && kShadeBindings == kShadeBindAccum + kBufferPages);
+// Push-constant blocks: scalars only (same offsets in std430 and C++), within the 128 bytes every
+// Vulkan device guarantees.
+static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && sizeof(RaygenShadowPush) == 8 &&
+              sizeof(RaygenPush) == 8 && sizeof(TrimPush) == 12 && sizeof(HashPush) == 32 && sizeof(SortPush) == 24 &&
+              sizeof(BuildPush) == 20 && sizeof(TraversePush) == 56 && sizeof(ReducePush) == 20 &&
+              sizeof(IntersectPush) == 36 && sizeof(ShadePush) == 16 && sizeof(ResolvePush) == 4);
+static_assert(offsetof(TraversePush, eps) == 40);
+}  // namespace rayspace::gpu
+#endif
+#undef RS_CONST
+#endif  // RAYSPACE_CONTRACT_H

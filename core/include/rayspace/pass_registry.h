@@ -1,0 +1,212 @@
+// The pass registry: one declaration per GPU pass. A pass's name is the one statistics, timings,
+// `--progress`, `diff` reports and `--inject` use; the registry also names its kernel and phases, its
+// bindings and push-constant block (rayspace/contract.h), the backend calls that run it (their inputs
+// and outputs are what `diff` compares), which thesis phase its time counts to, and its planted faults.
+// The Vulkan kernel loader, the diff's pass table, the timing table and `--inject` read this table,
+// and tests hold every backend to it (tests/pass_registry_test.cpp): adding a pass starts here
+// (docs/kernels.md).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string_view>
+
+#include "rayspace/contract.h"
+
+namespace rayspace {
+
+enum class PassId : std::uint8_t {
+  kRaster,
+  kSurfaces,
+  kSurfacesHits,
+  kRaygenShadow,
+  kRaygenReflection,
+  kRaygenRefraction,
+  kTrim,
+  kHash,
+  kCompress,
+  kSort,
+  kDecompress,
+  kBuild,
+  kTraverse,
+  kReduce,
+  kIntersect,
+  kShade,
+  kResolve,
+  kCount
+};
+inline constexpr std::size_t kPassCount = static_cast<std::size_t>(PassId::kCount);
+
+// A planted fault: a known bug compiled into the kernel through specialization constant 0
+// (`--inject PASS:N`), which the diff must report in this pass first.
+struct FaultSpec {
+  std::uint32_t number;
+  std::string_view effect;
+};
+
+// A call of the backend interface (emu/backend.h) that runs this pass. `index_outputs` are outputs
+// that later passes use as indices or counts: when they differ, the diff must stop.
+struct CallSpec {
+  std::string_view name;
+  std::span<const std::string_view> index_outputs;
+};
+
+// A phase of a kernel that runs in several dispatches: the value of the push constant `phase`.
+struct PhaseSpec {
+  std::string_view name;
+  std::uint32_t value;
+};
+
+struct PassSpec {
+  PassId id;
+  std::string_view name;
+  std::string_view kernel;  // gpu/shaders/<kernel>.comp; the raster is a graphics pipeline (.vert/.frag)
+  bool graphics;
+  std::span<const PhaseSpec> phases;  // the kernel's kXPhaseY constants; empty: one dispatch, no phase
+  std::uint32_t bindings;                     // storage-buffer bindings 0 .. bindings-1
+  std::string_view push_type;                 // the push-constant block's struct in rayspace/contract.h
+  std::uint32_t push_bytes;
+  std::span<const CallSpec> calls;
+  std::string_view thesis_phase;  // where --timings counts its time: ray_creation ... ; "" = other
+  std::span<const FaultSpec> faults;
+};
+
+namespace pass_registry_detail {
+using SV = std::string_view;
+inline constexpr SV kRasterIdx[] = {"prim"};
+inline constexpr SV kTrimIdx[] = {"offsets"};
+inline constexpr SV kCompressIdx[] = {"chunk_key", "chunk_base", "chunk_size"};
+inline constexpr SV kSortIdx[] = {"chunk_order"};
+inline constexpr SV kDecompressIdx[] = {"ray_order"};
+inline constexpr SV kTraverseIdx[] = {"values"};
+inline constexpr SV kReduceIdx[] = {"pairs"};
+inline constexpr SV kIntersectIdx[] = {"tests"};
+constexpr std::span<const SV> None() { return {}; }
+
+inline constexpr CallSpec kRasterCalls[] = {{"raster", kRasterIdx}};
+inline constexpr CallSpec kSurfacesCalls[] = {{"surfaces", None()}};
+inline constexpr CallSpec kSurfacesHitsCalls[] = {{"surfaces.hits", None()}};
+// One call generates every kind of ray; its input `kind` selects the pass (raygen.shadow, ...).
+inline constexpr CallSpec kRaygenCalls[] = {{"raygen", None()}};
+inline constexpr CallSpec kTrimCalls[] = {{"trim", kTrimIdx}};
+inline constexpr CallSpec kHashCalls[] = {{"hash", None()}};
+inline constexpr CallSpec kCompressCalls[] = {{"compress", kCompressIdx}};
+inline constexpr CallSpec kSortCalls[] = {{"sort", kSortIdx}};
+inline constexpr CallSpec kDecompressCalls[] = {{"decompress", kDecompressIdx}};
+inline constexpr CallSpec kBuildCalls[] = {{"build.leaves", None()}, {"build.parents", None()}};
+inline constexpr CallSpec kTraverseCalls[] = {
+    {"traverse.objects", None()}, {"traverse.top", kTraverseIdx}, {"traverse.level", kTraverseIdx}};
+inline constexpr CallSpec kReduceCalls[] = {{"reduce", kReduceIdx}};
+inline constexpr CallSpec kIntersectCalls[] = {{"intersect", kIntersectIdx}};
+inline constexpr CallSpec kShadeCalls[] = {{"shade", None()}};
+inline constexpr CallSpec kResolveCalls[] = {{"resolve", None()}};
+
+#define RS_PHASE(P, X) {#X, gpu::k##P##Phase##X}
+inline constexpr PhaseSpec kTrimPhases[] = {RS_PHASE(Trim, BlockSums), RS_PHASE(Trim, ScanSums), RS_PHASE(Trim, Scatter)};
+inline constexpr PhaseSpec kCompressPhases[] = {RS_PHASE(Compress, Heads), RS_PHASE(Compress, BlockSums),
+                                                RS_PHASE(Compress, ScanSums), RS_PHASE(Compress, Chunks),
+                                                RS_PHASE(Compress, Sizes)};
+inline constexpr PhaseSpec kSortPhases[] = {RS_PHASE(Sort, Init), RS_PHASE(Sort, Histograms), RS_PHASE(Sort, BinScan),
+                                            RS_PHASE(Sort, TotalScan), RS_PHASE(Sort, Scatter)};
+inline constexpr PhaseSpec kDecompressPhases[] = {RS_PHASE(Decompress, Sizes), RS_PHASE(Decompress, BlockSums),
+                                                  RS_PHASE(Decompress, ScanSums), RS_PHASE(Decompress, Starts),
+                                                  RS_PHASE(Decompress, Rays)};
+inline constexpr PhaseSpec kBuildPhases[] = {RS_PHASE(Build, Leaves), RS_PHASE(Build, Parents)};
+inline constexpr PhaseSpec kTraversePhases[] = {RS_PHASE(Traverse, Top), RS_PHASE(Traverse, Level), RS_PHASE(Traverse, Objects)};
+inline constexpr PhaseSpec kReducePhases[] = {RS_PHASE(Reduce, Local),    RS_PHASE(Reduce, BlockSums), RS_PHASE(Reduce, ScanSums),
+                                              RS_PHASE(Reduce, Offsets),  RS_PHASE(Reduce, Concat),    RS_PHASE(Reduce, FlagSums),
+                                              RS_PHASE(Reduce, Scatter)};
+#undef RS_PHASE
+
+inline constexpr FaultSpec kRasterFaults[] = {{1, "the depth is written without the 1/far scale"}};
+inline constexpr FaultSpec kSurfacesFaults[] = {{1, "rows and columns swapped when the pixel index is split"}};
+inline constexpr FaultSpec kSurfacesHitsFaults[] = {{1, "the hit point is taken at t from the ray's tmin, not its origin"}};
+inline constexpr FaultSpec kRaygenShadowFaults[] = {{1, "the shadow ray runs all the way to the surface"},
+                                                    {2, "the ray is credited to the next pixel"}};
+inline constexpr FaultSpec kRaygenReflectionFaults[] = {{1, "the factor 2 of the mirror formula is lost"}};
+inline constexpr FaultSpec kRaygenRefractionFaults[] = {{1, "the index ratio is not inverted when the ray leaves"}};
+inline constexpr FaultSpec kTrimFaults[] = {{1, "an inclusive scan where an exclusive one belongs"},
+                                            {2, "the carry between parts is dropped (--split-bytes)"}};
+inline constexpr FaultSpec kHashFaults[] = {{1, "the azimuth cell comes from the wrong coordinate pair"},
+                                            {2, "the launch row is ignored (--max-groups)"}};
+inline constexpr FaultSpec kCompressFaults[] = {{1, "the last chunk loses its last ray"}};
+inline constexpr FaultSpec kSortFaults[] = {{1, "a bin's position is not advanced in the top byte's pass"}};
+inline constexpr FaultSpec kDecompressFaults[] = {{1, "the chunk is looked up without the sorted permutation"}};
+inline constexpr FaultSpec kBuildFaults[] = {{1, "the float containment checks of each step are skipped"}};
+inline constexpr FaultSpec kTraverseFaults[] = {{1, "the top level ignores the triangle sphere's radius"},
+                                                {2, "a mask part's start is dropped (--split-bytes)"}};
+inline constexpr FaultSpec kReduceFaults[] = {{1, "the last element of every segment is dropped"},
+                                              {2, "each scan block starts at the previous block's offset"}};
+inline constexpr FaultSpec kIntersectFaults[] = {{1, "tmin and tmax swapped in the range check"},
+                                                 {2, "every paged load reads the first page (--split-bytes)"}};
+inline constexpr FaultSpec kShadeFaults[] = {{1, "the quadratic attenuation uses the distance, not its square"}};
+inline constexpr FaultSpec kResolveFaults[] = {{1, "the gamma step is skipped"}};
+}  // namespace pass_registry_detail
+
+#define RS_PUSH(T) #T, sizeof(gpu::T)
+// clang-format off
+inline constexpr std::array<PassSpec, kPassCount> kPasses = {{
+  // id                       name                 kernel               graphics phases                                   bindings                    push                        calls                                       thesis phase                 faults
+  {PassId::kRaster,           "raster",            "raster",            true,  {},                                        5,                          "", 0,                      pass_registry_detail::kRasterCalls,        "",                          pass_registry_detail::kRasterFaults},
+  {PassId::kSurfaces,         "surfaces",          "surfaces",          false, {},                                        gpu::kSurfacesBindings,     RS_PUSH(SurfacesPush),      pass_registry_detail::kSurfacesCalls,      "",                          pass_registry_detail::kSurfacesFaults},
+  {PassId::kSurfacesHits,     "surfaces.hits",     "surfaces_hits",     false, {},                                        gpu::kSurfacesHitsBindings, RS_PUSH(SurfacesHitsPush),  pass_registry_detail::kSurfacesHitsCalls,  "",                          pass_registry_detail::kSurfacesHitsFaults},
+  {PassId::kRaygenShadow,     "raygen.shadow",     "raygen_shadow",     false, {},                                        gpu::kRaygenBindings,       RS_PUSH(RaygenShadowPush),  pass_registry_detail::kRaygenCalls,        "ray_creation",              pass_registry_detail::kRaygenShadowFaults},
+  {PassId::kRaygenReflection, "raygen.reflection", "raygen_reflection", false, {},                                        gpu::kRaygenBindings,       RS_PUSH(RaygenPush),        pass_registry_detail::kRaygenCalls,        "ray_creation",              pass_registry_detail::kRaygenReflectionFaults},
+  {PassId::kRaygenRefraction, "raygen.refraction", "raygen_refraction", false, {},                                        gpu::kRaygenBindings,       RS_PUSH(RaygenPush),        pass_registry_detail::kRaygenCalls,        "ray_creation",              pass_registry_detail::kRaygenRefractionFaults},
+  {PassId::kTrim,             "trim",              "trim",              false, pass_registry_detail::kTrimPhases,        gpu::kTrimBindings,         RS_PUSH(TrimPush),          pass_registry_detail::kTrimCalls,          "ray_creation",              pass_registry_detail::kTrimFaults},
+  {PassId::kHash,             "hash",              "hash",              false, {},                                        gpu::kHashBindings,         RS_PUSH(HashPush),          pass_registry_detail::kHashCalls,          "ray_compression",           pass_registry_detail::kHashFaults},
+  {PassId::kCompress,         "compress",          "sort",              false, pass_registry_detail::kCompressPhases,    gpu::kSortBindings,         RS_PUSH(SortPush),          pass_registry_detail::kCompressCalls,      "ray_compression",           pass_registry_detail::kCompressFaults},
+  {PassId::kSort,             "sort",              "sort",              false, pass_registry_detail::kSortPhases,        gpu::kSortBindings,         RS_PUSH(SortPush),          pass_registry_detail::kSortCalls,          "ray_sorting",               pass_registry_detail::kSortFaults},
+  {PassId::kDecompress,       "decompress",        "sort",              false, pass_registry_detail::kDecompressPhases,  gpu::kSortBindings,         RS_PUSH(SortPush),          pass_registry_detail::kDecompressCalls,    "ray_decompression",         pass_registry_detail::kDecompressFaults},
+  {PassId::kBuild,            "build",             "build",             false, pass_registry_detail::kBuildPhases,       gpu::kBuildBindings,        RS_PUSH(BuildPush),         pass_registry_detail::kBuildCalls,         "hierarchy_creation",        pass_registry_detail::kBuildFaults},
+  {PassId::kTraverse,         "traverse",          "traverse",          false, pass_registry_detail::kTraversePhases,    gpu::kTraverseBindings,     RS_PUSH(TraversePush),      pass_registry_detail::kTraverseCalls,      "hierarchy_traversal",       pass_registry_detail::kTraverseFaults},
+  {PassId::kReduce,           "reduce",            "reduce",            false, pass_registry_detail::kReducePhases,      gpu::kReduceBindings,       RS_PUSH(ReducePush),        pass_registry_detail::kReduceCalls,        "hierarchy_traversal",       pass_registry_detail::kReduceFaults},
+  {PassId::kIntersect,        "intersect",         "intersect",         false, {},                                        gpu::kIntersectBindings,    RS_PUSH(IntersectPush),     pass_registry_detail::kIntersectCalls,     "final_intersection_tests",  pass_registry_detail::kIntersectFaults},
+  {PassId::kShade,            "shade",             "shade",             false, {},                                        gpu::kShadeBindings,        RS_PUSH(ShadePush),         pass_registry_detail::kShadeCalls,         "",                          pass_registry_detail::kShadeFaults},
+  {PassId::kResolve,          "resolve",           "resolve",           false, {},                                        gpu::kResolveBindings,      RS_PUSH(ResolvePush),       pass_registry_detail::kResolveCalls,       "",                          pass_registry_detail::kResolveFaults},
+}};
+// clang-format on
+#undef RS_PUSH
+
+constexpr const PassSpec& Pass(PassId id) { return kPasses[static_cast<std::size_t>(id)]; }
+
+// The registered pass of this name, or nothing.
+constexpr std::optional<PassId> FindPass(std::string_view name) {
+  for (const PassSpec& p : kPasses)
+    if (p.name == name) return p.id;
+  return std::nullopt;
+}
+
+// The pass a frame label such as "traverse.L2.shadow.b0" or "raygen.shadow.b0" belongs to: the
+// longest registered name that is the label or a dot-separated prefix of it.
+constexpr std::optional<PassId> PassOfLabel(std::string_view label) {
+  std::optional<PassId> best;
+  std::size_t best_len = 0;
+  for (const PassSpec& p : kPasses) {
+    const std::size_t n = p.name.size();
+    if (label.substr(0, n) == p.name && (label.size() == n || label[n] == '.') && n > best_len) {
+      best = p.id;
+      best_len = n;
+    }
+  }
+  return best;
+}
+
+// Registry invariants that hold at compile time: ids in order, names unique, faults numbered 1..n.
+namespace pass_registry_detail {
+constexpr bool Valid() {
+  for (std::size_t i = 0; i < kPasses.size(); ++i) {
+    if (static_cast<std::size_t>(kPasses[i].id) != i || kPasses[i].name.empty() || kPasses[i].kernel.empty()) return false;
+    for (std::size_t j = 0; j < i; ++j)
+      if (kPasses[j].name == kPasses[i].name) return false;
+    for (std::size_t f = 0; f < kPasses[i].faults.size(); ++f)
+      if (kPasses[i].faults[f].number != f + 1) return false;
+    if (!kPasses[i].graphics && (kPasses[i].push_bytes == 0 || kPasses[i].push_bytes > 128)) return false;
+  }
+  return true;
+}
+static_assert(Valid(), "pass registry: ids out of order, a duplicate name, faults not numbered 1..n or a bad push block");
+}  // namespace pass_registry_detail
+
+}  // namespace rayspace

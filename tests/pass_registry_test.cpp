@@ -1,0 +1,78 @@
+// The pass registry against the emulator side: the diff's pass table runs exactly the registered
+// calls, each call's pass is a registered pass, frame labels resolve to their pass, and the timing
+// table's thesis phases come from the registry. (gpu/tests/registry_test.cpp holds the kernels to it.)
+#include <doctest/doctest.h>
+
+#include <set>
+#include <string>
+
+#include "rayspace/pass_registry.h"
+#include "rayspace/verify/pass_table.h"
+
+namespace rayspace {
+namespace {
+
+TEST_CASE("registry: the diff's pass table runs exactly the registered calls") {
+  std::set<std::string> registered, table;
+  for (const PassSpec& p : kPasses)
+    for (const CallSpec& c : p.calls) registered.insert(std::string(c.name));
+  for (const verify::PassMethod& m : verify::PassMethods()) {
+    INFO("pass table method ", m.method);
+    CHECK(table.insert(m.method).second);
+    CHECK(registered.count(m.method) == 1);
+  }
+  for (const std::string& c : registered) {
+    INFO("registered call ", c);
+    CHECK(table.count(c) == 1);
+  }
+}
+
+TEST_CASE("registry: every call reports a registered pass that lists it") {
+  for (const verify::PassMethod& m : verify::PassMethods()) {
+    std::vector<verify::BufferSet> inputs(1);
+    if (m.method == "raygen") {  // the ray kind selects the pass
+      inputs.resize(3);
+      for (std::uint32_t k = 0; k < 3; ++k) inputs[k].scalars["kind"] = k;
+    }
+    for (const verify::BufferSet& in : inputs) {
+      const std::string pass = m.pass(in);
+      INFO("call ", m.method, " -> pass ", pass);
+      const std::optional<PassId> id = FindPass(pass);
+      REQUIRE(id.has_value());
+      bool listed = false;
+      for (const CallSpec& c : Pass(*id).calls) listed = listed || c.name == m.method;
+      CHECK(listed);
+    }
+  }
+}
+
+TEST_CASE("registry: frame labels resolve to their pass, and only to registered ones") {
+  CHECK(PassOfLabel("traverse.L2.shadow.b0") == PassId::kTraverse);
+  CHECK(PassOfLabel("traverse.objects.reflection.b1") == PassId::kTraverse);
+  CHECK(PassOfLabel("raygen.shadow.b0") == PassId::kRaygenShadow);
+  CHECK(PassOfLabel("surfaces.hits.reflection.b1") == PassId::kSurfacesHits);  // the longer name wins
+  CHECK(PassOfLabel("surfaces") == PassId::kSurfaces);
+  CHECK(PassOfLabel("sorted.b0") == std::nullopt);  // a prefix must end at a dot
+  CHECK(PassOfLabel("prep") == std::nullopt);
+  CHECK(FindPass("intersect") == PassId::kIntersect);
+  CHECK(FindPass("intersects") == std::nullopt);
+  for (const PassSpec& p : kPasses) CHECK(Pass(p.id).name == p.name);
+}
+
+TEST_CASE("registry: thesis phases are the timing table's") {
+  const std::set<std::string_view> phases = {"",
+                                             "ray_creation",
+                                             "ray_compression",
+                                             "ray_sorting",
+                                             "ray_decompression",
+                                             "hierarchy_creation",
+                                             "hierarchy_traversal",
+                                             "final_intersection_tests"};
+  for (const PassSpec& p : kPasses) {
+    INFO("pass ", std::string(p.name));
+    CHECK(phases.count(p.thesis_phase) == 1);
+  }
+}
+
+}  // namespace
+}  // namespace rayspace
