@@ -231,7 +231,7 @@ class ModeTraversal final : public emu::ForwardingHierarchyPasses {
                                        std::vector<std::uint64_t>* hits, std::vector<std::uint32_t>* occ) override {
     if (!tri_) return ForwardingHierarchyPasses::Intersect(pairs, f1, base1, b0, order, rays, scene, hits, occ);
     std::vector<std::uint32_t> tests(pairs.size());
-    ParallelFor("accuracy.intersect", pairs.size(), [&](std::size_t p) {
+    ParallelFor(pairs.size(), [&](std::size_t p) {
       const std::uint32_t node = base1 + (pairs[p] >> emu::kPairTriangleBits), prim = b0 + (pairs[p] & emu::kPairTriangleMask);
       const gpu::Triangle& tri = scene.triangles[prim];
       tests[p] = f1[node + 1] - f1[node];

@@ -108,7 +108,7 @@ Run FloatReduction(const std::vector<float>& c, const Schedule& sc, bool& split)
   std::map<std::thread::id, Partial> partials;
   SetThreadCount(sc.threads);
   SetChunkSize(sc.chunk);
-  ParallelFor("reduce.float", c.size(), [&](std::size_t i) {
+  ParallelFor(c.size(), [&](std::size_t i) {
     std::lock_guard lock(m);
     auto [it, fresh] = partials.try_emplace(std::this_thread::get_id(), Partial{i});
     it->second.sum += c[i];

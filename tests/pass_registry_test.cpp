@@ -3,6 +3,8 @@
 // table's thesis phases come from the registry. (gpu/tests/registry_test.cpp holds the kernels to it.)
 #include <doctest/doctest.h>
 
+#include <fstream>
+#include <iterator>
 #include <set>
 #include <string>
 
@@ -72,6 +74,19 @@ TEST_CASE("registry: thesis phases are the timing table's") {
     INFO("pass ", std::string(p.name));
     CHECK(phases.count(p.thesis_phase) == 1);
   }
+}
+
+TEST_CASE("registry: every planted fault has a diff case that must catch it in its own pass") {
+  // tests/cli_diff.cmake runs each fault as the ctest cli.diff.fault.[<algo>.]<pass>:<n>.
+  std::ifstream in(std::string(RAYSPACE_SOURCE_DIR) + "/tests/cli_diff.cmake");
+  REQUIRE(in.good());
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (const PassSpec& p : kPasses)
+    for (const FaultSpec& f : p.faults) {
+      const std::string id = std::string(p.name) + ":" + std::to_string(f.number);
+      INFO("fault ", id, " (", std::string(f.effect), ")");
+      CHECK(text.find(id) != std::string::npos);
+    }
 }
 
 }  // namespace

@@ -16,7 +16,7 @@ void SetThreadCount(int n) { g_threads = n; }
 int ThreadCount() { return g_threads > 0 ? g_threads : omp_get_max_threads(); }
 void SetChunkSize(std::size_t n) { g_chunk = n; }
 
-void ParallelFor(const char* /*name*/, std::size_t n, const std::function<void(std::size_t)>& fn) {
+void ParallelFor(std::size_t n, const std::function<void(std::size_t)>& fn) {
   const long long count = static_cast<long long>(n);
   const int threads = ThreadCount();
   if (threads <= 1 || n < 2) {
@@ -48,9 +48,9 @@ ScopedFtzDaz::~ScopedFtzDaz() {
 #endif
 }
 
-void ParallelForFtz(const char* name, std::size_t n, const std::function<void(std::size_t)>& fn) {
+void ParallelForFtz(std::size_t n, const std::function<void(std::size_t)>& fn) {
   // The mode is per thread: set it inside each worker, around its share of the work.
-  ParallelFor(name, n, [&](std::size_t i) {
+  ParallelFor(n, [&](std::size_t i) {
     ScopedFtzDaz ftz;
     fn(i);
   });

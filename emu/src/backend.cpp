@@ -116,7 +116,7 @@ HierarchyPasses& EmuHierarchyPasses() {
 std::vector<std::uint32_t> PassHashQuadtree(const std::vector<gpu::Ray>& rays, std::uint32_t width, int depth) {
   std::vector<std::uint32_t> k(rays.size());
   const std::uint32_t w = std::max(width, 1u);
-  ParallelFor("hash", rays.size(), [&](std::size_t i) {
+  ParallelFor(rays.size(), [&](std::size_t i) {
     const std::uint32_t px = rays[i].info.x % w, py = rays[i].info.x / w;
     const std::uint32_t light = rays[i].info.z == gpu::kRayShadow ? rays[i].info.w : 0u;
     k[i] = (light << (2 * depth)) | Morton2(px, py);

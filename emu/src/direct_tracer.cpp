@@ -37,12 +37,12 @@ class DirectTracer final : public Tracer {
 
   void Closest(const std::vector<gpu::Ray>& rays, std::vector<std::uint64_t>& hits) override {
     hits.assign(rays.size(), kMissPacked);
-    ParallelFor("trace.closest", rays.size(), [&](std::size_t i) { hits[i] = Trace(rays[i], false); });
+    ParallelFor(rays.size(), [&](std::size_t i) { hits[i] = Trace(rays[i], false); });
   }
 
   void Occluded(const std::vector<gpu::Ray>& rays, std::vector<std::uint32_t>& occluded) override {
     occluded.assign(rays.size(), 0u);
-    ParallelFor("trace.shadow", rays.size(), [&](std::size_t i) {
+    ParallelFor(rays.size(), [&](std::size_t i) {
       occluded[i] = Trace(rays[i], true) != kMissPacked ? 1u : 0u;
     });
   }

@@ -385,7 +385,7 @@ std::vector<std::uint32_t> PassIntersect(const std::vector<std::uint32_t>& pairs
                                          const std::vector<gpu::Ray>& rays, const SceneBuffers& scene,
                                          std::vector<std::uint64_t>* hits, std::vector<std::uint32_t>* occluded) {
   std::vector<std::uint32_t> tests(pairs.size());
-  ParallelFor("intersect", pairs.size(), [&](std::size_t p) {
+  ParallelFor(pairs.size(), [&](std::size_t p) {
     const std::uint32_t node = base1 + (pairs[p] >> kTriBits), prim = b0 + (pairs[p] & kTriMask);
     const gpu::Triangle& t = scene.triangles[prim];
     tests[p] = f1[node + 1] - f1[node];
@@ -414,7 +414,7 @@ std::vector<std::uint32_t> PassIntersect(const std::vector<std::uint32_t>& pairs
 std::vector<gpu::ConeNode> PassBuildLeaves(const std::vector<gpu::Ray>& rays, const std::vector<std::uint32_t>& order,
                                            const std::vector<std::uint32_t>& first) {
   std::vector<gpu::ConeNode> nodes(first.size() - 1);
-  ParallelFor("build.leaves", nodes.size(), [&](std::size_t i) {
+  ParallelFor(nodes.size(), [&](std::size_t i) {
     nodes[i] = cone::LeafNode(first[i + 1] - first[i], [&](std::uint32_t k) -> const gpu::Ray& { return rays[order[first[i] + k]]; });
   });
   return nodes;
@@ -422,7 +422,7 @@ std::vector<gpu::ConeNode> PassBuildLeaves(const std::vector<gpu::Ray>& rays, co
 
 std::vector<gpu::ConeNode> PassBuildParents(const std::vector<gpu::ConeNode>& below, const std::vector<std::uint32_t>& first) {
   std::vector<gpu::ConeNode> nodes(first.size() - 1);
-  ParallelFor("build.parents", nodes.size(), [&](std::size_t i) { nodes[i] = cone::ParentNode(&below[first[i]], first[i + 1] - first[i]); });
+  ParallelFor(nodes.size(), [&](std::size_t i) { nodes[i] = cone::ParentNode(&below[first[i]], first[i + 1] - first[i]); });
   return nodes;
 }
 

@@ -154,7 +154,7 @@ std::vector<Setup> SetupAll(const gpu::FrameConstants& fc, const std::vector<gpu
   // Up to kMaxClipVerts - 2 fan triangles per primitive; compacted below in primitive order.
   std::vector<std::array<Setup, kMaxClipVerts - 2>> per(tris.size());
   std::vector<std::uint8_t> count(tris.size(), 0);
-  ParallelForFtz("raster.setup", tris.size(), [&](std::size_t i) {
+  ParallelForFtz(tris.size(), [&](std::size_t i) {
     const gpu::Triangle& t = tris[i];
     const std::array<glm::vec4, 3> clip = {VertexStage(fc.view_proj, Xyz(t.v0)), VertexStage(fc.view_proj, Xyz(t.v1)),
                                            VertexStage(fc.view_proj, Xyz(t.v2))};
@@ -218,7 +218,7 @@ GBuffer PassRaster(const gpu::FrameConstants& fc, const SceneBuffers& scene) {
   // primitive order whatever the thread count (LESS: the first of equal depths stays).
   constexpr int kBand = 8;
   const int bands = (height + kBand - 1) / kBand;
-  ParallelForFtz("raster", static_cast<std::size_t>(bands), [&](std::size_t b) {
+  ParallelForFtz(static_cast<std::size_t>(bands), [&](std::size_t b) {
     const int ylo = static_cast<int>(b) * kBand, yhi = std::min(height - 1, ylo + kBand - 1);
     for (const Setup& s : setups) {
       if (s.y1 < ylo || s.y0 > yhi) continue;

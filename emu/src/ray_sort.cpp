@@ -53,7 +53,7 @@ std::vector<std::uint32_t> PassHash(const std::vector<gpu::Ray>& rays, const Sce
   RS_CHECK(3 * h.origin_bits + 2 * h.direction_bits <= 32);
   std::vector<std::uint32_t> keys(rays.size());
   const glm::vec3 lo = scene.lo, ext = scene.hi - scene.lo;
-  ParallelFor("hash", rays.size(), [&](std::size_t i) {
+  ParallelFor(rays.size(), [&](std::size_t i) {
     const gpu::Ray& r = rays[i];
     const glm::vec3 d = Normalize(Xyz(r.direction_tmax));
     if (r.info.z == gpu::kRayShadow) {
@@ -73,20 +73,20 @@ std::vector<std::uint32_t> PassHash(const std::vector<gpu::Ray>& rays, const Sce
 Chunks PassCompress(const std::vector<std::uint32_t>& keys) {
   const std::size_t n = keys.size();
   std::vector<std::uint32_t> head(n);
-  ParallelFor("compress.flags", n, [&](std::size_t i) { head[i] = (i == 0 || keys[i] != keys[i - 1]) ? 1u : 0u; });
+  ParallelFor(n, [&](std::size_t i) { head[i] = (i == 0 || keys[i] != keys[i - 1]) ? 1u : 0u; });
   std::uint32_t chunks = 0;
   const std::vector<std::uint32_t> index = ExclusiveScan(head, &chunks);
   Chunks c;
   c.key.resize(chunks);
   c.base.resize(chunks);
   c.size.resize(chunks);
-  ParallelFor("compress.chunks", n, [&](std::size_t i) {
+  ParallelFor(n, [&](std::size_t i) {
     if (!head[i]) return;
     const std::uint32_t k = index[i];
     c.key[k] = keys[i];
     c.base[k] = static_cast<std::uint32_t>(i);
   });
-  ParallelFor("compress.sizes", chunks, [&](std::size_t k) {  // a chunk ends where the next starts
+  ParallelFor(chunks, [&](std::size_t k) {  // a chunk ends where the next starts
     c.size[k] = (k + 1 < chunks ? c.base[k + 1] : static_cast<std::uint32_t>(n)) - c.base[k];
   });
   return c;
@@ -109,11 +109,11 @@ std::vector<std::uint32_t> PassSortChunks(const std::vector<std::uint32_t>& chun
 
 std::vector<std::uint32_t> PassDecompress(const Chunks& chunks, const std::vector<std::uint32_t>& sorted) {
   std::vector<std::uint32_t> sizes(sorted.size());
-  ParallelFor("decompress.sizes", sorted.size(), [&](std::size_t j) { sizes[j] = chunks.size[sorted[j]]; });
+  ParallelFor(sorted.size(), [&](std::size_t j) { sizes[j] = chunks.size[sorted[j]]; });
   std::uint32_t total = 0;
   const std::vector<std::uint32_t> start = ExclusiveScan(sizes, &total);
   std::vector<std::uint32_t> order(total);
-  ParallelFor("decompress.fill", sorted.size(), [&](std::size_t j) {
+  ParallelFor(sorted.size(), [&](std::size_t j) {
     const std::uint32_t base = chunks.base[sorted[j]];
     for (std::uint32_t k = 0; k < sizes[j]; ++k) order[start[j] + k] = base + k;
   });
@@ -125,7 +125,7 @@ std::vector<std::uint32_t> ReduceScan(const std::vector<std::uint8_t>& flags, co
   std::uint32_t total = 0;
   const std::vector<std::uint32_t> off = ExclusiveScan(f, &total);
   std::vector<std::uint32_t> out(total);
-  ParallelFor("reduce.scatter", flags.size(), [&](std::size_t i) {
+  ParallelFor(flags.size(), [&](std::size_t i) {
     if (flags[i]) out[off[i]] = values[i];
   });
   return out;
@@ -138,7 +138,7 @@ std::vector<std::uint32_t> ReduceHierarchical(const std::vector<std::uint8_t>& f
   const std::size_t n = flags.size(), s = static_cast<std::size_t>(component);
   const std::size_t comps = (n + s - 1) / s;
   std::vector<std::uint32_t> local(n), counts(comps);
-  ParallelFor("reduce.components", comps, [&](std::size_t c) {
+  ParallelFor(comps, [&](std::size_t c) {
     std::uint32_t k = 0;
     for (std::size_t i = c * s; i < std::min(n, (c + 1) * s); ++i)
       if (flags[i]) local[c * s + k++] = values[i];
@@ -147,7 +147,7 @@ std::vector<std::uint32_t> ReduceHierarchical(const std::vector<std::uint8_t>& f
   std::uint32_t total = 0;
   const std::vector<std::uint32_t> off = ExclusiveScan(counts, &total);
   std::vector<std::uint32_t> out(total);
-  ParallelFor("reduce.concatenate", comps, [&](std::size_t c) {
+  ParallelFor(comps, [&](std::size_t c) {
     for (std::uint32_t k = 0; k < counts[c]; ++k) out[off[c] + k] = local[c * s + k];
   });
   return out;

@@ -21,7 +21,7 @@ SparseRays PassRaygenShadow(const gpu::FrameConstants& fc, const std::vector<gpu
   SparseRays out;
   out.rays.assign(surfaces.size() * lights, gpu::Ray{});
   out.flags.assign(surfaces.size() * lights, 0u);
-  ParallelFor("raygen.shadow", surfaces.size(), [&](std::size_t s) {
+  ParallelFor(surfaces.size(), [&](std::size_t s) {
     const gpu::Surface& sf = surfaces[s];
     if (sf.position.w == 0.0f) return;
     const glm::vec3 p = Xyz(sf.position);
@@ -48,7 +48,7 @@ SparseRays PassRaygenReflection(const gpu::FrameConstants& fc, const std::vector
   SparseRays out;
   out.rays.assign(surfaces.size(), gpu::Ray{});
   out.flags.assign(surfaces.size(), 0u);
-  ParallelFor("raygen.reflection", surfaces.size(), [&](std::size_t s) {
+  ParallelFor(surfaces.size(), [&](std::size_t s) {
     const gpu::Surface& sf = surfaces[s];
     if (sf.position.w == 0.0f) return;
     const gpu::Material& m = scene.materials[sf.info.z];
@@ -75,7 +75,7 @@ SparseRays PassRaygenRefraction(const gpu::FrameConstants& fc, const std::vector
   SparseRays out;
   out.rays.assign(surfaces.size(), gpu::Ray{});
   out.flags.assign(surfaces.size(), 0u);
-  ParallelFor("raygen.refraction", surfaces.size(), [&](std::size_t s) {
+  ParallelFor(surfaces.size(), [&](std::size_t s) {
     const gpu::Surface& sf = surfaces[s];
     if (sf.position.w == 0.0f) return;
     const gpu::Material& m = scene.materials[sf.info.z];

@@ -21,7 +21,7 @@ void PassShade(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& s
                const std::vector<std::uint32_t>& occluded, const SceneBuffers& scene, std::vector<std::uint64_t>& accum) {
   const std::size_t lights = scene.lights.size();
   (void)fc;
-  ParallelFor("shade", surfaces.size(), [&](std::size_t s) {
+  ParallelFor(surfaces.size(), [&](std::size_t s) {
     const gpu::Surface& sf = surfaces[s];
     if (sf.position.w == 0.0f) return;
     const gpu::Material& m = scene.materials[sf.info.z];
@@ -61,7 +61,7 @@ void PassShade(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& s
 std::vector<std::uint8_t> PassResolve(const gpu::FrameConstants& fc, const std::vector<std::uint64_t>& accum) {
   const std::size_t npix = static_cast<std::size_t>(fc.dims.x) * fc.dims.y;
   std::vector<std::uint8_t> rgb(npix * 3);
-  ParallelFor("resolve", npix * 3, [&](std::size_t i) {
+  ParallelFor(npix * 3, [&](std::size_t i) {
     const float c = static_cast<float>(accum[i]) / gpu::kAccumScale;
     const float g = std::sqrt(Clamp(c, 0.0f, 1.0f));  // display gamma 2: sqrt is exact on both sides
     rgb[i] = static_cast<std::uint8_t>(static_cast<std::uint32_t>(g * 255.0f + 0.5f));

@@ -18,7 +18,7 @@ constexpr float kRadiusMargin = 1.0f + 1.0f / (1 << 20);
 
 std::vector<glm::vec4> PassTriangleSpheres(const std::vector<gpu::Triangle>& triangles) {
   std::vector<glm::vec4> out(triangles.size());
-  ParallelFor("prep.triangle_spheres", triangles.size(), [&](std::size_t i) {
+  ParallelFor(triangles.size(), [&](std::size_t i) {
     const glm::vec3 a = Xyz(triangles[i].v0), b = Xyz(triangles[i].v1), c = Xyz(triangles[i].v2);
     // Edges scaled by a power of two (exact, and every decision below is scale-free) so that the
     // degree-4 terms neither overflow nor underflow for scenes from 2^-60 to 2^60.
@@ -54,7 +54,7 @@ std::vector<glm::vec4> PassObjectSpheres(const SceneBuffers& scene) {
   using Traits = CGAL::Min_sphere_of_points_d_traits_3<K, double>;
   using MinSphere = CGAL::Min_sphere_of_spheres_d<Traits>;
   std::vector<glm::vec4> out(scene.objects.size());
-  ParallelFor("prep.object_spheres", scene.objects.size(), [&](std::size_t o) {
+  ParallelFor(scene.objects.size(), [&](std::size_t o) {
     const std::uint32_t first = scene.objects[o].x, count = scene.objects[o].y;
     std::vector<K::Point_3> pts;
     pts.reserve(3 * count);

@@ -40,7 +40,7 @@ std::vector<gpu::Surface> PassSurfacesFromGBuffer(const gpu::FrameConstants& fc,
   const std::size_t npix = g.prim.size();
   std::vector<gpu::Surface> out(npix);
   const std::uint32_t width = fc.dims.x;
-  ParallelFor("surfaces", npix, [&](std::size_t i) {
+  ParallelFor(npix, [&](std::size_t i) {
     gpu::Surface s{};
     const std::uint32_t prim = g.prim[i];
     if (prim != gpu::kNoPrim) {
@@ -61,7 +61,7 @@ std::vector<gpu::Surface> PassSurfacesFromGBuffer(const gpu::FrameConstants& fc,
 std::vector<gpu::Surface> PassSurfacesFromHits(const std::vector<gpu::Ray>& rays, const std::vector<std::uint64_t>& hits,
                                                const SceneBuffers& scene) {
   std::vector<gpu::Surface> out(rays.size());
-  ParallelFor("surfaces", rays.size(), [&](std::size_t i) {
+  ParallelFor(rays.size(), [&](std::size_t i) {
     const gpu::Ray& r = rays[i];
     gpu::Surface s{};
     const std::uint64_t h = hits[i];

@@ -10,7 +10,7 @@ std::vector<std::uint32_t> ExclusiveScan(const std::vector<std::uint32_t>& in, s
   constexpr std::size_t kBlock = gpu::kScanBlock;
   const std::size_t n = in.size(), blocks = (n + kBlock - 1) / kBlock;
   std::vector<std::uint32_t> sums(blocks, 0), out(n);
-  ParallelFor("scan.reduce", blocks, [&](std::size_t b) {
+  ParallelFor(blocks, [&](std::size_t b) {
     std::uint32_t s = 0;
     for (std::size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) s += in[i];
     sums[b] = s;
@@ -21,7 +21,7 @@ std::vector<std::uint32_t> ExclusiveScan(const std::vector<std::uint32_t>& in, s
     sums[b] = run;
     run += s;
   }
-  ParallelFor("scan.downsweep", blocks, [&](std::size_t b) {
+  ParallelFor(blocks, [&](std::size_t b) {
     std::uint32_t s = sums[b];
     for (std::size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) {
       out[i] = s;
@@ -37,7 +37,7 @@ Trimmed PassTrim(const SparseRays& sparse) {
   std::uint32_t count = 0;
   t.offsets = ExclusiveScan(sparse.flags, &count);
   t.rays.resize(count);
-  ParallelFor("trim.scatter", sparse.flags.size(), [&](std::size_t i) {
+  ParallelFor(sparse.flags.size(), [&](std::size_t i) {
     if (sparse.flags[i]) t.rays[t.offsets[i]] = sparse.rays[i];
   });
   return t;

@@ -80,7 +80,7 @@ class EmbreeTracer final : public Tracer {
 
   void Closest(const std::vector<gpu::Ray>& rays, std::vector<std::uint64_t>& hits) override {
     hits.assign(rays.size(), emu::kMissPacked);
-    ParallelFor("embree.closest", rays.size(), [&](std::size_t i) {
+    ParallelFor(rays.size(), [&](std::size_t i) {
       Context ctx;
       rtcInitIntersectContext(&ctx.base);
       ctx.ignore = rays[i].info.y;
@@ -94,7 +94,7 @@ class EmbreeTracer final : public Tracer {
 
   void Occluded(const std::vector<gpu::Ray>& rays, std::vector<std::uint32_t>& occluded) override {
     occluded.assign(rays.size(), 0u);
-    ParallelFor("embree.occluded", rays.size(), [&](std::size_t i) {
+    ParallelFor(rays.size(), [&](std::size_t i) {
       Context ctx;
       rtcInitIntersectContext(&ctx.base);
       ctx.ignore = rays[i].info.y;

@@ -14,8 +14,8 @@ int ThreadCount();
 // Elements per scheduling chunk (0 = static even split). Tests vary it to prove schedule independence.
 void SetChunkSize(std::size_t n);
 
-// Runs fn(i) for i in [0, n). `name` labels the loop in logs and timing reports.
-void ParallelFor(const char* name, std::size_t n, const std::function<void(std::size_t)>& fn);
+// Runs fn(i) for i in [0, n). Timings and logs are labelled by the pass that calls it.
+void ParallelFor(std::size_t n, const std::function<void(std::size_t)>& fn);
 
 // Sets the CPU's flush-to-zero and denormals-are-zero modes on the calling thread for the lifetime
 // of the object: lavapipe runs its whole draw path (vertex, clip, setup, fragment) in that mode.
@@ -31,6 +31,6 @@ class ScopedFtzDaz {
 };
 
 // ParallelFor whose body runs with FTZ/DAZ set on every worker thread.
-void ParallelForFtz(const char* name, std::size_t n, const std::function<void(std::size_t)>& fn);
+void ParallelForFtz(std::size_t n, const std::function<void(std::size_t)>& fn);
 
 }  // namespace rayspace

@@ -131,7 +131,7 @@ PairSlots TraverseTopWith(TestFn&& test, const std::vector<gpu::ConeNode>& top, 
   s.flags.resize(grid);
   s.values.resize(grid);
   s.tested.resize(grid);
-  ParallelFor("traverse.top", grid, [&](std::size_t e) {
+  ParallelFor(grid, [&](std::size_t e) {
     const std::uint32_t node = t0 + static_cast<std::uint32_t>(e / T), tri = b0 + static_cast<std::uint32_t>(e % T);
     const bool tested = object_mask.empty() || object_mask[static_cast<std::size_t>(node) * objects + scene.info[tri].ids.y];
     s.tested[e] = tested;
@@ -146,7 +146,7 @@ std::vector<std::uint8_t> ObjectMaskWith(TestFn&& test, const std::vector<gpu::C
                                          const std::vector<glm::vec4>& object_spheres, float eps) {
   const std::size_t objects = object_spheres.size();
   std::vector<std::uint8_t> mask(top.size() * objects, 0);
-  ParallelFor("traverse.objects", mask.size(), [&](std::size_t e) { mask[e] = test(top[e / objects], object_spheres[e % objects], eps); });
+  ParallelFor(mask.size(), [&](std::size_t e) { mask[e] = test(top[e / objects], object_spheres[e % objects], eps); });
   return mask;
 }
 
@@ -159,7 +159,7 @@ PairSlots TraverseLevelWith(TestFn&& test, const std::vector<std::uint32_t>& pai
   s.flags.assign(pairs.size() * children_max, 0);
   s.values.assign(pairs.size() * children_max, 0);
   s.tested.assign(pairs.size(), 0);
-  ParallelFor("traverse.level", pairs.size(), [&](std::size_t p) {
+  ParallelFor(pairs.size(), [&](std::size_t p) {
     const std::uint32_t parent = base_up + (pairs[p] >> kPairTriangleBits), tri_local = pairs[p] & kPairTriangleMask;
     const glm::vec4 sphere = tri_spheres[b0 + tri_local];
     const std::uint32_t c0 = first[parent], c1 = first[parent + 1];

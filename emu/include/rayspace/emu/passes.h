@@ -1,5 +1,5 @@
 // The emulated GPU passes. Each function mirrors one kernel's main(): it reads and writes flat
-// std430 buffers (layout.h) and runs its elements through ParallelFor under the pass's name.
+// std430 buffers (layout.h) and runs its elements through ParallelFor.
 #pragma once
 #include <cstdint>
 #include <vector>
