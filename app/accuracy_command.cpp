@@ -387,7 +387,7 @@ void Plot(const std::filesystem::path& path, const std::string& title, const std
 
 }  // namespace
 
-int RunAccuracy(const AccuracyArgs& args) {
+ExitCode RunAccuracy(const AccuracyArgs& args) {
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
   if (args.samples < 100 || args.samples > 10000000) ThrowInput("--samples {}: expected 100 to 10000000", args.samples);
@@ -559,7 +559,7 @@ int RunAccuracy(const AccuracyArgs& args) {
   std::ofstream(base.string() + ".csv") << csv;
   Plot(base.string() + ".png", fmt::format("{}: errors against time per test", scene.name), rows);
   std::printf("%s\n  wrote %s.md, .csv, .png\n", md.c_str(), base.string().c_str());
-  return 0;
+  return ExitCode::kOk;
 }
 
 }  // namespace rayspace::app

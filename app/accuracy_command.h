@@ -2,6 +2,8 @@
 #include <cstddef>
 #include <string>
 
+#include "exit_codes.h"
+
 namespace rayspace::app {
 
 struct AccuracyArgs {
@@ -14,6 +16,6 @@ struct AccuracyArgs {
 // own workload (queries sampled from a CRSH frame) and on near-boundary variants of it: ns per test,
 // false negatives and false positives against the exact answer; and, for the cone-sphere modes, the
 // frame time and the rays whose result changes. Writes OUT/<scene>-accuracy.{md,csv,png}.
-int RunAccuracy(const AccuracyArgs& args);
+ExitCode RunAccuracy(const AccuracyArgs& args);
 
 }  // namespace rayspace::app

@@ -86,7 +86,7 @@ struct PassTotals {
 
 }  // namespace
 
-int RunDiff(const DiffArgs& args) {
+ExitCode RunDiff(const DiffArgs& args) {
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
   const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, ParseInject(args.inject), {args.split_bytes, args.max_groups});
@@ -213,10 +213,10 @@ int RunDiff(const DiffArgs& args) {
     if (!f) ThrowInput("{}: cannot write the report", args.report);
     f << j.dump(2) << "\n";
   }
-  return equal ? 0 : 4;
+  return equal ? ExitCode::kOk : ExitCode::kDivergence;
 }
 
-int RunReplay(const ReplayArgs& args) {
+ExitCode RunReplay(const ReplayArgs& args) {
   std::string method_name;
   const verify::BufferSet in = verify::BufferSet::Load(args.dir, method_name);
   const verify::PassMethod& method = verify::FindPassMethod(method_name);
@@ -251,7 +251,7 @@ int RunReplay(const ReplayArgs& args) {
     const std::string rec_inject = recorded.value("inject", std::string());
     if (!same && rec_inject != args.inject)
       std::printf("  (recorded with --inject '%s', replayed with '%s')\n", rec_inject.c_str(), args.inject.c_str());
-    if (!same) return 5;
+    if (!same) return ExitCode::kNotReproduced;
   }
   std::printf("  %s\n", r.equal ? "equal" : "divergent");
   if (!args.report.empty()) {
@@ -261,7 +261,7 @@ int RunReplay(const ReplayArgs& args) {
     if (!f) ThrowInput("{}: cannot write the report", args.report);
     f << j.dump(2) << "\n";
   }
-  return r.equal ? 0 : 4;
+  return r.equal ? ExitCode::kOk : ExitCode::kDivergence;
 }
 
 }  // namespace rayspace::app

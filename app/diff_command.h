@@ -2,6 +2,8 @@
 #include <cstddef>
 #include <string>
 
+#include "exit_codes.h"
+
 namespace rayspace::app {
 
 struct DiffArgs {
@@ -14,8 +16,8 @@ struct DiffArgs {
 };
 
 // Runs the whole frame with every pass on both backends (same inputs: the GPU's previous outputs)
-// and compares every output bitwise. Returns 0 when all are equal, 4 when a pass diverges.
-int RunDiff(const DiffArgs& args);
+// and compares every output bitwise. Returns kOk when all are equal, kDivergence when a pass diverges.
+ExitCode RunDiff(const DiffArgs& args);
 
 struct ReplayArgs {
   std::string dir, report, inject;
@@ -23,8 +25,8 @@ struct ReplayArgs {
   int local_size = 64;
 };
 
-// Runs one saved pass call (diff --save-inputs) on both backends and compares. Returns 0 when equal,
-// 4 when divergent, 5 when the comparison recorded at save time is not reproduced.
-int RunReplay(const ReplayArgs& args);
+// Runs one saved pass call (diff --save-inputs) on both backends and compares. Returns kOk when equal,
+// kDivergence when divergent, kNotReproduced when the comparison recorded at save time is not reproduced.
+ExitCode RunReplay(const ReplayArgs& args);
 
 }  // namespace rayspace::app

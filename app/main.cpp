@@ -9,14 +9,17 @@
 
 #include "rayspace/error.h"
 #include "accuracy_command.h"
+#include "exit_codes.h"
 #include "render_command.h"
 #ifdef RAYSPACE_HAVE_VULKAN
 #include "diff_command.h"
 #endif
 
 int main(int argc, char** argv) {
+  using rayspace::app::ExitCode;
   CLI::App app{"rayspace: emulator and verification suite for GPU secondary-ray tracing with ray-space hierarchies"};
   app.require_subcommand(1);
+  app.footer(rayspace::app::ExitCodeHelp());  // before the subcommands, which inherit it
   rayspace::app::RenderArgs render;
   CLI::App* rc = app.add_subcommand("render", "Render a scene through the emulated pipeline and check it with an oracle");
   rc->add_option("scene", render.scene, "Scene JSON file")->required();
@@ -99,22 +102,22 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "rayspace: error: %s\n", e.what());
-    return 2;
+    return ToInt(ExitCode::kBadInput);
   }
   render.depth_given = depth->count() > 0;
   try {
-    if (rc->parsed()) return rayspace::app::RunRender(render);
-    if (ac->parsed()) return rayspace::app::RunAccuracy(accuracy);
+    if (rc->parsed()) return ToInt(rayspace::app::RunRender(render));
+    if (ac->parsed()) return ToInt(rayspace::app::RunAccuracy(accuracy));
 #ifdef RAYSPACE_HAVE_VULKAN
-    if (dc->parsed()) return rayspace::app::RunDiff(diff);
-    if (pc->parsed()) return rayspace::app::RunReplay(replay);
+    if (dc->parsed()) return ToInt(rayspace::app::RunDiff(diff));
+    if (pc->parsed()) return ToInt(rayspace::app::RunReplay(replay));
 #endif
   } catch (const rayspace::InputError& e) {
     std::fprintf(stderr, "rayspace: error: %s\n", e.what());
-    return 2;
+    return ToInt(ExitCode::kBadInput);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "rayspace: failure: %s\n", e.what());
-    return 1;
+    return ToInt(ExitCode::kInternal);
   }
-  return 0;
+  return ToInt(ExitCode::kOk);
 }

@@ -39,7 +39,7 @@ nlohmann::json RaysJson(const std::vector<std::uint64_t>& per_bounce, bool from_
 
 }  // namespace
 
-int RunRender(const RenderArgs& args) {
+ExitCode RunRender(const RenderArgs& args) {
   if (args.threads > 0) SetThreadCount(args.threads);
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
@@ -189,7 +189,7 @@ int RunRender(const RenderArgs& args) {
   std::printf("  digest      %s\n", HexDigest(r.digest.Frame()).c_str());
   std::printf("  image       %s\n", out.c_str());
   if (!args.stats.empty()) std::printf("  stats       %s\n", args.stats.c_str());
-  return !oracle || oracle->mismatches().empty() ? 0 : 3;
+  return !oracle || oracle->mismatches().empty() ? ExitCode::kOk : ExitCode::kOracleMismatch;
 }
 
 }  // namespace rayspace::app

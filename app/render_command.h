@@ -2,6 +2,8 @@
 #include <cstddef>
 #include <string>
 
+#include "exit_codes.h"
+
 namespace rayspace::app {
 
 struct RenderArgs {
@@ -15,7 +17,7 @@ struct RenderArgs {
   bool no_oracle = false, progress = false, timings = false;
 };
 
-// Runs `rayspace render`; returns the exit code (0 ok, 3 when the oracle found mismatches).
-int RunRender(const RenderArgs& args);
+// Runs `rayspace render`: kOk, or kOracleMismatch when the oracle found rays the frame got wrong.
+ExitCode RunRender(const RenderArgs& args);
 
 }  // namespace rayspace::app

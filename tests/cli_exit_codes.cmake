@@ -1,0 +1,45 @@
+# The exit codes are stated once (app/exit_codes.h): `rayspace --help` must list every code with its
+# meaning, and README's "Exit codes" line must say the same.
+#   cmake -DRAYSPACE=<exe> -DSRC=<source dir> -P cli_exit_codes.cmake
+cmake_minimum_required(VERSION 3.19)
+
+execute_process(COMMAND "${RAYSPACE}" --help RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "rayspace --help: exit ${rc}: ${err}")
+endif()
+string(FIND "${out}" "\nExit codes:\n" at)
+if(at EQUAL -1)
+  message(FATAL_ERROR "rayspace --help: no 'Exit codes:' footer in:\n${out}")
+endif()
+string(SUBSTRING "${out}" ${at} -1 footer)
+
+# README: the list item that starts with "Exit codes", on one line.
+file(READ "${SRC}/README.md" readme)
+string(REGEX MATCH "\n- Exit codes[^\n]*(\n  [^\n]*)*" readme_line "${readme}")
+string(REGEX REPLACE "\n +" " " readme_line "${readme_line}")
+if(readme_line STREQUAL "")
+  message(FATAL_ERROR "README.md: no '- Exit codes' list item")
+endif()
+
+set(failures "")
+foreach(code 0 1 2 3 4 5)
+  if(NOT footer MATCHES "\n  ${code}  ([^\n]+)")
+    set(failures "${failures}\n--help does not list exit code ${code}")
+    continue()
+  endif()
+  set(meaning "${CMAKE_MATCH_1}")
+  string(FIND "${readme_line}" " ${code} ${meaning}" found)
+  if(found EQUAL -1)
+    set(failures "${failures}\nREADME.md's exit codes do not say '${code} ${meaning}' (as --help does)")
+  endif()
+endforeach()
+# No other code is listed.
+string(REGEX MATCHALL "\n  [0-9]+  " listed "${footer}")
+list(LENGTH listed n)
+if(NOT n EQUAL 6)
+  set(failures "${failures}\n--help lists ${n} exit codes, expected 6:${footer}")
+endif()
+if(failures)
+  message(FATAL_ERROR "${failures}")
+endif()
+message(STATUS "exit codes: --help and README.md list the same six")
