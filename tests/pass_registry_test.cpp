@@ -7,6 +7,7 @@
 #include <iterator>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "rayspace/pass_registry.h"
 #include "rayspace/verify/pass_table.h"
@@ -87,6 +88,40 @@ TEST_CASE("registry: every planted fault has a diff case that must catch it in i
       INFO("fault ", id, " (", std::string(f.effect), ")");
       CHECK(text.find(id) != std::string::npos);
     }
+}
+
+TEST_CASE("registry: docs/architecture.md maps exactly the registered passes to their kernels and files") {
+  std::ifstream in(std::string(RAYSPACE_SOURCE_DIR) + "/docs/architecture.md");
+  REQUIRE(in.good());
+  std::set<std::string> documented;
+  std::string line;
+  bool in_map = false;
+  while (std::getline(in, line)) {
+    if (line.rfind("## ", 0) == 0) in_map = line == "## Passes and files";
+    if (!in_map || line.rfind("| `", 0) != 0) continue;
+    // | `pass` | `gpu/shaders/kernel.comp`... | `emulator file` | `host file` |
+    std::vector<std::string> paths;
+    for (std::size_t a = line.find('`'); a != std::string::npos; a = line.find('`', line.find('`', a + 1) + 1))
+      paths.push_back(line.substr(a + 1, line.find('`', a + 1) - a - 1));
+    REQUIRE(paths.size() >= 4);
+    const std::string pass = paths[0];
+    INFO("docs row ", line);
+    const std::optional<PassId> id = FindPass(pass);
+    REQUIRE(id.has_value());
+    CHECK(documented.insert(pass).second);
+    const PassSpec& p = Pass(*id);
+    const std::string kernel = "gpu/shaders/" + std::string(p.kernel) + (p.graphics ? ".vert" : ".comp");
+    CHECK(paths[1] == kernel);
+    for (std::size_t k = 1; k < paths.size(); ++k) {
+      if (paths[k].find('/') == std::string::npos) continue;  // "raster.frag" beside its .vert
+      INFO("file ", paths[k]);
+      CHECK(std::ifstream(std::string(RAYSPACE_SOURCE_DIR) + "/" + paths[k]).good());
+    }
+  }
+  for (const PassSpec& p : kPasses) {
+    INFO("registered pass ", std::string(p.name));
+    CHECK(documented.count(std::string(p.name)) == 1);
+  }
 }
 
 }  // namespace
