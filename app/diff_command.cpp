@@ -89,7 +89,7 @@ struct PassTotals {
 ExitCode RunDiff(const DiffArgs& args) {
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
-  const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, ParseInject(args.inject), {args.split_bytes, args.max_groups});
+  const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, ParseInject(args.inject), args.Limits());
   const SceneBuffers buffers = FlattenScene(scene);
   CheckFrameFits(gpu, fo.width, fo.height, scene.lights.size(), buffers.triangles.size());
   auto direct = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);
@@ -108,19 +108,7 @@ ExitCode RunDiff(const DiffArgs& args) {
   } else if (args.algo == "embree") {
     host_tracer = refs::MakeEmbreeTracer(buffers, 0);
   } else {
-    emu::HierarchyConfig hc;
-    hc.algorithm = args.algo == "crsh" ? emu::Algorithm::kCrsh : args.algo == "rah" ? emu::Algorithm::kRah : emu::Algorithm::kRahQuadtree;
-    hc.subdivision = args.subdivision;
-    hc.depth = args.depth;
-    if (hc.algorithm == emu::Algorithm::kRahQuadtree) {
-      hc.subdivision = 4;
-      hc.depth = std::max(1, static_cast<int>(std::ceil(std::log2(std::max(fo.width, fo.height)))));
-    }
-    hc.reduction = args.reduction == "scan" ? emu::Reduction::kScan : emu::Reduction::kHierarchical;
-    hc.image_width = fo.width;
-    hc.image_height = fo.height;
-    hc.passes = &differ.hierarchy();
-    hierarchy = emu::MakeHierarchyTracer(buffers, hc);
+    hierarchy = emu::MakeHierarchyTracer(buffers, MakeHierarchyConfig(args, fo.width, fo.height, &differ.hierarchy()));
   }
   Tracer& tracer = hierarchy ? static_cast<Tracer&>(*hierarchy) : *host_tracer;
 

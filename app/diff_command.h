@@ -3,16 +3,14 @@
 #include <string>
 
 #include "exit_codes.h"
+#include "frame_args.h"
 
 namespace rayspace::app {
 
-struct DiffArgs {
-  std::string scene, size, data, report, inject, save_inputs, algo = "crsh", reduction = "hierarchical";
-  int device = -1;
+// The frame, tracer and device options shared with render (FrameArgs), and diff's own.
+struct DiffArgs : FrameArgs {
+  std::string scene, report, inject, save_inputs;
   int local_size = 64;
-  int subdivision = 8, depth = 2;
-  std::size_t split_bytes = 0;
-  std::uint32_t max_groups = 0;
 };
 
 // Runs the whole frame with every pass on both backends (same inputs: the GPU's previous outputs)

@@ -50,7 +50,7 @@ ExitCode RunRender(const RenderArgs& args) {
     if (!probe) ThrowInput("{}: cannot write the output image", out);
   }
 
-  const Backend backend = MakeBackend(args.backend, args.device, 64, {}, {args.split_bytes, args.max_groups});
+  const Backend backend = MakeBackend(args.backend, args.device, 64, {}, args.Limits());
   fo.passes = backend.frame;
   const SceneBuffers buffers = FlattenScene(scene);
   CheckFrameFits(backend, fo.width, fo.height, scene.lights.size(), buffers.triangles.size());
@@ -63,27 +63,8 @@ ExitCode RunRender(const RenderArgs& args) {
   if (args.algo == "brute" || (embree_frames && !args.no_oracle)) direct = emu::MakeDirectTracer(buffers, mode);
   if (embree_frames || !args.no_oracle) embree = refs::MakeEmbreeTracer(buffers, ThreadCount());
   std::unique_ptr<emu::HierarchyTracer> hierarchy;
-  if (args.algo == "crsh" || args.algo == "rah" || args.algo == "rah-quadtree") {
-    emu::HierarchyConfig hc;
-    hc.algorithm = args.algo == "crsh" ? emu::Algorithm::kCrsh
-                   : args.algo == "rah" ? emu::Algorithm::kRah
-                                        : emu::Algorithm::kRahQuadtree;
-    hc.subdivision = args.subdivision;
-    hc.depth = args.depth;
-    if (hc.algorithm == emu::Algorithm::kRahQuadtree) {
-      // Roger et al.: 2x2 tiles up to the whole image, depth log2 of the image size.
-      hc.subdivision = 4;
-      if (!args.depth_given) hc.depth = static_cast<int>(std::ceil(std::log2(std::max(fo.width, fo.height))));
-      hc.depth = std::max(hc.depth, 1);
-    }
-    hc.reduction = args.reduction == "scan" ? emu::Reduction::kScan : emu::Reduction::kHierarchical;
-    hc.component_size = args.component_size;
-    hc.pair_capacity = args.pair_capacity;
-    hc.image_width = fo.width;
-    hc.image_height = fo.height;
-    hc.passes = backend.hierarchy;
-    hierarchy = emu::MakeHierarchyTracer(buffers, hc);
-  }
+  if (args.Hierarchy())
+    hierarchy = emu::MakeHierarchyTracer(buffers, MakeHierarchyConfig(args, fo.width, fo.height, backend.hierarchy));
   Tracer& frame_tracer = hierarchy ? *hierarchy : embree_frames ? *embree : *direct;
   Tracer* oracle_tracer = embree_frames ? direct.get() : embree.get();
 

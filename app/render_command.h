@@ -3,17 +3,14 @@
 #include <string>
 
 #include "exit_codes.h"
+#include "frame_args.h"
 
 namespace rayspace::app {
 
-struct RenderArgs {
-  std::string scene, algo = "crsh", size, out, stats, data, direct = "auto", reduction = "hierarchical", backend = "emu";
-  int device = -1;
-  int threads = 0, subdivision = 8, depth = 2, component_size = 64;
-  std::size_t pair_capacity = std::size_t{1} << 24;
-  std::size_t split_bytes = 0;
-  std::uint32_t max_groups = 0;
-  bool depth_given = false;
+// The frame, tracer and device options shared with diff (FrameArgs), and render's own.
+struct RenderArgs : FrameArgs {
+  std::string scene, out, stats, direct = "auto", backend = "emu";
+  int threads = 0;
   bool no_oracle = false, progress = false, timings = false;
 };
 

@@ -142,6 +142,8 @@ endif()
 diff_case(cornell.crsh.scan.paged cornell-mirrors 96x96 "" 0 "" --split-bytes 163840 --reduction scan)
 diff_case(cornell.crsh.split cornell-mirrors 48x40 "" 0 "" --split-bytes 65536)
 diff_case(cornell.crsh.rows cornell-mirrors 96x96 "" 0 "" --max-groups 2)
+# A pair capacity far below the frame's pairs splits triangle batches and node groups on both backends.
+diff_case(cornell.crsh.pair-capacity cornell-mirrors 96x80 "" 0 "" --pair-capacity 3000 --component-size 16)
 # Faults that only the split, paged or folded paths can show; each fails its own pass first.
 diff_case(fault.trim:2 cornell-mirrors 96x96 trim:2 4 trim --split-bytes 163840)
 diff_case(fault.intersect:2 cornell-mirrors 96x96 intersect:2 4 intersect --split-bytes 163840)

@@ -1,0 +1,80 @@
+#include "frame_args.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <CLI/CLI.hpp>
+
+namespace rayspace::app {
+
+void AddFrameOptions(CLI::App& command, FrameArgs& args) {
+  command
+      .add_option("--algo", args.algo,
+                  "Tracer for secondary rays: crsh (ray hashing + sorting, object spheres), rah (same hierarchy "
+                  "over unsorted rays), rah-quadtree (Roger et al.'s screen quadtree), brute (emulated direct "
+                  "tracer), embree")
+      ->check(CLI::IsMember({"crsh", "rah", "rah-quadtree", "brute", "embree"}));
+  command.add_option("--subdivision", args.subdivision, "Children per hierarchy node")
+      ->check(CLI::IsMember({4, 8, 16}));
+  command.add_option("--depth", args.depth, "Hierarchy levels (rah-quadtree: log2 of the image size)")
+      ->check(CLI::Range(1, 12))
+      ->each([&args](const std::string&) { args.depth_given = true; });
+  command.add_option("--reduction", args.reduction, "Stream reduction: hierarchical (Roger et al.) or scan")
+      ->check(CLI::IsMember({"hierarchical", "scan"}));
+  command.add_option("--component-size", args.component_size, "Component size s of the hierarchical reduction")
+      ->check(CLI::Range(1, 1 << 20));
+  command
+      .add_option("--pair-capacity", args.pair_capacity,
+                  "Pairs one traversal level may hold; more splits the triangle batch")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 30));
+  command.add_option("--size", args.size, "Image size WxH (overrides the scene)");
+  command.add_option("--data", args.data, "Data root for mesh paths (default: $RAYSPACE_DATA)");
+  AddDeviceOption(command, args.device);
+  command
+      .add_option("--split-bytes", args.split_bytes,
+                  "Vulkan: bind at most this many bytes per storage buffer when below the device's "
+                  "maxStorageBufferRange, so that passes split and page their buffers on small frames (test use)")
+      ->check(CLI::Range(std::size_t{4096}, std::size_t{1} << 40));
+  command
+      .add_option("--max-groups", args.max_groups,
+                  "Vulkan: launch at most this many workgroups per row when below the device's "
+                  "maxComputeWorkGroupCount, so that large launches fold into rows (test use)")
+      ->check(CLI::Range(1u, 65535u));
+}
+
+void AddDeviceOption(CLI::App& command, int& device) {
+  command
+      .add_option("--device", device,
+                  "Vulkan device index (default: first non-CPU device, else lavapipe); render uses it with "
+                  "--backend vulkan")
+      ->check(CLI::Range(0, 64));
+}
+
+void AddLocalSizeOption(CLI::App& command, int& local_size) {
+  command.add_option("--local-size", local_size, "Workgroup size of every compute kernel (results must not change)")
+      ->check(CLI::Range(1, 1024));
+}
+
+emu::HierarchyConfig MakeHierarchyConfig(const FrameArgs& args, int width, int height, emu::HierarchyPasses* passes) {
+  emu::HierarchyConfig hc;
+  hc.algorithm = args.algo == "crsh" ? emu::Algorithm::kCrsh
+                 : args.algo == "rah" ? emu::Algorithm::kRah
+                                      : emu::Algorithm::kRahQuadtree;
+  hc.subdivision = args.subdivision;
+  hc.depth = args.depth;
+  if (hc.algorithm == emu::Algorithm::kRahQuadtree) {
+    // Roger et al.: 2x2 tiles up to the whole image, depth log2 of the image size.
+    hc.subdivision = 4;
+    if (!args.depth_given) hc.depth = static_cast<int>(std::ceil(std::log2(std::max(width, height))));
+    hc.depth = std::max(hc.depth, 1);
+  }
+  hc.reduction = args.reduction == "scan" ? emu::Reduction::kScan : emu::Reduction::kHierarchical;
+  hc.component_size = args.component_size;
+  hc.pair_capacity = args.pair_capacity;
+  hc.image_width = width;
+  hc.image_height = height;
+  hc.passes = passes;
+  return hc;
+}
+
+}  // namespace rayspace::app

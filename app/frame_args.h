@@ -1,0 +1,45 @@
+// The options `render` and `diff` share (the frame, its tracer, the Vulkan device): one struct with one
+// set of defaults, registered on both commands by one function, so that the two cannot drift apart.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include "backend_setup.h"
+#include "rayspace/emu/hierarchy.h"
+
+namespace CLI {
+class App;
+}
+
+namespace rayspace::app {
+
+struct FrameArgs {
+  std::string algo = "crsh";
+  int subdivision = 8, depth = 2;
+  bool depth_given = false;  // --depth was given (rah-quadtree otherwise derives it from the image size)
+  std::string reduction = "hierarchical";
+  int component_size = 64;
+  std::size_t pair_capacity = std::size_t{1} << 24;
+  std::string size, data;
+  int device = -1;  // -1: the first non-CPU device, else lavapipe
+  std::size_t split_bytes = 0;
+  std::uint32_t max_groups = 0;
+
+  TestLimits Limits() const { return {split_bytes, max_groups}; }
+  // crsh, rah and rah-quadtree trace with the hierarchy; brute and embree do not.
+  bool Hierarchy() const { return algo == "crsh" || algo == "rah" || algo == "rah-quadtree"; }
+};
+
+// Registers --algo, --subdivision, --depth, --reduction, --component-size, --pair-capacity, --size,
+// --data, --device, --split-bytes and --max-groups on `command`, writing into `args`.
+void AddFrameOptions(CLI::App& command, FrameArgs& args);
+// --device alone (replay runs on a device but renders no frame).
+void AddDeviceOption(CLI::App& command, int& device);
+// --local-size (diff and replay).
+void AddLocalSizeOption(CLI::App& command, int& local_size);
+
+// The hierarchy tracer's configuration for a frame of width x height, for a hierarchy --algo.
+emu::HierarchyConfig MakeHierarchyConfig(const FrameArgs& args, int width, int height, emu::HierarchyPasses* passes);
+
+}  // namespace rayspace::app
