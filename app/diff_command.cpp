@@ -89,7 +89,7 @@ struct PassTotals {
 ExitCode RunDiff(const DiffArgs& args) {
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
-  const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, ParseInject(args.inject), args.Limits());
+  const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, ParseInject(args.inject), args.Limits(), args.kernels);
   const SceneBuffers buffers = FlattenScene(scene);
   CheckFrameFits(gpu, fo.width, fo.height, scene.lights.size(), buffers.triangles.size());
   auto direct = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);
@@ -208,7 +208,7 @@ ExitCode RunReplay(const ReplayArgs& args) {
   std::string method_name;
   const verify::BufferSet in = verify::BufferSet::Load(args.dir, method_name);
   const verify::PassMethod& method = verify::FindPassMethod(method_name);
-  const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, ParseInject(args.inject));
+  const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, ParseInject(args.inject), {}, args.kernels);
   verify::Backends expected{emu::EmuFramePasses(), emu::EmuHierarchyPasses()};
   verify::Backends actual{gpu.Frame(), gpu.Hierarchy()};
   verify::BufferSet out;

@@ -21,6 +21,7 @@ struct ReplayArgs {
   std::string dir, report, inject;
   int device = -1;
   int local_size = 64;
+  KernelFiles kernels;
 };
 
 // Runs one saved pass call (diff --save-inputs) on both backends and compares. Returns kOk when equal,

@@ -40,6 +40,7 @@ void AddFrameOptions(CLI::App& command, FrameArgs& args) {
                   "Vulkan: launch at most this many workgroups per row when below the device's "
                   "maxComputeWorkGroupCount, so that large launches fold into rows (test use)")
       ->check(CLI::Range(1u, 65535u));
+  AddKernelOption(command, args.kernels);
 }
 
 void AddDeviceOption(CLI::App& command, int& device) {
@@ -48,6 +49,12 @@ void AddDeviceOption(CLI::App& command, int& device) {
                   "Vulkan device index (default: first non-CPU device, else lavapipe); render uses it with "
                   "--backend vulkan")
       ->check(CLI::Range(0, 64));
+}
+
+void AddKernelOption(CLI::App& command, KernelFiles& kernels) {
+  command.add_option("--kernel", kernels,
+                     "Vulkan: run a user's kernel for one pass in place of the built-in one: PASS=FILE (.comp or .spv), "
+                     "checked against the pass's contract (docs/kernels.md); repeatable");
 }
 
 void AddLocalSizeOption(CLI::App& command, int& local_size) {

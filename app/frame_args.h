@@ -25,6 +25,7 @@ struct FrameArgs {
   int device = -1;  // -1: the first non-CPU device, else lavapipe
   std::size_t split_bytes = 0;
   std::uint32_t max_groups = 0;
+  KernelFiles kernels;  // --kernel PASS=FILE (Vulkan): user kernels in place of built-in ones
 
   TestLimits Limits() const { return {split_bytes, max_groups}; }
   // crsh, rah and rah-quadtree trace with the hierarchy; brute and embree do not.
@@ -36,6 +37,8 @@ struct FrameArgs {
 void AddFrameOptions(CLI::App& command, FrameArgs& args);
 // --device alone (replay runs on a device but renders no frame).
 void AddDeviceOption(CLI::App& command, int& device);
+// --kernel PASS=FILE, repeatable (render --backend vulkan, diff, replay).
+void AddKernelOption(CLI::App& command, KernelFiles& kernels);
 // --local-size (diff and replay).
 void AddLocalSizeOption(CLI::App& command, int& local_size);
 

@@ -61,6 +61,7 @@ int main(int argc, char** argv) {
   pc->add_option("--report", replay.report, "Write the comparison as JSON to this file");
   pc->add_option("--inject", replay.inject, "Plant a fault in one kernel: PASS[:FAULT] (test use)");
   rayspace::app::AddLocalSizeOption(*pc, replay.local_size);
+  rayspace::app::AddKernelOption(*pc, replay.kernels);
   rayspace::app::AddDeviceOption(*pc, replay.device);
 #endif
   try {

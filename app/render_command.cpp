@@ -50,7 +50,7 @@ ExitCode RunRender(const RenderArgs& args) {
     if (!probe) ThrowInput("{}: cannot write the output image", out);
   }
 
-  const Backend backend = MakeBackend(args.backend, args.device, 64, {}, args.Limits());
+  const Backend backend = MakeBackend(args.backend, args.device, 64, {}, args.Limits(), args.kernels);
   fo.passes = backend.frame;
   const SceneBuffers buffers = FlattenScene(scene);
   CheckFrameFits(backend, fo.width, fo.height, scene.lights.size(), buffers.triangles.size());

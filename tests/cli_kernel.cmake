@@ -1,0 +1,76 @@
+# `--kernel PASS=FILE`: a user's kernel runs in place of the built-in one (docs/kernels.md).
+# A copy of the built-in reduce kernel gives all passes equal; a planted bug in the copy makes the diff
+# fail (exit 4) with `reduce` first; a binding outside the contract is refused before anything runs
+# (exit 2, naming the binding); so are an unknown pass, a missing file and GLSL that does not compile.
+#   cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DWORK=<scratch> -P cli_kernel.cmake
+cmake_minimum_required(VERSION 3.19)
+file(MAKE_DIRECTORY "${WORK}")
+set(failures "")
+set(scene "${SRC}/scenes/cornell-mirrors.json")
+
+# run(name expect_rc expect_text args...): expect_text must appear in stdout+stderr.
+function(run name expect_rc expect_text)
+  execute_process(COMMAND "${RAYSPACE}" ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL expect_rc)
+    set(failures "${failures}\n${name}: exit ${rc}, expected ${expect_rc}: ${out}${err}" PARENT_SCOPE)
+    return()
+  endif()
+  string(FIND "${out}${err}" "${expect_text}" at)
+  if(at EQUAL -1)
+    set(failures "${failures}\n${name}: output lacks '${expect_text}': ${out}${err}" PARENT_SCOPE)
+  endif()
+endfunction()
+
+function(first_pass name expect)
+  file(READ "${WORK}/${name}.json" j)
+  string(JSON first GET "${j}" first_divergent_pass)
+  if(NOT "${first}" STREQUAL "${expect}")
+    set(failures "${failures}\n${name}: first divergent pass '${first}', expected '${expect}'" PARENT_SCOPE)
+  endif()
+endfunction()
+
+file(READ "${SRC}/gpu/shaders/reduce.comp" reduce)
+file(WRITE "${WORK}/my_reduce.comp" "${reduce}")
+run(copy 0 "all passes equal" diff "${scene}" --size 96x96 --kernel reduce=${WORK}/my_reduce.comp --report "${WORK}/copy.json")
+first_pass(copy "")
+# The scan-based reduction runs other phases of the same kernel.
+run(copy_scan 0 "all passes equal" diff "${scene}" --size 64x64 --reduction scan --kernel reduce=${WORK}/my_reduce.comp)
+
+# A planted bug: the concatenation drops the last element of every segment.
+string(REPLACE "for (uint k = 0u; k < len; ++k)" "for (uint k = 0u; k + 1u < len; ++k)" buggy "${reduce}")
+if(buggy STREQUAL reduce)
+  set(failures "${failures}\nplanted bug: reduce.comp no longer has the concatenation loop this test edits")
+endif()
+file(WRITE "${WORK}/buggy_reduce.comp" "${buggy}")
+run(buggy 4 "reduce" diff "${scene}" --size 96x96 --kernel reduce=${WORK}/buggy_reduce.comp --report "${WORK}/buggy.json")
+first_pass(buggy reduce)
+
+# A binding outside the contract.
+string(REPLACE "binding = kReduceBindOut)" "binding = 9)" wrong "${reduce}")
+file(WRITE "${WORK}/wrong_binding.comp" "${wrong}")
+run(wrong_binding 2 "binding 9" diff "${scene}" --size 32x32 --kernel reduce=${WORK}/wrong_binding.comp)
+
+# SPIR-V is taken as it is: the built-in kernel compiled by hand, if glslc is on the PATH.
+find_program(GLSLC glslc)
+if(GLSLC)
+  execute_process(COMMAND ${GLSLC} -O0 --target-env=vulkan1.2 -I ${SRC}/gpu/shaders -I ${SRC}/core/include
+                          ${WORK}/my_reduce.comp -o ${WORK}/my_reduce.spv RESULT_VARIABLE rc)
+  run(spv 0 "all passes equal" diff "${scene}" --size 64x64 --kernel reduce=${WORK}/my_reduce.spv)
+endif()
+
+# Bad input: one line naming it, exit 2.
+run(unknown_pass 2 "no pass named 'reducer'" diff "${scene}" --size 32x32 --kernel reducer=${WORK}/my_reduce.comp)
+run(no_equals 2 "expected PASS=FILE" diff "${scene}" --size 32x32 --kernel reduce)
+run(missing_file 2 "not found" diff "${scene}" --size 32x32 --kernel reduce=${WORK}/none.comp)
+file(WRITE "${WORK}/broken.comp" "#version 460\nvoid main() { undefined_thing(); }\n")
+run(broken 2 "does not compile" diff "${scene}" --size 32x32 --kernel reduce=${WORK}/broken.comp)
+run(raster 2 "graphics pipeline" diff "${scene}" --size 32x32 --kernel raster=${WORK}/my_reduce.comp)
+run(emu_backend 2 "--backend vulkan" render "${scene}" --size 32x32 --no-oracle --out ${WORK}/x.png --kernel reduce=${WORK}/my_reduce.comp)
+# render with the copy gives the emulator's digest.
+run(render_copy 0 "digest" render "${scene}" --size 64x64 --no-oracle --backend vulkan --out ${WORK}/y.png
+    --kernel reduce=${WORK}/my_reduce.comp)
+
+if(failures)
+  message(FATAL_ERROR "cli.kernel failures:${failures}")
+endif()
+message(STATUS "cli.kernel: all checks passed")
