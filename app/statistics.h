@@ -1,4 +1,4 @@
-// Intersection statistics counted as the CRSH thesis counts them (DESIGN "Statistics model"):
+// Intersection statistics counted as the CRSH thesis counts them (docs/hierarchy.md, "Statistics"):
 // per ray type and level the node-sphere tests (intersections), survivors (hits) and misses; final
 // ray-triangle tests; total = every level's intersections + final tests; brute force = rays x triangles.
 #pragma once

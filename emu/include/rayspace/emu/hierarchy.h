@@ -68,7 +68,7 @@ class HierarchyTracer : public Tracer {
 std::unique_ptr<HierarchyTracer> MakeHierarchyTracer(const SceneBuffers& scene, const HierarchyConfig& config);
 
 // ---- the passes, exposed for tests ----------------------------------------------------------------
-// 32-bit sort key per ray (DESIGN: shadow = light | direction; others = origin | direction).
+// 32-bit sort key per ray (docs/hierarchy.md, "Hash keys": shadow = light | direction; others = origin | direction).
 // The scene's bounding box bounds the origin cells.
 std::vector<std::uint32_t> PassHash(const std::vector<gpu::Ray>& rays, const SceneBuffers& scene, const HashConfig& h);
 struct Chunks {
