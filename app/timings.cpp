@@ -11,12 +11,11 @@ namespace {
 
 bool Starts(const std::string& s, const char* p) { return s.rfind(p, 0) == 0; }
 
-// The thesis's phase for a pass label (the registry's, by the pass the label names), or null for
-// "other" (prep, raster, surfaces, shade, resolve).
-const char* PhaseOf(const std::string& label) {
+// The thesis's phase for a pass label (the registry's, by the pass the label names); "other" for
+// passes the thesis does not time (raster, surfaces, shade, resolve) and labels of no pass (prep).
+std::string_view PhaseOf(const std::string& label) {
   const std::optional<PassId> id = PassOfLabel(label);
-  if (!id || Pass(*id).thesis_phase.empty()) return nullptr;
-  return Pass(*id).thesis_phase.data();
+  return id && !Pass(*id).thesis_phase.empty() ? Pass(*id).thesis_phase : std::string_view("other");
 }
 
 }  // namespace
@@ -32,11 +31,11 @@ std::vector<Phase> Phases(const std::vector<emu::PassRecord>& passes) {
       trace_total += p.ms;
       continue;
     }
-    const char* ph = PhaseOf(p.name);
-    Phase& dst = ph ? *std::find_if(out.begin(), out.end(), [&](const Phase& x) { return x.name == ph; }) : out.back();
+    const std::string_view ph = PhaseOf(p.name);
+    Phase& dst = *std::find_if(out.begin(), out.end(), [&](const Phase& x) { return x.name == ph; });
     dst.ms += p.ms;
     dst.elements += p.elements;
-    if (ph && std::string(ph) != "ray_creation") traced_in_subpasses += p.ms;
+    if (ph != "other" && ph != "ray_creation") traced_in_subpasses += p.ms;
   }
   // A tracer without sub-passes (brute, embree) shows as one traversal + intersection lump.
   if (traced_in_subpasses == 0.0) out[6].ms += trace_total;

@@ -67,8 +67,20 @@ run(broken 2 "does not compile" diff "${scene}" --size 32x32 --kernel reduce=${W
 run(raster 2 "graphics pipeline" diff "${scene}" --size 32x32 --kernel raster=${WORK}/my_reduce.comp)
 run(emu_backend 2 "--backend vulkan" render "${scene}" --size 32x32 --no-oracle --out ${WORK}/x.png --kernel reduce=${WORK}/my_reduce.comp)
 # render with the copy gives the emulator's digest.
-run(render_copy 0 "digest" render "${scene}" --size 64x64 --no-oracle --backend vulkan --out ${WORK}/y.png
-    --kernel reduce=${WORK}/my_reduce.comp)
+run(render_emu 0 "digest" render "${scene}" --size 64x64 --no-oracle --out ${WORK}/emu.png --stats ${WORK}/emu.json)
+run(render_copy 0 "digest" render "${scene}" --size 64x64 --no-oracle --backend vulkan --out ${WORK}/copy.png
+    --stats ${WORK}/copy_render.json --kernel reduce=${WORK}/my_reduce.comp)
+if(EXISTS "${WORK}/emu.json" AND EXISTS "${WORK}/copy_render.json")
+  file(READ "${WORK}/emu.json" je)
+  file(READ "${WORK}/copy_render.json" jc)
+  string(JSON de GET "${je}" digest)
+  string(JSON dc GET "${jc}" digest)
+  if(NOT de STREQUAL dc)
+    set(failures "${failures}\nrender_copy: digest ${dc}, the emulator's is ${de}")
+  endif()
+else()
+  set(failures "${failures}\nrender_copy: no statistics written")
+endif()
 
 if(failures)
   message(FATAL_ERROR "cli.kernel failures:${failures}")

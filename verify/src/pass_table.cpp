@@ -64,21 +64,22 @@ std::vector<PassMethod> Build() {
   auto add = [&m](const char* call, std::function<BufferSet(const BufferSet&, Backends&)> run) {
     PassMethod pm;
     pm.method = call;
-    std::optional<PassId> owner;
+    std::vector<std::string> owners;  // the passes that list the call, in registry order
     for (const PassSpec& p : kPasses)
       for (const CallSpec& c : p.calls)
         if (c.name == call) {
-          if (!owner) {
-            owner = p.id;
-            for (std::string_view b : c.index_outputs) pm.index_outputs.insert(std::string(b));
-          }
+          owners.emplace_back(p.name);
+          for (std::string_view b : c.index_outputs) pm.index_outputs.insert(std::string(b));
         }
-    RS_CHECK_MSG(owner.has_value(), "pass table: call '{}' is not in the pass registry", call);
-    const std::string name(Pass(*owner).name);
-    if (pm.method == "raygen")  // one call serves raygen.shadow, .reflection and .refraction
-      pm.pass = [](const BufferSet& in) { return std::string("raygen.") + emu::RayKindName(Kind(in)); };
-    else
-      pm.pass = [name](const BufferSet&) { return name; };
+    RS_CHECK_MSG(!owners.empty(), "pass table: call '{}' is not in the pass registry", call);
+    if (owners.size() == 1)
+      pm.pass = [name = owners[0]](const BufferSet&) { return name; };
+    else  // the call's ray kind selects the pass (rayspace/pass_registry.h lists them in kind order)
+      pm.pass = [owners](const BufferSet& in) {
+        const std::uint32_t k = Kind(in);
+        if (k >= owners.size()) ThrowInput("scalar 'kind' = {} selects none of {} passes", k, owners.size());
+        return owners[k];
+      };
     pm.run = std::move(run);
     m.push_back(std::move(pm));
   };

@@ -12,13 +12,10 @@
 #ifndef RAYSPACE_CONTRACT_H
 #define RAYSPACE_CONTRACT_H
 
-#include "rayspace/layout.h"
+#include "rayspace/layout.h"  // the buffer elements, and RS_CONST (a constant in both languages)
 
 #ifdef __cplusplus
 namespace rayspace::gpu {
-#define RS_CONST(type, name, value) inline constexpr type name = value
-#else
-#define RS_CONST(type, name, value) const type name = value
 #endif
 
 // ---- shared by several kernels ----------------------------------------------------------------

@@ -117,5 +117,5 @@ static_assert(offsetof(Ray, info) == 32);
 static_assert(offsetof(FrameConstants, dims) == 176);
 }  // namespace rayspace::gpu
 #endif
-#undef RS_CONST
+// RS_CONST stays defined: rayspace/contract.h declares the rest of the kernel contract with it.
 #endif  // RAYSPACE_LAYOUT_H

@@ -87,7 +87,7 @@ constexpr std::span<const SV> None() { return {}; }
 inline constexpr CallSpec kRasterCalls[] = {{"raster", kRasterIdx}};
 inline constexpr CallSpec kSurfacesCalls[] = {{"surfaces", None()}};
 inline constexpr CallSpec kSurfacesHitsCalls[] = {{"surfaces.hits", None()}};
-// One call generates every kind of ray; its input `kind` selects the pass (raygen.shadow, ...).
+// One call generates every kind of ray; its input `kind` selects the pass, in registry order.
 inline constexpr CallSpec kRaygenCalls[] = {{"raygen", None()}};
 inline constexpr CallSpec kTrimCalls[] = {{"trim", kTrimIdx}};
 inline constexpr CallSpec kHashCalls[] = {{"hash", None()}};
@@ -192,6 +192,12 @@ constexpr std::optional<PassId> PassOfLabel(std::string_view label) {
   }
   return best;
 }
+
+// A call listed by several passes is one per ray kind, in kind order.
+static_assert(static_cast<int>(PassId::kRaygenReflection) - static_cast<int>(PassId::kRaygenShadow) ==
+                  static_cast<int>(gpu::kRayReflection - gpu::kRayShadow) &&
+              static_cast<int>(PassId::kRaygenRefraction) - static_cast<int>(PassId::kRaygenShadow) ==
+                  static_cast<int>(gpu::kRayRefraction - gpu::kRayShadow) && gpu::kRayShadow == 0);
 
 // Registry invariants that hold at compile time: ids in order, names unique, faults numbered 1..n.
 namespace pass_registry_detail {
