@@ -14,13 +14,17 @@ class App;
 
 namespace rayspace::app {
 
+// The hierarchy's defaults are the emulator's own (emu::HierarchyConfig), so the command line, tests and
+// benchmarks build the same frame.
+inline const emu::HierarchyConfig kHierarchyDefaults{};
+
 struct FrameArgs {
   std::string algo = "crsh";
-  int subdivision = 8, depth = 2;
+  int subdivision = kHierarchyDefaults.subdivision, depth = kHierarchyDefaults.depth;
   bool depth_given = false;  // --depth was given (rah-quadtree otherwise derives it from the image size)
   std::string reduction = "hierarchical";
-  int component_size = 64;
-  std::size_t pair_capacity = std::size_t{1} << 24;
+  int component_size = kHierarchyDefaults.component_size;
+  std::size_t pair_capacity = kHierarchyDefaults.pair_capacity;
   std::string size, data;
   int device = -1;  // -1: the first non-CPU device, else lavapipe
   std::size_t split_bytes = 0;

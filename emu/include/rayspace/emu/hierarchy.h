@@ -32,7 +32,7 @@ struct HierarchyConfig {
   int depth = 2;                          // levels (rah-quadtree: log2 of the image size)
   Reduction reduction = Reduction::kHierarchical;
   int component_size = 64;                // Roger's s for the hierarchical reduction
-  std::size_t pair_capacity = 1u << 26;   // pairs a level may hold before the batch is split
+  std::size_t pair_capacity = 1u << 24;   // pairs a level may hold before the batch is split
   std::uint32_t max_batch_triangles = 1u << gpu::kPairTriangleBits;  // triangle ids in a packed pair
   HashConfig hash;
   int image_width = 0, image_height = 0;  // for rah-quadtree
