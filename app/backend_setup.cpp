@@ -105,7 +105,8 @@ Backend MakeBackend(const std::string& name, int device, int local_size, const s
   (void)faults;
   (void)limits;
   (void)kernels;
-  ThrowInput("--backend vulkan: this build of rayspace has no Vulkan backend (the Vulkan loader or glslc was missing)");
+  ThrowInput("--backend vulkan: this build of rayspace has no Vulkan backend (configured with RAYSPACE_VULKAN=OFF, or AUTO "
+             "without the Vulkan loader, glslc or SPIRV-Cross)");
 #endif
 }
 
