@@ -68,39 +68,32 @@ class Recorder final : public emu::ForwardingHierarchyPasses {
  public:
   explicit Recorder(std::size_t n) : cones_(n, 1), tris_(n, 2) {}
   std::string Name() const override { return "emu (sampling)"; }
-  std::vector<std::uint8_t> ObjectMask(const std::vector<gpu::ConeNode>& top, const std::vector<glm::vec4>& spheres,
-                                       float eps) override {
-    for (std::size_t e = 0; e < top.size() * spheres.size(); ++e) cones_.Offer({top[e / spheres.size()], spheres[e % spheres.size()]});
-    return ForwardingHierarchyPasses::ObjectMask(top, spheres, eps);
+  std::vector<std::uint8_t> ObjectMask(const emu::call::ObjectMask& c) override {
+    const std::size_t objects = c.object_spheres.size();
+    for (std::size_t e = 0; e < c.top.size() * objects; ++e) cones_.Offer({c.top[e / objects], c.object_spheres[e % objects]});
+    return ForwardingHierarchyPasses::ObjectMask(c);
   }
-  emu::PairSlots TraverseTop(const std::vector<gpu::ConeNode>& top, std::uint32_t t0, std::uint32_t t1, std::uint32_t b0,
-                             std::uint32_t b1, const std::vector<glm::vec4>& ts, const SceneBuffers& scene,
-                             const std::vector<std::uint8_t>& mask, float eps) override {
-    emu::PairSlots s = ForwardingHierarchyPasses::TraverseTop(top, t0, t1, b0, b1, ts, scene, mask, eps);
-    const std::uint32_t T = b1 - b0;
+  emu::PairSlots TraverseTop(const emu::call::TraverseTop& c) override {
+    emu::PairSlots s = ForwardingHierarchyPasses::TraverseTop(c);
+    const std::uint32_t T = c.b1 - c.b0;
     for (std::size_t e = 0; e < s.tested.size(); ++e)
-      if (s.tested[e]) cones_.Offer({top[t0 + e / T], ts[b0 + e % T]});
+      if (s.tested[e]) cones_.Offer({c.top[c.t0 + e / T], c.tri_spheres[c.b0 + e % T]});
     return s;
   }
-  emu::PairSlots TraverseLevel(const std::vector<std::uint32_t>& pairs, const std::vector<gpu::ConeNode>& nodes,
-                               const std::vector<std::uint32_t>& first, std::uint32_t base_up, std::uint32_t base,
-                               std::uint32_t cmax, std::uint32_t b0, const std::vector<glm::vec4>& ts, float eps) override {
-    for (std::uint32_t p : pairs) {
-      const std::uint32_t parent = base_up + (p >> emu::kPairTriangleBits), tri = b0 + (p & emu::kPairTriangleMask);
-      for (std::uint32_t c = first[parent]; c < first[parent + 1]; ++c) cones_.Offer({nodes[c], ts[tri]});
+  emu::PairSlots TraverseLevel(const emu::call::TraverseLevel& c) override {
+    for (std::uint32_t p : c.pairs) {
+      const std::uint32_t parent = c.base_up + (p >> emu::kPairTriangleBits), tri = c.b0 + (p & emu::kPairTriangleMask);
+      for (std::uint32_t k = c.first[parent]; k < c.first[parent + 1]; ++k) cones_.Offer({c.nodes[k], c.tri_spheres[tri]});
     }
-    return ForwardingHierarchyPasses::TraverseLevel(pairs, nodes, first, base_up, base, cmax, b0, ts, eps);
+    return ForwardingHierarchyPasses::TraverseLevel(c);
   }
-  std::vector<std::uint32_t> Intersect(const std::vector<std::uint32_t>& pairs, const std::vector<std::uint32_t>& f1,
-                                       std::uint32_t base1, std::uint32_t b0, const std::vector<std::uint32_t>& order,
-                                       const std::vector<gpu::Ray>& rays, const SceneBuffers& scene,
-                                       std::vector<std::uint64_t>* hits, std::vector<std::uint32_t>* occ) override {
-    for (std::uint32_t p : pairs) {
-      const std::uint32_t node = base1 + (p >> emu::kPairTriangleBits), prim = b0 + (p & emu::kPairTriangleMask);
-      for (std::uint32_t j = f1[node]; j < f1[node + 1]; ++j)
-        if (rays[order[j]].info.y != prim) tris_.Offer({rays[order[j]], scene.triangles[prim]});
+  std::vector<std::uint32_t> Intersect(const emu::call::Intersect& c) override {
+    for (std::uint32_t p : c.pairs) {
+      const std::uint32_t node = c.base1 + (p >> emu::kPairTriangleBits), prim = c.b0 + (p & emu::kPairTriangleMask);
+      for (std::uint32_t j = c.first1[node]; j < c.first1[node + 1]; ++j)
+        if (c.rays[c.order[j]].info.y != prim) tris_.Offer({c.rays[c.order[j]], c.scene->triangles[prim]});
     }
-    return ForwardingHierarchyPasses::Intersect(pairs, f1, base1, b0, order, rays, scene, hits, occ);
+    return ForwardingHierarchyPasses::Intersect(c);
   }
   Reservoir<ConeQuery> cones_;
   Reservoir<TriQuery> tris_;
@@ -208,60 +201,32 @@ class ModeTraversal final : public emu::ForwardingHierarchyPasses {
   // Final tests with a ray-triangle mode; `exact`: the exact decision and exact distance order.
   ModeTraversal(TriTest tri, bool exact) : tri_(std::move(tri)), exact_(exact) {}
   std::string Name() const override { return "emu (accuracy mode)"; }
-  std::vector<std::uint8_t> ObjectMask(const std::vector<gpu::ConeNode>& top, const std::vector<glm::vec4>& spheres,
-                                       float eps) override {
-    if (!test_) return ForwardingHierarchyPasses::ObjectMask(top, spheres, eps);
-    return emu::ObjectMaskWith(test_, top, spheres, eps);
+  std::vector<std::uint8_t> ObjectMask(const emu::call::ObjectMask& c) override {
+    if (!test_) return ForwardingHierarchyPasses::ObjectMask(c);
+    return emu::ObjectMaskWith(test_, c);
   }
-  emu::PairSlots TraverseTop(const std::vector<gpu::ConeNode>& top, std::uint32_t t0, std::uint32_t t1, std::uint32_t b0,
-                             std::uint32_t b1, const std::vector<glm::vec4>& ts, const SceneBuffers& scene,
-                             const std::vector<std::uint8_t>& mask, float eps) override {
-    if (!test_) return ForwardingHierarchyPasses::TraverseTop(top, t0, t1, b0, b1, ts, scene, mask, eps);
-    return emu::TraverseTopWith(test_, top, t0, t1, b0, b1, ts, scene, mask, eps);
+  emu::PairSlots TraverseTop(const emu::call::TraverseTop& c) override {
+    if (!test_) return ForwardingHierarchyPasses::TraverseTop(c);
+    return emu::TraverseTopWith(test_, c);
   }
-  emu::PairSlots TraverseLevel(const std::vector<std::uint32_t>& pairs, const std::vector<gpu::ConeNode>& nodes,
-                               const std::vector<std::uint32_t>& first, std::uint32_t base_up, std::uint32_t base,
-                               std::uint32_t cmax, std::uint32_t b0, const std::vector<glm::vec4>& ts, float eps) override {
-    if (!test_) return ForwardingHierarchyPasses::TraverseLevel(pairs, nodes, first, base_up, base, cmax, b0, ts, eps);
-    return emu::TraverseLevelWith(test_, pairs, nodes, first, base_up, base, cmax, b0, ts, eps);
+  emu::PairSlots TraverseLevel(const emu::call::TraverseLevel& c) override {
+    if (!test_) return ForwardingHierarchyPasses::TraverseLevel(c);
+    return emu::TraverseLevelWith(test_, c);
   }
-  std::vector<std::uint32_t> Intersect(const std::vector<std::uint32_t>& pairs, const std::vector<std::uint32_t>& f1,
-                                       std::uint32_t base1, std::uint32_t b0, const std::vector<std::uint32_t>& order,
-                                       const std::vector<gpu::Ray>& rays, const SceneBuffers& scene,
-                                       std::vector<std::uint64_t>* hits, std::vector<std::uint32_t>* occ) override {
-    if (!tri_) return ForwardingHierarchyPasses::Intersect(pairs, f1, base1, b0, order, rays, scene, hits, occ);
-    std::vector<std::uint32_t> tests(pairs.size());
-    ParallelFor(pairs.size(), [&](std::size_t p) {
-      const std::uint32_t node = base1 + (pairs[p] >> emu::kPairTriangleBits), prim = b0 + (pairs[p] & emu::kPairTriangleMask);
-      const gpu::Triangle& tri = scene.triangles[prim];
-      tests[p] = f1[node + 1] - f1[node];
-      for (std::uint32_t j = f1[node]; j < f1[node + 1]; ++j) {
-        const std::uint32_t ray = order[j];
-        const gpu::Ray& r = rays[ray];
-        if (prim == r.info.y) continue;
-        float t = 0.0f;
-        if (!tri_(r, tri, t)) continue;
-        if (occ) {
-          std::atomic_ref<std::uint32_t>((*occ)[ray]).store(1u, std::memory_order_relaxed);
-        } else if (!exact_) {
-          std::atomic_ref<std::uint64_t> a((*hits)[ray]);
-          const std::uint64_t v = emu::PackHit(t, prim);
-          std::uint64_t cur = a.load(std::memory_order_relaxed);
-          while (v < cur && !a.compare_exchange_weak(cur, v, std::memory_order_relaxed)) {
-          }
-        } else {
-          // Exact order of distances (ties to the lower id): compare with the current best under a lock.
-          std::lock_guard<std::mutex> lock(locks_[ray % kLocks]);
-          const std::uint64_t cur = (*hits)[ray];
-          const bool better = cur == emu::kMissPacked || [&] {
-            const int c = refs::ExactCompareHitDistance(r, tri, scene.triangles[emu::HitPrim(cur)]);
-            return c < 0 || (c == 0 && prim < emu::HitPrim(cur));
-          }();
-          if (better) (*hits)[ray] = emu::PackHit(t, prim);
-        }
-      }
-    });
-    return tests;
+  std::vector<std::uint32_t> Intersect(const emu::call::Intersect& c) override {
+    if (!tri_) return ForwardingHierarchyPasses::Intersect(c);
+    return emu::IntersectWith(tri_, [&](std::uint32_t ray, const gpu::Ray& r, float t, std::uint32_t prim) {
+      std::vector<std::uint64_t>& hits = *c.hits;
+      if (!exact_) return emu::RecordClosestHit(hits, ray, emu::PackHit(t, prim));
+      // Exact order of distances (ties to the lower id): compare with the current best under a lock.
+      std::lock_guard<std::mutex> lock(locks_[ray % kLocks]);
+      const std::uint64_t cur = hits[ray];
+      const bool better = cur == emu::kMissPacked || [&] {
+        const int cmp = refs::ExactCompareHitDistance(r, c.scene->triangles[prim], c.scene->triangles[emu::HitPrim(cur)]);
+        return cmp < 0 || (cmp == 0 && prim < emu::HitPrim(cur));
+      }();
+      if (better) hits[ray] = emu::PackHit(t, prim);
+    }, c);
   }
 
  private:

@@ -32,15 +32,16 @@ const Loaded& Get(const std::string& name) {
 
 void BM_Raster(benchmark::State& state, const char* scene) {
   const Loaded& l = Get(scene);
-  for (auto _ : state) benchmark::DoNotOptimize(emu::PassRaster(l.fc, l.buffers));
+  for (auto _ : state) benchmark::DoNotOptimize(emu::PassRaster({.frame = l.fc, .scene = &l.buffers}));
   state.counters["tris/s"] = benchmark::Counter(static_cast<double>(l.buffers.triangles.size()), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 void BM_ShadowTrace(benchmark::State& state, const char* scene, emu::DirectMode mode) {
   const Loaded& l = Get(scene);
-  const auto g = emu::PassRaster(l.fc, l.buffers);
-  const auto surfaces = emu::PassSurfacesFromGBuffer(l.fc, g, l.buffers);
-  const auto rays = emu::PassTrim(emu::PassRaygenShadow(l.fc, surfaces, l.buffers)).rays;
+  const auto g = emu::PassRaster({.frame = l.fc, .scene = &l.buffers});
+  const auto surfaces = emu::PassSurfacesFromGBuffer(emu::SurfacesCall(l.fc, g, l.buffers));
+  const auto sparse = emu::PassRaygenShadow({.kind = gpu::kRayShadow, .frame = l.fc, .surfaces = surfaces, .scene = &l.buffers});
+  const auto rays = emu::PassTrim({.kind = gpu::kRayShadow, .rays = sparse.rays, .flags = sparse.flags}).rays;
   auto tracer = emu::MakeDirectTracer(l.buffers, mode);
   std::vector<std::uint32_t> occ;
   for (auto _ : state) tracer->Occluded(rays, occ);

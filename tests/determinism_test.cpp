@@ -156,7 +156,8 @@ Run ShadeAccumulation(const std::vector<float>& c, const Schedule& sc, std::vect
   accum.assign(3, 0);
   SetThreadCount(sc.threads);
   SetChunkSize(sc.chunk);
-  emu::PassShade(fc, surfaces, flags, offsets, occluded, b, accum);
+  emu::PassShade({.frame = fc, .surfaces = surfaces, .shadow_flags = flags, .shadow_offsets = offsets, .occluded = occluded,
+                  .accum = &accum, .scene = &b});
   SetThreadCount(0);
   SetChunkSize(0);
   DigestLog log;

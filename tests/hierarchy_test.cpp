@@ -26,8 +26,10 @@ TEST_CASE("sort: compress, radix sort and decompress equal a stable sort by key"
       const std::uint32_t k = rng() % 7 == 0 ? rng() : rng() % 97;
       for (std::size_t r = 1 + rng() % 5; r > 0 && i < n; --r) keys[i++] = k;
     }
-    const Chunks c = PassCompress(keys);
-    const std::vector<std::uint32_t> order = PassDecompress(c, PassSortChunks(c.key));
+    const Chunks c = PassCompress({.keys = keys});
+    const std::vector<std::uint32_t> sorted = PassSortChunks({.chunk_key = c.key});
+    const std::vector<std::uint32_t> order =
+        PassDecompress({.chunk_key = c.key, .chunk_base = c.base, .chunk_size = c.size, .chunk_order = sorted});
     std::vector<std::uint32_t> expect(n);
     std::iota(expect.begin(), expect.end(), 0u);
     std::stable_sort(expect.begin(), expect.end(), [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });

@@ -112,6 +112,11 @@ TEST_CASE("registry: docs/architecture.md maps exactly the registered passes to 
     const PassSpec& p = Pass(*id);
     const std::string kernel = "gpu/shaders/" + std::string(p.kernel) + (p.graphics ? ".vert" : ".comp");
     CHECK(paths[1] == kernel);
+    // Same file name on each backend: emu/src/<family>.cpp and gpu/src/<family>.cpp, where the family
+    // is the kernel's name up to its first '_'.
+    const std::string family = std::string(p.kernel.substr(0, p.kernel.find('_')));
+    CHECK(paths[paths.size() - 2] == "emu/src/" + family + ".cpp");
+    CHECK(paths[paths.size() - 1] == "gpu/src/" + family + ".cpp");
     for (std::size_t k = 1; k < paths.size(); ++k) {
       if (paths[k].find('/') == std::string::npos) continue;  // "raster.frag" beside its .vert
       INFO("file ", paths[k]);

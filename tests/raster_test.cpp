@@ -118,7 +118,7 @@ TEST_CASE("raster: clipping keeps geometry that crosses the near plane") {
   const SceneBuffers b = FlattenScene(s);
   const int w = 64, h = 48;
   const gpu::FrameConstants fc = MakeFrameConstants(s, b, w, h);
-  const GBuffer g = PassRaster(fc, b);
+  const GBuffer g = PassRaster({.frame = fc, .scene = &b});
   int checked = 0;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -153,7 +153,7 @@ TEST_CASE("raster: the nearer triangle wins the depth test, whatever the draw or
       test::AddQuad(s, "q", {-1, -1, zs[k]}, {1, -1, zs[k]}, {1, 1, zs[k]}, {-1, 1, zs[k]}, zs[k] == 1.0f ? 1 : 0);
     const SceneBuffers b = FlattenScene(s);
     const gpu::FrameConstants fc = MakeFrameConstants(s, b, 32, 32);
-    const GBuffer g = PassRaster(fc, b);
+    const GBuffer g = PassRaster({.frame = fc, .scene = &b});
     const std::size_t centre = 16 * 32 + 16;
     REQUIRE(g.prim[centre] != gpu::kNoPrim);
     CHECK(g.diffuse[centre].x == doctest::Approx(0.9f));  // the quad at z = 1 is nearer the eye

@@ -38,11 +38,25 @@ struct Fixture {
 
 }  // namespace
 
+// One surface through a raygen pass of the given kind.
+template <SparseRays (*Pass)(const call::Raygen&)>
+SparseRays RaygenOne(std::uint32_t kind, const Fixture& f, const gpu::Surface& s) {
+  const std::vector<gpu::Surface> surfaces{s};
+  return Pass({.kind = kind, .frame = f.fc, .surfaces = surfaces, .scene = &f.b});
+}
+SparseRays RaygenShadow(const Fixture& f, const gpu::Surface& s) { return RaygenOne<PassRaygenShadow>(gpu::kRayShadow, f, s); }
+SparseRays RaygenReflection(const Fixture& f, const gpu::Surface& s) {
+  return RaygenOne<PassRaygenReflection>(gpu::kRayReflection, f, s);
+}
+SparseRays RaygenRefraction(const Fixture& f, const gpu::Surface& s) {
+  return RaygenOne<PassRaygenRefraction>(gpu::kRayRefraction, f, s);
+}
+
 TEST_CASE("raygen: shadow rays start at the light and stop just short of the surface") {
   LightDesc light;
   light.position = {0, 4, 0};
   Fixture f(test::Diffuse("m", glm::vec3(0.5f)), light);
-  const auto rays = PassRaygenShadow(f.fc, {f.Surface({0, 0, 3}, {0, 1, 0}, {0, -1, 0})}, f.b);
+  const auto rays = RaygenShadow(f, {f.Surface({0, 0, 3}, {0, 1, 0}, {0, -1, 0})});
   REQUIRE(rays.flags.size() == 1);
   REQUIRE(rays.flags[0] == 1);
   const gpu::Ray& r = rays.rays[0];
@@ -59,18 +73,18 @@ TEST_CASE("raygen: reflection mirrors the incident direction about the normal") 
   m.reflectivity = 0.5f;
   Fixture f(m);
   const float s = 1.0f / std::sqrt(2.0f);
-  const auto rays = PassRaygenReflection(f.fc, {f.Surface({0, 0, 0}, {0, 1, 0}, {s, -s, 0})}, f.b);
+  const auto rays = RaygenReflection(f, {f.Surface({0, 0, 0}, {0, 1, 0}, {s, -s, 0})});
   REQUIRE(rays.flags[0] == 1);
   CHECK(rays.rays[0].direction_tmax.x == doctest::Approx(s));
   CHECK(rays.rays[0].direction_tmax.y == doctest::Approx(s));
   CHECK(rays.rays[0].direction_tmax.z == 0.0f);
   CHECK(rays.rays[0].weight.x == doctest::Approx(0.5f));
   // The formula does not depend on the normal's sign.
-  const auto flipped = PassRaygenReflection(f.fc, {f.Surface({0, 0, 0}, {0, -1, 0}, {s, -s, 0})}, f.b);
+  const auto flipped = RaygenReflection(f, {f.Surface({0, 0, 0}, {0, -1, 0}, {s, -s, 0})});
   CHECK(Xyz(flipped.rays[0].direction_tmax) == Xyz(rays.rays[0].direction_tmax));
   // Non-reflective materials spawn nothing.
   Fixture g(test::Diffuse("matte", glm::vec3(0.5f)));
-  CHECK(PassRaygenReflection(g.fc, {g.Surface({0, 0, 0}, {0, 1, 0}, {s, -s, 0})}, g.b).flags[0] == 0);
+  CHECK(RaygenReflection(g, {g.Surface({0, 0, 0}, {0, 1, 0}, {s, -s, 0})}).flags[0] == 0);
 }
 
 TEST_CASE("raygen: refraction follows Snell's law and stops at total internal reflection") {
@@ -82,14 +96,14 @@ TEST_CASE("raygen: refraction follows Snell's law and stops at total internal re
     const float a = deg * 3.14159265f / 180.0f;
     const glm::vec3 i(std::sin(a), -std::cos(a), 0);
     // Entering (the ray meets the normal's front side).
-    auto in = PassRaygenRefraction(f.fc, {f.Surface({0, 0, 0}, {0, 1, 0}, i)}, f.b);
+    auto in = RaygenRefraction(f, {f.Surface({0, 0, 0}, {0, 1, 0}, i)});
     REQUIRE(in.flags[0] == 1);
     const glm::vec3 d = glm::normalize(Xyz(in.rays[0].direction_tmax));
     CHECK(d.y < 0);
     CHECK(std::fabs(d.x) == doctest::Approx(std::sin(a) / 1.5f).epsilon(1e-5));
     CHECK(glm::length(Xyz(in.rays[0].direction_tmax)) == doctest::Approx(1.0f).epsilon(1e-5));
     // Leaving: sin t = 1.5 sin i, total internal reflection past asin(1/1.5) = 41.8 degrees.
-    auto out = PassRaygenRefraction(f.fc, {f.Surface({0, 0, 0}, {0, -1, 0}, i)}, f.b);
+    auto out = RaygenRefraction(f, {f.Surface({0, 0, 0}, {0, -1, 0}, i)});
     if (deg < 41.0f) {
       REQUIRE(out.flags[0] == 1);
       const glm::vec3 e = glm::normalize(Xyz(out.rays[0].direction_tmax));
@@ -113,7 +127,10 @@ namespace {
 // Shades one surface with one light and returns the pixel's colour from the fixed-point accumulator.
 glm::vec3 ShadeOne(const Fixture& f, const gpu::Surface& s, bool occluded) {
   std::vector<std::uint64_t> accum(3 * 64, 0);
-  PassShade(f.fc, {s}, {1u}, {0u}, {occluded ? 1u : 0u}, f.b, accum);
+  const std::vector<gpu::Surface> surfaces{s};
+  const std::vector<std::uint32_t> flags{1u}, offsets{0u}, occ{occluded ? 1u : 0u};
+  PassShade({.frame = f.fc, .surfaces = surfaces, .shadow_flags = flags, .shadow_offsets = offsets, .occluded = occ,
+             .accum = &accum, .scene = &f.b});
   return glm::vec3(accum[0], accum[1], accum[2]) / gpu::kAccumScale;
 }
 

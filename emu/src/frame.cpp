@@ -51,7 +51,7 @@ class Runner {
     });
     tracer_.Prepare(r_.triangle_spheres, r_.object_spheres);
     Pass("raster", [&] {
-      r_.gbuffer = passes_.Raster(fc_, b_);
+      r_.gbuffer = passes_.Raster({.frame = fc_, .scene = &b_});
       const GBuffer& g = r_.gbuffer;
       r_.digest.Add("raster", "diffuse", g.diffuse);
       r_.digest.Add("raster", "specular", g.specular);
@@ -65,7 +65,7 @@ class Runner {
     std::vector<std::uint64_t> accum(static_cast<std::size_t>(r_.width) * r_.height * 3, 0);
     std::vector<gpu::Surface> surfaces;
     Pass("surfaces.b0", [&] {
-      surfaces = passes_.SurfacesFromGBuffer(fc_, r_.gbuffer, b_);
+      surfaces = passes_.SurfacesFromGBuffer(SurfacesCall(fc_, r_.gbuffer, b_));
       r_.digest.Add("surfaces.b0", "surfaces", surfaces);
       return surfaces.size();
     });
@@ -93,7 +93,7 @@ class Runner {
       Trimmed shadow_trim;
       std::vector<std::uint32_t> occluded;
       if (lights) {
-        RaygenAndTrim(gpu::kRayShadow, "shadow." + bs, [&] { return passes_.Raygen(gpu::kRayShadow, fc_, surfaces, b_); }, shadow, shadow_trim);
+        RaygenAndTrim(gpu::kRayShadow, "shadow." + bs, [&] { return passes_.Raygen({.kind = gpu::kRayShadow, .frame = fc_, .surfaces = surfaces, .scene = &b_}); }, shadow, shadow_trim);
         r_.rays[gpu::kRayShadow][bounce] = shadow_trim.rays.size();
         Pass("trace.shadow." + bs, [&] {
           Begin("shadow." + bs, gpu::kRayShadow, bounce);
@@ -108,7 +108,8 @@ class Runner {
         Skip("trace.shadow." + bs, "the scene has no lights");
       }
       Pass("shade." + bs, [&] {
-        passes_.Shade(fc_, surfaces, shadow.flags, shadow_trim.offsets, occluded, b_, accum);
+        passes_.Shade({.frame = fc_, .surfaces = surfaces, .shadow_flags = shadow.flags, .shadow_offsets = shadow_trim.offsets,
+                      .occluded = occluded, .accum = &accum, .scene = &b_});
         r_.digest.Add("shade." + bs, "accum", accum);
         return surfaces.size();
       });
@@ -144,7 +145,7 @@ class Runner {
         RaygenAndTrim(
             k.kind, sfx,
             [&] {
-              return passes_.Raygen(k.kind, fc_, surfaces, b_);
+              return passes_.Raygen({.kind = k.kind, .frame = fc_, .surfaces = surfaces, .scene = &b_});
             },
             sparse, trimmed);
         r_.rays[k.kind][bounce + 1] = trimmed.rays.size();
@@ -156,7 +157,7 @@ class Runner {
         });
         if (observer_) observer_({sfx, k.kind, bounce + 1, &trimmed.rays, &hits, nullptr});
         Pass("surfaces." + sfx, [&] {
-          std::vector<gpu::Surface> s = passes_.SurfacesFromHits(trimmed.rays, hits, b_);
+          std::vector<gpu::Surface> s = passes_.SurfacesFromHits({.rays = trimmed.rays, .hits = hits, .scene = &b_});
           r_.digest.Add("surfaces." + sfx, "surfaces", s);
           next_surfaces.insert(next_surfaces.end(), s.begin(), s.end());
           return s.size();
@@ -165,7 +166,7 @@ class Runner {
       surfaces = std::move(next_surfaces);
     }
     Pass("resolve", [&] {
-      r_.rgb = passes_.Resolve(fc_, accum);
+      r_.rgb = passes_.Resolve({.frame = fc_, .accum = accum});
       r_.accum = accum;
       r_.digest.Add("resolve", "rgb", r_.rgb);
       return r_.rgb.size() / 3;
@@ -185,7 +186,7 @@ class Runner {
       return sparse.rays.size();
     });
     Pass("trim." + suffix, [&] {
-      trimmed = passes_.Trim(kind, sparse);
+      trimmed = passes_.Trim({.kind = kind, .rays = sparse.rays, .flags = sparse.flags});
       r_.digest.Add("trim." + suffix, "rays", trimmed.rays);
       r_.digest.Add("trim." + suffix, "offsets", trimmed.offsets);
       return trimmed.rays.size();

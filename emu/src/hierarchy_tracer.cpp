@@ -134,14 +134,15 @@ class Impl final : public HierarchyTracer {
     // CRSH hashes directions (and origins); Roger's quadtree orders screen tiles, one tree per light.
     const bool quad = cfg_.algorithm == Algorithm::kRahQuadtree;
     const std::uint32_t qw = quad ? static_cast<std::uint32_t>(std::max(1, cfg_.image_width)) : 0u;
-    const std::vector<std::uint32_t> keys = Sub("hash", n, [&] { return passes_.Hash(rays, scene_, cfg_.hash, qw, cfg_.depth); });
+    const std::vector<std::uint32_t> keys = Sub("hash", n, [&] { return passes_.Hash({.rays = rays, .scene = &scene_, .hash = cfg_.hash, .quadtree_width = qw, .quadtree_depth = cfg_.depth}); });
     Digest("hash", "keys", keys);
-    const Chunks chunks = Sub("compress", n, [&] { return passes_.Compress(keys); });
+    const Chunks chunks = Sub("compress", n, [&] { return passes_.Compress({.keys = keys}); });
     Digest("compress", "chunk_keys", chunks.key);
     Digest("compress", "chunk_base", chunks.base);
-    const std::vector<std::uint32_t> sorted = Sub("sort", chunks.key.size(), [&] { return passes_.SortChunks(chunks.key); });
+    const std::vector<std::uint32_t> sorted = Sub("sort", chunks.key.size(), [&] { return passes_.SortChunks({.chunk_key = chunks.key}); });
     Digest("sort", "chunk_order", sorted);
-    std::vector<std::uint32_t> order = Sub("decompress", n, [&] { return passes_.Decompress(chunks, sorted); });
+    std::vector<std::uint32_t> order = Sub("decompress", n, [&] { return passes_.Decompress(
+        {.chunk_key = chunks.key, .chunk_base = chunks.base, .chunk_size = chunks.size, .chunk_order = sorted}); });
     Digest("decompress", "ray_order", order);
     if (cfg_.algorithm == Algorithm::kRahQuadtree) {
       quad_keys.resize(n);
@@ -180,9 +181,9 @@ class Impl final : public HierarchyTracer {
       const auto& f = h.first[L - 1];
       const std::size_t nodes = f.size() - 1;
       if (L == 1) {
-        h.nodes[0] = passes_.BuildLeaves(rays, order, f);
+        h.nodes[0] = passes_.BuildLeaves({.rays = rays, .order = order, .first = f});
       } else {
-        h.nodes[L - 1] = passes_.BuildParents(h.nodes[L - 2], f);
+        h.nodes[L - 1] = passes_.BuildParents({.below = h.nodes[L - 2], .first = f});
       }
       if (quad) {
         std::vector<std::uint32_t> next(nodes);
@@ -203,7 +204,7 @@ class Impl final : public HierarchyTracer {
   }
 
   std::vector<std::uint32_t> Reduce(const std::vector<std::uint8_t>& flags, const std::vector<std::uint32_t>& values) {
-    return passes_.Reduce(cfg_.reduction, cfg_.component_size, flags, values);
+    return passes_.Reduce({.reduction = cfg_.reduction, .component = cfg_.component_size, .flags = flags, .values = values});
   }
 
   static std::uint64_t Sum(const std::vector<std::uint8_t>& v) {
@@ -227,7 +228,8 @@ class Impl final : public HierarchyTracer {
     static const std::vector<std::uint8_t> kNoMask;
     const std::size_t grid = static_cast<std::size_t>(N) * T;
     PairSlots slots = Sub("traverse.L" + std::to_string(D), grid, [&] {
-      return passes_.TraverseTop(h.nodes[D - 1], t0, t1, b0, b1, *tri_spheres_, scene_, crsh ? object_mask : kNoMask, eps_);
+      return passes_.TraverseTop({.top = h.nodes[D - 1], .t0 = t0, .t1 = t1, .b0 = b0, .b1 = b1, .tri_spheres = *tri_spheres_,
+                                  .scene = &scene_, .object_mask = crsh ? object_mask : kNoMask, .eps = eps_});
     });
     lv[D - 1].intersections = Sum(slots.tested);
     std::vector<std::uint32_t> pairs = Sub("reduce.L" + std::to_string(D), grid, [&] { return Reduce(slots.flags, slots.values); });
@@ -239,7 +241,8 @@ class Impl final : public HierarchyTracer {
     for (int L = D - 1; L >= 1; --L) {
       const std::uint32_t base_up = Descendants(h, L + 1, t0, t1).first, base = Descendants(h, L, t0, t1).first;
       slots = Sub("traverse.L" + std::to_string(L), pairs.size() * S, [&] {
-        return passes_.TraverseLevel(pairs, h.nodes[L - 1], h.first[L], base_up, base, S, b0, *tri_spheres_, eps_);
+        return passes_.TraverseLevel({.pairs = pairs, .nodes = h.nodes[L - 1], .first = h.first[L], .base_up = base_up, .base = base,
+                                      .children_max = S, .b0 = b0, .tri_spheres = *tri_spheres_, .eps = eps_});
       });
       lv[L - 1].intersections = Sum(slots.tested);
       pairs = Sub("reduce.L" + std::to_string(L), slots.flags.size(), [&] { return Reduce(slots.flags, slots.values); });
@@ -251,7 +254,8 @@ class Impl final : public HierarchyTracer {
     const std::uint32_t base1 = Descendants(h, 1, t0, t1).first;
     const auto& f1 = h.first[0];
     const std::vector<std::uint32_t> tests =
-        Sub("intersect", pairs.size(), [&] { return passes_.Intersect(pairs, f1, base1, b0, order, rays, scene_, hits, occluded); });
+        Sub("intersect", pairs.size(), [&] { return passes_.Intersect({.pairs = pairs, .first1 = f1, .base1 = base1, .b0 = b0, .order = order, .rays = rays,
+                                               .scene = &scene_, .hits = hits, .occluded = occluded}); });
     if (cfg_.candidate_log) {
       for (std::uint32_t pair : pairs) {
         const std::uint32_t node = base1 + (pair >> kTriBits), prim = b0 + (pair & kTriMask);
@@ -317,7 +321,7 @@ class Impl final : public HierarchyTracer {
     std::vector<std::uint8_t> mask;
     if (cfg_.algorithm == Algorithm::kCrsh) {
       mask = Sub("traverse.objects", static_cast<std::size_t>(top) * scene_.objects.size(),
-                 [&] { return passes_.ObjectMask(h.nodes[cfg_.depth - 1], *obj_spheres_, eps_); });
+                 [&] { return passes_.ObjectMask({.top = h.nodes[cfg_.depth - 1], .object_spheres = *obj_spheres_, .eps = eps_}); });
       st.object_sphere_tests = mask.size();
       st.object_sphere_hits = Sum(mask);
     }
@@ -351,80 +355,6 @@ class Impl final : public HierarchyTracer {
 };
 
 }  // namespace
-
-float TraversalEpsilon(const SceneBuffers& scene) {
-  const glm::vec3 ext = scene.hi - scene.lo;
-  return std::max(glm::length(ext), 1e-30f) * 1e-6f;
-}
-
-namespace {
-// A lambda, not a function pointer, so the test inlines into the traversal loops.
-constexpr auto kConeTest = [](const gpu::ConeNode& n, glm::vec4 sphere, float eps) { return cone::Test(n, sphere, eps); };
-}  // namespace
-
-PairSlots PassTraverseTop(const std::vector<gpu::ConeNode>& top, std::uint32_t t0, std::uint32_t t1, std::uint32_t b0,
-                          std::uint32_t b1, const std::vector<glm::vec4>& tri_spheres, const SceneBuffers& scene,
-                          const std::vector<std::uint8_t>& object_mask, float eps) {
-  return TraverseTopWith(kConeTest, top, t0, t1, b0, b1, tri_spheres, scene, object_mask, eps);
-}
-
-std::vector<std::uint8_t> PassObjectMask(const std::vector<gpu::ConeNode>& top, const std::vector<glm::vec4>& object_spheres,
-                                         float eps) {
-  return ObjectMaskWith(kConeTest, top, object_spheres, eps);
-}
-
-PairSlots PassTraverseLevel(const std::vector<std::uint32_t>& pairs, const std::vector<gpu::ConeNode>& nodes,
-                            const std::vector<std::uint32_t>& first, std::uint32_t base_up, std::uint32_t base,
-                            std::uint32_t children_max, std::uint32_t b0, const std::vector<glm::vec4>& tri_spheres,
-                            float eps) {
-  return TraverseLevelWith(kConeTest, pairs, nodes, first, base_up, base, children_max, b0, tri_spheres, eps);
-}
-
-std::vector<std::uint32_t> PassIntersect(const std::vector<std::uint32_t>& pairs, const std::vector<std::uint32_t>& f1,
-                                         std::uint32_t base1, std::uint32_t b0, const std::vector<std::uint32_t>& order,
-                                         const std::vector<gpu::Ray>& rays, const SceneBuffers& scene,
-                                         std::vector<std::uint64_t>* hits, std::vector<std::uint32_t>* occluded) {
-  std::vector<std::uint32_t> tests(pairs.size());
-  ParallelFor(pairs.size(), [&](std::size_t p) {
-    const std::uint32_t node = base1 + (pairs[p] >> kTriBits), prim = b0 + (pairs[p] & kTriMask);
-    const gpu::Triangle& t = scene.triangles[prim];
-    tests[p] = f1[node + 1] - f1[node];
-    for (std::uint32_t j = f1[node]; j < f1[node + 1]; ++j) {
-      const std::uint32_t ray = order[j];
-      const gpu::Ray& r = rays[ray];
-      if (prim == r.info.y) continue;
-      float th;
-      if (!IntersectWatertight(SetupWatertight(Xyz(r.origin_tmin), Xyz(r.direction_tmax)), Xyz(t.v0), Xyz(t.v1),
-                               Xyz(t.v2), r.origin_tmin.w, r.direction_tmax.w, th))
-        continue;
-      if (hits) {
-        std::atomic_ref<std::uint64_t> a((*hits)[ray]);
-        const std::uint64_t v = PackHit(th, prim);
-        std::uint64_t cur = a.load(std::memory_order_relaxed);
-        while (v < cur && !a.compare_exchange_weak(cur, v, std::memory_order_relaxed)) {
-        }
-      } else {
-        std::atomic_ref<std::uint32_t>((*occluded)[ray]).store(1u, std::memory_order_relaxed);
-      }
-    }
-  });
-  return tests;
-}
-
-std::vector<gpu::ConeNode> PassBuildLeaves(const std::vector<gpu::Ray>& rays, const std::vector<std::uint32_t>& order,
-                                           const std::vector<std::uint32_t>& first) {
-  std::vector<gpu::ConeNode> nodes(first.size() - 1);
-  ParallelFor(nodes.size(), [&](std::size_t i) {
-    nodes[i] = cone::LeafNode(first[i + 1] - first[i], [&](std::uint32_t k) -> const gpu::Ray& { return rays[order[first[i] + k]]; });
-  });
-  return nodes;
-}
-
-std::vector<gpu::ConeNode> PassBuildParents(const std::vector<gpu::ConeNode>& below, const std::vector<std::uint32_t>& first) {
-  std::vector<gpu::ConeNode> nodes(first.size() - 1);
-  ParallelFor(nodes.size(), [&](std::size_t i) { nodes[i] = cone::ParentNode(&below[first[i]], first[i + 1] - first[i]); });
-  return nodes;
-}
 
 std::vector<std::uint32_t> FixedGroups(std::size_t count, std::uint32_t per) {
   std::vector<std::uint32_t> first;

@@ -198,7 +198,9 @@ Fragment ShadeFragment(const gpu::FrameConstants& fc, const SceneBuffers& scene,
 
 }  // namespace raster
 
-GBuffer PassRaster(const gpu::FrameConstants& fc, const SceneBuffers& scene) {
+GBuffer PassRaster(const call::Raster& c) {
+  const gpu::FrameConstants& fc = c.frame;
+  const SceneBuffers& scene = *c.scene;
   using namespace raster;
   const int width = static_cast<int>(fc.dims.x), height = static_cast<int>(fc.dims.y);
   GBuffer g;

@@ -3,6 +3,7 @@
 
 #include "rayspace/emu/intersect.h"
 #include "rayspace/emu/passes.h"
+#include "rayspace/error.h"
 #include "rayspace/parallel.h"
 
 namespace rayspace::emu {
@@ -15,8 +16,10 @@ bool Finite3(glm::vec3 v) {
 
 }  // namespace
 
-SparseRays PassRaygenShadow(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
-                            const SceneBuffers& scene) {
+SparseRays PassRaygenShadow(const call::Raygen& c) {
+  const gpu::FrameConstants& fc = c.frame;
+  const In<gpu::Surface> surfaces = c.surfaces;
+  const SceneBuffers& scene = *c.scene;
   const std::size_t lights = scene.lights.size();
   SparseRays out;
   out.rays.assign(surfaces.size() * lights, gpu::Ray{});
@@ -43,8 +46,10 @@ SparseRays PassRaygenShadow(const gpu::FrameConstants& fc, const std::vector<gpu
   return out;
 }
 
-SparseRays PassRaygenReflection(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
-                                const SceneBuffers& scene) {
+SparseRays PassRaygenReflection(const call::Raygen& c) {
+  const gpu::FrameConstants& fc = c.frame;
+  const In<gpu::Surface> surfaces = c.surfaces;
+  const SceneBuffers& scene = *c.scene;
   SparseRays out;
   out.rays.assign(surfaces.size(), gpu::Ray{});
   out.flags.assign(surfaces.size(), 0u);
@@ -70,8 +75,10 @@ SparseRays PassRaygenReflection(const gpu::FrameConstants& fc, const std::vector
   return out;
 }
 
-SparseRays PassRaygenRefraction(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
-                                const SceneBuffers& scene) {
+SparseRays PassRaygenRefraction(const call::Raygen& c) {
+  const gpu::FrameConstants& fc = c.frame;
+  const In<gpu::Surface> surfaces = c.surfaces;
+  const SceneBuffers& scene = *c.scene;
   SparseRays out;
   out.rays.assign(surfaces.size(), gpu::Ray{});
   out.flags.assign(surfaces.size(), 0u);
@@ -105,6 +112,16 @@ SparseRays PassRaygenRefraction(const gpu::FrameConstants& fc, const std::vector
     out.flags[s] = 1u;
   });
   return out;
+}
+
+SparseRays PassRaygen(const call::Raygen& c) {
+  switch (c.kind) {
+    case gpu::kRayShadow: return PassRaygenShadow(c);
+    case gpu::kRayReflection: return PassRaygenReflection(c);
+    case gpu::kRayRefraction: return PassRaygenRefraction(c);
+  }
+  RS_CHECK_MSG(false, "unknown ray kind {}", c.kind);
+  return {};
 }
 
 }  // namespace rayspace::emu

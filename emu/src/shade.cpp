@@ -1,4 +1,4 @@
-// Shading (thesis eq. 3.19) and the final resolve to 8-bit pixels.
+// Shading (thesis eq. 3.19) into the fixed-point accumulator. Mirrors gpu/shaders/shade.comp.
 #include <atomic>
 
 #include "rayspace/emu/intersect.h"
@@ -16,11 +16,12 @@ std::uint64_t ToFixed(float c) {
 
 }  // namespace
 
-void PassShade(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
-               const std::vector<std::uint32_t>& shadow_flags, const std::vector<std::uint32_t>& shadow_offsets,
-               const std::vector<std::uint32_t>& occluded, const SceneBuffers& scene, std::vector<std::uint64_t>& accum) {
+void PassShade(const call::Shade& c) {
+  const SceneBuffers& scene = *c.scene;
+  const In<gpu::Surface> surfaces = c.surfaces;
+  const In<std::uint32_t> shadow_flags = c.shadow_flags, shadow_offsets = c.shadow_offsets, occluded = c.occluded;
+  std::vector<std::uint64_t>& accum = *c.accum;
   const std::size_t lights = scene.lights.size();
-  (void)fc;
   ParallelFor(surfaces.size(), [&](std::size_t s) {
     const gpu::Surface& sf = surfaces[s];
     if (sf.position.w == 0.0f) return;
@@ -56,17 +57,6 @@ void PassShade(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& s
       if (q != 0) std::atomic_ref<std::uint64_t>(accum[3 * static_cast<std::size_t>(pixel) + k]).fetch_add(q, std::memory_order_relaxed);
     }
   });
-}
-
-std::vector<std::uint8_t> PassResolve(const gpu::FrameConstants& fc, const std::vector<std::uint64_t>& accum) {
-  const std::size_t npix = static_cast<std::size_t>(fc.dims.x) * fc.dims.y;
-  std::vector<std::uint8_t> rgb(npix * 3);
-  ParallelFor(npix * 3, [&](std::size_t i) {
-    const float c = static_cast<float>(accum[i]) / gpu::kAccumScale;
-    const float g = std::sqrt(Clamp(c, 0.0f, 1.0f));  // display gamma 2: sqrt is exact on both sides
-    rgb[i] = static_cast<std::uint8_t>(static_cast<std::uint32_t>(g * 255.0f + 0.5f));
-  });
-  return rgb;
 }
 
 }  // namespace rayspace::emu

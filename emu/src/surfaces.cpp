@@ -35,18 +35,19 @@ glm::vec3 ShadingNormal(const SceneBuffers& scene, std::uint32_t prim, glm::vec3
   return Normalize(s);
 }
 
-std::vector<gpu::Surface> PassSurfacesFromGBuffer(const gpu::FrameConstants& fc, const GBuffer& g,
-                                                   const SceneBuffers& scene) {
-  const std::size_t npix = g.prim.size();
+std::vector<gpu::Surface> PassSurfacesFromGBuffer(const call::SurfacesFromGBuffer& c) {
+  const gpu::FrameConstants& fc = c.frame;
+  const SceneBuffers& scene = *c.scene;
+  const std::size_t npix = c.prim.size();
   std::vector<gpu::Surface> out(npix);
   const std::uint32_t width = fc.dims.x;
   ParallelFor(npix, [&](std::size_t i) {
     gpu::Surface s{};
-    const std::uint32_t prim = g.prim[i];
+    const std::uint32_t prim = c.prim[i];
     if (prim != gpu::kNoPrim) {
       const glm::vec3 d = PixelDirection(fc, static_cast<std::uint32_t>(i % width), static_cast<std::uint32_t>(i / width));
-      s.position = glm::vec4(Xyz(g.position[i]), 1.0f);
-      s.normal = glm::vec4(Xyz(g.normal[i]), 0.0f);
+      s.position = glm::vec4(Xyz(c.position[i]), 1.0f);
+      s.normal = glm::vec4(Xyz(c.normal[i]), 0.0f);
       s.incoming = glm::vec4(Normalize(d), 0.0f);
       s.weight = glm::vec4(1.0f, 1.0f, 1.0f, 0.0f);
       s.info = glm::uvec4(prim, static_cast<std::uint32_t>(i), scene.info[prim].ids.x, 0);
@@ -58,8 +59,10 @@ std::vector<gpu::Surface> PassSurfacesFromGBuffer(const gpu::FrameConstants& fc,
   return out;
 }
 
-std::vector<gpu::Surface> PassSurfacesFromHits(const std::vector<gpu::Ray>& rays, const std::vector<std::uint64_t>& hits,
-                                               const SceneBuffers& scene) {
+std::vector<gpu::Surface> PassSurfacesFromHits(const call::SurfacesFromHits& c) {
+  const In<gpu::Ray> rays = c.rays;
+  const In<std::uint64_t> hits = c.hits;
+  const SceneBuffers& scene = *c.scene;
   std::vector<gpu::Surface> out(rays.size());
   ParallelFor(rays.size(), [&](std::size_t i) {
     const gpu::Ray& r = rays[i];

@@ -5,7 +5,7 @@
 
 namespace rayspace::emu {
 
-std::vector<std::uint32_t> ExclusiveScan(const std::vector<std::uint32_t>& in, std::uint32_t* total) {
+std::vector<std::uint32_t> ExclusiveScan(In<std::uint32_t> in, std::uint32_t* total) {
   // Three phases over fixed-size blocks, as a GPU scan does: block sums, scan of the sums, block scan.
   constexpr std::size_t kBlock = gpu::kScanBlock;
   const std::size_t n = in.size(), blocks = (n + kBlock - 1) / kBlock;
@@ -32,13 +32,13 @@ std::vector<std::uint32_t> ExclusiveScan(const std::vector<std::uint32_t>& in, s
   return out;
 }
 
-Trimmed PassTrim(const SparseRays& sparse) {
+Trimmed PassTrim(const call::Trim& c) {
   Trimmed t;
   std::uint32_t count = 0;
-  t.offsets = ExclusiveScan(sparse.flags, &count);
+  t.offsets = ExclusiveScan(c.flags, &count);
   t.rays.resize(count);
-  ParallelFor(sparse.flags.size(), [&](std::size_t i) {
-    if (sparse.flags[i]) t.rays[t.offsets[i]] = sparse.rays[i];
+  ParallelFor(c.flags.size(), [&](std::size_t i) {
+    if (c.flags[i]) t.rays[t.offsets[i]] = c.rays[i];
   });
   return t;
 }

@@ -57,13 +57,17 @@ TEST_CASE("final test in more parts than one descriptor pool holds equals the em
     CAPTURE(shadow);
     std::vector<std::uint64_t> eh(c.rays.size(), ~std::uint64_t{0});
     std::vector<std::uint32_t> eo(c.rays.size(), 0);
-    const std::vector<std::uint32_t> et =
-        emu::PassIntersect(c.pairs, c.first1, 0, 0, c.order, c.rays, c.scene, shadow ? nullptr : &eh, shadow ? &eo : nullptr);
-    std::vector<std::uint64_t> gh;
-    std::vector<std::uint32_t> go, gt;
+    const emu::call::Intersect call{.pairs = c.pairs, .first1 = c.first1, .order = c.order, .rays = c.rays, .scene = &c.scene,
+                                    .hits = shadow ? nullptr : &eh, .occluded = shadow ? &eo : nullptr};
+    const std::vector<std::uint32_t> et = emu::PassIntersect(call);
+    std::vector<std::uint64_t> gh(c.rays.size(), ~std::uint64_t{0});
+    std::vector<std::uint32_t> go(c.rays.size(), 0), gt;
+    emu::call::Intersect gcall = call;
+    gcall.hits = shadow ? nullptr : &gh;
+    gcall.occluded = shadow ? &go : nullptr;
     const std::size_t extra_before = gpu->extra_dispatches(), paged_before = gpu->paged_arrays();
     const std::size_t pools_before = gpu->context().descriptor_pools_created();
-    const vk::Status st = gpu->Intersect(c.pairs, c.first1, 0, 0, c.order, c.rays, c.scene, shadow, gh, go, gt);
+    const vk::Status st = gpu->Run(gcall, gt);
     INFO(st.message);
     REQUIRE(st);
     CHECK(gpu->extra_dispatches() - extra_before == 62);

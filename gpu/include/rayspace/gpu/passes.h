@@ -1,15 +1,16 @@
-// The passes that run as Vulkan kernels so far, with the same inputs and outputs as their emulated
-// counterparts in emu/passes.h.
+// The passes as Vulkan kernels: each call of emu/calls.h launched on the device, with the same inputs
+// and outputs as its emulated counterpart.
 #pragma once
 #include <array>
 #include <map>
 #include <memory>
 #include <span>
 #include <string>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
-#include "rayspace/emu/hierarchy.h"
-#include "rayspace/emu/passes.h"
+#include "rayspace/emu/calls.h"
 #include "rayspace/gpu/vulkan.h"
 #include "rayspace/pass_registry.h"
 
@@ -27,61 +28,23 @@ std::span<const std::uint32_t> BuiltinKernel(std::string_view kernel);
 // The file names of every built-in compute kernel (gpu/shaders/*.comp), sorted.
 std::vector<std::string_view> BuiltinKernelNames();
 
+// What a Vulkan pass produces for a call: its result, or nothing for a call that updates in place.
+template <typename C>
+using VulkanOut = std::conditional_t<std::is_void_v<typename C::Result>, std::monostate, typename C::Result>;
+
 class VulkanPasses {
  public:
   // local_size: invocations per workgroup for every compute kernel (results must not depend on it).
   // One compute pipeline per registered pass (rayspace/pass_registry.h).
   static vk::Status Create(int device, const Faults& faults, std::unique_ptr<VulkanPasses>& out,
                            std::uint32_t local_size = 64, const KernelOverrides& overrides = {});
-  // The raster as a graphics pipeline with all G-buffer targets.
-  vk::Status Raster(const gpu::FrameConstants& fc, const SceneBuffers& scene, emu::GBuffer& out);
-  vk::Status Surfaces(const gpu::FrameConstants& fc, const emu::GBuffer& g, const SceneBuffers& scene,
-                      std::vector<gpu::Surface>& out);
-  vk::Status RaygenReflection(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
-                              const SceneBuffers& scene, emu::SparseRays& out);
-  vk::Status RaygenRefraction(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
-                              const SceneBuffers& scene, emu::SparseRays& out);
-  // Adds the surfaces' shading into `accum` (in place, like the emulated pass).
-  vk::Status Shade(const std::vector<gpu::Surface>& surfaces, const std::vector<std::uint32_t>& shadow_flags,
-                   const std::vector<std::uint32_t>& shadow_offsets, const std::vector<std::uint32_t>& occluded,
-                   const SceneBuffers& scene, std::vector<std::uint64_t>& accum);
-  // quad_width > 0: Roger's quadtree keys (emu PassHashQuadtree).
-  vk::Status Hash(const std::vector<gpu::Ray>& rays, const gpu::FrameConstants& fc, const emu::HashConfig& h,
-                  std::vector<std::uint32_t>& keys, std::uint32_t quad_width = 0, std::uint32_t quad_depth = 0);
-  vk::Status SurfacesFromHits(const std::vector<gpu::Ray>& rays, const std::vector<std::uint64_t>& hits,
-                              const SceneBuffers& scene, std::vector<gpu::Surface>& out);
-  // CRSH's culling mask (emu PassObjectMask), one word per (top node, object).
-  vk::Status ObjectMask(const std::vector<gpu::ConeNode>& top, const std::vector<glm::vec4>& object_spheres, float eps,
-                        std::vector<std::uint32_t>& mask);
-  vk::Status Compress(const std::vector<std::uint32_t>& keys, emu::Chunks& out);
-  vk::Status SortChunks(const std::vector<std::uint32_t>& chunk_keys, std::vector<std::uint32_t>& sorted);
-  vk::Status Decompress(const emu::Chunks& chunks, const std::vector<std::uint32_t>& sorted, std::vector<std::uint32_t>& order);
-  vk::Status BuildLeaves(const std::vector<gpu::Ray>& rays, const std::vector<std::uint32_t>& order,
-                         const std::vector<std::uint32_t>& first, std::vector<gpu::ConeNode>& nodes);
-  vk::Status BuildParents(const std::vector<gpu::ConeNode>& below, const std::vector<std::uint32_t>& first,
-                          std::vector<gpu::ConeNode>& nodes);
-  // Traversal of one block (see emu PassTraverseTop / PassTraverseLevel); flags and tested as uint32.
-  vk::Status TraverseTop(const std::vector<gpu::ConeNode>& top, std::uint32_t t0, std::uint32_t t1, std::uint32_t b0,
-                         std::uint32_t b1, const std::vector<glm::vec4>& tri_spheres, const SceneBuffers& scene, float eps,
-                         const std::vector<std::uint32_t>& object_mask, std::vector<std::uint32_t>& flags, std::vector<std::uint32_t>& values, std::vector<std::uint32_t>& tested);
-  vk::Status TraverseLevel(const std::vector<std::uint32_t>& pairs, const std::vector<gpu::ConeNode>& nodes,
-                           const std::vector<std::uint32_t>& first, std::uint32_t base_up, std::uint32_t base,
-                           std::uint32_t children_max, std::uint32_t b0, const std::vector<glm::vec4>& tri_spheres, float eps,
-                           std::vector<std::uint32_t>& flags, std::vector<std::uint32_t>& values, std::vector<std::uint32_t>& tested);
-  // Roger et al.'s hierarchical stream reduction with components of `s` slots.
-  vk::Status Reduce(const std::vector<std::uint32_t>& flags, const std::vector<std::uint32_t>& values, std::uint32_t s,
-                    std::vector<std::uint32_t>& out);
-  // The scan-based stream reduction (emu ReduceScan).
-  vk::Status ReduceScan(const std::vector<std::uint32_t>& flags, const std::vector<std::uint32_t>& values,
-                        std::vector<std::uint32_t>& out);
-  vk::Status Intersect(const std::vector<std::uint32_t>& pairs, const std::vector<std::uint32_t>& first1, std::uint32_t base1,
-                       std::uint32_t b0, const std::vector<std::uint32_t>& order, const std::vector<gpu::Ray>& rays,
-                       const SceneBuffers& scene, bool shadow, std::vector<std::uint64_t>& hits,
-                       std::vector<std::uint32_t>& occluded, std::vector<std::uint32_t>& tests);
-  vk::Status RaygenShadow(const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
-                          const SceneBuffers& scene, emu::SparseRays& out);
-  vk::Status Trim(const emu::SparseRays& in, emu::Trimmed& out);
-  vk::Status Resolve(const gpu::FrameConstants& fc, const std::vector<std::uint64_t>& accum, std::vector<std::uint8_t>& out);
+  // One launch per call (emu/calls.h), same inputs and outputs as the emulated pass; in-place arrays
+  // (Shade's accumulator, Intersect's hits or occlusion) are updated like the emulator does. Each is
+  // defined in gpu/src/<kernel>.cpp beside its kernel's launch code.
+#define RS_VULKAN_CALL(C) vk::Status Run(const emu::call::C& c, VulkanOut<emu::call::C>& out);
+  RS_FRAME_CALLS(RS_VULKAN_CALL)
+  RS_HIERARCHY_CALLS(RS_VULKAN_CALL)
+#undef RS_VULKAN_CALL
   const vk::Context& context() const { return *ctx_; }
   // Buffers that grow with the frame never exceed one binding: element-wise passes run over parts
   // of their streams, and arrays read at any index are paged (gpu/shaders/paged.glsl). This is the
@@ -96,15 +59,15 @@ class VulkanPasses {
   std::size_t paged_arrays() const { return paged_arrays_; }
 
  private:
-  vk::Status ReduceInParts(const std::vector<std::uint32_t>& flags, const std::vector<std::uint32_t>& values, std::uint32_t s,
+  vk::Status ReduceInParts(std::span<const std::uint32_t> flags, std::span<const std::uint32_t> values, std::uint32_t s,
                            bool scan, std::vector<std::uint32_t>& out);
   vk::Status Build(std::uint32_t phase, std::span<const gpu::Ray> rays, std::span<const std::uint32_t> order,
-                   std::span<const gpu::ConeNode> below, const std::vector<std::uint32_t>& first,
+                   std::span<const gpu::ConeNode> below, std::span<const std::uint32_t> first,
                    std::vector<gpu::ConeNode>& nodes);
   // Elements per part when each element takes `bytes_per_element` in the largest per-part binding.
   std::size_t PerPart(std::size_t bytes_per_element) const;
-  vk::Status Raygen(const vk::Kernel& k, const gpu::FrameConstants& fc, const std::vector<gpu::Surface>& surfaces,
-                    const SceneBuffers& scene, emu::SparseRays& out);
+  vk::Status RaygenShadow(const emu::call::Raygen& c, emu::SparseRays& out);
+  vk::Status RaygenSurface(const vk::Kernel& k, const emu::call::Raygen& c, emu::SparseRays& out);
   const vk::Kernel& K(PassId id) const { return kernels_[static_cast<std::size_t>(id)]; }
   std::unique_ptr<vk::Context> ctx_;
   std::uint32_t raster_fault_ = 0;

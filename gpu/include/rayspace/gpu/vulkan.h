@@ -39,6 +39,8 @@ class Buffer {
   template <typename T>
   void Upload(const std::vector<T>& v) { std::memcpy(mapped_, v.data(), v.size() * sizeof(T)); }
   template <typename T>
+  void Upload(std::span<const T> v) { std::memcpy(mapped_, v.data(), v.size_bytes()); }
+  template <typename T>
   std::vector<T> Download(std::size_t count) const {
     std::vector<T> v(count);
     std::memcpy(v.data(), mapped_, count * sizeof(T));

@@ -1,0 +1,254 @@
+// One struct per pass call: the call's inputs as data. The hierarchy tracer and the frame runner build
+// a call once and hand it to a backend (emu/backend.h), which executes it; the diff and `replay` move
+// the same struct to and from named buffers (its RS_FIELDS) without restating its signature.
+//
+// Field kinds and what they mean to the buffer sets (verify/call_codec.h):
+//   In<T>                 an input array (a view the caller keeps alive for the call)
+//   std::vector<T>*       an array read and updated in place (results merged into it); may be null
+//   const SceneBuffers*   the scene's buffers
+//   a struct with fields  flattened into the call (its fields named as its own)
+//   integer, enum, float  a scalar (a float is saved as its bit pattern)
+// `Result` is what the call returns: void, an array saved under `kResult`, or a struct with fields.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "rayspace/emu/fields.h"
+#include "rayspace/emu/streams.h"
+#include "rayspace/layout.h"
+#include "rayspace/scene_buffers.h"
+
+namespace rayspace::emu {
+
+template <typename T>
+using In = std::span<const T>;
+
+namespace call {
+
+// ---- frame passes ---------------------------------------------------------------------------------
+struct Raster {
+  static constexpr std::string_view kName = "raster";
+  using Result = GBuffer;
+  gpu::FrameConstants frame{};
+  const SceneBuffers* scene = nullptr;
+  RS_FIELDS(frame, scene)
+};
+
+// Shading points from the G-buffer's covered pixels.
+struct SurfacesFromGBuffer {
+  static constexpr std::string_view kName = "surfaces";
+  using Result = std::vector<gpu::Surface>;
+  static constexpr std::string_view kResult = "surfaces";
+  gpu::FrameConstants frame{};
+  int width = 0, height = 0;
+  In<glm::vec4> position, normal;
+  In<std::uint32_t> prim;
+  const SceneBuffers* scene = nullptr;
+  RS_FIELDS(frame, width, height, position, normal, prim, scene)
+};
+
+// One surface per ray; rays that missed give empty slots.
+struct SurfacesFromHits {
+  static constexpr std::string_view kName = "surfaces.hits";
+  using Result = std::vector<gpu::Surface>;
+  static constexpr std::string_view kResult = "surfaces";
+  In<gpu::Ray> rays;
+  In<std::uint64_t> hits;
+  const SceneBuffers* scene = nullptr;
+  RS_FIELDS(rays, hits, scene)
+};
+
+// Shadow: slot s * lights + l, a ray from light l towards surface s (thesis eqs. 3.1-3.2).
+// Reflection: slot s, the mirror ray (eqs. 3.3-3.4) where the material reflects.
+// Refraction: slot s, the refracted ray (eqs. 3.5-3.7) where transparent; none on total internal reflection.
+struct Raygen {
+  static constexpr std::string_view kName = "raygen";
+  using Result = SparseRays;
+  std::uint32_t kind = gpu::kRayShadow;
+  gpu::FrameConstants frame{};
+  In<gpu::Surface> surfaces;
+  const SceneBuffers* scene = nullptr;
+  RS_FIELDS(kind, frame, surfaces, scene)
+};
+
+// Order-preserving compaction (exclusive scan of flags + scatter); one kernel for every kind.
+struct Trim {
+  static constexpr std::string_view kName = "trim";
+  using Result = Trimmed;
+  std::uint32_t kind = gpu::kRayShadow;
+  In<gpu::Ray> rays;
+  In<std::uint32_t> flags;
+  RS_FIELDS(kind, rays, flags)
+};
+
+// Phong/Lambert with attenuation (eq. 3.19) added into the fixed-point accumulator `accum`.
+// `shadow_offsets` / `shadow_flags` map slot s * lights + l to its shadow ray; `occluded` is per ray.
+struct Shade {
+  static constexpr std::string_view kName = "shade";
+  using Result = void;
+  gpu::FrameConstants frame{};
+  In<gpu::Surface> surfaces;
+  In<std::uint32_t> shadow_flags, shadow_offsets, occluded;
+  std::vector<std::uint64_t>* accum = nullptr;
+  const SceneBuffers* scene = nullptr;
+  RS_FIELDS(frame, surfaces, shadow_flags, shadow_offsets, occluded, accum, scene)
+};
+
+// Fixed point -> 8-bit RGB with display gamma 2 (sqrt).
+struct Resolve {
+  static constexpr std::string_view kName = "resolve";
+  using Result = std::vector<std::uint8_t>;
+  static constexpr std::string_view kResult = "rgb";
+  gpu::FrameConstants frame{};
+  In<std::uint64_t> accum;
+  RS_FIELDS(frame, accum)
+};
+
+// ---- hierarchy passes -----------------------------------------------------------------------------
+// 32-bit sort key per ray (docs/hierarchy.md, "Hash keys"); quadtree_width > 0: Roger's quadtree keys
+// (light, Morton order of the pixel) instead.
+struct Hash {
+  static constexpr std::string_view kName = "hash";
+  using Result = std::vector<std::uint32_t>;
+  static constexpr std::string_view kResult = "keys";
+  In<gpu::Ray> rays;
+  const SceneBuffers* scene = nullptr;
+  HashConfig hash;
+  std::uint32_t quadtree_width = 0;
+  int quadtree_depth = 0;
+  RS_FIELDS(rays, scene, hash, quadtree_width, quadtree_depth)
+};
+
+struct Compress {
+  static constexpr std::string_view kName = "compress";
+  using Result = Chunks;
+  In<std::uint32_t> keys;
+  RS_FIELDS(keys)
+};
+
+// Stable LSD radix sort of chunk keys (8 bits per pass); the chunk indices in sorted order.
+struct SortChunks {
+  static constexpr std::string_view kName = "sort";
+  using Result = std::vector<std::uint32_t>;
+  static constexpr std::string_view kResult = "chunk_order";
+  In<std::uint32_t> chunk_key;
+  RS_FIELDS(chunk_key)
+};
+
+// Sorted ray order: the rays of each chunk, chunks in sorted order.
+struct Decompress {
+  static constexpr std::string_view kName = "decompress";
+  using Result = std::vector<std::uint32_t>;
+  static constexpr std::string_view kResult = "ray_order";
+  In<std::uint32_t> chunk_key, chunk_base, chunk_size, chunk_order;
+  RS_FIELDS(chunk_key, chunk_base, chunk_size, chunk_order)
+};
+
+// Hierarchy build (docs/hierarchy.md). `first` is a CSR offset array: node i covers items
+// [first[i], first[i+1]) (sorted rays through `order` for leaves, nodes of the level below for parents).
+struct BuildLeaves {
+  static constexpr std::string_view kName = "build.leaves";
+  using Result = std::vector<gpu::ConeNode>;
+  static constexpr std::string_view kResult = "nodes";
+  In<gpu::Ray> rays;
+  In<std::uint32_t> order, first;
+  RS_FIELDS(rays, order, first)
+};
+
+struct BuildParents {
+  static constexpr std::string_view kName = "build.parents";
+  using Result = std::vector<gpu::ConeNode>;
+  static constexpr std::string_view kResult = "nodes";
+  In<gpu::ConeNode> below;
+  In<std::uint32_t> first;
+  RS_FIELDS(below, first)
+};
+
+// CRSH's object culling: 1 where top node e / objects may meet object sphere e % objects.
+struct ObjectMask {
+  static constexpr std::string_view kName = "traverse.objects";
+  using Result = std::vector<std::uint8_t>;
+  static constexpr std::string_view kResult = "mask";
+  In<gpu::ConeNode> top;
+  In<glm::vec4> object_spheres;
+  float eps = 0.0f;
+  RS_FIELDS(top, object_spheres, eps)
+};
+
+// Top level of one block: top nodes [t0, t1) x triangles [b0, b1). `object_mask` (top nodes x
+// objects, CRSH) empty = no object culling; `eps` is the cone-sphere test's absolute margin.
+struct TraverseTop {
+  static constexpr std::string_view kName = "traverse.top";
+  using Result = PairSlots;
+  In<gpu::ConeNode> top;
+  std::uint32_t t0 = 0, t1 = 0, b0 = 0, b1 = 0;
+  In<glm::vec4> tri_spheres;
+  const SceneBuffers* scene = nullptr;
+  In<std::uint8_t> object_mask;
+  float eps = 0.0f;
+  RS_FIELDS(top, t0, t1, b0, b1, tri_spheres, scene, object_mask, eps)
+};
+
+// One level down: the node of each pair (base_up + id) tests its children [first[.], first[. + 1])
+// among `nodes`; slots are pairs x children_max; new ids are relative to `base`.
+struct TraverseLevel {
+  static constexpr std::string_view kName = "traverse.level";
+  using Result = PairSlots;
+  In<std::uint32_t> pairs;
+  In<gpu::ConeNode> nodes;
+  In<std::uint32_t> first;
+  std::uint32_t base_up = 0, base = 0, children_max = 0, b0 = 0;
+  In<glm::vec4> tri_spheres;
+  float eps = 0.0f;
+  RS_FIELDS(pairs, nodes, first, base_up, base, children_max, b0, tri_spheres, eps)
+};
+
+// Stream reduction of (flag, value) slots to the flagged values in slot order: Roger et al.'s
+// hierarchical reduction with components of `component` slots, or a scan.
+struct Reduce {
+  static constexpr std::string_view kName = "reduce";
+  using Result = std::vector<std::uint32_t>;
+  static constexpr std::string_view kResult = "pairs";
+  Reduction reduction = Reduction::kHierarchical;
+  int component = 64;
+  In<std::uint8_t> flags;
+  In<std::uint32_t> values;
+  RS_FIELDS(reduction, component, flags, values)
+};
+
+// Final tests of surviving level-1 pairs: every ray of the node (first1 over `order`) against the
+// triangle; closest hits by atomic minimum into `hits`, or shadow rays by atomic store into
+// `occluded` (exactly one of them is set, sized to the rays). Returns the tests per pair.
+struct Intersect {
+  static constexpr std::string_view kName = "intersect";
+  using Result = std::vector<std::uint32_t>;
+  static constexpr std::string_view kResult = "tests";
+  In<std::uint32_t> pairs, first1;
+  std::uint32_t base1 = 0, b0 = 0;
+  In<std::uint32_t> order;
+  In<gpu::Ray> rays;
+  const SceneBuffers* scene = nullptr;
+  std::vector<std::uint64_t>* hits = nullptr;
+  std::vector<std::uint32_t>* occluded = nullptr;
+  RS_FIELDS(pairs, first1, base1, b0, order, rays, scene, hits, occluded)
+};
+
+}  // namespace call
+
+// The calls of each backend group, for code generated per call (X-macros): X(Call).
+#define RS_FRAME_CALLS(X) X(Raster) X(SurfacesFromGBuffer) X(SurfacesFromHits) X(Raygen) X(Trim) X(Shade) X(Resolve)
+#define RS_HIERARCHY_CALLS(X)                                                                        \
+  X(Hash) X(Compress) X(SortChunks) X(Decompress) X(BuildLeaves) X(BuildParents) X(ObjectMask) X(TraverseTop) \
+  X(TraverseLevel) X(Reduce) X(Intersect)
+
+// Throws InputError when a call's inputs break its contract (an index out of range, lengths that
+// disagree): what the diff and `replay` check before running a saved or hand-made call, so that no
+// backend reads out of bounds.
+#define RS_DECLARE_CHECK(C) void CheckInputs(const call::C& c);
+RS_FRAME_CALLS(RS_DECLARE_CHECK)
+RS_HIERARCHY_CALLS(RS_DECLARE_CHECK)
+#undef RS_DECLARE_CHECK
+
+}  // namespace rayspace::emu

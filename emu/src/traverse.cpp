@@ -1,0 +1,28 @@
+// Traversal of one block: the top level tests every (node, triangle) pair, lower levels test the
+// children of surviving pairs; CRSH culls top nodes against object spheres first. Mirrors
+// gpu/shaders/traverse.comp. The loops are templates in emu/hierarchy.h so `rayspace accuracy` can
+// swap the cone-sphere test.
+#include <algorithm>
+
+#include "rayspace/emu/cone.h"
+#include "rayspace/emu/hierarchy.h"
+
+namespace rayspace::emu {
+
+float TraversalEpsilon(const SceneBuffers& scene) {
+  const glm::vec3 ext = scene.hi - scene.lo;
+  return std::max(glm::length(ext), 1e-30f) * 1e-6f;
+}
+
+namespace {
+// A lambda, not a function pointer, so the test inlines into the traversal loops.
+constexpr auto kConeTest = [](const gpu::ConeNode& n, glm::vec4 sphere, float eps) { return cone::Test(n, sphere, eps); };
+}  // namespace
+
+PairSlots PassTraverseTop(const call::TraverseTop& c) { return TraverseTopWith(kConeTest, c); }
+
+std::vector<std::uint8_t> PassObjectMask(const call::ObjectMask& c) { return ObjectMaskWith(kConeTest, c); }
+
+PairSlots PassTraverseLevel(const call::TraverseLevel& c) { return TraverseLevelWith(kConeTest, c); }
+
+}  // namespace rayspace::emu

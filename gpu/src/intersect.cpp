@@ -1,0 +1,64 @@
+// Launch of the intersect kernel (gpu/shaders/intersect.comp): final ray-triangle tests of the
+// surviving pairs, merged into the caller's closest hits or occlusion flags.
+#include "rayspace/gpu/passes.h"
+#include "kernel_util.h"
+
+namespace rayspace::gpu_backend {
+using namespace detail;
+
+vk::Status VulkanPasses::Run(const emu::call::Intersect& call, std::vector<std::uint32_t>& tests) {
+  const std::span<const std::uint32_t> pairs = call.pairs, first1 = call.first1, order = call.order;
+  const std::span<const gpu::Ray> rays = call.rays;
+  const SceneBuffers& scene = *call.scene;
+  const std::uint32_t base1 = call.base1, b0 = call.b0;
+  const bool shadow = call.occluded != nullptr;
+  if (shadow == (call.hits != nullptr)) return vk::Status::Fail("intersect: exactly one of hits and occlusion is needed");
+  std::vector<std::uint64_t> hits;
+  std::vector<std::uint32_t> occluded;
+  vk::Context& c = *ctx_;
+  // Pairs go in parts (their tests with them); everything indexed by leaf, sorted position or ray is
+  // paged, and the hit or occlusion pages stay bound across the parts, which all go in one submit.
+  // A batch writes only hits (closest hit) or only occlusion (shadow): the other stays as initialised
+  // and is bound as a placeholder.
+  hits.assign(shadow ? 0 : rays.size(), ~std::uint64_t{0});
+  occluded.assign(shadow ? rays.size() : 0, 0);
+  tests.assign(pairs.size(), 0);
+  Paged pf, po, pr, ph, pocc;
+  RS_TRY(MakePaged(c, std::span<const std::uint32_t>(first1), "intersect: leaf offsets", pf, paged_arrays_));
+  RS_TRY(MakePaged(c, std::span<const std::uint32_t>(order), "intersect: sorted order", po, paged_arrays_));
+  RS_TRY(MakePaged(c, std::span<const gpu::Ray>(rays), "intersect: rays", pr, paged_arrays_));
+  RS_TRY(MakePaged(c, shadow ? std::span<const std::uint64_t>() : std::span<const std::uint64_t>(hits), "intersect: closest hits",
+                   ph, paged_arrays_));
+  RS_TRY(MakePaged(c, shadow ? std::span<const std::uint32_t>(occluded) : std::span<const std::uint32_t>(),
+                   "intersect: occlusion flags", pocc, paged_arrays_));
+  Keep keep;
+  const vk::Buffer* bt = nullptr;
+  RS_TRY(keep.From(c, std::span<const gpu::Triangle>(scene.triangles), bt));
+  vk::Recorder rec(c);
+  RS_TRY(ForParts(pairs.size(), PerPart(4), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
+    const vk::Buffer *bp = nullptr, *btests = nullptr;
+    RS_TRY(keep.From(c, Slice(pairs, i0, i1), bp));
+    RS_TRY(keep.Output(c, (i1 - i0) * 4, btests, tests.data() + i0));
+    const gpu::IntersectPush push{static_cast<std::uint32_t>(i1 - i0), base1, b0, shadow ? 1u : 0u, pf.page, po.page,
+                                  pr.page, ph.page, pocc.page};
+    Bindings<gpu::kIntersectBindings> b;
+    b.Set(gpu::kIntersectBindPairs, bp).Set(gpu::kIntersectBindTriangles, bt).Set(gpu::kIntersectBindTests, btests);
+    b.Set(gpu::kIntersectBindFirst, pf).Set(gpu::kIntersectBindOrder, po).Set(gpu::kIntersectBindRays, pr);
+    b.Set(gpu::kIntersectBindHits, ph).Set(gpu::kIntersectBindOccluded, pocc);
+    return rec.Dispatch(K(PassId::kIntersect), b.All(), &push, sizeof push, push.count);
+  }));
+  RS_TRY(rec.Submit());
+  keep.CopyBack();
+  // The kernel starts from empty results; merge into the caller's (min for hits, or for occlusion).
+  if (shadow) {
+    pocc.Read(std::span<std::uint32_t>(occluded));
+    for (std::size_t i = 0; i < occluded.size(); ++i) (*call.occluded)[i] |= occluded[i];
+  } else {
+    ph.Read(std::span<std::uint64_t>(hits));
+    for (std::size_t i = 0; i < hits.size(); ++i) (*call.hits)[i] = std::min((*call.hits)[i], hits[i]);
+  }
+  return vk::Status::Ok();
+}
+
+
+}  // namespace rayspace::gpu_backend

@@ -1,0 +1,72 @@
+// The Vulkan passes' shared part: pipelines for every registered pass, the split size, the raster.
+#include "kernel_table.h"
+#include "raster_frag.spv.h"
+#include "raster_vert.spv.h"
+#include "rayspace/gpu/passes.h"
+#include "rayspace/gpu/raster.h"
+#include "kernel_util.h"
+
+namespace rayspace::gpu_backend {
+using namespace detail;
+
+std::span<const std::uint32_t> BuiltinKernel(std::string_view kernel) {
+  for (const BuiltinSpirv& k : kBuiltinKernels)
+    if (k.name == kernel) return k.spirv;
+  return {};
+}
+
+std::vector<std::string_view> BuiltinKernelNames() {
+  std::vector<std::string_view> names;
+  for (const BuiltinSpirv& k : kBuiltinKernels) names.push_back(k.name);
+  return names;
+}
+
+// One pipeline per registered compute pass, named by the pass (a planted fault stays in its pass even
+// where passes share a kernel file, as compress, sort and decompress do).
+vk::Status VulkanPasses::Create(int device, const Faults& faults, std::unique_ptr<VulkanPasses>& out,
+                                std::uint32_t local_size, const KernelOverrides& overrides) {
+  auto p = std::make_unique<VulkanPasses>();
+  RS_TRY(vk::Context::Create(device, p->ctx_));
+  auto fault = [&](std::string_view pass) {
+    auto it = faults.find(std::string(pass));
+    return it == faults.end() ? 0u : it->second;
+  };
+  for (const PassSpec& spec : kPasses) {
+    if (spec.graphics) continue;
+    std::span<const std::uint32_t> spirv = BuiltinKernel(spec.kernel);
+    if (auto it = overrides.find(std::string(spec.name)); it != overrides.end()) spirv = it->second;
+    if (spirv.empty()) return vk::Status::Fail(fmt::format("pass '{}': no kernel '{}.comp' was built", spec.name, spec.kernel));
+    RS_TRY(p->ctx_->CreateKernel(std::string(spec.name), spirv, spec.bindings, fault(spec.name),
+                                 p->kernels_[static_cast<std::size_t>(spec.id)], local_size));
+  }
+  p->raster_fault_ = fault(Pass(PassId::kRaster).name);
+  out = std::move(p);
+  return vk::Status::Ok();
+}
+
+std::size_t VulkanPasses::PerPart(std::size_t bytes_per_element) const {
+  return std::max<std::size_t>(1, SplitBytes() / std::max<std::size_t>(bytes_per_element, 1));
+}
+
+// Element-wise passes run over consecutive parts of their per-element buffers, each part within one
+// binding, all parts in one submit; outputs are copied back part by part.
+std::size_t VulkanPasses::SplitBytes() const { return static_cast<std::size_t>(ctx_->storage_limit()); }
+
+vk::Status VulkanPasses::Run(const emu::call::Raster& call, emu::GBuffer& out) {
+  const gpu::FrameConstants& fc = call.frame;
+  const SceneBuffers& scene = *call.scene;
+  RasterTargets t;
+  RS_TRY(RasterGBuffer(*ctx_, kSpirv_raster_vert, kSpirv_raster_frag, fc, scene, raster_fault_, t));
+  out.width = static_cast<int>(fc.dims.x);
+  out.height = static_cast<int>(fc.dims.y);
+  out.diffuse = std::move(t.diffuse);
+  out.specular = std::move(t.specular);
+  out.position = std::move(t.position);
+  out.normal = std::move(t.normal);
+  out.prim = std::move(t.prim);
+  out.depth = std::move(t.depth);
+  return vk::Status::Ok();
+}
+
+
+}  // namespace rayspace::gpu_backend

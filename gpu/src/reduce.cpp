@@ -1,0 +1,76 @@
+// Launches of the reduce kernel (gpu/shaders/reduce.comp): Roger et al.'s hierarchical stream
+// reduction or the scan-based one, over parts that fit one binding.
+#include "rayspace/gpu/passes.h"
+#include "kernel_util.h"
+
+namespace rayspace::gpu_backend {
+using namespace detail;
+
+namespace {
+
+// One stream reduction in reduce.comp: hierarchical with components of s slots (phases 0-4), or
+// scan-based (phases 10, 2, 11) when `scan`.
+vk::Status RunReduce(vk::Context& c, const vk::Kernel& k, std::span<const std::uint32_t> flags,
+                     std::span<const std::uint32_t> values, std::uint32_t s, bool scan, std::vector<std::uint32_t>& out) {
+  const std::uint32_t n = static_cast<std::uint32_t>(flags.size());
+  const std::uint32_t comps = scan ? 0 : (n + s - 1) / s, blocks = Blocks(scan ? n : comps);
+  vk::Buffer bf, bv, bl, bc, bs, bo;
+  RS_TRY(MakeFrom(c, flags, bf));
+  RS_TRY(MakeFrom(c, values, bv));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(scan ? 1 : n, 1) * 4, bl));      // per-component values
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(comps, 1) * 4, bc));              // per-component counts
+  RS_TRY(c.CreateBuffer((blocks + 1) * 4, bs));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * 4, bo));
+  Bindings<gpu::kReduceBindings> b;
+  b.Set(gpu::kReduceBindFlags, &bf).Set(gpu::kReduceBindValues, &bv).Set(gpu::kReduceBindLocal, &bl);
+  b.Set(gpu::kReduceBindCounts, &bc).Set(gpu::kReduceBindSums, &bs).Set(gpu::kReduceBindOut, &bo);
+  static constexpr std::uint32_t kHierPhases[5] = {gpu::kReducePhaseLocal, gpu::kReducePhaseBlockSums, gpu::kReducePhaseScanSums,
+                                                   gpu::kReducePhaseOffsets, gpu::kReducePhaseConcat};
+  static constexpr std::uint32_t kScanPhases[3] = {gpu::kReducePhaseFlagSums, gpu::kReducePhaseScanSums, gpu::kReducePhaseScatter};
+  const std::span<const std::uint32_t> phases = scan ? std::span<const std::uint32_t>(kScanPhases) : std::span<const std::uint32_t>(kHierPhases);
+  vk::Recorder rec(c);
+  for (std::uint32_t phase : phases) {
+    // Invocations: one per component (Local, Concat), one (ScanSums), else one per block.
+    const std::uint32_t invocations = phase == gpu::kReducePhaseScanSums                                ? 1
+                                      : (phase == gpu::kReducePhaseLocal || phase == gpu::kReducePhaseConcat) ? comps
+                                                                                                            : blocks;
+    const gpu::ReducePush push{n, phase, scan ? 1u : s, comps, blocks};
+    RS_TRY(rec.Dispatch(k, b.All(), &push, sizeof push, invocations));
+  }
+  RS_TRY(rec.Submit());
+  const std::uint32_t total = bs.Download<std::uint32_t>(blocks + 1)[blocks];
+  if (total > n) return vk::Status::Fail(fmt::format("reduce kernel reported {} of {} slots", total, n));
+  out = bo.Download<std::uint32_t>(total);
+  return vk::Status::Ok();
+}
+
+}  // namespace
+
+// Order-preserving compaction composes: reducing consecutive parts and concatenating their outputs
+// gives the whole stream's result, so big streams are reduced in parts that fit the split size
+// (hierarchical parts end on component boundaries).
+vk::Status VulkanPasses::ReduceInParts(std::span<const std::uint32_t> flags, std::span<const std::uint32_t> values,
+                                       std::uint32_t s, bool scan, std::vector<std::uint32_t>& out) {
+  out.clear();
+  const std::size_t n = flags.size(), per = scan ? std::max<std::size_t>(1, SplitBytes() / 4)
+                                                 : std::max<std::size_t>(1, SplitBytes() / 4 / s) * s;
+  std::size_t p0 = 0;
+  do {
+    const std::size_t len = std::min(n - p0, per);
+    std::vector<std::uint32_t> part;
+    if (p0 != 0) ++extra_dispatches_;
+    RS_TRY(RunReduce(*ctx_, K(PassId::kReduce), flags.subspan(p0, len), values.subspan(p0, len), s, scan, part));
+    out.insert(out.end(), part.begin(), part.end());
+    p0 += len;
+  } while (p0 < n);
+  return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::Run(const emu::call::Reduce& call, std::vector<std::uint32_t>& out) {
+  const std::vector<std::uint32_t> flags(call.flags.begin(), call.flags.end());  // the kernel reads 32-bit flags
+  if (call.reduction == emu::Reduction::kHierarchical)
+    return ReduceInParts(flags, call.values, static_cast<std::uint32_t>(call.component), false, out);
+  return ReduceInParts(flags, call.values, 1, true, out);
+}
+
+}  // namespace rayspace::gpu_backend

@@ -1,0 +1,116 @@
+// Launches of the sort kernel (gpu/shaders/sort.comp) in its three passes: compress equal keys into
+// chunks, radix sort the chunk keys, decompress chunks back into a ray order.
+#include "rayspace/gpu/passes.h"
+#include "kernel_util.h"
+
+namespace rayspace::gpu_backend {
+using namespace detail;
+
+namespace {
+
+// Buffers of the sort kernel (see gpu/shaders/sort.comp for their roles).
+struct SortBuffers {
+  vk::Buffer keys, key, base, size, sorted, order, count, scratch, sums;
+};
+
+vk::Status MakeSortBuffers(vk::Context& c, std::size_t n, std::size_t chunks, SortBuffers& b) {
+  const std::size_t w = std::max<std::size_t>(n, 1) * 4, cw = std::max<std::size_t>(chunks, 1) * 4;
+  const std::size_t blocks = std::max<std::size_t>(Blocks(std::max(n, chunks)), 1);
+  RS_TRY(c.CreateBuffer(w, b.keys));
+  RS_TRY(c.CreateBuffer(cw, b.key));
+  RS_TRY(c.CreateBuffer(cw, b.base));
+  RS_TRY(c.CreateBuffer(cw, b.size));
+  RS_TRY(c.CreateBuffer(2 * cw, b.sorted));
+  RS_TRY(c.CreateBuffer(w, b.order));
+  RS_TRY(c.CreateBuffer(4, b.count));
+  RS_TRY(c.CreateBuffer((2 * std::max(n, chunks) + 256 * blocks + 256 + 16) * 4, b.scratch));
+  RS_TRY(c.CreateBuffer((blocks + 1) * 4, b.sums));
+  return vk::Status::Ok();
+}
+
+vk::Status Phase(vk::Recorder& rec, const vk::Kernel& k, SortBuffers& sb, gpu::SortPush push, std::uint32_t invocations) {
+  Bindings<gpu::kSortBindings> b;
+  b.Set(gpu::kSortBindKeys, &sb.keys).Set(gpu::kSortBindChunkKey, &sb.key).Set(gpu::kSortBindChunkBase, &sb.base);
+  b.Set(gpu::kSortBindChunkSize, &sb.size).Set(gpu::kSortBindSorted, &sb.sorted).Set(gpu::kSortBindOrder, &sb.order);
+  b.Set(gpu::kSortBindCount, &sb.count).Set(gpu::kSortBindScratch, &sb.scratch).Set(gpu::kSortBindSums, &sb.sums);
+  return rec.Dispatch(k, b.All(), &push, sizeof push, invocations);
+}
+
+}  // namespace
+
+vk::Status VulkanPasses::Run(const emu::call::Compress& call, emu::Chunks& out) {
+  const std::span<const std::uint32_t> keys = call.keys;
+  const std::uint32_t n = static_cast<std::uint32_t>(keys.size()), blocks = Blocks(n);
+  SortBuffers b;
+  RS_TRY(MakeSortBuffers(*ctx_, n, n, b));
+  if (n) b.keys.Upload(keys);
+  vk::Recorder rec(*ctx_);
+  const vk::Kernel& k = K(PassId::kCompress);
+  RS_TRY(Phase(rec, k, b, {n, gpu::kCompressPhaseHeads, 0, 0, 0, blocks}, n));
+  RS_TRY(Phase(rec, k, b, {n, gpu::kCompressPhaseBlockSums, 0, 0, 0, blocks}, blocks));
+  RS_TRY(Phase(rec, k, b, {n, gpu::kCompressPhaseScanSums, 0, 0, 0, blocks}, 1));
+  RS_TRY(Phase(rec, k, b, {n, gpu::kCompressPhaseChunks, 0, 0, 0, blocks}, blocks));
+  RS_TRY(Phase(rec, k, b, {n, gpu::kCompressPhaseSizes, 0, 0, 0, blocks}, n));
+  RS_TRY(rec.Submit());
+  const std::uint32_t chunks = b.count.Download<std::uint32_t>(1)[0];
+  if (chunks > n) return vk::Status::Fail(fmt::format("compress kernel reported {} chunks for {} keys", chunks, n));
+  out.key = b.key.Download<std::uint32_t>(chunks);
+  out.base = b.base.Download<std::uint32_t>(chunks);
+  out.size = b.size.Download<std::uint32_t>(chunks);
+  return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::Run(const emu::call::SortChunks& call, std::vector<std::uint32_t>& sorted) {
+  const std::span<const std::uint32_t> chunk_keys = call.chunk_key;
+  const std::uint32_t chunks = static_cast<std::uint32_t>(chunk_keys.size()), blocks = Blocks(chunks);
+  if (blocks > 65535) return vk::Status::Fail(fmt::format("sort: {} chunks exceed the kernel's limit", chunks));
+  SortBuffers b;
+  RS_TRY(MakeSortBuffers(*ctx_, 1, chunks, b));
+  if (chunks) b.key.Upload(chunk_keys);
+  vk::Recorder rec(*ctx_);
+  const vk::Kernel& k = K(PassId::kSort);
+  RS_TRY(Phase(rec, k, b, {chunks, gpu::kSortPhaseInit, 0, 0, 0, blocks}, chunks));
+  std::uint32_t src = 0, dst = chunks;
+  for (std::uint32_t shift = 0; shift < 32; shift += 8) {
+    RS_TRY(Phase(rec, k, b, {chunks, gpu::kSortPhaseHistograms, shift, src, dst, blocks}, blocks));
+    RS_TRY(Phase(rec, k, b, {chunks, gpu::kSortPhaseBinScan, shift, src, dst, blocks}, 256));
+    RS_TRY(Phase(rec, k, b, {chunks, gpu::kSortPhaseTotalScan, shift, src, dst, blocks}, 1));
+    RS_TRY(Phase(rec, k, b, {chunks, gpu::kSortPhaseScatter, shift, src, dst, blocks}, blocks));
+    std::swap(src, dst);
+  }
+  RS_TRY(rec.Submit());
+  sorted = b.sorted.Download<std::uint32_t>(chunks);  // four passes end in the first half
+  return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::Run(const emu::call::Decompress& call, std::vector<std::uint32_t>& order) {
+  const std::span<const std::uint32_t> sorted = call.chunk_order;
+  const struct {
+    std::span<const std::uint32_t> key, base, size;
+  } chunks{call.chunk_key, call.chunk_base, call.chunk_size};
+  std::uint64_t n = 0;
+  for (std::uint32_t s : chunks.size) n += s;
+  const std::uint32_t count = static_cast<std::uint32_t>(chunks.key.size()), blocks = Blocks(count);
+  SortBuffers b;
+  RS_TRY(MakeSortBuffers(*ctx_, n, count, b));
+  if (count) {
+    b.key.Upload(chunks.key);
+    b.base.Upload(chunks.base);
+    b.size.Upload(chunks.size);
+    b.sorted.Upload(sorted);
+  }
+  const std::uint32_t rays = static_cast<std::uint32_t>(n);
+  vk::Recorder rec(*ctx_);
+  const vk::Kernel& k = K(PassId::kDecompress);
+  RS_TRY(Phase(rec, k, b, {count, gpu::kDecompressPhaseSizes, rays, 0, 0, blocks}, count));
+  RS_TRY(Phase(rec, k, b, {count, gpu::kDecompressPhaseBlockSums, rays, 0, 0, blocks}, blocks));
+  RS_TRY(Phase(rec, k, b, {count, gpu::kDecompressPhaseScanSums, rays, 0, 0, blocks}, 1));
+  RS_TRY(Phase(rec, k, b, {count, gpu::kDecompressPhaseStarts, rays, 0, 0, blocks}, blocks));
+  RS_TRY(Phase(rec, k, b, {count, gpu::kDecompressPhaseRays, rays, 0, 0, blocks}, rays));
+  RS_TRY(rec.Submit());
+  order = b.order.Download<std::uint32_t>(n);
+  return vk::Status::Ok();
+}
+
+
+}  // namespace rayspace::gpu_backend

@@ -1,0 +1,138 @@
+// Launches of the traverse kernel (gpu/shaders/traverse.comp): CRSH's object mask, the top level of a
+// block and one level down. The kernel writes 32-bit flags; the calls' results hold bytes.
+#include "rayspace/gpu/passes.h"
+#include "kernel_util.h"
+
+namespace rayspace::gpu_backend {
+using namespace detail;
+
+namespace {
+
+// The traverse.comp inputs one pass call reads whole, uploaded once and bound by every part of the
+// call: the level's nodes and child offsets (paged, read by node id), spheres and triangle info
+// (empty spans bind a zeroed placeholder).
+class Traverser {
+ public:
+  Traverser(vk::Context& c, const vk::Kernel& k) : c_(c), k_(k) {}
+  vk::Status Upload(std::span<const gpu::ConeNode> nodes, std::span<const std::uint32_t> first, std::span<const glm::vec4> spheres,
+                    std::span<const gpu::TriangleInfo> info, std::size_t& multi) {
+    RS_TRY(MakePaged(c_, nodes, "traverse: nodes", nodes_, multi));
+    RS_TRY(MakePaged(c_, first, "traverse: child offsets", first_, multi));
+    RS_TRY(MakeFrom(c_, spheres, spheres_));
+    RS_TRY(MakeFrom(c_, info, info_));
+    return vk::Status::Ok();
+  }
+  // One part, in a submit of its own (its output buffers are freed before the next part): `mask`
+  // and `pairs` are this part's; flags and values (`slots` words) and tested (`tested` words) go to
+  // the given pointers (null: not read back).
+  vk::Status Part(gpu::TraversePush push, std::span<const std::uint32_t> mask, std::span<const std::uint32_t> pairs, std::size_t slots,
+                  std::size_t tested, std::uint32_t* flags_out, std::uint32_t* values_out, std::uint32_t* tested_out) const {
+    Keep keep;
+    const vk::Buffer *bm = nullptr, *bp = nullptr, *bfl = nullptr, *bv = nullptr, *bt = nullptr;
+    RS_TRY(keep.From(c_, mask, bm));
+    RS_TRY(keep.From(c_, pairs, bp));
+    RS_TRY(keep.Output(c_, slots * 4, bfl, flags_out));
+    RS_TRY(keep.Output(c_, slots * 4, bv, values_out));
+    RS_TRY(keep.Output(c_, tested * 4, bt, tested_out));
+    push.node_page = nodes_.page;
+    push.first_page = first_.page;
+    Bindings<gpu::kTraverseBindings> b;
+    b.Set(gpu::kTraverseBindTriSpheres, &spheres_).Set(gpu::kTraverseBindInfo, &info_).Set(gpu::kTraverseBindMask, bm);
+    b.Set(gpu::kTraverseBindPairs, bp).Set(gpu::kTraverseBindFlags, bfl).Set(gpu::kTraverseBindValues, bv);
+    b.Set(gpu::kTraverseBindTested, bt).Set(gpu::kTraverseBindNodes, nodes_).Set(gpu::kTraverseBindFirst, first_);
+    RS_TRY(RunKernel(c_, k_, b.All(), &push, sizeof push, push.count));
+    keep.CopyBack();
+    return vk::Status::Ok();
+  }
+
+ private:
+  vk::Context& c_;
+  const vk::Kernel& k_;
+  Paged nodes_, first_;
+  vk::Buffer spheres_, info_;
+};
+
+}  // namespace
+
+namespace {
+
+// The kernel's 32-bit flags as the call's bytes (0/1, or a child count of at most 255).
+vk::Status Narrow(const char* what, const std::vector<std::uint32_t>& v, std::vector<std::uint8_t>& out) {
+  out.resize(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (v[i] > 0xFFu) return vk::Status::Fail(fmt::format("{}: element {} is {}, not a flag or count", what, i, v[i]));
+    out[i] = static_cast<std::uint8_t>(v[i]);
+  }
+  return vk::Status::Ok();
+}
+
+vk::Status ToSlots(const char* what, const std::vector<std::uint32_t>& flags, std::vector<std::uint32_t>&& values,
+                   const std::vector<std::uint32_t>& tested, emu::PairSlots& out) {
+  RS_TRY(Narrow(what, flags, out.flags));
+  RS_TRY(Narrow(what, tested, out.tested));
+  out.values = std::move(values);
+  return vk::Status::Ok();
+}
+
+}  // namespace
+
+vk::Status VulkanPasses::Run(const emu::call::TraverseTop& call, emu::PairSlots& out) {
+  const std::uint32_t t0 = call.t0, t1 = call.t1, b0 = call.b0, b1 = call.b1;
+  const SceneBuffers& scene = *call.scene;
+  const std::vector<std::uint32_t> object_mask(call.object_mask.begin(), call.object_mask.end());  // 32-bit words
+  const std::size_t T = b1 - b0, count = static_cast<std::size_t>(t1 - t0) * T;
+  std::vector<std::uint32_t> flags(count, 0), values(count, 0), tested(count, 0);
+  Traverser tr(*ctx_, K(PassId::kTraverse));
+  RS_TRY(tr.Upload(call.top, {}, call.tri_spheres, scene.info, paged_arrays_));
+  // Parts are rows of top nodes, so that the flags/values/tested bindings and the object mask's rows
+  // for those nodes stay within one binding.
+  const std::size_t objects = scene.objects.size(), row_words = std::max<std::size_t>({T, object_mask.empty() ? 1 : objects, 1});
+  RS_TRY(ForParts(t1 - t0, PerPart(4 * row_words), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
+    const std::uint32_t r0 = t0 + static_cast<std::uint32_t>(i0), r1 = t0 + static_cast<std::uint32_t>(i1);
+    const std::size_t at = i0 * T, n = (i1 - i0) * T;
+    const gpu::TraversePush push{gpu::kTraversePhaseTop, static_cast<std::uint32_t>(n), r0, b0, static_cast<std::uint32_t>(T),
+                                 static_cast<std::uint32_t>(objects), object_mask.empty() ? 0u : 1u, 0, 0, 0, call.eps, t0, 0, 0};
+    const std::span<const std::uint32_t> mask_rows =
+        object_mask.empty() ? std::span<const std::uint32_t>() : std::span(object_mask).subspan(r0 * objects, (r1 - r0) * objects);
+    return tr.Part(push, mask_rows, {}, n, n, flags.data() + at, values.data() + at, tested.data() + at);
+  }));
+  return ToSlots("traverse.top", flags, std::move(values), tested, out);
+}
+
+// Parts are ranges of pairs, so that the slot bindings (pairs x children) stay within one binding.
+vk::Status VulkanPasses::Run(const emu::call::TraverseLevel& call, emu::PairSlots& out) {
+  const std::uint32_t children_max = call.children_max;
+  const std::size_t count = call.pairs.size();
+  std::vector<std::uint32_t> flags(count * children_max, 0), values(count * children_max, 0), tested(count, 0);
+  Traverser tr(*ctx_, K(PassId::kTraverse));
+  RS_TRY(tr.Upload(call.nodes, call.first, call.tri_spheres, {}, paged_arrays_));
+  RS_TRY(ForParts(count, PerPart(4 * std::size_t{children_max}), extra_dispatches_, [&](std::size_t p0, std::size_t p1) -> vk::Status {
+    const std::uint32_t n = static_cast<std::uint32_t>(p1 - p0);
+    const gpu::TraversePush push{gpu::kTraversePhaseLevel, n, 0, call.b0, 0, 0, 0, call.base_up, call.base, children_max,
+                                 call.eps, 0, 0, 0};
+    return tr.Part(push, {}, Slice(call.pairs, p0, p1), std::size_t{n} * children_max, n, flags.data() + p0 * children_max,
+                   values.data() + p0 * children_max, tested.data() + p0);
+  }));
+  return ToSlots("traverse.level", flags, std::move(values), tested, out);
+}
+
+// Parts of the mask (top nodes x objects), each within one binding; t0 carries the part's first
+// element.
+vk::Status VulkanPasses::Run(const emu::call::ObjectMask& call, std::vector<std::uint8_t>& out) {
+  const std::uint32_t objects = static_cast<std::uint32_t>(call.object_spheres.size());
+  const std::size_t count = call.top.size() * objects;
+  if (count > 0xFFFFFFFFu)
+    return vk::Status::Fail(fmt::format("object mask: {} top nodes x {} objects exceed 2^32", call.top.size(), objects));
+  std::vector<std::uint32_t> mask(count, 0);
+  Traverser tr(*ctx_, K(PassId::kTraverse));
+  RS_TRY(tr.Upload(call.top, {}, call.object_spheres, {}, paged_arrays_));
+  RS_TRY(ForParts(count, PerPart(4), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
+    const std::uint32_t n = static_cast<std::uint32_t>(i1 - i0);
+    const gpu::TraversePush push{gpu::kTraversePhaseObjects, n, static_cast<std::uint32_t>(i0), 0, 0, objects, 0, 0, 0, 0, call.eps,
+                                 0, 0, 0};
+    return tr.Part(push, {}, {}, n, 0, mask.data() + i0, nullptr, nullptr);
+  }));
+  return Narrow("traverse.objects", mask, out);
+}
+
+}  // namespace rayspace::gpu_backend

@@ -1,0 +1,187 @@
+// A call (emu/calls.h) to and from a BufferSet, field by field through its RS_FIELDS: what lets the
+// diff save, compare and replay every pass without restating its signature.
+//
+//   In<T>              <->  buffer NAME (a copy; DecodedCall owns the decoded copy)
+//   std::vector<T>*    <->  buffer NAME when non-null; after the call it is an output too
+//   const SceneBuffers* <-> the scene.* buffers
+//   gpu::FrameConstants <-> a one-element buffer NAME
+//   a struct with fields <-> its fields, flattened
+//   integer / enum     <->  scalar NAME; float <-> scalar NAME_bits (its bit pattern, so NaNs survive)
+//   std::vector<T> (in a result) <-> buffer NAME
+#pragma once
+#include <bit>
+#include <deque>
+#include <memory>
+#include <string>
+#include <type_traits>
+
+#include "rayspace/emu/calls.h"
+#include "rayspace/verify/buffer_set.h"
+
+namespace rayspace::verify {
+namespace codec_detail {
+
+template <typename T> struct IsSpan : std::false_type {};
+template <typename T> struct IsSpan<std::span<const T>> : std::true_type { using Elem = T; };
+template <typename T> struct IsVector : std::false_type {};
+template <typename T> struct IsVector<std::vector<T>> : std::true_type { using Elem = T; };
+template <typename T> struct IsVectorPtr : std::false_type {};
+template <typename T> struct IsVectorPtr<std::vector<T>*> : std::true_type { using Elem = T; };
+
+template <typename T>
+constexpr bool kScalar = std::is_integral_v<T> || std::is_enum_v<T>;
+
+// Copies of decoded buffers a call's views point into.
+class Store {
+ public:
+  template <typename T>
+  T& Keep(T&& v) {
+    auto p = std::make_shared<std::decay_t<T>>(std::forward<T>(v));
+    T& r = *p;
+    kept_.push_back(std::move(p));
+    return r;
+  }
+
+ private:
+  std::deque<std::shared_ptr<void>> kept_;
+};
+
+template <typename S>
+void Encode(BufferSet& out, const S& s);
+template <typename S>
+void Decode(const BufferSet& in, S& s, Store& store);
+
+template <typename F>
+void EncodeField(BufferSet& out, std::string_view name_view, const F& f) {
+  const std::string name(name_view);
+  if constexpr (IsSpan<F>::value) {
+    out.Put(name, std::vector<typename IsSpan<F>::Elem>(f.begin(), f.end()));
+  } else if constexpr (IsVector<F>::value) {
+    out.Put(name, f);
+  } else if constexpr (IsVectorPtr<F>::value) {
+    if (f) out.Put(name, *f);
+  } else if constexpr (std::is_same_v<F, const SceneBuffers*>) {
+    if (f) out.PutScene(*f);
+  } else if constexpr (std::is_same_v<F, gpu::FrameConstants>) {
+    out.PutOne(name, f);
+  } else if constexpr (std::is_same_v<F, float>) {
+    out.scalars[name + "_bits"] = std::bit_cast<std::uint32_t>(f);
+  } else if constexpr (std::is_same_v<F, bool>) {
+    out.scalars[name] = f ? 1 : 0;
+  } else if constexpr (std::is_enum_v<F>) {
+    out.scalars[name] = static_cast<std::underlying_type_t<F>>(f);
+  } else if constexpr (kScalar<F>) {
+    out.scalars[name] = f;
+  } else {
+    static_assert(emu::HasFields<F>, "a call field the codec does not know");
+    Encode(out, f);
+  }
+}
+
+template <typename F>
+void DecodeField(const BufferSet& in, std::string_view name_view, F& f, Store& store) {
+  const std::string name(name_view);
+  if constexpr (IsSpan<F>::value) {
+    f = store.Keep(in.Get<typename IsSpan<F>::Elem>(name));
+  } else if constexpr (IsVector<F>::value) {
+    f = in.Get<typename IsVector<F>::Elem>(name);
+  } else if constexpr (IsVectorPtr<F>::value) {
+    f = in.Has(name) ? &store.Keep(in.Get<typename IsVectorPtr<F>::Elem>(name)) : nullptr;
+  } else if constexpr (std::is_same_v<F, const SceneBuffers*>) {
+    f = &store.Keep(in.GetScene());
+  } else if constexpr (std::is_same_v<F, gpu::FrameConstants>) {
+    f = in.GetOne<gpu::FrameConstants>(name);
+  } else if constexpr (std::is_same_v<F, float>) {
+    f = std::bit_cast<float>(in.U32(name + "_bits"));
+  } else if constexpr (std::is_same_v<F, bool>) {
+    f = in.U32(name) != 0;
+  } else if constexpr (std::is_enum_v<F>) {
+    f = static_cast<F>(in.U32(name));
+  } else if constexpr (std::is_signed_v<F> && kScalar<F>) {
+    const double v = in.Scalar(name);
+    if (!(v >= -2147483648.0 && v <= 2147483647.0) || v != static_cast<double>(static_cast<F>(v)))
+      ThrowInput("scalar '{}' = {} is not an integer in range", name, v);
+    f = static_cast<F>(v);
+  } else if constexpr (kScalar<F>) {
+    f = static_cast<F>(in.U32(name));
+  } else {
+    static_assert(emu::HasFields<F>, "a call field the codec does not know");
+    Decode(in, f, store);
+  }
+}
+
+template <typename S>
+void Encode(BufferSet& out, const S& s) {
+  emu::ForEachField(s, [&](std::string_view name, const auto& f) { EncodeField(out, name, f); });
+}
+
+template <typename S>
+void Decode(const BufferSet& in, S& s, Store& store) {
+  emu::ForEachField(s, [&](std::string_view name, auto& f) { DecodeField(in, name, f, store); });
+}
+
+// The in-place arrays (std::vector<T>*) of a call, as outputs.
+template <typename C>
+void EncodeInOut(BufferSet& out, const C& c) {
+  emu::ForEachField(c, [&](std::string_view name, const auto& f) {
+    if constexpr (IsVectorPtr<std::decay_t<decltype(f)>>::value) EncodeField(out, name, f);
+  });
+}
+template <typename C>
+void DecodeInOut(const BufferSet& in, const C& c) {
+  emu::ForEachField(c, [&](std::string_view name, const auto& f) {
+    using F = std::decay_t<decltype(f)>;
+    if constexpr (IsVectorPtr<F>::value)
+      if (f) *f = in.Get<typename IsVectorPtr<F>::Elem>(std::string(name));
+  });
+}
+
+}  // namespace codec_detail
+
+// A call decoded from a buffer set, with the storage its views point into.
+template <typename C>
+struct DecodedCall {
+  C call;
+  codec_detail::Store store;
+};
+
+template <typename C>
+BufferSet EncodeCall(const C& c) {
+  BufferSet out;
+  codec_detail::Encode(out, c);
+  return out;
+}
+
+template <typename C>
+DecodedCall<C> DecodeCall(const BufferSet& in) {
+  DecodedCall<C> d;
+  codec_detail::Decode(in, d.call, d.store);
+  return d;
+}
+
+// A call's outputs: its result (under C::kResult for an array) and its in-place arrays.
+template <typename C>
+BufferSet EncodeOutputs(const C& c, const typename C::Result* result) {
+  BufferSet out;
+  if constexpr (codec_detail::IsVector<typename C::Result>::value) out.Put(std::string(C::kResult), *result);
+  else if constexpr (!std::is_void_v<typename C::Result>) codec_detail::Encode(out, *result);
+  codec_detail::EncodeInOut(out, c);
+  return out;
+}
+
+// Reads a call's result from its outputs and updates its in-place arrays.
+template <typename C>
+typename C::Result DecodeOutputs(const BufferSet& out, const C& c) {
+  codec_detail::DecodeInOut(out, c);
+  using R = typename C::Result;
+  if constexpr (codec_detail::IsVector<R>::value) {
+    return out.Get<typename codec_detail::IsVector<R>::Elem>(std::string(C::kResult));
+  } else if constexpr (!std::is_void_v<R>) {
+    R r;
+    codec_detail::Store unused;
+    codec_detail::Decode(out, r, unused);
+    return r;
+  }
+}
+
+}  // namespace rayspace::verify
