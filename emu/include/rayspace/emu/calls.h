@@ -43,8 +43,8 @@ struct SurfacesFromGBuffer {
   static constexpr std::string_view kResult = "surfaces";
   gpu::FrameConstants frame{};
   int width = 0, height = 0;
-  In<glm::vec4> position, normal;
-  In<std::uint32_t> prim;
+  In<glm::vec4> position{}, normal{};
+  In<std::uint32_t> prim{};
   const SceneBuffers* scene = nullptr;
   RS_FIELDS(frame, width, height, position, normal, prim, scene)
 };
@@ -54,8 +54,8 @@ struct SurfacesFromHits {
   static constexpr std::string_view kName = "surfaces.hits";
   using Result = std::vector<gpu::Surface>;
   static constexpr std::string_view kResult = "surfaces";
-  In<gpu::Ray> rays;
-  In<std::uint64_t> hits;
+  In<gpu::Ray> rays{};
+  In<std::uint64_t> hits{};
   const SceneBuffers* scene = nullptr;
   RS_FIELDS(rays, hits, scene)
 };
@@ -68,7 +68,7 @@ struct Raygen {
   using Result = SparseRays;
   std::uint32_t kind = gpu::kRayShadow;
   gpu::FrameConstants frame{};
-  In<gpu::Surface> surfaces;
+  In<gpu::Surface> surfaces{};
   const SceneBuffers* scene = nullptr;
   RS_FIELDS(kind, frame, surfaces, scene)
 };
@@ -78,8 +78,8 @@ struct Trim {
   static constexpr std::string_view kName = "trim";
   using Result = Trimmed;
   std::uint32_t kind = gpu::kRayShadow;
-  In<gpu::Ray> rays;
-  In<std::uint32_t> flags;
+  In<gpu::Ray> rays{};
+  In<std::uint32_t> flags{};
   RS_FIELDS(kind, rays, flags)
 };
 
@@ -89,8 +89,8 @@ struct Shade {
   static constexpr std::string_view kName = "shade";
   using Result = void;
   gpu::FrameConstants frame{};
-  In<gpu::Surface> surfaces;
-  In<std::uint32_t> shadow_flags, shadow_offsets, occluded;
+  In<gpu::Surface> surfaces{};
+  In<std::uint32_t> shadow_flags{}, shadow_offsets{}, occluded{};
   std::vector<std::uint64_t>* accum = nullptr;
   const SceneBuffers* scene = nullptr;
   RS_FIELDS(frame, surfaces, shadow_flags, shadow_offsets, occluded, accum, scene)
@@ -102,7 +102,7 @@ struct Resolve {
   using Result = std::vector<std::uint8_t>;
   static constexpr std::string_view kResult = "rgb";
   gpu::FrameConstants frame{};
-  In<std::uint64_t> accum;
+  In<std::uint64_t> accum{};
   RS_FIELDS(frame, accum)
 };
 
@@ -113,9 +113,9 @@ struct Hash {
   static constexpr std::string_view kName = "hash";
   using Result = std::vector<std::uint32_t>;
   static constexpr std::string_view kResult = "keys";
-  In<gpu::Ray> rays;
+  In<gpu::Ray> rays{};
   const SceneBuffers* scene = nullptr;
-  HashConfig hash;
+  HashConfig hash{};
   std::uint32_t quadtree_width = 0;
   int quadtree_depth = 0;
   RS_FIELDS(rays, scene, hash, quadtree_width, quadtree_depth)
@@ -124,7 +124,7 @@ struct Hash {
 struct Compress {
   static constexpr std::string_view kName = "compress";
   using Result = Chunks;
-  In<std::uint32_t> keys;
+  In<std::uint32_t> keys{};
   RS_FIELDS(keys)
 };
 
@@ -133,7 +133,7 @@ struct SortChunks {
   static constexpr std::string_view kName = "sort";
   using Result = std::vector<std::uint32_t>;
   static constexpr std::string_view kResult = "chunk_order";
-  In<std::uint32_t> chunk_key;
+  In<std::uint32_t> chunk_key{};
   RS_FIELDS(chunk_key)
 };
 
@@ -142,7 +142,7 @@ struct Decompress {
   static constexpr std::string_view kName = "decompress";
   using Result = std::vector<std::uint32_t>;
   static constexpr std::string_view kResult = "ray_order";
-  In<std::uint32_t> chunk_key, chunk_base, chunk_size, chunk_order;
+  In<std::uint32_t> chunk_key{}, chunk_base{}, chunk_size{}, chunk_order{};
   RS_FIELDS(chunk_key, chunk_base, chunk_size, chunk_order)
 };
 
@@ -152,8 +152,8 @@ struct BuildLeaves {
   static constexpr std::string_view kName = "build.leaves";
   using Result = std::vector<gpu::ConeNode>;
   static constexpr std::string_view kResult = "nodes";
-  In<gpu::Ray> rays;
-  In<std::uint32_t> order, first;
+  In<gpu::Ray> rays{};
+  In<std::uint32_t> order{}, first{};
   RS_FIELDS(rays, order, first)
 };
 
@@ -161,8 +161,8 @@ struct BuildParents {
   static constexpr std::string_view kName = "build.parents";
   using Result = std::vector<gpu::ConeNode>;
   static constexpr std::string_view kResult = "nodes";
-  In<gpu::ConeNode> below;
-  In<std::uint32_t> first;
+  In<gpu::ConeNode> below{};
+  In<std::uint32_t> first{};
   RS_FIELDS(below, first)
 };
 
@@ -171,8 +171,8 @@ struct ObjectMask {
   static constexpr std::string_view kName = "traverse.objects";
   using Result = std::vector<std::uint8_t>;
   static constexpr std::string_view kResult = "mask";
-  In<gpu::ConeNode> top;
-  In<glm::vec4> object_spheres;
+  In<gpu::ConeNode> top{};
+  In<glm::vec4> object_spheres{};
   float eps = 0.0f;
   RS_FIELDS(top, object_spheres, eps)
 };
@@ -182,11 +182,11 @@ struct ObjectMask {
 struct TraverseTop {
   static constexpr std::string_view kName = "traverse.top";
   using Result = PairSlots;
-  In<gpu::ConeNode> top;
+  In<gpu::ConeNode> top{};
   std::uint32_t t0 = 0, t1 = 0, b0 = 0, b1 = 0;
-  In<glm::vec4> tri_spheres;
+  In<glm::vec4> tri_spheres{};
   const SceneBuffers* scene = nullptr;
-  In<std::uint8_t> object_mask;
+  In<std::uint8_t> object_mask{};
   float eps = 0.0f;
   RS_FIELDS(top, t0, t1, b0, b1, tri_spheres, scene, object_mask, eps)
 };
@@ -196,11 +196,11 @@ struct TraverseTop {
 struct TraverseLevel {
   static constexpr std::string_view kName = "traverse.level";
   using Result = PairSlots;
-  In<std::uint32_t> pairs;
-  In<gpu::ConeNode> nodes;
-  In<std::uint32_t> first;
+  In<std::uint32_t> pairs{};
+  In<gpu::ConeNode> nodes{};
+  In<std::uint32_t> first{};
   std::uint32_t base_up = 0, base = 0, children_max = 0, b0 = 0;
-  In<glm::vec4> tri_spheres;
+  In<glm::vec4> tri_spheres{};
   float eps = 0.0f;
   RS_FIELDS(pairs, nodes, first, base_up, base, children_max, b0, tri_spheres, eps)
 };
@@ -213,8 +213,8 @@ struct Reduce {
   static constexpr std::string_view kResult = "pairs";
   Reduction reduction = Reduction::kHierarchical;
   int component = 64;
-  In<std::uint8_t> flags;
-  In<std::uint32_t> values;
+  In<std::uint8_t> flags{};
+  In<std::uint32_t> values{};
   RS_FIELDS(reduction, component, flags, values)
 };
 
@@ -225,10 +225,10 @@ struct Intersect {
   static constexpr std::string_view kName = "intersect";
   using Result = std::vector<std::uint32_t>;
   static constexpr std::string_view kResult = "tests";
-  In<std::uint32_t> pairs, first1;
+  In<std::uint32_t> pairs{}, first1{};
   std::uint32_t base1 = 0, b0 = 0;
-  In<std::uint32_t> order;
-  In<gpu::Ray> rays;
+  In<std::uint32_t> order{};
+  In<gpu::Ray> rays{};
   const SceneBuffers* scene = nullptr;
   std::vector<std::uint64_t>* hits = nullptr;
   std::vector<std::uint32_t>* occluded = nullptr;
