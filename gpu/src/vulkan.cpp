@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 namespace rayspace::vk {
-namespace {
 
 const char* ResultName(VkResult r) {
   switch (r) {
@@ -30,6 +29,8 @@ const char* ResultName(VkResult r) {
   }
 }
 
+namespace {
+
 #define RS_VK(call)                                             \
   do {                                                          \
     const VkResult rs_r = (call);                               \
@@ -40,7 +41,8 @@ const char* ResultName(VkResult r) {
 
 Status Status::Fail(const std::string& call, VkResult r) {
   std::string name = call.substr(0, call.find('('));
-  return {false, fmt::format("{} failed: {} ({})", name, ResultName(r), static_cast<int>(r))};
+  std::string message = fmt::format("{} failed: {} ({})", name, ResultName(r), static_cast<int>(r));
+  return {false, r, std::move(name), std::move(message)};
 }
 
 Buffer& Buffer::operator=(Buffer&& o) noexcept {
@@ -186,11 +188,13 @@ Status Context::SubmitAndWait(VkCommandBuffer cmd) {
   VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
   VkFence fence;
   RS_VK(vkCreateFence(device_, &fci, nullptr, &fence));
-  VkResult r = vkQueueSubmit(queue_, 1, &si, fence);
-  if (r == VK_SUCCESS) r = vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX);
+  Status st = Status::Ok();
+  if (VkResult r = vkQueueSubmit(queue_, 1, &si, fence); r != VK_SUCCESS)
+    st = Status::Fail("vkQueueSubmit", r);
+  else if (r = vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX); r != VK_SUCCESS)
+    st = Status::Fail("vkWaitForFences", r);
   vkDestroyFence(device_, fence, nullptr);
-  if (r != VK_SUCCESS) return Status::Fail("vkQueueSubmit/vkWaitForFences", r);
-  return Status::Ok();
+  return st;
 }
 
 std::uint32_t Context::FindMemoryType(std::uint32_t bits, VkMemoryPropertyFlags flags) const {

@@ -13,14 +13,23 @@
 
 namespace rayspace::vk {
 
+// The outcome of a call at the Vulkan boundary. A failed Vulkan call carries its VkResult and its
+// name as values (callers branch on them); other failures (a limit, a missing memory type, a bad
+// kernel file) leave `result` at VK_SUCCESS and `call` empty. `message` is the one line for users.
 struct Status {
   bool ok = true;
-  std::string message;  // "vkCreateDevice failed: VK_ERROR_INITIALIZATION_FAILED"
+  VkResult result = VK_SUCCESS;  // what the failed Vulkan call returned
+  std::string call;              // the failed Vulkan function, e.g. "vkCreateDevice"
+  std::string message;           // "vkCreateDevice failed: VK_ERROR_INITIALIZATION_FAILED (-3)"
   static Status Ok() { return {}; }
+  // `call` may be the call's whole source text (RS_VK passes it): the name is what precedes '('.
   static Status Fail(const std::string& call, VkResult r);
-  static Status Fail(const std::string& msg) { return {false, msg}; }
+  static Status Fail(const std::string& msg) { return {false, VK_SUCCESS, {}, msg}; }
   explicit operator bool() const { return ok; }
 };
+
+// "VK_ERROR_OUT_OF_DEVICE_MEMORY" for the results rayspace may meet, else "VkResult".
+const char* ResultName(VkResult r);
 
 class Context;
 
