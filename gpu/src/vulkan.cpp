@@ -37,6 +37,34 @@ namespace {
     if (rs_r != VK_SUCCESS) return Status::Fail(#call, rs_r);   \
   } while (0)
 
+Status CreateModule(VkDevice device, std::span<const std::uint32_t> spirv, VkShaderModule& out) {
+  VkShaderModuleCreateInfo smci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  smci.codeSize = spirv.size_bytes();
+  smci.pCode = spirv.data();
+  RS_VK(vkCreateShaderModule(device, &smci, nullptr, &out));
+  return Status::Ok();
+}
+
+// A set layout of `bindings` storage buffers seen by `stages`, and a pipeline layout over that one
+// set with `push_bytes` of push constants (none when 0).
+Status CreateLayouts(VkDevice device, std::uint32_t bindings, VkShaderStageFlags stages, std::uint32_t push_bytes,
+                     VkDescriptorSetLayout& set_layout, VkPipelineLayout& layout) {
+  std::vector<VkDescriptorSetLayoutBinding> b(bindings);
+  for (std::uint32_t i = 0; i < bindings; ++i) b[i] = {i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, stages, nullptr};
+  VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  dl.bindingCount = bindings;
+  dl.pBindings = b.data();
+  RS_VK(vkCreateDescriptorSetLayout(device, &dl, nullptr, &set_layout));
+  VkPushConstantRange pcr{stages, 0, push_bytes};
+  VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  pl.setLayoutCount = 1;
+  pl.pSetLayouts = &set_layout;
+  pl.pushConstantRangeCount = push_bytes ? 1 : 0;
+  pl.pPushConstantRanges = push_bytes ? &pcr : nullptr;
+  RS_VK(vkCreatePipelineLayout(device, &pl, nullptr, &layout));
+  return Status::Ok();
+}
+
 }  // namespace
 
 Status Status::Fail(const std::string& call, VkResult r) {
@@ -67,6 +95,35 @@ Kernel::~Kernel() {
   vkDestroyPipelineLayout(device_, layout_, nullptr);
   vkDestroyDescriptorSetLayout(device_, set_layout_, nullptr);
   vkDestroyShaderModule(device_, module_, nullptr);
+}
+
+Image& Image::operator=(Image&& o) noexcept {
+  std::swap(device_, o.device_);
+  std::swap(image_, o.image_);
+  std::swap(memory_, o.memory_);
+  std::swap(view_, o.view_);
+  std::swap(aspect_, o.aspect_);
+  std::swap(width_, o.width_);
+  std::swap(height_, o.height_);
+  return *this;
+}
+
+Image::~Image() {
+  if (!device_) return;
+  vkDestroyImageView(device_, view_, nullptr);
+  vkDestroyImage(device_, image_, nullptr);
+  vkFreeMemory(device_, memory_, nullptr);
+}
+
+Graphics::~Graphics() {
+  if (!device_) return;
+  vkDestroyPipeline(device_, pipeline_, nullptr);
+  vkDestroyFramebuffer(device_, framebuffer_, nullptr);
+  vkDestroyRenderPass(device_, pass_, nullptr);
+  vkDestroyPipelineLayout(device_, layout_, nullptr);
+  vkDestroyDescriptorSetLayout(device_, set_layout_, nullptr);
+  vkDestroyShaderModule(device_, frag_, nullptr);
+  vkDestroyShaderModule(device_, vert_, nullptr);
 }
 
 std::vector<std::string> Context::ListDevices() {
@@ -226,9 +283,7 @@ Status Context::CreateBuffer(std::size_t bytes, Buffer& out, bool storage) {
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(device_, b.buffer_, &req);
   const VkMemoryPropertyFlags want = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-  std::uint32_t type = UINT32_MAX;
-  for (std::uint32_t i = 0; i < memory_.memoryTypeCount && type == UINT32_MAX; ++i)
-    if ((req.memoryTypeBits & (1u << i)) && (memory_.memoryTypes[i].propertyFlags & want) == want) type = i;
+  const std::uint32_t type = FindMemoryType(req.memoryTypeBits, want);
   if (type == UINT32_MAX) return Status::Fail("no host-visible coherent memory type for a storage buffer");
   VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
   mai.allocationSize = req.size;
@@ -250,24 +305,9 @@ Status Context::CreateKernel(const std::string& name, std::span<const std::uint3
   k.local_size_ = local_size;
   k.name_ = name;
   k.bindings_ = bindings;
-  VkShaderModuleCreateInfo smci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-  smci.codeSize = spirv.size_bytes();
-  smci.pCode = spirv.data();
-  RS_VK(vkCreateShaderModule(device_, &smci, nullptr, &k.module_));
-  std::vector<VkDescriptorSetLayoutBinding> b(bindings);
-  for (std::uint32_t i = 0; i < bindings; ++i)
-    b[i] = {i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
-  VkDescriptorSetLayoutCreateInfo dl{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-  dl.bindingCount = bindings;
-  dl.pBindings = b.data();
-  RS_VK(vkCreateDescriptorSetLayout(device_, &dl, nullptr, &k.set_layout_));
-  VkPushConstantRange pcr{VK_SHADER_STAGE_COMPUTE_BIT, 0, 128};
-  VkPipelineLayoutCreateInfo pl{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-  pl.setLayoutCount = 1;
-  pl.pSetLayouts = &k.set_layout_;
-  pl.pushConstantRangeCount = 1;
-  pl.pPushConstantRanges = &pcr;
-  RS_VK(vkCreatePipelineLayout(device_, &pl, nullptr, &k.layout_));
+  if (Status st = CreateModule(device_, spirv, k.module_); !st) return st;
+  if (Status st = CreateLayouts(device_, bindings, VK_SHADER_STAGE_COMPUTE_BIT, 128, k.set_layout_, k.layout_); !st)
+    return st;
   const std::uint32_t spec[2] = {fault, k.local_size_};
   const VkSpecializationMapEntry entries[2] = {{0, 0, 4}, {1, 4, 4}};
   VkSpecializationInfo si{2, entries, sizeof spec, spec};
@@ -280,6 +320,164 @@ Status Context::CreateKernel(const std::string& name, std::span<const std::uint3
   cp.layout = k.layout_;
   RS_VK(vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &cp, nullptr, &k.pipeline_));
   return Status::Ok();
+}
+
+Status Context::CreateImage(VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect, std::uint32_t width,
+                            std::uint32_t height, Image& out) {
+  Image im;
+  im.device_ = device_;
+  im.aspect_ = aspect;
+  im.width_ = width;
+  im.height_ = height;
+  VkImageCreateInfo ici{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  ici.imageType = VK_IMAGE_TYPE_2D;
+  ici.format = format;
+  ici.extent = {width, height, 1};
+  ici.mipLevels = 1;
+  ici.arrayLayers = 1;
+  ici.samples = VK_SAMPLE_COUNT_1_BIT;
+  ici.tiling = VK_IMAGE_TILING_OPTIMAL;
+  ici.usage = usage | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+  RS_VK(vkCreateImage(device_, &ici, nullptr, &im.image_));
+  VkMemoryRequirements req;
+  vkGetImageMemoryRequirements(device_, im.image_, &req);
+  VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  mai.allocationSize = req.size;
+  mai.memoryTypeIndex = FindMemoryType(req.memoryTypeBits, 0);
+  if (mai.memoryTypeIndex == UINT32_MAX)
+    return Status::Fail(fmt::format("no memory type for a {} x {} image on '{}'", width, height, device_name_));
+  RS_VK(vkAllocateMemory(device_, &mai, nullptr, &im.memory_));
+  RS_VK(vkBindImageMemory(device_, im.image_, im.memory_, 0));
+  VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+  vci.image = im.image_;
+  vci.viewType = VK_IMAGE_VIEW_TYPE_2D;
+  vci.format = format;
+  vci.subresourceRange = {aspect, 0, 1, 0, 1};
+  RS_VK(vkCreateImageView(device_, &vci, nullptr, &im.view_));
+  out = std::move(im);
+  return Status::Ok();
+}
+
+namespace {
+
+// One subpass writing every colour attachment and the depth attachment; each attachment is cleared
+// on load and ends in TRANSFER_SRC_OPTIMAL for the read-back copy.
+Status CreateRenderPass(VkDevice device, const GraphicsDesc& d, VkRenderPass& out) {
+  const std::uint32_t colors = static_cast<std::uint32_t>(d.colors.size());
+  std::vector<VkAttachmentDescription> att(colors + 1);
+  std::vector<VkAttachmentReference> color_ref(colors);
+  for (std::uint32_t i = 0; i <= colors; ++i) {
+    att[i].format = i < colors ? d.colors[i] : d.depth;
+    att[i].samples = VK_SAMPLE_COUNT_1_BIT;
+    att[i].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    att[i].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    att[i].stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+    att[i].stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    att[i].initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    att[i].finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+    if (i < colors) color_ref[i] = {i, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+  }
+  VkAttachmentReference depth_ref{colors, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+  VkSubpassDescription sub{};
+  sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+  sub.colorAttachmentCount = colors;
+  sub.pColorAttachments = color_ref.data();
+  sub.pDepthStencilAttachment = &depth_ref;
+  VkRenderPassCreateInfo rpci{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+  rpci.attachmentCount = colors + 1;
+  rpci.pAttachments = att.data();
+  rpci.subpassCount = 1;
+  rpci.pSubpasses = &sub;
+  RS_VK(vkCreateRenderPass(device, &rpci, nullptr, &out));
+  return Status::Ok();
+}
+
+// The fixed-function state of GraphicsDesc: triangle lists, no culling, LESS depth test with writes.
+Status CreateGraphicsPipeline(VkDevice device, const GraphicsDesc& d, VkShaderModule vert, VkShaderModule frag,
+                              VkPipelineLayout layout, VkRenderPass pass, VkPipeline& out) {
+  VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
+                                               {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
+  stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+  stages[0].module = vert;
+  stages[0].pName = "main";
+  stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+  stages[1].module = frag;
+  stages[1].pName = "main";
+  const VkSpecializationMapEntry fault_entry{0, 0, 4};
+  const VkSpecializationInfo fault_info{1, &fault_entry, sizeof d.fault, &d.fault};
+  stages[1].pSpecializationInfo = &fault_info;
+  VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+  VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+  ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+  VkViewport viewport{0.0f, 0.0f, static_cast<float>(d.width), static_cast<float>(d.height), 0.0f, 1.0f};
+  VkRect2D scissor{{0, 0}, {d.width, d.height}};
+  VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+  vp.viewportCount = 1;
+  vp.pViewports = &viewport;
+  vp.scissorCount = 1;
+  vp.pScissors = &scissor;
+  VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+  rs.polygonMode = VK_POLYGON_MODE_FILL;
+  rs.cullMode = VK_CULL_MODE_NONE;
+  rs.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+  rs.lineWidth = 1.0f;
+  VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+  ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+  VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+  ds.depthTestEnable = VK_TRUE;
+  ds.depthWriteEnable = VK_TRUE;
+  ds.depthCompareOp = VK_COMPARE_OP_LESS;
+  std::vector<VkPipelineColorBlendAttachmentState> cba(d.colors.size());
+  for (std::size_t i = 0; i < cba.size(); ++i) cba[i].colorWriteMask = d.write_masks[i];
+  VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+  cb.attachmentCount = static_cast<std::uint32_t>(cba.size());
+  cb.pAttachments = cba.data();
+  VkGraphicsPipelineCreateInfo gp{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+  gp.stageCount = 2;
+  gp.pStages = stages;
+  gp.pVertexInputState = &vi;
+  gp.pInputAssemblyState = &ia;
+  gp.pViewportState = &vp;
+  gp.pRasterizationState = &rs;
+  gp.pMultisampleState = &ms;
+  gp.pDepthStencilState = &ds;
+  gp.pColorBlendState = &cb;
+  gp.layout = layout;
+  gp.renderPass = pass;
+  RS_VK(vkCreateGraphicsPipelines(device, VK_NULL_HANDLE, 1, &gp, nullptr, &out));
+  return Status::Ok();
+}
+
+}  // namespace
+
+Status Context::CreateGraphics(const GraphicsDesc& d, std::span<const Image* const> attachments, Graphics& g) {
+  if (d.write_masks.size() != d.colors.size() || attachments.size() != d.colors.size() + 1)
+    return Status::Fail(fmt::format("graphics {}: {} colour formats, {} write masks and {} attachments (colours + depth)",
+                                    d.name, d.colors.size(), d.write_masks.size(), attachments.size()));
+  g.device_ = device_;
+  g.name_ = d.name;
+  g.bindings_ = d.bindings;
+  g.attachments_ = static_cast<std::uint32_t>(attachments.size());
+  g.width_ = d.width;
+  g.height_ = d.height;
+  if (Status st = CreateModule(device_, d.vert_spirv, g.vert_); !st) return st;
+  if (Status st = CreateModule(device_, d.frag_spirv, g.frag_); !st) return st;
+  if (Status st = CreateLayouts(device_, d.bindings, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                                g.set_layout_, g.layout_);
+      !st)
+    return st;
+  if (Status st = CreateRenderPass(device_, d, g.pass_); !st) return st;
+  std::vector<VkImageView> views(attachments.size());
+  for (std::size_t i = 0; i < views.size(); ++i) views[i] = attachments[i]->view();
+  VkFramebufferCreateInfo fci{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+  fci.renderPass = g.pass_;
+  fci.attachmentCount = g.attachments_;
+  fci.pAttachments = views.data();
+  fci.width = d.width;
+  fci.height = d.height;
+  fci.layers = 1;
+  RS_VK(vkCreateFramebuffer(device_, &fci, nullptr, &g.framebuffer_));
+  return CreateGraphicsPipeline(device_, d, g.vert_, g.frag_, g.layout_, g.pass_, g.pipeline_);
 }
 
 Recorder::~Recorder() {
@@ -302,17 +500,13 @@ Status Recorder::Begin() {
   return Status::Ok();
 }
 
-Status Recorder::Dispatch(const Kernel& k, std::span<const Buffer* const> buffers, const void* push,
-                          std::size_t push_size, std::uint32_t invocations) {
-  if (!recording_) {
-    Status s = Begin();
-    if (!s) return s;
-  }
-  if (buffers.size() != k.bindings_) return Status::Fail(fmt::format("kernel {} takes {} buffers, got {}", k.name_, k.bindings_, buffers.size()));
+Status Recorder::BindSet(const char* kind, const std::string& name, VkDescriptorSetLayout layout,
+                         std::span<const Buffer* const> buffers, VkDescriptorSet& set) {
+  const auto bindings = static_cast<std::uint32_t>(buffers.size());
   // A pass may record any number of parts before its submit: when the current descriptor pool has
   // no room for this set, the next one is used (and created once); all are reset after the submit.
-  if (k.bindings_ > kPoolDescriptors) return Status::Fail(fmt::format("kernel {}: {} bindings exceed a descriptor pool", k.name_, k.bindings_));
-  if (sets_left_ == 0 || descriptors_left_ < k.bindings_) {
+  if (bindings > kPoolDescriptors) return Status::Fail(fmt::format("{} {}: {} bindings exceed a descriptor pool", kind, name, bindings));
+  if (sets_left_ == 0 || descriptors_left_ < bindings) {
     if (++current_ >= pools_.size()) {
       VkDescriptorPoolSize ps{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kPoolDescriptors};
       VkDescriptorPoolCreateInfo dp{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
@@ -328,12 +522,11 @@ Status Recorder::Dispatch(const Kernel& k, std::span<const Buffer* const> buffer
     descriptors_left_ = kPoolDescriptors;
   }
   --sets_left_;
-  descriptors_left_ -= k.bindings_;
+  descriptors_left_ -= bindings;
   VkDescriptorSetAllocateInfo ai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
   ai.descriptorPool = pools_[current_];
   ai.descriptorSetCount = 1;
-  ai.pSetLayouts = &k.set_layout_;
-  VkDescriptorSet set;
+  ai.pSetLayouts = &layout;
   RS_VK(vkAllocateDescriptorSets(ctx_.device_, &ai, &set));
   std::vector<VkDescriptorBufferInfo> infos(buffers.size());
   std::vector<VkWriteDescriptorSet> writes(buffers.size());
@@ -347,6 +540,18 @@ Status Recorder::Dispatch(const Kernel& k, std::span<const Buffer* const> buffer
     writes[i].pBufferInfo = &infos[i];
   }
   vkUpdateDescriptorSets(ctx_.device_, static_cast<std::uint32_t>(writes.size()), writes.data(), 0, nullptr);
+  return Status::Ok();
+}
+
+Status Recorder::Dispatch(const Kernel& k, std::span<const Buffer* const> buffers, const void* push,
+                          std::size_t push_size, std::uint32_t invocations) {
+  if (!recording_) {
+    Status s = Begin();
+    if (!s) return s;
+  }
+  if (buffers.size() != k.bindings_) return Status::Fail(fmt::format("kernel {} takes {} buffers, got {}", k.name_, k.bindings_, buffers.size()));
+  VkDescriptorSet set;
+  if (Status st = BindSet("kernel", k.name_, k.set_layout_, buffers, set); !st) return st;
   vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.pipeline_);
   vkCmdBindDescriptorSets(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.layout_, 0, 1, &set, 0, nullptr);
   if (push_size) vkCmdPushConstants(cmd_, k.layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, static_cast<std::uint32_t>(push_size), push);
@@ -365,6 +570,47 @@ Status Recorder::Dispatch(const Kernel& k, std::span<const Buffer* const> buffer
   vkCmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0,
                        nullptr);
+  return Status::Ok();
+}
+
+Status Recorder::Draw(const Graphics& g, std::span<const Buffer* const> buffers, std::span<const VkClearValue> clears,
+                      std::uint32_t vertices) {
+  if (buffers.size() != g.bindings_ || clears.size() != g.attachments_)
+    return Status::Fail(fmt::format("graphics {} takes {} buffers and {} clear values, got {} and {}", g.name_,
+                                    g.bindings_, g.attachments_, buffers.size(), clears.size()));
+  if (!recording_) {
+    Status s = Begin();
+    if (!s) return s;
+  }
+  VkDescriptorSet set;
+  if (Status st = BindSet("graphics", g.name_, g.set_layout_, buffers, set); !st) return st;
+  VkRenderPassBeginInfo rbi{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+  rbi.renderPass = g.pass_;
+  rbi.framebuffer = g.framebuffer_;
+  rbi.renderArea = {{0, 0}, {g.width_, g.height_}};
+  rbi.clearValueCount = g.attachments_;
+  rbi.pClearValues = clears.data();
+  vkCmdBeginRenderPass(cmd_, &rbi, VK_SUBPASS_CONTENTS_INLINE);
+  vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_GRAPHICS, g.pipeline_);
+  vkCmdBindDescriptorSets(cmd_, VK_PIPELINE_BIND_POINT_GRAPHICS, g.layout_, 0, 1, &set, 0, nullptr);
+  vkCmdDraw(cmd_, vertices, 1, 0, 0);
+  vkCmdEndRenderPass(cmd_);
+  return Status::Ok();
+}
+
+Status Recorder::CopyToHost(const Image& image, const Buffer& dst) {
+  if (!recording_) {
+    Status s = Begin();
+    if (!s) return s;
+  }
+  VkBufferImageCopy copy{};
+  copy.imageSubresource = {image.aspect_, 0, 0, 1};
+  copy.imageExtent = {image.width_, image.height_, 1};
+  vkCmdCopyImageToBuffer(cmd_, image.image_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, dst.handle(), 1, &copy);
+  VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+  vkCmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0, nullptr);
   return Status::Ok();
 }
 

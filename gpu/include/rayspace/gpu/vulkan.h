@@ -88,7 +88,69 @@ class Kernel {
   VkPipeline pipeline_ = VK_NULL_HANDLE;
 };
 
-// Records dispatches (with a full memory barrier between them) into one command buffer.
+// A 2D image in device memory with one view: a raster target, read back by Recorder::CopyToHost.
+class Image {
+ public:
+  Image() = default;
+  Image(const Image&) = delete;
+  Image& operator=(const Image&) = delete;
+  Image(Image&& o) noexcept { *this = std::move(o); }
+  Image& operator=(Image&& o) noexcept;
+  ~Image();
+  VkImage handle() const { return image_; }
+  VkImageView view() const { return view_; }
+
+ private:
+  friend class Context;
+  friend class Recorder;
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkImage image_ = VK_NULL_HANDLE;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  VkImageView view_ = VK_NULL_HANDLE;
+  VkImageAspectFlags aspect_ = 0;
+  std::uint32_t width_ = 0, height_ = 0;
+};
+
+// What Context::CreateGraphics builds: a vertex and a fragment shader over `bindings` storage
+// buffers (visible to both stages, no vertex input), drawing triangle lists without culling into
+// colour attachments and one depth attachment (LESS test, depth written) over a width x height
+// viewport. Every attachment is cleared on load and left in TRANSFER_SRC_OPTIMAL layout for a copy.
+struct GraphicsDesc {
+  std::string name;  // for error messages
+  std::span<const std::uint32_t> vert_spirv, frag_spirv;
+  std::uint32_t bindings = 0;
+  std::uint32_t fault = 0;                              // fragment specialization constant 0 (0 = none)
+  std::span<const VkFormat> colors;                     // colour attachment formats, in location order
+  std::span<const VkColorComponentFlags> write_masks;   // one per colour attachment
+  VkFormat depth = VK_FORMAT_D32_SFLOAT;
+  std::uint32_t width = 0, height = 0;
+};
+
+// A graphics pipeline with its render pass, made by Context::CreateGraphics.
+class Graphics {
+ public:
+  Graphics() = default;
+  Graphics(const Graphics&) = delete;
+  Graphics& operator=(const Graphics&) = delete;
+  ~Graphics();
+  const std::string& name() const { return name_; }
+
+ private:
+  friend class Context;
+  friend class Recorder;
+  VkDevice device_ = VK_NULL_HANDLE;
+  std::string name_;
+  std::uint32_t bindings_ = 0, attachments_ = 0, width_ = 0, height_ = 0;
+  VkShaderModule vert_ = VK_NULL_HANDLE, frag_ = VK_NULL_HANDLE;
+  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
+  VkPipelineLayout layout_ = VK_NULL_HANDLE;
+  VkRenderPass pass_ = VK_NULL_HANDLE;
+  VkPipeline pipeline_ = VK_NULL_HANDLE;
+  VkFramebuffer framebuffer_ = VK_NULL_HANDLE;
+};
+
+// Records dispatches (with a full memory barrier between them), draws and image read-backs into one
+// command buffer.
 class Recorder {
  public:
   explicit Recorder(Context& ctx) : ctx_(ctx) {}
@@ -96,11 +158,21 @@ class Recorder {
   // Dispatches ceil(invocations / local size) groups of `k` over `buffers` with push constants.
   Status Dispatch(const Kernel& k, std::span<const Buffer* const> buffers, const void* push, std::size_t push_size,
                   std::uint32_t invocations);
+  // Records one render pass of `g` drawing `vertices` vertices over `buffers`, the attachments
+  // cleared to `clears` (one per attachment, the depth attachment last).
+  Status Draw(const Graphics& g, std::span<const Buffer* const> buffers, std::span<const VkClearValue> clears,
+              std::uint32_t vertices);
+  // Copies `image` (left by Draw in TRANSFER_SRC_OPTIMAL) into `dst`, readable by the host after Submit.
+  Status CopyToHost(const Image& image, const Buffer& dst);
   // Submits everything recorded and waits for it.
   Status Submit();
 
  private:
   Status Begin();
+  // A descriptor set of `layout` from the recorder's pools with `buffers` at bindings 0, 1, ...
+  // (`kind` and `name` name the pipeline in errors).
+  Status BindSet(const char* kind, const std::string& name, VkDescriptorSetLayout layout,
+                 std::span<const Buffer* const> buffers, VkDescriptorSet& out);
   Context& ctx_;
   static constexpr std::uint32_t kPoolSets = 128, kPoolDescriptors = 1024;
   VkCommandBuffer cmd_ = VK_NULL_HANDLE;
@@ -120,6 +192,12 @@ class Context {
   Status CreateBuffer(std::size_t bytes, Buffer& out, bool storage = true);
   Status CreateKernel(const std::string& name, std::span<const std::uint32_t> spirv, std::uint32_t bindings,
                       std::uint32_t fault, Kernel& out, std::uint32_t local_size = 64);
+  // A width x height 2D image of `format` for `usage` (a copy source as well) with a view of `aspect`.
+  Status CreateImage(VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect, std::uint32_t width,
+                     std::uint32_t height, Image& out);
+  // The pipeline `desc` describes, rendering into `attachments` (the colour images in order, then
+  // the depth image), which must outlive it.
+  Status CreateGraphics(const GraphicsDesc& desc, std::span<const Image* const> attachments, Graphics& out);
   const std::string& device_name() const { return device_name_; }
   std::string driver() const { return driver_; }
   // The most bytes one storage binding may hold: maxStorageBufferRange unless lowered for tests.
@@ -132,17 +210,13 @@ class Context {
   std::size_t descriptor_pools_created() const { return descriptor_pools_; }
   // Every physical device, for error messages and --device listings.
   static std::vector<std::string> ListDevices();
-  // For code that records its own commands (the raster pipeline).
-  VkDevice device() const { return device_; }
-  VkQueue queue() const { return queue_; }
-  VkCommandPool command_pool() const { return pool_; }
+
+ private:
+  friend class Recorder;
   // Submits one ended command buffer to the queue and waits for it.
   Status SubmitAndWait(VkCommandBuffer cmd);
   // A memory type allowed by `bits` with all of `flags`, or UINT32_MAX.
   std::uint32_t FindMemoryType(std::uint32_t bits, VkMemoryPropertyFlags flags) const;
-
- private:
-  friend class Recorder;
   VkInstance instance_ = VK_NULL_HANDLE;
   VkPhysicalDevice physical_ = VK_NULL_HANDLE;
   VkDevice device_ = VK_NULL_HANDLE;
