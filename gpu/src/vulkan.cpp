@@ -181,6 +181,7 @@ Status Context::Create(int device, std::unique_ptr<Context>& out) {
   c->max_groups_[0] = props.limits.maxComputeWorkGroupCount[0];
   c->max_groups_[1] = props.limits.maxComputeWorkGroupCount[1];
   c->max_stage_storage_buffers_ = props.limits.maxPerStageDescriptorStorageBuffers;
+  c->max_image_side_ = props.limits.maxImageDimension2D;
   VkPhysicalDeviceDriverProperties drv{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
   VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
   p2.pNext = &drv;
@@ -324,6 +325,9 @@ Status Context::CreateKernel(const std::string& name, std::span<const std::uint3
 
 Status Context::CreateImage(VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect, std::uint32_t width,
                             std::uint32_t height, Image& out) {
+  if (width < 1 || height < 1 || width > max_image_side_ || height > max_image_side_)
+    return Status::Fail(fmt::format("a {} x {} image is outside [1, {}] (maxImageDimension2D of '{}')", width, height,
+                                    max_image_side_, device_name_));
   Image im;
   im.device_ = device_;
   im.aspect_ = aspect;

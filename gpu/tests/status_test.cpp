@@ -2,6 +2,7 @@
 #include <doctest/doctest.h>
 
 #include <memory>
+#include <utility>
 
 #include "rayspace/gpu/vulkan.h"
 
@@ -59,6 +60,25 @@ TEST_CASE("status: a storage buffer beyond the binding limit is refused before a
   CHECK(s.result == VK_SUCCESS);
   CHECK(s.call.empty());
   CHECK(s.message.find("8192 bytes exceeds the lowered binding limit 4096") != std::string::npos);
+}
+
+TEST_CASE("status: an image with a side of 0 or beyond maxImageDimension2D is refused before any Vulkan call") {
+  std::unique_ptr<vk::Context> ctx;
+  REQUIRE(vk::Context::Create(-1, ctx));
+  for (const auto& [w, h] : {std::pair<std::uint32_t, std::uint32_t>{0, 64}, {64, 0}, {1u << 30, 1}}) {
+    CAPTURE(w);
+    CAPTURE(h);
+    vk::Image im;
+    const vk::Status s = ctx->CreateImage(VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT,
+                                          VK_IMAGE_ASPECT_COLOR_BIT, w, h, im);
+    REQUIRE_FALSE(s);
+    CHECK(s.call.empty());
+    CHECK(s.message.find("maxImageDimension2D") != std::string::npos);
+    CHECK(im.handle() == VK_NULL_HANDLE);
+  }
+  vk::Image ok;
+  CHECK(ctx->CreateImage(VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, VK_IMAGE_ASPECT_COLOR_BIT, 4, 4, ok));
+  CHECK(ok.handle() != VK_NULL_HANDLE);
 }
 
 }  // namespace

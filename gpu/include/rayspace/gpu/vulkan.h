@@ -192,7 +192,8 @@ class Context {
   Status CreateBuffer(std::size_t bytes, Buffer& out, bool storage = true);
   Status CreateKernel(const std::string& name, std::span<const std::uint32_t> spirv, std::uint32_t bindings,
                       std::uint32_t fault, Kernel& out, std::uint32_t local_size = 64);
-  // A width x height 2D image of `format` for `usage` (a copy source as well) with a view of `aspect`.
+  // A width x height 2D image of `format` for `usage` (a copy source as well) with a view of `aspect`;
+  // each side must be in [1, maxImageDimension2D] (refused before any Vulkan call otherwise).
   Status CreateImage(VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect, std::uint32_t width,
                      std::uint32_t height, Image& out);
   // The pipeline `desc` describes, rendering into `attachments` (the colour images in order, then
@@ -227,7 +228,7 @@ class Context {
   std::string device_name_, driver_;
   VkDeviceSize max_storage_range_ = 0, storage_limit_ = 0;
   std::uint32_t max_groups_[2] = {65535, 65535};
-  std::uint32_t max_stage_storage_buffers_ = 0;
+  std::uint32_t max_stage_storage_buffers_ = 0, max_image_side_ = 0;
   std::size_t descriptor_pools_ = 0;
 };
 
