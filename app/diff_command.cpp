@@ -3,6 +3,7 @@
 #include "cli_util.h"
 
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -31,6 +32,54 @@ std::string EmulationModel() {
   if (__builtin_cpu_supports("fma")) m += " fma";
 #endif
   return m + "; emulated kernels use no FMA contraction (-ffp-contract=off) and only correctly rounded +,-,*,/,sqrt";
+}
+
+bool InDomain(const glm::vec4& v) {
+  for (int k = 0; k < 3; ++k)
+    if (!(std::fabs(static_cast<double>(v[k])) <= kMaxCoordinate)) return false;  // also NaN
+  return true;
+}
+
+// A saved call's inputs must be ones a render could have made (a hand-edited set may hold anything):
+// triangles inside the scene loader's coordinate domain (beyond it clip coordinates overflow and
+// the raster clipper's bounds no longer hold), a finite frame whose size the passes can allocate
+// and whose counts match the saved scene (the passes loop over dims.z triangles and dims.w lights).
+void CheckSavedInputs(const verify::BufferSet& in, const std::string& dir) {
+  if (in.Has("scene.triangles")) {
+    const std::vector<gpu::Triangle> tris = in.Get<gpu::Triangle>("scene.triangles");
+    for (std::size_t i = 0; i < tris.size(); ++i)
+      if (!InDomain(tris[i].v0) || !InDomain(tris[i].v1) || !InDomain(tris[i].v2))
+        ThrowInput("{}/scene.triangles.bin: triangle {} leaves the coordinate domain |x| <= 2^62", dir, i);
+  }
+  if (!in.Has("frame")) return;
+  const gpu::FrameConstants fc = in.GetOne<gpu::FrameConstants>("frame");
+  const float* f = &fc.view_proj[0][0];
+  for (std::size_t i = 0; i < offsetof(gpu::FrameConstants, dims) / sizeof(float); ++i)
+    if (!std::isfinite(f[i])) ThrowInput("{}/frame.bin: float {} is {}, expected a finite number", dir, i, f[i]);
+  const auto side = static_cast<std::uint32_t>(kMaxImageSide);
+  if (fc.dims.x < 1 || fc.dims.y < 1 || fc.dims.x > side || fc.dims.y > side)
+    ThrowInput("{}/frame.bin: image size {} x {} out of range [1, {}]", dir, fc.dims.x, fc.dims.y, side);
+  if (in.Has("scene.triangles") && in.Has("scene.lights")) {
+    const SceneBuffers scene = in.GetScene();
+    if (fc.dims.z != scene.triangles.size() || fc.dims.w != scene.lights.size())
+      ThrowInput("{}/frame.bin: counts {} triangles and {} lights, the saved scene holds {} and {}", dir, fc.dims.z,
+                 fc.dims.w, scene.triangles.size(), scene.lights.size());
+  }
+}
+
+// DIR/comparison.json as diff --save-inputs writes it: an object whose optional 'equal' is a boolean,
+// 'inject' a string and 'buffers' an array of objects (each with an optional string 'pass').
+void CheckRecorded(const nlohmann::json& j, const std::string& file) {
+  if (!j.is_object()) ThrowInput("{}: expected a JSON object, got {}", file, j.type_name());
+  if (j.contains("equal") && !j["equal"].is_boolean()) ThrowInput("{}: 'equal' must be a boolean", file);
+  if (j.contains("inject") && !j["inject"].is_string()) ThrowInput("{}: 'inject' must be a string", file);
+  if (!j.contains("buffers")) return;
+  if (!j["buffers"].is_array()) ThrowInput("{}: 'buffers' must be an array", file);
+  for (std::size_t i = 0; i < j["buffers"].size(); ++i) {
+    const nlohmann::json& b = j["buffers"][i];
+    if (!b.is_object() || (b.contains("pass") && !b["pass"].is_string()))
+      ThrowInput("{}: buffers[{}] must be an object with a string 'pass'", file, i);
+  }
 }
 
 gpu_backend::Faults ParseInject(const std::string& spec) {
@@ -208,6 +257,7 @@ ExitCode RunReplay(const ReplayArgs& args) {
   std::string method_name;
   const verify::BufferSet in = verify::BufferSet::Load(args.dir, method_name);
   const verify::PassMethod& method = verify::FindPassMethod(method_name);
+  CheckSavedInputs(in, args.dir);
   const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, ParseInject(args.inject), {}, args.kernels);
   verify::Backends expected{emu::EmuFramePasses(), emu::EmuHierarchyPasses()};
   verify::Backends actual{gpu.Frame(), gpu.Hierarchy()};
@@ -225,6 +275,7 @@ ExitCode RunReplay(const ReplayArgs& args) {
     } catch (const nlohmann::json::exception&) {
       ThrowInput("{}/comparison.json: not valid JSON", args.dir);
     }
+    CheckRecorded(recorded, args.dir + "/comparison.json");
     bool same = recorded.value("equal", !r.equal) == r.equal && recorded.contains("buffers") &&
                 recorded["buffers"].size() == r.buffers.size();
     if (same) {
