@@ -1,0 +1,133 @@
+#include "accuracy_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+#include <fmt/format.h>
+
+#include "rayspace/error.h"
+
+namespace rayspace::app::accuracy {
+namespace {
+
+// ---- the plot: error rate against time per test, log-log ---------------------------------------------
+
+void Plot(const std::filesystem::path& path, const std::string& title, const std::vector<Row>& rows) {
+  using namespace OIIO;
+  const int W = 900, H = 620, L = 90, R = 330, T = 70, B = 70;
+  ImageBuf img(ImageSpec(W, H, 3, TypeDesc::UINT8));
+  const float white[3] = {1, 1, 1}, black[3] = {0, 0, 0}, grey[3] = {0.85f, 0.85f, 0.85f};
+  ImageBufAlgo::fill(img, white);
+  const std::string font = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+  bool text_ok = true;
+  auto text = [&](int x, int y, const std::string& s, int size, const float* c) {
+    text_ok = ImageBufAlgo::render_text(img, x, y, s, size, font, c) && text_ok;
+  };
+  // x: log10(ns) in [0, 6]; y: log10(error rate) in [-7, 0], zero errors drawn on the bottom line.
+  auto X = [&](double ns) { return L + static_cast<int>((std::log10(std::max(ns, 1.0)) / 6.0) * (W - L - R)); };
+  auto Y = [&](double rate) {
+    const double lr = rate > 0 ? std::max(std::log10(rate), -7.0) : -7.0;
+    return T + static_cast<int>((-lr / 7.0) * (H - T - B));
+  };
+  for (int d = 0; d <= 6; ++d) {
+    ImageBufAlgo::render_line(img, X(std::pow(10, d)), T, X(std::pow(10, d)), H - B, grey);
+    text(X(std::pow(10, d)) - 12, H - B + 22, fmt::format("1e{}", d), 14, black);
+  }
+  for (int e = 0; e <= 7; ++e) {
+    ImageBufAlgo::render_line(img, L, Y(std::pow(10, -e)), W - R, Y(std::pow(10, -e)), grey);
+    text(L - 55, Y(std::pow(10, -e)) + 5, e == 7 ? "0 (none)" : fmt::format("1e-{}", e), 14, black);
+  }
+  ImageBufAlgo::render_box(img, L, T, W - R, H - B, black);
+  text(10, 24, title, 18, black);
+  text(10, T - 16, "disagreements with the exact answer per test (FN + FP, log)", 14, black);
+  text((W - R) / 2 - 40, H - 15, "ns per test (log)", 15, black);
+  const float colours[4][3] = {{0.85f, 0.1f, 0.1f}, {0.1f, 0.35f, 0.85f}, {0.1f, 0.6f, 0.2f}, {0.6f, 0.3f, 0.7f}};
+  int legend = 0;
+  std::vector<std::string> keys;
+  for (const Row& r : rows) {
+    const std::string key = r.test + " / " + r.set;
+    if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
+  }
+  for (const Row& r : rows) {
+    const int k = static_cast<int>(std::find(keys.begin(), keys.end(), r.test + " / " + r.set) - keys.begin()) % 4;
+    const int x = X(r.ns), y = Y(static_cast<double>(r.fn + r.fp) / static_cast<double>(std::max<std::size_t>(r.n, 1)));
+    ImageBufAlgo::render_box(img, x - 4, y - 4, x + 4, y + 4, colours[k], true);
+    ++legend;
+  }
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    const int y = T + 20 + static_cast<int>(k) * 22;
+    ImageBufAlgo::render_box(img, W - R + 15, y - 10, W - R + 25, y, colours[k % 4], true);
+    text(W - R + 32, y, keys[k], 14, black);
+  }
+  // Mode labels beside the legend, numbered as in the table.
+  int line = 0;
+  std::vector<std::string> seen;
+  for (const Row& r : rows)
+    if (std::find(seen.begin(), seen.end(), r.mode) == seen.end()) seen.push_back(r.mode);
+  for (std::size_t m = 0; m < seen.size(); ++m) text(W - R + 15, T + 130 + 20 * line++, fmt::format("{}", seen[m]), 12, black);
+  for (const Row& r : rows) {
+    const std::size_t m = std::find(seen.begin(), seen.end(), r.mode) - seen.begin();
+    const int x = X(r.ns), y = Y(static_cast<double>(r.fn + r.fp) / static_cast<double>(std::max<std::size_t>(r.n, 1)));
+    text(x + 6, y - 6, fmt::format("{}", m + 1), 11, black);
+  }
+  for (std::size_t m = 0; m < seen.size(); ++m) text(W - R + 2, T + 130 + 20 * static_cast<int>(m), fmt::format("{}", m + 1), 12, black);
+  if (!text_ok) std::fprintf(stderr, "rayspace accuracy: warning: no font at %s (install fonts-dejavu-core); the plot has no labels\n", font.c_str());
+  if (!img.write(path.string())) ThrowInput("{}: cannot write the plot ({})", path.string(), img.geterror());
+}
+
+// The table of modes: one row per mode and query set, numbered by mode as in the plot.
+void AppendModeRows(const std::string& scene, const std::vector<Row>& rows, std::string& md, std::string& csv) {
+  md += "| # | test | set | mode | queries | ns/test | FN | FP | of which in-plane |\n|---|---|---|---|---:|---:|---:|---:|---:|\n";
+  std::vector<std::string> names;
+  for (const Row& r : rows)
+    if (std::find(names.begin(), names.end(), r.mode) == names.end()) names.push_back(r.mode);
+  for (const Row& r : rows) {
+    const std::size_t num = std::find(names.begin(), names.end(), r.mode) - names.begin() + 1;
+    md += fmt::format("| {} | {} | {} | {} | {} | {:.1f} | {} | {} | {} |\n", num, r.test, r.set, r.mode, r.n, r.ns, r.fn, r.fp,
+                      r.test == "ray-triangle" ? std::to_string(r.in_plane) : "-");
+    csv += fmt::format("{},{},{},\"{}\",{},{:.2f},{},{},{}\n", scene, r.test, r.set, r.mode, r.n, r.ns, r.fn, r.fp, r.in_plane);
+  }
+}
+
+// The end-to-end tables, each when measured.
+void AppendEndToEnd(const Report& rep, std::string& md, std::string& csv) {
+  if (!rep.cone_e2e.empty()) {
+    md += "\nEnd to end, the frame with each cone-sphere mode in the traversal (all else equal), against the exact traversal:\n\n";
+    md += "| mode | frame ms | hierarchy tests | rays whose result changes |\n|---|---:|---:|---:|\n";
+    for (const EndToEnd& e : rep.cone_e2e) {
+      md += fmt::format("| {} | {:.0f} | {} | {} |\n", e.mode, e.ms, e.tests, e.changed);
+      csv += fmt::format("{},cone-sphere,end-to-end,\"{}\",{},{:.1f},{},,\n", rep.scene, e.mode, e.tests, e.ms, e.changed);
+    }
+  }
+  if (!rep.tri_e2e.empty()) {
+    md += "\nEnd to end, the frame with each ray-triangle mode in the final tests (traversal conservative), against exact hit decisions and exact distance order; a changed ray hits another primitive, hits where the exact answer misses or the reverse, or changes occlusion (later bounces inherit the differences):\n\n";
+    md += "| mode | frame ms | final and hierarchy tests | rays whose result changes |\n|---|---:|---:|---:|\n";
+    for (const EndToEnd& e : rep.tri_e2e) {
+      md += fmt::format("| {} | {:.0f} | {} | {} |\n", e.mode, e.ms, e.tests, e.changed);
+      csv += fmt::format("{},ray-triangle,end-to-end,\"{}\",{},{:.1f},{},,\n", rep.scene, e.mode, e.tests, e.ms, e.changed);
+    }
+  }
+}
+
+}  // namespace
+
+void WriteReport(const std::string& dir, const Report& rep) {
+  const Workload& w = *rep.workload;
+  const std::filesystem::path base = std::filesystem::path(dir) / (rep.scene + "-accuracy");
+  std::string md = fmt::format("### {} ({}x{}, crsh)\n\nQueries sampled uniformly from the frame's own work: {} cone-sphere tests of {} and {} ray-triangle tests of {}; near-boundary sets move each sphere to touch the bundle (radius within 2^-20 of the distance) and aim each ray at an edge (2^-22 of the edge across it). FN: the mode says miss where the exact answer is hit; FP: the reverse. Time: median of three passes, one thread.\n\n",
+                               rep.scene, rep.width, rep.height, w.cones.size(), w.cones_seen, w.tris.size(), w.tris_seen);
+  std::string csv = "scene,test,set,mode,queries,ns_per_test,false_negatives,false_positives,in_plane\n";
+  AppendModeRows(rep.scene, rep.rows, md, csv);
+  AppendEndToEnd(rep, md, csv);
+  std::ofstream(base.string() + ".md") << md;
+  std::ofstream(base.string() + ".csv") << csv;
+  Plot(base.string() + ".png", fmt::format("{}: errors against time per test", rep.scene), rep.rows);
+  std::printf("%s\n  wrote %s.md, .csv, .png\n", md.c_str(), base.string().c_str());
+}
+
+}  // namespace rayspace::app::accuracy

@@ -1,0 +1,23 @@
+// `rayspace accuracy`, the report: a markdown table, CSV and a log-log plot of error rate against
+// time per test.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "accuracy_measure.h"
+#include "accuracy_sampler.h"
+
+namespace rayspace::app::accuracy {
+
+struct Report {
+  std::string scene;   // the scene's name
+  int width = 0, height = 0;
+  const Workload* workload = nullptr;
+  std::vector<Row> rows;
+  std::vector<EndToEnd> cone_e2e, tri_e2e;  // empty: not measured
+};
+
+// Writes DIR/<scene>-accuracy.{md,csv,png} and prints the markdown and the files written.
+void WriteReport(const std::string& dir, const Report& report);
+
+}  // namespace rayspace::app::accuracy
