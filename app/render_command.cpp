@@ -37,51 +37,72 @@ nlohmann::json RaysJson(const std::vector<std::uint64_t>& per_bounce, bool from_
   return {{"total", total}, {"per_bounce", pb}};
 }
 
-}  // namespace
+// The tracers one run builds: the frame's, and the oracle's unless --no-oracle.
+struct Tracers {
+  std::unique_ptr<Tracer> direct, embree;
+  std::unique_ptr<emu::HierarchyTracer> hierarchy;
+  Tracer* frame = nullptr;
+  Tracer* oracle = nullptr;
+};
 
-ExitCode RunRender(const RenderArgs& args) {
-  if (args.threads > 0) SetThreadCount(args.threads);
-  emu::FrameOptions fo;
-  const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
-  fo.progress = args.progress || isatty(STDERR_FILENO);  // progress on stderr when someone watches
-  const std::string out = args.out.empty() ? scene.name + ".png" : args.out;
-  {  // Fail on an unwritable output before spending time on the frame.
-    std::ofstream probe(out, std::ios::app);
-    if (!probe) ThrowInput("{}: cannot write the output image", out);
-  }
-
-  const Backend backend = MakeBackend(args.backend, args.device, 64, {}, args.Limits(), args.kernels);
-  fo.passes = backend.frame;
-  const SceneBuffers buffers = FlattenScene(scene);
-  CheckFrameFits(backend, fo.width, fo.height, scene.lights.size(), buffers.triangles.size());
+Tracers MakeTracers(const RenderArgs& args, const SceneBuffers& buffers, const emu::FrameOptions& fo, const Backend& backend) {
   const emu::DirectMode mode = args.direct == "exhaustive" ? emu::DirectMode::kExhaustive
                                : args.direct == "bvh"      ? emu::DirectMode::kBvh
                                                            : emu::DirectMode::kAuto;
   // Build only the tracers this run uses: the frame's, and the oracle's unless --no-oracle.
+  Tracers t;
   const bool embree_frames = args.algo == "embree";
-  std::unique_ptr<Tracer> direct, embree;
-  if (args.algo == "brute" || (embree_frames && !args.no_oracle)) direct = emu::MakeDirectTracer(buffers, mode);
-  if (embree_frames || !args.no_oracle) embree = refs::MakeEmbreeTracer(buffers, ThreadCount());
-  std::unique_ptr<emu::HierarchyTracer> hierarchy;
+  if (args.algo == "brute" || (embree_frames && !args.no_oracle)) t.direct = emu::MakeDirectTracer(buffers, mode);
+  if (embree_frames || !args.no_oracle) t.embree = refs::MakeEmbreeTracer(buffers, ThreadCount());
   if (args.Hierarchy())
-    hierarchy = emu::MakeHierarchyTracer(buffers, MakeHierarchyConfig(args, fo.width, fo.height, backend.hierarchy));
-  Tracer& frame_tracer = hierarchy ? *hierarchy : embree_frames ? *embree : *direct;
-  Tracer* oracle_tracer = embree_frames ? direct.get() : embree.get();
+    t.hierarchy = emu::MakeHierarchyTracer(buffers, MakeHierarchyConfig(args, fo.width, fo.height, backend.hierarchy));
+  t.frame = t.hierarchy ? t.hierarchy.get() : embree_frames ? t.embree.get() : t.direct.get();
+  t.oracle = embree_frames ? t.direct.get() : t.embree.get();
+  return t;
+}
 
-  std::optional<refs::Oracle> oracle;
-  if (!args.no_oracle) oracle.emplace(*oracle_tracer, buffers);
-  double oracle_ms = 0.0;
+// The frame, each traced batch re-traced by the oracle when there is one; adds its time to oracle_ms.
+emu::FrameResult RenderChecked(const Scene& scene, const SceneBuffers& buffers, Tracer& frame_tracer, const emu::FrameOptions& fo,
+                               refs::Oracle* oracle, double& oracle_ms) {
   emu::BatchObserver observer;
-  if (!args.no_oracle) {
+  if (oracle) {
     observer = [&](const emu::Batch& b) {
       const auto t0 = std::chrono::steady_clock::now();
       oracle->Check(b);
       oracle_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     };
   }
-  emu::FrameResult r = emu::RenderFrame(scene, buffers, frame_tracer, fo, observer);
-  WriteImage(out, r.width, r.height, r.rgb);
+  return emu::RenderFrame(scene, buffers, frame_tracer, fo, observer);
+}
 
+// What one render produced, for the statistics file and the summary.
+struct Outcome {
+  const Scene& scene;
+  const Backend& backend;
+  const emu::FrameResult& r;
+  const refs::Oracle* oracle;  // nullptr with --no-oracle
+  double oracle_ms = 0.0;
+  std::string out;             // the image written
+  nlohmann::json tracer, oracle_json;
+  Statistics stats;
+  std::vector<Phase> phases;
+};
+
+nlohmann::json OracleJson(const refs::Oracle* oracle, double oracle_ms) {
+  nlohmann::json oj;
+  if (!oracle) {
+    oj = {{"name", "none"}, {"rays_checked", 0}, {"mismatches", 0}, {"skipped", true}};
+  } else {
+    oracle->Report(oj, 1000);
+    oj["ms"] = oracle_ms;
+  }
+  return oj;
+}
+
+nlohmann::json StatsJson(const RenderArgs& args, const Outcome& o) {
+  const Scene& scene = o.scene;
+  const Backend& backend = o.backend;
+  const emu::FrameResult& r = o.r;
   nlohmann::json j;
   j["scene"] = scene.name;
   j["scene_file"] = args.scene;
@@ -93,25 +114,14 @@ ExitCode RunRender(const RenderArgs& args) {
   j["lights"] = scene.lights.size();
   j["algorithm"] = args.algo;
   j["backend"] = {{"name", backend.name}, {"device", backend.device}};
-  nlohmann::json tracer;
-  frame_tracer.Describe(tracer);
-  j["tracer"] = tracer;
+  j["tracer"] = o.tracer;
   j["threads"] = ThreadCount();
   j["rays"] = {{"shadow", RaysJson(r.rays[gpu::kRayShadow], false)},
                {"reflection", RaysJson(r.rays[gpu::kRayReflection], true)},
                {"refraction", RaysJson(r.rays[gpu::kRayRefraction], true)}};
-  Statistics stats = hierarchy ? CollectStatistics(hierarchy->Stats()) : BruteStatistics(r, buffers.triangles.size());
-  stats.ToJson(j);
-  const std::vector<Phase> phases = Phases(r.passes);
-  PhasesToJson(j, phases);
-  nlohmann::json oj;
-  if (args.no_oracle) {
-    oj = {{"name", "none"}, {"rays_checked", 0}, {"mismatches", 0}, {"skipped", true}};
-  } else {
-    oracle->Report(oj, 1000);
-    oj["ms"] = oracle_ms;
-  }
-  j["oracle"] = oj;
+  o.stats.ToJson(j);
+  PhasesToJson(j, o.phases);
+  j["oracle"] = o.oracle_json;
   nlohmann::json passes = nlohmann::json::array();
   for (const emu::PassRecord& p : r.passes) {
     nlohmann::json pj = {{"name", p.name}, {"ran", p.ran}, {"reason", p.reason}, {"ms", p.ms}, {"elements", p.elements}};
@@ -127,14 +137,16 @@ ExitCode RunRender(const RenderArgs& args) {
   if (backend.extra_dispatches) j["backend"]["split_dispatches"] = backend.extra_dispatches(backend);
   if (backend.paged_arrays) j["backend"]["paged_arrays"] = backend.paged_arrays(backend);
   if (backend.max_buffer_bytes) j["backend"]["binding_bytes"] = backend.max_buffer_bytes;
-  j["image"] = out;
-  if (!args.stats.empty()) {
-    std::ofstream f(args.stats);
-    if (!f) ThrowInput("{}: cannot write the statistics file", args.stats);
-    f << j.dump(2) << "\n";
-  }
+  j["image"] = o.out;
+  return j;
+}
 
-  // Human-readable summary.
+// Human-readable summary.
+void PrintSummary(const RenderArgs& args, const Outcome& o) {
+  const Scene& scene = o.scene;
+  const Backend& backend = o.backend;
+  const emu::FrameResult& r = o.r;
+  const nlohmann::json& tracer = o.tracer;
   std::printf("rayspace render: %s (%zu triangles in %zu objects, %dx%d, max_depth %d, %zu light%s)\n",
               scene.name.c_str(), r.triangles, scene.objects.size(), r.width, r.height, scene.max_depth,
               scene.lights.size(), scene.lights.size() == 1 ? "" : "s");
@@ -157,19 +169,57 @@ ExitCode RunRender(const RenderArgs& args) {
   }
   for (const emu::PassRecord& p : r.passes)
     if (!p.ran && p.name.rfind("trace.", 0) == 0) std::printf("  skipped     %s: %s\n", p.name.c_str(), p.reason.c_str());
-  stats.Print(stdout);
-  if (args.timings) PrintPhases(stdout, phases, r.total_ms, stats.total);
-  if (args.no_oracle) {
+  o.stats.Print(stdout);
+  if (args.timings) PrintPhases(stdout, o.phases, r.total_ms, o.stats.total);
+  if (!o.oracle) {
     std::printf("  oracle      skipped\n");
   } else {
     std::printf("  oracle      %s: %zu rays checked, %zu mismatches; exact arithmetic found the oracle wrong on %zu, %zu exact ties (shared edges, grazed edges)\n",
-                oj["name"].get<std::string>().c_str(), oracle->rays_checked(), oracle->mismatches().size(), oracle->oracle_wrong().size(),
-                oracle->ties().size());
+                o.oracle_json["name"].get<std::string>().c_str(), o.oracle->rays_checked(), o.oracle->mismatches().size(),
+                o.oracle->oracle_wrong().size(), o.oracle->ties().size());
   }
-  std::printf("  frame       %.1f ms (oracle %.1f ms)\n", r.total_ms, oracle_ms);
+  std::printf("  frame       %.1f ms (oracle %.1f ms)\n", r.total_ms, o.oracle_ms);
   std::printf("  digest      %s\n", HexDigest(r.digest.Frame()).c_str());
-  std::printf("  image       %s\n", out.c_str());
+  std::printf("  image       %s\n", o.out.c_str());
   if (!args.stats.empty()) std::printf("  stats       %s\n", args.stats.c_str());
+}
+
+}  // namespace
+
+ExitCode RunRender(const RenderArgs& args) {
+  if (args.threads > 0) SetThreadCount(args.threads);
+  emu::FrameOptions fo;
+  const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
+  fo.progress = args.progress || isatty(STDERR_FILENO);  // progress on stderr when someone watches
+  const std::string out = args.out.empty() ? scene.name + ".png" : args.out;
+  {  // Fail on an unwritable output before spending time on the frame.
+    std::ofstream probe(out, std::ios::app);
+    if (!probe) ThrowInput("{}: cannot write the output image", out);
+  }
+
+  const Backend backend = MakeBackend(args.backend, args.device, 64, {}, args.Limits(), args.kernels);
+  fo.passes = backend.frame;
+  const SceneBuffers buffers = FlattenScene(scene);
+  CheckFrameFits(backend, fo.width, fo.height, scene.lights.size(), buffers.triangles.size());
+  const Tracers tracers = MakeTracers(args, buffers, fo, backend);
+  std::optional<refs::Oracle> oracle;
+  if (!args.no_oracle) oracle.emplace(*tracers.oracle, buffers);
+  double oracle_ms = 0.0;
+  emu::FrameResult r = RenderChecked(scene, buffers, *tracers.frame, fo, oracle ? &*oracle : nullptr, oracle_ms);
+  WriteImage(out, r.width, r.height, r.rgb);
+
+  nlohmann::json tracer;
+  tracers.frame->Describe(tracer);
+  const refs::Oracle* checked = oracle ? &*oracle : nullptr;
+  const Outcome o{scene, backend, r, checked, oracle_ms, out, tracer, OracleJson(checked, oracle_ms),
+                  tracers.hierarchy ? CollectStatistics(tracers.hierarchy->Stats()) : BruteStatistics(r, buffers.triangles.size()),
+                  Phases(r.passes)};
+  if (!args.stats.empty()) {
+    std::ofstream f(args.stats);
+    if (!f) ThrowInput("{}: cannot write the statistics file", args.stats);
+    f << StatsJson(args, o).dump(2) << "\n";
+  }
+  PrintSummary(args, o);
   return !oracle || oracle->mismatches().empty() ? ExitCode::kOk : ExitCode::kOracleMismatch;
 }
 

@@ -3,6 +3,8 @@
 #include <chrono>
 #include <cstdio>
 
+#include <fmt/format.h>
+
 #include "rayspace/error.h"
 
 namespace rayspace::emu {
@@ -41,7 +43,56 @@ class Runner {
     r_.triangles = b_.triangles.size();
     const int depth = scene_.max_depth;
     fc_ = MakeFrameConstants(scene_, b_, r_.width, r_.height);
+    PrepAndRaster();
 
+    std::vector<std::uint64_t> accum(static_cast<std::size_t>(r_.width) * r_.height * 3, 0);
+    std::vector<gpu::Surface> surfaces;
+    Pass("surfaces.b0", [&] {
+      surfaces = passes_.SurfacesFromGBuffer(SurfacesCall(fc_, r_.gbuffer, b_));
+      r_.digest.Add("surfaces.b0", "surfaces", surfaces);
+      return surfaces.size();
+    });
+
+    for (const MaterialDesc& m : scene_.materials) {
+      reflective_ |= m.reflectivity > 0.0f;
+      transparent_ |= m.transparency > 0.0f;
+    }
+    // Bounces exist only when some material spawns secondary rays from a hit.
+    const int last = (reflective_ || transparent_) ? depth : 0;
+    for (auto& v : r_.rays) v.assign(static_cast<std::size_t>(last) + 1, 0);
+    if (depth == 0) {
+      for (const char* p : {"raygen.", "trim.", "trace.", "surfaces."}) {
+        Skip(std::string(p) + "reflection", "max_depth is 0");
+        Skip(std::string(p) + "refraction", "max_depth is 0");
+      }
+    }
+
+    for (int bounce = 0; bounce <= last; ++bounce) {
+      ShadowAndShade(bounce, surfaces, accum);
+      if (bounce == last) {
+        if (last == 0 && depth > 0) {
+          for (const char* p : {"raygen.", "trim.", "trace.", "surfaces."}) {
+            Skip(std::string(p) + "reflection", "no material has reflectivity > 0");
+            Skip(std::string(p) + "refraction", "no material has transparency > 0");
+          }
+        }
+        break;
+      }
+      surfaces = NextGeneration(bounce, surfaces);
+    }
+    Pass("resolve", [&] {
+      r_.rgb = passes_.Resolve({.frame = fc_, .accum = accum});
+      r_.accum = accum;
+      r_.digest.Add("resolve", "rgb", r_.rgb);
+      return r_.rgb.size() / 3;
+    });
+    r_.total_ms = total.Ms();
+    return std::move(r_);
+  }
+
+ private:
+  // Bounding spheres of the triangles and objects, the tracer's preparation, and the G-buffer.
+  void PrepAndRaster() {
     Pass("prep", [&] {
       r_.triangle_spheres = PassTriangleSpheres(b_.triangles);
       r_.object_spheres = PassObjectSpheres(b_);
@@ -61,121 +112,81 @@ class Runner {
       r_.digest.Add("raster", "depth", g.depth);
       return g.prim.size();
     });
-
-    std::vector<std::uint64_t> accum(static_cast<std::size_t>(r_.width) * r_.height * 3, 0);
-    std::vector<gpu::Surface> surfaces;
-    Pass("surfaces.b0", [&] {
-      surfaces = passes_.SurfacesFromGBuffer(SurfacesCall(fc_, r_.gbuffer, b_));
-      r_.digest.Add("surfaces.b0", "surfaces", surfaces);
-      return surfaces.size();
-    });
-
-    bool reflective = false, transparent = false;
-    for (const MaterialDesc& m : scene_.materials) {
-      reflective |= m.reflectivity > 0.0f;
-      transparent |= m.transparency > 0.0f;
-    }
-    const bool lights = !b_.lights.empty();
-    // Bounces exist only when some material spawns secondary rays from a hit.
-    const int last = (reflective || transparent) ? depth : 0;
-    for (auto& v : r_.rays) v.assign(static_cast<std::size_t>(last) + 1, 0);
-    if (depth == 0) {
-      for (const char* p : {"raygen.", "trim.", "trace.", "surfaces."}) {
-        Skip(std::string(p) + "reflection", "max_depth is 0");
-        Skip(std::string(p) + "refraction", "max_depth is 0");
-      }
-    }
-
-    for (int bounce = 0; bounce <= last; ++bounce) {
-      const std::string bs = "b" + std::to_string(bounce);
-      // Shadow rays of this generation's surfaces, then shading.
-      SparseRays shadow;
-      Trimmed shadow_trim;
-      std::vector<std::uint32_t> occluded;
-      if (lights) {
-        RaygenAndTrim(gpu::kRayShadow, "shadow." + bs, [&] { return passes_.Raygen({.kind = gpu::kRayShadow, .frame = fc_, .surfaces = surfaces, .scene = &b_}); }, shadow, shadow_trim);
-        r_.rays[gpu::kRayShadow][bounce] = shadow_trim.rays.size();
-        Pass("trace.shadow." + bs, [&] {
-          Begin("shadow." + bs, gpu::kRayShadow, bounce);
-          tracer_.Occluded(shadow_trim.rays, occluded);
-          r_.digest.Add("trace.shadow." + bs, "occluded", occluded);
-          return shadow_trim.rays.size();
-        });
-        if (observer_) observer_({"shadow." + bs, gpu::kRayShadow, bounce, &shadow_trim.rays, nullptr, &occluded});
-      } else {
-        Skip("raygen.shadow." + bs, "the scene has no lights");
-        Skip("trim.shadow." + bs, "the scene has no lights");
-        Skip("trace.shadow." + bs, "the scene has no lights");
-      }
-      Pass("shade." + bs, [&] {
-        passes_.Shade({.frame = fc_, .surfaces = surfaces, .shadow_flags = shadow.flags, .shadow_offsets = shadow_trim.offsets,
-                      .occluded = occluded, .accum = &accum, .scene = &b_});
-        r_.digest.Add("shade." + bs, "accum", accum);
-        return surfaces.size();
-      });
-      if (bounce == last) {
-        if (last == 0 && depth > 0) {
-          for (const char* p : {"raygen.", "trim.", "trace.", "surfaces."}) {
-            Skip(std::string(p) + "reflection", "no material has reflectivity > 0");
-            Skip(std::string(p) + "refraction", "no material has transparency > 0");
-          }
-        }
-        break;
-      }
-
-      // Next generation: reflection and refraction rays, their hits become the next surfaces.
-      const std::string next = "b" + std::to_string(bounce + 1);
-      std::vector<gpu::Surface> next_surfaces;
-      const struct {
-        std::uint32_t kind;
-        bool enabled;
-        const char* reason;
-      } kinds[2] = {{gpu::kRayReflection, reflective, "no material has reflectivity > 0"},
-                    {gpu::kRayRefraction, transparent, "no material has transparency > 0"}};
-      for (const auto& k : kinds) {
-        const std::string kn = RayKindName(k.kind);
-        const std::string sfx = kn + "." + next;
-        if (!k.enabled) {
-          for (const char* p : {"raygen.", "trim.", "trace.", "surfaces."}) Skip(p + sfx, k.reason);
-          continue;
-        }
-        SparseRays sparse;
-        Trimmed trimmed;
-        std::vector<std::uint64_t> hits;
-        RaygenAndTrim(
-            k.kind, sfx,
-            [&] {
-              return passes_.Raygen({.kind = k.kind, .frame = fc_, .surfaces = surfaces, .scene = &b_});
-            },
-            sparse, trimmed);
-        r_.rays[k.kind][bounce + 1] = trimmed.rays.size();
-        Pass("trace." + sfx, [&] {
-          Begin(sfx, k.kind, bounce + 1);
-          tracer_.Closest(trimmed.rays, hits);
-          r_.digest.Add("trace." + sfx, "hits", hits);
-          return trimmed.rays.size();
-        });
-        if (observer_) observer_({sfx, k.kind, bounce + 1, &trimmed.rays, &hits, nullptr});
-        Pass("surfaces." + sfx, [&] {
-          std::vector<gpu::Surface> s = passes_.SurfacesFromHits({.rays = trimmed.rays, .hits = hits, .scene = &b_});
-          r_.digest.Add("surfaces." + sfx, "surfaces", s);
-          next_surfaces.insert(next_surfaces.end(), s.begin(), s.end());
-          return s.size();
-        });
-      }
-      surfaces = std::move(next_surfaces);
-    }
-    Pass("resolve", [&] {
-      r_.rgb = passes_.Resolve({.frame = fc_, .accum = accum});
-      r_.accum = accum;
-      r_.digest.Add("resolve", "rgb", r_.rgb);
-      return r_.rgb.size() / 3;
-    });
-    r_.total_ms = total.Ms();
-    return std::move(r_);
   }
 
- private:
+  // Shadow rays of this generation's surfaces, then shading into `accum`.
+  void ShadowAndShade(int bounce, const std::vector<gpu::Surface>& surfaces, std::vector<std::uint64_t>& accum) {
+    const std::string bs = fmt::format("b{}", bounce);
+    SparseRays shadow;
+    Trimmed shadow_trim;
+    std::vector<std::uint32_t> occluded;
+    if (!b_.lights.empty()) {
+      RaygenAndTrim(gpu::kRayShadow, "shadow." + bs, [&] { return passes_.Raygen({.kind = gpu::kRayShadow, .frame = fc_, .surfaces = surfaces, .scene = &b_}); }, shadow, shadow_trim);
+      r_.rays[gpu::kRayShadow][bounce] = shadow_trim.rays.size();
+      Pass("trace.shadow." + bs, [&] {
+        Begin("shadow." + bs, gpu::kRayShadow, bounce);
+        tracer_.Occluded(shadow_trim.rays, occluded);
+        r_.digest.Add("trace.shadow." + bs, "occluded", occluded);
+        return shadow_trim.rays.size();
+      });
+      if (observer_) observer_({"shadow." + bs, gpu::kRayShadow, bounce, &shadow_trim.rays, nullptr, &occluded});
+    } else {
+      Skip("raygen.shadow." + bs, "the scene has no lights");
+      Skip("trim.shadow." + bs, "the scene has no lights");
+      Skip("trace.shadow." + bs, "the scene has no lights");
+    }
+    Pass("shade." + bs, [&] {
+      passes_.Shade({.frame = fc_, .surfaces = surfaces, .shadow_flags = shadow.flags, .shadow_offsets = shadow_trim.offsets,
+                    .occluded = occluded, .accum = &accum, .scene = &b_});
+      r_.digest.Add("shade." + bs, "accum", accum);
+      return surfaces.size();
+    });
+  }
+
+  // Next generation: reflection and refraction rays; their hits are the surfaces returned.
+  std::vector<gpu::Surface> NextGeneration(int bounce, const std::vector<gpu::Surface>& surfaces) {
+    const std::string next = fmt::format("b{}", bounce + 1);
+    std::vector<gpu::Surface> next_surfaces;
+    const struct {
+      std::uint32_t kind;
+      bool enabled;
+      const char* reason;
+    } kinds[2] = {{gpu::kRayReflection, reflective_, "no material has reflectivity > 0"},
+                  {gpu::kRayRefraction, transparent_, "no material has transparency > 0"}};
+    for (const auto& k : kinds) {
+      const std::string kn = RayKindName(k.kind);
+      const std::string sfx = kn + "." + next;
+      if (!k.enabled) {
+        for (const char* p : {"raygen.", "trim.", "trace.", "surfaces."}) Skip(p + sfx, k.reason);
+        continue;
+      }
+      SparseRays sparse;
+      Trimmed trimmed;
+      std::vector<std::uint64_t> hits;
+      RaygenAndTrim(
+          k.kind, sfx,
+          [&] {
+            return passes_.Raygen({.kind = k.kind, .frame = fc_, .surfaces = surfaces, .scene = &b_});
+          },
+          sparse, trimmed);
+      r_.rays[k.kind][bounce + 1] = trimmed.rays.size();
+      Pass("trace." + sfx, [&] {
+        Begin(sfx, k.kind, bounce + 1);
+        tracer_.Closest(trimmed.rays, hits);
+        r_.digest.Add("trace." + sfx, "hits", hits);
+        return trimmed.rays.size();
+      });
+      if (observer_) observer_({sfx, k.kind, bounce + 1, &trimmed.rays, &hits, nullptr});
+      Pass("surfaces." + sfx, [&] {
+        std::vector<gpu::Surface> s = passes_.SurfacesFromHits({.rays = trimmed.rays, .hits = hits, .scene = &b_});
+        r_.digest.Add("surfaces." + sfx, "surfaces", s);
+        next_surfaces.insert(next_surfaces.end(), s.begin(), s.end());
+        return s.size();
+      });
+    }
+    return next_surfaces;
+  }
+
   // The raygen pass of one batch (`suffix` = kind.bounce) and its compaction.
   template <typename F>
   void RaygenAndTrim(std::uint32_t kind, const std::string& suffix, F&& raygen, SparseRays& sparse, Trimmed& trimmed) {
@@ -225,6 +236,7 @@ class Runner {
   gpu::FrameConstants fc_{};
   FrameResult r_;
   std::vector<SubPass> subpasses_;
+  bool reflective_ = false, transparent_ = false;  // some material spawns reflection, refraction rays
 };
 
 }  // namespace
