@@ -80,6 +80,9 @@ file(WRITE "${WORK}/missing_mesh.json"
 file(WRITE "${WORK}/nan.obj" "v 0 0 0\nv 1 0 0\nv nan 0 0\nf 1 2 3\n")
 file(WRITE "${WORK}/nan_mesh.json"
      "{${CAMERA}, ${IMAGE}, ${LIGHTS}, \"objects\": [{\"name\": \"tri\", \"mesh\": \"nan.obj\"}]}\n")
+# A scene whose generator has a negative count.
+file(WRITE "${WORK}/bad_param.json"
+     "{${CAMERA}, ${IMAGE}, ${LIGHTS}, \"objects\": [{\"generator\": \"box\"}, {\"generator\": \"sphere\", \"params\": {\"segments\": -4}}]}\n")
 
 # --- Error cases --------------------------------------------------------------------------------
 expect_error(NAME "malformed scene JSON"
@@ -91,6 +94,9 @@ expect_error(NAME "scene JSON number overflow (1e400)"
 expect_error(NAME "scene references a missing mesh"
              NEEDLES "missing_mesh.json" "objects[0].mesh" "meshes/ghost.obj" "--data"
              ARGS render "${WORK}/missing_mesh.json" --out "${WORK}/x.png")
+expect_error(NAME "generator parameter out of range"
+             NEEDLES "bad_param.json" "objects[1]: generator 'sphere': params.segments: -4 out of range [3, 4096]"
+             ARGS render "${WORK}/bad_param.json" --out "${WORK}/x.png")
 expect_error(NAME "missing scene file"
              NEEDLES "no_such_scene.json"
              ARGS render "${WORK}/no_such_scene.json" --out "${WORK}/x.png")

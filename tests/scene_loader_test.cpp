@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <random>
 #include <string>
@@ -18,8 +19,10 @@
 #include <doctest/doctest.h>
 #include <fmt/format.h>
 #include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
 
 #include "rayspace/error.h"
+#include "rayspace/procedural.h"
 #include "rayspace/scene.h"
 #include "test_util.h"
 
@@ -641,6 +644,61 @@ std::string ExpectObjError(const std::string& obj, std::vector<std::string> need
   return ExpectInputError([&] { LoadScene(scene, LoadOptions{}); }, needles);
 }
 }  // namespace
+
+TEST_CASE("scene: a bad generator parameter names the file, object, generator, parameter and value") {
+  // Generator params go through the loader's checked readers: one line, field path and value.
+  SUBCASE("wrong type") {
+    const std::string msg = ExpectSceneError(SceneWith(R"({"generator": "sphere", "params": {"segments": "many"}})"),
+                                             {"objects[0]: generator 'sphere': params.segments: expected an integer, got \"many\""});
+    CHECK(msg.find("InputError") == std::string::npos);
+  }
+  SUBCASE("negative count") {
+    ExpectSceneError(SceneWith(R"({"generator": "box", "params": {"subdivisions": -3}})"),
+                     {"objects[0]: generator 'box': params.subdivisions: -3 out of range [1, 1024]"});
+  }
+  SUBCASE("count out of range") {
+    ExpectSceneError(SceneWith(R"({"generator": "wavy", "params": {"resolution": 5000}})"),
+                     {"objects[0]: generator 'wavy': params.resolution: 5000 out of range [1, 4096]"});
+  }
+  SUBCASE("count too large for any integer") {
+    ExpectSceneError(SceneWith(R"({"generator": "sphere", "params": {"rings": 18446744073709551615}})"),
+                     {"params.rings: 18446744073709551615 out of range [2, 4096]"});
+  }
+  SUBCASE("fractional count") {
+    ExpectSceneError(SceneWith(R"({"generator": "lamp", "params": {"detail": 2.5}})"),
+                     {"objects[0]: generator 'lamp': params.detail: expected an integer, got 2.5"});
+  }
+  SUBCASE("zero length") {
+    ExpectSceneError(SceneWith(R"({"generator": "cylinder", "params": {"height": 0}})"),
+                     {"params.height: 0 out of range (0, 1000000]"});
+  }
+  SUBCASE("size component of the wrong type") {
+    ExpectSceneError(SceneWith(R"({"generator": "box", "params": {"size": [1, "2", 3]}})"),
+                     {"params.size[1]: expected a number, got \"2\""});
+  }
+  SUBCASE("flag of the wrong type") {
+    ExpectSceneError(SceneWith(R"({"generator": "cornell_room", "params": {"closed": "yes"}})"),
+                     {"params.closed: expected true or false, got \"yes\""});
+  }
+  SUBCASE("unknown parameter lists the known ones") {
+    ExpectSceneError(SceneWith(R"({"generator": "desk", "params": {"segments": 8}})"),
+                     {"params.segments: unknown key (known: detail)"});
+  }
+  SUBCASE("the second object is named") {
+    ExpectSceneError(SceneWith(R"({"generator": "box"}, {"generator": "sphere", "params": {"radius": -1}})"),
+                     {"objects[1]: generator 'sphere': params.radius: -1 out of range (0, 1000000]"});
+  }
+  SUBCASE("NaN (not writable in JSON text, so through Generate)") {
+    const nlohmann::json params = {{"radius", std::numeric_limits<double>::quiet_NaN()}};
+    ExpectInputError([&] { rayspace::Generate("sphere", params, "scene.json: objects[2]"); },
+                     {"scene.json: objects[2]: generator 'sphere': params.radius: nan is not finite"});
+  }
+  SUBCASE("infinity") {
+    const nlohmann::json params = {{"amplitude", std::numeric_limits<double>::infinity()}};
+    ExpectInputError([&] { rayspace::Generate("wavy", params, "scene.json: objects[0]"); },
+                     {"params.amplitude: inf is not finite"});
+  }
+}
 
 TEST_CASE("scene: malformed OBJ meshes") {
   SUBCASE("bad vertex coordinate 'abc'") {

@@ -9,6 +9,7 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
+#include "json_checks.h"
 #include "rayspace/error.h"
 
 namespace rayspace {
@@ -165,117 +166,58 @@ MeshData Single(SubMesh&& m) {
 
 // ---- Parameter parsing ---------------------------------------------------------------------
 
-std::string Shown(const json& v) {
-  std::string s = v.dump();
-  if (s.size() > 40) s = s.substr(0, 37) + "...";
-  return s;
-}
-
+// A generator's params, read with the scene loader's checked readers: errors read
+// "scene.json: objects[3]: generator 'sphere': params.segments: 2 out of range [3, 4096]".
 class Params {
  public:
   Params(const json& params, const std::string& kind, const std::string& where,
-         std::initializer_list<std::string_view> known)
-      : params_(params), kind_(kind), where_(where) {
+         std::initializer_list<const char*> known)
+      : params_(params), c_{fmt::format("{}: generator '{}'", where, kind)} {
     if (params_.is_null()) return;
-    if (!params_.is_object()) {
-      ThrowInput("{}: generator '{}': params must be a JSON object, got {}", where_, kind_, Shown(params_));
-    }
-    for (const auto& item : params_.items()) {
-      bool found = false;
-      for (std::string_view k : known) found = found || item.key() == k;
-      if (!found) {
-        std::string list;
-        for (std::string_view k : known) list += (list.empty() ? "" : ", ") + std::string(k);
-        if (list.empty()) list = "none";
-        ThrowInput("{}: generator '{}': parameter '{}' is not known (known: {})", where_, kind_, item.key(), list);
-      }
-    }
+    json_checks::CheckKeys(c_, params_, "params", known);
   }
 
   int Int(const char* key, int fallback, int lo, int hi) const {
     const json* v = Find(key);
-    if (!v) return fallback;
-    double x = 0.0;
-    if (v->is_number_unsigned()) {
-      x = static_cast<double>(v->get<std::uint64_t>());
-    } else if (v->is_number_integer()) {
-      x = static_cast<double>(v->get<std::int64_t>());
-    } else if (v->is_number_float()) {
-      x = v->get<double>();
-      if (!std::isfinite(x)) Fail(key, fmt::format("must be finite, got {}", Shown(*v)));
-      if (x != std::floor(x)) Fail(key, fmt::format("must be an integer, got {}", Shown(*v)));
-    } else {
-      Fail(key, fmt::format("must be an integer, got {} {}", v->type_name(), Shown(*v)));
-    }
-    if (x < lo || x > hi) Fail(key, fmt::format("must be in [{}, {}], got {}", lo, hi, Shown(*v)));
-    return static_cast<int>(x);
+    return v ? json_checks::Integer(c_, *v, Field(key), lo, hi, true) : fallback;
   }
 
-  // A length or similar: finite, above `lo` (or at least `lo` when !positive) and at most kMaxLength.
+  // A length or similar: finite, above 0 (or at least 0 when !positive) and at most kMaxLength.
   float Number(const char* key, float fallback, bool positive) const {
     const json* v = Find(key);
-    if (!v) return fallback;
-    if (!v->is_number()) Fail(key, fmt::format("must be a number, got {} {}", v->type_name(), Shown(*v)));
-    return Checked(key, v->get<double>(), *v, positive);
+    return v ? static_cast<float>(json_checks::Number(c_, *v, Field(key), 0.0, kMaxLength, positive)) : fallback;
   }
 
   // A number (the same on all three axes) or an array of three numbers, each positive.
   glm::vec3 Size(const char* key, glm::vec3 fallback) const {
     const json* v = Find(key);
     if (!v) return fallback;
-    if (v->is_number()) {
-      float x = Checked(key, v->get<double>(), *v, true);
-      return glm::vec3(x);
-    }
-    if (!v->is_array() || v->size() != 3) {
-      Fail(key, fmt::format("must be a number or an array of 3 numbers, got {}", Shown(*v)));
-    }
-    glm::vec3 out;
-    for (int i = 0; i < 3; ++i) {
-      const json& e = (*v)[i];
-      if (!e.is_number()) {
-        Fail(key, fmt::format("must be a number or an array of 3 numbers, got {}", Shown(*v)));
-      }
-      out[i] = Checked(key, e.get<double>(), e, true);
-    }
-    return out;
+    if (v->is_number()) return glm::vec3(static_cast<float>(json_checks::Number(c_, *v, Field(key), 0.0, kMaxLength, true)));
+    return json_checks::Vec3(c_, *v, Field(key), 0.0, kMaxLength, true);
   }
 
   bool Bool(const char* key, bool fallback) const {
     const json* v = Find(key);
-    if (!v) return fallback;
-    if (!v->is_boolean()) Fail(key, fmt::format("must be true or false, got {} {}", v->type_name(), Shown(*v)));
-    return v->get<bool>();
+    return v ? json_checks::Bool(c_, *v, Field(key)) : fallback;
   }
 
-  [[noreturn]] void Fail(std::string_view key, const std::string& what) const {
-    ThrowInput("{}: generator '{}': parameter '{}' {}", where_, kind_, key, what);
-  }
-
-  void LimitTriangles(std::string_view keys, std::uint64_t triangles) const {
+  void LimitTriangles(const char* key, std::uint64_t triangles) const {
     if (triangles >= kMaxGeneratedTriangles) {
-      Fail(keys, fmt::format("would make {} triangles, the limit is {}", triangles, kMaxGeneratedTriangles - 1));
+      c_.Fail(Field(key), fmt::format("would make {} triangles, the limit is {}", triangles, kMaxGeneratedTriangles - 1));
     }
   }
 
  private:
+  static std::string Field(const char* key) { return std::string("params.") + key; }
+
   const json* Find(const char* key) const {
     if (!params_.is_object()) return nullptr;
     auto it = params_.find(key);
     return it == params_.end() ? nullptr : &*it;
   }
 
-  float Checked(const char* key, double x, const json& v, bool positive) const {
-    if (!std::isfinite(x)) Fail(key, fmt::format("must be finite, got {}", Shown(v)));
-    if (positive && x <= 0.0) Fail(key, fmt::format("must be greater than 0, got {}", Shown(v)));
-    if (!positive && x < 0.0) Fail(key, fmt::format("must not be negative, got {}", Shown(v)));
-    if (x > kMaxLength) Fail(key, fmt::format("must be at most {:g}, got {}", kMaxLength, Shown(v)));
-    return static_cast<float>(x);
-  }
-
   const json& params_;
-  const std::string& kind_;
-  const std::string& where_;
+  json_checks::Ctx c_;
 };
 
 using u64 = std::uint64_t;

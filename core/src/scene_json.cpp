@@ -10,6 +10,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 #include <nlohmann/json.hpp>
 
+#include "json_checks.h"
 #include "rayspace/error.h"
 #include "rayspace/procedural.h"
 #include "rayspace/scene.h"
@@ -23,52 +24,14 @@ bool InDomain(glm::vec3 p) {
   return true;
 }
 
-
 using nlohmann::json;
-
-struct Ctx {
-  std::string file;
-  [[noreturn]] void Fail(const std::string& field, const std::string& msg) const {
-    ThrowInput("{}: {}: {}", file, field, msg);
-  }
-};
-
-void CheckKeys(const Ctx& c, const json& j, const std::string& field, std::initializer_list<const char*> allowed) {
-  if (!j.is_object()) c.Fail(field, "expected an object");
-  for (auto it = j.begin(); it != j.end(); ++it) {
-    bool ok = false;
-    for (const char* a : allowed) ok |= it.key() == a;
-    if (!ok) c.Fail(field + "." + it.key(), "unknown key");
-  }
-}
-
-double Number(const Ctx& c, const json& j, const std::string& field, double lo, double hi) {
-  if (!j.is_number()) c.Fail(field, "expected a number");
-  const double v = j.get<double>();
-  if (!std::isfinite(v)) c.Fail(field, "not finite");
-  if (v < lo || v > hi) c.Fail(field, fmt::format("{} out of range [{}, {}]", v, lo, hi));
-  return v;
-}
-
-int Integer(const Ctx& c, const json& j, const std::string& field, long long lo, long long hi) {
-  if (!j.is_number_integer()) c.Fail(field, "expected an integer");
-  const long long v = j.get<long long>();
-  if (v < lo || v > hi) c.Fail(field, fmt::format("{} out of range [{}, {}]", v, lo, hi));
-  return static_cast<int>(v);
-}
-
-glm::vec3 Vec3(const Ctx& c, const json& j, const std::string& field, double lo = -1e30, double hi = 1e30) {
-  if (!j.is_array() || j.size() != 3) c.Fail(field, "expected an array of 3 numbers");
-  return {static_cast<float>(Number(c, j[0], field + "[0]", lo, hi)),
-          static_cast<float>(Number(c, j[1], field + "[1]", lo, hi)),
-          static_cast<float>(Number(c, j[2], field + "[2]", lo, hi))};
-}
-
-const json& Required(const Ctx& c, const json& j, const char* key, const std::string& field) {
-  auto it = j.find(key);
-  if (it == j.end()) c.Fail(field.empty() ? key : field + "." + key, "missing");
-  return *it;
-}
+using json_checks::CheckKeys;
+using json_checks::Ctx;
+using json_checks::Integer;
+using json_checks::Number;
+using json_checks::Required;
+using json_checks::String;
+using json_checks::Vec3;
 
 CameraDesc ParseCamera(const Ctx& c, const json& j) {
   CheckKeys(c, j, "camera", {"eye", "target", "up", "fov_y_deg"});
@@ -201,16 +164,18 @@ Object PlaceSubMesh(const Ctx& c, const std::string& field, const SubMesh& sub, 
   return o;
 }
 
-}  // namespace
-
-std::size_t Scene::TriangleCount() const {
-  std::size_t n = 0;
-  for (const Object& o : objects) n += o.TriangleCount();
-  return n;
+// The material named "default", added (all defaults) the first time an object needs it.
+std::uint32_t DefaultMaterial(Scene& s, std::map<std::string, std::uint32_t>& by_name) {
+  auto it = by_name.find("default");
+  if (it != by_name.end()) return it->second;
+  MaterialDesc d;
+  d.name = "default";
+  by_name["default"] = static_cast<std::uint32_t>(s.materials.size());
+  s.materials.push_back(d);
+  return by_name["default"];
 }
 
-Scene LoadScene(const std::filesystem::path& path, const LoadOptions& options) {
-  Ctx c{path.string()};
+json ParseFile(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) ThrowInput("{}: cannot open scene file", path.string());
   json root;
@@ -221,22 +186,11 @@ Scene LoadScene(const std::filesystem::path& path, const LoadOptions& options) {
     if (auto p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);
     ThrowInput("{}: invalid JSON: {}", path.string(), what);
   }
-  CheckKeys(c, root, "scene", {"name", "camera", "image", "lights", "materials", "objects", "max_depth"});
+  return root;
+}
 
-  Scene s;
-  s.path = path;
-  s.name = path.stem().string();
-  if (root.contains("name")) {
-    if (!root["name"].is_string()) c.Fail("name", "expected a string");
-    s.name = root["name"].get<std::string>();
-  }
-  s.camera = ParseCamera(c, Required(c, root, "camera", ""));
-  const json& image = Required(c, root, "image", "");
-  CheckKeys(c, image, "image", {"width", "height"});
-  s.width = Integer(c, Required(c, image, "width", "image"), "image.width", 1, kMaxImageSide);
-  s.height = Integer(c, Required(c, image, "height", "image"), "image.height", 1, kMaxImageSide);
-  if (root.contains("max_depth")) s.max_depth = Integer(c, root["max_depth"], "max_depth", 0, kMaxDepth);
-
+// Lights and materials; `by_name` maps material names to their index in s.materials.
+void ParseLightsAndMaterials(const Ctx& c, const json& root, Scene& s, std::map<std::string, std::uint32_t>& by_name) {
   if (root.contains("lights")) {
     const json& lights = root["lights"];
     if (!lights.is_array()) c.Fail("lights", "expected an array");
@@ -244,8 +198,6 @@ Scene LoadScene(const std::filesystem::path& path, const LoadOptions& options) {
     for (std::size_t i = 0; i < lights.size(); ++i)
       s.lights.push_back(ParseLight(c, lights[i], fmt::format("lights[{}]", i)));
   }
-
-  std::map<std::string, std::uint32_t> by_name;
   if (root.contains("materials")) {
     const json& mats = root["materials"];
     if (!mats.is_object()) c.Fail("materials", "expected an object mapping names to materials");
@@ -254,86 +206,113 @@ Scene LoadScene(const std::filesystem::path& path, const LoadOptions& options) {
       s.materials.push_back(ParseMaterial(c, it.key(), it.value()));
     }
   }
-  auto default_material = [&]() -> std::uint32_t {
-    auto it = by_name.find("default");
-    if (it != by_name.end()) return it->second;
-    MaterialDesc d;
-    d.name = "default";
-    by_name["default"] = static_cast<std::uint32_t>(s.materials.size());
-    s.materials.push_back(d);
-    return by_name["default"];
-  };
+}
 
-  const json& objects = Required(c, root, "objects", "");
-  if (!objects.is_array() || objects.empty()) c.Fail("objects", "expected a non-empty array");
-  const std::filesystem::path scene_dir = path.parent_path();
-  for (std::size_t i = 0; i < objects.size(); ++i) {
-    const json& oj = objects[i];
-    const std::string f = fmt::format("objects[{}]", i);
-    CheckKeys(c, oj, f, {"name", "mesh", "generator", "params", "transform", "instances", "material"});
-    const bool has_mesh = oj.contains("mesh"), has_gen = oj.contains("generator");
-    if (has_mesh == has_gen) c.Fail(f, "needs exactly one of 'mesh' or 'generator'");
-    if (oj.contains("params") && !has_gen) c.Fail(f + ".params", "only valid with 'generator'");
-    if (oj.contains("transform") && oj.contains("instances")) c.Fail(f, "give 'transform' or 'instances', not both");
-    std::string name;
-    if (oj.contains("name")) {
-      if (!oj["name"].is_string()) c.Fail(f + ".name", "expected a string");
-      name = oj["name"].get<std::string>();
+// The object's geometry: its mesh file, or its generator with params.
+MeshData ObjectMesh(const Ctx& c, const json& oj, const std::string& f, const std::string& name,
+                    const std::filesystem::path& scene_dir, const LoadOptions& options) {
+  MeshData mesh;
+  if (oj.contains("mesh")) {
+    const std::string& rel = String(c, oj["mesh"], f + ".mesh", "a path string");
+    const std::filesystem::path mesh_path = ResolveMesh(c, f + ".mesh", rel, scene_dir, options);
+    try {
+      mesh = LoadMesh(mesh_path);
+    } catch (const InputError& e) {  // name the object too: the mesh may be shared by several
+      c.Fail(f + (name.empty() ? "" : " (" + name + ")"), e.what());
     }
+  } else {
+    const std::string& generator = String(c, oj["generator"], f + ".generator");
+    static const json kEmpty = json::object();
+    const json& params = oj.contains("params") ? oj["params"] : kEmpty;
+    mesh = Generate(generator, params, c.file + ": " + f);
+  }
+  return mesh;
+}
 
-    MeshData mesh;
-    if (has_mesh) {
-      if (!oj["mesh"].is_string()) c.Fail(f + ".mesh", "expected a path string");
-      const std::filesystem::path mesh_path = ResolveMesh(c, f + ".mesh", oj["mesh"].get<std::string>(), scene_dir, options);
-      try {
-        mesh = LoadMesh(mesh_path);
-      } catch (const InputError& e) {  // name the object too: the mesh may be shared by several
-        c.Fail(f + (name.empty() ? "" : " (" + name + ")"), e.what());
-      }
-    } else {
-      if (!oj["generator"].is_string()) c.Fail(f + ".generator", "expected a string");
-      static const json kEmpty = json::object();
-      const json& params = oj.contains("params") ? oj["params"] : kEmpty;
-      mesh = Generate(oj["generator"].get<std::string>(), params, c.file + ": " + f);
-    }
+std::vector<glm::dmat4> ObjectTransforms(const Ctx& c, const json& oj, const std::string& f) {
+  std::vector<glm::dmat4> transforms;
+  if (oj.contains("instances")) {
+    const json& inst = oj["instances"];
+    if (!inst.is_array() || inst.empty()) c.Fail(f + ".instances", "expected a non-empty array of transforms");
+    for (std::size_t k = 0; k < inst.size(); ++k)
+      transforms.push_back(ParseTransform(c, inst[k], fmt::format("{}.instances[{}]", f, k)));
+  } else {
+    transforms.push_back(oj.contains("transform") ? ParseTransform(c, oj["transform"], f + ".transform") : glm::dmat4(1.0));
+  }
+  return transforms;
+}
 
-    std::uint32_t fixed = UINT32_MAX;
-    if (oj.contains("material")) {
-      if (!oj["material"].is_string()) c.Fail(f + ".material", "expected a material name");
-      auto it = by_name.find(oj["material"].get<std::string>());
-      if (it == by_name.end()) c.Fail(f + ".material", fmt::format("unknown material '{}'", oj["material"].get<std::string>()));
-      fixed = it->second;
-    }
-    // Materials that come with the mesh (MTL) join the scene's list under "object/material".
-    std::vector<std::uint32_t> material_map;
-    if (fixed == UINT32_MAX) {
-      for (const MaterialDesc& m : mesh.materials) {
-        MaterialDesc copy = m;
-        copy.name = (name.empty() ? std::string("mesh") : name) + "/" + m.name;
-        material_map.push_back(static_cast<std::uint32_t>(s.materials.size()));
-        s.materials.push_back(copy);
-      }
-    }
-    const std::uint32_t dflt = fixed == UINT32_MAX ? default_material() : fixed;
+// objects[i]: its mesh placed once per transform, one Object per sub-mesh and transform.
+void AddObject(const Ctx& c, const json& oj, std::size_t i, const std::filesystem::path& scene_dir, const LoadOptions& options,
+               Scene& s, std::map<std::string, std::uint32_t>& by_name) {
+  const std::string f = fmt::format("objects[{}]", i);
+  CheckKeys(c, oj, f, {"name", "mesh", "generator", "params", "transform", "instances", "material"});
+  const bool has_mesh = oj.contains("mesh"), has_gen = oj.contains("generator");
+  if (has_mesh == has_gen) c.Fail(f, "needs exactly one of 'mesh' or 'generator'");
+  if (oj.contains("params") && !has_gen) c.Fail(f + ".params", "only valid with 'generator'");
+  if (oj.contains("transform") && oj.contains("instances")) c.Fail(f, "give 'transform' or 'instances', not both");
+  const std::string name = oj.contains("name") ? String(c, oj["name"], f + ".name") : std::string();
+  const MeshData mesh = ObjectMesh(c, oj, f, name, scene_dir, options);
 
-    std::vector<glm::dmat4> transforms;
-    if (oj.contains("instances")) {
-      const json& inst = oj["instances"];
-      if (!inst.is_array() || inst.empty()) c.Fail(f + ".instances", "expected a non-empty array of transforms");
-      for (std::size_t k = 0; k < inst.size(); ++k)
-        transforms.push_back(ParseTransform(c, inst[k], fmt::format("{}.instances[{}]", f, k)));
-    } else {
-      transforms.push_back(oj.contains("transform") ? ParseTransform(c, oj["transform"], f + ".transform") : glm::dmat4(1.0));
-    }
-    for (std::size_t k = 0; k < transforms.size(); ++k) {
-      for (const SubMesh& sub : mesh.submeshes) {
-        Object o = PlaceSubMesh(c, f, sub, transforms[k], material_map, fixed, dflt);
-        std::string base = name.empty() ? sub.name : (mesh.submeshes.size() == 1 ? name : name + "/" + sub.name);
-        o.name = transforms.size() > 1 ? fmt::format("{}#{}", base, k) : base;
-        if (o.TriangleCount() > 0) s.objects.push_back(std::move(o));
-      }
+  std::uint32_t fixed = UINT32_MAX;
+  if (oj.contains("material")) {
+    const std::string& material = String(c, oj["material"], f + ".material", "a material name");
+    auto it = by_name.find(material);
+    if (it == by_name.end()) c.Fail(f + ".material", fmt::format("unknown material '{}'", material));
+    fixed = it->second;
+  }
+  // Materials that come with the mesh (MTL) join the scene's list under "object/material".
+  std::vector<std::uint32_t> material_map;
+  if (fixed == UINT32_MAX) {
+    for (const MaterialDesc& m : mesh.materials) {
+      MaterialDesc copy = m;
+      copy.name = (name.empty() ? std::string("mesh") : name) + "/" + m.name;
+      material_map.push_back(static_cast<std::uint32_t>(s.materials.size()));
+      s.materials.push_back(copy);
     }
   }
+  const std::uint32_t dflt = fixed == UINT32_MAX ? DefaultMaterial(s, by_name) : fixed;
+
+  const std::vector<glm::dmat4> transforms = ObjectTransforms(c, oj, f);
+  for (std::size_t k = 0; k < transforms.size(); ++k) {
+    for (const SubMesh& sub : mesh.submeshes) {
+      Object o = PlaceSubMesh(c, f, sub, transforms[k], material_map, fixed, dflt);
+      std::string base = name.empty() ? sub.name : (mesh.submeshes.size() == 1 ? name : name + "/" + sub.name);
+      o.name = transforms.size() > 1 ? fmt::format("{}#{}", base, k) : base;
+      if (o.TriangleCount() > 0) s.objects.push_back(std::move(o));
+    }
+  }
+}
+
+}  // namespace
+
+std::size_t Scene::TriangleCount() const {
+  std::size_t n = 0;
+  for (const Object& o : objects) n += o.TriangleCount();
+  return n;
+}
+
+Scene LoadScene(const std::filesystem::path& path, const LoadOptions& options) {
+  Ctx c{path.string()};
+  const json root = ParseFile(path);
+  CheckKeys(c, root, "scene", {"name", "camera", "image", "lights", "materials", "objects", "max_depth"});
+
+  Scene s;
+  s.path = path;
+  s.name = path.stem().string();
+  if (root.contains("name")) s.name = String(c, root["name"], "name");
+  s.camera = ParseCamera(c, Required(c, root, "camera", ""));
+  const json& image = Required(c, root, "image", "");
+  CheckKeys(c, image, "image", {"width", "height"});
+  s.width = Integer(c, Required(c, image, "width", "image"), "image.width", 1, kMaxImageSide);
+  s.height = Integer(c, Required(c, image, "height", "image"), "image.height", 1, kMaxImageSide);
+  if (root.contains("max_depth")) s.max_depth = Integer(c, root["max_depth"], "max_depth", 0, kMaxDepth);
+
+  std::map<std::string, std::uint32_t> by_name;
+  ParseLightsAndMaterials(c, root, s, by_name);
+  const json& objects = Required(c, root, "objects", "");
+  if (!objects.is_array() || objects.empty()) c.Fail("objects", "expected a non-empty array");
+  for (std::size_t i = 0; i < objects.size(); ++i) AddObject(c, objects[i], i, path.parent_path(), options, s, by_name);
   if (s.TriangleCount() == 0) c.Fail("objects", "the scene has no triangles");
   if (s.TriangleCount() >= (1u << 28)) c.Fail("objects", "more than 2^28 triangles");
   return s;
