@@ -133,6 +133,102 @@ struct PassTotals {
   std::uint64_t max_ulp = 0;
 };
 
+// The calls grouped per kernel pass, in order of first appearance, and the first divergent call.
+struct DiffTotals {
+  std::vector<std::string> order;
+  std::map<std::string, PassTotals> totals;
+  const verify::CallRecord* first = nullptr;
+};
+
+DiffTotals Totals(const std::vector<verify::CallRecord>& calls) {
+  DiffTotals d;
+  std::vector<std::string>& order = d.order;
+  std::map<std::string, PassTotals>& totals = d.totals;
+  const verify::CallRecord*& first = d.first;
+  for (const verify::CallRecord& c : calls) {
+    auto [it, fresh] = totals.try_emplace(c.pass);
+    if (fresh) order.push_back(c.pass);
+    PassTotals& t = it->second;
+    ++t.calls;
+    t.emu_ms += c.expected_ms;
+    t.vulkan_ms += c.actual_ms;
+    for (const BufferComparison& b : c.buffers) {
+      auto& e = t.buffers[b.buffer];
+      e.first += b.elements;
+      e.second += b.mismatches + (b.expected_elements != b.actual_elements ? 1 : 0);
+      t.max_ulp = std::max(t.max_ulp, b.max_ulp);
+    }
+    if (!c.equal && t.equal) {
+      t.equal = false;
+      t.first_divergent = &c;
+      if (!first) first = &c;
+    }
+  }
+  return d;
+}
+
+// Prints one line per kernel pass and returns the same as the report's "passes".
+nlohmann::json PrintPasses(DiffTotals& d) {
+  nlohmann::json passes = nlohmann::json::array();
+  std::printf("  %-18s %6s %12s %11s %11s  %s\n", "pass", "calls", "mismatches", "emu ms", "vulkan ms", "buffers (elements)");
+  for (const std::string& p : d.order) {
+    const PassTotals& t = d.totals[p];
+    std::size_t mism = 0;
+    std::string bufs;
+    nlohmann::json bj = nlohmann::json::array();
+    for (const auto& [name, em] : t.buffers) {
+      mism += em.second;
+      bufs += fmt::format("{}{} ({})", bufs.empty() ? "" : ", ", name, em.first);
+      bj.push_back({{"buffer", name}, {"elements", em.first}, {"mismatches", em.second}});
+    }
+    std::printf("  %-18s %6zu %12zu %11.1f %11.1f  %s\n", p.c_str(), t.calls, mism, t.emu_ms, t.vulkan_ms, bufs.c_str());
+    nlohmann::json pj = {{"pass", p}, {"calls", t.calls}, {"equal", t.equal}, {"buffers", bj}, {"max_ulp", t.max_ulp},
+                         {"emu_ms", t.emu_ms}, {"vulkan_ms", t.vulkan_ms}};
+    if (t.first_divergent) pj["first_divergent_call"] = CallJson(*t.first_divergent);
+    passes.push_back(pj);
+  }
+  return passes;
+}
+
+void PrintFirstDivergence(const verify::CallRecord* first) {
+  if (first) {
+    std::printf("  first divergence: %s at %s (call %zu)\n", first->pass.c_str(), first->label.c_str(), first->seq);
+    if (!first->error.empty()) std::printf("    %s\n", first->error.c_str());
+    for (const BufferComparison& b : first->buffers)
+      if (!b.Equal()) std::printf("    %s\n", b.Summary().c_str());
+    if (!first->hits.empty()) std::printf("    hits: %s\n", first->hits.c_str());
+  }
+}
+
+// The --report file: the run, every pass's totals and every call.
+void WriteDiffReport(const DiffArgs& args, const Scene& scene, const emu::FrameOptions& fo, const Backend& gpu,
+                     const verify::Differ& differ, const nlohmann::json& passes, bool equal, const std::string& stopped,
+                     const verify::CallRecord* first, const emu::FrameResult& frame) {
+  nlohmann::json calls = nlohmann::json::array();
+  for (const verify::CallRecord& c : differ.calls()) calls.push_back(CallJson(c));
+  nlohmann::json j = {{"scene", scene.name},
+                      {"width", fo.width},
+                      {"height", fo.height},
+                      {"algorithm", args.algo},
+                      {"device", gpu.device},
+                      {"emulation_model", EmulationModel()},
+                      {"inject", args.inject},
+                      {"local_size", args.local_size},
+                      {"split_dispatches", gpu.extra_dispatches(gpu)},
+                      {"paged_arrays", gpu.paged_arrays(gpu)},
+                      {"passes", passes},
+                      {"calls", calls},
+                      {"host_only", {"prep (bounding spheres: per-scene preprocessing)", "rah ray order (a stable partition by light)",
+                                     args.algo == "brute" || args.algo == "embree" ? "trace (host tracer)" : "hierarchy groups (CSR offsets)"}},
+                      {"equal", equal},
+                      {"stopped", stopped.empty() ? nlohmann::json(nullptr) : nlohmann::json(stopped)},
+                      {"first_divergent_pass", first ? nlohmann::json(first->pass) : nlohmann::json(nullptr)},
+                      {"digest", equal ? nlohmann::json(HexDigest(frame.digest.Frame())) : nlohmann::json(nullptr)}};
+  std::ofstream f(args.report);
+  if (!f) ThrowInput("{}: cannot write the report", args.report);
+  f << j.dump(2) << "\n";
+}
+
 }  // namespace
 
 ExitCode RunDiff(const DiffArgs& args) {
@@ -172,84 +268,17 @@ ExitCode RunDiff(const DiffArgs& args) {
   }
 
   // Totals per kernel pass, in order of first appearance.
-  std::vector<std::string> order;
-  std::map<std::string, PassTotals> totals;
-  const verify::CallRecord* first = nullptr;
-  for (const verify::CallRecord& c : differ.calls()) {
-    auto [it, fresh] = totals.try_emplace(c.pass);
-    if (fresh) order.push_back(c.pass);
-    PassTotals& t = it->second;
-    ++t.calls;
-    t.emu_ms += c.expected_ms;
-    t.vulkan_ms += c.actual_ms;
-    for (const BufferComparison& b : c.buffers) {
-      auto& e = t.buffers[b.buffer];
-      e.first += b.elements;
-      e.second += b.mismatches + (b.expected_elements != b.actual_elements ? 1 : 0);
-      t.max_ulp = std::max(t.max_ulp, b.max_ulp);
-    }
-    if (!c.equal && t.equal) {
-      t.equal = false;
-      t.first_divergent = &c;
-      if (!first) first = &c;
-    }
-  }
-  nlohmann::json passes = nlohmann::json::array();
-  std::printf("  %-18s %6s %12s %11s %11s  %s\n", "pass", "calls", "mismatches", "emu ms", "vulkan ms", "buffers (elements)");
-  for (const std::string& p : order) {
-    const PassTotals& t = totals[p];
-    std::size_t mism = 0;
-    std::string bufs;
-    nlohmann::json bj = nlohmann::json::array();
-    for (const auto& [name, em] : t.buffers) {
-      mism += em.second;
-      bufs += fmt::format("{}{} ({})", bufs.empty() ? "" : ", ", name, em.first);
-      bj.push_back({{"buffer", name}, {"elements", em.first}, {"mismatches", em.second}});
-    }
-    std::printf("  %-18s %6zu %12zu %11.1f %11.1f  %s\n", p.c_str(), t.calls, mism, t.emu_ms, t.vulkan_ms, bufs.c_str());
-    nlohmann::json pj = {{"pass", p}, {"calls", t.calls}, {"equal", t.equal}, {"buffers", bj}, {"max_ulp", t.max_ulp},
-                         {"emu_ms", t.emu_ms}, {"vulkan_ms", t.vulkan_ms}};
-    if (t.first_divergent) pj["first_divergent_call"] = CallJson(*t.first_divergent);
-    passes.push_back(pj);
-  }
-  if (first) {
-    std::printf("  first divergence: %s at %s (call %zu)\n", first->pass.c_str(), first->label.c_str(), first->seq);
-    if (!first->error.empty()) std::printf("    %s\n", first->error.c_str());
-    for (const BufferComparison& b : first->buffers)
-      if (!b.Equal()) std::printf("    %s\n", b.Summary().c_str());
-    if (!first->hits.empty()) std::printf("    hits: %s\n", first->hits.c_str());
-  }
+  DiffTotals totals = Totals(differ.calls());
+  const verify::CallRecord* first = totals.first;
+  const nlohmann::json passes = PrintPasses(totals);
+  PrintFirstDivergence(first);
   if (!stopped.empty()) std::printf("  stopped: %s\n", stopped.c_str());
   const bool equal = first == nullptr && stopped.empty();
   std::printf("  %s\n", equal ? "all passes equal" : ("first divergent pass: " + (first ? first->pass : std::string("?"))).c_str());
   if (equal) std::printf("  frame digest %s\n", HexDigest(frame.digest.Frame()).c_str());
   std::printf("  vulkan: %zu split dispatches, %zu arrays paged over several bindings\n", gpu.extra_dispatches(gpu),
               gpu.paged_arrays(gpu));
-  if (!args.report.empty()) {
-    nlohmann::json calls = nlohmann::json::array();
-    for (const verify::CallRecord& c : differ.calls()) calls.push_back(CallJson(c));
-    nlohmann::json j = {{"scene", scene.name},
-                        {"width", fo.width},
-                        {"height", fo.height},
-                        {"algorithm", args.algo},
-                        {"device", gpu.device},
-                        {"emulation_model", EmulationModel()},
-                        {"inject", args.inject},
-                        {"local_size", args.local_size},
-                        {"split_dispatches", gpu.extra_dispatches(gpu)},
-                        {"paged_arrays", gpu.paged_arrays(gpu)},
-                        {"passes", passes},
-                        {"calls", calls},
-                        {"host_only", {"prep (bounding spheres: per-scene preprocessing)", "rah ray order (a stable partition by light)",
-                                       args.algo == "brute" || args.algo == "embree" ? "trace (host tracer)" : "hierarchy groups (CSR offsets)"}},
-                        {"equal", equal},
-                        {"stopped", stopped.empty() ? nlohmann::json(nullptr) : nlohmann::json(stopped)},
-                        {"first_divergent_pass", first ? nlohmann::json(first->pass) : nlohmann::json(nullptr)},
-                        {"digest", equal ? nlohmann::json(HexDigest(frame.digest.Frame())) : nlohmann::json(nullptr)}};
-    std::ofstream f(args.report);
-    if (!f) ThrowInput("{}: cannot write the report", args.report);
-    f << j.dump(2) << "\n";
-  }
+  if (!args.report.empty()) WriteDiffReport(args, scene, fo, gpu, differ, passes, equal, stopped, first, frame);
   return equal ? ExitCode::kOk : ExitCode::kDivergence;
 }
 

@@ -10,7 +10,7 @@ PACKAGES=(
   doctest-dev libcli11-dev nlohmann-json3-dev libfmt-dev libtinyobjloader-dev libxxhash-dev
   libbenchmark-dev
   mesa-vulkan-drivers libvulkan-dev glslc libspirv-cross-c-shared-dev spirv-tools
-  clang libclang-rt-14-dev fonts-dejavu-core
+  clang libclang-rt-14-dev fonts-dejavu-core python3-clang
 )
 
 missing=()

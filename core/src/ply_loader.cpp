@@ -225,54 +225,13 @@ class PlyParser {
       const std::string_view keyword = f[0];
       if (keyword == "comment" || keyword == "obj_info") continue;
       if (keyword == "format") {
-        if (have_format) Fail("second format line");
-        if (!elements_.empty()) Fail("format line after the first element");
-        if (n != 3) Fail("format line must be 'format TYPE 1.0'");
-        if (f[1] == "ascii") {
-          format_ = Format::kAscii;
-        } else if (f[1] == "binary_little_endian") {
-          format_ = Format::kBinaryLittle;
-        } else if (f[1] == "binary_big_endian") {
-          format_ = Format::kBinaryBig;
-        } else {
-          Fail("unsupported format '{}'", Printable(f[1]));
-        }
-        if (f[2] != "1.0") Fail("unsupported PLY version '{}' (only 1.0 is supported)", Printable(f[2]));
+        FormatLine(f, n, have_format);
         have_format = true;
       } else if (keyword == "element") {
         if (!have_format) Fail("element before the format line");
-        if (n != 3) Fail("element line must be 'element NAME COUNT'");
-        Element e;
-        e.name = std::string(f[1]);
-        e.line = line;
-        const char* first = f[2].data();
-        const char* last = first + f[2].size();
-        const auto r = std::from_chars(first, last, e.count);
-        if (r.ec != std::errc() || r.ptr != last) {
-          Fail("bad count '{}' for element '{}'", Printable(f[2]), Printable(f[1]));
-        }
-        elements_.push_back(std::move(e));
+        ElementLine(f, n, line);
       } else if (keyword == "property") {
-        if (elements_.empty()) Fail("property before any element");
-        Property p;
-        if (n >= 2 && f[1] == "list") {
-          if (n != 5) Fail("list property line must be 'property list COUNT_TYPE ITEM_TYPE NAME'");
-          p.is_list = true;
-          p.count_type = ParseTypeOrFail(f[2]);
-          if (!IsInteger(p.count_type)) {
-            Fail("list count type must be an integer type, not '{}'", NameOf(p.count_type));
-          }
-          p.type = ParseTypeOrFail(f[3]);
-          p.name = std::string(f[4]);
-        } else {
-          if (n != 3) Fail("property line must be 'property TYPE NAME'");
-          p.type = ParseTypeOrFail(f[1]);
-          p.name = std::string(f[2]);
-        }
-        for (const Property& other : elements_.back().properties) {
-          if (other.name == p.name) Fail("duplicate property '{}'", Printable(p.name));
-        }
-        elements_.back().properties.push_back(std::move(p));
+        PropertyLine(f, n);
       } else if (keyword == "end_header") {
         if (n != 1) Fail("unexpected text after end_header");
         if (!have_format) Fail("header has no format line");
@@ -284,6 +243,60 @@ class PlyParser {
         Fail("unknown header keyword '{}'", Printable(keyword));
       }
     }
+  }
+
+  // Header lines split into fields: f[0] is the keyword, n the number of fields (at most 6).
+  void FormatLine(const std::string_view* f, std::size_t n, bool have_format) {
+    if (have_format) Fail("second format line");
+    if (!elements_.empty()) Fail("format line after the first element");
+    if (n != 3) Fail("format line must be 'format TYPE 1.0'");
+    if (f[1] == "ascii") {
+      format_ = Format::kAscii;
+    } else if (f[1] == "binary_little_endian") {
+      format_ = Format::kBinaryLittle;
+    } else if (f[1] == "binary_big_endian") {
+      format_ = Format::kBinaryBig;
+    } else {
+      Fail("unsupported format '{}'", Printable(f[1]));
+    }
+    if (f[2] != "1.0") Fail("unsupported PLY version '{}' (only 1.0 is supported)", Printable(f[2]));
+  }
+
+  void ElementLine(const std::string_view* f, std::size_t n, int line) {
+    if (n != 3) Fail("element line must be 'element NAME COUNT'");
+    Element e;
+    e.name = std::string(f[1]);
+    e.line = line;
+    const char* first = f[2].data();
+    const char* last = first + f[2].size();
+    const auto r = std::from_chars(first, last, e.count);
+    if (r.ec != std::errc() || r.ptr != last) {
+      Fail("bad count '{}' for element '{}'", Printable(f[2]), Printable(f[1]));
+    }
+    elements_.push_back(std::move(e));
+  }
+
+  void PropertyLine(const std::string_view* f, std::size_t n) {
+    if (elements_.empty()) Fail("property before any element");
+    Property p;
+    if (n >= 2 && f[1] == "list") {
+      if (n != 5) Fail("list property line must be 'property list COUNT_TYPE ITEM_TYPE NAME'");
+      p.is_list = true;
+      p.count_type = ParseTypeOrFail(f[2]);
+      if (!IsInteger(p.count_type)) {
+        Fail("list count type must be an integer type, not '{}'", NameOf(p.count_type));
+      }
+      p.type = ParseTypeOrFail(f[3]);
+      p.name = std::string(f[4]);
+    } else {
+      if (n != 3) Fail("property line must be 'property TYPE NAME'");
+      p.type = ParseTypeOrFail(f[1]);
+      p.name = std::string(f[2]);
+    }
+    for (const Property& other : elements_.back().properties) {
+      if (other.name == p.name) Fail("duplicate property '{}'", Printable(p.name));
+    }
+    elements_.back().properties.push_back(std::move(p));
   }
 
   Type ParseTypeOrFail(std::string_view name) const {

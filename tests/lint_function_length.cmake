@@ -1,0 +1,31 @@
+# scripts/function_length.py on its fixture: exactly the long functions without a '// Long:' reason
+# are reported (braces in strings and comments, templates, methods and lambdas included).
+# Run: cmake -DPYTHON=<python3> -DSRC=<source dir> -P lint_function_length.cmake
+foreach(var PYTHON SRC)
+  if(NOT DEFINED ${var} OR "${${var}}" STREQUAL "")
+    message(FATAL_ERROR "lint_function_length.cmake: pass -D${var}=...")
+  endif()
+endforeach()
+execute_process(COMMAND "${PYTHON}" "${SRC}/scripts/function_length.py" --files "${SRC}/tests/lint/function_length_fixture.cpp"
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+set(failures "")
+if(NOT rc EQUAL 1)
+  set(failures "${failures}\nexit code ${rc}, expected 1")
+endif()
+foreach(name "fixture::TooLong: 81 lines" "fixture::LongTemplate: 89 lines" "fixture::Widget::LongMethod: 88 lines"
+             "fixture::LongWithLambda: 91 lines" "9 functions in 1 files, 4 problems")
+  string(FIND "${out}" "${name}" at)
+  if(at EQUAL -1)
+    set(failures "${failures}\nnot reported: ${name}")
+  endif()
+endforeach()
+foreach(name AtLimit LongWithReason LongReasonHigher LongReasonOnFirstLine Short)
+  string(FIND "${out}" "::${name}:" at)
+  if(NOT at EQUAL -1)
+    set(failures "${failures}\nreported but should pass: ${name}")
+  endif()
+endforeach()
+if(failures)
+  message(FATAL_ERROR "lint.function_length.fixture:${failures}\noutput:\n${out}${err}")
+endif()
+message(STATUS "lint.function_length.fixture: ok")
