@@ -287,7 +287,7 @@ ExitCode RunReplay(const ReplayArgs& args) {
   const verify::BufferSet in = verify::BufferSet::Load(args.dir, method_name);
   const verify::PassMethod& method = verify::FindPassMethod(method_name);
   CheckSavedInputs(in, args.dir);
-  const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, ParseInject(args.inject), {}, args.kernels);
+  const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, ParseInject(args.inject), {args.split_bytes, args.max_groups}, args.kernels);
   verify::Backends expected{emu::EmuFramePasses(), emu::EmuHierarchyPasses()};
   verify::Backends actual{gpu.Frame(), gpu.Hierarchy()};
   verify::BufferSet out;

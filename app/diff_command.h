@@ -22,6 +22,8 @@ struct ReplayArgs {
   int device = -1;
   int local_size = 64;
   KernelFiles kernels;
+  std::size_t split_bytes = 0;  // TestLimits, as for render and diff
+  std::uint32_t max_groups = 0;
 };
 
 // Runs one saved pass call (diff --save-inputs) on both backends and compares. Returns kOk when equal,

@@ -30,17 +30,21 @@ void AddFrameOptions(CLI::App& command, FrameArgs& args) {
   command.add_option("--size", args.size, "Image size WxH (overrides the scene)");
   command.add_option("--data", args.data, "Data root for mesh paths (default: $RAYSPACE_DATA)");
   AddDeviceOption(command, args.device);
+  AddLimitOptions(command, args.split_bytes, args.max_groups);
+  AddKernelOption(command, args.kernels);
+}
+
+void AddLimitOptions(CLI::App& command, std::size_t& split_bytes, std::uint32_t& max_groups) {
   command
-      .add_option("--split-bytes", args.split_bytes,
+      .add_option("--split-bytes", split_bytes,
                   "Vulkan: bind at most this many bytes per storage buffer when below the device's "
                   "maxStorageBufferRange, so that passes split and page their buffers on small frames (test use)")
       ->check(CLI::Range(std::size_t{4096}, std::size_t{1} << 40));
   command
-      .add_option("--max-groups", args.max_groups,
+      .add_option("--max-groups", max_groups,
                   "Vulkan: launch at most this many workgroups per row when below the device's "
                   "maxComputeWorkGroupCount, so that large launches fold into rows (test use)")
       ->check(CLI::Range(1u, 65535u));
-  AddKernelOption(command, args.kernels);
 }
 
 void AddDeviceOption(CLI::App& command, int& device) {

@@ -43,6 +43,8 @@ void AddFrameOptions(CLI::App& command, FrameArgs& args);
 void AddDeviceOption(CLI::App& command, int& device);
 // --kernel PASS=FILE, repeatable (render --backend vulkan, diff, replay).
 void AddKernelOption(CLI::App& command, KernelFiles& kernels);
+// --split-bytes and --max-groups (TestLimits): render, diff and replay.
+void AddLimitOptions(CLI::App& command, std::size_t& split_bytes, std::uint32_t& max_groups);
 // --local-size (diff and replay).
 void AddLocalSizeOption(CLI::App& command, int& local_size);
 

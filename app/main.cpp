@@ -63,6 +63,7 @@ int main(int argc, char** argv) {
   rayspace::app::AddLocalSizeOption(*pc, replay.local_size);
   rayspace::app::AddKernelOption(*pc, replay.kernels);
   rayspace::app::AddDeviceOption(*pc, replay.device);
+  rayspace::app::AddLimitOptions(*pc, replay.split_bytes, replay.max_groups);
 #endif
   try {
     app.parse(argc, argv);

@@ -3,8 +3,8 @@
 
 A long function passes when a comment line starting `// Long:` gives the reason, either on the
 function's first line or in the comment block directly above it (the line before the function, or a
-`// Long:` line further up that block when the reason needs more than one line). Functions in files
-this change may not edit are named in an allowlist (scripts/long_functions.txt): one line per
+`// Long:` line further up that block when the reason needs more than one line). Functions whose source
+cannot carry the comment may be named in an allowlist (scripts/long_functions.txt): one line per
 function, `path<TAB or spaces>qualified name<spaces>-- reason`. An allowlisted function that is no
 longer long, or no longer exists, is an error too, so the list stays small and true.
 

@@ -116,7 +116,8 @@ TEST_CASE("registry: docs/architecture.md maps exactly the registered passes to 
     // is the kernel's name up to its first '_'.
     const std::string family = std::string(p.kernel.substr(0, p.kernel.find('_')));
     CHECK(paths[paths.size() - 2] == "emu/src/" + family + ".cpp");
-    CHECK(paths[paths.size() - 1] == "gpu/src/" + family + ".cpp");
+    CHECK(paths[paths.size() - 1] ==
+          (p.push_type == "ElementwisePush" ? std::string("gpu/src/elementwise.cpp") : "gpu/src/" + family + ".cpp"));
     for (std::size_t k = 1; k < paths.size(); ++k) {
       if (paths[k].find('/') == std::string::npos) continue;  // "raster.frag" beside its .vert
       INFO("file ", paths[k]);

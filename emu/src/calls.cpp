@@ -2,7 +2,10 @@
 // a call that passes runs on every backend without reading out of bounds.
 #include "rayspace/emu/calls.h"
 
+#include <cmath>
+
 #include "rayspace/contract.h"
+#include "rayspace/emu/raster_detail.h"
 #include "rayspace/error.h"
 
 namespace rayspace::emu {
@@ -57,6 +60,19 @@ void CheckSurfaces(std::string_view call, In<gpu::Surface> surfaces, const gpu::
 void CheckInputs(const call::Raster& c) {
   CheckFrame(c.kName, c.frame);
   CheckScene(c.kName, c.scene);
+  // Clip coordinates within 2^120 keep the clipper's plane distances, their differences and
+  // products finite, so it never meets a NaN and a triangle never clips to more than 9 vertices.
+  constexpr float kClipLimit = 0x1p120f;
+  for (std::size_t t = 0; t < c.scene->triangles.size(); ++t) {
+    const gpu::Triangle& tri = c.scene->triangles[t];
+    for (const glm::vec4& v : {tri.v0, tri.v1, tri.v2}) {
+      const glm::vec4 clip = raster::VertexStage(c.frame.view_proj, glm::vec3(v));
+      for (int k = 0; k < 4; ++k)
+        if (!(std::fabs(clip[k]) <= kClipLimit))
+          ThrowInput("{}: triangle {} has clip coordinate {} beyond 2^120 (the view-projection or the vertex is out of range)",
+                     c.kName, t, clip[k]);
+    }
+  }
 }
 
 void CheckInputs(const call::SurfacesFromGBuffer& c) {
@@ -92,6 +108,8 @@ void CheckInputs(const call::Raygen& c) {
 void CheckInputs(const call::Trim& c) {
   CheckKind(c.kName, c.kind);
   CheckSameLength(c.kName, "rays", c.rays.size(), "flags", c.flags.size());
+  for (std::size_t i = 0; i < c.flags.size(); ++i)  // head flags: the scan counts them into offsets
+    if (c.flags[i] > 1) ThrowInput("{}: input 'flags' element {} is {}, not a head flag (0 or 1)", c.kName, i, c.flags[i]);
 }
 
 void CheckInputs(const call::Shade& c) {
@@ -111,9 +129,7 @@ void CheckInputs(const call::Shade& c) {
 }
 
 void CheckInputs(const call::Resolve& c) {
-  CheckFrame(c.kName, c.frame);
-  if (c.accum.size() != static_cast<std::size_t>(c.frame.dims.x) * c.frame.dims.y * 3)
-    ThrowInput("{}: input 'accum' does not hold 3 words per pixel of the frame", c.kName);
+  if (c.accum.size() % 3 != 0) ThrowInput("{}: input 'accum' holds {} words, not 3 per pixel", c.kName, c.accum.size());
 }
 
 void CheckInputs(const call::Hash& c) {

@@ -81,7 +81,7 @@ class Runner {
       surfaces = NextGeneration(bounce, surfaces);
     }
     Pass("resolve", [&] {
-      r_.rgb = passes_.Resolve({.frame = fc_, .accum = accum});
+      r_.rgb = passes_.Resolve({.accum = accum});
       r_.accum = accum;
       r_.digest.Add("resolve", "rgb", r_.rgb);
       return r_.rgb.size() / 3;

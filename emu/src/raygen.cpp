@@ -46,48 +46,51 @@ SparseRays PassRaygenShadow(const call::Raygen& c) {
   return out;
 }
 
-SparseRays PassRaygenReflection(const call::Raygen& c) {
-  const gpu::FrameConstants& fc = c.frame;
+namespace {
+
+// One ray slot per surface (reflection and refraction, like their kernels): `direction(sf, m, d,
+// k)` gives the new direction d and weight factor k of a covered surface, or false for no ray.
+template <typename DirectionFn>
+SparseRays SurfaceRays(const call::Raygen& c, std::uint32_t kind, DirectionFn&& direction) {
   const In<gpu::Surface> surfaces = c.surfaces;
-  const SceneBuffers& scene = *c.scene;
   SparseRays out;
   out.rays.assign(surfaces.size(), gpu::Ray{});
   out.flags.assign(surfaces.size(), 0u);
   ParallelFor(surfaces.size(), [&](std::size_t s) {
     const gpu::Surface& sf = surfaces[s];
     if (sf.position.w == 0.0f) return;
-    const gpu::Material& m = scene.materials[sf.info.z];
-    const float kr = m.diffuse_reflectivity.w;
-    if (!(kr > 0.0f)) return;
-    const glm::vec3 i = Xyz(sf.incoming), n = Xyz(sf.normal);
-    const float ni = Dot(n, i);
-    const float k = 2.0f * ni;
-    const glm::vec3 d(i.x - n.x * k, i.y - n.y * k, i.z - n.z * k);  // eq. 3.4: i - 2 n (n.i)
-    if (!(Dot(d, d) > 0.0f)) return;
+    glm::vec3 d;
+    float k;
+    if (!direction(sf, c.scene->materials[sf.info.z], d, k) || !(Dot(d, d) > 0.0f)) return;
     gpu::Ray r;
-    r.origin_tmin = glm::vec4(Xyz(sf.position), fc.params.x);  // eq. 3.3
+    r.origin_tmin = glm::vec4(Xyz(sf.position), c.frame.params.x);  // eqs. 3.3, 3.5
     r.direction_tmax = glm::vec4(d, std::numeric_limits<float>::infinity());
-    r.info = glm::uvec4(sf.info.y, sf.info.x, gpu::kRayReflection, static_cast<std::uint32_t>(s));
-    r.weight = glm::vec4(sf.weight.x * kr, sf.weight.y * kr, sf.weight.z * kr, 0.0f);
+    r.info = glm::uvec4(sf.info.y, sf.info.x, kind, static_cast<std::uint32_t>(s));
+    r.weight = glm::vec4(sf.weight.x * k, sf.weight.y * k, sf.weight.z * k, 0.0f);
     out.rays[s] = r;
     out.flags[s] = 1u;
   });
   return out;
 }
 
+}  // namespace
+
+SparseRays PassRaygenReflection(const call::Raygen& c) {
+  return SurfaceRays(c, gpu::kRayReflection, [](const gpu::Surface& sf, const gpu::Material& m, glm::vec3& d, float& kr) {
+    kr = m.diffuse_reflectivity.w;
+    if (!(kr > 0.0f)) return false;
+    const glm::vec3 i = Xyz(sf.incoming), n = Xyz(sf.normal);
+    const float ni = Dot(n, i);
+    const float k = 2.0f * ni;
+    d = glm::vec3(i.x - n.x * k, i.y - n.y * k, i.z - n.z * k);  // eq. 3.4: i - 2 n (n.i)
+    return true;
+  });
+}
+
 SparseRays PassRaygenRefraction(const call::Raygen& c) {
-  const gpu::FrameConstants& fc = c.frame;
-  const In<gpu::Surface> surfaces = c.surfaces;
-  const SceneBuffers& scene = *c.scene;
-  SparseRays out;
-  out.rays.assign(surfaces.size(), gpu::Ray{});
-  out.flags.assign(surfaces.size(), 0u);
-  ParallelFor(surfaces.size(), [&](std::size_t s) {
-    const gpu::Surface& sf = surfaces[s];
-    if (sf.position.w == 0.0f) return;
-    const gpu::Material& m = scene.materials[sf.info.z];
-    const float kt = m.transparency_ior.x;
-    if (!(kt > 0.0f)) return;
+  return SurfaceRays(c, gpu::kRayRefraction, [](const gpu::Surface& sf, const gpu::Material& m, glm::vec3& d, float& kt) {
+    kt = m.transparency_ior.x;
+    if (!(kt > 0.0f)) return false;
     const glm::vec3 i = Xyz(sf.incoming);
     glm::vec3 n = Xyz(sf.normal);
     float cosi = Dot(i, n);
@@ -99,19 +102,11 @@ SparseRays PassRaygenRefraction(const call::Raygen& c) {
       ri = m.transparency_ior.y;
     }
     const float k = 1.0f - (ri * ri) * (1.0f - cosi * cosi);  // eq. 3.6
-    if (k < 0.0f) return;                                      // total internal reflection
+    if (k < 0.0f) return false;                               // total internal reflection
     const float a = ri * cosi + std::sqrt(k);
-    const glm::vec3 d(i.x * ri - n.x * a, i.y * ri - n.y * a, i.z * ri - n.z * a);  // eq. 3.7
-    if (!(Dot(d, d) > 0.0f)) return;
-    gpu::Ray r;
-    r.origin_tmin = glm::vec4(Xyz(sf.position), fc.params.x);  // eq. 3.5
-    r.direction_tmax = glm::vec4(d, std::numeric_limits<float>::infinity());
-    r.info = glm::uvec4(sf.info.y, sf.info.x, gpu::kRayRefraction, static_cast<std::uint32_t>(s));
-    r.weight = glm::vec4(sf.weight.x * kt, sf.weight.y * kt, sf.weight.z * kt, 0.0f);
-    out.rays[s] = r;
-    out.flags[s] = 1u;
+    d = glm::vec3(i.x * ri - n.x * a, i.y * ri - n.y * a, i.z * ri - n.z * a);  // eq. 3.7
+    return true;
   });
-  return out;
 }
 
 SparseRays PassRaygen(const call::Raygen& c) {

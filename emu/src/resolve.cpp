@@ -9,13 +9,11 @@
 namespace rayspace::emu {
 
 std::vector<std::uint8_t> PassResolve(const call::Resolve& c) {
-  const gpu::FrameConstants& fc = c.frame;
   const In<std::uint64_t> accum = c.accum;
-  const std::size_t npix = static_cast<std::size_t>(fc.dims.x) * fc.dims.y;
-  std::vector<std::uint8_t> rgb(npix * 3);
-  ParallelFor(npix * 3, [&](std::size_t i) {
-    const float c = static_cast<float>(accum[i]) / gpu::kAccumScale;
-    const float g = std::sqrt(Clamp(c, 0.0f, 1.0f));  // display gamma 2: sqrt is exact on both sides
+  std::vector<std::uint8_t> rgb(accum.size());
+  ParallelFor(accum.size(), [&](std::size_t i) {
+    const float v = static_cast<float>(accum[i]) / gpu::kAccumScale;
+    const float g = std::sqrt(Clamp(v, 0.0f, 1.0f));  // display gamma 2: sqrt is exact on both sides
     rgb[i] = static_cast<std::uint8_t>(static_cast<std::uint32_t>(g * 255.0f + 0.5f));
   });
   return rgb;

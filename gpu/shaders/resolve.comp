@@ -1,15 +1,15 @@
 #version 460
 // Fixed-point accumulator -> 8-bit value with display gamma 2 (sqrt); mirrors emu PassResolve.
-// One invocation per channel; the byte is written as a uint.
+// One invocation per channel (an element-wise pass); the byte is written as a uint.
 #include "common.glsl"
 
 layout(std430, binding = kResolveBindAccum) readonly buffer Accum { uint64_t accum[]; };
 layout(std430, binding = kResolveBindRgb) writeonly buffer Rgb { uint rgb[]; };
-layout(push_constant) uniform Block { ResolvePush pc; };
+layout(push_constant) uniform Block { ElementwisePush pc; };
 
 void main() {
   const uint i = GlobalIndex();
-  if (i >= pc.n) return;
+  if (i >= pc.count) return;
   precise const float c = float(accum[i]) / kAccumScale;
   // Fault 1: the gamma step is skipped.
   const float g = kFault == 1u ? min(max(c, 0.0), 1.0) : sqrt(min(max(c, 0.0), 1.0));

@@ -147,6 +147,67 @@ std::vector<std::string> Context::ListDevices() {
   return out;
 }
 
+// The limits and names of the chosen device that the passes and reports read.
+void Context::ReadProperties() {
+  VkPhysicalDeviceProperties props;
+  vkGetPhysicalDeviceProperties(physical_, &props);
+  device_name_ = props.deviceName;
+  max_storage_range_ = props.limits.maxStorageBufferRange;
+  storage_limit_ = max_storage_range_;
+  max_groups_[0] = props.limits.maxComputeWorkGroupCount[0];
+  max_groups_[1] = props.limits.maxComputeWorkGroupCount[1];
+  max_stage_storage_buffers_ = props.limits.maxPerStageDescriptorStorageBuffers;
+  max_image_side_ = props.limits.maxImageDimension2D;
+  VkPhysicalDeviceDriverProperties drv{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+  VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+  p2.pNext = &drv;
+  vkGetPhysicalDeviceProperties2(physical_, &p2);
+  driver_ = fmt::format("{} {}", drv.driverName, drv.driverInfo);
+  vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
+}
+
+// One compute queue, the features the kernels need, and a command pool.
+Status Context::CreateDevice() {
+  std::uint32_t nf = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(physical_, &nf, nullptr);
+  std::vector<VkQueueFamilyProperties> fams(nf);
+  vkGetPhysicalDeviceQueueFamilyProperties(physical_, &nf, fams.data());
+  bool found = false;
+  for (std::uint32_t i = 0; i < nf && !found; ++i)
+    if (fams[i].queueFlags & VK_QUEUE_COMPUTE_BIT) {
+      family_ = i;
+      found = true;
+    }
+  if (!found) return Status::Fail(fmt::format("Vulkan device '{}' has no compute queue", device_name_));
+
+  VkPhysicalDeviceFeatures features{};
+  features.shaderInt64 = VK_TRUE;
+  const float priority = 1.0f;
+  VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+  qci.queueFamilyIndex = family_;
+  qci.queueCount = 1;
+  qci.pQueuePriorities = &priority;
+  // 64-bit buffer atomics: the shade kernel's fixed-point accumulator.
+  VkPhysicalDeviceVulkan12Features have12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  f2.pNext = &have12;
+  vkGetPhysicalDeviceFeatures2(physical_, &f2);
+  VkPhysicalDeviceVulkan12Features want12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  want12.shaderBufferInt64Atomics = have12.shaderBufferInt64Atomics;
+  VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+  dci.pNext = &want12;
+  dci.queueCreateInfoCount = 1;
+  dci.pQueueCreateInfos = &qci;
+  dci.pEnabledFeatures = &features;
+  RS_VK(vkCreateDevice(physical_, &dci, nullptr, &device_));
+  vkGetDeviceQueue(device_, family_, 0, &queue_);
+  VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+  pci.queueFamilyIndex = family_;
+  pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+  RS_VK(vkCreateCommandPool(device_, &pci, nullptr, &pool_));
+  return Status::Ok();
+}
+
 Status Context::Create(int device, std::unique_ptr<Context>& out) {
   auto c = std::make_unique<Context>();
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
@@ -173,59 +234,8 @@ Status Context::Create(int device, std::unique_ptr<Context>& out) {
     if (chosen < 0) chosen = 0;
   }
   c->physical_ = devs[chosen];
-  VkPhysicalDeviceProperties props;
-  vkGetPhysicalDeviceProperties(c->physical_, &props);
-  c->device_name_ = props.deviceName;
-  c->max_storage_range_ = props.limits.maxStorageBufferRange;
-  c->storage_limit_ = c->max_storage_range_;
-  c->max_groups_[0] = props.limits.maxComputeWorkGroupCount[0];
-  c->max_groups_[1] = props.limits.maxComputeWorkGroupCount[1];
-  c->max_stage_storage_buffers_ = props.limits.maxPerStageDescriptorStorageBuffers;
-  c->max_image_side_ = props.limits.maxImageDimension2D;
-  VkPhysicalDeviceDriverProperties drv{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
-  VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
-  p2.pNext = &drv;
-  vkGetPhysicalDeviceProperties2(c->physical_, &p2);
-  c->driver_ = fmt::format("{} {}", drv.driverName, drv.driverInfo);
-  vkGetPhysicalDeviceMemoryProperties(c->physical_, &c->memory_);
-
-  std::uint32_t nf = 0;
-  vkGetPhysicalDeviceQueueFamilyProperties(c->physical_, &nf, nullptr);
-  std::vector<VkQueueFamilyProperties> fams(nf);
-  vkGetPhysicalDeviceQueueFamilyProperties(c->physical_, &nf, fams.data());
-  bool found = false;
-  for (std::uint32_t i = 0; i < nf && !found; ++i)
-    if (fams[i].queueFlags & VK_QUEUE_COMPUTE_BIT) {
-      c->family_ = i;
-      found = true;
-    }
-  if (!found) return Status::Fail(fmt::format("Vulkan device '{}' has no compute queue", c->device_name_));
-
-  VkPhysicalDeviceFeatures features{};
-  features.shaderInt64 = VK_TRUE;
-  const float priority = 1.0f;
-  VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-  qci.queueFamilyIndex = c->family_;
-  qci.queueCount = 1;
-  qci.pQueuePriorities = &priority;
-  // 64-bit buffer atomics: the shade kernel's fixed-point accumulator.
-  VkPhysicalDeviceVulkan12Features have12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-  VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-  f2.pNext = &have12;
-  vkGetPhysicalDeviceFeatures2(c->physical_, &f2);
-  VkPhysicalDeviceVulkan12Features want12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-  want12.shaderBufferInt64Atomics = have12.shaderBufferInt64Atomics;
-  VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-  dci.pNext = &want12;
-  dci.queueCreateInfoCount = 1;
-  dci.pQueueCreateInfos = &qci;
-  dci.pEnabledFeatures = &features;
-  RS_VK(vkCreateDevice(c->physical_, &dci, nullptr, &c->device_));
-  vkGetDeviceQueue(c->device_, c->family_, 0, &c->queue_);
-  VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-  pci.queueFamilyIndex = c->family_;
-  pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-  RS_VK(vkCreateCommandPool(c->device_, &pci, nullptr, &c->pool_));
+  c->ReadProperties();
+  if (Status s = c->CreateDevice(); !s) return s;
   out = std::move(c);
   return Status::Ok();
 }

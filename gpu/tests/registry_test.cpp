@@ -97,8 +97,8 @@ TEST_CASE("registry: user kernels in GLSL are compiled and checked member by mem
   CHECK(CheckSource(PassId::kResolve, std::string(kHeader) +
                                           "layout(std430, binding = kResolveBindAccum) readonly buffer A { uint64_t a[]; };\n"
                                           "layout(std430, binding = kResolveBindRgb) writeonly buffer B { uint b[]; };\n"
-                                          "layout(push_constant) uniform Block { ResolvePush pc; };\n"
-                                          "void main() { if (GlobalIndex() < pc.n) b[GlobalIndex()] = uint(a[GlobalIndex()]); }\n"));
+                                          "layout(push_constant) uniform Block { ElementwisePush pc; };\n"
+                                          "void main() { if (GlobalIndex() < pc.count) b[GlobalIndex()] = uint(a[GlobalIndex()]); }\n"));
   // Same size, another layout: a float where ReducePush has a uint.
   const vk::Status layout = CheckSource(PassId::kReduce, std::string(kHeader) +
                                                              "layout(std430, binding = 0) readonly buffer F { uint f[]; };\n"

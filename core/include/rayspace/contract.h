@@ -256,13 +256,20 @@ struct ShadePush {
   uint accum_page;
 };
 
-// ---- resolve: accumulator -> 8-bit RGB ---------------------------------------------------------
+// ---- element-wise passes: one invocation per element -----------------------------------------------
+// A pass whose call (emu/calls.h, RS_ELEMENTWISE_CALLS) holds only input arrays of one length reads
+// them at bindings 0.. in the call's field order, writes its result at the next binding (a uint per
+// element for results narrower than 32 bits) and needs no host code of its own
+// (gpu/src/elementwise.cpp). Launched in parts: `first` is the part's first element.
+struct ElementwisePush {
+  uint count;
+  uint first;
+};
+
+// ---- resolve: accumulator -> 8-bit RGB (element-wise) ----------------------------------------------
 RS_CONST(uint, kResolveBindAccum, 0u);
 RS_CONST(uint, kResolveBindRgb, 1u);
 RS_CONST(uint, kResolveBindings, 2u);
-struct ResolvePush {
-  uint n;
-};
 
 #ifdef __cplusplus
 static_assert(kPairTriangleMask == (1u << kPairTriangleBits) - 1u);
@@ -279,7 +286,7 @@ static_assert(kShadeBindAccum == kShadeBindOccluded + kBufferPages && kShadeBind
 static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && sizeof(RaygenShadowPush) == 8 &&
               sizeof(RaygenPush) == 8 && sizeof(TrimPush) == 12 && sizeof(HashPush) == 32 && sizeof(SortPush) == 24 &&
               sizeof(BuildPush) == 20 && sizeof(TraversePush) == 56 && sizeof(ReducePush) == 20 &&
-              sizeof(IntersectPush) == 36 && sizeof(ShadePush) == 16 && sizeof(ResolvePush) == 4);
+              sizeof(IntersectPush) == 36 && sizeof(ShadePush) == 16 && sizeof(ElementwisePush) == 8);
 static_assert(offsetof(TraversePush, eps) == 40);
 }  // namespace rayspace::gpu
 #endif

@@ -164,7 +164,7 @@ inline constexpr std::array<PassSpec, kPassCount> kPasses = {{
   {PassId::kReduce,           "reduce",            "reduce",            false, pass_registry_detail::kReducePhases,      gpu::kReduceBindings,       RS_PUSH(ReducePush),        pass_registry_detail::kReduceCalls,        "hierarchy_traversal",       pass_registry_detail::kReduceFaults},
   {PassId::kIntersect,        "intersect",         "intersect",         false, {},                                        gpu::kIntersectBindings,    RS_PUSH(IntersectPush),     pass_registry_detail::kIntersectCalls,     "final_intersection_tests",  pass_registry_detail::kIntersectFaults},
   {PassId::kShade,            "shade",             "shade",             false, {},                                        gpu::kShadeBindings,        RS_PUSH(ShadePush),         pass_registry_detail::kShadeCalls,         "",                          pass_registry_detail::kShadeFaults},
-  {PassId::kResolve,          "resolve",           "resolve",           false, {},                                        gpu::kResolveBindings,      RS_PUSH(ResolvePush),       pass_registry_detail::kResolveCalls,       "",                          pass_registry_detail::kResolveFaults},
+  {PassId::kResolve,          "resolve",           "resolve",           false, {},                                        gpu::kResolveBindings,      RS_PUSH(ElementwisePush),      pass_registry_detail::kResolveCalls,       "",                          pass_registry_detail::kResolveFaults},
 }};
 // clang-format on
 #undef RS_PUSH
@@ -175,6 +175,14 @@ constexpr const PassSpec& Pass(PassId id) { return kPasses[static_cast<std::size
 constexpr std::optional<PassId> FindPass(std::string_view name) {
   for (const PassSpec& p : kPasses)
     if (p.name == name) return p.id;
+  return std::nullopt;
+}
+
+// The first registered pass that lists a backend call (e.g. "resolve"), or nothing.
+constexpr std::optional<PassId> PassOfCall(std::string_view call) {
+  for (const PassSpec& p : kPasses)
+    for (const CallSpec& c : p.calls)
+      if (c.name == call) return p.id;
   return std::nullopt;
 }
 

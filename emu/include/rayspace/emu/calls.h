@@ -96,14 +96,13 @@ struct Shade {
   RS_FIELDS(frame, surfaces, shadow_flags, shadow_offsets, occluded, accum, scene)
 };
 
-// Fixed point -> 8-bit RGB with display gamma 2 (sqrt).
+// Fixed point -> 8-bit RGB with display gamma 2 (sqrt), channel by channel (element-wise).
 struct Resolve {
   static constexpr std::string_view kName = "resolve";
   using Result = std::vector<std::uint8_t>;
   static constexpr std::string_view kResult = "rgb";
-  gpu::FrameConstants frame{};
   In<std::uint64_t> accum{};
-  RS_FIELDS(frame, accum)
+  RS_FIELDS(accum)
 };
 
 // ---- hierarchy passes -----------------------------------------------------------------------------
@@ -242,6 +241,10 @@ struct Intersect {
 #define RS_HIERARCHY_CALLS(X)                                                                        \
   X(Hash) X(Compress) X(SortChunks) X(Decompress) X(BuildLeaves) X(BuildParents) X(ObjectMask) X(TraverseTop) \
   X(TraverseLevel) X(Reduce) X(Intersect)
+
+// Calls whose kernel runs one invocation per element over input arrays of one length, with no other
+// input (rayspace/contract.h, "element-wise passes"): the Vulkan backend launches them generically.
+#define RS_ELEMENTWISE_CALLS(X) X(Resolve)
 
 // Throws InputError when a call's inputs break its contract (an index out of range, lengths that
 // disagree): what the diff and `replay` check before running a saved or hand-made call, so that no

@@ -67,6 +67,9 @@ class VulkanPasses {
   // Elements per part when each element takes `bytes_per_element` in the largest per-part binding.
   std::size_t PerPart(std::size_t bytes_per_element) const;
   vk::Status RaygenShadow(const emu::call::Raygen& c, emu::SparseRays& out);
+  // The launch of an element-wise pass (gpu/src/elementwise.cpp).
+  template <typename C>
+  vk::Status Elementwise(const C& c, VulkanOut<C>& out);
   vk::Status RaygenSurface(const vk::Kernel& k, const emu::call::Raygen& c, emu::SparseRays& out);
   const vk::Kernel& K(PassId id) const { return kernels_[static_cast<std::size_t>(id)]; }
   std::unique_ptr<vk::Context> ctx_;

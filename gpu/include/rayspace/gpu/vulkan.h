@@ -213,6 +213,8 @@ class Context {
   static std::vector<std::string> ListDevices();
 
  private:
+  void ReadProperties();
+  Status CreateDevice();
   friend class Recorder;
   // Submits one ended command buffer to the queue and waits for it.
   Status SubmitAndWait(VkCommandBuffer cmd);
