@@ -53,7 +53,7 @@ run(wrong_binding 2 "binding 9" diff "${scene}" --size 32x32 --kernel reduce=${W
 # SPIR-V is taken as it is: the built-in kernel compiled by hand, if glslc is on the PATH.
 find_program(GLSLC glslc)
 if(GLSLC)
-  execute_process(COMMAND ${GLSLC} -O0 --target-env=vulkan1.2 -I ${SRC}/gpu/shaders -I ${SRC}/core/include
+  execute_process(COMMAND ${GLSLC} -O0 --target-env=vulkan1.2 -I ${SRC}/gpu/shaders -I ${SRC}/core/contract/include
                           ${WORK}/my_reduce.comp -o ${WORK}/my_reduce.spv RESULT_VARIABLE rc)
   run(spv 0 "all passes equal" diff "${scene}" --size 64x64 --kernel reduce=${WORK}/my_reduce.spv)
 endif()
