@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <string>
 #include <string_view>
@@ -12,6 +13,9 @@
 #include <doctest/doctest.h>
 #include <fmt/format.h>
 
+#include "rayspace/emu/frame.h"
+#include "rayspace/emu/hierarchy.h"
+#include "rayspace/procedural.h"
 #include "rayspace/scene.h"
 #include "rayspace/scene_buffers.h"
 
@@ -77,6 +81,77 @@ inline Scene LoadBundled(const std::string& file) {
   LoadOptions lo;
   lo.data_root = DataRoot();
   return LoadScene(SourceDir() / "scenes" / file, lo);
+}
+
+// One floor quad, one material and one light, seen from above on an 8x8 frame: the scene of the
+// ray-generation and shading known answers, with a builder for hand-made shading points.
+struct ShadingFixture {
+  Scene scene;
+  SceneBuffers b;
+  gpu::FrameConstants fc{};
+  explicit ShadingFixture(MaterialDesc m, LightDesc light = {}) {
+    scene.camera.eye = {0, 3, 3};
+    scene.camera.target = {0, 0, 0};
+    scene.materials.push_back(m);
+    scene.lights.push_back(light);
+    AddQuad(scene, "floor", {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, {-1, 0, -1});
+    b = FlattenScene(scene);
+    fc = MakeFrameConstants(scene, b, 8, 8);
+  }
+  gpu::Surface Surface(glm::vec3 p, glm::vec3 n, glm::vec3 incoming) const {
+    gpu::Surface s{};
+    s.position = glm::vec4(p, 1);
+    s.normal = glm::vec4(n, 0);
+    s.incoming = glm::vec4(incoming, 0);
+    s.weight = glm::vec4(1, 1, 1, 0);
+    s.info = glm::uvec4(0, 0, 0, 0);
+    return s;
+  }
+};
+
+// A reflection ray from o along d (not normalised), t in (0, inf), leaving primitive `ignore`.
+inline gpu::Ray MakeRay(glm::vec3 o, glm::vec3 d, std::uint32_t ignore = gpu::kNoPrim) {
+  gpu::Ray r{};
+  r.origin_tmin = glm::vec4(o, 0.0f);
+  r.direction_tmax = glm::vec4(d, std::numeric_limits<float>::infinity());
+  r.info = glm::uvec4(0, ignore, gpu::kRayReflection, 0);
+  return r;
+}
+
+// A closed unit sphere mesh at the origin as one object.
+inline Scene SphereScene(int segments, int rings) {
+  Scene s;
+  s.camera.eye = {0, 0, 5};
+  s.materials.push_back(Diffuse("m", glm::vec3(0.5f)));
+  MeshData m = GenerateSphere(1.0f, segments, rings, "sphere");
+  Object o;
+  o.name = "sphere";
+  o.positions = m.submeshes[0].positions;
+  o.normals = m.submeshes[0].normals;
+  o.material.assign(o.TriangleCount(), 0);
+  s.objects.push_back(o);
+  return s;
+}
+
+// A frame rendered with the hierarchy tracer, and the tracer's statistics.
+struct HRun {
+  emu::FrameResult frame;
+  std::vector<emu::BatchStats> stats;
+};
+
+inline HRun RunHierarchy(const Scene& s, int w, int h, emu::HierarchyConfig cfg, std::vector<std::uint64_t>* log = nullptr) {
+  const SceneBuffers b = FlattenScene(s);
+  cfg.image_width = w;
+  cfg.image_height = h;
+  cfg.candidate_log = log;
+  auto tracer = emu::MakeHierarchyTracer(b, cfg);
+  emu::FrameOptions fo;
+  fo.width = w;
+  fo.height = h;
+  HRun r;
+  r.frame = emu::RenderFrame(s, b, *tracer, fo);
+  r.stats = tracer->Stats();
+  return r;
 }
 
 }  // namespace rayspace::test
