@@ -74,3 +74,98 @@ TEST_CASE("cone: leaf nodes hold their rays and parents hold their children (ran
   CHECK(full > 0);     // antiparallel children really produce the whole sphere
   CHECK(full < 2000);  // and most parents stay proper cones
 }
+
+namespace {
+
+// Half-angle bounds without trigonometry in the code under test: atan2 of the node's (sin, cos).
+constexpr double kTwoPow19 = 1.0 / (1 << 19), kTwoPow18 = 1.0 / (1 << 18);
+
+gpu::Ray RayFrom(glm::vec3 o, glm::vec3 d) {
+  gpu::Ray r{};
+  r.origin_tmin = glm::vec4(o, 0.0f);
+  r.direction_tmax = glm::vec4(d, 1.0f);
+  return r;
+}
+
+std::vector<gpu::ConeNode> Leaves(const std::vector<gpu::Ray>& rays, const std::vector<std::uint32_t>& order,
+                                  const std::vector<std::uint32_t>& first) {
+  return PassBuildLeaves({.rays = rays, .order = order, .first = first});
+}
+
+}  // namespace
+
+TEST_CASE("build.leaves: a leaf over one ray, two parallel rays, two antiparallel rays") {
+  // Rays: 0 from (1,2,3) along (0,3,4) (not unit); 1, 2 from (0,0,0) and (2,0,0) along +z; 3, 4 from
+  // the origin along +z and -z; 5, 6 from the origin along +x and +y.
+  const std::vector<gpu::Ray> rays = {RayFrom({1, 2, 3}, {0, 3, 4}), RayFrom({0, 0, 0}, {0, 0, 1}),
+                                      RayFrom({2, 0, 0}, {0, 0, 1}), RayFrom({0, 0, 0}, {0, 0, 1}),
+                                      RayFrom({0, 0, 0}, {0, 0, -1}), RayFrom({0, 0, 0}, {2, 0, 0}),
+                                      RayFrom({0, 0, 0}, {0, 2, 0})};
+  // Leaves in a different order than the rays, through `order`.
+  const std::vector<std::uint32_t> order = {3, 4, 0, 2, 1, 5, 6}, first = {0, 2, 3, 5, 7};
+  const auto n = Leaves(rays, order, first);
+  REQUIRE(n.size() == 4);
+
+  // One ray: the sphere is its origin (radius only the tiny absolute floor), the cone its unit
+  // direction (0, 0.6, 0.8) with a half-angle of the finishing margin alone (2^-20 rad).
+  const gpu::ConeNode& one = n[1];
+  CHECK(glm::vec3(one.sphere) == glm::vec3(1, 2, 3));
+  CHECK(one.sphere.w > 0.0f);
+  CHECK(one.sphere.w < 1e-30f);
+  CHECK(one.cone.x == 0.0f);
+  CHECK(one.cone.y == doctest::Approx(0.6).epsilon(1e-6));
+  CHECK(one.cone.z == doctest::Approx(0.8).epsilon(1e-6));
+  CHECK(HalfAngle(one) > 0.0);
+  CHECK(HalfAngle(one) <= kTwoPow19);
+  CHECK(one.extra.y == 1.0f);  // rays below
+
+  // Two parallel rays 2 apart: centre half way, radius 1 (plus margins), the common direction.
+  const gpu::ConeNode& two = n[2];
+  CHECK(glm::vec3(two.sphere) == glm::vec3(1, 0, 0));
+  CHECK(two.sphere.w >= 1.0f);
+  CHECK(two.sphere.w <= 1.0 + 2 * kTwoPow18);  // the 2^-18 margin, rounded up
+  CHECK(glm::vec3(two.cone) == glm::vec3(0, 0, 1));
+  CHECK(HalfAngle(two) <= kTwoPow18);
+  CHECK(two.extra.y == 2.0f);
+
+  // Two antiparallel rays: every direction, the full sphere.
+  CHECK(cone::IsFull(n[0]));
+  CHECK(n[0].cone.w == -1.0f);
+  CHECK(n[0].extra.y == 2.0f);
+
+  // Two perpendicular rays (+x, +y): the axis bisects them, (1, 1, 0) / sqrt 2, at 45 degrees.
+  const gpu::ConeNode& right = n[3];
+  const double r = 1.0 / std::sqrt(2.0), quarter = std::atan(1.0);
+  CHECK(right.cone.x == doctest::Approx(r).epsilon(1e-5));
+  CHECK(right.cone.y == doctest::Approx(r).epsilon(1e-5));
+  CHECK(right.cone.z == 0.0f);
+  CHECK(HalfAngle(right) >= quarter);
+  CHECK(HalfAngle(right) <= quarter + 1e-5);
+  CHECK(right.extra.y == 2.0f);
+}
+
+TEST_CASE("build.parents: a parent over two identical children is the child, widened by the margins only") {
+  // A child around (1,2,3) with radius 0.5 and a 30-degree cone over 4 rays, about +z and about a unit
+  // axis whose float components do not square to exactly 1.
+  for (const glm::vec3 axis : {glm::vec3(0, 0, 1), glm::vec3(0, 0.6f, 0.8f)}) {
+    gpu::ConeNode child;
+    child.sphere = glm::vec4(1, 2, 3, 0.5f);
+    child.cone = glm::vec4(axis, std::sqrt(3.0f) / 2);
+    child.extra = glm::vec4(0.5f, 4, 0, 0);
+    const std::vector<gpu::ConeNode> below = {child, child, child};
+    const std::vector<std::uint32_t> first = {0, 2, 3};  // a parent over two children, one over one
+    const auto p = PassBuildParents({.below = below, .first = first});
+    REQUIRE(p.size() == 2);
+    for (std::size_t i = 0; i < 2; ++i) {
+      INFO("axis " << axis.y << " parent " << i << " half-angle excess " << HalfAngle(p[i]) - HalfAngle(child));
+      CHECK(glm::vec3(p[i].sphere) == glm::vec3(child.sphere));
+      CHECK(p[i].sphere.w >= child.sphere.w);
+      CHECK(p[i].sphere.w <= 0.5 * (1.0 + kTwoPow18) + 1e-7);  // one radius margin (2^-18 relative)
+      for (int k = 0; k < 3; ++k) CHECK(p[i].cone[k] == doctest::Approx(axis[k]).epsilon(1e-7));
+      CHECK(HalfAngle(p[i]) >= HalfAngle(child));
+      CHECK(HalfAngle(p[i]) <= HalfAngle(child) + kTwoPow19);  // one angle margin (2^-20 rad)
+    }
+    CHECK(p[0].extra.y == 8.0f);  // the counts add up
+    CHECK(p[1].extra.y == 4.0f);
+  }
+}

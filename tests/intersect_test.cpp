@@ -1,5 +1,8 @@
-// The intersect pass and the ray-triangle test it uses: watertightness, accurate distances.
+// The intersect pass and the ray-triangle test it uses: watertightness, accurate distances, and
+// known answers for the pass on hand-made pairs.
 #include <doctest/doctest.h>
+
+#include <algorithm>
 
 #include "rayspace/emu/intersect.h"
 #include "rayspace/emu/hierarchy.h"
@@ -44,4 +47,69 @@ TEST_CASE("intersect: hit distance is accurate on long thin triangles") {
   REQUIRE(IntersectWatertight(SetupWatertight(o, d), v0, v1, v2, 0.0f, 1e30f, t));
   // Exact value (rational arithmetic): 6.187082996820349.
   CHECK(t == doctest::Approx(6.187082996820349).epsilon(1e-6));
+}
+
+namespace {
+
+// Two unit quads facing +z: "near" at z = 0 (triangles 0, 1) and "far" at z = -2 (triangles 2, 3). The
+// point (0.2, 0.1) lies in triangle 0 (below the diagonal y = x) and, behind it, in triangle 2.
+struct TwoQuads {
+  SceneBuffers b;
+  std::vector<gpu::Ray> rays;
+  TwoQuads() {
+    Scene s;
+    s.materials.push_back(test::Diffuse("m", glm::vec3(0.5f)));
+    test::AddQuad(s, "near", {-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0});
+    test::AddQuad(s, "far", {-1, -1, -2}, {1, -1, -2}, {1, 1, -2}, {-1, 1, -2});
+    b = FlattenScene(s);
+    rays.push_back(MakeRay({0.2f, 0.1f, 1}, {0, 0, -1}));     // 0: triangle 0 at t = 1, triangle 2 at t = 3
+    rays.push_back(MakeRay({0.2f, 0.1f, 1}, {0, 0, -1}, 0));  // 1: the same, leaving triangle 0
+    rays.push_back(MakeRay({5, 5, 1}, {0, 0, -1}));           // 2: beside both quads
+    rays.push_back(MakeRay({0.2f, 0.1f, 1}, {0, 0, -1}));     // 3: stops at t = 0.5, before both
+    rays[3].direction_tmax.w = 0.5f;
+  }
+};
+
+std::uint32_t Pair(std::uint32_t node, std::uint32_t tri) { return node << kPairTriangleBits | tri; }
+
+}  // namespace
+
+TEST_CASE("intersect: one pass over hand-made pairs (tests per pair, closest hit, occlusion, the surface left)") {
+  const TwoQuads q;
+  // Level-1 nodes over the rays through `order`: node 0 holds rays 2, 0, 1 and node 1 holds ray 3.
+  const std::vector<std::uint32_t> order = {2, 0, 1, 3}, first1 = {0, 3, 4};
+  for (bool reversed : {false, true}) {
+    std::vector<std::uint32_t> pairs = {Pair(0, 0), Pair(0, 2), Pair(1, 2), Pair(1, 0)};
+    if (reversed) std::reverse(pairs.begin(), pairs.end());
+    INFO("pairs reversed: " << reversed);
+    std::vector<std::uint64_t> hits(4, kMissPacked);
+    const auto tests =
+        PassIntersect({.pairs = pairs, .first1 = first1, .order = order, .rays = q.rays, .scene = &q.b, .hits = &hits});
+    // A pair tests every ray below its node.
+    const std::vector<std::uint32_t> expect_tests = reversed ? std::vector<std::uint32_t>{1, 1, 3, 3}
+                                                             : std::vector<std::uint32_t>{3, 3, 1, 1};
+    CHECK(tests == expect_tests);
+    CHECK(hits[0] == PackHit(1.0f, 0));  // the nearer of triangles 0 (t = 1) and 2 (t = 3)
+    CHECK(hits[1] == PackHit(3.0f, 2));  // leaves triangle 0: only triangle 2
+    CHECK(hits[2] == kMissPacked);
+    CHECK(hits[3] == kMissPacked);
+
+    std::vector<std::uint32_t> occluded(4, 0);
+    PassIntersect({.pairs = pairs, .first1 = first1, .order = order, .rays = q.rays, .scene = &q.b, .occluded = &occluded});
+    CHECK(occluded == std::vector<std::uint32_t>{1, 1, 0, 0});
+  }
+  // Only the pair with triangle 0: the ray leaving it hits nothing.
+  std::vector<std::uint64_t> hits(4, kMissPacked);
+  const std::vector<std::uint32_t> pairs = {Pair(0, 0)};
+  PassIntersect({.pairs = pairs, .first1 = first1, .order = order, .rays = q.rays, .scene = &q.b, .hits = &hits});
+  CHECK(hits[0] == PackHit(1.0f, 0));
+  CHECK(hits[1] == kMissPacked);
+  // Node and triangle ids are relative to base1 and b0: with node 0 over ray 3 and node 1 over rays
+  // 2, 0, 1, the pair (0, 0) with base1 = 1 and b0 = 2 is node 1 against triangle 2.
+  std::vector<std::uint32_t> occluded(4, 0);
+  const std::vector<std::uint32_t> rel = {Pair(0, 0)}, order2 = {3, 2, 0, 1}, first2 = {0, 1, 4};
+  const auto tests = PassIntersect({.pairs = rel, .first1 = first2, .base1 = 1, .b0 = 2, .order = order2, .rays = q.rays,
+                                    .scene = &q.b, .occluded = &occluded});
+  CHECK(tests == std::vector<std::uint32_t>{3});
+  CHECK(occluded == std::vector<std::uint32_t>{1, 1, 0, 0});
 }

@@ -74,3 +74,60 @@ TEST_CASE("traversal: every pair the final test accepts is a hierarchy candidate
     CHECK(missing == 0);
   }
 }
+
+namespace {
+
+// Two top nodes at the origin (radius 0.1, half-angle 30 degrees, along +z and -z) and four
+// triangle spheres: 0 on the +z axis, 1 far behind the +z node's apex (on the -z axis), 2 further up
+// the +z axis, 3 beside both cones. Triangles 0, 1 are object 0; triangles 2, 3 object 1.
+struct TopFixture {
+  SceneBuffers b;
+  std::vector<gpu::ConeNode> top;
+  std::vector<glm::vec4> spheres = {{0, 0, 10, 0.5f}, {0, 0, -100, 1}, {0, 0, 20, 0.5f}, {20, 0, 1, 1}};
+  TopFixture() {
+    Scene s;
+    s.materials.push_back(test::Diffuse("m", glm::vec3(0.5f)));
+    test::AddQuad(s, "a", {-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0});
+    test::AddQuad(s, "b", {-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1});
+    b = FlattenScene(s);
+    for (float z : {1.0f, -1.0f}) {
+      gpu::ConeNode n;
+      n.sphere = glm::vec4(0, 0, 0, 0.1f);
+      n.cone = glm::vec4(0, 0, z, std::sqrt(3.0f) / 2);
+      n.extra = glm::vec4(0.5f, 8, 0, 0);
+      top.push_back(n);
+    }
+  }
+  call::TraverseTop Call(std::uint32_t t0, std::uint32_t t1, std::uint32_t b0, std::uint32_t b1) const {
+    return {.top = top, .t0 = t0, .t1 = t1, .b0 = b0, .b1 = b1, .tri_spheres = spheres, .scene = &b, .object_mask = {}, .eps = 0.0f};
+  }
+};
+
+std::uint32_t Pair(std::uint32_t node, std::uint32_t tri) { return node << kPairTriangleBits | tri; }
+
+}  // namespace
+
+TEST_CASE("traverse.top: spheres on the cone's axis are flagged, spheres behind the apex or beside it are not") {
+  const TopFixture f;
+  const PairSlots s = PassTraverseTop(f.Call(0, 2, 0, 4));
+  // Slot node * 4 + triangle.
+  CHECK(s.flags == std::vector<std::uint8_t>{1, 0, 1, 0, /* -z node: */ 0, 1, 0, 0});
+  CHECK(s.tested == std::vector<std::uint8_t>(8, 1));
+  CHECK(s.values == std::vector<std::uint32_t>{Pair(0, 0), Pair(0, 1), Pair(0, 2), Pair(0, 3), Pair(1, 0), Pair(1, 1),
+                                              Pair(1, 2), Pair(1, 3)});
+  // A sub-block: node 1 against triangles 1, 2, with ids relative to t0 and b0.
+  const PairSlots sub = PassTraverseTop(f.Call(1, 2, 1, 3));
+  CHECK(sub.flags == std::vector<std::uint8_t>{1, 0});
+  CHECK(sub.values == std::vector<std::uint32_t>{Pair(0, 0), Pair(0, 1)});
+}
+
+TEST_CASE("traverse.top: an object mask of 0 skips the test and records tested = 0") {
+  const TopFixture f;
+  // Top nodes x objects: the +z node may not meet object 1; the -z node may meet both.
+  const std::vector<std::uint8_t> mask = {1, 0, 1, 1};
+  call::TraverseTop c = f.Call(0, 2, 0, 4);
+  c.object_mask = mask;
+  const PairSlots s = PassTraverseTop(c);
+  CHECK(s.tested == std::vector<std::uint8_t>{1, 1, 0, 0, 1, 1, 1, 1});
+  CHECK(s.flags == std::vector<std::uint8_t>{1, 0, 0, 0, 0, 1, 0, 0});  // triangle 2 is no longer flagged
+}
