@@ -1,7 +1,7 @@
 // The hard-case suite: named special configurations with their expected behaviour, judged by the
 // exact oracles (refs/exact.h, refs/exact_cone.h) where an exact answer exists. Related cases live
-// beside their concept: shared edges of a closed mesh and sliver distances in trace_test.cpp, total
-// internal reflection in raygen_shade_test.cpp, NaN/inf and out-of-range transforms in
+// beside their concept: shared edges of a closed mesh and sliver distances in intersect_test.cpp, total
+// internal reflection in raygen_test.cpp, NaN/inf and out-of-range transforms in
 // scene_loader_test.cpp; the scale and permutation metamorphic tests are in metamorphic_test.cpp.
 #include <doctest/doctest.h>
 

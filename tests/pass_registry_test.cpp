@@ -118,6 +118,8 @@ TEST_CASE("registry: docs/architecture.md maps exactly the registered passes to 
     CHECK(paths[paths.size() - 2] == "emu/src/" + family + ".cpp");
     CHECK(paths[paths.size() - 1] ==
           (p.push_type == "ElementwisePush" ? std::string("gpu/src/elementwise.cpp") : "gpu/src/" + family + ".cpp"));
+    // The family's tests: tests/<family>_test.cpp.
+    CHECK(std::ifstream(std::string(RAYSPACE_SOURCE_DIR) + "/tests/" + family + "_test.cpp").good());
     for (std::size_t k = 1; k < paths.size(); ++k) {
       if (paths[k].find('/') == std::string::npos) continue;  // "raster.frag" beside its .vert
       INFO("file ", paths[k]);
