@@ -7,8 +7,7 @@ using namespace rayspace;
 using namespace rayspace::emu;
 
 TEST_CASE("resolve: 0 -> 0, full scale -> 255, sqrt gamma, clamped above 1") {
-  gpu::FrameConstants fc{};
-  fc.dims = glm::uvec4(3, 1, 0, 0);
+  // Three pixels, nine channels.
   const std::uint64_t one = std::uint64_t{1} << 32;  // kAccumScale: colour 1.0
   const std::vector<std::uint64_t> accum = {
       0,                // 0 -> 0
@@ -21,7 +20,7 @@ TEST_CASE("resolve: 0 -> 0, full scale -> 255, sqrt gamma, clamped above 1") {
       one / 64,         // 1/64 -> 1/8 -> 31.875 + 0.5 -> 32
       one - 1,          // just below 1 -> 255
   };
-  const std::vector<std::uint8_t> rgb = PassResolve({.frame = fc, .accum = accum});
+  const std::vector<std::uint8_t> rgb = PassResolve({.accum = accum});
   const std::vector<std::uint8_t> expect = {0, 255, 128, 64, 191, 255, 255, 32, 255};
   CHECK(rgb == expect);
 }
