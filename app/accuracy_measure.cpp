@@ -22,7 +22,7 @@ namespace {
 
 // Thesis eq. 3.16 as printed (after Roger et al.): |C - H| tan(alpha) + (d + r) / cos(alpha) >= |P - H|,
 // H the projection of the sphere's centre P on the axis; in float, no margins.
-bool PaperConeTest(const gpu::ConeNode& n, glm::vec4 sphere) {
+bool PaperConeTest(const layout::ConeNode& n, glm::vec4 sphere) {
   const glm::vec3 v = emu::Xyz(sphere) - emu::Xyz(n.sphere), x = emu::Xyz(n.cone);
   const float a = emu::Dot(v, x);
   const glm::vec3 off = v - x * a;
@@ -77,7 +77,7 @@ void Evaluate(const std::string& test, const std::string& set, std::size_t n, co
 
 // Moller-Trumbore without epsilons in precision T; t rounded to float for the frame.
 template <typename T>
-bool MollerTrumboreT(const gpu::Ray& ray, const gpu::Triangle& tri, float& t_out) {
+bool MollerTrumboreT(const layout::Ray& ray, const layout::Triangle& tri, float& t_out) {
   using V = glm::vec<3, T>;
   const V o(emu::Xyz(ray.origin_tmin)), d(emu::Xyz(ray.direction_tmax));
   const V v0(emu::Xyz(tri.v0)), e1 = V(emu::Xyz(tri.v1)) - v0, e2 = V(emu::Xyz(tri.v2)) - v0;
@@ -98,7 +98,7 @@ bool MollerTrumboreT(const gpu::Ray& ray, const gpu::Triangle& tri, float& t_out
 }
 
 template <typename T>
-bool MollerTrumbore(const gpu::Ray& ray, const gpu::Triangle& tri) {
+bool MollerTrumbore(const layout::Ray& ray, const layout::Triangle& tri) {
   float t;
   return MollerTrumboreT<T>(ray, tri, t);
 }
@@ -106,11 +106,11 @@ bool MollerTrumbore(const gpu::Ray& ray, const gpu::Triangle& tri) {
 // ---- end to end: the frame with each mode in the traversal or the final tests -------------------------
 
 // A ray-triangle mode inside the final tests: the hit and its float distance (exact: nullptr below).
-using TriTest = std::function<bool(const gpu::Ray&, const gpu::Triangle&, float&)>;
+using TriTest = std::function<bool(const layout::Ray&, const layout::Triangle&, float&)>;
 
 class ModeTraversal final : public emu::ForwardingHierarchyPasses {
  public:
-  explicit ModeTraversal(std::function<bool(const gpu::ConeNode&, glm::vec4, float)> test) : test_(std::move(test)) {}
+  explicit ModeTraversal(std::function<bool(const layout::ConeNode&, glm::vec4, float)> test) : test_(std::move(test)) {}
   // Final tests with a ray-triangle mode; `exact`: the exact decision and exact distance order.
   ModeTraversal(TriTest tri, bool exact) : tri_(std::move(tri)), exact_(exact) {}
   std::string Name() const override { return "emu (accuracy mode)"; }
@@ -128,7 +128,7 @@ class ModeTraversal final : public emu::ForwardingHierarchyPasses {
   }
   std::vector<std::uint32_t> Intersect(const emu::call::Intersect& c) override {
     if (!tri_) return ForwardingHierarchyPasses::Intersect(c);
-    return emu::IntersectWith(tri_, [&](std::uint32_t ray, const gpu::Ray& r, float t, std::uint32_t prim) {
+    return emu::IntersectWith(tri_, [&](std::uint32_t ray, const layout::Ray& r, float t, std::uint32_t prim) {
       std::vector<std::uint64_t>& hits = *c.hits;
       if (!exact_) return emu::RecordClosestHit(hits, ray, emu::PackHit(t, prim));
       // Exact order of distances (ties to the lower id): compare with the current best under a lock.
@@ -144,7 +144,7 @@ class ModeTraversal final : public emu::ForwardingHierarchyPasses {
 
  private:
   static constexpr std::size_t kLocks = 4096;
-  std::function<bool(const gpu::ConeNode&, glm::vec4, float)> test_;
+  std::function<bool(const layout::ConeNode&, glm::vec4, float)> test_;
   TriTest tri_;
   bool exact_ = false;
   std::mutex locks_[kLocks];
@@ -225,7 +225,7 @@ void MeasureTriModes(const Workload& w, std::vector<Row>& rows) {
       in_plane[i] = refs::ExactInPlane(qs[i].ray, qs[i].tri);
     }
     auto watertight = [&](std::size_t i) {
-      const gpu::Ray& r = qs[i].ray;
+      const layout::Ray& r = qs[i].ray;
       float t;
       return emu::IntersectWatertight(emu::SetupWatertight(emu::Xyz(r.origin_tmin), emu::Xyz(r.direction_tmax)), emu::Xyz(qs[i].tri.v0),
                                       emu::Xyz(qs[i].tri.v1), emu::Xyz(qs[i].tri.v2), r.origin_tmin.w, r.direction_tmax.w, t);
@@ -243,10 +243,10 @@ void MeasureTriModes(const Workload& w, std::vector<Row>& rows) {
 }
 
 std::vector<EndToEnd> ConeEndToEnd(const Scene& scene, const SceneBuffers& b, const emu::FrameOptions& fo) {
-  ModeTraversal exact_passes([](const gpu::ConeNode& n, glm::vec4 s, float) { return refs::ExactNodeMeetsSphere(n, s); });
+  ModeTraversal exact_passes([](const layout::ConeNode& n, glm::vec4 s, float) { return refs::ExactNodeMeetsSphere(n, s); });
   const FrameOutcome exact = RunFrame(scene, b, fo, exact_passes);
-  ModeTraversal paper([](const gpu::ConeNode& n, glm::vec4 s, float eps) { return PaperConeTest(n, glm::vec4(glm::vec3(s), s.w + eps)); });
-  ModeTraversal dbl([](const gpu::ConeNode& n, glm::vec4 s, float eps) { return refs::DoubleNodeMeetsSphere(n, glm::vec4(glm::vec3(s), s.w + eps)); });
+  ModeTraversal paper([](const layout::ConeNode& n, glm::vec4 s, float eps) { return PaperConeTest(n, glm::vec4(glm::vec3(s), s.w + eps)); });
+  ModeTraversal dbl([](const layout::ConeNode& n, glm::vec4 s, float eps) { return refs::DoubleNodeMeetsSphere(n, glm::vec4(glm::vec3(s), s.w + eps)); });
   const FrameOutcome fp = RunFrame(scene, b, fo, paper);
   const FrameOutcome fc = RunFrame(scene, b, fo, emu::EmuHierarchyPasses());
   const FrameOutcome fd = RunFrame(scene, b, fo, dbl);
@@ -259,15 +259,15 @@ std::vector<EndToEnd> ConeEndToEnd(const Scene& scene, const SceneBuffers& b, co
 std::vector<EndToEnd> TriEndToEnd(const Scene& scene, const SceneBuffers& b, const emu::FrameOptions& fo) {
   // The final tests with each ray-triangle mode (traversal conservative), against exact decisions
   // and exact distance order. A changed ray: another primitive (or hit/miss), or another occlusion.
-  auto float_mt = [](const gpu::Ray& r, const gpu::Triangle& t, float& th) {
+  auto float_mt = [](const layout::Ray& r, const layout::Triangle& t, float& th) {
     return MollerTrumboreT<float>(r, t, th);
   };
-  auto double_mt = [](const gpu::Ray& r, const gpu::Triangle& t, float& th) { return MollerTrumboreT<double>(r, t, th); };
-  auto watertight = [](const gpu::Ray& r, const gpu::Triangle& t, float& th) {
+  auto double_mt = [](const layout::Ray& r, const layout::Triangle& t, float& th) { return MollerTrumboreT<double>(r, t, th); };
+  auto watertight = [](const layout::Ray& r, const layout::Triangle& t, float& th) {
     return emu::IntersectWatertight(emu::SetupWatertight(emu::Xyz(r.origin_tmin), emu::Xyz(r.direction_tmax)), emu::Xyz(t.v0),
                                     emu::Xyz(t.v1), emu::Xyz(t.v2), r.origin_tmin.w, r.direction_tmax.w, th);
   };
-  auto exact_hit = [](const gpu::Ray& r, const gpu::Triangle& t, float& th) {
+  auto exact_hit = [](const layout::Ray& r, const layout::Triangle& t, float& th) {
     if (!refs::ExactHitDecision(r, t)) return false;
     // The distance the frame shades with: the plane equation in double, rounded once.
     const glm::dvec3 o(emu::Xyz(r.origin_tmin)), d(emu::Xyz(r.direction_tmax)), v0(emu::Xyz(t.v0));

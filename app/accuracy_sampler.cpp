@@ -77,7 +77,7 @@ std::vector<ConeQuery> NearBoundaryCones(const std::vector<ConeQuery>& cones, st
   std::vector<ConeQuery> cones_edge;
   for (const ConeQuery& q : cones) {
     // Radius set to the sphere's distance from the bundle, within 2^-20 relative: touching spheres.
-    gpu::ConeNode n = q.node;
+    layout::ConeNode n = q.node;
     const glm::dvec3 v = glm::dvec3(emu::Xyz(q.sphere)) - glm::dvec3(emu::Xyz(n.sphere));
     const glm::dvec3 x = glm::normalize(glm::dvec3(emu::Xyz(n.cone)));
     const double a = glm::dot(v, x), bb = glm::length(glm::cross(v, x));

@@ -12,12 +12,12 @@
 namespace rayspace::app::accuracy {
 
 struct ConeQuery {
-  gpu::ConeNode node;
+  layout::ConeNode node;
   glm::vec4 sphere;
 };
 struct TriQuery {
-  gpu::Ray ray;
-  gpu::Triangle tri;
+  layout::Ray ray;
+  layout::Triangle tri;
 };
 
 // The queries of one scene: sampled from the frame, and moved to the boundary of the test.

@@ -23,7 +23,7 @@ struct Backend {
 };
 
 // The Vulkan backend splits or pages every buffer that grows with the frame, over at most
-// gpu::kBufferPages bindings per array: refuses, as bad input, a frame or scene beyond that, naming
+// layout::kBufferPages bindings per array: refuses, as bad input, a frame or scene beyond that, naming
 // the size that would fit.
 void CheckFrameFits(const Backend& backend, int width, int height, std::size_t lights, std::size_t triangles);
 

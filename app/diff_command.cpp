@@ -46,15 +46,15 @@ bool InDomain(const glm::vec4& v) {
 // and whose counts match the saved scene (the passes loop over dims.z triangles and dims.w lights).
 void CheckSavedInputs(const verify::BufferSet& in, const std::string& dir) {
   if (in.Has("scene.triangles")) {
-    const std::vector<gpu::Triangle> tris = in.Get<gpu::Triangle>("scene.triangles");
+    const std::vector<layout::Triangle> tris = in.Get<layout::Triangle>("scene.triangles");
     for (std::size_t i = 0; i < tris.size(); ++i)
       if (!InDomain(tris[i].v0) || !InDomain(tris[i].v1) || !InDomain(tris[i].v2))
         ThrowInput("{}/scene.triangles.bin: triangle {} leaves the coordinate domain |x| <= 2^62", dir, i);
   }
   if (!in.Has("frame")) return;
-  const gpu::FrameConstants fc = in.GetOne<gpu::FrameConstants>("frame");
+  const layout::FrameConstants fc = in.GetOne<layout::FrameConstants>("frame");
   const float* f = &fc.view_proj[0][0];
-  for (std::size_t i = 0; i < offsetof(gpu::FrameConstants, dims) / sizeof(float); ++i)
+  for (std::size_t i = 0; i < offsetof(layout::FrameConstants, dims) / sizeof(float); ++i)
     if (!std::isfinite(f[i])) ThrowInput("{}/frame.bin: float {} is {}, expected a finite number", dir, i, f[i]);
   const auto side = static_cast<std::uint32_t>(kMaxImageSide);
   if (fc.dims.x < 1 || fc.dims.y < 1 || fc.dims.x > side || fc.dims.y > side)

@@ -116,9 +116,9 @@ nlohmann::json StatsJson(const RenderArgs& args, const Outcome& o) {
   j["backend"] = {{"name", backend.name}, {"device", backend.device}};
   j["tracer"] = o.tracer;
   j["threads"] = ThreadCount();
-  j["rays"] = {{"shadow", RaysJson(r.rays[gpu::kRayShadow], false)},
-               {"reflection", RaysJson(r.rays[gpu::kRayReflection], true)},
-               {"refraction", RaysJson(r.rays[gpu::kRayRefraction], true)}};
+  j["rays"] = {{"shadow", RaysJson(r.rays[layout::kRayShadow], false)},
+               {"reflection", RaysJson(r.rays[layout::kRayReflection], true)},
+               {"refraction", RaysJson(r.rays[layout::kRayRefraction], true)}};
   o.stats.ToJson(j);
   PhasesToJson(j, o.phases);
   j["oracle"] = o.oracle_json;

@@ -14,7 +14,7 @@ namespace {
 struct Loaded {
   Scene scene;
   SceneBuffers buffers;
-  gpu::FrameConstants fc;
+  layout::FrameConstants fc;
 };
 
 const Loaded& Get(const std::string& name) {
@@ -40,8 +40,8 @@ void BM_ShadowTrace(benchmark::State& state, const char* scene, emu::DirectMode 
   const Loaded& l = Get(scene);
   const auto g = emu::PassRaster({.frame = l.fc, .scene = &l.buffers});
   const auto surfaces = emu::PassSurfacesFromGBuffer(emu::SurfacesCall(l.fc, g, l.buffers));
-  const auto sparse = emu::PassRaygenShadow({.kind = gpu::kRayShadow, .frame = l.fc, .surfaces = surfaces, .scene = &l.buffers});
-  const auto rays = emu::PassTrim({.kind = gpu::kRayShadow, .rays = sparse.rays, .flags = sparse.flags}).rays;
+  const auto sparse = emu::PassRaygenShadow({.kind = layout::kRayShadow, .frame = l.fc, .surfaces = surfaces, .scene = &l.buffers});
+  const auto rays = emu::PassTrim({.kind = layout::kRayShadow, .rays = sparse.rays, .flags = sparse.flags}).rays;
   auto tracer = emu::MakeDirectTracer(l.buffers, mode);
   std::vector<std::uint32_t> occ;
   for (auto _ : state) tracer->Occluded(rays, occ);

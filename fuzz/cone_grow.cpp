@@ -8,11 +8,11 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace rayspace;
   fuzz::Reader in(data, size);
-  gpu::ConeNode node;
+  layout::ConeNode node;
   glm::vec3 o, d;
   if (!fuzz::ReadNode(in, node) || !fuzz::ReadRay(in, o, d)) return 0;
   const glm::vec3 r = fuzz::UnitDirection(d);  // leaves are built from unit directions
-  const gpu::ConeNode grown = emu::cone::GrowNode(node, o, r);
+  const layout::ConeNode grown = emu::cone::GrowNode(node, o, r);
   auto report = [&](const std::string& what) {
     fuzz::PrintNode("node", node);
     std::fprintf(stderr, "ray: (%a, %a, %a) -> (%a, %a, %a)\n", o.x, o.y, o.z, r.x, r.y, r.z);

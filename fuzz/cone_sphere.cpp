@@ -6,7 +6,7 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace rayspace;
   fuzz::Reader in(data, size);
-  gpu::ConeNode node;
+  layout::ConeNode node;
   glm::vec4 sphere;
   if (!fuzz::ReadNode(in, node) || !fuzz::ReadSphere(in, sphere)) return 0;
   if (!emu::cone::Test(node, sphere, 0.0f) && refs::ExactNodeMeetsSphere(node, sphere)) {

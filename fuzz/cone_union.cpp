@@ -8,14 +8,14 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace rayspace;
   fuzz::Reader in(data, size);
-  gpu::ConeNode children[2];
+  layout::ConeNode children[2];
   if (!fuzz::ReadNode(in, children[0]) || !fuzz::ReadNode(in, children[1])) return 0;
-  const gpu::ConeNode parent = emu::cone::ParentNode(children, 2);
+  const layout::ConeNode parent = emu::cone::ParentNode(children, 2);
   if (fuzz::HasNan(parent)) {
     fuzz::PrintNode("a", children[0]), fuzz::PrintNode("b", children[1]), fuzz::PrintNode("parent", parent);
     fuzz::Finding("cone_union: NaN in the parent node");
   }
-  for (const gpu::ConeNode& c : children) {
+  for (const layout::ConeNode& c : children) {
     std::string why;
     if (!refs::ExactNodeContains(parent, c, &why)) {
       fuzz::PrintNode("a", children[0]), fuzz::PrintNode("b", children[1]), fuzz::PrintNode("parent", parent);

@@ -44,7 +44,7 @@ inline bool Finite(const float* f, int n) {
 
 // [centre x, y, z, radius, axis x, y, z, half-angle in radians] -> a node as the pipeline stores it:
 // unit axis (normalised in float), (cos, sin) of the half-angle rounded from double, full at >= pi.
-inline bool ReadNode(Reader& in, gpu::ConeNode& n) {
+inline bool ReadNode(Reader& in, layout::ConeNode& n) {
   float f[8];
   if (!in.Floats(f, 8) || !Finite(f, 8) || f[3] < 0.0f || f[7] < 0.0f) return false;
   // Unit axis: normalised in double, rounded once (as the host would store it).
@@ -86,7 +86,7 @@ inline bool ReadSphere(Reader& in, glm::vec4& s) {
   return true;
 }
 
-inline void PrintNode(const char* name, const gpu::ConeNode& n) {
+inline void PrintNode(const char* name, const layout::ConeNode& n) {
   std::fprintf(stderr, "%s: sphere (%a, %a, %a; %a) axis (%a, %a, %a) cos %a sin %a\n", name, n.sphere.x, n.sphere.y,
                n.sphere.z, n.sphere.w, n.cone.x, n.cone.y, n.cone.z, n.cone.w, n.extra.x);
 }
@@ -96,7 +96,7 @@ inline void PrintNode(const char* name, const gpu::ConeNode& n) {
   std::abort();
 }
 
-inline bool HasNan(const gpu::ConeNode& n) {
+inline bool HasNan(const layout::ConeNode& n) {
   for (int k = 0; k < 4; ++k)
     if (std::isnan(n.sphere[k]) || std::isnan(n.cone[k]) || std::isnan(n.extra[k])) return true;
   return false;

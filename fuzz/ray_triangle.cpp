@@ -12,11 +12,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   float v[9];
   if (!fuzz::ReadRay(in, o, d) || !in.Floats(v, 9) || !fuzz::Finite(v, 9)) return 0;
   d = fuzz::UnitDirection(d);  // ray generation hands the kernels unit directions
-  gpu::Triangle t{};
+  layout::Triangle t{};
   t.v0 = glm::vec4(v[0], v[1], v[2], 0.0f);
   t.v1 = glm::vec4(v[3], v[4], v[5], 0.0f);
   t.v2 = glm::vec4(v[6], v[7], v[8], 0.0f);
-  gpu::Ray r{};
+  layout::Ray r{};
   r.origin_tmin = glm::vec4(o, 0.0f);
   r.direction_tmax = glm::vec4(d, INFINITY);
   float th;

@@ -28,7 +28,7 @@ glm::dvec3 InCone(std::mt19937& rng, glm::dvec3 axis, double alpha) {
 }
 
 double Angle(glm::dvec3 a, glm::dvec3 b) { return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b)); }
-double HalfAngle(const gpu::ConeNode& n) { return std::atan2(static_cast<double>(n.extra.x), static_cast<double>(n.cone.w)); }
+double HalfAngle(const layout::ConeNode& n) { return std::atan2(static_cast<double>(n.extra.x), static_cast<double>(n.cone.w)); }
 
 }  // namespace
 
@@ -40,18 +40,18 @@ TEST_CASE("cone: leaf nodes hold their rays and parents hold their children (ran
     // Children: leaves over 8 rays with origins in a small cloud and directions in a random cone,
     // including near-identical, antiparallel and wide configurations.
     const int mode = trial % 4;
-    std::vector<gpu::ConeNode> kids;
+    std::vector<layout::ConeNode> kids;
     const glm::dvec3 base_axis = RandomUnit(rng);
     for (int k = 0; k < 8; ++k) {
       const glm::dvec3 axis = mode == 2 && k % 2 ? -base_axis : (mode == 3 ? RandomUnit(rng) : InCone(rng, base_axis, 0.2));
       const double alpha = mode == 0 ? 1e-4 * spread(rng) : 0.5 * spread(rng);
       const glm::dvec3 centre(u(rng) * 10, u(rng) * 10, u(rng) * 10);
-      std::vector<gpu::Ray> rays(8);
+      std::vector<layout::Ray> rays(8);
       for (auto& r : rays) {
         r.origin_tmin = glm::vec4(glm::vec3(centre + glm::dvec3(u(rng), u(rng), u(rng)) * 0.1), 0);
         r.direction_tmax = glm::vec4(glm::vec3(InCone(rng, axis, alpha)), 1);
       }
-      const gpu::ConeNode leaf = cone::LeafNode(8, [&](std::uint32_t j) -> const gpu::Ray& { return rays[j]; });
+      const layout::ConeNode leaf = cone::LeafNode(8, [&](std::uint32_t j) -> const layout::Ray& { return rays[j]; });
       for (const auto& r : rays) {
         const glm::dvec3 d = glm::normalize(glm::dvec3(r.direction_tmax));
         if (!cone::IsFull(leaf)) CHECK(Angle(glm::dvec3(leaf.cone), d) <= HalfAngle(leaf));
@@ -59,7 +59,7 @@ TEST_CASE("cone: leaf nodes hold their rays and parents hold their children (ran
       }
       kids.push_back(leaf);
     }
-    const gpu::ConeNode parent = cone::ParentNode(kids.data(), static_cast<std::uint32_t>(kids.size()));
+    const layout::ConeNode parent = cone::ParentNode(kids.data(), static_cast<std::uint32_t>(kids.size()));
     if (cone::IsFull(parent)) {
       ++full;
     } else {
@@ -80,14 +80,14 @@ namespace {
 // Half-angle bounds without trigonometry in the code under test: atan2 of the node's (sin, cos).
 constexpr double kTwoPow19 = 1.0 / (1 << 19), kTwoPow18 = 1.0 / (1 << 18);
 
-gpu::Ray RayFrom(glm::vec3 o, glm::vec3 d) {
-  gpu::Ray r{};
+layout::Ray RayFrom(glm::vec3 o, glm::vec3 d) {
+  layout::Ray r{};
   r.origin_tmin = glm::vec4(o, 0.0f);
   r.direction_tmax = glm::vec4(d, 1.0f);
   return r;
 }
 
-std::vector<gpu::ConeNode> Leaves(const std::vector<gpu::Ray>& rays, const std::vector<std::uint32_t>& order,
+std::vector<layout::ConeNode> Leaves(const std::vector<layout::Ray>& rays, const std::vector<std::uint32_t>& order,
                                   const std::vector<std::uint32_t>& first) {
   return PassBuildLeaves({.rays = rays, .order = order, .first = first});
 }
@@ -97,7 +97,7 @@ std::vector<gpu::ConeNode> Leaves(const std::vector<gpu::Ray>& rays, const std::
 TEST_CASE("build.leaves: a leaf over one ray, two parallel rays, two antiparallel rays") {
   // Rays: 0 from (1,2,3) along (0,3,4) (not unit); 1, 2 from (0,0,0) and (2,0,0) along +z; 3, 4 from
   // the origin along +z and -z; 5, 6 from the origin along +x and +y.
-  const std::vector<gpu::Ray> rays = {RayFrom({1, 2, 3}, {0, 3, 4}), RayFrom({0, 0, 0}, {0, 0, 1}),
+  const std::vector<layout::Ray> rays = {RayFrom({1, 2, 3}, {0, 3, 4}), RayFrom({0, 0, 0}, {0, 0, 1}),
                                       RayFrom({2, 0, 0}, {0, 0, 1}), RayFrom({0, 0, 0}, {0, 0, 1}),
                                       RayFrom({0, 0, 0}, {0, 0, -1}), RayFrom({0, 0, 0}, {2, 0, 0}),
                                       RayFrom({0, 0, 0}, {0, 2, 0})};
@@ -108,7 +108,7 @@ TEST_CASE("build.leaves: a leaf over one ray, two parallel rays, two antiparalle
 
   // One ray: the sphere is its origin (radius only the tiny absolute floor), the cone its unit
   // direction (0, 0.6, 0.8) with a half-angle of the finishing margin alone (2^-20 rad).
-  const gpu::ConeNode& one = n[1];
+  const layout::ConeNode& one = n[1];
   CHECK(glm::vec3(one.sphere) == glm::vec3(1, 2, 3));
   CHECK(one.sphere.w > 0.0f);
   CHECK(one.sphere.w < 1e-30f);
@@ -120,7 +120,7 @@ TEST_CASE("build.leaves: a leaf over one ray, two parallel rays, two antiparalle
   CHECK(one.extra.y == 1.0f);  // rays below
 
   // Two parallel rays 2 apart: centre half way, radius 1 (plus margins), the common direction.
-  const gpu::ConeNode& two = n[2];
+  const layout::ConeNode& two = n[2];
   CHECK(glm::vec3(two.sphere) == glm::vec3(1, 0, 0));
   CHECK(two.sphere.w >= 1.0f);
   CHECK(two.sphere.w <= 1.0 + 2 * kTwoPow18);  // the 2^-18 margin, rounded up
@@ -134,7 +134,7 @@ TEST_CASE("build.leaves: a leaf over one ray, two parallel rays, two antiparalle
   CHECK(n[0].extra.y == 2.0f);
 
   // Two perpendicular rays (+x, +y): the axis bisects them, (1, 1, 0) / sqrt 2, at 45 degrees.
-  const gpu::ConeNode& right = n[3];
+  const layout::ConeNode& right = n[3];
   const double r = 1.0 / std::sqrt(2.0), quarter = std::atan(1.0);
   CHECK(right.cone.x == doctest::Approx(r).epsilon(1e-5));
   CHECK(right.cone.y == doctest::Approx(r).epsilon(1e-5));
@@ -148,11 +148,11 @@ TEST_CASE("build.parents: a parent over two identical children is the child, wid
   // A child around (1,2,3) with radius 0.5 and a 30-degree cone over 4 rays, about +z and about a unit
   // axis whose float components do not square to exactly 1.
   for (const glm::vec3 axis : {glm::vec3(0, 0, 1), glm::vec3(0, 0.6f, 0.8f)}) {
-    gpu::ConeNode child;
+    layout::ConeNode child;
     child.sphere = glm::vec4(1, 2, 3, 0.5f);
     child.cone = glm::vec4(axis, std::sqrt(3.0f) / 2);
     child.extra = glm::vec4(0.5f, 4, 0, 0);
-    const std::vector<gpu::ConeNode> below = {child, child, child};
+    const std::vector<layout::ConeNode> below = {child, child, child};
     const std::vector<std::uint32_t> first = {0, 2, 3};  // a parent over two children, one over one
     const auto p = PassBuildParents({.below = below, .first = first});
     REQUIRE(p.size() == 2);

@@ -75,8 +75,8 @@ class Filler {
       f = &Array<typename cd::IsVectorPtr<F>::Elem>();
     } else if constexpr (std::is_same_v<F, const SceneBuffers*>) {
       f = &scene_;
-    } else if constexpr (std::is_same_v<F, gpu::FrameConstants>) {
-      std::vector<gpu::FrameConstants> one(1);
+    } else if constexpr (std::is_same_v<F, layout::FrameConstants>) {
+      std::vector<layout::FrameConstants> one(1);
       Bytes(one);
       f = one[0];
     } else if constexpr (std::is_same_v<F, float>) {
@@ -107,7 +107,7 @@ void Collect(const S& s, Layout& l) {
   ForEachField(s, [&](std::string_view name_view, const auto& f) {
     using F = std::decay_t<decltype(f)>;
     const std::string name(name_view);
-    if constexpr (cd::IsSpan<F>::value || std::is_same_v<F, gpu::FrameConstants>) {
+    if constexpr (cd::IsSpan<F>::value || std::is_same_v<F, layout::FrameConstants>) {
       l.blobs.insert(name);
     } else if constexpr (cd::IsVectorPtr<F>::value) {
       l.blobs.insert(name);
@@ -167,7 +167,7 @@ void CheckSameField(std::string_view name, const F& a, const F& b) {
     CHECK(SameBytes(a->objects, b->objects));
     CHECK(a->lo == b->lo);
     CHECK(a->hi == b->hi);
-  } else if constexpr (std::is_same_v<F, gpu::FrameConstants>) {
+  } else if constexpr (std::is_same_v<F, layout::FrameConstants>) {
     CHECK(std::memcmp(&a, &b, sizeof(F)) == 0);
   } else if constexpr (std::is_same_v<F, float>) {
     CHECK(std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b));
@@ -199,15 +199,15 @@ BufferSet Without(const BufferSet& in, const std::string& drop) {
       case ElemType::kF32: CopyAs<float>(out, name, b); break;
       case ElemType::kVec4: CopyAs<glm::vec4>(out, name, b); break;
       case ElemType::kUvec4: CopyAs<glm::uvec4>(out, name, b); break;
-      case ElemType::kRay: CopyAs<gpu::Ray>(out, name, b); break;
-      case ElemType::kSurface: CopyAs<gpu::Surface>(out, name, b); break;
-      case ElemType::kNode: CopyAs<gpu::ConeNode>(out, name, b); break;
-      case ElemType::kTriangle: CopyAs<gpu::Triangle>(out, name, b); break;
-      case ElemType::kNormals: CopyAs<gpu::TriangleNormals>(out, name, b); break;
-      case ElemType::kInfo: CopyAs<gpu::TriangleInfo>(out, name, b); break;
-      case ElemType::kMaterial: CopyAs<gpu::Material>(out, name, b); break;
-      case ElemType::kLight: CopyAs<gpu::Light>(out, name, b); break;
-      case ElemType::kFrame: CopyAs<gpu::FrameConstants>(out, name, b); break;
+      case ElemType::kRay: CopyAs<layout::Ray>(out, name, b); break;
+      case ElemType::kSurface: CopyAs<layout::Surface>(out, name, b); break;
+      case ElemType::kNode: CopyAs<layout::ConeNode>(out, name, b); break;
+      case ElemType::kTriangle: CopyAs<layout::Triangle>(out, name, b); break;
+      case ElemType::kNormals: CopyAs<layout::TriangleNormals>(out, name, b); break;
+      case ElemType::kInfo: CopyAs<layout::TriangleInfo>(out, name, b); break;
+      case ElemType::kMaterial: CopyAs<layout::Material>(out, name, b); break;
+      case ElemType::kLight: CopyAs<layout::Light>(out, name, b); break;
+      case ElemType::kFrame: CopyAs<layout::FrameConstants>(out, name, b); break;
     }
   }
   return out;
@@ -332,15 +332,15 @@ SceneBuffers FourTriangles() {
   return FlattenScene(s);
 }
 
-std::uint32_t Pair(std::uint32_t node, std::uint32_t tri) { return node << gpu::kPairTriangleBits | tri; }
+std::uint32_t Pair(std::uint32_t node, std::uint32_t tri) { return node << layout::kPairTriangleBits | tri; }
 
 }  // namespace
 
 TEST_CASE("CheckInputs: out-of-range inputs are refused naming the call and the input") {
   const SceneBuffers scene = FourTriangles();
-  const std::vector<gpu::ConeNode> nodes(2);
+  const std::vector<layout::ConeNode> nodes(2);
   const std::vector<glm::vec4> spheres(4), three_spheres(3);
-  const std::vector<gpu::Ray> rays(3);
+  const std::vector<layout::Ray> rays(3);
 
   SUBCASE("traverse.top") {
     const call::TraverseTop ok{.top = nodes, .t0 = 0, .t1 = 2, .b0 = 0, .b1 = 4, .tri_spheres = spheres, .scene = &scene,

@@ -140,10 +140,10 @@ Run ShadeAccumulation(const std::vector<float>& c, const Schedule& sc, std::vect
   scene.lights.push_back(light);
   test::AddQuad(scene, "floor", {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, {-1, 0, -1});
   const SceneBuffers b = FlattenScene(scene);
-  const gpu::FrameConstants fc = MakeFrameConstants(scene, b, 1, 1);
-  std::vector<gpu::Surface> surfaces(c.size());
+  const layout::FrameConstants fc = MakeFrameConstants(scene, b, 1, 1);
+  std::vector<layout::Surface> surfaces(c.size());
   for (std::size_t i = 0; i < c.size(); ++i) {
-    gpu::Surface& s = surfaces[i];
+    layout::Surface& s = surfaces[i];
     s.position = glm::vec4(0, 0, 0, 1);
     s.normal = glm::vec4(0, 1, 0, 0);
     s.incoming = glm::vec4(0, -1, 0, 0);
@@ -189,8 +189,8 @@ TEST_CASE("determinism: the shade pass's fixed-point accumulator gives the same 
   std::vector<std::uint64_t> accum;
   const Run serial = ShadeAccumulation(c, {1, 0}, accum);
   // Every contribution counted, the small ones too: c x 2^32, truncated, summed exactly.
-  const std::uint64_t large = static_cast<std::uint64_t>(c[0] * gpu::kAccumScale);
-  const std::uint64_t small = static_cast<std::uint64_t>(c[1] * gpu::kAccumScale);
+  const std::uint64_t large = static_cast<std::uint64_t>(c[0] * layout::kAccumScale);
+  const std::uint64_t small = static_cast<std::uint64_t>(c[1] * layout::kAccumScale);
   CHECK(accum[0] == large + (c.size() - 1) * small);
   CHECK(accum[2] == accum[0]);
   for (const Schedule& sc : kSchedules) {

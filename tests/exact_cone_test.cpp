@@ -12,8 +12,8 @@ using namespace rayspace;
 
 namespace {
 
-gpu::ConeNode Node(glm::vec4 sphere, glm::vec3 axis, float c, float s) {
-  gpu::ConeNode n;
+layout::ConeNode Node(glm::vec4 sphere, glm::vec3 axis, float c, float s) {
+  layout::ConeNode n;
   n.sphere = sphere;
   n.cone = glm::vec4(axis, c);
   n.extra = glm::vec4(s, 1.0f, 0.0f, 0.0f);
@@ -24,7 +24,7 @@ gpu::ConeNode Node(glm::vec4 sphere, glm::vec3 axis, float c, float s) {
 
 TEST_CASE("exact cone: direction containment at and beyond the boundary") {
   const float h = std::sqrt(0.5f);  // cos = sin: exactly pi/4 as an angle of the vector (h, h)
-  const gpu::ConeNode n = Node({0, 0, 0, 0}, {0, 0, 1}, h, h);
+  const layout::ConeNode n = Node({0, 0, 0, 0}, {0, 0, 1}, h, h);
   CHECK(refs::ExactConeContainsDirection(n, {1, 0, 1}));       // exactly on the boundary
   CHECK(refs::ExactConeContainsDirection(n, {0, 0, 5}));       // the axis, any length
   CHECK_FALSE(refs::ExactConeContainsDirection(n, {1, 0, 0.99999994f}));
@@ -33,7 +33,7 @@ TEST_CASE("exact cone: direction containment at and beyond the boundary") {
   CHECK_FALSE(refs::ExactConeContainsDirection(Node({0, 0, 0, 0}, {0, 0, 1}, 1.0f, 0.0f), {0, 0, -2}));
   CHECK(refs::ExactConeContainsDirection(Node({0, 0, 0, 0}, {0, 0, 1}, 1.0f, 0.0f), {0, 0, 2}));
   // Half-angle pi/2 (cos 0, sin 1) holds the closed half-space.
-  const gpu::ConeNode half = Node({0, 0, 0, 0}, {0, 0, 1}, 0.0f, 1.0f);
+  const layout::ConeNode half = Node({0, 0, 0, 0}, {0, 0, 1}, 0.0f, 1.0f);
   CHECK(refs::ExactConeContainsDirection(half, {1, 0, 0}));
   CHECK_FALSE(refs::ExactConeContainsDirection(half, {1, 0, -1e-30f}));
   // Full nodes hold everything.
@@ -41,7 +41,7 @@ TEST_CASE("exact cone: direction containment at and beyond the boundary") {
 }
 
 TEST_CASE("exact cone: cone containment adds the child's half-angle to the axis angle") {
-  const gpu::ConeNode half = Node({0, 0, 0, 0}, {0, 0, 1}, 0.0f, 1.0f);
+  const layout::ConeNode half = Node({0, 0, 0, 0}, {0, 0, 1}, 0.0f, 1.0f);
   CHECK(refs::ExactConeContainsCone(half, Node({0, 0, 0, 0}, {1, 0, 0}, 1.0f, 0.0f)));   // pi/2 + 0
   CHECK_FALSE(refs::ExactConeContainsCone(half, Node({0, 0, 0, 0}, {1, 0, 0}, 1.0f, 1e-3f)));
   const float h = std::sqrt(0.5f);
@@ -61,12 +61,12 @@ TEST_CASE("exact cone: ball containment is |c_i - c_o| + r_i <= r_o") {
 }
 
 TEST_CASE("exact cone: node-sphere meeting (surface, inside, apex, behind)") {
-  const gpu::ConeNode ray = Node({0, 0, 0, 0}, {0, 0, 1}, 1.0f, 0.0f);  // one ray along +z
+  const layout::ConeNode ray = Node({0, 0, 0, 0}, {0, 0, 1}, 1.0f, 0.0f);  // one ray along +z
   CHECK(refs::ExactNodeMeetsSphere(ray, {1, 0, 5, 1}));                  // tangent to the ray
   CHECK_FALSE(refs::ExactNodeMeetsSphere(ray, {1, 0, 5, 0.99999994f}));
   CHECK(refs::ExactNodeMeetsSphere(ray, {0, 0, -5, 5}));                 // behind, touching the apex
   CHECK_FALSE(refs::ExactNodeMeetsSphere(ray, {0, 0, -5, 4.9999995f}));
-  const gpu::ConeNode half = Node({0, 0, 0, 0}, {0, 0, 1}, 0.0f, 1.0f);  // the half-space z >= 0
+  const layout::ConeNode half = Node({0, 0, 0, 0}, {0, 0, 1}, 0.0f, 1.0f);  // the half-space z >= 0
   CHECK(refs::ExactNodeMeetsSphere(half, {3, 0, -4, 4}));                 // distance to the plane is 4
   CHECK_FALSE(refs::ExactNodeMeetsSphere(half, {3, 0, -4, 3.9999998f}));
   CHECK(refs::ExactNodeMeetsSphere(half, {3, 0, 4, 0}));                  // inside
@@ -77,7 +77,7 @@ TEST_CASE("exact cone: node-sphere meeting (surface, inside, apex, behind)") {
 
 TEST_CASE("exact cone: the float test never misses what the exact decision meets on a grid") {
   // A deterministic sweep of spheres around a 30-degree cone; a planted miss would show up here.
-  const gpu::ConeNode n = Node({0.5f, -0.25f, 1, 0.125f}, emu::Normalize(glm::vec3(0.3f, 0.2f, 1)),
+  const layout::ConeNode n = Node({0.5f, -0.25f, 1, 0.125f}, emu::Normalize(glm::vec3(0.3f, 0.2f, 1)),
                                static_cast<float>(std::cos(M_PI / 6)), static_cast<float>(std::sin(M_PI / 6)));
   int met = 0, missed = 0;
   for (int i = -12; i <= 12; ++i)

@@ -29,10 +29,10 @@ const emu::PassRecord* Find(const emu::FrameResult& r, const std::string& name) 
 
 TEST_CASE("frame: cornell-mirrors runs shadows and two reflection bounces and draws a picture") {
   const emu::FrameResult r = Render(test::LoadBundled("cornell-mirrors.json"), 48, 48);
-  for (int b = 0; b <= 2; ++b) CHECK(r.rays[gpu::kRayShadow][b] > 0);
-  CHECK(r.rays[gpu::kRayReflection][1] > 0);
-  CHECK(r.rays[gpu::kRayReflection][2] > 0);
-  CHECK(r.rays[gpu::kRayRefraction][1] == 0);
+  for (int b = 0; b <= 2; ++b) CHECK(r.rays[layout::kRayShadow][b] > 0);
+  CHECK(r.rays[layout::kRayReflection][1] > 0);
+  CHECK(r.rays[layout::kRayReflection][2] > 0);
+  CHECK(r.rays[layout::kRayRefraction][1] == 0);
   const emu::PassRecord* refr = Find(r, "trace.refraction.b1");
   REQUIRE(refr != nullptr);
   CHECK_FALSE(refr->ran);
@@ -57,14 +57,14 @@ TEST_CASE("frame: no lights means no shadow passes and a black image") {
   CHECK_FALSE(p->ran);
   CHECK(p->reason == "the scene has no lights");
   CHECK(std::all_of(r.rgb.begin(), r.rgb.end(), [](std::uint8_t v) { return v == 0; }));
-  CHECK(r.rays[gpu::kRayReflection][1] > 0);  // mirrors still reflect
+  CHECK(r.rays[layout::kRayReflection][1] > 0);  // mirrors still reflect
 }
 
 TEST_CASE("frame: no mirrors means no reflection passes, whatever max_depth says") {
   Scene s = test::LoadBundled("cornell-mirrors.json");
   for (MaterialDesc& m : s.materials) m.reflectivity = 0;
   const emu::FrameResult r = Render(s, 16, 16);
-  CHECK(r.rays[gpu::kRayShadow].size() == 1);  // bounce 0 only
+  CHECK(r.rays[layout::kRayShadow].size() == 1);  // bounce 0 only
   const emu::PassRecord* p = Find(r, "trace.reflection");
   REQUIRE(p != nullptr);
   CHECK_FALSE(p->ran);
@@ -80,11 +80,11 @@ TEST_CASE("frame: transparency turns on refraction and max_depth 0 turns bounces
       m.ior = 1.5f;
     }
   const emu::FrameResult r = Render(s, 32, 32);
-  CHECK(r.rays[gpu::kRayRefraction][1] > 0);
+  CHECK(r.rays[layout::kRayRefraction][1] > 0);
   s.max_depth = 0;
   const emu::FrameResult z = Render(s, 16, 16);
   const emu::PassRecord* p = Find(z, "trace.reflection");
   REQUIRE(p != nullptr);
   CHECK(p->reason == "max_depth is 0");
-  CHECK(z.rays[gpu::kRayReflection].size() == 1);
+  CHECK(z.rays[layout::kRayReflection].size() == 1);
 }

@@ -21,8 +21,8 @@ using namespace rayspace::emu;
 
 namespace {
 
-gpu::ConeNode Node(glm::vec3 c, float r, glm::vec3 axis, double half_angle) {
-  gpu::ConeNode n;
+layout::ConeNode Node(glm::vec3 c, float r, glm::vec3 axis, double half_angle) {
+  layout::ConeNode n;
   n.sphere = glm::vec4(c, r);
   const glm::dvec3 a = glm::normalize(glm::dvec3(axis));
   n.cone = glm::vec4(glm::vec3(a), static_cast<float>(std::cos(half_angle)));
@@ -32,9 +32,9 @@ gpu::ConeNode Node(glm::vec3 c, float r, glm::vec3 axis, double half_angle) {
 }
 
 // The parent of two children must contain both exactly.
-void CheckUnion(const gpu::ConeNode& a, const gpu::ConeNode& b) {
-  const gpu::ConeNode kids[2] = {a, b};
-  const gpu::ConeNode p = cone::ParentNode(kids, 2);
+void CheckUnion(const layout::ConeNode& a, const layout::ConeNode& b) {
+  const layout::ConeNode kids[2] = {a, b};
+  const layout::ConeNode p = cone::ParentNode(kids, 2);
   std::string why;
   CHECK_MESSAGE(refs::ExactNodeContains(p, a, &why), why);
   CHECK_MESSAGE(refs::ExactNodeContains(p, b, &why), why);
@@ -42,7 +42,7 @@ void CheckUnion(const gpu::ConeNode& a, const gpu::ConeNode& b) {
 
 // Over a grid of spheres around the node, the float test never rejects what the exact decision
 // accepts; returns how many the exact decision accepted.
-int CheckTestConservative(const gpu::ConeNode& n, float extent) {
+int CheckTestConservative(const layout::ConeNode& n, float extent) {
   int met = 0;
   for (int i = -6; i <= 6; ++i)
     for (int j = -6; j <= 6; ++j)
@@ -59,11 +59,11 @@ int CheckTestConservative(const gpu::ConeNode& n, float extent) {
   return met;
 }
 
-gpu::Ray Ray(glm::vec3 o, glm::vec3 d, std::uint32_t ignore = gpu::kNoPrim, float tmin = 0.0f, float tmax = INFINITY) {
-  gpu::Ray r{};
+layout::Ray Ray(glm::vec3 o, glm::vec3 d, std::uint32_t ignore = layout::kNoPrim, float tmin = 0.0f, float tmax = INFINITY) {
+  layout::Ray r{};
   r.origin_tmin = glm::vec4(o, tmin);
   r.direction_tmax = glm::vec4(d, tmax);
-  r.info = glm::uvec4(0, ignore, gpu::kRayReflection, 0);
+  r.info = glm::uvec4(0, ignore, layout::kRayReflection, 0);
   return r;
 }
 
@@ -75,8 +75,8 @@ bool FloatHit(glm::vec3 o, glm::vec3 d, glm::vec3 a, glm::vec3 b, glm::vec3 c) {
 }  // namespace
 
 TEST_CASE("hard case: antiparallel cones unite into the full node, which contains both") {
-  const gpu::ConeNode a = Node({0, 0, 0}, 1, {0, 0, 1}, 0.1), b = Node({1, 0, 0}, 0.5f, {0, 0, -1}, 0.1);
-  const gpu::ConeNode kids[2] = {a, b};
+  const layout::ConeNode a = Node({0, 0, 0}, 1, {0, 0, 1}, 0.1), b = Node({1, 0, 0}, 0.5f, {0, 0, -1}, 0.1);
+  const layout::ConeNode kids[2] = {a, b};
   CHECK(cone::IsFull(cone::ParentNode(kids, 2)));
   CheckUnion(a, b);
   // Nearly antiparallel: not full, but still containing.
@@ -84,18 +84,18 @@ TEST_CASE("hard case: antiparallel cones unite into the full node, which contain
 }
 
 TEST_CASE("hard case: a ray along the cone's axis leaves the cone, against it makes it full") {
-  const gpu::ConeNode n = Node({0, 0, 0}, 0, {0, 0, 1}, 0.2);
-  const gpu::ConeNode along = cone::GrowNode(n, {0, 0, 1}, {0, 0, 1});
+  const layout::ConeNode n = Node({0, 0, 0}, 0, {0, 0, 1}, 0.2);
+  const layout::ConeNode along = cone::GrowNode(n, {0, 0, 1}, {0, 0, 1});
   CHECK(along.cone.w >= n.cone.w * (1.0f - 1e-5f));  // no widening beyond the margin
   CHECK(refs::ExactNodeContains(along, n));
   CHECK(refs::ExactNodeContainsRay(along, {0, 0, 1}, {0, 0, 1}));
-  const gpu::ConeNode against = cone::GrowNode(n, {0, 0, 1}, {0, 0, -1});
+  const layout::ConeNode against = cone::GrowNode(n, {0, 0, 1}, {0, 0, -1});
   CHECK(cone::IsFull(against));
   CHECK(refs::ExactNodeContainsRay(against, {0, 0, 1}, {0, 0, -1}));
 }
 
 TEST_CASE("hard case: zero-radius spheres and nodes") {
-  const gpu::ConeNode ray = Node({1, 2, 3}, 0, {1, 1, 0}, 0.0);  // a single ray
+  const layout::ConeNode ray = Node({1, 2, 3}, 0, {1, 1, 0}, 0.0);  // a single ray
   CHECK(cone::Test(ray, glm::vec4(1, 2, 3, 0), 0.0f));           // its own origin
   CHECK(refs::ExactNodeMeetsSphere(ray, glm::vec4(1, 2, 3, 0)));
   CHECK(CheckTestConservative(ray, 4.0f) > 0);
@@ -105,10 +105,10 @@ TEST_CASE("hard case: zero-radius spheres and nodes") {
 TEST_CASE("hard case: half-angles near 0, near pi/2 and at or beyond pi") {
   for (double alpha : {1e-7, 1e-3, M_PI / 2 - 1e-7, M_PI / 2, M_PI / 2 + 1e-7, M_PI - 1e-6, M_PI, 4.0}) {
     CAPTURE(alpha);
-    const gpu::ConeNode n = Node({0.5f, -1, 2}, 0.25f, {0.3f, -0.4f, 0.5f}, alpha);
+    const layout::ConeNode n = Node({0.5f, -1, 2}, 0.25f, {0.3f, -0.4f, 0.5f}, alpha);
     CHECK(CheckTestConservative(n, 3.0f) > 0);
     CheckUnion(n, Node({0.5f, -1, 2.5f}, 0.1f, {-0.3f, 0.4f, 0.5f}, alpha / 2));
-    const gpu::ConeNode g = cone::GrowNode(n, {1, 1, 1}, glm::normalize(glm::vec3(-0.3f, 0.4f, -0.5f)));
+    const layout::ConeNode g = cone::GrowNode(n, {1, 1, 1}, glm::normalize(glm::vec3(-0.3f, 0.4f, -0.5f)));
     CHECK(refs::ExactNodeContains(g, n));
   }
 }
@@ -145,7 +145,7 @@ TEST_CASE("hard case: secondary rays do not hit their own surface or its coplana
   const SceneBuffers buf = FlattenScene(s);
   auto tracer = MakeDirectTracer(buf, DirectMode::kExhaustive);
   const float eps = static_cast<float>(glm::length(buf.hi - buf.lo) * kRayEpsilonRelative);
-  std::vector<gpu::Ray> rays;
+  std::vector<layout::Ray> rays;
   for (float x : {-0.5f, 0.0f, 0.3f, 0.999f})
     for (glm::vec3 d : {glm::vec3(0, 1, 0), glm::vec3(1, 1e-3f, 0), glm::vec3(-1, 1e-6f, 1), glm::vec3(0, 1e-7f, 1)})
       rays.push_back(Ray({x, 0, x}, glm::normalize(d), 0, eps));  // on the diagonal edge shared by both
@@ -162,10 +162,10 @@ TEST_CASE("hard case: a shadow ray toward a light lying on a surface is not bloc
   auto tracer = MakeDirectTracer(buf, DirectMode::kExhaustive);
   // The light sits on the floor at the origin; shadow rays run from it to floor points, inside the
   // floor's plane, and stop just short of the surface point (kShadowTmaxFactor).
-  std::vector<gpu::Ray> rays;
+  std::vector<layout::Ray> rays;
   for (glm::vec3 p : {glm::vec3(0.5f, 0, 0.5f), glm::vec3(-0.9f, 0, 0.1f), glm::vec3(0.2f, 0, -0.7f)}) {
-    gpu::Ray r = Ray({0, 0, 0}, p, 1, 0.0f, kShadowTmaxFactor);
-    r.info.z = gpu::kRayShadow;
+    layout::Ray r = Ray({0, 0, 0}, p, 1, 0.0f, kShadowTmaxFactor);
+    r.info.z = layout::kRayShadow;
     rays.push_back(r);
   }
   std::vector<std::uint32_t> occluded;
@@ -183,7 +183,7 @@ TEST_CASE("hard case: coordinates scaled by 2^60 and 2^-60 keep the ray-triangle
     float t = 0;
     REQUIRE(IntersectWatertight(SetupWatertight(glm::vec3(0.25f, 0.25f, 1) * k, {0, 0, -1}), a, b, c, 0.0f, INFINITY, t));
     CHECK(t == k);  // exact: the plane equation scales by powers of two
-    const gpu::ConeNode n = Node(glm::vec3(1, 2, 3) * k, 0.5f * k, {1, -1, 2}, 0.3);
+    const layout::ConeNode n = Node(glm::vec3(1, 2, 3) * k, 0.5f * k, {1, -1, 2}, 0.3);
     CHECK(CheckTestConservative(n, 4.0f * k) > 0);
     CheckUnion(n, Node(glm::vec3(1, 2, 4) * k, 0.25f * k, {-1, -1, 2}, 0.2));
   }
@@ -192,9 +192,9 @@ TEST_CASE("hard case: coordinates scaled by 2^60 and 2^-60 keep the ray-triangle
 TEST_CASE("hard case: denormal coordinates and radii are computed, not lost") {
   const float tiny = 1e-40f;  // a denormal
   REQUIRE(std::fpclassify(tiny) == FP_SUBNORMAL);
-  const gpu::ConeNode a = Node({tiny, 0, 0}, tiny, {0, 0, 1}, 0.1), b = Node({0, tiny, -tiny}, 0, {0, 1, 1}, 0.0);
+  const layout::ConeNode a = Node({tiny, 0, 0}, tiny, {0, 0, 1}, 0.1), b = Node({0, tiny, -tiny}, 0, {0, 1, 1}, 0.0);
   CheckUnion(a, b);
-  const gpu::ConeNode g = cone::GrowNode(a, {0, 0, 3 * tiny}, {0, 0, 1});
+  const layout::ConeNode g = cone::GrowNode(a, {0, 0, 3 * tiny}, {0, 0, 1});
   CHECK(refs::ExactNodeContains(g, a));
   CHECK(refs::ExactNodeContainsRay(g, {0, 0, 3 * tiny}, {0, 0, 1}));
   CHECK(cone::Test(a, glm::vec4(0, 0, 1, 0), 0.0f));

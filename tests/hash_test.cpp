@@ -21,19 +21,19 @@ SceneBuffers BoxScene() {
   return FlattenScene(s);
 }
 
-gpu::Ray ShadowRay(std::uint32_t light, glm::vec3 d, std::uint32_t pixel = 0) {
-  gpu::Ray r = test::MakeRay({0, 0, 1}, d);
-  r.info = glm::uvec4(pixel, gpu::kNoPrim, gpu::kRayShadow, light);
+layout::Ray ShadowRay(std::uint32_t light, glm::vec3 d, std::uint32_t pixel = 0) {
+  layout::Ray r = test::MakeRay({0, 0, 1}, d);
+  r.info = glm::uvec4(pixel, layout::kNoPrim, layout::kRayShadow, light);
   return r;
 }
 
-gpu::Ray SecondaryRay(glm::vec3 o, glm::vec3 d, std::uint32_t pixel = 0) {
-  gpu::Ray r = test::MakeRay(o, d);
+layout::Ray SecondaryRay(glm::vec3 o, glm::vec3 d, std::uint32_t pixel = 0) {
+  layout::Ray r = test::MakeRay(o, d);
   r.info.x = pixel;
   return r;
 }
 
-std::vector<std::uint32_t> Keys(const std::vector<gpu::Ray>& rays, const SceneBuffers& b) {
+std::vector<std::uint32_t> Keys(const std::vector<layout::Ray>& rays, const SceneBuffers& b) {
   return PassHash({.rays = rays, .scene = &b, .hash = {}});
 }
 
@@ -43,7 +43,7 @@ TEST_CASE("hash: shadow keys hold the light in the high bits, and opposite direc
   const SceneBuffers b = BoxScene();
   const glm::vec3 dirs[] = {{0, 0, 1},  {1, 0, 0},   {0, 1, 0},  {1, 1, 0},   {-1, 2, 0.5f},
                             {3, -1, 2}, {0.2f, 0.1f, -1}, {-1, -1, -1}, {0.5f, -0.25f, 0.125f}};
-  std::vector<gpu::Ray> rays;
+  std::vector<layout::Ray> rays;
   for (std::uint32_t light = 0; light < 4; ++light)
     for (const glm::vec3& d : dirs) {
       rays.push_back(ShadowRay(light, d));
@@ -73,7 +73,7 @@ TEST_CASE("hash: hand-computed keys") {
   // = 0x38000 << 14 = 0xE0000000; direction polar 64 (bit 6 -> key bit 13), azimuth 16 (bit 4 -> key
   // bit 8): 0x2100.
   // Reflection from the box's near corner along -z: everything 0.
-  const std::vector<gpu::Ray> rays = {ShadowRay(2, {0, 0, 1}), ShadowRay(1, {1, 1, 0}),
+  const std::vector<layout::Ray> rays = {ShadowRay(2, {0, 0, 1}), ShadowRay(1, {1, 1, 0}),
                                       SecondaryRay({1, 1, 2}, {0, 0, 1}), SecondaryRay({0, 0, 1}, {1, 1, 0}),
                                       SecondaryRay({-1, -1, 0}, {0, 0, -1})};
   const auto keys = Keys(rays, b);
@@ -88,7 +88,7 @@ TEST_CASE("hash: the quadtree key of pixel (x, y) is its Morton code with the li
   const SceneBuffers b = BoxScene();
   const std::uint32_t width = 8;
   const int depth = 3;
-  std::vector<gpu::Ray> rays;
+  std::vector<layout::Ray> rays;
   for (std::uint32_t y = 0; y < 8; ++y)
     for (std::uint32_t x = 0; x < 8; ++x) {
       rays.push_back(ShadowRay(2, {0, 0, 1}, y * width + x));

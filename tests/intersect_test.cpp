@@ -20,10 +20,10 @@ TEST_CASE("intersect: rays through shared edges and vertices of a closed mesh ar
   const Scene s = SphereScene(16, 9);
   const SceneBuffers b = FlattenScene(s);
   auto tracer = MakeDirectTracer(b, DirectMode::kExhaustive);
-  std::vector<gpu::Ray> rays;
+  std::vector<layout::Ray> rays;
   const glm::vec3 origins[3] = {{0, 0, 0}, {0.1f, -0.2f, 0.05f}, {-0.3f, 0.1f, 0.2f}};
   for (const glm::vec3& o : origins)
-    for (const gpu::Triangle& t : b.triangles) {
+    for (const layout::Triangle& t : b.triangles) {
       const glm::vec3 v[3] = {Xyz(t.v0), Xyz(t.v1), Xyz(t.v2)};
       for (int k = 0; k < 3; ++k) {
         rays.push_back(MakeRay(o, v[k] - o));                       // through a vertex
@@ -55,7 +55,7 @@ namespace {
 // point (0.2, 0.1) lies in triangle 0 (below the diagonal y = x) and, behind it, in triangle 2.
 struct TwoQuads {
   SceneBuffers b;
-  std::vector<gpu::Ray> rays;
+  std::vector<layout::Ray> rays;
   TwoQuads() {
     Scene s;
     s.materials.push_back(test::Diffuse("m", glm::vec3(0.5f)));

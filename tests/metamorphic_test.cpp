@@ -33,7 +33,7 @@ struct Traced {
   std::vector<std::string> names;
   std::vector<std::vector<std::uint64_t>> hits;
   std::vector<std::vector<std::uint32_t>> occluded;
-  std::vector<std::vector<gpu::Ray>> rays;
+  std::vector<std::vector<layout::Ray>> rays;
 };
 
 struct FrameRun {
@@ -128,9 +128,9 @@ TEST_CASE("metamorphic: permuting the triangles changes hits only at exact dista
   std::size_t rays = 0, ties = 0;
   for (std::size_t i = 0; i < frame.traced.names.size(); ++i) {
     CAPTURE(frame.traced.names[i]);
-    std::vector<gpu::Ray> r = frame.traced.rays[i], rp = r;
-    for (gpu::Ray& ray : rp)
-      if (ray.info.y != gpu::kNoPrim) ray.info.y = perm[ray.info.y];
+    std::vector<layout::Ray> r = frame.traced.rays[i], rp = r;
+    for (layout::Ray& ray : rp)
+      if (ray.info.y != layout::kNoPrim) ray.info.y = perm[ray.info.y];
     rays += r.size();
     if (!frame.traced.occluded[i].empty() || frame.traced.hits[i].empty()) {
       std::vector<std::uint32_t> oa, ob;

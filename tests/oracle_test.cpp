@@ -45,9 +45,9 @@ TEST_CASE("oracle: cornell-mirrors agrees with Embree ray by ray") {
   const OracleRun r = Check(s, 96, 96, false);
   CHECK(r.checked > 96 * 96 * 3);
   CHECK(r.mismatches == 0);
-  CHECK(r.frame.rays[gpu::kRayReflection].size() == 3);
-  CHECK(r.frame.rays[gpu::kRayReflection][1] > 0);
-  CHECK(r.frame.rays[gpu::kRayReflection][2] > 0);
+  CHECK(r.frame.rays[layout::kRayReflection].size() == 3);
+  CHECK(r.frame.rays[layout::kRayReflection][1] > 0);
+  CHECK(r.frame.rays[layout::kRayReflection][2] > 0);
   // Frames traced by Embree, checked by the emulator's tracer.
   CHECK(Check(s, 64, 64, true).mismatches == 0);
 }
@@ -80,11 +80,11 @@ class FlipOne final : public Tracer {
   FlipOne(Tracer& inner, std::size_t ray) : inner_(inner), ray_(ray) {}
   std::string Name() const override { return "flip-one"; }
   void Describe(nlohmann::json& out) const override { inner_.Describe(out); }
-  void Closest(const std::vector<gpu::Ray>& rays, std::vector<std::uint64_t>& hits) override {
+  void Closest(const std::vector<layout::Ray>& rays, std::vector<std::uint64_t>& hits) override {
     inner_.Closest(rays, hits);
     if (ray_ < hits.size()) hits[ray_] = hits[ray_] == emu::kMissPacked ? emu::PackHit(1.0f, 0) : emu::kMissPacked;
   }
-  void Occluded(const std::vector<gpu::Ray>& rays, std::vector<std::uint32_t>& occ) override {
+  void Occluded(const std::vector<layout::Ray>& rays, std::vector<std::uint32_t>& occ) override {
     inner_.Occluded(rays, occ);
     if (ray_ < occ.size()) occ[ray_] ^= 1u;
   }
@@ -115,11 +115,11 @@ TEST_CASE("planted fault: a tracer that flips one answer is reported as a mismat
 TEST_CASE("exact adjudication: a ray just outside a triangle misses exactly") {
   // Sponza's triangle 510 and a shadow ray Embree (sse4.2, robust) reports as hitting it; in exact
   // arithmetic the ray passes outside (barycentric -3.6e-4).
-  gpu::Triangle t;
+  layout::Triangle t;
   t.v0 = {10.8352003f, -1.18886006f, 4.63565016f, 1};
   t.v1 = {10.8352003f, -0.907504022f, 4.76227999f, 1};
   t.v2 = {10.8472004f, -0.904844999f, 4.75527f, 1};
-  gpu::Ray r{};
+  layout::Ray r{};
   r.origin_tmin = {0, 0, 14, 0};
   r.direction_tmax = {0.7544096112251282f, -0.0813230574131012f, -0.6513468623161316f, 14.42607593536377f};
   CHECK_FALSE(refs::ExactHits(r, t));

@@ -117,7 +117,7 @@ TEST_CASE("raster: clipping keeps geometry that crosses the near plane") {
   test::AddQuad(s, "ground", {-50, 0, 50}, {50, 0, 50}, {50, 0, -50}, {-50, 0, -50});
   const SceneBuffers b = FlattenScene(s);
   const int w = 64, h = 48;
-  const gpu::FrameConstants fc = MakeFrameConstants(s, b, w, h);
+  const layout::FrameConstants fc = MakeFrameConstants(s, b, w, h);
   const GBuffer g = PassRaster({.frame = fc, .scene = &b});
   int checked = 0;
   for (int y = 0; y < h; ++y)
@@ -130,11 +130,11 @@ TEST_CASE("raster: clipping keeps geometry that crosses the near plane") {
       const glm::vec3 p = glm::vec3(0, 1, 0) + t * d;
       if (dy < -0.05f && std::fabs(p.x) < 49 && std::fabs(p.z) < 49) {
         INFO("pixel " << x << "," << y);
-        CHECK(g.prim[i] != gpu::kNoPrim);
+        CHECK(g.prim[i] != layout::kNoPrim);
         CHECK(std::fabs(g.position[i].y) < 1e-4f);
         ++checked;
       }
-      if (dy > 0.01f) CHECK(g.prim[i] == gpu::kNoPrim);
+      if (dy > 0.01f) CHECK(g.prim[i] == layout::kNoPrim);
     }
   CHECK(checked > w * h / 4);
 }
@@ -152,10 +152,10 @@ TEST_CASE("raster: the nearer triangle wins the depth test, whatever the draw or
     for (int k = 0; k < 2; ++k)
       test::AddQuad(s, "q", {-1, -1, zs[k]}, {1, -1, zs[k]}, {1, 1, zs[k]}, {-1, 1, zs[k]}, zs[k] == 1.0f ? 1 : 0);
     const SceneBuffers b = FlattenScene(s);
-    const gpu::FrameConstants fc = MakeFrameConstants(s, b, 32, 32);
+    const layout::FrameConstants fc = MakeFrameConstants(s, b, 32, 32);
     const GBuffer g = PassRaster({.frame = fc, .scene = &b});
     const std::size_t centre = 16 * 32 + 16;
-    REQUIRE(g.prim[centre] != gpu::kNoPrim);
+    REQUIRE(g.prim[centre] != layout::kNoPrim);
     CHECK(g.diffuse[centre].x == doctest::Approx(0.9f));  // the quad at z = 1 is nearer the eye
     CHECK(g.position[centre].z == doctest::Approx(1.0f).epsilon(1e-5));
   }

@@ -16,16 +16,16 @@ using Fixture = test::ShadingFixture;
 
 // One surface through a raygen pass of the given kind.
 template <SparseRays (*Pass)(const call::Raygen&)>
-SparseRays RaygenOne(std::uint32_t kind, const Fixture& f, const gpu::Surface& s) {
-  const std::vector<gpu::Surface> surfaces{s};
+SparseRays RaygenOne(std::uint32_t kind, const Fixture& f, const layout::Surface& s) {
+  const std::vector<layout::Surface> surfaces{s};
   return Pass({.kind = kind, .frame = f.fc, .surfaces = surfaces, .scene = &f.b});
 }
-SparseRays RaygenShadow(const Fixture& f, const gpu::Surface& s) { return RaygenOne<PassRaygenShadow>(gpu::kRayShadow, f, s); }
-SparseRays RaygenReflection(const Fixture& f, const gpu::Surface& s) {
-  return RaygenOne<PassRaygenReflection>(gpu::kRayReflection, f, s);
+SparseRays RaygenShadow(const Fixture& f, const layout::Surface& s) { return RaygenOne<PassRaygenShadow>(layout::kRayShadow, f, s); }
+SparseRays RaygenReflection(const Fixture& f, const layout::Surface& s) {
+  return RaygenOne<PassRaygenReflection>(layout::kRayReflection, f, s);
 }
-SparseRays RaygenRefraction(const Fixture& f, const gpu::Surface& s) {
-  return RaygenOne<PassRaygenRefraction>(gpu::kRayRefraction, f, s);
+SparseRays RaygenRefraction(const Fixture& f, const layout::Surface& s) {
+  return RaygenOne<PassRaygenRefraction>(layout::kRayRefraction, f, s);
 }
 
 TEST_CASE("raygen: shadow rays start at the light and stop just short of the surface") {
@@ -35,12 +35,12 @@ TEST_CASE("raygen: shadow rays start at the light and stop just short of the sur
   const auto rays = RaygenShadow(f, {f.Surface({0, 0, 3}, {0, 1, 0}, {0, -1, 0})});
   REQUIRE(rays.flags.size() == 1);
   REQUIRE(rays.flags[0] == 1);
-  const gpu::Ray& r = rays.rays[0];
+  const layout::Ray& r = rays.rays[0];
   CHECK(Xyz(r.origin_tmin) == glm::vec3(0, 4, 0));               // eq. 3.1
   CHECK(r.direction_tmax.y == doctest::Approx(-0.8f));           // eq. 3.2: (p - l) / |p - l| = (0,-4,3)/5
   CHECK(r.direction_tmax.z == doctest::Approx(0.6f));
   CHECK(r.direction_tmax.w == 5.0f * kShadowTmaxFactor);
-  CHECK(r.info.z == gpu::kRayShadow);
+  CHECK(r.info.z == layout::kRayShadow);
   CHECK(r.info.y == 0);  // ignores the surface's own triangle
 }
 

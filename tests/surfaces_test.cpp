@@ -34,8 +34,8 @@ Scene TriangleScene() {
   return s;
 }
 
-gpu::Ray RayAt(glm::vec3 o, glm::vec3 d, std::uint32_t pixel) {
-  gpu::Ray r = test::MakeRay(o, d);
+layout::Ray RayAt(glm::vec3 o, glm::vec3 d, std::uint32_t pixel) {
+  layout::Ray r = test::MakeRay(o, d);
   r.info.x = pixel;
   r.weight = glm::vec4(0.5f, 0.25f, 0.125f, 0.0f);
   return r;
@@ -50,7 +50,7 @@ void CheckNear(glm::vec3 got, glm::vec3 expect) {
 TEST_CASE("surfaces.hits: position o + t d, normals interpolated to the vertex normals, misses keep the pixel") {
   const Scene scene = TriangleScene();
   const SceneBuffers b = FlattenScene(scene);
-  std::vector<gpu::Ray> rays;
+  std::vector<layout::Ray> rays;
   std::vector<std::uint64_t> hits;
   // 0: down a non-unit direction onto the centroid (1,1,0): t = 2.5 along (0,0,-2) from z = 5.
   rays.push_back(RayAt({1, 1, 5}, {0, 0, -2}, 7));
@@ -83,23 +83,23 @@ TEST_CASE("surfaces.hits: position o + t d, normals interpolated to the vertex n
   }
 
   CHECK(s[4].position == glm::vec4(0));  // w 0: an empty slot
-  CHECK(s[4].info == glm::uvec4(gpu::kNoPrim, 9, 0, 0));
+  CHECK(s[4].info == glm::uvec4(layout::kNoPrim, 9, 0, 0));
 }
 
 TEST_CASE("surfaces: a 2x1 G-buffer with one covered pixel") {
   const Scene scene = TriangleScene();
   const SceneBuffers b = FlattenScene(scene);
-  const gpu::FrameConstants fc = MakeFrameConstants(scene, b, 2, 1);
+  const layout::FrameConstants fc = MakeFrameConstants(scene, b, 2, 1);
   // Pixel 0 is empty (whatever the other attachments hold); pixel 1 sees the triangle at (1,1,0).
   const std::vector<glm::vec4> position = {{7, 7, 7, 0}, {1, 1, 0, 1}};
   const std::vector<glm::vec4> normal = {{0, 1, 0, 0}, {0, 0, 1, 0.25f}};  // w: transparency
-  const std::vector<std::uint32_t> prim = {gpu::kNoPrim, 0};
+  const std::vector<std::uint32_t> prim = {layout::kNoPrim, 0};
   const auto s = PassSurfacesFromGBuffer(
       {.frame = fc, .width = 2, .height = 1, .position = position, .normal = normal, .prim = prim, .scene = &b});
   REQUIRE(s.size() == 2);
 
   CHECK(s[0].position == glm::vec4(0));
-  CHECK(s[0].info == glm::uvec4(gpu::kNoPrim, 0, 0, 0));
+  CHECK(s[0].info == glm::uvec4(layout::kNoPrim, 0, 0, 0));
 
   CHECK(s[1].position == glm::vec4(1, 1, 0, 1));
   CHECK(s[1].normal == glm::vec4(0, 0, 1, 0));

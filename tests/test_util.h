@@ -88,7 +88,7 @@ inline Scene LoadBundled(const std::string& file) {
 struct ShadingFixture {
   Scene scene;
   SceneBuffers b;
-  gpu::FrameConstants fc{};
+  layout::FrameConstants fc{};
   explicit ShadingFixture(MaterialDesc m, LightDesc light = {}) {
     scene.camera.eye = {0, 3, 3};
     scene.camera.target = {0, 0, 0};
@@ -98,8 +98,8 @@ struct ShadingFixture {
     b = FlattenScene(scene);
     fc = MakeFrameConstants(scene, b, 8, 8);
   }
-  gpu::Surface Surface(glm::vec3 p, glm::vec3 n, glm::vec3 incoming) const {
-    gpu::Surface s{};
+  layout::Surface Surface(glm::vec3 p, glm::vec3 n, glm::vec3 incoming) const {
+    layout::Surface s{};
     s.position = glm::vec4(p, 1);
     s.normal = glm::vec4(n, 0);
     s.incoming = glm::vec4(incoming, 0);
@@ -110,11 +110,11 @@ struct ShadingFixture {
 };
 
 // A reflection ray from o along d (not normalised), t in (0, inf), leaving primitive `ignore`.
-inline gpu::Ray MakeRay(glm::vec3 o, glm::vec3 d, std::uint32_t ignore = gpu::kNoPrim) {
-  gpu::Ray r{};
+inline layout::Ray MakeRay(glm::vec3 o, glm::vec3 d, std::uint32_t ignore = layout::kNoPrim) {
+  layout::Ray r{};
   r.origin_tmin = glm::vec4(o, 0.0f);
   r.direction_tmax = glm::vec4(d, std::numeric_limits<float>::infinity());
-  r.info = glm::uvec4(0, ignore, gpu::kRayReflection, 0);
+  r.info = glm::uvec4(0, ignore, layout::kRayReflection, 0);
   return r;
 }
 

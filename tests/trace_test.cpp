@@ -21,9 +21,9 @@ TEST_CASE("direct tracer: BVH and exhaustive modes give identical answers") {
   auto bvh = MakeDirectTracer(b, DirectMode::kBvh);
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u(-1.5f, 1.5f);
-  std::vector<gpu::Ray> rays;
+  std::vector<layout::Ray> rays;
   for (int i = 0; i < 4000; ++i) {
-    gpu::Ray r = MakeRay({u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}, i % 7 == 0 ? static_cast<std::uint32_t>(i % b.triangles.size()) : gpu::kNoPrim);
+    layout::Ray r = MakeRay({u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}, i % 7 == 0 ? static_cast<std::uint32_t>(i % b.triangles.size()) : layout::kNoPrim);
     if (i % 3 == 0) r.direction_tmax.w = 0.5f + (i % 5) * 0.3f;  // bounded rays too
     rays.push_back(r);
   }
@@ -55,7 +55,7 @@ TEST_CASE("direct tracer: ignores the primitive a ray leaves and honours tmin/tm
   tr->Closest({MakeRay({0.2f, 0.1f, 0}, {0, 0, -1}, front)}, h);  // leaving the front quad
   REQUIRE(h[0] != kMissPacked);
   CHECK(HitT(h[0]) == 2.0f);
-  gpu::Ray shortray = MakeRay({0.2f, 0.1f, 1}, {0, 0, -1});
+  layout::Ray shortray = MakeRay({0.2f, 0.1f, 1}, {0, 0, -1});
   shortray.direction_tmax.w = 0.999f;
   std::vector<std::uint32_t> occ;
   tr->Occluded({shortray}, occ);

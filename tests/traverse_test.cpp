@@ -15,7 +15,7 @@ using test::HRun;
 using test::RunHierarchy;
 
 TEST_CASE("cone test: wide cones, spheres behind the apex, the full sphere") {
-  gpu::ConeNode n = cone::FromRay({0, 0, 0}, {0, 0, 1});
+  layout::ConeNode n = cone::FromRay({0, 0, 0}, {0, 0, 1});
   // A narrow cone misses a sphere beside and behind the apex but meets one around the apex.
   CHECK_FALSE(cone::Test(n, {5, 0, 1, 1}, 0));
   CHECK_FALSE(cone::Test(n, {0, 0, -5, 1}, 0));
@@ -38,7 +38,7 @@ TEST_CASE("traversal: every pair the final test accepts is a hierarchy candidate
     cfg.depth = a == Algorithm::kRahQuadtree ? 5 : 2;
     cfg.subdivision = a == Algorithm::kRahQuadtree ? 4 : 8;
     std::vector<std::uint64_t> log;
-    std::vector<std::vector<gpu::Ray>> batches;
+    std::vector<std::vector<layout::Ray>> batches;
     // Re-run the frame with an observer to keep every batch's rays.
     const HRun r = RunHierarchy(s, 32, 32, cfg, &log);
     (void)r;
@@ -82,7 +82,7 @@ namespace {
 // the +z axis, 3 beside both cones. Triangles 0, 1 are object 0; triangles 2, 3 object 1.
 struct TopFixture {
   SceneBuffers b;
-  std::vector<gpu::ConeNode> top;
+  std::vector<layout::ConeNode> top;
   std::vector<glm::vec4> spheres = {{0, 0, 10, 0.5f}, {0, 0, -100, 1}, {0, 0, 20, 0.5f}, {20, 0, 1, 1}};
   TopFixture() {
     Scene s;
@@ -91,7 +91,7 @@ struct TopFixture {
     test::AddQuad(s, "b", {-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1});
     b = FlattenScene(s);
     for (float z : {1.0f, -1.0f}) {
-      gpu::ConeNode n;
+      layout::ConeNode n;
       n.sphere = glm::vec4(0, 0, 0, 0.1f);
       n.cone = glm::vec4(0, 0, z, std::sqrt(3.0f) / 2);
       n.extra = glm::vec4(0.5f, 8, 0, 0);

@@ -27,7 +27,7 @@ TEST_CASE("trim: exclusive scan and scatter keep input order") {
       std::vector<std::uint32_t> expect(n);
       std::exclusive_scan(s.flags.begin(), s.flags.end(), expect.begin(), 0u);
       CHECK(scan == expect);
-      const emu::Trimmed t = emu::PassTrim({.kind = gpu::kRayShadow, .rays = s.rays, .flags = s.flags});
+      const emu::Trimmed t = emu::PassTrim({.kind = layout::kRayShadow, .rays = s.rays, .flags = s.flags});
       std::vector<std::uint32_t> kept, got;
       for (std::size_t i = 0; i < n; ++i)
         if (s.flags[i]) kept.push_back(static_cast<std::uint32_t>(i));

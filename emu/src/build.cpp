@@ -6,20 +6,20 @@
 
 namespace rayspace::emu {
 
-std::vector<gpu::ConeNode> PassBuildLeaves(const call::BuildLeaves& c) {
-  const In<gpu::Ray> rays = c.rays;
+std::vector<layout::ConeNode> PassBuildLeaves(const call::BuildLeaves& c) {
+  const In<layout::Ray> rays = c.rays;
   const In<std::uint32_t> order = c.order, first = c.first;
-  std::vector<gpu::ConeNode> nodes(first.size() - 1);
+  std::vector<layout::ConeNode> nodes(first.size() - 1);
   ParallelFor(nodes.size(), [&](std::size_t i) {
-    nodes[i] = cone::LeafNode(first[i + 1] - first[i], [&](std::uint32_t k) -> const gpu::Ray& { return rays[order[first[i] + k]]; });
+    nodes[i] = cone::LeafNode(first[i + 1] - first[i], [&](std::uint32_t k) -> const layout::Ray& { return rays[order[first[i] + k]]; });
   });
   return nodes;
 }
 
-std::vector<gpu::ConeNode> PassBuildParents(const call::BuildParents& c) {
-  const In<gpu::ConeNode> below = c.below;
+std::vector<layout::ConeNode> PassBuildParents(const call::BuildParents& c) {
+  const In<layout::ConeNode> below = c.below;
   const In<std::uint32_t> first = c.first;
-  std::vector<gpu::ConeNode> nodes(first.size() - 1);
+  std::vector<layout::ConeNode> nodes(first.size() - 1);
   ParallelFor(nodes.size(), [&](std::size_t i) { nodes[i] = cone::ParentNode(&below[first[i]], first[i + 1] - first[i]); });
   return nodes;
 }

@@ -18,7 +18,7 @@ void CheckScene(std::string_view call, const SceneBuffers* scene) {
   if (!scene) ThrowInput("{}: the call has no scene", call);
 }
 
-void CheckFrame(std::string_view call, const gpu::FrameConstants& fc) {
+void CheckFrame(std::string_view call, const layout::FrameConstants& fc) {
   if (fc.dims.x == 0 || fc.dims.y == 0 || fc.dims.x > kMaxFrameSide || fc.dims.y > kMaxFrameSide)
     ThrowInput("{}: frame size {}x{} is out of range [1, {}]", call, fc.dims.x, fc.dims.y, kMaxFrameSide);
 }
@@ -42,14 +42,14 @@ void CheckSameLength(std::string_view call, const char* a, std::size_t na, const
 }
 
 void CheckKind(std::string_view call, std::uint32_t kind) {
-  if (kind > gpu::kRayRefraction) ThrowInput("{}: scalar 'kind' = {} is not a ray kind", call, kind);
+  if (kind > layout::kRayRefraction) ThrowInput("{}: scalar 'kind' = {} is not a ray kind", call, kind);
 }
 
-void CheckSurfaces(std::string_view call, In<gpu::Surface> surfaces, const gpu::FrameConstants& fc,
+void CheckSurfaces(std::string_view call, In<layout::Surface> surfaces, const layout::FrameConstants& fc,
                    const SceneBuffers& scene) {
   for (std::size_t i = 0; i < surfaces.size(); ++i) {
-    const gpu::Surface& s = surfaces[i];
-    if (s.info.y >= fc.dims.x * fc.dims.y || (s.info.x != gpu::kNoPrim && (s.info.x >= scene.triangles.size() ||
+    const layout::Surface& s = surfaces[i];
+    if (s.info.y >= fc.dims.x * fc.dims.y || (s.info.x != layout::kNoPrim && (s.info.x >= scene.triangles.size() ||
                                                                            s.info.z >= scene.materials.size())))
       ThrowInput("{}: input 'surfaces' element {} names a pixel, triangle or material out of range", call, i);
   }
@@ -64,7 +64,7 @@ void CheckInputs(const call::Raster& c) {
   // products finite, so it never meets a NaN and a triangle never clips to more than 9 vertices.
   constexpr float kClipLimit = 0x1p120f;
   for (std::size_t t = 0; t < c.scene->triangles.size(); ++t) {
-    const gpu::Triangle& tri = c.scene->triangles[t];
+    const layout::Triangle& tri = c.scene->triangles[t];
     for (const glm::vec4& v : {tri.v0, tri.v1, tri.v2}) {
       const glm::vec4 clip = raster::VertexStage(c.frame.view_proj, glm::vec3(v));
       for (int k = 0; k < 4; ++k)
@@ -86,7 +86,7 @@ void CheckInputs(const call::SurfacesFromGBuffer& c) {
     ThrowInput("{}: G-buffer inputs hold {}/{}/{} pixels, expected {}", c.kName, c.position.size(), c.normal.size(),
                c.prim.size(), n);
   for (std::size_t i = 0; i < n; ++i)
-    if (c.prim[i] != gpu::kNoPrim && c.prim[i] >= c.scene->triangles.size())
+    if (c.prim[i] != layout::kNoPrim && c.prim[i] >= c.scene->triangles.size())
       ThrowInput("{}: input 'prim' element {} names triangle {}", c.kName, i, c.prim[i]);
 }
 
@@ -170,9 +170,9 @@ void CheckInputs(const call::TraverseTop& c) {
   CheckScene(c.kName, c.scene);
   const SceneBuffers& s = *c.scene;
   if (c.t0 > c.t1 || c.t1 > c.top.size()) ThrowInput("{}: top nodes [{}, {}) out of [0, {})", c.kName, c.t0, c.t1, c.top.size());
-  if (c.b0 > c.b1 || c.b1 > s.triangles.size() || c.b1 - c.b0 > (1u << gpu::kPairTriangleBits))
+  if (c.b0 > c.b1 || c.b1 > s.triangles.size() || c.b1 - c.b0 > (1u << layout::kPairTriangleBits))
     ThrowInput("{}: triangles [{}, {}) out of [0, {}) or wider than a packed pair holds", c.kName, c.b0, c.b1, s.triangles.size());
-  if (c.t1 - c.t0 > (1u << (32 - gpu::kPairTriangleBits)))
+  if (c.t1 - c.t0 > (1u << (32 - layout::kPairTriangleBits)))
     ThrowInput("{}: {} top nodes are more than a packed pair holds", c.kName, c.t1 - c.t0);
   CheckSameLength(c.kName, "tri_spheres", c.tri_spheres.size(), "scene.triangles", s.triangles.size());
   if (!c.object_mask.empty() && c.object_mask.size() != c.top.size() * s.objects.size())
@@ -188,8 +188,8 @@ void CheckInputs(const call::TraverseLevel& c) {
   if (c.children_max > 255) ThrowInput("{}: scalar 'children_max' = {} exceeds 255", c.kName, c.children_max);
   for (std::size_t i = 0; i < c.pairs.size(); ++i) {
     const std::uint32_t p = c.pairs[i];
-    const std::uint64_t parent = std::uint64_t{c.base_up} + (p >> gpu::kPairTriangleBits);
-    if (parent + 1 >= c.first.size() || std::uint64_t{c.b0} + (p & gpu::kPairTriangleMask) >= c.tri_spheres.size() ||
+    const std::uint64_t parent = std::uint64_t{c.base_up} + (p >> layout::kPairTriangleBits);
+    if (parent + 1 >= c.first.size() || std::uint64_t{c.b0} + (p & layout::kPairTriangleMask) >= c.tri_spheres.size() ||
         c.first[parent + 1] - c.first[parent] > c.children_max || c.first[parent] < c.base)
       ThrowInput("{}: input 'pairs' element {} ({}) is out of range", c.kName, i, p);
   }
@@ -209,8 +209,8 @@ void CheckInputs(const call::Intersect& c) {
   CheckFirst(c.kName, "first1", c.first1, c.order.size());
   for (std::size_t i = 0; i < c.pairs.size(); ++i) {
     const std::uint32_t p = c.pairs[i];
-    if (std::uint64_t{c.base1} + (p >> gpu::kPairTriangleBits) + 1 >= c.first1.size() ||
-        std::uint64_t{c.b0} + (p & gpu::kPairTriangleMask) >= c.scene->triangles.size())
+    if (std::uint64_t{c.base1} + (p >> layout::kPairTriangleBits) + 1 >= c.first1.size() ||
+        std::uint64_t{c.b0} + (p & layout::kPairTriangleMask) >= c.scene->triangles.size())
       ThrowInput("{}: input 'pairs' element {} ({}) is out of range", c.kName, i, p);
   }
   if ((c.hits == nullptr) == (c.occluded == nullptr)) ThrowInput("{}: exactly one of 'hits' and 'occluded' is needed", c.kName);

@@ -35,12 +35,12 @@ class DirectTracer final : public Tracer {
     out["intersection"] = "watertight (Woop et al. 2013), float, two-sided";
   }
 
-  void Closest(const std::vector<gpu::Ray>& rays, std::vector<std::uint64_t>& hits) override {
+  void Closest(const std::vector<layout::Ray>& rays, std::vector<std::uint64_t>& hits) override {
     hits.assign(rays.size(), kMissPacked);
     ParallelFor(rays.size(), [&](std::size_t i) { hits[i] = Trace(rays[i], false); });
   }
 
-  void Occluded(const std::vector<gpu::Ray>& rays, std::vector<std::uint32_t>& occluded) override {
+  void Occluded(const std::vector<layout::Ray>& rays, std::vector<std::uint32_t>& occluded) override {
     occluded.assign(rays.size(), 0u);
     ParallelFor(rays.size(), [&](std::size_t i) {
       occluded[i] = Trace(rays[i], true) != kMissPacked ? 1u : 0u;
@@ -49,7 +49,7 @@ class DirectTracer final : public Tracer {
 
  private:
   // Returns the packed closest hit (any hit when any_hit).
-  std::uint64_t Trace(const gpu::Ray& ray, bool any_hit) const {
+  std::uint64_t Trace(const layout::Ray& ray, bool any_hit) const {
     const glm::vec3 org = Xyz(ray.origin_tmin), dir = Xyz(ray.direction_tmax);
     const float tmin = ray.origin_tmin.w, tmax = ray.direction_tmax.w;
     const std::uint32_t ignore = ray.info.y;
@@ -57,7 +57,7 @@ class DirectTracer final : public Tracer {
     std::uint64_t best = kMissPacked;
     auto test = [&](std::uint32_t prim) {
       if (prim == ignore) return false;
-      const gpu::Triangle& t = scene_.triangles[prim];
+      const layout::Triangle& t = scene_.triangles[prim];
       float th;
       if (!IntersectWatertight(wr, Xyz(t.v0), Xyz(t.v1), Xyz(t.v2), tmin, tmax, th)) return false;
       best = std::min(best, PackHit(th, prim));

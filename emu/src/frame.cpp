@@ -11,9 +11,9 @@ namespace rayspace::emu {
 
 const char* RayKindName(std::uint32_t kind) {
   switch (kind) {
-    case gpu::kRayShadow: return "shadow";
-    case gpu::kRayReflection: return "reflection";
-    case gpu::kRayRefraction: return "refraction";
+    case layout::kRayShadow: return "shadow";
+    case layout::kRayReflection: return "reflection";
+    case layout::kRayRefraction: return "refraction";
   }
   return "unknown";
 }
@@ -46,7 +46,7 @@ class Runner {
     PrepAndRaster();
 
     std::vector<std::uint64_t> accum(static_cast<std::size_t>(r_.width) * r_.height * 3, 0);
-    std::vector<gpu::Surface> surfaces;
+    std::vector<layout::Surface> surfaces;
     Pass("surfaces.b0", [&] {
       surfaces = passes_.SurfacesFromGBuffer(SurfacesCall(fc_, r_.gbuffer, b_));
       r_.digest.Add("surfaces.b0", "surfaces", surfaces);
@@ -115,21 +115,21 @@ class Runner {
   }
 
   // Shadow rays of this generation's surfaces, then shading into `accum`.
-  void ShadowAndShade(int bounce, const std::vector<gpu::Surface>& surfaces, std::vector<std::uint64_t>& accum) {
+  void ShadowAndShade(int bounce, const std::vector<layout::Surface>& surfaces, std::vector<std::uint64_t>& accum) {
     const std::string bs = fmt::format("b{}", bounce);
     SparseRays shadow;
     Trimmed shadow_trim;
     std::vector<std::uint32_t> occluded;
     if (!b_.lights.empty()) {
-      RaygenAndTrim(gpu::kRayShadow, "shadow." + bs, [&] { return passes_.Raygen({.kind = gpu::kRayShadow, .frame = fc_, .surfaces = surfaces, .scene = &b_}); }, shadow, shadow_trim);
-      r_.rays[gpu::kRayShadow][bounce] = shadow_trim.rays.size();
+      RaygenAndTrim(layout::kRayShadow, "shadow." + bs, [&] { return passes_.Raygen({.kind = layout::kRayShadow, .frame = fc_, .surfaces = surfaces, .scene = &b_}); }, shadow, shadow_trim);
+      r_.rays[layout::kRayShadow][bounce] = shadow_trim.rays.size();
       Pass("trace.shadow." + bs, [&] {
-        Begin("shadow." + bs, gpu::kRayShadow, bounce);
+        Begin("shadow." + bs, layout::kRayShadow, bounce);
         tracer_.Occluded(shadow_trim.rays, occluded);
         r_.digest.Add("trace.shadow." + bs, "occluded", occluded);
         return shadow_trim.rays.size();
       });
-      if (observer_) observer_({"shadow." + bs, gpu::kRayShadow, bounce, &shadow_trim.rays, nullptr, &occluded});
+      if (observer_) observer_({"shadow." + bs, layout::kRayShadow, bounce, &shadow_trim.rays, nullptr, &occluded});
     } else {
       Skip("raygen.shadow." + bs, "the scene has no lights");
       Skip("trim.shadow." + bs, "the scene has no lights");
@@ -144,15 +144,15 @@ class Runner {
   }
 
   // Next generation: reflection and refraction rays; their hits are the surfaces returned.
-  std::vector<gpu::Surface> NextGeneration(int bounce, const std::vector<gpu::Surface>& surfaces) {
+  std::vector<layout::Surface> NextGeneration(int bounce, const std::vector<layout::Surface>& surfaces) {
     const std::string next = fmt::format("b{}", bounce + 1);
-    std::vector<gpu::Surface> next_surfaces;
+    std::vector<layout::Surface> next_surfaces;
     const struct {
       std::uint32_t kind;
       bool enabled;
       const char* reason;
-    } kinds[2] = {{gpu::kRayReflection, reflective_, "no material has reflectivity > 0"},
-                  {gpu::kRayRefraction, transparent_, "no material has transparency > 0"}};
+    } kinds[2] = {{layout::kRayReflection, reflective_, "no material has reflectivity > 0"},
+                  {layout::kRayRefraction, transparent_, "no material has transparency > 0"}};
     for (const auto& k : kinds) {
       const std::string kn = RayKindName(k.kind);
       const std::string sfx = kn + "." + next;
@@ -178,7 +178,7 @@ class Runner {
       });
       if (observer_) observer_({sfx, k.kind, bounce + 1, &trimmed.rays, &hits, nullptr});
       Pass("surfaces." + sfx, [&] {
-        std::vector<gpu::Surface> s = passes_.SurfacesFromHits({.rays = trimmed.rays, .hits = hits, .scene = &b_});
+        std::vector<layout::Surface> s = passes_.SurfacesFromHits({.rays = trimmed.rays, .hits = hits, .scene = &b_});
         r_.digest.Add("surfaces." + sfx, "surfaces", s);
         next_surfaces.insert(next_surfaces.end(), s.begin(), s.end());
         return s.size();
@@ -233,7 +233,7 @@ class Runner {
   const FrameOptions& opt_;
   const BatchObserver& observer_;
   FramePasses& passes_;
-  gpu::FrameConstants fc_{};
+  layout::FrameConstants fc_{};
   FrameResult r_;
   std::vector<SubPass> subpasses_;
   bool reflective_ = false, transparent_ = false;  // some material spawns reflection, refraction rays

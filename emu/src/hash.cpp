@@ -54,7 +54,7 @@ std::uint32_t Morton2(std::uint32_t x, std::uint32_t y) {
 
 // The direction / origin keys (docs/hierarchy.md, "Hash keys").
 std::vector<std::uint32_t> PassHashKeys(const call::Hash& c) {
-  const In<gpu::Ray> rays = c.rays;
+  const In<layout::Ray> rays = c.rays;
   const SceneBuffers& scene = *c.scene;
   const HashConfig& h = c.hash;
   RS_CHECK(h.light_bits + h.polar_bits + h.azimuth_bits <= 32);
@@ -62,9 +62,9 @@ std::vector<std::uint32_t> PassHashKeys(const call::Hash& c) {
   std::vector<std::uint32_t> keys(rays.size());
   const glm::vec3 lo = scene.lo, ext = scene.hi - scene.lo;
   ParallelFor(rays.size(), [&](std::size_t i) {
-    const gpu::Ray& r = rays[i];
+    const layout::Ray& r = rays[i];
     const glm::vec3 d = Normalize(Xyz(r.direction_tmax));
-    if (r.info.z == gpu::kRayShadow) {
+    if (r.info.z == layout::kRayShadow) {
       const std::uint32_t light = std::min(r.info.w, (1u << h.light_bits) - 1u);  // more lights share the last value
       keys[i] = (light << (h.polar_bits + h.azimuth_bits)) | DirectionKey(d, h.polar_bits, h.azimuth_bits);
     } else {
@@ -80,12 +80,12 @@ std::vector<std::uint32_t> PassHashKeys(const call::Hash& c) {
 
 }  // namespace
 
-std::vector<std::uint32_t> PassHashQuadtree(In<gpu::Ray> rays, std::uint32_t width, int depth) {
+std::vector<std::uint32_t> PassHashQuadtree(In<layout::Ray> rays, std::uint32_t width, int depth) {
   std::vector<std::uint32_t> k(rays.size());
   const std::uint32_t w = std::max(width, 1u);
   ParallelFor(rays.size(), [&](std::size_t i) {
     const std::uint32_t px = rays[i].info.x % w, py = rays[i].info.x / w;
-    const std::uint32_t light = rays[i].info.z == gpu::kRayShadow ? rays[i].info.w : 0u;
+    const std::uint32_t light = rays[i].info.z == layout::kRayShadow ? rays[i].info.w : 0u;
     k[i] = (light << (2 * depth)) | Morton2(px, py);
   });
   return k;

@@ -24,8 +24,8 @@ std::uint64_t BatchStats::Total() const {
 
 namespace {
 
-constexpr std::uint32_t kTriBits = gpu::kPairTriangleBits;
-constexpr std::uint32_t kTriMask = gpu::kPairTriangleMask;
+constexpr std::uint32_t kTriBits = layout::kPairTriangleBits;
+constexpr std::uint32_t kTriMask = layout::kPairTriangleMask;
 constexpr std::uint32_t kMaxLevelNodes = 1u << (32 - kTriBits);  // the node ids left in a packed pair
 // Largest top-level test grid (nodes x triangles) held at once; bigger grids take several node groups.
 constexpr std::size_t kMaxTopGrid = std::size_t{1} << 26;
@@ -41,7 +41,7 @@ class Clock {
 // Levels 1..D of one batch's hierarchy. first[L-1] is a CSR offset array: the children of level-L
 // node i are [first[i], first[i+1]) among the level L-1 nodes (the sorted rays for L = 1).
 struct Hierarchy {
-  std::vector<std::vector<gpu::ConeNode>> nodes;
+  std::vector<std::vector<layout::ConeNode>> nodes;
   std::vector<std::vector<std::uint32_t>> first;
 };
 
@@ -81,11 +81,11 @@ class Impl final : public HierarchyTracer {
   void BeginBatch(const BatchContext& ctx) override { ctx_ = ctx; }
   const std::vector<BatchStats>& Stats() const override { return stats_; }
 
-  void Closest(const std::vector<gpu::Ray>& rays, std::vector<std::uint64_t>& hits) override {
+  void Closest(const std::vector<layout::Ray>& rays, std::vector<std::uint64_t>& hits) override {
     hits.assign(rays.size(), kMissPacked);
     Run(rays, &hits, nullptr);
   }
-  void Occluded(const std::vector<gpu::Ray>& rays, std::vector<std::uint32_t>& occluded) override {
+  void Occluded(const std::vector<layout::Ray>& rays, std::vector<std::uint32_t>& occluded) override {
     occluded.assign(rays.size(), 0u);
     Run(rays, nullptr, &occluded);
   }
@@ -115,7 +115,7 @@ class Impl final : public HierarchyTracer {
   }
 
   // Ray order and the group id of each sorted ray per level (rays with equal ids share a node).
-  std::vector<std::uint32_t> Order(const std::vector<gpu::Ray>& rays, std::vector<std::uint32_t>& quad_keys) {
+  std::vector<std::uint32_t> Order(const std::vector<layout::Ray>& rays, std::vector<std::uint32_t>& quad_keys) {
     const std::size_t n = rays.size();
     if (cfg_.algorithm == Algorithm::kRah) {
       // Screen order, one run per light: shadow slots interleave the lights (surface x lights + light),
@@ -123,11 +123,11 @@ class Impl final : public HierarchyTracer {
       std::vector<std::uint32_t> order;
       order.reserve(n);
       std::uint32_t lights = 1;
-      for (const gpu::Ray& r : rays)
-        if (r.info.z == gpu::kRayShadow) lights = std::max(lights, r.info.w + 1);
+      for (const layout::Ray& r : rays)
+        if (r.info.z == layout::kRayShadow) lights = std::max(lights, r.info.w + 1);
       for (std::uint32_t l = 0; l < lights; ++l)
         for (std::size_t i = 0; i < n; ++i)
-          if ((rays[i].info.z == gpu::kRayShadow ? rays[i].info.w : 0u) == l) order.push_back(static_cast<std::uint32_t>(i));
+          if ((rays[i].info.z == layout::kRayShadow ? rays[i].info.w : 0u) == l) order.push_back(static_cast<std::uint32_t>(i));
       Digest("order", "ray_order", order);
       return order;
     }
@@ -160,7 +160,7 @@ class Impl final : public HierarchyTracer {
     return first;
   }
 
-  Hierarchy Build(const std::vector<gpu::Ray>& rays, const std::vector<std::uint32_t>& order,
+  Hierarchy Build(const std::vector<layout::Ray>& rays, const std::vector<std::uint32_t>& order,
                   const std::vector<std::uint32_t>& quad_keys) {
     Hierarchy h;
     const int D = cfg_.depth;
@@ -215,7 +215,7 @@ class Impl final : public HierarchyTracer {
 
   // Traverses one block (top nodes [t0, t1) x triangles [b0, b1)); false when a level overflows the
   // pair capacity, in which case nothing was written.
-  bool Block(const Hierarchy& h, const std::vector<gpu::Ray>& rays, const std::vector<std::uint32_t>& order,
+  bool Block(const Hierarchy& h, const std::vector<layout::Ray>& rays, const std::vector<std::uint32_t>& order,
              const std::vector<std::uint8_t>& object_mask, std::uint32_t t0, std::uint32_t t1, std::uint32_t b0,
              std::uint32_t b1, BatchStats& st, std::vector<std::uint64_t>* hits, std::vector<std::uint32_t>* occluded) {
     const int D = cfg_.depth;
@@ -279,7 +279,7 @@ class Impl final : public HierarchyTracer {
     return true;
   }
 
-  void Process(const Hierarchy& h, const std::vector<gpu::Ray>& rays, const std::vector<std::uint32_t>& order,
+  void Process(const Hierarchy& h, const std::vector<layout::Ray>& rays, const std::vector<std::uint32_t>& order,
                const std::vector<std::uint8_t>& mask, std::uint32_t t0, std::uint32_t t1, std::uint32_t b0, std::uint32_t b1,
                BatchStats& st, std::vector<std::uint64_t>* hits, std::vector<std::uint32_t>* occluded) {
     if (Block(h, rays, order, mask, t0, t1, b0, b1, st, hits, occluded)) return;
@@ -298,7 +298,7 @@ class Impl final : public HierarchyTracer {
     }
   }
 
-  void Run(const std::vector<gpu::Ray>& rays, std::vector<std::uint64_t>* hits, std::vector<std::uint32_t>* occluded) {
+  void Run(const std::vector<layout::Ray>& rays, std::vector<std::uint64_t>* hits, std::vector<std::uint32_t>* occluded) {
     BatchStats st;
     st.batch = ctx_.name;
     st.kind = ctx_.kind;

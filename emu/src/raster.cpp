@@ -148,14 +148,14 @@ bool Covers(const Setup& s, int px, int py) {
   return true;
 }
 
-std::vector<Setup> SetupAll(const gpu::FrameConstants& fc, const std::vector<gpu::Triangle>& tris) {
+std::vector<Setup> SetupAll(const layout::FrameConstants& fc, const std::vector<layout::Triangle>& tris) {
   const int width = static_cast<int>(fc.dims.x), height = static_cast<int>(fc.dims.y);
   const float half_w = 0.5f * static_cast<float>(width), half_h = 0.5f * static_cast<float>(height);
   // Up to kMaxClipVerts - 2 fan triangles per primitive; compacted below in primitive order.
   std::vector<std::array<Setup, kMaxClipVerts - 2>> per(tris.size());
   std::vector<std::uint8_t> count(tris.size(), 0);
   ParallelForFtz(tris.size(), [&](std::size_t i) {
-    const gpu::Triangle& t = tris[i];
+    const layout::Triangle& t = tris[i];
     const std::array<glm::vec4, 3> clip = {VertexStage(fc.view_proj, Xyz(t.v0)), VertexStage(fc.view_proj, Xyz(t.v1)),
                                            VertexStage(fc.view_proj, Xyz(t.v2))};
     std::array<glm::vec2, kMaxClipVerts> win;
@@ -174,9 +174,9 @@ std::vector<Setup> SetupAll(const gpu::FrameConstants& fc, const std::vector<gpu
   return out;
 }
 
-Fragment ShadeFragment(const gpu::FrameConstants& fc, const SceneBuffers& scene, std::uint32_t prim, int px, int py) {
+Fragment ShadeFragment(const layout::FrameConstants& fc, const SceneBuffers& scene, std::uint32_t prim, int px, int py) {
   Fragment f;
-  const gpu::Triangle& t = scene.triangles[prim];
+  const layout::Triangle& t = scene.triangles[prim];
   const glm::vec3 v0 = Xyz(t.v0), v1 = Xyz(t.v1), v2 = Xyz(t.v2);
   const glm::vec3 d = PixelDirection(fc, static_cast<std::uint32_t>(px), static_cast<std::uint32_t>(py));
   // Edges and normal scaled by powers of two (exact; tt unchanged) so scenes from 2^-60 to 2^60
@@ -199,7 +199,7 @@ Fragment ShadeFragment(const gpu::FrameConstants& fc, const SceneBuffers& scene,
 }  // namespace raster
 
 GBuffer PassRaster(const call::Raster& c) {
-  const gpu::FrameConstants& fc = c.frame;
+  const layout::FrameConstants& fc = c.frame;
   const SceneBuffers& scene = *c.scene;
   using namespace raster;
   const int width = static_cast<int>(fc.dims.x), height = static_cast<int>(fc.dims.y);
@@ -211,7 +211,7 @@ GBuffer PassRaster(const call::Raster& c) {
   g.specular.assign(npix, glm::vec4(0));
   g.position.assign(npix, glm::vec4(0));
   g.normal.assign(npix, glm::vec4(0));
-  g.prim.assign(npix, gpu::kNoPrim);
+  g.prim.assign(npix, layout::kNoPrim);
   g.depth.assign(npix, 1.0f);
 
   const std::vector<Setup> setups = SetupAll(fc, scene.triangles);
@@ -233,7 +233,7 @@ GBuffer PassRaster(const call::Raster& c) {
           if (!(f.depth < g.depth[pi])) continue;
           g.depth[pi] = f.depth;
           g.prim[pi] = s.prim;
-          const gpu::Material& m = scene.materials[scene.info[s.prim].ids.x];
+          const layout::Material& m = scene.materials[scene.info[s.prim].ids.x];
           g.diffuse[pi] = m.diffuse_reflectivity;
           g.specular[pi] = m.specular_shininess;
           g.position[pi] = glm::vec4(f.position, 1.0f);

@@ -17,15 +17,15 @@ bool Finite3(glm::vec3 v) {
 }  // namespace
 
 SparseRays PassRaygenShadow(const call::Raygen& c) {
-  const gpu::FrameConstants& fc = c.frame;
-  const In<gpu::Surface> surfaces = c.surfaces;
+  const layout::FrameConstants& fc = c.frame;
+  const In<layout::Surface> surfaces = c.surfaces;
   const SceneBuffers& scene = *c.scene;
   const std::size_t lights = scene.lights.size();
   SparseRays out;
-  out.rays.assign(surfaces.size() * lights, gpu::Ray{});
+  out.rays.assign(surfaces.size() * lights, layout::Ray{});
   out.flags.assign(surfaces.size() * lights, 0u);
   ParallelFor(surfaces.size(), [&](std::size_t s) {
-    const gpu::Surface& sf = surfaces[s];
+    const layout::Surface& sf = surfaces[s];
     if (sf.position.w == 0.0f) return;
     const glm::vec3 p = Xyz(sf.position);
     for (std::size_t l = 0; l < lights; ++l) {
@@ -34,10 +34,10 @@ SparseRays PassRaygenShadow(const call::Raygen& c) {
       const float dist = Length(v);
       if (!(dist > 0.0f) || !Finite3(v)) continue;     // light on the point: no direction
       const glm::vec3 d(v.x / dist, v.y / dist, v.z / dist);  // eq. 3.2
-      gpu::Ray r;
+      layout::Ray r;
       r.origin_tmin = glm::vec4(o, fc.params.x);
       r.direction_tmax = glm::vec4(d, dist * fc.params.z);
-      r.info = glm::uvec4(sf.info.y, sf.info.x, gpu::kRayShadow, static_cast<std::uint32_t>(l));
+      r.info = glm::uvec4(sf.info.y, sf.info.x, layout::kRayShadow, static_cast<std::uint32_t>(l));
       r.weight = sf.weight;
       out.rays[s * lights + l] = r;
       out.flags[s * lights + l] = 1u;
@@ -52,17 +52,17 @@ namespace {
 // k)` gives the new direction d and weight factor k of a covered surface, or false for no ray.
 template <typename DirectionFn>
 SparseRays SurfaceRays(const call::Raygen& c, std::uint32_t kind, DirectionFn&& direction) {
-  const In<gpu::Surface> surfaces = c.surfaces;
+  const In<layout::Surface> surfaces = c.surfaces;
   SparseRays out;
-  out.rays.assign(surfaces.size(), gpu::Ray{});
+  out.rays.assign(surfaces.size(), layout::Ray{});
   out.flags.assign(surfaces.size(), 0u);
   ParallelFor(surfaces.size(), [&](std::size_t s) {
-    const gpu::Surface& sf = surfaces[s];
+    const layout::Surface& sf = surfaces[s];
     if (sf.position.w == 0.0f) return;
     glm::vec3 d;
     float k;
     if (!direction(sf, c.scene->materials[sf.info.z], d, k) || !(Dot(d, d) > 0.0f)) return;
-    gpu::Ray r;
+    layout::Ray r;
     r.origin_tmin = glm::vec4(Xyz(sf.position), c.frame.params.x);  // eqs. 3.3, 3.5
     r.direction_tmax = glm::vec4(d, std::numeric_limits<float>::infinity());
     r.info = glm::uvec4(sf.info.y, sf.info.x, kind, static_cast<std::uint32_t>(s));
@@ -76,7 +76,7 @@ SparseRays SurfaceRays(const call::Raygen& c, std::uint32_t kind, DirectionFn&& 
 }  // namespace
 
 SparseRays PassRaygenReflection(const call::Raygen& c) {
-  return SurfaceRays(c, gpu::kRayReflection, [](const gpu::Surface& sf, const gpu::Material& m, glm::vec3& d, float& kr) {
+  return SurfaceRays(c, layout::kRayReflection, [](const layout::Surface& sf, const layout::Material& m, glm::vec3& d, float& kr) {
     kr = m.diffuse_reflectivity.w;
     if (!(kr > 0.0f)) return false;
     const glm::vec3 i = Xyz(sf.incoming), n = Xyz(sf.normal);
@@ -88,7 +88,7 @@ SparseRays PassRaygenReflection(const call::Raygen& c) {
 }
 
 SparseRays PassRaygenRefraction(const call::Raygen& c) {
-  return SurfaceRays(c, gpu::kRayRefraction, [](const gpu::Surface& sf, const gpu::Material& m, glm::vec3& d, float& kt) {
+  return SurfaceRays(c, layout::kRayRefraction, [](const layout::Surface& sf, const layout::Material& m, glm::vec3& d, float& kt) {
     kt = m.transparency_ior.x;
     if (!(kt > 0.0f)) return false;
     const glm::vec3 i = Xyz(sf.incoming);
@@ -111,9 +111,9 @@ SparseRays PassRaygenRefraction(const call::Raygen& c) {
 
 SparseRays PassRaygen(const call::Raygen& c) {
   switch (c.kind) {
-    case gpu::kRayShadow: return PassRaygenShadow(c);
-    case gpu::kRayReflection: return PassRaygenReflection(c);
-    case gpu::kRayRefraction: return PassRaygenRefraction(c);
+    case layout::kRayShadow: return PassRaygenShadow(c);
+    case layout::kRayReflection: return PassRaygenReflection(c);
+    case layout::kRayRefraction: return PassRaygenRefraction(c);
   }
   RS_CHECK_MSG(false, "unknown ray kind {}", c.kind);
   return {};

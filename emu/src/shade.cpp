@@ -10,22 +10,22 @@ namespace {
 
 // Converts a contribution to fixed point. Integer sums do not depend on the order of addition.
 std::uint64_t ToFixed(float c) {
-  const float v = Clamp(c, 0.0f, gpu::kAccumMax);
-  return static_cast<std::uint64_t>(v * gpu::kAccumScale);
+  const float v = Clamp(c, 0.0f, layout::kAccumMax);
+  return static_cast<std::uint64_t>(v * layout::kAccumScale);
 }
 
 }  // namespace
 
 void PassShade(const call::Shade& c) {
   const SceneBuffers& scene = *c.scene;
-  const In<gpu::Surface> surfaces = c.surfaces;
+  const In<layout::Surface> surfaces = c.surfaces;
   const In<std::uint32_t> shadow_flags = c.shadow_flags, shadow_offsets = c.shadow_offsets, occluded = c.occluded;
   std::vector<std::uint64_t>& accum = *c.accum;
   const std::size_t lights = scene.lights.size();
   ParallelFor(surfaces.size(), [&](std::size_t s) {
-    const gpu::Surface& sf = surfaces[s];
+    const layout::Surface& sf = surfaces[s];
     if (sf.position.w == 0.0f) return;
-    const gpu::Material& m = scene.materials[sf.info.z];
+    const layout::Material& m = scene.materials[sf.info.z];
     const glm::vec3 p = Xyz(sf.position), view = Xyz(sf.incoming);  // eq. 3.19d: view = incoming
     glm::vec3 n = Xyz(sf.normal);
     if (Dot(n, view) > 0.0f) n = -n;  // two-sided: light the side the ray arrived on
@@ -34,7 +34,7 @@ void PassShade(const call::Shade& c) {
     for (std::size_t l = 0; l < lights; ++l) {
       const std::size_t slot = s * lights + l;
       if (!shadow_flags[slot] || occluded[shadow_offsets[slot]]) continue;  // no ray, or in shadow
-      const gpu::Light& light = scene.lights[l];
+      const layout::Light& light = scene.lights[l];
       const glm::vec3 lv = Xyz(light.position) - p;
       const float dist = Length(lv);                                          // eq. 3.19b
       const glm::vec3 ldir(lv.x / dist, lv.y / dist, lv.z / dist);            // eq. 3.19a

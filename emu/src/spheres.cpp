@@ -16,7 +16,7 @@ namespace rayspace::emu {
 // 2^-24, far below 2^-20.
 constexpr float kRadiusMargin = 1.0f + 1.0f / (1 << 20);
 
-std::vector<glm::vec4> PassTriangleSpheres(const std::vector<gpu::Triangle>& triangles) {
+std::vector<glm::vec4> PassTriangleSpheres(const std::vector<layout::Triangle>& triangles) {
   std::vector<glm::vec4> out(triangles.size());
   ParallelFor(triangles.size(), [&](std::size_t i) {
     const glm::vec3 a = Xyz(triangles[i].v0), b = Xyz(triangles[i].v1), c = Xyz(triangles[i].v2);
@@ -59,7 +59,7 @@ std::vector<glm::vec4> PassObjectSpheres(const SceneBuffers& scene) {
     std::vector<K::Point_3> pts;
     pts.reserve(3 * count);
     for (std::uint32_t t = first; t < first + count; ++t) {
-      const gpu::Triangle& tri = scene.triangles[t];
+      const layout::Triangle& tri = scene.triangles[t];
       for (const glm::vec4* v : {&tri.v0, &tri.v1, &tri.v2}) pts.emplace_back(v->x, v->y, v->z);
     }
     MinSphere ms(pts.begin(), pts.end());

@@ -7,8 +7,8 @@
 namespace rayspace::emu {
 
 glm::vec3 ShadingNormal(const SceneBuffers& scene, std::uint32_t prim, glm::vec3 p) {
-  const gpu::Triangle& t = scene.triangles[prim];
-  const gpu::TriangleNormals& tn = scene.normals[prim];
+  const layout::Triangle& t = scene.triangles[prim];
+  const layout::TriangleNormals& tn = scene.normals[prim];
   const glm::vec3 v0 = Xyz(t.v0), v1 = Xyz(t.v1), v2 = Xyz(t.v2);
   // Everything relative to p and scaled by one power of two: the weights are ratios of degree-4
   // products, unchanged by the scaling, which keeps them in range for scenes from 2^-60 to 2^60.
@@ -35,16 +35,16 @@ glm::vec3 ShadingNormal(const SceneBuffers& scene, std::uint32_t prim, glm::vec3
   return Normalize(s);
 }
 
-std::vector<gpu::Surface> PassSurfacesFromGBuffer(const call::SurfacesFromGBuffer& c) {
-  const gpu::FrameConstants& fc = c.frame;
+std::vector<layout::Surface> PassSurfacesFromGBuffer(const call::SurfacesFromGBuffer& c) {
+  const layout::FrameConstants& fc = c.frame;
   const SceneBuffers& scene = *c.scene;
   const std::size_t npix = c.prim.size();
-  std::vector<gpu::Surface> out(npix);
+  std::vector<layout::Surface> out(npix);
   const std::uint32_t width = fc.dims.x;
   ParallelFor(npix, [&](std::size_t i) {
-    gpu::Surface s{};
+    layout::Surface s{};
     const std::uint32_t prim = c.prim[i];
-    if (prim != gpu::kNoPrim) {
+    if (prim != layout::kNoPrim) {
       const glm::vec3 d = PixelDirection(fc, static_cast<std::uint32_t>(i % width), static_cast<std::uint32_t>(i / width));
       s.position = glm::vec4(Xyz(c.position[i]), 1.0f);
       s.normal = glm::vec4(Xyz(c.normal[i]), 0.0f);
@@ -52,21 +52,21 @@ std::vector<gpu::Surface> PassSurfacesFromGBuffer(const call::SurfacesFromGBuffe
       s.weight = glm::vec4(1.0f, 1.0f, 1.0f, 0.0f);
       s.info = glm::uvec4(prim, static_cast<std::uint32_t>(i), scene.info[prim].ids.x, 0);
     } else {
-      s.info = glm::uvec4(gpu::kNoPrim, static_cast<std::uint32_t>(i), 0, 0);
+      s.info = glm::uvec4(layout::kNoPrim, static_cast<std::uint32_t>(i), 0, 0);
     }
     out[i] = s;
   });
   return out;
 }
 
-std::vector<gpu::Surface> PassSurfacesFromHits(const call::SurfacesFromHits& c) {
-  const In<gpu::Ray> rays = c.rays;
+std::vector<layout::Surface> PassSurfacesFromHits(const call::SurfacesFromHits& c) {
+  const In<layout::Ray> rays = c.rays;
   const In<std::uint64_t> hits = c.hits;
   const SceneBuffers& scene = *c.scene;
-  std::vector<gpu::Surface> out(rays.size());
+  std::vector<layout::Surface> out(rays.size());
   ParallelFor(rays.size(), [&](std::size_t i) {
-    const gpu::Ray& r = rays[i];
-    gpu::Surface s{};
+    const layout::Ray& r = rays[i];
+    layout::Surface s{};
     const std::uint64_t h = hits[i];
     if (h != kMissPacked) {
       const std::uint32_t prim = HitPrim(h);
@@ -79,7 +79,7 @@ std::vector<gpu::Surface> PassSurfacesFromHits(const call::SurfacesFromHits& c) 
       s.weight = r.weight;
       s.info = glm::uvec4(prim, r.info.x, scene.info[prim].ids.x, 0);
     } else {
-      s.info = glm::uvec4(gpu::kNoPrim, r.info.x, 0, 0);
+      s.info = glm::uvec4(layout::kNoPrim, r.info.x, 0, 0);
     }
     out[i] = s;
   });

@@ -16,7 +16,7 @@ float TraversalEpsilon(const SceneBuffers& scene) {
 
 namespace {
 // A lambda, not a function pointer, so the test inlines into the traversal loops.
-constexpr auto kConeTest = [](const gpu::ConeNode& n, glm::vec4 sphere, float eps) { return cone::Test(n, sphere, eps); };
+constexpr auto kConeTest = [](const layout::ConeNode& n, glm::vec4 sphere, float eps) { return cone::Test(n, sphere, eps); };
 }  // namespace
 
 PairSlots PassTraverseTop(const call::TraverseTop& c) { return TraverseTopWith(kConeTest, c); }

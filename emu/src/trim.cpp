@@ -7,7 +7,7 @@ namespace rayspace::emu {
 
 std::vector<std::uint32_t> ExclusiveScan(In<std::uint32_t> in, std::uint32_t* total) {
   // Three phases over fixed-size blocks, as a GPU scan does: block sums, scan of the sums, block scan.
-  constexpr std::size_t kBlock = gpu::kScanBlock;
+  constexpr std::size_t kBlock = layout::kScanBlock;
   const std::size_t n = in.size(), blocks = (n + kBlock - 1) / kBlock;
   std::vector<std::uint32_t> sums(blocks, 0), out(n);
   ParallelFor(blocks, [&](std::size_t b) {

@@ -56,7 +56,7 @@ vk::Status VulkanPasses::Elementwise(const C& call, VulkanOut<C>& out) {
     const vk::Buffer* result = nullptr;
     RS_TRY(keep.Output(c, (i1 - i0) * sizeof(KernelElem<R>), result, wide.data() + i0));
     b.push_back(result);
-    const gpu::ElementwisePush push{static_cast<std::uint32_t>(i1 - i0), static_cast<std::uint32_t>(i0)};
+    const layout::ElementwisePush push{static_cast<std::uint32_t>(i1 - i0), static_cast<std::uint32_t>(i0)};
     return rec.Dispatch(K(*id), b, &push, sizeof push, push.count);
   }));
   RS_TRY(rec.Submit());

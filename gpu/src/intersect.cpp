@@ -8,7 +8,7 @@ using namespace detail;
 
 vk::Status VulkanPasses::Run(const emu::call::Intersect& call, std::vector<std::uint32_t>& tests) {
   const std::span<const std::uint32_t> pairs = call.pairs, first1 = call.first1, order = call.order;
-  const std::span<const gpu::Ray> rays = call.rays;
+  const std::span<const layout::Ray> rays = call.rays;
   const SceneBuffers& scene = *call.scene;
   const std::uint32_t base1 = call.base1, b0 = call.b0;
   const bool shadow = call.occluded != nullptr;
@@ -26,25 +26,25 @@ vk::Status VulkanPasses::Run(const emu::call::Intersect& call, std::vector<std::
   Paged pf, po, pr, ph, pocc;
   RS_TRY(MakePaged(c, std::span<const std::uint32_t>(first1), "intersect: leaf offsets", pf, paged_arrays_));
   RS_TRY(MakePaged(c, std::span<const std::uint32_t>(order), "intersect: sorted order", po, paged_arrays_));
-  RS_TRY(MakePaged(c, std::span<const gpu::Ray>(rays), "intersect: rays", pr, paged_arrays_));
+  RS_TRY(MakePaged(c, std::span<const layout::Ray>(rays), "intersect: rays", pr, paged_arrays_));
   RS_TRY(MakePaged(c, shadow ? std::span<const std::uint64_t>() : std::span<const std::uint64_t>(hits), "intersect: closest hits",
                    ph, paged_arrays_));
   RS_TRY(MakePaged(c, shadow ? std::span<const std::uint32_t>(occluded) : std::span<const std::uint32_t>(),
                    "intersect: occlusion flags", pocc, paged_arrays_));
   Keep keep;
   const vk::Buffer* bt = nullptr;
-  RS_TRY(keep.From(c, std::span<const gpu::Triangle>(scene.triangles), bt));
+  RS_TRY(keep.From(c, std::span<const layout::Triangle>(scene.triangles), bt));
   vk::Recorder rec(c);
   RS_TRY(ForParts(pairs.size(), PerPart(4), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
     const vk::Buffer *bp = nullptr, *btests = nullptr;
     RS_TRY(keep.From(c, Slice(pairs, i0, i1), bp));
     RS_TRY(keep.Output(c, (i1 - i0) * 4, btests, tests.data() + i0));
-    const gpu::IntersectPush push{static_cast<std::uint32_t>(i1 - i0), base1, b0, shadow ? 1u : 0u, pf.page, po.page,
+    const layout::IntersectPush push{static_cast<std::uint32_t>(i1 - i0), base1, b0, shadow ? 1u : 0u, pf.page, po.page,
                                   pr.page, ph.page, pocc.page};
-    Bindings<gpu::kIntersectBindings> b;
-    b.Set(gpu::kIntersectBindPairs, bp).Set(gpu::kIntersectBindTriangles, bt).Set(gpu::kIntersectBindTests, btests);
-    b.Set(gpu::kIntersectBindFirst, pf).Set(gpu::kIntersectBindOrder, po).Set(gpu::kIntersectBindRays, pr);
-    b.Set(gpu::kIntersectBindHits, ph).Set(gpu::kIntersectBindOccluded, pocc);
+    Bindings<layout::kIntersectBindings> b;
+    b.Set(layout::kIntersectBindPairs, bp).Set(layout::kIntersectBindTriangles, bt).Set(layout::kIntersectBindTests, btests);
+    b.Set(layout::kIntersectBindFirst, pf).Set(layout::kIntersectBindOrder, po).Set(layout::kIntersectBindRays, pr);
+    b.Set(layout::kIntersectBindHits, ph).Set(layout::kIntersectBindOccluded, pocc);
     return rec.Dispatch(K(PassId::kIntersect), b.All(), &push, sizeof push, push.count);
   }));
   RS_TRY(rec.Submit());

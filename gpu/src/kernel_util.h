@@ -42,10 +42,10 @@ inline vk::Status RunKernel(vk::Context& c, const vk::Kernel& k, std::span<const
   return rec.Submit();
 }
 
-// An array read or written at any index, bound as gpu::kBufferPages consecutive bindings of `page`
+// An array read or written at any index, bound as layout::kBufferPages consecutive bindings of `page`
 // elements each (gpu/shaders/paged.glsl). Pages are as large as one binding may be.
 struct Paged {
-  std::array<vk::Buffer, gpu::kBufferPages> pages;
+  std::array<vk::Buffer, layout::kBufferPages> pages;
   std::uint32_t page = 1;  // elements per page
   template <typename T>
   void Read(std::span<T> out) const {
@@ -53,7 +53,7 @@ struct Paged {
       std::memcpy(out.data() + at, pages[p].data(), std::min<std::size_t>(page, out.size() - at) * sizeof(T));
   }
 };
-static_assert(gpu::kBufferPages == 4, "paged.glsl declares four bindings per paged array");
+static_assert(layout::kBufferPages == 4, "paged.glsl declares four bindings per paged array");
 
 // The buffers of one dispatch, each placed at its binding number from rayspace/contract.h.
 template <std::uint32_t N>
@@ -65,7 +65,7 @@ class Bindings {
     return *this;
   }
   Bindings& Set(std::uint32_t first, const Paged& p) {
-    for (std::uint32_t k = 0; k < gpu::kBufferPages; ++k) Set(first + k, &p.pages[k]);
+    for (std::uint32_t k = 0; k < layout::kBufferPages; ++k) Set(first + k, &p.pages[k]);
     return *this;
   }
   // Every binding must have been set.
@@ -82,12 +82,12 @@ class Bindings {
 template <typename T>
 vk::Status MakePaged(vk::Context& c, std::span<const T> v, const char* what, Paged& out, std::size_t& multi) {
   const std::size_t per = std::min<std::size_t>(std::max<VkDeviceSize>(1, c.storage_limit() / sizeof(T)), 0x80000000u);
-  if (v.size() > per * gpu::kBufferPages)
+  if (v.size() > per * layout::kBufferPages)
     return vk::Status::Fail(fmt::format("{}: {} elements of {} bytes need more than {} bindings of {} bytes", what, v.size(),
-                                        sizeof(T), gpu::kBufferPages, c.storage_limit()));
+                                        sizeof(T), layout::kBufferPages, c.storage_limit()));
   out.page = static_cast<std::uint32_t>(per);
   if (v.size() > per) ++multi;
-  for (std::size_t p = 0; p < gpu::kBufferPages; ++p) {
+  for (std::size_t p = 0; p < layout::kBufferPages; ++p) {
     const std::size_t at = std::min(v.size(), p * per);
     RS_TRY(MakeFrom(c, v.subspan(at, std::min(per, v.size() - at)), out.pages[p]));
   }
@@ -144,7 +144,7 @@ vk::Status ForParts(std::size_t n, std::size_t per, std::size_t& extra, F&& part
 }
 
 // Blocks of a blocked scan over n elements (one invocation each).
-inline std::uint32_t Blocks(std::size_t n) { return static_cast<std::uint32_t>((n + gpu::kScanBlock - 1) / gpu::kScanBlock); }
+inline std::uint32_t Blocks(std::size_t n) { return static_cast<std::uint32_t>((n + layout::kScanBlock - 1) / layout::kScanBlock); }
 
 template <typename T>
 std::span<const T> Slice(std::span<const T> v, std::size_t i0, std::size_t i1) {

@@ -53,7 +53,7 @@ std::size_t VulkanPasses::PerPart(std::size_t bytes_per_element) const {
 std::size_t VulkanPasses::SplitBytes() const { return static_cast<std::size_t>(ctx_->storage_limit()); }
 
 vk::Status VulkanPasses::Run(const emu::call::Raster& call, emu::GBuffer& out) {
-  const gpu::FrameConstants& fc = call.frame;
+  const layout::FrameConstants& fc = call.frame;
   const SceneBuffers& scene = *call.scene;
   RasterTargets t;
   RS_TRY(RasterGBuffer(*ctx_, kSpirv_raster_vert, kSpirv_raster_frag, fc, scene, raster_fault_, t));

@@ -64,9 +64,9 @@ vk::Status Upload(vk::Context& ctx, const std::vector<T>& v, vk::Buffer& out) {
 }
 
 // The scene in binding order.
-vk::Status UploadInputs(vk::Context& ctx, const gpu::FrameConstants& fc, const SceneBuffers& scene,
+vk::Status UploadInputs(vk::Context& ctx, const layout::FrameConstants& fc, const SceneBuffers& scene,
                         vk::Buffer (&in)[kBindings]) {
-  for (vk::Status st : {Upload(ctx, scene.triangles, in[0]), Upload(ctx, std::vector<gpu::FrameConstants>{fc}, in[1]),
+  for (vk::Status st : {Upload(ctx, scene.triangles, in[0]), Upload(ctx, std::vector<layout::FrameConstants>{fc}, in[1]),
                         Upload(ctx, scene.normals, in[2]), Upload(ctx, scene.info, in[3]),
                         Upload(ctx, scene.materials, in[4])})
     if (!st) return st;
@@ -77,7 +77,7 @@ vk::Status UploadInputs(vk::Context& ctx, const gpu::FrameConstants& fc, const S
 vk::Status DrawAndRead(vk::Context& ctx, const vk::Graphics& g, const vk::Buffer (&in)[kBindings],
                        std::size_t triangles, const Targets& t) {
   VkClearValue clears[kTargets] = {};
-  clears[4].color.uint32[0] = gpu::kNoPrim;
+  clears[4].color.uint32[0] = layout::kNoPrim;
   clears[kColors].depthStencil = {1.0f, 0};
   const vk::Buffer* const buffers[kBindings] = {&in[0], &in[1], &in[2], &in[3], &in[4]};
   vk::Recorder rec(ctx);
@@ -99,7 +99,7 @@ void Download(const Targets& t, std::size_t pixels, RasterTargets& out) {
 }  // namespace
 
 vk::Status RasterGBuffer(vk::Context& ctx, std::span<const std::uint32_t> vert_spirv,
-                         std::span<const std::uint32_t> frag_spirv, const gpu::FrameConstants& fc, const SceneBuffers& scene,
+                         std::span<const std::uint32_t> frag_spirv, const layout::FrameConstants& fc, const SceneBuffers& scene,
                          std::uint32_t fault, RasterTargets& out) {
   const std::uint32_t w = fc.dims.x, h = fc.dims.y;
   Targets t;

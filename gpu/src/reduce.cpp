@@ -21,20 +21,20 @@ vk::Status RunReduce(vk::Context& c, const vk::Kernel& k, std::span<const std::u
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(comps, 1) * 4, bc));              // per-component counts
   RS_TRY(c.CreateBuffer((blocks + 1) * 4, bs));
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * 4, bo));
-  Bindings<gpu::kReduceBindings> b;
-  b.Set(gpu::kReduceBindFlags, &bf).Set(gpu::kReduceBindValues, &bv).Set(gpu::kReduceBindLocal, &bl);
-  b.Set(gpu::kReduceBindCounts, &bc).Set(gpu::kReduceBindSums, &bs).Set(gpu::kReduceBindOut, &bo);
-  static constexpr std::uint32_t kHierPhases[5] = {gpu::kReducePhaseLocal, gpu::kReducePhaseBlockSums, gpu::kReducePhaseScanSums,
-                                                   gpu::kReducePhaseOffsets, gpu::kReducePhaseConcat};
-  static constexpr std::uint32_t kScanPhases[3] = {gpu::kReducePhaseFlagSums, gpu::kReducePhaseScanSums, gpu::kReducePhaseScatter};
+  Bindings<layout::kReduceBindings> b;
+  b.Set(layout::kReduceBindFlags, &bf).Set(layout::kReduceBindValues, &bv).Set(layout::kReduceBindLocal, &bl);
+  b.Set(layout::kReduceBindCounts, &bc).Set(layout::kReduceBindSums, &bs).Set(layout::kReduceBindOut, &bo);
+  static constexpr std::uint32_t kHierPhases[5] = {layout::kReducePhaseLocal, layout::kReducePhaseBlockSums, layout::kReducePhaseScanSums,
+                                                   layout::kReducePhaseOffsets, layout::kReducePhaseConcat};
+  static constexpr std::uint32_t kScanPhases[3] = {layout::kReducePhaseFlagSums, layout::kReducePhaseScanSums, layout::kReducePhaseScatter};
   const std::span<const std::uint32_t> phases = scan ? std::span<const std::uint32_t>(kScanPhases) : std::span<const std::uint32_t>(kHierPhases);
   vk::Recorder rec(c);
   for (std::uint32_t phase : phases) {
     // Invocations: one per component (Local, Concat), one (ScanSums), else one per block.
-    const std::uint32_t invocations = phase == gpu::kReducePhaseScanSums                                ? 1
-                                      : (phase == gpu::kReducePhaseLocal || phase == gpu::kReducePhaseConcat) ? comps
+    const std::uint32_t invocations = phase == layout::kReducePhaseScanSums                                ? 1
+                                      : (phase == layout::kReducePhaseLocal || phase == layout::kReducePhaseConcat) ? comps
                                                                                                             : blocks;
-    const gpu::ReducePush push{n, phase, scan ? 1u : s, comps, blocks};
+    const layout::ReducePush push{n, phase, scan ? 1u : s, comps, blocks};
     RS_TRY(rec.Dispatch(k, b.All(), &push, sizeof push, invocations));
   }
   RS_TRY(rec.Submit());

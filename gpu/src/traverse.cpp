@@ -14,8 +14,8 @@ namespace {
 class Traverser {
  public:
   Traverser(vk::Context& c, const vk::Kernel& k) : c_(c), k_(k) {}
-  vk::Status Upload(std::span<const gpu::ConeNode> nodes, std::span<const std::uint32_t> first, std::span<const glm::vec4> spheres,
-                    std::span<const gpu::TriangleInfo> info, std::size_t& multi) {
+  vk::Status Upload(std::span<const layout::ConeNode> nodes, std::span<const std::uint32_t> first, std::span<const glm::vec4> spheres,
+                    std::span<const layout::TriangleInfo> info, std::size_t& multi) {
     RS_TRY(MakePaged(c_, nodes, "traverse: nodes", nodes_, multi));
     RS_TRY(MakePaged(c_, first, "traverse: child offsets", first_, multi));
     RS_TRY(MakeFrom(c_, spheres, spheres_));
@@ -25,7 +25,7 @@ class Traverser {
   // One part, in a submit of its own (its output buffers are freed before the next part): `mask`
   // and `pairs` are this part's; flags and values (`slots` words) and tested (`tested` words) go to
   // the given pointers (null: not read back).
-  vk::Status Part(gpu::TraversePush push, std::span<const std::uint32_t> mask, std::span<const std::uint32_t> pairs, std::size_t slots,
+  vk::Status Part(layout::TraversePush push, std::span<const std::uint32_t> mask, std::span<const std::uint32_t> pairs, std::size_t slots,
                   std::size_t tested, std::uint32_t* flags_out, std::uint32_t* values_out, std::uint32_t* tested_out) const {
     Keep keep;
     const vk::Buffer *bm = nullptr, *bp = nullptr, *bfl = nullptr, *bv = nullptr, *bt = nullptr;
@@ -36,10 +36,10 @@ class Traverser {
     RS_TRY(keep.Output(c_, tested * 4, bt, tested_out));
     push.node_page = nodes_.page;
     push.first_page = first_.page;
-    Bindings<gpu::kTraverseBindings> b;
-    b.Set(gpu::kTraverseBindTriSpheres, &spheres_).Set(gpu::kTraverseBindInfo, &info_).Set(gpu::kTraverseBindMask, bm);
-    b.Set(gpu::kTraverseBindPairs, bp).Set(gpu::kTraverseBindFlags, bfl).Set(gpu::kTraverseBindValues, bv);
-    b.Set(gpu::kTraverseBindTested, bt).Set(gpu::kTraverseBindNodes, nodes_).Set(gpu::kTraverseBindFirst, first_);
+    Bindings<layout::kTraverseBindings> b;
+    b.Set(layout::kTraverseBindTriSpheres, &spheres_).Set(layout::kTraverseBindInfo, &info_).Set(layout::kTraverseBindMask, bm);
+    b.Set(layout::kTraverseBindPairs, bp).Set(layout::kTraverseBindFlags, bfl).Set(layout::kTraverseBindValues, bv);
+    b.Set(layout::kTraverseBindTested, bt).Set(layout::kTraverseBindNodes, nodes_).Set(layout::kTraverseBindFirst, first_);
     RS_TRY(RunKernel(c_, k_, b.All(), &push, sizeof push, push.count));
     keep.CopyBack();
     return vk::Status::Ok();
@@ -90,7 +90,7 @@ vk::Status VulkanPasses::Run(const emu::call::TraverseTop& call, emu::PairSlots&
   RS_TRY(ForParts(t1 - t0, PerPart(4 * row_words), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
     const std::uint32_t r0 = t0 + static_cast<std::uint32_t>(i0), r1 = t0 + static_cast<std::uint32_t>(i1);
     const std::size_t at = i0 * T, n = (i1 - i0) * T;
-    const gpu::TraversePush push{gpu::kTraversePhaseTop, static_cast<std::uint32_t>(n), r0, b0, static_cast<std::uint32_t>(T),
+    const layout::TraversePush push{layout::kTraversePhaseTop, static_cast<std::uint32_t>(n), r0, b0, static_cast<std::uint32_t>(T),
                                  static_cast<std::uint32_t>(objects), object_mask.empty() ? 0u : 1u, 0, 0, 0, call.eps, t0, 0, 0};
     const std::span<const std::uint32_t> mask_rows =
         object_mask.empty() ? std::span<const std::uint32_t>() : std::span(object_mask).subspan(r0 * objects, (r1 - r0) * objects);
@@ -108,7 +108,7 @@ vk::Status VulkanPasses::Run(const emu::call::TraverseLevel& call, emu::PairSlot
   RS_TRY(tr.Upload(call.nodes, call.first, call.tri_spheres, {}, paged_arrays_));
   RS_TRY(ForParts(count, PerPart(4 * std::size_t{children_max}), extra_dispatches_, [&](std::size_t p0, std::size_t p1) -> vk::Status {
     const std::uint32_t n = static_cast<std::uint32_t>(p1 - p0);
-    const gpu::TraversePush push{gpu::kTraversePhaseLevel, n, 0, call.b0, 0, 0, 0, call.base_up, call.base, children_max,
+    const layout::TraversePush push{layout::kTraversePhaseLevel, n, 0, call.b0, 0, 0, 0, call.base_up, call.base, children_max,
                                  call.eps, 0, 0, 0};
     return tr.Part(push, {}, Slice(call.pairs, p0, p1), std::size_t{n} * children_max, n, flags.data() + p0 * children_max,
                    values.data() + p0 * children_max, tested.data() + p0);
@@ -128,7 +128,7 @@ vk::Status VulkanPasses::Run(const emu::call::ObjectMask& call, std::vector<std:
   RS_TRY(tr.Upload(call.top, {}, call.object_spheres, {}, paged_arrays_));
   RS_TRY(ForParts(count, PerPart(4), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
     const std::uint32_t n = static_cast<std::uint32_t>(i1 - i0);
-    const gpu::TraversePush push{gpu::kTraversePhaseObjects, n, static_cast<std::uint32_t>(i0), 0, 0, objects, 0, 0, 0, 0, call.eps,
+    const layout::TraversePush push{layout::kTraversePhaseObjects, n, static_cast<std::uint32_t>(i0), 0, 0, objects, 0, 0, 0, 0, call.eps,
                                  0, 0, 0};
     return tr.Part(push, {}, {}, n, 0, mask.data() + i0, nullptr, nullptr);
   }));

@@ -14,22 +14,22 @@ vk::Status VulkanPasses::Run(const emu::call::Trim& call, emu::Trimmed& out) {
   out.offsets.assign(in.flags.size(), 0);
   out.rays.clear();
   std::uint32_t carry = 0;
-  return ForParts(in.flags.size(), PerPart(sizeof(gpu::Ray)), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
+  return ForParts(in.flags.size(), PerPart(sizeof(layout::Ray)), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
     const std::uint32_t n = static_cast<std::uint32_t>(i1 - i0), blocks = Blocks(n);
     vk::Buffer bflags, bsums, boff, bsparse, bdense;
     RS_TRY(MakeFrom(c, Slice(in.flags, i0, i1), bflags));
     RS_TRY(c.CreateBuffer((blocks + 1) * sizeof(std::uint32_t), bsums));
     RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * sizeof(std::uint32_t), boff));
     RS_TRY(MakeFrom(c, Slice(in.rays, i0, i1), bsparse));
-    RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * sizeof(gpu::Ray), bdense));  // upper bound; the scan gives the count
-    Bindings<gpu::kTrimBindings> b;
-    b.Set(gpu::kTrimBindFlags, &bflags).Set(gpu::kTrimBindSums, &bsums).Set(gpu::kTrimBindOffsets, &boff);
-    b.Set(gpu::kTrimBindSparse, &bsparse).Set(gpu::kTrimBindDense, &bdense);
+    RS_TRY(c.CreateBuffer(std::max<std::size_t>(n, 1) * sizeof(layout::Ray), bdense));  // upper bound; the scan gives the count
+    Bindings<layout::kTrimBindings> b;
+    b.Set(layout::kTrimBindFlags, &bflags).Set(layout::kTrimBindSums, &bsums).Set(layout::kTrimBindOffsets, &boff);
+    b.Set(layout::kTrimBindSparse, &bsparse).Set(layout::kTrimBindDense, &bdense);
     vk::Recorder rec(c);
     // One submit for the three dispatches; the scan of the block sums runs on one invocation.
-    for (std::uint32_t phase : {gpu::kTrimPhaseBlockSums, gpu::kTrimPhaseScanSums, gpu::kTrimPhaseScatter}) {
-      const gpu::TrimPush push{n, phase, carry};
-      RS_TRY(rec.Dispatch(K(PassId::kTrim), b.All(), &push, sizeof push, phase == gpu::kTrimPhaseScanSums ? 1 : blocks));
+    for (std::uint32_t phase : {layout::kTrimPhaseBlockSums, layout::kTrimPhaseScanSums, layout::kTrimPhaseScatter}) {
+      const layout::TrimPush push{n, phase, carry};
+      RS_TRY(rec.Dispatch(K(PassId::kTrim), b.All(), &push, sizeof push, phase == layout::kTrimPhaseScanSums ? 1 : blocks));
     }
     RS_TRY(rec.Submit());
     const std::uint32_t total = bsums.Download<std::uint32_t>(blocks + 1)[blocks];
@@ -37,7 +37,7 @@ vk::Status VulkanPasses::Run(const emu::call::Trim& call, emu::Trimmed& out) {
     if (n) std::memcpy(out.offsets.data() + i0, boff.data(), std::size_t{n} * 4);
     const std::size_t at = out.rays.size();
     out.rays.resize(at + total);
-    if (total) std::memcpy(out.rays.data() + at, bdense.data(), std::size_t{total} * sizeof(gpu::Ray));
+    if (total) std::memcpy(out.rays.data() + at, bdense.data(), std::size_t{total} * sizeof(layout::Ray));
     carry += total;
     return vk::Status::Ok();
   });

@@ -46,8 +46,8 @@ glm::vec3 UnitDir(Rng& rng) {
   return emu::Normalize(d);
 }
 
-gpu::Ray MakeRay(Rng& rng, float scale, std::uint32_t id) {
-  gpu::Ray r{};
+layout::Ray MakeRay(Rng& rng, float scale, std::uint32_t id) {
+  layout::Ray r{};
   const glm::vec3 o(Wide(rng, -4, 4) * scale, Wide(rng, -4, 4) * scale, Wide(rng, -4, 4) * scale);
   r.origin_tmin = glm::vec4(o, rng() % 4 == 0 ? std::ldexp(1.0f, -10) : 0.0f);
   r.direction_tmax = glm::vec4(UnitDir(rng), rng() % 3 == 0 ? std::ldexp(1.0f, 3) * scale : std::numeric_limits<float>::infinity());
@@ -56,8 +56,8 @@ gpu::Ray MakeRay(Rng& rng, float scale, std::uint32_t id) {
 }
 
 // Leaves of 1..12 random rays around a few centres (realistic cones), plus extreme hand-made nodes.
-std::vector<gpu::ConeNode> Nodes(Rng& rng, std::size_t count) {
-  std::vector<gpu::Ray> rays;
+std::vector<layout::ConeNode> Nodes(Rng& rng, std::size_t count) {
+  std::vector<layout::Ray> rays;
   std::vector<std::uint32_t> order, first{0};
   while (first.size() <= count) {
     const std::uint32_t n = 1 + rng() % 12;
@@ -68,17 +68,17 @@ std::vector<gpu::ConeNode> Nodes(Rng& rng, std::size_t count) {
     }
     first.push_back(static_cast<std::uint32_t>(order.size()));
   }
-  std::vector<gpu::ConeNode> nodes = emu::PassBuildLeaves({.rays = rays, .order = order, .first = first});
-  gpu::ConeNode full{};
+  std::vector<layout::ConeNode> nodes = emu::PassBuildLeaves({.rays = rays, .order = order, .first = first});
+  layout::ConeNode full{};
   full.sphere = glm::vec4(1.0f, 2.0f, 3.0f, 4.0f);
   full.cone = glm::vec4(0.0f, 0.0f, 1.0f, -1.0f);
   nodes.push_back(full);
-  gpu::ConeNode thin{};  // a zero-radius, near-zero-angle cone
+  layout::ConeNode thin{};  // a zero-radius, near-zero-angle cone
   thin.sphere = glm::vec4(0.0f, 0.0f, 0.0f, 0.0f);
   thin.cone = glm::vec4(1.0f, 0.0f, 0.0f, 1.0f);
   thin.extra = glm::vec4(std::ldexp(1.0f, -126), 1.0f, 0.0f, 0.0f);
   nodes.push_back(thin);
-  gpu::ConeNode denormal = thin;  // denormal radius and sine
+  layout::ConeNode denormal = thin;  // denormal radius and sine
   denormal.sphere.w = std::ldexp(1.0f, -140);
   denormal.extra.x = std::ldexp(1.0f, -135);
   nodes.push_back(denormal);
@@ -97,7 +97,7 @@ std::vector<glm::vec4> Spheres(Rng& rng, std::size_t count) {
 }
 
 struct TopCase {
-  std::vector<gpu::ConeNode> top;
+  std::vector<layout::ConeNode> top;
   std::vector<glm::vec4> spheres;
   SceneBuffers scene;
   explicit TopCase(std::uint32_t seed) {
@@ -151,13 +151,13 @@ TEST_CASE("drift: a planted fault in traverse.comp's top level is seen by the co
 // Rays from a grid of origins against triangles of a closed, shared-edge fan and random triangles:
 // every (ray, triangle) pair is one final test.
 struct IntersectCase {
-  std::vector<gpu::Ray> rays;
+  std::vector<layout::Ray> rays;
   std::vector<std::uint32_t> order, first1, pairs;
   SceneBuffers scene;
   explicit IntersectCase(std::uint32_t seed) {
     Rng rng(seed);
     for (std::uint32_t i = 0; i < 160; ++i) {
-      gpu::Ray r = MakeRay(rng, 1.0f, i);
+      layout::Ray r = MakeRay(rng, 1.0f, i);
       if (i % 4 == 0) {  // aimed at the fan's shared vertex and edges
         const glm::vec3 o(std::ldexp(static_cast<float>(i % 7), -2), std::ldexp(static_cast<float>(i % 5), -2), -2.0f);
         r.origin_tmin = glm::vec4(o, 0.0f);
@@ -179,7 +179,7 @@ struct IntersectCase {
       scene.triangles.push_back({v(), v(), v()});
     }
     for (std::uint32_t n = 0; n < rays.size(); ++n)
-      for (std::uint32_t k = 0; k < scene.triangles.size(); ++k) pairs.push_back((n << gpu::kPairTriangleBits) | k);
+      for (std::uint32_t k = 0; k < scene.triangles.size(); ++k) pairs.push_back((n << layout::kPairTriangleBits) | k);
   }
 };
 
@@ -226,10 +226,10 @@ TEST_CASE("drift: a planted fault in intersect.comp's range check is seen by the
 
 TEST_CASE("drift: hash.comp's keys equal the emulator's for every ray kind and extreme directions") {
   Rng rng(5);
-  std::vector<gpu::Ray> rays;
+  std::vector<layout::Ray> rays;
   for (std::uint32_t i = 0; i < 5000; ++i) rays.push_back(MakeRay(rng, 2.0f, i));
   for (const glm::vec3 d : {glm::vec3(0, 0, 1), glm::vec3(0, 0, -1), glm::vec3(1, 0, 0), glm::vec3(-1, 0, 0), glm::vec3(0, -1, 0)}) {
-    gpu::Ray r = MakeRay(rng, 1.0f, static_cast<std::uint32_t>(rays.size()));
+    layout::Ray r = MakeRay(rng, 1.0f, static_cast<std::uint32_t>(rays.size()));
     r.direction_tmax = glm::vec4(d, 1.0f);
     rays.push_back(r);
   }
@@ -252,28 +252,28 @@ TEST_CASE("drift: hash.comp's keys equal the emulator's for every ray kind and e
 
 TEST_CASE("drift: build.comp's leaves and parents equal the emulator's cone build") {
   Rng rng(17);
-  std::vector<gpu::Ray> rays;
+  std::vector<layout::Ray> rays;
   for (std::uint32_t i = 0; i < 4000; ++i) rays.push_back(MakeRay(rng, std::ldexp(1.0f, static_cast<int>(i % 11) - 5), i));
   std::vector<std::uint32_t> order(rays.size());
   std::iota(order.begin(), order.end(), 0u);
   std::shuffle(order.begin(), order.end(), rng);
   const std::vector<std::uint32_t> first = emu::FixedGroups(rays.size(), 7), up = emu::FixedGroups(first.size() - 1, 5);
   const emu::call::BuildLeaves leaves{.rays = rays, .order = order, .first = first};
-  const std::vector<gpu::ConeNode> expect = emu::PassBuildLeaves(leaves);
+  const std::vector<layout::ConeNode> expect = emu::PassBuildLeaves(leaves);
   auto gpu = MakeGpu();
-  std::vector<gpu::ConeNode> got, got_up;
+  std::vector<layout::ConeNode> got, got_up;
   REQUIRE(gpu->Run(leaves, got));
   REQUIRE(got.size() == expect.size());
-  CHECK(std::memcmp(got.data(), expect.data(), got.size() * sizeof(gpu::ConeNode)) == 0);
+  CHECK(std::memcmp(got.data(), expect.data(), got.size() * sizeof(layout::ConeNode)) == 0);
   const emu::call::BuildParents parents{.below = expect, .first = up};
-  const std::vector<gpu::ConeNode> expect_up = emu::PassBuildParents(parents);
+  const std::vector<layout::ConeNode> expect_up = emu::PassBuildParents(parents);
   REQUIRE(gpu->Run(parents, got_up));
   REQUIRE(got_up.size() == expect_up.size());
-  CHECK(std::memcmp(got_up.data(), expect_up.data(), got_up.size() * sizeof(gpu::ConeNode)) == 0);
+  CHECK(std::memcmp(got_up.data(), expect_up.data(), got_up.size() * sizeof(layout::ConeNode)) == 0);
   auto faulty = MakeGpu({{"build", 1}});  // the float containment checks of each step are skipped
-  std::vector<gpu::ConeNode> planted;
+  std::vector<layout::ConeNode> planted;
   REQUIRE(faulty->Run(leaves, planted));
-  CHECK(std::memcmp(planted.data(), expect.data(), planted.size() * sizeof(gpu::ConeNode)) != 0);
+  CHECK(std::memcmp(planted.data(), expect.data(), planted.size() * sizeof(layout::ConeNode)) != 0);
 }
 
 }  // namespace

@@ -15,14 +15,14 @@ namespace {
 // 50 leaves of 4 rays each (sorted order reversed), 64 triangles at increasing depth in front of the
 // rays; `reps` copies of every leaf x triangle pair.
 struct IntersectCase {
-  std::vector<gpu::Ray> rays;
+  std::vector<layout::Ray> rays;
   std::vector<std::uint32_t> order, first1, pairs;
   SceneBuffers scene;
 
   explicit IntersectCase(int reps) {
     const std::uint32_t leaves = 50, per_leaf = 4, tris = 64;
     for (std::uint32_t i = 0; i < leaves * per_leaf; ++i) {
-      gpu::Ray r{};
+      layout::Ray r{};
       r.origin_tmin = glm::vec4(static_cast<float>(i % 20) * 0.5f, static_cast<float>(i / 20) * 0.5f, 0.0f, 0.0f);
       r.direction_tmax = glm::vec4(0.0f, 0.0f, 1.0f, std::numeric_limits<float>::infinity());
       r.info = glm::uvec4(i, 0xFFFFFFFFu, 0u, 0u);

@@ -100,12 +100,12 @@ TEST_CASE("registry: user kernels in GLSL are compiled and checked member by mem
                                           "layout(push_constant) uniform Block { ElementwisePush pc; };\n"
                                           "void main() { if (GlobalIndex() < pc.count) b[GlobalIndex()] = uint(a[GlobalIndex()]); }\n"));
   // Same size, another layout: a float where ReducePush has a uint.
-  const vk::Status layout = CheckSource(PassId::kReduce, std::string(kHeader) +
+  const vk::Status wrong_layout = CheckSource(PassId::kReduce, std::string(kHeader) +
                                                              "layout(std430, binding = 0) readonly buffer F { uint f[]; };\n"
                                                              "layout(push_constant) uniform P { uint n; float phase; uint s, c, b; } pc;\n"
                                                              "void main() { if (pc.phase > 0.0) f[0]; }\n");
-  CHECK_FALSE(layout);
-  CHECK(layout.message.find("float at byte 4") != std::string::npos);
+  CHECK_FALSE(wrong_layout);
+  CHECK(wrong_layout.message.find("float at byte 4") != std::string::npos);
   // A fixed workgroup size the host does not know.
   const vk::Status local = CheckSource(PassId::kResolve, "#version 460\nlayout(local_size_x = 64) in;\nvoid main() {}\n");
   CHECK_FALSE(local);

@@ -45,7 +45,7 @@ class EmbreeTracer final : public Tracer {
                                                                3 * sizeof(unsigned), n));
     if (!v || !idx) throw std::runtime_error("rtcSetNewGeometryBuffer failed");
     for (std::size_t t = 0; t < n; ++t) {
-      const gpu::Triangle& tri = scene.triangles[t];
+      const layout::Triangle& tri = scene.triangles[t];
       const glm::vec4* vs[3] = {&tri.v0, &tri.v1, &tri.v2};
       for (int k = 0; k < 3; ++k) {
         v[9 * t + 3 * k + 0] = vs[k]->x;
@@ -78,7 +78,7 @@ class EmbreeTracer final : public Tracer {
     out["scene_flags"] = "robust";
   }
 
-  void Closest(const std::vector<gpu::Ray>& rays, std::vector<std::uint64_t>& hits) override {
+  void Closest(const std::vector<layout::Ray>& rays, std::vector<std::uint64_t>& hits) override {
     hits.assign(rays.size(), emu::kMissPacked);
     ParallelFor(rays.size(), [&](std::size_t i) {
       Context ctx;
@@ -92,7 +92,7 @@ class EmbreeTracer final : public Tracer {
     });
   }
 
-  void Occluded(const std::vector<gpu::Ray>& rays, std::vector<std::uint32_t>& occluded) override {
+  void Occluded(const std::vector<layout::Ray>& rays, std::vector<std::uint32_t>& occluded) override {
     occluded.assign(rays.size(), 0u);
     ParallelFor(rays.size(), [&](std::size_t i) {
       Context ctx;
@@ -106,7 +106,7 @@ class EmbreeTracer final : public Tracer {
   }
 
  private:
-  static void Fill(const gpu::Ray& in, RTCRay& r) {
+  static void Fill(const layout::Ray& in, RTCRay& r) {
     r.org_x = in.origin_tmin.x;
     r.org_y = in.origin_tmin.y;
     r.org_z = in.origin_tmin.z;

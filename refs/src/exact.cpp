@@ -18,7 +18,7 @@ K::Point_3 P(const glm::vec4& v) { return {v.x, v.y, v.z}; }
 
 // Cheap double-precision prefilter with a wide tolerance: it keeps every triangle the exact test can
 // accept (errors here are ~1e-15 relative, the tolerance is 1e-6), and drops the rest of the scene.
-bool MaybeHits(const gpu::Ray& r, const gpu::Triangle& t) {
+bool MaybeHits(const layout::Ray& r, const layout::Triangle& t) {
   const glm::dvec3 o(emu::Xyz(r.origin_tmin)), d(emu::Xyz(r.direction_tmax));
   const glm::dvec3 v0(emu::Xyz(t.v0)), e1 = glm::dvec3(emu::Xyz(t.v1)) - v0, e2 = glm::dvec3(emu::Xyz(t.v2)) - v0;
   const glm::dvec3 p = glm::cross(d, e2);
@@ -37,7 +37,7 @@ bool MaybeHits(const gpu::Ray& r, const gpu::Triangle& t) {
 }
 
 // Exact squared parameter t^2 of the nearest point where the ray (t >= 0) meets the triangle, if any.
-bool NearestT2(const gpu::Ray& r, const gpu::Triangle& t, FT& t2, bool* boundary = nullptr) {
+bool NearestT2(const layout::Ray& r, const layout::Triangle& t, FT& t2, bool* boundary = nullptr) {
   const K::Point_3 o = P(r.origin_tmin);
   const K::Vector_3 d(r.direction_tmax.x, r.direction_tmax.y, r.direction_tmax.z);
   const K::Triangle_3 tri(P(t.v0), P(t.v1), P(t.v2));
@@ -62,7 +62,7 @@ bool NearestT2(const gpu::Ray& r, const gpu::Triangle& t, FT& t2, bool* boundary
   return true;
 }
 
-bool InRange(const gpu::Ray& r, const FT& t2) {
+bool InRange(const layout::Ray& r, const FT& t2) {
   // t >= 0 here, so comparing squares is exact and monotone.
   const FT tmin(r.origin_tmin.w), tmax(r.direction_tmax.w);
   const bool above = r.origin_tmin.w < 0 ? true : t2 > tmin * tmin;
@@ -72,21 +72,21 @@ bool InRange(const gpu::Ray& r, const FT& t2) {
 
 }  // namespace
 
-Contact ExactContact(const gpu::Ray& ray, const gpu::Triangle& tri) {
+Contact ExactContact(const layout::Ray& ray, const layout::Triangle& tri) {
   FT t2;
   bool boundary = false;
   if (!NearestT2(ray, tri, t2, &boundary) || !InRange(ray, t2)) return Contact::kMiss;
   return boundary ? Contact::kBoundary : Contact::kInterior;
 }
 
-Contact ExactOccluded(const gpu::Ray& ray, const SceneBuffers& scene) {
+Contact ExactOccluded(const layout::Ray& ray, const SceneBuffers& scene) {
   Contact best = Contact::kMiss;
   for (std::uint32_t p = 0; p < scene.triangles.size() && best != Contact::kInterior; ++p)
     if (p != ray.info.y && MaybeHits(ray, scene.triangles[p])) best = std::max(best, ExactContact(ray, scene.triangles[p]));
   return best;
 }
 
-std::vector<std::uint32_t> ExactClosest(const gpu::Ray& ray, const SceneBuffers& scene) {
+std::vector<std::uint32_t> ExactClosest(const layout::Ray& ray, const SceneBuffers& scene) {
   std::vector<std::uint32_t> best;
   FT best_t2;
   for (std::uint32_t p = 0; p < scene.triangles.size(); ++p) {

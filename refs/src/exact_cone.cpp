@@ -22,7 +22,7 @@ using detail::V3;
 template <typename NT>
 V3<NT> Vec(glm::vec3 v) { return detail::Exact<NT>(v); }
 
-bool Full(const gpu::ConeNode& n) {
+bool Full(const layout::ConeNode& n) {
   return n.cone.w <= -1.0f || (n.cone.w == 0.0f && n.extra.x == 0.0f) ||
          (n.cone.x == 0.0f && n.cone.y == 0.0f && n.cone.z == 0.0f) || (n.extra.x <= 0.0f && n.cone.w < 0.0f);
 }
@@ -39,14 +39,14 @@ bool AngleLeq(const NT& p, const NT& S, const NT& c, const NT& s) {
 }
 
 template <typename NT>
-bool ContainsDirection(const gpu::ConeNode& n, glm::vec3 d) {
+bool ContainsDirection(const layout::ConeNode& n, glm::vec3 d) {
   const V3<NT> x = Vec<NT>(glm::vec3(n.cone)), r = Vec<NT>(d);
   const V3<NT> xr = Cross(x, r);
   return AngleLeq(Dot(x, r), Dot(xr, xr), NT(n.cone.w), NT(n.extra.x));
 }
 
 template <typename NT>
-bool ContainsCone(const gpu::ConeNode& n, const gpu::ConeNode& child) {
+bool ContainsCone(const layout::ConeNode& n, const layout::ConeNode& child) {
   const NT c(n.cone.w), s(n.extra.x), cc(child.cone.w), sc(child.extra.x);
   // alpha_child <= alpha: cross((cc, sc), (c, s)) >= 0.
   if (Sign<NT>(cc * s - sc * c) < 0) return false;
@@ -66,7 +66,7 @@ bool BallContainsBall(glm::vec4 outer, glm::vec4 inner) {
 }
 
 template <typename NT>
-bool MeetsSphere(const gpu::ConeNode& n, glm::vec4 sphere) {
+bool MeetsSphere(const layout::ConeNode& n, glm::vec4 sphere) {
   const NT D = NT(n.sphere.w) + NT(sphere.w);
   if (Sign<NT>(D) < 0) return false;
   const V3<NT> v = Sub(Vec<NT>(glm::vec3(sphere)), Vec<NT>(glm::vec3(n.sphere)));
@@ -89,12 +89,12 @@ bool MeetsSphere(const gpu::ConeNode& n, glm::vec4 sphere) {
 
 }  // namespace
 
-bool ExactConeContainsDirection(const gpu::ConeNode& n, glm::vec3 d) {
+bool ExactConeContainsDirection(const layout::ConeNode& n, glm::vec3 d) {
   if (Full(n) || (d.x == 0.0f && d.y == 0.0f && d.z == 0.0f)) return true;
   return Filtered([&](auto nt) { return ContainsDirection<decltype(nt)>(n, d); });
 }
 
-bool ExactConeContainsCone(const gpu::ConeNode& n, const gpu::ConeNode& child) {
+bool ExactConeContainsCone(const layout::ConeNode& n, const layout::ConeNode& child) {
   if (Full(n)) return true;
   if (Full(child)) return false;
   return Filtered([&](auto nt) { return ContainsCone<decltype(nt)>(n, child); });
@@ -105,7 +105,7 @@ bool ExactBallContainsBall(glm::vec4 outer, glm::vec4 inner) {
   return Filtered([&](auto nt) { return BallContainsBall<decltype(nt)>(outer, inner); });
 }
 
-bool ExactNodeContains(const gpu::ConeNode& n, const gpu::ConeNode& child, std::string* why) {
+bool ExactNodeContains(const layout::ConeNode& n, const layout::ConeNode& child, std::string* why) {
   if (!ExactBallContainsBall(n.sphere, child.sphere)) {
     if (why) *why = "sphere";
     return false;
@@ -117,7 +117,7 @@ bool ExactNodeContains(const gpu::ConeNode& n, const gpu::ConeNode& child, std::
   return true;
 }
 
-bool ExactNodeContainsRay(const gpu::ConeNode& n, glm::vec3 origin, glm::vec3 direction, std::string* why) {
+bool ExactNodeContainsRay(const layout::ConeNode& n, glm::vec3 origin, glm::vec3 direction, std::string* why) {
   if (!ExactBallContainsBall(n.sphere, glm::vec4(origin, 0.0f))) {
     if (why) *why = "sphere";
     return false;
@@ -129,12 +129,12 @@ bool ExactNodeContainsRay(const gpu::ConeNode& n, glm::vec3 origin, glm::vec3 di
   return true;
 }
 
-bool ExactNodeMeetsSphere(const gpu::ConeNode& n, glm::vec4 sphere) {
+bool ExactNodeMeetsSphere(const layout::ConeNode& n, glm::vec4 sphere) {
   if (n.sphere.w == INFINITY || sphere.w == INFINITY) return true;
   return Filtered([&](auto nt) { return MeetsSphere<decltype(nt)>(n, sphere); });
 }
 
-bool ExactNodeMeetsSphere(const gpu::ConeNode& n, glm::vec4 sphere, ExactArithmetic arithmetic) {
+bool ExactNodeMeetsSphere(const layout::ConeNode& n, glm::vec4 sphere, ExactArithmetic arithmetic) {
   if (n.sphere.w == INFINITY || sphere.w == INFINITY) return true;
   switch (arithmetic) {
     case ExactArithmetic::kFiltered: return ExactNodeMeetsSphere(n, sphere);
@@ -144,7 +144,7 @@ bool ExactNodeMeetsSphere(const gpu::ConeNode& n, glm::vec4 sphere, ExactArithme
   return true;
 }
 
-bool DoubleNodeMeetsSphere(const gpu::ConeNode& n, glm::vec4 sphere) {
+bool DoubleNodeMeetsSphere(const layout::ConeNode& n, glm::vec4 sphere) {
   if (Full(n)) return true;
   const glm::dvec3 v = glm::dvec3(glm::vec3(sphere)) - glm::dvec3(glm::vec3(n.sphere));
   const double R = double(sphere.w) + double(n.sphere.w);

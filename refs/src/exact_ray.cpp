@@ -45,7 +45,7 @@ bool RobustHit(glm::vec3 o, glm::vec3 dir, glm::vec3 v0, glm::vec3 v1, glm::vec3
 }
 
 template <typename NT>
-bool HitDecision(const gpu::Ray& ray, const gpu::Triangle& tri) {
+bool HitDecision(const layout::Ray& ray, const layout::Triangle& tri) {
   const glm::vec3 o(ray.origin_tmin), dir(ray.direction_tmax);
   const V3<NT> d{NT(dir.x), NT(dir.y), NT(dir.z)};
   const V3<NT> a = Rel<NT>(glm::vec3(tri.v0), o), b = Rel<NT>(glm::vec3(tri.v1), o), c = Rel<NT>(glm::vec3(tri.v2), o);
@@ -64,7 +64,7 @@ bool HitDecision(const gpu::Ray& ray, const gpu::Triangle& tri) {
 
 // t = T / S for the ray against a triangle (vertices relative to the origin).
 template <typename NT>
-void TS(const gpu::Ray& ray, const gpu::Triangle& tri, NT& T, NT& S) {
+void TS(const layout::Ray& ray, const layout::Triangle& tri, NT& T, NT& S) {
   const glm::vec3 o(ray.origin_tmin), dir(ray.direction_tmax);
   const V3<NT> d{NT(dir.x), NT(dir.y), NT(dir.z)};
   const V3<NT> a = Rel<NT>(glm::vec3(tri.v0), o), b = Rel<NT>(glm::vec3(tri.v1), o), c = Rel<NT>(glm::vec3(tri.v2), o);
@@ -73,7 +73,7 @@ void TS(const gpu::Ray& ray, const gpu::Triangle& tri, NT& T, NT& S) {
 }
 
 template <typename NT>
-int CompareT(const gpu::Ray& ray, const gpu::Triangle& ta, const gpu::Triangle& tb) {
+int CompareT(const layout::Ray& ray, const layout::Triangle& ta, const layout::Triangle& tb) {
   NT Ta, Sa, Tb, Sb;
   TS(ray, ta, Ta, Sa);
   TS(ray, tb, Tb, Sb);
@@ -82,7 +82,7 @@ int CompareT(const gpu::Ray& ray, const gpu::Triangle& ta, const gpu::Triangle& 
 }
 
 template <typename NT>
-bool InPlane(const gpu::Ray& ray, const gpu::Triangle& tri) {
+bool InPlane(const layout::Ray& ray, const layout::Triangle& tri) {
   const glm::vec3 o(ray.origin_tmin), dir(ray.direction_tmax);
   const V3<NT> d{NT(dir.x), NT(dir.y), NT(dir.z)};
   const V3<NT> a = Rel<NT>(glm::vec3(tri.v0), o), b = Rel<NT>(glm::vec3(tri.v1), o), c = Rel<NT>(glm::vec3(tri.v2), o);
@@ -98,12 +98,12 @@ bool ExactRobustInteriorHit(glm::vec3 o, glm::vec3 d, glm::vec3 v0, glm::vec3 v1
   return detail::Filtered([&](auto nt) { return RobustHit<decltype(nt)>(o, d, v0, v1, v2, rel, scale); });
 }
 
-bool ExactHitDecision(const gpu::Ray& ray, const gpu::Triangle& tri, bool filtered) {
+bool ExactHitDecision(const layout::Ray& ray, const layout::Triangle& tri, bool filtered) {
   if (filtered) return detail::Filtered([&](auto nt) { return HitDecision<decltype(nt)>(ray, tri); });
   return HitDecision<CGAL::Exact_rational>(ray, tri);
 }
 
-int ExactCompareHitDistance(const gpu::Ray& ray, const gpu::Triangle& a, const gpu::Triangle& b) {
+int ExactCompareHitDistance(const layout::Ray& ray, const layout::Triangle& a, const layout::Triangle& b) {
   int r = 0;
   detail::Filtered([&](auto nt) {
     r = CompareT<decltype(nt)>(ray, a, b);
@@ -112,7 +112,7 @@ int ExactCompareHitDistance(const gpu::Ray& ray, const gpu::Triangle& a, const g
   return r;
 }
 
-bool ExactInPlane(const gpu::Ray& ray, const gpu::Triangle& tri) {
+bool ExactInPlane(const layout::Ray& ray, const layout::Triangle& tri) {
   return detail::Filtered([&](auto nt) { return InPlane<decltype(nt)>(ray, tri); });
 }
 

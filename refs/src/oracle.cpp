@@ -15,12 +15,12 @@ namespace {
 
 // Nearest triangle the emulator's intersection test accepts for this ray (exhaustive; used only to
 // describe a disagreement, never on the hot path).
-std::uint64_t NearestByEmuTest(const gpu::Ray& ray, const SceneBuffers& scene) {
+std::uint64_t NearestByEmuTest(const layout::Ray& ray, const SceneBuffers& scene) {
   const emu::WatertightRay wr = emu::SetupWatertight(emu::Xyz(ray.origin_tmin), emu::Xyz(ray.direction_tmax));
   std::uint64_t best = emu::kMissPacked;
   for (std::uint32_t p = 0; p < scene.triangles.size(); ++p) {
     if (p == ray.info.y) continue;
-    const gpu::Triangle& t = scene.triangles[p];
+    const layout::Triangle& t = scene.triangles[p];
     float th;
     if (emu::IntersectWatertight(wr, emu::Xyz(t.v0), emu::Xyz(t.v1), emu::Xyz(t.v2), ray.origin_tmin.w,
                                  ray.direction_tmax.w, th))
@@ -32,7 +32,7 @@ std::uint64_t NearestByEmuTest(const gpu::Ray& ray, const SceneBuffers& scene) {
 }  // namespace
 
 void Oracle::Check(const emu::Batch& batch) {
-  const std::vector<gpu::Ray>& rays = *batch.rays;
+  const std::vector<layout::Ray>& rays = *batch.rays;
   rays_checked_ += rays.size();
   if (batch.occluded) {
     std::vector<std::uint32_t> mine;
@@ -40,7 +40,7 @@ void Oracle::Check(const emu::Batch& batch) {
     for (std::size_t i = 0; i < rays.size(); ++i) {
       if (mine[i] == (*batch.occluded)[i]) continue;
       // Describe both sides with the occluder each one would have found.
-      std::vector<gpu::Ray> one{rays[i]};
+      std::vector<layout::Ray> one{rays[i]};
       std::vector<std::uint64_t> oh;
       tracer_.Closest(one, oh);
       const std::uint64_t eh = NearestByEmuTest(rays[i], scene_);
@@ -72,8 +72,8 @@ void Oracle::Check(const emu::Batch& batch) {
     d.batch = batch.name;
     d.ray = i;
     d.ray_data = rays[i];
-    d.frame_prim = ha ? pa : gpu::kNoPrim;
-    d.oracle_prim = hb ? pb : gpu::kNoPrim;
+    d.frame_prim = ha ? pa : layout::kNoPrim;
+    d.oracle_prim = hb ? pb : layout::kNoPrim;
     d.frame_t = ha ? emu::HitT(a) : 0.0f;
     d.oracle_t = hb ? emu::HitT(b) : 0.0f;
     const std::vector<std::uint32_t> exact = ExactClosest(rays[i], scene_);
@@ -110,8 +110,8 @@ void Oracle::Report(nlohmann::json& out, std::size_t max_listed) const {
     for (std::size_t i = 0; i < v.size() && i < cap; ++i) {
       const Disagreement& d = v[i];
       a.push_back({{"batch", d.batch}, {"ray", d.ray},
-                   {"frame", {{"prim", d.frame_prim == gpu::kNoPrim ? nlohmann::json(nullptr) : nlohmann::json(d.frame_prim)}, {"t", d.frame_t}}},
-                   {"oracle", {{"prim", d.oracle_prim == gpu::kNoPrim ? nlohmann::json(nullptr) : nlohmann::json(d.oracle_prim)}, {"t", d.oracle_t}}},
+                   {"frame", {{"prim", d.frame_prim == layout::kNoPrim ? nlohmann::json(nullptr) : nlohmann::json(d.frame_prim)}, {"t", d.frame_t}}},
+                   {"oracle", {{"prim", d.oracle_prim == layout::kNoPrim ? nlohmann::json(nullptr) : nlohmann::json(d.oracle_prim)}, {"t", d.oracle_t}}},
                    {"origin", {d.ray_data.origin_tmin.x, d.ray_data.origin_tmin.y, d.ray_data.origin_tmin.z}},
                    {"direction", {d.ray_data.direction_tmax.x, d.ray_data.direction_tmax.y, d.ray_data.direction_tmax.z}},
                    {"tmin", d.ray_data.origin_tmin.w}, {"tmax", d.ray_data.direction_tmax.w},

@@ -12,8 +12,8 @@ constexpr ElemInfo kInfos[] = {
     {"cone_node", 48, 0xFFF}, {"triangle", 48, 0xFFF}, {"triangle_normals", 48, 0xFFF}, {"triangle_info", 16, 0},
     {"material", 48, 0xFFF}, {"light", 48, 0xFFF},
     {"frame_constants", 192, 0}};  // 48 words: more than the mask holds; inputs only, never compared
-static_assert(sizeof(gpu::Ray) == 64 && sizeof(gpu::Surface) == 80 && sizeof(gpu::ConeNode) == 48);
-static_assert(sizeof(gpu::FrameConstants) == 192 && sizeof(gpu::Material) == 48 && sizeof(gpu::Light) == 48);
+static_assert(sizeof(layout::Ray) == 64 && sizeof(layout::Surface) == 80 && sizeof(layout::ConeNode) == 48);
+static_assert(sizeof(layout::FrameConstants) == 192 && sizeof(layout::Material) == 48 && sizeof(layout::Light) == 48);
 
 std::vector<std::uint32_t> Words(const Blob& b) {
   if (Info(b.type).bytes == 1) return {b.bytes.begin(), b.bytes.end()};
@@ -58,11 +58,11 @@ void BufferSet::PutScene(const SceneBuffers& s) {
 
 SceneBuffers BufferSet::GetScene() const {
   SceneBuffers s;
-  s.triangles = Get<gpu::Triangle>("scene.triangles");
-  s.normals = Get<gpu::TriangleNormals>("scene.normals");
-  s.info = Get<gpu::TriangleInfo>("scene.info");
-  s.materials = Get<gpu::Material>("scene.materials");
-  s.lights = Get<gpu::Light>("scene.lights");
+  s.triangles = Get<layout::Triangle>("scene.triangles");
+  s.normals = Get<layout::TriangleNormals>("scene.normals");
+  s.info = Get<layout::TriangleInfo>("scene.info");
+  s.materials = Get<layout::Material>("scene.materials");
+  s.lights = Get<layout::Light>("scene.lights");
   s.objects = Get<glm::uvec4>("scene.objects");
   const std::vector<glm::vec4> box = Get<glm::vec4>("scene.box");
   if (box.size() != 2) ThrowInput("{}: buffer 'scene.box' must hold 2 elements", origin_);

@@ -19,7 +19,7 @@ double TimeMs(F&& f) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-std::string HitsChanged(Tracer& tracer, const std::vector<gpu::Ray>& expected, const std::vector<gpu::Ray>& actual,
+std::string HitsChanged(Tracer& tracer, const std::vector<layout::Ray>& expected, const std::vector<layout::Ray>& actual,
                         bool shadow) {
   if (expected.size() != actual.size()) return "changed (ray counts differ)";
   std::size_t changed = 0;
@@ -99,8 +99,8 @@ CallRecord RunAndCompare(const PassMethod& method, const BufferSet& in, Backends
   }
   // A diverged ray batch: would the hits change? (Trim's dense rays are what gets traced.)
   if (hit_tracer && method.method == "trim" && !r.equal) {
-    r.hits = HitsChanged(*hit_tracer, e.Get<gpu::Ray>("rays"), actual_out.Get<gpu::Ray>("rays"),
-                         in.U32("kind") == gpu::kRayShadow);
+    r.hits = HitsChanged(*hit_tracer, e.Get<layout::Ray>("rays"), actual_out.Get<layout::Ray>("rays"),
+                         in.U32("kind") == layout::kRayShadow);
   }
   return r;
 }

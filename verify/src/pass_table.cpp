@@ -12,7 +12,7 @@ namespace {
 
 std::uint32_t Kind(const BufferSet& in) {
   const std::uint32_t k = in.U32("kind");
-  if (k > gpu::kRayRefraction) ThrowInput("scalar 'kind' = {} is not a ray kind", k);
+  if (k > layout::kRayRefraction) ThrowInput("scalar 'kind' = {} is not a ray kind", k);
   return k;
 }
 

@@ -18,8 +18,8 @@ SceneBuffers FlattenScene(const Scene& scene) {
     const Object& o = scene.objects[oi];
     b.objects.emplace_back(static_cast<std::uint32_t>(b.triangles.size()), static_cast<std::uint32_t>(o.TriangleCount()), 0, 0);
     for (std::size_t t = 0; t < o.TriangleCount(); ++t) {
-      gpu::Triangle tri;
-      gpu::TriangleNormals nrm;
+      layout::Triangle tri;
+      layout::TriangleNormals nrm;
       glm::vec4* tv[3] = {&tri.v0, &tri.v1, &tri.v2};
       glm::vec4* nv[3] = {&nrm.n0, &nrm.n1, &nrm.n2};
       for (int k = 0; k < 3; ++k) {
@@ -35,14 +35,14 @@ SceneBuffers FlattenScene(const Scene& scene) {
     }
   }
   for (const MaterialDesc& m : scene.materials) {
-    gpu::Material g;
+    layout::Material g;
     g.diffuse_reflectivity = glm::vec4(m.diffuse, m.reflectivity);
     g.specular_shininess = glm::vec4(m.specular, m.shininess);
     g.transparency_ior = glm::vec4(m.transparency, m.ior, 0, 0);
     b.materials.push_back(g);
   }
   for (const LightDesc& l : scene.lights) {
-    gpu::Light g;
+    layout::Light g;
     g.position = glm::vec4(l.position, 1.0f);
     g.color_intensity = glm::vec4(l.color, l.intensity);
     g.attenuation = glm::vec4(l.attenuation, 0.0f);
@@ -51,7 +51,7 @@ SceneBuffers FlattenScene(const Scene& scene) {
   return b;
 }
 
-gpu::FrameConstants MakeFrameConstants(const Scene& scene, const SceneBuffers& b, int width, int height) {
+layout::FrameConstants MakeFrameConstants(const Scene& scene, const SceneBuffers& b, int width, int height) {
   RS_CHECK(width > 0 && height > 0);
   const CameraDesc& cam = scene.camera;
   const glm::dvec3 eye(cam.eye);
@@ -86,7 +86,7 @@ gpu::FrameConstants MakeFrameConstants(const Scene& scene, const SceneBuffers& b
   m[3][2] = -a * glm::dot(fwd, eye) + bz;
   m[3][3] = -glm::dot(fwd, eye);
 
-  gpu::FrameConstants fc{};
+  layout::FrameConstants fc{};
   fc.view_proj = glm::mat4(m);
   fc.eye = glm::vec4(glm::vec3(eye), 1.0f);
   const glm::dvec3 origin = fwd + (1.0 / width - 1.0) * tx * right + (1.0 - 1.0 / height) * ty * up;

@@ -15,7 +15,7 @@
 #include "rayspace/layout.h"  // the buffer elements, and RS_CONST (a constant in both languages)
 
 #ifdef __cplusplus
-namespace rayspace::gpu {
+namespace rayspace::layout {
 #endif
 
 // ---- shared by several kernels ----------------------------------------------------------------
@@ -288,7 +288,7 @@ static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && size
               sizeof(BuildPush) == 20 && sizeof(TraversePush) == 56 && sizeof(ReducePush) == 20 &&
               sizeof(IntersectPush) == 36 && sizeof(ShadePush) == 16 && sizeof(ElementwisePush) == 8);
 static_assert(offsetof(TraversePush, eps) == 40);
-}  // namespace rayspace::gpu
+}  // namespace rayspace::layout
 #endif
 #undef RS_CONST
 #endif  // RAYSPACE_CONTRACT_H

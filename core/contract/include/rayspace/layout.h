@@ -7,7 +7,7 @@
 #ifdef __cplusplus
 #include <cstdint>
 #include <glm/glm.hpp>
-namespace rayspace::gpu {
+namespace rayspace::layout {
 using uint = std::uint32_t;
 using vec4 = glm::vec4;
 using uvec4 = glm::uvec4;
@@ -115,7 +115,7 @@ static_assert(sizeof(ConeNode) == 48);
 static_assert(sizeof(FrameConstants) == 64 + 8 * 16);
 static_assert(offsetof(Ray, info) == 32);
 static_assert(offsetof(FrameConstants, dims) == 176);
-}  // namespace rayspace::gpu
+}  // namespace rayspace::layout
 #endif
 // RS_CONST stays defined: rayspace/contract.h declares the rest of the kernel contract with it.
 #endif  // RAYSPACE_LAYOUT_H

@@ -102,7 +102,7 @@ inline constexpr CallSpec kIntersectCalls[] = {{"intersect", kIntersectIdx}};
 inline constexpr CallSpec kShadeCalls[] = {{"shade", None()}};
 inline constexpr CallSpec kResolveCalls[] = {{"resolve", None()}};
 
-#define RS_PHASE(P, X) {#X, gpu::k##P##Phase##X}
+#define RS_PHASE(P, X) {#X, layout::k##P##Phase##X}
 inline constexpr PhaseSpec kTrimPhases[] = {RS_PHASE(Trim, BlockSums), RS_PHASE(Trim, ScanSums), RS_PHASE(Trim, Scatter)};
 inline constexpr PhaseSpec kCompressPhases[] = {RS_PHASE(Compress, Heads), RS_PHASE(Compress, BlockSums),
                                                 RS_PHASE(Compress, ScanSums), RS_PHASE(Compress, Chunks),
@@ -144,27 +144,27 @@ inline constexpr FaultSpec kShadeFaults[] = {{1, "the quadratic attenuation uses
 inline constexpr FaultSpec kResolveFaults[] = {{1, "the gamma step is skipped"}};
 }  // namespace pass_registry_detail
 
-#define RS_PUSH(T) #T, sizeof(gpu::T)
+#define RS_PUSH(T) #T, sizeof(layout::T)
 // clang-format off
 inline constexpr std::array<PassSpec, kPassCount> kPasses = {{
   // id                       name                 kernel               graphics phases                                   bindings                    push                        calls                                       thesis phase                 faults
   {PassId::kRaster,           "raster",            "raster",            true,  {},                                        5,                          "", 0,                      pass_registry_detail::kRasterCalls,        "",                          pass_registry_detail::kRasterFaults},
-  {PassId::kSurfaces,         "surfaces",          "surfaces",          false, {},                                        gpu::kSurfacesBindings,     RS_PUSH(SurfacesPush),      pass_registry_detail::kSurfacesCalls,      "",                          pass_registry_detail::kSurfacesFaults},
-  {PassId::kSurfacesHits,     "surfaces.hits",     "surfaces_hits",     false, {},                                        gpu::kSurfacesHitsBindings, RS_PUSH(SurfacesHitsPush),  pass_registry_detail::kSurfacesHitsCalls,  "",                          pass_registry_detail::kSurfacesHitsFaults},
-  {PassId::kRaygenShadow,     "raygen.shadow",     "raygen_shadow",     false, {},                                        gpu::kRaygenBindings,       RS_PUSH(RaygenShadowPush),  pass_registry_detail::kRaygenCalls,        "ray_creation",              pass_registry_detail::kRaygenShadowFaults},
-  {PassId::kRaygenReflection, "raygen.reflection", "raygen_reflection", false, {},                                        gpu::kRaygenBindings,       RS_PUSH(RaygenPush),        pass_registry_detail::kRaygenCalls,        "ray_creation",              pass_registry_detail::kRaygenReflectionFaults},
-  {PassId::kRaygenRefraction, "raygen.refraction", "raygen_refraction", false, {},                                        gpu::kRaygenBindings,       RS_PUSH(RaygenPush),        pass_registry_detail::kRaygenCalls,        "ray_creation",              pass_registry_detail::kRaygenRefractionFaults},
-  {PassId::kTrim,             "trim",              "trim",              false, pass_registry_detail::kTrimPhases,        gpu::kTrimBindings,         RS_PUSH(TrimPush),          pass_registry_detail::kTrimCalls,          "ray_creation",              pass_registry_detail::kTrimFaults},
-  {PassId::kHash,             "hash",              "hash",              false, {},                                        gpu::kHashBindings,         RS_PUSH(HashPush),          pass_registry_detail::kHashCalls,          "ray_compression",           pass_registry_detail::kHashFaults},
-  {PassId::kCompress,         "compress",          "sort",              false, pass_registry_detail::kCompressPhases,    gpu::kSortBindings,         RS_PUSH(SortPush),          pass_registry_detail::kCompressCalls,      "ray_compression",           pass_registry_detail::kCompressFaults},
-  {PassId::kSort,             "sort",              "sort",              false, pass_registry_detail::kSortPhases,        gpu::kSortBindings,         RS_PUSH(SortPush),          pass_registry_detail::kSortCalls,          "ray_sorting",               pass_registry_detail::kSortFaults},
-  {PassId::kDecompress,       "decompress",        "sort",              false, pass_registry_detail::kDecompressPhases,  gpu::kSortBindings,         RS_PUSH(SortPush),          pass_registry_detail::kDecompressCalls,    "ray_decompression",         pass_registry_detail::kDecompressFaults},
-  {PassId::kBuild,            "build",             "build",             false, pass_registry_detail::kBuildPhases,       gpu::kBuildBindings,        RS_PUSH(BuildPush),         pass_registry_detail::kBuildCalls,         "hierarchy_creation",        pass_registry_detail::kBuildFaults},
-  {PassId::kTraverse,         "traverse",          "traverse",          false, pass_registry_detail::kTraversePhases,    gpu::kTraverseBindings,     RS_PUSH(TraversePush),      pass_registry_detail::kTraverseCalls,      "hierarchy_traversal",       pass_registry_detail::kTraverseFaults},
-  {PassId::kReduce,           "reduce",            "reduce",            false, pass_registry_detail::kReducePhases,      gpu::kReduceBindings,       RS_PUSH(ReducePush),        pass_registry_detail::kReduceCalls,        "hierarchy_traversal",       pass_registry_detail::kReduceFaults},
-  {PassId::kIntersect,        "intersect",         "intersect",         false, {},                                        gpu::kIntersectBindings,    RS_PUSH(IntersectPush),     pass_registry_detail::kIntersectCalls,     "final_intersection_tests",  pass_registry_detail::kIntersectFaults},
-  {PassId::kShade,            "shade",             "shade",             false, {},                                        gpu::kShadeBindings,        RS_PUSH(ShadePush),         pass_registry_detail::kShadeCalls,         "",                          pass_registry_detail::kShadeFaults},
-  {PassId::kResolve,          "resolve",           "resolve",           false, {},                                        gpu::kResolveBindings,      RS_PUSH(ElementwisePush),      pass_registry_detail::kResolveCalls,       "",                          pass_registry_detail::kResolveFaults},
+  {PassId::kSurfaces,         "surfaces",          "surfaces",          false, {},                                        layout::kSurfacesBindings,     RS_PUSH(SurfacesPush),      pass_registry_detail::kSurfacesCalls,      "",                          pass_registry_detail::kSurfacesFaults},
+  {PassId::kSurfacesHits,     "surfaces.hits",     "surfaces_hits",     false, {},                                        layout::kSurfacesHitsBindings, RS_PUSH(SurfacesHitsPush),  pass_registry_detail::kSurfacesHitsCalls,  "",                          pass_registry_detail::kSurfacesHitsFaults},
+  {PassId::kRaygenShadow,     "raygen.shadow",     "raygen_shadow",     false, {},                                        layout::kRaygenBindings,       RS_PUSH(RaygenShadowPush),  pass_registry_detail::kRaygenCalls,        "ray_creation",              pass_registry_detail::kRaygenShadowFaults},
+  {PassId::kRaygenReflection, "raygen.reflection", "raygen_reflection", false, {},                                        layout::kRaygenBindings,       RS_PUSH(RaygenPush),        pass_registry_detail::kRaygenCalls,        "ray_creation",              pass_registry_detail::kRaygenReflectionFaults},
+  {PassId::kRaygenRefraction, "raygen.refraction", "raygen_refraction", false, {},                                        layout::kRaygenBindings,       RS_PUSH(RaygenPush),        pass_registry_detail::kRaygenCalls,        "ray_creation",              pass_registry_detail::kRaygenRefractionFaults},
+  {PassId::kTrim,             "trim",              "trim",              false, pass_registry_detail::kTrimPhases,        layout::kTrimBindings,         RS_PUSH(TrimPush),          pass_registry_detail::kTrimCalls,          "ray_creation",              pass_registry_detail::kTrimFaults},
+  {PassId::kHash,             "hash",              "hash",              false, {},                                        layout::kHashBindings,         RS_PUSH(HashPush),          pass_registry_detail::kHashCalls,          "ray_compression",           pass_registry_detail::kHashFaults},
+  {PassId::kCompress,         "compress",          "sort",              false, pass_registry_detail::kCompressPhases,    layout::kSortBindings,         RS_PUSH(SortPush),          pass_registry_detail::kCompressCalls,      "ray_compression",           pass_registry_detail::kCompressFaults},
+  {PassId::kSort,             "sort",              "sort",              false, pass_registry_detail::kSortPhases,        layout::kSortBindings,         RS_PUSH(SortPush),          pass_registry_detail::kSortCalls,          "ray_sorting",               pass_registry_detail::kSortFaults},
+  {PassId::kDecompress,       "decompress",        "sort",              false, pass_registry_detail::kDecompressPhases,  layout::kSortBindings,         RS_PUSH(SortPush),          pass_registry_detail::kDecompressCalls,    "ray_decompression",         pass_registry_detail::kDecompressFaults},
+  {PassId::kBuild,            "build",             "build",             false, pass_registry_detail::kBuildPhases,       layout::kBuildBindings,        RS_PUSH(BuildPush),         pass_registry_detail::kBuildCalls,         "hierarchy_creation",        pass_registry_detail::kBuildFaults},
+  {PassId::kTraverse,         "traverse",          "traverse",          false, pass_registry_detail::kTraversePhases,    layout::kTraverseBindings,     RS_PUSH(TraversePush),      pass_registry_detail::kTraverseCalls,      "hierarchy_traversal",       pass_registry_detail::kTraverseFaults},
+  {PassId::kReduce,           "reduce",            "reduce",            false, pass_registry_detail::kReducePhases,      layout::kReduceBindings,       RS_PUSH(ReducePush),        pass_registry_detail::kReduceCalls,        "hierarchy_traversal",       pass_registry_detail::kReduceFaults},
+  {PassId::kIntersect,        "intersect",         "intersect",         false, {},                                        layout::kIntersectBindings,    RS_PUSH(IntersectPush),     pass_registry_detail::kIntersectCalls,     "final_intersection_tests",  pass_registry_detail::kIntersectFaults},
+  {PassId::kShade,            "shade",             "shade",             false, {},                                        layout::kShadeBindings,        RS_PUSH(ShadePush),         pass_registry_detail::kShadeCalls,         "",                          pass_registry_detail::kShadeFaults},
+  {PassId::kResolve,          "resolve",           "resolve",           false, {},                                        layout::kResolveBindings,      RS_PUSH(ElementwisePush),      pass_registry_detail::kResolveCalls,       "",                          pass_registry_detail::kResolveFaults},
 }};
 // clang-format on
 #undef RS_PUSH
@@ -203,9 +203,9 @@ constexpr std::optional<PassId> PassOfLabel(std::string_view label) {
 
 // A call listed by several passes is one per ray kind, in kind order.
 static_assert(static_cast<int>(PassId::kRaygenReflection) - static_cast<int>(PassId::kRaygenShadow) ==
-                  static_cast<int>(gpu::kRayReflection - gpu::kRayShadow) &&
+                  static_cast<int>(layout::kRayReflection - layout::kRayShadow) &&
               static_cast<int>(PassId::kRaygenRefraction) - static_cast<int>(PassId::kRaygenShadow) ==
-                  static_cast<int>(gpu::kRayRefraction - gpu::kRayShadow) && gpu::kRayShadow == 0);
+                  static_cast<int>(layout::kRayRefraction - layout::kRayShadow) && layout::kRayShadow == 0);
 
 // Registry invariants that hold at compile time: ids in order, names unique, faults numbered 1..n.
 namespace pass_registry_detail {

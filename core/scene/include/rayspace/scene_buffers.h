@@ -8,11 +8,11 @@
 namespace rayspace {
 
 struct SceneBuffers {
-  std::vector<gpu::Triangle> triangles;
-  std::vector<gpu::TriangleNormals> normals;
-  std::vector<gpu::TriangleInfo> info;
-  std::vector<gpu::Material> materials;
-  std::vector<gpu::Light> lights;
+  std::vector<layout::Triangle> triangles;
+  std::vector<layout::TriangleNormals> normals;
+  std::vector<layout::TriangleInfo> info;
+  std::vector<layout::Material> materials;
+  std::vector<layout::Light> lights;
   std::vector<glm::uvec4> objects;  // x first triangle, y triangle count
   glm::vec3 lo{0}, hi{0};           // bounding box of all vertices
 };
@@ -26,11 +26,11 @@ inline constexpr float kShadowTmaxFactor = 1.0f - 1.0f / 4096.0f;
 inline constexpr double kRayEpsilonRelative = 1.0 / (1 << 20);
 
 // Camera, image size and scene-dependent epsilons for one frame (host double math, rounded once).
-gpu::FrameConstants MakeFrameConstants(const Scene& scene, const SceneBuffers& buffers, int width, int height);
+layout::FrameConstants MakeFrameConstants(const Scene& scene, const SceneBuffers& buffers, int width, int height);
 
 // Direction of the ray through the centre of pixel (px, py), exactly as the kernels compute it:
 // (pixel_origin + px * pixel_dx) + py * pixel_dy, each operation rounded to float.
-inline glm::vec3 PixelDirection(const gpu::FrameConstants& fc, std::uint32_t px, std::uint32_t py) {
+inline glm::vec3 PixelDirection(const layout::FrameConstants& fc, std::uint32_t px, std::uint32_t py) {
   const float fx = static_cast<float>(px), fy = static_cast<float>(py);
   glm::vec3 d;
   for (int k = 0; k < 3; ++k) {

@@ -31,7 +31,7 @@ namespace call {
 struct Raster {
   static constexpr std::string_view kName = "raster";
   using Result = GBuffer;
-  gpu::FrameConstants frame{};
+  layout::FrameConstants frame{};
   const SceneBuffers* scene = nullptr;
   RS_FIELDS(frame, scene)
 };
@@ -39,9 +39,9 @@ struct Raster {
 // Shading points from the G-buffer's covered pixels.
 struct SurfacesFromGBuffer {
   static constexpr std::string_view kName = "surfaces";
-  using Result = std::vector<gpu::Surface>;
+  using Result = std::vector<layout::Surface>;
   static constexpr std::string_view kResult = "surfaces";
-  gpu::FrameConstants frame{};
+  layout::FrameConstants frame{};
   int width = 0, height = 0;
   In<glm::vec4> position{}, normal{};
   In<std::uint32_t> prim{};
@@ -52,9 +52,9 @@ struct SurfacesFromGBuffer {
 // One surface per ray; rays that missed give empty slots.
 struct SurfacesFromHits {
   static constexpr std::string_view kName = "surfaces.hits";
-  using Result = std::vector<gpu::Surface>;
+  using Result = std::vector<layout::Surface>;
   static constexpr std::string_view kResult = "surfaces";
-  In<gpu::Ray> rays{};
+  In<layout::Ray> rays{};
   In<std::uint64_t> hits{};
   const SceneBuffers* scene = nullptr;
   RS_FIELDS(rays, hits, scene)
@@ -66,9 +66,9 @@ struct SurfacesFromHits {
 struct Raygen {
   static constexpr std::string_view kName = "raygen";
   using Result = SparseRays;
-  std::uint32_t kind = gpu::kRayShadow;
-  gpu::FrameConstants frame{};
-  In<gpu::Surface> surfaces{};
+  std::uint32_t kind = layout::kRayShadow;
+  layout::FrameConstants frame{};
+  In<layout::Surface> surfaces{};
   const SceneBuffers* scene = nullptr;
   RS_FIELDS(kind, frame, surfaces, scene)
 };
@@ -77,8 +77,8 @@ struct Raygen {
 struct Trim {
   static constexpr std::string_view kName = "trim";
   using Result = Trimmed;
-  std::uint32_t kind = gpu::kRayShadow;
-  In<gpu::Ray> rays{};
+  std::uint32_t kind = layout::kRayShadow;
+  In<layout::Ray> rays{};
   In<std::uint32_t> flags{};
   RS_FIELDS(kind, rays, flags)
 };
@@ -88,8 +88,8 @@ struct Trim {
 struct Shade {
   static constexpr std::string_view kName = "shade";
   using Result = void;
-  gpu::FrameConstants frame{};
-  In<gpu::Surface> surfaces{};
+  layout::FrameConstants frame{};
+  In<layout::Surface> surfaces{};
   In<std::uint32_t> shadow_flags{}, shadow_offsets{}, occluded{};
   std::vector<std::uint64_t>* accum = nullptr;
   const SceneBuffers* scene = nullptr;
@@ -112,7 +112,7 @@ struct Hash {
   static constexpr std::string_view kName = "hash";
   using Result = std::vector<std::uint32_t>;
   static constexpr std::string_view kResult = "keys";
-  In<gpu::Ray> rays{};
+  In<layout::Ray> rays{};
   const SceneBuffers* scene = nullptr;
   HashConfig hash{};
   std::uint32_t quadtree_width = 0;
@@ -149,18 +149,18 @@ struct Decompress {
 // [first[i], first[i+1]) (sorted rays through `order` for leaves, nodes of the level below for parents).
 struct BuildLeaves {
   static constexpr std::string_view kName = "build.leaves";
-  using Result = std::vector<gpu::ConeNode>;
+  using Result = std::vector<layout::ConeNode>;
   static constexpr std::string_view kResult = "nodes";
-  In<gpu::Ray> rays{};
+  In<layout::Ray> rays{};
   In<std::uint32_t> order{}, first{};
   RS_FIELDS(rays, order, first)
 };
 
 struct BuildParents {
   static constexpr std::string_view kName = "build.parents";
-  using Result = std::vector<gpu::ConeNode>;
+  using Result = std::vector<layout::ConeNode>;
   static constexpr std::string_view kResult = "nodes";
-  In<gpu::ConeNode> below{};
+  In<layout::ConeNode> below{};
   In<std::uint32_t> first{};
   RS_FIELDS(below, first)
 };
@@ -170,7 +170,7 @@ struct ObjectMask {
   static constexpr std::string_view kName = "traverse.objects";
   using Result = std::vector<std::uint8_t>;
   static constexpr std::string_view kResult = "mask";
-  In<gpu::ConeNode> top{};
+  In<layout::ConeNode> top{};
   In<glm::vec4> object_spheres{};
   float eps = 0.0f;
   RS_FIELDS(top, object_spheres, eps)
@@ -181,7 +181,7 @@ struct ObjectMask {
 struct TraverseTop {
   static constexpr std::string_view kName = "traverse.top";
   using Result = PairSlots;
-  In<gpu::ConeNode> top{};
+  In<layout::ConeNode> top{};
   std::uint32_t t0 = 0, t1 = 0, b0 = 0, b1 = 0;
   In<glm::vec4> tri_spheres{};
   const SceneBuffers* scene = nullptr;
@@ -196,7 +196,7 @@ struct TraverseLevel {
   static constexpr std::string_view kName = "traverse.level";
   using Result = PairSlots;
   In<std::uint32_t> pairs{};
-  In<gpu::ConeNode> nodes{};
+  In<layout::ConeNode> nodes{};
   In<std::uint32_t> first{};
   std::uint32_t base_up = 0, base = 0, children_max = 0, b0 = 0;
   In<glm::vec4> tri_spheres{};
@@ -227,7 +227,7 @@ struct Intersect {
   In<std::uint32_t> pairs{}, first1{};
   std::uint32_t base1 = 0, b0 = 0;
   In<std::uint32_t> order{};
-  In<gpu::Ray> rays{};
+  In<layout::Ray> rays{};
   const SceneBuffers* scene = nullptr;
   std::vector<std::uint64_t>* hits = nullptr;
   std::vector<std::uint32_t>* occluded = nullptr;

@@ -17,25 +17,25 @@ namespace rayspace::emu::cone {
 
 // Margins applied once per finished node (radii: relative 2^-18, half-angles: 2^-20 rad) and the
 // test's own rounding slack are part of the kernel contract (rayspace/contract.h).
-using gpu::kAngleSlack;
-using gpu::kRadiusSlack;
-using gpu::kTestSlack;
+using layout::kAngleSlack;
+using layout::kRadiusSlack;
+using layout::kTestSlack;
 // Absolute radius margin (2^-144): covers the absolute rounding of denormal-range radii; absorbed by
 // rounding for radii above about 2^-119, so it changes nothing at ordinary scales.
 inline constexpr float kRadiusFloor = 0x1p-144f;
 
-inline gpu::ConeNode FullSphereCone(gpu::ConeNode n) {
+inline layout::ConeNode FullSphereCone(layout::ConeNode n) {
   n.cone = glm::vec4(1.0f, 0.0f, 0.0f, -1.0f);
   n.extra.x = 0.0f;
   return n;
 }
 
-inline bool IsFull(const gpu::ConeNode& n) { return n.cone.w <= -1.0f; }
+inline bool IsFull(const layout::ConeNode& n) { return n.cone.w <= -1.0f; }
 
 // Widens the half-angle by about kAngleSlack: (cos, sin) move as by a rotation of delta, rounded
 // outward. In the test, s = b cos - a sin then drops by delta * (a cos + b sin) > 0 on the branch
 // that uses it, so the test only accepts more. Sin carries small angles that cos cannot resolve.
-inline void Loosen(gpu::ConeNode& n) {
+inline void Loosen(layout::ConeNode& n) {
   if (IsFull(n)) return;
   const float c = n.cone.w, s = n.extra.x;
   const float c2 = std::nextafter(c - kAngleSlack * s, -2.0f);
@@ -50,7 +50,7 @@ inline void Loosen(gpu::ConeNode& n) {
 
 // Makes sure the cone holds a direction (unit r) in float evaluation: if angle(axis, r) exceeds the
 // half-angle, the half-angle becomes that angle. theta <= alpha iff sin(alpha - theta) >= 0.
-inline void EncloseDirection(gpu::ConeNode& n, glm::vec3 r) {
+inline void EncloseDirection(layout::ConeNode& n, glm::vec3 r) {
   if (IsFull(n)) return;
   const glm::vec3 x = Xyz(n.cone);
   const float c = Dot(x, r), sr = Length(Cross(x, r));
@@ -61,7 +61,7 @@ inline void EncloseDirection(gpu::ConeNode& n, glm::vec3 r) {
 }
 
 // Makes sure the cone holds a child cone: angle(axis, child axis) + child half-angle <= half-angle.
-inline void EncloseCone(gpu::ConeNode& n, const gpu::ConeNode& child) {
+inline void EncloseCone(layout::ConeNode& n, const layout::ConeNode& child) {
   if (IsFull(n)) return;
   if (IsFull(child)) {
     n = FullSphereCone(n);
@@ -81,19 +81,19 @@ inline void EncloseCone(gpu::ConeNode& n, const gpu::ConeNode& child) {
 }
 
 // Makes sure the sphere holds a point or a child sphere (radius r at c).
-inline void EncloseSphere(gpu::ConeNode& n, glm::vec3 c, float r) {
+inline void EncloseSphere(layout::ConeNode& n, glm::vec3 c, float r) {
   const float need = ScaledLength(c - Xyz(n.sphere)) + r;
   if (need > n.sphere.w) n.sphere.w = need;
 }
 
-inline void Finish(gpu::ConeNode& n) {
+inline void Finish(layout::ConeNode& n) {
   n.sphere.w = std::nextafter(n.sphere.w * kRadiusSlack + kRadiusFloor, INFINITY);
   Loosen(n);
 }
 
 // A leaf: one ray (origin, unit direction), radius 0, half-angle 0.
-inline gpu::ConeNode FromRay(glm::vec3 origin, glm::vec3 unit_dir) {
-  gpu::ConeNode n;
+inline layout::ConeNode FromRay(glm::vec3 origin, glm::vec3 unit_dir) {
+  layout::ConeNode n;
   n.sphere = glm::vec4(origin, 0.0f);
   n.cone = glm::vec4(unit_dir, 1.0f);
   n.extra = glm::vec4(0.0f, 1.0f, 0.0f, 0.0f);
@@ -110,7 +110,7 @@ inline glm::vec4 SphereUnion(glm::vec4 a, glm::vec4 b) {
 }
 
 // Grows a node's cone by one unit ray direction r, eqs. 3.8-3.11.
-inline void GrowCone(gpu::ConeNode& n, glm::vec3 r) {
+inline void GrowCone(layout::ConeNode& n, glm::vec3 r) {
   if (IsFull(n)) return;
   const glm::vec3 x = Xyz(n.cone);
   const float cosphi = n.cone.w, sinphi = n.extra.x;
@@ -137,7 +137,7 @@ inline void GrowCone(gpu::ConeNode& n, glm::vec3 r) {
 
 // Cone union, eqs. 3.12-3.13 (intent: alpha = angle(x1, x2) / 2 + max(alpha1, alpha2) around
 // normalize(x1 + x2)), with cos/sin of the half angle from the half-angle identities.
-inline glm::vec4 ConeUnion(const gpu::ConeNode& a, const gpu::ConeNode& b, float& sin_out) {
+inline glm::vec4 ConeUnion(const layout::ConeNode& a, const layout::ConeNode& b, float& sin_out) {
   if (IsFull(a) || IsFull(b)) {
     sin_out = 0.0f;
     return glm::vec4(1, 0, 0, -1);
@@ -163,8 +163,8 @@ inline glm::vec4 ConeUnion(const gpu::ConeNode& a, const gpu::ConeNode& b, float
   return glm::vec4(s / sl, cn);
 }
 
-inline gpu::ConeNode Union(const gpu::ConeNode& a, const gpu::ConeNode& b) {
-  gpu::ConeNode n;
+inline layout::ConeNode Union(const layout::ConeNode& a, const layout::ConeNode& b) {
+  layout::ConeNode n;
   n.sphere = SphereUnion(a.sphere, b.sphere);
   float sn;
   n.cone = ConeUnion(a, b, sn);
@@ -179,7 +179,7 @@ inline gpu::ConeNode Union(const gpu::ConeNode& a, const gpu::ConeNode& b) {
 // on the surface (distance b cos - a sin) while a cos + b sin > 0, else the apex (distance |p - C|).
 // Conservative in float (docs/numerics.md): v and R are scaled by a power of two so nothing over- or
 // underflows, and the reach grows by kTestSlack (|a| + |b|) for the rounding of a, b and s.
-inline bool Test(const gpu::ConeNode& n, glm::vec4 sphere, float eps) {
+inline bool Test(const layout::ConeNode& n, glm::vec4 sphere, float eps) {
   if (IsFull(n)) return true;
   const glm::vec3 v0 = Xyz(sphere) - Xyz(n.sphere);
   const float R0 = (sphere.w + n.sphere.w) * kRadiusSlack + eps;
@@ -204,8 +204,8 @@ inline bool Test(const gpu::ConeNode& n, glm::vec4 sphere, float eps) {
 // and 3.14-3.15, checked in float against the old node and the ray, then finished with the margins.
 // It contains both exactly (docs/numerics.md; fuzz/cone_grow), so a leaf folded from these steps
 // contains all its rays.
-inline gpu::ConeNode GrowNode(const gpu::ConeNode& old, glm::vec3 o, glm::vec3 r) {
-  gpu::ConeNode n = old;
+inline layout::ConeNode GrowNode(const layout::ConeNode& old, glm::vec3 o, glm::vec3 r) {
+  layout::ConeNode n = old;
   n.sphere = SphereUnion(n.sphere, glm::vec4(o, 0.0f));
   GrowCone(n, r);
   EncloseSphere(n, Xyz(old.sphere), old.sphere.w);
@@ -219,20 +219,20 @@ inline gpu::ConeNode GrowNode(const gpu::ConeNode& old, glm::vec3 o, glm::vec3 r
 
 // A level-1 node over rays (given by index through `order`): a finished one-ray node grown ray by ray.
 template <typename RayAt>
-gpu::ConeNode LeafNode(std::uint32_t count, RayAt&& ray_at) {
-  const gpu::Ray& r0 = ray_at(0);
-  gpu::ConeNode n = FromRay(Xyz(r0.origin_tmin), Normalize(Xyz(r0.direction_tmax)));
+layout::ConeNode LeafNode(std::uint32_t count, RayAt&& ray_at) {
+  const layout::Ray& r0 = ray_at(0);
+  layout::ConeNode n = FromRay(Xyz(r0.origin_tmin), Normalize(Xyz(r0.direction_tmax)));
   Finish(n);
   for (std::uint32_t j = 1; j < count; ++j) {
-    const gpu::Ray& r = ray_at(j);
+    const layout::Ray& r = ray_at(j);
     n = GrowNode(n, Xyz(r.origin_tmin), Normalize(Xyz(r.direction_tmax)));
   }
   return n;
 }
 
 // An upper-level node: unions of the children (eqs. 3.12-3.15), checked against each child, finished.
-inline gpu::ConeNode ParentNode(const gpu::ConeNode* children, std::uint32_t count) {
-  gpu::ConeNode n = children[0];
+inline layout::ConeNode ParentNode(const layout::ConeNode* children, std::uint32_t count) {
+  layout::ConeNode n = children[0];
   for (std::uint32_t j = 1; j < count; ++j) n = Union(n, children[j]);
   for (std::uint32_t j = 0; j < count; ++j) {
     EncloseSphere(n, Xyz(children[j].sphere), children[j].sphere.w);

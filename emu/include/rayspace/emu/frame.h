@@ -32,7 +32,7 @@ struct Batch {
   std::string name;  // e.g. "shadow.b0", "reflection.b1"
   std::uint32_t kind = 0;
   int bounce = 0;
-  const std::vector<gpu::Ray>* rays = nullptr;
+  const std::vector<layout::Ray>* rays = nullptr;
   const std::vector<std::uint64_t>* hits = nullptr;      // closest-hit batches
   const std::vector<std::uint32_t>* occluded = nullptr;  // shadow batches
 };

@@ -25,7 +25,7 @@ struct HierarchyConfig {
   Reduction reduction = Reduction::kHierarchical;
   int component_size = 64;                // Roger's s for the hierarchical reduction
   std::size_t pair_capacity = 1u << 24;   // pairs a level may hold before the batch is split
-  std::uint32_t max_batch_triangles = 1u << gpu::kPairTriangleBits;  // triangle ids in a packed pair
+  std::uint32_t max_batch_triangles = 1u << layout::kPairTriangleBits;  // triangle ids in a packed pair
   HashConfig hash;
   int image_width = 0, image_height = 0;  // for rah-quadtree
   // The passes to run (nullptr: the emulator's); see emu/backend.h.
@@ -64,8 +64,8 @@ std::vector<std::uint32_t> PassHash(const call::Hash& c);
 Chunks PassCompress(const call::Compress& c);
 std::vector<std::uint32_t> PassSortChunks(const call::SortChunks& c);
 std::vector<std::uint32_t> PassDecompress(const call::Decompress& c);
-std::vector<gpu::ConeNode> PassBuildLeaves(const call::BuildLeaves& c);
-std::vector<gpu::ConeNode> PassBuildParents(const call::BuildParents& c);
+std::vector<layout::ConeNode> PassBuildLeaves(const call::BuildLeaves& c);
+std::vector<layout::ConeNode> PassBuildParents(const call::BuildParents& c);
 std::vector<std::uint8_t> PassObjectMask(const call::ObjectMask& c);
 PairSlots PassTraverseTop(const call::TraverseTop& c);
 PairSlots PassTraverseLevel(const call::TraverseLevel& c);
@@ -74,8 +74,8 @@ std::vector<std::uint32_t> PassIntersect(const call::Intersect& c);
 
 // CSR offsets grouping `count` items `per` at a time (the last group may be smaller).
 std::vector<std::uint32_t> FixedGroups(std::size_t count, std::uint32_t per);
-using gpu::kPairTriangleBits;
-using gpu::kPairTriangleMask;
+using layout::kPairTriangleBits;
+using layout::kPairTriangleMask;
 // Absolute margin of the cone-sphere test for a scene.
 float TraversalEpsilon(const SceneBuffers& scene);
 
@@ -144,11 +144,11 @@ std::vector<std::uint32_t> IntersectWith(HitFn&& hit, ClosestFn&& closest, const
   std::vector<std::uint32_t> tests(c.pairs.size());
   ParallelFor(c.pairs.size(), [&](std::size_t p) {
     const std::uint32_t node = c.base1 + (c.pairs[p] >> kPairTriangleBits), prim = c.b0 + (c.pairs[p] & kPairTriangleMask);
-    const gpu::Triangle& tri = c.scene->triangles[prim];
+    const layout::Triangle& tri = c.scene->triangles[prim];
     tests[p] = c.first1[node + 1] - c.first1[node];
     for (std::uint32_t j = c.first1[node]; j < c.first1[node + 1]; ++j) {
       const std::uint32_t ray = c.order[j];
-      const gpu::Ray& r = c.rays[ray];
+      const layout::Ray& r = c.rays[ray];
       if (prim == r.info.y) continue;  // the surface the ray leaves
       float t = 0.0f;
       if (!hit(r, tri, t)) continue;

@@ -15,14 +15,14 @@ namespace rayspace::emu {
 // ---- prep: bounding spheres ------------------------------------------------------------------
 // Per-triangle bounding sphere (xyz centre, w radius): the smallest sphere through or around the
 // three vertices, radius rounded outward so every vertex is inside in float arithmetic.
-std::vector<glm::vec4> PassTriangleSpheres(const std::vector<gpu::Triangle>& triangles);
+std::vector<glm::vec4> PassTriangleSpheres(const std::vector<layout::Triangle>& triangles);
 // Minimal bounding sphere per object (sub-mesh), conservative in float. Host-side preprocessing.
 std::vector<glm::vec4> PassObjectSpheres(const SceneBuffers& scene);
 
 // ---- the frame's passes ------------------------------------------------------------------------
 GBuffer PassRaster(const call::Raster& c);
-std::vector<gpu::Surface> PassSurfacesFromGBuffer(const call::SurfacesFromGBuffer& c);
-std::vector<gpu::Surface> PassSurfacesFromHits(const call::SurfacesFromHits& c);
+std::vector<layout::Surface> PassSurfacesFromGBuffer(const call::SurfacesFromGBuffer& c);
+std::vector<layout::Surface> PassSurfacesFromHits(const call::SurfacesFromHits& c);
 // Three kernels, one per ray kind: PassRaygen runs the one for c.kind.
 SparseRays PassRaygen(const call::Raygen& c);
 SparseRays PassRaygenShadow(const call::Raygen& c);
@@ -35,7 +35,7 @@ void PassShade(const call::Shade& c);
 std::vector<std::uint8_t> PassResolve(const call::Resolve& c);
 
 // Call builders for the common cases (tests, benchmarks, the frame runner).
-inline call::SurfacesFromGBuffer SurfacesCall(const gpu::FrameConstants& fc, const GBuffer& g, const SceneBuffers& scene) {
+inline call::SurfacesFromGBuffer SurfacesCall(const layout::FrameConstants& fc, const GBuffer& g, const SceneBuffers& scene) {
   return {.frame = fc, .width = g.width, .height = g.height, .position = g.position, .normal = g.normal, .prim = g.prim,
           .scene = &scene};
 }

@@ -42,8 +42,8 @@ int ClipTriangle(const std::array<glm::vec4, 3>& clip, float half_w, float half_
 // Snaps and sets up one triangle; false when culled (zero area) or outside the framebuffer.
 bool SetupTriangle(glm::vec2 w0, glm::vec2 w1, glm::vec2 w2, int width, int height, Setup& s);
 bool Covers(const Setup& s, int px, int py);
-std::vector<Setup> SetupAll(const gpu::FrameConstants& fc, const std::vector<gpu::Triangle>& tris);
-Fragment ShadeFragment(const gpu::FrameConstants& fc, const SceneBuffers& scene, std::uint32_t prim, int px, int py);
+std::vector<Setup> SetupAll(const layout::FrameConstants& fc, const std::vector<layout::Triangle>& tris);
+Fragment ShadeFragment(const layout::FrameConstants& fc, const SceneBuffers& scene, std::uint32_t prim, int px, int py);
 
 }  // namespace raster
 }  // namespace rayspace::emu

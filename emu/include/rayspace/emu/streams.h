@@ -26,14 +26,14 @@ struct GBuffer {
 
 // ---- raygen: sparse ray arrays with head flags -----------------------------------------------------
 struct SparseRays {
-  std::vector<gpu::Ray> rays;        // one slot per (surface[, light])
+  std::vector<layout::Ray> rays;        // one slot per (surface[, light])
   std::vector<std::uint32_t> flags;  // 1 where the slot holds a ray
   RS_FIELDS(rays, flags)
 };
 
 // ---- trim: order-preserving compaction -------------------------------------------------------------
 struct Trimmed {
-  std::vector<gpu::Ray> rays;          // dense, in slot order
+  std::vector<layout::Ray> rays;          // dense, in slot order
   std::vector<std::uint32_t> offsets;  // exclusive scan of flags: dense index of slot i when flags[i]
   RS_FIELDS(rays, offsets)
 };
@@ -45,7 +45,7 @@ struct Chunks {
 };
 
 // ---- traversal: one slot per (node, triangle) candidate ------------------------------------------------
-// Pairs are packed (node id - level base) << gpu::kPairTriangleBits | (triangle - b0) (rayspace/contract.h).
+// Pairs are packed (node id - level base) << layout::kPairTriangleBits | (triangle - b0) (rayspace/contract.h).
 struct PairSlots {
   std::vector<std::uint8_t> flags;    // 1 where the slot's pair survives the cone-sphere test
   std::vector<std::uint32_t> values;  // the packed pair of each slot

@@ -42,8 +42,8 @@ class Tracer {
   virtual std::string Name() const = 0;
   // Describes the configuration (ISA, build quality, ...) for reports.
   virtual void Describe(nlohmann::json& out) const = 0;
-  virtual void Closest(const std::vector<gpu::Ray>& rays, std::vector<std::uint64_t>& hits) = 0;
-  virtual void Occluded(const std::vector<gpu::Ray>& rays, std::vector<std::uint32_t>& occluded) = 0;
+  virtual void Closest(const std::vector<layout::Ray>& rays, std::vector<std::uint64_t>& hits) = 0;
+  virtual void Occluded(const std::vector<layout::Ray>& rays, std::vector<std::uint32_t>& occluded) = 0;
 };
 
 namespace emu {

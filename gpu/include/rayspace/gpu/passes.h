@@ -61,9 +61,9 @@ class VulkanPasses {
  private:
   vk::Status ReduceInParts(std::span<const std::uint32_t> flags, std::span<const std::uint32_t> values, std::uint32_t s,
                            bool scan, std::vector<std::uint32_t>& out);
-  vk::Status Build(std::uint32_t phase, std::span<const gpu::Ray> rays, std::span<const std::uint32_t> order,
-                   std::span<const gpu::ConeNode> below, std::span<const std::uint32_t> first,
-                   std::vector<gpu::ConeNode>& nodes);
+  vk::Status Build(std::uint32_t phase, std::span<const layout::Ray> rays, std::span<const std::uint32_t> order,
+                   std::span<const layout::ConeNode> below, std::span<const std::uint32_t> first,
+                   std::vector<layout::ConeNode>& nodes);
   // Elements per part when each element takes `bytes_per_element` in the largest per-part binding.
   std::size_t PerPart(std::size_t bytes_per_element) const;
   vk::Status RaygenShadow(const emu::call::Raygen& c, emu::SparseRays& out);

@@ -19,7 +19,7 @@ struct RasterTargets {
 };
 
 vk::Status RasterGBuffer(vk::Context& ctx, std::span<const std::uint32_t> vert_spirv,
-                         std::span<const std::uint32_t> frag_spirv, const gpu::FrameConstants& fc, const SceneBuffers& scene,
+                         std::span<const std::uint32_t> frag_spirv, const layout::FrameConstants& fc, const SceneBuffers& scene,
                          std::uint32_t fault, RasterTargets& out);
 
 }  // namespace rayspace::gpu_backend

@@ -13,16 +13,16 @@ namespace rayspace::refs {
 enum class Contact { kMiss, kBoundary, kInterior };
 
 // Does the ray meet the triangle at some t with tmin < t < tmax (exactly)?
-Contact ExactContact(const gpu::Ray& ray, const gpu::Triangle& tri);
-inline bool ExactHits(const gpu::Ray& ray, const gpu::Triangle& tri) { return ExactContact(ray, tri) != Contact::kMiss; }
+Contact ExactContact(const layout::Ray& ray, const layout::Triangle& tri);
+inline bool ExactHits(const layout::Ray& ray, const layout::Triangle& tri) { return ExactContact(ray, tri) != Contact::kMiss; }
 
 // Exact answer for a shadow ray over all triangles other than info.y: kInterior if some triangle is
 // met inside, else kBoundary if one is met only on an edge or vertex, else kMiss.
-Contact ExactOccluded(const gpu::Ray& ray, const SceneBuffers& scene);
+Contact ExactOccluded(const layout::Ray& ray, const SceneBuffers& scene);
 
 // Exact closest hit: every primitive (other than info.y) hit at the exactly smallest t, in id order;
 // empty for a miss. More than one means an exact tie (shared edge or vertex).
-std::vector<std::uint32_t> ExactClosest(const gpu::Ray& ray, const SceneBuffers& scene);
+std::vector<std::uint32_t> ExactClosest(const layout::Ray& ray, const SceneBuffers& scene);
 
 // Does the ray o + t d (t > 0, no upper bound) cross the triangle's interior robustly: does the hit
 // survive moving the vertices (relative to o) by up to rel x M, M the largest coordinate magnitude
@@ -34,10 +34,10 @@ bool ExactRobustInteriorHit(glm::vec3 o, glm::vec3 d, glm::vec3 v0, glm::vec3 v1
 // Exact hit decision on the closed triangle with tmin < t < tmax from signs of triple products (no
 // constructions); a ray in the triangle's plane counts as a miss, as in float tests. `filtered`:
 // interval arithmetic first; else exact rationals throughout.
-bool ExactHitDecision(const gpu::Ray& ray, const gpu::Triangle& tri, bool filtered = true);
+bool ExactHitDecision(const layout::Ray& ray, const layout::Triangle& tri, bool filtered = true);
 // For two triangles the ray hits (ExactHitDecision): the sign of t_a - t_b, exactly.
-int ExactCompareHitDistance(const gpu::Ray& ray, const gpu::Triangle& a, const gpu::Triangle& b);
+int ExactCompareHitDistance(const layout::Ray& ray, const layout::Triangle& a, const layout::Triangle& b);
 // Does the ray's line lie in the triangle's plane (origin in the plane, direction parallel to it)?
-bool ExactInPlane(const gpu::Ray& ray, const gpu::Triangle& tri);
+bool ExactInPlane(const layout::Ray& ray, const layout::Triangle& tri);
 
 }  // namespace rayspace::refs

@@ -16,7 +16,7 @@ struct Disagreement {
   std::uint32_t frame_prim = 0, oracle_prim = 0;
   float frame_t = 0, oracle_t = 0;
   std::string note;
-  gpu::Ray ray_data{};
+  layout::Ray ray_data{};
 };
 
 class Oracle {

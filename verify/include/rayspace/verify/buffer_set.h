@@ -36,15 +36,15 @@ template <> struct TypeOf<std::uint64_t> { static constexpr ElemType kType = Ele
 template <> struct TypeOf<float> { static constexpr ElemType kType = ElemType::kF32; };
 template <> struct TypeOf<glm::vec4> { static constexpr ElemType kType = ElemType::kVec4; };
 template <> struct TypeOf<glm::uvec4> { static constexpr ElemType kType = ElemType::kUvec4; };
-template <> struct TypeOf<gpu::Ray> { static constexpr ElemType kType = ElemType::kRay; };
-template <> struct TypeOf<gpu::Surface> { static constexpr ElemType kType = ElemType::kSurface; };
-template <> struct TypeOf<gpu::ConeNode> { static constexpr ElemType kType = ElemType::kNode; };
-template <> struct TypeOf<gpu::Triangle> { static constexpr ElemType kType = ElemType::kTriangle; };
-template <> struct TypeOf<gpu::TriangleNormals> { static constexpr ElemType kType = ElemType::kNormals; };
-template <> struct TypeOf<gpu::TriangleInfo> { static constexpr ElemType kType = ElemType::kInfo; };
-template <> struct TypeOf<gpu::Material> { static constexpr ElemType kType = ElemType::kMaterial; };
-template <> struct TypeOf<gpu::Light> { static constexpr ElemType kType = ElemType::kLight; };
-template <> struct TypeOf<gpu::FrameConstants> { static constexpr ElemType kType = ElemType::kFrame; };
+template <> struct TypeOf<layout::Ray> { static constexpr ElemType kType = ElemType::kRay; };
+template <> struct TypeOf<layout::Surface> { static constexpr ElemType kType = ElemType::kSurface; };
+template <> struct TypeOf<layout::ConeNode> { static constexpr ElemType kType = ElemType::kNode; };
+template <> struct TypeOf<layout::Triangle> { static constexpr ElemType kType = ElemType::kTriangle; };
+template <> struct TypeOf<layout::TriangleNormals> { static constexpr ElemType kType = ElemType::kNormals; };
+template <> struct TypeOf<layout::TriangleInfo> { static constexpr ElemType kType = ElemType::kInfo; };
+template <> struct TypeOf<layout::Material> { static constexpr ElemType kType = ElemType::kMaterial; };
+template <> struct TypeOf<layout::Light> { static constexpr ElemType kType = ElemType::kLight; };
+template <> struct TypeOf<layout::FrameConstants> { static constexpr ElemType kType = ElemType::kFrame; };
 
 struct Blob {
   ElemType type = ElemType::kU32;

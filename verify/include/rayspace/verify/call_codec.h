@@ -4,7 +4,7 @@
 //   In<T>              <->  buffer NAME (a copy; DecodedCall owns the decoded copy)
 //   std::vector<T>*    <->  buffer NAME when non-null; after the call it is an output too
 //   const SceneBuffers* <-> the scene.* buffers
-//   gpu::FrameConstants <-> a one-element buffer NAME
+//   layout::FrameConstants <-> a one-element buffer NAME
 //   a struct with fields <-> its fields, flattened
 //   integer / enum     <->  scalar NAME; float <-> scalar NAME_bits (its bit pattern, so NaNs survive)
 //   std::vector<T> (in a result) <-> buffer NAME
@@ -62,7 +62,7 @@ void EncodeField(BufferSet& out, std::string_view name_view, const F& f) {
     if (f) out.Put(name, *f);
   } else if constexpr (std::is_same_v<F, const SceneBuffers*>) {
     if (f) out.PutScene(*f);
-  } else if constexpr (std::is_same_v<F, gpu::FrameConstants>) {
+  } else if constexpr (std::is_same_v<F, layout::FrameConstants>) {
     out.PutOne(name, f);
   } else if constexpr (std::is_same_v<F, float>) {
     out.scalars[name + "_bits"] = std::bit_cast<std::uint32_t>(f);
@@ -89,8 +89,8 @@ void DecodeField(const BufferSet& in, std::string_view name_view, F& f, Store& s
     f = in.Has(name) ? &store.Keep(in.Get<typename IsVectorPtr<F>::Elem>(name)) : nullptr;
   } else if constexpr (std::is_same_v<F, const SceneBuffers*>) {
     f = &store.Keep(in.GetScene());
-  } else if constexpr (std::is_same_v<F, gpu::FrameConstants>) {
-    f = in.GetOne<gpu::FrameConstants>(name);
+  } else if constexpr (std::is_same_v<F, layout::FrameConstants>) {
+    f = in.GetOne<layout::FrameConstants>(name);
   } else if constexpr (std::is_same_v<F, float>) {
     f = std::bit_cast<float>(in.U32(name + "_bits"));
   } else if constexpr (std::is_same_v<F, bool>) {
