@@ -121,7 +121,10 @@ def compile_args(entry, path):
 
 def parse(path, args, wanted):
     index = ci.Index.create()
-    tu = index.parse(path, args=args)  # with bodies: a definition's extent ends at its brace
+    try:
+        tu = index.parse(path, args=args)  # with bodies: a definition's extent ends at its brace
+    except ci.TranslationUnitLoadError:
+        return path, {}, [f"cannot parse (missing or unreadable; reconfigure the build if it was removed)"]
     errors = [d for d in tu.diagnostics if d.severity >= ci.Diagnostic.Error]
     found = {}
     walk(tu.cursor, wanted, found)
