@@ -9,6 +9,7 @@
 spirv_execution_mode(extensions = ["SPV_KHR_float_controls"], capabilities = [4466], 4461, 32);
 
 #include "rayspace/contract.h"
+#include "rayspace/kernel_functions.h"  // PixelDirection, shared with the emulator
 
 layout(constant_id = 0) const uint kFault = 0;  // planted fault (0 = none), selected by `diff --inject`
 layout(constant_id = 1) const uint kLocalSize = 64;
@@ -73,16 +74,4 @@ float IntPow(float x, uint n) {
     if (n != 0u) base = base * base;
   }
   return result;
-}
-// Direction through the centre of pixel (px, py): (origin + px * dx) + py * dy per component.
-vec3 PixelDirection(FrameConstants f, uint px, uint py) {
-  const float fx = float(px), fy = float(py);
-  precise vec3 d;
-  for (int k = 0; k < 3; ++k) {
-    precise float a = fx * f.pixel_dx[k];
-    precise float b = f.pixel_origin[k] + a;
-    precise float c = fy * f.pixel_dy[k];
-    d[k] = b + c;
-  }
-  return d;
 }

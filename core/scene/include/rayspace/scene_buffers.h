@@ -2,6 +2,7 @@
 #pragma once
 #include <vector>
 
+#include "rayspace/kernel_functions.h"
 #include "rayspace/layout.h"
 #include "rayspace/scene.h"
 
@@ -28,18 +29,8 @@ inline constexpr double kRayEpsilonRelative = 1.0 / (1 << 20);
 // Camera, image size and scene-dependent epsilons for one frame (host double math, rounded once).
 layout::FrameConstants MakeFrameConstants(const Scene& scene, const SceneBuffers& buffers, int width, int height);
 
-// Direction of the ray through the centre of pixel (px, py), exactly as the kernels compute it:
-// (pixel_origin + px * pixel_dx) + py * pixel_dy, each operation rounded to float.
-inline glm::vec3 PixelDirection(const layout::FrameConstants& fc, std::uint32_t px, std::uint32_t py) {
-  const float fx = static_cast<float>(px), fy = static_cast<float>(py);
-  glm::vec3 d;
-  for (int k = 0; k < 3; ++k) {
-    const float a = fx * fc.pixel_dx[k];
-    const float b = fc.pixel_origin[k] + a;
-    const float c = fy * fc.pixel_dy[k];
-    d[k] = b + c;
-  }
-  return d;
-}
+// Direction of the ray through the centre of pixel (px, py), written once for the kernels and the
+// emulator (rayspace/kernel_functions.h).
+using layout::PixelDirection;
 
 }  // namespace rayspace
