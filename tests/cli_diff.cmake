@@ -126,7 +126,7 @@ diff_case(glass.crsh glass 128x128 "" 0 "")
 diff_case(fault.raygen.refraction:1 glass 96x96 raygen.refraction:1 4 raygen.refraction)
 # Workgroup sizes and dispatch splitting must not change a bit (order-preserving compaction,
 # order-independent reductions).
-foreach(ls 1 7 256)
+foreach(ls 1 7 32 256 1024)
   diff_case(cornell.crsh.local-size-${ls} cornell-mirrors 96x96 "" 0 "" --local-size ${ls})
 endforeach()
 # Bindings far below maxStorageBufferRange: parts, pages, pair-stream splits; launches in rows.

@@ -1,8 +1,14 @@
 #version 460
-// Order-preserving compaction in three phases (push constant `phase`), mirroring emu ExclusiveScan
-// and PassTrim: 0 block sums, 1 exclusive scan of the block sums (one invocation), 2 block scan and
-// scatter. Blocks of kScanBlock slots, as in the emulator.
+// Order-preserving compaction as reduce-then-scan over blocks of kScanBlock slots, one workgroup per
+// block (mirroring emu ExclusiveScan and PassTrim, whose blocking it shares):
+//   kTrimPhaseBlockSums  each workgroup sums its block: strided loads, a workgroup scan in shared memory
+//   kTrimPhaseScanSums   one workgroup scans the block sums, kLocalSize at a time with a running carry
+//   kTrimPhaseScatter    each workgroup walks its block kLocalSize slots at a time: a workgroup scan of
+//                        the flags gives each slot its offset, flagged rays scatter to their dense index
+// Reduce-then-scan rather than a single-pass scan with decoupled look-back: look-back needs forward
+// progress between workgroups, which lavapipe does not promise.
 #include "common.glsl"
+#include "workgroup.glsl"
 
 layout(std430, binding = kTrimBindFlags) readonly buffer Flags { uint flags[]; };
 layout(std430, binding = kTrimBindSums) buffer Sums { uint sums[]; };  // blocks + 1 (the total last)
@@ -14,32 +20,42 @@ layout(std430, binding = kTrimBindDense) writeonly buffer Dense { Ray dense[]; }
 layout(push_constant) uniform Block { TrimPush pc; };
 
 void main() {
-  const uint b = GlobalIndex();
+  const uint g = WorkGroupIndex(), l = gl_LocalInvocationID.x;
   const uint blocks = (pc.n + kScanBlock - 1u) / kScanBlock;
+  uint total;
   if (pc.phase == kTrimPhaseBlockSums) {
-    if (b >= blocks) return;
+    if (g >= blocks) return;  // uniform: the whole workgroup leaves
+    const uint end = min(pc.n, (g + 1u) * kScanBlock);
     uint s = 0u;
-    for (uint i = b * kScanBlock; i < min(pc.n, (b + 1u) * kScanBlock); ++i) s += flags[i];
-    sums[b] = s;
+    for (uint i = g * kScanBlock + l; i < end; i += kLocalSize) s += flags[i];
+    WorkgroupInclusiveAdd(s, total);
+    if (l == 0u) sums[g] = total;
   } else if (pc.phase == kTrimPhaseScanSums) {
-    if (b != 0u) return;
-    uint run = 0u;
-    for (uint k = 0u; k < blocks; ++k) {
-      const uint s = sums[k];
-      sums[k] = run;
-      run += s;
+    if (g != 0u) return;
+    uint carry = 0u;
+    for (uint c0 = 0u; c0 < blocks; c0 += kLocalSize) {
+      const uint k = c0 + l;
+      const uint v = k < blocks ? sums[k] : 0u;
+      const uint inclusive = WorkgroupInclusiveAdd(v, total);
+      if (k < blocks) sums[k] = carry + (inclusive - v);
+      carry += total;
     }
-    sums[blocks] = run;
+    if (l == 0u) sums[blocks] = carry;
   } else {
-    if (b >= blocks) return;
-    uint s = sums[b];
-    for (uint i = b * kScanBlock; i < min(pc.n, (b + 1u) * kScanBlock); ++i) {
-      // Fault 1: an inclusive scan where an exclusive one belongs (off by one).
-      if (kFault == 1u) s += flags[i];
-      // Fault 2 (seen only when a stream is trimmed in parts, --split-bytes): the carry is dropped.
-      offsets[i] = (kFault == 2u ? 0u : pc.carry) + s;
-      if (flags[i] != 0u) dense[s - (kFault == 1u ? 1u : 0u)] = sparse[i];
-      if (kFault != 1u) s += flags[i];
+    if (g >= blocks) return;
+    const uint end = min(pc.n, (g + 1u) * kScanBlock);
+    uint run = sums[g];
+    for (uint c0 = g * kScanBlock; c0 < end; c0 += kLocalSize) {
+      const uint i = c0 + l;
+      const uint f = i < end ? flags[i] : 0u;
+      const uint s = run + (WorkgroupInclusiveAdd(f, total) - f);  // flagged slots before i
+      if (i < end) {
+        // Fault 1: an inclusive scan where an exclusive one belongs (off by one).
+        // Fault 2 (seen only when a stream is trimmed in parts, --split-bytes): the carry is dropped.
+        offsets[i] = (kFault == 2u ? 0u : pc.carry) + (kFault == 1u ? s + f : s);
+        if (f != 0u) dense[s] = sparse[i];
+      }
+      run += total;
     }
   }
 }

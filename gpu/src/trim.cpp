@@ -26,10 +26,13 @@ vk::Status VulkanPasses::Run(const emu::call::Trim& call, emu::Trimmed& out) {
     b.Set(layout::kTrimBindFlags, &bflags).Set(layout::kTrimBindSums, &bsums).Set(layout::kTrimBindOffsets, &boff);
     b.Set(layout::kTrimBindSparse, &bsparse).Set(layout::kTrimBindDense, &bdense);
     vk::Recorder rec(c);
-    // One submit for the three dispatches; the scan of the block sums runs on one invocation.
+    // One submit for the three dispatches.
     for (std::uint32_t phase : {layout::kTrimPhaseBlockSums, layout::kTrimPhaseScanSums, layout::kTrimPhaseScatter}) {
       const layout::TrimPush push{n, phase, carry};
-      RS_TRY(rec.Dispatch(K(PassId::kTrim), b.All(), &push, sizeof push, phase == layout::kTrimPhaseScanSums ? 1 : blocks));
+      // One workgroup per block of kScanBlock slots; the scan of the block sums is one workgroup.
+      const vk::Kernel& k = K(PassId::kTrim);
+      const std::uint64_t groups = phase == layout::kTrimPhaseScanSums ? 1 : blocks;
+      RS_TRY(rec.Dispatch(k, b.All(), &push, sizeof push, static_cast<std::uint32_t>(groups * k.local_size())));
     }
     RS_TRY(rec.Submit());
     const std::uint32_t total = bsums.Download<std::uint32_t>(blocks + 1)[blocks];
