@@ -129,6 +129,8 @@ diff_case(fault.raygen.refraction:1 glass 96x96 raygen.refraction:1 4 raygen.ref
 foreach(ls 1 7 32 256 1024)
   diff_case(cornell.crsh.local-size-${ls} cornell-mirrors 96x96 "" 0 "" --local-size ${ls})
 endforeach()
+# Components smaller than a workgroup and not a multiple of it (one workgroup per component).
+diff_case(cornell.crsh.component-7 cornell-mirrors 64x64 "" 0 "" --component-size 7 --local-size 32)
 # Bindings far below maxStorageBufferRange: parts, pages, pair-stream splits; launches in rows.
 diff_case(cornell.crsh.paged cornell-mirrors 96x96 "" 0 "" --split-bytes 163840)
 if("${CASE}" STREQUAL "cornell.crsh.paged" AND NOT failures)

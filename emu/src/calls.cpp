@@ -197,6 +197,8 @@ void CheckInputs(const call::TraverseLevel& c) {
 
 void CheckInputs(const call::Reduce& c) {
   CheckSameLength(c.kName, "flags", c.flags.size(), "values", c.values.size());
+  for (std::size_t i = 0; i < c.flags.size(); ++i)  // survival flags: the scans count them
+    if (c.flags[i] > 1) ThrowInput("{}: input 'flags' element {} is {}, not 0 or 1", c.kName, i, c.flags[i]);
   if (c.component < 1) ThrowInput("{}: scalar 'component' = {} must be at least 1", c.kName, c.component);
   if (c.reduction != Reduction::kHierarchical && c.reduction != Reduction::kScan)
     ThrowInput("{}: scalar 'reduction' = {} is neither 0 (hierarchical) nor 1 (scan)", c.kName,

@@ -1,9 +1,19 @@
 #version 460
-// Stream reduction of (flag, value) slots to the flagged values in slot order; mirrors emu
-// ReduceHierarchical (Roger et al.: components of s slots reduced on their own, then concatenated)
-// and ReduceScan (phases FlagSums, ScanSums, Scatter: block sums of the flags, scan of the sums,
-// block scan and scatter, as emu ExclusiveScan). Scans are blocked so no loop passes 65,535 iterations.
+// Stream reduction of (flag, value) slots to the flagged values in slot order, as workgroup kernels;
+// mirrors emu ReduceHierarchical and ReduceScan.
+//   Roger et al.'s hierarchical reduction, one workgroup per component of s slots:
+//     Local      the workgroup compacts its component kLocalSize slots at a time (a workgroup scan of
+//                the flags gives each flagged value its place), and writes the component's count
+//     BlockSums  one workgroup per block of kScanBlock counts sums them
+//     ScanSums   one workgroup scans the block sums, kLocalSize at a time with a running carry
+//     Offsets    one workgroup per block turns its counts into exclusive offsets
+//     Concat     one workgroup per component copies its segment to its offset
+//   Scan-based: FlagSums (block sums of the flags), ScanSums, Scatter (per block, a workgroup scan of
+//   the flags places each flagged value), the order-preserving compaction of trim.comp.
+// Reduce-then-scan rather than decoupled look-back: lavapipe does not promise forward progress
+// between workgroups.
 #include "common.glsl"
+#include "workgroup.glsl"
 
 layout(std430, binding = kReduceBindFlags) readonly buffer Flags { uint flags[]; };
 layout(std430, binding = kReduceBindValues) readonly buffer Values { uint values[]; };
@@ -13,64 +23,79 @@ layout(std430, binding = kReduceBindSums) buffer Sums { uint sums[]; };       //
 layout(std430, binding = kReduceBindOut) writeonly buffer Out { uint out_values[]; };
 layout(push_constant) uniform Block { ReducePush pc; };
 
+// The sum of buffer words [i0, i1) over the workgroup: strided loads, then a workgroup scan.
+uint WorkgroupSumFlags(uint i0, uint i1) {
+  uint s = 0u;
+  for (uint i = i0 + gl_LocalInvocationID.x; i < i1; i += kLocalSize) s += flags[i];
+  uint total;
+  WorkgroupInclusiveAdd(s, total);
+  return total;
+}
+
 void main() {
-  const uint t = GlobalIndex();
-  if (pc.phase == kReducePhaseFlagSums) {  // scan-based: block sums of the flags
-    if (t >= pc.blocks) return;
-    uint sum = 0u;
-    for (uint i = t * kScanBlock; i < min(pc.n, (t + 1u) * kScanBlock); ++i) sum += flags[i];
-    sums[t] = sum;
-    return;
-  }
-  if (pc.phase == kReducePhaseScatter) {  // scan-based: block scan and scatter (after ScanSums scanned the sums)
-    if (t >= pc.blocks) return;
+  const uint g = WorkGroupIndex(), l = gl_LocalInvocationID.x;
+  uint total;
+  if (pc.phase == kReducePhaseFlagSums) {
+    if (g >= pc.blocks) return;  // uniform: the whole workgroup leaves
+    const uint sum = WorkgroupSumFlags(g * kScanBlock, min(pc.n, (g + 1u) * kScanBlock));
+    if (l == 0u) sums[g] = sum;
+  } else if (pc.phase == kReducePhaseScatter) {  // after ScanSums scanned the block sums
+    if (g >= pc.blocks) return;
     // Fault 2: each block starts at the previous block's offset (an off-by-one in the scan).
-    uint run = (kFault == 2u && t > 0u) ? sums[t - 1u] : sums[t];
-    for (uint i = t * kScanBlock; i < min(pc.n, (t + 1u) * kScanBlock); ++i) {
-      if (flags[i] != 0u) {
-        out_values[run] = values[i];
-        ++run;
-      }
+    uint run = (kFault == 2u && g > 0u) ? sums[g - 1u] : sums[g];
+    const uint end = min(pc.n, (g + 1u) * kScanBlock);
+    for (uint c0 = g * kScanBlock; c0 < end; c0 += kLocalSize) {
+      const uint i = c0 + l;
+      const uint f = i < end && flags[i] != 0u ? 1u : 0u;
+      const uint at = run + (WorkgroupInclusiveAdd(f, total) - f);
+      if (f != 0u) out_values[at] = values[i];
+      run += total;
     }
-    return;
-  }
-  if (pc.phase == kReducePhaseLocal) {  // reduce each component locally
-    if (t >= pc.comps) return;
+  } else if (pc.phase == kReducePhaseLocal) {
+    if (g >= pc.comps) return;
+    const uint base = g * pc.s, end = min(pc.n, base + pc.s);
     uint k = 0u;
-    for (uint i = t * pc.s; i < min(pc.n, (t + 1u) * pc.s); ++i) {
-      if (flags[i] != 0u) {
-        local_values[t * pc.s + k] = values[i];
-        ++k;
-      }
+    for (uint c0 = base; c0 < end; c0 += kLocalSize) {
+      const uint i = c0 + l;
+      const uint f = i < end && flags[i] != 0u ? 1u : 0u;
+      const uint at = k + (WorkgroupInclusiveAdd(f, total) - f);
+      if (f != 0u) local_values[base + at] = values[i];
+      k += total;
     }
-    counts[t] = k;
-  } else if (pc.phase == kReducePhaseBlockSums) {  // block sums of the counts
-    if (t >= pc.blocks) return;
-    uint sum = 0u;
-    for (uint i = t * kScanBlock; i < min(pc.comps, (t + 1u) * kScanBlock); ++i) sum += counts[i];
-    sums[t] = sum;
-  } else if (pc.phase == kReducePhaseScanSums) {  // scan of the block sums
-    if (t != 0u) return;
-    uint run = 0u;
-    for (uint b = 0u; b < pc.blocks; ++b) {
-      const uint x = sums[b];
-      sums[b] = run;
-      run += x;
+    if (l == 0u) counts[g] = k;
+  } else if (pc.phase == kReducePhaseBlockSums) {
+    if (g >= pc.blocks) return;
+    uint s = 0u;
+    for (uint i = g * kScanBlock + l; i < min(pc.comps, (g + 1u) * kScanBlock); i += kLocalSize) s += counts[i];
+    WorkgroupInclusiveAdd(s, total);
+    if (l == 0u) sums[g] = total;
+  } else if (pc.phase == kReducePhaseScanSums) {
+    if (g != 0u) return;
+    uint carry = 0u;
+    for (uint c0 = 0u; c0 < pc.blocks; c0 += kLocalSize) {
+      const uint b = c0 + l;
+      const uint v = b < pc.blocks ? sums[b] : 0u;
+      const uint inclusive = WorkgroupInclusiveAdd(v, total);
+      if (b < pc.blocks) sums[b] = carry + (inclusive - v);
+      carry += total;
     }
-    sums[pc.blocks] = run;
+    if (l == 0u) sums[pc.blocks] = carry;
   } else if (pc.phase == kReducePhaseOffsets) {  // counts -> exclusive offsets within each block
-    if (t >= pc.blocks) return;
-    uint run = sums[t];
-    for (uint i = t * kScanBlock; i < min(pc.comps, (t + 1u) * kScanBlock); ++i) {
-      const uint x = counts[i];
-      counts[i] = run;
-      run += x;
+    if (g >= pc.blocks) return;
+    uint run = sums[g];
+    const uint end = min(pc.comps, (g + 1u) * kScanBlock);
+    for (uint c0 = g * kScanBlock; c0 < end; c0 += kLocalSize) {
+      const uint i = c0 + l;
+      const uint x = i < end ? counts[i] : 0u;
+      const uint at = run + (WorkgroupInclusiveAdd(x, total) - x);
+      if (i < end) counts[i] = at;
+      run += total;
     }
-  } else {  // concatenate: component t's segment goes to its offset
-    if (t >= pc.comps) return;
-    const uint next = t + 1u < pc.comps ? counts[t + 1u] : sums[pc.blocks];
+  } else {  // Concat: component g's segment goes to its offset
+    if (g >= pc.comps) return;
+    const uint next = g + 1u < pc.comps ? counts[g + 1u] : sums[pc.blocks];
     // Fault 1: the last element of every segment is dropped.
-    const uint len = next - counts[t] - ((kFault == 1u && next > counts[t]) ? 1u : 0u);
-    for (uint k = 0u; k < len; ++k) out_values[counts[t] + k] = local_values[t * pc.s + k];
+    const uint len = next - counts[g] - ((kFault == 1u && next > counts[g]) ? 1u : 0u);
+    for (uint k = l; k < len; k += kLocalSize) out_values[counts[g] + k] = local_values[g * pc.s + k];
   }
 }

@@ -30,9 +30,7 @@ vk::Status VulkanPasses::Run(const emu::call::Trim& call, emu::Trimmed& out) {
     for (std::uint32_t phase : {layout::kTrimPhaseBlockSums, layout::kTrimPhaseScanSums, layout::kTrimPhaseScatter}) {
       const layout::TrimPush push{n, phase, carry};
       // One workgroup per block of kScanBlock slots; the scan of the block sums is one workgroup.
-      const vk::Kernel& k = K(PassId::kTrim);
-      const std::uint64_t groups = phase == layout::kTrimPhaseScanSums ? 1 : blocks;
-      RS_TRY(rec.Dispatch(k, b.All(), &push, sizeof push, static_cast<std::uint32_t>(groups * k.local_size())));
+      RS_TRY(rec.DispatchGroups(K(PassId::kTrim), b.All(), &push, sizeof push, phase == layout::kTrimPhaseScanSums ? 1 : blocks));
     }
     RS_TRY(rec.Submit());
     const std::uint32_t total = bsums.Download<std::uint32_t>(blocks + 1)[blocks];

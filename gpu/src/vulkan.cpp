@@ -559,6 +559,11 @@ Status Recorder::BindSet(const char* kind, const std::string& name, VkDescriptor
 
 Status Recorder::Dispatch(const Kernel& k, std::span<const Buffer* const> buffers, const void* push,
                           std::size_t push_size, std::uint32_t invocations) {
+  return DispatchGroups(k, buffers, push, push_size, (std::uint64_t{invocations} + k.local_size_ - 1) / k.local_size_);
+}
+
+Status Recorder::DispatchGroups(const Kernel& k, std::span<const Buffer* const> buffers, const void* push,
+                                std::size_t push_size, std::uint64_t groups) {
   if (!recording_) {
     Status s = Begin();
     if (!s) return s;
@@ -571,12 +576,11 @@ Status Recorder::Dispatch(const Kernel& k, std::span<const Buffer* const> buffer
   if (push_size) vkCmdPushConstants(cmd_, k.layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, static_cast<std::uint32_t>(push_size), push);
   // Launches wider than maxComputeWorkGroupCount[0] groups fold into rows of groups; kernels index
   // with GlobalIndex() (common.glsl), which reads the grid row-major, and skip indices past the end.
-  const std::uint64_t groups = (std::uint64_t{invocations} + k.local_size_ - 1) / k.local_size_;
   const std::uint32_t gx = static_cast<std::uint32_t>(std::min<std::uint64_t>(groups, ctx_.max_groups_[0]));
   const std::uint64_t gy = gx ? (groups + gx - 1) / gx : 0;
   if (gy > ctx_.max_groups_[1])
     return Status::Fail(fmt::format("kernel {}: {} invocations need {} x {} workgroups, beyond maxComputeWorkGroupCount",
-                                    k.name_, invocations, gx, gy));
+                                    k.name_, groups * k.local_size_, gx, gy));
   if (groups > 0) vkCmdDispatch(cmd_, gx, static_cast<std::uint32_t>(gy), 1);
   VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;

@@ -158,6 +158,10 @@ class Recorder {
   // Dispatches ceil(invocations / local size) groups of `k` over `buffers` with push constants.
   Status Dispatch(const Kernel& k, std::span<const Buffer* const> buffers, const void* push, std::size_t push_size,
                   std::uint32_t invocations);
+  // Dispatches `groups` workgroups (kernels that cooperate within a workgroup index it with
+  // WorkGroupIndex(), gpu/shaders/workgroup.glsl); wide launches fold into rows as Dispatch's do.
+  Status DispatchGroups(const Kernel& k, std::span<const Buffer* const> buffers, const void* push, std::size_t push_size,
+                        std::uint64_t groups);
   // Records one render pass of `g` drawing `vertices` vertices over `buffers`, the attachments
   // cleared to `clears` (one per attachment, the depth attachment last).
   Status Draw(const Graphics& g, std::span<const Buffer* const> buffers, std::span<const VkClearValue> clears,
