@@ -23,22 +23,13 @@ layout(std430, binding = kReduceBindSums) buffer Sums { uint sums[]; };       //
 layout(std430, binding = kReduceBindOut) writeonly buffer Out { uint out_values[]; };
 layout(push_constant) uniform Block { ReducePush pc; };
 
-// The sum of buffer words [i0, i1) over the workgroup: strided loads, then a workgroup scan.
-uint WorkgroupSumFlags(uint i0, uint i1) {
-  uint s = 0u;
-  for (uint i = i0 + gl_LocalInvocationID.x; i < i1; i += kLocalSize) s += flags[i];
-  uint total;
-  WorkgroupInclusiveAdd(s, total);
-  return total;
-}
-
 void main() {
   const uint g = WorkGroupIndex(), l = gl_LocalInvocationID.x;
   uint total;
   if (pc.phase == kReducePhaseFlagSums) {
     if (g >= pc.blocks) return;  // uniform: the whole workgroup leaves
-    const uint sum = WorkgroupSumFlags(g * kScanBlock, min(pc.n, (g + 1u) * kScanBlock));
-    if (l == 0u) sums[g] = sum;
+    WORKGROUP_SUM(flags, g * kScanBlock, min(pc.n, (g + 1u) * kScanBlock), total);
+    if (l == 0u) sums[g] = total;
   } else if (pc.phase == kReducePhaseScatter) {  // after ScanSums scanned the block sums
     if (g >= pc.blocks) return;
     // Fault 2: each block starts at the previous block's offset (an off-by-one in the scan).
@@ -65,21 +56,12 @@ void main() {
     if (l == 0u) counts[g] = k;
   } else if (pc.phase == kReducePhaseBlockSums) {
     if (g >= pc.blocks) return;
-    uint s = 0u;
-    for (uint i = g * kScanBlock + l; i < min(pc.comps, (g + 1u) * kScanBlock); i += kLocalSize) s += counts[i];
-    WorkgroupInclusiveAdd(s, total);
+    WORKGROUP_SUM(counts, g * kScanBlock, min(pc.comps, (g + 1u) * kScanBlock), total);
     if (l == 0u) sums[g] = total;
   } else if (pc.phase == kReducePhaseScanSums) {
     if (g != 0u) return;
-    uint carry = 0u;
-    for (uint c0 = 0u; c0 < pc.blocks; c0 += kLocalSize) {
-      const uint b = c0 + l;
-      const uint v = b < pc.blocks ? sums[b] : 0u;
-      const uint inclusive = WorkgroupInclusiveAdd(v, total);
-      if (b < pc.blocks) sums[b] = carry + (inclusive - v);
-      carry += total;
-    }
-    if (l == 0u) sums[pc.blocks] = carry;
+    WORKGROUP_SCAN_IN_PLACE(sums, 0u, pc.blocks, total);
+    if (l == 0u) sums[pc.blocks] = total;
   } else if (pc.phase == kReducePhaseOffsets) {  // counts -> exclusive offsets within each block
     if (g >= pc.blocks) return;
     uint run = sums[g];

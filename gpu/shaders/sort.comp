@@ -1,9 +1,12 @@
 #version 460
 // Chunk compression, radix sort and decompression (thesis §3.2.4-3.2.6) in phases selected by a
-// push constant; mirrors emu PassCompress, PassSortChunks and PassDecompress. Every loop is bounded
-// by a block of 4096 elements, 256 bins or the block count: lavapipe stops any loop after 65,535
-// iterations (observed: a single-invocation compress saturated at 65,535 chunks).
+// push constant; mirrors emu PassCompress, PassSortChunks and PassDecompress. Element-wise phases run
+// one invocation per element; the others one workgroup per block of kScanBlock elements, per bin, or
+// one workgroup for a scan of block sums or bin totals (gpu/shaders/workgroup.glsl). The radix
+// pass's stable scatter still walks its block in one invocation, in element order. Every loop is
+// bounded: lavapipe stops any loop after 65,535 iterations.
 #include "common.glsl"
+#include "workgroup.glsl"
 
 layout(std430, binding = kSortBindKeys) readonly buffer Keys { uint keys[]; };
 layout(std430, binding = kSortBindChunkKey) buffer ChunkKey { uint chunk_key[]; };
@@ -16,46 +19,45 @@ layout(std430, binding = kSortBindScratch) buffer Scratch { uint scratch[]; };
 layout(std430, binding = kSortBindSums) buffer Sums { uint sums[]; };       // per block, plus a total
 layout(push_constant) uniform Block { SortPush pc; };
 
-void ScanSums(uint blocks) {  // exclusive scan of sums[0..blocks), total in sums[blocks]
-  uint run = 0u;
-  for (uint b = 0u; b < blocks; ++b) {
-    const uint s = sums[b];
-    sums[b] = run;
-    run += s;
-  }
-  sums[blocks] = run;
-}
+shared uint bins[256];
 
 void main() {
-  const uint t = GlobalIndex();
+  const uint t = GlobalIndex(), g = WorkGroupIndex(), l = gl_LocalInvocationID.x;
   const uint n = pc.n, blocks = pc.blocks;
+  uint total;
   switch (pc.phase) {
     // ---- compress over n keys: head flags, block sums, scan, chunk key/base, chunk sizes ----
     case kCompressPhaseHeads:
       if (t < n) scratch[t] = (t == 0u || keys[t] != keys[t - 1u]) ? 1u : 0u;
       break;
-    case kCompressPhaseBlockSums:
-      if (t < blocks) {
-        uint s = 0u;
-        for (uint i = t * kScanBlock; i < min(n, (t + 1u) * kScanBlock); ++i) s += scratch[i];
-        sums[t] = s;
+    case kCompressPhaseBlockSums:  // one workgroup per block
+      if (g < blocks) {
+        WORKGROUP_SUM(scratch, g * kScanBlock, min(n, (g + 1u) * kScanBlock), total);
+        if (l == 0u) sums[g] = total;
       }
       break;
-    case kCompressPhaseScanSums:
-      if (t == 0u) {
-        ScanSums(blocks);
-        count[0] = sums[blocks];
+    case kCompressPhaseScanSums:  // one workgroup
+      if (g == 0u) {
+        WORKGROUP_SCAN_IN_PLACE(sums, 0u, blocks, total);
+        if (l == 0u) {
+          sums[blocks] = total;
+          count[0] = total;
+        }
       }
       break;
-    case kCompressPhaseChunks:
-      if (t < blocks) {
-        uint k = sums[t];
-        for (uint i = t * kScanBlock; i < min(n, (t + 1u) * kScanBlock); ++i) {
-          if (scratch[i] != 0u) {
-            chunk_key[k] = keys[i];
-            chunk_base[k] = i;
-            ++k;
+    case kCompressPhaseChunks:  // one workgroup per block: heads find their chunk index by a scan
+      if (g < blocks) {
+        uint k = sums[g];
+        const uint end = min(n, (g + 1u) * kScanBlock);
+        for (uint c0 = g * kScanBlock; c0 < end; c0 += kLocalSize) {
+          const uint i = c0 + l;
+          const uint head = i < end ? scratch[i] : 0u;
+          const uint at = k + (WorkgroupInclusiveAdd(head, total) - head);
+          if (head != 0u) {
+            chunk_key[at] = keys[i];
+            chunk_base[at] = i;
           }
+          k += total;
         }
       }
       break;
@@ -70,34 +72,25 @@ void main() {
     case kSortPhaseInit:
       if (t < n) sorted[t] = t;
       break;
-    case kSortPhaseHistograms:  // per-block histograms, bin-major: scratch[bin * blocks + block]
-      if (t < blocks) {
-        uint hist[256];
-        for (uint b = 0u; b < 256u; ++b) hist[b] = 0u;
-        for (uint i = t * kScanBlock; i < min(n, (t + 1u) * kScanBlock); ++i) ++hist[(chunk_key[sorted[pc.src + i]] >> pc.shift) & 255u];
-        for (uint b = 0u; b < 256u; ++b) scratch[b * blocks + t] = hist[b];
+    case kSortPhaseHistograms:  // one workgroup per block, a shared histogram; bin-major: scratch[bin * blocks + block]
+      if (g < blocks) {
+        for (uint b = l; b < 256u; b += kLocalSize) bins[b] = 0u;
+        barrier();
+        const uint end = min(n, (g + 1u) * kScanBlock);
+        for (uint i = g * kScanBlock + l; i < end; i += kLocalSize)
+          atomicAdd(bins[(chunk_key[sorted[pc.src + i]] >> pc.shift) & 255u], 1u);  // counts: any order
+        barrier();
+        for (uint b = l; b < 256u; b += kLocalSize) scratch[b * blocks + g] = bins[b];
       }
       break;
-    case kSortPhaseBinScan:  // per bin: exclusive scan over blocks, bin total to scratch[256 * blocks + bin]
-      if (t < 256u) {
-        uint run = 0u;
-        for (uint b = 0u; b < blocks; ++b) {
-          const uint h = scratch[t * blocks + b];
-          scratch[t * blocks + b] = run;
-          run += h;
-        }
-        scratch[256u * blocks + t] = run;
+    case kSortPhaseBinScan:  // one workgroup per bin: exclusive scan over blocks, total to scratch[256 * blocks + bin]
+      if (g < 256u) {
+        WORKGROUP_SCAN_IN_PLACE(scratch, g * blocks, blocks, total);
+        if (l == 0u) scratch[256u * blocks + g] = total;
       }
       break;
-    case kSortPhaseTotalScan:  // exclusive scan of the bin totals
-      if (t == 0u) {
-        uint run = 0u;
-        for (uint b = 0u; b < 256u; ++b) {
-          const uint h = scratch[256u * blocks + b];
-          scratch[256u * blocks + b] = run;
-          run += h;
-        }
-      }
+    case kSortPhaseTotalScan:  // one workgroup: exclusive scan of the bin totals
+      if (g == 0u) WORKGROUP_SCAN_IN_PLACE(scratch, 256u * blocks, 256u, total);
       break;
     case kSortPhaseScatter:  // stable scatter, one block per invocation in element order
       if (t < blocks) {
@@ -116,22 +109,28 @@ void main() {
     case kDecompressPhaseSizes:  // n = chunks here
       if (t < n) scratch[t] = chunk_size[sorted[t]];
       break;
-    case kDecompressPhaseBlockSums:
-      if (t < blocks) {
-        uint s = 0u;
-        for (uint i = t * kScanBlock; i < min(n, (t + 1u) * kScanBlock); ++i) s += scratch[i];
-        sums[t] = s;
+    case kDecompressPhaseBlockSums:  // one workgroup per block
+      if (g < blocks) {
+        WORKGROUP_SUM(scratch, g * kScanBlock, min(n, (g + 1u) * kScanBlock), total);
+        if (l == 0u) sums[g] = total;
       }
       break;
-    case kDecompressPhaseScanSums:
-      if (t == 0u) ScanSums(blocks);
+    case kDecompressPhaseScanSums:  // one workgroup
+      if (g == 0u) {
+        WORKGROUP_SCAN_IN_PLACE(sums, 0u, blocks, total);
+        if (l == 0u) sums[blocks] = total;
+      }
       break;
-    case kDecompressPhaseStarts:  // chunk starts into scratch[n + j]
-      if (t < blocks) {
-        uint s = sums[t];
-        for (uint i = t * kScanBlock; i < min(n, (t + 1u) * kScanBlock); ++i) {
-          scratch[n + i] = s;
-          s += scratch[i];
+    case kDecompressPhaseStarts:  // one workgroup per block: chunk starts into scratch[n + j]
+      if (g < blocks) {
+        uint run = sums[g];
+        const uint end = min(n, (g + 1u) * kScanBlock);
+        for (uint c0 = g * kScanBlock; c0 < end; c0 += kLocalSize) {
+          const uint i = c0 + l;
+          const uint size = i < end ? scratch[i] : 0u;
+          const uint start = run + (WorkgroupInclusiveAdd(size, total) - size);
+          if (i < end) scratch[n + i] = start;
+          run += total;
         }
       }
       break;

@@ -25,22 +25,12 @@ void main() {
   uint total;
   if (pc.phase == kTrimPhaseBlockSums) {
     if (g >= blocks) return;  // uniform: the whole workgroup leaves
-    const uint end = min(pc.n, (g + 1u) * kScanBlock);
-    uint s = 0u;
-    for (uint i = g * kScanBlock + l; i < end; i += kLocalSize) s += flags[i];
-    WorkgroupInclusiveAdd(s, total);
+    WORKGROUP_SUM(flags, g * kScanBlock, min(pc.n, (g + 1u) * kScanBlock), total);
     if (l == 0u) sums[g] = total;
   } else if (pc.phase == kTrimPhaseScanSums) {
     if (g != 0u) return;
-    uint carry = 0u;
-    for (uint c0 = 0u; c0 < blocks; c0 += kLocalSize) {
-      const uint k = c0 + l;
-      const uint v = k < blocks ? sums[k] : 0u;
-      const uint inclusive = WorkgroupInclusiveAdd(v, total);
-      if (k < blocks) sums[k] = carry + (inclusive - v);
-      carry += total;
-    }
-    if (l == 0u) sums[blocks] = carry;
+    WORKGROUP_SCAN_IN_PLACE(sums, 0u, blocks, total);
+    if (l == 0u) sums[blocks] = total;
   } else {
     if (g >= blocks) return;
     const uint end = min(pc.n, (g + 1u) * kScanBlock);

@@ -31,4 +31,29 @@ uint WorkgroupInclusiveAdd(uint v, out uint total) {
   return r;
 }
 
+// Buffer-generic helpers as macros (GLSL has no buffer references here). Every invocation of the
+// workgroup runs them and receives the same `total`.
+// The sum of BUF[I0 .. I1): strided loads, then a workgroup scan.
+#define WORKGROUP_SUM(BUF, I0, I1, TOTAL)                                                  \
+  {                                                                                        \
+    uint wg_s_ = 0u;                                                                       \
+    for (uint wg_i_ = (I0) + gl_LocalInvocationID.x; wg_i_ < (I1); wg_i_ += kLocalSize)    \
+      wg_s_ += BUF[wg_i_];                                                                 \
+    WorkgroupInclusiveAdd(wg_s_, TOTAL);                                                   \
+  }
+// Exclusive scan of BUF[FIRST .. FIRST + COUNT) in place, kLocalSize words at a time with a running
+// carry (no invocation loops over the whole range alone); TOTAL receives the sum.
+#define WORKGROUP_SCAN_IN_PLACE(BUF, FIRST, COUNT, TOTAL)                                  \
+  {                                                                                        \
+    uint wg_carry_ = 0u, wg_chunk_;                                                        \
+    for (uint wg_c0_ = 0u; wg_c0_ < (COUNT); wg_c0_ += kLocalSize) {                       \
+      const uint wg_k_ = wg_c0_ + gl_LocalInvocationID.x;                                  \
+      const uint wg_v_ = wg_k_ < (COUNT) ? BUF[(FIRST) + wg_k_] : 0u;                      \
+      const uint wg_inc_ = WorkgroupInclusiveAdd(wg_v_, wg_chunk_);                        \
+      if (wg_k_ < (COUNT)) BUF[(FIRST) + wg_k_] = wg_carry_ + (wg_inc_ - wg_v_);           \
+      wg_carry_ += wg_chunk_;                                                              \
+    }                                                                                      \
+    TOTAL = wg_carry_;                                                                     \
+  }
+
 #endif

@@ -28,12 +28,22 @@ vk::Status MakeSortBuffers(vk::Context& c, std::size_t n, std::size_t chunks, So
   return vk::Status::Ok();
 }
 
-vk::Status Phase(vk::Recorder& rec, const vk::Kernel& k, SortBuffers& sb, layout::SortPush push, std::uint32_t invocations) {
+// A launch of the sort kernel: one invocation per element, or (Groups) one workgroup per block, bin
+// or scan.
+struct Launch {
+  std::uint64_t count;
+  bool groups;
+};
+Launch Elements(std::uint32_t n) { return {n, false}; }
+Launch Groups(std::uint64_t g) { return {g, true}; }
+
+vk::Status Phase(vk::Recorder& rec, const vk::Kernel& k, SortBuffers& sb, layout::SortPush push, Launch launch) {
   Bindings<layout::kSortBindings> b;
   b.Set(layout::kSortBindKeys, &sb.keys).Set(layout::kSortBindChunkKey, &sb.key).Set(layout::kSortBindChunkBase, &sb.base);
   b.Set(layout::kSortBindChunkSize, &sb.size).Set(layout::kSortBindSorted, &sb.sorted).Set(layout::kSortBindOrder, &sb.order);
   b.Set(layout::kSortBindCount, &sb.count).Set(layout::kSortBindScratch, &sb.scratch).Set(layout::kSortBindSums, &sb.sums);
-  return rec.Dispatch(k, b.All(), &push, sizeof push, invocations);
+  return launch.groups ? rec.DispatchGroups(k, b.All(), &push, sizeof push, launch.count)
+                       : rec.Dispatch(k, b.All(), &push, sizeof push, static_cast<std::uint32_t>(launch.count));
 }
 
 }  // namespace
@@ -46,11 +56,11 @@ vk::Status VulkanPasses::Run(const emu::call::Compress& call, emu::Chunks& out) 
   if (n) b.keys.Upload(keys);
   vk::Recorder rec(*ctx_);
   const vk::Kernel& k = K(PassId::kCompress);
-  RS_TRY(Phase(rec, k, b, {n, layout::kCompressPhaseHeads, 0, 0, 0, blocks}, n));
-  RS_TRY(Phase(rec, k, b, {n, layout::kCompressPhaseBlockSums, 0, 0, 0, blocks}, blocks));
-  RS_TRY(Phase(rec, k, b, {n, layout::kCompressPhaseScanSums, 0, 0, 0, blocks}, 1));
-  RS_TRY(Phase(rec, k, b, {n, layout::kCompressPhaseChunks, 0, 0, 0, blocks}, blocks));
-  RS_TRY(Phase(rec, k, b, {n, layout::kCompressPhaseSizes, 0, 0, 0, blocks}, n));
+  RS_TRY(Phase(rec, k, b, {n, layout::kCompressPhaseHeads, 0, 0, 0, blocks}, Elements(n)));
+  RS_TRY(Phase(rec, k, b, {n, layout::kCompressPhaseBlockSums, 0, 0, 0, blocks}, Groups(blocks)));
+  RS_TRY(Phase(rec, k, b, {n, layout::kCompressPhaseScanSums, 0, 0, 0, blocks}, Groups(1)));
+  RS_TRY(Phase(rec, k, b, {n, layout::kCompressPhaseChunks, 0, 0, 0, blocks}, Groups(blocks)));
+  RS_TRY(Phase(rec, k, b, {n, layout::kCompressPhaseSizes, 0, 0, 0, blocks}, Elements(n)));
   RS_TRY(rec.Submit());
   const std::uint32_t chunks = b.count.Download<std::uint32_t>(1)[0];
   if (chunks > n) return vk::Status::Fail(fmt::format("compress kernel reported {} chunks for {} keys", chunks, n));
@@ -69,13 +79,13 @@ vk::Status VulkanPasses::Run(const emu::call::SortChunks& call, std::vector<std:
   if (chunks) b.key.Upload(chunk_keys);
   vk::Recorder rec(*ctx_);
   const vk::Kernel& k = K(PassId::kSort);
-  RS_TRY(Phase(rec, k, b, {chunks, layout::kSortPhaseInit, 0, 0, 0, blocks}, chunks));
+  RS_TRY(Phase(rec, k, b, {chunks, layout::kSortPhaseInit, 0, 0, 0, blocks}, Elements(chunks)));
   std::uint32_t src = 0, dst = chunks;
   for (std::uint32_t shift = 0; shift < 32; shift += 8) {
-    RS_TRY(Phase(rec, k, b, {chunks, layout::kSortPhaseHistograms, shift, src, dst, blocks}, blocks));
-    RS_TRY(Phase(rec, k, b, {chunks, layout::kSortPhaseBinScan, shift, src, dst, blocks}, 256));
-    RS_TRY(Phase(rec, k, b, {chunks, layout::kSortPhaseTotalScan, shift, src, dst, blocks}, 1));
-    RS_TRY(Phase(rec, k, b, {chunks, layout::kSortPhaseScatter, shift, src, dst, blocks}, blocks));
+    RS_TRY(Phase(rec, k, b, {chunks, layout::kSortPhaseHistograms, shift, src, dst, blocks}, Groups(blocks)));
+    RS_TRY(Phase(rec, k, b, {chunks, layout::kSortPhaseBinScan, shift, src, dst, blocks}, Groups(256)));
+    RS_TRY(Phase(rec, k, b, {chunks, layout::kSortPhaseTotalScan, shift, src, dst, blocks}, Groups(1)));
+    RS_TRY(Phase(rec, k, b, {chunks, layout::kSortPhaseScatter, shift, src, dst, blocks}, Elements(blocks)));
     std::swap(src, dst);
   }
   RS_TRY(rec.Submit());
@@ -102,11 +112,11 @@ vk::Status VulkanPasses::Run(const emu::call::Decompress& call, std::vector<std:
   const std::uint32_t rays = static_cast<std::uint32_t>(n);
   vk::Recorder rec(*ctx_);
   const vk::Kernel& k = K(PassId::kDecompress);
-  RS_TRY(Phase(rec, k, b, {count, layout::kDecompressPhaseSizes, rays, 0, 0, blocks}, count));
-  RS_TRY(Phase(rec, k, b, {count, layout::kDecompressPhaseBlockSums, rays, 0, 0, blocks}, blocks));
-  RS_TRY(Phase(rec, k, b, {count, layout::kDecompressPhaseScanSums, rays, 0, 0, blocks}, 1));
-  RS_TRY(Phase(rec, k, b, {count, layout::kDecompressPhaseStarts, rays, 0, 0, blocks}, blocks));
-  RS_TRY(Phase(rec, k, b, {count, layout::kDecompressPhaseRays, rays, 0, 0, blocks}, rays));
+  RS_TRY(Phase(rec, k, b, {count, layout::kDecompressPhaseSizes, rays, 0, 0, blocks}, Elements(count)));
+  RS_TRY(Phase(rec, k, b, {count, layout::kDecompressPhaseBlockSums, rays, 0, 0, blocks}, Groups(blocks)));
+  RS_TRY(Phase(rec, k, b, {count, layout::kDecompressPhaseScanSums, rays, 0, 0, blocks}, Groups(1)));
+  RS_TRY(Phase(rec, k, b, {count, layout::kDecompressPhaseStarts, rays, 0, 0, blocks}, Groups(blocks)));
+  RS_TRY(Phase(rec, k, b, {count, layout::kDecompressPhaseRays, rays, 0, 0, blocks}, Elements(rays)));
   RS_TRY(rec.Submit());
   order = b.order.Download<std::uint32_t>(n);
   return vk::Status::Ok();
