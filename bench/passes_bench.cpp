@@ -6,6 +6,8 @@
 
 #include "rayspace/emu/frame.h"
 #include "rayspace/emu/passes.h"
+#include "rayspace/parallel.h"
+#include "rayspace/workgroup.h"
 
 using namespace rayspace;
 
@@ -55,6 +57,77 @@ void BM_Frame(benchmark::State& state, const char* scene) {
   for (auto _ : state) benchmark::DoNotOptimize(emu::RenderFrame(l.scene, l.buffers, *tracer, fo));
 }
 
+// The workgroup model's cost (docs/workgroups.md): a 1M-element inclusive scan of blocks of 256, as
+// Hillis-Steele in shared memory and as a subgroup scan, with the checker on and off, against the same
+// Hillis-Steele loops run per block by plain ParallelFor. Block sums are not carried across blocks.
+constexpr std::uint32_t kScanN = 1u << 20, kScanL = 256;
+
+std::vector<std::uint32_t> ScanInput() {
+  std::vector<std::uint32_t> v(kScanN);
+  for (std::uint32_t i = 0; i < kScanN; ++i) v[i] = i * 2654435761u;
+  return v;
+}
+
+void BM_ScanHillisSteele(benchmark::State& state, bool check) {
+  const auto in = ScanInput();
+  std::vector<std::uint32_t> out(kScanN);
+  for (auto _ : state) {
+    wg::Dispatch("bench.scan", kScanN / kScanL, kScanL, [&](wg::Workgroup& w) {
+      auto& tile = w.Shared<std::uint32_t>(kScanL);
+      auto t = w.Private<std::uint32_t>();
+      w.Phase([&](wg::Inv& i) { tile[i.local_id] = in[i.global_id]; });
+      w.Barrier();
+      for (std::uint32_t off = 1; off < kScanL; off *= 2) {
+        w.Phase([&](wg::Inv& i) { t[i] = i.local_id >= off ? static_cast<std::uint32_t>(tile[i.local_id - off]) : 0u; });
+        w.Barrier();
+        w.Phase([&](wg::Inv& i) { tile[i.local_id] += t[i]; });
+        w.Barrier();
+      }
+      w.Phase([&](wg::Inv& i) { out[i.global_id] = tile[i.local_id]; });
+    }, {.check = check});
+    benchmark::DoNotOptimize(out.data());
+  }
+}
+
+void BM_ScanSubgroup(benchmark::State& state, bool check) {
+  const auto in = ScanInput();
+  std::vector<std::uint32_t> out(kScanN);
+  for (auto _ : state) {
+    wg::Dispatch("bench.scan_subgroup", kScanN / kScanL, kScanL, [&](wg::Workgroup& w) {
+      auto& totals = w.Shared<std::uint32_t>(kScanL / 8);
+      auto v = w.Private<std::uint32_t>();
+      w.Phase([&](wg::Inv& i) { v[i] = in[i.global_id]; });
+      auto s = w.SubgroupInclusiveAdd(v);
+      w.Phase([&](wg::Inv& i) {
+        if (i.lane == i.subgroup_size - 1) totals[i.subgroup_id] = s[i];
+      });
+      w.Barrier();
+      w.Phase([&](wg::Inv& i) {
+        for (std::uint32_t k = 0; k < i.subgroup_id; ++k) s[i] += totals[k];
+        out[i.global_id] = s[i];
+      });
+    }, {.check = check});
+    benchmark::DoNotOptimize(out.data());
+  }
+}
+
+void BM_ScanParallelFor(benchmark::State& state) {
+  const auto in = ScanInput();
+  std::vector<std::uint32_t> out(kScanN);
+  for (auto _ : state) {
+    ParallelFor(kScanN / kScanL, [&](std::size_t b) {
+      std::uint32_t tile[kScanL], t[kScanL];
+      for (std::uint32_t l = 0; l < kScanL; ++l) tile[l] = in[b * kScanL + l];
+      for (std::uint32_t off = 1; off < kScanL; off *= 2) {
+        for (std::uint32_t l = 0; l < kScanL; ++l) t[l] = l >= off ? tile[l - off] : 0u;
+        for (std::uint32_t l = 0; l < kScanL; ++l) tile[l] += t[l];
+      }
+      for (std::uint32_t l = 0; l < kScanL; ++l) out[b * kScanL + l] = tile[l];
+    });
+    benchmark::DoNotOptimize(out.data());
+  }
+}
+
 }  // namespace
 
 BENCHMARK_CAPTURE(BM_Raster, cornell, "cornell-mirrors.json")->Unit(benchmark::kMillisecond);
@@ -63,5 +136,10 @@ BENCHMARK_CAPTURE(BM_ShadowTrace, cornell_bvh, "cornell-mirrors.json", emu::Dire
 BENCHMARK_CAPTURE(BM_ShadowTrace, cornell_exhaustive, "cornell-mirrors.json", emu::DirectMode::kExhaustive)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK_CAPTURE(BM_ShadowTrace, office_bvh, "office.json", emu::DirectMode::kBvh)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Frame, cornell, "cornell-mirrors.json")->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK_CAPTURE(BM_ScanHillisSteele, checked, true)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly();
+BENCHMARK_CAPTURE(BM_ScanHillisSteele, unchecked, false)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly();
+BENCHMARK_CAPTURE(BM_ScanSubgroup, checked, true)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly();
+BENCHMARK_CAPTURE(BM_ScanSubgroup, unchecked, false)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly();
+BENCHMARK(BM_ScanParallelFor)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly();
 
 BENCHMARK_MAIN();

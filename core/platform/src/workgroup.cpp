@@ -67,17 +67,17 @@ std::string CheckResult::Summary() const {
 // ---- Shared arrays ------------------------------------------------------------------------------------
 
 SharedBase::SharedBase(Workgroup* wg, std::string name, std::uint32_t count)
-    : wg_(wg), name_(std::move(name)), count_(count), words_(wg->checking() ? count : 0),
+    : wg_(wg), name_(std::move(name)), count_(count), check_(wg->checking()), words_(wg->checking() ? count : 0),
       written_(wg->checking() ? count : 0, 0) {}
 
-bool SharedBase::Touch(std::uint32_t idx, Access a) {
+bool SharedBase::TouchChecked(std::uint32_t idx, Access a) {
   const std::uint32_t inv = wg_->current();
   if (idx >= count_) {
     wg_->AddReport(ReportKind::kOutOfBounds, name_, idx, inv, kNoInvocation,
                    fmt::format("{} of {} elements", AccessName(a), count_));
     return false;
   }
-  if (!wg_->checking() || inv == kNoInvocation) return true;
+  if (!check_ || inv == kNoInvocation) return true;
   if (a != Access::kWrite && written_[idx] == 0) {
     written_[idx] = 2;  // report once per word
     wg_->AddReport(ReportKind::kUninitialisedRead, name_, idx, inv, kNoInvocation,
@@ -127,35 +127,29 @@ Workgroup::Workgroup(const std::string& dispatch, std::uint32_t id, std::uint32_
 
 Workgroup::~Workgroup() = default;
 
-std::vector<std::uint32_t> Workgroup::ScheduleOrder() {
-  std::vector<std::uint32_t> order(local_size_);
-  for (std::uint32_t l = 0; l < local_size_; ++l) order[l] = l;
-  if (schedule_.order == Order::kReverse) std::reverse(order.begin(), order.end());
+Inv Workgroup::BeginPhase() {
+  RS_CHECK_MSG(!in_phase_, "dispatch {}: Phase called inside a phase", dispatch_);
+  in_phase_ = true;
+  if (check_) std::fill(phase_barriers_.begin(), phase_barriers_.end(), 0u);
+  if (order_.size() != local_size_ || schedule_.order == Order::kRandom) {
+    order_.resize(local_size_);
+    for (std::uint32_t l = 0; l < local_size_; ++l) order_[l] = l;
+    if (schedule_.order == Order::kReverse) std::reverse(order_.begin(), order_.end());
+  }
   if (schedule_.order == Order::kRandom) {
     // Fisher-Yates from SplitMix64 of (seed, workgroup, phase): the same for any thread count or library.
     std::uint64_t s = schedule_.seed ^ (std::uint64_t{id_} << 32) ^ (std::uint64_t{phase_} * 0x2545f4914f6cdd1dull);
-    for (std::uint32_t l = local_size_; l > 1; --l) std::swap(order[l - 1], order[SplitMix(s) % l]);
+    for (std::uint32_t l = local_size_; l > 1; --l) std::swap(order_[l - 1], order_[SplitMix(s) % l]);
   }
-  return order;
-}
-
-void Workgroup::Phase(const std::function<void(Inv&)>& fn) {
-  RS_CHECK_MSG(!in_phase_, "dispatch {}: Phase called inside a phase", dispatch_);
-  in_phase_ = true;
-  std::fill(phase_barriers_.begin(), phase_barriers_.end(), 0u);
   Inv inv{};
   inv.workgroup_id = id_;
   inv.local_size = local_size_;
   inv.num_workgroups = groups_;
   inv.subgroup_size = subgroup_size_;
-  for (std::uint32_t l : ScheduleOrder()) {
-    current_ = l;
-    inv.local_id = l;
-    inv.global_id = id_ * local_size_ + l;
-    inv.subgroup_id = l / subgroup_size_;
-    inv.lane = l % subgroup_size_;
-    fn(inv);
-  }
+  return inv;
+}
+
+void Workgroup::EndPhase() {
   current_ = kNoInvocation;
   in_phase_ = false;
   CheckPhaseBarriers();

@@ -147,7 +147,7 @@ class SharedBase {
 
  protected:
   // Returns false when idx is out of bounds (reported). Records the access when checking is on.
-  bool Touch(std::uint32_t idx, Access a);
+  bool Touch(std::uint32_t idx, Access a) { return (idx < count_ && !check_) || TouchChecked(idx, a); }
   Workgroup* wg_;
 
  private:
@@ -156,9 +156,11 @@ class SharedBase {
     std::uint32_t reader[2], writer[2], atomic[2];
     bool raced = false;
   };
+  bool TouchChecked(std::uint32_t idx, Access a);
   void Conflict(std::uint32_t idx, Word& w, std::uint32_t inv, Access a);
   std::string name_;
   std::uint32_t count_;
+  bool check_;
   std::vector<Word> words_;
   std::vector<std::uint8_t> written_;
 };
@@ -254,8 +256,20 @@ class Workgroup {
   template <typename T>
   wg::Private<T> Private(T init = T{}) const { return wg::Private<T>(local_size_, init); }
 
-  // Runs fn for every invocation, one at a time, in the schedule's order.
-  void Phase(const std::function<void(Inv&)>& fn);
+  // Runs fn(Inv&) for every invocation, one at a time, in the schedule's order.
+  template <typename F>
+  void Phase(F&& fn) {
+    Inv inv = BeginPhase();
+    for (std::uint32_t l : order_) {
+      current_ = l;
+      inv.local_id = l;
+      inv.global_id = id_ * local_size_ + l;
+      inv.subgroup_id = l / subgroup_size_;
+      inv.lane = l % subgroup_size_;
+      fn(inv);
+    }
+    EndPhase();
+  }
   // barrier() with memoryBarrierShared(). Between phases: ends the barrier interval. Inside a phase
   // (an invocation-dependent place): counted per invocation and checked when the phase ends.
   void Barrier();
@@ -289,7 +303,8 @@ class Workgroup {
   }
   void SubgroupBoundary();
   void CheckPhaseBarriers();
-  std::vector<std::uint32_t> ScheduleOrder();
+  Inv BeginPhase();  // sets order_ to this phase's schedule
+  void EndPhase();
 
   std::string dispatch_;
   std::uint32_t id_, groups_, local_size_, subgroup_size_;
@@ -297,6 +312,7 @@ class Workgroup {
   bool check_;
   std::uint32_t phase_ = 0, interval_ = 0, current_ = kNoInvocation;
   bool in_phase_ = false;
+  std::vector<std::uint32_t> order_;
   std::vector<std::uint32_t> phase_barriers_;  // per invocation, barriers reached inside this phase
   std::vector<std::unique_ptr<SharedBase>> shared_;
   std::vector<Report> reports_;
