@@ -1,13 +1,15 @@
 #version 460
 // Stream reduction of (flag, value) slots to the flagged values in slot order, as workgroup kernels;
 // mirrors emu ReduceHierarchical and ReduceScan.
-//   Roger et al.'s hierarchical reduction, one workgroup per component of s slots:
-//     Local      the workgroup compacts its component kLocalSize slots at a time (a workgroup scan of
-//                the flags gives each flagged value its place), and writes the component's count
+//   Roger et al.'s hierarchical reduction:
+//     Local      one invocation per component of s slots compacts it in slot order and counts it
 //     BlockSums  one workgroup per block of kScanBlock counts sums them
 //     ScanSums   one workgroup scans the block sums, kLocalSize at a time with a running carry
 //     Offsets    one workgroup per block turns its counts into exclusive offsets
-//     Concat     one workgroup per component copies its segment to its offset
+//     Concat     one invocation per component copies its segment to its offset
+//   Local and Concat stay one invocation per component: a workgroup per component (scanning its flags
+//   with barriers) made the reduction ten times slower on lavapipe, whose barriers are costly; a
+//   subgroup per component is the next step.
 //   Scan-based: FlagSums (block sums of the flags), ScanSums, Scatter (per block, a workgroup scan of
 //   the flags places each flagged value), the order-preserving compaction of trim.comp.
 // Reduce-then-scan rather than decoupled look-back: lavapipe does not promise forward progress
@@ -24,7 +26,7 @@ layout(std430, binding = kReduceBindOut) writeonly buffer Out { uint out_values[
 layout(push_constant) uniform Block { ReducePush pc; };
 
 void main() {
-  const uint g = WorkGroupIndex(), l = gl_LocalInvocationID.x;
+  const uint t = GlobalIndex(), g = WorkGroupIndex(), l = gl_LocalInvocationID.x;
   uint total;
   if (pc.phase == kReducePhaseFlagSums) {
     if (g >= pc.blocks) return;  // uniform: the whole workgroup leaves
@@ -42,18 +44,16 @@ void main() {
       if (f != 0u) out_values[at] = values[i];
       run += total;
     }
-  } else if (pc.phase == kReducePhaseLocal) {
-    if (g >= pc.comps) return;
-    const uint base = g * pc.s, end = min(pc.n, base + pc.s);
+  } else if (pc.phase == kReducePhaseLocal) {  // one invocation per component (see the header)
+    if (t >= pc.comps) return;
     uint k = 0u;
-    for (uint c0 = base; c0 < end; c0 += kLocalSize) {
-      const uint i = c0 + l;
-      const uint f = i < end && flags[i] != 0u ? 1u : 0u;
-      const uint at = k + (WorkgroupInclusiveAdd(f, total) - f);
-      if (f != 0u) local_values[base + at] = values[i];
-      k += total;
+    for (uint i = t * pc.s; i < min(pc.n, (t + 1u) * pc.s); ++i) {
+      if (flags[i] != 0u) {
+        local_values[t * pc.s + k] = values[i];
+        ++k;
+      }
     }
-    if (l == 0u) counts[g] = k;
+    counts[t] = k;
   } else if (pc.phase == kReducePhaseBlockSums) {
     if (g >= pc.blocks) return;
     WORKGROUP_SUM(counts, g * kScanBlock, min(pc.comps, (g + 1u) * kScanBlock), total);
@@ -73,11 +73,11 @@ void main() {
       if (i < end) counts[i] = at;
       run += total;
     }
-  } else {  // Concat: component g's segment goes to its offset
-    if (g >= pc.comps) return;
-    const uint next = g + 1u < pc.comps ? counts[g + 1u] : sums[pc.blocks];
+  } else {  // Concat, one invocation per component: its segment goes to its offset
+    if (t >= pc.comps) return;
+    const uint next = t + 1u < pc.comps ? counts[t + 1u] : sums[pc.blocks];
     // Fault 1: the last element of every segment is dropped.
-    const uint len = next - counts[g] - ((kFault == 1u && next > counts[g]) ? 1u : 0u);
-    for (uint k = l; k < len; k += kLocalSize) out_values[counts[g] + k] = local_values[g * pc.s + k];
+    const uint len = next - counts[t] - ((kFault == 1u && next > counts[t]) ? 1u : 0u);
+    for (uint k = 0u; k < len; ++k) out_values[counts[t] + k] = local_values[t * pc.s + k];
   }
 }

@@ -3,6 +3,8 @@
 // uniform control flow.
 #ifndef RAYSPACE_WORKGROUP_GLSL
 #define RAYSPACE_WORKGROUP_GLSL
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
 
 // The most invocations a workgroup may have (kLocalSize <= this; the host's --local-size range).
 const uint kMaxLocalSize = 1024u;
@@ -12,23 +14,26 @@ shared uint wg_tile[kMaxLocalSize];
 // launches wider than maxComputeWorkGroupCount[0]); uniform across the workgroup.
 uint WorkGroupIndex() { return gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x; }
 
-// Inclusive prefix sum of `v` over the workgroup's invocations in local-id order (Hillis-Steele in
-// shared memory: log2(kLocalSize) steps, each read, barrier, add, barrier); `total` receives the sum
-// of all. Integer sums, so the result does not depend on the order the device runs invocations in.
+// Inclusive prefix sum of `v` over the workgroup's invocations in local-id order; `total` receives
+// the sum of all. Subgroups scan their own lanes (subgroupInclusiveAdd; lanes are local ids in order,
+// gl_SubgroupID * gl_SubgroupSize + gl_SubgroupInvocationID), one lane of each publishes its subgroup's
+// sum in shared memory, and after one barrier every invocation adds the sums of the subgroups before
+// its own: two barriers a call, whatever the workgroup size (the device's subgroup size is read, not
+// assumed). Integer sums, so the result does not depend on the order the device runs invocations in.
 uint WorkgroupInclusiveAdd(uint v, out uint total) {
-  const uint l = gl_LocalInvocationID.x;
-  wg_tile[l] = v;
+  const uint inclusive = subgroupInclusiveAdd(v);
+  const uint subgroup_sum = subgroupAdd(v);
+  if (subgroupElect()) wg_tile[gl_SubgroupID] = subgroup_sum;
   barrier();
-  for (uint d = 1u; d < kLocalSize; d <<= 1u) {
-    const uint t = l >= d ? wg_tile[l - d] : 0u;
-    barrier();
-    wg_tile[l] += t;
-    barrier();
+  uint before = 0u, all = 0u;
+  for (uint k = 0u; k < gl_NumSubgroups; ++k) {
+    const uint x = wg_tile[k];
+    before += k < gl_SubgroupID ? x : 0u;
+    all += x;
   }
-  const uint r = wg_tile[l];
-  total = wg_tile[kLocalSize - 1u];
+  total = all;
   barrier();  // the tile is free for the next call
-  return r;
+  return before + inclusive;
 }
 
 // Buffer-generic helpers as macros (GLSL has no buffer references here). Every invocation of the

@@ -30,12 +30,12 @@ vk::Status RunReduce(vk::Context& c, const vk::Kernel& k, std::span<const std::u
   const std::span<const std::uint32_t> phases = scan ? std::span<const std::uint32_t>(kScanPhases) : std::span<const std::uint32_t>(kHierPhases);
   vk::Recorder rec(c);
   for (std::uint32_t phase : phases) {
-    // Workgroups: one per component (Local, Concat), one (ScanSums), else one per block.
-    const std::uint64_t groups = phase == layout::kReducePhaseScanSums                                    ? 1
-                                 : (phase == layout::kReducePhaseLocal || phase == layout::kReducePhaseConcat) ? comps
-                                                                                                          : blocks;
     const layout::ReducePush push{n, phase, scan ? 1u : s, comps, blocks};
-    RS_TRY(rec.DispatchGroups(k, b.All(), &push, sizeof push, groups));
+    if (phase == layout::kReducePhaseLocal || phase == layout::kReducePhaseConcat) {  // an invocation per component
+      RS_TRY(rec.Dispatch(k, b.All(), &push, sizeof push, comps));
+    } else {  // a workgroup per block, or one for the scan of the block sums
+      RS_TRY(rec.DispatchGroups(k, b.All(), &push, sizeof push, phase == layout::kReducePhaseScanSums ? 1 : blocks));
+    }
   }
   RS_TRY(rec.Submit());
   const std::uint32_t total = bs.Download<std::uint32_t>(blocks + 1)[blocks];
