@@ -334,6 +334,17 @@ SceneBuffers FourTriangles() {
 
 std::uint32_t Pair(std::uint32_t node, std::uint32_t tri) { return node << layout::kPairTriangleBits | tri; }
 
+// A pair naming a node or a triangle one past the fixture's end is refused.
+template <typename C>
+void RefusesFarPairs(const C& ok) {
+  const std::vector<std::uint32_t> far_node = {Pair(2, 0)}, far_tri = {Pair(0, 4)};
+  C c = ok;
+  c.pairs = far_node;
+  Refused(c, "'pairs' element 0");
+  c.pairs = far_tri;
+  Refused(c, "'pairs' element 0");
+}
+
 }  // namespace
 
 TEST_CASE("CheckInputs: out-of-range inputs are refused naming the call and the input") {
@@ -365,13 +376,8 @@ TEST_CASE("CheckInputs: out-of-range inputs are refused naming the call and the 
     const call::TraverseLevel ok{.pairs = pairs, .nodes = nodes, .first = first, .base_up = 0, .base = 0, .children_max = 1,
                                  .b0 = 0, .tri_spheres = spheres, .eps = 0.0f};
     Accepted(ok);
+    RefusesFarPairs(ok);
     call::TraverseLevel c = ok;
-    const std::vector<std::uint32_t> far_node = {Pair(2, 0)}, far_tri = {Pair(0, 4)};
-    c.pairs = far_node;
-    Refused(c, "'pairs' element 0");
-    c.pairs = far_tri;
-    Refused(c, "'pairs' element 0");
-    c = ok;
     const std::vector<std::uint32_t> bad_first = {0, 2, 1};
     c.first = bad_first;
     Refused(c, "'first'");
@@ -385,13 +391,8 @@ TEST_CASE("CheckInputs: out-of-range inputs are refused naming the call and the 
     const call::Intersect ok{.pairs = pairs, .first1 = first1, .base1 = 0, .b0 = 0, .order = order, .rays = rays,
                              .scene = &scene, .hits = &hits, .occluded = nullptr};
     Accepted(ok);
+    RefusesFarPairs(ok);
     call::Intersect c = ok;
-    const std::vector<std::uint32_t> far_node = {Pair(2, 0)}, far_tri = {Pair(0, 4)};
-    c.pairs = far_node;
-    Refused(c, "'pairs' element 0");
-    c.pairs = far_tri;
-    Refused(c, "'pairs' element 0");
-    c = ok;
     const std::vector<std::uint32_t> bad_order = {2, 3, 1};
     c.order = bad_order;
     Refused(c, "'order' element 1");
