@@ -2,14 +2,14 @@
 // Stream reduction of (flag, value) slots to the flagged values in slot order, as workgroup kernels;
 // mirrors emu ReduceHierarchical and ReduceScan.
 //   Roger et al.'s hierarchical reduction:
-//     Local      one invocation per component of s slots compacts it in slot order and counts it
+//     Local      one subgroup per component of s slots compacts it in slot order (subgroup scans of the
+//                flags, no barrier) and counts it
 //     BlockSums  one workgroup per block of kScanBlock counts sums them
 //     ScanSums   one workgroup scans the block sums, kLocalSize at a time with a running carry
 //     Offsets    one workgroup per block turns its counts into exclusive offsets
 //     Concat     one invocation per component copies its segment to its offset
-//   Local and Concat stay one invocation per component: a workgroup per component (scanning its flags
-//   with barriers) made the reduction ten times slower on lavapipe, whose barriers are costly; a
-//   subgroup per component is the next step.
+//   Not a workgroup per component: scanning a component's flags with barriers made the reduction ten
+//   times slower on lavapipe, whose barriers are costly.
 //   Scan-based: FlagSums (block sums of the flags), ScanSums, Scatter (per block, a workgroup scan of
 //   the flags places each flagged value), the order-preserving compaction of trim.comp.
 // Reduce-then-scan rather than decoupled look-back: lavapipe does not promise forward progress
@@ -44,16 +44,23 @@ void main() {
       if (f != 0u) out_values[at] = values[i];
       run += total;
     }
-  } else if (pc.phase == kReducePhaseLocal) {  // one invocation per component (see the header)
-    if (t >= pc.comps) return;
-    uint k = 0u;
-    for (uint i = t * pc.s; i < min(pc.n, (t + 1u) * pc.s); ++i) {
-      if (flags[i] != 0u) {
-        local_values[t * pc.s + k] = values[i];
-        ++k;
+  } else if (pc.phase == kReducePhaseLocal) {
+    // One subgroup per component, grid-stride over the components: each chunk of `lanes` slots is
+    // compacted by a subgroup exclusive add of the flags (no barrier), in slot order.
+    const uint lanes = subgroupBallotBitCount(subgroupBallot(true));
+    const uint stride = gl_NumWorkGroups.x * gl_NumWorkGroups.y * gl_NumSubgroups;
+    for (uint c = g * gl_NumSubgroups + gl_SubgroupID; c < pc.comps; c += stride) {
+      const uint base = c * pc.s, end = min(pc.n, base + pc.s);
+      uint k = 0u;
+      for (uint c0 = base; c0 < end; c0 += lanes) {
+        const uint i = c0 + gl_SubgroupInvocationID;
+        const uint f = i < end && flags[i] != 0u ? 1u : 0u;
+        const uint at = k + subgroupExclusiveAdd(f);
+        if (f != 0u) local_values[base + at] = values[i];
+        k += subgroupAdd(f);
       }
+      if (subgroupElect()) counts[c] = k;
     }
-    counts[t] = k;
   } else if (pc.phase == kReducePhaseBlockSums) {
     if (g >= pc.blocks) return;
     WORKGROUP_SUM(counts, g * kScanBlock, min(pc.comps, (g + 1u) * kScanBlock), total);

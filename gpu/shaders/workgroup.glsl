@@ -5,6 +5,7 @@
 #define RAYSPACE_WORKGROUP_GLSL
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_ballot : require
 
 // The most invocations a workgroup may have (kLocalSize <= this; the host's --local-size range).
 const uint kMaxLocalSize = 1024u;

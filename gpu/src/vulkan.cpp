@@ -159,9 +159,12 @@ void Context::ReadProperties() {
   max_stage_storage_buffers_ = props.limits.maxPerStageDescriptorStorageBuffers;
   max_image_side_ = props.limits.maxImageDimension2D;
   VkPhysicalDeviceDriverProperties drv{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+  VkPhysicalDeviceSubgroupProperties sub{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+  drv.pNext = &sub;
   VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
   p2.pNext = &drv;
   vkGetPhysicalDeviceProperties2(physical_, &p2);
+  subgroup_size_ = std::max(sub.subgroupSize, 1u);
   driver_ = fmt::format("{} {}", drv.driverName, drv.driverInfo);
   vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
 }

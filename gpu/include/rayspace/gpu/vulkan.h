@@ -204,6 +204,9 @@ class Context {
   // the depth image), which must outlive it.
   Status CreateGraphics(const GraphicsDesc& desc, std::span<const Image* const> attachments, Graphics& out);
   const std::string& device_name() const { return device_name_; }
+  // Invocations per subgroup as the device reports it (kernels read gl_SubgroupSize; the host uses
+  // it only to size launches).
+  std::uint32_t subgroup_size() const { return subgroup_size_; }
   std::string driver() const { return driver_; }
   // The most bytes one storage binding may hold: maxStorageBufferRange unless lowered for tests.
   VkDeviceSize storage_limit() const { return storage_limit_; }
@@ -234,7 +237,7 @@ class Context {
   std::string device_name_, driver_;
   VkDeviceSize max_storage_range_ = 0, storage_limit_ = 0;
   std::uint32_t max_groups_[2] = {65535, 65535};
-  std::uint32_t max_stage_storage_buffers_ = 0, max_image_side_ = 0;
+  std::uint32_t max_stage_storage_buffers_ = 0, max_image_side_ = 0, subgroup_size_ = 1;
   std::size_t descriptor_pools_ = 0;
 };
 
