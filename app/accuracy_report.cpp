@@ -94,24 +94,30 @@ void AppendModeRows(const std::string& scene, const std::vector<Row>& rows, std:
   }
 }
 
+// One end-to-end table (when measured): `kind` names the mode family in the CSV.
+void AppendEndToEndTable(const std::vector<EndToEnd>& rows, const Report& rep, const char* kind, const char* caption,
+                         const char* tests_column, std::string& md, std::string& csv) {
+  if (rows.empty()) return;
+  md += fmt::format("\n{}\n\n", caption);
+  md += fmt::format("| mode | frame ms | {} | rays whose result changes |\n|---|---:|---:|---:|\n", tests_column);
+  for (const EndToEnd& e : rows) {
+    md += fmt::format("| {} | {:.0f} | {} | {} |\n", e.mode, e.ms, e.tests, e.changed);
+    csv += fmt::format("{},{},end-to-end,\"{}\",{},{:.1f},{},,\n", rep.scene, kind, e.mode, e.tests, e.ms, e.changed);
+  }
+}
+
 // The end-to-end tables, each when measured.
 void AppendEndToEnd(const Report& rep, std::string& md, std::string& csv) {
-  if (!rep.cone_e2e.empty()) {
-    md += "\nEnd to end, the frame with each cone-sphere mode in the traversal (all else equal), against the exact traversal:\n\n";
-    md += "| mode | frame ms | hierarchy tests | rays whose result changes |\n|---|---:|---:|---:|\n";
-    for (const EndToEnd& e : rep.cone_e2e) {
-      md += fmt::format("| {} | {:.0f} | {} | {} |\n", e.mode, e.ms, e.tests, e.changed);
-      csv += fmt::format("{},cone-sphere,end-to-end,\"{}\",{},{:.1f},{},,\n", rep.scene, e.mode, e.tests, e.ms, e.changed);
-    }
-  }
-  if (!rep.tri_e2e.empty()) {
-    md += "\nEnd to end, the frame with each ray-triangle mode in the final tests (traversal conservative), against exact hit decisions and exact distance order; a changed ray hits another primitive, hits where the exact answer misses or the reverse, or changes occlusion (later bounces inherit the differences):\n\n";
-    md += "| mode | frame ms | final and hierarchy tests | rays whose result changes |\n|---|---:|---:|---:|\n";
-    for (const EndToEnd& e : rep.tri_e2e) {
-      md += fmt::format("| {} | {:.0f} | {} | {} |\n", e.mode, e.ms, e.tests, e.changed);
-      csv += fmt::format("{},ray-triangle,end-to-end,\"{}\",{},{:.1f},{},,\n", rep.scene, e.mode, e.tests, e.ms, e.changed);
-    }
-  }
+  AppendEndToEndTable(rep.cone_e2e, rep, "cone-sphere",
+                      "End to end, the frame with each cone-sphere mode in the traversal (all else equal), against the "
+                      "exact traversal:",
+                      "hierarchy tests", md, csv);
+  AppendEndToEndTable(rep.tri_e2e, rep, "ray-triangle",
+                      "End to end, the frame with each ray-triangle mode in the final tests (traversal conservative), "
+                      "against exact hit decisions and exact distance order; a changed ray hits another primitive, hits "
+                      "where the exact answer misses or the reverse, or changes occlusion (later bounces inherit the "
+                      "differences):",
+                      "final and hierarchy tests", md, csv);
 }
 
 }  // namespace

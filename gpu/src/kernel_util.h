@@ -15,13 +15,12 @@
 #include "rayspace/error.h"
 #include "rayspace/gpu/vulkan.h"
 
-#ifndef RS_TRY
+// Returns the status of `expr` when it failed.
 #define RS_TRY(expr)              \
   do {                            \
     vk::Status rs_s = (expr);     \
     if (!rs_s) return rs_s;       \
   } while (0)
-#endif
 
 namespace rayspace::gpu_backend::detail {
 

@@ -1,9 +1,6 @@
-// The Vulkan passes' shared part: pipelines for every registered pass, the split size, the raster.
+// The Vulkan passes' shared part: pipelines for every registered pass and the split size.
 #include "kernel_table.h"
-#include "raster_frag.spv.h"
-#include "raster_vert.spv.h"
 #include "rayspace/gpu/passes.h"
-#include "rayspace/gpu/raster.h"
 #include "kernel_util.h"
 
 namespace rayspace::gpu_backend {
@@ -48,25 +45,6 @@ std::size_t VulkanPasses::PerPart(std::size_t bytes_per_element) const {
   return std::max<std::size_t>(1, SplitBytes() / std::max<std::size_t>(bytes_per_element, 1));
 }
 
-// Element-wise passes run over consecutive parts of their per-element buffers, each part within one
-// binding, all parts in one submit; outputs are copied back part by part.
 std::size_t VulkanPasses::SplitBytes() const { return static_cast<std::size_t>(ctx_->storage_limit()); }
-
-vk::Status VulkanPasses::Run(const emu::call::Raster& call, emu::GBuffer& out) {
-  const layout::FrameConstants& fc = call.frame;
-  const SceneBuffers& scene = *call.scene;
-  RasterTargets t;
-  RS_TRY(RasterGBuffer(*ctx_, kSpirv_raster_vert, kSpirv_raster_frag, fc, scene, raster_fault_, t));
-  out.width = static_cast<int>(fc.dims.x);
-  out.height = static_cast<int>(fc.dims.y);
-  out.diffuse = std::move(t.diffuse);
-  out.specular = std::move(t.specular);
-  out.position = std::move(t.position);
-  out.normal = std::move(t.normal);
-  out.prim = std::move(t.prim);
-  out.depth = std::move(t.depth);
-  return vk::Status::Ok();
-}
-
 
 }  // namespace rayspace::gpu_backend

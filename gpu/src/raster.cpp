@@ -1,5 +1,9 @@
 #include "rayspace/gpu/raster.h"
 
+#include "raster_frag.spv.h"
+#include "raster_vert.spv.h"
+#include "rayspace/gpu/passes.h"
+
 #include <fmt/format.h>
 
 namespace rayspace::gpu_backend {
@@ -87,7 +91,10 @@ vk::Status DrawAndRead(vk::Context& ctx, const vk::Graphics& g, const vk::Buffer
   return rec.Submit();
 }
 
-void Download(const Targets& t, std::size_t pixels, RasterTargets& out) {
+void Download(const Targets& t, std::uint32_t w, std::uint32_t h, emu::GBuffer& out) {
+  const std::size_t pixels = static_cast<std::size_t>(w) * h;
+  out.width = static_cast<int>(w);
+  out.height = static_cast<int>(h);
   out.diffuse = t.readback[0].Download<glm::vec4>(pixels);
   out.specular = t.readback[1].Download<glm::vec4>(pixels);
   out.position = t.readback[2].Download<glm::vec4>(pixels);
@@ -100,7 +107,7 @@ void Download(const Targets& t, std::size_t pixels, RasterTargets& out) {
 
 vk::Status RasterGBuffer(vk::Context& ctx, std::span<const std::uint32_t> vert_spirv,
                          std::span<const std::uint32_t> frag_spirv, const layout::FrameConstants& fc, const SceneBuffers& scene,
-                         std::uint32_t fault, RasterTargets& out) {
+                         std::uint32_t fault, emu::GBuffer& out) {
   const std::uint32_t w = fc.dims.x, h = fc.dims.y;
   Targets t;
   if (vk::Status st = MakeTargets(ctx, w, h, t); !st) return st;
@@ -109,8 +116,12 @@ vk::Status RasterGBuffer(vk::Context& ctx, std::span<const std::uint32_t> vert_s
   vk::Buffer in[kBindings];
   if (vk::Status st = UploadInputs(ctx, fc, scene, in); !st) return st;
   if (vk::Status st = DrawAndRead(ctx, g, in, scene.triangles.size(), t); !st) return st;
-  Download(t, static_cast<std::size_t>(w) * h, out);
+  Download(t, w, h, out);
   return vk::Status::Ok();
+}
+
+vk::Status VulkanPasses::Run(const emu::call::Raster& c, emu::GBuffer& out) {
+  return RasterGBuffer(*ctx_, kSpirv_raster_vert, kSpirv_raster_frag, c.frame, *c.scene, raster_fault_, out);
 }
 
 }  // namespace rayspace::gpu_backend

@@ -75,7 +75,5 @@ RS_HIERARCHY_CALLS(RS_RUN_HIERARCHY_CALL)
 FramePasses& EmuFramePasses();
 HierarchyPasses& EmuHierarchyPasses();
 
-// Roger et al.'s quadtree key: light index above the Morton code of the pixel (2 * depth bits).
-std::vector<std::uint32_t> PassHashQuadtree(In<layout::Ray> rays, std::uint32_t width, int depth);
 
 }  // namespace rayspace::emu

@@ -61,6 +61,8 @@ std::unique_ptr<HierarchyTracer> MakeHierarchyTracer(const SceneBuffers& scene, 
 
 // ---- the passes (each mirrors its kernel; the calls are documented in emu/calls.h) ---------------
 std::vector<std::uint32_t> PassHash(const call::Hash& c);
+// Roger et al.'s quadtree key: light index above the Morton code of the pixel (2 * depth bits).
+std::vector<std::uint32_t> PassHashQuadtree(In<layout::Ray> rays, std::uint32_t width, int depth);
 Chunks PassCompress(const call::Compress& c);
 std::vector<std::uint32_t> PassSortChunks(const call::SortChunks& c);
 std::vector<std::uint32_t> PassDecompress(const call::Decompress& c);

@@ -6,20 +6,16 @@
 #include <span>
 #include <vector>
 
+#include "rayspace/emu/streams.h"
 #include "rayspace/gpu/vulkan.h"
 #include "rayspace/layout.h"
 #include "rayspace/scene_buffers.h"
 
 namespace rayspace::gpu_backend {
 
-struct RasterTargets {
-  std::vector<glm::vec4> diffuse, specular, position, normal;
-  std::vector<std::uint32_t> prim;
-  std::vector<float> depth;
-};
-
+// Draws the scene into `out`, the emulated raster's G-buffer layout (emu/streams.h).
 vk::Status RasterGBuffer(vk::Context& ctx, std::span<const std::uint32_t> vert_spirv,
                          std::span<const std::uint32_t> frag_spirv, const layout::FrameConstants& fc, const SceneBuffers& scene,
-                         std::uint32_t fault, RasterTargets& out);
+                         std::uint32_t fault, emu::GBuffer& out);
 
 }  // namespace rayspace::gpu_backend
