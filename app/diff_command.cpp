@@ -1,6 +1,7 @@
 #include "diff_command.h"
 #include "backend_setup.h"
 #include "cli_util.h"
+#include "kernel_model.h"
 
 #include <cmath>
 #include <cstddef>
@@ -80,32 +81,6 @@ void CheckRecorded(const nlohmann::json& j, const std::string& file) {
     if (!b.is_object() || (b.contains("pass") && !b["pass"].is_string()))
       ThrowInput("{}: buffers[{}] must be an object with a string 'pass'", file, i);
   }
-}
-
-gpu_backend::Faults ParseInject(const std::string& spec) {
-  gpu_backend::Faults f;
-  if (spec.empty()) return f;
-  const auto colon = spec.find(':');
-  const std::string pass = spec.substr(0, colon);
-  std::uint32_t fault = 1;
-  if (colon != std::string::npos) {
-    try {
-      fault = static_cast<std::uint32_t>(std::stoul(spec.substr(colon + 1)));
-    } catch (...) {
-      ThrowInput("--inject '{}': the fault after ':' must be a number", spec);
-    }
-  }
-  std::string known;
-  for (const PassSpec& p : kPasses) {
-    const std::size_t count = p.faults.size();
-    known += (known.empty() ? "" : ", ") + fmt::format("{} (faults 1..{})", p.name, count);
-    if (p.name == pass) {
-      if (fault < 1 || fault > count) ThrowInput("--inject '{}': {} has faults 1..{}", spec, pass, count);
-      f[pass] = fault;
-      return f;
-    }
-  }
-  ThrowInput("--inject '{}': no kernel named '{}'; kernels: {}", spec, pass, known);
 }
 
 nlohmann::json CallJson(const verify::CallRecord& c) {
@@ -200,10 +175,43 @@ void PrintFirstDivergence(const verify::CallRecord* first) {
   }
 }
 
+// The workgroup checker's reports (an emulated kernel raced, read an unwritten shared word or hit a
+// divergent barrier) on stdout, at most 10 lines, and as the report's "workgroup_checker".
+nlohmann::json PrintCheckerReports(const wg::CheckResult& r) {
+  const std::string dispatch = r.reports.empty() ? std::string("?") : r.reports.front().dispatch;
+  const std::optional<PassId> pass = PassOfLabel(dispatch);
+  nlohmann::json j = {{"pass", pass ? std::string(Pass(*pass).name) : dispatch},
+                      {"dispatch", dispatch},
+                      {"count", r.reports.size() + r.dropped},
+                      {"reports", nlohmann::json::array()}};
+  // Kinds by what they say of the kernel: a divergent barrier or a race is the cause, an unwritten read
+  // usually its consequence. The printed lines follow this order.
+  constexpr wg::ReportKind kOrder[] = {wg::ReportKind::kDivergentBarrier, wg::ReportKind::kBarrierInPhase,
+                                       wg::ReportKind::kRace,             wg::ReportKind::kOutOfBounds,
+                                       wg::ReportKind::kInvalidLane,      wg::ReportKind::kUninitialisedRead};
+  std::string kinds;
+  std::vector<const wg::Report*> ordered;
+  for (wg::ReportKind k : kOrder) {
+    if (const std::size_t n = r.Count(k)) kinds += fmt::format("{}{} {}", kinds.empty() ? "" : ", ", n, wg::ToString(k));
+    for (const wg::Report& rep : r.reports)
+      if (rep.kind == k) ordered.push_back(&rep);
+  }
+  std::printf("  workgroup checker: %zu report(s) in %s (pass %s): %s\n", r.reports.size() + r.dropped, dispatch.c_str(),
+              j["pass"].get<std::string>().c_str(), kinds.c_str());
+  for (std::size_t k = 0; k < ordered.size(); ++k) {
+    const wg::Report& rep = *ordered[k];
+    if (k < 10) std::printf("    %s\n", rep.message.c_str());
+    j["reports"].push_back({{"kind", wg::ToString(rep.kind)}, {"workgroup", rep.workgroup}, {"phase", rep.phase},
+                            {"array", rep.array}, {"word", rep.word}, {"invocations", {rep.inv_a, rep.inv_b}},
+                            {"message", rep.message}});
+  }
+  return j;
+}
+
 // The --report file: the run, every pass's totals and every call.
 void WriteDiffReport(const DiffArgs& args, const Scene& scene, const emu::FrameOptions& fo, const Backend& gpu,
                      const verify::Differ& differ, const nlohmann::json& passes, bool equal, const std::string& stopped,
-                     const verify::CallRecord* first, const emu::FrameResult& frame) {
+                     const verify::CallRecord* first, const emu::FrameResult& frame, const nlohmann::json& checker) {
   nlohmann::json calls = nlohmann::json::array();
   for (const verify::CallRecord& c : differ.calls()) calls.push_back(CallJson(c));
   nlohmann::json j = {{"scene", scene.name},
@@ -213,7 +221,11 @@ void WriteDiffReport(const DiffArgs& args, const Scene& scene, const emu::FrameO
                       {"device", gpu.device},
                       {"emulation_model", EmulationModel()},
                       {"inject", args.inject},
+                      {"planted_fault_seen", args.inject.empty() ? nlohmann::json(nullptr) : nlohmann::json(!equal)},
                       {"local_size", args.local_size},
+                      {"subgroup_size", wg::SubgroupSize()},
+                      {"schedule", ToString(wg::GetSchedule())},
+                      {"workgroup_checker", checker},
                       {"split_dispatches", gpu.extra_dispatches(gpu)},
                       {"paged_arrays", gpu.paged_arrays(gpu)},
                       {"passes", passes},
@@ -234,7 +246,9 @@ void WriteDiffReport(const DiffArgs& args, const Scene& scene, const emu::FrameO
 ExitCode RunDiff(const DiffArgs& args) {
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
-  const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, ParseInject(args.inject), args.Limits(), args.kernels);
+  const Injection injection = ParseInject(args.inject);
+  const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, injection.kernel, args.Limits(), args.kernels);
+  ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
   const SceneBuffers buffers = FlattenScene(scene);
   CheckFrameFits(gpu, fo.width, fo.height, scene.lights.size(), buffers.triangles.size());
   auto direct = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);
@@ -259,12 +273,18 @@ ExitCode RunDiff(const DiffArgs& args) {
 
   std::printf("rayspace diff: %s (%dx%d, %s) on %s\n  emulation model: %s\n", scene.name.c_str(), fo.width, fo.height,
               args.algo.c_str(), gpu.device.c_str(), EmulationModel().c_str());
+  std::printf("  workgroups: local size %d, subgroup size %u, schedule %s, checker %s\n", args.local_size,
+              wg::SubgroupSize(), ToString(wg::GetSchedule()).c_str(), wg::Checking() ? "on" : "off");
   std::string stopped;
+  nlohmann::json checker = nullptr;  // the workgroup checker's reports, when it stopped the frame
   emu::FrameResult frame;
   try {
     frame = emu::RenderFrame(scene, buffers, tracer, fo);
   } catch (const verify::DiffStop& stop) {
     stopped = stop.what();
+  } catch (const wg::CheckError& e) {
+    checker = PrintCheckerReports(e.result);
+    stopped = "the emulator's workgroup checker stopped the frame in " + checker["pass"].get<std::string>();
   }
 
   // Totals per kernel pass, in order of first appearance.
@@ -274,11 +294,22 @@ ExitCode RunDiff(const DiffArgs& args) {
   PrintFirstDivergence(first);
   if (!stopped.empty()) std::printf("  stopped: %s\n", stopped.c_str());
   const bool equal = first == nullptr && stopped.empty();
-  std::printf("  %s\n", equal ? "all passes equal" : ("first divergent pass: " + (first ? first->pass : std::string("?"))).c_str());
+  if (equal)
+    std::printf("  all passes equal\n");
+  else if (first)
+    std::printf("  first divergent pass: %s\n", first->pass.c_str());
+  else
+    std::printf("  no pass compared unequal before the stop\n");
   if (equal) std::printf("  frame digest %s\n", HexDigest(frame.digest.Frame()).c_str());
+  // A kernel-side fault the device ran without a visible effect (a race that came out right, a
+  // divergent barrier its SIMD code reaches anyway) is not a pass: say so.
+  if (equal && !injection.kernel.empty())
+    std::printf("  planted fault %s: not seen, the device executed it benignly (local size %d, subgroup size %u)\n",
+                args.inject.c_str(), args.local_size, wg::SubgroupSize());
   std::printf("  vulkan: %zu split dispatches, %zu arrays paged over several bindings\n", gpu.extra_dispatches(gpu),
               gpu.paged_arrays(gpu));
-  if (!args.report.empty()) WriteDiffReport(args, scene, fo, gpu, differ, passes, equal, stopped, first, frame);
+  if (!args.report.empty()) WriteDiffReport(args, scene, fo, gpu, differ, passes, equal, stopped, first, frame, checker);
+  if (!checker.is_null()) return ExitCode::kWorkgroupFault;
   return equal ? ExitCode::kOk : ExitCode::kDivergence;
 }
 
@@ -287,12 +318,20 @@ ExitCode RunReplay(const ReplayArgs& args) {
   const verify::BufferSet in = verify::BufferSet::Load(args.dir, method_name);
   const verify::PassMethod& method = verify::FindPassMethod(method_name);
   CheckSavedInputs(in, args.dir);
-  const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, ParseInject(args.inject), {args.split_bytes, args.max_groups}, args.kernels);
+  const Injection injection = ParseInject(args.inject);
+  const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, injection.kernel, {args.split_bytes, args.max_groups}, args.kernels);
+  ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
   verify::Backends expected{emu::EmuFramePasses(), emu::EmuHierarchyPasses()};
   verify::Backends actual{gpu.Frame(), gpu.Hierarchy()};
   verify::BufferSet out;
-  const verify::CallRecord r = verify::RunAndCompare(method, in, expected, actual, out);
   std::printf("rayspace replay: %s (%s) on %s\n", method.pass(in).c_str(), method_name.c_str(), gpu.device.c_str());
+  verify::CallRecord r;
+  try {
+    r = verify::RunAndCompare(method, in, expected, actual, out);
+  } catch (const wg::CheckError& e) {
+    PrintCheckerReports(e.result);
+    return ExitCode::kWorkgroupFault;
+  }
   if (!r.error.empty()) std::printf("  vulkan backend failed: %s\n", r.error.c_str());
   for (const BufferComparison& b : r.buffers) std::printf("  %s\n", b.Summary().c_str());
   // The comparison the diff recorded when it saved these inputs, if present: same answer expected.

@@ -9,6 +9,7 @@ namespace rayspace::app {
 
 // The frame, tracer and device options shared with render (FrameArgs), and diff's own.
 struct DiffArgs : FrameArgs {
+  DiffArgs() { model = KernelModelArgs::Checked(); }  // a verification run checks the workgroups (3% slower)
   std::string scene, report, inject, save_inputs;
   int local_size = 64;
 };
@@ -19,6 +20,7 @@ ExitCode RunDiff(const DiffArgs& args);
 
 struct ReplayArgs {
   std::string dir, report, inject;
+  KernelModelArgs model = KernelModelArgs::Checked();  // --schedule, --check-workgroups
   int device = -1;
   int local_size = 64;
   KernelFiles kernels;

@@ -14,6 +14,7 @@ enum class ExitCode : int {
   kOracleMismatch = 3,
   kDivergence = 4,
   kNotReproduced = 5,
+  kWorkgroupFault = 6,
 };
 
 struct ExitCodeMeaning {
@@ -28,6 +29,7 @@ inline constexpr ExitCodeMeaning kExitCodes[] = {
     {ExitCode::kOracleMismatch, "render: the oracle found rays the frame got wrong"},
     {ExitCode::kDivergence, "diff or replay: a pass diverged"},
     {ExitCode::kNotReproduced, "replay: the recorded comparison was not reproduced"},
+    {ExitCode::kWorkgroupFault, "render, diff or replay: the workgroup checker found a race, a read of an unwritten shared word or a divergent barrier in an emulated kernel"},
 };
 
 // The value main() returns.

@@ -32,6 +32,7 @@ void AddFrameOptions(CLI::App& command, FrameArgs& args) {
   AddDeviceOption(command, args.device);
   AddLimitOptions(command, args.split_bytes, args.max_groups);
   AddKernelOption(command, args.kernels);
+  AddKernelModelOptions(command, args.model);
 }
 
 void AddLimitOptions(CLI::App& command, std::size_t& split_bytes, std::uint32_t& max_groups) {

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "backend_setup.h"
+#include "kernel_model.h"
 #include "rayspace/emu/hierarchy.h"
 
 namespace CLI {
@@ -30,6 +31,7 @@ struct FrameArgs {
   std::size_t split_bytes = 0;
   std::uint32_t max_groups = 0;
   KernelFiles kernels;  // --kernel PASS=FILE (Vulkan): user kernels in place of built-in ones
+  KernelModelArgs model;  // --schedule, --check-workgroups (the emulated workgroup kernels)
 
   TestLimits Limits() const { return {split_bytes, max_groups}; }
   // crsh, rah and rah-quadtree trace with the hierarchy; brute and embree do not.
@@ -37,7 +39,8 @@ struct FrameArgs {
 };
 
 // Registers --algo, --subdivision, --depth, --reduction, --component-size, --pair-capacity, --size,
-// --data, --device, --split-bytes and --max-groups on `command`, writing into `args`.
+// --data, --device, --split-bytes, --max-groups, --kernel, --schedule and --check-workgroups on
+// `command`, writing into `args`.
 void AddFrameOptions(CLI::App& command, FrameArgs& args);
 // --device alone (replay runs on a device but renders no frame).
 void AddDeviceOption(CLI::App& command, int& device);

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rayspace/error.h"
+#include "rayspace/workgroup.h"
 #include "accuracy_command.h"
 #include "exit_codes.h"
 #include "render_command.h"
@@ -52,14 +53,16 @@ int main(int argc, char** argv) {
   dc->add_option("scene", diff.scene, "Scene JSON file")->required();
   rayspace::app::AddFrameOptions(*dc, diff);
   dc->add_option("--report", diff.report, "Write the comparison as JSON to this file");
-  dc->add_option("--inject", diff.inject, "Plant a fault in one kernel: PASS[:FAULT] (test use)");
+  dc->add_option("--inject", diff.inject, "Plant a fault in one kernel: PASS[:FAULT][@emu], FAULT a number or a "
+                 "workgroup fault's name; @emu plants it in the emulated kernel (test use)");
   rayspace::app::AddLocalSizeOption(*dc, diff.local_size);
   dc->add_option("--save-inputs", diff.save_inputs, "Write every pass call's inputs to DIR/NNNN-PASS/ (for replay)");
   rayspace::app::ReplayArgs replay;
   CLI::App* pc = app.add_subcommand("replay", "Run one pass call saved by diff --save-inputs on both backends and compare");
   pc->add_option("dir", replay.dir, "Directory of the saved call (DIR/NNNN-PASS)")->required();
   pc->add_option("--report", replay.report, "Write the comparison as JSON to this file");
-  pc->add_option("--inject", replay.inject, "Plant a fault in one kernel: PASS[:FAULT] (test use)");
+  pc->add_option("--inject", replay.inject, "Plant a fault in one kernel: PASS[:FAULT][@emu] (test use)");
+  rayspace::app::AddKernelModelOptions(*pc, replay.model);
   rayspace::app::AddLocalSizeOption(*pc, replay.local_size);
   rayspace::app::AddKernelOption(*pc, replay.kernels);
   rayspace::app::AddDeviceOption(*pc, replay.device);
@@ -73,6 +76,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "rayspace: error: %s\n", e.what());
     return ToInt(ExitCode::kBadInput);
   }
+  rayspace::wg::SetChecking(false);  // unless a command asks: --check-workgroups, an @emu fault
   try {
     if (rc->parsed()) return ToInt(rayspace::app::RunRender(render));
     if (ac->parsed()) return ToInt(rayspace::app::RunAccuracy(accuracy));
@@ -83,6 +87,9 @@ int main(int argc, char** argv) {
   } catch (const rayspace::InputError& e) {
     std::fprintf(stderr, "rayspace: error: %s\n", e.what());
     return ToInt(ExitCode::kBadInput);
+  } catch (const rayspace::wg::CheckError& e) {
+    std::fprintf(stderr, "rayspace: workgroup checker: %s\n", e.what());
+    return ToInt(ExitCode::kWorkgroupFault);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "rayspace: failure: %s\n", e.what());
     return ToInt(ExitCode::kInternal);

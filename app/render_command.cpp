@@ -198,6 +198,7 @@ ExitCode RunRender(const RenderArgs& args) {
   }
 
   const Backend backend = MakeBackend(args.backend, args.device, 64, {}, args.Limits(), args.kernels);
+  ConfigureEmulatedKernels(args.model, 64, backend.subgroup_size, {});
   fo.passes = backend.frame;
   const SceneBuffers buffers = FlattenScene(scene);
   CheckFrameFits(backend, fo.width, fo.height, scene.lights.size(), buffers.triangles.size());

@@ -13,6 +13,10 @@ using namespace rayspace;
 
 namespace {
 
+// The emulated passes run unchecked, as `rayspace render` runs them; the workgroup benchmarks below
+// set checking per dispatch.
+const bool kUnchecked = (wg::SetChecking(false), true);
+
 struct Loaded {
   Scene scene;
   SceneBuffers buffers;

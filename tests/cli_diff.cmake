@@ -83,8 +83,53 @@ function(diff_case name scene size inject expect_rc expect_first)
   if(expect_rc EQUAL 0 AND NOT equal)
     set(failures "${failures}\n${name}: report says not equal" PARENT_SCOPE)
   endif()
+  if(expect_rc EQUAL 0 AND inject AND NOT out MATCHES "planted fault ${inject}: not seen, the device executed it benignly")
+    set(failures "${failures}\n${name}: an unseen planted fault is not reported as benign: ${out}" PARENT_SCOPE)
+  endif()
   if(NOT "${first}" STREQUAL "${expect_first}")
     set(failures "${failures}\n${name}: first divergent pass '${first}', expected '${expect_first}'" PARENT_SCOPE)
+  endif()
+endfunction()
+
+# checker_case(NAME SCENE SIZE INJECT PASS [diff options...]): a fault planted in an emulated kernel
+# (INJECT ends in @emu) must stop the diff with exit 6, before any comparison of PASS, with the
+# workgroup checker's reports naming PASS, a shared word (or, for a divergent barrier, listed
+# first, the invocations that reached it and did not) and the invocations.
+function(checker_case name scene size inject pass)
+  case_selected("${name}" run)
+  set(cli_diff_cases "${cli_diff_cases}" PARENT_SCOPE)
+  if(NOT run)
+    return()
+  endif()
+  set(matched TRUE PARENT_SCOPE)
+  scene_path("${scene}" path)
+  execute_process(COMMAND "${RAYSPACE}" diff "${path}" --data "${DATA}" --size ${size} --inject ${inject}
+                          --report "${case_work}/report.json" ${ARGN}
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 6 OR NOT out MATCHES "workgroup checker: [0-9]+ report\\(s\\) in ${pass}\\.[A-Za-z]+ \\(pass ${pass}\\)")
+    set(failures "${failures}\n${name}: exit ${rc}, expected 6 and the checker naming ${pass}: ${out}${err}" PARENT_SCOPE)
+    return()
+  endif()
+  file(READ "${case_work}/report.json" j)
+  string(JSON checked GET "${j}" workgroup_checker pass)
+  string(JSON word GET "${j}" workgroup_checker reports 0 word)
+  string(JSON inv GET "${j}" workgroup_checker reports 0 invocations 0)
+  string(JSON array GET "${j}" workgroup_checker reports 0 array)
+  string(JSON kind GET "${j}" workgroup_checker reports 0 kind)
+  if(kind STREQUAL "divergent barrier")  # names the two invocations, no word
+    set(array "wg_tile")
+  endif()
+  string(JSON compared LENGTH "${j}" calls)
+  foreach(k RANGE ${compared})
+    if(k LESS compared)
+      string(JSON p GET "${j}" calls ${k} pass)
+      if(p STREQUAL pass)
+        set(failures "${failures}\n${name}: ${pass} was compared before the checker stopped it" PARENT_SCOPE)
+      endif()
+    endif()
+  endforeach()
+  if(NOT checked STREQUAL pass OR NOT array STREQUAL "wg_tile" OR inv GREATER 1023 OR word STREQUAL "")
+    set(failures "${failures}\n${name}: checker report names pass '${checked}', array '${array}', word '${word}', invocation '${inv}'" PARENT_SCOPE)
   endif()
 endfunction()
 
@@ -128,6 +173,22 @@ diff_case(fault.raygen.refraction:1 glass 96x96 raygen.refraction:1 4 raygen.ref
 # order-independent reductions).
 foreach(ls 1 7 32 256 1024)
   diff_case(cornell.crsh.local-size-${ls} cornell-mirrors 96x96 "" 0 "" --local-size ${ls})
+endforeach()
+# Every bundled scene at local sizes 32, 64 and 256 and every emulator schedule (the emulated
+# workgroup kernels with the checker on): each pair of sizes and orders must give the same bits.
+foreach(scene cornell-mirrors office sponza)
+  foreach(ls 32 64 256)
+    foreach(schedule forward reverse random:7)
+      set(name ${scene}.schedule.${ls}.${schedule})
+      if("${CASE}" STREQUAL "${name}" AND scene STREQUAL "sponza" AND NOT EXISTS "${DATA}/sponza_dabrovic/sponza.obj")
+        case_selected(${name} run)
+        set(skipped TRUE)
+        message("cli.diff: skipped, no sponza_dabrovic/sponza.obj under ${DATA}")
+      else()
+        diff_case(${name} ${scene} 64x64 "" 0 "" --local-size ${ls} --schedule ${schedule})
+      endif()
+    endforeach()
+  endforeach()
 endforeach()
 # Components smaller than a workgroup and not a multiple of it (one workgroup per component).
 diff_case(cornell.crsh.component-7 cornell-mirrors 64x64 "" 0 "" --component-size 7 --local-size 32)
@@ -176,6 +237,47 @@ endforeach()
 # The scan-based reduction's fault needs the scan reduction.
 diff_case(fault.reduce:2 cornell-mirrors 64x64 reduce:2 4 reduce --reduction scan)
 diff_case(fault.rah.traverse:1 cornell-mirrors 64x64 traverse:1 4 traverse --algo rah)
+
+# The workgroup faults (kFault* in rayspace/contract.h), planted in workgroup.glsl's
+# WorkgroupInclusiveAdd or in its emulated mirror. In the kernel the diff must catch them in their
+# pass; lavapipe runs the divergent barrier benignly (its SIMD code reaches the barrier on every
+# path), which the diff must say. In the emulated kernel the workgroup checker must name them first.
+diff_case(fault.trim:dropped-barrier cornell-mirrors 64x64 trim:dropped-barrier 4 trim)
+diff_case(fault.trim:divergent-barrier cornell-mirrors 64x64 trim:divergent-barrier 0 "")
+diff_case(fault.trim:subgroup-32 cornell-mirrors 64x64 trim:subgroup-32 4 trim)
+diff_case(fault.trim:shared-off-by-one cornell-mirrors 64x64 trim:shared-off-by-one 4 trim)
+diff_case(fault.trim:workgroup-offset cornell-mirrors 64x64 trim:workgroup-offset 4 trim)
+diff_case(fault.compress:dropped-barrier cornell-mirrors 64x64 compress:dropped-barrier 4 compress)
+diff_case(fault.compress:divergent-barrier cornell-mirrors 64x64 compress:divergent-barrier 0 "")
+diff_case(fault.compress:subgroup-32 cornell-mirrors 64x64 compress:subgroup-32 4 compress)
+diff_case(fault.compress:shared-off-by-one cornell-mirrors 64x64 compress:shared-off-by-one 4 compress)
+diff_case(fault.decompress:dropped-barrier cornell-mirrors 64x64 decompress:dropped-barrier 4 decompress)
+diff_case(fault.decompress:divergent-barrier cornell-mirrors 64x64 decompress:divergent-barrier 0 "")
+diff_case(fault.decompress:subgroup-32 cornell-mirrors 64x64 decompress:subgroup-32 4 decompress)
+diff_case(fault.decompress:shared-off-by-one cornell-mirrors 64x64 decompress:shared-off-by-one 4 decompress)
+diff_case(fault.reduce:dropped-barrier cornell-mirrors 64x64 reduce:dropped-barrier 4 reduce)
+diff_case(fault.reduce:divergent-barrier cornell-mirrors 64x64 reduce:divergent-barrier 0 "")
+diff_case(fault.reduce:subgroup-32 cornell-mirrors 64x64 reduce:subgroup-32 4 reduce)
+diff_case(fault.reduce:shared-off-by-one cornell-mirrors 64x64 reduce:shared-off-by-one 4 reduce)
+checker_case(fault.trim:dropped-barrier@emu cornell-mirrors 64x64 trim:dropped-barrier@emu trim)
+checker_case(fault.trim:divergent-barrier@emu cornell-mirrors 64x64 trim:divergent-barrier@emu trim)
+checker_case(fault.trim:subgroup-32@emu cornell-mirrors 64x64 trim:subgroup-32@emu trim)
+checker_case(fault.trim:shared-off-by-one@emu cornell-mirrors 64x64 trim:shared-off-by-one@emu trim)
+checker_case(fault.compress:dropped-barrier@emu cornell-mirrors 64x64 compress:dropped-barrier@emu compress)
+checker_case(fault.compress:divergent-barrier@emu cornell-mirrors 64x64 compress:divergent-barrier@emu compress)
+checker_case(fault.compress:subgroup-32@emu cornell-mirrors 64x64 compress:subgroup-32@emu compress)
+checker_case(fault.compress:shared-off-by-one@emu cornell-mirrors 64x64 compress:shared-off-by-one@emu compress)
+checker_case(fault.decompress:dropped-barrier@emu cornell-mirrors 64x64 decompress:dropped-barrier@emu decompress)
+checker_case(fault.decompress:divergent-barrier@emu cornell-mirrors 64x64 decompress:divergent-barrier@emu decompress)
+checker_case(fault.decompress:subgroup-32@emu cornell-mirrors 64x64 decompress:subgroup-32@emu decompress)
+checker_case(fault.decompress:shared-off-by-one@emu cornell-mirrors 64x64 decompress:shared-off-by-one@emu decompress)
+checker_case(fault.reduce:dropped-barrier@emu cornell-mirrors 64x64 reduce:dropped-barrier@emu reduce)
+checker_case(fault.reduce:divergent-barrier@emu cornell-mirrors 64x64 reduce:divergent-barrier@emu reduce)
+checker_case(fault.reduce:subgroup-32@emu cornell-mirrors 64x64 reduce:subgroup-32@emu reduce)
+checker_case(fault.reduce:shared-off-by-one@emu cornell-mirrors 64x64 reduce:shared-off-by-one@emu reduce)
+# The wrong workgroup offset is in global memory, which the checker does not watch: the diff must
+# catch the emulated kernel's fault as it catches the Vulkan one's.
+diff_case(fault.trim:workgroup-offset@emu cornell-mirrors 64x64 trim:workgroup-offset@emu 4 trim)
 
 # Saved inputs replay to the same comparison: with the fault it diverges again ("reproduced"),
 # without it the pass is equal, which differs from the recording (exit 5).

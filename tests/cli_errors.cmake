@@ -118,6 +118,21 @@ expect_error(NAME "--split-bytes 100 (below one element of every buffer)"
 expect_error(NAME "--max-groups 0"
              NEEDLES "--max-groups" "0"
              ARGS diff "${WORK}/good.json" --max-groups 0)
+expect_error(NAME "--schedule sideways"
+             NEEDLES "--schedule" "sideways" "forward, reverse or random"
+             ARGS render "${WORK}/good.json" --schedule sideways --out "${WORK}/x.png")
+expect_error(NAME "--schedule random:-1"
+             NEEDLES "--schedule" "random:-1"
+             ARGS diff "${WORK}/good.json" --schedule random:-1)
+expect_error(NAME "--inject trim:no-such-fault"
+             NEEDLES "--inject" "trim:no-such-fault" "dropped-barrier"
+             ARGS diff "${WORK}/good.json" --inject trim:no-such-fault)
+expect_error(NAME "--inject trim:1@emu (a fault the emulator does not have)"
+             NEEDLES "--inject" "trim:1@emu" "workgroup faults"
+             ARGS diff "${WORK}/good.json" --inject trim:1@emu)
+expect_error(NAME "--inject trim:dropped-barrier@gpu"
+             NEEDLES "--inject" "'emu'"
+             ARGS diff "${WORK}/good.json" --inject trim:dropped-barrier@gpu)
 expect_error(NAME "--algo nope"
              NEEDLES "--algo" "nope"
              ARGS render "${WORK}/good.json" --algo nope --out "${WORK}/x.png")

@@ -78,15 +78,17 @@ TEST_CASE("registry: thesis phases are the timing table's") {
 }
 
 TEST_CASE("registry: every planted fault has a diff case that must catch it in its own pass") {
-  // tests/cli_diff.cmake runs each fault as the ctest cli.diff.fault.[<algo>.]<pass>:<n>.
+  // tests/cli_diff.cmake runs each fault as the ctest cli.diff.fault.[<algo>.]<pass>:<n>, a workgroup
+  // fault by its name on both sides, <pass>:<name> and <pass>:<name>@emu.
   std::ifstream in(std::string(RAYSPACE_SOURCE_DIR) + "/tests/cli_diff.cmake");
   REQUIRE(in.good());
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   for (const PassSpec& p : kPasses)
     for (const FaultSpec& f : p.faults) {
-      const std::string id = std::string(p.name) + ":" + std::to_string(f.number);
+      const std::string id = std::string(p.name) + ":" + (f.name.empty() ? std::to_string(f.number) : std::string(f.name));
       INFO("fault ", id, " (", std::string(f.effect), ")");
       CHECK(text.find(id) != std::string::npos);
+      if (!f.name.empty()) CHECK(text.find(id + "@emu") != std::string::npos);
     }
 }
 

@@ -2,11 +2,14 @@
 // the scan's block boundaries and every schedule.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <numeric>
 #include <random>
 
 #include "rayspace/emu/passes.h"
+#include "rayspace/contract.h"
 #include "rayspace/parallel.h"
+#include "rayspace/workgroup.h"
 
 using namespace rayspace;
 
@@ -38,4 +41,93 @@ TEST_CASE("trim: exclusive scan and scatter keep input order") {
     }
   }
   SetChunkSize(0);
+}
+
+namespace {
+
+// Restores the emulator's workgroup settings after a test changes them.
+struct ModelGuard {
+  ~ModelGuard() {
+    wg::SetSchedule({});
+    wg::SetLocalSize(64);
+    wg::SetSubgroupSize(8);
+    wg::SetChecking(true);
+    emu::SetEmuFaults({});
+  }
+};
+
+std::vector<std::uint32_t> RandomFlags(std::size_t n, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::vector<std::uint32_t> f(n);
+  for (auto& x : f) x = rng() % 3 == 0 ? 1u : 0u;
+  return f;
+}
+
+}  // namespace
+
+TEST_CASE("trim: the workgroup mirror is bit-identical under every schedule, local size and subgroup size") {
+  ModelGuard guard;
+  const std::vector<std::uint32_t> flags = RandomFlags(3 * 4096 + 77, 5);
+  std::vector<std::uint32_t> expect(flags.size());
+  std::exclusive_scan(flags.begin(), flags.end(), expect.begin(), 0u);
+  for (std::uint32_t local : {1u, 7u, 32u, 64u, 256u, 1024u})
+    for (std::uint32_t sg : {1u, 8u, 32u})
+      for (wg::Schedule s : {wg::Schedule{wg::Order::kForward, 0}, wg::Schedule{wg::Order::kReverse, 0},
+                             wg::Schedule{wg::Order::kRandom, 3}, wg::Schedule{wg::Order::kRandom, 99}}) {
+        INFO("local size " << local << " subgroup " << sg << " order " << static_cast<int>(s.order) << " seed " << s.seed);
+        wg::SetLocalSize(local);
+        wg::SetSubgroupSize(sg);
+        wg::SetSchedule(s);
+        std::uint32_t total = 0;
+        CHECK(emu::ExclusiveScan(flags, &total, {"trim"}) == expect);  // checker on: a report throws
+        CHECK(total == expect.back() + flags.back());
+      }
+}
+
+TEST_CASE("trim: each planted workgroup fault is named by the checker; the wrong offset by the result") {
+  ModelGuard guard;
+  const std::vector<std::uint32_t> flags = RandomFlags(2 * 4096 + 5, 9);
+  struct Case {
+    std::uint32_t fault;
+    wg::ReportKind kind;
+  };
+  for (const Case& c : {Case{layout::kFaultDroppedBarrier, wg::ReportKind::kRace},
+                        Case{layout::kFaultDivergentBarrier, wg::ReportKind::kDivergentBarrier},
+                        Case{layout::kFaultSubgroup32, wg::ReportKind::kRace},
+                        Case{layout::kFaultSharedOffByOne, wg::ReportKind::kUninitialisedRead}}) {
+    INFO("fault " << c.fault);
+    emu::SetEmuFaults({{"trim", c.fault}});
+    try {
+      emu::PassTrim({.kind = layout::kRayShadow, .rays = std::vector<layout::Ray>(flags.size()), .flags = flags});
+      FAIL("the checker did not report the planted fault");
+    } catch (const wg::CheckError& e) {
+      const auto it = std::find_if(e.result.reports.begin(), e.result.reports.end(),
+                                   [&](const wg::Report& r) { return r.kind == c.kind; });
+      REQUIRE(it != e.result.reports.end());
+      CHECK(it->dispatch == "trim.BlockSums");
+      CHECK(it->array == (c.kind == wg::ReportKind::kDivergentBarrier ? "" : "wg_tile"));
+      CHECK(it->inv_a != wg::kNoInvocation);
+    }
+  }
+  // Not a shared-memory fault: the checker stays silent, the offsets are wrong.
+  emu::SetEmuFaults({{"trim", layout::kFaultWorkgroupOffset}});
+  const emu::Trimmed t = emu::PassTrim({.kind = layout::kRayShadow, .rays = std::vector<layout::Ray>(flags.size()), .flags = flags});
+  std::vector<std::uint32_t> expect(flags.size());
+  std::exclusive_scan(flags.begin(), flags.end(), expect.begin(), 0u);
+  CHECK(t.offsets != expect);
+}
+
+TEST_CASE("trim: schedule variation exposes a dropped barrier even with the checker off") {
+  // Unchecked, the racy mirror runs on: its result depends on the order invocations run in, which is
+  // what varying the schedule is for.
+  ModelGuard guard;
+  wg::SetChecking(false);
+  emu::SetEmuFaults({{"trim", layout::kFaultDroppedBarrier}});
+  const std::vector<std::uint32_t> flags = RandomFlags(4096, 13);
+  std::uint32_t fwd_total = 0, rev_total = 0;
+  wg::SetSchedule({wg::Order::kForward, 0});
+  const auto fwd = emu::ExclusiveScan(flags, &fwd_total, emu::KernelSite::Of("trim"));
+  wg::SetSchedule({wg::Order::kReverse, 0});
+  const auto rev = emu::ExclusiveScan(flags, &rev_total, emu::KernelSite::Of("trim"));
+  CHECK(fwd != rev);
 }

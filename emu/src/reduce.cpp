@@ -11,7 +11,7 @@ namespace rayspace::emu {
 std::vector<std::uint32_t> ReduceScan(In<std::uint8_t> flags, In<std::uint32_t> values) {
   std::vector<std::uint32_t> f(flags.begin(), flags.end());
   std::uint32_t total = 0;
-  const std::vector<std::uint32_t> off = ExclusiveScan(f, &total);
+  const std::vector<std::uint32_t> off = ExclusiveScan(f, &total, KernelSite::Of("reduce"));
   std::vector<std::uint32_t> out(total);
   ParallelFor(flags.size(), [&](std::size_t i) {
     if (flags[i]) out[off[i]] = values[i];
@@ -32,7 +32,7 @@ std::vector<std::uint32_t> ReduceHierarchical(In<std::uint8_t> flags, In<std::ui
     counts[c] = k;
   });
   std::uint32_t total = 0;
-  const std::vector<std::uint32_t> off = ExclusiveScan(counts, &total);
+  const std::vector<std::uint32_t> off = ExclusiveScan(counts, &total, KernelSite::Of("reduce"));
   std::vector<std::uint32_t> out(total);
   ParallelFor(comps, [&](std::size_t c) {
     for (std::uint32_t k = 0; k < counts[c]; ++k) out[off[c] + k] = local[c * s + k];

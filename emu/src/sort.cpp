@@ -14,7 +14,7 @@ Chunks PassCompress(const call::Compress& in) {
   std::vector<std::uint32_t> head(n);
   ParallelFor(n, [&](std::size_t i) { head[i] = (i == 0 || keys[i] != keys[i - 1]) ? 1u : 0u; });
   std::uint32_t chunks = 0;
-  const std::vector<std::uint32_t> index = ExclusiveScan(head, &chunks);
+  const std::vector<std::uint32_t> index = ExclusiveScan(head, &chunks, KernelSite::Of("compress"));
   Chunks c;
   c.key.resize(chunks);
   c.base.resize(chunks);
@@ -52,7 +52,7 @@ std::vector<std::uint32_t> PassDecompress(const call::Decompress& c) {
   std::vector<std::uint32_t> sizes(sorted.size());
   ParallelFor(sorted.size(), [&](std::size_t j) { sizes[j] = c.chunk_size[sorted[j]]; });
   std::uint32_t total = 0;
-  const std::vector<std::uint32_t> start = ExclusiveScan(sizes, &total);
+  const std::vector<std::uint32_t> start = ExclusiveScan(sizes, &total, KernelSite::Of("decompress"));
   std::vector<std::uint32_t> order(total);
   ParallelFor(sorted.size(), [&](std::size_t j) {
     const std::uint32_t base = c.chunk_base[sorted[j]];

@@ -1,45 +1,36 @@
-// Order-preserving compaction: exclusive scan of the head flags, then scatter (thesis §3.2.3).
+// Order-preserving compaction: exclusive scan of the head flags, then scatter (thesis §3.2.3). Mirrors
+// gpu/shaders/trim.comp: reduce-then-scan over blocks, one workgroup a block (emu/workgroup_ops.h).
 #include "rayspace/contract.h"
 #include "rayspace/emu/passes.h"
-#include "rayspace/parallel.h"
+#include "rayspace/emu/workgroup_ops.h"
 
 namespace rayspace::emu {
 
-std::vector<std::uint32_t> ExclusiveScan(In<std::uint32_t> in, std::uint32_t* total) {
-  // Three phases over fixed-size blocks, as a GPU scan does: block sums, scan of the sums, block scan.
-  constexpr std::size_t kBlock = layout::kScanBlock;
-  const std::size_t n = in.size(), blocks = (n + kBlock - 1) / kBlock;
-  std::vector<std::uint32_t> sums(blocks, 0), out(n);
-  ParallelFor(blocks, [&](std::size_t b) {
-    std::uint32_t s = 0;
-    for (std::size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) s += in[i];
-    sums[b] = s;
-  });
-  std::uint32_t run = 0;
-  for (std::size_t b = 0; b < blocks; ++b) {
-    const std::uint32_t s = sums[b];
-    sums[b] = run;
-    run += s;
-  }
-  ParallelFor(blocks, [&](std::size_t b) {
-    std::uint32_t s = sums[b];
-    for (std::size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) {
-      out[i] = s;
-      s += in[i];
-    }
-  });
-  if (total) *total = run;
+std::vector<std::uint32_t> ExclusiveScan(In<std::uint32_t> in, std::uint32_t* total, const KernelSite& site) {
+  std::vector<std::uint32_t> out(in.size());
+  const std::uint32_t sum = ReduceThenScan(
+      site, in.size(), [&](std::size_t i) { return in[i]; }, [&](std::size_t i, std::uint32_t s) { out[i] = s; });
+  if (total) *total = sum;
   return out;
 }
 
 Trimmed PassTrim(const call::Trim& c) {
   Trimmed t;
-  std::uint32_t count = 0;
-  t.offsets = ExclusiveScan(c.flags, &count);
+  const In<std::uint32_t> flags = c.flags;
+  t.offsets.resize(flags.size());
+  // The dense stream's size is the scan's total, known only after the scatter: scatter the flagged
+  // rays into a stream as long as the input, then cut it.
+  t.rays.resize(flags.size());
+  const KernelSite site = KernelSite::Of("trim");
+  const std::uint32_t count = ReduceThenScan(
+      site, flags.size(), [&](std::size_t i) { return flags[i]; },
+      [&](std::size_t i, std::uint32_t s) {
+        t.offsets[i] = s;
+        // A dense index past the stream (only a planted wrong offset makes one) is dropped, as robust
+        // buffer access drops the kernel's store.
+        if (flags[i] && s < t.rays.size()) t.rays[s] = c.rays[i];
+      });
   t.rays.resize(count);
-  ParallelFor(c.flags.size(), [&](std::size_t i) {
-    if (c.flags[i]) t.rays[t.offsets[i]] = c.rays[i];
-  });
   return t;
 }
 

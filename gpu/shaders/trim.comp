@@ -34,7 +34,7 @@ void main() {
   } else {
     if (g >= blocks) return;
     const uint end = min(pc.n, (g + 1u) * kScanBlock);
-    uint run = sums[g];
+    uint run = sums[kFault == kFaultWorkgroupOffset ? g + 1u : g];
     for (uint c0 = g * kScanBlock; c0 < end; c0 += kLocalSize) {
       const uint i = c0 + l;
       const uint f = i < end ? flags[i] : 0u;

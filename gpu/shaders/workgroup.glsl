@@ -7,9 +7,7 @@
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_ballot : require
 
-// The most invocations a workgroup may have (kLocalSize <= this; the host's --local-size range).
-const uint kMaxLocalSize = 1024u;
-shared uint wg_tile[kMaxLocalSize];
+shared uint wg_tile[kMaxLocalSize];  // one word per subgroup (rayspace/contract.h)
 
 // This workgroup's index in the launch, rows of groups read in order (vk::Recorder::Dispatch folds
 // launches wider than maxComputeWorkGroupCount[0]); uniform across the workgroup.
@@ -21,15 +19,24 @@ uint WorkGroupIndex() { return gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGr
 // sum in shared memory, and after one barrier every invocation adds the sums of the subgroups before
 // its own: two barriers a call, whatever the workgroup size (the device's subgroup size is read, not
 // assumed). Integer sums, so the result does not depend on the order the device runs invocations in.
+// The planted faults kFault* of rayspace/contract.h live here, as in the emulator's mirror
+// (emu/src/workgroup_ops.cpp).
 uint WorkgroupInclusiveAdd(uint v, out uint total) {
   const uint inclusive = subgroupInclusiveAdd(v);
   const uint subgroup_sum = subgroupAdd(v);
-  if (subgroupElect()) wg_tile[gl_SubgroupID] = subgroup_sum;
-  barrier();
+  const bool wide = kFault == kFaultSubgroup32;
+  const uint subgroup = wide ? gl_LocalInvocationID.x / 32u : gl_SubgroupID;
+  const uint subgroups = wide ? (kLocalSize + 31u) / 32u : gl_NumSubgroups;
+  if (subgroupElect()) wg_tile[subgroup + (kFault == kFaultSharedOffByOne ? 1u : 0u)] = subgroup_sum;
+  if (kFault == kFaultDivergentBarrier) {
+    if (gl_LocalInvocationID.x < kLocalSize / 2u) barrier();
+  } else if (kFault != kFaultDroppedBarrier) {
+    barrier();
+  }
   uint before = 0u, all = 0u;
-  for (uint k = 0u; k < gl_NumSubgroups; ++k) {
+  for (uint k = 0u; k < subgroups; ++k) {
     const uint x = wg_tile[k];
-    before += k < gl_SubgroupID ? x : 0u;
+    before += k < subgroup ? x : 0u;
     all += x;
   }
   total = all;

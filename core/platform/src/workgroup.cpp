@@ -12,6 +12,7 @@ namespace {
 
 Schedule g_schedule;
 bool g_check = true;
+std::uint32_t g_local_size = 64, g_subgroup_size = 8;
 constexpr std::size_t kReportCap = 64;
 
 std::uint64_t SplitMix(std::uint64_t& s) {
@@ -40,6 +41,16 @@ void SetSchedule(Schedule s) { g_schedule = s; }
 Schedule GetSchedule() { return g_schedule; }
 void SetChecking(bool on) { g_check = on; }
 bool Checking() { return g_check; }
+void SetLocalSize(std::uint32_t n) {
+  RS_CHECK_MSG(n >= 1 && n <= 1024, "workgroup local size {} out of range [1, 1024]", n);
+  g_local_size = n;
+}
+std::uint32_t LocalSize() { return g_local_size; }
+void SetSubgroupSize(std::uint32_t n) {
+  RS_CHECK_MSG(n >= 1 && n <= 128 && (n & (n - 1)) == 0, "subgroup size {} is not a power of two in [1, 128]", n);
+  g_subgroup_size = n;
+}
+std::uint32_t SubgroupSize() { return g_subgroup_size; }
 
 const char* ToString(ReportKind k) {
   switch (k) {
@@ -262,7 +273,7 @@ Private<bool> Workgroup::SubgroupElect() {
 
 CheckResult Dispatch(const std::string& name, std::uint32_t groups, std::uint32_t local_size,
                      const std::function<void(Workgroup&)>& kernel, const DispatchOptions& options) {
-  const std::uint32_t sg = options.subgroup_size;
+  const std::uint32_t sg = options.subgroup_size.value_or(SubgroupSize());
   RS_CHECK_MSG(sg >= 1 && sg <= 128 && (sg & (sg - 1)) == 0, "dispatch {}: subgroup size {}", name, sg);
   RS_CHECK_MSG(local_size >= 1, "dispatch {}: empty workgroup", name);
   const Schedule schedule = options.schedule.value_or(GetSchedule());

@@ -19,9 +19,20 @@ namespace rayspace::layout {
 #endif
 
 // ---- shared by several kernels ----------------------------------------------------------------
-// Blocked scans, histograms and scatters walk blocks of this many elements, one invocation a block:
+// Blocked scans, histograms and scatters walk blocks of this many elements, one workgroup a block:
 // lavapipe ends any loop after 65,535 iterations, so no loop may run over a whole stream.
 RS_CONST(uint, kScanBlock, 4096u);
+// The most invocations a workgroup may have (--local-size 1..kMaxLocalSize); the workgroup building
+// blocks (workgroup.glsl) keep one shared word per subgroup in an array of this size.
+RS_CONST(uint, kMaxLocalSize, 1024u);
+// Planted faults of the workgroup building blocks (gpu/shaders/workgroup.glsl and their emulator
+// mirror, emu/workgroup_ops.h), the mistakes GPU developers make: every pass whose kernel uses the
+// blocks lists them under these numbers (rayspace/pass_registry.h), `--inject PASS:NAME[@emu]`.
+RS_CONST(uint, kFaultDroppedBarrier, 11u);    // the barrier between publishing and reading subgroup sums
+RS_CONST(uint, kFaultDivergentBarrier, 12u);  // that barrier reached by the first half of the workgroup only
+RS_CONST(uint, kFaultSubgroup32, 13u);        // the subgroup size assumed to be 32
+RS_CONST(uint, kFaultSharedOffByOne, 14u);    // subgroup sums published one shared word too far
+RS_CONST(uint, kFaultWorkgroupOffset, 15u);   // a workgroup starts at the next block's offset of the global scan
 // A (node, triangle) pair is packed as (node - level base) << kPairTriangleBits | (triangle - b0):
 // a triangle batch holds at most 2^14 triangles and a level at most 2^18 nodes per batch.
 RS_CONST(uint, kPairTriangleBits, 14u);

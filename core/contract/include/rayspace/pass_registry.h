@@ -39,10 +39,13 @@ enum class PassId : std::uint8_t {
 inline constexpr std::size_t kPassCount = static_cast<std::size_t>(PassId::kCount);
 
 // A planted fault: a known bug compiled into the kernel through specialization constant 0
-// (`--inject PASS:N`), which the diff must report in this pass first.
+// (`--inject PASS:N` or `PASS:NAME`), which the diff must report in this pass first. Faults with a name
+// are the workgroup faults (kFault* of rayspace/contract.h), plantable on the emulator's side too
+// (`PASS:NAME@emu`), where the workgroup checker must name them before any comparison.
 struct FaultSpec {
   std::uint32_t number;
   std::string_view effect;
+  std::string_view name = {};
 };
 
 // A call of the backend interface (emu/backend.h) that runs this pass. `index_outputs` are outputs
@@ -126,18 +129,31 @@ inline constexpr FaultSpec kRaygenShadowFaults[] = {{1, "the shadow ray runs all
                                                     {2, "the ray is credited to the next pixel"}};
 inline constexpr FaultSpec kRaygenReflectionFaults[] = {{1, "the factor 2 of the mirror formula is lost"}};
 inline constexpr FaultSpec kRaygenRefractionFaults[] = {{1, "the index ratio is not inverted when the ray leaves"}};
-inline constexpr FaultSpec kTrimFaults[] = {{1, "an inclusive scan where an exclusive one belongs"},
-                                            {2, "the carry between parts is dropped (--split-bytes)"}};
+// The faults of workgroup.glsl's WorkgroupInclusiveAdd, in every pass that calls it and whose emulated
+// pass runs its mirror.
+#define RS_WORKGROUP_FAULTS                                                                                      \
+  {layout::kFaultDroppedBarrier, "the barrier between publishing and reading subgroup sums is dropped", "dropped-barrier"}, \
+  {layout::kFaultDivergentBarrier, "that barrier is reached by half the workgroup only", "divergent-barrier"},           \
+  {layout::kFaultSubgroup32, "the subgroup size is assumed to be 32", "subgroup-32"},                                    \
+  {layout::kFaultSharedOffByOne, "subgroup sums are published one shared word too far", "shared-off-by-one"}
+inline constexpr FaultSpec kTrimFaults[] = {
+    {1, "an inclusive scan where an exclusive one belongs"},
+    {2, "the carry between parts is dropped (--split-bytes)"},
+    RS_WORKGROUP_FAULTS,
+    {layout::kFaultWorkgroupOffset, "a workgroup starts at the next block's offset of the global scan", "workgroup-offset"}};
 inline constexpr FaultSpec kHashFaults[] = {{1, "the azimuth cell comes from the wrong coordinate pair"},
                                             {2, "the launch row is ignored (--max-groups)"}};
-inline constexpr FaultSpec kCompressFaults[] = {{1, "the last chunk loses its last ray"}};
+inline constexpr FaultSpec kCompressFaults[] = {{1, "the last chunk loses its last ray"}, RS_WORKGROUP_FAULTS};
 inline constexpr FaultSpec kSortFaults[] = {{1, "a bin's position is not advanced in the top byte's pass"}};
-inline constexpr FaultSpec kDecompressFaults[] = {{1, "the chunk is looked up without the sorted permutation"}};
+inline constexpr FaultSpec kDecompressFaults[] = {{1, "the chunk is looked up without the sorted permutation"},
+                                                  RS_WORKGROUP_FAULTS};
 inline constexpr FaultSpec kBuildFaults[] = {{1, "the float containment checks of each step are skipped"}};
 inline constexpr FaultSpec kTraverseFaults[] = {{1, "the top level ignores the triangle sphere's radius"},
                                                 {2, "a mask part's start is dropped (--split-bytes)"}};
 inline constexpr FaultSpec kReduceFaults[] = {{1, "the last element of every segment is dropped"},
-                                              {2, "each scan block starts at the previous block's offset"}};
+                                              {2, "each scan block starts at the previous block's offset"},
+                                              RS_WORKGROUP_FAULTS};
+#undef RS_WORKGROUP_FAULTS
 inline constexpr FaultSpec kIntersectFaults[] = {{1, "tmin and tmax swapped in the range check"},
                                                  {2, "every paged load reads the first page (--split-bytes)"}};
 inline constexpr FaultSpec kShadeFaults[] = {{1, "the quadratic attenuation uses the distance, not its square"}};
@@ -207,20 +223,25 @@ static_assert(static_cast<int>(PassId::kRaygenReflection) - static_cast<int>(Pas
               static_cast<int>(PassId::kRaygenRefraction) - static_cast<int>(PassId::kRaygenShadow) ==
                   static_cast<int>(layout::kRayRefraction - layout::kRayShadow) && layout::kRayShadow == 0);
 
-// Registry invariants that hold at compile time: ids in order, names unique, faults numbered 1..n.
+// Registry invariants that hold at compile time: ids in order, names unique, a pass's own faults
+// numbered 1..n and below the workgroup faults' numbers, which carry names.
 namespace pass_registry_detail {
 constexpr bool Valid() {
   for (std::size_t i = 0; i < kPasses.size(); ++i) {
     if (static_cast<std::size_t>(kPasses[i].id) != i || kPasses[i].name.empty() || kPasses[i].kernel.empty()) return false;
     for (std::size_t j = 0; j < i; ++j)
       if (kPasses[j].name == kPasses[i].name) return false;
-    for (std::size_t f = 0; f < kPasses[i].faults.size(); ++f)
-      if (kPasses[i].faults[f].number != f + 1) return false;
+    for (std::size_t f = 0; f < kPasses[i].faults.size(); ++f) {
+      const FaultSpec& fs = kPasses[i].faults[f];
+      if (fs.name.empty() ? fs.number != f + 1 || fs.number >= layout::kFaultDroppedBarrier
+                          : fs.number < layout::kFaultDroppedBarrier || fs.number > layout::kFaultWorkgroupOffset)
+        return false;
+    }
     if (!kPasses[i].graphics && (kPasses[i].push_bytes == 0 || kPasses[i].push_bytes > 128)) return false;
   }
   return true;
 }
-static_assert(Valid(), "pass registry: ids out of order, a duplicate name, faults not numbered 1..n or a bad push block");
+static_assert(Valid(), "pass registry: ids out of order, a duplicate name, faults misnumbered or a bad push block");
 }  // namespace pass_registry_detail
 
 }  // namespace rayspace

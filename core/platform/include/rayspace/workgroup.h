@@ -50,6 +50,13 @@ void SetSchedule(Schedule s);  // global default, like SetThreadCount
 Schedule GetSchedule();
 void SetChecking(bool on);     // global default for race/uninitialised/barrier checking (on)
 bool Checking();
+// The device shape the emulated kernels run with, as the Vulkan side's --local-size and the device's
+// subgroup size: the defaults of dispatches that do not set their own. Local size 1..1024 (64),
+// subgroup size a power of two 1..128 (8, lavapipe's).
+void SetLocalSize(std::uint32_t n);
+std::uint32_t LocalSize();
+void SetSubgroupSize(std::uint32_t n);
+std::uint32_t SubgroupSize();
 
 // ---- Checker reports --------------------------------------------------------------------------------
 
@@ -93,7 +100,7 @@ class CheckError : public std::runtime_error {
 };
 
 struct DispatchOptions {
-  std::uint32_t subgroup_size = 8;     // lavapipe's; a power of two in [1, 128]
+  std::optional<std::uint32_t> subgroup_size = std::nullopt;  // overrides SetSubgroupSize
   std::optional<Schedule> schedule = std::nullopt;  // overrides SetSchedule for this dispatch
   std::optional<bool> check = std::nullopt;  // overrides SetChecking for this dispatch
   bool throw_on_report = false;        // throw CheckError instead of returning a non-ok result

@@ -7,6 +7,7 @@
 
 #include "rayspace/emu/calls.h"
 #include "rayspace/emu/streams.h"
+#include "rayspace/emu/workgroup_ops.h"
 #include "rayspace/layout.h"
 #include "rayspace/scene_buffers.h"
 
@@ -29,8 +30,9 @@ SparseRays PassRaygenShadow(const call::Raygen& c);
 SparseRays PassRaygenReflection(const call::Raygen& c);
 SparseRays PassRaygenRefraction(const call::Raygen& c);
 Trimmed PassTrim(const call::Trim& c);
-// Exclusive scan with a fixed blocking (the result does not depend on the thread count).
-std::vector<std::uint32_t> ExclusiveScan(In<std::uint32_t> in, std::uint32_t* total);
+// Exclusive scan as the kernels run it: reduce-then-scan over blocks, one workgroup a block
+// (emu/workgroup_ops.h), for the pass `site` names (its dispatches, its planted faults).
+std::vector<std::uint32_t> ExclusiveScan(In<std::uint32_t> in, std::uint32_t* total, const KernelSite& site = {"scan"});
 void PassShade(const call::Shade& c);
 std::vector<std::uint8_t> PassResolve(const call::Resolve& c);
 

@@ -1,0 +1,107 @@
+#include "kernel_model.h"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "rayspace/emu/workgroup_ops.h"
+#include "rayspace/error.h"
+#include "rayspace/pass_registry.h"
+
+namespace rayspace::app {
+
+wg::Schedule ParseSchedule(const std::string& spec) {
+  if (spec == "forward") return {wg::Order::kForward, 0};
+  if (spec == "reverse") return {wg::Order::kReverse, 0};
+  if (spec == "random") return {wg::Order::kRandom, 1};
+  if (spec.rfind("random:", 0) == 0) {
+    const std::string seed = spec.substr(7);
+    if (!seed.empty() && seed.size() <= 19 && seed.find_first_not_of("0123456789") == std::string::npos)
+      return {wg::Order::kRandom, std::stoull(seed)};
+  }
+  ThrowInput("--schedule '{}': expected forward, reverse or random[:SEED] (SEED a decimal number)", spec);
+}
+
+std::string ToString(const wg::Schedule& s) {
+  switch (s.order) {
+    case wg::Order::kForward: return "forward";
+    case wg::Order::kReverse: return "reverse";
+    case wg::Order::kRandom: return fmt::format("random:{}", s.seed);
+  }
+  return "?";
+}
+
+void AddKernelModelOptions(CLI::App& command, KernelModelArgs& args) {
+  command.add_option("--schedule", args.schedule,
+                     "Emulator: the order the invocations of each workgroup phase run in: forward, reverse or "
+                     "random[:SEED] (results must not change)")
+      ->check([](const std::string& spec) {
+        try {
+          ParseSchedule(spec);
+          return std::string();
+        } catch (const InputError& e) {
+          const std::string m = e.what();  // CLI11 names the option itself
+          return m.substr(m.find('\''));
+        }
+      });
+  command.add_flag("--check-workgroups,!--no-check-workgroups", args.check,
+                   fmt::format("Emulator: check every shared-memory access of the workgroup kernels for races, reads "
+                               "of unwritten words and divergent barriers (always on when a fault is planted with @emu; "
+                               "default {})", args.check ? "on" : "off"));
+}
+
+namespace {
+
+// FAULT of PASS:FAULT: a number or a name the pass lists.
+std::uint32_t FaultNumber(const PassSpec& p, const std::string& fault, const std::string& spec) {
+  std::string known;
+  for (const FaultSpec& f : p.faults) {
+    const std::string label = f.name.empty() ? std::to_string(f.number) : fmt::format("{} ({})", f.number, f.name);
+    known += (known.empty() ? "" : ", ") + label;
+    if (fault == std::to_string(f.number) || (!f.name.empty() && fault == f.name)) return f.number;
+  }
+  ThrowInput("--inject '{}': {} has faults {}", spec, p.name, known);
+}
+
+}  // namespace
+
+Injection ParseInject(const std::string& spec) {
+  Injection in;
+  if (spec.empty()) return in;
+  std::string body = spec;
+  bool emu = false;
+  if (const auto at = body.rfind('@'); at != std::string::npos) {
+    if (body.substr(at + 1) != "emu") ThrowInput("--inject '{}': the side after '@' must be 'emu'", spec);
+    body = body.substr(0, at);
+    emu = true;
+  }
+  const auto colon = body.find(':');
+  const std::string pass = body.substr(0, colon);
+  const std::string fault = colon == std::string::npos ? std::string("1") : body.substr(colon + 1);
+  std::string known;
+  for (const PassSpec& p : kPasses) {
+    known += (known.empty() ? "" : ", ") + std::string(p.name);
+    if (p.name != pass) continue;
+    const std::uint32_t n = FaultNumber(p, fault, spec);
+    if (emu) {
+      bool named = false;
+      for (const FaultSpec& f : p.faults) named |= f.number == n && !f.name.empty();
+      if (!named) ThrowInput("--inject '{}': only the workgroup faults (named ones) can be planted on the emulator's side", spec);
+      in.emu[pass] = n;
+    } else {
+      in.kernel[pass] = n;
+    }
+    return in;
+  }
+  ThrowInput("--inject '{}': no kernel named '{}'; kernels: {}", spec, pass, known);
+}
+
+void ConfigureEmulatedKernels(const KernelModelArgs& args, std::uint32_t local_size, std::uint32_t subgroup_size,
+                              const Injection& injection) {
+  wg::SetSchedule(ParseSchedule(args.schedule));
+  wg::SetLocalSize(local_size);
+  wg::SetSubgroupSize(subgroup_size == 0 ? 8u : subgroup_size);
+  wg::SetChecking(args.check || !injection.emu.empty());
+  emu::SetEmuFaults(injection.emu);
+}
+
+}  // namespace rayspace::app
