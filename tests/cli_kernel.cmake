@@ -37,7 +37,7 @@ first_pass(copy "")
 run(copy_scan 0 "all passes equal" diff "${scene}" --size 64x64 --reduction scan --kernel reduce=${WORK}/my_reduce.comp)
 
 # A planted bug: the concatenation drops the last element of every segment.
-string(REPLACE "for (uint k = 0u; k < len; ++k)" "for (uint k = 0u; k + 1u < len; ++k)" buggy "${reduce}")
+string(REPLACE "k < len; k += lanes)" "k + 1u < len; k += lanes)" buggy "${reduce}")
 if(buggy STREQUAL reduce)
   set(failures "${failures}\nplanted bug: reduce.comp no longer has the concatenation loop this test edits")
 endif()

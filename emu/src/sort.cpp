@@ -31,20 +31,110 @@ Chunks PassCompress(const call::Compress& in) {
   return c;
 }
 
-std::vector<std::uint32_t> PassSortChunks(const call::SortChunks& c) {
-  const In<std::uint32_t> chunk_keys = c.chunk_key;
-  const std::size_t n = chunk_keys.size();
-  std::vector<std::uint32_t> idx(n), tmp(n);
-  for (std::size_t i = 0; i < n; ++i) idx[i] = static_cast<std::uint32_t>(i);
-  // LSD radix sort, 8 bits per pass: each pass is a stable counting sort, so the whole is stable.
-  for (int shift = 0; shift < 32; shift += 8) {
-    std::uint32_t count[257] = {};
-    for (std::uint32_t i : idx) ++count[((chunk_keys[i] >> shift) & 0xFFu) + 1];
-    for (int b = 0; b < 256; ++b) count[b + 1] += count[b];
-    for (std::uint32_t i : idx) tmp[count[(chunk_keys[i] >> shift) & 0xFFu]++] = i;
-    idx.swap(tmp);
+namespace {
+
+constexpr std::uint32_t kBins = 256, kNoDigit = 256;
+
+// One LSD radix pass of sort.comp (8 bits at `shift`, src -> dst), phase for phase: per-block
+// histograms in shared memory, a scan over blocks per bin, a scan of the bin totals, and the stable
+// scatter, one workgroup per block.
+class RadixPass {
+ public:
+  RadixPass(const KernelSite& site, In<std::uint32_t> keys, std::uint32_t shift, const std::uint32_t* src, std::uint32_t* dst)
+      : site_(site), keys_(keys), shift_(shift), src_(src), dst_(dst), n_(static_cast<std::uint32_t>(keys.size())),
+        blocks_((n_ + kBlock - 1) / kBlock), scratch_(kBins * blocks_ + kBins) {}
+
+  void Run() {
+    DispatchKernel(site_, "Histograms", blocks_, [&](wg::Workgroup& w) { Histogram(w); });
+    DispatchKernel(site_, "BinScan", kBins, [&](wg::Workgroup& w) {  // scratch[bin * blocks + block]
+      const std::uint32_t total = WorkgroupScanInPlace(w, WorkgroupTile(w), &scratch_[w.id() * blocks_], blocks_, site_.fault);
+      w.Phase([&](wg::Inv& i) {
+        if (i.local_id == 0) scratch_[kBins * blocks_ + w.id()] = total;
+      });
+    });
+    DispatchKernel(site_, "TotalScan", 1, [&](wg::Workgroup& w) {
+      WorkgroupScanInPlace(w, WorkgroupTile(w), &scratch_[kBins * blocks_], kBins, site_.fault);
+    });
+    DispatchKernel(site_, "Scatter", blocks_, [&](wg::Workgroup& w) { RankAndScatter(w); });
   }
-  return idx;
+
+ private:
+  static constexpr std::uint32_t kBlock = layout::kScanBlock;
+  std::uint32_t Digit(std::uint32_t i) const { return (keys_[src_[i]] >> shift_) & 255u; }
+
+  void Histogram(wg::Workgroup& w) {
+    auto& bins = w.Shared<std::uint32_t>(kBins, "bins");
+    const std::uint32_t g = w.id(), end = std::min(n_, (g + 1) * kBlock), step = w.local_size();
+    w.Phase([&](wg::Inv& i) {
+      for (std::uint32_t b = i.local_id; b < kBins; b += step) bins[b] = 0u;
+    });
+    w.Barrier();
+    w.Phase([&](wg::Inv& i) {  // counts: any order gives the same bits
+      for (std::uint32_t k = g * kBlock + i.local_id; k < end; k += step) wg::AtomicAdd(bins[Digit(k)], 1u);
+    });
+    w.Barrier();
+    w.Phase([&](wg::Inv& i) {
+      for (std::uint32_t b = i.local_id; b < kBins; b += step) scratch_[b * blocks_ + g] = bins[b];
+    });
+  }
+
+  // sort.comp's RankAndScatter: each invocation ranks its element among the step's earlier elements
+  // of the same digit; the last of each digit advances that digit's bin.
+  void RankAndScatter(wg::Workgroup& w) {
+    auto& bins = w.Shared<std::uint32_t>(kBins, "bins");
+    auto& digits = w.Shared<std::uint32_t>(layout::kMaxLocalSize, "digits");
+    const std::uint32_t g = w.id(), end = std::min(n_, (g + 1) * kBlock), step = w.local_size();
+    wg::Private<std::uint32_t> digit = w.Private<std::uint32_t>(), before = w.Private<std::uint32_t>(),
+                               after = w.Private<std::uint32_t>();
+    w.Phase([&](wg::Inv& i) {
+      for (std::uint32_t b = i.local_id; b < kBins; b += step) bins[b] = 0u;
+    });
+    for (std::uint32_t c0 = g * kBlock; c0 < end; c0 += step) {
+      w.Phase([&](wg::Inv& i) {
+        digit[i] = c0 + i.local_id < end ? Digit(c0 + i.local_id) : kNoDigit;
+        digits[i.local_id] = digit[i];
+      });
+      w.Barrier();
+      w.Phase([&](wg::Inv& i) {
+        before[i] = after[i] = 0;
+        for (std::uint32_t k = 0; k < step; ++k) {
+          const std::uint32_t d = digits[k];
+          before[i] += k < i.local_id && d == digit[i] ? 1u : 0u;
+          after[i] += k > i.local_id && d == digit[i] ? 1u : 0u;
+        }
+        if (c0 + i.local_id < end)
+          dst_[scratch_[kBins * blocks_ + digit[i]] + scratch_[digit[i] * blocks_ + g] + bins[digit[i]] + before[i]] =
+              src_[c0 + i.local_id];
+      });
+      w.Barrier();
+      w.Phase([&](wg::Inv& i) {
+        if (c0 + i.local_id < end && after[i] == 0) bins[digit[i]] += before[i] + 1u;
+      });
+    }
+  }
+
+  KernelSite site_;
+  In<std::uint32_t> keys_;
+  std::uint32_t shift_;
+  const std::uint32_t* src_;
+  std::uint32_t* dst_;
+  std::uint32_t n_, blocks_;
+  std::vector<std::uint32_t> scratch_;
+};
+
+}  // namespace
+
+std::vector<std::uint32_t> PassSortChunks(const call::SortChunks& c) {
+  // LSD radix sort, 8 bits per pass: each pass is a stable counting sort, so the whole is stable.
+  const std::size_t n = c.chunk_key.size();
+  std::vector<std::uint32_t> a(n), b(n);
+  ParallelFor(n, [&](std::size_t i) { a[i] = static_cast<std::uint32_t>(i); });  // kSortPhaseInit
+  const KernelSite site = KernelSite::Of("sort");
+  for (std::uint32_t shift = 0; shift < 32; shift += 8) {
+    RadixPass(site, c.chunk_key, shift, a.data(), b.data()).Run();
+    a.swap(b);
+  }
+  return a;
 }
 
 std::vector<std::uint32_t> PassDecompress(const call::Decompress& c) {

@@ -7,7 +7,7 @@
 //     BlockSums  one workgroup per block of kScanBlock counts sums them
 //     ScanSums   one workgroup scans the block sums, kLocalSize at a time with a running carry
 //     Offsets    one workgroup per block turns its counts into exclusive offsets
-//     Concat     one invocation per component copies its segment to its offset
+//     Concat     one subgroup per component copies its segment to its offset, a lane per element
 //   Not a workgroup per component: scanning a component's flags with barriers made the reduction ten
 //   times slower on lavapipe, whose barriers are costly.
 //   Scan-based: FlagSums (block sums of the flags), ScanSums, Scatter (per block, a workgroup scan of
@@ -26,7 +26,7 @@ layout(std430, binding = kReduceBindOut) writeonly buffer Out { uint out_values[
 layout(push_constant) uniform Block { ReducePush pc; };
 
 void main() {
-  const uint t = GlobalIndex(), g = WorkGroupIndex(), l = gl_LocalInvocationID.x;
+  const uint g = WorkGroupIndex(), l = gl_LocalInvocationID.x;
   uint total;
   if (pc.phase == kReducePhaseFlagSums) {
     if (g >= pc.blocks) return;  // uniform: the whole workgroup leaves
@@ -48,8 +48,8 @@ void main() {
     // One subgroup per component, grid-stride over the components: each chunk of `lanes` slots is
     // compacted by a subgroup exclusive add of the flags (no barrier), in slot order.
     const uint lanes = subgroupBallotBitCount(subgroupBallot(true));
-    const uint stride = gl_NumWorkGroups.x * gl_NumWorkGroups.y * gl_NumSubgroups;
-    for (uint c = g * gl_NumSubgroups + gl_SubgroupID; c < pc.comps; c += stride) {
+    const uint stride = gl_NumWorkGroups.x * gl_NumWorkGroups.y * NumSubgroups();
+    for (uint c = g * NumSubgroups() + gl_SubgroupID; c < pc.comps; c += stride) {
       const uint base = c * pc.s, end = min(pc.n, base + pc.s);
       uint k = 0u;
       for (uint c0 = base; c0 < end; c0 += lanes) {
@@ -80,11 +80,14 @@ void main() {
       if (i < end) counts[i] = at;
       run += total;
     }
-  } else {  // Concat, one invocation per component: its segment goes to its offset
-    if (t >= pc.comps) return;
-    const uint next = t + 1u < pc.comps ? counts[t + 1u] : sums[pc.blocks];
-    // Fault 1: the last element of every segment is dropped.
-    const uint len = next - counts[t] - ((kFault == 1u && next > counts[t]) ? 1u : 0u);
-    for (uint k = 0u; k < len; ++k) out_values[counts[t] + k] = local_values[t * pc.s + k];
+  } else {  // Concat: one subgroup per component, grid-stride as Local, its lanes copy the segment
+    const uint lanes = subgroupBallotBitCount(subgroupBallot(true));
+    const uint stride = gl_NumWorkGroups.x * gl_NumWorkGroups.y * NumSubgroups();
+    for (uint c = g * NumSubgroups() + gl_SubgroupID; c < pc.comps; c += stride) {
+      const uint next = c + 1u < pc.comps ? counts[c + 1u] : sums[pc.blocks];
+      // Fault 1: the last element of every segment is dropped.
+      const uint len = next - counts[c] - ((kFault == 1u && next > counts[c]) ? 1u : 0u);
+      for (uint k = gl_SubgroupInvocationID; k < len; k += lanes) out_values[counts[c] + k] = local_values[c * pc.s + k];
+    }
   }
 }

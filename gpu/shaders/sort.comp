@@ -2,8 +2,7 @@
 // Chunk compression, radix sort and decompression (thesis §3.2.4-3.2.6) in phases selected by a
 // push constant; mirrors emu PassCompress, PassSortChunks and PassDecompress. Element-wise phases run
 // one invocation per element; the others one workgroup per block of kScanBlock elements, per bin, or
-// one workgroup for a scan of block sums or bin totals (gpu/shaders/workgroup.glsl). The radix
-// pass's stable scatter still walks its block in one invocation, in element order. Every loop is
+// one workgroup for a scan of block sums or bin totals (gpu/shaders/workgroup.glsl). Every loop is
 // bounded: lavapipe stops any loop after 65,535 iterations.
 #include "common.glsl"
 #include "workgroup.glsl"
@@ -20,6 +19,34 @@ layout(std430, binding = kSortBindSums) buffer Sums { uint sums[]; };       // p
 layout(push_constant) uniform Block { SortPush pc; };
 
 shared uint bins[256];
+shared uint digits[kMaxLocalSize];
+
+// The radix pass's stable scatter of block g: kLocalSize elements at a time in element order, each
+// invocation ranks its element among the earlier ones of the same digit in shared memory (at most
+// kLocalSize reads), and `bins` carries each digit's count over the block's earlier elements; the last
+// element of each digit in the step advances it, so every bin has one writer. The positions are the
+// stable counting sort's whatever the workgroup size.
+void RankAndScatter(uint g, uint n, uint blocks) {
+  const uint l = gl_LocalInvocationID.x;
+  for (uint b = l; b < 256u; b += kLocalSize) bins[b] = 0u;
+  const uint end = min(n, (g + 1u) * kScanBlock);
+  for (uint c0 = g * kScanBlock; c0 < end; c0 += kLocalSize) {
+    const uint i = c0 + l, c = i < end ? sorted[pc.src + i] : 0u;
+    const uint digit = i < end ? (chunk_key[c] >> pc.shift) & 255u : 256u;  // 256: no element
+    digits[l] = digit;
+    barrier();  // the digits and the previous step's bins are visible
+    uint before = 0u, after = 0u;
+    for (uint k = 0u; k < kLocalSize; ++k) {
+      const uint d = digits[k];
+      before += k < l && d == digit ? 1u : 0u;
+      after += k > l && d == digit ? 1u : 0u;
+    }
+    if (i < end) sorted[pc.dst + scratch[256u * blocks + digit] + scratch[digit * blocks + g] + bins[digit] + before] = c;
+    barrier();  // every bin read before it advances
+    // Fault 1 (sort): a bin's running position is not advanced in the top byte's pass.
+    if (i < end && after == 0u && !(kFault == 1u && pc.shift == 24u)) bins[digit] += before + 1u;
+  }
+}
 
 void main() {
   const uint t = GlobalIndex(), g = WorkGroupIndex(), l = gl_LocalInvocationID.x;
@@ -92,18 +119,8 @@ void main() {
     case kSortPhaseTotalScan:  // one workgroup: exclusive scan of the bin totals
       if (g == 0u) WORKGROUP_SCAN_IN_PLACE(scratch, 256u * blocks, 256u, total);
       break;
-    case kSortPhaseScatter:  // stable scatter, one block per invocation in element order
-      if (t < blocks) {
-        uint local[256];
-        for (uint b = 0u; b < 256u; ++b) local[b] = 0u;
-        for (uint i = t * kScanBlock; i < min(n, (t + 1u) * kScanBlock); ++i) {
-          const uint c = sorted[pc.src + i];
-          const uint bin = (chunk_key[c] >> pc.shift) & 255u;
-          sorted[pc.dst + scratch[256u * blocks + bin] + scratch[bin * blocks + t] + local[bin]] = c;
-          // Fault 1 (sort): a bin's running position is not advanced in the top byte's pass.
-          if (!(kFault == 1u && pc.shift == 24u)) ++local[bin];
-        }
-      }
+    case kSortPhaseScatter:  // stable scatter, one workgroup per block (see RankAndScatter)
+      if (g < blocks) RankAndScatter(g, n, blocks);
       break;
     // ---- decompress: sizes in sorted order, scan, then every ray finds its chunk ----
     case kDecompressPhaseSizes:  // n = chunks here

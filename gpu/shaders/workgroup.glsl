@@ -13,6 +13,12 @@ shared uint wg_tile[kMaxLocalSize];  // one word per subgroup (rayspace/contract
 // launches wider than maxComputeWorkGroupCount[0]); uniform across the workgroup.
 uint WorkGroupIndex() { return gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x; }
 
+// The subgroups of a workgroup, the last one partial when kLocalSize is not a multiple of the
+// subgroup size. Not gl_NumSubgroups: with workgroups of 12 or 20 invocations and subgroups of 8,
+// lavapipe's scans behave as if it were floor(kLocalSize / gl_SubgroupSize) and drop the partial
+// subgroup's sum (cli.diff.cornell.crsh.local-size-12 and -20 diverge with it and pass without).
+uint NumSubgroups() { return (kLocalSize + gl_SubgroupSize - 1u) / gl_SubgroupSize; }
+
 // Inclusive prefix sum of `v` over the workgroup's invocations in local-id order; `total` receives
 // the sum of all. Subgroups scan their own lanes (subgroupInclusiveAdd; lanes are local ids in order,
 // gl_SubgroupID * gl_SubgroupSize + gl_SubgroupInvocationID), one lane of each publishes its subgroup's
@@ -26,7 +32,7 @@ uint WorkgroupInclusiveAdd(uint v, out uint total) {
   const uint subgroup_sum = subgroupAdd(v);
   const bool wide = kFault == kFaultSubgroup32;
   const uint subgroup = wide ? gl_LocalInvocationID.x / 32u : gl_SubgroupID;
-  const uint subgroups = wide ? (kLocalSize + 31u) / 32u : gl_NumSubgroups;
+  const uint subgroups = wide ? (kLocalSize + 31u) / 32u : NumSubgroups();
   if (subgroupElect()) wg_tile[subgroup + (kFault == kFaultSharedOffByOne ? 1u : 0u)] = subgroup_sum;
   if (kFault == kFaultDivergentBarrier) {
     if (gl_LocalInvocationID.x < kLocalSize / 2u) barrier();

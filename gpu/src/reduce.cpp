@@ -31,11 +31,10 @@ vk::Status RunReduce(vk::Context& c, const vk::Kernel& k, std::span<const std::u
   vk::Recorder rec(c);
   for (std::uint32_t phase : phases) {
     const layout::ReducePush push{n, phase, scan ? 1u : s, comps, blocks};
-    if (phase == layout::kReducePhaseLocal) {  // a subgroup per component; the kernel strides over any rest
-      const std::uint64_t per_group = std::max<std::uint32_t>(1, k.local_size() / c.subgroup_size());
+    if (phase == layout::kReducePhaseLocal || phase == layout::kReducePhaseConcat) {
+      // a subgroup per component; the kernel strides over any rest
+      const std::uint64_t per_group = (k.local_size() + c.subgroup_size() - 1) / c.subgroup_size();  // NumSubgroups()
       RS_TRY(rec.DispatchGroups(k, b.All(), &push, sizeof push, (comps + per_group - 1) / per_group));
-    } else if (phase == layout::kReducePhaseConcat) {  // an invocation per component
-      RS_TRY(rec.Dispatch(k, b.All(), &push, sizeof push, comps));
     } else {  // a workgroup per block, or one for the scan of the block sums
       RS_TRY(rec.DispatchGroups(k, b.All(), &push, sizeof push, phase == layout::kReducePhaseScanSums ? 1 : blocks));
     }

@@ -85,7 +85,7 @@ vk::Status VulkanPasses::Run(const emu::call::SortChunks& call, std::vector<std:
     RS_TRY(Phase(rec, k, b, {chunks, layout::kSortPhaseHistograms, shift, src, dst, blocks}, Groups(blocks)));
     RS_TRY(Phase(rec, k, b, {chunks, layout::kSortPhaseBinScan, shift, src, dst, blocks}, Groups(256)));
     RS_TRY(Phase(rec, k, b, {chunks, layout::kSortPhaseTotalScan, shift, src, dst, blocks}, Groups(1)));
-    RS_TRY(Phase(rec, k, b, {chunks, layout::kSortPhaseScatter, shift, src, dst, blocks}, Elements(blocks)));
+    RS_TRY(Phase(rec, k, b, {chunks, layout::kSortPhaseScatter, shift, src, dst, blocks}, Groups(blocks)));
     std::swap(src, dst);
   }
   RS_TRY(rec.Submit());

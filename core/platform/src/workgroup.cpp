@@ -290,11 +290,13 @@ CheckResult Dispatch(const std::string& name, std::uint32_t groups, std::uint32_
     for (Report& r : per[g]) result.reports.push_back(std::move(r));
     result.dropped += dropped[g];
   }
-  if (options.throw_on_report && !result.ok())
-    throw CheckError(fmt::format("dispatch {}: {} checker report(s); first: {}", name,
-                                 result.reports.size() + result.dropped,
-                                 result.reports.empty() ? std::string("-") : result.reports.front().message),
-                     std::move(result));
+  if (options.throw_on_report && !result.ok()) {
+    // The message first: the order in which a call's arguments are evaluated is unspecified, and the
+    // result is moved into the exception.
+    std::string what = fmt::format("dispatch {}: {} checker report(s); first: {}", name, result.reports.size() + result.dropped,
+                                   result.reports.empty() ? std::string("-") : result.reports.front().message);
+    throw CheckError(what, std::move(result));
+  }
   return result;
 }
 

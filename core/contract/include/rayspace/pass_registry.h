@@ -144,7 +144,8 @@ inline constexpr FaultSpec kTrimFaults[] = {
 inline constexpr FaultSpec kHashFaults[] = {{1, "the azimuth cell comes from the wrong coordinate pair"},
                                             {2, "the launch row is ignored (--max-groups)"}};
 inline constexpr FaultSpec kCompressFaults[] = {{1, "the last chunk loses its last ray"}, RS_WORKGROUP_FAULTS};
-inline constexpr FaultSpec kSortFaults[] = {{1, "a bin's position is not advanced in the top byte's pass"}};
+inline constexpr FaultSpec kSortFaults[] = {{1, "a bin's position is not advanced in the top byte's pass"},
+                                            RS_WORKGROUP_FAULTS};
 inline constexpr FaultSpec kDecompressFaults[] = {{1, "the chunk is looked up without the sorted permutation"},
                                                   RS_WORKGROUP_FAULTS};
 inline constexpr FaultSpec kBuildFaults[] = {{1, "the float containment checks of each step are skipped"}};
