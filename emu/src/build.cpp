@@ -1,5 +1,8 @@
 // Hierarchy build: cone-sphere leaves over sorted rays, parents over the level below (docs/hierarchy.md).
-// Mirrors gpu/shaders/build.comp.
+// Mirrors gpu/shaders/build.comp, where a subgroup builds a node: its lanes fetch the node's rays or
+// children and every lane runs the same in-order fold over them (subgroupShuffle, no shared memory,
+// no barrier). The fold is the node's result, so one fold per node here is the kernel's result on
+// every lane; there is nothing for the workgroup checker to see.
 #include "rayspace/emu/cone.h"
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/parallel.h"

@@ -1,8 +1,13 @@
 #version 460
 // Hierarchy build: phase Leaves makes level-1 nodes from sorted rays (eqs. 3.8-3.11, 3.14-3.15),
 // Parents makes a level from the one below (eqs. 3.12-3.15); mirrors emu PassBuildLeaves / PassBuildParents.
+// A node is a fold over its rays or children in order (float operations do not reassociate, so the
+// order is part of the node's bits): a subgroup builds one node, its lanes fetch the inputs in
+// parallel and every lane runs the same fold over them.
 #include "common.glsl"
 #include "cone.glsl"
+#include "workgroup.glsl"
+#extension GL_KHR_shader_subgroup_shuffle : require
 #include "paged.glsl"
 
 // This dispatch builds nodes base .. base + count - 1 of the level: first and nodes hold just those
@@ -20,32 +25,79 @@ layout(push_constant) uniform Block { BuildPush pc; };
 Ray RayAt(uint sorted) { return LoadRays(LoadOrder(sorted, pc.order_page), pc.ray_page); }
 ConeNode BelowAt(uint j) { return LoadBelow(j, pc.below_page); }
 
-void main() {
-  const uint i = GlobalIndex();
-  if (i >= pc.count) return;
-  const uint f0 = first[i], f1 = first[i + 1u];
+// The lanes of this subgroup: fewer in a partial last subgroup.
+uint SubgroupLanes() { return subgroupBallotBitCount(subgroupBallot(true)); }
+
+ConeNode ShuffleNode(ConeNode n, uint lane) {
+  ConeNode m;
+  m.sphere = subgroupShuffle(n.sphere, lane);
+  m.cone = subgroupShuffle(n.cone, lane);
+  m.extra = subgroupShuffle(n.extra, lane);
+  return m;
+}
+
+// A leaf over rays f0 .. f1 - 1 (sorted order): the lanes fetch and normalise `lanes` rays at a time
+// (the paged, indirect loads), and every lane folds them in ray order from subgroupShuffle, so every
+// lane holds the node the incremental build (eqs. 3.8-3.11) defines.
+ConeNode Leaf(uint f0, uint f1, uint lanes) {
   ConeNode n;
-  if (pc.phase == kBuildPhaseLeaves) {
-    const Ray r0 = RayAt(f0);
-    n.sphere = vec4(r0.origin_tmin.xyz, 0.0);
-    n.cone = vec4(Normalize3(r0.direction_tmax.xyz), 1.0);
-    n.extra = vec4(0.0, 1.0, 0.0, 0.0);
-    n = Finish(n);
-    for (uint j = f0 + 1u; j < f1; ++j) {
-      const Ray r = RayAt(j);
-      // Fault 1: the float containment checks of each step are skipped.
-      n = GrowNode(n, r.origin_tmin.xyz, Normalize3(r.direction_tmax.xyz), kFault != 1u);
+  for (uint j0 = f0; j0 < f1; j0 += lanes) {
+    const uint j = j0 + gl_SubgroupInvocationID;
+    vec3 o = vec3(0.0), r = vec3(0.0);
+    if (j < f1) {
+      const Ray ray = RayAt(j);
+      o = ray.origin_tmin.xyz;
+      r = Normalize3(ray.direction_tmax.xyz);
     }
-    nodes[i] = n;
-    return;
-  } else {
-    n = BelowAt(f0);
-    for (uint j = f0 + 1u; j < f1; ++j) n = Union(n, BelowAt(j));
-    for (uint j = f0; j < f1; ++j) {
-      const ConeNode b = BelowAt(j);
-      n = EncloseSphere(n, b.sphere.xyz, b.sphere.w);
-      n = EncloseCone(n, b);
+    const uint m = min(lanes, f1 - j0);
+    for (uint k = 0u; k < m; ++k) {
+      const vec3 ok = subgroupShuffle(o, k), rk = subgroupShuffle(r, k);
+      if (j0 + k == f0) {
+        n.sphere = vec4(ok, 0.0);
+        n.cone = vec4(rk, 1.0);
+        n.extra = vec4(0.0, 1.0, 0.0, 0.0);
+        n = Finish(n);
+      } else {
+        // Fault 1: the float containment checks of each step are skipped.
+        n = GrowNode(n, ok, rk, kFault != 1u);
+      }
     }
   }
-  nodes[i] = Finish(n);
+  return n;
+}
+
+// A parent over children f0 .. f1 - 1 of the level below: their union in order, then every child
+// enclosed in order (eqs. 3.12-3.15); the lanes fetch the children, every lane folds.
+ConeNode Parent(uint f0, uint f1, uint lanes) {
+  ConeNode n;
+  for (uint pass = 0u; pass < 2u; ++pass) {
+    for (uint j0 = f0; j0 < f1; j0 += lanes) {
+      const uint j = j0 + gl_SubgroupInvocationID;
+      ConeNode b;
+      b.sphere = b.cone = b.extra = vec4(0.0);
+      if (j < f1) b = BelowAt(j);
+      const uint m = min(lanes, f1 - j0);
+      for (uint k = 0u; k < m; ++k) {
+        const ConeNode bk = ShuffleNode(b, k);
+        if (pass == 0u) {
+          n = j0 + k == f0 ? bk : Union(n, bk);
+        } else {
+          n = EncloseSphere(n, bk.sphere.xyz, bk.sphere.w);
+          n = EncloseCone(n, bk);
+        }
+      }
+    }
+  }
+  return Finish(n);
+}
+
+// One subgroup per node, grid-stride over the dispatch's nodes.
+void main() {
+  const uint lanes = SubgroupLanes();
+  const uint stride = gl_NumWorkGroups.x * gl_NumWorkGroups.y * NumSubgroups();
+  for (uint i = WorkGroupIndex() * NumSubgroups() + gl_SubgroupID; i < pc.count; i += stride) {
+    const uint f0 = first[i], f1 = first[i + 1u];
+    const ConeNode n = pc.phase == kBuildPhaseLeaves ? Leaf(f0, f1, lanes) : Parent(f0, f1, lanes);
+    if (subgroupElect()) nodes[i] = n;
+  }
 }
