@@ -2,6 +2,7 @@
 // operations against std::inclusive_scan under every schedule, and the checker's reports on planted
 // faults (dropped barrier, divergent barrier, off-by-one, atomic against plain write).
 #include <doctest/doctest.h>
+#include <malloc.h>
 
 #include <numeric>
 #include <random>
@@ -384,4 +385,16 @@ TEST_CASE("workgroup: atomics on one word do not race; an atomic and a plain wri
   run(false, GetSchedule(), &global);
   SetSchedule({});
   CHECK(global == rev);
+}
+
+TEST_CASE("workgroup: a dispatch frees its workgroups' shared arrays") {
+  // Each workgroup declares 64 KiB of shared memory; 2,000 of them would hold 128 MiB if the arrays
+  // outlived their workgroup (they are owned through their untyped base).
+  const auto in_use = [] { return mallinfo2().uordblks + mallinfo2().hblkhd; };
+  const std::size_t before = in_use();
+  Dispatch("alloc", 2000, 1, [&](Workgroup& w) {
+    auto& big = w.Shared<std::uint64_t>(8192, "big");
+    w.Phase([&](Inv&) { big[0] = 1; });
+  }, {.check = false});
+  CHECK(in_use() < before + (16u << 20));
 }

@@ -149,6 +149,9 @@ enum class Access : std::uint8_t { kRead, kWrite, kAtomic };
 class SharedBase {
  public:
   SharedBase(Workgroup* wg, std::string name, std::uint32_t count);
+  virtual ~SharedBase() = default;  // the workgroup owns its arrays through SharedBase pointers
+  SharedBase(const SharedBase&) = delete;
+  SharedBase& operator=(const SharedBase&) = delete;
   const std::string& name() const { return name_; }
   std::uint32_t count() const { return count_; }
 
