@@ -82,7 +82,8 @@ Backend MakeBackend(const std::string& name, int device, int local_size, const s
   const gpu_backend::KernelOverrides overrides = LoadKernels(kernels);
   if (vk::Status s = gpu_backend::VulkanPasses::Create(device, faults, owner->gpu, static_cast<std::uint32_t>(local_size), overrides);
       !s) {
-    if (s.message.rfind("--device", 0) == 0) ThrowInput("{}", s.message);  // a bad argument, not a failure
+    // "--device N: ...", "--validate: ...": an option this machine cannot honour, not a failure
+    if (s.message.rfind("--", 0) == 0) ThrowInput("{}", s.message);
     throw std::runtime_error("Vulkan: " + s.message);
   }
   owner->gpu->LimitForTesting(limits.storage_bytes, limits.groups_x);

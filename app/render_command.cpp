@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <optional>
 #include <regex>
@@ -192,9 +193,13 @@ ExitCode RunRender(const RenderArgs& args) {
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
   fo.progress = args.progress || isatty(STDERR_FILENO);  // progress on stderr when someone watches
   const std::string out = args.out.empty() ? scene.name + ".png" : args.out;
-  {  // Fail on an unwritable output before spending time on the frame.
+  {  // Fail on an unwritable output before spending time on the frame, leaving no file behind if the
+     // run fails later.
+    const bool existed = std::filesystem::exists(out);
     std::ofstream probe(out, std::ios::app);
     if (!probe) ThrowInput("{}: cannot write the output image", out);
+    probe.close();
+    if (!existed) std::filesystem::remove(out);
   }
 
   const Backend backend = MakeBackend(args.backend, args.device, 64, {}, args.Limits(), args.kernels);

@@ -9,7 +9,7 @@ PACKAGES=(
   libopenimageio-dev openimageio-tools
   doctest-dev libcli11-dev nlohmann-json3-dev libfmt-dev libtinyobjloader-dev libxxhash-dev
   libbenchmark-dev
-  mesa-vulkan-drivers libvulkan-dev glslc libspirv-cross-c-shared-dev spirv-tools
+  mesa-vulkan-drivers libvulkan-dev glslc libspirv-cross-c-shared-dev spirv-tools vulkan-validationlayers
   clang libclang-rt-14-dev fonts-dejavu-core python3-clang
 )
 

@@ -133,6 +133,13 @@ expect_error(NAME "--inject trim:1@emu (a fault the emulator does not have)"
 expect_error(NAME "--inject trim:dropped-barrier@gpu"
              NEEDLES "--inject" "'emu'"
              ARGS diff "${WORK}/good.json" --inject trim:dropped-barrier@gpu)
+# --validate without the validation layer (the loader searches an empty layer path).
+file(MAKE_DIRECTORY "${WORK}/no-layers")
+set(ENV{VK_LAYER_PATH} "${WORK}/no-layers")
+expect_error(NAME "--validate without the layer"
+             NEEDLES "--validate" "VK_LAYER_KHRONOS_validation" "vulkan-validationlayers"
+             ARGS render "${WORK}/good.json" --backend vulkan --validate --out "${WORK}/x.png")
+unset(ENV{VK_LAYER_PATH})
 expect_error(NAME "--algo nope"
              NEEDLES "--algo" "nope"
              ARGS render "${WORK}/good.json" --algo nope --out "${WORK}/x.png")

@@ -9,6 +9,7 @@ layout(std430, binding = 1) readonly buffer Frame { FrameConstants fc; };
 layout(std430, binding = 2) readonly buffer Normals { TriangleNormals normals[]; };
 layout(std430, binding = 3) readonly buffer Info { TriangleInfo info[]; };
 layout(std430, binding = 4) readonly buffer Materials { Material materials[]; };
+layout(location = 0) flat in uint v_prim;  // the triangle (raster.vert)
 layout(location = 0) out vec4 out_diffuse;
 layout(location = 1) out vec4 out_specular;
 layout(location = 2) out vec4 out_position;
@@ -45,7 +46,7 @@ float MaxAbs(vec3 a, vec3 b) {
 vec3 ShadingNormal(uint prim, vec3 p) { return ShadingNormalOf(triangles[prim], normals[prim], p); }
 
 void main() {
-  const uint prim = uint(gl_PrimitiveID);
+  const uint prim = v_prim;
   const Triangle t = triangles[prim];
   const uint px = uint(gl_FragCoord.x), py = uint(gl_FragCoord.y);
   precise vec3 d;

@@ -5,6 +5,9 @@
 
 layout(std430, binding = 0) readonly buffer Triangles { Triangle triangles[]; };
 layout(std430, binding = 1) readonly buffer Frame { FrameConstants fc; };
+// The triangle's index, flat: the fragment stage's gl_PrimitiveID would need the geometryShader
+// feature, which many GPUs (tilers) lack.
+layout(location = 0) flat out uint v_prim;
 
 void main() {
   const Triangle t = triangles[gl_VertexIndex / 3];
@@ -18,4 +21,5 @@ void main() {
     c[r] = ((a + b) + d) + fc.view_proj[3][r];
   }
   gl_Position = c;
+  v_prim = uint(gl_VertexIndex) / 3u;
 }

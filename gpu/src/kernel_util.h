@@ -15,13 +15,6 @@
 #include "rayspace/error.h"
 #include "rayspace/gpu/vulkan.h"
 
-// Returns the status of `expr` when it failed.
-#define RS_TRY(expr)              \
-  do {                            \
-    vk::Status rs_s = (expr);     \
-    if (!rs_s) return rs_s;       \
-  } while (0)
-
 namespace rayspace::gpu_backend::detail {
 
 // A buffer holding `v` (at least one element: an empty input still needs something to bind).

@@ -17,7 +17,6 @@ constexpr VkFormat kColorFormats[kColors] = {VK_FORMAT_R32G32B32A32_SFLOAT, VK_F
                                              VK_FORMAT_R32_UINT};
 constexpr VkColorComponentFlags kRgba =
     VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
-constexpr VkColorComponentFlags kWriteMasks[kColors] = {kRgba, kRgba, kRgba, kRgba, VK_COLOR_COMPONENT_R_BIT};
 constexpr std::size_t kTexelBytes[kTargets] = {16, 16, 16, 16, 4, 4};
 // The storage buffers both stages read: triangles, frame, normals, info, materials.
 constexpr std::uint32_t kBindings = 5;
@@ -43,7 +42,7 @@ vk::Status MakeTargets(vk::Context& ctx, std::uint32_t w, std::uint32_t h, Targe
 
 vk::Status MakePipeline(vk::Context& ctx, std::span<const std::uint32_t> vert_spirv,
                         std::span<const std::uint32_t> frag_spirv, std::uint32_t fault, std::uint32_t w, std::uint32_t h,
-                        const Targets& t, vk::Graphics& out) {
+                        const Targets& t, const RasterViolations& planted, vk::Graphics& out) {
   vk::GraphicsDesc d;
   d.name = "raster";
   d.vert_spirv = vert_spirv;
@@ -51,8 +50,9 @@ vk::Status MakePipeline(vk::Context& ctx, std::span<const std::uint32_t> vert_sp
   d.bindings = kBindings;
   d.fault = fault;
   d.colors = kColorFormats;
-  d.write_masks = kWriteMasks;
   d.depth = VK_FORMAT_D32_SFLOAT;
+  d.drop_dependencies_for_testing = planted.drop_subpass_dependencies;
+  d.differing_blend_for_testing = planted.differing_blend_states;
   d.width = w;
   d.height = h;
   const vk::Image* attachments[kTargets];
@@ -107,12 +107,12 @@ void Download(const Targets& t, std::uint32_t w, std::uint32_t h, emu::GBuffer& 
 
 vk::Status RasterGBuffer(vk::Context& ctx, std::span<const std::uint32_t> vert_spirv,
                          std::span<const std::uint32_t> frag_spirv, const layout::FrameConstants& fc, const SceneBuffers& scene,
-                         std::uint32_t fault, emu::GBuffer& out) {
+                         std::uint32_t fault, emu::GBuffer& out, const RasterViolations& planted) {
   const std::uint32_t w = fc.dims.x, h = fc.dims.y;
   Targets t;
   if (vk::Status st = MakeTargets(ctx, w, h, t); !st) return st;
   vk::Graphics g;
-  if (vk::Status st = MakePipeline(ctx, vert_spirv, frag_spirv, fault, w, h, t, g); !st) return st;
+  if (vk::Status st = MakePipeline(ctx, vert_spirv, frag_spirv, fault, w, h, t, planted, g); !st) return st;
   vk::Buffer in[kBindings];
   if (vk::Status st = UploadInputs(ctx, fc, scene, in); !st) return st;
   if (vk::Status st = DrawAndRead(ctx, g, in, scene.triangles.size(), t); !st) return st;

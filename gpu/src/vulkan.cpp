@@ -2,6 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <cstdio>
+
+#include "rayspace/gpu/validation.h"
+
 namespace rayspace::vk {
 
 const char* ResultName(VkResult r) {
@@ -31,10 +35,15 @@ const char* ResultName(VkResult r) {
 
 namespace {
 
-#define RS_VK(call)                                             \
-  do {                                                          \
-    const VkResult rs_r = (call);                               \
-    if (rs_r != VK_SUCCESS) return Status::Fail(#call, rs_r);   \
+// A failed call, or a call after which the validation layer has reported (the report may concern
+// commands recorded since the last check), returns a failed Status naming the call.
+#define RS_VK(call)                                                                               \
+  do {                                                                                            \
+    const VkResult rs_r = (call);                                                                 \
+    if (rs_r != VK_SUCCESS) return Status::Fail(#call, rs_r);                                     \
+    if (ValidationPending())                                                                      \
+      return Status::Fail(fmt::format("{}: {}", std::string(#call).substr(0, std::string(#call).find('(')), \
+                                      TakeValidationMessages()));                                 \
   } while (0)
 
 Status CreateModule(VkDevice device, std::span<const std::uint32_t> spirv, VkShaderModule& out) {
@@ -218,7 +227,10 @@ Status Context::Create(int device, std::unique_ptr<Context>& out) {
   app.apiVersion = VK_API_VERSION_1_2;
   VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
   ici.pApplicationInfo = &app;
+  ValidationChain chain;
+  if (ValidationRequested()) RS_TRY(AddValidation(ici, chain));
   RS_VK(vkCreateInstance(&ici, nullptr, &c->instance_));
+  if (ValidationRequested()) RS_TRY(CreateMessenger(c->instance_, c->messenger_));
   std::uint32_t n = 0;
   RS_VK(vkEnumeratePhysicalDevices(c->instance_, &n, nullptr));
   if (n == 0) return Status::Fail("no Vulkan device found (install a driver, e.g. Debian's mesa-vulkan-drivers for lavapipe)");
@@ -249,7 +261,13 @@ Context::~Context() {
     vkDestroyCommandPool(device_, pool_, nullptr);
     vkDestroyDevice(device_, nullptr);
   }
-  if (instance_) vkDestroyInstance(instance_, nullptr);
+  if (instance_) {
+    // What the layer says about teardown (objects never destroyed) can fail no call: it goes to
+    // stderr, and the process's exit code (ValidationFailedAtExit).
+    if (ValidationPending()) ReportAtExit(TakeValidationMessages());
+    DestroyMessenger(instance_, messenger_);
+    vkDestroyInstance(instance_, nullptr);
+  }
 }
 
 Status Context::SubmitAndWait(VkCommandBuffer cmd) {
@@ -400,11 +418,34 @@ Status CreateRenderPass(VkDevice device, const GraphicsDesc& d, VkRenderPass& ou
   sub.colorAttachmentCount = colors;
   sub.pColorAttachments = color_ref.data();
   sub.pDepthStencilAttachment = &depth_ref;
+  // Before: the previous draw's copies out of these images finish before the clears (write after
+  // read). After: the attachment writes and the final layout transition finish before the copies
+  // read the images (read after write); neither is implied by the end of a render pass.
+  constexpr VkPipelineStageFlags kAttachmentStages = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
+                                                     VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |
+                                                     VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
+  constexpr VkAccessFlags kAttachmentWrites = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT |
+                                              VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT;
+  VkSubpassDependency deps[2] = {};
+  deps[0].srcSubpass = VK_SUBPASS_EXTERNAL;
+  deps[0].dstSubpass = 0;
+  deps[0].srcStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
+  deps[0].dstStageMask = kAttachmentStages;
+  deps[0].srcAccessMask = 0;
+  deps[0].dstAccessMask = kAttachmentWrites;
+  deps[1].srcSubpass = 0;
+  deps[1].dstSubpass = VK_SUBPASS_EXTERNAL;
+  deps[1].srcStageMask = kAttachmentStages;
+  deps[1].dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
+  deps[1].srcAccessMask = kAttachmentWrites;
+  deps[1].dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
   VkRenderPassCreateInfo rpci{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
   rpci.attachmentCount = colors + 1;
   rpci.pAttachments = att.data();
   rpci.subpassCount = 1;
   rpci.pSubpasses = &sub;
+  rpci.dependencyCount = d.drop_dependencies_for_testing ? 0 : 2;
+  rpci.pDependencies = deps;
   RS_VK(vkCreateRenderPass(device, &rpci, nullptr, &out));
   return Status::Ok();
 }
@@ -444,8 +485,12 @@ Status CreateGraphicsPipeline(VkDevice device, const GraphicsDesc& d, VkShaderMo
   ds.depthTestEnable = VK_TRUE;
   ds.depthWriteEnable = VK_TRUE;
   ds.depthCompareOp = VK_COMPARE_OP_LESS;
-  std::vector<VkPipelineColorBlendAttachmentState> cba(d.colors.size());
-  for (std::size_t i = 0; i < cba.size(); ++i) cba[i].colorWriteMask = d.write_masks[i];
+  // One blend state for every attachment (differing states need the independentBlend feature);
+  // writing components a format lacks is ignored, so RGBA suits the single-channel targets too.
+  VkPipelineColorBlendAttachmentState all{};
+  all.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+  std::vector<VkPipelineColorBlendAttachmentState> cba(d.colors.size(), all);
+  if (d.differing_blend_for_testing) cba.back().colorWriteMask = VK_COLOR_COMPONENT_R_BIT;
   VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
   cb.attachmentCount = static_cast<std::uint32_t>(cba.size());
   cb.pAttachments = cba.data();
@@ -468,9 +513,9 @@ Status CreateGraphicsPipeline(VkDevice device, const GraphicsDesc& d, VkShaderMo
 }  // namespace
 
 Status Context::CreateGraphics(const GraphicsDesc& d, std::span<const Image* const> attachments, Graphics& g) {
-  if (d.write_masks.size() != d.colors.size() || attachments.size() != d.colors.size() + 1)
-    return Status::Fail(fmt::format("graphics {}: {} colour formats, {} write masks and {} attachments (colours + depth)",
-                                    d.name, d.colors.size(), d.write_masks.size(), attachments.size()));
+  if (attachments.size() != d.colors.size() + 1)
+    return Status::Fail(fmt::format("graphics {}: {} colour formats and {} attachments (colours + depth)", d.name,
+                                    d.colors.size(), attachments.size()));
   g.device_ = device_;
   g.name_ = d.name;
   g.bindings_ = d.bindings;

@@ -13,9 +13,16 @@
 
 namespace rayspace::gpu_backend {
 
+// Spec violations planted for the validation tests (gpu/tests/validation_test.cpp); lavapipe runs
+// the raster correctly either way.
+struct RasterViolations {
+  bool drop_subpass_dependencies = false;  // the copies read the attachments without a dependency
+  bool differing_blend_states = false;     // one attachment's write mask differs (needs independentBlend)
+};
+
 // Draws the scene into `out`, the emulated raster's G-buffer layout (emu/streams.h).
 vk::Status RasterGBuffer(vk::Context& ctx, std::span<const std::uint32_t> vert_spirv,
                          std::span<const std::uint32_t> frag_spirv, const layout::FrameConstants& fc, const SceneBuffers& scene,
-                         std::uint32_t fault, emu::GBuffer& out);
+                         std::uint32_t fault, emu::GBuffer& out, const RasterViolations& planted = {});
 
 }  // namespace rayspace::gpu_backend

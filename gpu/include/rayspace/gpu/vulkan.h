@@ -28,6 +28,13 @@ struct Status {
   explicit operator bool() const { return ok; }
 };
 
+// Returns the status of `expr` when it failed.
+#define RS_TRY(expr)                          \
+  do {                                        \
+    ::rayspace::vk::Status rs_s = (expr);     \
+    if (!rs_s) return rs_s;                   \
+  } while (0)
+
 // "VK_ERROR_OUT_OF_DEVICE_MEMORY" for the results rayspace may meet, else "VkResult".
 const char* ResultName(VkResult r);
 
@@ -121,9 +128,12 @@ struct GraphicsDesc {
   std::uint32_t bindings = 0;
   std::uint32_t fault = 0;                              // fragment specialization constant 0 (0 = none)
   std::span<const VkFormat> colors;                     // colour attachment formats, in location order
-  std::span<const VkColorComponentFlags> write_masks;   // one per colour attachment
   VkFormat depth = VK_FORMAT_D32_SFLOAT;
   std::uint32_t width = 0, height = 0;
+  // Planted violations for the validation tests (gpu/tests/validation_test.cpp): the render pass
+  // without its subpass dependencies; attachment blend states that differ.
+  bool drop_dependencies_for_testing = false;
+  bool differing_blend_for_testing = false;
 };
 
 // A graphics pipeline with its render pass, made by Context::CreateGraphics.
@@ -228,6 +238,7 @@ class Context {
   // A memory type allowed by `bits` with all of `flags`, or UINT32_MAX.
   std::uint32_t FindMemoryType(std::uint32_t bits, VkMemoryPropertyFlags flags) const;
   VkInstance instance_ = VK_NULL_HANDLE;
+  VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;  // --validate only
   VkPhysicalDevice physical_ = VK_NULL_HANDLE;
   VkDevice device_ = VK_NULL_HANDLE;
   VkQueue queue_ = VK_NULL_HANDLE;
