@@ -5,6 +5,10 @@
 
 #include <CLI/CLI.hpp>
 
+#ifdef RAYSPACE_HAVE_VULKAN
+#include "rayspace/gpu/requirements.h"
+#endif
+
 namespace rayspace::app {
 
 void AddFrameOptions(CLI::App& command, FrameArgs& args) {
@@ -51,9 +55,36 @@ void AddLimitOptions(CLI::App& command, std::size_t& split_bytes, std::uint32_t&
 void AddDeviceOption(CLI::App& command, int& device) {
   command
       .add_option("--device", device,
-                  "Vulkan device index (default: first non-CPU device, else lavapipe); render uses it with "
-                  "--backend vulkan")
+                  "Vulkan device index (default: a discrete GPU, else an integrated one, ..., else lavapipe: "
+                  "`rayspace devices` shows the choice); render uses it with --backend vulkan")
       ->check(CLI::Range(0, 64));
+  AddDeviceLacksOption(command);
+}
+
+void AddDeviceLacksOption(CLI::App& command) {
+#ifdef RAYSPACE_HAVE_VULKAN
+  command.add_option_function<std::vector<std::string>>(
+      "--device-lacks",
+      [](const std::vector<std::string>& specs) {
+        vk::Lacks lacks;
+        for (const std::string& s : specs) {
+          const auto eq = s.find('=');
+          std::uint64_t value = 0;
+          if (eq != std::string::npos) {
+            const std::string v = s.substr(eq + 1);
+            if (v.empty() || v.size() > 19 || v.find_first_not_of("0123456789") != std::string::npos)
+              throw CLI::ValidationError("--device-lacks", "'" + s + "': the value after '=' must be a number");
+            value = std::stoull(v);
+          }
+          lacks[s.substr(0, eq)] = value;
+        }
+        vk::SetDeviceLacks(std::move(lacks));
+      },
+      "Vulkan: make the device look as if it lacked a requirement: NAME (a feature, or a limit as 0) or NAME=VALUE "
+      "(a limit); names as `rayspace devices` prints them (test use)");
+#else
+  (void)command;
+#endif
 }
 
 void AddKernelOption(CLI::App& command, KernelFiles& kernels) {

@@ -42,8 +42,10 @@ struct FrameArgs {
 // --data, --device, --split-bytes, --max-groups, --kernel, --schedule and --check-workgroups on
 // `command`, writing into `args`.
 void AddFrameOptions(CLI::App& command, FrameArgs& args);
-// --device alone (replay runs on a device but renders no frame).
+// --device and --device-lacks (replay runs on a device but renders no frame).
 void AddDeviceOption(CLI::App& command, int& device);
+// --device-lacks NAME[=VALUE] (test use): sets vk::SetDeviceLacks when parsed (rayspace devices too).
+void AddDeviceLacksOption(CLI::App& command);
 // --kernel PASS=FILE, repeatable (render --backend vulkan, diff, replay).
 void AddKernelOption(CLI::App& command, KernelFiles& kernels);
 // --split-bytes and --max-groups (TestLimits): render, diff and replay.

@@ -13,6 +13,7 @@
 #include "exit_codes.h"
 #include "render_command.h"
 #ifdef RAYSPACE_HAVE_VULKAN
+#include "devices_command.h"
 #include "diff_command.h"
 #include "rayspace/gpu/validation.h"
 #endif
@@ -23,7 +24,7 @@ namespace {
 struct Commands {
   rayspace::app::RenderArgs render;
   rayspace::app::AccuracyArgs accuracy;
-  CLI::App *render_cmd = nullptr, *accuracy_cmd = nullptr, *diff_cmd = nullptr, *replay_cmd = nullptr;
+  CLI::App *render_cmd = nullptr, *accuracy_cmd = nullptr, *diff_cmd = nullptr, *replay_cmd = nullptr, *devices_cmd = nullptr;
   bool validate = false;
 #ifdef RAYSPACE_HAVE_VULKAN
   rayspace::app::DiffArgs diff;
@@ -90,6 +91,7 @@ rayspace::app::ExitCode Run(const Commands& cmds) {
 #ifdef RAYSPACE_HAVE_VULKAN
   if (cmds.diff_cmd->parsed()) return rayspace::app::RunDiff(cmds.diff);
   if (cmds.replay_cmd->parsed()) return rayspace::app::RunReplay(cmds.replay);
+  if (cmds.devices_cmd->parsed()) return rayspace::app::RunDevices();
 #endif
   return ExitCode::kOk;
 }
@@ -110,6 +112,9 @@ int main(int argc, char** argv) {
   AddAccuracy(app, cmds);
 #ifdef RAYSPACE_HAVE_VULKAN
   AddDiffAndReplay(app, cmds);
+  cmds.devices_cmd = app.add_subcommand("devices", "List the Vulkan devices, each requirement of rayspace met or not, the "
+                                                   "device used without --device and how diff compares on it");
+  rayspace::app::AddDeviceLacksOption(*cmds.devices_cmd);
 #endif
   try {
     app.parse(argc, argv);

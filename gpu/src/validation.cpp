@@ -42,7 +42,7 @@ bool ValidationRequested() {
   return e && *e && std::strcmp(e, "0") != 0;
 }
 
-Status AddValidation(VkInstanceCreateInfo& ici, ValidationChain& chain) {
+Status AddValidation(VkInstanceCreateInfo& ici, ValidationChain& chain, std::vector<const char*>& extensions) {
   std::uint32_t n = 0;
   vkEnumerateInstanceLayerProperties(&n, nullptr);
   std::vector<VkLayerProperties> layers(n);
@@ -61,8 +61,7 @@ Status AddValidation(VkInstanceCreateInfo& ici, ValidationChain& chain) {
   ici.pNext = &chain.features;
   ici.enabledLayerCount = 1;
   ici.ppEnabledLayerNames = &chain.layer;
-  ici.enabledExtensionCount = 1;
-  ici.ppEnabledExtensionNames = &chain.extension;
+  extensions.push_back(chain.extension);
   return Status::Ok();
 }
 

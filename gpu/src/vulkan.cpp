@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 
 #include <cstdio>
+#include <cstring>
 
+#include "rayspace/gpu/requirements.h"
 #include "rayspace/gpu/validation.h"
 
 namespace rayspace::vk {
@@ -137,12 +139,8 @@ Graphics::~Graphics() {
 
 std::vector<std::string> Context::ListDevices() {
   std::vector<std::string> out;
-  VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
-  app.apiVersion = VK_API_VERSION_1_2;
-  VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-  ici.pApplicationInfo = &app;
-  VkInstance inst;
-  if (vkCreateInstance(&ici, nullptr, &inst) != VK_SUCCESS) return out;
+  VkInstance inst = VK_NULL_HANDLE;
+  if (!CreateInstance(inst, nullptr)) return out;
   std::uint32_t n = 0;
   vkEnumeratePhysicalDevices(inst, &n, nullptr);
   std::vector<VkPhysicalDevice> devs(n);
@@ -166,6 +164,8 @@ void Context::ReadProperties() {
   max_groups_[0] = props.limits.maxComputeWorkGroupCount[0];
   max_groups_[1] = props.limits.maxComputeWorkGroupCount[1];
   max_stage_storage_buffers_ = props.limits.maxPerStageDescriptorStorageBuffers;
+  max_invocations_ = static_cast<std::uint32_t>(FakedLimit("maxComputeWorkGroupInvocations", props.limits.maxComputeWorkGroupInvocations));
+  max_size_x_ = static_cast<std::uint32_t>(FakedLimit("maxComputeWorkGroupSize[0]", props.limits.maxComputeWorkGroupSize[0]));
   max_image_side_ = props.limits.maxImageDimension2D;
   VkPhysicalDeviceDriverProperties drv{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
   VkPhysicalDeviceSubgroupProperties sub{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
@@ -186,11 +186,11 @@ Status Context::CreateDevice() {
   vkGetPhysicalDeviceQueueFamilyProperties(physical_, &nf, fams.data());
   bool found = false;
   for (std::uint32_t i = 0; i < nf && !found; ++i)
-    if (fams[i].queueFlags & VK_QUEUE_COMPUTE_BIT) {
-      family_ = i;
+    if ((fams[i].queueFlags & VK_QUEUE_COMPUTE_BIT) && (fams[i].queueFlags & VK_QUEUE_GRAPHICS_BIT)) {
+      family_ = i;  // the raster and the compute passes share one queue
       found = true;
     }
-  if (!found) return Status::Fail(fmt::format("Vulkan device '{}' has no compute queue", device_name_));
+  if (!found) return Status::Fail(fmt::format("Vulkan device '{}' has no queue family with graphics and compute", device_name_));
 
   VkPhysicalDeviceFeatures features{};
   features.shaderInt64 = VK_TRUE;
@@ -199,13 +199,10 @@ Status Context::CreateDevice() {
   qci.queueFamilyIndex = family_;
   qci.queueCount = 1;
   qci.pQueuePriorities = &priority;
-  // 64-bit buffer atomics: the shade kernel's fixed-point accumulator.
-  VkPhysicalDeviceVulkan12Features have12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-  VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-  f2.pNext = &have12;
-  vkGetPhysicalDeviceFeatures2(physical_, &f2);
+  // 64-bit buffer atomics: intersect's closest hits and shade's fixed-point sums (both checked by
+  // CheckRequirements before the device is made).
   VkPhysicalDeviceVulkan12Features want12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-  want12.shaderBufferInt64Atomics = have12.shaderBufferInt64Atomics;
+  want12.shaderBufferInt64Atomics = VK_TRUE;
   VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
   dci.pNext = &want12;
   dci.queueCreateInfoCount = 1;
@@ -220,35 +217,65 @@ Status Context::CreateDevice() {
   return Status::Ok();
 }
 
-Status Context::Create(int device, std::unique_ptr<Context>& out) {
-  auto c = std::make_unique<Context>();
+Status CreateInstance(VkInstance& out, VkDebugUtilsMessengerEXT* messenger) {
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   app.pApplicationName = "rayspace";
   app.apiVersion = VK_API_VERSION_1_2;
   VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
   ici.pApplicationInfo = &app;
+  std::vector<const char*> extensions;
+  std::uint32_t n = 0;
+  vkEnumerateInstanceExtensionProperties(nullptr, &n, nullptr);
+  std::vector<VkExtensionProperties> offered(n);
+  vkEnumerateInstanceExtensionProperties(nullptr, &n, offered.data());
+  for (const VkExtensionProperties& e : offered)
+    if (std::strcmp(e.extensionName, VK_KHR_PORTABILITY_ENUMERATION_EXTENSION_NAME) == 0) {
+      extensions.push_back(VK_KHR_PORTABILITY_ENUMERATION_EXTENSION_NAME);  // MoltenVK's devices are listed
+      ici.flags |= VK_INSTANCE_CREATE_ENUMERATE_PORTABILITY_BIT_KHR;
+    }
   ValidationChain chain;
-  if (ValidationRequested()) RS_TRY(AddValidation(ici, chain));
-  RS_VK(vkCreateInstance(&ici, nullptr, &c->instance_));
-  if (ValidationRequested()) RS_TRY(CreateMessenger(c->instance_, c->messenger_));
+  const bool validate = messenger && ValidationRequested();
+  if (validate) RS_TRY(AddValidation(ici, chain, extensions));
+  ici.enabledExtensionCount = static_cast<std::uint32_t>(extensions.size());
+  ici.ppEnabledExtensionNames = extensions.data();
+  RS_VK(vkCreateInstance(&ici, nullptr, &out));
+  if (validate) RS_TRY(CreateMessenger(out, *messenger));
+  return Status::Ok();
+}
+
+namespace {
+
+// Refuses a device that lacks a requirement, naming each; and a --device-lacks name that is no
+// requirement.
+Status CheckDevice(VkPhysicalDevice d, int index) {
+  const std::vector<Requirement> reqs = CheckRequirements(d, DeviceLacks());
+  for (const auto& [name, value] : DeviceLacks()) {
+    bool known = name == "maxComputeWorkGroupInvocations" || name == "maxComputeWorkGroupSize[0]";
+    for (const Requirement& r : reqs) known |= r.name == name;
+    if (!known) return Status::Fail(fmt::format("--device-lacks '{}': not a requirement (rayspace devices lists them)", name));
+  }
+  if (const std::string unmet = Unmet(reqs); !unmet.empty()) {
+    VkPhysicalDeviceProperties p;
+    vkGetPhysicalDeviceProperties(d, &p);
+    return Status::Fail(fmt::format("--device {} ('{}') lacks what rayspace needs: {}", index, p.deviceName, unmet));
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+Status Context::Create(int device, std::unique_ptr<Context>& out) {
+  auto c = std::make_unique<Context>();
+  RS_TRY(CreateInstance(c->instance_, &c->messenger_));
   std::uint32_t n = 0;
   RS_VK(vkEnumeratePhysicalDevices(c->instance_, &n, nullptr));
   if (n == 0) return Status::Fail("no Vulkan device found (install a driver, e.g. Debian's mesa-vulkan-drivers for lavapipe)");
   std::vector<VkPhysicalDevice> devs(n);
   RS_VK(vkEnumeratePhysicalDevices(c->instance_, &n, devs.data()));
-  int chosen = -1;
-  if (device >= 0) {
-    if (device >= static_cast<int>(n)) return Status::Fail(fmt::format("--device {}: only {} Vulkan device(s)", device, n));
-    chosen = device;
-  } else {
-    for (std::uint32_t i = 0; i < n && chosen < 0; ++i) {
-      VkPhysicalDeviceProperties p;
-      vkGetPhysicalDeviceProperties(devs[i], &p);
-      if (p.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU) chosen = static_cast<int>(i);
-    }
-    if (chosen < 0) chosen = 0;
-  }
+  if (device >= static_cast<int>(n)) return Status::Fail(fmt::format("--device {}: only {} Vulkan device(s)", device, n));
+  const int chosen = device >= 0 ? device : PreferredDevice(devs);
   c->physical_ = devs[chosen];
+  RS_TRY(CheckDevice(c->physical_, chosen));
   c->ReadProperties();
   if (Status s = c->CreateDevice(); !s) return s;
   out = std::move(c);
@@ -333,6 +360,10 @@ Status Context::CreateKernel(const std::string& name, std::span<const std::uint3
   if (bindings > max_stage_storage_buffers_)
     return Status::Fail(fmt::format("kernel {} needs {} storage-buffer bindings; '{}' allows {} (maxPerStageDescriptorStorageBuffers)",
                                     name, bindings, device_name_, max_stage_storage_buffers_));
+  if (local_size > max_invocations_ || local_size > max_size_x_)
+    return Status::Fail(fmt::format("--local-size {}: '{}' allows at most {} invocations per workgroup "
+                                    "(maxComputeWorkGroupInvocations {}, maxComputeWorkGroupSize[0] {})",
+                                    local_size, device_name_, std::min(max_invocations_, max_size_x_), max_invocations_, max_size_x_));
   k.device_ = device_;
   k.local_size_ = local_size;
   k.name_ = name;

@@ -4,6 +4,7 @@
 // (RS_VK in vulkan.cpp), so a spec violation is an error at the Vulkan boundary, not a log line.
 #pragma once
 #include <string>
+#include <vector>
 
 #include <vulkan/vulkan.h>
 
@@ -22,9 +23,9 @@ struct ValidationChain {
   const char* layer = "VK_LAYER_KHRONOS_validation";
   const char* extension = VK_EXT_DEBUG_UTILS_EXTENSION_NAME;
 };
-// Adds the layer, the debug-utils extension and synchronization validation to `ici` (which must
-// have no layers or extensions of its own), or fails naming the missing layer and its package.
-Status AddValidation(VkInstanceCreateInfo& ici, ValidationChain& chain);
+// Adds the layer and synchronization validation to `ici` (which must have no layers of its own) and
+// the debug-utils extension to `extensions`, or fails naming the missing layer and its package.
+Status AddValidation(VkInstanceCreateInfo& ici, ValidationChain& chain, std::vector<const char*>& extensions);
 // The messenger that collects the layer's warnings and errors for the life of the instance.
 Status CreateMessenger(VkInstance instance, VkDebugUtilsMessengerEXT& out);
 void DestroyMessenger(VkInstance instance, VkDebugUtilsMessengerEXT messenger);

@@ -196,6 +196,11 @@ class Recorder {
   bool recording_ = false;
 };
 
+// The instance rayspace uses: Vulkan 1.2, portability enumeration where the loader offers it, and,
+// when `messenger` is given and validation is requested (validation.h), the validation layer and its
+// messenger.
+Status CreateInstance(VkInstance& out, VkDebugUtilsMessengerEXT* messenger);
+
 class Context {
  public:
   // device < 0: the first non-CPU device, else the first CPU device (lavapipe).
@@ -249,6 +254,7 @@ class Context {
   VkDeviceSize max_storage_range_ = 0, storage_limit_ = 0;
   std::uint32_t max_groups_[2] = {65535, 65535};
   std::uint32_t max_stage_storage_buffers_ = 0, max_image_side_ = 0, subgroup_size_ = 1;
+  std::uint32_t max_invocations_ = 0, max_size_x_ = 0;  // maxComputeWorkGroupInvocations, ...Size[0]
   std::size_t descriptor_pools_ = 0;
 };
 

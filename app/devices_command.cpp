@@ -1,0 +1,53 @@
+#include "devices_command.h"
+
+#include <cstdio>
+#include <string>
+
+#include "rayspace/error.h"
+#include "rayspace/gpu/requirements.h"
+
+namespace rayspace::app {
+namespace {
+
+// What `diff` can promise on a device. lavapipe's float operations are correctly rounded (measured,
+// docs/gpu.md), so its kernels give the emulator's bits; elsewhere Vulkan allows division within
+// 2.5 ULP and a square root derived from the inverse square root, so a float word may differ legally.
+std::string ComparisonModel(const vk::DeviceReport& d) {
+  if (d.driver_id == VK_DRIVER_ID_MESA_LLVMPIPE)
+    return "bitwise: every buffer must equal the emulator's (lavapipe rounds +, -, *, /, sqrt correctly)";
+  return "bitwise; Vulkan lets this device round division and square root differently, so a mismatching "
+         "float word may be within the spec (no tolerance model yet: such a word is reported as a mismatch)";
+}
+
+}  // namespace
+
+ExitCode RunDevices() {
+  int preferred = -1;
+  const std::vector<vk::DeviceReport> devices = vk::DescribeDevices(preferred);
+  for (const auto& [name, value] : vk::DeviceLacks()) {
+    bool known = name == "maxComputeWorkGroupInvocations" || name == "maxComputeWorkGroupSize[0]";
+    for (const vk::DeviceReport& d : devices)
+      for (const vk::Requirement& r : d.requirements) known |= r.name == name;
+    if (!known) ThrowInput("--device-lacks '{}': not a requirement (rayspace devices lists them)", name);
+  }
+  std::printf("rayspace devices: %zu Vulkan device(s)\n", devices.size());
+  bool usable = false;
+  for (const vk::DeviceReport& d : devices) {
+    const bool ok = vk::Unmet(d.requirements).empty();
+    usable |= ok;
+    std::printf("\n  --device %d  %s  (%s; %s)%s\n", d.index, d.name.c_str(), d.type.c_str(), d.driver.c_str(),
+                d.index == preferred ? "  <- used without --device" : "");
+    for (const vk::Requirement& r : d.requirements)
+      std::printf("    %-7s %-37s need %-10s have %-13s %s\n", r.met ? "met" : "NOT MET", r.name.c_str(), r.need.c_str(),
+                  r.have.c_str(), r.why.c_str());
+    std::printf("    %s\n", ok ? "usable" : "not usable: rayspace refuses it, naming what is missing");
+    std::printf("    diff compares: %s\n", ComparisonModel(d).c_str());
+  }
+  if (!usable) {
+    std::fprintf(stderr, "rayspace: error: no Vulkan device meets rayspace's requirements (see above)\n");
+    return ExitCode::kBadInput;
+  }
+  return ExitCode::kOk;
+}
+
+}  // namespace rayspace::app

@@ -1,0 +1,57 @@
+// What rayspace needs of a Vulkan device, checked before anything is created on it: the API version,
+// the features and properties the kernels declare, the formats and limits the passes use. Each
+// requirement has a name (the Vulkan feature, property or limit, as the spec spells it), what is
+// needed and what the device has. `rayspace devices` prints them; Context::Create refuses a device
+// that lacks any, naming each.
+#pragma once
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+namespace rayspace::vk {
+
+struct Requirement {
+  std::string name;  // e.g. "shaderInt64", "maxPerStageDescriptorStorageBuffers"
+  std::string why;   // which pass or part needs it
+  std::string need;  // e.g. "supported", ">= 23"
+  std::string have;  // what the device reports
+  bool met = false;
+};
+
+// Test use (`--device-lacks NAME[=VALUE]`): requirement names a device is to look as if it lacked, a
+// feature as unsupported, a limit or version as VALUE (default 0), so that each refusal can be tested on
+// any device. maxComputeWorkGroupInvocations and maxComputeWorkGroupSize[0] may be named too: they
+// are checked against --local-size when a kernel is created.
+using Lacks = std::map<std::string, std::uint64_t>;
+
+// Every requirement, evaluated on `device` as `lacking` makes it look.
+std::vector<Requirement> CheckRequirements(VkPhysicalDevice device, const Lacks& lacking);
+
+// Test hook, process-wide like SetValidation: devices look as if they lacked these.
+void SetDeviceLacks(Lacks lacks);
+const Lacks& DeviceLacks();
+// A limit as the device reports it, or as DeviceLacks() fakes it.
+std::uint64_t FakedLimit(const std::string& name, std::uint64_t have);
+
+// The device to use without --device: discrete GPUs first, then integrated, virtual, other and CPU;
+// among equals one that meets every requirement; then the lowest index.
+int PreferredDevice(const std::vector<VkPhysicalDevice>& devices);
+
+// Every device the loader lists, with its requirements (as DeviceLacks() makes them look), for
+// `rayspace devices`; `preferred` receives PreferredDevice's choice (-1: no device).
+struct DeviceReport {
+  int index = 0;
+  std::string name, type, driver;
+  VkDriverId driver_id{};
+  std::vector<Requirement> requirements;
+};
+std::vector<DeviceReport> DescribeDevices(int& preferred);
+
+// "shaderInt64 (needed by intersect and shade: supported; the device: not supported); ..." for the
+// unmet ones, or "" when every requirement is met.
+std::string Unmet(const std::vector<Requirement>& reqs);
+
+}  // namespace rayspace::vk

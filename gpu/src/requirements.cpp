@@ -1,0 +1,195 @@
+#include "rayspace/gpu/requirements.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "rayspace/contract.h"
+#include "rayspace/gpu/vulkan.h"
+#include "rayspace/pass_registry.h"
+
+namespace rayspace::vk {
+namespace {
+
+Lacks g_lacks;
+
+// The shared memory the kernels declare at most (sort.comp: wg_tile, digits and bins).
+constexpr std::uint32_t kSharedBytes = (2 * layout::kMaxLocalSize + 256) * 4;
+constexpr VkFormat kColorFormats[] = {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32_UINT};
+
+std::uint32_t MaxBindings() {
+  std::uint32_t m = 0;
+  for (const PassSpec& p : kPasses) m = std::max(m, p.bindings);
+  return m;
+}
+
+std::uint32_t MaxPushBytes() {
+  std::uint32_t m = 0;
+  for (const PassSpec& p : kPasses) m = std::max(m, p.push_bytes);
+  return m;
+}
+
+const char* TypeName(VkPhysicalDeviceType t) {
+  switch (t) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_CPU: return "CPU";
+    default: return "other";
+  }
+}
+
+const char* YesNo(bool b) { return b ? "supported" : "not supported"; }
+
+class Checker {
+ public:
+  explicit Checker(const Lacks& lacking) : lacking_(lacking) {}
+  void Feature(const std::string& name, const std::string& why, bool have) {
+    have = have && !lacking_.count(name);
+    out_.push_back({name, why, "supported", YesNo(have), have});
+  }
+  void Version(const std::string& name, const std::string& why, std::uint32_t need, std::uint32_t have) {
+    if (auto it = lacking_.find(name); it != lacking_.end()) have = static_cast<std::uint32_t>(it->second);
+    const auto str = [](std::uint32_t v) { return fmt::format("{}.{}", VK_API_VERSION_MAJOR(v), VK_API_VERSION_MINOR(v)); };
+    out_.push_back({name, why, ">= " + str(need), str(have), have >= need});
+  }
+  void Limit(const std::string& name, const std::string& why, std::uint64_t need, std::uint64_t have) {
+    if (auto it = lacking_.find(name); it != lacking_.end()) have = it->second;
+    out_.push_back({name, why, fmt::format(">= {}", need), std::to_string(have), have >= need});
+  }
+  std::vector<Requirement> Take() { return std::move(out_); }
+
+ private:
+  const Lacks& lacking_;
+  std::vector<Requirement> out_;
+};
+
+bool FormatHas(VkPhysicalDevice d, VkFormat f, VkFormatFeatureFlags need) {
+  VkFormatProperties p;
+  vkGetPhysicalDeviceFormatProperties(d, f, &p);
+  return (p.optimalTilingFeatures & need) == need;
+}
+
+void CheckFormats(Checker& c, VkPhysicalDevice d) {
+  constexpr VkFormatFeatureFlags kColor = VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT | VK_FORMAT_FEATURE_TRANSFER_SRC_BIT;
+  c.Feature("VK_FORMAT_D32_SFLOAT", "raster: the depth attachment, copied out",
+            FormatHas(d, VK_FORMAT_D32_SFLOAT, VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_FORMAT_FEATURE_TRANSFER_SRC_BIT));
+  c.Feature("VK_FORMAT_R32G32B32A32_SFLOAT", "raster: four G-buffer colour attachments, copied out", FormatHas(d, kColorFormats[0], kColor));
+  c.Feature("VK_FORMAT_R32_UINT", "raster: the primitive-id colour attachment, copied out", FormatHas(d, kColorFormats[1], kColor));
+}
+
+bool HasGraphicsComputeQueue(VkPhysicalDevice d) {
+  std::uint32_t n = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(d, &n, nullptr);
+  std::vector<VkQueueFamilyProperties> fams(n);
+  vkGetPhysicalDeviceQueueFamilyProperties(d, &n, fams.data());
+  for (const VkQueueFamilyProperties& f : fams)
+    if ((f.queueFlags & VK_QUEUE_GRAPHICS_BIT) && (f.queueFlags & VK_QUEUE_COMPUTE_BIT)) return true;
+  return false;
+}
+
+}  // namespace
+
+void SetDeviceLacks(Lacks lacks) { g_lacks = std::move(lacks); }
+const Lacks& DeviceLacks() { return g_lacks; }
+std::uint64_t FakedLimit(const std::string& name, std::uint64_t have) {
+  auto it = g_lacks.find(name);
+  return it == g_lacks.end() ? have : it->second;
+}
+
+std::vector<Requirement> CheckRequirements(VkPhysicalDevice d, const Lacks& lacking) {
+  VkPhysicalDeviceProperties props;
+  vkGetPhysicalDeviceProperties(d, &props);
+  VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  f2.pNext = &f12;
+  vkGetPhysicalDeviceFeatures2(d, &f2);
+  VkPhysicalDeviceFloatControlsProperties fc{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FLOAT_CONTROLS_PROPERTIES};
+  VkPhysicalDeviceSubgroupProperties sub{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+  fc.pNext = &sub;
+  VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+  p2.pNext = &fc;
+  vkGetPhysicalDeviceProperties2(d, &p2);
+  const VkPhysicalDeviceLimits& lim = props.limits;
+
+  Checker c(lacking);
+  c.Version("apiVersion", "every pass (Vulkan 1.2 features and properties)", VK_API_VERSION_1_2, props.apiVersion);
+  c.Feature("shaderInt64", "intersect, shade (64-bit hit records and sums)", f2.features.shaderInt64);
+  c.Feature("shaderBufferInt64Atomics", "intersect, shade (atomicMin / atomicAdd on 64-bit words)", f12.shaderBufferInt64Atomics);
+  c.Feature("shaderSignedZeroInfNanPreserveFloat32", "every kernel (SignedZeroInfNanPreserve: no a - a -> 0 folding)",
+            fc.shaderSignedZeroInfNanPreserveFloat32);
+  constexpr VkSubgroupFeatureFlags kOps = VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT |
+                                          VK_SUBGROUP_FEATURE_BALLOT_BIT | VK_SUBGROUP_FEATURE_SHUFFLE_BIT;
+  c.Feature("subgroupOperations", "trim, sort, reduce, build: basic, arithmetic, ballot and shuffle in compute",
+            (sub.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) && (sub.supportedOperations & kOps) == kOps);
+  c.Feature("graphicsComputeQueue", "raster and the compute passes: one queue family with both", HasGraphicsComputeQueue(d));
+  CheckFormats(c, d);
+  c.Limit("maxColorAttachments", "raster (five G-buffer targets)", 5, lim.maxColorAttachments);
+  c.Limit("maxFragmentOutputAttachments", "raster (five G-buffer targets)", 5, lim.maxFragmentOutputAttachments);
+  c.Limit("maxPerStageDescriptorStorageBuffers", "intersect (three arrays and five paged arrays of four)", MaxBindings(),
+          lim.maxPerStageDescriptorStorageBuffers);
+  c.Limit("maxPushConstantsSize", "traverse (the largest push block)", MaxPushBytes(), lim.maxPushConstantsSize);
+  c.Limit("maxComputeSharedMemorySize", "sort (wg_tile, digits and bins at the largest local size)", kSharedBytes,
+          lim.maxComputeSharedMemorySize);
+  return c.Take();
+}
+
+// Discrete GPUs first, then integrated, virtual, other, CPU; among equals, one that meets every
+// requirement; then the lowest index.
+int PreferredDevice(const std::vector<VkPhysicalDevice>& devs) {
+  const auto rank = [](VkPhysicalDeviceType t) {
+    switch (t) {
+      case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 0;
+      case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 1;
+      case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
+      case VK_PHYSICAL_DEVICE_TYPE_CPU: return 4;
+      default: return 3;
+    }
+  };
+  int best = 0, best_score = 1 << 30;
+  for (std::size_t i = 0; i < devs.size(); ++i) {
+    VkPhysicalDeviceProperties p;
+    vkGetPhysicalDeviceProperties(devs[i], &p);
+    const bool ok = Unmet(CheckRequirements(devs[i], DeviceLacks())).empty();
+    const int score = rank(p.deviceType) * 2 + (ok ? 0 : 1);
+    if (score < best_score) best = static_cast<int>(i), best_score = score;
+  }
+  return best;
+}
+
+std::vector<DeviceReport> DescribeDevices(int& preferred) {
+  std::vector<DeviceReport> out;
+  preferred = -1;
+  VkInstance inst = VK_NULL_HANDLE;
+  if (!CreateInstance(inst, nullptr)) return out;
+  std::uint32_t n = 0;
+  vkEnumeratePhysicalDevices(inst, &n, nullptr);
+  std::vector<VkPhysicalDevice> devs(n);
+  vkEnumeratePhysicalDevices(inst, &n, devs.data());
+  for (std::uint32_t i = 0; i < n; ++i) {
+    VkPhysicalDeviceDriverProperties drv{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+    VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+    p2.pNext = &drv;
+    vkGetPhysicalDeviceProperties2(devs[i], &p2);
+    DeviceReport r;
+    r.index = static_cast<int>(i);
+    r.name = p2.properties.deviceName;
+    r.type = TypeName(p2.properties.deviceType);
+    r.driver = fmt::format("{} {}", drv.driverName, drv.driverInfo);
+    r.driver_id = drv.driverID;
+    r.requirements = CheckRequirements(devs[i], DeviceLacks());
+    out.push_back(std::move(r));
+  }
+  if (n) preferred = PreferredDevice(devs);
+  vkDestroyInstance(inst, nullptr);
+  return out;
+}
+
+std::string Unmet(const std::vector<Requirement>& reqs) {
+  std::string s;
+  for (const Requirement& r : reqs)
+    if (!r.met) s += fmt::format("{}{} (needed by {}: {}; the device: {})", s.empty() ? "" : "; ", r.name, r.why, r.need, r.have);
+  return s;
+}
+
+}  // namespace rayspace::vk

@@ -1,0 +1,50 @@
+# `rayspace devices` lists every requirement as met on this machine's device, and each requirement
+# faked as missing (--device-lacks) is refused by name: by `devices` (NOT MET, exit 2) and by a
+# Vulkan render (exit 2, one line naming it). --local-size beyond a faked workgroup limit is refused too.
+#   cmake -DRAYSPACE=<exe> -DSRC=<source dir> -P cli_devices.cmake
+set(failures "")
+execute_process(COMMAND "${RAYSPACE}" devices RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT out MATCHES "usable" OR out MATCHES "NOT MET")
+  message(FATAL_ERROR "rayspace devices: exit ${rc}, expected 0 with every requirement met:\n${out}${err}")
+endif()
+# The requirement names: the word after "met" on each requirement line.
+string(REGEX MATCHALL "\n    met +[^ ]+" lines "${out}")
+set(names "")
+foreach(line IN LISTS lines)
+  string(REGEX REPLACE "\n    met +" "" name "${line}")
+  list(APPEND names "${name}")
+endforeach()
+list(REMOVE_DUPLICATES names)
+list(LENGTH names count)
+if(count LESS 12)
+  message(FATAL_ERROR "rayspace devices lists ${count} requirements, expected at least 12:\n${out}")
+endif()
+foreach(name IN LISTS names)
+  execute_process(COMMAND "${RAYSPACE}" devices --device-lacks "${name}" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  string(REPLACE "[" "\\[" pattern "${name}")
+  string(REPLACE "]" "\\]" pattern "${pattern}")
+  if(NOT rc EQUAL 2 OR NOT out MATCHES "NOT MET +${pattern} ")
+    string(APPEND failures "\ndevices --device-lacks ${name}: exit ${rc}, expected 2 and '${name}' NOT MET")
+  endif()
+  execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backend vulkan
+                          --device-lacks "${name}" --out "${WORK}/x.png"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  string(FIND "${err}" "lacks what rayspace needs: ${name} (" at)
+  if(NOT rc EQUAL 2 OR at EQUAL -1)
+    string(APPEND failures "\nrender --device-lacks ${name}: exit ${rc}, expected 2 naming it: ${err}")
+  endif()
+endforeach()
+execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --local-size 64
+                        --device-lacks maxComputeWorkGroupInvocations=32
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 2 OR NOT err MATCHES "--local-size 64: .* allows at most 32 invocations per workgroup")
+  string(APPEND failures "\ndiff --local-size 64 on a device allowing 32: exit ${rc}: ${err}")
+endif()
+execute_process(COMMAND "${RAYSPACE}" devices --device-lacks bogus RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 2 OR NOT err MATCHES "--device-lacks 'bogus': not a requirement")
+  string(APPEND failures "\ndevices --device-lacks bogus: exit ${rc}: ${err}")
+endif()
+if(failures)
+  message(FATAL_ERROR "cli.devices:${failures}")
+endif()
+message(STATUS "cli.devices: ${count} requirements met, each refused by name when faked missing")
