@@ -97,24 +97,33 @@ std::uint64_t FakedLimit(const std::string& name, std::uint64_t have) {
   return it == g_lacks.end() ? have : it->second;
 }
 
-std::vector<Requirement> CheckRequirements(VkPhysicalDevice d, const Lacks& lacking) {
-  VkPhysicalDeviceProperties props;
-  vkGetPhysicalDeviceProperties(d, &props);
-  VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+DeviceInfo QueryDevice(VkPhysicalDevice d) {
+  DeviceInfo info;
   VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-  f2.pNext = &f12;
+  f2.pNext = &info.features12;
   vkGetPhysicalDeviceFeatures2(d, &f2);
-  VkPhysicalDeviceFloatControlsProperties fc{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FLOAT_CONTROLS_PROPERTIES};
-  VkPhysicalDeviceSubgroupProperties sub{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
-  fc.pNext = &sub;
+  info.features = f2.features;
+  info.float_controls.pNext = &info.subgroup;
+  info.subgroup.pNext = &info.driver;
   VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
-  p2.pNext = &fc;
+  p2.pNext = &info.float_controls;
   vkGetPhysicalDeviceProperties2(d, &p2);
+  info.props = p2.properties;
+  info.features12.pNext = info.float_controls.pNext = info.subgroup.pNext = info.driver.pNext = nullptr;
+  return info;
+}
+
+std::vector<Requirement> CheckRequirements(VkPhysicalDevice d, const Lacks& lacking) {
+  const DeviceInfo info = QueryDevice(d);
+  const VkPhysicalDeviceProperties& props = info.props;
+  const VkPhysicalDeviceVulkan12Features& f12 = info.features12;
+  const VkPhysicalDeviceFloatControlsProperties& fc = info.float_controls;
+  const VkPhysicalDeviceSubgroupProperties& sub = info.subgroup;
   const VkPhysicalDeviceLimits& lim = props.limits;
 
   Checker c(lacking);
   c.Version("apiVersion", "every pass (Vulkan 1.2 features and properties)", VK_API_VERSION_1_2, props.apiVersion);
-  c.Feature("shaderInt64", "intersect, shade (64-bit hit records and sums)", f2.features.shaderInt64);
+  c.Feature("shaderInt64", "intersect, shade (64-bit hit records and sums)", info.features.shaderInt64);
   c.Feature("shaderBufferInt64Atomics", "intersect, shade (atomicMin / atomicAdd on 64-bit words)", f12.shaderBufferInt64Atomics);
   c.Feature("shaderSignedZeroInfNanPreserveFloat32", "every kernel (SignedZeroInfNanPreserve: no a - a -> 0 folding)",
             fc.shaderSignedZeroInfNanPreserveFloat32);
@@ -167,16 +176,13 @@ std::vector<DeviceReport> DescribeDevices(int& preferred) {
   std::vector<VkPhysicalDevice> devs(n);
   vkEnumeratePhysicalDevices(inst, &n, devs.data());
   for (std::uint32_t i = 0; i < n; ++i) {
-    VkPhysicalDeviceDriverProperties drv{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
-    VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
-    p2.pNext = &drv;
-    vkGetPhysicalDeviceProperties2(devs[i], &p2);
+    const DeviceInfo info = QueryDevice(devs[i]);
     DeviceReport r;
     r.index = static_cast<int>(i);
-    r.name = p2.properties.deviceName;
-    r.type = TypeName(p2.properties.deviceType);
-    r.driver = fmt::format("{} {}", drv.driverName, drv.driverInfo);
-    r.driver_id = drv.driverID;
+    r.name = info.props.deviceName;
+    r.type = TypeName(info.props.deviceType);
+    r.driver = fmt::format("{} {}", info.driver.driverName, info.driver.driverInfo);
+    r.driver_id = info.driver.driverID;
     r.requirements = CheckRequirements(devs[i], DeviceLacks());
     out.push_back(std::move(r));
   }

@@ -139,42 +139,26 @@ Graphics::~Graphics() {
 
 std::vector<std::string> Context::ListDevices() {
   std::vector<std::string> out;
-  VkInstance inst = VK_NULL_HANDLE;
-  if (!CreateInstance(inst, nullptr)) return out;
-  std::uint32_t n = 0;
-  vkEnumeratePhysicalDevices(inst, &n, nullptr);
-  std::vector<VkPhysicalDevice> devs(n);
-  vkEnumeratePhysicalDevices(inst, &n, devs.data());
-  for (auto d : devs) {
-    VkPhysicalDeviceProperties p;
-    vkGetPhysicalDeviceProperties(d, &p);
-    out.push_back(p.deviceName);
-  }
-  vkDestroyInstance(inst, nullptr);
+  int preferred = -1;
+  for (const DeviceReport& d : DescribeDevices(preferred)) out.push_back(d.name);
   return out;
 }
 
 // The limits and names of the chosen device that the passes and reports read.
 void Context::ReadProperties() {
-  VkPhysicalDeviceProperties props;
-  vkGetPhysicalDeviceProperties(physical_, &props);
-  device_name_ = props.deviceName;
-  max_storage_range_ = props.limits.maxStorageBufferRange;
+  const DeviceInfo info = QueryDevice(physical_);
+  const VkPhysicalDeviceLimits& lim = info.props.limits;
+  device_name_ = info.props.deviceName;
+  max_storage_range_ = lim.maxStorageBufferRange;
   storage_limit_ = max_storage_range_;
-  max_groups_[0] = props.limits.maxComputeWorkGroupCount[0];
-  max_groups_[1] = props.limits.maxComputeWorkGroupCount[1];
-  max_stage_storage_buffers_ = props.limits.maxPerStageDescriptorStorageBuffers;
-  max_invocations_ = static_cast<std::uint32_t>(FakedLimit("maxComputeWorkGroupInvocations", props.limits.maxComputeWorkGroupInvocations));
-  max_size_x_ = static_cast<std::uint32_t>(FakedLimit("maxComputeWorkGroupSize[0]", props.limits.maxComputeWorkGroupSize[0]));
-  max_image_side_ = props.limits.maxImageDimension2D;
-  VkPhysicalDeviceDriverProperties drv{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
-  VkPhysicalDeviceSubgroupProperties sub{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
-  drv.pNext = &sub;
-  VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
-  p2.pNext = &drv;
-  vkGetPhysicalDeviceProperties2(physical_, &p2);
-  subgroup_size_ = std::max(sub.subgroupSize, 1u);
-  driver_ = fmt::format("{} {}", drv.driverName, drv.driverInfo);
+  max_groups_[0] = lim.maxComputeWorkGroupCount[0];
+  max_groups_[1] = lim.maxComputeWorkGroupCount[1];
+  max_stage_storage_buffers_ = lim.maxPerStageDescriptorStorageBuffers;
+  max_invocations_ = static_cast<std::uint32_t>(FakedLimit("maxComputeWorkGroupInvocations", lim.maxComputeWorkGroupInvocations));
+  max_size_x_ = static_cast<std::uint32_t>(FakedLimit("maxComputeWorkGroupSize[0]", lim.maxComputeWorkGroupSize[0]));
+  max_image_side_ = lim.maxImageDimension2D;
+  subgroup_size_ = std::max(info.subgroup.subgroupSize, 1u);
+  driver_ = fmt::format("{} {}", info.driver.driverName, info.driver.driverInfo);
   vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
 }
 

@@ -13,6 +13,17 @@
 
 namespace rayspace::vk {
 
+// What rayspace reads of a device, in one query (the pNext chains are cut after it).
+struct DeviceInfo {
+  VkPhysicalDeviceProperties props{};
+  VkPhysicalDeviceFeatures features{};
+  VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  VkPhysicalDeviceFloatControlsProperties float_controls{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FLOAT_CONTROLS_PROPERTIES};
+  VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+  VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+};
+DeviceInfo QueryDevice(VkPhysicalDevice device);
+
 struct Requirement {
   std::string name;  // e.g. "shaderInt64", "maxPerStageDescriptorStorageBuffers"
   std::string why;   // which pass or part needs it
