@@ -25,9 +25,8 @@ ExitCode RunDevices() {
   int preferred = -1;
   const std::vector<vk::DeviceReport> devices = vk::DescribeDevices(preferred);
   for (const auto& [name, value] : vk::DeviceLacks()) {
-    bool known = name == "maxComputeWorkGroupInvocations" || name == "maxComputeWorkGroupSize[0]";
-    for (const vk::DeviceReport& d : devices)
-      for (const vk::Requirement& r : d.requirements) known |= r.name == name;
+    bool known = false;
+    for (const vk::DeviceReport& d : devices) known |= vk::Fakeable(name, d.requirements);
     if (!known) ThrowInput("--device-lacks '{}': not a requirement (rayspace devices lists them)", name);
   }
   std::printf("rayspace devices: %zu Vulkan device(s)\n", devices.size());

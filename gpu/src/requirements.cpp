@@ -92,6 +92,12 @@ bool HasGraphicsComputeQueue(VkPhysicalDevice d) {
 
 void SetDeviceLacks(Lacks lacks) { g_lacks = std::move(lacks); }
 const Lacks& DeviceLacks() { return g_lacks; }
+bool Fakeable(const std::string& name, const std::vector<Requirement>& reqs) {
+  if (name == "maxComputeWorkGroupInvocations" || name == "maxComputeWorkGroupSize[0]" || name == "maxMemoryAllocationCount")
+    return true;
+  return std::any_of(reqs.begin(), reqs.end(), [&](const Requirement& r) { return r.name == name; });
+}
+
 std::uint64_t FakedLimit(const std::string& name, std::uint64_t have) {
   auto it = g_lacks.find(name);
   return it == g_lacks.end() ? have : it->second;

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "rayspace/gpu/memory.h"
 #include "rayspace/gpu/requirements.h"
 #include "rayspace/gpu/validation.h"
 
@@ -87,7 +88,8 @@ Status Status::Fail(const std::string& call, VkResult r) {
 Buffer& Buffer::operator=(Buffer&& o) noexcept {
   std::swap(device_, o.device_);
   std::swap(buffer_, o.buffer_);
-  std::swap(memory_, o.memory_);
+  std::swap(pool_, o.pool_);
+  std::swap(range_, o.range_);
   std::swap(size_, o.size_);
   std::swap(mapped_, o.mapped_);
   return *this;
@@ -95,9 +97,8 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
 
 Buffer::~Buffer() {
   if (!device_) return;
-  if (mapped_) vkUnmapMemory(device_, memory_);
   vkDestroyBuffer(device_, buffer_, nullptr);
-  vkFreeMemory(device_, memory_, nullptr);
+  if (pool_) pool_->Release(range_);
 }
 
 Kernel::~Kernel() {
@@ -111,7 +112,8 @@ Kernel::~Kernel() {
 Image& Image::operator=(Image&& o) noexcept {
   std::swap(device_, o.device_);
   std::swap(image_, o.image_);
-  std::swap(memory_, o.memory_);
+  std::swap(pool_, o.pool_);
+  std::swap(range_, o.range_);
   std::swap(view_, o.view_);
   std::swap(aspect_, o.aspect_);
   std::swap(width_, o.width_);
@@ -123,7 +125,7 @@ Image::~Image() {
   if (!device_) return;
   vkDestroyImageView(device_, view_, nullptr);
   vkDestroyImage(device_, image_, nullptr);
-  vkFreeMemory(device_, memory_, nullptr);
+  if (pool_) pool_->Release(range_);
 }
 
 Graphics::~Graphics() {
@@ -157,6 +159,7 @@ void Context::ReadProperties() {
   max_invocations_ = static_cast<std::uint32_t>(FakedLimit("maxComputeWorkGroupInvocations", lim.maxComputeWorkGroupInvocations));
   max_size_x_ = static_cast<std::uint32_t>(FakedLimit("maxComputeWorkGroupSize[0]", lim.maxComputeWorkGroupSize[0]));
   max_image_side_ = lim.maxImageDimension2D;
+  max_allocations_ = static_cast<std::uint32_t>(FakedLimit("maxMemoryAllocationCount", lim.maxMemoryAllocationCount));
   subgroup_size_ = std::max(info.subgroup.subgroupSize, 1u);
   driver_ = fmt::format("{} {}", info.driver.driverName, info.driver.driverInfo);
   vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
@@ -197,7 +200,9 @@ Status Context::CreateDevice() {
   VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
   pci.queueFamilyIndex = family_;
   pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-  RS_VK(vkCreateCommandPool(device_, &pci, nullptr, &pool_));
+  RS_VK(vkCreateCommandPool(device_, &pci, nullptr, &command_pool_));
+  pool_ = std::make_unique<MemoryPool>();
+  pool_->Init(device_, max_allocations_);
   return Status::Ok();
 }
 
@@ -234,9 +239,7 @@ namespace {
 Status CheckDevice(VkPhysicalDevice d, int index) {
   const std::vector<Requirement> reqs = CheckRequirements(d, DeviceLacks());
   for (const auto& [name, value] : DeviceLacks()) {
-    bool known = name == "maxComputeWorkGroupInvocations" || name == "maxComputeWorkGroupSize[0]";
-    for (const Requirement& r : reqs) known |= r.name == name;
-    if (!known) return Status::Fail(fmt::format("--device-lacks '{}': not a requirement (rayspace devices lists them)", name));
+    if (!Fakeable(name, reqs)) return Status::Fail(fmt::format("--device-lacks '{}': not a requirement (rayspace devices lists them)", name));
   }
   if (const std::string unmet = Unmet(reqs); !unmet.empty()) {
     VkPhysicalDeviceProperties p;
@@ -269,7 +272,8 @@ Status Context::Create(int device, std::unique_ptr<Context>& out) {
 Context::~Context() {
   if (device_) {
     vkDeviceWaitIdle(device_);
-    vkDestroyCommandPool(device_, pool_, nullptr);
+    pool_.reset();  // memory before the device
+    vkDestroyCommandPool(device_, command_pool_, nullptr);
     vkDestroyDevice(device_, nullptr);
   }
   if (instance_) {
@@ -296,6 +300,9 @@ Status Context::SubmitAndWait(VkCommandBuffer cmd) {
   vkDestroyFence(device_, fence, nullptr);
   return st;
 }
+
+std::size_t Context::memory_allocations() const { return pool_ ? pool_->allocations() : 0; }
+std::size_t Context::peak_memory_allocations() const { return pool_ ? pool_->peak_allocations() : 0; }
 
 std::uint32_t Context::FindMemoryType(std::uint32_t bits, VkMemoryPropertyFlags flags) const {
   for (std::uint32_t i = 0; i < memory_.memoryTypeCount; ++i)
@@ -325,15 +332,19 @@ Status Context::CreateBuffer(std::size_t bytes, Buffer& out, bool storage) {
   RS_VK(vkCreateBuffer(device_, &bci, nullptr, &b.buffer_));
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(device_, b.buffer_, &req);
-  const VkMemoryPropertyFlags want = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-  const std::uint32_t type = FindMemoryType(req.memoryTypeBits, want);
-  if (type == UINT32_MAX) return Status::Fail("no host-visible coherent memory type for a storage buffer");
-  VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-  mai.allocationSize = req.size;
-  mai.memoryTypeIndex = type;
-  RS_VK(vkAllocateMemory(device_, &mai, nullptr, &b.memory_));
-  RS_VK(vkBindBufferMemory(device_, b.buffer_, b.memory_, 0));
-  RS_VK(vkMapMemory(device_, b.memory_, 0, VK_WHOLE_SIZE, 0, &b.mapped_));
+  // Storage buffers: device-local memory the host can map (a GPU's resizable BAR, an integrated
+  // GPU's or lavapipe's memory), else any the host can map. Read-back targets: host-cached, which
+  // a GPU writes and the host reads fast.
+  constexpr VkMemoryPropertyFlags kMappable = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+  const VkMemoryPropertyFlags preferred =
+      kMappable | (storage ? VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT : VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+  std::uint32_t type = FindMemoryType(req.memoryTypeBits, preferred);
+  if (type == UINT32_MAX) type = FindMemoryType(req.memoryTypeBits, kMappable);
+  if (type == UINT32_MAX) return Status::Fail("no host-visible coherent memory type for a buffer");
+  b.pool_ = pool_.get();
+  RS_TRY(pool_->Allocate(req, type, /*host_visible=*/true, /*image=*/false, b.range_));
+  RS_VK(vkBindBufferMemory(device_, b.buffer_, b.range_.memory, b.range_.offset));
+  b.mapped_ = b.range_.mapped;
   out = std::move(b);
   return Status::Ok();
 }
@@ -391,13 +402,12 @@ Status Context::CreateImage(VkFormat format, VkImageUsageFlags usage, VkImageAsp
   RS_VK(vkCreateImage(device_, &ici, nullptr, &im.image_));
   VkMemoryRequirements req;
   vkGetImageMemoryRequirements(device_, im.image_, &req);
-  VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-  mai.allocationSize = req.size;
-  mai.memoryTypeIndex = FindMemoryType(req.memoryTypeBits, 0);
-  if (mai.memoryTypeIndex == UINT32_MAX)
-    return Status::Fail(fmt::format("no memory type for a {} x {} image on '{}'", width, height, device_name_));
-  RS_VK(vkAllocateMemory(device_, &mai, nullptr, &im.memory_));
-  RS_VK(vkBindImageMemory(device_, im.image_, im.memory_, 0));
+  std::uint32_t type = FindMemoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  if (type == UINT32_MAX) type = FindMemoryType(req.memoryTypeBits, 0);
+  if (type == UINT32_MAX) return Status::Fail(fmt::format("no memory type for a {} x {} image on '{}'", width, height, device_name_));
+  im.pool_ = pool_.get();
+  RS_TRY(pool_->Allocate(req, type, /*host_visible=*/false, /*image=*/true, im.range_));
+  RS_VK(vkBindImageMemory(device_, im.image_, im.range_.memory, im.range_.offset));
   VkImageViewCreateInfo vci{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
   vci.image = im.image_;
   vci.viewType = VK_IMAGE_VIEW_TYPE_2D;
@@ -559,13 +569,13 @@ Status Context::CreateGraphics(const GraphicsDesc& d, std::span<const Image* con
 
 Recorder::~Recorder() {
   for (VkDescriptorPool p : pools_) vkDestroyDescriptorPool(ctx_.device_, p, nullptr);
-  if (cmd_) vkFreeCommandBuffers(ctx_.device_, ctx_.pool_, 1, &cmd_);
+  if (cmd_) vkFreeCommandBuffers(ctx_.device_, ctx_.command_pool_, 1, &cmd_);
 }
 
 Status Recorder::Begin() {
   if (!cmd_) {
     VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-    ai.commandPool = ctx_.pool_;
+    ai.commandPool = ctx_.command_pool_;
     ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
     ai.commandBufferCount = 1;
     RS_VK(vkAllocateCommandBuffers(ctx_.device_, &ai, &cmd_));

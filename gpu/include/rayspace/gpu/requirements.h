@@ -44,6 +44,9 @@ std::vector<Requirement> CheckRequirements(VkPhysicalDevice device, const Lacks&
 // Test hook, process-wide like SetValidation: devices look as if they lacked these.
 void SetDeviceLacks(Lacks lacks);
 const Lacks& DeviceLacks();
+// Whether `name` may be given to --device-lacks: a requirement's name, or a limit checked elsewhere
+// (the workgroup limits against --local-size, maxMemoryAllocationCount by the memory pool).
+bool Fakeable(const std::string& name, const std::vector<Requirement>& reqs);
 // A limit as the device reports it, or as DeviceLacks() fakes it.
 std::uint64_t FakedLimit(const std::string& name, std::uint64_t have);
 

@@ -39,6 +39,14 @@ struct Status {
 const char* ResultName(VkResult r);
 
 class Context;
+class MemoryPool;
+// A range of a pooled block of device memory (memory.h).
+struct MemoryRange {
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkDeviceSize offset = 0, size = 0;
+  void* mapped = nullptr;  // the range's first byte, or null in memory the host cannot see
+  std::uint32_t block = 0;
+};
 
 // A host-visible, host-coherent storage buffer (lavapipe's memory is host memory anyway).
 class Buffer {
@@ -67,7 +75,8 @@ class Buffer {
   friend class Context;
   VkDevice device_ = VK_NULL_HANDLE;
   VkBuffer buffer_ = VK_NULL_HANDLE;
-  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  MemoryPool* pool_ = nullptr;  // the context's; the range goes back to it
+  MemoryRange range_{};
   std::size_t size_ = 0;
   void* mapped_ = nullptr;
 };
@@ -112,7 +121,8 @@ class Image {
   friend class Recorder;
   VkDevice device_ = VK_NULL_HANDLE;
   VkImage image_ = VK_NULL_HANDLE;
-  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  MemoryPool* pool_ = nullptr;
+  MemoryRange range_{};
   VkImageView view_ = VK_NULL_HANDLE;
   VkImageAspectFlags aspect_ = 0;
   std::uint32_t width_ = 0, height_ = 0;
@@ -231,6 +241,9 @@ class Context {
   // Descriptor pools the recorders have created so far (a recorder adds one when a pass's parts
   // outgrow the pools it has; for tests).
   std::size_t descriptor_pools_created() const { return descriptor_pools_; }
+  // vkDeviceMemory objects alive now and at most so far (buffers and images share pooled blocks).
+  std::size_t memory_allocations() const;
+  std::size_t peak_memory_allocations() const;
   // Every physical device, for error messages and --device listings.
   static std::vector<std::string> ListDevices();
 
@@ -244,11 +257,13 @@ class Context {
   std::uint32_t FindMemoryType(std::uint32_t bits, VkMemoryPropertyFlags flags) const;
   VkInstance instance_ = VK_NULL_HANDLE;
   VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;  // --validate only
+  std::unique_ptr<MemoryPool> pool_;                      // every buffer's and image's memory
+  std::uint32_t max_allocations_ = 4096;                  // maxMemoryAllocationCount
   VkPhysicalDevice physical_ = VK_NULL_HANDLE;
   VkDevice device_ = VK_NULL_HANDLE;
   VkQueue queue_ = VK_NULL_HANDLE;
   std::uint32_t family_ = 0;
-  VkCommandPool pool_ = VK_NULL_HANDLE;
+  VkCommandPool command_pool_ = VK_NULL_HANDLE;
   VkPhysicalDeviceMemoryProperties memory_{};
   std::string device_name_, driver_;
   VkDeviceSize max_storage_range_ = 0, storage_limit_ = 0;

@@ -1,0 +1,76 @@
+// Buffers and images take ranges of pooled blocks of device memory (gpu/include/rayspace/gpu/memory.h):
+// a frame's thousands of buffers stay far below maxMemoryAllocationCount, ranges never overlap,
+// freed ranges are reused, and a device allowing fewer blocks is refused by name.
+#include <doctest/doctest.h>
+
+#include <memory>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "rayspace/gpu/memory.h"
+#include "rayspace/gpu/requirements.h"
+#include "rayspace/gpu/vulkan.h"
+
+namespace rayspace {
+namespace {
+
+std::unique_ptr<vk::Context> MakeContext() {
+  std::unique_ptr<vk::Context> ctx;
+  const vk::Status st = vk::Context::Create(-1, ctx);
+  INFO("Vulkan: " << st.message);
+  REQUIRE(st);
+  return ctx;
+}
+
+TEST_CASE("memory: a thousand buffers share a block, keep their own bytes, and give their ranges back") {
+  auto ctx = MakeContext();
+  const std::size_t before = ctx->memory_allocations();
+  {
+    std::vector<vk::Buffer> buffers(1000);
+    for (std::size_t i = 0; i < buffers.size(); ++i) {
+      REQUIRE(ctx->CreateBuffer(4 * (1 + i % 37), buffers[i]));
+      std::vector<std::uint32_t> v(1 + i % 37);
+      std::iota(v.begin(), v.end(), static_cast<std::uint32_t>(i * 1000));
+      buffers[i].Upload(v);
+    }
+    CHECK(ctx->memory_allocations() <= before + 1);  // one vkAllocateMemory per buffer before pooling
+    bool intact = true;
+    for (std::size_t i = 0; i < buffers.size(); ++i) {
+      const std::vector<std::uint32_t> v = buffers[i].Download<std::uint32_t>(1 + i % 37);
+      for (std::size_t k = 0; k < v.size(); ++k) intact &= v[k] == i * 1000 + k;
+    }
+    CHECK(intact);  // no two ranges overlap
+  }
+  // Released: one empty block kept for the next pass, and reused by it.
+  CHECK(ctx->memory_allocations() <= before + 1);
+  vk::Buffer again;
+  REQUIRE(ctx->CreateBuffer(4096, again));
+  CHECK(ctx->memory_allocations() <= before + 1);
+}
+
+TEST_CASE("memory: a buffer larger than half a block has a block of its own, freed with it") {
+  auto ctx = MakeContext();
+  const std::size_t before = ctx->memory_allocations();
+  {
+    vk::Buffer big;
+    REQUIRE(ctx->CreateBuffer(vk::MemoryPool::kBlockBytes / 2 + 4096, big, /*storage=*/false));
+    CHECK(ctx->memory_allocations() == before + 1);
+  }
+  CHECK(ctx->memory_allocations() == before);
+}
+
+TEST_CASE("memory: a device allowing one block refuses the second, naming maxMemoryAllocationCount") {
+  vk::SetDeviceLacks({{"maxMemoryAllocationCount", 1}});
+  auto ctx = MakeContext();
+  vk::SetDeviceLacks({});
+  vk::Buffer buffer;
+  REQUIRE(ctx->CreateBuffer(64, buffer));
+  vk::Image image;  // images never share a block with buffers
+  const vk::Status st = ctx->CreateImage(VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, VK_IMAGE_ASPECT_COLOR_BIT, 8, 8, image);
+  CHECK_FALSE(st);
+  CHECK(st.message.find("maxMemoryAllocationCount is 1") != std::string::npos);
+}
+
+}  // namespace
+}  // namespace rayspace
