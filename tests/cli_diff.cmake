@@ -200,6 +200,10 @@ if("${CASE}" STREQUAL "cornell.crsh.paged" AND NOT failures)
 endif()
 diff_case(cornell.crsh.scan.paged cornell-mirrors 96x96 "" 0 "" --split-bytes 163840 --reduction scan)
 diff_case(cornell.crsh.split cornell-mirrors 48x40 "" 0 "" --split-bytes 65536)
+# A device whose device-local memory the host cannot map (a discrete GPU without resizable BAR):
+# every storage buffer is staged through copies on the queue, under the validation layer.
+diff_case(cornell.crsh.staged cornell-mirrors 64x64 "" 0 "" --device-lacks mappableDeviceLocal)
+diff_case(cornell.crsh.staged.paged cornell-mirrors 96x96 "" 0 "" --device-lacks mappableDeviceLocal --split-bytes 163840)
 diff_case(cornell.crsh.rows cornell-mirrors 96x96 "" 0 "" --max-groups 2)
 # A pair capacity far below the frame's pairs splits triangle batches and node groups on both backends.
 diff_case(cornell.crsh.pair-capacity cornell-mirrors 96x80 "" 0 "" --pair-capacity 3000 --component-size 16)

@@ -34,7 +34,7 @@ vk::Status VulkanPasses::Build(std::uint32_t phase, std::span<const layout::Ray>
     return rec.DispatchGroups(k, b.All(), &push, sizeof push, (push.count + per_group - 1) / per_group);
   }));
   RS_TRY(rec.Submit());
-  keep.CopyBack();
+  RS_TRY(keep.CopyBack());
   return vk::Status::Ok();
 }
 

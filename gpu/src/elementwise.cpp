@@ -60,7 +60,7 @@ vk::Status VulkanPasses::Elementwise(const C& call, VulkanOut<C>& out) {
     return rec.Dispatch(K(*id), b, &push, sizeof push, push.count);
   }));
   RS_TRY(rec.Submit());
-  keep.CopyBack();
+  RS_TRY(keep.CopyBack());
   out.assign(wide.begin(), wide.end());  // narrows a uint per element to the result's type
   return vk::Status::Ok();
 }

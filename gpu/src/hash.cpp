@@ -30,7 +30,7 @@ vk::Status VulkanPasses::Run(const emu::call::Hash& call, std::vector<std::uint3
     return rec.Dispatch(K(PassId::kHash), b.All(), &push, sizeof push, push.n);
   }));
   RS_TRY(rec.Submit());
-  keep.CopyBack();
+  RS_TRY(keep.CopyBack());
   return vk::Status::Ok();
 }
 

@@ -48,13 +48,13 @@ vk::Status VulkanPasses::Run(const emu::call::Intersect& call, std::vector<std::
     return rec.Dispatch(K(PassId::kIntersect), b.All(), &push, sizeof push, push.count);
   }));
   RS_TRY(rec.Submit());
-  keep.CopyBack();
+  RS_TRY(keep.CopyBack());
   // The kernel starts from empty results; merge into the caller's (min for hits, or for occlusion).
   if (shadow) {
-    pocc.Read(std::span<std::uint32_t>(occluded));
+    RS_TRY(pocc.Read(std::span<std::uint32_t>(occluded)));
     for (std::size_t i = 0; i < occluded.size(); ++i) (*call.occluded)[i] |= occluded[i];
   } else {
-    ph.Read(std::span<std::uint64_t>(hits));
+    RS_TRY(ph.Read(std::span<std::uint64_t>(hits)));
     for (std::size_t i = 0; i < hits.size(); ++i) (*call.hits)[i] = std::min((*call.hits)[i], hits[i]);
   }
   return vk::Status::Ok();

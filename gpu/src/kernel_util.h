@@ -21,9 +21,8 @@ namespace rayspace::gpu_backend::detail {
 template <typename T>
 vk::Status MakeFrom(vk::Context& c, std::span<const T> v, vk::Buffer& b) {
   RS_TRY(c.CreateBuffer(std::max<std::size_t>(v.size(), 1) * sizeof(T), b));
-  std::memset(b.data(), 0, b.size());
-  if (!v.empty()) std::memcpy(b.data(), v.data(), v.size_bytes());
-  return vk::Status::Ok();
+  if (v.empty()) return b.Zero();
+  return b.Write(v.data(), v.size_bytes());
 }
 
 // Records one dispatch, submits it and waits.
@@ -40,9 +39,10 @@ struct Paged {
   std::array<vk::Buffer, layout::kBufferPages> pages;
   std::uint32_t page = 1;  // elements per page
   template <typename T>
-  void Read(std::span<T> out) const {
+  [[nodiscard]] vk::Status Read(std::span<T> out) const {
     for (std::size_t p = 0, at = 0; p < pages.size() && at < out.size(); ++p, at += page)
-      std::memcpy(out.data() + at, pages[p].data(), std::min<std::size_t>(page, out.size() - at) * sizeof(T));
+      RS_TRY(pages[p].Read(out.data() + at, std::min<std::size_t>(page, out.size() - at) * sizeof(T)));
+    return vk::Status::Ok();
   }
 };
 static_assert(layout::kBufferPages == 4, "paged.glsl declares four bindings per paged array");
@@ -105,8 +105,9 @@ class Keep {
     return vk::Status::Ok();
   }
   // After the submit.
-  void CopyBack() const {
-    for (const Back& k : back_) std::memcpy(k.dst, k.buf->data(), k.bytes);
+  [[nodiscard]] vk::Status CopyBack() const {
+    for (const Back& k : back_) RS_TRY(k.buf->Read(k.dst, k.bytes));
+    return vk::Status::Ok();
   }
 
  private:

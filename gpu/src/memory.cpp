@@ -77,7 +77,11 @@ Status MemoryPool::Allocate(const VkMemoryRequirements& req, std::uint32_t type,
   bool found = false;
   for (std::uint32_t i = 0; i < blocks_.size() && !found && !dedicated; ++i) {
     Block& b = blocks_[i];
-    if (b.memory && !b.dedicated && b.type == type && b.image == image && TakeFrom(b, req, offset)) index = i, found = true;
+    // A mapped and an unmapped block of one type are kept apart: a buffer staged because its memory is
+    // not to be mapped must not land in mapped memory, nor a staging buffer in unmapped memory.
+    if (b.memory && !b.dedicated && b.type == type && b.image == image && (b.mapped != nullptr) == host_visible &&
+        TakeFrom(b, req, offset))
+      index = i, found = true;
   }
   if (!found) {
     if (Status s = NewBlock(dedicated ? req.size : kBlockBytes, type, host_visible, image, dedicated, index); !s) return s;
@@ -111,7 +115,8 @@ void MemoryPool::Release(const Range& r) {
   if (--b.ranges > 0) return;
   // An empty block: keep one per type and kind for the next pass, free the rest.
   const bool other_empty = std::any_of(blocks_.begin(), blocks_.end(), [&](const Block& x) {
-    return &x != &b && x.memory && !x.dedicated && x.type == b.type && x.image == b.image && x.ranges == 0;
+    return &x != &b && x.memory && !x.dedicated && x.type == b.type && x.image == b.image &&
+           (x.mapped != nullptr) == (b.mapped != nullptr) && x.ranges == 0;
   });
   if (b.dedicated || other_empty) FreeBlock(r.block);
 }

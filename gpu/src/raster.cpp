@@ -63,8 +63,7 @@ vk::Status MakePipeline(vk::Context& ctx, std::span<const std::uint32_t> vert_sp
 template <typename T>
 vk::Status Upload(vk::Context& ctx, const std::vector<T>& v, vk::Buffer& out) {
   if (vk::Status st = ctx.CreateBuffer(v.size() * sizeof(T), out); !st) return st;
-  out.Upload(v);
-  return vk::Status::Ok();
+  return out.Upload(v);
 }
 
 // The scene in binding order.
@@ -91,16 +90,17 @@ vk::Status DrawAndRead(vk::Context& ctx, const vk::Graphics& g, const vk::Buffer
   return rec.Submit();
 }
 
-void Download(const Targets& t, std::uint32_t w, std::uint32_t h, emu::GBuffer& out) {
+vk::Status Download(const Targets& t, std::uint32_t w, std::uint32_t h, emu::GBuffer& out) {
   const std::size_t pixels = static_cast<std::size_t>(w) * h;
   out.width = static_cast<int>(w);
   out.height = static_cast<int>(h);
-  out.diffuse = t.readback[0].Download<glm::vec4>(pixels);
-  out.specular = t.readback[1].Download<glm::vec4>(pixels);
-  out.position = t.readback[2].Download<glm::vec4>(pixels);
-  out.normal = t.readback[3].Download<glm::vec4>(pixels);
-  out.prim = t.readback[4].Download<std::uint32_t>(pixels);
-  out.depth = t.readback[5].Download<float>(pixels);
+  RS_TRY(t.readback[0].Download(pixels, out.diffuse));
+  RS_TRY(t.readback[1].Download(pixels, out.specular));
+  RS_TRY(t.readback[2].Download(pixels, out.position));
+  RS_TRY(t.readback[3].Download(pixels, out.normal));
+  RS_TRY(t.readback[4].Download(pixels, out.prim));
+  RS_TRY(t.readback[5].Download(pixels, out.depth));
+  return vk::Status::Ok();
 }
 
 }  // namespace
@@ -116,8 +116,7 @@ vk::Status RasterGBuffer(vk::Context& ctx, std::span<const std::uint32_t> vert_s
   vk::Buffer in[kBindings];
   if (vk::Status st = UploadInputs(ctx, fc, scene, in); !st) return st;
   if (vk::Status st = DrawAndRead(ctx, g, in, scene.triangles.size(), t); !st) return st;
-  Download(t, w, h, out);
-  return vk::Status::Ok();
+  return Download(t, w, h, out);
 }
 
 vk::Status VulkanPasses::Run(const emu::call::Raster& c, emu::GBuffer& out) {

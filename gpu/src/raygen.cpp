@@ -36,7 +36,7 @@ vk::Status VulkanPasses::RaygenShadow(const emu::call::Raygen& call, emu::Sparse
                     return rec.Dispatch(K(PassId::kRaygenShadow), b.All(), &push, sizeof push, push.surface_count);
                   }));
   RS_TRY(rec.Submit());
-  keep.CopyBack();
+  RS_TRY(keep.CopyBack());
   return vk::Status::Ok();
 }
 
@@ -66,7 +66,7 @@ vk::Status VulkanPasses::RaygenSurface(const vk::Kernel& kernel, const emu::call
                     return rec.Dispatch(kernel, b.All(), &push, sizeof push, push.surface_count);
                   }));
   RS_TRY(rec.Submit());
-  keep.CopyBack();
+  RS_TRY(keep.CopyBack());
   return vk::Status::Ok();
 }
 

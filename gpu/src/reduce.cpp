@@ -40,9 +40,11 @@ vk::Status RunReduce(vk::Context& c, const vk::Kernel& k, std::span<const std::u
     }
   }
   RS_TRY(rec.Submit());
-  const std::uint32_t total = bs.Download<std::uint32_t>(blocks + 1)[blocks];
+  std::vector<std::uint32_t> sums;
+  RS_TRY(bs.Download(blocks + 1, sums));
+  const std::uint32_t total = sums[blocks];
   if (total > n) return vk::Status::Fail(fmt::format("reduce kernel reported {} of {} slots", total, n));
-  out = bo.Download<std::uint32_t>(total);
+  RS_TRY(bo.Download(total, out));
   return vk::Status::Ok();
 }
 

@@ -93,7 +93,8 @@ bool HasGraphicsComputeQueue(VkPhysicalDevice d) {
 void SetDeviceLacks(Lacks lacks) { g_lacks = std::move(lacks); }
 const Lacks& DeviceLacks() { return g_lacks; }
 bool Fakeable(const std::string& name, const std::vector<Requirement>& reqs) {
-  if (name == "maxComputeWorkGroupInvocations" || name == "maxComputeWorkGroupSize[0]" || name == "maxMemoryAllocationCount")
+  if (name == "maxComputeWorkGroupInvocations" || name == "maxComputeWorkGroupSize[0]" || name == "maxMemoryAllocationCount" ||
+      name == "mappableDeviceLocal")
     return true;
   return std::any_of(reqs.begin(), reqs.end(), [&](const Requirement& r) { return r.name == name; });
 }

@@ -37,7 +37,7 @@ vk::Status VulkanPasses::Run(const emu::call::Shade& call, std::monostate&) {
                     return rec.Dispatch(K(PassId::kShade), b.All(), &push, sizeof push, push.surface_count);
                   }));
   RS_TRY(rec.Submit());
-  acc.Read(std::span<std::uint64_t>(accum));
+  RS_TRY(acc.Read(std::span<std::uint64_t>(accum)));
   return vk::Status::Ok();
 }
 

@@ -53,7 +53,7 @@ vk::Status VulkanPasses::Run(const emu::call::Compress& call, emu::Chunks& out) 
   const std::uint32_t n = static_cast<std::uint32_t>(keys.size()), blocks = Blocks(n);
   SortBuffers b;
   RS_TRY(MakeSortBuffers(*ctx_, n, n, b));
-  if (n) b.keys.Upload(keys);
+  if (n) RS_TRY(b.keys.Upload(keys));
   vk::Recorder rec(*ctx_);
   const vk::Kernel& k = K(PassId::kCompress);
   RS_TRY(Phase(rec, k, b, {n, layout::kCompressPhaseHeads, 0, 0, 0, blocks}, Elements(n)));
@@ -62,11 +62,13 @@ vk::Status VulkanPasses::Run(const emu::call::Compress& call, emu::Chunks& out) 
   RS_TRY(Phase(rec, k, b, {n, layout::kCompressPhaseChunks, 0, 0, 0, blocks}, Groups(blocks)));
   RS_TRY(Phase(rec, k, b, {n, layout::kCompressPhaseSizes, 0, 0, 0, blocks}, Elements(n)));
   RS_TRY(rec.Submit());
-  const std::uint32_t chunks = b.count.Download<std::uint32_t>(1)[0];
+  std::vector<std::uint32_t> count;
+  RS_TRY(b.count.Download(1, count));
+  const std::uint32_t chunks = count[0];
   if (chunks > n) return vk::Status::Fail(fmt::format("compress kernel reported {} chunks for {} keys", chunks, n));
-  out.key = b.key.Download<std::uint32_t>(chunks);
-  out.base = b.base.Download<std::uint32_t>(chunks);
-  out.size = b.size.Download<std::uint32_t>(chunks);
+  RS_TRY(b.key.Download(chunks, out.key));
+  RS_TRY(b.base.Download(chunks, out.base));
+  RS_TRY(b.size.Download(chunks, out.size));
   return vk::Status::Ok();
 }
 
@@ -76,7 +78,7 @@ vk::Status VulkanPasses::Run(const emu::call::SortChunks& call, std::vector<std:
   if (blocks > 65535) return vk::Status::Fail(fmt::format("sort: {} chunks exceed the kernel's limit", chunks));
   SortBuffers b;
   RS_TRY(MakeSortBuffers(*ctx_, 1, chunks, b));
-  if (chunks) b.key.Upload(chunk_keys);
+  if (chunks) RS_TRY(b.key.Upload(chunk_keys));
   vk::Recorder rec(*ctx_);
   const vk::Kernel& k = K(PassId::kSort);
   RS_TRY(Phase(rec, k, b, {chunks, layout::kSortPhaseInit, 0, 0, 0, blocks}, Elements(chunks)));
@@ -89,7 +91,7 @@ vk::Status VulkanPasses::Run(const emu::call::SortChunks& call, std::vector<std:
     std::swap(src, dst);
   }
   RS_TRY(rec.Submit());
-  sorted = b.sorted.Download<std::uint32_t>(chunks);  // four passes end in the first half
+  RS_TRY(b.sorted.Download(chunks, sorted));  // four passes end in the first half
   return vk::Status::Ok();
 }
 
@@ -104,10 +106,10 @@ vk::Status VulkanPasses::Run(const emu::call::Decompress& call, std::vector<std:
   SortBuffers b;
   RS_TRY(MakeSortBuffers(*ctx_, n, count, b));
   if (count) {
-    b.key.Upload(chunks.key);
-    b.base.Upload(chunks.base);
-    b.size.Upload(chunks.size);
-    b.sorted.Upload(sorted);
+    RS_TRY(b.key.Upload(chunks.key));
+    RS_TRY(b.base.Upload(chunks.base));
+    RS_TRY(b.size.Upload(chunks.size));
+    RS_TRY(b.sorted.Upload(sorted));
   }
   const std::uint32_t rays = static_cast<std::uint32_t>(n);
   vk::Recorder rec(*ctx_);
@@ -118,7 +120,7 @@ vk::Status VulkanPasses::Run(const emu::call::Decompress& call, std::vector<std:
   RS_TRY(Phase(rec, k, b, {count, layout::kDecompressPhaseStarts, rays, 0, 0, blocks}, Groups(blocks)));
   RS_TRY(Phase(rec, k, b, {count, layout::kDecompressPhaseRays, rays, 0, 0, blocks}, Elements(rays)));
   RS_TRY(rec.Submit());
-  order = b.order.Download<std::uint32_t>(n);
+  RS_TRY(b.order.Download(n, order));
   return vk::Status::Ok();
 }
 

@@ -31,7 +31,7 @@ vk::Status VulkanPasses::Run(const emu::call::SurfacesFromGBuffer& call, std::ve
                     return rec.Dispatch(K(PassId::kSurfaces), b.All(), &push, sizeof push, push.pixels);
                   }));
   RS_TRY(rec.Submit());
-  keep.CopyBack();
+  RS_TRY(keep.CopyBack());
   return vk::Status::Ok();
 }
 
@@ -60,7 +60,7 @@ vk::Status VulkanPasses::Run(const emu::call::SurfacesFromHits& call, std::vecto
     return rec.Dispatch(K(PassId::kSurfacesHits), b.All(), &push, sizeof push, n);
   }));
   RS_TRY(rec.Submit());
-  keep.CopyBack();
+  RS_TRY(keep.CopyBack());
   return vk::Status::Ok();
 }
 

@@ -41,7 +41,7 @@ class Traverser {
     b.Set(layout::kTraverseBindPairs, bp).Set(layout::kTraverseBindFlags, bfl).Set(layout::kTraverseBindValues, bv);
     b.Set(layout::kTraverseBindTested, bt).Set(layout::kTraverseBindNodes, nodes_).Set(layout::kTraverseBindFirst, first_);
     RS_TRY(RunKernel(c_, k_, b.All(), &push, sizeof push, push.count));
-    keep.CopyBack();
+    RS_TRY(keep.CopyBack());
     return vk::Status::Ok();
   }
 

@@ -33,12 +33,14 @@ vk::Status VulkanPasses::Run(const emu::call::Trim& call, emu::Trimmed& out) {
       RS_TRY(rec.DispatchGroups(K(PassId::kTrim), b.All(), &push, sizeof push, phase == layout::kTrimPhaseScanSums ? 1 : blocks));
     }
     RS_TRY(rec.Submit());
-    const std::uint32_t total = bsums.Download<std::uint32_t>(blocks + 1)[blocks];
+    std::vector<std::uint32_t> sums;
+    RS_TRY(bsums.Download(blocks + 1, sums));
+    const std::uint32_t total = sums[blocks];
     if (total > n) return vk::Status::Fail(fmt::format("trim kernel reported {} rays out of {} slots", total, n));
-    if (n) std::memcpy(out.offsets.data() + i0, boff.data(), std::size_t{n} * 4);
+    if (n) RS_TRY(boff.Read(out.offsets.data() + i0, std::size_t{n} * 4));
     const std::size_t at = out.rays.size();
     out.rays.resize(at + total);
-    if (total) std::memcpy(out.rays.data() + at, bdense.data(), std::size_t{total} * sizeof(layout::Ray));
+    if (total) RS_TRY(bdense.Read(out.rays.data() + at, std::size_t{total} * sizeof(layout::Ray)));
     carry += total;
     return vk::Status::Ok();
   });

@@ -86,6 +86,7 @@ Status Status::Fail(const std::string& call, VkResult r) {
 }
 
 Buffer& Buffer::operator=(Buffer&& o) noexcept {
+  std::swap(ctx_, o.ctx_);
   std::swap(device_, o.device_);
   std::swap(buffer_, o.buffer_);
   std::swap(pool_, o.pool_);
@@ -93,6 +94,33 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
   std::swap(size_, o.size_);
   std::swap(mapped_, o.mapped_);
   return *this;
+}
+
+Status Buffer::Write(const void* src, std::size_t bytes) {
+  if (bytes > size_) return Status::Fail(fmt::format("a write of {} bytes into a buffer of {}", bytes, size_));
+  if (mapped_) {
+    if (bytes) std::memcpy(mapped_, src, bytes);
+    return Status::Ok();
+  }
+  return ctx_->Stage(*this, const_cast<void*>(src), bytes, /*to_device=*/true);
+}
+
+Status Buffer::Zero() {
+  if (mapped_) {
+    std::memset(mapped_, 0, size_);
+    return Status::Ok();
+  }
+  std::vector<char> zeros(size_, 0);
+  return ctx_->Stage(*this, zeros.data(), size_, /*to_device=*/true);
+}
+
+Status Buffer::Read(void* dst, std::size_t bytes) const {
+  if (bytes > size_) return Status::Fail(fmt::format("a read of {} bytes from a buffer of {}", bytes, size_));
+  if (mapped_) {
+    if (bytes) std::memcpy(dst, mapped_, bytes);
+    return Status::Ok();
+  }
+  return ctx_->Stage(*this, dst, bytes, /*to_device=*/false);
 }
 
 Buffer::~Buffer() {
@@ -301,6 +329,47 @@ Status Context::SubmitAndWait(VkCommandBuffer cmd) {
   return st;
 }
 
+Status Context::Stage(const Buffer& b, void* host, std::size_t bytes, bool to_device) {
+  if (bytes == 0) return Status::Ok();
+  Buffer staging;
+  RS_TRY(CreateBuffer(bytes, staging, /*storage=*/false));
+  if (!staging.mapped()) return Status::Fail("staging: no host-visible memory for a staging buffer");
+  if (to_device) std::memcpy(staging.mapped_, host, bytes);
+  VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  ai.commandPool = command_pool_;
+  ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  ai.commandBufferCount = 1;
+  VkCommandBuffer cmd;
+  RS_VK(vkAllocateCommandBuffers(device_, &ai, &cmd));
+  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  Status st = Status::Ok();
+  if (VkResult r = vkBeginCommandBuffer(cmd, &bi); r != VK_SUCCESS) st = Status::Fail("vkBeginCommandBuffer", r);
+  if (st) {
+    // Before: whatever earlier submits did with the buffer. After: the copy before later commands
+    // (an upload) or before the host reads the staging buffer (a read-back).
+    VkMemoryBarrier before{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    before.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_HOST_WRITE_BIT;
+    before.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_HOST_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1,
+                         &before, 0, nullptr, 0, nullptr);
+    const VkBufferCopy region{0, 0, bytes};
+    vkCmdCopyBuffer(cmd, to_device ? staging.handle() : b.handle(), to_device ? b.handle() : staging.handle(), 1, &region);
+    VkMemoryBarrier after{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    after.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    after.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
+                          VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
+                         &after, 0, nullptr, 0, nullptr);
+    if (VkResult r = vkEndCommandBuffer(cmd); r != VK_SUCCESS) st = Status::Fail("vkEndCommandBuffer", r);
+  }
+  if (st) st = SubmitAndWait(cmd);
+  vkFreeCommandBuffers(device_, command_pool_, 1, &cmd);
+  if (st && !to_device) std::memcpy(host, staging.mapped_, bytes);
+  if (st && ValidationPending()) st = Status::Fail(fmt::format("staging copy: {}", TakeValidationMessages()));
+  return st;
+}
+
 std::size_t Context::memory_allocations() const { return pool_ ? pool_->allocations() : 0; }
 std::size_t Context::peak_memory_allocations() const { return pool_ ? pool_->peak_allocations() : 0; }
 
@@ -328,21 +397,37 @@ Status Context::CreateBuffer(std::size_t bytes, Buffer& out, bool storage) {
   b.size_ = bytes;
   VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   bci.size = std::max<std::size_t>(bytes, 16);
-  bci.usage = (storage ? VK_BUFFER_USAGE_STORAGE_BUFFER_BIT : 0) | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  bci.usage = (storage ? VK_BUFFER_USAGE_STORAGE_BUFFER_BIT : 0) | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+              VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
   RS_VK(vkCreateBuffer(device_, &bci, nullptr, &b.buffer_));
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(device_, b.buffer_, &req);
   // Storage buffers: device-local memory the host can map (a GPU's resizable BAR, an integrated
   // GPU's or lavapipe's memory), else any the host can map. Read-back targets: host-cached, which
   // a GPU writes and the host reads fast.
+  // A discrete GPU without resizable BAR (or --device-lacks mappableDeviceLocal) has no such memory:
+  // its storage buffers are device-local and staged.
   constexpr VkMemoryPropertyFlags kMappable = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-  const VkMemoryPropertyFlags preferred =
-      kMappable | (storage ? VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT : VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
-  std::uint32_t type = FindMemoryType(req.memoryTypeBits, preferred);
-  if (type == UINT32_MAX) type = FindMemoryType(req.memoryTypeBits, kMappable);
-  if (type == UINT32_MAX) return Status::Fail("no host-visible coherent memory type for a buffer");
+  const bool map_local = !DeviceLacks().count("mappableDeviceLocal");
+  std::uint32_t type = UINT32_MAX;
+  bool mappable = true;
+  if (storage) {
+    if (map_local) type = FindMemoryType(req.memoryTypeBits, kMappable | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    if (type == UINT32_MAX) {
+      type = FindMemoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+      mappable = false;
+    }
+  } else {
+    type = FindMemoryType(req.memoryTypeBits, kMappable | VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+  }
+  if (type == UINT32_MAX) {
+    type = FindMemoryType(req.memoryTypeBits, kMappable);
+    mappable = true;
+  }
+  if (type == UINT32_MAX) return Status::Fail("no memory type for a buffer");
+  b.ctx_ = this;
   b.pool_ = pool_.get();
-  RS_TRY(pool_->Allocate(req, type, /*host_visible=*/true, /*image=*/false, b.range_));
+  RS_TRY(pool_->Allocate(req, type, mappable, /*image=*/false, b.range_));
   RS_VK(vkBindBufferMemory(device_, b.buffer_, b.range_.memory, b.range_.offset));
   b.mapped_ = b.range_.mapped;
   out = std::move(b);
@@ -657,10 +742,11 @@ Status Recorder::DispatchGroups(const Kernel& k, std::span<const Buffer* const> 
   if (groups > 0) vkCmdDispatch(cmd_, gx, static_cast<std::uint32_t>(gy), 1);
   VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-  mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_HOST_READ_BIT;
+  mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_HOST_READ_BIT |
+                    VK_ACCESS_TRANSFER_READ_BIT;  // a staged read-back in a later submit
   vkCmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0,
-                       nullptr);
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0,
+                       1, &mb, 0, nullptr, 0, nullptr);
   return Status::Ok();
 }
 

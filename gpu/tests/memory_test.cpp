@@ -3,6 +3,7 @@
 // freed ranges are reused, and a device allowing fewer blocks is refused by name.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <memory>
 #include <numeric>
 #include <string>
@@ -32,12 +33,13 @@ TEST_CASE("memory: a thousand buffers share a block, keep their own bytes, and g
       REQUIRE(ctx->CreateBuffer(4 * (1 + i % 37), buffers[i]));
       std::vector<std::uint32_t> v(1 + i % 37);
       std::iota(v.begin(), v.end(), static_cast<std::uint32_t>(i * 1000));
-      buffers[i].Upload(v);
+      REQUIRE(buffers[i].Upload(v));
     }
     CHECK(ctx->memory_allocations() <= before + 1);  // one vkAllocateMemory per buffer before pooling
     bool intact = true;
     for (std::size_t i = 0; i < buffers.size(); ++i) {
-      const std::vector<std::uint32_t> v = buffers[i].Download<std::uint32_t>(1 + i % 37);
+      std::vector<std::uint32_t> v;
+      REQUIRE(buffers[i].Download(1 + i % 37, v));
       for (std::size_t k = 0; k < v.size(); ++k) intact &= v[k] == i * 1000 + k;
     }
     CHECK(intact);  // no two ranges overlap
@@ -70,6 +72,33 @@ TEST_CASE("memory: a device allowing one block refuses the second, naming maxMem
   const vk::Status st = ctx->CreateImage(VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT, VK_IMAGE_ASPECT_COLOR_BIT, 8, 8, image);
   CHECK_FALSE(st);
   CHECK(st.message.find("maxMemoryAllocationCount is 1") != std::string::npos);
+}
+
+}  // namespace
+}  // namespace rayspace
+
+namespace rayspace {
+namespace {
+
+TEST_CASE("memory: without mappable device-local memory, storage buffers are device-local and staged") {
+  vk::SetDeviceLacks({{"mappableDeviceLocal", 0}});
+  auto ctx = MakeContext();
+  vk::Buffer b;
+  REQUIRE(ctx->CreateBuffer(4 * 1000, b));
+  vk::SetDeviceLacks({});
+  CHECK_FALSE(b.mapped());
+  std::vector<std::uint32_t> v(1000);
+  std::iota(v.begin(), v.end(), 7u);
+  REQUIRE(b.Upload(v));
+  std::vector<std::uint32_t> back;
+  REQUIRE(b.Download(1000, back));
+  CHECK(back == v);
+  REQUIRE(b.Zero());
+  REQUIRE(b.Download(1000, back));
+  CHECK(std::all_of(back.begin(), back.end(), [](std::uint32_t x) { return x == 0; }));
+  vk::Buffer readback;  // read-back targets stay host-visible
+  REQUIRE(ctx->CreateBuffer(64, readback, /*storage=*/false));
+  CHECK(readback.mapped());
 }
 
 }  // namespace

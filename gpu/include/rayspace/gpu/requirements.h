@@ -45,7 +45,8 @@ std::vector<Requirement> CheckRequirements(VkPhysicalDevice device, const Lacks&
 void SetDeviceLacks(Lacks lacks);
 const Lacks& DeviceLacks();
 // Whether `name` may be given to --device-lacks: a requirement's name, or a limit checked elsewhere
-// (the workgroup limits against --local-size, maxMemoryAllocationCount by the memory pool).
+// (the workgroup limits against --local-size, maxMemoryAllocationCount by the memory pool), or
+// mappableDeviceLocal: no device-local memory the host can map, so storage buffers are staged.
 bool Fakeable(const std::string& name, const std::vector<Requirement>& reqs);
 // A limit as the device reports it, or as DeviceLacks() fakes it.
 std::uint64_t FakedLimit(const std::string& name, std::uint64_t have);

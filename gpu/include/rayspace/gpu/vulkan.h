@@ -48,7 +48,9 @@ struct MemoryRange {
   std::uint32_t block = 0;
 };
 
-// A host-visible, host-coherent storage buffer (lavapipe's memory is host memory anyway).
+// A storage buffer (or a read-back target) in pooled device memory. The host reads and writes it in
+// place where its memory is mappable (device-local memory the host can see, or host memory);
+// otherwise through a staging buffer and a copy on the queue that is waited for (Context::Stage).
 class Buffer {
  public:
   Buffer() = default;
@@ -59,20 +61,24 @@ class Buffer {
   ~Buffer();
   VkBuffer handle() const { return buffer_; }
   std::size_t size() const { return size_; }
-  void* data() const { return mapped_; }
+  bool mapped() const { return mapped_ != nullptr; }
+  // bytes from src to the buffer's start; the whole buffer zeroed; bytes from its start to dst.
+  [[nodiscard]] Status Write(const void* src, std::size_t bytes);
+  [[nodiscard]] Status Zero();
+  [[nodiscard]] Status Read(void* dst, std::size_t bytes) const;
   template <typename T>
-  void Upload(const std::vector<T>& v) { std::memcpy(mapped_, v.data(), v.size() * sizeof(T)); }
+  [[nodiscard]] Status Upload(const std::vector<T>& v) { return Write(v.data(), v.size() * sizeof(T)); }
   template <typename T>
-  void Upload(std::span<const T> v) { std::memcpy(mapped_, v.data(), v.size_bytes()); }
+  [[nodiscard]] Status Upload(std::span<const T> v) { return Write(v.data(), v.size_bytes()); }
   template <typename T>
-  std::vector<T> Download(std::size_t count) const {
-    std::vector<T> v(count);
-    std::memcpy(v.data(), mapped_, count * sizeof(T));
-    return v;
+  [[nodiscard]] Status Download(std::size_t count, std::vector<T>& out) const {
+    out.resize(count);
+    return Read(out.data(), count * sizeof(T));
   }
 
  private:
   friend class Context;
+  Context* ctx_ = nullptr;  // stages the host's reads and writes when the memory is not mapped
   VkDevice device_ = VK_NULL_HANDLE;
   VkBuffer buffer_ = VK_NULL_HANDLE;
   MemoryPool* pool_ = nullptr;  // the context's; the range goes back to it
@@ -243,6 +249,9 @@ class Context {
   std::size_t descriptor_pools_created() const { return descriptor_pools_; }
   // vkDeviceMemory objects alive now and at most so far (buffers and images share pooled blocks).
   std::size_t memory_allocations() const;
+  // The host's access to a buffer whose memory it cannot map: a host-visible staging buffer and a
+  // copy to (`to_device`) or from the buffer, submitted and waited for.
+  Status Stage(const Buffer& b, void* host, std::size_t bytes, bool to_device);
   std::size_t peak_memory_allocations() const;
   // Every physical device, for error messages and --device listings.
   static std::vector<std::string> ListDevices();
