@@ -39,6 +39,8 @@ ExitCode RunDevices() {
     for (const vk::Requirement& r : d.requirements)
       std::printf("    %-7s %-37s need %-10s have %-13s %s\n", r.met ? "met" : "NOT MET", r.name.c_str(), r.need.c_str(),
                   r.have.c_str(), r.why.c_str());
+    std::printf("    float controls (32-bit): DenormPreserve %s, DenormFlushToZero %s, RoundingModeRTE %s\n",
+                d.denorm_preserve ? "yes" : "no", d.denorm_flush ? "yes" : "no", d.round_to_nearest ? "yes" : "no");
     std::printf("    %s\n", ok ? "usable" : "not usable: rayspace refuses it, naming what is missing");
     std::printf("    diff compares: %s\n", ComparisonModel(d).c_str());
   }

@@ -191,6 +191,9 @@ std::vector<DeviceReport> DescribeDevices(int& preferred) {
     r.driver = fmt::format("{} {}", info.driver.driverName, info.driver.driverInfo);
     r.driver_id = info.driver.driverID;
     r.requirements = CheckRequirements(devs[i], DeviceLacks());
+    r.denorm_preserve = info.float_controls.shaderDenormPreserveFloat32;
+    r.denorm_flush = info.float_controls.shaderDenormFlushToZeroFloat32;
+    r.round_to_nearest = info.float_controls.shaderRoundingModeRTEFloat32;
     out.push_back(std::move(r));
   }
   if (n) preferred = PreferredDevice(devs);

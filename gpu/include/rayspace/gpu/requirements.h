@@ -62,6 +62,10 @@ struct DeviceReport {
   std::string name, type, driver;
   VkDriverId driver_id{};
   std::vector<Requirement> requirements;
+  // What the device promises about 32-bit float arithmetic beyond Vulkan's minimum (informational:
+  // the device model of non-lavapipe GPUs is built on these): denormals preserved or flushed on
+  // request, round-to-nearest-even on request.
+  bool denorm_preserve = false, denorm_flush = false, round_to_nearest = false;
 };
 std::vector<DeviceReport> DescribeDevices(int& preferred);
 
