@@ -93,6 +93,7 @@ nlohmann::json CallJson(const verify::CallRecord& c) {
   nlohmann::json j = {{"seq", c.seq}, {"pass", c.pass}, {"method", c.method}, {"label", c.label}, {"equal", c.equal},
                       {"buffers", bl}, {"emu_ms", c.expected_ms}, {"vulkan_ms", c.actual_ms}};
   if (!c.hits.empty()) j["hits"] = c.hits;
+  if (!c.raster.empty()) j["raster"] = c.raster;
   if (!c.error.empty()) j["error"] = c.error;
   if (!c.saved.empty()) j["saved"] = c.saved;
   return j;
@@ -172,6 +173,7 @@ void PrintFirstDivergence(const verify::CallRecord* first) {
     for (const BufferComparison& b : first->buffers)
       if (!b.Equal()) std::printf("    %s\n", b.Summary().c_str());
     if (!first->hits.empty()) std::printf("    hits: %s\n", first->hits.c_str());
+    if (!first->raster.empty()) std::printf("    raster: %s\n", first->raster.c_str());
   }
 }
 

@@ -8,6 +8,7 @@ layout(std430, binding = 1) readonly buffer Frame { FrameConstants fc; };
 // The triangle's index, flat: the fragment stage's gl_PrimitiveID would need the geometryShader
 // feature, which many GPUs (tilers) lack.
 layout(location = 0) flat out uint v_prim;
+layout(constant_id = 0) const uint kFault = 0;  // planted fault (0 = none)
 
 void main() {
   const Triangle t = triangles[gl_VertexIndex / 3];
@@ -20,6 +21,9 @@ void main() {
     precise float d = fc.view_proj[2][r] * p.z;
     c[r] = ((a + b) + d) + fc.view_proj[3][r];
   }
+  // Fault 2: every vertex half a pixel to the right, as a device that snaps differently would cover
+  // edge pixels differently (docs/gpu.md: edge and interior pixels).
+  if (kFault == 2u) c.x += c.w / float(fc.dims.x);
   gl_Position = c;
   v_prim = uint(gl_VertexIndex) / 3u;
 }

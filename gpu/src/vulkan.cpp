@@ -573,6 +573,7 @@ Status CreateGraphicsPipeline(VkDevice device, const GraphicsDesc& d, VkShaderMo
   stages[1].pName = "main";
   const VkSpecializationMapEntry fault_entry{0, 0, 4};
   const VkSpecializationInfo fault_info{1, &fault_entry, sizeof d.fault, &d.fault};
+  stages[0].pSpecializationInfo = &fault_info;
   stages[1].pSpecializationInfo = &fault_info;
   VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
   VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};

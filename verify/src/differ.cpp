@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "rayspace/verify/call_codec.h"
+#include "rayspace/verify/raster_edges.h"
 
 namespace rayspace::verify {
 namespace {
@@ -96,6 +97,13 @@ CallRecord RunAndCompare(const PassMethod& method, const BufferSet& in, Backends
     RS_CHECK_MSG(it != actual_out.blobs().end(), "pass method {} gave no '{}' on the actual backend", method.method, name);
     r.buffers.push_back(CompareBlobs(r.pass, name, blob, it->second));
     r.equal &= r.buffers.back().Equal();
+  }
+  // A diverged raster: on triangle edges, where devices may differ, or inside triangles?
+  if (method.method == "raster" && !r.equal && in.Has("frame")) {
+    const layout::FrameConstants fc = in.GetOne<layout::FrameConstants>("frame");
+    r.raster = ClassifyRaster(fc.dims.x, fc.dims.y, e.Get<std::uint32_t>("prim"), actual_out.Get<std::uint32_t>("prim"),
+                              e.Get<float>("depth"), actual_out.Get<float>("depth"))
+                   .Summary();
   }
   // A diverged ray batch: would the hits change? (Trim's dense rays are what gets traced.)
   if (hit_tracer && method.method == "trim" && !r.equal) {

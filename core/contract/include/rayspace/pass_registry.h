@@ -122,7 +122,8 @@ inline constexpr PhaseSpec kReducePhases[] = {RS_PHASE(Reduce, Local),    RS_PHA
                                               RS_PHASE(Reduce, Scatter)};
 #undef RS_PHASE
 
-inline constexpr FaultSpec kRasterFaults[] = {{1, "the depth is written without the 1/far scale"}};
+inline constexpr FaultSpec kRasterFaults[] = {{1, "the depth is written without the 1/far scale"},
+                                              {2, "every vertex half a pixel to the right (edge pixels only)"}};
 inline constexpr FaultSpec kSurfacesFaults[] = {{1, "rows and columns swapped when the pixel index is split"}};
 inline constexpr FaultSpec kSurfacesHitsFaults[] = {{1, "the hit point is taken at t from the ray's tmin, not its origin"}};
 inline constexpr FaultSpec kRaygenShadowFaults[] = {{1, "the shadow ray runs all the way to the surface"},

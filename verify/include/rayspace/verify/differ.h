@@ -26,6 +26,7 @@ struct CallRecord {
   bool equal = true;
   double expected_ms = 0, actual_ms = 0;
   std::string hits;   // for ray batches that differ: whether any ray's hit changed
+  std::string raster; // for a raster that differs: how many pixels, on triangle edges or inside
   std::string error;  // the actual backend failed on this call
   std::string saved;  // directory of the saved inputs, when saving
 };
