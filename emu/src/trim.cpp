@@ -18,19 +18,15 @@ Trimmed PassTrim(const call::Trim& c) {
   Trimmed t;
   const In<std::uint32_t> flags = c.flags;
   t.offsets.resize(flags.size());
-  // The dense stream's size is the scan's total, known only after the scatter: scatter the flagged
-  // rays into a stream as long as the input, then cut it.
-  t.rays.resize(flags.size());
-  const KernelSite site = KernelSite::Of("trim");
-  const std::uint32_t count = ReduceThenScan(
-      site, flags.size(), [&](std::size_t i) { return flags[i]; },
+  ReduceThenScan(
+      KernelSite::Of("trim"), flags.size(), [&](std::size_t i) { return flags[i]; },
       [&](std::size_t i, std::uint32_t s) {
         t.offsets[i] = s;
         // A dense index past the stream (only a planted wrong offset makes one) is dropped, as robust
         // buffer access drops the kernel's store.
         if (flags[i] && s < t.rays.size()) t.rays[s] = c.rays[i];
-      });
-  t.rays.resize(count);
+      },
+      [&](std::uint32_t count) { t.rays.resize(count); });
   return t;
 }
 

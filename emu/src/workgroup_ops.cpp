@@ -110,7 +110,8 @@ std::uint32_t WorkgroupScanInPlace(wg::Workgroup& w, wg::Shared<std::uint32_t>& 
 }
 
 std::uint32_t ReduceThenScan(const KernelSite& site, std::size_t n, const std::function<std::uint32_t(std::size_t)>& flag,
-                             const std::function<void(std::size_t, std::uint32_t)>& slot) {
+                             const std::function<void(std::size_t, std::uint32_t)>& slot,
+                             const std::function<void(std::uint32_t)>& total) {
   constexpr std::uint32_t kBlock = layout::kScanBlock;
   RS_CHECK_MSG(n < 0xffffffffull, "{}: a stream of {} elements does not fit 32-bit offsets", site.pass, n);
   const auto count = static_cast<std::uint32_t>(n);
@@ -132,6 +133,7 @@ std::uint32_t ReduceThenScan(const KernelSite& site, std::size_t n, const std::f
       if (i.local_id == 0) sums[blocks] = total;
     });
   });
+  if (total) total(sums[blocks]);
   DispatchKernel(site, "Scatter", blocks, [&](wg::Workgroup& w) {
     auto& tile = WorkgroupTile(w);
     const std::uint32_t g = w.id(), end = std::min(count, (g + 1) * kBlock), step = w.local_size();

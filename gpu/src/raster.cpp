@@ -9,14 +9,8 @@
 namespace rayspace::gpu_backend {
 namespace {
 
-// The colour attachments in location order (raster.frag): diffuse, specular, position, normal, primitive id.
-constexpr int kColors = 5;
+constexpr int kColors = static_cast<int>(std::size(kRasterColorFormats));
 constexpr int kTargets = kColors + 1;  // and the depth attachment, last
-constexpr VkFormat kColorFormats[kColors] = {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT,
-                                             VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT,
-                                             VK_FORMAT_R32_UINT};
-constexpr VkColorComponentFlags kRgba =
-    VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
 constexpr std::size_t kTexelBytes[kTargets] = {16, 16, 16, 16, 4, 4};
 // The storage buffers both stages read: triangles, frame, normals, info, materials.
 constexpr std::uint32_t kBindings = 5;
@@ -31,7 +25,7 @@ vk::Status MakeTargets(vk::Context& ctx, std::uint32_t w, std::uint32_t h, Targe
   const std::size_t pixels = static_cast<std::size_t>(w) * h;
   for (int i = 0; i < kTargets; ++i) {
     const bool depth = i == kColors;
-    vk::Status s = ctx.CreateImage(depth ? VK_FORMAT_D32_SFLOAT : kColorFormats[i],
+    vk::Status s = ctx.CreateImage(depth ? kRasterDepthFormat : kRasterColorFormats[i],
                                    depth ? VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT : VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT,
                                    depth ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT, w, h, t.images[i]);
     if (!s) return s;
@@ -49,8 +43,8 @@ vk::Status MakePipeline(vk::Context& ctx, std::span<const std::uint32_t> vert_sp
   d.frag_spirv = frag_spirv;
   d.bindings = kBindings;
   d.fault = fault;
-  d.colors = kColorFormats;
-  d.depth = VK_FORMAT_D32_SFLOAT;
+  d.colors = kRasterColorFormats;
+  d.depth = kRasterDepthFormat;
   d.drop_dependencies_for_testing = planted.drop_subpass_dependencies;
   d.differing_blend_for_testing = planted.differing_blend_states;
   d.width = w;

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "rayspace/contract.h"
+#include "rayspace/gpu/raster.h"
 #include "rayspace/gpu/vulkan.h"
 #include "rayspace/pass_registry.h"
 
@@ -15,7 +16,12 @@ Lacks g_lacks;
 
 // The shared memory the kernels declare at most (sort.comp: wg_tile, digits and bins).
 constexpr std::uint32_t kSharedBytes = (2 * layout::kMaxLocalSize + 256) * 4;
-constexpr VkFormat kColorFormats[] = {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32_UINT};
+// The raster's attachment formats (raster.h), as the requirements below name them.
+static_assert(gpu_backend::kRasterDepthFormat == VK_FORMAT_D32_SFLOAT &&
+                  gpu_backend::kRasterColorFormats[0] == VK_FORMAT_R32G32B32A32_SFLOAT &&
+                  gpu_backend::kRasterColorFormats[3] == VK_FORMAT_R32G32B32A32_SFLOAT &&
+                  gpu_backend::kRasterColorFormats[4] == VK_FORMAT_R32_UINT && std::size(gpu_backend::kRasterColorFormats) == 5,
+              "the raster's formats changed: update the format requirements");
 
 std::uint32_t MaxBindings() {
   std::uint32_t m = 0;
@@ -73,9 +79,9 @@ bool FormatHas(VkPhysicalDevice d, VkFormat f, VkFormatFeatureFlags need) {
 void CheckFormats(Checker& c, VkPhysicalDevice d) {
   constexpr VkFormatFeatureFlags kColor = VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT | VK_FORMAT_FEATURE_TRANSFER_SRC_BIT;
   c.Feature("VK_FORMAT_D32_SFLOAT", "raster: the depth attachment, copied out",
-            FormatHas(d, VK_FORMAT_D32_SFLOAT, VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_FORMAT_FEATURE_TRANSFER_SRC_BIT));
-  c.Feature("VK_FORMAT_R32G32B32A32_SFLOAT", "raster: four G-buffer colour attachments, copied out", FormatHas(d, kColorFormats[0], kColor));
-  c.Feature("VK_FORMAT_R32_UINT", "raster: the primitive-id colour attachment, copied out", FormatHas(d, kColorFormats[1], kColor));
+            FormatHas(d, gpu_backend::kRasterDepthFormat, VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_FORMAT_FEATURE_TRANSFER_SRC_BIT));
+  c.Feature("VK_FORMAT_R32G32B32A32_SFLOAT", "raster: four G-buffer colour attachments, copied out", FormatHas(d, gpu_backend::kRasterColorFormats[0], kColor));
+  c.Feature("VK_FORMAT_R32_UINT", "raster: the primitive-id colour attachment, copied out", FormatHas(d, gpu_backend::kRasterColorFormats[4], kColor));
 }
 
 bool HasGraphicsComputeQueue(VkPhysicalDevice d) {
@@ -92,6 +98,12 @@ bool HasGraphicsComputeQueue(VkPhysicalDevice d) {
 
 void SetDeviceLacks(Lacks lacks) { g_lacks = std::move(lacks); }
 const Lacks& DeviceLacks() { return g_lacks; }
+std::string UnknownLack(const std::vector<Requirement>& reqs) {
+  for (const auto& [name, value] : g_lacks)
+    if (!Fakeable(name, reqs)) return name;
+  return {};
+}
+
 bool Fakeable(const std::string& name, const std::vector<Requirement>& reqs) {
   if (name == "maxComputeWorkGroupInvocations" || name == "maxComputeWorkGroupSize[0]" || name == "maxMemoryAllocationCount" ||
       name == "mappableDeviceLocal")

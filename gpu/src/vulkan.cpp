@@ -266,9 +266,8 @@ namespace {
 // requirement.
 Status CheckDevice(VkPhysicalDevice d, int index) {
   const std::vector<Requirement> reqs = CheckRequirements(d, DeviceLacks());
-  for (const auto& [name, value] : DeviceLacks()) {
-    if (!Fakeable(name, reqs)) return Status::Fail(fmt::format("--device-lacks '{}': not a requirement (rayspace devices lists them)", name));
-  }
+  if (const std::string unknown = UnknownLack(reqs); !unknown.empty())
+    return Status::Fail(fmt::format("--device-lacks '{}': not a requirement (rayspace devices lists them)", unknown));
   if (const std::string unmet = Unmet(reqs); !unmet.empty()) {
     VkPhysicalDeviceProperties p;
     vkGetPhysicalDeviceProperties(d, &p);
@@ -335,39 +334,12 @@ Status Context::Stage(const Buffer& b, void* host, std::size_t bytes, bool to_de
   RS_TRY(CreateBuffer(bytes, staging, /*storage=*/false));
   if (!staging.mapped()) return Status::Fail("staging: no host-visible memory for a staging buffer");
   if (to_device) std::memcpy(staging.mapped_, host, bytes);
-  VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  ai.commandPool = command_pool_;
-  ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  ai.commandBufferCount = 1;
-  VkCommandBuffer cmd;
-  RS_VK(vkAllocateCommandBuffers(device_, &ai, &cmd));
-  VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-  bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  Status st = Status::Ok();
-  if (VkResult r = vkBeginCommandBuffer(cmd, &bi); r != VK_SUCCESS) st = Status::Fail("vkBeginCommandBuffer", r);
-  if (st) {
-    // Before: whatever earlier submits did with the buffer. After: the copy before later commands
-    // (an upload) or before the host reads the staging buffer (a read-back).
-    VkMemoryBarrier before{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-    before.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_HOST_WRITE_BIT;
-    before.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_HOST_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1,
-                         &before, 0, nullptr, 0, nullptr);
-    const VkBufferCopy region{0, 0, bytes};
-    vkCmdCopyBuffer(cmd, to_device ? staging.handle() : b.handle(), to_device ? b.handle() : staging.handle(), 1, &region);
-    VkMemoryBarrier after{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-    after.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-    after.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
-                          VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_HOST_READ_BIT;
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
-                         &after, 0, nullptr, 0, nullptr);
-    if (VkResult r = vkEndCommandBuffer(cmd); r != VK_SUCCESS) st = Status::Fail("vkEndCommandBuffer", r);
-  }
-  if (st) st = SubmitAndWait(cmd);
-  vkFreeCommandBuffers(device_, command_pool_, 1, &cmd);
-  if (st && !to_device) std::memcpy(host, staging.mapped_, bytes);
-  if (st && ValidationPending()) st = Status::Fail(fmt::format("staging copy: {}", TakeValidationMessages()));
-  return st;
+  Recorder rec(*this);
+  RS_TRY(rec.CopyBuffer(to_device ? staging : b, to_device ? b : staging, bytes));
+  RS_TRY(rec.Submit());
+  if (!to_device) std::memcpy(host, staging.mapped_, bytes);
+  if (ValidationPending()) return Status::Fail(fmt::format("staging copy: {}", TakeValidationMessages()));
+  return Status::Ok();
 }
 
 std::size_t Context::memory_allocations() const { return pool_ ? pool_->allocations() : 0; }
@@ -789,6 +761,26 @@ Status Recorder::CopyToHost(const Image& image, const Buffer& dst) {
   mb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
   mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
   vkCmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &mb, 0, nullptr, 0, nullptr);
+  return Status::Ok();
+}
+
+Status Recorder::CopyBuffer(const Buffer& src, const Buffer& dst, std::size_t bytes) {
+  if (!recording_) RS_TRY(Begin());
+  // Before: whatever earlier commands and submits did with either buffer. After: the copy before
+  // later commands (an upload) and before the host reads (a read-back).
+  VkMemoryBarrier before{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  before.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_HOST_WRITE_BIT;
+  before.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+  vkCmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_HOST_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1,
+                       &before, 0, nullptr, 0, nullptr);
+  const VkBufferCopy region{0, 0, bytes};
+  vkCmdCopyBuffer(cmd_, src.handle(), dst.handle(), 1, &region);
+  VkMemoryBarrier after{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  after.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  after.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
+                        VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_HOST_READ_BIT;
+  vkCmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
+                       &after, 0, nullptr, 0, nullptr);
   return Status::Ok();
 }
 

@@ -53,9 +53,12 @@ std::uint32_t WorkgroupScanInPlace(wg::Workgroup& w, wg::Shared<std::uint32_t>& 
 
 // Order-preserving reduce-then-scan over blocks of kScanBlock flags, the three dispatches of
 // trim.comp (BlockSums, ScanSums, Scatter): `flag(i)` is 0 or 1 (or a count), and `slot(i, s)` runs for
-// every i in [0, n) inside the Scatter phase with s the exclusive prefix sum of the flags before i.
-// Returns the total. The Scatter phase's workgroup offset is where kFaultWorkgroupOffset is planted.
+// every i in [0, n) inside the Scatter phase with s the exclusive prefix sum of the flags before i;
+// `total`, if given, receives the sum between ScanSums and Scatter (as the host reads it to size the
+// dense output). Returns the total. The Scatter phase's workgroup offset is where
+// kFaultWorkgroupOffset is planted.
 std::uint32_t ReduceThenScan(const KernelSite& site, std::size_t n, const std::function<std::uint32_t(std::size_t)>& flag,
-                             const std::function<void(std::size_t, std::uint32_t)>& slot);
+                             const std::function<void(std::size_t, std::uint32_t)>& slot,
+                             const std::function<void(std::uint32_t)>& total = {});
 
 }  // namespace rayspace::emu

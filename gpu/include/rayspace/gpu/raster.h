@@ -13,6 +13,13 @@
 
 namespace rayspace::gpu_backend {
 
+// The colour attachments in location order (raster.frag): diffuse, specular, position, normal,
+// primitive id; and the depth attachment. The device requirements (requirements.cpp) check these.
+inline constexpr VkFormat kRasterColorFormats[] = {VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT,
+                                                   VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT,
+                                                   VK_FORMAT_R32_UINT};
+inline constexpr VkFormat kRasterDepthFormat = VK_FORMAT_D32_SFLOAT;
+
 // Spec violations planted for the validation tests (gpu/tests/validation_test.cpp); lavapipe runs
 // the raster correctly either way.
 struct RasterViolations {

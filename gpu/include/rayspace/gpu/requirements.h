@@ -48,6 +48,8 @@ const Lacks& DeviceLacks();
 // (the workgroup limits against --local-size, maxMemoryAllocationCount by the memory pool), or
 // mappableDeviceLocal: no device-local memory the host can map, so storage buffers are staged.
 bool Fakeable(const std::string& name, const std::vector<Requirement>& reqs);
+// The first DeviceLacks() name that is not Fakeable, or "".
+std::string UnknownLack(const std::vector<Requirement>& reqs);
 // A limit as the device reports it, or as DeviceLacks() fakes it.
 std::uint64_t FakedLimit(const std::string& name, std::uint64_t have);
 

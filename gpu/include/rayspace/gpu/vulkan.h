@@ -194,6 +194,9 @@ class Recorder {
               std::uint32_t vertices);
   // Copies `image` (left by Draw in TRANSFER_SRC_OPTIMAL) into `dst`, readable by the host after Submit.
   Status CopyToHost(const Image& image, const Buffer& dst);
+  // Copies the first `bytes` of src to dst, ordered after everything before it and before everything
+  // after it, the host's reads included (Context::Stage).
+  Status CopyBuffer(const Buffer& src, const Buffer& dst, std::size_t bytes);
   // Submits everything recorded and waits for it.
   Status Submit();
 
