@@ -93,6 +93,7 @@ Backend MakeBackend(const std::string& name, int device, int local_size, const s
   b.device = owner->gpu->context().device_name();
   b.max_buffer_bytes = owner->gpu->SplitBytes();
   b.subgroup_size = owner->gpu->context().subgroup_size();
+  b.correctly_rounded = owner->gpu->context().correctly_rounded_floats();
   b.frame = owner->frame.get();
   b.hierarchy = owner->hierarchy.get();
   b.owner = owner;

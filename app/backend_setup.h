@@ -14,6 +14,7 @@ struct Backend {
   std::string device;                            // the Vulkan device's name, or "host"
   std::size_t max_buffer_bytes = 0;              // bytes one binding holds (0: no limit)
   std::uint32_t subgroup_size = 0;               // the Vulkan device's subgroup size (0: the emulator)
+  bool correctly_rounded = true;                 // the device rounds every float operation as the emulator
   std::shared_ptr<void> owner;                   // keeps the Vulkan device alive
   emu::FramePasses* frame = nullptr;             // nullptr: the emulator
   emu::HierarchyPasses* hierarchy = nullptr;     // nullptr: the emulator

@@ -94,6 +94,8 @@ nlohmann::json CallJson(const verify::CallRecord& c) {
                       {"buffers", bl}, {"emu_ms", c.expected_ms}, {"vulkan_ms", c.actual_ms}};
   if (!c.hits.empty()) j["hits"] = c.hits;
   if (!c.raster.empty()) j["raster"] = c.raster;
+  if (!c.spec.empty()) j["relaxed_model"] = c.spec;
+  if (!c.equal) j["within_spec"] = c.within_spec;
   if (!c.error.empty()) j["error"] = c.error;
   if (!c.saved.empty()) j["saved"] = c.saved;
   return j;
@@ -114,6 +116,8 @@ struct DiffTotals {
   std::vector<std::string> order;
   std::map<std::string, PassTotals> totals;
   const verify::CallRecord* first = nullptr;
+  std::size_t within_spec = 0;                           // calls that differ only as a device may
+  const verify::CallRecord* first_within = nullptr;
 };
 
 DiffTotals Totals(const std::vector<verify::CallRecord>& calls) {
@@ -133,6 +137,11 @@ DiffTotals Totals(const std::vector<verify::CallRecord>& calls) {
       e.first += b.elements;
       e.second += b.mismatches + (b.expected_elements != b.actual_elements ? 1 : 0);
       t.max_ulp = std::max(t.max_ulp, b.max_ulp);
+    }
+    if (!c.equal && c.within_spec) {
+      ++d.within_spec;
+      if (!d.first_within) d.first_within = &c;
+      continue;
     }
     if (!c.equal && t.equal) {
       t.equal = false;
@@ -166,6 +175,16 @@ nlohmann::json PrintPasses(DiffTotals& d) {
   return passes;
 }
 
+// Calls that differ only as a conformant device may (relaxed comparison): how many, and the first.
+void PrintWithinSpec(const DiffTotals& d) {
+  if (!d.first_within) return;
+  const verify::CallRecord& c = *d.first_within;
+  std::printf("  within the spec's precision: %zu call(s) differ only as a conformant device may; first %s at %s (call %zu)\n",
+              d.within_spec, c.pass.c_str(), c.label.c_str(), c.seq);
+  if (!c.spec.empty()) std::printf("    %s\n", c.spec.c_str());
+  if (!c.raster.empty()) std::printf("    raster: %s\n", c.raster.c_str());
+}
+
 void PrintFirstDivergence(const verify::CallRecord* first) {
   if (first) {
     std::printf("  first divergence: %s at %s (call %zu)\n", first->pass.c_str(), first->label.c_str(), first->seq);
@@ -174,6 +193,7 @@ void PrintFirstDivergence(const verify::CallRecord* first) {
       if (!b.Equal()) std::printf("    %s\n", b.Summary().c_str());
     if (!first->hits.empty()) std::printf("    hits: %s\n", first->hits.c_str());
     if (!first->raster.empty()) std::printf("    raster: %s\n", first->raster.c_str());
+    if (!first->spec.empty()) std::printf("    relaxed model: %s\n", first->spec.c_str());
   }
 }
 
@@ -213,7 +233,8 @@ nlohmann::json PrintCheckerReports(const wg::CheckResult& r) {
 // The --report file: the run, every pass's totals and every call.
 void WriteDiffReport(const DiffArgs& args, const Scene& scene, const emu::FrameOptions& fo, const Backend& gpu,
                      const verify::Differ& differ, const nlohmann::json& passes, bool equal, const std::string& stopped,
-                     const verify::CallRecord* first, const emu::FrameResult& frame, const nlohmann::json& checker) {
+                     const verify::CallRecord* first, const emu::FrameResult& frame, const nlohmann::json& checker,
+                     bool relaxed, std::size_t within_spec) {
   nlohmann::json calls = nlohmann::json::array();
   for (const verify::CallRecord& c : differ.calls()) calls.push_back(CallJson(c));
   nlohmann::json j = {{"scene", scene.name},
@@ -223,7 +244,9 @@ void WriteDiffReport(const DiffArgs& args, const Scene& scene, const emu::FrameO
                       {"device", gpu.device},
                       {"emulation_model", EmulationModel()},
                       {"inject", args.inject},
-                      {"planted_fault_seen", args.inject.empty() ? nlohmann::json(nullptr) : nlohmann::json(!equal)},
+                      {"planted_fault_seen", args.inject.empty() ? nlohmann::json(nullptr) : nlohmann::json(!equal || within_spec > 0)},
+                      {"comparison", relaxed ? "relaxed" : "bitwise"},
+                      {"calls_within_spec", within_spec},
                       {"local_size", args.local_size},
                       {"subgroup_size", wg::SubgroupSize()},
                       {"schedule", ToString(wg::GetSchedule())},
@@ -237,7 +260,7 @@ void WriteDiffReport(const DiffArgs& args, const Scene& scene, const emu::FrameO
                       {"equal", equal},
                       {"stopped", stopped.empty() ? nlohmann::json(nullptr) : nlohmann::json(stopped)},
                       {"first_divergent_pass", first ? nlohmann::json(first->pass) : nlohmann::json(nullptr)},
-                      {"digest", equal ? nlohmann::json(HexDigest(frame.digest.Frame())) : nlohmann::json(nullptr)}};
+                      {"digest", equal && within_spec == 0 ? nlohmann::json(HexDigest(frame.digest.Frame())) : nlohmann::json(nullptr)}};
   std::ofstream f(args.report);
   if (!f) ThrowInput("{}: cannot write the report", args.report);
   f << j.dump(2) << "\n";
@@ -257,7 +280,8 @@ ExitCode RunDiff(const DiffArgs& args) {
 
   verify::Backends expected{emu::EmuFramePasses(), emu::EmuHierarchyPasses()};
   verify::Backends actual{gpu.Frame(), gpu.Hierarchy()};
-  verify::Differ differ(expected, actual, {args.save_inputs, direct.get(), args.inject});
+  const bool relaxed = args.compare == "relaxed" || (args.compare == "auto" && !gpu.correctly_rounded);
+  verify::Differ differ(expected, actual, {args.save_inputs, direct.get(), args.inject, relaxed});
   fo.passes = &differ.frame();
 
   // The frame's tracer: a hierarchy whose passes go through the Differ, or a host tracer (brute,
@@ -277,6 +301,8 @@ ExitCode RunDiff(const DiffArgs& args) {
               args.algo.c_str(), gpu.device.c_str(), EmulationModel().c_str());
   std::printf("  workgroups: local size %d, subgroup size %u, schedule %s, checker %s\n", args.local_size,
               wg::SubgroupSize(), ToString(wg::GetSchedule()).c_str(), wg::Checking() ? "on" : "off");
+  std::printf("  comparison: %s\n", relaxed ? "relaxed (what a conformant device may compute; docs/numerics.md)"
+                                             : "bitwise");
   std::string stopped;
   nlohmann::json checker = nullptr;  // the workgroup checker's reports, when it stopped the frame
   emu::FrameResult frame;
@@ -293,24 +319,30 @@ ExitCode RunDiff(const DiffArgs& args) {
   DiffTotals totals = Totals(differ.calls());
   const verify::CallRecord* first = totals.first;
   const nlohmann::json passes = PrintPasses(totals);
+  PrintWithinSpec(totals);
   PrintFirstDivergence(first);
   if (!stopped.empty()) std::printf("  stopped: %s\n", stopped.c_str());
   const bool equal = first == nullptr && stopped.empty();
-  if (equal)
+  if (equal && totals.within_spec)
+    std::printf("  all passes equal or within the spec's precision\n");
+  else if (equal)
     std::printf("  all passes equal\n");
   else if (first)
     std::printf("  first divergent pass: %s\n", first->pass.c_str());
   else
     std::printf("  no pass compared unequal before the stop\n");
-  if (equal) std::printf("  frame digest %s\n", HexDigest(frame.digest.Frame()).c_str());
+  if (equal && totals.within_spec == 0) std::printf("  frame digest %s\n", HexDigest(frame.digest.Frame()).c_str());
   // A kernel-side fault the device ran without a visible effect (a race that came out right, a
   // divergent barrier its SIMD code reaches anyway) is not a pass: say so.
-  if (equal && !injection.kernel.empty())
+  if (equal && !injection.kernel.empty() && totals.within_spec)
+    std::printf("  planted fault %s: seen, and every difference is within the spec's precision\n", args.inject.c_str());
+  else if (equal && !injection.kernel.empty())
     std::printf("  planted fault %s: not seen, the device executed it benignly (local size %d, subgroup size %u)\n",
                 args.inject.c_str(), args.local_size, wg::SubgroupSize());
   std::printf("  vulkan: %zu split dispatches, %zu arrays paged over several bindings\n", gpu.extra_dispatches(gpu),
               gpu.paged_arrays(gpu));
-  if (!args.report.empty()) WriteDiffReport(args, scene, fo, gpu, differ, passes, equal, stopped, first, frame, checker);
+  if (!args.report.empty())
+    WriteDiffReport(args, scene, fo, gpu, differ, passes, equal, stopped, first, frame, checker, relaxed, totals.within_spec);
   if (!checker.is_null()) return ExitCode::kWorkgroupFault;
   return equal ? ExitCode::kOk : ExitCode::kDivergence;
 }

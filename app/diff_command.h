@@ -12,6 +12,7 @@ struct DiffArgs : FrameArgs {
   DiffArgs() { model = KernelModelArgs::Checked(); }  // a verification run checks the workgroups (3% slower)
   std::string scene, report, inject, save_inputs;
   int local_size = 64;
+  std::string compare = "auto";  // --compare: auto, bitwise or relaxed
 };
 
 // Runs the whole frame with every pass on both backends (same inputs: the GPU's previous outputs)

@@ -26,6 +26,7 @@ struct Commands {
   rayspace::app::AccuracyArgs accuracy;
   CLI::App *render_cmd = nullptr, *accuracy_cmd = nullptr, *diff_cmd = nullptr, *replay_cmd = nullptr, *devices_cmd = nullptr;
   bool validate = false;
+  bool strict_math = false;
 #ifdef RAYSPACE_HAVE_VULKAN
   rayspace::app::DiffArgs diff;
   rayspace::app::ReplayArgs replay;
@@ -72,6 +73,11 @@ void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
                  "workgroup fault's name; @emu plants it in the emulated kernel (test use)");
   rayspace::app::AddLocalSizeOption(*dc, cmds.diff.local_size);
   dc->add_option("--save-inputs", cmds.diff.save_inputs, "Write every pass call's inputs to DIR/NNNN-PASS/ (for replay)");
+  dc->add_option("--compare", cmds.diff.compare,
+                 "bitwise: every word must equal the emulator's; relaxed: a differing word passes when a conformant "
+                 "device may compute it (division, sqrt and denormals as Vulkan permits; raster differences on "
+                 "triangle edges); auto: bitwise on lavapipe, relaxed elsewhere")
+      ->check(CLI::IsMember({"auto", "bitwise", "relaxed"}));
   CLI::App* pc = cmds.replay_cmd = app.add_subcommand("replay", "Run one pass call saved by diff --save-inputs on both backends and compare");
   pc->add_option("dir", cmds.replay.dir, "Directory of the saved call (DIR/NNNN-PASS)")->required();
   pc->add_option("--report", cmds.replay.report, "Write the comparison as JSON to this file");
@@ -105,6 +111,9 @@ int main(int argc, char** argv) {
   app.fallthrough();  // --validate may follow the command's own options
   app.footer(rayspace::app::ExitCodeHelp());  // before the subcommands, which inherit it
   Commands cmds;
+  app.add_flag("--strict-math", cmds.strict_math,
+               "Vulkan: the kernels divide and take square roots correctly rounded in integer arithmetic, so they "
+               "give the emulator's bits on any conformant device (Vulkan lets a device round / and sqrt loosely)");
   app.add_flag("--validate", cmds.validate,
                "Vulkan: run with the Khronos validation layer and synchronization validation; any message fails the "
                "Vulkan call after which it was reported (also RAYSPACE_VALIDATE=1)");
@@ -127,6 +136,7 @@ int main(int argc, char** argv) {
   rayspace::wg::SetChecking(false);  // unless a command asks: --check-workgroups, an @emu fault
 #ifdef RAYSPACE_HAVE_VULKAN
   if (cmds.validate) rayspace::vk::SetValidation(true);
+  rayspace::vk::Context::SetStrictMath(cmds.strict_math);
 #endif
   ExitCode code = ExitCode::kOk;
   try {

@@ -1,20 +1,12 @@
 // Ray generation (thesis eqs. 3.1-3.7). Slots are sparse; trim compacts them in slot order.
 #include <limits>
 
-#include "rayspace/emu/intersect.h"
 #include "rayspace/emu/passes.h"
+#include "rayspace/emu/raygen_math.h"
 #include "rayspace/error.h"
 #include "rayspace/parallel.h"
 
 namespace rayspace::emu {
-namespace {
-
-bool Finite3(glm::vec3 v) {
-  constexpr float kMax = std::numeric_limits<float>::max();
-  return std::fabs(v.x) <= kMax && std::fabs(v.y) <= kMax && std::fabs(v.z) <= kMax;
-}
-
-}  // namespace
 
 SparseRays PassRaygenShadow(const call::Raygen& c) {
   const layout::FrameConstants& fc = c.frame;
@@ -30,10 +22,9 @@ SparseRays PassRaygenShadow(const call::Raygen& c) {
     const glm::vec3 p = Xyz(sf.position);
     for (std::size_t l = 0; l < lights; ++l) {
       const glm::vec3 o = Xyz(scene.lights[l].position);  // eq. 3.1: the ray starts at the light
-      const glm::vec3 v = p - o;
-      const float dist = Length(v);
-      if (!(dist > 0.0f) || !Finite3(v)) continue;     // light on the point: no direction
-      const glm::vec3 d(v.x / dist, v.y / dist, v.z / dist);  // eq. 3.2
+      glm::vec3 d;
+      float dist;
+      if (!ShadowDirection(p, o, d, dist)) continue;
       layout::Ray r;
       r.origin_tmin = glm::vec4(o, fc.params.x);
       r.direction_tmax = glm::vec4(d, dist * fc.params.z);
@@ -79,10 +70,7 @@ SparseRays PassRaygenReflection(const call::Raygen& c) {
   return SurfaceRays(c, layout::kRayReflection, [](const layout::Surface& sf, const layout::Material& m, glm::vec3& d, float& kr) {
     kr = m.diffuse_reflectivity.w;
     if (!(kr > 0.0f)) return false;
-    const glm::vec3 i = Xyz(sf.incoming), n = Xyz(sf.normal);
-    const float ni = Dot(n, i);
-    const float k = 2.0f * ni;
-    d = glm::vec3(i.x - n.x * k, i.y - n.y * k, i.z - n.z * k);  // eq. 3.4: i - 2 n (n.i)
+    d = ReflectionDirection(Xyz(sf.incoming), Xyz(sf.normal));
     return true;
   });
 }
@@ -91,21 +79,7 @@ SparseRays PassRaygenRefraction(const call::Raygen& c) {
   return SurfaceRays(c, layout::kRayRefraction, [](const layout::Surface& sf, const layout::Material& m, glm::vec3& d, float& kt) {
     kt = m.transparency_ior.x;
     if (!(kt > 0.0f)) return false;
-    const glm::vec3 i = Xyz(sf.incoming);
-    glm::vec3 n = Xyz(sf.normal);
-    float cosi = Dot(i, n);
-    // Entering when the ray meets the normal's front side; leaving flips the normal and the ratio.
-    float ri = 1.0f / m.transparency_ior.y;
-    if (cosi > 0.0f) {
-      n = -n;
-      cosi = -cosi;
-      ri = m.transparency_ior.y;
-    }
-    const float k = 1.0f - (ri * ri) * (1.0f - cosi * cosi);  // eq. 3.6
-    if (k < 0.0f) return false;                               // total internal reflection
-    const float a = ri * cosi + std::sqrt(k);
-    d = glm::vec3(i.x * ri - n.x * a, i.y * ri - n.y * a, i.z * ri - n.z * a);  // eq. 3.7
-    return true;
+    return RefractionDirection(Xyz(sf.incoming), Xyz(sf.normal), m.transparency_ior.y, d);
   });
 }
 

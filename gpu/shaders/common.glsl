@@ -13,6 +13,7 @@ spirv_execution_mode(extensions = ["SPV_KHR_float_controls"], capabilities = [44
 
 layout(constant_id = 0) const uint kFault = 0;  // planted fault (0 = none), selected by `diff --inject`
 layout(constant_id = 1) const uint kLocalSize = 64;
+layout(constant_id = 2) const bool kStrictMath = false;  // --strict-math
 layout(local_size_x_id = 1) in;
 
 // This invocation's index in the launch. The host folds launches wider than
@@ -37,23 +38,25 @@ float MaxAbs(vec3 a, vec3 b) {
   return max(max(max(abs(a.x), abs(a.y)), abs(a.z)), max(max(abs(b.x), abs(b.y)), abs(b.z)));
 }
 
+#include "div_sqrt.glsl"  // Div, Sqrt
+
 float Dot3(vec3 a, vec3 b) {
   precise float r = (a.x * b.x + a.y * b.y) + a.z * b.z;
   return r;
 }
-float Length3(vec3 v) { return sqrt(Dot3(v, v)); }
+float Length3(vec3 v) { return Sqrt(Dot3(v, v)); }
 // emu ScaledLength: |v| computed at a power-of-two scale where the squares neither over- nor underflow.
 float ScaledLength3(vec3 v) {
   const float m = max(max(abs(v.x), abs(v.y)), abs(v.z));
   if (!(m > 0.0) || !(m < uintBitsToFloat(0x7F800000u))) return m;
   const float k = InversePowerOfTwo(m);
   precise const vec3 s = vec3(v.x * k, v.y * k, v.z * k);
-  precise const float l = sqrt(Dot3(s, s)) / k;
+  precise const float l = Div(Sqrt(Dot3(s, s)), k);
   return l;
 }
 vec3 Normalize3(vec3 v) {
-  const float l = sqrt(Dot3(v, v));
-  precise vec3 r = vec3(v.x / l, v.y / l, v.z / l);
+  const float l = Sqrt(Dot3(v, v));
+  precise vec3 r = vec3(Div(v.x, l), Div(v.y, l), Div(v.z, l));
   return r;
 }
 vec3 Cross3(vec3 a, vec3 b) {

@@ -89,12 +89,12 @@ ConeNode GrowCone(ConeNode n, vec3 r) {
   precise const vec3 qv = x * c - r;
   const float ql = Length3(qv);
   if (!(ql > 0.0)) return FullSphereCone(n);
-  precise const vec3 q = vec3(qv.x / ql, qv.y / ql, qv.z / ql);
+  precise const vec3 q = vec3(Div(qv.x, ql), Div(qv.y, ql), Div(qv.z, ql));
   precise const vec3 e = x * cosphi + q * sinphi;
   precise const vec3 s = e + r;
   const float sl = Length3(s);
   if (!(sl > 0.0)) return FullSphereCone(n);
-  precise const vec3 xn = vec3(s.x / sl, s.y / sl, s.z / sl);
+  precise const vec3 xn = vec3(Div(s.x, sl), Div(s.y, sl), Div(s.z, sl));
   n.cone = vec4(xn, min(1.0, Dot3(xn, r)));
   n.extra.x = min(1.0, Length3(Cross3(xn, r)));
   return n;
@@ -110,14 +110,14 @@ vec4 ConeUnion(ConeNode a, ConeNode b, out float sin_out) {
   const float c = clamp(Dot3(x1, x2), -1.0, 1.0);
   precise const float chp = (1.0 + c) * 0.5;
   precise const float shp = (1.0 - c) * 0.5;
-  const float ch = sqrt(chp), sh = sqrt(shp);
+  const float ch = Sqrt(chp), sh = Sqrt(shp);
   const bool a_wider = a.cone.w <= b.cone.w;
   const float cm = a_wider ? a.cone.w : b.cone.w, sm = a_wider ? a.extra.x : b.extra.x;
   precise const float cn = ch * cm - sh * sm;
   precise const float sn = sh * cm + ch * sm;
   if (sn < 0.0) return vec4(1.0, 0.0, 0.0, -1.0);
   sin_out = sn;
-  precise const vec3 axis = vec3(s.x / sl, s.y / sl, s.z / sl);
+  precise const vec3 axis = vec3(Div(s.x, sl), Div(s.y, sl), Div(s.z, sl));
   return vec4(axis, cn);
 }
 

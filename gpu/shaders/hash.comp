@@ -22,8 +22,8 @@ float DiamondAngle(float x, float y) {
   precise const float s = ax + ay;
   if (!(s > 0.0)) return 0.0;
   precise float r;
-  if (y >= 0.0) r = x >= 0.0 ? y / s : 1.0 + ax / s;
-  else r = x < 0.0 ? 2.0 + ay / s : 3.0 + x / s;
+  if (y >= 0.0) r = x >= 0.0 ? Div(y, s) : 1.0 + Div(ax, s);
+  else r = x < 0.0 ? 2.0 + Div(ay, s) : 3.0 + Div(x, s);
   return r;
 }
 
@@ -70,8 +70,8 @@ void main() {
   } else {
     precise const vec3 ext = fc.scene_hi.xyz - fc.scene_lo.xyz;
     precise const vec3 rel = r.origin_tmin.xyz - fc.scene_lo.xyz;
-    const uint cx = Cell(rel.x / ext.x, pc.origin_bits), cy = Cell(rel.y / ext.y, pc.origin_bits),
-               cz = Cell(rel.z / ext.z, pc.origin_bits);
+    const uint cx = Cell(Div(rel.x, ext.x), pc.origin_bits), cy = Cell(Div(rel.y, ext.y), pc.origin_bits),
+               cz = Cell(Div(rel.z, ext.z), pc.origin_bits);
     keys[i] = (Interleave3(cx, cy, cz, pc.origin_bits) << uint(2 * pc.direction_bits)) |
               DirectionKey(d, pc.direction_bits, pc.direction_bits);
   }

@@ -38,7 +38,7 @@ bool Watertight(vec3 org, vec3 dir, vec3 v0, vec3 v1, vec3 v2, float tmin, float
     kx = ky;
     ky = tmp;
   }
-  precise const float sx = dir[kx] / dir[kz], sy = dir[ky] / dir[kz];
+  precise const float sx = Div(dir[kx], dir[kz]), sy = Div(dir[ky], dir[kz]);
   precise const vec3 A0 = v0 - org, B0 = v1 - org, C0 = v2 - org;
   const float ka = InversePowerOfTwo(max(MaxAbs(A0, B0), MaxAbs(C0, C0)));
   precise const vec3 A = A0 * ka, B = B0 * ka, C = C0 * ka;
@@ -56,7 +56,9 @@ bool Watertight(vec3 org, vec3 dir, vec3 v0, vec3 v1, vec3 v2, float tmin, float
   const vec3 n0 = Cross3(e1 * ke, e2 * ke);
   const float kn = InversePowerOfTwo(MaxAbs(n0, n0));
   precise const vec3 n = n0 * kn;
-  precise const float t = Dot3(A0, n) / Dot3(dir, n);
+  precise const float t0 = Div(Dot3(A0, n), Dot3(dir, n));
+  // kFaultUlp4: t four ULP too far, beyond what any conformant device computes.
+  const float t = kFault == kFaultUlp4 ? uintBitsToFloat(floatBitsToUint(t0) + 4u) : t0;
   // Fault 1: tmin and tmax swapped in the range check (every hit rejected).
   if (kFault == 1u ? !(t > tmax && t < tmin) : !(t > tmin && t < tmax)) return false;
   t_out = t;

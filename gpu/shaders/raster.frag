@@ -2,7 +2,8 @@
 // Raster fragment stage: depth from the pixel-centre ray and the triangle's plane, written as
 // gl_FragDepth, and the primitive id (emu raster::ShadeFragment).
 #extension GL_GOOGLE_include_directive : require
-#include "rayspace/layout.h"
+#extension GL_ARB_gpu_shader_int64 : require
+#include "rayspace/contract.h"
 
 layout(std430, binding = 0) readonly buffer Triangles { Triangle triangles[]; };
 layout(std430, binding = 1) readonly buffer Frame { FrameConstants fc; };
@@ -16,6 +17,8 @@ layout(location = 2) out vec4 out_position;
 layout(location = 3) out vec4 out_normal;
 layout(location = 4) out uint out_prim;
 layout(constant_id = 0) const uint kFault = 0;  // planted fault (0 = none)
+layout(constant_id = 2) const bool kStrictMath = false;  // --strict-math
+#include "div_sqrt.glsl"
 
 float Dot3(vec3 a, vec3 b) {
   precise float r = (a.x * b.x + a.y * b.y) + a.z * b.z;
@@ -27,8 +30,8 @@ vec3 Cross3(vec3 a, vec3 b) {
   return r;
 }
 vec3 Normalize3(vec3 v) {
-  const float l = sqrt(Dot3(v, v));
-  precise vec3 r = vec3(v.x / l, v.y / l, v.z / l);
+  const float l = Sqrt(Dot3(v, v));
+  precise vec3 r = vec3(Div(v.x, l), Div(v.y, l), Div(v.z, l));
   return r;
 }
 
@@ -61,7 +64,7 @@ void main() {
   const vec3 n0 = Cross3(e1 * ke, e2 * ke);
   precise const vec3 n = n0 * InversePowerOfTwo(MaxAbs(n0, n0));
   precise const vec3 w = t.v0.xyz - fc.eye.xyz;
-  precise const float tt = Dot3(w, n) / Dot3(d, n);
+  precise const float tt = Div(Dot3(w, n), Dot3(d, n));
   if (!(tt > 0.0) || !(tt <= 3.40282347e38)) discard;
   // Fault 1: the depth is written without the 1/far scale (so it saturates at 1).
   precise const float depth = kFault == 1u ? tt : tt * fc.params.y;

@@ -28,7 +28,7 @@ void main() {
   const vec3 i = sf.incoming.xyz;
   vec3 n = sf.normal.xyz;
   float cosi = Dot3(i, n);
-  precise float ri = 1.0 / m.transparency_ior.y;
+  precise float ri = Div(1.0, m.transparency_ior.y);
   // Fault 1: the ratio is not inverted when the ray leaves the medium.
   if (cosi > 0.0) {
     n = -n;
@@ -37,7 +37,7 @@ void main() {
   }
   precise const float k = 1.0 - (ri * ri) * (1.0 - cosi * cosi);
   if (k < 0.0) return;
-  precise const float a = ri * cosi + sqrt(k);
+  precise const float a = ri * cosi + Sqrt(k);
   precise const vec3 d = vec3(i.x * ri - n.x * a, i.y * ri - n.y * a, i.z * ri - n.z * a);
   if (!(Dot3(d, d) > 0.0)) return;
   r.origin_tmin = vec4(sf.position.xyz, fc.params.x);

@@ -32,7 +32,7 @@ void main() {
     precise const vec3 v = p - o;
     const float dist = Length3(v);
     if (!(dist > 0.0) || !(abs(v.x) <= kFloatMax && abs(v.y) <= kFloatMax && abs(v.z) <= kFloatMax)) continue;
-    precise const vec3 d = vec3(v.x / dist, v.y / dist, v.z / dist);
+    precise const vec3 d = vec3(Div(v.x, dist), Div(v.y, dist), Div(v.z, dist));
     // Fault 1: the shadow ray runs all the way to the surface (no tmax shortening).
     precise const float tmax = kFault == 1u ? dist : dist * fc.params.z;
     Ray r;

@@ -10,9 +10,9 @@ layout(push_constant) uniform Block { ElementwisePush pc; };
 void main() {
   const uint i = GlobalIndex();
   if (i >= pc.count) return;
-  precise const float c = float(accum[i]) / kAccumScale;
+  precise const float c = Div(float(accum[i]), kAccumScale);
   // Fault 1: the gamma step is skipped.
-  const float g = kFault == 1u ? min(max(c, 0.0), 1.0) : sqrt(min(max(c, 0.0), 1.0));
+  const float g = kFault == 1u ? min(max(c, 0.0), 1.0) : Sqrt(min(max(c, 0.0), 1.0));
   precise const float v = g * 255.0 + 0.5;
   rgb[i] = uint(v);
 }

@@ -39,10 +39,10 @@ void main() {
     const Light light = lights[l];
     precise const vec3 lv = light.position.xyz - p;
     const float dist = Length3(lv);
-    precise const vec3 ldir = vec3(lv.x / dist, lv.y / dist, lv.z / dist);
+    precise const vec3 ldir = vec3(Div(lv.x, dist), Div(lv.y, dist), Div(lv.z, dist));
     // Fault 1: the quadratic attenuation term uses the distance instead of its square.
     precise const float dd = kFault == 1u ? dist : dist * dist;
-    precise const float att = 1.0 / ((light.attenuation.x + dist * light.attenuation.y) + dd * light.attenuation.z);
+    precise const float att = Div(1.0, (light.attenuation.x + dist * light.attenuation.y) + dd * light.attenuation.z);
     const float ndl = Dot3(ldir, n);
     if (!(ndl > 0.0)) continue;
     const float diffuse = max(0.0, min(1.0, ndl));

@@ -12,7 +12,7 @@ vec3 ShadingNormalOf(Triangle t, TriangleNormals tn, vec3 p) {
   precise const float sum = (a0 + a1) + a2;
   precise vec3 s = vec3(0.0);
   if (sum != 0.0) {
-    precise const float w0 = a0 / sum, w1 = a1 / sum, w2 = a2 / sum;
+    precise const float w0 = Div(a0, sum), w1 = Div(a1, sum), w2 = Div(a2, sum);
     for (int k = 0; k < 3; ++k) s[k] = (tn.n0[k] * w0 + tn.n1[k] * w1) + tn.n2[k] * w2;
   }
   const float len2 = Dot3(s, s);

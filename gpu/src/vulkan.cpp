@@ -190,6 +190,7 @@ void Context::ReadProperties() {
   max_allocations_ = static_cast<std::uint32_t>(FakedLimit("maxMemoryAllocationCount", lim.maxMemoryAllocationCount));
   subgroup_size_ = std::max(info.subgroup.subgroupSize, 1u);
   driver_ = fmt::format("{} {}", info.driver.driverName, info.driver.driverInfo);
+  driver_id_ = info.driver.driverID;
   vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
 }
 
@@ -406,6 +407,12 @@ Status Context::CreateBuffer(std::size_t bytes, Buffer& out, bool storage) {
   return Status::Ok();
 }
 
+namespace {
+bool g_strict_math = false;
+}  // namespace
+void Context::SetStrictMath(bool on) { g_strict_math = on; }
+bool Context::StrictMath() { return g_strict_math; }
+
 Status Context::CreateKernel(const std::string& name, std::span<const std::uint32_t> spirv, std::uint32_t bindings,
                              std::uint32_t fault, Kernel& k, std::uint32_t local_size) {
   // Paged arrays (paged.glsl) take several bindings each; a device with fewer is refused by name.
@@ -423,9 +430,10 @@ Status Context::CreateKernel(const std::string& name, std::span<const std::uint3
   if (Status st = CreateModule(device_, spirv, k.module_); !st) return st;
   if (Status st = CreateLayouts(device_, bindings, VK_SHADER_STAGE_COMPUTE_BIT, 128, k.set_layout_, k.layout_); !st)
     return st;
-  const std::uint32_t spec[2] = {fault, k.local_size_};
-  const VkSpecializationMapEntry entries[2] = {{0, 0, 4}, {1, 4, 4}};
-  VkSpecializationInfo si{2, entries, sizeof spec, spec};
+  // common.glsl: kFault, kLocalSize, kStrictMath (a VkBool32).
+  const std::uint32_t spec[3] = {fault, k.local_size_, g_strict_math ? VK_TRUE : VK_FALSE};
+  const VkSpecializationMapEntry entries[3] = {{0, 0, 4}, {1, 4, 4}, {2, 8, 4}};
+  VkSpecializationInfo si{3, entries, sizeof spec, spec};
   VkComputePipelineCreateInfo cp{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
   cp.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
   cp.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
@@ -543,10 +551,12 @@ Status CreateGraphicsPipeline(VkDevice device, const GraphicsDesc& d, VkShaderMo
   stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
   stages[1].module = frag;
   stages[1].pName = "main";
-  const VkSpecializationMapEntry fault_entry{0, 0, 4};
-  const VkSpecializationInfo fault_info{1, &fault_entry, sizeof d.fault, &d.fault};
-  stages[0].pSpecializationInfo = &fault_info;
-  stages[1].pSpecializationInfo = &fault_info;
+  // kFault (constant 0) and kStrictMath (constant 2, a VkBool32), as for compute kernels.
+  const std::uint32_t spec[2] = {d.fault, Context::StrictMath() ? VK_TRUE : VK_FALSE};
+  const VkSpecializationMapEntry entries[2] = {{0, 0, 4}, {2, 4, 4}};
+  const VkSpecializationInfo spec_info{2, entries, sizeof spec, spec};
+  stages[0].pSpecializationInfo = &spec_info;
+  stages[1].pSpecializationInfo = &spec_info;
   VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
   VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
   ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;

@@ -33,6 +33,12 @@ RS_CONST(uint, kFaultDivergentBarrier, 12u);  // that barrier reached by the fir
 RS_CONST(uint, kFaultSubgroup32, 13u);        // the subgroup size assumed to be 32
 RS_CONST(uint, kFaultSharedOffByOne, 14u);    // subgroup sums published one shared word too far
 RS_CONST(uint, kFaultWorkgroupOffset, 15u);   // a workgroup starts at the next block's offset of the global scan
+// Planted faults that behave like a real GPU's arithmetic (gpu/shaders/common.glsl Div, Sqrt), which
+// the relaxed comparison must accept, and one no conformant device produces, which it must refuse
+// (docs/numerics.md, "The relaxed device model").
+RS_CONST(uint, kFaultApproxDiv, 21u);   // a / b as a * (1 / b)
+RS_CONST(uint, kFaultApproxSqrt, 22u);  // sqrt(x) as 1 / inversesqrt(x)
+RS_CONST(uint, kFaultUlp4, 23u);        // a result 4 ULP off
 // A (node, triangle) pair is packed as (node - level base) << kPairTriangleBits | (triangle - b0):
 // a triangle batch holds at most 2^14 triangles and a level at most 2^18 nodes per batch.
 RS_CONST(uint, kPairTriangleBits, 14u);

@@ -126,10 +126,15 @@ inline constexpr FaultSpec kRasterFaults[] = {{1, "the depth is written without 
                                               {2, "every vertex half a pixel to the right (edge pixels only)"}};
 inline constexpr FaultSpec kSurfacesFaults[] = {{1, "rows and columns swapped when the pixel index is split"}};
 inline constexpr FaultSpec kSurfacesHitsFaults[] = {{1, "the hit point is taken at t from the ray's tmin, not its origin"}};
+// What many GPUs compute where Vulkan permits it: the relaxed comparison accepts these.
+#define RS_APPROX_DIV {layout::kFaultApproxDiv, "a / b computed as a * (1 / b), as a GPU may", "approx-div"}
+#define RS_APPROX_SQRT {layout::kFaultApproxSqrt, "sqrt(x) computed as 1 / inversesqrt(x), as a GPU may", "approx-sqrt"}
 inline constexpr FaultSpec kRaygenShadowFaults[] = {{1, "the shadow ray runs all the way to the surface"},
-                                                    {2, "the ray is credited to the next pixel"}};
+                                                    {2, "the ray is credited to the next pixel"},
+                                                    RS_APPROX_DIV, RS_APPROX_SQRT};
 inline constexpr FaultSpec kRaygenReflectionFaults[] = {{1, "the factor 2 of the mirror formula is lost"}};
-inline constexpr FaultSpec kRaygenRefractionFaults[] = {{1, "the index ratio is not inverted when the ray leaves"}};
+inline constexpr FaultSpec kRaygenRefractionFaults[] = {{1, "the index ratio is not inverted when the ray leaves"},
+                                                        RS_APPROX_SQRT};
 // The faults of workgroup.glsl's WorkgroupInclusiveAdd, in every pass that calls it and whose emulated
 // pass runs its mirror.
 #define RS_WORKGROUP_FAULTS                                                                                      \
@@ -157,9 +162,13 @@ inline constexpr FaultSpec kReduceFaults[] = {{1, "the last element of every seg
                                               RS_WORKGROUP_FAULTS};
 #undef RS_WORKGROUP_FAULTS
 inline constexpr FaultSpec kIntersectFaults[] = {{1, "tmin and tmax swapped in the range check"},
-                                                 {2, "every paged load reads the first page (--split-bytes)"}};
+                                                 {2, "every paged load reads the first page (--split-bytes)"},
+                                                 RS_APPROX_DIV,
+                                                 {layout::kFaultUlp4, "the distance t is 4 ULP too far (beyond any device)", "ulp4"}};
 inline constexpr FaultSpec kShadeFaults[] = {{1, "the quadratic attenuation uses the distance, not its square"}};
 inline constexpr FaultSpec kResolveFaults[] = {{1, "the gamma step is skipped"}};
+#undef RS_APPROX_DIV
+#undef RS_APPROX_SQRT
 }  // namespace pass_registry_detail
 
 #define RS_PUSH(T) #T, sizeof(layout::T)
@@ -226,7 +235,7 @@ static_assert(static_cast<int>(PassId::kRaygenReflection) - static_cast<int>(Pas
                   static_cast<int>(layout::kRayRefraction - layout::kRayShadow) && layout::kRayShadow == 0);
 
 // Registry invariants that hold at compile time: ids in order, names unique, a pass's own faults
-// numbered 1..n and below the workgroup faults' numbers, which carry names.
+// numbered 1..n and below the named faults' numbers (workgroup and device-like faults).
 namespace pass_registry_detail {
 constexpr bool Valid() {
   for (std::size_t i = 0; i < kPasses.size(); ++i) {
@@ -236,7 +245,7 @@ constexpr bool Valid() {
     for (std::size_t f = 0; f < kPasses[i].faults.size(); ++f) {
       const FaultSpec& fs = kPasses[i].faults[f];
       if (fs.name.empty() ? fs.number != f + 1 || fs.number >= layout::kFaultDroppedBarrier
-                          : fs.number < layout::kFaultDroppedBarrier || fs.number > layout::kFaultWorkgroupOffset)
+                          : fs.number < layout::kFaultDroppedBarrier || fs.number > layout::kFaultUlp4)
         return false;
     }
     if (!kPasses[i].graphics && (kPasses[i].push_bytes == 0 || kPasses[i].push_bytes > 128)) return false;

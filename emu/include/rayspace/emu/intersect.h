@@ -13,16 +13,29 @@
 
 namespace rayspace::emu {
 
-inline float Dot(glm::vec3 a, glm::vec3 b) { return (a.x * b.x + a.y * b.y) + a.z * b.z; }
-inline glm::vec3 Cross(glm::vec3 a, glm::vec3 b) {
+// The vector math below is templated over the scalar: float here, and verify::SpecReal when the
+// diff asks which values a device with relaxed division and square root may produce
+// (verify/include/rayspace/verify/spec_real.h). The float instantiation is the kernels' arithmetic.
+template <typename S>
+using Vec3 = glm::vec<3, S, glm::defaultp>;
+
+inline float Abs(float x) { return std::fabs(x); }
+inline float Sqrt(float x) { return std::sqrt(x); }
+
+template <typename S>
+S Dot(Vec3<S> a, Vec3<S> b) { return (a.x * b.x + a.y * b.y) + a.z * b.z; }
+template <typename S>
+Vec3<S> Cross(Vec3<S> a, Vec3<S> b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 // GLSL normalize on lavapipe: v / sqrt(dot(v, v)).
-inline glm::vec3 Normalize(glm::vec3 v) {
-  const float l = std::sqrt(Dot(v, v));
+template <typename S>
+Vec3<S> Normalize(Vec3<S> v) {
+  const S l = Sqrt(Dot(v, v));
   return {v.x / l, v.y / l, v.z / l};
 }
-inline float Length(glm::vec3 v) { return std::sqrt(Dot(v, v)); }
+template <typename S>
+S Length(Vec3<S> v) { return Sqrt(Dot(v, v)); }
 // GLSL min/max on lavapipe return the first operand when the second is NaN.
 inline float Min(float a, float b) { return b != b ? a : (a < b ? a : b); }
 inline float Max(float a, float b) { return b != b ? a : (a > b ? a : b); }
@@ -82,25 +95,29 @@ inline float ScaledLength(glm::vec3 v) {
 }
 
 // The largest magnitude among the components of a and b (NaN-free inputs).
-inline float MaxAbs(glm::vec3 a, glm::vec3 b) {
-  const float x = Max(Max(std::fabs(a.x), std::fabs(a.y)), std::fabs(a.z));
-  const float y = Max(Max(std::fabs(b.x), std::fabs(b.y)), std::fabs(b.z));
+template <typename S>
+S MaxAbs(Vec3<S> a, Vec3<S> b) {
+  const S x = Max(Max(Abs(a.x), Abs(a.y)), Abs(a.z));
+  const S y = Max(Max(Abs(b.x), Abs(b.y)), Abs(b.z));
   return Max(x, y);
 }
 
 // Per-ray setup of the watertight ray-triangle test (Woop, Benthin, Wald 2013): the axis where the
 // direction is largest becomes z, and the ray is sheared onto +z.
-struct WatertightRay {
-  glm::vec3 org, dir;
+template <typename S>
+struct WatertightRayOf {
+  Vec3<S> org, dir;
   int kx, ky, kz;
-  float sx, sy;
+  S sx, sy;
 };
+using WatertightRay = WatertightRayOf<float>;
 
-inline WatertightRay SetupWatertight(glm::vec3 org, glm::vec3 dir) {
-  WatertightRay r;
+template <typename S>
+WatertightRayOf<S> SetupWatertight(Vec3<S> org, Vec3<S> dir) {
+  WatertightRayOf<S> r;
   r.org = org;
   r.dir = dir;
-  const glm::vec3 a(std::fabs(dir.x), std::fabs(dir.y), std::fabs(dir.z));
+  const Vec3<S> a(Abs(dir.x), Abs(dir.y), Abs(dir.z));
   int kz = 0;
   if (a.y > a[kz]) kz = 1;
   if (a.z > a[kz]) kz = 2;
@@ -117,32 +134,32 @@ inline WatertightRay SetupWatertight(glm::vec3 org, glm::vec3 dir) {
 
 // Two-sided, edges inclusive. Returns true and t when the ray meets the triangle with
 // tmin < t < tmax. The inside decision is Woop's (sheared edge functions); t = (v0 - o).n / d.n. Watertight: a ray through a shared edge hits at least one of its triangles.
-inline bool IntersectWatertight(const WatertightRay& r, glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, float tmin,
-                                float tmax, float& t_out) {
+template <typename S>
+bool IntersectWatertight(const WatertightRayOf<S>& r, Vec3<S> v0, Vec3<S> v1, Vec3<S> v2, S tmin, S tmax, S& t_out) {
   // Vertices relative to the origin, scaled by a power of two (exact; the signs of the edge functions
   // and their ratios are unchanged) so the products below neither overflow nor underflow.
-  const glm::vec3 A0 = v0 - r.org, B0 = v1 - r.org, C0 = v2 - r.org;
-  const float ka = InversePowerOfTwo(Max(MaxAbs(A0, B0), MaxAbs(C0, C0)));
-  const glm::vec3 A = A0 * ka, B = B0 * ka, C = C0 * ka;
-  const float ax = A[r.kx] - r.sx * A[r.kz], ay = A[r.ky] - r.sy * A[r.kz];
-  const float bx = B[r.kx] - r.sx * B[r.kz], by = B[r.ky] - r.sy * B[r.kz];
-  const float cx = C[r.kx] - r.sx * C[r.kz], cy = C[r.ky] - r.sy * C[r.kz];
-  const float u = cx * by - cy * bx;
-  const float v = ax * cy - ay * cx;
-  const float w = bx * ay - by * ax;
+  const Vec3<S> A0 = v0 - r.org, B0 = v1 - r.org, C0 = v2 - r.org;
+  const S ka = InversePowerOfTwo(Max(MaxAbs(A0, B0), MaxAbs(C0, C0)));
+  const Vec3<S> A = A0 * ka, B = B0 * ka, C = C0 * ka;
+  const S ax = A[r.kx] - r.sx * A[r.kz], ay = A[r.ky] - r.sy * A[r.kz];
+  const S bx = B[r.kx] - r.sx * B[r.kz], by = B[r.ky] - r.sy * B[r.kz];
+  const S cx = C[r.kx] - r.sx * C[r.kz], cy = C[r.ky] - r.sy * C[r.kz];
+  const S u = cx * by - cy * bx;
+  const S v = ax * cy - ay * cx;
+  const S w = bx * ay - by * ax;
   if ((u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f)) return false;
-  const float det = (u + v) + w;
+  const S det = (u + v) + w;
   if (det == 0.0f) return false;
   // The distance comes from the plane, not from Woop's barycentric sum: on long thin triangles that
   // sum loses about log2(length / width) bits, the plane equation does not. Edges and normal are
   // scaled by powers of two too (t is unchanged): n.A and n.d stay in range for coordinates from
   // 2^-60 to 2^60.
-  const glm::vec3 e1 = v1 - v0, e2 = v2 - v0;
-  const float ke = InversePowerOfTwo(MaxAbs(e1, e2));
-  const glm::vec3 n0 = Cross(e1 * ke, e2 * ke);
-  const float kn = InversePowerOfTwo(MaxAbs(n0, n0));
-  const glm::vec3 n = n0 * kn;
-  const float t = Dot(A0, n) / Dot(r.dir, n);
+  const Vec3<S> e1 = v1 - v0, e2 = v2 - v0;
+  const S ke = InversePowerOfTwo(MaxAbs(e1, e2));
+  const Vec3<S> n0 = Cross(e1 * ke, e2 * ke);
+  const S kn = InversePowerOfTwo(MaxAbs(n0, n0));
+  const Vec3<S> n = n0 * kn;
+  const S t = Dot(A0, n) / Dot(r.dir, n);
   if (!(t > tmin && t < tmax)) return false;  // also rejects NaN
   t_out = t;
   return true;

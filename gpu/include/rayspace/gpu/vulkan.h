@@ -242,6 +242,14 @@ class Context {
   // it only to size launches).
   std::uint32_t subgroup_size() const { return subgroup_size_; }
   std::string driver() const { return driver_; }
+  // --strict-math, process-wide like SetValidation: kernels made afterwards divide and take square
+  // roots correctly rounded in integer arithmetic (rayspace/strict_math.h), so they give the
+  // emulator's bits on any conformant device.
+  static void SetStrictMath(bool on);
+  static bool StrictMath();
+  // lavapipe: its float operations are correctly rounded (docs/gpu.md), so its kernels give the
+  // emulator's bits; on other devices Vulkan's looser division and square root may not.
+  bool correctly_rounded_floats() const { return driver_id_ == VK_DRIVER_ID_MESA_LLVMPIPE; }
   // The most bytes one storage binding may hold: maxStorageBufferRange unless lowered for tests.
   VkDeviceSize storage_limit() const { return storage_limit_; }
   // Test hook: behave like a device with smaller limits (0 leaves a limit as it is), so that the
@@ -271,6 +279,7 @@ class Context {
   VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;  // --validate only
   std::unique_ptr<MemoryPool> pool_;                      // every buffer's and image's memory
   std::uint32_t max_allocations_ = 4096;                  // maxMemoryAllocationCount
+  VkDriverId driver_id_{};
   VkPhysicalDevice physical_ = VK_NULL_HANDLE;
   VkDevice device_ = VK_NULL_HANDLE;
   VkQueue queue_ = VK_NULL_HANDLE;

@@ -27,6 +27,8 @@ struct CallRecord {
   double expected_ms = 0, actual_ms = 0;
   std::string hits;   // for ray batches that differ: whether any ray's hit changed
   std::string raster; // for a raster that differs: how many pixels, on triangle edges or inside
+  std::string spec;   // under the relaxed device model: how many differing elements a device may produce
+  bool within_spec = false;  // differs, but only as a conformant device may (relaxed model only)
   std::string error;  // the actual backend failed on this call
   std::string saved;  // directory of the saved inputs, when saving
 };
@@ -40,11 +42,14 @@ struct DiffOptions {
   std::string save_dir;           // non-empty: every call's inputs go to save_dir/NNNN-label/
   Tracer* hit_tracer = nullptr;   // traces diverged ray batches to tell whether hits change
   std::string inject;             // the planted fault of the actual backend, recorded with saved inputs
+  bool relaxed = false;           // accept differences a conformant device may produce (spec_model.h)
 };
 
 // Runs `method` on both backends with `in`; `actual_out` receives the actual backend's outputs.
+// `relaxed`: a differing call is classified by the relaxed device model (spec_model.h) and, for the
+// raster, by where its pixels differ (raster_edges.h).
 CallRecord RunAndCompare(const PassMethod& method, const BufferSet& in, Backends& expected, Backends& actual,
-                         BufferSet& actual_out, Tracer* hit_tracer = nullptr);
+                         BufferSet& actual_out, Tracer* hit_tracer = nullptr, bool relaxed = false);
 
 class Differ {
  public:

@@ -1,0 +1,145 @@
+// Known answers for the relaxed device model's numbers (verify/spec_real.h): what Vulkan lets a
+// device compute for one operation, the flushing of denormals, and the decisions a permitted
+// rounding may flip.
+#include <doctest/doctest.h>
+
+#include <bit>
+#include <cmath>
+#include <random>
+
+#include "rayspace/verify/spec_model.h"
+#include "rayspace/verify/spec_real.h"
+
+using rayspace::verify::ScopedSpecTrace;
+using rayspace::verify::SpecReal;
+
+namespace {
+
+float Up(float x, int n = 1) {
+  for (int i = 0; i < n; ++i) x = std::nextafter(x, INFINITY);
+  return x;
+}
+float Down(float x, int n = 1) {
+  for (int i = 0; i < n; ++i) x = std::nextafter(x, -INFINITY);
+  return x;
+}
+
+}  // namespace
+
+TEST_CASE("relaxed model: add and multiply give the exact value or a neighbour (RTE or RTZ)") {
+  ScopedSpecTrace trace(false);
+  const SpecReal s = SpecReal(1.0f) + SpecReal(0x1p-30f);  // not representable: 1 or the float above
+  CHECK(s.v == 1.0f);
+  CHECK(s.lo == 1.0f);
+  CHECK(s.hi == Up(1.0f));
+  const SpecReal p = SpecReal(3.0f) * SpecReal(5.0f);  // exact
+  CHECK((p.lo == 15.0f && p.hi == 15.0f));
+  const SpecReal d = SpecReal(1e30f) - SpecReal(1e30f);
+  CHECK((d.lo == 0.0f && d.hi == 0.0f));
+}
+
+TEST_CASE("relaxed model: division within 2.5 ULP of the exact quotient, nothing outside") {
+  ScopedSpecTrace trace(false);
+  const SpecReal q = SpecReal(1.0f) / SpecReal(3.0f);
+  // 1/3 lies in [0.25, 0.5): ULP 2^-25, and 1/3 = 0x3eaaaaaa + 2/3 ULP (IEEE rounds it to ...ab).
+  // The floats within 2.5 ULP: 0x3eaaaaa9 .. 0x3eaaaaad.
+  CHECK(q.v == std::bit_cast<float>(0x3eaaaaabu));
+  CHECK(q.lo == std::bit_cast<float>(0x3eaaaaa9u));
+  CHECK(q.hi == std::bit_cast<float>(0x3eaaaaadu));
+  CHECK(q.Allows(Down(q.v, 2)));
+  CHECK_FALSE(q.Allows(Down(q.v, 3)));
+  CHECK(q.Allows(Up(q.v, 2)));
+  CHECK_FALSE(q.Allows(Up(q.v, 3)));
+  // A divisor outside [2^-126, 2^126] carries no precision requirement.
+  CHECK((SpecReal(1.0f) / SpecReal(0x1p127f)).any);
+  CHECK((SpecReal(1.0f) / SpecReal(0.0f)).any);
+}
+
+TEST_CASE("relaxed model: sqrt inherited from 1 / inversesqrt") {
+  ScopedSpecTrace trace(false);
+  const SpecReal r = Sqrt(SpecReal(4.0f));
+  CHECK(r.v == 2.0f);
+  CHECK(r.lo < 2.0f);
+  CHECK(r.hi > 2.0f);
+  // inversesqrt(4) = 0.5 within 2 ULP (ULP 2^-24 there) and 1 / that within 2.5 ULP: about 6.5 ULP of
+  // 2 below and 4.5 above, never 8.
+  CHECK(r.Allows(Down(2.0f, 6)));
+  CHECK_FALSE(r.Allows(Down(2.0f, 8)));
+  CHECK(r.Allows(Up(2.0f, 4)));
+  CHECK_FALSE(r.Allows(Up(2.0f, 6)));
+  CHECK(Sqrt(SpecReal(0.0f)).lo == 0.0f);
+  CHECK(Sqrt(SpecReal(-1.0f)).any);
+}
+
+TEST_CASE("relaxed model: denormals may be flushed only on a flushing device") {
+  const SpecReal a(0x1p-70f), b(0x1p-70f);
+  {
+    ScopedSpecTrace trace(false);
+    const SpecReal p = a * b;  // 2^-140, a denormal
+    CHECK(p.lo == 0x1p-140f);
+    CHECK_FALSE(p.Allows(0.0f));
+  }
+  {
+    ScopedSpecTrace trace(true);
+    const SpecReal p = a * b;
+    CHECK(p.Allows(0.0f));
+    CHECK(p.Allows(0x1p-140f));
+    CHECK(SpecReal(0x1p-144f).Allows(0.0f));  // a denormal input may be read as zero
+    CHECK_FALSE(SpecReal(0x1p-126f).Allows(0.0f));
+  }
+}
+
+TEST_CASE("relaxed model: a decision the permitted rounding can flip is counted, a sure one is not") {
+  ScopedSpecTrace trace(false);
+  const SpecReal third = SpecReal(1.0f) / SpecReal(3.0f);
+  CHECK(trace.trace().ambiguous == 0);
+  const bool sure = third < SpecReal(0.5f);
+  CHECK(sure);
+  CHECK(trace.trace().ambiguous == 0);
+  (void)(third * SpecReal(3.0f) < SpecReal(1.0f));  // 1/3 * 3 may round either side of 1
+  CHECK(trace.trace().ambiguous == 1);
+}
+
+TEST_CASE("relaxed model: the exact evaluation always lies inside the permitted interval") {
+  ScopedSpecTrace trace(true);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-100.0f, 100.0f);
+  for (int i = 0; i < 20000; ++i) {
+    const SpecReal a(u(rng)), b(u(rng)), c(u(rng));
+    for (const SpecReal& r : {a + b * c, (a - b) / c, Sqrt(Abs(a) * Abs(b)) + c, Min(a, b) / (c * c + SpecReal(1.0f))}) {
+      if (r.any) continue;
+      REQUIRE(r.lo <= r.v);
+      REQUIRE(r.v <= r.hi);
+    }
+  }
+}
+
+TEST_CASE("relaxed model: resolve bytes a device may produce, and one it may not") {
+  using rayspace::verify::BufferSet;
+  using rayspace::verify::ClassifyWithinSpec;
+  // Channel values whose gamma-corrected byte sits at a rounding boundary (x * 255 + 0.5 within a few
+  // ULP of an integer) may come out one lower or higher on a device; one in the middle may not.
+  // c = (k - 0.5)^2 / 255^2 puts sqrt(c) * 255 + 0.5 on the integer k.
+  const std::uint64_t one = std::uint64_t{1} << 32;
+  const double k = 100.0;
+  const std::uint64_t boundary = static_cast<std::uint64_t>(std::ldexp((k - 0.5) * (k - 0.5) / (255.0 * 255.0), 32));
+  BufferSet in, expected, actual;
+  in.Put("accum", std::vector<std::uint64_t>{boundary, one / 9});  // 1/9 -> 1/3 -> 85.5: far from the boundary
+  expected.Put("rgb", std::vector<std::uint8_t>{static_cast<std::uint8_t>(k) , 85});
+  SUBCASE("one lower at the boundary: within") {
+    actual.Put("rgb", std::vector<std::uint8_t>{static_cast<std::uint8_t>(k - 1), 85});
+    const auto v = ClassifyWithinSpec("resolve", in, expected, actual);
+    CHECK(v.modelled);
+    CHECK(v.within == 1);
+    CHECK(v.beyond == 0);
+  }
+  SUBCASE("one higher in the middle of a byte: beyond") {
+    actual.Put("rgb", std::vector<std::uint8_t>{static_cast<std::uint8_t>(k), 86});
+    const auto v = ClassifyWithinSpec("resolve", in, expected, actual);
+    CHECK(v.beyond == 1);
+    CHECK(v.first_beyond.find("rgb[1]") != std::string::npos);
+  }
+  SUBCASE("a pass without a model is not classified") {
+    CHECK_FALSE(ClassifyWithinSpec("sort", in, expected, actual).modelled);
+  }
+}

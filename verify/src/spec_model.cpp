@@ -1,0 +1,267 @@
+#include "rayspace/verify/spec_model.h"
+
+#include <array>
+#include <bit>
+#include <cmath>
+#include <unordered_map>
+
+#include <fmt/format.h>
+
+#include "rayspace/emu/hierarchy.h"
+#include "rayspace/emu/raygen_math.h"
+#include "rayspace/verify/call_codec.h"
+#include "rayspace/verify/spec_real.h"
+
+namespace rayspace::verify {
+namespace {
+
+using R = SpecReal;
+using V = emu::Vec3<SpecReal>;
+
+V Spec3(glm::vec3 v) { return V(R(v.x), R(v.y), R(v.z)); }
+
+std::string Show(float f) { return fmt::format("{:#010x} ({:g})", std::bit_cast<std::uint32_t>(f), f); }
+
+class Tally {
+ public:
+  Tally() { v_.modelled = true; }
+  void Within() { ++v_.within; }
+  void Beyond(const std::string& why) {
+    if (v_.beyond++ == 0) v_.first_beyond = why;
+  }
+  SpecVerdict Done() { return v_; }
+
+ private:
+  SpecVerdict v_;
+};
+
+// One 32-bit word of a modelled element: an exact word, or a range of floats.
+struct Word {
+  bool exact = true;
+  std::uint32_t bits = 0;
+  SpecReal range;
+  bool Allows(std::uint32_t actual) const {
+    return exact ? bits == actual : range.Allows(std::bit_cast<float>(actual));
+  }
+  std::string Describe() const {
+    if (exact) return fmt::format("{:#010x}", bits);
+    if (range.any) return "anything";
+    return fmt::format("[{}, {}]", Show(range.lo), Show(range.hi));
+  }
+};
+Word Exact(float f) { return {true, std::bit_cast<std::uint32_t>(f), {}}; }
+Word ExactU(std::uint32_t u) { return {true, u, {}}; }
+Word Range(SpecReal r) { return {false, 0, r}; }
+
+// ---- raygen ---------------------------------------------------------------------------------------
+
+struct RayModel {
+  bool spawn = false;
+  std::array<Word, 16> words;  // origin_tmin, direction_tmax, info, weight
+  std::uint32_t ambiguous = 0;
+};
+
+RayModel ModelShadowRay(const emu::call::Raygen& c, std::size_t slot) {
+  RayModel m;
+  const std::size_t lights = c.scene->lights.size();
+  const layout::Surface& sf = c.surfaces[slot / lights];
+  const std::uint32_t l = static_cast<std::uint32_t>(slot % lights);
+  if (sf.position.w == 0.0f) return m;
+  const glm::vec3 o = emu::Xyz(c.scene->lights[l].position);
+  V d;
+  R dist;
+  m.spawn = emu::ShadowDirection(Spec3(emu::Xyz(sf.position)), Spec3(o), d, dist);
+  if (!m.spawn) return m;
+  m.words = {Exact(o.x),      Exact(o.y),      Exact(o.z),         Exact(c.frame.params.x),
+             Range(d.x),      Range(d.y),      Range(d.z),         Range(dist * R(c.frame.params.z)),
+             ExactU(sf.info.y), ExactU(sf.info.x), ExactU(layout::kRayShadow), ExactU(l),
+             Exact(sf.weight.x), Exact(sf.weight.y), Exact(sf.weight.z), Exact(sf.weight.w)};
+  return m;
+}
+
+RayModel ModelSurfaceRay(const emu::call::Raygen& c, std::size_t slot) {
+  RayModel m;
+  const layout::Surface& sf = c.surfaces[slot];
+  if (sf.position.w == 0.0f) return m;
+  const layout::Material& mat = c.scene->materials[sf.info.z];
+  const bool reflection = c.kind == layout::kRayReflection;
+  const float k = reflection ? mat.diffuse_reflectivity.w : mat.transparency_ior.x;
+  if (!(k > 0.0f)) return m;
+  V d;
+  if (reflection)
+    d = emu::ReflectionDirection(Spec3(emu::Xyz(sf.incoming)), Spec3(emu::Xyz(sf.normal)));
+  else if (!emu::RefractionDirection(Spec3(emu::Xyz(sf.incoming)), Spec3(emu::Xyz(sf.normal)), R(mat.transparency_ior.y), d))
+    return m;
+  if (!(emu::Dot(d, d) > R(0.0f))) return m;
+  m.spawn = true;
+  const glm::vec3 p = emu::Xyz(sf.position);
+  m.words = {Exact(p.x),         Exact(p.y),         Exact(p.z),        Exact(c.frame.params.x),
+             Range(d.x),         Range(d.y),         Range(d.z),        Exact(INFINITY),
+             ExactU(sf.info.y),  ExactU(sf.info.x),  ExactU(c.kind),    ExactU(static_cast<std::uint32_t>(slot)),
+             Range(R(sf.weight.x) * R(k)), Range(R(sf.weight.y) * R(k)), Range(R(sf.weight.z) * R(k)), Exact(0.0f)};
+  return m;
+}
+
+SpecVerdict Raygen(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
+  const DecodedCall<emu::call::Raygen> d = DecodeCall<emu::call::Raygen>(in);
+  const emu::call::Raygen& c = d.call;
+  const auto er = e.Get<layout::Ray>("rays"), ar = a.Get<layout::Ray>("rays");
+  const auto ef = e.Get<std::uint32_t>("flags"), af = a.Get<std::uint32_t>("flags");
+  Tally t;
+  if (er.size() != ar.size() || ef.size() != af.size()) {
+    t.Beyond("the ray slot counts differ");
+    return t.Done();
+  }
+  for (std::size_t s = 0; s < er.size(); ++s) {
+    const auto ew = std::bit_cast<std::array<std::uint32_t, 16>>(er[s]), aw = std::bit_cast<std::array<std::uint32_t, 16>>(ar[s]);
+    if (ew == aw && ef[s] == af[s]) continue;
+    ScopedSpecTrace trace(flush);
+    const RayModel m = c.kind == layout::kRayShadow ? ModelShadowRay(c, s) : ModelSurfaceRay(c, s);
+    if (trace.trace().ambiguous) {  // a permitted rounding may take the other branch
+      t.Within();
+      continue;
+    }
+    if (af[s] != (m.spawn ? 1u : 0u)) {
+      t.Beyond(fmt::format("flags[{}]: {} where every conformant device gives {}", s, af[s], m.spawn ? 1 : 0));
+      continue;
+    }
+    std::size_t bad = 16;
+    for (std::size_t w = 0; w < 16 && bad == 16; ++w)
+      if (m.spawn ? !m.words[w].Allows(aw[w]) : ew[w] != aw[w]) bad = w;
+    if (bad == 16) {
+      t.Within();
+    } else {
+      t.Beyond(fmt::format("rays[{}] word {}: {} outside {}", s, bad, Show(std::bit_cast<float>(aw[bad])),
+                           m.spawn ? m.words[bad].Describe() : fmt::format("{:#010x}", ew[bad])));
+    }
+  }
+  return t.Done();
+}
+
+// ---- intersect ------------------------------------------------------------------------------------
+
+struct Candidate {
+  std::uint32_t prim = 0;
+  bool possible = false, definite = false;
+  SpecReal t{};
+};
+
+Candidate ModelCandidate(const layout::Ray& r, const layout::Triangle& tri, std::uint32_t prim, bool flush) {
+  ScopedSpecTrace trace(flush);
+  R t{};
+  const bool hit = emu::IntersectWatertight(emu::SetupWatertight(Spec3(emu::Xyz(r.origin_tmin)), Spec3(emu::Xyz(r.direction_tmax))),
+                                            Spec3(emu::Xyz(tri.v0)), Spec3(emu::Xyz(tri.v1)), Spec3(emu::Xyz(tri.v2)),
+                                            R(r.origin_tmin.w), R(r.direction_tmax.w), t);
+  const bool ambiguous = trace.trace().ambiguous != 0;
+  return {prim, hit || ambiguous, hit && !ambiguous, ambiguous ? SpecReal::Unbounded(t.v) : t};
+}
+
+// The largest packed hit a candidate that surely hits may report.
+std::uint64_t LatestPacked(const Candidate& c) {
+  return c.t.any ? emu::kMissPacked : emu::PackHit(c.t.hi, c.prim);
+}
+
+// Can the 64-bit atomic minimum end at `a`, starting from `h0`, given the candidates' permitted hits?
+bool ClosestAllowed(std::uint64_t h0, std::uint64_t a, const std::vector<Candidate>& cands) {
+  for (const Candidate& c : cands)
+    if (c.definite && LatestPacked(c) < a) return false;  // that candidate's hit is surely nearer
+  if (a == h0) return true;
+  if (a > h0) return false;  // a minimum never rises
+  const float t = emu::HitT(a);
+  for (const Candidate& c : cands)
+    if (c.prim == emu::HitPrim(a) && c.possible && c.t.Allows(t)) return true;
+  return false;
+}
+
+SpecVerdict Intersect(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
+  const DecodedCall<emu::call::Intersect> d = DecodeCall<emu::call::Intersect>(in);
+  const emu::call::Intersect& c = d.call;
+  Tally t;
+  if (e.Get<std::uint32_t>("tests") != a.Get<std::uint32_t>("tests")) t.Beyond("tests: the per-pair test counts are integers");
+  const bool shadow = c.occluded != nullptr;
+  const std::string out = shadow ? "occluded" : "hits";
+  std::vector<std::uint64_t> eh, ah;
+  if (shadow) {
+    for (std::uint32_t v : e.Get<std::uint32_t>(out)) eh.push_back(v);
+    for (std::uint32_t v : a.Get<std::uint32_t>(out)) ah.push_back(v);
+  } else {
+    eh = e.Get<std::uint64_t>(out);
+    ah = a.Get<std::uint64_t>(out);
+  }
+  if (eh.size() != ah.size()) {
+    t.Beyond(out + ": sizes differ");
+    return t.Done();
+  }
+  std::unordered_map<std::uint32_t, std::vector<Candidate>> cands;
+  for (std::size_t i = 0; i < eh.size(); ++i)
+    if (eh[i] != ah[i]) cands[static_cast<std::uint32_t>(i)];
+  if (cands.empty()) return t.Done();
+  for (std::size_t p = 0; p < c.pairs.size(); ++p) {
+    const std::uint32_t node = c.base1 + (c.pairs[p] >> emu::kPairTriangleBits), prim = c.b0 + (c.pairs[p] & emu::kPairTriangleMask);
+    for (std::uint32_t j = c.first1[node]; j < c.first1[node + 1]; ++j) {
+      const std::uint32_t ray = c.order[j];
+      auto it = cands.find(ray);
+      if (it == cands.end() || prim == c.rays[ray].info.y) continue;
+      it->second.push_back(ModelCandidate(c.rays[ray], c.scene->triangles[prim], prim, flush));
+    }
+  }
+  for (const auto& [ray, cs] : cands) {
+    bool ok;
+    if (shadow) {
+      const std::uint32_t before = (*c.occluded)[ray];
+      bool possible = before != 0, definite = before != 0;
+      for (const Candidate& cd : cs) possible |= cd.possible, definite |= cd.definite;
+      ok = ah[ray] == 1 ? possible : (ah[ray] == 0 && !definite);
+    } else {
+      ok = ClosestAllowed((*c.hits)[ray], ah[ray], cs);
+    }
+    if (ok)
+      t.Within();
+    else
+      t.Beyond(fmt::format("{}[{}]: {:#018x} is no permitted result of its {} candidate triangles", out, ray, ah[ray], cs.size()));
+  }
+  return t.Done();
+}
+
+// ---- resolve --------------------------------------------------------------------------------------
+
+SpecVerdict Resolve(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
+  const auto accum = in.Get<std::uint64_t>("accum");
+  const auto eb = e.Get<std::uint8_t>("rgb"), ab = a.Get<std::uint8_t>("rgb");
+  Tally t;
+  if (eb.size() != ab.size() || eb.size() != accum.size()) {
+    t.Beyond("rgb: sizes differ");
+    return t.Done();
+  }
+  for (std::size_t i = 0; i < eb.size(); ++i) {
+    if (eb[i] == ab[i]) continue;
+    ScopedSpecTrace trace(flush);
+    const R v = R(static_cast<float>(accum[i])) / R(layout::kAccumScale);
+    const R x = Sqrt(Clamp(v, R(0.0f), R(1.0f))) * R(255.0f) + R(0.5f);
+    // uint(x) truncates: the permitted bytes are those of every float in [lo, hi].
+    if (x.any || (std::floor(x.lo) <= ab[i] && ab[i] <= std::floor(x.hi)))
+      t.Within();
+    else
+      t.Beyond(fmt::format("rgb[{}]: {} outside [{}, {}]", i, ab[i], std::floor(x.lo), std::floor(x.hi)));
+  }
+  return t.Done();
+}
+
+}  // namespace
+
+std::string SpecVerdict::Summary() const {
+  if (!modelled) return "no relaxed model: every word must match";
+  std::string s = fmt::format("{} element(s) within the spec's precision, {} beyond", within, beyond);
+  if (beyond) s += "; first: " + first_beyond;
+  return s;
+}
+
+SpecVerdict ClassifyWithinSpec(const std::string& method, const BufferSet& in, const BufferSet& expected,
+                               const BufferSet& actual, bool flush_denormals) {
+  if (method == "raygen") return Raygen(in, expected, actual, flush_denormals);
+  if (method == "intersect") return Intersect(in, expected, actual, flush_denormals);
+  if (method == "resolve") return Resolve(in, expected, actual, flush_denormals);
+  return {};
+}
+
+}  // namespace rayspace::verify
