@@ -9,14 +9,15 @@
 namespace rayspace::app {
 namespace {
 
-// What `diff` can promise on a device. lavapipe's float operations are correctly rounded (measured,
-// docs/gpu.md), so its kernels give the emulator's bits; elsewhere Vulkan allows division within
-// 2.5 ULP and a square root derived from the inverse square root, so a float word may differ legally.
+// What `diff --compare auto` does on a device. lavapipe's float operations are correctly rounded
+// (measured, docs/gpu.md), so its kernels give the emulator's bits; elsewhere Vulkan allows division
+// within 2.5 ULP and a square root derived from the inverse square root, so the relaxed device model
+// decides whether a differing word is one the spec permits.
 std::string ComparisonModel(const vk::DeviceReport& d) {
   if (d.driver_id == VK_DRIVER_ID_MESA_LLVMPIPE)
     return "bitwise: every buffer must equal the emulator's (lavapipe rounds +, -, *, /, sqrt correctly)";
-  return "bitwise; Vulkan lets this device round division and square root differently, so a mismatching "
-         "float word may be within the spec (no tolerance model yet: such a word is reported as a mismatch)";
+  return "relaxed: Vulkan lets this device round division and square root loosely, so a differing word passes "
+         "when a conformant device may compute it (docs/numerics.md); --strict-math makes it bitwise";
 }
 
 }  // namespace

@@ -66,7 +66,7 @@ ConeNode EncloseSphere(ConeNode n, vec3 c, float r) {
 }
 
 ConeNode Finish(ConeNode n) {
-  const float radius_floor = uintBitsToFloat(0x20u);  // 2^-144 (a denormal: 2^5 x 2^-149)
+  const float radius_floor = uintBitsToFloat(kRadiusFloorBits);  // 2^-122
   precise const float r = n.sphere.w * kRadiusSlack + radius_floor;
   n.sphere.w = NextUp(r);
   return Loosen(n);

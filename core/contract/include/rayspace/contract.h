@@ -43,11 +43,14 @@ RS_CONST(uint, kFaultUlp4, 23u);        // a result 4 ULP off
 // a triangle batch holds at most 2^14 triangles and a level at most 2^18 nodes per batch.
 RS_CONST(uint, kPairTriangleBits, 14u);
 RS_CONST(uint, kPairTriangleMask, 16383u);  // (1 << kPairTriangleBits) - 1
-// Margins of the cone-sphere nodes (docs/numerics.md): radii grow by a relative 2^-18 and half-angles
-// by 2^-20 when a node is finished; the cone-sphere test accepts a relative 2^-19 (|a| + |b|) slack.
+// Margins of the cone-sphere nodes (docs/numerics.md, derived for any conformant device: division
+// within 2.5 ULP, sqrt from inversesqrt, RTE or RTZ, denormals flushed): radii grow by a relative
+// 2^-18 plus an absolute 2^-122 (a normal float, so flushing cannot erase it) and half-angles by
+// 2^-18 when a node is finished; the cone-sphere test accepts a relative 2^-17 (|a| + |b|) slack.
 RS_CONST(float, kRadiusSlack, 1.000003814697265625);  // 1 + 2^-18
-RS_CONST(float, kAngleSlack, 9.5367431640625e-07);    // 2^-20
-RS_CONST(float, kTestSlack, 1.9073486328125e-06);     // 2^-19
+RS_CONST(uint, kRadiusFloorBits, 0x02800000u);         // 2^-122
+RS_CONST(float, kAngleSlack, 3.814697265625e-06);      // 2^-18
+RS_CONST(float, kTestSlack, 7.62939453125e-06);        // 2^-17
 
 // ---- surfaces: G-buffer pixels -> shading points ----------------------------------------------
 RS_CONST(uint, kSurfacesBindPosition, 0u);

@@ -10,19 +10,23 @@
 // rounding. Lengths of coordinate differences are computed scaled (ScaledLength) so tiny and huge
 // coordinates neither underflow nor overflow. The bounds and their proofs: docs/numerics.md.
 #pragma once
+#include <bit>
+
 #include "rayspace/contract.h"
 #include "rayspace/emu/intersect.h"
 
 namespace rayspace::emu::cone {
 
-// Margins applied once per finished node (radii: relative 2^-18, half-angles: 2^-20 rad) and the
+// Margins applied once per finished node (radii: relative 2^-18, half-angles: 2^-18 rad) and the
 // test's own rounding slack are part of the kernel contract (rayspace/contract.h).
 using layout::kAngleSlack;
 using layout::kRadiusSlack;
 using layout::kTestSlack;
-// Absolute radius margin (2^-144): covers the absolute rounding of denormal-range radii; absorbed by
-// rounding for radii above about 2^-119, so it changes nothing at ordinary scales.
-inline constexpr float kRadiusFloor = 0x1p-144f;
+// Absolute radius margin (2^-122): covers the absolute rounding of tiny radii, including a device's
+// flushing of denormal results to zero (so it is itself normal); absorbed by rounding for radii above
+// about 2^-97, so it changes nothing at ordinary scales.
+inline constexpr float kRadiusFloor = std::bit_cast<float>(layout::kRadiusFloorBits);
+static_assert(kRadiusFloor == 0x1p-122f);
 
 inline layout::ConeNode FullSphereCone(layout::ConeNode n) {
   n.cone = glm::vec4(1.0f, 0.0f, 0.0f, -1.0f);
