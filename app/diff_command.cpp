@@ -361,13 +361,17 @@ ExitCode RunReplay(const ReplayArgs& args) {
   std::printf("rayspace replay: %s (%s) on %s\n", method.pass(in).c_str(), method_name.c_str(), gpu.device.c_str());
   verify::CallRecord r;
   try {
-    r = verify::RunAndCompare(method, in, expected, actual, out);
+    const bool relaxed = args.compare == "relaxed" || (args.compare == "auto" && !gpu.correctly_rounded);
+    r = verify::RunAndCompare(method, in, expected, actual, out, nullptr, relaxed);
   } catch (const wg::CheckError& e) {
     PrintCheckerReports(e.result);
     return ExitCode::kWorkgroupFault;
   }
   if (!r.error.empty()) std::printf("  vulkan backend failed: %s\n", r.error.c_str());
   for (const BufferComparison& b : r.buffers) std::printf("  %s\n", b.Summary().c_str());
+  if (!r.spec.empty()) std::printf("  relaxed model: %s\n", r.spec.c_str());
+  if (!r.raster.empty()) std::printf("  raster: %s\n", r.raster.c_str());
+  if (!r.equal && r.within_spec) std::printf("  every difference is within the spec's precision\n");
   // The comparison the diff recorded when it saved these inputs, if present: same answer expected.
   std::ifstream cf(args.dir + "/comparison.json");
   nlohmann::json recorded;
@@ -394,7 +398,7 @@ ExitCode RunReplay(const ReplayArgs& args) {
       std::printf("  (recorded with --inject '%s', replayed with '%s')\n", rec_inject.c_str(), args.inject.c_str());
     if (!same) return ExitCode::kNotReproduced;
   }
-  std::printf("  %s\n", r.equal ? "equal" : "divergent");
+  std::printf("  %s\n", r.equal ? "equal" : (r.within_spec ? "within the spec's precision" : "divergent"));
   if (!args.report.empty()) {
     nlohmann::json j = CallJson(r);
     j["dir"] = args.dir;
@@ -402,7 +406,7 @@ ExitCode RunReplay(const ReplayArgs& args) {
     if (!f) ThrowInput("{}: cannot write the report", args.report);
     f << j.dump(2) << "\n";
   }
-  return r.equal ? ExitCode::kOk : ExitCode::kDivergence;
+  return r.equal || r.within_spec ? ExitCode::kOk : ExitCode::kDivergence;
 }
 
 }  // namespace rayspace::app

@@ -27,6 +27,7 @@ struct ReplayArgs {
   KernelFiles kernels;
   std::size_t split_bytes = 0;  // TestLimits, as for render and diff
   std::uint32_t max_groups = 0;
+  std::string compare = "auto";  // --compare, as for diff
 };
 
 // Runs one saved pass call (diff --save-inputs) on both backends and compares. Returns kOk when equal,

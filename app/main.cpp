@@ -61,6 +61,14 @@ void AddAccuracy(CLI::App& app, Commands& cmds) {
 }
 
 #ifdef RAYSPACE_HAVE_VULKAN
+void AddCompareOption(CLI::App& cmd, std::string& compare) {
+  cmd.add_option("--compare", compare,
+                 "bitwise: every word must equal the emulator's; relaxed: a differing word passes when a conformant "
+                 "device may compute it (division, sqrt and denormals as Vulkan permits; raster differences on "
+                 "triangle edges); auto: bitwise on lavapipe, relaxed elsewhere")
+      ->check(CLI::IsMember({"auto", "bitwise", "relaxed"}));
+}
+
 void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
   CLI::App* dc = cmds.diff_cmd = app.add_subcommand("diff",
                                     "Run every pass of a frame on the emulator and the Vulkan kernels with the same "
@@ -73,17 +81,14 @@ void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
                  "workgroup fault's name; @emu plants it in the emulated kernel (test use)");
   rayspace::app::AddLocalSizeOption(*dc, cmds.diff.local_size);
   dc->add_option("--save-inputs", cmds.diff.save_inputs, "Write every pass call's inputs to DIR/NNNN-PASS/ (for replay)");
-  dc->add_option("--compare", cmds.diff.compare,
-                 "bitwise: every word must equal the emulator's; relaxed: a differing word passes when a conformant "
-                 "device may compute it (division, sqrt and denormals as Vulkan permits; raster differences on "
-                 "triangle edges); auto: bitwise on lavapipe, relaxed elsewhere")
-      ->check(CLI::IsMember({"auto", "bitwise", "relaxed"}));
+  AddCompareOption(*dc, cmds.diff.compare);
   CLI::App* pc = cmds.replay_cmd = app.add_subcommand("replay", "Run one pass call saved by diff --save-inputs on both backends and compare");
   pc->add_option("dir", cmds.replay.dir, "Directory of the saved call (DIR/NNNN-PASS)")->required();
   pc->add_option("--report", cmds.replay.report, "Write the comparison as JSON to this file");
   pc->add_option("--inject", cmds.replay.inject, "Plant a fault in one kernel: PASS[:FAULT][@emu] (test use)");
   rayspace::app::AddKernelModelOptions(*pc, cmds.replay.model);
   rayspace::app::AddLocalSizeOption(*pc, cmds.replay.local_size);
+  AddCompareOption(*pc, cmds.replay.compare);
   rayspace::app::AddKernelOption(*pc, cmds.replay.kernels);
   rayspace::app::AddDeviceOption(*pc, cmds.replay.device);
   rayspace::app::AddLimitOptions(*pc, cmds.replay.split_bytes, cmds.replay.max_groups);

@@ -306,6 +306,9 @@ diff_case(replay.save cornell-mirrors 64x64 traverse:1 4 traverse --save-inputs 
 replay_saved(replay.fault "*-traverse.L2.shadow.b0" 4 "recorded comparison: reproduced" --inject traverse)
 replay_saved(replay.clean "*-traverse.L2.shadow.b0" 5 "NOT reproduced")
 replay_saved(replay.raster "*-raster" 0 "raster/prim: 4096 elements equal")
+# A device-like raster (edges shifted) replayed under the relaxed comparison: within the spec, which
+# the equal comparison recorded at save time does not reproduce.
+replay_saved(replay.raster.relaxed "*-raster" 5 "every difference is within the spec's precision" --inject raster:2 --compare relaxed)
 # --split-bytes reaches replay: trim's fault 2 (the carry between parts dropped) shows only when
 # the stream is split, so the same saved call stays equal without the option and diverges with it.
 replay_saved(replay.unsplit "*-trim.shadow.b0" 0 "recorded comparison: reproduced" --inject trim:2)
