@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "rayspace/emu/backend.h"
+#include "rayspace/emu/hash_math.h"
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/intersect.h"
 #include "rayspace/error.h"
@@ -19,18 +20,10 @@ std::uint32_t Cell(float f, int bits) {
   return static_cast<std::uint32_t>(v);
 }
 
-// Pseudo-angle of (x, y) in [0, 4): monotone in the azimuth like atan2, without trigonometry.
-float DiamondAngle(float x, float y) {
-  const float ax = std::fabs(x), ay = std::fabs(y), s = ax + ay;
-  if (!(s > 0.0f)) return 0.0f;
-  if (y >= 0.0f) return x >= 0.0f ? y / s : 1.0f + ax / s;
-  return x < 0.0f ? 2.0f + ay / s : 3.0f + x / s;
-}
-
 // Spherical cells of a unit direction: cos(theta) = z for the polar angle, the pseudo-angle for phi,
 // bit-interleaved (polar bit above azimuth bit) so that sorted neighbours are close in both angles.
 std::uint32_t DirectionKey(glm::vec3 d, int polar_bits, int azimuth_bits) {
-  const std::uint32_t p = Cell((d.z + 1.0f) * 0.5f, polar_bits);
+  const std::uint32_t p = Cell(PolarArgument(d.z), polar_bits);
   const std::uint32_t a = Cell(DiamondAngle(d.x, d.y) * 0.25f, azimuth_bits);
   std::uint32_t key = 0;
   for (int b = std::max(polar_bits, azimuth_bits) - 1; b >= 0; --b) {

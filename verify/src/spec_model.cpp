@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "rayspace/emu/hash_math.h"
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/raygen_math.h"
 #include "rayspace/verify/call_codec.h"
@@ -223,6 +224,89 @@ SpecVerdict Intersect(const BufferSet& in, const BufferSet& e, const BufferSet& 
   return t.Done();
 }
 
+// ---- hash ---------------------------------------------------------------------------------------
+
+// The low `bits` bits set, and a key above its low `bits` bits (both defined for bits = 32).
+std::uint32_t LowBits(int bits) { return bits >= 32 ? ~0u : (1u << bits) - 1u; }
+std::uint32_t High(std::uint32_t key, int bits) { return bits >= 32 ? 0u : key >> bits; }
+
+struct CellRange {
+  std::uint32_t lo = 0, hi = 0;
+  bool Holds(std::uint32_t c) const { return lo <= c && c <= hi; }
+};
+
+// The cells (emu Cell: f * 2^bits clamped to [0, 2^bits - 1], truncated) of every permitted f.
+CellRange Cells(SpecReal f, int bits, bool any) {
+  const float cells = static_cast<float>(1u << bits);
+  if (any || f.any) return {0, LowBits(bits)};
+  const SpecReal v = Min(Max(f * R(cells), R(0.0f)), R(cells - 1.0f));
+  return {static_cast<std::uint32_t>(v.lo), static_cast<std::uint32_t>(v.hi)};
+}
+
+// Splits a direction key (emu DirectionKey: polar bit above azimuth bit, from the top) into its cells.
+void SplitDirection(std::uint32_t key, int polar_bits, int azimuth_bits, std::uint32_t& p, std::uint32_t& a) {
+  int pos = polar_bits + azimuth_bits;
+  p = a = 0;
+  for (int b = std::max(polar_bits, azimuth_bits) - 1; b >= 0; --b) {
+    if (b < polar_bits) p |= ((key >> --pos) & 1u) << b;
+    if (b < azimuth_bits) a |= ((key >> --pos) & 1u) << b;
+  }
+}
+
+// The direction part of a key: are its cells those of some permitted unit direction?
+bool DirectionAllowed(std::uint32_t key, glm::vec3 dir, int polar_bits, int azimuth_bits) {
+  ScopedSpecTrace trace(CurrentSpecTrace().flush_denormals);
+  const V d = emu::Normalize(Spec3(dir));
+  const SpecReal polar = emu::PolarArgument(d.z);
+  const SpecReal azimuth = emu::DiamondAngle(d.x, d.y) * R(0.25f);
+  const bool branch_flips = trace.trace().ambiguous != 0;  // the azimuth's quadrant is not certain
+  std::uint32_t p, a;
+  SplitDirection(key, polar_bits, azimuth_bits, p, a);
+  return Cells(polar, polar_bits, false).Holds(p) && Cells(azimuth, azimuth_bits, branch_flips).Holds(a);
+}
+
+SpecVerdict Hash(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
+  const DecodedCall<emu::call::Hash> d = DecodeCall<emu::call::Hash>(in);
+  const emu::call::Hash& c = d.call;
+  const emu::HashConfig& h = c.hash;
+  const auto ek = e.Get<std::uint32_t>("keys"), ak = a.Get<std::uint32_t>("keys");
+  Tally t;
+  if (ek.size() != ak.size() || ek.size() != c.rays.size()) {
+    t.Beyond("keys: sizes differ");
+    return t.Done();
+  }
+  for (std::size_t i = 0; i < ek.size(); ++i) {
+    if (ek[i] == ak[i]) continue;
+    ScopedSpecTrace trace(flush);
+    const layout::Ray& r = c.rays[i];
+    const std::uint32_t key = ak[i];
+    bool ok;
+    if (c.quadtree_width != 0) {
+      ok = false;  // quadtree keys are integers: exact on every device
+    } else if (r.info.z == layout::kRayShadow) {
+      const int dir_bits = h.polar_bits + h.azimuth_bits;
+      const std::uint32_t light = std::min(r.info.w, LowBits(h.light_bits));
+      ok = High(key, dir_bits) == light &&
+           DirectionAllowed(key & LowBits(dir_bits), emu::Xyz(r.direction_tmax), h.polar_bits, h.azimuth_bits);
+    } else {
+      const int dir_bits = 2 * h.direction_bits;
+      const V lo = Spec3(c.scene->lo), ext = Spec3(c.scene->hi) - lo, rel = Spec3(emu::Xyz(r.origin_tmin)) - lo;
+      const std::uint32_t cells = High(key, dir_bits);
+      ok = DirectionAllowed(key & LowBits(dir_bits), emu::Xyz(r.direction_tmax), h.direction_bits, h.direction_bits);
+      for (int axis = 0; axis < 3; ++axis) {
+        std::uint32_t cell = 0;  // emu Interleave3: x, y, z bits from the top
+        for (int b = h.origin_bits - 1; b >= 0; --b) cell |= ((cells >> (3 * b + 2 - axis)) & 1u) << b;
+        ok = ok && Cells(rel[axis] / ext[axis], h.origin_bits, false).Holds(cell);
+      }
+    }
+    if (ok)
+      t.Within();
+    else
+      t.Beyond(fmt::format("keys[{}]: {:#010x} names cells no permitted evaluation reaches (emulator {:#010x})", i, key, ek[i]));
+  }
+  return t.Done();
+}
+
 // ---- resolve --------------------------------------------------------------------------------------
 
 SpecVerdict Resolve(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
@@ -261,6 +345,7 @@ SpecVerdict ClassifyWithinSpec(const std::string& method, const BufferSet& in, c
   if (method == "raygen") return Raygen(in, expected, actual, flush_denormals);
   if (method == "intersect") return Intersect(in, expected, actual, flush_denormals);
   if (method == "resolve") return Resolve(in, expected, actual, flush_denormals);
+  if (method == "hash") return Hash(in, expected, actual, flush_denormals);
   return {};
 }
 

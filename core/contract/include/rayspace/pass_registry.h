@@ -148,7 +148,8 @@ inline constexpr FaultSpec kTrimFaults[] = {
     RS_WORKGROUP_FAULTS,
     {layout::kFaultWorkgroupOffset, "a workgroup starts at the next block's offset of the global scan", "workgroup-offset"}};
 inline constexpr FaultSpec kHashFaults[] = {{1, "the azimuth cell comes from the wrong coordinate pair"},
-                                            {2, "the launch row is ignored (--max-groups)"}};
+                                            {2, "the launch row is ignored (--max-groups)"},
+                                            RS_APPROX_DIV, RS_APPROX_SQRT};
 inline constexpr FaultSpec kCompressFaults[] = {{1, "the last chunk loses its last ray"}, RS_WORKGROUP_FAULTS};
 inline constexpr FaultSpec kSortFaults[] = {{1, "a bin's position is not advanced in the top byte's pass"},
                                             RS_WORKGROUP_FAULTS};
