@@ -50,6 +50,11 @@ TEST_CASE("relaxed model: division within 2.5 ULP of the exact quotient, nothing
   CHECK_FALSE(q.Allows(Down(q.v, 3)));
   CHECK(q.Allows(Up(q.v, 2)));
   CHECK_FALSE(q.Allows(Up(q.v, 3)));
+  // A quotient past the largest float may come out as infinity or the largest float: no bound is
+  // kept, and the exact value (infinity) is allowed.
+  const SpecReal big = SpecReal(3e38f) / SpecReal(0.5f);
+  CHECK(big.Allows(INFINITY));
+  CHECK(big.Allows(big.v));
   // A divisor outside [2^-126, 2^126] carries no precision requirement.
   CHECK((SpecReal(1.0f) / SpecReal(0x1p127f)).any);
   CHECK((SpecReal(1.0f) / SpecReal(0.0f)).any);
@@ -69,6 +74,17 @@ TEST_CASE("relaxed model: sqrt inherited from 1 / inversesqrt") {
   CHECK_FALSE(r.Allows(Up(2.0f, 6)));
   CHECK(Sqrt(SpecReal(0.0f)).lo == 0.0f);
   CHECK(Sqrt(SpecReal(-1.0f)).any);
+}
+
+TEST_CASE("relaxed model: an integer converts to either neighbouring float") {
+  ScopedSpecTrace trace(false);
+  const SpecReal f = SpecReal::FromInteger(42949707u);  // between the floats 42949704 and 42949708
+  CHECK(f.v == 42949708.0f);
+  CHECK(f.Allows(42949704.0f));
+  CHECK(f.Allows(42949708.0f));
+  CHECK_FALSE(f.Allows(42949712.0f));
+  const SpecReal exact = SpecReal::FromInteger(1u << 20);
+  CHECK((exact.lo == exact.hi && exact.v == 1048576.0f));
 }
 
 TEST_CASE("relaxed model: denormals may be flushed only on a flushing device") {

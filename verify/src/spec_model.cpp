@@ -62,6 +62,9 @@ struct RayModel {
   std::uint32_t ambiguous = 0;
 };
 
+// The words of a ray that no rounding decides (origin, tmin, info and, for shadow rays, the weight)
+// are exact; the direction and tmax stay unbounded until the model computes them, and are set back to
+// unbounded when a decision on the way could have gone the other way.
 RayModel ModelShadowRay(const emu::call::Raygen& c, std::size_t slot) {
   RayModel m;
   const std::size_t lights = c.scene->lights.size();
@@ -69,14 +72,20 @@ RayModel ModelShadowRay(const emu::call::Raygen& c, std::size_t slot) {
   const std::uint32_t l = static_cast<std::uint32_t>(slot % lights);
   if (sf.position.w == 0.0f) return m;
   const glm::vec3 o = emu::Xyz(c.scene->lights[l].position);
+  const Word any = Range(SpecReal::Unbounded(0.0f));
+  m.words = {Exact(o.x),         Exact(o.y),         Exact(o.z),                   Exact(c.frame.params.x),
+             any,                any,                any,                          any,
+             ExactU(sf.info.y),  ExactU(sf.info.x),  ExactU(layout::kRayShadow),   ExactU(l),
+             Exact(sf.weight.x), Exact(sf.weight.y), Exact(sf.weight.z),           Exact(sf.weight.w)};
   V d;
   R dist;
   m.spawn = emu::ShadowDirection(Spec3(emu::Xyz(sf.position)), Spec3(o), d, dist);
-  if (!m.spawn) return m;
-  m.words = {Exact(o.x),      Exact(o.y),      Exact(o.z),         Exact(c.frame.params.x),
-             Range(d.x),      Range(d.y),      Range(d.z),         Range(dist * R(c.frame.params.z)),
-             ExactU(sf.info.y), ExactU(sf.info.x), ExactU(layout::kRayShadow), ExactU(l),
-             Exact(sf.weight.x), Exact(sf.weight.y), Exact(sf.weight.z), Exact(sf.weight.w)};
+  if (m.spawn) {
+    m.words[4] = Range(d.x);
+    m.words[5] = Range(d.y);
+    m.words[6] = Range(d.z);
+    m.words[7] = Range(dist * R(c.frame.params.z));
+  }
   return m;
 }
 
@@ -88,6 +97,12 @@ RayModel ModelSurfaceRay(const emu::call::Raygen& c, std::size_t slot) {
   const bool reflection = c.kind == layout::kRayReflection;
   const float k = reflection ? mat.diffuse_reflectivity.w : mat.transparency_ior.x;
   if (!(k > 0.0f)) return m;
+  const glm::vec3 p = emu::Xyz(sf.position);
+  const Word any = Range(SpecReal::Unbounded(0.0f));
+  m.words = {Exact(p.x),         Exact(p.y),         Exact(p.z),        Exact(c.frame.params.x),
+             any,                any,                any,               Exact(INFINITY),
+             ExactU(sf.info.y),  ExactU(sf.info.x),  ExactU(c.kind),    ExactU(static_cast<std::uint32_t>(slot)),
+             Range(R(sf.weight.x) * R(k)), Range(R(sf.weight.y) * R(k)), Range(R(sf.weight.z) * R(k)), Exact(0.0f)};
   V d;
   if (reflection)
     d = emu::ReflectionDirection(Spec3(emu::Xyz(sf.incoming)), Spec3(emu::Xyz(sf.normal)));
@@ -95,11 +110,9 @@ RayModel ModelSurfaceRay(const emu::call::Raygen& c, std::size_t slot) {
     return m;
   if (!(emu::Dot(d, d) > R(0.0f))) return m;
   m.spawn = true;
-  const glm::vec3 p = emu::Xyz(sf.position);
-  m.words = {Exact(p.x),         Exact(p.y),         Exact(p.z),        Exact(c.frame.params.x),
-             Range(d.x),         Range(d.y),         Range(d.z),        Exact(INFINITY),
-             ExactU(sf.info.y),  ExactU(sf.info.x),  ExactU(c.kind),    ExactU(static_cast<std::uint32_t>(slot)),
-             Range(R(sf.weight.x) * R(k)), Range(R(sf.weight.y) * R(k)), Range(R(sf.weight.z) * R(k)), Exact(0.0f)};
+  m.words[4] = Range(d.x);
+  m.words[5] = Range(d.y);
+  m.words[6] = Range(d.z);
   return m;
 }
 
@@ -117,23 +130,25 @@ SpecVerdict Raygen(const BufferSet& in, const BufferSet& e, const BufferSet& a, 
     const auto ew = std::bit_cast<std::array<std::uint32_t, 16>>(er[s]), aw = std::bit_cast<std::array<std::uint32_t, 16>>(ar[s]);
     if (ew == aw && ef[s] == af[s]) continue;
     ScopedSpecTrace trace(flush);
-    const RayModel m = c.kind == layout::kRayShadow ? ModelShadowRay(c, s) : ModelSurfaceRay(c, s);
-    if (trace.trace().ambiguous) {  // a permitted rounding may take the other branch
-      t.Within();
-      continue;
-    }
-    if (af[s] != (m.spawn ? 1u : 0u)) {
+    RayModel m = c.kind == layout::kRayShadow ? ModelShadowRay(c, s) : ModelSurfaceRay(c, s);
+    // A decision a permitted rounding may take the other way (a zero distance, total internal
+    // reflection): the slot may or may not spawn, with any direction, but its exact words still hold.
+    const bool flips = trace.trace().ambiguous != 0;
+    if (flips)
+      for (std::size_t w = 4; w < 7; ++w) m.words[w] = Range(SpecReal::Unbounded(0.0f));
+    const bool spawn = flips ? af[s] == 1u : m.spawn;
+    if (af[s] != (spawn ? 1u : 0u)) {
       t.Beyond(fmt::format("flags[{}]: {} where every conformant device gives {}", s, af[s], m.spawn ? 1 : 0));
       continue;
     }
     std::size_t bad = 16;
     for (std::size_t w = 0; w < 16 && bad == 16; ++w)
-      if (m.spawn ? !m.words[w].Allows(aw[w]) : ew[w] != aw[w]) bad = w;
+      if (spawn ? !m.words[w].Allows(aw[w]) : aw[w] != 0u) bad = w;  // an empty slot is all zeros
     if (bad == 16) {
       t.Within();
     } else {
       t.Beyond(fmt::format("rays[{}] word {}: {} outside {}", s, bad, Show(std::bit_cast<float>(aw[bad])),
-                           m.spawn ? m.words[bad].Describe() : fmt::format("{:#010x}", ew[bad])));
+                           spawn ? m.words[bad].Describe() : std::string("0x00000000 (an empty slot)")));
     }
   }
   return t.Done();
@@ -163,12 +178,14 @@ std::uint64_t LatestPacked(const Candidate& c) {
 }
 
 // Can the 64-bit atomic minimum end at `a`, starting from `h0`, given the candidates' permitted hits?
-bool ClosestAllowed(std::uint64_t h0, std::uint64_t a, const std::vector<Candidate>& cands) {
+// A reported t passed the device's own range check, which compares exactly: tmin < t < tmax.
+bool ClosestAllowed(std::uint64_t h0, std::uint64_t a, const std::vector<Candidate>& cands, const layout::Ray& ray) {
   for (const Candidate& c : cands)
     if (c.definite && LatestPacked(c) < a) return false;  // that candidate's hit is surely nearer
   if (a == h0) return true;
   if (a > h0) return false;  // a minimum never rises
   const float t = emu::HitT(a);
+  if (!(t > ray.origin_tmin.w && t < ray.direction_tmax.w)) return false;
   for (const Candidate& c : cands)
     if (c.prim == emu::HitPrim(a) && c.possible && c.t.Allows(t)) return true;
   return false;
@@ -214,7 +231,7 @@ SpecVerdict Intersect(const BufferSet& in, const BufferSet& e, const BufferSet& 
       for (const Candidate& cd : cs) possible |= cd.possible, definite |= cd.definite;
       ok = ah[ray] == 1 ? possible : (ah[ray] == 0 && !definite);
     } else {
-      ok = ClosestAllowed((*c.hits)[ray], ah[ray], cs);
+      ok = ClosestAllowed((*c.hits)[ray], ah[ray], cs, c.rays[ray]);
     }
     if (ok)
       t.Within();
@@ -237,8 +254,9 @@ struct CellRange {
 
 // The cells (emu Cell: f * 2^bits clamped to [0, 2^bits - 1], truncated) of every permitted f.
 CellRange Cells(SpecReal f, int bits, bool any) {
+  // Beyond 24 bits the cell count minus one is not a float: no bound is derived there.
+  if (any || f.any || bits > 24) return {0, LowBits(bits)};
   const float cells = static_cast<float>(1u << bits);
-  if (any || f.any) return {0, LowBits(bits)};
   const SpecReal v = Min(Max(f * R(cells), R(0.0f)), R(cells - 1.0f));
   return {static_cast<std::uint32_t>(v.lo), static_cast<std::uint32_t>(v.hi)};
 }
@@ -292,7 +310,8 @@ SpecVerdict Hash(const BufferSet& in, const BufferSet& e, const BufferSet& a, bo
       const int dir_bits = 2 * h.direction_bits;
       const V lo = Spec3(c.scene->lo), ext = Spec3(c.scene->hi) - lo, rel = Spec3(emu::Xyz(r.origin_tmin)) - lo;
       const std::uint32_t cells = High(key, dir_bits);
-      ok = DirectionAllowed(key & LowBits(dir_bits), emu::Xyz(r.direction_tmax), h.direction_bits, h.direction_bits);
+      ok = High(cells, 3 * h.origin_bits) == 0u &&
+           DirectionAllowed(key & LowBits(dir_bits), emu::Xyz(r.direction_tmax), h.direction_bits, h.direction_bits);
       for (int axis = 0; axis < 3; ++axis) {
         std::uint32_t cell = 0;  // emu Interleave3: x, y, z bits from the top
         for (int b = h.origin_bits - 1; b >= 0; --b) cell |= ((cells >> (3 * b + 2 - axis)) & 1u) << b;
@@ -320,7 +339,7 @@ SpecVerdict Resolve(const BufferSet& in, const BufferSet& e, const BufferSet& a,
   for (std::size_t i = 0; i < eb.size(); ++i) {
     if (eb[i] == ab[i]) continue;
     ScopedSpecTrace trace(flush);
-    const R v = R(static_cast<float>(accum[i])) / R(layout::kAccumScale);
+    const R v = SpecReal::FromInteger(accum[i]) / R(layout::kAccumScale);
     const R x = Sqrt(Clamp(v, R(0.0f), R(1.0f))) * R(255.0f) + R(0.5f);
     // uint(x) truncates: the permitted bytes are those of every float in [lo, hi].
     if (x.any || (std::floor(x.lo) <= ab[i] && ab[i] <= std::floor(x.hi)))

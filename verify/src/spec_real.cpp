@@ -109,6 +109,12 @@ SpecReal::SpecReal(float x) : v(x), lo(x), hi(x), any(false) {
   else *this = Flushed(*this);
 }
 
+SpecReal SpecReal::FromInteger(std::uint64_t n) {
+  // Exact in double below 2^53; a conversion rounds in the device's mode, so either neighbour.
+  const double x = static_cast<double>(n);
+  return Make(static_cast<float>(n), DownF(x), UpF(x));
+}
+
 SpecReal SpecReal::Unbounded(float nominal) {
   SpecReal r{};
   r.v = nominal;
@@ -163,6 +169,8 @@ SpecReal operator/(SpecReal a, SpecReal b) {
   const bool negative = b.hi <= -0x1p-126f && b.lo >= -0x1p126f;
   if (!positive && !negative) return SpecReal::Unbounded(v);
   const double q[4] = {double(a.lo) / b.lo, double(a.lo) / b.hi, double(a.hi) / b.lo, double(a.hi) / b.hi};
+  for (double x : q)
+    if (std::fabs(x) > double(FLT_MAX)) return SpecReal::Unbounded(v);  // 2.5 ULP of an overflow: infinity too
   float lo, hi;
   WithinUlps(*std::min_element(q, q + 4), *std::max_element(q, q + 4), 2.5, lo, hi);
   return Make(v, lo, hi);

@@ -47,6 +47,7 @@ struct SpecReal {
   SpecReal() = default;
   SpecReal(float x);  // NOLINT: constants and input words convert implicitly, exactly
   static SpecReal Unbounded(float nominal);
+  static SpecReal FromInteger(std::uint64_t n);  // float(n) as a device converts it (n < 2^53)
   bool Allows(float actual) const;  // is `actual` a value the rules permit here?
 };
 
