@@ -7,6 +7,8 @@
 #include <cmath>
 #include <random>
 
+#include "rayspace/emu/cone.h"
+#include "rayspace/verify/call_codec.h"
 #include "rayspace/verify/spec_model.h"
 #include "rayspace/verify/spec_real.h"
 
@@ -158,4 +160,40 @@ TEST_CASE("relaxed model: resolve bytes a device may produce, and one it may not
   SUBCASE("a pass without a model is not classified") {
     CHECK_FALSE(ClassifyWithinSpec("sort", in, expected, actual).modelled);
   }
+}
+
+TEST_CASE("relaxed model: a cone-sphere test on its boundary may flip, one far from it may not") {
+  using namespace rayspace;
+  using rayspace::verify::BufferSet;
+  using rayspace::verify::ClassifyWithinSpec;
+  // A node at the origin about +z with a half-angle of 0.1 rad; spheres at (1, 0, 5). The smallest
+  // radius the float test accepts is found by bisection over the floats: there the decision is one
+  // rounding away from the other answer. Radius 2 is accepted with room to spare.
+  layout::ConeNode n{};
+  n.sphere = glm::vec4(0, 0, 0, 0.001f);
+  n.cone = glm::vec4(0, 0, 1, std::cos(0.1f));
+  n.extra = glm::vec4(std::sin(0.1f), 1, 0, 0);
+  auto accepts = [&](float r) { return emu::cone::Test(n, glm::vec4(1, 0, 5, r), 0.0f); };
+  std::uint32_t lo = std::bit_cast<std::uint32_t>(0.0f), hi = std::bit_cast<std::uint32_t>(2.0f);
+  REQUIRE(!accepts(0.0f));
+  REQUIRE(accepts(2.0f));
+  while (hi - lo > 1) {
+    const std::uint32_t mid = lo + (hi - lo) / 2;
+    (accepts(std::bit_cast<float>(mid)) ? hi : lo) = mid;
+  }
+  emu::call::ObjectMask c;
+  const std::vector<layout::ConeNode> top = {n};
+  const std::vector<glm::vec4> spheres = {glm::vec4(1, 0, 5, std::bit_cast<float>(hi)), glm::vec4(1, 0, 5, 2.0f)};
+  c.top = top;
+  c.object_spheres = spheres;
+  const BufferSet in = rayspace::verify::EncodeCall(c);
+  BufferSet expected, actual;
+  expected.Put("mask", std::vector<std::uint8_t>{1, 1});
+  actual.Put("mask", std::vector<std::uint8_t>{0, 1});
+  const auto boundary = ClassifyWithinSpec("traverse.objects", in, expected, actual);
+  CHECK(boundary.within == 1);
+  CHECK(boundary.beyond == 0);
+  actual.Put("mask", std::vector<std::uint8_t>{1, 0});
+  const auto far = ClassifyWithinSpec("traverse.objects", in, expected, actual);
+  CHECK(far.beyond == 1);
 }

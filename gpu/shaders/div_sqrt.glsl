@@ -18,5 +18,7 @@ float Div(float a, float b) {
 float Sqrt(float x) {
   if (kStrictMath) return SqrtRN(x);
   if (kFault == kFaultApproxSqrt) return 1.0 / inversesqrt(x);
+  if (kFault == kFaultSqrtHigh && x > 0.0 && x < uintBitsToFloat(0x7F800000u))
+    return uintBitsToFloat(floatBitsToUint(sqrt(x)) + 2u);
   return sqrt(x);
 }

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "rayspace/emu/cone.h"
 #include "rayspace/emu/hash_math.h"
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/raygen_math.h"
@@ -326,6 +327,94 @@ SpecVerdict Hash(const BufferSet& in, const BufferSet& e, const BufferSet& a, bo
   return t.Done();
 }
 
+// ---- traverse -----------------------------------------------------------------------------------
+
+// Could some conformant device decide the cone-sphere test the other way? (Only then may its flag
+// differ: a test whose every decision is certain gives lavapipe's answer everywhere.)
+bool TestMayFlip(const layout::ConeNode& n, glm::vec4 sphere, float eps, bool flush) {
+  ScopedSpecTrace trace(flush);
+  (void)emu::cone::TestOf<SpecReal>(n, sphere, eps);
+  return trace.trace().ambiguous != 0;
+}
+
+// Differing flags of one traversal call: `test_of(slot, node, sphere)` names the test a slot ran,
+// or returns false when the slot runs none (its flag must then be 0 on every device).
+template <typename TestOfSlot>
+void TallyFlags(const std::vector<std::uint8_t>& ef, const std::vector<std::uint8_t>& af, float eps, bool flush,
+                Tally& t, const std::string& name, TestOfSlot&& test_of) {
+  if (ef.size() != af.size()) {
+    t.Beyond(name + ": sizes differ");
+    return;
+  }
+  for (std::size_t i = 0; i < ef.size(); ++i) {
+    if (ef[i] == af[i]) continue;
+    const layout::ConeNode* node = nullptr;
+    glm::vec4 sphere;
+    const bool runs = test_of(i, node, sphere);
+    if (runs && af[i] <= 1u && TestMayFlip(*node, sphere, eps, flush))
+      t.Within();
+    else
+      t.Beyond(fmt::format("{}[{}]: {} where every conformant device gives {}", name, i, af[i], ef[i]));
+  }
+}
+
+// The integer outputs of a traversal call (pair values, tests run) are exact on every device.
+void TallyExact(const BufferSet& e, const BufferSet& a, Tally& t) {
+  if (e.Has("values") && e.Get<std::uint32_t>("values") != a.Get<std::uint32_t>("values")) t.Beyond("values: pair ids are integers");
+  if (e.Has("tested") && e.Get<std::uint8_t>("tested") != a.Get<std::uint8_t>("tested")) t.Beyond("tested: counts are integers");
+}
+
+SpecVerdict TraverseTop(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
+  const DecodedCall<emu::call::TraverseTop> d = DecodeCall<emu::call::TraverseTop>(in);
+  const emu::call::TraverseTop& c = d.call;
+  Tally t;
+  TallyExact(e, a, t);
+  const std::uint32_t tris = c.b1 - c.b0;
+  const std::size_t objects = c.scene->objects.size();
+  TallyFlags(e.Get<std::uint8_t>("flags"), a.Get<std::uint8_t>("flags"), c.eps, flush, t, "flags",
+             [&](std::size_t slot, const layout::ConeNode*& node, glm::vec4& sphere) {
+               const std::uint32_t n = c.t0 + static_cast<std::uint32_t>(slot / tris), tri = c.b0 + static_cast<std::uint32_t>(slot % tris);
+               if (!c.object_mask.empty() && !c.object_mask[static_cast<std::size_t>(n) * objects + c.scene->info[tri].ids.y])
+                 return false;
+               node = &c.top[n];
+               sphere = c.tri_spheres[tri];
+               return true;
+             });
+  return t.Done();
+}
+
+SpecVerdict TraverseLevel(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
+  const DecodedCall<emu::call::TraverseLevel> d = DecodeCall<emu::call::TraverseLevel>(in);
+  const emu::call::TraverseLevel& c = d.call;
+  Tally t;
+  TallyExact(e, a, t);
+  TallyFlags(e.Get<std::uint8_t>("flags"), a.Get<std::uint8_t>("flags"), c.eps, flush, t, "flags",
+             [&](std::size_t slot, const layout::ConeNode*& node, glm::vec4& sphere) {
+               const std::size_t p = slot / c.children_max;
+               const std::uint32_t parent = c.base_up + (c.pairs[p] >> emu::kPairTriangleBits);
+               const std::uint32_t k = c.first[parent] + static_cast<std::uint32_t>(slot % c.children_max);
+               if (k >= c.first[parent + 1]) return false;
+               node = &c.nodes[k];
+               sphere = c.tri_spheres[c.b0 + (c.pairs[p] & emu::kPairTriangleMask)];
+               return true;
+             });
+  return t.Done();
+}
+
+SpecVerdict ObjectMask(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
+  const DecodedCall<emu::call::ObjectMask> d = DecodeCall<emu::call::ObjectMask>(in);
+  const emu::call::ObjectMask& c = d.call;
+  Tally t;
+  const std::size_t objects = c.object_spheres.size();
+  TallyFlags(e.Get<std::uint8_t>("mask"), a.Get<std::uint8_t>("mask"), c.eps, flush, t, "mask",
+             [&](std::size_t slot, const layout::ConeNode*& node, glm::vec4& sphere) {
+               node = &c.top[slot / objects];
+               sphere = c.object_spheres[slot % objects];
+               return true;
+             });
+  return t.Done();
+}
+
 // ---- resolve --------------------------------------------------------------------------------------
 
 SpecVerdict Resolve(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
@@ -365,6 +454,9 @@ SpecVerdict ClassifyWithinSpec(const std::string& method, const BufferSet& in, c
   if (method == "intersect") return Intersect(in, expected, actual, flush_denormals);
   if (method == "resolve") return Resolve(in, expected, actual, flush_denormals);
   if (method == "hash") return Hash(in, expected, actual, flush_denormals);
+  if (method == "traverse.top") return TraverseTop(in, expected, actual, flush_denormals);
+  if (method == "traverse.level") return TraverseLevel(in, expected, actual, flush_denormals);
+  if (method == "traverse.objects") return ObjectMask(in, expected, actual, flush_denormals);
   return {};
 }
 

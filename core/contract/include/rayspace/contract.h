@@ -39,6 +39,7 @@ RS_CONST(uint, kFaultWorkgroupOffset, 15u);   // a workgroup starts at the next 
 RS_CONST(uint, kFaultApproxDiv, 21u);   // a / b as a * (1 / b)
 RS_CONST(uint, kFaultApproxSqrt, 22u);  // sqrt(x) as 1 / inversesqrt(x)
 RS_CONST(uint, kFaultUlp4, 23u);        // a result 4 ULP off
+RS_CONST(uint, kFaultSqrtHigh, 24u);    // sqrt(x) two ULP high, within what inversesqrt permits
 // A (node, triangle) pair is packed as (node - level base) << kPairTriangleBits | (triangle - b0):
 // a triangle batch holds at most 2^14 triangles and a level at most 2^18 nodes per batch.
 RS_CONST(uint, kPairTriangleBits, 14u);

@@ -157,7 +157,8 @@ inline constexpr FaultSpec kDecompressFaults[] = {{1, "the chunk is looked up wi
                                                   RS_WORKGROUP_FAULTS};
 inline constexpr FaultSpec kBuildFaults[] = {{1, "the float containment checks of each step are skipped"}};
 inline constexpr FaultSpec kTraverseFaults[] = {{1, "the top level ignores the triangle sphere's radius"},
-                                                {2, "a mask part's start is dropped (--split-bytes)"}};
+                                                {2, "a mask part's start is dropped (--split-bytes)"},
+                                                {layout::kFaultSqrtHigh, "every sqrt two ULP high, as a GPU may", "sqrt-high"}};
 inline constexpr FaultSpec kReduceFaults[] = {{1, "the last element of every segment is dropped"},
                                               {2, "each scan block starts at the previous block's offset"},
                                               RS_WORKGROUP_FAULTS};
@@ -246,7 +247,7 @@ constexpr bool Valid() {
     for (std::size_t f = 0; f < kPasses[i].faults.size(); ++f) {
       const FaultSpec& fs = kPasses[i].faults[f];
       if (fs.name.empty() ? fs.number != f + 1 || fs.number >= layout::kFaultDroppedBarrier
-                          : fs.number < layout::kFaultDroppedBarrier || fs.number > layout::kFaultUlp4)
+                          : fs.number < layout::kFaultDroppedBarrier || fs.number > layout::kFaultSqrtHigh)
         return false;
     }
     if (!kPasses[i].graphics && (kPasses[i].push_bytes == 0 || kPasses[i].push_bytes > 128)) return false;

@@ -183,26 +183,31 @@ inline layout::ConeNode Union(const layout::ConeNode& a, const layout::ConeNode&
 // on the surface (distance b cos - a sin) while a cos + b sin > 0, else the apex (distance |p - C|).
 // Conservative in float (docs/numerics.md): v and R are scaled by a power of two so nothing over- or
 // underflows, and the reach grows by kTestSlack (|a| + |b|) for the rounding of a, b and s.
-inline bool Test(const layout::ConeNode& n, glm::vec4 sphere, float eps) {
+// Templated over the scalar like intersect.h (verify::SpecReal bounds what a device may decide).
+template <typename S>
+bool TestOf(const layout::ConeNode& n, glm::vec4 sphere, float eps) {
   if (IsFull(n)) return true;
-  const glm::vec3 v0 = Xyz(sphere) - Xyz(n.sphere);
-  const float R0 = (sphere.w + n.sphere.w) * kRadiusSlack + eps;
-  const float m = Max(Max(Max(std::fabs(v0.x), std::fabs(v0.y)), std::fabs(v0.z)), R0);
-  if (!(m > 0.0f) || !(m < INFINITY)) return true;  // at the apex, or out of float range: keep
-  const float k = InversePowerOfTwo(m);
-  const glm::vec3 v(v0.x * k, v0.y * k, v0.z * k);
-  const glm::vec3 x = Xyz(n.cone);
-  const float a = Dot(v, x);
-  const float b = Length(Cross(v, x));
-  const float cosa = n.cone.w, sina = n.extra.x;
-  const float s = b * cosa - a * sina;  // |v| sin(gamma - alpha), gamma = angle(v, axis)
-  const float c = a * cosa + b * sina;  // |v| cos(gamma - alpha)
+  using V = Vec3<S>;
+  const V v0 = V(Xyz(sphere)) - V(Xyz(n.sphere));
+  const S R0 = (S(sphere.w) + S(n.sphere.w)) * S(kRadiusSlack) + S(eps);
+  const S m = Max(Max(Max(Abs(v0.x), Abs(v0.y)), Abs(v0.z)), R0);
+  if (!(m > S(0.0f)) || !(m < S(INFINITY))) return true;  // at the apex, or out of float range: keep
+  const S k = InversePowerOfTwo(m);
+  const V v(v0.x * k, v0.y * k, v0.z * k);
+  const V x = V(Xyz(n.cone));
+  const S a = Dot(v, x);
+  const S b = Length(Cross(v, x));
+  const S cosa(n.cone.w), sina(n.extra.x);
+  const S s = b * cosa - a * sina;  // |v| sin(gamma - alpha), gamma = angle(v, axis)
+  const S c = a * cosa + b * sina;  // |v| cos(gamma - alpha)
   // Inside when gamma - alpha lies in [-pi, 0]: s <= 0, except s = 0 at gamma - alpha = pi (behind).
-  if (s < 0.0f || (s == 0.0f && c >= 0.0f)) return true;
-  const float R = R0 * k + (std::fabs(a) + b) * kTestSlack;
-  if (c > 0.0f) return s <= R;  // nearest point on the cone's surface
-  return Dot(v, v) <= R * R;    // nearest point is the apex
+  if (s < S(0.0f) || (s == S(0.0f) && c >= S(0.0f))) return true;
+  const S R = R0 * k + (Abs(a) + b) * S(kTestSlack);
+  if (c > S(0.0f)) return s <= R;  // nearest point on the cone's surface
+  return Dot(v, v) <= R * R;       // nearest point is the apex
 }
+
+inline bool Test(const layout::ConeNode& n, glm::vec4 sphere, float eps) { return TestOf<float>(n, sphere, eps); }
 
 // One step of a leaf build: the node grown by one ray (origin o, unit direction r) with eqs. 3.8-3.11
 // and 3.14-3.15, checked in float against the old node and the ray, then finished with the margins.
