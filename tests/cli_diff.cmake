@@ -258,7 +258,8 @@ endforeach()
 # a * (1 / b), sqrt as 1 / inversesqrt, a half-pixel edge shift) diverge under the bitwise comparison
 # lavapipe gets by default and are accepted as within the spec under --compare relaxed; a 4-ULP error
 # and interior raster pixels are beyond it. --strict-math gives the emulator's bits everywhere.
-foreach(f intersect:approx-div raygen.shadow:approx-div raygen.shadow:approx-sqrt raygen.refraction:approx-sqrt raster:2)
+foreach(f intersect:approx-div raygen.shadow:approx-div raygen.shadow:approx-sqrt raygen.refraction:approx-sqrt raster:2
+          surfaces:approx-div surfaces.hits:approx-div surfaces.hits:approx-sqrt)
   string(REGEX REPLACE ":.*" "" pass "${f}")
   diff_case(relaxed.bitwise.${f} glass 64x64 ${f} 4 ${pass})
   diff_case(relaxed.${f} glass 64x64 ${f} 0 "" --compare relaxed)
@@ -269,6 +270,8 @@ foreach(f hash:approx-div hash:approx-sqrt)
   diff_case(relaxed.${f} office 128x128 ${f} 0 "" --compare relaxed)
 endforeach()
 diff_case(relaxed.hash:1 glass 64x64 hash:1 4 hash --compare relaxed)
+diff_case(relaxed.surfaces:1 glass 64x64 surfaces:1 4 surfaces --compare relaxed)
+diff_case(relaxed.surfaces.hits:1 glass 64x64 surfaces.hits:1 4 surfaces.hits --compare relaxed)
 # Every root of the cone-sphere test two ULP high, as a GPU may compute it: the test's slack (2^-17)
 # absorbs it, and no traversal flag changes even bitwise.
 diff_case(relaxed.traverse:sqrt-high office 64x64 traverse:sqrt-high 0 "")

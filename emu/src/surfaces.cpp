@@ -2,37 +2,13 @@
 #include "rayspace/emu/intersect.h"
 #include "rayspace/emu/passes.h"
 #include "rayspace/emu/raster_detail.h"
+#include "rayspace/emu/surface_math.h"
 #include "rayspace/parallel.h"
 
 namespace rayspace::emu {
 
 glm::vec3 ShadingNormal(const SceneBuffers& scene, std::uint32_t prim, glm::vec3 p) {
-  const layout::Triangle& t = scene.triangles[prim];
-  const layout::TriangleNormals& tn = scene.normals[prim];
-  const glm::vec3 v0 = Xyz(t.v0), v1 = Xyz(t.v1), v2 = Xyz(t.v2);
-  // Everything relative to p and scaled by one power of two: the weights are ratios of degree-4
-  // products, unchanged by the scaling, which keeps them in range for scenes from 2^-60 to 2^60.
-  const glm::vec3 e1 = v1 - v0, e2 = v2 - v0, q0 = v0 - p, q1 = v1 - p, q2 = v2 - p;
-  const float k = InversePowerOfTwo(Max(Max(MaxAbs(e1, e2), MaxAbs(q0, q1)), MaxAbs(q2, q2)));
-  const glm::vec3 n = Cross(e1 * k, e2 * k);
-  // Signed sub-triangle areas (times |n|); their ratios are the barycentric weights. The thesis's
-  // eq. 3.17 normalises these cross products, which loses the areas it needs.
-  const float a0 = Dot(Cross(q1 * k, q2 * k), n);
-  const float a1 = Dot(Cross(q2 * k, q0 * k), n);
-  const float a2 = Dot(Cross(q0 * k, q1 * k), n);
-  const float sum = (a0 + a1) + a2;
-  glm::vec3 s(0.0f);
-  if (sum != 0.0f) {
-    const float w0 = a0 / sum, w1 = a1 / sum, w2 = a2 / sum;
-    for (int k = 0; k < 3; ++k) s[k] = (tn.n0[k] * w0 + tn.n1[k] * w1) + tn.n2[k] * w2;
-  }
-  const float len2 = Dot(s, s);
-  if (!(len2 > 0.0f) || !(len2 <= 3.0e38f)) {
-    const float nl = Dot(n, n);
-    if (!(nl > 0.0f) || !(nl <= 3.0e38f)) return Xyz(tn.n0);  // degenerate triangle: stored normal
-    return Normalize(n);
-  }
-  return Normalize(s);
+  return ShadingNormalOf<float>(scene, prim, p);
 }
 
 std::vector<layout::Surface> PassSurfacesFromGBuffer(const call::SurfacesFromGBuffer& c) {

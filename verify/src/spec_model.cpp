@@ -11,6 +11,7 @@
 #include "rayspace/emu/hash_math.h"
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/raygen_math.h"
+#include "rayspace/emu/surface_math.h"
 #include "rayspace/verify/call_codec.h"
 #include "rayspace/verify/spec_real.h"
 
@@ -327,6 +328,90 @@ SpecVerdict Hash(const BufferSet& in, const BufferSet& e, const BufferSet& a, bo
   return t.Done();
 }
 
+// ---- surfaces -----------------------------------------------------------------------------------
+
+using SurfaceWords = std::array<std::uint32_t, 20>;  // position, normal, incoming, weight, info
+
+// A differing surface: every word is the emulator's except those a device computes with rounding,
+// which `ranges` bounds (index -> interval).
+void TallySurface(std::size_t i, const SurfaceWords& ew, const SurfaceWords& aw,
+                  const std::vector<std::pair<std::size_t, SpecReal>>& ranges, Tally& t) {
+  std::array<Word, 20> words;
+  for (std::size_t w = 0; w < 20; ++w) words[w] = ExactU(ew[w]);
+  for (const auto& [w, r] : ranges) {
+    // The model's exact evaluation must be the emulator's: otherwise it no longer mirrors the pass.
+    if (!r.any && std::bit_cast<std::uint32_t>(r.v) != ew[w]) {
+      t.Beyond(fmt::format("surfaces[{}] word {}: the relaxed model disagrees with the emulator", i, w));
+      return;
+    }
+    words[w] = Range(r);
+  }
+  for (std::size_t w = 0; w < 20; ++w)
+    if (!words[w].Allows(aw[w])) {
+      t.Beyond(fmt::format("surfaces[{}] word {}: {} outside {}", i, w, Show(std::bit_cast<float>(aw[w])), words[w].Describe()));
+      return;
+    }
+  t.Within();
+}
+
+template <typename ModelFn>
+SpecVerdict Surfaces(const BufferSet& e, const BufferSet& a, bool flush, ModelFn&& model) {
+  const auto es = e.Get<layout::Surface>("surfaces"), as = a.Get<layout::Surface>("surfaces");
+  Tally t;
+  if (es.size() != as.size()) {
+    t.Beyond("surfaces: sizes differ");
+    return t.Done();
+  }
+  for (std::size_t i = 0; i < es.size(); ++i) {
+    const auto ew = std::bit_cast<SurfaceWords>(es[i]), aw = std::bit_cast<SurfaceWords>(as[i]);
+    if (ew == aw) continue;
+    ScopedSpecTrace trace(flush);
+    std::vector<std::pair<std::size_t, SpecReal>> ranges = model(i);
+    if (trace.trace().ambiguous)  // a decision may go the other way: the computed words are unbounded
+      for (auto& r : ranges) r.second = SpecReal::Unbounded(r.second.v);
+    TallySurface(i, ew, aw, ranges, t);
+  }
+  return t.Done();
+}
+
+void AddVector(std::vector<std::pair<std::size_t, SpecReal>>& ranges, std::size_t first, const V& v) {
+  for (int k = 0; k < 3; ++k) ranges.emplace_back(first + static_cast<std::size_t>(k), v[k]);
+}
+
+SpecVerdict SurfacesFromGBuffer(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
+  const DecodedCall<emu::call::SurfacesFromGBuffer> d = DecodeCall<emu::call::SurfacesFromGBuffer>(in);
+  const emu::call::SurfacesFromGBuffer& c = d.call;
+  const layout::FrameConstants& f = c.frame;
+  return Surfaces(e, a, flush, [&](std::size_t i) {
+    std::vector<std::pair<std::size_t, SpecReal>> ranges;
+    if (c.prim[i] == layout::kNoPrim) return ranges;
+    // PixelDirection (rayspace/kernel_functions.h) in SpecReal: (origin + px dx) + py dy.
+    const R fx(static_cast<float>(i % f.dims.x)), fy(static_cast<float>(i / f.dims.x));
+    V dir;
+    for (int k = 0; k < 3; ++k) dir[k] = (R(f.pixel_origin[k]) + fx * R(f.pixel_dx[k])) + fy * R(f.pixel_dy[k]);
+    AddVector(ranges, 8, emu::Normalize(dir));
+    return ranges;
+  });
+}
+
+SpecVerdict SurfacesFromHits(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
+  const DecodedCall<emu::call::SurfacesFromHits> d = DecodeCall<emu::call::SurfacesFromHits>(in);
+  const emu::call::SurfacesFromHits& c = d.call;
+  return Surfaces(e, a, flush, [&](std::size_t i) {
+    std::vector<std::pair<std::size_t, SpecReal>> ranges;
+    const std::uint64_t h = c.hits[i];
+    if (h == emu::kMissPacked) return ranges;
+    const layout::Ray& r = c.rays[i];
+    const R t(emu::HitT(h));
+    const V o = Spec3(emu::Xyz(r.origin_tmin)), dir = Spec3(emu::Xyz(r.direction_tmax));
+    const V p(o.x + t * dir.x, o.y + t * dir.y, o.z + t * dir.z);
+    AddVector(ranges, 0, p);
+    AddVector(ranges, 4, emu::ShadingNormalOf(*c.scene, emu::HitPrim(h), p));
+    AddVector(ranges, 8, emu::Normalize(dir));
+    return ranges;
+  });
+}
+
 // ---- traverse -----------------------------------------------------------------------------------
 
 // Could some conformant device decide the cone-sphere test the other way? (Only then may its flag
@@ -454,6 +539,8 @@ SpecVerdict ClassifyWithinSpec(const std::string& method, const BufferSet& in, c
   if (method == "intersect") return Intersect(in, expected, actual, flush_denormals);
   if (method == "resolve") return Resolve(in, expected, actual, flush_denormals);
   if (method == "hash") return Hash(in, expected, actual, flush_denormals);
+  if (method == "surfaces") return SurfacesFromGBuffer(in, expected, actual, flush_denormals);
+  if (method == "surfaces.hits") return SurfacesFromHits(in, expected, actual, flush_denormals);
   if (method == "traverse.top") return TraverseTop(in, expected, actual, flush_denormals);
   if (method == "traverse.level") return TraverseLevel(in, expected, actual, flush_denormals);
   if (method == "traverse.objects") return ObjectMask(in, expected, actual, flush_denormals);

@@ -124,11 +124,13 @@ inline constexpr PhaseSpec kReducePhases[] = {RS_PHASE(Reduce, Local),    RS_PHA
 
 inline constexpr FaultSpec kRasterFaults[] = {{1, "the depth is written without the 1/far scale"},
                                               {2, "every vertex half a pixel to the right (edge pixels only)"}};
-inline constexpr FaultSpec kSurfacesFaults[] = {{1, "rows and columns swapped when the pixel index is split"}};
-inline constexpr FaultSpec kSurfacesHitsFaults[] = {{1, "the hit point is taken at t from the ray's tmin, not its origin"}};
 // What many GPUs compute where Vulkan permits it: the relaxed comparison accepts these.
 #define RS_APPROX_DIV {layout::kFaultApproxDiv, "a / b computed as a * (1 / b), as a GPU may", "approx-div"}
 #define RS_APPROX_SQRT {layout::kFaultApproxSqrt, "sqrt(x) computed as 1 / inversesqrt(x), as a GPU may", "approx-sqrt"}
+inline constexpr FaultSpec kSurfacesFaults[] = {{1, "rows and columns swapped when the pixel index is split"},
+                                                RS_APPROX_DIV};
+inline constexpr FaultSpec kSurfacesHitsFaults[] = {{1, "the hit point is taken at t from the ray's tmin, not its origin"},
+                                                    RS_APPROX_DIV, RS_APPROX_SQRT};
 inline constexpr FaultSpec kRaygenShadowFaults[] = {{1, "the shadow ray runs all the way to the surface"},
                                                     {2, "the ray is credited to the next pixel"},
                                                     RS_APPROX_DIV, RS_APPROX_SQRT};
