@@ -11,6 +11,7 @@
 #include "rayspace/emu/hash_math.h"
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/raygen_math.h"
+#include "rayspace/emu/shade_math.h"
 #include "rayspace/emu/surface_math.h"
 #include "rayspace/verify/call_codec.h"
 #include "rayspace/verify/spec_real.h"
@@ -500,6 +501,65 @@ SpecVerdict ObjectMask(const BufferSet& in, const BufferSet& e, const BufferSet&
   return t.Done();
 }
 
+// ---- shade ---------------------------------------------------------------------------------------
+
+// The fixed-point contribution (emu ToFixed: clamp to [0, kAccumMax], scale by 2^32, truncate) of
+// every permitted colour value: [lo, hi], or nothing known.
+bool FixedRange(SpecReal c, std::uint64_t& lo, std::uint64_t& hi) {
+  const SpecReal v = Clamp(c, R(0.0f), R(layout::kAccumMax)) * R(layout::kAccumScale);
+  if (v.any) return false;
+  lo = static_cast<std::uint64_t>(v.lo);
+  hi = static_cast<std::uint64_t>(v.hi);
+  return true;
+}
+
+SpecVerdict Shade(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
+  const DecodedCall<emu::call::Shade> d = DecodeCall<emu::call::Shade>(in);
+  const emu::call::Shade& c = d.call;
+  const auto ea = e.Get<std::uint64_t>("accum"), aa = a.Get<std::uint64_t>("accum");
+  const std::vector<std::uint64_t>& before = *c.accum;
+  Tally t;
+  if (ea.size() != aa.size() || ea.size() != before.size()) {
+    t.Beyond("accum: sizes differ");
+    return t.Done();
+  }
+  // The surfaces shading each differing pixel (integer sums: the order of addition does not matter).
+  std::unordered_map<std::uint32_t, std::vector<std::size_t>> by_pixel;
+  for (std::size_t i = 0; i < ea.size(); ++i)
+    if (ea[i] != aa[i]) by_pixel[static_cast<std::uint32_t>(i / 3)];
+  for (std::size_t s = 0; s < c.surfaces.size(); ++s)
+    if (c.surfaces[s].position.w != 0.0f)
+      if (auto it = by_pixel.find(c.surfaces[s].info.y); it != by_pixel.end()) it->second.push_back(s);
+  const std::size_t lights = c.scene->lights.size();
+  for (std::size_t i = 0; i < ea.size(); ++i) {
+    if (ea[i] == aa[i]) continue;
+    std::uint64_t lo = before[i], hi = before[i];
+    bool bounded = true;
+    for (std::size_t s : by_pixel[static_cast<std::uint32_t>(i / 3)]) {
+      ScopedSpecTrace trace(flush);
+      const layout::Surface& sf = c.surfaces[s];
+      const V color = emu::ShadeColorOf<SpecReal>(*c.scene, sf, [&](std::size_t l) {
+        const std::size_t slot = s * lights + l;
+        return c.shadow_flags[slot] && !c.occluded[c.shadow_offsets[slot]];
+      });
+      std::uint64_t qlo, qhi;
+      const int k = static_cast<int>(i % 3);
+      if (trace.trace().ambiguous || !FixedRange(color[k] * R(sf.weight[k]), qlo, qhi)) {
+        bounded = false;  // a decision may go the other way: any non-negative contribution
+        break;
+      }
+      lo += qlo;
+      hi += qhi;
+    }
+    // Contributions are never negative, so the sum never falls below what was there.
+    if (bounded ? (lo <= aa[i] && aa[i] <= hi) : aa[i] >= before[i])
+      t.Within();
+    else
+      t.Beyond(fmt::format("accum[{}]: {} outside [{}, {}]", i, aa[i], lo, hi));
+  }
+  return t.Done();
+}
+
 // ---- resolve --------------------------------------------------------------------------------------
 
 SpecVerdict Resolve(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
@@ -539,6 +599,7 @@ SpecVerdict ClassifyWithinSpec(const std::string& method, const BufferSet& in, c
   if (method == "intersect") return Intersect(in, expected, actual, flush_denormals);
   if (method == "resolve") return Resolve(in, expected, actual, flush_denormals);
   if (method == "hash") return Hash(in, expected, actual, flush_denormals);
+  if (method == "shade") return Shade(in, expected, actual, flush_denormals);
   if (method == "surfaces") return SurfacesFromGBuffer(in, expected, actual, flush_denormals);
   if (method == "surfaces.hits") return SurfacesFromHits(in, expected, actual, flush_denormals);
   if (method == "traverse.top") return TraverseTop(in, expected, actual, flush_denormals);

@@ -169,7 +169,8 @@ inline constexpr FaultSpec kIntersectFaults[] = {{1, "tmin and tmax swapped in t
                                                  {2, "every paged load reads the first page (--split-bytes)"},
                                                  RS_APPROX_DIV,
                                                  {layout::kFaultUlp4, "the distance t is 4 ULP too far (beyond any device)", "ulp4"}};
-inline constexpr FaultSpec kShadeFaults[] = {{1, "the quadratic attenuation uses the distance, not its square"}};
+inline constexpr FaultSpec kShadeFaults[] = {{1, "the quadratic attenuation uses the distance, not its square"},
+                                             RS_APPROX_DIV, RS_APPROX_SQRT};
 inline constexpr FaultSpec kResolveFaults[] = {{1, "the gamma step is skipped"}};
 #undef RS_APPROX_DIV
 #undef RS_APPROX_SQRT
