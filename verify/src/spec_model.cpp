@@ -13,6 +13,7 @@
 #include "rayspace/emu/raygen_math.h"
 #include "rayspace/emu/shade_math.h"
 #include "rayspace/emu/surface_math.h"
+#include "rayspace/refs/exact_cone.h"
 #include "rayspace/verify/call_codec.h"
 #include "rayspace/verify/spec_real.h"
 
@@ -501,6 +502,95 @@ SpecVerdict ObjectMask(const BufferSet& in, const BufferSet& e, const BufferSet&
   return t.Done();
 }
 
+// ---- build ---------------------------------------------------------------------------------------
+
+using SpecNode = emu::cone::NodeOf<SpecReal>;
+using NodeWords = std::array<std::uint32_t, 12>;  // sphere, cone, extra
+
+SpecNode ToSpec(const layout::ConeNode& n) {
+  SpecNode s;
+  for (int k = 0; k < 4; ++k) {
+    s.sphere[k] = R(n.sphere[k]);
+    s.cone[k] = R(n.cone[k]);
+    s.extra[k] = R(n.extra[k]);
+  }
+  return s;
+}
+
+// Differing nodes of a build call, each modelled by `model(i)` (the emulator's fold in SpecReal).
+// After a decision a permitted rounding may flip (a ray on the cone's edge, a child on the sphere's
+// surface) the fold no longer bounds the words; the device's node must then still do what a node
+// is for, decided exactly (refs/ exact_cone.h): `contains(i, node)` holds every ray or child below.
+template <typename ModelFn, typename ContainsFn>
+SpecVerdict Nodes(const BufferSet& e, const BufferSet& a, bool flush, ModelFn&& model, ContainsFn&& contains) {
+  const auto en = e.Get<layout::ConeNode>("nodes"), an = a.Get<layout::ConeNode>("nodes");
+  Tally t;
+  if (en.size() != an.size()) {
+    t.Beyond("nodes: sizes differ");
+    return t.Done();
+  }
+  for (std::size_t i = 0; i < en.size(); ++i) {
+    const auto ew = std::bit_cast<NodeWords>(en[i]), aw = std::bit_cast<NodeWords>(an[i]);
+    if (ew == aw) continue;
+    ScopedSpecTrace trace(flush);
+    const SpecNode m = model(i);
+    const bool flips = trace.trace().ambiguous != 0;
+    std::string bad;
+    for (std::size_t w = 0; w < 12 && bad.empty(); ++w) {
+      const SpecReal r = w < 4 ? m.sphere[static_cast<int>(w)] : (w < 8 ? m.cone[static_cast<int>(w - 4)] : m.extra[static_cast<int>(w - 8)]);
+      const bool exact_word = w >= 9;  // the ray count and the unused words
+      if (!flips && !r.any && std::bit_cast<std::uint32_t>(r.v) != ew[w])
+        bad = fmt::format("nodes[{}] word {}: the relaxed model disagrees with the emulator", i, w);
+      else if (exact_word ? aw[w] != ew[w] : !(flips || r.Allows(std::bit_cast<float>(aw[w]))))
+        bad = fmt::format("nodes[{}] word {}: {} outside {}", i, w, Show(std::bit_cast<float>(aw[w])),
+                          exact_word ? fmt::format("{:#010x}", ew[w]) : Range(r).Describe());
+    }
+    std::string why;
+    if (bad.empty() && flips && !contains(i, an[i], why))
+      bad = fmt::format("nodes[{}]: a decision may flip, but the node does not hold what is below it: {}", i, why);
+    if (bad.empty())
+      t.Within();
+    else
+      t.Beyond(bad);
+  }
+  return t.Done();
+}
+
+SpecVerdict BuildLeaves(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
+  const DecodedCall<emu::call::BuildLeaves> d = DecodeCall<emu::call::BuildLeaves>(in);
+  const emu::call::BuildLeaves& c = d.call;
+  return Nodes(
+      e, a, flush,
+      [&](std::size_t i) {
+        return emu::cone::LeafNodeOf<SpecReal>(c.first[i + 1] - c.first[i],
+                                               [&](std::uint32_t k) -> const layout::Ray& { return c.rays[c.order[c.first[i] + k]]; });
+      },
+      [&](std::size_t i, const layout::ConeNode& n, std::string& why) {
+        for (std::uint32_t k = c.first[i]; k < c.first[i + 1]; ++k) {
+          const layout::Ray& r = c.rays[c.order[k]];
+          if (!refs::ExactNodeContainsRay(n, emu::Xyz(r.origin_tmin), emu::Xyz(r.direction_tmax), &why)) return false;
+        }
+        return true;
+      });
+}
+
+SpecVerdict BuildParents(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
+  const DecodedCall<emu::call::BuildParents> d = DecodeCall<emu::call::BuildParents>(in);
+  const emu::call::BuildParents& c = d.call;
+  return Nodes(
+      e, a, flush,
+      [&](std::size_t i) {
+        std::vector<SpecNode> children;
+        for (std::uint32_t k = c.first[i]; k < c.first[i + 1]; ++k) children.push_back(ToSpec(c.below[k]));
+        return emu::cone::ParentNode(children.data(), static_cast<std::uint32_t>(children.size()));
+      },
+      [&](std::size_t i, const layout::ConeNode& n, std::string& why) {
+        for (std::uint32_t k = c.first[i]; k < c.first[i + 1]; ++k)
+          if (!refs::ExactNodeContains(n, c.below[k], &why)) return false;
+        return true;
+      });
+}
+
 // ---- shade ---------------------------------------------------------------------------------------
 
 // The fixed-point contribution (emu ToFixed: clamp to [0, kAccumMax], scale by 2^32, truncate) of
@@ -600,6 +690,8 @@ SpecVerdict ClassifyWithinSpec(const std::string& method, const BufferSet& in, c
   if (method == "resolve") return Resolve(in, expected, actual, flush_denormals);
   if (method == "hash") return Hash(in, expected, actual, flush_denormals);
   if (method == "shade") return Shade(in, expected, actual, flush_denormals);
+  if (method == "build.leaves") return BuildLeaves(in, expected, actual, flush_denormals);
+  if (method == "build.parents") return BuildParents(in, expected, actual, flush_denormals);
   if (method == "surfaces") return SurfacesFromGBuffer(in, expected, actual, flush_denormals);
   if (method == "surfaces.hits") return SurfacesFromHits(in, expected, actual, flush_denormals);
   if (method == "traverse.top") return TraverseTop(in, expected, actual, flush_denormals);

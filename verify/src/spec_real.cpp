@@ -233,6 +233,15 @@ SpecReal Max(SpecReal a, SpecReal b) {
 
 SpecReal Clamp(SpecReal x, SpecReal lo, SpecReal hi) { return Min(Max(x, lo), hi); }
 
+SpecReal NextAfter(SpecReal x, float toward) {
+  SpecReal r = x;
+  r.v = std::nextafter(x.v, toward);
+  if (x.any) return r;
+  r.lo = std::nextafter(x.lo, toward);
+  r.hi = std::nextafter(x.hi, toward);
+  return Flushed(r);
+}
+
 SpecReal InversePowerOfTwo(SpecReal m) {
   std::uint32_t u;
   std::memcpy(&u, &m.v, 4);

@@ -157,7 +157,8 @@ inline constexpr FaultSpec kSortFaults[] = {{1, "a bin's position is not advance
                                             RS_WORKGROUP_FAULTS};
 inline constexpr FaultSpec kDecompressFaults[] = {{1, "the chunk is looked up without the sorted permutation"},
                                                   RS_WORKGROUP_FAULTS};
-inline constexpr FaultSpec kBuildFaults[] = {{1, "the float containment checks of each step are skipped"}};
+inline constexpr FaultSpec kBuildFaults[] = {{1, "the float containment checks of each step are skipped"},
+                                             RS_APPROX_DIV, RS_APPROX_SQRT};
 inline constexpr FaultSpec kTraverseFaults[] = {{1, "the top level ignores the triangle sphere's radius"},
                                                 {2, "a mask part's start is dropped (--split-bytes)"},
                                                 {layout::kFaultSqrtHigh, "every sqrt two ULP high, as a GPU may", "sqrt-high"}};

@@ -11,6 +11,8 @@
 // coordinates neither underflow nor overflow. The bounds and their proofs: docs/numerics.md.
 #pragma once
 #include <bit>
+#include <type_traits>
+#include <utility>
 
 #include "rayspace/contract.h"
 #include "rayspace/emu/intersect.h"
@@ -28,152 +30,193 @@ using layout::kTestSlack;
 inline constexpr float kRadiusFloor = std::bit_cast<float>(layout::kRadiusFloorBits);
 static_assert(kRadiusFloor == 0x1p-122f);
 
-inline layout::ConeNode FullSphereCone(layout::ConeNode n) {
-  n.cone = glm::vec4(1.0f, 0.0f, 0.0f, -1.0f);
-  n.extra.x = 0.0f;
+// The node arithmetic is templated over the node type: layout::ConeNode (floats) in the emulated
+// passes, NodeOf<verify::SpecReal> when the diff bounds what a device may compute (intersect.h).
+template <typename S>
+struct NodeOf {
+  Vec4<S> sphere, cone, extra;
+};
+template <typename S>
+struct NodeType {
+  using type = NodeOf<S>;
+};
+template <>
+struct NodeType<float> {
+  using type = layout::ConeNode;
+};
+template <typename S>
+using Node = typename NodeType<S>::type;
+template <typename N>
+using Scalar = std::decay_t<decltype(std::declval<N>().cone.w)>;
+
+template <typename N>
+N FullSphereCone(N n) {
+  using S = Scalar<N>;
+  n.cone = Vec4<S>(S(1.0f), S(0.0f), S(0.0f), S(-1.0f));
+  n.extra.x = S(0.0f);
   return n;
 }
 
-inline bool IsFull(const layout::ConeNode& n) { return n.cone.w <= -1.0f; }
+template <typename N>
+bool IsFull(const N& n) { return n.cone.w <= Scalar<N>(-1.0f); }
 
 // Widens the half-angle by about kAngleSlack: (cos, sin) move as by a rotation of delta, rounded
 // outward. In the test, s = b cos - a sin then drops by delta * (a cos + b sin) > 0 on the branch
 // that uses it, so the test only accepts more. Sin carries small angles that cos cannot resolve.
-inline void Loosen(layout::ConeNode& n) {
+template <typename N>
+void Loosen(N& n) {
+  using S = Scalar<N>;
   if (IsFull(n)) return;
-  const float c = n.cone.w, s = n.extra.x;
-  const float c2 = std::nextafter(c - kAngleSlack * s, -2.0f);
-  const float s2 = std::nextafter(s + kAngleSlack * c, 2.0f);
-  if (c2 <= -1.0f || s2 < 0.0f) {
+  const S c = n.cone.w, s = n.extra.x;
+  const S c2 = NextAfter(c - S(kAngleSlack) * s, -2.0f);
+  const S s2 = NextAfter(s + S(kAngleSlack) * c, 2.0f);
+  if (c2 <= S(-1.0f) || s2 < S(0.0f)) {
     n = FullSphereCone(n);
     return;
   }
   n.cone.w = c2;
-  n.extra.x = Min(1.0f, s2);
+  n.extra.x = Min(S(1.0f), s2);
 }
 
 // Makes sure the cone holds a direction (unit r) in float evaluation: if angle(axis, r) exceeds the
 // half-angle, the half-angle becomes that angle. theta <= alpha iff sin(alpha - theta) >= 0.
-inline void EncloseDirection(layout::ConeNode& n, glm::vec3 r) {
+template <typename N>
+void EncloseDirection(N& n, Vec3<Scalar<N>> r) {
+  using S = Scalar<N>;
   if (IsFull(n)) return;
-  const glm::vec3 x = Xyz(n.cone);
-  const float c = Dot(x, r), sr = Length(Cross(x, r));
-  if (n.extra.x * c - n.cone.w * sr >= 0.0f) return;
-  n.cone.w = Clamp(c, -1.0f, 1.0f);
-  n.extra.x = Min(1.0f, sr);
-  if (n.cone.w <= -1.0f) n = FullSphereCone(n);
+  const Vec3<S> x = Xyz(n.cone);
+  const S c = Dot(x, r), sr = Length(Cross(x, r));
+  if (n.extra.x * c - n.cone.w * sr >= S(0.0f)) return;
+  n.cone.w = Clamp(c, S(-1.0f), S(1.0f));
+  n.extra.x = Min(S(1.0f), sr);
+  if (n.cone.w <= S(-1.0f)) n = FullSphereCone(n);
 }
 
 // Makes sure the cone holds a child cone: angle(axis, child axis) + child half-angle <= half-angle.
-inline void EncloseCone(layout::ConeNode& n, const layout::ConeNode& child) {
+template <typename N>
+void EncloseCone(N& n, const N& child) {
+  using S = Scalar<N>;
   if (IsFull(n)) return;
   if (IsFull(child)) {
     n = FullSphereCone(n);
     return;
   }
-  const glm::vec3 x = Xyz(n.cone), xc = Xyz(child.cone);
-  const float c = Dot(x, xc), sr = Length(Cross(x, xc));
-  const float cs = c * child.cone.w - sr * child.extra.x;   // cos(theta + alpha_child)
-  const float ss = sr * child.cone.w + c * child.extra.x;   // sin(theta + alpha_child)
-  if (ss < 0.0f || cs <= -1.0f) {                           // past pi
+  const Vec3<S> x = Xyz(n.cone), xc = Xyz(child.cone);
+  const S c = Dot(x, xc), sr = Length(Cross(x, xc));
+  const S cs = c * child.cone.w - sr * child.extra.x;  // cos(theta + alpha_child)
+  const S ss = sr * child.cone.w + c * child.extra.x;  // sin(theta + alpha_child)
+  if (ss < S(0.0f) || cs <= S(-1.0f)) {                // past pi
     n = FullSphereCone(n);
     return;
   }
-  if (n.extra.x * cs - n.cone.w * ss >= 0.0f) return;
-  n.cone.w = Clamp(cs, -1.0f, 1.0f);
-  n.extra.x = Min(1.0f, ss);
+  if (n.extra.x * cs - n.cone.w * ss >= S(0.0f)) return;
+  n.cone.w = Clamp(cs, S(-1.0f), S(1.0f));
+  n.extra.x = Min(S(1.0f), ss);
 }
 
 // Makes sure the sphere holds a point or a child sphere (radius r at c).
-inline void EncloseSphere(layout::ConeNode& n, glm::vec3 c, float r) {
-  const float need = ScaledLength(c - Xyz(n.sphere)) + r;
+template <typename N>
+void EncloseSphere(N& n, Vec3<Scalar<N>> c, Scalar<N> r) {
+  const Scalar<N> need = ScaledLength(c - Xyz(n.sphere)) + r;
   if (need > n.sphere.w) n.sphere.w = need;
 }
 
-inline void Finish(layout::ConeNode& n) {
-  n.sphere.w = std::nextafter(n.sphere.w * kRadiusSlack + kRadiusFloor, INFINITY);
+template <typename N>
+void Finish(N& n) {
+  using S = Scalar<N>;
+  n.sphere.w = NextAfter(n.sphere.w * S(kRadiusSlack) + S(kRadiusFloor), INFINITY);
   Loosen(n);
 }
 
 // A leaf: one ray (origin, unit direction), radius 0, half-angle 0.
-inline layout::ConeNode FromRay(glm::vec3 origin, glm::vec3 unit_dir) {
-  layout::ConeNode n;
-  n.sphere = glm::vec4(origin, 0.0f);
-  n.cone = glm::vec4(unit_dir, 1.0f);
-  n.extra = glm::vec4(0.0f, 1.0f, 0.0f, 0.0f);
+template <typename S>
+Node<S> FromRayOf(Vec3<S> origin, Vec3<S> unit_dir) {
+  Node<S> n;
+  n.sphere = Vec4<S>(origin, S(0.0f));
+  n.cone = Vec4<S>(unit_dir, S(1.0f));
+  n.extra = Vec4<S>(S(0.0f), S(1.0f), S(0.0f), S(0.0f));
   return n;
 }
+inline layout::ConeNode FromRay(glm::vec3 origin, glm::vec3 unit_dir) { return FromRayOf<float>(origin, unit_dir); }
 
 // Sphere union, eqs. 3.14-3.15: centre at the midpoint, radius half the distance plus the larger
 // radius (conservative, not minimal).
-inline glm::vec4 SphereUnion(glm::vec4 a, glm::vec4 b) {
-  const glm::vec3 ca = Xyz(a), cb = Xyz(b);
-  const glm::vec3 c = (ca + cb) * 0.5f;
-  const float r = ScaledLength(cb - ca) * 0.5f + Max(a.w, b.w);
-  return glm::vec4(c, r);
+template <typename S>
+Vec4<S> SphereUnion(Vec4<S> a, Vec4<S> b) {
+  const Vec3<S> ca = Xyz(a), cb = Xyz(b);
+  const Vec3<S> c = (ca + cb) * S(0.5f);
+  const S r = ScaledLength(cb - ca) * S(0.5f) + Max(a.w, b.w);
+  return Vec4<S>(c, r);
 }
 
 // Grows a node's cone by one unit ray direction r, eqs. 3.8-3.11.
-inline void GrowCone(layout::ConeNode& n, glm::vec3 r) {
+template <typename N>
+void GrowCone(N& n, Vec3<Scalar<N>> r) {
+  using S = Scalar<N>;
   if (IsFull(n)) return;
-  const glm::vec3 x = Xyz(n.cone);
-  const float cosphi = n.cone.w, sinphi = n.extra.x;
-  const float c = Dot(x, r);
+  const Vec3<S> x = Xyz(n.cone);
+  const S cosphi = n.cone.w, sinphi = n.extra.x;
+  const S c = Dot(x, r);
   if (c >= cosphi) return;  // already inside
-  const glm::vec3 qv = x * c - r;  // eq. 3.8 numerator
-  const float ql = Length(qv);
-  if (!(ql > 0.0f)) {  // r against the axis (along it returned above)
+  const Vec3<S> qv = x * c - r;  // eq. 3.8 numerator
+  const S ql = Length(qv);
+  if (!(ql > S(0.0f))) {  // r against the axis (along it returned above)
     n = FullSphereCone(n);
     return;
   }
-  const glm::vec3 q = qv / ql;
-  const glm::vec3 e = x * cosphi + q * sinphi;  // eq. 3.9: the cone's far edge
-  const glm::vec3 s = e + r;
-  const float sl = Length(s);
-  if (!(sl > 0.0f)) {  // e = -r: the new cone is the whole sphere
+  const Vec3<S> q = qv / ql;
+  const Vec3<S> e = x * cosphi + q * sinphi;  // eq. 3.9: the cone's far edge
+  const Vec3<S> s = e + r;
+  const S sl = Length(s);
+  if (!(sl > S(0.0f))) {  // e = -r: the new cone is the whole sphere
     n = FullSphereCone(n);
     return;
   }
-  const glm::vec3 xn = s / sl;                   // eq. 3.10
-  n.cone = glm::vec4(xn, Min(1.0f, Dot(xn, r)));  // eq. 3.11
-  n.extra.x = Min(1.0f, Length(Cross(xn, r)));
+  const Vec3<S> xn = s / sl;                           // eq. 3.10
+  n.cone = Vec4<S>(xn, Min(S(1.0f), Dot(xn, r)));      // eq. 3.11
+  n.extra.x = Min(S(1.0f), Length(Cross(xn, r)));
 }
 
 // Cone union, eqs. 3.12-3.13 (intent: alpha = angle(x1, x2) / 2 + max(alpha1, alpha2) around
 // normalize(x1 + x2)), with cos/sin of the half angle from the half-angle identities.
-inline glm::vec4 ConeUnion(const layout::ConeNode& a, const layout::ConeNode& b, float& sin_out) {
+template <typename N>
+Vec4<Scalar<N>> ConeUnion(const N& a, const N& b, Scalar<N>& sin_out) {
+  using S = Scalar<N>;
+  const Vec4<S> full(S(1.0f), S(0.0f), S(0.0f), S(-1.0f));
   if (IsFull(a) || IsFull(b)) {
-    sin_out = 0.0f;
-    return glm::vec4(1, 0, 0, -1);
+    sin_out = S(0.0f);
+    return full;
   }
-  const glm::vec3 x1 = Xyz(a.cone), x2 = Xyz(b.cone);
-  const glm::vec3 s = x1 + x2;
-  const float sl = Length(s);
-  if (!(sl > 0.0f)) {
-    sin_out = 0.0f;
-    return glm::vec4(1, 0, 0, -1);
+  const Vec3<S> x1 = Xyz(a.cone), x2 = Xyz(b.cone);
+  const Vec3<S> s = x1 + x2;
+  const S sl = Length(s);
+  if (!(sl > S(0.0f))) {
+    sin_out = S(0.0f);
+    return full;
   }
-  const float c = Clamp(Dot(x1, x2), -1.0f, 1.0f);
-  const float ch = std::sqrt((1.0f + c) * 0.5f), sh = std::sqrt((1.0f - c) * 0.5f);  // half of angle(x1, x2)
+  const S c = Clamp(Dot(x1, x2), S(-1.0f), S(1.0f));
+  const S ch = Sqrt((S(1.0f) + c) * S(0.5f)), sh = Sqrt((S(1.0f) - c) * S(0.5f));  // half of angle(x1, x2)
   const bool a_wider = a.cone.w <= b.cone.w;
-  const float cm = a_wider ? a.cone.w : b.cone.w, sm = a_wider ? a.extra.x : b.extra.x;
-  const float cn = ch * cm - sh * sm;  // cos(theta/2 + alpha_max)
-  const float sn = sh * cm + ch * sm;  // sin(theta/2 + alpha_max)
-  if (sn < 0.0f) {                     // past pi: every direction
-    sin_out = 0.0f;
-    return glm::vec4(1, 0, 0, -1);
+  const S cm = a_wider ? a.cone.w : b.cone.w, sm = a_wider ? a.extra.x : b.extra.x;
+  const S cn = ch * cm - sh * sm;  // cos(theta/2 + alpha_max)
+  const S sn = sh * cm + ch * sm;  // sin(theta/2 + alpha_max)
+  if (sn < S(0.0f)) {              // past pi: every direction
+    sin_out = S(0.0f);
+    return full;
   }
   sin_out = sn;
-  return glm::vec4(s / sl, cn);
+  return Vec4<S>(s / sl, cn);
 }
 
-inline layout::ConeNode Union(const layout::ConeNode& a, const layout::ConeNode& b) {
-  layout::ConeNode n;
+template <typename N>
+N Union(const N& a, const N& b) {
+  using S = Scalar<N>;
+  N n;
   n.sphere = SphereUnion(a.sphere, b.sphere);
-  float sn;
+  S sn;
   n.cone = ConeUnion(a, b, sn);
-  n.extra = glm::vec4(sn, a.extra.y + b.extra.y, 0.0f, 0.0f);
-  if (n.cone.w <= -1.0f) n = FullSphereCone(n);
+  n.extra = Vec4<S>(sn, a.extra.y + b.extra.y, S(0.0f), S(0.0f));
+  if (n.cone.w <= S(-1.0f)) n = FullSphereCone(n);
   return n;
 }
 
@@ -213,35 +256,42 @@ inline bool Test(const layout::ConeNode& n, glm::vec4 sphere, float eps) { retur
 // and 3.14-3.15, checked in float against the old node and the ray, then finished with the margins.
 // It contains both exactly (docs/numerics.md; fuzz/cone_grow), so a leaf folded from these steps
 // contains all its rays.
-inline layout::ConeNode GrowNode(const layout::ConeNode& old, glm::vec3 o, glm::vec3 r) {
-  layout::ConeNode n = old;
-  n.sphere = SphereUnion(n.sphere, glm::vec4(o, 0.0f));
+template <typename N>
+N GrowNode(const N& old, Vec3<Scalar<N>> o, Vec3<Scalar<N>> r) {
+  using S = Scalar<N>;
+  N n = old;
+  n.sphere = SphereUnion(n.sphere, Vec4<S>(o, S(0.0f)));
   GrowCone(n, r);
   EncloseSphere(n, Xyz(old.sphere), old.sphere.w);
-  EncloseSphere(n, o, 0.0f);
+  EncloseSphere(n, o, S(0.0f));
   EncloseCone(n, old);
   EncloseDirection(n, r);
   Finish(n);
-  n.extra.y = old.extra.y + 1.0f;
+  n.extra.y = old.extra.y + S(1.0f);
   return n;
 }
 
 // A level-1 node over rays (given by index through `order`): a finished one-ray node grown ray by ray.
-template <typename RayAt>
-layout::ConeNode LeafNode(std::uint32_t count, RayAt&& ray_at) {
+template <typename S, typename RayAt>
+Node<S> LeafNodeOf(std::uint32_t count, RayAt&& ray_at) {
   const layout::Ray& r0 = ray_at(0);
-  layout::ConeNode n = FromRay(Xyz(r0.origin_tmin), Normalize(Xyz(r0.direction_tmax)));
+  Node<S> n = FromRayOf<S>(Vec3<S>(Xyz(r0.origin_tmin)), Normalize(Vec3<S>(Xyz(r0.direction_tmax))));
   Finish(n);
   for (std::uint32_t j = 1; j < count; ++j) {
     const layout::Ray& r = ray_at(j);
-    n = GrowNode(n, Xyz(r.origin_tmin), Normalize(Xyz(r.direction_tmax)));
+    n = GrowNode(n, Vec3<S>(Xyz(r.origin_tmin)), Normalize(Vec3<S>(Xyz(r.direction_tmax))));
   }
   return n;
 }
+template <typename RayAt>
+layout::ConeNode LeafNode(std::uint32_t count, RayAt&& ray_at) {
+  return LeafNodeOf<float>(count, ray_at);
+}
 
 // An upper-level node: unions of the children (eqs. 3.12-3.15), checked against each child, finished.
-inline layout::ConeNode ParentNode(const layout::ConeNode* children, std::uint32_t count) {
-  layout::ConeNode n = children[0];
+template <typename N>
+N ParentNode(const N* children, std::uint32_t count) {
+  N n = children[0];
   for (std::uint32_t j = 1; j < count; ++j) n = Union(n, children[j]);
   for (std::uint32_t j = 0; j < count; ++j) {
     EncloseSphere(n, Xyz(children[j].sphere), children[j].sphere.w);

@@ -18,9 +18,14 @@ namespace rayspace::emu {
 // (verify/include/rayspace/verify/spec_real.h). The float instantiation is the kernels' arithmetic.
 template <typename S>
 using Vec3 = glm::vec<3, S, glm::defaultp>;
+template <typename S>
+using Vec4 = glm::vec<4, S, glm::defaultp>;
 
 inline float Abs(float x) { return std::fabs(x); }
 inline float Sqrt(float x) { return std::sqrt(x); }
+inline float NextAfter(float x, float toward) { return std::nextafter(x, toward); }
+template <typename S>
+Vec3<S> Xyz(const Vec4<S>& v) { return {v.x, v.y, v.z}; }
 
 template <typename S>
 S Dot(Vec3<S> a, Vec3<S> b) { return (a.x * b.x + a.y * b.y) + a.z * b.z; }
@@ -86,12 +91,13 @@ inline float InversePowerOfTwo(float m) {
 
 // |v| without overflow or underflow of the squares: v is scaled by a power of two first (exact), so
 // for vectors whose squares stay in range the result is Length(v) bit for bit.
-inline float ScaledLength(glm::vec3 v) {
-  const float m = Max(Max(std::fabs(v.x), std::fabs(v.y)), std::fabs(v.z));
-  if (!(m > 0.0f) || !(m < INFINITY)) return m;
-  const float k = InversePowerOfTwo(m);
-  const glm::vec3 s(v.x * k, v.y * k, v.z * k);
-  return std::sqrt(Dot(s, s)) / k;
+template <typename S>
+S ScaledLength(Vec3<S> v) {
+  const S m = Max(Max(Abs(v.x), Abs(v.y)), Abs(v.z));
+  if (!(m > S(0.0f)) || !(m < S(INFINITY))) return m;
+  const S k = InversePowerOfTwo(m);
+  const Vec3<S> s(v.x * k, v.y * k, v.z * k);
+  return Sqrt(Dot(s, s)) / k;
 }
 
 // The largest magnitude among the components of a and b (NaN-free inputs).

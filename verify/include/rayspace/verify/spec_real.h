@@ -61,6 +61,8 @@ SpecReal Abs(SpecReal x);
 SpecReal Min(SpecReal a, SpecReal b);
 SpecReal Max(SpecReal a, SpecReal b);
 SpecReal Clamp(SpecReal x, SpecReal lo, SpecReal hi);
+// The next float after x toward `toward`, as a device computes it from the bits (monotone).
+SpecReal NextAfter(SpecReal x, float toward);
 // 2^-e for the exponent e of |m|, from the nominal value: scaling by it is exact, so any device's
 // choice of the power gives the same quotients (see emu InversePowerOfTwo).
 SpecReal InversePowerOfTwo(SpecReal m);
