@@ -3,6 +3,8 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <unordered_map>
 
 #include <fmt/format.h>
@@ -39,6 +41,22 @@ class Tally {
  private:
   SpecVerdict v_;
 };
+
+// Calls fn(i, expected, actual) for every element where the two copies of output `name` differ (the
+// emulator's and the device's), after requiring equal sizes, and `size` elements when given.
+template <typename T, typename Fn>
+SpecVerdict ForEachDiffering(const BufferSet& e, const BufferSet& a, const std::string& name, Fn&& fn,
+                             std::size_t size = SIZE_MAX) {
+  const std::vector<T> ev = e.Get<T>(name), av = a.Get<T>(name);
+  Tally t;
+  if (ev.size() != av.size() || (size != SIZE_MAX && ev.size() != size)) {
+    t.Beyond(name + ": sizes differ");
+    return t.Done();
+  }
+  for (std::size_t i = 0; i < ev.size(); ++i)
+    if (std::memcmp(&ev[i], &av[i], sizeof(T)) != 0) fn(i, ev[i], av[i], t);
+  return t.Done();
+}
 
 // One 32-bit word of a modelled element: an exact word, or a range of floats.
 struct Word {
@@ -291,17 +309,9 @@ SpecVerdict Hash(const BufferSet& in, const BufferSet& e, const BufferSet& a, bo
   const DecodedCall<emu::call::Hash> d = DecodeCall<emu::call::Hash>(in);
   const emu::call::Hash& c = d.call;
   const emu::HashConfig& h = c.hash;
-  const auto ek = e.Get<std::uint32_t>("keys"), ak = a.Get<std::uint32_t>("keys");
-  Tally t;
-  if (ek.size() != ak.size() || ek.size() != c.rays.size()) {
-    t.Beyond("keys: sizes differ");
-    return t.Done();
-  }
-  for (std::size_t i = 0; i < ek.size(); ++i) {
-    if (ek[i] == ak[i]) continue;
+  return ForEachDiffering<std::uint32_t>(e, a, "keys", [&](std::size_t i, std::uint32_t expected, std::uint32_t key, Tally& t) {
     ScopedSpecTrace trace(flush);
     const layout::Ray& r = c.rays[i];
-    const std::uint32_t key = ak[i];
     bool ok;
     if (c.quadtree_width != 0) {
       ok = false;  // quadtree keys are integers: exact on every device
@@ -325,9 +335,8 @@ SpecVerdict Hash(const BufferSet& in, const BufferSet& e, const BufferSet& a, bo
     if (ok)
       t.Within();
     else
-      t.Beyond(fmt::format("keys[{}]: {:#010x} names cells no permitted evaluation reaches (emulator {:#010x})", i, key, ek[i]));
-  }
-  return t.Done();
+      t.Beyond(fmt::format("keys[{}]: {:#010x} names cells no permitted evaluation reaches (emulator {:#010x})", i, key, expected));
+  }, c.rays.size());
 }
 
 // ---- surfaces -----------------------------------------------------------------------------------
@@ -358,22 +367,14 @@ void TallySurface(std::size_t i, const SurfaceWords& ew, const SurfaceWords& aw,
 
 template <typename ModelFn>
 SpecVerdict Surfaces(const BufferSet& e, const BufferSet& a, bool flush, ModelFn&& model) {
-  const auto es = e.Get<layout::Surface>("surfaces"), as = a.Get<layout::Surface>("surfaces");
-  Tally t;
-  if (es.size() != as.size()) {
-    t.Beyond("surfaces: sizes differ");
-    return t.Done();
-  }
-  for (std::size_t i = 0; i < es.size(); ++i) {
-    const auto ew = std::bit_cast<SurfaceWords>(es[i]), aw = std::bit_cast<SurfaceWords>(as[i]);
-    if (ew == aw) continue;
+  return ForEachDiffering<layout::Surface>(e, a, "surfaces", [&](std::size_t i, const layout::Surface& es,
+                                                                 const layout::Surface& as, Tally& t) {
     ScopedSpecTrace trace(flush);
     std::vector<std::pair<std::size_t, SpecReal>> ranges = model(i);
     if (trace.trace().ambiguous)  // a decision may go the other way: the computed words are unbounded
       for (auto& r : ranges) r.second = SpecReal::Unbounded(r.second.v);
-    TallySurface(i, ew, aw, ranges, t);
-  }
-  return t.Done();
+    TallySurface(i, std::bit_cast<SurfaceWords>(es), std::bit_cast<SurfaceWords>(as), ranges, t);
+  });
 }
 
 void AddVector(std::vector<std::pair<std::size_t, SpecReal>>& ranges, std::size_t first, const V& v) {
@@ -523,15 +524,9 @@ SpecNode ToSpec(const layout::ConeNode& n) {
 // is for, decided exactly (refs/ exact_cone.h): `contains(i, node)` holds every ray or child below.
 template <typename ModelFn, typename ContainsFn>
 SpecVerdict Nodes(const BufferSet& e, const BufferSet& a, bool flush, ModelFn&& model, ContainsFn&& contains) {
-  const auto en = e.Get<layout::ConeNode>("nodes"), an = a.Get<layout::ConeNode>("nodes");
-  Tally t;
-  if (en.size() != an.size()) {
-    t.Beyond("nodes: sizes differ");
-    return t.Done();
-  }
-  for (std::size_t i = 0; i < en.size(); ++i) {
-    const auto ew = std::bit_cast<NodeWords>(en[i]), aw = std::bit_cast<NodeWords>(an[i]);
-    if (ew == aw) continue;
+  return ForEachDiffering<layout::ConeNode>(e, a, "nodes", [&](std::size_t i, const layout::ConeNode& en,
+                                                               const layout::ConeNode& an, Tally& t) {
+    const auto ew = std::bit_cast<NodeWords>(en), aw = std::bit_cast<NodeWords>(an);
     ScopedSpecTrace trace(flush);
     const SpecNode m = model(i);
     const bool flips = trace.trace().ambiguous != 0;
@@ -546,14 +541,13 @@ SpecVerdict Nodes(const BufferSet& e, const BufferSet& a, bool flush, ModelFn&& 
                           exact_word ? fmt::format("{:#010x}", ew[w]) : Range(r).Describe());
     }
     std::string why;
-    if (bad.empty() && flips && !contains(i, an[i], why))
+    if (bad.empty() && flips && !contains(i, an, why))
       bad = fmt::format("nodes[{}]: a decision may flip, but the node does not hold what is below it: {}", i, why);
     if (bad.empty())
       t.Within();
     else
       t.Beyond(bad);
-  }
-  return t.Done();
+  });
 }
 
 SpecVerdict BuildLeaves(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
@@ -654,24 +648,19 @@ SpecVerdict Shade(const BufferSet& in, const BufferSet& e, const BufferSet& a, b
 
 SpecVerdict Resolve(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
   const auto accum = in.Get<std::uint64_t>("accum");
-  const auto eb = e.Get<std::uint8_t>("rgb"), ab = a.Get<std::uint8_t>("rgb");
-  Tally t;
-  if (eb.size() != ab.size() || eb.size() != accum.size()) {
-    t.Beyond("rgb: sizes differ");
-    return t.Done();
-  }
-  for (std::size_t i = 0; i < eb.size(); ++i) {
-    if (eb[i] == ab[i]) continue;
-    ScopedSpecTrace trace(flush);
-    const R v = SpecReal::FromInteger(accum[i]) / R(layout::kAccumScale);
-    const R x = Sqrt(Clamp(v, R(0.0f), R(1.0f))) * R(255.0f) + R(0.5f);
-    // uint(x) truncates: the permitted bytes are those of every float in [lo, hi].
-    if (x.any || (std::floor(x.lo) <= ab[i] && ab[i] <= std::floor(x.hi)))
-      t.Within();
-    else
-      t.Beyond(fmt::format("rgb[{}]: {} outside [{}, {}]", i, ab[i], std::floor(x.lo), std::floor(x.hi)));
-  }
-  return t.Done();
+  return ForEachDiffering<std::uint8_t>(
+      e, a, "rgb",
+      [&](std::size_t i, std::uint8_t, std::uint8_t actual, Tally& t) {
+        ScopedSpecTrace trace(flush);
+        const R v = SpecReal::FromInteger(accum[i]) / R(layout::kAccumScale);
+        const R x = Sqrt(Clamp(v, R(0.0f), R(1.0f))) * R(255.0f) + R(0.5f);
+        // uint(x) truncates: the permitted bytes are those of every float in [lo, hi].
+        if (x.any || (std::floor(x.lo) <= actual && actual <= std::floor(x.hi)))
+          t.Within();
+        else
+          t.Beyond(fmt::format("rgb[{}]: {} outside [{}, {}]", i, actual, std::floor(x.lo), std::floor(x.hi)));
+      },
+      accum.size());
 }
 
 }  // namespace
