@@ -45,6 +45,11 @@ void AddRender(CLI::App& app, Commands& cmds) {
   rc->add_option("--backend", cmds.render.backend,
                  "Where the passes run: emu (the CPU emulation) or vulkan (the GLSL kernels; same bits expected)")
       ->check(CLI::IsMember({"emu", "vulkan"}));
+  rc->add_option("--path", cmds.render.path,
+                 "Hierarchy traversal on the emulator: fused (each level tests and compacts in one pass; the same "
+                 "pairs, statistics and digest) or passes (the kernels' passes, as diff runs them); auto: fused with "
+                 "--backend emu, passes with vulkan")
+      ->check(CLI::IsMember({"auto", "fused", "passes"}));
   rc->add_flag("--no-oracle", cmds.render.no_oracle, "Skip the oracle re-trace");
   rc->add_flag("--timings", cmds.render.timings, "Print time per phase (the thesis's phases) and tests per second");
   rc->add_flag("--progress", cmds.render.progress, "Print each pass and its time on stderr (default when stderr is a terminal)");

@@ -46,6 +46,13 @@ struct Tracers {
   Tracer* oracle = nullptr;
 };
 
+// The fused traversal is the emulator's; the Vulkan backend runs its kernels pass by pass.
+bool UsesFusedPath(const RenderArgs& args) {
+  if (args.path == "fused" && args.backend != "emu")
+    ThrowInput("--path fused: the {} backend runs its kernels pass by pass; use --backend emu", args.backend);
+  return args.path == "fused" || (args.path == "auto" && args.backend == "emu");
+}
+
 Tracers MakeTracers(const RenderArgs& args, const SceneBuffers& buffers, const emu::FrameOptions& fo, const Backend& backend) {
   const emu::DirectMode mode = args.direct == "exhaustive" ? emu::DirectMode::kExhaustive
                                : args.direct == "bvh"      ? emu::DirectMode::kBvh
@@ -55,8 +62,11 @@ Tracers MakeTracers(const RenderArgs& args, const SceneBuffers& buffers, const e
   const bool embree_frames = args.algo == "embree";
   if (args.algo == "brute" || (embree_frames && !args.no_oracle)) t.direct = emu::MakeDirectTracer(buffers, mode);
   if (embree_frames || !args.no_oracle) t.embree = refs::MakeEmbreeTracer(buffers, ThreadCount());
-  if (args.Hierarchy())
-    t.hierarchy = emu::MakeHierarchyTracer(buffers, MakeHierarchyConfig(args, fo.width, fo.height, backend.hierarchy));
+  if (args.Hierarchy()) {
+    emu::HierarchyConfig cfg = MakeHierarchyConfig(args, fo.width, fo.height, backend.hierarchy);
+    cfg.fused = UsesFusedPath(args);
+    t.hierarchy = emu::MakeHierarchyTracer(buffers, cfg);
+  }
   t.frame = t.hierarchy ? t.hierarchy.get() : embree_frames ? t.embree.get() : t.direct.get();
   t.oracle = embree_frames ? t.direct.get() : t.embree.get();
   return t;
@@ -114,6 +124,7 @@ nlohmann::json StatsJson(const RenderArgs& args, const Outcome& o) {
   j["max_depth"] = scene.max_depth;
   j["lights"] = scene.lights.size();
   j["algorithm"] = args.algo;
+  if (args.Hierarchy()) j["path"] = UsesFusedPath(args) ? "fused" : "passes";
   j["backend"] = {{"name", backend.name}, {"device", backend.device}};
   j["tracer"] = o.tracer;
   j["threads"] = ThreadCount();

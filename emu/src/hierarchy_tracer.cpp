@@ -51,6 +51,7 @@ class Impl final : public HierarchyTracer {
       : scene_(scene), cfg_(cfg), passes_(cfg.passes ? *cfg.passes : EmuHierarchyPasses()) {
     RS_CHECK(cfg.subdivision >= 2 && cfg.depth >= 1 && cfg.component_size >= 1);
     RS_CHECK(cfg.max_batch_triangles >= 1 && cfg.max_batch_triangles <= (1u << kTriBits));
+    RS_CHECK_MSG(!cfg.fused || cfg.passes == nullptr, "the fused path is the emulator's; a backend runs pass by pass");
     eps_ = TraversalEpsilon(scene);
   }
 
@@ -213,6 +214,36 @@ class Impl final : public HierarchyTracer {
     return s;
   }
 
+  // One level of a block: its tests and the compaction of the survivors, fused (the emulator's fast
+  // path) or as the two passes the kernels run; the same pairs in the same order either way.
+  template <typename Call>
+  std::vector<std::uint32_t> TestAndCompact(int L, std::size_t slots_n, const Call& call, LevelStats& st) {
+    const std::string level = std::to_string(L);
+    std::vector<std::uint32_t> pairs;
+    if (cfg_.fused) {
+      Compacted c = Sub("traverse.fused.L" + level, slots_n, [&] {
+        if constexpr (std::is_same_v<Call, call::TraverseTop>)
+          return PassTraverseTopCompacted(call);
+        else
+          return PassTraverseLevelCompacted(call);
+      });
+      st.intersections = c.tested;
+      pairs = std::move(c.pairs);
+    } else {
+      const PairSlots slots = Sub("traverse.L" + level, slots_n, [&] {
+        if constexpr (std::is_same_v<Call, call::TraverseTop>)
+          return passes_.TraverseTop(call);
+        else
+          return passes_.TraverseLevel(call);
+      });
+      st.intersections = Sum(slots.tested);
+      pairs = Sub("reduce.L" + level, slots.flags.size(), [&] { return Reduce(slots.flags, slots.values); });
+    }
+    st.hits = pairs.size();
+    if (cfg_.pair_log) cfg_.pair_log->push_back(pairs);
+    return pairs;
+  }
+
   // Traverses one block (top nodes [t0, t1) x triangles [b0, b1)); false when a level overflows the
   // pair capacity, in which case nothing was written.
   bool Block(const Hierarchy& h, const std::vector<layout::Ray>& rays, const std::vector<std::uint32_t>& order,
@@ -227,26 +258,18 @@ class Impl final : public HierarchyTracer {
     // node missed (CRSH).
     static const std::vector<std::uint8_t> kNoMask;
     const std::size_t grid = static_cast<std::size_t>(N) * T;
-    PairSlots slots = Sub("traverse.L" + std::to_string(D), grid, [&] {
-      return passes_.TraverseTop({.top = h.nodes[D - 1], .t0 = t0, .t1 = t1, .b0 = b0, .b1 = b1, .tri_spheres = *tri_spheres_,
-                                  .scene = &scene_, .object_mask = crsh ? object_mask : kNoMask, .eps = eps_});
-    });
-    lv[D - 1].intersections = Sum(slots.tested);
-    std::vector<std::uint32_t> pairs = Sub("reduce.L" + std::to_string(D), grid, [&] { return Reduce(slots.flags, slots.values); });
-    lv[D - 1].hits = pairs.size();
+    const call::TraverseTop top{.top = h.nodes[D - 1], .t0 = t0, .t1 = t1, .b0 = b0, .b1 = b1, .tri_spheres = *tri_spheres_,
+                                .scene = &scene_, .object_mask = crsh ? object_mask : kNoMask, .eps = eps_};
+    std::vector<std::uint32_t> pairs = TestAndCompact(D, grid, top, lv[D - 1]);
     if (pairs.size() > cfg_.pair_capacity) return false;
 
     // Levels D-1 .. 1: each surviving pair tests the node's children.
     const std::uint32_t S = static_cast<std::uint32_t>(Children());
     for (int L = D - 1; L >= 1; --L) {
       const std::uint32_t base_up = Descendants(h, L + 1, t0, t1).first, base = Descendants(h, L, t0, t1).first;
-      slots = Sub("traverse.L" + std::to_string(L), pairs.size() * S, [&] {
-        return passes_.TraverseLevel({.pairs = pairs, .nodes = h.nodes[L - 1], .first = h.first[L], .base_up = base_up, .base = base,
-                                      .children_max = S, .b0 = b0, .tri_spheres = *tri_spheres_, .eps = eps_});
-      });
-      lv[L - 1].intersections = Sum(slots.tested);
-      pairs = Sub("reduce.L" + std::to_string(L), slots.flags.size(), [&] { return Reduce(slots.flags, slots.values); });
-      lv[L - 1].hits = pairs.size();
+      const call::TraverseLevel level{.pairs = pairs, .nodes = h.nodes[L - 1], .first = h.first[L], .base_up = base_up, .base = base,
+                                      .children_max = S, .b0 = b0, .tri_spheres = *tri_spheres_, .eps = eps_};
+      pairs = TestAndCompact(L, pairs.size() * S, level, lv[L - 1]);
       if (pairs.size() > cfg_.pair_capacity) return false;
     }
 

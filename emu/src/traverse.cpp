@@ -25,4 +25,28 @@ std::vector<std::uint8_t> PassObjectMask(const call::ObjectMask& c) { return Obj
 
 PairSlots PassTraverseLevel(const call::TraverseLevel& c) { return TraverseLevelWith(kConeTest, c); }
 
+namespace {
+bool g_fused_fault = false;
+}  // namespace
+
+void SetFusedFaultForTesting(bool on) { g_fused_fault = on; }
+bool FusedFaultForTesting() { return g_fused_fault; }
+
+Compacted ConcatenateBlocks(std::vector<std::vector<std::uint32_t>>& parts, const std::vector<std::uint64_t>& tested) {
+  Compacted r;
+  std::size_t total = 0;
+  for (std::size_t b = 0; b < parts.size(); ++b) {
+    if (g_fused_fault && !parts[b].empty()) parts[b].pop_back();
+    total += parts[b].size();
+    r.tested += tested[b];
+  }
+  r.pairs.reserve(total);
+  for (const auto& part : parts) r.pairs.insert(r.pairs.end(), part.begin(), part.end());
+  return r;
+}
+
+Compacted PassTraverseTopCompacted(const call::TraverseTop& c) { return TraverseTopCompactedWith(kConeTest, c); }
+
+Compacted PassTraverseLevelCompacted(const call::TraverseLevel& c) { return TraverseLevelCompactedWith(kConeTest, c); }
+
 }  // namespace rayspace::emu

@@ -2,6 +2,7 @@
 // reduction, intersect — CRSH (Reis 2015) and RAH (Roger et al. 2007) over the same passes, with the
 // thesis's statistics.
 #pragma once
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -32,6 +33,13 @@ struct HierarchyConfig {
   HierarchyPasses* passes = nullptr;
   // Test hook: when set, every final ray-triangle test is logged as (ray index << 32 | primitive).
   std::vector<std::uint64_t>* candidate_log = nullptr;
+  // Test hook: when set, every level's compacted pairs are appended, level by level, block by block.
+  std::vector<std::vector<std::uint32_t>>* pair_log = nullptr;
+  // The emulator's fused path (render --backend emu): each level tests and compacts in one pass over
+  // blocks of slots, with no slot arrays and no separate reduction. It gives the same pairs, in the
+  // same order, as the passes (docs/performance.md); it bypasses `passes`, so the diff, replay and
+  // accuracy, which work call by call, never set it.
+  bool fused = false;
 };
 
 // Per ray type and level, as the thesis counts (level `depth` = top).
@@ -101,6 +109,68 @@ PairSlots TraverseTopWith(TestFn&& test, const call::TraverseTop& c) {
   });
   return s;
 }
+
+// The fused path's levels: what TraverseTopWith / TraverseLevelWith followed by a reduction give
+// (the surviving slots' values in slot order, and the tests run), from one pass over blocks of
+// kFusedBlock slots whose survivors are concatenated in block order.
+struct Compacted {
+  std::vector<std::uint32_t> pairs;
+  std::uint64_t tested = 0;
+};
+inline constexpr std::size_t kFusedBlock = 8192;
+
+// Test hook: drops the last survivor of every block, so the fused-path equality test can fail.
+void SetFusedFaultForTesting(bool on);
+bool FusedFaultForTesting();
+
+// Concatenates per-block survivors in block order.
+Compacted ConcatenateBlocks(std::vector<std::vector<std::uint32_t>>& parts, const std::vector<std::uint64_t>& tested);
+
+template <typename TestFn>
+Compacted TraverseTopCompactedWith(TestFn&& test, const call::TraverseTop& c) {
+  const std::uint32_t T = c.b1 - c.b0;
+  const std::size_t grid = static_cast<std::size_t>(c.t1 - c.t0) * T, objects = c.scene->objects.size();
+  const std::size_t blocks = (grid + kFusedBlock - 1) / kFusedBlock;
+  std::vector<std::vector<std::uint32_t>> parts(blocks);
+  std::vector<std::uint64_t> tested(blocks, 0);
+  ParallelFor(blocks, [&](std::size_t blk) {
+    const std::size_t e0 = blk * kFusedBlock, e1 = std::min(grid, e0 + kFusedBlock);
+    std::vector<std::uint32_t>& out = parts[blk];
+    for (std::size_t e = e0; e < e1; ++e) {
+      const std::uint32_t node = c.t0 + static_cast<std::uint32_t>(e / T), tri = c.b0 + static_cast<std::uint32_t>(e % T);
+      if (!c.object_mask.empty() && !c.object_mask[static_cast<std::size_t>(node) * objects + c.scene->info[tri].ids.y])
+        continue;
+      ++tested[blk];
+      if (test(c.top[node], c.tri_spheres[tri], c.eps)) out.push_back(((node - c.t0) << kPairTriangleBits) | (tri - c.b0));
+    }
+  });
+  return ConcatenateBlocks(parts, tested);
+}
+
+template <typename TestFn>
+Compacted TraverseLevelCompactedWith(TestFn&& test, const call::TraverseLevel& c) {
+  // Blocks of pairs whose children make about kFusedBlock slots.
+  const std::size_t per_block = std::max<std::size_t>(1, kFusedBlock / std::max<std::uint32_t>(c.children_max, 1));
+  const std::size_t blocks = (c.pairs.size() + per_block - 1) / per_block;
+  std::vector<std::vector<std::uint32_t>> parts(blocks);
+  std::vector<std::uint64_t> tested(blocks, 0);
+  ParallelFor(blocks, [&](std::size_t blk) {
+    const std::size_t p0 = blk * per_block, p1 = std::min(c.pairs.size(), p0 + per_block);
+    std::vector<std::uint32_t>& out = parts[blk];
+    for (std::size_t p = p0; p < p1; ++p) {
+      const std::uint32_t parent = c.base_up + (c.pairs[p] >> kPairTriangleBits), tri_local = c.pairs[p] & kPairTriangleMask;
+      const glm::vec4 sphere = c.tri_spheres[c.b0 + tri_local];
+      const std::uint32_t c0 = c.first[parent], c1 = c.first[parent + 1];
+      tested[blk] += c1 - c0;
+      for (std::uint32_t k = c0; k < c1; ++k)
+        if (test(c.nodes[k], sphere, c.eps)) out.push_back(((k - c.base) << kPairTriangleBits) | tri_local);
+    }
+  });
+  return ConcatenateBlocks(parts, tested);
+}
+
+Compacted PassTraverseTopCompacted(const call::TraverseTop& c);
+Compacted PassTraverseLevelCompacted(const call::TraverseLevel& c);
 
 template <typename TestFn>
 std::vector<std::uint8_t> ObjectMaskWith(TestFn&& test, const call::ObjectMask& c) {
