@@ -85,3 +85,13 @@ TEST_CASE("fused path: a planted difference (the last survivor of every block dr
   emu::SetFusedFaultForTesting(false);
   CHECK(Compare(passes, fused).rfind("the pairs of compacted level", 0) == 0);
 }
+
+TEST_CASE("fused path: the scalar loop (no SIMD) gives the same pairs as well") {
+  const Scene s = test::LoadBundled("office.json");
+  emu::HierarchyConfig cfg;
+  const PathRun passes = RunPath(s, 32, 32, cfg, false);
+  emu::SetFusedSimd(false);
+  const PathRun scalar = RunPath(s, 32, 32, cfg, true);
+  emu::SetFusedSimd(true);
+  CHECK(Compare(passes, scalar) == "");
+}

@@ -169,7 +169,10 @@ Compacted TraverseLevelCompactedWith(TestFn&& test, const call::TraverseLevel& c
   return ConcatenateBlocks(parts, tested);
 }
 
+// The fused top level runs the cone-sphere test on eight spheres at once where the CPU has AVX2
+// (cone_simd.h), the same bits as the scalar test; SetFusedSimd(false) forces the scalar loop.
 Compacted PassTraverseTopCompacted(const call::TraverseTop& c);
+void SetFusedSimd(bool on);
 Compacted PassTraverseLevelCompacted(const call::TraverseLevel& c);
 
 template <typename TestFn>
