@@ -76,22 +76,20 @@ TEST_CASE("fused path: the same pairs, statistics and digest as the passes, on r
   }
 }
 
+// The passes and the fused path on a bundled scene at 32x32, with `toggle(true)` set around the fused run.
+static std::string CompareToggled(const std::string& file, void (*toggle)(bool), bool on) {
+  const Scene s = test::LoadBundled(file);
+  const PathRun passes = RunPath(s, 32, 32, {}, false);
+  toggle(on);
+  const PathRun fused = RunPath(s, 32, 32, {}, true);
+  toggle(!on);
+  return Compare(passes, fused);
+}
+
 TEST_CASE("fused path: a planted difference (the last survivor of every block dropped) is seen") {
-  const Scene s = test::LoadBundled("cornell-mirrors.json");
-  emu::HierarchyConfig cfg;
-  const PathRun passes = RunPath(s, 32, 32, cfg, false);
-  emu::SetFusedFaultForTesting(true);
-  const PathRun fused = RunPath(s, 32, 32, cfg, true);
-  emu::SetFusedFaultForTesting(false);
-  CHECK(Compare(passes, fused).rfind("the pairs of compacted level", 0) == 0);
+  CHECK(CompareToggled("cornell-mirrors.json", emu::SetFusedFaultForTesting, true).rfind("the pairs of compacted level", 0) == 0);
 }
 
 TEST_CASE("fused path: the scalar loop (no SIMD) gives the same pairs as well") {
-  const Scene s = test::LoadBundled("office.json");
-  emu::HierarchyConfig cfg;
-  const PathRun passes = RunPath(s, 32, 32, cfg, false);
-  emu::SetFusedSimd(false);
-  const PathRun scalar = RunPath(s, 32, 32, cfg, true);
-  emu::SetFusedSimd(true);
-  CHECK(Compare(passes, scalar) == "");
+  CHECK(CompareToggled("office.json", emu::SetFusedSimd, false) == "");
 }

@@ -56,12 +56,7 @@ namespace {
 Compacted TraverseTopCompactedSimd(const call::TraverseTop& c) {
   const std::uint32_t T = c.b1 - c.b0;
   const std::size_t grid = static_cast<std::size_t>(c.t1 - c.t0) * T, objects = c.scene->objects.size();
-  const std::size_t blocks = (grid + kFusedBlock - 1) / kFusedBlock;
-  std::vector<std::vector<std::uint32_t>> parts(blocks);
-  std::vector<std::uint64_t> tested(blocks, 0);
-  ParallelFor(blocks, [&](std::size_t blk) {
-    const std::size_t e0 = blk * kFusedBlock, e1 = std::min(grid, e0 + kFusedBlock);
-    std::vector<std::uint32_t>& out = parts[blk];
+  return CompactInBlocks(grid, kFusedBlock, [&](std::size_t e0, std::size_t e1, std::vector<std::uint32_t>& out, std::uint64_t& tested) {
     cone::SphereLanes lanes;
     for (std::size_t e = e0; e < e1;) {
       const std::uint32_t node = c.t0 + static_cast<std::uint32_t>(e / T);
@@ -78,7 +73,7 @@ Compacted TraverseTopCompactedSimd(const call::TraverseTop& c) {
         if (i < n && (c.object_mask.empty() || c.object_mask[static_cast<std::size_t>(node) * objects + c.scene->info[tri].ids.y]))
           mask |= 1u << i;
       }
-      tested[blk] += static_cast<std::uint64_t>(std::popcount(mask));
+      tested += static_cast<std::uint64_t>(std::popcount(mask));
       const std::uint32_t hits = mask ? cone::TestEight(c.top[node], lanes, c.eps) & mask : 0u;
       for (std::size_t i = 0; i < n; ++i)
         if (hits & (1u << i))
@@ -86,7 +81,6 @@ Compacted TraverseTopCompactedSimd(const call::TraverseTop& c) {
       e += n;
     }
   });
-  return ConcatenateBlocks(parts, tested);
 }
 
 bool g_simd = true;

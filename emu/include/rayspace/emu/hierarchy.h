@@ -126,47 +126,47 @@ bool FusedFaultForTesting();
 // Concatenates per-block survivors in block order.
 Compacted ConcatenateBlocks(std::vector<std::vector<std::uint32_t>>& parts, const std::vector<std::uint64_t>& tested);
 
+// Runs block(i0, i1, survivors, tested) over [0, items) in blocks of `per_block` items, in parallel,
+// and concatenates the blocks' survivors in order.
+template <typename BlockFn>
+Compacted CompactInBlocks(std::size_t items, std::size_t per_block, BlockFn&& block) {
+  const std::size_t blocks = (items + per_block - 1) / per_block;
+  std::vector<std::vector<std::uint32_t>> parts(blocks);
+  std::vector<std::uint64_t> tested(blocks, 0);
+  ParallelFor(blocks, [&](std::size_t b) { block(b * per_block, std::min(items, (b + 1) * per_block), parts[b], tested[b]); });
+  return ConcatenateBlocks(parts, tested);
+}
+
 template <typename TestFn>
 Compacted TraverseTopCompactedWith(TestFn&& test, const call::TraverseTop& c) {
   const std::uint32_t T = c.b1 - c.b0;
   const std::size_t grid = static_cast<std::size_t>(c.t1 - c.t0) * T, objects = c.scene->objects.size();
-  const std::size_t blocks = (grid + kFusedBlock - 1) / kFusedBlock;
-  std::vector<std::vector<std::uint32_t>> parts(blocks);
-  std::vector<std::uint64_t> tested(blocks, 0);
-  ParallelFor(blocks, [&](std::size_t blk) {
-    const std::size_t e0 = blk * kFusedBlock, e1 = std::min(grid, e0 + kFusedBlock);
-    std::vector<std::uint32_t>& out = parts[blk];
+  return CompactInBlocks(grid, kFusedBlock, [&](std::size_t e0, std::size_t e1, std::vector<std::uint32_t>& out, std::uint64_t& tested) {
     for (std::size_t e = e0; e < e1; ++e) {
       const std::uint32_t node = c.t0 + static_cast<std::uint32_t>(e / T), tri = c.b0 + static_cast<std::uint32_t>(e % T);
       if (!c.object_mask.empty() && !c.object_mask[static_cast<std::size_t>(node) * objects + c.scene->info[tri].ids.y])
         continue;
-      ++tested[blk];
+      ++tested;
       if (test(c.top[node], c.tri_spheres[tri], c.eps)) out.push_back(((node - c.t0) << kPairTriangleBits) | (tri - c.b0));
     }
   });
-  return ConcatenateBlocks(parts, tested);
 }
 
 template <typename TestFn>
 Compacted TraverseLevelCompactedWith(TestFn&& test, const call::TraverseLevel& c) {
   // Blocks of pairs whose children make about kFusedBlock slots.
   const std::size_t per_block = std::max<std::size_t>(1, kFusedBlock / std::max<std::uint32_t>(c.children_max, 1));
-  const std::size_t blocks = (c.pairs.size() + per_block - 1) / per_block;
-  std::vector<std::vector<std::uint32_t>> parts(blocks);
-  std::vector<std::uint64_t> tested(blocks, 0);
-  ParallelFor(blocks, [&](std::size_t blk) {
-    const std::size_t p0 = blk * per_block, p1 = std::min(c.pairs.size(), p0 + per_block);
-    std::vector<std::uint32_t>& out = parts[blk];
+  return CompactInBlocks(c.pairs.size(), per_block, [&](std::size_t p0, std::size_t p1, std::vector<std::uint32_t>& out,
+                                                        std::uint64_t& tested) {
     for (std::size_t p = p0; p < p1; ++p) {
       const std::uint32_t parent = c.base_up + (c.pairs[p] >> kPairTriangleBits), tri_local = c.pairs[p] & kPairTriangleMask;
       const glm::vec4 sphere = c.tri_spheres[c.b0 + tri_local];
       const std::uint32_t c0 = c.first[parent], c1 = c.first[parent + 1];
-      tested[blk] += c1 - c0;
+      tested += c1 - c0;
       for (std::uint32_t k = c0; k < c1; ++k)
         if (test(c.nodes[k], sphere, c.eps)) out.push_back(((k - c.base) << kPairTriangleBits) | tri_local);
     }
   });
-  return ConcatenateBlocks(parts, tested);
 }
 
 // The fused top level runs the cone-sphere test on eight spheres at once where the CPU has AVX2
