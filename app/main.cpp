@@ -48,7 +48,8 @@ void AddRender(CLI::App& app, Commands& cmds) {
   rc->add_option("--path", cmds.render.path,
                  "Hierarchy traversal on the emulator: fused (each level tests and compacts in one pass; the same "
                  "pairs, statistics and digest) or passes (the kernels' passes, as diff runs them); auto: fused with "
-                 "--backend emu, passes with vulkan")
+                 "--backend emu unless --check-workgroups or --schedule asks for the passes' workgroups, passes "
+                 "with vulkan")
       ->check(CLI::IsMember({"auto", "fused", "passes"}));
   rc->add_flag("--no-oracle", cmds.render.no_oracle, "Skip the oracle re-trace");
   rc->add_flag("--timings", cmds.render.timings, "Print time per phase (the thesis's phases) and tests per second");

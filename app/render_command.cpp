@@ -46,11 +46,14 @@ struct Tracers {
   Tracer* oracle = nullptr;
 };
 
-// The fused traversal is the emulator's; the Vulkan backend runs its kernels pass by pass.
+// The fused traversal is the emulator's; the Vulkan backend runs its kernels pass by pass. Checking
+// or reordering the emulated workgroups (--check-workgroups, --schedule) is about the passes'
+// workgroup kernels (the reduction's among them), so `auto` keeps the passes then.
 bool UsesFusedPath(const RenderArgs& args) {
   if (args.path == "fused" && args.backend != "emu")
     ThrowInput("--path fused: the {} backend runs its kernels pass by pass; use --backend emu", args.backend);
-  return args.path == "fused" || (args.path == "auto" && args.backend == "emu");
+  const bool workgroup_model = args.model.check || args.model.schedule != "forward";
+  return args.path == "fused" || (args.path == "auto" && args.backend == "emu" && !workgroup_model);
 }
 
 Tracers MakeTracers(const RenderArgs& args, const SceneBuffers& buffers, const emu::FrameOptions& fo, const Backend& backend) {

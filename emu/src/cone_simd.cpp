@@ -1,6 +1,7 @@
 // The cone-sphere test (cone::TestOf<float>) on eight spheres at once with AVX2: every lane performs
-// the scalar test's operations in the same order (no FMA: this file is built with -mavx2 and
-// -ffp-contract=off, and each intrinsic is one IEEE operation; sqrt is IEEE's), both branches are
+// the scalar test's operations in the same order (no FMA: the functions are compiled for AVX2 only,
+// by target attribute, with -ffp-contract=off, and each intrinsic is one IEEE operation; sqrt is
+// IEEE's), both branches are
 // evaluated and selected by masks, and GLSL's max (the first operand when the second is NaN) is kept,
 // so each lane gives the scalar test's answer bit for bit. tests/cone_simd_test.cpp holds it to the
 // scalar test on random and special inputs.
