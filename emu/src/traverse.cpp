@@ -55,7 +55,7 @@ namespace {
 // the scalar fused path's.
 Compacted TraverseTopCompactedSimd(const call::TraverseTop& c) {
   const std::uint32_t T = c.b1 - c.b0;
-  const std::size_t grid = static_cast<std::size_t>(c.t1 - c.t0) * T, objects = c.scene->objects.size();
+  const std::size_t grid = static_cast<std::size_t>(c.t1 - c.t0) * T;
   return CompactInBlocks(grid, kFusedBlock, [&](std::size_t e0, std::size_t e1, std::vector<std::uint32_t>& out, std::uint64_t& tested) {
     cone::SphereLanes lanes;
     for (std::size_t e = e0; e < e1;) {
@@ -70,7 +70,7 @@ Compacted TraverseTopCompactedSimd(const call::TraverseTop& c) {
         lanes.y[i] = sp.y;
         lanes.z[i] = sp.z;
         lanes.r[i] = sp.w;
-        if (i < n && (c.object_mask.empty() || c.object_mask[static_cast<std::size_t>(node) * objects + c.scene->info[tri].ids.y]))
+        if (i < n && TopSlotTested(c, node, tri))
           mask |= 1u << i;
       }
       tested += static_cast<std::uint64_t>(std::popcount(mask));

@@ -458,12 +458,10 @@ SpecVerdict TraverseTop(const BufferSet& in, const BufferSet& e, const BufferSet
   Tally t;
   TallyExact(e, a, t);
   const std::uint32_t tris = c.b1 - c.b0;
-  const std::size_t objects = c.scene->objects.size();
   TallyFlags(e.Get<std::uint8_t>("flags"), a.Get<std::uint8_t>("flags"), c.eps, flush, t, "flags",
              [&](std::size_t slot, const layout::ConeNode*& node, glm::vec4& sphere) {
                const std::uint32_t n = c.t0 + static_cast<std::uint32_t>(slot / tris), tri = c.b0 + static_cast<std::uint32_t>(slot % tris);
-               if (!c.object_mask.empty() && !c.object_mask[static_cast<std::size_t>(n) * objects + c.scene->info[tri].ids.y])
-                 return false;
+               if (!emu::TopSlotTested(c, n, tri)) return false;
                node = &c.top[n];
                sphere = c.tri_spheres[tri];
                return true;

@@ -1,8 +1,9 @@
 #include "rayspace/verify/spec_real.h"
 
+#include "rayspace/emu/intersect.h"
+
 #include <algorithm>
 #include <cfloat>
-#include <cstring>
 #include <limits>
 
 namespace rayspace::verify {
@@ -242,15 +243,7 @@ SpecReal NextAfter(SpecReal x, float toward) {
   return Flushed(r);
 }
 
-SpecReal InversePowerOfTwo(SpecReal m) {
-  std::uint32_t u;
-  std::memcpy(&u, &m.v, 4);
-  const std::int32_t e = static_cast<std::int32_t>((u >> 23) & 0xFFu);
-  const std::uint32_t k = static_cast<std::uint32_t>(std::clamp(254 - e, 1, 254)) << 23;
-  float f;
-  std::memcpy(&f, &k, 4);
-  return SpecReal(f);
-}
+SpecReal InversePowerOfTwo(SpecReal m) { return SpecReal(emu::InversePowerOfTwo(m.v)); }
 
 bool operator<(SpecReal a, SpecReal b) {
   return Decide(a, b, [](const SpecReal& x, const SpecReal& y) { return x.hi < y.lo ? 1 : (x.lo >= y.hi ? 0 : -1); },

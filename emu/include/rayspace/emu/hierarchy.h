@@ -91,18 +91,24 @@ float TraversalEpsilon(const SceneBuffers& scene);
 
 // The traversal passes with the node-sphere test as a parameter (the passes above use cone::Test;
 // `rayspace accuracy` swaps in other precisions). test(node, sphere, eps) -> bool.
+// Does top-level slot (node, tri) run its test? Not when CRSH's object mask says the node misses the
+// sphere of the triangle's object.
+inline bool TopSlotTested(const call::TraverseTop& c, std::uint32_t node, std::uint32_t tri) {
+  return c.object_mask.empty() ||
+         c.object_mask[static_cast<std::size_t>(node) * c.scene->objects.size() + c.scene->info[tri].ids.y];
+}
+
 template <typename TestFn>
 PairSlots TraverseTopWith(TestFn&& test, const call::TraverseTop& c) {
   const std::uint32_t T = c.b1 - c.b0;
-  const std::size_t grid = static_cast<std::size_t>(c.t1 - c.t0) * T, objects = c.scene->objects.size();
+  const std::size_t grid = static_cast<std::size_t>(c.t1 - c.t0) * T;
   PairSlots s;
   s.flags.resize(grid);
   s.values.resize(grid);
   s.tested.resize(grid);
   ParallelFor(grid, [&](std::size_t e) {
     const std::uint32_t node = c.t0 + static_cast<std::uint32_t>(e / T), tri = c.b0 + static_cast<std::uint32_t>(e % T);
-    const bool tested =
-        c.object_mask.empty() || c.object_mask[static_cast<std::size_t>(node) * objects + c.scene->info[tri].ids.y];
+    const bool tested = TopSlotTested(c, node, tri);
     s.tested[e] = tested;
     s.flags[e] = tested && test(c.top[node], c.tri_spheres[tri], c.eps);
     s.values[e] = ((node - c.t0) << kPairTriangleBits) | (tri - c.b0);
@@ -140,12 +146,11 @@ Compacted CompactInBlocks(std::size_t items, std::size_t per_block, BlockFn&& bl
 template <typename TestFn>
 Compacted TraverseTopCompactedWith(TestFn&& test, const call::TraverseTop& c) {
   const std::uint32_t T = c.b1 - c.b0;
-  const std::size_t grid = static_cast<std::size_t>(c.t1 - c.t0) * T, objects = c.scene->objects.size();
+  const std::size_t grid = static_cast<std::size_t>(c.t1 - c.t0) * T;
   return CompactInBlocks(grid, kFusedBlock, [&](std::size_t e0, std::size_t e1, std::vector<std::uint32_t>& out, std::uint64_t& tested) {
     for (std::size_t e = e0; e < e1; ++e) {
       const std::uint32_t node = c.t0 + static_cast<std::uint32_t>(e / T), tri = c.b0 + static_cast<std::uint32_t>(e % T);
-      if (!c.object_mask.empty() && !c.object_mask[static_cast<std::size_t>(node) * objects + c.scene->info[tri].ids.y])
-        continue;
+      if (!TopSlotTested(c, node, tri)) continue;
       ++tested;
       if (test(c.top[node], c.tri_spheres[tri], c.eps)) out.push_back(((node - c.t0) << kPairTriangleBits) | (tri - c.b0));
     }

@@ -59,8 +59,9 @@ inline float BitsFloat(std::uint32_t u) {
 
 // x^n for an integer n >= 0 by repeated squaring, lowest bit first (no pow(): lavapipe's pow is not
 // correctly rounded). x^0 = 1.
-inline float IntPow(float x, std::uint32_t n) {
-  float result = 1.0f, base = x;
+template <typename S>
+S IntPowOf(S x, std::uint32_t n) {
+  S result(1.0f), base = x;
   bool first = true;
   while (n != 0) {
     if (n & 1u) {
@@ -72,6 +73,7 @@ inline float IntPow(float x, std::uint32_t n) {
   }
   return result;
 }
+inline float IntPow(float x, std::uint32_t n) { return IntPowOf(x, n); }
 
 // A closest hit packed so that the numerically smallest value is the nearest hit, ties broken by the
 // lower primitive id: (float bits of t) << 32 | primitive. t > 0, so its bits order like its value.

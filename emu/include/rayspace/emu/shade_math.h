@@ -7,22 +7,6 @@
 
 namespace rayspace::emu {
 
-// x^n for an integer n >= 0 by repeated squaring, lowest bit first, never multiplying by 1 (IntPow).
-template <typename S>
-S IntPowOf(S x, std::uint32_t n) {
-  S result(1.0f), base = x;
-  bool first = true;
-  while (n != 0) {
-    if (n & 1u) {
-      result = first ? base : result * base;
-      first = false;
-    }
-    n >>= 1;
-    if (n != 0) base = base * base;
-  }
-  return result;
-}
-
 // The unweighted colour at `sf` from the lights `lit(l)` says reach it (a shadow ray was cast and
 // not occluded).
 template <typename S, typename LitFn>
