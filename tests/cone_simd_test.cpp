@@ -1,6 +1,8 @@
-// The eight-lane cone-sphere test (emu/cone_simd.h) against the scalar cone::Test, lane by lane, on
-// random nodes and spheres and on the special values the scalar test handles: NaN and infinite
-// coordinates, a sphere at the apex, full and wide cones, denormal and huge scales.
+// The multi-lane cone-sphere test (emu/cone_simd.h), on every instruction set this CPU runs, against
+// the scalar cone::Test, item by item: one node against many spheres and many nodes against one
+// sphere, on random inputs and on the special values the scalar test handles (NaN and infinite
+// coordinates, a sphere at the apex, full and wide cones, denormal and huge scales), and on the
+// boundary radius of random configurations.
 #include <doctest/doctest.h>
 
 #include <array>
@@ -8,6 +10,9 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "rayspace/emu/cone.h"
 #include "rayspace/emu/cone_simd.h"
@@ -35,49 +40,103 @@ layout::ConeNode RandomNode(std::mt19937& rng, float scale) {
   return n;
 }
 
+
+const cone::Isa kVector[] = {cone::Isa::kAvx2, cone::Isa::kAvx512};
+
+glm::vec4 RandomSphere(std::mt19937& rng, float scale, const layout::ConeNode& n) {
+  if (rng() % 32 == 0) return glm::vec4(glm::vec3(n.sphere), 0.0f);  // at the apex
+  return glm::vec4(Pick(rng, scale), Pick(rng, scale), Pick(rng, scale), std::fabs(Pick(rng, scale * 0.2f)));
+}
+
+// Which of items [i0, i1) the call wrote, as a bit per item, from the values it wrote (item i
+// writes 7 + (i << 3)); also checks they come in item order.
+std::vector<bool> Written(const std::uint32_t* out, std::size_t count, std::uint32_t i0, std::uint32_t i1) {
+  std::vector<bool> bits(i1 - i0, false);
+  std::uint32_t last = 0;
+  for (std::size_t j = 0; j < count; ++j) {
+    const std::uint32_t i = (out[j] - 7u) >> 3;
+    REQUIRE((out[j] - 7u) % 8u == 0u);
+    REQUIRE(i >= i0);
+    REQUIRE(i < i1);
+    REQUIRE((j == 0 || i > last));
+    bits[i - i0] = true;
+    last = i;
+  }
+  return bits;
+}
+
+std::string Describe(const layout::ConeNode& n, glm::vec4 s, float eps) {
+  std::ostringstream o;
+  o << std::hexfloat << "node (" << n.sphere.x << ", " << n.sphere.y << ", " << n.sphere.z << ", " << n.sphere.w << ") cone ("
+    << n.cone.x << ", " << n.cone.y << ", " << n.cone.z << ", " << n.cone.w << ", " << n.extra.x << ") sphere (" << s.x << ", "
+    << s.y << ", " << s.z << ", " << s.w << ") eps " << eps;
+  return o.str();
+}
+
 }  // namespace
 
-TEST_CASE("cone simd: eight lanes give the scalar test's answer on every lane") {
-  if (!cone::HaveSimdTest()) {
-    MESSAGE("no AVX2 on this CPU: the fused path runs the scalar test");
-    return;
-  }
+TEST_CASE("cone simd: one node against many spheres, every lane the scalar test's answer") {
   std::mt19937 rng(99);
-  std::size_t lanes = 0, accepted = 0;
-  for (int iter = 0; iter < 200000; ++iter) {
-    const float scale = std::array{1.0f, 1e-30f, 1e30f, 1000.0f}[rng() % 4];
-    const layout::ConeNode n = RandomNode(rng, scale);
-    const float eps = rng() % 4 == 0 ? 0.0f : std::fabs(Pick(rng, scale * 1e-6f));
-    cone::SphereLanes s;
-    glm::vec4 spheres[8];
-    for (int i = 0; i < 8; ++i) {
-      spheres[i] = glm::vec4(Pick(rng, scale), Pick(rng, scale), Pick(rng, scale), std::fabs(Pick(rng, scale * 0.2f)));
-      if (rng() % 32 == 0) spheres[i] = glm::vec4(glm::vec3(n.sphere), 0.0f);  // at the apex
-      s.x[i] = spheres[i].x;
-      s.y[i] = spheres[i].y;
-      s.z[i] = spheres[i].z;
-      s.r[i] = spheres[i].w;
+  for (const cone::Isa isa : kVector) {
+    if (!cone::Runs(isa)) {
+      MESSAGE("this CPU lacks " << cone::IsaName(isa));
+      continue;
     }
-    const std::uint32_t bits = cone::TestEight(n, s, eps);
-    for (int i = 0; i < 8; ++i) {
-      const bool scalar = cone::Test(n, spheres[i], eps);
-      ++lanes;
-      accepted += scalar;
-      if (((bits >> i) & 1u) != static_cast<std::uint32_t>(scalar)) {
-        FAIL("lane " << i << " differs: node (" << n.sphere.x << ", " << n.sphere.y << ", " << n.sphere.z << ", " << n.sphere.w
-                     << ") cone (" << n.cone.x << ", " << n.cone.y << ", " << n.cone.z << ", " << n.cone.w << ", " << n.extra.x
-                     << ") sphere (" << spheres[i].x << ", " << spheres[i].y << ", " << spheres[i].z << ", " << spheres[i].w
-                     << ") eps " << eps << ": scalar " << scalar);
+    CAPTURE(cone::IsaName(isa));
+    std::size_t items = 0, accepted = 0;
+    for (int iter = 0; iter < 40000; ++iter) {
+      const float scale = std::array{1.0f, 1e-30f, 1e30f, 1000.0f}[rng() % 4];
+      const layout::ConeNode n = RandomNode(rng, scale);
+      const float eps = rng() % 4 == 0 ? 0.0f : std::fabs(Pick(rng, scale * 1e-6f));
+      std::vector<glm::vec4> spheres(40);
+      for (auto& sp : spheres) sp = RandomSphere(rng, scale, n);
+      const cone::SphereArrays arrays = cone::ToArrays(spheres);
+      // A run that starts and ends inside lane groups.
+      const std::uint32_t i0 = rng() % 9, i1 = i0 + 1 + rng() % (40 - i0);
+      std::uint32_t out[40 + cone::kLanePad];
+      const std::vector<bool> got = Written(out, cone::TestSpheres(isa, n, arrays, i0, i1, eps, 7u, 3, out), i0, i1);
+      for (std::uint32_t i = i0; i < i1; ++i) {
+        const bool scalar = cone::Test(n, spheres[i], eps);
+        ++items;
+        accepted += scalar;
+        if (got[i - i0] != scalar) FAIL("sphere " << i << " differs: " << Describe(n, spheres[i], eps) << ": scalar " << scalar);
       }
     }
+    // Both answers occur often enough for the comparison to mean something.
+    CHECK(accepted > items / 10);
+    CHECK(accepted < items * 9 / 10);
   }
-  // Both answers occur often enough for the comparison to mean something.
-  CHECK(accepted > lanes / 10);
-  CHECK(accepted < lanes * 9 / 10);
+}
+
+TEST_CASE("cone simd: many nodes against one sphere, every lane the scalar test's answer") {
+  std::mt19937 rng(5);
+  for (const cone::Isa isa : kVector) {
+    if (!cone::Runs(isa)) continue;
+    CAPTURE(cone::IsaName(isa));
+    std::size_t items = 0, accepted = 0;
+    for (int iter = 0; iter < 40000; ++iter) {
+      const float scale = std::array{1.0f, 1e-30f, 1e30f, 1000.0f}[rng() % 4];
+      std::vector<layout::ConeNode> nodes(24);
+      for (auto& n : nodes) n = RandomNode(rng, scale);
+      const glm::vec4 sphere = RandomSphere(rng, scale, nodes[rng() % nodes.size()]);
+      const float eps = rng() % 4 == 0 ? 0.0f : std::fabs(Pick(rng, scale * 1e-6f));
+      const cone::NodeArrays arrays = cone::ToArrays(nodes);
+      const std::uint32_t k0 = rng() % 9, k1 = k0 + 1 + rng() % (24 - k0);
+      std::uint32_t out[24 + cone::kLanePad];
+      const std::vector<bool> got = Written(out, cone::TestNodes(isa, arrays, sphere, k0, k1, eps, 7u, 3, out), k0, k1);
+      for (std::uint32_t k = k0; k < k1; ++k) {
+        const bool scalar = cone::Test(nodes[k], sphere, eps);
+        ++items;
+        accepted += scalar;
+        if (got[k - k0] != scalar) FAIL("node " << k << " differs: " << Describe(nodes[k], sphere, eps) << ": scalar " << scalar);
+      }
+    }
+    CHECK(accepted > items / 10);
+    CHECK(accepted < items * 9 / 10);
+  }
 }
 
 TEST_CASE("cone simd: on the boundary found by bisection, every lane still agrees") {
-  if (!cone::HaveSimdTest()) return;
   // For random nodes and sphere centres, the smallest radius the scalar test accepts, found by
   // bisection over the floats; lanes just below, on and above it. A lane computing any step
   // differently (another slack, another order) moves its boundary and disagrees there.
@@ -96,18 +155,18 @@ TEST_CASE("cone simd: on the boundary found by bisection, every lane still agree
       const std::uint32_t mid = lo + (hi - lo) / 2;
       (accepts(std::bit_cast<float>(mid)) ? hi : lo) = mid;
     }
-    cone::SphereLanes s;
-    for (int i = 0; i < 8; ++i) {
-      s.x[i] = c.x;
-      s.y[i] = c.y;
-      s.z[i] = c.z;
-      s.r[i] = std::bit_cast<float>(hi - 4 + static_cast<std::uint32_t>(i));
-    }
-    const std::uint32_t bits = cone::TestEight(n, s, 0.0f);
-    for (int i = 0; i < 8; ++i) {
-      ++compared;
-      REQUIRE(((bits >> i) & 1u) == static_cast<std::uint32_t>(accepts(s.r[i])));
+    std::vector<glm::vec4> spheres(16);
+    for (std::uint32_t i = 0; i < 16; ++i) spheres[i] = glm::vec4(c, std::bit_cast<float>(hi - 8 + i));
+    const cone::SphereArrays arrays = cone::ToArrays(spheres);
+    for (const cone::Isa isa : kVector) {
+      if (!cone::Runs(isa)) continue;
+      std::uint32_t out[16 + cone::kLanePad];
+      const std::vector<bool> got = Written(out, cone::TestSpheres(isa, n, arrays, 0, 16, 0.0f, 7u, 3, out), 0, 16);
+      for (std::uint32_t i = 0; i < 16; ++i) {
+        ++compared;
+        REQUIRE(got[i] == accepts(spheres[i].w));
+      }
     }
   }
-  CHECK(compared > 8000);
+  CHECK(compared > 16000);
 }

@@ -97,6 +97,21 @@ TEST_CASE("fused path: a planted difference (the last survivor of every block dr
   CHECK(CompareToggled("cornell-mirrors.json", emu::SetFusedFaultForTesting, true).rfind("the pairs of compacted level", 0) == 0);
 }
 
-TEST_CASE("fused path: the scalar loop (no SIMD) gives the same pairs as well") {
-  CHECK(CompareToggled("office.json", emu::SetFusedSimd, false) == "");
+TEST_CASE("fused path: every instruction set of the lanes (scalar, AVX2, AVX-512F) gives the passes' pairs") {
+  for (const char* file : {"office.json", "cornell-mirrors.json"}) {
+    const Scene s = test::LoadBundled(file);
+    const PathRun passes = RunPath(s, 32, 32, {}, false);
+    for (const emu::cone::Isa isa : {emu::cone::Isa::kScalar, emu::cone::Isa::kAvx2, emu::cone::Isa::kAvx512}) {
+      if (!emu::cone::Runs(isa)) {
+        MESSAGE("this CPU lacks " << emu::cone::IsaName(isa));
+        continue;
+      }
+      CAPTURE(file);
+      CAPTURE(emu::cone::IsaName(isa));
+      emu::SetFusedIsa(isa);
+      const std::string diff = Compare(passes, RunPath(s, 32, 32, {}, true));
+      emu::SetFusedIsa(emu::cone::BestIsa());
+      CHECK(diff == "");
+    }
+  }
 }

@@ -1,79 +1,92 @@
-// The cone-sphere test (cone::TestOf<float>) on eight spheres at once with AVX2: every lane performs
-// the scalar test's operations in the same order (no FMA: the functions are compiled for AVX2 only,
-// by target attribute, with -ffp-contract=off, and each intrinsic is one IEEE operation; sqrt is
-// IEEE's), both branches are
-// evaluated and selected by masks, and GLSL's max (the first operand when the second is NaN) is kept,
-// so each lane gives the scalar test's answer bit for bit. tests/cone_simd_test.cpp holds it to the
-// scalar test on random and special inputs.
+// Chooses the instruction set of the multi-lane cone-sphere test and lays out its arrays; the lanes
+// themselves are emu/src/simd/cone_lanes.inl, compiled once per instruction set.
 #include "rayspace/emu/cone_simd.h"
 
-#include <immintrin.h>
-
+#include "rayspace/error.h"
 #include "rayspace/emu/cone.h"
+#include "simd/cone_lanes.h"
 
 namespace rayspace::emu::cone {
 namespace {
 
-// emu Max: a > b ? a : b, and a when b is NaN. MAXPS(a, b) is a > b ? a : b (b on NaN or equal).
-__attribute__((target("avx2"))) inline __m256 Max8(__m256 a, __m256 b) {
-  const __m256 b_nan = _mm256_cmp_ps(b, b, _CMP_UNORD_Q);
-  return _mm256_blendv_ps(_mm256_max_ps(a, b), a, b_nan);
-}
+std::vector<float> Padded(std::size_t n) { return std::vector<float>(n + kLanePad, 0.0f); }
 
-__attribute__((target("avx2"))) inline __m256 Abs8(__m256 x) {
-  return _mm256_and_ps(x, _mm256_castsi256_ps(_mm256_set1_epi32(0x7FFFFFFF)));
-}
-
-// emu InversePowerOfTwo: 2^-e for the exponent of m, clamped to normal powers.
-__attribute__((target("avx2"))) inline __m256 InversePowerOfTwo8(__m256 m) {
-  const __m256i e = _mm256_and_si256(_mm256_srli_epi32(_mm256_castps_si256(m), 23), _mm256_set1_epi32(0xFF));
-  __m256i t = _mm256_sub_epi32(_mm256_set1_epi32(254), e);
-  t = _mm256_min_epi32(_mm256_max_epi32(t, _mm256_set1_epi32(1)), _mm256_set1_epi32(254));
-  return _mm256_castsi256_ps(_mm256_slli_epi32(t, 23));
-}
-
-__attribute__((target("avx2"))) inline __m256 Dot8(__m256 ax, __m256 ay, __m256 az, __m256 bx, __m256 by, __m256 bz) {
-  return _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(ax, bx), _mm256_mul_ps(ay, by)), _mm256_mul_ps(az, bz));
-}
+lanes::Output OutputOf(std::uint32_t first, int shift, std::uint32_t* out) { return {first, shift, out}; }
 
 }  // namespace
 
-bool HaveSimdTest() { return __builtin_cpu_supports("avx2"); }
+bool Runs(Isa isa) {
+  switch (isa) {
+    case Isa::kScalar: return true;
+    case Isa::kAvx2: return __builtin_cpu_supports("avx2");
+    case Isa::kAvx512: return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("popcnt");
+  }
+  return false;
+}
 
-__attribute__((target("avx2"))) std::uint32_t TestEight(const layout::ConeNode& n, const SphereLanes& s, float eps) {
-  if (IsFull(n)) return 0xFFu;
-  const __m256 sx = _mm256_loadu_ps(s.x), sy = _mm256_loadu_ps(s.y), sz = _mm256_loadu_ps(s.z), sr = _mm256_loadu_ps(s.r);
-  // v0 = sphere - node centre; R0 = (r + r_node) * kRadiusSlack + eps.
-  const __m256 v0x = _mm256_sub_ps(sx, _mm256_set1_ps(n.sphere.x)), v0y = _mm256_sub_ps(sy, _mm256_set1_ps(n.sphere.y)),
-               v0z = _mm256_sub_ps(sz, _mm256_set1_ps(n.sphere.z));
-  const __m256 R0 = _mm256_add_ps(_mm256_mul_ps(_mm256_add_ps(sr, _mm256_set1_ps(n.sphere.w)), _mm256_set1_ps(kRadiusSlack)),
-                                  _mm256_set1_ps(eps));
-  const __m256 m = Max8(Max8(Max8(Abs8(v0x), Abs8(v0y)), Abs8(v0z)), R0);
-  // At the apex or out of float range: keep.
-  const __m256 out_of_range = _mm256_or_ps(_mm256_cmp_ps(m, _mm256_setzero_ps(), _CMP_NGT_UQ),
-                                           _mm256_cmp_ps(m, _mm256_set1_ps(INFINITY), _CMP_NLT_UQ));
-  const __m256 k = InversePowerOfTwo8(m);
-  const __m256 vx = _mm256_mul_ps(v0x, k), vy = _mm256_mul_ps(v0y, k), vz = _mm256_mul_ps(v0z, k);
-  const __m256 xx = _mm256_set1_ps(n.cone.x), xy = _mm256_set1_ps(n.cone.y), xz = _mm256_set1_ps(n.cone.z);
-  const __m256 a = Dot8(vx, vy, vz, xx, xy, xz);
-  // b = |v x axis| (emu Cross, then Length).
-  const __m256 cx = _mm256_sub_ps(_mm256_mul_ps(vy, xz), _mm256_mul_ps(vz, xy));
-  const __m256 cy = _mm256_sub_ps(_mm256_mul_ps(vz, xx), _mm256_mul_ps(vx, xz));
-  const __m256 cz = _mm256_sub_ps(_mm256_mul_ps(vx, xy), _mm256_mul_ps(vy, xx));
-  const __m256 b = _mm256_sqrt_ps(Dot8(cx, cy, cz, cx, cy, cz));
-  const __m256 cosa = _mm256_set1_ps(n.cone.w), sina = _mm256_set1_ps(n.extra.x);
-  const __m256 sv = _mm256_sub_ps(_mm256_mul_ps(b, cosa), _mm256_mul_ps(a, sina));
-  const __m256 cv = _mm256_add_ps(_mm256_mul_ps(a, cosa), _mm256_mul_ps(b, sina));
-  // Inside the cone: s < 0, or s = 0 with c >= 0.
-  const __m256 inside = _mm256_or_ps(_mm256_cmp_ps(sv, _mm256_setzero_ps(), _CMP_LT_OQ),
-                                     _mm256_and_ps(_mm256_cmp_ps(sv, _mm256_setzero_ps(), _CMP_EQ_OQ),
-                                                   _mm256_cmp_ps(cv, _mm256_setzero_ps(), _CMP_GE_OQ)));
-  const __m256 R = _mm256_add_ps(_mm256_mul_ps(R0, k), _mm256_mul_ps(_mm256_add_ps(Abs8(a), b), _mm256_set1_ps(kTestSlack)));
-  const __m256 surface = _mm256_cmp_ps(sv, R, _CMP_LE_OQ);                                            // c > 0
-  const __m256 apex = _mm256_cmp_ps(Dot8(vx, vy, vz, vx, vy, vz), _mm256_mul_ps(R, R), _CMP_LE_OQ);  // else
-  const __m256 near = _mm256_blendv_ps(apex, surface, _mm256_cmp_ps(cv, _mm256_setzero_ps(), _CMP_GT_OQ));
-  const __m256 hit = _mm256_or_ps(_mm256_or_ps(out_of_range, inside), near);
-  return static_cast<std::uint32_t>(_mm256_movemask_ps(hit));
+Isa BestIsa() {
+  static const Isa best = Runs(Isa::kAvx512) ? Isa::kAvx512 : Runs(Isa::kAvx2) ? Isa::kAvx2 : Isa::kScalar;
+  return best;
+}
+
+const char* IsaName(Isa isa) {
+  switch (isa) {
+    case Isa::kScalar: return "scalar";
+    case Isa::kAvx2: return "avx2";
+    case Isa::kAvx512: return "avx512";
+  }
+  return "?";
+}
+
+SphereArrays ToArrays(std::span<const glm::vec4> spheres) {
+  SphereArrays a{Padded(spheres.size()), Padded(spheres.size()), Padded(spheres.size()), Padded(spheres.size()),
+                 std::vector<glm::vec4>(spheres.begin(), spheres.end())};
+  for (std::size_t i = 0; i < spheres.size(); ++i) {
+    a.x[i] = spheres[i].x;
+    a.y[i] = spheres[i].y;
+    a.z[i] = spheres[i].z;
+    a.r[i] = spheres[i].w;
+  }
+  return a;
+}
+
+NodeArrays ToArrays(std::span<const layout::ConeNode> nodes) {
+  const std::size_t n = nodes.size();
+  NodeArrays a{Padded(n), Padded(n), Padded(n), Padded(n), Padded(n), Padded(n), Padded(n), Padded(n), Padded(n),
+               std::vector<layout::ConeNode>(nodes.begin(), nodes.end())};
+  for (std::size_t i = 0; i < n; ++i) {
+    const layout::ConeNode& c = nodes[i];
+    a.x[i] = c.sphere.x, a.y[i] = c.sphere.y, a.z[i] = c.sphere.z, a.r[i] = c.sphere.w;
+    a.ax[i] = c.cone.x, a.ay[i] = c.cone.y, a.az[i] = c.cone.z, a.cosa[i] = c.cone.w, a.sina[i] = c.extra.x;
+  }
+  return a;
+}
+
+std::size_t TestSpheres(Isa isa, const layout::ConeNode& n, const SphereArrays& s, std::uint32_t i0, std::uint32_t i1, float eps,
+                        std::uint32_t first, int shift, std::uint32_t* out) {
+  RS_DCHECK(i1 <= s.spheres.size() && Runs(isa));
+  const lanes::Node node{n.sphere.x, n.sphere.y, n.sphere.z, n.sphere.w, n.cone.x, n.cone.y, n.cone.z, n.cone.w, n.extra.x};
+  const lanes::SphereArrays arrays{s.x.data(), s.y.data(), s.z.data(), s.r.data()};
+  if (isa == Isa::kAvx512) return lanes::SpheresAvx512(node, arrays, i0, i1, eps, OutputOf(first, shift, out));
+  if (isa == Isa::kAvx2) return lanes::SpheresAvx2(node, arrays, i0, i1, eps, OutputOf(first, shift, out));
+  std::size_t count = 0;
+  for (std::uint32_t i = i0; i < i1; ++i)
+    if (Test(n, s.spheres[i], eps)) out[count++] = first + (i << shift);
+  return count;
+}
+
+std::size_t TestNodes(Isa isa, const NodeArrays& nodes, glm::vec4 sphere, std::uint32_t k0, std::uint32_t k1, float eps,
+                      std::uint32_t first, int shift, std::uint32_t* out) {
+  RS_DCHECK(k1 <= nodes.nodes.size() && Runs(isa));
+  const lanes::NodeArrays arrays{nodes.x.data(),  nodes.y.data(),  nodes.z.data(),    nodes.r.data(),   nodes.ax.data(),
+                                 nodes.ay.data(), nodes.az.data(), nodes.cosa.data(), nodes.sina.data()};
+  const float s[4] = {sphere.x, sphere.y, sphere.z, sphere.w};
+  if (isa == Isa::kAvx512) return lanes::NodesAvx512(arrays, s, k0, k1, eps, OutputOf(first, shift, out));
+  if (isa == Isa::kAvx2) return lanes::NodesAvx2(arrays, s, k0, k1, eps, OutputOf(first, shift, out));
+  std::size_t count = 0;
+  for (std::uint32_t k = k0; k < k1; ++k)
+    if (Test(nodes.nodes[k], sphere, eps)) out[count++] = first + (k << shift);
+  return count;
 }
 
 }  // namespace rayspace::emu::cone

@@ -10,6 +10,7 @@
 #include "rayspace/emu/backend.h"
 #include "rayspace/emu/cone.h"
 #include "rayspace/emu/hierarchy.h"
+#include "rayspace/emu/intersect_simd.h"
 #include "rayspace/emu/passes.h"
 #include "rayspace/error.h"
 #include "rayspace/parallel.h"
@@ -277,8 +278,11 @@ class Impl final : public HierarchyTracer {
     const std::uint32_t base1 = Descendants(h, 1, t0, t1).first;
     const auto& f1 = h.first[0];
     const std::vector<std::uint32_t> tests =
-        Sub("intersect", pairs.size(), [&] { return passes_.Intersect({.pairs = pairs, .first1 = f1, .base1 = base1, .b0 = b0, .order = order, .rays = rays,
-                                               .scene = &scene_, .hits = hits, .occluded = occluded}); });
+        Sub("intersect", pairs.size(), [&] {
+          const call::Intersect call{.pairs = pairs, .first1 = f1, .base1 = base1, .b0 = b0, .order = order, .rays = rays,
+                                     .scene = &scene_, .hits = hits, .occluded = occluded};
+          return cfg_.fused ? PassIntersectLanes(call, watertight_) : passes_.Intersect(call);
+        });
     if (cfg_.candidate_log) {
       for (std::uint32_t pair : pairs) {
         const std::uint32_t node = base1 + (pair >> kTriBits), prim = b0 + (pair & kTriMask);
@@ -337,6 +341,7 @@ class Impl final : public HierarchyTracer {
     std::vector<std::uint32_t> quad_keys;
     const std::vector<std::uint32_t> order = Order(rays, quad_keys);
     const Hierarchy h = Sub("build", rays.size(), [&] { return Build(rays, order, quad_keys); });
+    if (cfg_.fused) watertight_ = Sub("intersect.setup", rays.size(), [&] { return ToWatertightArrays(rays, order); });
     for (int L = 1; L <= cfg_.depth; ++L) Digest("build", "nodes.L" + std::to_string(L), h.nodes[L - 1]);
     const std::uint32_t top = static_cast<std::uint32_t>(h.nodes[cfg_.depth - 1].size());
 
@@ -373,6 +378,7 @@ class Impl final : public HierarchyTracer {
   HierarchyConfig cfg_;
   HierarchyPasses& passes_;
   float eps_ = 0;
+  WatertightArrays watertight_;  // the fused path's rays of the batch, set up for the final tests
   BatchContext ctx_;
   std::vector<BatchStats> stats_;
 };

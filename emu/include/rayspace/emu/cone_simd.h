@@ -1,19 +1,47 @@
-// The cone-sphere test on eight spheres at once (emu/src/cone_simd.cpp), bit for bit the scalar
-// cone::Test on each: what the fused top level runs where the CPU has AVX2.
+// The cone-sphere test on many spheres or many nodes at once, bit for bit the scalar cone::Test on
+// each (emu/src/simd/): what the fused traversal runs. One node against a run of spheres (the top
+// level: a node against a batch's triangle spheres), or a run of nodes against one sphere (a lower
+// level: a pair's children against its triangle). Eight lanes with AVX2, sixteen with AVX-512F,
+// chosen at run time; the scalar loop elsewhere.
 #pragma once
+#include <cstddef>
 #include <cstdint>
+#include <span>
+#include <vector>
 
 #include "rayspace/layout.h"
 
 namespace rayspace::emu::cone {
 
-// Eight spheres, one array per component (lanes past the last sphere hold any finite value).
-struct SphereLanes {
-  alignas(32) float x[8], y[8], z[8], r[8];
-};
+enum class Isa { kScalar, kAvx2, kAvx512 };
+Isa BestIsa();  // the widest this CPU runs
+bool Runs(Isa isa);
+const char* IsaName(Isa isa);
 
-bool HaveSimdTest();  // the CPU runs AVX2
-// Bit i set when cone::Test(n, sphere i, eps).
-std::uint32_t TestEight(const layout::ConeNode& n, const SphereLanes& s, float eps);
+// Padding after each array, so that a lane group may read past the last entry.
+inline constexpr std::size_t kLanePad = 16;
+
+// Spheres (x, y, z, r), one array per component.
+struct SphereArrays {
+  std::vector<float> x, y, z, r;
+  std::vector<glm::vec4> spheres;  // as given, for the scalar loop
+};
+SphereArrays ToArrays(std::span<const glm::vec4> spheres);
+
+// Cone nodes, one array per field the test reads.
+struct NodeArrays {
+  std::vector<float> x, y, z, r, ax, ay, az, cosa, sina;
+  std::vector<layout::ConeNode> nodes;  // as given, for the scalar loop
+};
+NodeArrays ToArrays(std::span<const layout::ConeNode> nodes);
+
+// Item i that passes writes first + (i << shift) (mod 2^32), in item order, to out, which has room
+// for the call's items plus kLanePad. Both return how many were written.
+// Node n against spheres [i0, i1) of s.
+std::size_t TestSpheres(Isa isa, const layout::ConeNode& n, const SphereArrays& s, std::uint32_t i0, std::uint32_t i1, float eps,
+                        std::uint32_t first, int shift, std::uint32_t* out);
+// Nodes [k0, k1) of nodes against one sphere.
+std::size_t TestNodes(Isa isa, const NodeArrays& nodes, glm::vec4 sphere, std::uint32_t k0, std::uint32_t k1, float eps,
+                      std::uint32_t first, int shift, std::uint32_t* out);
 
 }  // namespace rayspace::emu::cone

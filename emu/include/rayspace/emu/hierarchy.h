@@ -11,6 +11,7 @@
 
 #include "rayspace/contract.h"
 #include "rayspace/emu/calls.h"
+#include "rayspace/emu/cone_simd.h"
 #include "rayspace/emu/tracer.h"
 #include "rayspace/parallel.h"
 
@@ -174,10 +175,12 @@ Compacted TraverseLevelCompactedWith(TestFn&& test, const call::TraverseLevel& c
   });
 }
 
-// The fused top level runs the cone-sphere test on eight spheres at once where the CPU has AVX2
-// (cone_simd.h), the same bits as the scalar test; SetFusedSimd(false) forces the scalar loop.
+// The fused levels run the cone-sphere test on many lanes where the CPU has AVX2 or AVX-512F
+// (cone_simd.h), the same bits as the scalar test; SetFusedIsa(cone::Isa::kScalar) forces the scalar
+// loop, and an instruction set the CPU lacks means the best it has.
 Compacted PassTraverseTopCompacted(const call::TraverseTop& c);
-void SetFusedSimd(bool on);
+void SetFusedIsa(cone::Isa isa);
+cone::Isa FusedIsa();
 Compacted PassTraverseLevelCompacted(const call::TraverseLevel& c);
 
 template <typename TestFn>

@@ -140,6 +140,17 @@ WatertightRayOf<S> SetupWatertight(Vec3<S> org, Vec3<S> dir) {
   return r;
 }
 
+// The triangle's normal for the distance, from edges and normal scaled by powers of two (t is
+// unchanged): n.A and n.d stay in range for coordinates from 2^-60 to 2^60.
+template <typename S>
+Vec3<S> PlaneNormalOf(Vec3<S> v0, Vec3<S> v1, Vec3<S> v2) {
+  const Vec3<S> e1 = v1 - v0, e2 = v2 - v0;
+  const S ke = InversePowerOfTwo(MaxAbs(e1, e2));
+  const Vec3<S> n0 = Cross(e1 * ke, e2 * ke);
+  const S kn = InversePowerOfTwo(MaxAbs(n0, n0));
+  return n0 * kn;
+}
+
 // Two-sided, edges inclusive. Returns true and t when the ray meets the triangle with
 // tmin < t < tmax. The inside decision is Woop's (sheared edge functions); t = (v0 - o).n / d.n. Watertight: a ray through a shared edge hits at least one of its triangles.
 template <typename S>
@@ -159,14 +170,8 @@ bool IntersectWatertight(const WatertightRayOf<S>& r, Vec3<S> v0, Vec3<S> v1, Ve
   const S det = (u + v) + w;
   if (det == 0.0f) return false;
   // The distance comes from the plane, not from Woop's barycentric sum: on long thin triangles that
-  // sum loses about log2(length / width) bits, the plane equation does not. Edges and normal are
-  // scaled by powers of two too (t is unchanged): n.A and n.d stay in range for coordinates from
-  // 2^-60 to 2^60.
-  const Vec3<S> e1 = v1 - v0, e2 = v2 - v0;
-  const S ke = InversePowerOfTwo(MaxAbs(e1, e2));
-  const Vec3<S> n0 = Cross(e1 * ke, e2 * ke);
-  const S kn = InversePowerOfTwo(MaxAbs(n0, n0));
-  const Vec3<S> n = n0 * kn;
+  // sum loses about log2(length / width) bits, the plane equation does not (PlaneNormalOf).
+  const Vec3<S> n = PlaneNormalOf(v0, v1, v2);
   const S t = Dot(A0, n) / Dot(r.dir, n);
   if (!(t > tmin && t < tmax)) return false;  // also rejects NaN
   t_out = t;

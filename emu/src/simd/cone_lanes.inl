@@ -1,0 +1,84 @@
+// cone::TestOf<float> on a lane type L (cone_lanes_avx2.cpp, cone_lanes_avx512.cpp), included by
+// each instruction set's unit after it defines L. Every lane performs the scalar test's operations
+// in the scalar test's order, each intrinsic one IEEE operation (no FMA: explicit intrinsics only,
+// and -ffp-contract=off), both branches computed and chosen by masks, and GLSL's max kept (L::Max),
+// so each lane answers as the scalar test does, bit for bit (tests/cone_simd_test.cpp).
+//
+// L provides: V (W floats), M (W lane flags), W; Set, Load, Add, Sub, Mul, Sqrt, Abs, Max,
+// InversePowerOfTwo; Cmp<predicate>; Or, And, Select(c, a, b) = c ? a : b; Bits; and
+// Emit(bits, first, shift, out) writing first + (lane << shift) for each set lane, returning the count.
+// The including unit includes rayspace/contract.h (kRadiusSlack, kTestSlack) first.
+
+
+struct NodeV {
+  typename L::V x, y, z, r, ax, ay, az, cosa, sina;
+};
+struct SphereV {
+  typename L::V x, y, z, r;
+};
+
+inline typename L::V Dot3(typename L::V ax, typename L::V ay, typename L::V az, typename L::V bx, typename L::V by,
+                          typename L::V bz) {
+  return L::Add(L::Add(L::Mul(ax, bx), L::Mul(ay, by)), L::Mul(az, bz));
+}
+
+inline typename L::M TestLanes(const NodeV& n, const SphereV& s, typename L::V eps) {
+  using V = typename L::V;
+  using M = typename L::M;
+  const V zero = L::Set(0.0f);
+  const M full = L::template Cmp<_CMP_LE_OQ>(n.cosa, L::Set(-1.0f));
+  const V v0x = L::Sub(s.x, n.x), v0y = L::Sub(s.y, n.y), v0z = L::Sub(s.z, n.z);
+  const V R0 = L::Add(L::Mul(L::Add(s.r, n.r), L::Set(layout::kRadiusSlack)), eps);
+  const V m = L::Max(L::Max(L::Max(L::Abs(v0x), L::Abs(v0y)), L::Abs(v0z)), R0);
+  // At the apex or out of float range: keep.
+  const M out_of_range = L::Or(L::template Cmp<_CMP_NGT_UQ>(m, zero), L::template Cmp<_CMP_NLT_UQ>(m, L::Set(INFINITY)));
+  const V k = L::InversePowerOfTwo(m);
+  const V vx = L::Mul(v0x, k), vy = L::Mul(v0y, k), vz = L::Mul(v0z, k);
+  const V a = Dot3(vx, vy, vz, n.ax, n.ay, n.az);
+  // b = |v x axis| (emu Cross, then Length).
+  const V cx = L::Sub(L::Mul(vy, n.az), L::Mul(vz, n.ay));
+  const V cy = L::Sub(L::Mul(vz, n.ax), L::Mul(vx, n.az));
+  const V cz = L::Sub(L::Mul(vx, n.ay), L::Mul(vy, n.ax));
+  const V b = L::Sqrt(Dot3(cx, cy, cz, cx, cy, cz));
+  const V sv = L::Sub(L::Mul(b, n.cosa), L::Mul(a, n.sina));
+  const V cv = L::Add(L::Mul(a, n.cosa), L::Mul(b, n.sina));
+  // Inside the cone: s < 0, or s = 0 with c >= 0.
+  const M inside = L::Or(L::template Cmp<_CMP_LT_OQ>(sv, zero),
+                         L::And(L::template Cmp<_CMP_EQ_OQ>(sv, zero), L::template Cmp<_CMP_GE_OQ>(cv, zero)));
+  const V R = L::Add(L::Mul(R0, k), L::Mul(L::Add(L::Abs(a), b), L::Set(layout::kTestSlack)));
+  const M surface = L::template Cmp<_CMP_LE_OQ>(sv, R);                                  // c > 0
+  const M apex = L::template Cmp<_CMP_LE_OQ>(Dot3(vx, vy, vz, vx, vy, vz), L::Mul(R, R));  // else
+  const M near = L::Select(L::template Cmp<_CMP_GT_OQ>(cv, zero), surface, apex);
+  return L::Or(L::Or(full, out_of_range), L::Or(inside, near));
+}
+
+inline std::uint32_t Tail(std::uint32_t bits, std::uint32_t left) {
+  return left < static_cast<std::uint32_t>(L::W) ? bits & ((1u << left) - 1u) : bits;
+}
+
+inline std::size_t SpheresRun(const Node& n, const SphereArrays& s, std::uint32_t i0, std::uint32_t i1, float eps, const Output& o) {
+  const NodeV node{L::Set(n.x),  L::Set(n.y),  L::Set(n.z),    L::Set(n.r),   L::Set(n.ax),
+                   L::Set(n.ay), L::Set(n.az), L::Set(n.cosa), L::Set(n.sina)};
+  const typename L::V e = L::Set(eps);
+  std::size_t count = 0;
+  for (std::uint32_t i = i0; i < i1; i += L::W) {
+    const SphereV sph{L::Load(s.x + i), L::Load(s.y + i), L::Load(s.z + i), L::Load(s.r + i)};
+    const std::uint32_t bits = Tail(L::Bits(TestLanes(node, sph, e)), i1 - i);
+    count += L::Emit(bits, o.first + (i << o.shift), o.shift, o.out + count);
+  }
+  return count;
+}
+
+inline std::size_t NodesRun(const NodeArrays& n, const float sphere[4], std::uint32_t k0, std::uint32_t k1, float eps,
+                            const Output& o) {
+  const SphereV sph{L::Set(sphere[0]), L::Set(sphere[1]), L::Set(sphere[2]), L::Set(sphere[3])};
+  const typename L::V e = L::Set(eps);
+  std::size_t count = 0;
+  for (std::uint32_t k = k0; k < k1; k += L::W) {
+    const NodeV node{L::Load(n.x + k),  L::Load(n.y + k),  L::Load(n.z + k),    L::Load(n.r + k),   L::Load(n.ax + k),
+                     L::Load(n.ay + k), L::Load(n.az + k), L::Load(n.cosa + k), L::Load(n.sina + k)};
+    const std::uint32_t bits = Tail(L::Bits(TestLanes(node, sph, e)), k1 - k);
+    count += L::Emit(bits, o.first + (k << o.shift), o.shift, o.out + count);
+  }
+  return count;
+}

@@ -1,0 +1,22 @@
+// The interface of the multi-lane watertight ray-triangle test (intersect_lanes_avx2.cpp, compiled
+// with -mavx2): plain floats and pointers only, for the reason cone_lanes.h gives.
+#pragma once
+#include <cstdint>
+
+namespace rayspace::emu::intersect_lanes {
+
+// Rays set up for the watertight test (emu::WatertightRay), one array per field, each readable 8
+// entries past its last.
+struct RayArrays {
+  const float *ox, *oy, *oz, *dx, *dy, *dz, *sx, *sy, *tmin, *tmax;
+  const std::int32_t *kx, *ky, *kz;
+};
+// A triangle: vertices and its scaled plane normal (emu::PlaneNormalOf).
+struct Triangle {
+  float v0[3], v1[3], v2[3], n[3];
+};
+
+// Rays [j, j + 8) against tri: bit i set when ray j + i hits with tmin < t < tmax; t[i] its distance.
+std::uint32_t EightAvx2(const RayArrays& r, const Triangle& tri, std::uint32_t j, float t[8]);
+
+}  // namespace rayspace::emu::intersect_lanes

@@ -1,0 +1,95 @@
+// The fused traversal's levels with the multi-lane cone-sphere test (cone_simd.h): each block tests
+// its slots in slot order, a top node against runs of its batch's triangle spheres, a pair's parent
+// against its children; survivors are written in lane order, so the pairs are the scalar fused
+// loops' (TraverseTopCompactedWith, TraverseLevelCompactedWith), and those are the passes'.
+#include <algorithm>
+
+#include "rayspace/emu/cone.h"
+#include "rayspace/emu/cone_simd.h"
+#include "rayspace/emu/hierarchy.h"
+
+namespace rayspace::emu {
+namespace {
+
+cone::Isa g_isa = cone::BestIsa();
+
+// Triangles [t0, t1) of a batch (batch-local) that share an object. A scene's objects own contiguous
+// triangles, so a batch has few runs; without an object mask the batch is one run, always tested.
+struct ObjectRun {
+  std::uint32_t t0, t1, object;
+};
+
+std::vector<ObjectRun> ObjectRuns(const call::TraverseTop& c) {
+  const std::uint32_t T = c.b1 - c.b0;
+  if (c.object_mask.empty()) return {{0, T, 0}};
+  std::vector<ObjectRun> runs;
+  for (std::uint32_t t = 0; t < T; ++t) {
+    const std::uint32_t object = c.scene->info[c.b0 + t].ids.y;
+    if (runs.empty() || runs.back().object != object)
+      runs.push_back({t, t + 1, object});
+    else
+      runs.back().t1 = t + 1;
+  }
+  return runs;
+}
+
+bool RunTested(const call::TraverseTop& c, std::uint32_t node, const ObjectRun& run) {
+  return c.object_mask.empty() || c.object_mask[static_cast<std::size_t>(node) * c.scene->objects.size() + run.object];
+}
+
+// The batch-local triangles [ta, tb) of one top node: the object runs the node's mask keeps.
+void TestNodeRow(const call::TraverseTop& c, const cone::SphereArrays& spheres, const std::vector<ObjectRun>& runs,
+                 std::uint32_t node, std::uint32_t ta, std::uint32_t tb, std::vector<std::uint32_t>& buf, std::size_t& n,
+                 std::uint64_t& tested) {
+  auto run = std::upper_bound(runs.begin(), runs.end(), ta, [](std::uint32_t t, const ObjectRun& r) { return t < r.t1; });
+  for (; run != runs.end() && run->t0 < tb; ++run) {
+    if (!RunTested(c, node, *run)) continue;
+    const std::uint32_t lo = std::max(ta, run->t0), hi = std::min(tb, run->t1);
+    tested += hi - lo;
+    n += cone::TestSpheres(g_isa, c.top[node], spheres, lo, hi, c.eps, (node - c.t0) << kPairTriangleBits, 0, buf.data() + n);
+  }
+}
+
+}  // namespace
+
+void SetFusedIsa(cone::Isa isa) { g_isa = cone::Runs(isa) ? isa : cone::BestIsa(); }
+cone::Isa FusedIsa() { return g_isa; }
+
+Compacted PassTraverseTopCompacted(const call::TraverseTop& c) {
+  const std::uint32_t T = c.b1 - c.b0;
+  const std::size_t grid = static_cast<std::size_t>(c.t1 - c.t0) * T;
+  const cone::SphereArrays spheres = cone::ToArrays(c.tri_spheres.subspan(c.b0, T));
+  const std::vector<ObjectRun> runs = ObjectRuns(c);
+  return CompactInBlocks(grid, kFusedBlock, [&](std::size_t e0, std::size_t e1, std::vector<std::uint32_t>& out, std::uint64_t& tested) {
+    std::vector<std::uint32_t> buf(e1 - e0 + cone::kLanePad);
+    std::size_t n = 0;
+    for (std::size_t e = e0; e < e1;) {
+      const std::uint32_t node = c.t0 + static_cast<std::uint32_t>(e / T), ta = static_cast<std::uint32_t>(e % T);
+      const std::uint32_t tb = static_cast<std::uint32_t>(std::min<std::size_t>(T, ta + (e1 - e)));
+      TestNodeRow(c, spheres, runs, node, ta, tb, buf, n, tested);
+      e += tb - ta;
+    }
+    out.assign(buf.begin(), buf.begin() + static_cast<std::ptrdiff_t>(n));
+  });
+}
+
+Compacted PassTraverseLevelCompacted(const call::TraverseLevel& c) {
+  const cone::NodeArrays nodes = cone::ToArrays(c.nodes);
+  const std::size_t per_block = std::max<std::size_t>(1, kFusedBlock / std::max<std::uint32_t>(c.children_max, 1));
+  return CompactInBlocks(c.pairs.size(), per_block, [&](std::size_t p0, std::size_t p1, std::vector<std::uint32_t>& out,
+                                                        std::uint64_t& tested) {
+    std::vector<std::uint32_t> buf;
+    std::size_t n = 0;
+    for (std::size_t p = p0; p < p1; ++p) {
+      const std::uint32_t parent = c.base_up + (c.pairs[p] >> kPairTriangleBits), tri_local = c.pairs[p] & kPairTriangleMask;
+      const std::uint32_t c0 = c.first[parent], c1 = c.first[parent + 1];
+      tested += c1 - c0;
+      if (buf.size() < n + (c1 - c0) + cone::kLanePad) buf.resize(2 * (n + (c1 - c0)) + cone::kLanePad);
+      n += cone::TestNodes(g_isa, nodes, c.tri_spheres[c.b0 + tri_local], c0, c1, c.eps, tri_local - (c.base << kPairTriangleBits),
+                           kPairTriangleBits, buf.data() + n);
+    }
+    out.assign(buf.begin(), buf.begin() + static_cast<std::ptrdiff_t>(n));
+  });
+}
+
+}  // namespace rayspace::emu
