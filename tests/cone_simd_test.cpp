@@ -170,3 +170,34 @@ TEST_CASE("cone simd: on the boundary found by bisection, every lane still agree
   }
   CHECK(compared > 16000);
 }
+
+TEST_CASE("cone simd: a level's pairs (two per test where each has at most eight children) give the scalar loop's output") {
+  std::mt19937 rng(31);
+  for (const cone::Isa isa : kVector) {
+    if (!cone::Runs(isa)) continue;
+    CAPTURE(cone::IsaName(isa));
+    for (int iter = 0; iter < 3000; ++iter) {
+      const float scale = std::array{1.0f, 1e-30f, 1e30f, 1000.0f}[rng() % 4];
+      // Parents with 0 to 12 children: pairs of at most eight share a test, larger ones run alone.
+      std::vector<std::uint32_t> first{0};
+      while (first.size() < 12) first.push_back(first.back() + (rng() % 6 == 0 ? 9 + rng() % 4 : rng() % 9));
+      std::vector<layout::ConeNode> nodes(first.back());
+      for (auto& n : nodes) n = RandomNode(rng, scale);
+      std::vector<glm::vec4> spheres(20);
+      for (auto& s : spheres) s = RandomSphere(rng, scale, nodes.empty() ? RandomNode(rng, scale) : nodes[rng() % nodes.size()]);
+      const std::uint32_t base_up = 1, base = rng() % 3;  // ids relative to a level's first node
+      std::vector<std::uint32_t> pairs(1 + rng() % 24);
+      for (auto& p : pairs) p = ((1 + rng() % 10 - base_up) << layout::kPairTriangleBits) | (rng() % 20);
+      const float eps = rng() % 4 == 0 ? 0.0f : std::fabs(Pick(rng, scale * 1e-6f));
+      const cone::NodeArrays arrays = cone::ToArrays(nodes);
+      const cone::PairLevel lv{pairs, first, base_up, base, spheres.data()};
+      std::vector<std::uint32_t> out(nodes.size() * pairs.size() + cone::kLanePad), expect(out.size());
+      std::uint64_t tested = 0, expect_tested = 0;
+      const std::size_t p0 = rng() % 2, n = cone::TestPairs(isa, arrays, lv, p0, pairs.size(), eps, out.data(), tested);
+      const std::size_t m = cone::TestPairs(cone::Isa::kScalar, arrays, lv, p0, pairs.size(), eps, expect.data(), expect_tested);
+      REQUIRE(tested == expect_tested);
+      REQUIRE(n == m);
+      for (std::size_t i = 0; i < n; ++i) REQUIRE(out[i] == expect[i]);
+    }
+  }
+}

@@ -11,6 +11,10 @@ namespace {
 
 std::vector<float> Padded(std::size_t n) { return std::vector<float>(n + kLanePad, 0.0f); }
 
+lanes::NodeArrays View(const NodeArrays& n) {
+  return {n.x.data(), n.y.data(), n.z.data(), n.r.data(), n.ax.data(), n.ay.data(), n.az.data(), n.cosa.data(), n.sina.data()};
+}
+
 lanes::Output OutputOf(std::uint32_t first, int shift, std::uint32_t* out) { return {first, shift, out}; }
 
 }  // namespace
@@ -78,14 +82,29 @@ std::size_t TestSpheres(Isa isa, const layout::ConeNode& n, const SphereArrays& 
 std::size_t TestNodes(Isa isa, const NodeArrays& nodes, glm::vec4 sphere, std::uint32_t k0, std::uint32_t k1, float eps,
                       std::uint32_t first, int shift, std::uint32_t* out) {
   RS_DCHECK(k1 <= nodes.nodes.size() && Runs(isa));
-  const lanes::NodeArrays arrays{nodes.x.data(),  nodes.y.data(),  nodes.z.data(),    nodes.r.data(),   nodes.ax.data(),
-                                 nodes.ay.data(), nodes.az.data(), nodes.cosa.data(), nodes.sina.data()};
+  const lanes::NodeArrays arrays = View(nodes);
   const float s[4] = {sphere.x, sphere.y, sphere.z, sphere.w};
   if (isa == Isa::kAvx512) return lanes::NodesAvx512(arrays, s, k0, k1, eps, OutputOf(first, shift, out));
   if (isa == Isa::kAvx2) return lanes::NodesAvx2(arrays, s, k0, k1, eps, OutputOf(first, shift, out));
   std::size_t count = 0;
   for (std::uint32_t k = k0; k < k1; ++k)
     if (Test(nodes.nodes[k], sphere, eps)) out[count++] = first + (k << shift);
+  return count;
+}
+
+std::size_t TestPairs(Isa isa, const NodeArrays& nodes, const PairLevel& lv, std::size_t p0, std::size_t p1, float eps,
+                      std::uint32_t* out, std::uint64_t& tested) {
+  RS_DCHECK(p1 <= lv.pairs.size() && Runs(isa));
+  const lanes::PairLevel l{lv.pairs.data(), lv.first.data(), lv.base_up, lv.base, &lv.spheres->x, static_cast<int>(layout::kPairTriangleBits)};
+  if (isa == Isa::kAvx512) return lanes::PairsAvx512(View(nodes), l, p0, p1, eps, out, &tested);
+  if (isa == Isa::kAvx2) return lanes::PairsAvx2(View(nodes), l, p0, p1, eps, out, &tested);
+  std::size_t count = 0;
+  for (std::size_t p = p0; p < p1; ++p) {
+    const std::uint32_t parent = lv.base_up + (lv.pairs[p] >> layout::kPairTriangleBits), tri = lv.pairs[p] & layout::kPairTriangleMask;
+    const std::uint32_t k0 = lv.first[parent], k1 = lv.first[parent + 1];
+    tested += k1 - k0;
+    count += TestNodes(isa, nodes, lv.spheres[tri], k0, k1, eps, tri - (lv.base << layout::kPairTriangleBits), layout::kPairTriangleBits, out + count);
+  }
   return count;
 }
 

@@ -141,7 +141,10 @@ class Impl final : public HierarchyTracer {
     const Chunks chunks = Sub("compress", n, [&] { return passes_.Compress({.keys = keys}); });
     Digest("compress", "chunk_keys", chunks.key);
     Digest("compress", "chunk_base", chunks.base);
-    const std::vector<std::uint32_t> sorted = Sub("sort", chunks.key.size(), [&] { return passes_.SortChunks({.chunk_key = chunks.key}); });
+    const std::vector<std::uint32_t> sorted = Sub("sort", chunks.key.size(), [&] {
+      const call::SortChunks call{.chunk_key = chunks.key};
+      return cfg_.fused ? SortChunksHost(call) : passes_.SortChunks(call);
+    });
     Digest("sort", "chunk_order", sorted);
     std::vector<std::uint32_t> order = Sub("decompress", n, [&] { return passes_.Decompress(
         {.chunk_key = chunks.key, .chunk_base = chunks.base, .chunk_size = chunks.size, .chunk_order = sorted}); });

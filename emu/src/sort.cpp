@@ -137,6 +137,22 @@ std::vector<std::uint32_t> PassSortChunks(const call::SortChunks& c) {
   return a;
 }
 
+std::vector<std::uint32_t> SortChunksHost(const call::SortChunks& c) {
+  const std::size_t n = c.chunk_key.size();
+  std::vector<std::uint32_t> a(n), b(n);
+  for (std::size_t i = 0; i < n; ++i) a[i] = static_cast<std::uint32_t>(i);
+  constexpr std::uint32_t kBits = 11, kDigits = 1u << kBits;
+  for (std::uint32_t shift = 0; shift < 32; shift += kBits) {
+    std::vector<std::uint32_t> count(kDigits + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) ++count[((c.chunk_key[i] >> shift) & (kDigits - 1)) + 1];
+    if (n == 0 || *std::max_element(count.begin(), count.end()) == n) continue;  // one digit: order unchanged
+    for (std::uint32_t d = 0; d < kDigits; ++d) count[d + 1] += count[d];
+    for (std::size_t i = 0; i < n; ++i) b[count[(c.chunk_key[a[i]] >> shift) & (kDigits - 1)]++] = a[i];
+    a.swap(b);
+  }
+  return a;
+}
+
 std::vector<std::uint32_t> PassDecompress(const call::Decompress& c) {
   const In<std::uint32_t> sorted = c.chunk_order;
   std::vector<std::uint32_t> sizes(sorted.size());

@@ -75,19 +75,17 @@ Compacted PassTraverseTopCompacted(const call::TraverseTop& c) {
 
 Compacted PassTraverseLevelCompacted(const call::TraverseLevel& c) {
   const cone::NodeArrays nodes = cone::ToArrays(c.nodes);
+  const cone::PairLevel lv{c.pairs, c.first, c.base_up, c.base, c.tri_spheres.data() + c.b0};
   const std::size_t per_block = std::max<std::size_t>(1, kFusedBlock / std::max<std::uint32_t>(c.children_max, 1));
   return CompactInBlocks(c.pairs.size(), per_block, [&](std::size_t p0, std::size_t p1, std::vector<std::uint32_t>& out,
                                                         std::uint64_t& tested) {
-    std::vector<std::uint32_t> buf;
-    std::size_t n = 0;
+    std::size_t children = 0;
     for (std::size_t p = p0; p < p1; ++p) {
-      const std::uint32_t parent = c.base_up + (c.pairs[p] >> kPairTriangleBits), tri_local = c.pairs[p] & kPairTriangleMask;
-      const std::uint32_t c0 = c.first[parent], c1 = c.first[parent + 1];
-      tested += c1 - c0;
-      if (buf.size() < n + (c1 - c0) + cone::kLanePad) buf.resize(2 * (n + (c1 - c0)) + cone::kLanePad);
-      n += cone::TestNodes(g_isa, nodes, c.tri_spheres[c.b0 + tri_local], c0, c1, c.eps, tri_local - (c.base << kPairTriangleBits),
-                           kPairTriangleBits, buf.data() + n);
+      const std::uint32_t parent = c.base_up + (c.pairs[p] >> kPairTriangleBits);
+      children += c.first[parent + 1] - c.first[parent];
     }
+    std::vector<std::uint32_t> buf(children + cone::kLanePad);
+    const std::size_t n = cone::TestPairs(g_isa, nodes, lv, p0, p1, c.eps, buf.data(), tested);
     out.assign(buf.begin(), buf.begin() + static_cast<std::ptrdiff_t>(n));
   });
 }

@@ -7,6 +7,8 @@
 // L provides: V (W floats), M (W lane flags), W; Set, Load, Add, Sub, Mul, Sqrt, Abs, Max,
 // InversePowerOfTwo; Cmp<predicate>; Or, And, Select(c, a, b) = c ? a : b; Bits; and
 // Emit(bits, first, shift, out) writing first + (lane << shift) for each set lane, returning the count.
+// A sixteen-lane L also provides Load2, Set2 and Emit2, which fill its two halves from two sources
+// (two pairs of at most eight children in one test).
 // The including unit includes rayspace/contract.h (kRadiusSlack, kTestSlack) first.
 
 
@@ -80,5 +82,56 @@ inline std::size_t NodesRun(const NodeArrays& n, const float sphere[4], std::uin
     const std::uint32_t bits = Tail(L::Bits(TestLanes(node, sph, e)), k1 - k);
     count += L::Emit(bits, o.first + (k << o.shift), o.shift, o.out + count);
   }
+  return count;
+}
+
+// One pair of a level: its parent's children [k0, k1), its sphere and the value of child 0.
+struct PairRef {
+  std::uint32_t k0, k1;
+  const float* sphere;
+  std::uint32_t first;
+};
+
+inline PairRef RefOf(const PairLevel& lv, std::size_t p) {
+  const std::uint32_t parent = lv.base_up + (lv.pairs[p] >> lv.bits), tri = lv.pairs[p] & ((1u << lv.bits) - 1u);
+  return {lv.first[parent], lv.first[parent + 1], lv.spheres4 + 4 * static_cast<std::size_t>(tri), tri - (lv.base << lv.bits)};
+}
+
+// Pairs a and b, each of at most eight children, in the two halves of one sixteen-lane test.
+template <class LL>
+std::size_t TwoPairs(const NodeArrays& n, const PairRef& a, const PairRef& b, float eps, int bits, std::uint32_t* out) {
+  const NodeV node{LL::Load2(n.x + a.k0, n.x + b.k0),   LL::Load2(n.y + a.k0, n.y + b.k0),   LL::Load2(n.z + a.k0, n.z + b.k0),
+                   LL::Load2(n.r + a.k0, n.r + b.k0),   LL::Load2(n.ax + a.k0, n.ax + b.k0), LL::Load2(n.ay + a.k0, n.ay + b.k0),
+                   LL::Load2(n.az + a.k0, n.az + b.k0), LL::Load2(n.cosa + a.k0, n.cosa + b.k0),
+                   LL::Load2(n.sina + a.k0, n.sina + b.k0)};
+  const SphereV sph{LL::Set2(a.sphere[0], b.sphere[0]), LL::Set2(a.sphere[1], b.sphere[1]), LL::Set2(a.sphere[2], b.sphere[2]),
+                    LL::Set2(a.sphere[3], b.sphere[3])};
+  const std::uint32_t valid = ((1u << (a.k1 - a.k0)) - 1u) | (((1u << (b.k1 - b.k0)) - 1u) << 8);
+  const std::uint32_t hits = LL::Bits(TestLanes(node, sph, LL::Set(eps))) & valid;
+  return LL::Emit2(hits, a.first + (a.k0 << bits), b.first + (b.k0 << bits), bits, out);
+}
+
+template <class LL = L>
+std::size_t PairsRun(const NodeArrays& n, const PairLevel& lv, std::size_t p0, std::size_t p1, float eps, std::uint32_t* out,
+                     std::uint64_t* tested) {
+  std::size_t count = 0;
+  std::uint64_t t = 0;
+  for (std::size_t p = p0; p < p1; ++p) {
+    const PairRef a = RefOf(lv, p);
+    t += a.k1 - a.k0;
+    if constexpr (LL::W == 16) {
+      if (a.k1 - a.k0 <= 8 && p + 1 < p1) {
+        const PairRef b = RefOf(lv, p + 1);
+        if (b.k1 - b.k0 <= 8) {
+          t += b.k1 - b.k0;
+          count += TwoPairs<LL>(n, a, b, eps, lv.bits, out + count);
+          ++p;
+          continue;
+        }
+      }
+    }
+    count += NodesRun(n, a.sphere, a.k0, a.k1, eps, Output{a.first, lv.bits, out + count});
+  }
+  *tested += t;
   return count;
 }

@@ -57,4 +57,9 @@ std::size_t NodesAvx2(const NodeArrays& n, const float sphere[4], std::uint32_t 
   return NodesRun(n, sphere, k0, k1, eps, o);
 }
 
+std::size_t PairsAvx2(const NodeArrays& n, const PairLevel& lv, std::size_t p0, std::size_t p1, float eps, std::uint32_t* out,
+                     std::uint64_t* tested) {
+  return PairsRun(n, lv, p0, p1, eps, out, tested);
+}
+
 }  // namespace rayspace::emu::cone::lanes

@@ -40,6 +40,21 @@ struct L {
   static M And(M a, M b) { return a & b; }
   static M Select(M c, M a, M b) { return (c & a) | (~c & b); }
   static std::uint32_t Bits(M m) { return m; }
+  // Lanes 0-7 from a, 8-15 from b.
+  static V Load2(const float* a, const float* b) {
+    return _mm512_castpd_ps(_mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_castps_pd(_mm256_loadu_ps(a))),
+                                               _mm256_castps_pd(_mm256_loadu_ps(b)), 1));
+  }
+  static V Set2(float a, float b) { return _mm512_mask_blend_ps(0xFF00, _mm512_set1_ps(a), _mm512_set1_ps(b)); }
+  // Lane i < 8 writes a + (i << shift), lane i >= 8 writes b + ((i - 8) << shift), set lanes in order.
+  static std::size_t Emit2(std::uint32_t bits, std::uint32_t a, std::uint32_t b, int shift, std::uint32_t* out) {
+    if (!bits) return 0;
+    const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 0, 1, 2, 3, 4, 5, 6, 7);
+    const __m512i first = _mm512_mask_blend_epi32(0xFF00, _mm512_set1_epi32(static_cast<int>(a)), _mm512_set1_epi32(static_cast<int>(b)));
+    const __m512i values = _mm512_add_epi32(first, _mm512_sllv_epi32(lane, _mm512_set1_epi32(shift)));
+    _mm512_storeu_si512(out, _mm512_maskz_compress_epi32(static_cast<__mmask16>(bits), values));
+    return static_cast<std::size_t>(__builtin_popcount(bits));
+  }
   // The set lanes' values packed in lane order by one compress and one store (out has room for 16).
   static std::size_t Emit(std::uint32_t bits, std::uint32_t first, int shift, std::uint32_t* out) {
     if (!bits) return 0;
@@ -60,6 +75,11 @@ std::size_t SpheresAvx512(const Node& n, const SphereArrays& s, std::uint32_t i0
 
 std::size_t NodesAvx512(const NodeArrays& n, const float sphere[4], std::uint32_t k0, std::uint32_t k1, float eps, const Output& o) {
   return NodesRun(n, sphere, k0, k1, eps, o);
+}
+
+std::size_t PairsAvx512(const NodeArrays& n, const PairLevel& lv, std::size_t p0, std::size_t p1, float eps, std::uint32_t* out,
+                     std::uint64_t* tested) {
+  return PairsRun(n, lv, p0, p1, eps, out, tested);
 }
 
 }  // namespace rayspace::emu::cone::lanes

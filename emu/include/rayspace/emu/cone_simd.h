@@ -44,4 +44,18 @@ std::size_t TestSpheres(Isa isa, const layout::ConeNode& n, const SphereArrays& 
 std::size_t TestNodes(Isa isa, const NodeArrays& nodes, glm::vec4 sphere, std::uint32_t k0, std::uint32_t k1, float eps,
                       std::uint32_t first, int shift, std::uint32_t* out);
 
+// A lower level's pairs (call::TraverseLevel): pair = (parent - base_up) << kPairTriangleBits |
+// triangle; the parent's children [first[parent], first[parent + 1]) of `nodes` are tested against
+// the triangle's sphere (spheres[triangle], batch-local), and a child k that passes writes
+// ((k - base) << kPairTriangleBits) | triangle.
+struct PairLevel {
+  std::span<const std::uint32_t> pairs, first;
+  std::uint32_t base_up, base;
+  const glm::vec4* spheres;
+};
+// Pairs [p0, p1) in order; out has room for their children plus kLanePad. Returns how many were
+// written and adds the tests run to tested.
+std::size_t TestPairs(Isa isa, const NodeArrays& nodes, const PairLevel& lv, std::size_t p0, std::size_t p1, float eps,
+                      std::uint32_t* out, std::uint64_t& tested);
+
 }  // namespace rayspace::emu::cone

@@ -74,6 +74,9 @@ std::vector<std::uint32_t> PassHash(const call::Hash& c);
 std::vector<std::uint32_t> PassHashQuadtree(In<layout::Ray> rays, std::uint32_t width, int depth);
 Chunks PassCompress(const call::Compress& c);
 std::vector<std::uint32_t> PassSortChunks(const call::SortChunks& c);
+// The fused path's sort: PassSortChunks's permutation (the stable order by key) from a plain host
+// radix sort, 11-bit digits, a pass skipped where every key has the same digit.
+std::vector<std::uint32_t> SortChunksHost(const call::SortChunks& c);
 std::vector<std::uint32_t> PassDecompress(const call::Decompress& c);
 std::vector<layout::ConeNode> PassBuildLeaves(const call::BuildLeaves& c);
 std::vector<layout::ConeNode> PassBuildParents(const call::BuildParents& c);
