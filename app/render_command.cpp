@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "peak_memory.h"
 #include "rayspace/error.h"
 #include "rayspace/image_io.h"
 #include "rayspace/parallel.h"
@@ -39,6 +40,7 @@ struct Outcome {
   nlohmann::json tracer, oracle_json;
   Statistics stats;
   std::vector<Phase> phases;
+  std::size_t peak_rss = 0;    // bytes, the process's peak resident set (0: unknown)
 };
 
 nlohmann::json OracleJson(const refs::Oracle* oracle, double oracle_ms) {
@@ -88,6 +90,8 @@ nlohmann::json StatsJson(const RenderArgs& args, const Outcome& o) {
     buffers_json.push_back({{"pass", e.pass}, {"buffer", e.buffer}, {"bytes", e.bytes}, {"hash", HexDigest(e.hash)}});
   j["buffer_digests"] = buffers_json;
   j["frame_ms"] = r.total_ms;
+  j["peak_rss_bytes"] = o.peak_rss;
+  j["bytes_per_pixel"] = static_cast<double>(o.peak_rss) / (static_cast<double>(r.width) * r.height);
   if (backend.extra_dispatches) j["backend"]["split_dispatches"] = backend.extra_dispatches(backend);
   if (backend.paged_arrays) j["backend"]["paged_arrays"] = backend.paged_arrays(backend);
   if (backend.max_buffer_bytes) j["backend"]["binding_bytes"] = backend.max_buffer_bytes;
@@ -133,6 +137,9 @@ void PrintSummary(const RenderArgs& args, const Outcome& o) {
                 o.oracle->oracle_wrong().size(), o.oracle->ties().size());
   }
   std::printf("  frame       %.1f ms (oracle %.1f ms)\n", r.total_ms, o.oracle_ms);
+  if (o.peak_rss)
+    std::printf("  memory      %.1f MB peak resident (%.0f bytes per pixel)\n", static_cast<double>(o.peak_rss) / 1e6,
+                static_cast<double>(o.peak_rss) / (static_cast<double>(r.width) * r.height));
   std::printf("  digest      %s\n", HexDigest(r.digest.Frame()).c_str());
   std::printf("  image       %s\n", o.out.c_str());
   if (!args.stats.empty()) std::printf("  stats       %s\n", args.stats.c_str());
@@ -157,7 +164,7 @@ ExitCode RunRender(const RenderArgs& args) {
 
   const refs::Oracle* checked = f->oracle ? &*f->oracle : nullptr;
   const Outcome o{scene, backend, r, checked, f->oracle_ms, out, f->tracer, OracleJson(checked, f->oracle_ms),
-                  f->stats, f->phases};
+                  f->stats, f->phases, PeakRssBytes()};
   if (!args.stats.empty()) {
     std::ofstream file(args.stats);
     if (!file) ThrowInput("{}: cannot write the statistics file", args.stats);
