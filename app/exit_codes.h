@@ -27,7 +27,7 @@ inline constexpr ExitCodeMeaning kExitCodes[] = {
     {ExitCode::kInternal, "internal failure"},
     {ExitCode::kBadInput, "bad input (one line on stderr naming the file and field or line)"},
     {ExitCode::kOracleMismatch, "render: the oracle found rays the frame got wrong"},
-    {ExitCode::kDivergence, "diff or replay: a pass diverged"},
+    {ExitCode::kDivergence, "diff or replay: a pass diverged; bench: configurations of one tracer gave different frames"},
     {ExitCode::kNotReproduced, "replay: the recorded comparison was not reproduced"},
     {ExitCode::kWorkgroupFault, "render, diff or replay: the workgroup checker found a race, a read of an unwritten shared word or a divergent barrier in an emulated kernel"},
 };

@@ -11,13 +11,25 @@
 
 namespace rayspace::app {
 
+std::vector<std::string> AlgorithmNames() {
+  std::vector<std::string> names;
+  for (const Algorithm& a : kAlgorithms) names.emplace_back(a.name);
+  return names;
+}
+
+const Algorithm* FindAlgorithm(std::string_view name) {
+  for (const Algorithm& a : kAlgorithms)
+    if (a.name == name) return &a;
+  return nullptr;
+}
+
 void AddFrameOptions(CLI::App& command, FrameArgs& args) {
   command
       .add_option("--algo", args.algo,
                   "Tracer for secondary rays: crsh (ray hashing + sorting, object spheres), rah (same hierarchy "
                   "over unsorted rays), rah-quadtree (Roger et al.'s screen quadtree), brute (emulated direct "
                   "tracer), embree")
-      ->check(CLI::IsMember({"crsh", "rah", "rah-quadtree", "brute", "embree"}));
+      ->check(CLI::IsMember(AlgorithmNames()));
   command.add_option("--subdivision", args.subdivision, "Children per hierarchy node")
       ->check(CLI::IsMember({4, 8, 16}));
   command.add_option("--depth", args.depth, "Hierarchy levels (rah-quadtree: log2 of the image size)")

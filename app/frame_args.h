@@ -4,6 +4,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "backend_setup.h"
 #include "kernel_model.h"
@@ -18,6 +20,20 @@ namespace rayspace::app {
 // The hierarchy's defaults are the emulator's own (emu::HierarchyConfig), so the command line, tests and
 // benchmarks build the same frame.
 inline const emu::HierarchyConfig kHierarchyDefaults{};
+
+// Every tracer --algo names, once: the option's allowed values, which of them trace with the
+// hierarchy, and the configurations `rayspace bench` runs by default all come from this list.
+struct Algorithm {
+  std::string_view name;
+  bool hierarchy;  // traces with the ray-space hierarchy (MakeHierarchyConfig knows it)
+};
+inline constexpr Algorithm kAlgorithms[] = {
+    {"crsh", true}, {"rah", true}, {"rah-quadtree", true}, {"brute", false}, {"embree", false},
+};
+// kAlgorithms' names, in order.
+std::vector<std::string> AlgorithmNames();
+// The entry of kAlgorithms named `name`, or nullptr.
+const Algorithm* FindAlgorithm(std::string_view name);
 
 struct FrameArgs {
   std::string algo = "crsh";
@@ -34,8 +50,11 @@ struct FrameArgs {
   KernelModelArgs model;  // --schedule, --check-workgroups (the emulated workgroup kernels)
 
   TestLimits Limits() const { return {split_bytes, max_groups}; }
-  // crsh, rah and rah-quadtree trace with the hierarchy; brute and embree do not.
-  bool Hierarchy() const { return algo == "crsh" || algo == "rah" || algo == "rah-quadtree"; }
+  // Whether --algo traces with the hierarchy (crsh, rah and rah-quadtree do; brute and embree do not).
+  bool Hierarchy() const {
+    const Algorithm* a = FindAlgorithm(algo);
+    return a && a->hierarchy;
+  }
 };
 
 // Registers --algo, --subdivision, --depth, --reduction, --component-size, --pair-capacity, --size,

@@ -10,6 +10,8 @@
 #include "rayspace/error.h"
 #include "rayspace/workgroup.h"
 #include "accuracy_command.h"
+#include "bench_command.h"
+#include "bench_configs.h"
 #include "exit_codes.h"
 #include "render_command.h"
 #ifdef RAYSPACE_HAVE_VULKAN
@@ -24,7 +26,8 @@ namespace {
 struct Commands {
   rayspace::app::RenderArgs render;
   rayspace::app::AccuracyArgs accuracy;
-  CLI::App *render_cmd = nullptr, *accuracy_cmd = nullptr, *diff_cmd = nullptr, *replay_cmd = nullptr, *devices_cmd = nullptr;
+  rayspace::app::BenchArgs bench;
+  CLI::App *render_cmd = nullptr, *accuracy_cmd = nullptr, *bench_cmd = nullptr, *diff_cmd = nullptr, *replay_cmd = nullptr, *devices_cmd = nullptr;
   bool validate = false;
   bool strict_math = false;
 #ifdef RAYSPACE_HAVE_VULKAN
@@ -66,6 +69,24 @@ void AddAccuracy(CLI::App& app, Commands& cmds) {
   ac->add_flag("!--no-end-to-end", cmds.accuracy.end_to_end, "Skip the frames with each cone-sphere mode");
 }
 
+void AddBench(CLI::App& app, Commands& cmds) {
+  CLI::App* bc = cmds.bench_cmd = app.add_subcommand(
+      "bench", "Time every tracer on each scene and size in one run and print one table: median frame time, ratio to "
+               "Embree, tests/s, peak memory and digest per configuration");
+  rayspace::app::BenchArgs& b = cmds.bench;
+  bc->add_option("scenes", b.scenes, "Scene JSON files")->required();
+  bc->add_option("--data", b.data, "Data root for mesh paths (default: $RAYSPACE_DATA)");
+  bc->add_option("--sizes", b.sizes, "Image sizes WxH[,WxH...] (default 512x512); with several, how time grows with pixels");
+  bc->add_option("--configs", b.configs,
+                 "Configurations to run, comma-separated (default: all, in this order): " + rayspace::app::BenchConfigsHelp());
+  bc->add_option("--repetitions", b.repetitions, "Frames per configuration, scene and size; the table shows the median "
+                 "(default 3)")->check(CLI::Range(1, 1000));
+  bc->add_option("--threads", b.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
+  bc->add_option("--json", b.json, "Write every measurement as JSON to this file");
+  rayspace::app::AddDeviceOption(*bc, b.device);
+  bc->add_flag("--progress", b.progress, "Print each frame's time on stderr (default when stderr is a terminal)");
+}
+
 #ifdef RAYSPACE_HAVE_VULKAN
 void AddCompareOption(CLI::App& cmd, std::string& compare) {
   cmd.add_option("--compare", compare,
@@ -105,6 +126,7 @@ rayspace::app::ExitCode Run(const Commands& cmds) {
   using rayspace::app::ExitCode;
   if (cmds.render_cmd->parsed()) return rayspace::app::RunRender(cmds.render);
   if (cmds.accuracy_cmd->parsed()) return rayspace::app::RunAccuracy(cmds.accuracy);
+  if (cmds.bench_cmd->parsed()) return rayspace::app::RunBench(cmds.bench);
 #ifdef RAYSPACE_HAVE_VULKAN
   if (cmds.diff_cmd->parsed()) return rayspace::app::RunDiff(cmds.diff);
   if (cmds.replay_cmd->parsed()) return rayspace::app::RunReplay(cmds.replay);
@@ -130,6 +152,7 @@ int main(int argc, char** argv) {
                "Vulkan call after which it was reported (also RAYSPACE_VALIDATE=1)");
   AddRender(app, cmds);
   AddAccuracy(app, cmds);
+  AddBench(app, cmds);
 #ifdef RAYSPACE_HAVE_VULKAN
   AddDiffAndReplay(app, cmds);
   cmds.devices_cmd = app.add_subcommand("devices", "List the Vulkan devices, each requirement of rayspace met or not, the "

@@ -1,29 +1,20 @@
 #include "render_command.h"
 #include "cli_util.h"
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <fstream>
-#include <optional>
 #include <regex>
 
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
-#include "backend_setup.h"
-#include "rayspace/emu/frame.h"
-#include "rayspace/emu/hierarchy.h"
-#include "statistics.h"
-#include "timings.h"
+#include "peak_memory.h"
 #include "rayspace/error.h"
 #include "rayspace/image_io.h"
 #include "rayspace/parallel.h"
-#include "rayspace/refs/embree_tracer.h"
-#include "rayspace/refs/oracle.h"
-#include "rayspace/scene.h"
+#include "render_frame.h"
 
 namespace rayspace::app {
 namespace {
@@ -38,57 +29,6 @@ nlohmann::json RaysJson(const std::vector<std::uint64_t>& per_bounce, bool from_
   return {{"total", total}, {"per_bounce", pb}};
 }
 
-// The tracers one run builds: the frame's, and the oracle's unless --no-oracle.
-struct Tracers {
-  std::unique_ptr<Tracer> direct, embree;
-  std::unique_ptr<emu::HierarchyTracer> hierarchy;
-  Tracer* frame = nullptr;
-  Tracer* oracle = nullptr;
-};
-
-// The fused traversal is the emulator's; the Vulkan backend runs its kernels pass by pass. Checking
-// or reordering the emulated workgroups (--check-workgroups, --schedule) is about the passes'
-// workgroup kernels (the reduction's among them), so `auto` keeps the passes then.
-bool UsesFusedPath(const RenderArgs& args) {
-  if (args.path == "fused" && args.backend != "emu")
-    ThrowInput("--path fused: the {} backend runs its kernels pass by pass; use --backend emu", args.backend);
-  const bool workgroup_model = args.model.check || args.model.schedule != "forward";
-  return args.path == "fused" || (args.path == "auto" && args.backend == "emu" && !workgroup_model);
-}
-
-Tracers MakeTracers(const RenderArgs& args, const SceneBuffers& buffers, const emu::FrameOptions& fo, const Backend& backend) {
-  const emu::DirectMode mode = args.direct == "exhaustive" ? emu::DirectMode::kExhaustive
-                               : args.direct == "bvh"      ? emu::DirectMode::kBvh
-                                                           : emu::DirectMode::kAuto;
-  // Build only the tracers this run uses: the frame's, and the oracle's unless --no-oracle.
-  Tracers t;
-  const bool embree_frames = args.algo == "embree";
-  if (args.algo == "brute" || (embree_frames && !args.no_oracle)) t.direct = emu::MakeDirectTracer(buffers, mode);
-  if (embree_frames || !args.no_oracle) t.embree = refs::MakeEmbreeTracer(buffers, ThreadCount());
-  if (args.Hierarchy()) {
-    emu::HierarchyConfig cfg = MakeHierarchyConfig(args, fo.width, fo.height, backend.hierarchy);
-    cfg.fused = UsesFusedPath(args);
-    t.hierarchy = emu::MakeHierarchyTracer(buffers, cfg);
-  }
-  t.frame = t.hierarchy ? t.hierarchy.get() : embree_frames ? t.embree.get() : t.direct.get();
-  t.oracle = embree_frames ? t.direct.get() : t.embree.get();
-  return t;
-}
-
-// The frame, each traced batch re-traced by the oracle when there is one; adds its time to oracle_ms.
-emu::FrameResult RenderChecked(const Scene& scene, const SceneBuffers& buffers, Tracer& frame_tracer, const emu::FrameOptions& fo,
-                               refs::Oracle* oracle, double& oracle_ms) {
-  emu::BatchObserver observer;
-  if (oracle) {
-    observer = [&](const emu::Batch& b) {
-      const auto t0 = std::chrono::steady_clock::now();
-      oracle->Check(b);
-      oracle_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    };
-  }
-  return emu::RenderFrame(scene, buffers, frame_tracer, fo, observer);
-}
-
 // What one render produced, for the statistics file and the summary.
 struct Outcome {
   const Scene& scene;
@@ -100,6 +40,7 @@ struct Outcome {
   nlohmann::json tracer, oracle_json;
   Statistics stats;
   std::vector<Phase> phases;
+  std::size_t peak_rss = 0;    // bytes, the process's peak resident set (0: unknown)
 };
 
 nlohmann::json OracleJson(const refs::Oracle* oracle, double oracle_ms) {
@@ -149,6 +90,8 @@ nlohmann::json StatsJson(const RenderArgs& args, const Outcome& o) {
     buffers_json.push_back({{"pass", e.pass}, {"buffer", e.buffer}, {"bytes", e.bytes}, {"hash", HexDigest(e.hash)}});
   j["buffer_digests"] = buffers_json;
   j["frame_ms"] = r.total_ms;
+  j["peak_rss_bytes"] = o.peak_rss;
+  j["bytes_per_pixel"] = static_cast<double>(o.peak_rss) / (static_cast<double>(r.width) * r.height);
   if (backend.extra_dispatches) j["backend"]["split_dispatches"] = backend.extra_dispatches(backend);
   if (backend.paged_arrays) j["backend"]["paged_arrays"] = backend.paged_arrays(backend);
   if (backend.max_buffer_bytes) j["backend"]["binding_bytes"] = backend.max_buffer_bytes;
@@ -194,6 +137,9 @@ void PrintSummary(const RenderArgs& args, const Outcome& o) {
                 o.oracle->oracle_wrong().size(), o.oracle->ties().size());
   }
   std::printf("  frame       %.1f ms (oracle %.1f ms)\n", r.total_ms, o.oracle_ms);
+  if (o.peak_rss)
+    std::printf("  memory      %.1f MB peak resident (%.0f bytes per pixel)\n", static_cast<double>(o.peak_rss) / 1e6,
+                static_cast<double>(o.peak_rss) / (static_cast<double>(r.width) * r.height));
   std::printf("  digest      %s\n", HexDigest(r.digest.Frame()).c_str());
   std::printf("  image       %s\n", o.out.c_str());
   if (!args.stats.empty()) std::printf("  stats       %s\n", args.stats.c_str());
@@ -207,40 +153,25 @@ ExitCode RunRender(const RenderArgs& args) {
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
   fo.progress = args.progress || isatty(STDERR_FILENO);  // progress on stderr when someone watches
   const std::string out = args.out.empty() ? scene.name + ".png" : args.out;
-  {  // Fail on an unwritable output before spending time on the frame, leaving no file behind if the
-     // run fails later.
-    const bool existed = std::filesystem::exists(out);
-    std::ofstream probe(out, std::ios::app);
-    if (!probe) ThrowInput("{}: cannot write the output image", out);
-    probe.close();
-    if (!existed) std::filesystem::remove(out);
-  }
+  ProbeWritable(out, "the output image");  // before the frame, leaving no file behind if the run fails
 
-  const Backend backend = MakeBackend(args.backend, args.device, 64, {}, args.Limits(), args.kernels);
-  ConfigureEmulatedKernels(args.model, 64, backend.subgroup_size, {});
-  fo.passes = backend.frame;
+  const Backend backend = MakeRenderBackend(args);
   const SceneBuffers buffers = FlattenScene(scene);
   CheckFrameFits(backend, fo.width, fo.height, scene.lights.size(), buffers.triangles.size());
-  const Tracers tracers = MakeTracers(args, buffers, fo, backend);
-  std::optional<refs::Oracle> oracle;
-  if (!args.no_oracle) oracle.emplace(*tracers.oracle, buffers);
-  double oracle_ms = 0.0;
-  emu::FrameResult r = RenderChecked(scene, buffers, *tracers.frame, fo, oracle ? &*oracle : nullptr, oracle_ms);
+  const std::unique_ptr<RenderedFrame> f = RenderOnBackend(args, scene, buffers, fo, backend);
+  const emu::FrameResult& r = f->result;
   WriteImage(out, r.width, r.height, r.rgb);
 
-  nlohmann::json tracer;
-  tracers.frame->Describe(tracer);
-  const refs::Oracle* checked = oracle ? &*oracle : nullptr;
-  const Outcome o{scene, backend, r, checked, oracle_ms, out, tracer, OracleJson(checked, oracle_ms),
-                  tracers.hierarchy ? CollectStatistics(tracers.hierarchy->Stats()) : BruteStatistics(r, buffers.triangles.size()),
-                  Phases(r.passes)};
+  const refs::Oracle* checked = f->oracle ? &*f->oracle : nullptr;
+  const Outcome o{scene, backend, r, checked, f->oracle_ms, out, f->tracer, OracleJson(checked, f->oracle_ms),
+                  f->stats, f->phases, PeakRssBytes()};
   if (!args.stats.empty()) {
-    std::ofstream f(args.stats);
-    if (!f) ThrowInput("{}: cannot write the statistics file", args.stats);
-    f << StatsJson(args, o).dump(2) << "\n";
+    std::ofstream file(args.stats);
+    if (!file) ThrowInput("{}: cannot write the statistics file", args.stats);
+    file << StatsJson(args, o).dump(2) << "\n";
   }
   PrintSummary(args, o);
-  return !oracle || oracle->mismatches().empty() ? ExitCode::kOk : ExitCode::kOracleMismatch;
+  return !checked || checked->mismatches().empty() ? ExitCode::kOk : ExitCode::kOracleMismatch;
 }
 
 }  // namespace rayspace::app

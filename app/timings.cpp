@@ -42,11 +42,13 @@ std::vector<Phase> Phases(const std::vector<emu::PassRecord>& passes) {
   return out;
 }
 
+double SearchMs(const std::vector<Phase>& phases) { return phases[5].ms + phases[6].ms; }
+
 void PrintPhases(std::FILE* out, const std::vector<Phase>& phases, double frame_ms, std::uint64_t total_tests) {
   std::fprintf(out, "  %-26s %10s %7s\n", "phase", "ms", "share");
   for (const Phase& p : phases)
     std::fprintf(out, "  %-26s %10.1f %6.1f%%\n", p.name.c_str(), p.ms, frame_ms > 0 ? 100.0 * p.ms / frame_ms : 0.0);
-  const double trav = phases[5].ms + phases[6].ms;
+  const double trav = SearchMs(phases);
   if (trav > 0)
     std::fprintf(out, "  %-26s %10.1f M tests/s (traversal + final tests)\n", "throughput",
                  static_cast<double>(total_tests) / (trav * 1e3));

@@ -18,6 +18,8 @@ struct Phase {
 
 // Maps pass names (raygen.*, hash.*, sort.*, traverse.*, ...) to the thesis's phases.
 std::vector<Phase> Phases(const std::vector<emu::PassRecord>& passes);
+// Traversal + final tests: the time render --timings divides the total tests by for its throughput.
+double SearchMs(const std::vector<Phase>& phases);
 void PrintPhases(std::FILE* out, const std::vector<Phase>& phases, double frame_ms, std::uint64_t total_tests);
 void PhasesToJson(nlohmann::json& j, const std::vector<Phase>& phases);
 

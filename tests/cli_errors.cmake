@@ -149,6 +149,18 @@ unset(ENV{VK_LAYER_PATH})
 expect_error(NAME "--algo nope"
              NEEDLES "--algo" "nope"
              ARGS render "${WORK}/good.json" --algo nope --out "${WORK}/x.png")
+expect_error(NAME "bench --configs with an unknown configuration"
+             NEEDLES "--configs" "warp" "crsh-passes"
+             ARGS bench "${WORK}/good.json" --configs embree,warp)
+expect_error(NAME "bench --sizes with a bad size"
+             NEEDLES "--sizes" "0x3"
+             ARGS bench "${WORK}/good.json" --sizes 16x16,0x3)
+expect_error(NAME "bench --sizes abc"
+             NEEDLES "--sizes" "abc"
+             ARGS bench "${WORK}/good.json" --sizes abc)
+expect_error(NAME "bench with a missing scene file (after a good one)"
+             NEEDLES "no_such_scene.json"
+             ARGS bench "${WORK}/good.json" "${WORK}/no_such_scene.json" --sizes 8x8)
 expect_error(NAME "OBJ mesh with a NaN coordinate"
              NEEDLES "nan.obj:3:"
              ARGS render "${WORK}/nan_mesh.json" --out "${WORK}/x.png")

@@ -1,0 +1,88 @@
+#include "bench_command.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <utility>
+
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "bench_configs.h"
+#include "bench_report.h"
+#include "bench_run.h"
+#include "cli_util.h"
+#include "rayspace/error.h"
+#include "rayspace/parallel.h"
+
+namespace rayspace::app {
+namespace {
+
+// --sizes W1xH1[,W2xH2...], each as --size takes it.
+std::vector<std::pair<int, int>> ParseSizes(const std::string& list) {
+  std::vector<std::pair<int, int>> sizes;
+  std::stringstream ss(list);
+  std::string one;
+  while (std::getline(ss, one, ',')) {
+    int w = 0, h = 0;
+    ParseSize(one, w, h, "--sizes");
+    sizes.emplace_back(w, h);
+  }
+  if (sizes.empty()) ThrowInput("--sizes '{}': expected WxH[,WxH...], e.g. 256x256,512x512", list);
+  return sizes;
+}
+
+// Every input is checked before the first frame: a bad scene path should not wait for the runs before it.
+void CheckInputs(const BenchArgs& args) {
+  for (const std::string& s : args.scenes)
+    if (!std::filesystem::is_regular_file(s)) ThrowInput("{}: cannot open scene file", s);
+  if (!args.json.empty()) ProbeWritable(args.json, "the JSON file");
+}
+
+// Each configuration at each size of one scene, the scene loaded once.
+void RunScene(const BenchArgs& args, const std::string& path, const std::vector<std::pair<int, int>>& sizes,
+              const std::vector<const BenchConfig*>& configs, std::vector<BenchRow>& rows) {
+  LoadOptions lo;
+  lo.data_root = args.data;
+  const Scene scene = LoadScene(path, lo);
+  const SceneBuffers buffers = FlattenScene(scene);
+  RenderArgs base;
+  base.scene = path;
+  base.data = args.data;
+  base.device = args.device;
+  const bool progress = args.progress || isatty(STDERR_FILENO);
+  for (const auto& [w, h] : sizes)
+    for (const BenchConfig* c : configs)
+      rows.push_back(RunBenchConfig(base, *c, scene, buffers, w, h, args.repetitions, progress));
+}
+
+}  // namespace
+
+ExitCode RunBench(const BenchArgs& args) {
+  const std::vector<std::pair<int, int>> sizes = ParseSizes(args.sizes);
+  const std::vector<const BenchConfig*> configs =
+      ParseBenchConfigs(args.configs.empty() ? DefaultBenchConfigs() : args.configs);
+  CheckInputs(args);
+  if (args.threads > 0) SetThreadCount(args.threads);
+
+  std::vector<BenchRow> rows;
+  for (const std::string& path : args.scenes) RunScene(args, path, sizes, configs, rows);
+  std::printf("rayspace bench: %zu scene%s, %zu size%s, %zu configuration%s, %d thread%s\n\n", args.scenes.size(),
+              args.scenes.size() == 1 ? "" : "s", sizes.size(), sizes.size() == 1 ? "" : "s", configs.size(),
+              configs.size() == 1 ? "" : "s", ThreadCount(), ThreadCount() == 1 ? "" : "s");
+  PrintBenchTable(stdout, rows, args.repetitions);
+  if (sizes.size() > 1) PrintGrowthTable(stdout, rows);
+  std::fflush(stdout);
+  const bool agree = CheckDigests(stdout, stderr, rows);
+  if (!args.json.empty()) {
+    std::ofstream f(args.json);
+    f << BenchJson(rows, args.repetitions, ThreadCount()).dump(2) << "\n";
+    if (!f) ThrowInput("{}: cannot write the JSON file", args.json);
+    std::printf("JSON: %s\n", args.json.c_str());
+  }
+  return agree ? ExitCode::kOk : ExitCode::kDivergence;
+}
+
+}  // namespace rayspace::app

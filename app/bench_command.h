@@ -1,0 +1,25 @@
+#pragma once
+#include <string>
+#include <vector>
+
+#include "exit_codes.h"
+
+namespace rayspace::app {
+
+struct BenchArgs {
+  std::vector<std::string> scenes;
+  std::string data, json;
+  std::string sizes = "512x512";
+  std::string configs;  // empty: every configuration (bench_configs.h)
+  int repetitions = 3, threads = 0, device = -1;
+  bool progress = false;
+};
+
+// Runs `rayspace bench`: every configuration on every scene at every size, in this process, each frame
+// through render's code path with the oracle off; prints one table (median frame time, its ratio to
+// Embree's, total tests, tests/s, peak memory, digest) and, with several sizes, how time grows with
+// pixels. kOk, or kDivergence when configurations of one tracer (or repetitions of one) gave different
+// frame digests.
+ExitCode RunBench(const BenchArgs& args);
+
+}  // namespace rayspace::app

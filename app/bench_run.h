@@ -1,0 +1,43 @@
+// Runs one `rayspace bench` configuration on one scene at one size: its repetitions, timed.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "bench_configs.h"
+#include "rayspace/scene.h"
+#include "render_command.h"
+
+namespace rayspace::app {
+
+// One row of the bench table.
+struct BenchRow {
+  std::string scene;
+  int width = 0, height = 0;
+  const BenchConfig* config = nullptr;
+  std::string skipped;                 // why the configuration did not run (empty: it ran)
+  std::vector<double> frame_ms;        // the frame's own time, per repetition
+  std::vector<double> search_ms;       // traversal + final tests, per repetition
+  std::vector<std::string> digests;    // per repetition
+  std::uint64_t total_tests = 0;
+  bool tests_performed = false;        // false: brute force counted (rays x triangles), not performed
+  std::size_t peak_rss = 0;            // bytes, over the configuration's repetitions
+  std::size_t start_rss = 0;           // bytes resident when the configuration started
+  bool peak_reset = false;             // false: peak_rss is the whole process's so far
+
+  double MedianMs() const;
+  double MedianSearchMs() const;
+  std::size_t Pixels() const { return static_cast<std::size_t>(width) * static_cast<std::size_t>(height); }
+  std::string Size() const { return std::to_string(width) + "x" + std::to_string(height); }
+};
+
+// Runs `config` `repetitions` times on the loaded scene at width x height, each frame as render makes
+// it from `base` (oracle off), with the configuration's tracer, path and backend. A backend that
+// cannot be made or cannot hold the frame (no Vulkan device, a build without Vulkan) skips the row.
+// The peak memory is the process's over these repetitions (the counter reset before the first), or
+// the process's so far when the counter cannot be reset.
+BenchRow RunBenchConfig(const RenderArgs& base, const BenchConfig& config, const Scene& scene, const SceneBuffers& buffers,
+                        int width, int height, int repetitions, bool progress);
+
+}  // namespace rayspace::app

@@ -1,0 +1,78 @@
+#include "render_frame.h"
+
+#include <chrono>
+
+#include "kernel_model.h"
+#include "rayspace/error.h"
+#include "rayspace/parallel.h"
+#include "rayspace/refs/embree_tracer.h"
+
+namespace rayspace::app {
+namespace {
+
+Tracers MakeTracers(const RenderArgs& args, const SceneBuffers& buffers, const emu::FrameOptions& fo, const Backend& backend) {
+  const emu::DirectMode mode = args.direct == "exhaustive" ? emu::DirectMode::kExhaustive
+                               : args.direct == "bvh"      ? emu::DirectMode::kBvh
+                                                           : emu::DirectMode::kAuto;
+  // Build only the tracers this run uses: the frame's, and the oracle's unless --no-oracle.
+  Tracers t;
+  const bool embree_frames = args.algo == "embree";
+  if (args.algo == "brute" || (embree_frames && !args.no_oracle)) t.direct = emu::MakeDirectTracer(buffers, mode);
+  if (embree_frames || !args.no_oracle) t.embree = refs::MakeEmbreeTracer(buffers, ThreadCount());
+  if (args.Hierarchy()) {
+    emu::HierarchyConfig cfg = MakeHierarchyConfig(args, fo.width, fo.height, backend.hierarchy);
+    cfg.fused = UsesFusedPath(args);
+    t.hierarchy = emu::MakeHierarchyTracer(buffers, cfg);
+  }
+  t.frame = t.hierarchy ? t.hierarchy.get() : embree_frames ? t.embree.get() : t.direct.get();
+  t.oracle = embree_frames ? t.direct.get() : t.embree.get();
+  return t;
+}
+
+// The frame, each traced batch re-traced by the oracle when there is one; adds its time to oracle_ms.
+emu::FrameResult RenderChecked(const Scene& scene, const SceneBuffers& buffers, Tracer& frame_tracer, const emu::FrameOptions& fo,
+                               refs::Oracle* oracle, double& oracle_ms) {
+  emu::BatchObserver observer;
+  if (oracle) {
+    observer = [&](const emu::Batch& b) {
+      const auto t0 = std::chrono::steady_clock::now();
+      oracle->Check(b);
+      oracle_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    };
+  }
+  return emu::RenderFrame(scene, buffers, frame_tracer, fo, observer);
+}
+
+}  // namespace
+
+// The fused traversal is the emulator's; the Vulkan backend runs its kernels pass by pass. Checking
+// or reordering the emulated workgroups (--check-workgroups, --schedule) is about the passes'
+// workgroup kernels (the reduction's among them), so `auto` keeps the passes then.
+bool UsesFusedPath(const RenderArgs& args) {
+  if (args.path == "fused" && args.backend != "emu")
+    ThrowInput("--path fused: the {} backend runs its kernels pass by pass; use --backend emu", args.backend);
+  const bool workgroup_model = args.model.check || args.model.schedule != "forward";
+  return args.path == "fused" || (args.path == "auto" && args.backend == "emu" && !workgroup_model);
+}
+
+Backend MakeRenderBackend(const RenderArgs& args) {
+  Backend backend = MakeBackend(args.backend, args.device, 64, {}, args.Limits(), args.kernels);
+  ConfigureEmulatedKernels(args.model, 64, backend.subgroup_size, {});
+  return backend;
+}
+
+std::unique_ptr<RenderedFrame> RenderOnBackend(const RenderArgs& args, const Scene& scene, const SceneBuffers& buffers,
+                                               emu::FrameOptions fo, const Backend& backend) {
+  fo.passes = backend.frame;
+  auto f = std::make_unique<RenderedFrame>();
+  f->tracers = MakeTracers(args, buffers, fo, backend);
+  if (!args.no_oracle) f->oracle.emplace(*f->tracers.oracle, buffers);
+  f->result = RenderChecked(scene, buffers, *f->tracers.frame, fo, f->oracle ? &*f->oracle : nullptr, f->oracle_ms);
+  f->tracers.frame->Describe(f->tracer);
+  f->stats = f->tracers.hierarchy ? CollectStatistics(f->tracers.hierarchy->Stats())
+                                  : BruteStatistics(f->result, buffers.triangles.size());
+  f->phases = Phases(f->result.passes);
+  return f;
+}
+
+}  // namespace rayspace::app

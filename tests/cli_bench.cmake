@@ -1,0 +1,65 @@
+# `rayspace bench`: one run prints the table with a row per configuration, the configurations of one
+# tracer give one digest, the JSON file holds every measurement, and a configuration whose backend
+# cannot run here is a "skipped" row, not a failure. (Its bad inputs are in cli_errors.cmake.)
+# Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DWORK=<scratch> -DVULKAN=<ON|OFF> -P cli_bench.cmake
+cmake_minimum_required(VERSION 3.19)  # string(JSON)
+set(failures "")
+file(REMOVE_RECURSE "${WORK}")
+file(MAKE_DIRECTORY "${WORK}")
+set(cornell "${SRC}/scenes/cornell-mirrors.json")
+
+execute_process(COMMAND "${RAYSPACE}" bench "${cornell}" --sizes 64x64 --repetitions 1 --configs embree,crsh-passes,crsh
+                        --json "${WORK}/bench.json"
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "bench: exit ${rc}, expected 0:\n${out}${err}")
+endif()
+if(NOT out MATCHES "\nscene +size +config +median ms +min-max ms +x embree +total tests +M tests/s +peak MB +MB added +digest\n")
+  set(failures "${failures}\nno table header")
+endif()
+foreach(config embree crsh-passes crsh)
+  # scene, size, config, median, min-max, ratio, tests, tests/s (n/a for embree), peak, added, digest
+  if(NOT out MATCHES "\ncornell-mirrors +64x64 +${config} +[0-9.]+ +[0-9.]+-[0-9.]+ +[0-9.]+ +[0-9,]+ +([0-9.]+|n/a) +[0-9.]+ +[-+][0-9.]+ +[0-9a-f]+\n")
+    set(failures "${failures}\nno table row for ${config}")
+  endif()
+endforeach()
+if(NOT out MATCHES "\ncornell-mirrors +64x64 +embree +[0-9.]+ +[0-9.-]+ +1.00 ")
+  set(failures "${failures}\nembree's ratio to itself is not 1.00")
+endif()
+if(NOT out MATCHES "\ncrsh-passes and crsh: one digest per scene and size")
+  set(failures "${failures}\nno line saying crsh-passes and crsh agree")
+endif()
+
+file(READ "${WORK}/bench.json" j)
+string(JSON n LENGTH "${j}" results)
+if(NOT n EQUAL 3)
+  set(failures "${failures}\nJSON: ${n} results, expected 3")
+else()
+  string(JSON passes GET "${j}" results 1 digests 0)
+  string(JSON fused GET "${j}" results 2 digests 0)
+  string(JSON config GET "${j}" results 1 config)
+  string(JSON width GET "${j}" results 2 width)
+  string(JSON peak GET "${j}" results 2 peak_rss_bytes)
+  if(NOT config STREQUAL "crsh-passes" OR NOT width EQUAL 64 OR peak LESS 1000000)
+    set(failures "${failures}\nJSON: results[1].config '${config}', results[2].width ${width}, peak_rss_bytes ${peak}")
+  endif()
+  if(NOT passes STREQUAL fused)
+    set(failures "${failures}\nJSON: crsh-passes digest ${passes}, crsh ${fused}")
+  endif()
+endif()
+
+# The Vulkan configuration on a device that lacks a requirement (or a build without Vulkan): skipped.
+set(lacks "")
+if(VULKAN)
+  set(lacks --device-lacks shaderInt64)
+endif()
+execute_process(COMMAND "${RAYSPACE}" bench "${cornell}" --sizes 16x16 --repetitions 1 --configs crsh,vulkan ${lacks}
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
+if(NOT rc EQUAL 0 OR NOT out MATCHES "\ncornell-mirrors +16x16 +vulkan +skipped: [^\n]+\n")
+  set(failures "${failures}\nvulkan without a usable device: exit ${rc}, expected 0 and a skipped row:\n${out}${err}")
+endif()
+
+if(failures)
+  message(FATAL_ERROR "cli.bench:${failures}\nstdout of the first run:\n${out}")
+endif()
+message(STATUS "cli.bench: table, digests, JSON and the skipped row as expected")
