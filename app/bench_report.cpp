@@ -115,6 +115,12 @@ nlohmann::json RowJson(const std::vector<BenchRow>& rows, const BenchRow& r) {
   return j;
 }
 
+// The growth of traversal + final tests time; "-" for tracers without that split (brute, embree).
+std::string SearchGrowth(const BenchRow& from, const BenchRow& to) {
+  if (!from.tests_performed || from.MedianSearchMs() <= 0.0) return "-";
+  return fmt::format("x{:.2f}", to.MedianSearchMs() / from.MedianSearchMs());
+}
+
 }  // namespace
 
 void PrintBenchTable(std::FILE* out, const std::vector<BenchRow>& rows, int repetitions) {
@@ -137,14 +143,14 @@ void PrintGrowthTable(std::FILE* out, const std::vector<BenchRow>& rows) {
       if (from.scene != to.scene || from.config != to.config || SameFrame(from, to)) continue;
       if (from.skipped.empty())
         cells.push_back({to.scene, to.config->name, from.Size() + " -> " + to.Size(),
-                         fmt::format("x{:.3g} pixels -> x{:.2f} time", static_cast<double>(to.Pixels()) / from.Pixels(),
-                                     to.MedianMs() / from.MedianMs())});
+                         fmt::format("x{:.3g}", static_cast<double>(to.Pixels()) / from.Pixels()),
+                         fmt::format("x{:.2f}", to.MedianMs() / from.MedianMs()), SearchGrowth(from, to)});
       break;
     }
   }
   if (cells.empty()) return;
-  std::fprintf(out, "\nTime growth with pixels (median frame time, from each size to the next):\n");
-  PrintColumns(out, {"scene", "config", "sizes", "growth"}, cells, {false, false, false, false});
+  std::fprintf(out, "\nTime growth with pixels (medians, from each size to the next; search: traversal + final tests):\n");
+  PrintColumns(out, {"scene", "config", "sizes", "pixels", "frame", "search"}, cells, {false, false, false, true, true, true});
 }
 
 bool CheckDigests(std::FILE* out, std::FILE* err, const std::vector<BenchRow>& rows) {

@@ -3,6 +3,7 @@
 // test's own functions, so only the per-lane part lives in the AVX2 unit.
 #include "rayspace/emu/intersect_simd.h"
 
+#include <algorithm>
 #include <atomic>
 
 #include "rayspace/emu/hierarchy.h"
@@ -28,9 +29,19 @@ intersect_lanes::Triangle LanesTriangle(const layout::Triangle& t) {
   return {{v0.x, v0.y, v0.z}, {v1.x, v1.y, v1.z}, {v2.x, v2.y, v2.z}, {n.x, n.y, n.z}};
 }
 
-// The rays [j0, j1) of one pair against its triangle; returns nothing, records like IntersectWith.
-void TestPair(const call::Intersect& c, const intersect_lanes::RayArrays& r, std::uint32_t prim, std::uint32_t j0, std::uint32_t j1) {
-  const intersect_lanes::Triangle tri = LanesTriangle(c.scene->triangles[prim]);
+// The call's triangles (batch-local, up to the highest its pairs name) with their plane normals,
+// computed once rather than once per pair.
+std::vector<intersect_lanes::Triangle> BatchTriangles(const call::Intersect& c) {
+  std::uint32_t count = 0;
+  for (std::uint32_t pair : c.pairs) count = std::max(count, (pair & kPairTriangleMask) + 1);
+  std::vector<intersect_lanes::Triangle> tris(count);
+  ParallelFor(count, [&](std::size_t t) { tris[t] = LanesTriangle(c.scene->triangles[c.b0 + t]); });
+  return tris;
+}
+
+// The rays [j0, j1) of one pair against its triangle, recorded as IntersectWith records them.
+void TestPair(const call::Intersect& c, const intersect_lanes::RayArrays& r, const intersect_lanes::Triangle& tri, std::uint32_t prim,
+              std::uint32_t j0, std::uint32_t j1) {
   float t[8];
   for (std::uint32_t j = j0; j < j1; j += 8) {
     std::uint32_t bits = intersect_lanes::EightAvx2(r, tri, j, t);
@@ -69,12 +80,13 @@ WatertightArrays ToWatertightArrays(std::span<const layout::Ray> rays, std::span
 std::vector<std::uint32_t> PassIntersectLanes(const call::Intersect& c, const WatertightArrays& w) {
   if (!HaveLanes()) return PassIntersect(c);
   const intersect_lanes::RayArrays r = View(w);
+  const std::vector<intersect_lanes::Triangle> tris = BatchTriangles(c);
   std::vector<std::uint32_t> tests(c.pairs.size());
-  ParallelFor(c.pairs.size(), [&](std::size_t p) {
-    const std::uint32_t node = c.base1 + (c.pairs[p] >> kPairTriangleBits), prim = c.b0 + (c.pairs[p] & kPairTriangleMask);
+  ParallelForDynamic(c.pairs.size(), 256, [&](std::size_t p) {
+    const std::uint32_t node = c.base1 + (c.pairs[p] >> kPairTriangleBits), local = c.pairs[p] & kPairTriangleMask;
     const std::uint32_t j0 = c.first1[node], j1 = c.first1[node + 1];
     tests[p] = j1 - j0;
-    TestPair(c, r, prim, j0, j1);
+    TestPair(c, r, tris[local], c.b0 + local, j0, j1);
   });
   return tests;
 }

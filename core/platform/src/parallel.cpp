@@ -33,6 +33,18 @@ void ParallelFor(std::size_t n, const std::function<void(std::size_t)>& fn) {
   }
 }
 
+void ParallelForDynamic(std::size_t n, std::size_t grain, const std::function<void(std::size_t)>& fn) {
+  const int threads = ThreadCount();
+  if (g_chunk != 0 || threads <= 1 || n < 2) {
+    ParallelFor(n, fn);
+    return;
+  }
+  const long long count = static_cast<long long>(n);
+  const int chunk = static_cast<int>(grain == 0 ? 1 : grain);
+#pragma omp parallel for schedule(dynamic, chunk) num_threads(threads)
+  for (long long i = 0; i < count; ++i) fn(static_cast<std::size_t>(i));
+}
+
 ScopedFtzDaz::ScopedFtzDaz() {
 #if defined(__SSE__)
   saved_ = _mm_getcsr();

@@ -17,6 +17,10 @@ void SetChunkSize(std::size_t n);
 // Runs fn(i) for i in [0, n). Timings and logs are labelled by the pass that calls it.
 void ParallelFor(std::size_t n, const std::function<void(std::size_t)>& fn);
 
+// ParallelFor for items of uneven cost (the fused path's blocks and pairs): handed out `grain` at a
+// time as threads free up, unless SetChunkSize chose a schedule. The output is the same either way.
+void ParallelForDynamic(std::size_t n, std::size_t grain, const std::function<void(std::size_t)>& fn);
+
 // Sets the CPU's flush-to-zero and denormals-are-zero modes on the calling thread for the lifetime
 // of the object: lavapipe runs its whole draw path (vertex, clip, setup, fragment) in that mode.
 class ScopedFtzDaz {

@@ -143,7 +143,7 @@ Compacted CompactInBlocks(std::size_t items, std::size_t per_block, BlockFn&& bl
   const std::size_t blocks = (items + per_block - 1) / per_block;
   std::vector<std::vector<std::uint32_t>> parts(blocks);
   std::vector<std::uint64_t> tested(blocks, 0);
-  ParallelFor(blocks, [&](std::size_t b) { block(b * per_block, std::min(items, (b + 1) * per_block), parts[b], tested[b]); });
+  ParallelForDynamic(blocks, 1, [&](std::size_t b) { block(b * per_block, std::min(items, (b + 1) * per_block), parts[b], tested[b]); });
   return ConcatenateBlocks(parts, tested);
 }
 
