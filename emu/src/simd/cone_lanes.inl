@@ -4,7 +4,8 @@
 // and -ffp-contract=off), both branches computed and chosen by masks, and GLSL's max kept (L::Max),
 // so each lane answers as the scalar test does, bit for bit (tests/cone_simd_test.cpp).
 //
-// L provides: V (W floats), M (W lane flags), W; Set, Load, Add, Sub, Mul, Sqrt, Abs, Max,
+// L provides: V (W floats), M (W lane flags), W; Set, Load, Add, Sub, Mul, Sqrt, Abs, Max, MaxOrdered
+// (the instruction: Max where no operand is NaN), AnyNaN,
 // InversePowerOfTwo; Cmp<predicate>; Or, And, Select(c, a, b) = c ? a : b; Bits; and
 // Emit(bits, first, shift, out) writing first + (lane << shift) for each set lane, returning the count.
 // A sixteen-lane L also provides Load2, Set2 and Emit2, which fill its two halves from two sources
@@ -31,7 +32,11 @@ inline typename L::M TestLanes(const NodeV& n, const SphereV& s, typename L::V e
   const M full = L::template Cmp<_CMP_LE_OQ>(n.cosa, L::Set(-1.0f));
   const V v0x = L::Sub(s.x, n.x), v0y = L::Sub(s.y, n.y), v0z = L::Sub(s.z, n.z);
   const V R0 = L::Add(L::Mul(L::Add(s.r, n.r), L::Set(layout::kRadiusSlack)), eps);
-  const V m = L::Max(L::Max(L::Max(L::Abs(v0x), L::Abs(v0y)), L::Abs(v0z)), R0);
+  // GLSL's max differs from the instruction's only when an operand is NaN: the instruction alone
+  // unless some lane has a NaN (a sum of the operands is NaN then, and sometimes when it is not).
+  const bool nan = L::AnyNaN(L::Add(L::Add(v0x, v0y), L::Add(v0z, R0)));
+  const V m = nan ? L::Max(L::Max(L::Max(L::Abs(v0x), L::Abs(v0y)), L::Abs(v0z)), R0)
+                  : L::MaxOrdered(L::MaxOrdered(L::MaxOrdered(L::Abs(v0x), L::Abs(v0y)), L::Abs(v0z)), R0);
   // At the apex or out of float range: keep.
   const M out_of_range = L::Or(L::template Cmp<_CMP_NGT_UQ>(m, zero), L::template Cmp<_CMP_NLT_UQ>(m, L::Set(INFINITY)));
   const V k = L::InversePowerOfTwo(m);

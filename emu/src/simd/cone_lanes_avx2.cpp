@@ -23,6 +23,8 @@ struct L {
   static V Abs(V x) { return _mm256_and_ps(x, _mm256_castsi256_ps(_mm256_set1_epi32(0x7FFFFFFF))); }
   // emu Max: a > b ? a : b, and a when b is NaN. MAXPS(a, b) is a > b ? a : b (b on NaN or equal).
   static V Max(V a, V b) { return _mm256_blendv_ps(_mm256_max_ps(a, b), a, _mm256_cmp_ps(b, b, _CMP_UNORD_Q)); }
+  static V MaxOrdered(V a, V b) { return _mm256_max_ps(a, b); }
+  static bool AnyNaN(V x) { return _mm256_movemask_ps(_mm256_cmp_ps(x, x, _CMP_UNORD_Q)) != 0; }
   // emu InversePowerOfTwo: 2^-e for the exponent of m, clamped to normal powers.
   static V InversePowerOfTwo(V m) {
     const __m256i e = _mm256_and_si256(_mm256_srli_epi32(_mm256_castps_si256(m), 23), _mm256_set1_epi32(0xFF));

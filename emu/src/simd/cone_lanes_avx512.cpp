@@ -25,6 +25,8 @@ struct L {
   static V Max(V a, V b) {
     return _mm512_mask_blend_ps(_mm512_cmp_ps_mask(a, b, _CMP_GT_OQ) | _mm512_cmp_ps_mask(b, b, _CMP_UNORD_Q), b, a);
   }
+  static V MaxOrdered(V a, V b) { return _mm512_max_ps(a, b); }
+  static bool AnyNaN(V x) { return _mm512_cmp_ps_mask(x, x, _CMP_UNORD_Q) != 0; }
   // emu InversePowerOfTwo: 2^-e for the exponent of m, clamped to normal powers.
   static V InversePowerOfTwo(V m) {
     const __m512i e = _mm512_and_epi32(_mm512_srli_epi32(_mm512_castps_si512(m), 23), _mm512_set1_epi32(0xFF));
