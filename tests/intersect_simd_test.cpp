@@ -2,11 +2,13 @@
 // watertight test the kernels mirror: the same closest hits (distance bits and primitive) and the
 // same occlusion for every ray, the same test counts, on rays aimed at triangles' vertices, edge
 // midpoints and interiors (the watertight boundary), axis-aligned and degenerate directions, tiny
-// and huge scales, degenerate triangles and rays that leave a triangle of the batch.
+// and huge scales, degenerate triangles, NaN and infinite coordinates, and rays that leave a triangle
+// of the batch.
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <numeric>
 #include <random>
 
@@ -47,12 +49,15 @@ glm::vec3 Target(std::mt19937& rng, const layout::Triangle& t) {
 layout::Triangle RandomTriangle(std::mt19937& rng, float scale) {
   const glm::vec3 a = RandomPoint(rng, scale), b = rng() % 16 == 0 ? a : RandomPoint(rng, scale);  // some degenerate
   const glm::vec3 c = rng() % 16 == 0 ? (a + b) * 0.5f : RandomPoint(rng, scale);
-  return {glm::vec4(a, 0), glm::vec4(b, 0), glm::vec4(c, 0)};
+  layout::Triangle t{glm::vec4(a, 0), glm::vec4(b, 0), glm::vec4(c, 0)};
+  if (rng() % 32 == 0) t.v1[rng() % 3] = std::array{NAN, INFINITY, -INFINITY}[rng() % 3];  // GLSL's max rule on NaN
+  return t;
 }
 
 layout::Ray RandomRay(std::mt19937& rng, const Case& k, float scale) {
   const std::uint32_t T = static_cast<std::uint32_t>(k.scene.triangles.size());
-  const glm::vec3 o = RandomPoint(rng, 2.0f * scale);
+  glm::vec3 o = RandomPoint(rng, 2.0f * scale);
+  if (rng() % 64 == 0) o[rng() % 3] = NAN;
   glm::vec3 d = Target(rng, k.scene.triangles[rng() % T]) - o;
   if (rng() % 8 == 0) d[rng() % 3] = 0.0f;                    // axis-aligned components
   if (rng() % 64 == 0) d = glm::vec3(0.0f);                  // no direction at all

@@ -1,7 +1,7 @@
 // emu::IntersectWatertight on eight rays against one triangle: every lane performs the scalar
-// test's operations in its order (each intrinsic one IEEE operation, no FMA), the per-ray axis
-// permutation by selects, and GLSL's max kept, so each lane answers as the scalar test does, bit for
-// bit (tests/intersect_simd_test.cpp). Compiled with -mavx2; called only where the CPU has AVX2.
+// test's operations in its order (each intrinsic one IEEE operation, no FMA) with the per-ray axis
+// permutation done by selects, so each lane answers as the scalar test does, bit for bit
+// (tests/intersect_simd_test.cpp). Compiled with -mavx2; called only where the CPU has AVX2.
 #include <immintrin.h>
 
 #include <cmath>
@@ -15,8 +15,6 @@ using V = __m256;
 
 V Set(float f) { return _mm256_set1_ps(f); }
 V Abs(V x) { return _mm256_and_ps(x, _mm256_castsi256_ps(_mm256_set1_epi32(0x7FFFFFFF))); }
-// emu Max: a > b ? a : b, and a when b is NaN.
-V Max(V a, V b) { return _mm256_blendv_ps(_mm256_max_ps(a, b), a, _mm256_cmp_ps(b, b, _CMP_UNORD_Q)); }
 // emu InversePowerOfTwo.
 V InversePowerOfTwo(V m) {
   const __m256i e = _mm256_and_si256(_mm256_srli_epi32(_mm256_castps_si256(m), 23), _mm256_set1_epi32(0xFF));
@@ -31,7 +29,15 @@ V Mul(V a, V b) { return _mm256_mul_ps(a, b); }
 struct V3 {
   V x, y, z;
 };
-V MaxAbs1(const V3& a) { return Max(Max(Abs(a.x), Abs(a.y)), Abs(a.z)); }
+V MaxAbs1(const V3& a) { return _mm256_max_ps(_mm256_max_ps(Abs(a.x), Abs(a.y)), Abs(a.z)); }
+
+// emu: Max(MaxAbs(A0, B0), MaxAbs(C0, C0)). The instruction's max, not GLSL's: they differ only
+// when an operand is NaN, and a lane with a NaN coordinate of the vertices or the origin misses
+// whatever its scale: t = A0.n / d.n is NaN (n is NaN when a vertex is).
+V Largest(const V3& A0, const V3& B0, const V3& C0) {
+  const V mc = MaxAbs1(C0);
+  return _mm256_max_ps(_mm256_max_ps(MaxAbs1(A0), MaxAbs1(B0)), _mm256_max_ps(mc, mc));
+}
 
 // Component k of a for each lane (k = 0, 1, 2 per lane).
 struct Pick {
@@ -58,8 +64,7 @@ std::uint32_t EightAvx2(const RayArrays& r, const Triangle& tri, std::uint32_t j
   const V3 A0{Sub(Set(tri.v0[0]), org.x), Sub(Set(tri.v0[1]), org.y), Sub(Set(tri.v0[2]), org.z)};
   const V3 B0{Sub(Set(tri.v1[0]), org.x), Sub(Set(tri.v1[1]), org.y), Sub(Set(tri.v1[2]), org.z)};
   const V3 C0{Sub(Set(tri.v2[0]), org.x), Sub(Set(tri.v2[1]), org.y), Sub(Set(tri.v2[2]), org.z)};
-  const V mc = MaxAbs1(C0);
-  const V ka = InversePowerOfTwo(Max(Max(MaxAbs1(A0), MaxAbs1(B0)), Max(mc, mc)));
+  const V ka = InversePowerOfTwo(Largest(A0, B0, C0));
   const V3 A{Mul(A0.x, ka), Mul(A0.y, ka), Mul(A0.z, ka)}, B{Mul(B0.x, ka), Mul(B0.y, ka), Mul(B0.z, ka)},
       C{Mul(C0.x, ka), Mul(C0.y, ka), Mul(C0.z, ka)};
   const Pick kx(r.kx + j), ky(r.ky + j), kz(r.kz + j);
