@@ -102,13 +102,17 @@ inline PairRef RefOf(const PairLevel& lv, std::size_t p) {
   return {lv.first[parent], lv.first[parent + 1], lv.spheres4 + 4 * static_cast<std::size_t>(tri), tri - (lv.base << lv.bits)};
 }
 
-// Pairs a and b, each of at most eight children, in the two halves of one sixteen-lane test.
 template <class LL>
-std::size_t TwoPairs(const NodeArrays& n, const PairRef& a, const PairRef& b, float eps, int bits, std::uint32_t* out) {
-  const NodeV node{LL::Load2(n.x + a.k0, n.x + b.k0),   LL::Load2(n.y + a.k0, n.y + b.k0),   LL::Load2(n.z + a.k0, n.z + b.k0),
-                   LL::Load2(n.r + a.k0, n.r + b.k0),   LL::Load2(n.ax + a.k0, n.ax + b.k0), LL::Load2(n.ay + a.k0, n.ay + b.k0),
-                   LL::Load2(n.az + a.k0, n.az + b.k0), LL::Load2(n.cosa + a.k0, n.cosa + b.k0),
-                   LL::Load2(n.sina + a.k0, n.sina + b.k0)};
+NodeV LoadTwo(const NodeArrays& n, std::uint32_t a, std::uint32_t b) {
+  return {LL::Load2(n.x + a, n.x + b),   LL::Load2(n.y + a, n.y + b),   LL::Load2(n.z + a, n.z + b),
+          LL::Load2(n.r + a, n.r + b),   LL::Load2(n.ax + a, n.ax + b), LL::Load2(n.ay + a, n.ay + b),
+          LL::Load2(n.az + a, n.az + b), LL::Load2(n.cosa + a, n.cosa + b), LL::Load2(n.sina + a, n.sina + b)};
+}
+
+// Pairs a and b, each of at most eight children, in the two halves of one sixteen-lane test; node
+// holds a's children in the low half and b's in the high half.
+template <class LL>
+std::size_t TwoPairs(const NodeV& node, const PairRef& a, const PairRef& b, float eps, int bits, std::uint32_t* out) {
   const SphereV sph{LL::Set2(a.sphere[0], b.sphere[0]), LL::Set2(a.sphere[1], b.sphere[1]), LL::Set2(a.sphere[2], b.sphere[2]),
                     LL::Set2(a.sphere[3], b.sphere[3])};
   const std::uint32_t valid = ((1u << (a.k1 - a.k0)) - 1u) | (((1u << (b.k1 - b.k0)) - 1u) << 8);
@@ -116,11 +120,16 @@ std::size_t TwoPairs(const NodeArrays& n, const PairRef& a, const PairRef& b, fl
   return LL::Emit2(hits, a.first + (a.k0 << bits), b.first + (b.k0 << bits), bits, out);
 }
 
+// A level's pairs in order. With sixteen lanes, two pairs of at most eight children share a test;
+// consecutive pairs mostly share their parent (a top node's surviving triangles are consecutive),
+// and then its children are loaded into both halves once for the whole run.
 template <class LL = L>
 std::size_t PairsRun(const NodeArrays& n, const PairLevel& lv, std::size_t p0, std::size_t p1, float eps, std::uint32_t* out,
                      std::uint64_t* tested) {
   std::size_t count = 0;
   std::uint64_t t = 0;
+  [[maybe_unused]] std::uint32_t loaded = ~0u;  // the parent whose children `both` holds twice
+  [[maybe_unused]] NodeV both{};
   for (std::size_t p = p0; p < p1; ++p) {
     const PairRef a = RefOf(lv, p);
     t += a.k1 - a.k0;
@@ -129,7 +138,11 @@ std::size_t PairsRun(const NodeArrays& n, const PairLevel& lv, std::size_t p0, s
         const PairRef b = RefOf(lv, p + 1);
         if (b.k1 - b.k0 <= 8) {
           t += b.k1 - b.k0;
-          count += TwoPairs<LL>(n, a, b, eps, lv.bits, out + count);
+          if (a.k0 == b.k0 && loaded != a.k0) {
+            both = LoadTwo<LL>(n, a.k0, a.k0);
+            loaded = a.k0;
+          }
+          count += TwoPairs<LL>(a.k0 == b.k0 ? both : LoadTwo<LL>(n, a.k0, b.k0), a, b, eps, lv.bits, out + count);
           ++p;
           continue;
         }
