@@ -79,9 +79,16 @@ Case RandomCase(std::mt19937& rng) {
   k.order.resize(R);
   std::iota(k.order.begin(), k.order.end(), 0u);
   std::shuffle(k.order.begin(), k.order.end(), rng);
-  for (std::uint32_t n = 0; n + 1 < k.first1.size(); ++n)
+  // Pairs in a frame's order: the children of a parent (1 to 4 adjacent nodes) per triangle, so
+  // that consecutive pairs of one triangle with adjacent rays form runs, broken where a child failed.
+  const std::uint32_t nodes = static_cast<std::uint32_t>(k.first1.size() - 1);
+  for (std::uint32_t p0 = 0, p1; p0 < nodes; p0 = p1) {
+    p1 = std::min(nodes, p0 + 1 + static_cast<std::uint32_t>(rng() % 4));
     for (std::uint32_t t = 0; t < T; ++t)
-      if (rng() % 3 == 0) k.pairs.push_back((n << layout::kPairTriangleBits) | t);
+      if (rng() % 3 == 0)
+        for (std::uint32_t n = p0; n < p1; ++n)
+          if (rng() % 3 != 0) k.pairs.push_back((n << layout::kPairTriangleBits) | t);
+  }
   return k;
 }
 
@@ -102,32 +109,41 @@ Outcome Run(const Case& k, bool lanes, bool shadow) {
 
 }  // namespace
 
-TEST_CASE("intersect simd: eight rays at a time give the scalar test's hits, occlusion and counts") {
-  std::mt19937 rng(4242);
-  std::size_t rays = 0, hit = 0;
-  for (int iter = 0; iter < 3000; ++iter) {
-    const Case k = RandomCase(rng);
-    const bool shadow = iter % 2 == 1;
-    const Outcome scalar = Run(k, false, shadow), lanes = Run(k, true, shadow);
-    REQUIRE(lanes.tests == scalar.tests);
-    for (std::size_t r = 0; r < k.rays.size(); ++r) {
-      ++rays;
-      hit += shadow ? scalar.occluded[r] : scalar.hits[r] != emu::kMissPacked;
-      if (lanes.hits[r] != scalar.hits[r] || lanes.occluded[r] != scalar.occluded[r])
-        FAIL("ray " << r << " of case " << iter << (shadow ? " (shadow)" : "") << ": scalar hit " << scalar.hits[r] << " occluded "
-                    << scalar.occluded[r] << ", lanes " << lanes.hits[r] << " / " << lanes.occluded[r]);
+TEST_CASE("intersect simd: many rays at a time give the scalar test's hits, occlusion and counts, on every instruction set") {
+  for (const emu::cone::Isa isa : {emu::cone::Isa::kAvx2, emu::cone::Isa::kAvx512}) {
+    if (!emu::cone::Runs(isa)) {
+      MESSAGE("this CPU lacks " << emu::cone::IsaName(isa));
+      continue;
     }
+    CAPTURE(emu::cone::IsaName(isa));
+    emu::SetIntersectIsa(isa);
+    std::mt19937 rng(4242);
+    std::size_t rays = 0, hit = 0;
+    for (int iter = 0; iter < 3000; ++iter) {
+      const Case k = RandomCase(rng);
+      const bool shadow = iter % 2 == 1;
+      const Outcome scalar = Run(k, false, shadow), lanes = Run(k, true, shadow);
+      REQUIRE(lanes.tests == scalar.tests);
+      for (std::size_t r = 0; r < k.rays.size(); ++r) {
+        ++rays;
+        hit += shadow ? scalar.occluded[r] : scalar.hits[r] != emu::kMissPacked;
+        if (lanes.hits[r] != scalar.hits[r] || lanes.occluded[r] != scalar.occluded[r])
+          FAIL("ray " << r << " of case " << iter << (shadow ? " (shadow)" : "") << ": scalar hit " << scalar.hits[r] << " occluded "
+                      << scalar.occluded[r] << ", lanes " << lanes.hits[r] << " / " << lanes.occluded[r]);
+      }
+    }
+    emu::SetIntersectIsa(emu::cone::BestIsa());
+    // Both outcomes occur often enough for the comparison to mean something.
+    CHECK(hit > rays / 10);
+    CHECK(hit < rays * 9 / 10);
   }
-  // Both outcomes occur often enough for the comparison to mean something.
-  CHECK(hit > rays / 10);
-  CHECK(hit < rays * 9 / 10);
 }
 
 TEST_CASE("intersect simd: the scalar fallback is PassIntersect") {
   std::mt19937 rng(17);
   const Case k = RandomCase(rng);
-  emu::SetIntersectLanes(false);
+  emu::SetIntersectIsa(emu::cone::Isa::kScalar);
   const Outcome off = Run(k, true, false);
-  emu::SetIntersectLanes(true);
+  emu::SetIntersectIsa(emu::cone::BestIsa());
   CHECK(off.hits == Run(k, false, false).hits);
 }

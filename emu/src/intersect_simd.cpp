@@ -1,6 +1,6 @@
-// The final tests eight rays at a time (intersect_simd.h). The per-ray setup is computed once per
-// batch instead of once per test, the triangle's plane normal once per pair; both by the scalar
-// test's own functions, so only the per-lane part lives in the AVX2 unit.
+// The final tests many rays at a time (intersect_simd.h). The per-ray setup is computed once per
+// batch instead of once per test, the triangle's plane normal once per call; both by the scalar
+// test's own functions, so only the per-lane part lives in the instruction-set units.
 #include "rayspace/emu/intersect_simd.h"
 
 #include <algorithm>
@@ -14,9 +14,7 @@
 namespace rayspace::emu {
 namespace {
 
-bool g_lanes = true;
-
-bool HaveLanes() { return g_lanes && __builtin_cpu_supports("avx2"); }
+cone::Isa g_isa = cone::BestIsa();
 
 intersect_lanes::RayArrays View(const WatertightArrays& w) {
   return {w.ox.data(), w.oy.data(), w.oz.data(), w.dx.data(),   w.dy.data(),   w.dz.data(),   w.sx.data(),
@@ -39,13 +37,14 @@ std::vector<intersect_lanes::Triangle> BatchTriangles(const call::Intersect& c) 
   return tris;
 }
 
-// The rays [j0, j1) of one pair against its triangle, recorded as IntersectWith records them.
-void TestPair(const call::Intersect& c, const intersect_lanes::RayArrays& r, const intersect_lanes::Triangle& tri, std::uint32_t prim,
+// The rays [j0, j1) against one triangle, W at a time, recorded as IntersectWith records them.
+template <int W>
+void TestRays(const call::Intersect& c, const intersect_lanes::RayArrays& r, const intersect_lanes::Triangle& tri, std::uint32_t prim,
               std::uint32_t j0, std::uint32_t j1) {
-  float t[8];
-  for (std::uint32_t j = j0; j < j1; j += 8) {
-    std::uint32_t bits = intersect_lanes::EightAvx2(r, tri, j, t);
-    if (j1 - j < 8) bits &= (1u << (j1 - j)) - 1u;
+  float t[W];
+  for (std::uint32_t j = j0; j < j1; j += W) {
+    std::uint32_t bits = W == 16 ? intersect_lanes::SixteenAvx512(r, tri, j, t) : intersect_lanes::EightAvx2(r, tri, j, t);
+    if (j1 - j < W) bits &= (1u << (j1 - j)) - 1u;
     for (; bits; bits &= bits - 1) {
       const std::uint32_t i = static_cast<std::uint32_t>(__builtin_ctz(bits)), ray = c.order[j + i];
       if (prim == c.rays[ray].info.y) continue;  // the surface the ray leaves
@@ -57,9 +56,37 @@ void TestPair(const call::Intersect& c, const intersect_lanes::RayArrays& r, con
   }
 }
 
+std::uint32_t FirstRay(const call::Intersect& c, std::size_t p) { return c.first1[c.base1 + (c.pairs[p] >> kPairTriangleBits)]; }
+std::uint32_t EndRay(const call::Intersect& c, std::size_t p) { return c.first1[c.base1 + (c.pairs[p] >> kPairTriangleBits) + 1]; }
+
+// Where runs start: consecutive pairs of one triangle whose nodes' rays are adjacent (a level-1
+// parent's children that all passed) are one run of rays, the same tests in fuller lane groups.
+std::vector<std::size_t> RunStarts(const call::Intersect& c) {
+  std::vector<std::uint8_t> starts(c.pairs.size());
+  ParallelFor(c.pairs.size(), [&](std::size_t p) {
+    starts[p] = p == 0 || (c.pairs[p] & kPairTriangleMask) != (c.pairs[p - 1] & kPairTriangleMask) || EndRay(c, p - 1) != FirstRay(c, p);
+  });
+  std::vector<std::size_t> runs;
+  for (std::size_t p = 0; p < starts.size(); ++p)
+    if (starts[p]) runs.push_back(p);
+  runs.push_back(c.pairs.size());
+  return runs;
+}
+
+template <int W>
+void TestRuns(const call::Intersect& c, const WatertightArrays& w) {
+  const intersect_lanes::RayArrays r = View(w);
+  const std::vector<intersect_lanes::Triangle> tris = BatchTriangles(c);
+  const std::vector<std::size_t> runs = RunStarts(c);
+  ParallelForDynamic(runs.size() - 1, 64, [&](std::size_t i) {
+    const std::uint32_t local = c.pairs[runs[i]] & kPairTriangleMask;
+    TestRays<W>(c, r, tris[local], c.b0 + local, FirstRay(c, runs[i]), EndRay(c, runs[i + 1] - 1));
+  });
+}
+
 }  // namespace
 
-void SetIntersectLanes(bool on) { g_lanes = on; }
+void SetIntersectIsa(cone::Isa isa) { g_isa = cone::Runs(isa) ? isa : cone::BestIsa(); }
 
 WatertightArrays ToWatertightArrays(std::span<const layout::Ray> rays, std::span<const std::uint32_t> order) {
   const std::size_t n = order.size(), padded = n + WatertightArrays::kPad;
@@ -78,16 +105,10 @@ WatertightArrays ToWatertightArrays(std::span<const layout::Ray> rays, std::span
 }
 
 std::vector<std::uint32_t> PassIntersectLanes(const call::Intersect& c, const WatertightArrays& w) {
-  if (!HaveLanes()) return PassIntersect(c);
-  const intersect_lanes::RayArrays r = View(w);
-  const std::vector<intersect_lanes::Triangle> tris = BatchTriangles(c);
+  if (g_isa == cone::Isa::kScalar) return PassIntersect(c);
   std::vector<std::uint32_t> tests(c.pairs.size());
-  ParallelForDynamic(c.pairs.size(), 256, [&](std::size_t p) {
-    const std::uint32_t node = c.base1 + (c.pairs[p] >> kPairTriangleBits), local = c.pairs[p] & kPairTriangleMask;
-    const std::uint32_t j0 = c.first1[node], j1 = c.first1[node + 1];
-    tests[p] = j1 - j0;
-    TestPair(c, r, tris[local], c.b0 + local, j0, j1);
-  });
+  ParallelFor(c.pairs.size(), [&](std::size_t p) { tests[p] = EndRay(c, p) - FirstRay(c, p); });
+  if (!c.pairs.empty()) (g_isa == cone::Isa::kAvx512 ? TestRuns<16> : TestRuns<8>)(c, w);
   return tests;
 }
 

@@ -1,5 +1,5 @@
 // The interface between the dispatching code (emu/src/cone_simd.cpp) and the translation units
-// compiled for one instruction set each (cone_lanes_avx2.cpp, cone_lanes_avx512.cpp). Plain
+// compiled for one instruction set each (lanes_avx2.cpp, lanes_avx512.cpp). Plain
 // floats and pointers only: those units are built with -mavx2 or -mavx512f, and any inline
 // function they shared with the rest of the program (a std:: or glm template) could be linked into
 // code that runs on a CPU without those instructions.

@@ -1,4 +1,4 @@
-// cone::TestOf<float> on a lane type L (cone_lanes_avx2.cpp, cone_lanes_avx512.cpp), included by
+// cone::TestOf<float> on a lane type L (lanes_avx2.cpp, lanes_avx512.cpp), included by
 // each instruction set's unit after it defines L. Every lane performs the scalar test's operations
 // in the scalar test's order, each intrinsic one IEEE operation (no FMA: explicit intrinsics only,
 // and -ffp-contract=off), both branches computed and chosen by masks, and GLSL's max kept (L::Max),

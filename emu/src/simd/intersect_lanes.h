@@ -1,11 +1,12 @@
-// The interface of the multi-lane watertight ray-triangle test (intersect_lanes_avx2.cpp, compiled
-// with -mavx2): plain floats and pointers only, for the reason cone_lanes.h gives.
+// The interface of the multi-lane watertight ray-triangle test (intersect_lanes.inl, compiled in
+// lanes_avx2.cpp and lanes_avx512.cpp): plain floats and pointers only, for the reason cone_lanes.h
+// gives.
 #pragma once
 #include <cstdint>
 
 namespace rayspace::emu::intersect_lanes {
 
-// Rays set up for the watertight test (emu::WatertightRay), one array per field, each readable 8
+// Rays set up for the watertight test (emu::WatertightRay), one array per field, each readable 16
 // entries past its last.
 struct RayArrays {
   const float *ox, *oy, *oz, *dx, *dy, *dz, *sx, *sy, *tmin, *tmax;
@@ -16,7 +17,9 @@ struct Triangle {
   float v0[3], v1[3], v2[3], n[3];
 };
 
-// Rays [j, j + 8) against tri: bit i set when ray j + i hits with tmin < t < tmax; t[i] its distance.
+// Rays [j, j + 8) (or 16) against tri: bit i set when ray j + i hits with tmin < t < tmax; t[i] its
+// distance.
 std::uint32_t EightAvx2(const RayArrays& r, const Triangle& tri, std::uint32_t j, float t[8]);
+std::uint32_t SixteenAvx512(const RayArrays& r, const Triangle& tri, std::uint32_t j, float t[16]);
 
 }  // namespace rayspace::emu::intersect_lanes

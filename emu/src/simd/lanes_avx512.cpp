@@ -1,10 +1,11 @@
-// The cone-sphere test on sixteen lanes: compiled with -mavx512f (emu/CMakeLists.txt), called only
-// where the CPU has AVX-512F (cone_simd.cpp).
+// The cone-sphere and ray-triangle tests on sixteen lanes: compiled with -mavx512f
+// (emu/CMakeLists.txt), called only where the CPU has AVX-512F (cone_simd.cpp, intersect_simd.cpp).
 #include <immintrin.h>
 
 #include <cmath>
 
 #include "cone_lanes.h"
+#include "intersect_lanes.h"
 #include "rayspace/contract.h"  // constants only: no function of it is used here
 
 namespace rayspace::emu::cone::lanes {
@@ -41,6 +42,11 @@ struct L {
   static M Or(M a, M b) { return a | b; }
   static M And(M a, M b) { return a & b; }
   static M Select(M c, M a, M b) { return (c & a) | (~c & b); }
+  static V SelectV(M c, V a, V b) { return _mm512_mask_blend_ps(c, b, a); }
+  static M Not(M a) { return static_cast<M>(~a); }
+  static M EqInt(const std::int32_t* p, int k) { return _mm512_cmpeq_epi32_mask(_mm512_loadu_si512(p), _mm512_set1_epi32(k)); }
+  static V Div(V a, V b) { return _mm512_div_ps(a, b); }
+  static void Store(float* p, V v) { _mm512_storeu_ps(p, v); }
   static std::uint32_t Bits(M m) { return m; }
   // Lanes 0-7 from a, 8-15 from b.
   static V Load2(const float* a, const float* b) {
@@ -68,6 +74,7 @@ struct L {
 };
 
 #include "cone_lanes.inl"
+#include "intersect_lanes.inl"
 
 }  // namespace
 
@@ -85,3 +92,11 @@ std::size_t PairsAvx512(const NodeArrays& n, const PairLevel& lv, std::size_t p0
 }
 
 }  // namespace rayspace::emu::cone::lanes
+
+namespace rayspace::emu::intersect_lanes {
+
+std::uint32_t SixteenAvx512(const RayArrays& r, const Triangle& tri, std::uint32_t j, float t[16]) {
+  return cone::lanes::RaysLanes(r, tri, j, t);
+}
+
+}  // namespace rayspace::emu::intersect_lanes

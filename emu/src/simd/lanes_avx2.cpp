@@ -1,10 +1,11 @@
-// The cone-sphere test on eight lanes: compiled with -mavx2 (emu/CMakeLists.txt), called only where
-// the CPU has AVX2 (cone_simd.cpp).
+// The cone-sphere and ray-triangle tests on eight lanes: compiled with -mavx2 (emu/CMakeLists.txt),
+// called only where the CPU has AVX2 (cone_simd.cpp, intersect_simd.cpp).
 #include <immintrin.h>
 
 #include <cmath>
 
 #include "cone_lanes.h"
+#include "intersect_lanes.h"
 #include "rayspace/contract.h"  // constants only: no function of it is used here
 
 namespace rayspace::emu::cone::lanes {
@@ -39,6 +40,13 @@ struct L {
   static M Or(M a, M b) { return _mm256_or_ps(a, b); }
   static M And(M a, M b) { return _mm256_and_ps(a, b); }
   static M Select(M c, M a, M b) { return _mm256_blendv_ps(b, a, c); }
+  static V SelectV(M c, V a, V b) { return _mm256_blendv_ps(b, a, c); }
+  static M Not(M a) { return _mm256_xor_ps(a, _mm256_castsi256_ps(_mm256_set1_epi32(-1))); }
+  static M EqInt(const std::int32_t* p, int k) {
+    return _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(p)), _mm256_set1_epi32(k)));
+  }
+  static V Div(V a, V b) { return _mm256_div_ps(a, b); }
+  static void Store(float* p, V v) { _mm256_storeu_ps(p, v); }
   static std::uint32_t Bits(M m) { return static_cast<std::uint32_t>(_mm256_movemask_ps(m)); }
   static std::size_t Emit(std::uint32_t bits, std::uint32_t first, int shift, std::uint32_t* out) {
     std::size_t n = 0;
@@ -48,6 +56,7 @@ struct L {
 };
 
 #include "cone_lanes.inl"
+#include "intersect_lanes.inl"
 
 }  // namespace
 
@@ -65,3 +74,11 @@ std::size_t PairsAvx2(const NodeArrays& n, const PairLevel& lv, std::size_t p0, 
 }
 
 }  // namespace rayspace::emu::cone::lanes
+
+namespace rayspace::emu::intersect_lanes {
+
+std::uint32_t EightAvx2(const RayArrays& r, const Triangle& tri, std::uint32_t j, float t[8]) {
+  return cone::lanes::RaysLanes(r, tri, j, t);
+}
+
+}  // namespace rayspace::emu::intersect_lanes
