@@ -58,11 +58,12 @@ TEST_CASE("fused path: the same pairs, statistics and digest as the passes, on r
   std::mt19937 rng(2026);
   for (const auto& [file, size] : scenes) {
     const Scene s = test::LoadBundled(file);
-    for (int run = 0; run < 4; ++run) {
+    for (int run = 0; run < 5; ++run) {
       emu::HierarchyConfig cfg;
-      cfg.algorithm = rng() % 3 == 0 ? emu::Algorithm::kRah : emu::Algorithm::kCrsh;
+      cfg.algorithm = std::array{emu::Algorithm::kCrsh, emu::Algorithm::kCrsh, emu::Algorithm::kRah, emu::Algorithm::kRahQuadtree}[rng() % 4];
       cfg.subdivision = std::array{4, 8, 16}[rng() % 3];
-      cfg.depth = 2 + static_cast<int>(rng() % 2);
+      // Roger's quadtree: four children a node, one level per halving of the screen tile.
+      cfg.depth = cfg.algorithm == emu::Algorithm::kRahQuadtree ? 3 + static_cast<int>(rng() % 3) : 2 + static_cast<int>(rng() % 2);
       cfg.reduction = rng() % 2 ? emu::Reduction::kScan : emu::Reduction::kHierarchical;
       cfg.pair_capacity = rng() % 2 ? (1u << 24) : 4096u + rng() % 4096u;  // small: batches split
       // Few triangles per batch: lane groups shorter than eight, blocks straddling nodes.
@@ -70,7 +71,7 @@ TEST_CASE("fused path: the same pairs, statistics and digest as the passes, on r
       cfg.max_batch_triangles = file == "sponza.json" ? (1u << 14) : std::array{3u, 7u, 1u << 14}[rng() % 3];
       const int threads = 1 + static_cast<int>(rng() % 2);
       INFO(file << " run " << run << ": subdivision " << cfg.subdivision << ", depth " << cfg.depth << ", capacity "
-                << cfg.pair_capacity << ", batch triangles " << cfg.max_batch_triangles << ", threads " << threads << ", rah " << (cfg.algorithm == emu::Algorithm::kRah));
+                << cfg.pair_capacity << ", batch triangles " << cfg.max_batch_triangles << ", threads " << threads << ", algorithm " << static_cast<int>(cfg.algorithm));
       SetThreadCount(threads);
       const PathRun passes = RunPath(s, size, size, cfg, false), fused = RunPath(s, size, size, cfg, true);
       SetThreadCount(0);

@@ -165,6 +165,14 @@ class Impl final : public HierarchyTracer {
     return first;
   }
 
+  // CSR offsets of groups of s consecutive items (the last one shorter).
+  static std::vector<std::uint32_t> Fixed(std::size_t count, std::uint32_t s) {
+    std::vector<std::uint32_t> first((count + s - 1) / s + 1);
+    for (std::size_t g = 0; g + 1 < first.size(); ++g) first[g] = static_cast<std::uint32_t>(g * s);
+    first.back() = static_cast<std::uint32_t>(count);
+    return first;
+  }
+
   Hierarchy Build(const std::vector<layout::Ray>& rays, const std::vector<std::uint32_t>& order,
                   const std::vector<std::uint32_t>& quad_keys) {
     Hierarchy h;
@@ -181,7 +189,7 @@ class Impl final : public HierarchyTracer {
       if (quad) {
         h.first[L - 1] = Group(items, [&](std::size_t i) { return rep[i] >> (2 * L); });
       } else {
-        h.first[L - 1] = Group(items, [&](std::size_t i) { return static_cast<std::uint32_t>(i / s); });
+        h.first[L - 1] = Fixed(items, s);
       }
       const auto& f = h.first[L - 1];
       const std::size_t nodes = f.size() - 1;
