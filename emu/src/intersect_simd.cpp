@@ -43,7 +43,7 @@ void TestRays(const call::Intersect& c, const intersect_lanes::RayArrays& r, con
               std::uint32_t j0, std::uint32_t j1) {
   float t[W];
   for (std::uint32_t j = j0; j < j1; j += W) {
-    std::uint32_t bits = W == 16 ? intersect_lanes::SixteenAvx512(r, tri, j, t) : intersect_lanes::EightAvx2(r, tri, j, t);
+    std::uint32_t bits = W == 16 ? intersect_lanes::RaysAvx512(r, tri, j, t) : intersect_lanes::RaysAvx2(r, tri, j, t);
     if (j1 - j < W) bits &= (1u << (j1 - j)) - 1u;
     for (; bits; bits &= bits - 1) {
       const std::uint32_t i = static_cast<std::uint32_t>(__builtin_ctz(bits)), ray = c.order[j + i];

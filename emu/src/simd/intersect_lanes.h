@@ -17,9 +17,9 @@ struct Triangle {
   float v0[3], v1[3], v2[3], n[3];
 };
 
-// Rays [j, j + 8) (or 16) against tri: bit i set when ray j + i hits with tmin < t < tmax; t[i] its
-// distance.
-std::uint32_t EightAvx2(const RayArrays& r, const Triangle& tri, std::uint32_t j, float t[8]);
-std::uint32_t SixteenAvx512(const RayArrays& r, const Triangle& tri, std::uint32_t j, float t[16]);
+// Rays [j, j + 8) (AVX2) or [j, j + 16) (AVX-512F) against tri: bit i set when ray j + i hits with
+// tmin < t < tmax; t[i] its distance.
+std::uint32_t RaysAvx2(const RayArrays& r, const Triangle& tri, std::uint32_t j, float* t);
+std::uint32_t RaysAvx512(const RayArrays& r, const Triangle& tri, std::uint32_t j, float* t);
 
 }  // namespace rayspace::emu::intersect_lanes

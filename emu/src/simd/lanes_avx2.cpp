@@ -59,26 +59,8 @@ struct L {
 #include "intersect_lanes.inl"
 
 }  // namespace
-
-std::size_t SpheresAvx2(const Node& n, const SphereArrays& s, std::uint32_t i0, std::uint32_t i1, float eps, const Output& o) {
-  return SpheresRun(n, s, i0, i1, eps, o);
-}
-
-std::size_t NodesAvx2(const NodeArrays& n, const float sphere[4], std::uint32_t k0, std::uint32_t k1, float eps, const Output& o) {
-  return NodesRun(n, sphere, k0, k1, eps, o);
-}
-
-std::size_t PairsAvx2(const NodeArrays& n, const PairLevel& lv, std::size_t p0, std::size_t p1, float eps, std::uint32_t* out,
-                     std::uint64_t* tested) {
-  return PairsRun(n, lv, p0, p1, eps, out, tested);
-}
-
 }  // namespace rayspace::emu::cone::lanes
 
-namespace rayspace::emu::intersect_lanes {
-
-std::uint32_t EightAvx2(const RayArrays& r, const Triangle& tri, std::uint32_t j, float t[8]) {
-  return cone::lanes::RaysLanes(r, tri, j, t);
-}
-
-}  // namespace rayspace::emu::intersect_lanes
+#define RS_ISA(name) name##Avx2
+#include "lanes_entries.inl"
+#undef RS_ISA
