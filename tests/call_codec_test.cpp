@@ -107,7 +107,7 @@ void Collect(const S& s, Layout& l) {
   ForEachField(s, [&](std::string_view name_view, const auto& f) {
     using F = std::decay_t<decltype(f)>;
     const std::string name(name_view);
-    if constexpr (cd::IsSpan<F>::value || std::is_same_v<F, layout::FrameConstants>) {
+    if constexpr (cd::IsSpan<F>::value || std::is_same_v<F, layout::FrameConstants> || std::is_same_v<F, std::uint64_t>) {
       l.blobs.insert(name);
     } else if constexpr (cd::IsVectorPtr<F>::value) {
       l.blobs.insert(name);
