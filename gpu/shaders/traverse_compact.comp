@@ -30,28 +30,50 @@ PAGED_BUFFER(readonly, First, uint, kTraverseCompactBindFirst)
 PAGED_LOAD(First, uint)
 layout(push_constant) uniform Block { TraverseCompactPush pc; };
 
-// Top-level slot s: top node t0 + s / tris against triangle b0 + s % tris, traverse.comp's numbering,
-// packing and object-mask rule. Returns whether the test runs; `hit`: the pair survives.
-bool TopSlot(uint s, out bool hit, out uint value) {
-  const uint node = pc.t0 + s / pc.tris, tri = pc.b0 + s % pc.tris;
-  value = ((node - pc.id_base) << kPairTriangleBits) | (tri - pc.b0);
-  const bool test = pc.use_mask == 0u || object_mask[(node - pc.t0) * pc.objects + info[tri].ids.y] != 0u;
-  hit = test && ConeTest(LoadNodes(node, pc.node_page), tri_spheres[tri], pc.eps);
-  return test;
+// The survivors of the invocation's slots in the current round, in slot order (private memory).
+uint kept[kCompactRun];
+
+// Phase A's tests of top-level slots [s0, s1): slot (row, col) is top node t0 + row against triangle
+// b0 + col, row-major, with traverse.comp's packing and object-mask rule. The slots are consecutive,
+// so the column steps instead of a division per slot, and a row's node is fetched once. Returns the
+// survivors (in kept); `tests` receives the tests run.
+uint TestTopSlots(uint s0, uint s1, out uint tests) {
+  uint row = s0 / pc.tris, col = s0 - row * pc.tris, n = 0u;
+  ConeNode node = LoadNodes(pc.t0 + row, pc.node_page);
+  tests = 0u;
+  for (uint s = s0; s < s1; ++s) {
+    const uint tri = pc.b0 + col;
+    if (pc.use_mask == 0u || object_mask[row * pc.objects + info[tri].ids.y] != 0u) {
+      ++tests;
+      if (ConeTest(node, tri_spheres[tri], pc.eps)) kept[n++] = ((pc.t0 + row - pc.id_base) << kPairTriangleBits) | col;
+    }
+    if (++col == pc.tris && s + 1u < s1) {
+      col = 0u;
+      ++row;
+      node = LoadNodes(pc.t0 + row, pc.node_page);
+    }
+  }
+  return n;
 }
 
-// Lower-level slot s: child s % children_max of the node of pair s / children_max; a slot past the
-// node's children runs no test.
-bool LevelSlot(uint s, out bool hit, out uint value) {
-  const uint p = s / pc.children_max, k = s - p * pc.children_max;
-  const uint parent = pc.base_up + (pairs[p] >> kPairTriangleBits), tri_local = pairs[p] & kPairTriangleMask;
-  const uint c = LoadFirst(parent, pc.first_page) + k;
-  hit = false;
-  value = 0u;
-  if (c >= LoadFirst(parent + 1u, pc.first_page)) return false;
-  value = ((c - pc.base) << kPairTriangleBits) | tri_local;
-  hit = ConeTest(LoadNodes(c, pc.node_page), tri_spheres[pc.b0 + tri_local], pc.eps);
-  return true;
+// Phase A's tests of lower-level slots [s0, s1): slot (p, k) is child k of the node of pair p,
+// p * children_max + k as in traverse.comp. Only slots that hold a child are visited: a pair's node
+// has fewer children than children_max, and the lanes of a SIMD device would otherwise idle through
+// the empty slots. Returns the survivors (in kept); `tests` receives the tests run.
+uint TestLevelSlots(uint s0, uint s1, out uint tests) {
+  uint n = 0u;
+  tests = 0u;
+  for (uint p = s0 / pc.children_max; p * pc.children_max < s1; ++p) {
+    const uint parent = pc.base_up + (pairs[p] >> kPairTriangleBits), tri_local = pairs[p] & kPairTriangleMask;
+    const uint c0 = LoadFirst(parent, pc.first_page), c1 = LoadFirst(parent + 1u, pc.first_page);
+    const uint row0 = p * pc.children_max, k1 = min(min(s1, row0 + pc.children_max) - row0, c1 - c0);
+    const vec4 sphere = tri_spheres[pc.b0 + tri_local];
+    for (uint k = max(s0, row0) - row0; k < k1; ++k) {
+      ++tests;
+      if (ConeTest(LoadNodes(c0 + k, pc.node_page), sphere, pc.eps)) kept[n++] = ((c0 + k - pc.base) << kPairTriangleBits) | tri_local;
+    }
+  }
+  return n;
 }
 
 // Phase A for block g (uniform control flow: every invocation runs every round).
@@ -59,16 +81,9 @@ void TestBlock(uint g) {
   const uint first = g * kCompactBlock, end = min(pc.count, first + kCompactBlock), l = gl_LocalInvocationID.x;
   uint run = 0u, tests = 0u;  // survivors and tests of the rounds before
   for (uint r0 = first; r0 < end; r0 += kLocalSize * kCompactRun) {
-    uint kept[kCompactRun];
-    uint n = 0u, t = 0u;
-    const uint s0 = r0 + l * kCompactRun;
-    for (uint k = 0u; k < kCompactRun && s0 + k < end; ++k) {
-      bool hit;
-      uint value;
-      const bool ran = pc.phase == kTraverseCompactPhaseTop ? TopSlot(s0 + k, hit, value) : LevelSlot(s0 + k, hit, value);
-      t += ran ? 1u : 0u;
-      if (hit) kept[n++] = value;
-    }
+    const uint s0 = min(r0 + l * kCompactRun, end), s1 = min(s0 + kCompactRun, end);
+    uint t = 0u, n = 0u;
+    if (s0 < s1) n = pc.phase == kTraverseCompactPhaseTop ? TestTopSlots(s0, s1, t) : TestLevelSlots(s0, s1, t);
     // One scan for both counts, 16 bits each: a round has at most kMaxLocalSize x kCompactRun < 2^16.
     uint sums;
     const uint before = (WorkgroupInclusiveAdd(n | (t << 16), sums) & 0xFFFFu) - n;
