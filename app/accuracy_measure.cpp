@@ -126,6 +126,14 @@ class ModeTraversal final : public emu::ForwardingHierarchyPasses {
     if (!test_) return ForwardingHierarchyPasses::TraverseLevel(c);
     return emu::TraverseLevelWith(test_, c);
   }
+  emu::Compacted TraverseTopCompacted(const emu::call::TraverseTopCompacted& c) override {
+    if (!test_) return ForwardingHierarchyPasses::TraverseTopCompacted(c);
+    return emu::TraverseTopCompactedWith(test_, c);
+  }
+  emu::Compacted TraverseLevelCompacted(const emu::call::TraverseLevelCompacted& c) override {
+    if (!test_) return ForwardingHierarchyPasses::TraverseLevelCompacted(c);
+    return emu::TraverseLevelCompactedWith(test_, c);
+  }
   std::vector<std::uint32_t> Intersect(const emu::call::Intersect& c) override {
     if (!tri_) return ForwardingHierarchyPasses::Intersect(c);
     return emu::IntersectWith(tri_, [&](std::uint32_t ray, const layout::Ray& r, float t, std::uint32_t prim) {

@@ -53,11 +53,19 @@ class Recorder final : public emu::ForwardingHierarchyPasses {
     return s;
   }
   emu::PairSlots TraverseLevel(const emu::call::TraverseLevel& c) override {
-    for (std::uint32_t p : c.pairs) {
-      const std::uint32_t parent = c.base_up + (p >> emu::kPairTriangleBits), tri = c.b0 + (p & emu::kPairTriangleMask);
-      for (std::uint32_t k = c.first[parent]; k < c.first[parent + 1]; ++k) cones_.Offer({c.nodes[k], c.tri_spheres[tri]});
-    }
+    OfferLevel(c);
     return ForwardingHierarchyPasses::TraverseLevel(c);
+  }
+  // The fused calls answer the same queries, offered in the same (slot) order.
+  emu::Compacted TraverseTopCompacted(const emu::call::TraverseTopCompacted& c) override {
+    for (std::uint32_t n = c.t0; n < c.t1; ++n)
+      for (std::uint32_t t = c.b0; t < c.b1; ++t)
+        if (emu::TopSlotTested(c, n, t)) cones_.Offer({c.top[n], c.tri_spheres[t]});
+    return ForwardingHierarchyPasses::TraverseTopCompacted(c);
+  }
+  emu::Compacted TraverseLevelCompacted(const emu::call::TraverseLevelCompacted& c) override {
+    OfferLevel(c);
+    return ForwardingHierarchyPasses::TraverseLevelCompacted(c);
   }
   std::vector<std::uint32_t> Intersect(const emu::call::Intersect& c) override {
     for (std::uint32_t p : c.pairs) {
@@ -69,6 +77,14 @@ class Recorder final : public emu::ForwardingHierarchyPasses {
   }
   Reservoir<ConeQuery> cones_;
   Reservoir<TriQuery> tris_;
+
+ private:
+  void OfferLevel(const emu::call::TraverseLevel& c) {
+    for (std::uint32_t p : c.pairs) {
+      const std::uint32_t parent = c.base_up + (p >> emu::kPairTriangleBits), tri = c.b0 + (p & emu::kPairTriangleMask);
+      for (std::uint32_t k = c.first[parent]; k < c.first[parent + 1]; ++k) cones_.Offer({c.nodes[k], c.tri_spheres[tri]});
+    }
+  }
 };
 
 // Each sphere moved to touch its bundle: radius set to the distance, within 2^-20 relative.

@@ -107,7 +107,7 @@ void Collect(const S& s, Layout& l) {
   ForEachField(s, [&](std::string_view name_view, const auto& f) {
     using F = std::decay_t<decltype(f)>;
     const std::string name(name_view);
-    if constexpr (cd::IsSpan<F>::value || std::is_same_v<F, layout::FrameConstants>) {
+    if constexpr (cd::IsSpan<F>::value || std::is_same_v<F, layout::FrameConstants> || std::is_same_v<F, std::uint64_t>) {
       l.blobs.insert(name);
     } else if constexpr (cd::IsVectorPtr<F>::value) {
       l.blobs.insert(name);
@@ -305,6 +305,26 @@ TEST_CASE("call codec: float scalars keep their bits, NaN payloads included") {
   CHECK(std::bit_cast<std::uint32_t>(d.call.eps) == 0x7FC01234u);
 }
 
+TEST_CASE("call codec: a Compacted result is its pairs and a one-element tested buffer, both compared by name") {
+  const call::TraverseTopCompacted c;
+  const Compacted r{.pairs = {3, 1, 4}, .tested = (std::uint64_t{1} << 40) + 5};  // beyond 2^32 and a JSON double's care
+  const BufferSet out = verify::EncodeOutputs(c, &r);
+  REQUIRE(out.Has("pairs"));
+  REQUIRE(out.Has("tested"));
+  CHECK(out.blobs().size() == 2);
+  CHECK(out.blobs().at("tested").type == verify::ElemType::kU64);
+  const Compacted back = verify::DecodeOutputs(out, c);
+  CHECK(back.pairs == r.pairs);
+  CHECK(back.tested == r.tested);
+  Compacted other = r;
+  other.tested -= 1;
+  const BufferSet out2 = verify::EncodeOutputs(c, &other);
+  const BufferComparison t = verify::CompareBlobs("traverse.compact", "tested", out.blobs().at("tested"), out2.blobs().at("tested"));
+  CHECK_FALSE(t.Equal());
+  CHECK(t.Summary().find("traverse.compact/tested: 1 of 1 elements differ; first at 0") == 0);
+  CHECK(verify::CompareBlobs("traverse.compact", "pairs", out.blobs().at("pairs"), out2.blobs().at("pairs")).Equal());
+}
+
 // ---- CheckInputs ----------------------------------------------------------------------------------
 
 namespace {
@@ -384,6 +404,22 @@ TEST_CASE("CheckInputs: out-of-range inputs are refused naming the call and the 
     c = ok;
     c.children_max = 256;
     Refused(c, "'children_max'");
+  }
+  SUBCASE("traverse.compact.top and traverse.compact.level: the inputs of traverse.top and traverse.level") {
+    call::TraverseTopCompacted top;
+    static_cast<call::TraverseTop&>(top) = {.top = nodes, .t0 = 0, .t1 = 2, .b0 = 0, .b1 = 4, .tri_spheres = spheres, .scene = &scene,
+                                            .object_mask = {}, .eps = 0.0f};
+    Accepted(top);
+    top.t1 = 3;
+    Refused(top, "top nodes [0, 3)");
+    const std::vector<std::uint32_t> first = {0, 1, 2}, pairs = {Pair(0, 3), Pair(1, 0)};
+    call::TraverseLevelCompacted level;
+    static_cast<call::TraverseLevel&>(level) = {.pairs = pairs, .nodes = nodes, .first = first, .base_up = 0, .base = 0,
+                                                .children_max = 1, .b0 = 0, .tri_spheres = spheres, .eps = 0.0f};
+    Accepted(level);
+    RefusesFarPairs(level);
+    level.children_max = 256;
+    Refused(level, "'children_max'");
   }
   SUBCASE("intersect") {
     const std::vector<std::uint32_t> order = {2, 0, 1}, first1 = {0, 2, 3}, pairs = {Pair(1, 3)};

@@ -52,6 +52,8 @@ TEST_CASE("registry: every call reports a registered pass that lists it") {
 TEST_CASE("registry: frame labels resolve to their pass, and only to registered ones") {
   CHECK(PassOfLabel("traverse.L2.shadow.b0") == PassId::kTraverse);
   CHECK(PassOfLabel("traverse.objects.reflection.b1") == PassId::kTraverse);
+  CHECK(PassOfLabel("traverse.compact.L2.shadow.b0") == PassId::kTraverseCompact);  // the longer name wins
+  CHECK(PassOfCall("traverse.compact.level") == PassId::kTraverseCompact);
   CHECK(PassOfLabel("raygen.shadow.b0") == PassId::kRaygenShadow);
   CHECK(PassOfLabel("surfaces.hits.reflection.b1") == PassId::kSurfacesHits);  // the longer name wins
   CHECK(PassOfLabel("surfaces") == PassId::kSurfaces);

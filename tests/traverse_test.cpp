@@ -4,6 +4,7 @@
 #include <cmath>
 #include <set>
 
+#include "rayspace/emu/backend.h"
 #include "rayspace/emu/cone.h"
 #include "rayspace/emu/frame.h"
 #include "rayspace/emu/hierarchy.h"
@@ -130,4 +131,29 @@ TEST_CASE("traverse.top: an object mask of 0 skips the test and records tested =
   const PairSlots s = PassTraverseTop(c);
   CHECK(s.tested == std::vector<std::uint8_t>{1, 1, 0, 0, 1, 1, 1, 1});
   CHECK(s.flags == std::vector<std::uint8_t>{1, 0, 0, 0, 0, 1, 0, 0});  // triangle 2 is no longer flagged
+}
+
+TEST_CASE("traverse.compact: the emulator's backend gives the survivors of the slots in slot order and the tests run") {
+  const TopFixture f;
+  const std::vector<std::uint8_t> mask = {1, 0, 1, 1};
+  call::TraverseTopCompacted c;
+  static_cast<call::TraverseTop&>(c) = f.Call(0, 2, 0, 4);
+  c.object_mask = mask;
+  const Compacted r = EmuHierarchyPasses().TraverseTopCompacted(c);
+  CHECK(r.pairs == std::vector<std::uint32_t>{Pair(0, 0), Pair(1, 1)});  // the flagged slots 0 and 5
+  CHECK(r.tested == 6u);
+  const PairSlots s = PassTraverseTop(c);
+  CHECK(r.pairs == ReduceScan(s.flags, s.values));
+
+  // One level down: each surviving pair's node has two children, copies of the two top nodes.
+  std::vector<layout::ConeNode> children = {f.top[0], f.top[1], f.top[1], f.top[0]};
+  const std::vector<std::uint32_t> first = {0, 2, 4};
+  call::TraverseLevelCompacted lc;
+  static_cast<call::TraverseLevel&>(lc) = {.pairs = r.pairs, .nodes = children, .first = first, .base_up = 0, .base = 0,
+                                           .children_max = 3, .b0 = 0, .tri_spheres = f.spheres, .eps = 0.0f};
+  const Compacted lr = EmuHierarchyPasses().TraverseLevelCompacted(lc);
+  const PairSlots ls = PassTraverseLevel(lc);
+  CHECK(lr.pairs == ReduceScan(ls.flags, ls.values));
+  CHECK(lr.pairs == std::vector<std::uint32_t>{Pair(0, 0), Pair(2, 1)});
+  CHECK(lr.tested == 4u);
 }

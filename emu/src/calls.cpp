@@ -166,7 +166,11 @@ void CheckInputs(const call::BuildParents& c) { CheckFirst(c.kName, "first", c.f
 
 void CheckInputs(const call::ObjectMask&) {}  // any nodes and spheres
 
-void CheckInputs(const call::TraverseTop& c) {
+namespace {
+// traverse.top and traverse.compact.top read the same inputs, as do the two level calls; errors name
+// the call (C::kName).
+template <typename C>
+void CheckTopCall(const C& c) {
   CheckScene(c.kName, c.scene);
   const SceneBuffers& s = *c.scene;
   if (c.t0 > c.t1 || c.t1 > c.top.size()) ThrowInput("{}: top nodes [{}, {}) out of [0, {})", c.kName, c.t0, c.t1, c.top.size());
@@ -183,7 +187,8 @@ void CheckInputs(const call::TraverseTop& c) {
       if (s.info[t].ids.y >= s.objects.size()) ThrowInput("{}: triangle {} names object {}", c.kName, t, s.info[t].ids.y);
 }
 
-void CheckInputs(const call::TraverseLevel& c) {
+template <typename C>
+void CheckLevelCall(const C& c) {
   CheckFirst(c.kName, "first", c.first, c.nodes.size());
   if (c.children_max > 255) ThrowInput("{}: scalar 'children_max' = {} exceeds 255", c.kName, c.children_max);
   for (std::size_t i = 0; i < c.pairs.size(); ++i) {
@@ -194,6 +199,12 @@ void CheckInputs(const call::TraverseLevel& c) {
       ThrowInput("{}: input 'pairs' element {} ({}) is out of range", c.kName, i, p);
   }
 }
+}  // namespace
+
+void CheckInputs(const call::TraverseTop& c) { CheckTopCall(c); }
+void CheckInputs(const call::TraverseTopCompacted& c) { CheckTopCall(c); }
+void CheckInputs(const call::TraverseLevel& c) { CheckLevelCall(c); }
+void CheckInputs(const call::TraverseLevelCompacted& c) { CheckLevelCall(c); }
 
 void CheckInputs(const call::Reduce& c) {
   CheckSameLength(c.kName, "flags", c.flags.size(), "values", c.values.size());

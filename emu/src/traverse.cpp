@@ -25,6 +25,15 @@ std::vector<std::uint8_t> PassObjectMask(const call::ObjectMask& c) { return Obj
 
 PairSlots PassTraverseLevel(const call::TraverseLevel& c) { return TraverseLevelWith(kConeTest, c); }
 
+// traverse.compact is the fused path's levels (emu/src/traverse_fused.cpp): the same survivors in slot
+// order and the same test counts as traverse_compact.comp gives, whatever its blocks and workgroups.
+Compacted PassTraverseTopCompacted(const call::TraverseTopCompacted& c) {
+  return PassTraverseTopCompacted(static_cast<const call::TraverseTop&>(c));
+}
+Compacted PassTraverseLevelCompacted(const call::TraverseLevelCompacted& c) {
+  return PassTraverseLevelCompacted(static_cast<const call::TraverseLevel&>(c));
+}
+
 namespace {
 bool g_fused_fault = false;
 }  // namespace

@@ -148,7 +148,7 @@ std::vector<Requirement> CheckRequirements(VkPhysicalDevice d, const Lacks& lack
             fc.shaderSignedZeroInfNanPreserveFloat32);
   constexpr VkSubgroupFeatureFlags kOps = VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT |
                                           VK_SUBGROUP_FEATURE_BALLOT_BIT | VK_SUBGROUP_FEATURE_SHUFFLE_BIT;
-  c.Feature("subgroupOperations", "trim, sort, reduce, build: basic, arithmetic, ballot and shuffle in compute",
+  c.Feature("subgroupOperations", "trim, sort, reduce, build, traverse.compact: basic, arithmetic, ballot and shuffle in compute",
             (sub.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) && (sub.supportedOperations & kOps) == kOps);
   c.Feature("graphicsComputeQueue", "raster and the compute passes: one queue family with both", HasGraphicsComputeQueue(d));
   CheckFormats(c, d);
@@ -156,7 +156,7 @@ std::vector<Requirement> CheckRequirements(VkPhysicalDevice d, const Lacks& lack
   c.Limit("maxFragmentOutputAttachments", "raster (five G-buffer targets)", 5, lim.maxFragmentOutputAttachments);
   c.Limit("maxPerStageDescriptorStorageBuffers", "intersect (three arrays and five paged arrays of four)", MaxBindings(),
           lim.maxPerStageDescriptorStorageBuffers);
-  c.Limit("maxPushConstantsSize", "traverse (the largest push block)", MaxPushBytes(), lim.maxPushConstantsSize);
+  c.Limit("maxPushConstantsSize", "traverse.compact (the largest push block)", MaxPushBytes(), lim.maxPushConstantsSize);
   c.Limit("maxComputeSharedMemorySize", "sort (wg_tile, digits and bins at the largest local size)", kSharedBytes,
           lim.maxComputeSharedMemorySize);
   return c.Take();

@@ -1,5 +1,6 @@
 // Launches of the traverse kernel (gpu/shaders/traverse.comp): CRSH's object mask, the top level of a
-// block and one level down. The kernel writes 32-bit flags; the calls' results hold bytes.
+// block and one level down. The kernel writes 32-bit flags; the calls' results hold bytes. Also the
+// fused traverse.compact kernel (gpu/shaders/traverse_compact.comp), which reads the same inputs.
 #include "rayspace/gpu/passes.h"
 #include "kernel_util.h"
 
@@ -8,9 +9,9 @@ using namespace detail;
 
 namespace {
 
-// The traverse.comp inputs one pass call reads whole, uploaded once and bound by every part of the
-// call: the level's nodes and child offsets (paged, read by node id), spheres and triangle info
-// (empty spans bind a zeroed placeholder).
+// The traverse.comp (or traverse_compact.comp) inputs one pass call reads whole, uploaded once and
+// bound by every part of the call: the level's nodes and child offsets (paged, read by node id),
+// spheres and triangle info (empty spans bind a zeroed placeholder).
 class Traverser {
  public:
   Traverser(vk::Context& c, const vk::Kernel& k) : c_(c), k_(k) {}
@@ -44,8 +45,55 @@ class Traverser {
     RS_TRY(keep.CopyBack());
     return vk::Status::Ok();
   }
+  // One part of traverse.compact (`push.count` slots; `mask` and `pairs` are this part's): phases A, B
+  // and C in one submit; the part's survivors are appended to out.pairs and its tests added.
+  vk::Status CompactPart(layout::TraverseCompactPush push, std::span<const std::uint32_t> mask, std::span<const std::uint32_t> pairs,
+                         emu::Compacted& out) const {
+    Keep keep;
+    push.blocks = static_cast<std::uint32_t>((std::uint64_t{push.count} + layout::kCompactBlock - 1) / layout::kCompactBlock);
+    push.node_page = nodes_.page;
+    push.first_page = first_.page;
+    const vk::Buffer *bm = nullptr, *bp = nullptr, *bs = nullptr, *bc = nullptr, *bt = nullptr, *bo = nullptr;
+    RS_TRY(keep.From(c_, mask, bm));
+    RS_TRY(keep.From(c_, pairs, bp));
+    RS_TRY(keep.Output(c_, std::size_t{push.count} * 4, bs));  // slot-indexed: a block's survivors fit its slots
+    RS_TRY(keep.Output(c_, (std::size_t{push.blocks} + 1) * 4, bc));
+    RS_TRY(keep.Output(c_, (std::size_t{push.blocks} + 1) * 4, bt));
+    RS_TRY(keep.Output(c_, std::size_t{push.count} * 4, bo));
+    Bindings<layout::kTraverseCompactBindings> b;
+    b.Set(layout::kTraverseCompactBindTriSpheres, &spheres_).Set(layout::kTraverseCompactBindInfo, &info_);
+    b.Set(layout::kTraverseCompactBindMask, bm).Set(layout::kTraverseCompactBindPairs, bp).Set(layout::kTraverseCompactBindScratch, bs);
+    b.Set(layout::kTraverseCompactBindCounts, bc).Set(layout::kTraverseCompactBindTested, bt).Set(layout::kTraverseCompactBindOut, bo);
+    b.Set(layout::kTraverseCompactBindNodes, nodes_).Set(layout::kTraverseCompactBindFirst, first_);
+    vk::Recorder rec(c_);
+    for (const std::uint32_t phase : {push.phase, layout::kTraverseCompactPhaseScan, layout::kTraverseCompactPhaseScatter}) {
+      layout::TraverseCompactPush p = push;
+      p.phase = phase;
+      // A workgroup per block of slots; the scan of the block counts is one workgroup.
+      RS_TRY(rec.DispatchGroups(k_, b.All(), &p, sizeof p, phase == layout::kTraverseCompactPhaseScan ? 1 : push.blocks));
+    }
+    RS_TRY(rec.Submit());
+    return AppendSurvivors(*bc, *bt, *bo, push, out);
+  }
 
  private:
+  // The part's survivors (the scanned counts' total) and tests (the last words of phase B).
+  static vk::Status AppendSurvivors(const vk::Buffer& counts, const vk::Buffer& tested, const vk::Buffer& survivors,
+                                    const layout::TraverseCompactPush& push, emu::Compacted& out) {
+    std::vector<std::uint32_t> c, t;
+    RS_TRY(counts.Download(push.blocks + std::size_t{1}, c));
+    RS_TRY(tested.Download(push.blocks + std::size_t{1}, t));
+    const std::uint32_t total = c[push.blocks];
+    if (total > push.count || t[push.blocks] > push.count)
+      return vk::Status::Fail(fmt::format("traverse.compact kernel reported {} survivors and {} tests of {} slots", total,
+                                          t[push.blocks], push.count));
+    const std::size_t at = out.pairs.size();
+    out.pairs.resize(at + total);
+    if (total) RS_TRY(survivors.Read(out.pairs.data() + at, std::size_t{total} * 4));
+    out.tested += t[push.blocks];
+    return vk::Status::Ok();
+  }
+
   vk::Context& c_;
   const vk::Kernel& k_;
   Paged nodes_, first_;
@@ -133,6 +181,42 @@ vk::Status VulkanPasses::Run(const emu::call::ObjectMask& call, std::vector<std:
     return tr.Part(push, {}, {}, n, 0, mask.data() + i0, nullptr, nullptr);
   }));
   return Narrow("traverse.objects", mask, out);
+}
+
+// traverse.compact at the top level: parts are rows of top nodes, as for traverse.top, so that the
+// scratch and survivor bindings (one word per slot) and the mask rows stay within one binding; the
+// parts' survivors concatenate in slot order.
+vk::Status VulkanPasses::Run(const emu::call::TraverseTopCompacted& call, emu::Compacted& out) {
+  out = {};
+  const std::uint32_t t0 = call.t0, b0 = call.b0, T = call.b1 - call.b0;
+  const std::vector<std::uint32_t> object_mask(call.object_mask.begin(), call.object_mask.end());  // 32-bit words
+  const std::uint32_t objects = static_cast<std::uint32_t>(call.scene->objects.size());
+  Traverser tr(*ctx_, K(PassId::kTraverseCompact));
+  RS_TRY(tr.Upload(call.top, {}, call.tri_spheres, call.scene->info, paged_arrays_));
+  const std::size_t row_words = std::max<std::size_t>({T, object_mask.empty() ? 1 : objects, 1});
+  return ForParts(call.t1 - t0, PerPart(4 * row_words), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
+    const std::uint32_t r0 = t0 + static_cast<std::uint32_t>(i0), n = static_cast<std::uint32_t>((i1 - i0) * T);
+    const layout::TraverseCompactPush push{layout::kTraverseCompactPhaseTop, n, 0, r0, b0, T, objects, object_mask.empty() ? 0u : 1u,
+                                        0, 0, 0, call.eps, t0, 0, 0};
+    const std::span<const std::uint32_t> mask_rows =
+        object_mask.empty() ? std::span<const std::uint32_t>() : std::span(object_mask).subspan(std::size_t{r0} * objects, (i1 - i0) * objects);
+    return tr.CompactPart(push, mask_rows, {}, out);
+  });
+}
+
+// traverse.compact one level down: parts are ranges of pairs, as for traverse.level.
+vk::Status VulkanPasses::Run(const emu::call::TraverseLevelCompacted& call, emu::Compacted& out) {
+  out = {};
+  const std::uint32_t children_max = call.children_max;
+  Traverser tr(*ctx_, K(PassId::kTraverseCompact));
+  RS_TRY(tr.Upload(call.nodes, call.first, call.tri_spheres, {}, paged_arrays_));
+  const std::size_t per = PerPart(4 * std::size_t{std::max(children_max, 1u)});
+  return ForParts(call.pairs.size(), per, extra_dispatches_, [&](std::size_t p0, std::size_t p1) -> vk::Status {
+    const std::uint32_t n = static_cast<std::uint32_t>((p1 - p0) * children_max);
+    const layout::TraverseCompactPush push{layout::kTraverseCompactPhaseLevel, n, 0, 0, call.b0, 0, 0, 0, call.base_up, call.base,
+                                        children_max, call.eps, 0, 0, 0};
+    return tr.CompactPart(push, {}, Slice(call.pairs, p0, p1), out);
+  });
 }
 
 }  // namespace rayspace::gpu_backend

@@ -214,6 +214,48 @@ struct TraversePush {
   uint first_page;
 };
 
+// ---- traverse.compact: the traversal fused with its stream reduction ------------------------------
+// Phase A (Top or Level): one workgroup per block of kCompactBlock consecutive slots (traverse.comp's
+// numbering), walked in rounds of kLocalSize x kCompactRun slots, kCompactRun consecutive ones per
+// invocation; a workgroup scan places each round's survivors after the round before, in slot order,
+// in the block's region of the scratch buffer (slot-indexed: a block never has more survivors than
+// slots). Phase Scan: one workgroup scans the block counts (exclusive offsets, the total last) and
+// sums the block tests. Phase Scatter: one workgroup per block copies its survivors to its offset.
+RS_CONST(uint, kCompactBlock, 4096u);
+RS_CONST(uint, kCompactRun, 32u);
+RS_CONST(uint, kTraverseCompactBindTriSpheres, 0u);
+RS_CONST(uint, kTraverseCompactBindInfo, 1u);
+RS_CONST(uint, kTraverseCompactBindMask, 2u);     // the object mask's rows of this dispatch's top nodes
+RS_CONST(uint, kTraverseCompactBindPairs, 3u);
+RS_CONST(uint, kTraverseCompactBindScratch, 4u);  // one word per slot: each block's survivors from its first slot
+RS_CONST(uint, kTraverseCompactBindCounts, 5u);   // survivors per block, then exclusive offsets; the total last
+RS_CONST(uint, kTraverseCompactBindTested, 6u);   // tests per block; their sum last
+RS_CONST(uint, kTraverseCompactBindOut, 7u);      // the survivors in slot order
+RS_CONST(uint, kTraverseCompactBindNodes, 8u);    // paged
+RS_CONST(uint, kTraverseCompactBindFirst, 12u);   // paged
+RS_CONST(uint, kTraverseCompactBindings, 16u);
+RS_CONST(uint, kTraverseCompactPhaseTop, 0u);      // phase A over top nodes x triangles
+RS_CONST(uint, kTraverseCompactPhaseLevel, 1u);    // phase A over the children of each pair's node
+RS_CONST(uint, kTraverseCompactPhaseScan, 2u);     // phase B
+RS_CONST(uint, kTraverseCompactPhaseScatter, 3u);  // phase C
+struct TraverseCompactPush {
+  uint phase;
+  uint count;   // slots of this dispatch's part
+  uint blocks;  // (count + kCompactBlock - 1) / kCompactBlock
+  uint t0;      // top: the part's first top node (its object-mask rows start there)
+  uint b0;
+  uint tris;
+  uint objects;
+  uint use_mask;
+  uint base_up;
+  uint base;
+  uint children_max;
+  float eps;
+  uint id_base;  // top: packed node ids relative to this node (the call's first)
+  uint node_page;
+  uint first_page;
+};
+
 // ---- reduce: stream reduction of (flag, value) slots -------------------------------------------
 RS_CONST(uint, kReduceBindFlags, 0u);
 RS_CONST(uint, kReduceBindValues, 1u);
@@ -302,12 +344,17 @@ static_assert(kIntersectBindOrder == kIntersectBindFirst + kBufferPages && kInte
               kIntersectBindHits == kIntersectBindRays + kBufferPages &&
               kIntersectBindOccluded == kIntersectBindHits + kBufferPages && kIntersectBindings == kIntersectBindOccluded + kBufferPages);
 static_assert(kShadeBindAccum == kShadeBindOccluded + kBufferPages && kShadeBindings == kShadeBindAccum + kBufferPages);
+static_assert(kTraverseCompactBindFirst == kTraverseCompactBindNodes + kBufferPages &&
+              kTraverseCompactBindings == kTraverseCompactBindFirst + kBufferPages);
+// traverse.compact scans a round's survivors and tests as one word, 16 bits each.
+static_assert(kMaxLocalSize * kCompactRun < 65536u && kCompactBlock % kCompactRun == 0u);
 // Push-constant blocks: scalars only (same offsets in std430 and C++), within the 128 bytes every
 // Vulkan device guarantees.
 static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && sizeof(RaygenShadowPush) == 8 &&
               sizeof(RaygenPush) == 8 && sizeof(TrimPush) == 12 && sizeof(HashPush) == 32 && sizeof(SortPush) == 24 &&
               sizeof(BuildPush) == 20 && sizeof(TraversePush) == 56 && sizeof(ReducePush) == 20 &&
-              sizeof(IntersectPush) == 36 && sizeof(ShadePush) == 16 && sizeof(ElementwisePush) == 8);
+              sizeof(IntersectPush) == 36 && sizeof(ShadePush) == 16 && sizeof(ElementwisePush) == 8 &&
+              sizeof(TraverseCompactPush) == 60);
 static_assert(offsetof(TraversePush, eps) == 40);
 }  // namespace rayspace::layout
 #endif

@@ -31,6 +31,7 @@ enum class PassId : std::uint8_t {
   kBuild,
   kTraverse,
   kReduce,
+  kTraverseCompact,
   kIntersect,
   kShade,
   kResolve,
@@ -84,6 +85,7 @@ inline constexpr SV kSortIdx[] = {"chunk_order"};
 inline constexpr SV kDecompressIdx[] = {"ray_order"};
 inline constexpr SV kTraverseIdx[] = {"values"};
 inline constexpr SV kReduceIdx[] = {"pairs"};
+inline constexpr SV kTraverseCompactIdx[] = {"pairs"};
 inline constexpr SV kIntersectIdx[] = {"tests"};
 constexpr std::span<const SV> None() { return {}; }
 
@@ -101,6 +103,8 @@ inline constexpr CallSpec kBuildCalls[] = {{"build.leaves", None()}, {"build.par
 inline constexpr CallSpec kTraverseCalls[] = {
     {"traverse.objects", None()}, {"traverse.top", kTraverseIdx}, {"traverse.level", kTraverseIdx}};
 inline constexpr CallSpec kReduceCalls[] = {{"reduce", kReduceIdx}};
+inline constexpr CallSpec kTraverseCompactCalls[] = {{"traverse.compact.top", kTraverseCompactIdx},
+                                                     {"traverse.compact.level", kTraverseCompactIdx}};
 inline constexpr CallSpec kIntersectCalls[] = {{"intersect", kIntersectIdx}};
 inline constexpr CallSpec kShadeCalls[] = {{"shade", None()}};
 inline constexpr CallSpec kResolveCalls[] = {{"resolve", None()}};
@@ -120,6 +124,8 @@ inline constexpr PhaseSpec kTraversePhases[] = {RS_PHASE(Traverse, Top), RS_PHAS
 inline constexpr PhaseSpec kReducePhases[] = {RS_PHASE(Reduce, Local),    RS_PHASE(Reduce, BlockSums), RS_PHASE(Reduce, ScanSums),
                                               RS_PHASE(Reduce, Offsets),  RS_PHASE(Reduce, Concat),    RS_PHASE(Reduce, FlagSums),
                                               RS_PHASE(Reduce, Scatter)};
+inline constexpr PhaseSpec kTraverseCompactPhases[] = {RS_PHASE(TraverseCompact, Top), RS_PHASE(TraverseCompact, Level),
+                                                      RS_PHASE(TraverseCompact, Scan), RS_PHASE(TraverseCompact, Scatter)};
 #undef RS_PHASE
 
 inline constexpr FaultSpec kRasterFaults[] = {{1, "the depth is written without the 1/far scale"},
@@ -166,6 +172,11 @@ inline constexpr FaultSpec kReduceFaults[] = {{1, "the last element of every seg
                                               {2, "each scan block starts at the previous block's offset"},
                                               RS_WORKGROUP_FAULTS};
 #undef RS_WORKGROUP_FAULTS
+inline constexpr FaultSpec kTraverseCompactFaults[] = {
+    {1, "each block's survivors land at the next block's offset (the block scan read as inclusive)"},
+    {2, "the last survivor of every block is dropped"},
+    {3, "every round of a block starts at the block's start (the carry between rounds is dropped)"},
+    {4, "each block reports its survivors as its tests"}};
 inline constexpr FaultSpec kIntersectFaults[] = {{1, "tmin and tmax swapped in the range check"},
                                                  {2, "every paged load reads the first page (--split-bytes)"},
                                                  RS_APPROX_DIV,
@@ -195,6 +206,7 @@ inline constexpr std::array<PassSpec, kPassCount> kPasses = {{
   {PassId::kBuild,            "build",             "build",             false, pass_registry_detail::kBuildPhases,       layout::kBuildBindings,        RS_PUSH(BuildPush),         pass_registry_detail::kBuildCalls,         "hierarchy_creation",        pass_registry_detail::kBuildFaults},
   {PassId::kTraverse,         "traverse",          "traverse",          false, pass_registry_detail::kTraversePhases,    layout::kTraverseBindings,     RS_PUSH(TraversePush),      pass_registry_detail::kTraverseCalls,      "hierarchy_traversal",       pass_registry_detail::kTraverseFaults},
   {PassId::kReduce,           "reduce",            "reduce",            false, pass_registry_detail::kReducePhases,      layout::kReduceBindings,       RS_PUSH(ReducePush),        pass_registry_detail::kReduceCalls,        "hierarchy_traversal",       pass_registry_detail::kReduceFaults},
+  {PassId::kTraverseCompact,  "traverse.compact",  "traverse_compact",  false, pass_registry_detail::kTraverseCompactPhases, layout::kTraverseCompactBindings, RS_PUSH(TraverseCompactPush), pass_registry_detail::kTraverseCompactCalls, "hierarchy_traversal", pass_registry_detail::kTraverseCompactFaults},
   {PassId::kIntersect,        "intersect",         "intersect",         false, {},                                        layout::kIntersectBindings,    RS_PUSH(IntersectPush),     pass_registry_detail::kIntersectCalls,     "final_intersection_tests",  pass_registry_detail::kIntersectFaults},
   {PassId::kShade,            "shade",             "shade",             false, {},                                        layout::kShadeBindings,        RS_PUSH(ShadePush),         pass_registry_detail::kShadeCalls,         "",                          pass_registry_detail::kShadeFaults},
   {PassId::kResolve,          "resolve",           "resolve",           false, {},                                        layout::kResolveBindings,      RS_PUSH(ElementwisePush),      pass_registry_detail::kResolveCalls,       "",                          pass_registry_detail::kResolveFaults},

@@ -204,6 +204,19 @@ struct TraverseLevel {
   RS_FIELDS(pairs, nodes, first, base_up, base, children_max, b0, tri_spheres, eps)
 };
 
+// traverse.compact: the same inputs as TraverseTop / TraverseLevel, tested and compacted in one pass.
+// The result is what the slots followed by a reduction give: the survivors' values in slot order and
+// the number of tests run. Each call has its own name, so saved calls replay as the call they were.
+struct TraverseTopCompacted : TraverseTop {
+  static constexpr std::string_view kName = "traverse.compact.top";
+  using Result = Compacted;
+};
+
+struct TraverseLevelCompacted : TraverseLevel {
+  static constexpr std::string_view kName = "traverse.compact.level";
+  using Result = Compacted;
+};
+
 // Stream reduction of (flag, value) slots to the flagged values in slot order: Roger et al.'s
 // hierarchical reduction with components of `component` slots, or a scan.
 struct Reduce {
@@ -240,7 +253,7 @@ struct Intersect {
 #define RS_FRAME_CALLS(X) X(Raster) X(SurfacesFromGBuffer) X(SurfacesFromHits) X(Raygen) X(Trim) X(Shade) X(Resolve)
 #define RS_HIERARCHY_CALLS(X)                                                                        \
   X(Hash) X(Compress) X(SortChunks) X(Decompress) X(BuildLeaves) X(BuildParents) X(ObjectMask) X(TraverseTop) \
-  X(TraverseLevel) X(Reduce) X(Intersect)
+  X(TraverseLevel) X(Reduce) X(TraverseTopCompacted) X(TraverseLevelCompacted) X(Intersect)
 
 // Calls whose kernel runs one invocation per element over input arrays of one length, with no other
 // input (rayspace/contract.h, "element-wise passes"): the Vulkan backend launches them generically.

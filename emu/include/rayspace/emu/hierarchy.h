@@ -121,12 +121,8 @@ PairSlots TraverseTopWith(TestFn&& test, const call::TraverseTop& c) {
 }
 
 // The fused path's levels: what TraverseTopWith / TraverseLevelWith followed by a reduction give
-// (the surviving slots' values in slot order, and the tests run), from one pass over blocks of
-// kFusedBlock slots whose survivors are concatenated in block order.
-struct Compacted {
-  std::vector<std::uint32_t> pairs;
-  std::uint64_t tested = 0;
-};
+// (Compacted, emu/streams.h), from one pass over blocks of kFusedBlock slots whose survivors are
+// concatenated in block order.
 inline constexpr std::size_t kFusedBlock = 8192;
 
 // Test hook: drops the last survivor of every block, so the fused-path equality test can fail.
@@ -185,6 +181,9 @@ Compacted PassTraverseTopCompacted(const call::TraverseTop& c);
 void SetFusedIsa(cone::Isa isa);
 cone::Isa FusedIsa();
 Compacted PassTraverseLevelCompacted(const call::TraverseLevel& c);
+// The traverse.compact calls (emu/calls.h), as the emulator's backend runs them: the two above.
+Compacted PassTraverseTopCompacted(const call::TraverseTopCompacted& c);
+Compacted PassTraverseLevelCompacted(const call::TraverseLevelCompacted& c);
 
 template <typename TestFn>
 std::vector<std::uint8_t> ObjectMaskWith(TestFn&& test, const call::ObjectMask& c) {

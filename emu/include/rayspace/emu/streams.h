@@ -53,6 +53,15 @@ struct PairSlots {
   RS_FIELDS(flags, values, tested)
 };
 
+// A level tested and compacted in one pass (traverse.compact): the surviving slots' values in slot
+// order, what PairSlots followed by a reduction give, and the number of tests run. `tested` is a
+// one-element buffer in a buffer set, so the diff compares it (verify/call_codec.h).
+struct Compacted {
+  std::vector<std::uint32_t> pairs;
+  std::uint64_t tested = 0;
+  RS_FIELDS(pairs, tested)
+};
+
 enum class Reduction : std::uint32_t { kHierarchical = 0, kScan = 1 };
 
 struct HashConfig {

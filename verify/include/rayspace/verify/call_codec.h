@@ -6,6 +6,8 @@
 //   const SceneBuffers* <-> the scene.* buffers
 //   layout::FrameConstants <-> a one-element buffer NAME
 //   a struct with fields <-> its fields, flattened
+//   std::uint64_t      <->  a one-element buffer NAME (JSON numbers hold 53 bits; and as a buffer an
+//                           output count is compared like any other output, e.g. Compacted::tested)
 //   integer / enum     <->  scalar NAME; float <-> scalar NAME_bits (its bit pattern, so NaNs survive)
 //   std::vector<T> (in a result) <-> buffer NAME
 #pragma once
@@ -68,6 +70,8 @@ void EncodeField(BufferSet& out, std::string_view name_view, const F& f) {
     out.scalars[name + "_bits"] = std::bit_cast<std::uint32_t>(f);
   } else if constexpr (std::is_same_v<F, bool>) {
     out.scalars[name] = f ? 1 : 0;
+  } else if constexpr (std::is_same_v<F, std::uint64_t>) {
+    out.PutOne(name, f);
   } else if constexpr (std::is_enum_v<F>) {
     out.scalars[name] = static_cast<std::underlying_type_t<F>>(f);
   } else if constexpr (kScalar<F>) {
@@ -95,6 +99,8 @@ void DecodeField(const BufferSet& in, std::string_view name_view, F& f, Store& s
     f = std::bit_cast<float>(in.U32(name + "_bits"));
   } else if constexpr (std::is_same_v<F, bool>) {
     f = in.U32(name) != 0;
+  } else if constexpr (std::is_same_v<F, std::uint64_t>) {
+    f = in.GetOne<std::uint64_t>(name);
   } else if constexpr (std::is_enum_v<F>) {
     f = static_cast<F>(in.U32(name));
   } else if constexpr (std::is_signed_v<F> && kScalar<F>) {

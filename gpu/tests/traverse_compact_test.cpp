@@ -1,0 +1,347 @@
+// traverse.compact (gpu/shaders/traverse_compact.comp): the fused test and compaction against the
+// emulator's PassTraverseTopCompacted / PassTraverseLevelCompacted and against the two passes it
+// replaces (traverse, then reduce), on the calls of real frames and on random configurations: blocks
+// of survivors that straddle workgroups and rounds, workgroup sizes, parts, object masks, empty calls
+// and calls without survivors; and every planted fault of the kernel must be seen.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "rayspace/emu/backend.h"
+#include "rayspace/emu/frame.h"
+#include "rayspace/emu/hierarchy.h"
+#include "rayspace/emu/intersect.h"
+#include "rayspace/gpu/passes.h"
+#include "rayspace/scene.h"
+
+namespace rayspace {
+namespace {
+
+using Rng = std::mt19937;
+using emu::call::TraverseLevel;
+using emu::call::TraverseLevelCompacted;
+using emu::call::TraverseTop;
+using emu::call::TraverseTopCompacted;
+
+std::unique_ptr<gpu_backend::VulkanPasses> MakeGpu(const gpu_backend::Faults& faults = {}, std::uint32_t local_size = 64) {
+  std::unique_ptr<gpu_backend::VulkanPasses> gpu;
+  const vk::Status st = gpu_backend::VulkanPasses::Create(-1, faults, gpu, local_size);
+  INFO("Vulkan: " << st.message);
+  REQUIRE(st);  // the build has Vulkan and the bootstrap installs lavapipe
+  return gpu;
+}
+
+template <typename C>
+emu::Compacted OnGpu(gpu_backend::VulkanPasses& gpu, const C& call) {
+  emu::Compacted out;
+  const vk::Status st = gpu.Run(call, out);
+  INFO(C::kName << ": " << st.message);
+  REQUIRE(st);
+  return out;
+}
+
+// The two passes the fused one replaces, on the device: the traversal's slots, then the scan-based
+// stream reduction of its flags and values; tests counted from the slots.
+template <typename C>
+emu::Compacted TwoPassesOnGpu(gpu_backend::VulkanPasses& gpu, const C& call) {
+  emu::PairSlots slots;
+  const vk::Status st = gpu.Run(call, slots);
+  INFO(C::kName << ": " << st.message);
+  REQUIRE(st);
+  emu::Compacted r;
+  for (std::uint8_t t : slots.tested) r.tested += t;
+  const emu::call::Reduce reduce{.reduction = emu::Reduction::kScan, .flags = slots.flags, .values = slots.values};
+  const vk::Status rs = gpu.Run(reduce, r.pairs);
+  INFO("reduce: " << rs.message);
+  REQUIRE(rs);
+  return r;
+}
+
+// "" when equal, else where the two first differ.
+std::string Difference(const emu::Compacted& expected, const emu::Compacted& actual) {
+  if (expected.tested != actual.tested)
+    return "tested: " + std::to_string(expected.tested) + " expected, " + std::to_string(actual.tested) + " actual";
+  if (expected.pairs.size() != actual.pairs.size())
+    return "pairs: " + std::to_string(expected.pairs.size()) + " expected, " + std::to_string(actual.pairs.size()) + " actual";
+  const auto m = std::mismatch(expected.pairs.begin(), expected.pairs.end(), actual.pairs.begin());
+  if (m.first == expected.pairs.end()) return "";
+  return "pairs[" + std::to_string(m.first - expected.pairs.begin()) + "]: " + std::to_string(*m.first) + " expected, " +
+         std::to_string(*m.second) + " actual";
+}
+
+// ---- random configurations -------------------------------------------------------------------------
+
+glm::vec3 RandomDir(Rng& rng) {
+  std::normal_distribution<float> n;
+  return emu::Normalize(glm::vec3(n(rng), n(rng), n(rng)));
+}
+
+// Cone-sphere nodes over 1..8 rays each, the rays of a node leaving a small box in similar directions
+// (narrow cones: a few percent of the spheres meet a node). `up`: every direction has z > 0.
+std::vector<layout::ConeNode> RandomNodes(Rng& rng, std::size_t count, bool up = false) {
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<layout::Ray> rays;
+  std::vector<std::uint32_t> order, first{0};
+  while (first.size() <= count) {
+    glm::vec3 dir = RandomDir(rng);
+    if (up) dir = emu::Normalize(glm::vec3(dir.x, dir.y, std::fabs(dir.z) + 1.0f));
+    const glm::vec3 centre(u(rng) * 2.0f, u(rng) * 2.0f, u(rng) * 2.0f);
+    for (std::uint32_t j = 0, n = 1 + rng() % 8; j < n; ++j) {
+      layout::Ray r{};
+      r.origin_tmin = glm::vec4(centre + 0.1f * glm::vec3(u(rng), u(rng), u(rng)), 0.0f);
+      r.direction_tmax = glm::vec4(emu::Normalize(dir + 0.2f * glm::vec3(u(rng), u(rng), u(rng))), 100.0f);
+      r.info = glm::uvec4(static_cast<std::uint32_t>(rays.size()), layout::kNoPrim, 0u, 0u);
+      order.push_back(static_cast<std::uint32_t>(rays.size()));
+      rays.push_back(r);
+    }
+    first.push_back(static_cast<std::uint32_t>(order.size()));
+  }
+  return emu::PassBuildLeaves({.rays = rays, .order = order, .first = first});
+}
+
+// `behind`: every sphere far below z = 0, behind nodes whose rays all go up (no survivors).
+std::vector<glm::vec4> RandomSpheres(Rng& rng, std::size_t count, bool behind = false) {
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f), r(0.05f, 1.5f);
+  std::vector<glm::vec4> s(count);
+  for (glm::vec4& x : s) x = glm::vec4(u(rng) * 6.0f, u(rng) * 6.0f, u(rng) * 6.0f - (behind ? 1000.0f : 0.0f), r(rng));
+  return s;
+}
+
+// A top-level configuration: nodes, spheres, a scene whose triangles belong to `objects` objects in
+// runs, and a random object mask (kept only when `masked`).
+struct TopCase {
+  std::vector<layout::ConeNode> top;
+  std::vector<glm::vec4> spheres;
+  std::vector<std::uint8_t> mask;
+  SceneBuffers scene;
+  TopCase(std::uint32_t seed, std::size_t nodes, std::size_t tris, std::uint32_t objects, bool masked, bool far = false) {
+    Rng rng(seed);
+    top = RandomNodes(rng, nodes, far);
+    spheres = RandomSpheres(rng, tris, far);
+    scene.triangles.resize(tris);
+    scene.info.resize(tris);
+    scene.objects.resize(objects);
+    for (std::size_t t = 0; t < tris; ++t) scene.info[t].ids.y = static_cast<std::uint32_t>(t * objects / tris);
+    if (masked)
+      for (std::size_t e = 0; e < top.size() * objects; ++e) mask.push_back(rng() % 3 != 0);
+  }
+  TraverseTopCompacted Call(std::uint32_t t0, std::uint32_t t1, std::uint32_t b0, std::uint32_t b1, float eps = 0.0f) const {
+    TraverseTopCompacted c;
+    static_cast<TraverseTop&>(c) = {.top = top, .t0 = t0, .t1 = t1, .b0 = b0, .b1 = b1, .tri_spheres = spheres, .scene = &scene,
+                                    .object_mask = mask, .eps = eps};
+    return c;
+  }
+};
+
+// A lower level: `parents` nodes above with 0..children_max children each among `nodes`, and random
+// (parent, triangle) pairs of the parents from base_up on.
+struct LevelCase {
+  std::vector<layout::ConeNode> nodes;
+  std::vector<std::uint32_t> first{0}, pairs;
+  std::vector<glm::vec4> spheres;
+  std::uint32_t base_up = 3, children_max;
+  LevelCase(std::uint32_t seed, std::uint32_t parents, std::size_t pair_count, std::uint32_t children_max_, bool far = false)
+      : children_max(children_max_) {
+    Rng rng(seed);
+    for (std::uint32_t p = 0; p < parents; ++p) first.push_back(first.back() + (children_max ? rng() % (children_max + 1) : 0));
+    nodes = RandomNodes(rng, first.back(), far);
+    nodes.resize(first.back());
+    spheres = RandomSpheres(rng, 200, far);
+    for (std::size_t i = 0; i < pair_count; ++i)
+      pairs.push_back(((rng() % (parents - base_up)) << layout::kPairTriangleBits) | (rng() % 150));
+  }
+  TraverseLevelCompacted Call(float eps = 0.0f) const {
+    TraverseLevelCompacted c;
+    static_cast<TraverseLevel&>(c) = {.pairs = pairs, .nodes = nodes, .first = first, .base_up = base_up, .base = first[base_up],
+                                      .children_max = children_max, .b0 = 50, .tri_spheres = spheres, .eps = eps};
+    return c;
+  }
+};
+
+emu::Compacted Emulated(const TraverseTopCompacted& c) { return emu::EmuHierarchyPasses().TraverseTopCompacted(c); }
+emu::Compacted Emulated(const TraverseLevelCompacted& c) { return emu::EmuHierarchyPasses().TraverseLevelCompacted(c); }
+
+// The Vulkan result of `call` equals the emulator's and that of the two passes on the device; returns it.
+template <typename C>
+emu::Compacted CheckCall(gpu_backend::VulkanPasses& gpu, const C& call) {
+  emu::CheckInputs(call);
+  const emu::Compacted expected = Emulated(call), got = OnGpu(gpu, call);
+  CHECK(Difference(expected, got) == "");
+  CHECK(Difference(expected, TwoPassesOnGpu(gpu, call)) == "");
+  return got;
+}
+
+}  // namespace
+
+TEST_CASE("traverse.compact: random top-level calls equal the emulator and traverse + reduce at every workgroup size") {
+  // 300 x 340 slots: 25 blocks of kCompactBlock, each of 1 to 4096 rounds depending on the local size.
+  const TopCase plain(7, 300, 340, 5, false), masked(8, 300, 340, 5, true);
+  for (const std::uint32_t local_size : {64u, 1u, 7u, 256u}) {
+    CAPTURE(local_size);
+    auto gpu = MakeGpu({}, local_size);
+    const emu::Compacted all = CheckCall(*gpu, plain.Call(0, 300, 0, 340));
+    // Both answers are common, so blocks hold some survivors and not all.
+    CHECK(all.pairs.size() > all.tested / 50);
+    CHECK(all.pairs.size() < all.tested - all.tested / 20);
+    CHECK(all.tested == 300u * 340u);
+    const emu::Compacted culled = CheckCall(*gpu, masked.Call(0, 300, 0, 340));
+    CHECK(culled.tested < all.tested);
+    CHECK(culled.tested > 0u);
+    CheckCall(*gpu, masked.Call(17, 211, 33, 301, 0.05f));  // a sub-block: ids relative to t0 and b0, mask rows from t0
+  }
+}
+
+TEST_CASE("traverse.compact: random lower-level calls equal the emulator and traverse + reduce") {
+  auto gpu = MakeGpu();
+  for (const std::uint32_t children_max : {1u, 4u, 8u, 16u}) {
+    CAPTURE(children_max);
+    const LevelCase lc(children_max, 400, 3000, children_max);
+    const emu::Compacted r = CheckCall(*gpu, lc.Call());
+    CHECK(r.pairs.size() > 0u);
+    CHECK(r.pairs.size() < r.tested);
+    CheckCall(*gpu, lc.Call(0.05f));
+  }
+  auto gpu7 = MakeGpu({}, 7);
+  CheckCall(*gpu7, LevelCase(99, 300, 2000, 8).Call());
+}
+
+TEST_CASE("traverse.compact: empty calls and calls without survivors") {
+  auto gpu = MakeGpu();
+  const TopCase tc(3, 40, 50, 2, true), far(4, 200, 100, 2, false, true);
+  constexpr std::array<std::array<std::uint32_t, 4>, 3> kEmpty = {{{0, 0, 0, 50}, {5, 5, 3, 3}, {0, 40, 7, 7}}};
+  for (const auto& [t0, t1, b0, b1] : kEmpty) {
+    const emu::Compacted r = CheckCall(*gpu, tc.Call(t0, t1, b0, b1));
+    CHECK(r.pairs.empty());
+    CHECK(r.tested == 0u);
+  }
+  const emu::Compacted none = CheckCall(*gpu, far.Call(0, 200, 0, 100));
+  CHECK(none.pairs.empty());
+  CHECK(none.tested == 200u * 100u);
+  std::vector<std::uint8_t> zeros(tc.mask.size(), 0);
+  TraverseTopCompacted culled = tc.Call(0, 40, 0, 50);
+  culled.object_mask = zeros;  // every test culled by the object mask
+  const emu::Compacted masked = CheckCall(*gpu, culled);
+  CHECK(masked.pairs.empty());
+  CHECK(masked.tested == 0u);
+  LevelCase lc(5, 50, 100, 8);
+  TraverseLevelCompacted no_pairs = lc.Call();
+  no_pairs.pairs = {};
+  CHECK(CheckCall(*gpu, no_pairs).tested == 0u);
+  const LevelCase childless(6, 50, 100, 0), far_level(7, 60, 500, 8, true);
+  CHECK(CheckCall(*gpu, childless.Call()).tested == 0u);
+  const emu::Compacted far_r = CheckCall(*gpu, far_level.Call());
+  CHECK(far_r.pairs.empty());
+  CHECK(far_r.tested > 0u);
+}
+
+TEST_CASE("traverse.compact: calls split into parts by a small binding limit concatenate in slot order") {
+  auto gpu = MakeGpu();
+  gpu->LimitForTesting(16384, 3);  // 4,096 words a binding (one block), 3 workgroups a launch row
+  const TopCase tc(12, 120, 500, 4, true);
+  const std::size_t extra = gpu->extra_dispatches();
+  CheckCall(*gpu, tc.Call(0, 120, 0, 500));
+  CHECK(gpu->extra_dispatches() - extra >= 10);  // 8 rows of 500 slots a part
+  CheckCall(*gpu, LevelCase(13, 150, 4000, 8).Call());  // parts of 512 pairs
+}
+
+TEST_CASE("traverse.compact: every planted fault of the kernel is seen") {
+  const TopCase tc(21, 300, 340, 3, false);
+  const LevelCase lc(22, 400, 3000, 8);
+  const TraverseTopCompacted top = tc.Call(0, 300, 0, 340);
+  const emu::Compacted expected = Emulated(top);
+  for (const FaultSpec& f : Pass(PassId::kTraverseCompact).faults) {
+    CAPTURE(f.effect);
+    auto gpu = MakeGpu({{"traverse.compact", f.number}});
+    CHECK(Difference(expected, OnGpu(*gpu, top)) != "");
+    CHECK(Difference(Emulated(lc.Call()), OnGpu(*gpu, lc.Call())) != "");
+  }
+}
+
+// ---- the calls of real frames --------------------------------------------------------------------
+
+namespace {
+
+// The emulator's hierarchy passes, checking every traversal call of the frame as traverse.compact on
+// the device against the emulator's fused result and against the emulator's own slots reduced.
+class CompactChecker final : public emu::ForwardingHierarchyPasses {
+ public:
+  explicit CompactChecker(gpu_backend::VulkanPasses& gpu) : gpu_(gpu) {}
+  emu::PairSlots TraverseTop(const emu::call::TraverseTop& c) override {
+    emu::PairSlots s = ForwardingHierarchyPasses::TraverseTop(c);
+    emu::call::TraverseTopCompacted cc;
+    static_cast<emu::call::TraverseTop&>(cc) = c;
+    Check(cc, s);
+    return s;
+  }
+  emu::PairSlots TraverseLevel(const emu::call::TraverseLevel& c) override {
+    emu::PairSlots s = ForwardingHierarchyPasses::TraverseLevel(c);
+    emu::call::TraverseLevelCompacted cc;
+    static_cast<emu::call::TraverseLevel&>(cc) = c;
+    Check(cc, s);
+    return s;
+  }
+  std::size_t calls = 0, pairs = 0, mismatches = 0;
+
+ private:
+  template <typename C>
+  void Check(const C& c, const emu::PairSlots& s) {
+    emu::Compacted two;
+    two.pairs = emu::ReduceScan(s.flags, s.values);
+    for (std::uint8_t t : s.tested) two.tested += t;
+    const emu::Compacted got = OnGpu(gpu_, c);
+    const std::string d = Difference(Emulated(c), got), d2 = Difference(two, got);
+    if (!d.empty() || !d2.empty()) {
+      ++mismatches;
+      MESSAGE(c.kName << ": " << d << " / against traverse + reduce: " << d2);
+    }
+    ++calls;
+    pairs += got.pairs.size();
+  }
+  gpu_backend::VulkanPasses& gpu_;
+};
+
+void CheckFrame(const std::string& file, int size, emu::Algorithm algorithm) {
+  LoadOptions lo;
+  lo.data_root = RAYSPACE_TEST_DATA_ROOT;
+  const Scene scene = LoadScene(std::filesystem::path(RAYSPACE_SOURCE_DIR) / "scenes" / file, lo);
+  const SceneBuffers b = FlattenScene(scene);
+  auto gpu = MakeGpu();
+  CompactChecker checker(*gpu);
+  emu::HierarchyConfig cfg;
+  cfg.algorithm = algorithm;
+  cfg.image_width = cfg.image_height = size;
+  cfg.passes = &checker;
+  auto tracer = emu::MakeHierarchyTracer(b, cfg);
+  emu::FrameOptions fo;
+  fo.width = fo.height = size;
+  emu::RenderFrame(scene, b, *tracer, fo);
+  CAPTURE(file);
+  CHECK(checker.calls > 4u);
+  CHECK(checker.pairs > 1000u);
+  CHECK(checker.mismatches == 0u);
+}
+
+}  // namespace
+
+TEST_CASE("traverse.compact: every traversal call of cornell-mirrors and office frames") {
+  CheckFrame("cornell-mirrors.json", 64, emu::Algorithm::kCrsh);
+  CheckFrame("office.json", 48, emu::Algorithm::kCrsh);
+  CheckFrame("cornell-mirrors.json", 48, emu::Algorithm::kRah);
+}
+
+TEST_CASE("traverse.compact: every traversal call of a Sponza frame") {
+  if (!std::filesystem::exists(std::filesystem::path(RAYSPACE_TEST_DATA_ROOT) / "sponza_dabrovic" / "sponza.obj")) {
+    MESSAGE("skipped: no sponza_dabrovic/sponza.obj under the data root");
+    return;
+  }
+  CheckFrame("sponza.json", 32, emu::Algorithm::kCrsh);
+}
+
+}  // namespace rayspace
