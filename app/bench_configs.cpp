@@ -12,7 +12,8 @@ namespace {
 // (it is in kAlgorithms). Configurations of one --algo must give the same frame digest.
 const BenchConfig kVariants[] = {
     {"crsh-passes", "crsh", "passes", "emu", "crsh with the kernels' passes on the emulator (render --path passes)"},
-    {"vulkan", "crsh", "auto", "vulkan", "crsh with the GLSL kernels (render --backend vulkan; skipped without a device)"},
+    {"vulkan", "crsh", "fused", "vulkan", "crsh with the GLSL kernels, levels fused (render --backend vulkan; skipped without a device)"},
+    {"vulkan-passes", "crsh", "passes", "vulkan", "crsh with the GLSL kernels pass by pass (render --backend vulkan --path passes)"},
 };
 
 std::vector<BenchConfig> MakeConfigs() {

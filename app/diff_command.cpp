@@ -293,7 +293,9 @@ ExitCode RunDiff(const DiffArgs& args) {
   } else if (args.algo == "embree") {
     host_tracer = refs::MakeEmbreeTracer(buffers, 0);
   } else {
-    hierarchy = emu::MakeHierarchyTracer(buffers, MakeHierarchyConfig(args, fo.width, fo.height, &differ.hierarchy()));
+    emu::HierarchyConfig cfg = MakeHierarchyConfig(args, fo.width, fo.height, &differ.hierarchy());
+    cfg.fused = args.path == "fused";
+    hierarchy = emu::MakeHierarchyTracer(buffers, cfg);
   }
   Tracer& tracer = hierarchy ? static_cast<Tracer&>(*hierarchy) : *host_tracer;
 

@@ -13,6 +13,7 @@ struct DiffArgs : FrameArgs {
   std::string scene, report, inject, save_inputs;
   int local_size = 64;
   std::string compare = "auto";  // --compare: auto, bitwise or relaxed
+  std::string path = "passes";   // --path: passes (traverse then reduce) or fused (traverse.compact)
 };
 
 // Runs the whole frame with every pass on both backends (same inputs: the GPU's previous outputs)

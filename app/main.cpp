@@ -49,10 +49,9 @@ void AddRender(CLI::App& app, Commands& cmds) {
                  "Where the passes run: emu (the CPU emulation) or vulkan (the GLSL kernels; same bits expected)")
       ->check(CLI::IsMember({"emu", "vulkan"}));
   rc->add_option("--path", cmds.render.path,
-                 "Hierarchy traversal on the emulator: fused (each level tests and compacts in one pass; the same "
-                 "pairs, statistics and digest) or passes (the kernels' passes, as diff runs them); auto: fused with "
-                 "--backend emu unless --check-workgroups or --schedule asks for the passes' workgroups, passes "
-                 "with vulkan")
+                 "Hierarchy traversal: fused (each level tests and compacts in one pass, traverse.compact; the same "
+                 "pairs, statistics and digest) or passes (traverse then reduce); auto: fused unless "
+                 "--check-workgroups or --schedule asks for the passes' emulated workgroups")
       ->check(CLI::IsMember({"auto", "fused", "passes"}));
   rc->add_flag("--no-oracle", cmds.render.no_oracle, "Skip the oracle re-trace");
   rc->add_flag("--timings", cmds.render.timings, "Print time per phase (the thesis's phases) and tests per second");
@@ -109,6 +108,10 @@ void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
   rayspace::app::AddLocalSizeOption(*dc, cmds.diff.local_size);
   dc->add_option("--save-inputs", cmds.diff.save_inputs, "Write every pass call's inputs to DIR/NNNN-PASS/ (for replay)");
   AddCompareOption(*dc, cmds.diff.compare);
+  dc->add_option("--path", cmds.diff.path,
+                 "Hierarchy traversal: passes (traverse then reduce, default) or fused (traverse.compact, what render "
+                 "runs by default)")
+      ->check(CLI::IsMember({"fused", "passes"}));
   CLI::App* pc = cmds.replay_cmd = app.add_subcommand("replay", "Run one pass call saved by diff --save-inputs on both backends and compare");
   pc->add_option("dir", cmds.replay.dir, "Directory of the saved call (DIR/NNNN-PASS)")->required();
   pc->add_option("--report", cmds.replay.report, "Write the comparison as JSON to this file");

@@ -45,14 +45,13 @@ emu::FrameResult RenderChecked(const Scene& scene, const SceneBuffers& buffers, 
 
 }  // namespace
 
-// The fused traversal is the emulator's; the Vulkan backend runs its kernels pass by pass. Checking
-// or reordering the emulated workgroups (--check-workgroups, --schedule) is about the passes'
-// workgroup kernels (the reduction's among them), so `auto` keeps the passes then.
+// The fused path runs each level as one traverse.compact pass, on any backend (the emulator adds
+// host shortcuts for the sort and the final tests). Checking or reordering the emulated workgroups
+// (--check-workgroups, --schedule) is about the passes' workgroup kernels (the reduction's among
+// them), so `auto` keeps the passes then.
 bool UsesFusedPath(const RenderArgs& args) {
-  if (args.path == "fused" && args.backend != "emu")
-    ThrowInput("--path fused: the {} backend runs its kernels pass by pass; use --backend emu", args.backend);
   const bool workgroup_model = args.model.check || args.model.schedule != "forward";
-  return args.path == "fused" || (args.path == "auto" && args.backend == "emu" && !workgroup_model);
+  return args.path == "fused" || (args.path == "auto" && !workgroup_model);
 }
 
 Backend MakeRenderBackend(const RenderArgs& args) {

@@ -288,6 +288,14 @@ diff_case(strict-math.office office 64x64 "" 0 "" --strict-math)
 # The scan-based reduction's fault needs the scan reduction.
 diff_case(fault.reduce:2 cornell-mirrors 64x64 reduce:2 4 reduce --reduction scan)
 diff_case(fault.rah.traverse:1 cornell-mirrors 64x64 traverse:1 4 traverse --algo rah)
+# The fused path, render's default: each level one traverse.compact call on both backends; equal on
+# the frames, and each of the pass's faults caught in a whole frame.
+diff_case(cornell.crsh.fused cornell-mirrors 96x80 "" 0 "" --path fused)
+diff_case(office.rah.fused office 64x64 "" 0 "" --path fused --algo rah)
+diff_case(cornell.rah-quadtree.fused cornell-mirrors 64x64 "" 0 "" --path fused --algo rah-quadtree)
+foreach(f traverse.compact:1 traverse.compact:2 traverse.compact:3 traverse.compact:4)
+  diff_case(fault.fused.${f} cornell-mirrors 64x64 ${f} 4 traverse.compact --path fused)
+endforeach()
 
 # The workgroup faults (kFault* in rayspace/contract.h), planted in workgroup.glsl's
 # WorkgroupInclusiveAdd or in its emulated mirror. In the kernel the diff must catch them in their

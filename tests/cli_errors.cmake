@@ -115,9 +115,6 @@ expect_error(NAME "--threads 0"
 expect_error(NAME "--split-bytes 100 (below one element of every buffer)"
              NEEDLES "--split-bytes" "100"
              ARGS render "${WORK}/good.json" --backend vulkan --split-bytes 100 --out "${WORK}/x.png")
-expect_error(NAME "--path fused with the Vulkan backend"
-             NEEDLES "--path fused" "vulkan"
-             ARGS render "${WORK}/good.json" --backend vulkan --path fused --out "${WORK}/x.png")
 expect_error(NAME "--path unknown"
              NEEDLES "--path"
              ARGS render "${WORK}/good.json" --path sideways --out "${WORK}/x.png")

@@ -52,7 +52,7 @@ class Impl final : public HierarchyTracer {
       : scene_(scene), cfg_(cfg), passes_(cfg.passes ? *cfg.passes : EmuHierarchyPasses()) {
     RS_CHECK(cfg.subdivision >= 2 && cfg.depth >= 1 && cfg.component_size >= 1);
     RS_CHECK(cfg.max_batch_triangles >= 1 && cfg.max_batch_triangles <= (1u << kTriBits));
-    RS_CHECK_MSG(!cfg.fused || cfg.passes == nullptr, "the fused path is the emulator's; a backend runs pass by pass");
+
     eps_ = TraversalEpsilon(scene);
   }
 
@@ -143,7 +143,7 @@ class Impl final : public HierarchyTracer {
     Digest("compress", "chunk_base", chunks.base);
     const std::vector<std::uint32_t> sorted = Sub("sort", chunks.key.size(), [&] {
       const call::SortChunks call{.chunk_key = chunks.key};
-      return cfg_.fused ? SortChunksHost(call) : passes_.SortChunks(call);
+      return HostFastPath() ? SortChunksHost(call) : passes_.SortChunks(call);
     });
     Digest("sort", "chunk_order", sorted);
     std::vector<std::uint32_t> order = Sub("decompress", n, [&] { return passes_.Decompress(
@@ -226,18 +226,22 @@ class Impl final : public HierarchyTracer {
     return s;
   }
 
-  // One level of a block: its tests and the compaction of the survivors, fused (the emulator's fast
-  // path) or as the two passes the kernels run; the same pairs in the same order either way.
+  // The fused path on the emulator's own passes: the sort and the final tests take host shortcuts
+  // with the same results (SortChunksHost, PassIntersectLanes). A backend runs its kernels.
+  bool HostFastPath() const { return cfg_.fused && cfg_.passes == nullptr; }
+
+  // One level of a block: its tests and the compaction of the survivors, fused in one pass
+  // (traverse.compact) or as the two passes traverse and reduce; the same pairs in the same order.
   template <typename Call>
   std::vector<std::uint32_t> TestAndCompact(int L, std::size_t slots_n, const Call& call, LevelStats& st) {
     const std::string level = std::to_string(L);
     std::vector<std::uint32_t> pairs;
     if (cfg_.fused) {
-      Compacted c = Sub("traverse.fused.L" + level, slots_n, [&] {
+      Compacted c = Sub("traverse.compact.L" + level, slots_n, [&] {
         if constexpr (std::is_same_v<Call, call::TraverseTop>)
-          return PassTraverseTopCompacted(call);
+          return passes_.TraverseTopCompacted(call::TraverseTopCompacted{call});
         else
-          return PassTraverseLevelCompacted(call);
+          return passes_.TraverseLevelCompacted(call::TraverseLevelCompacted{call});
       });
       st.intersections = c.tested;
       pairs = std::move(c.pairs);
@@ -292,7 +296,7 @@ class Impl final : public HierarchyTracer {
         Sub("intersect", pairs.size(), [&] {
           const call::Intersect call{.pairs = pairs, .first1 = f1, .base1 = base1, .b0 = b0, .order = order, .rays = rays,
                                      .scene = &scene_, .hits = hits, .occluded = occluded};
-          return cfg_.fused ? PassIntersectLanes(call, watertight_) : passes_.Intersect(call);
+          return HostFastPath() ? PassIntersectLanes(call, watertight_) : passes_.Intersect(call);
         });
     if (cfg_.candidate_log) {
       for (std::uint32_t pair : pairs) {
@@ -352,7 +356,7 @@ class Impl final : public HierarchyTracer {
     std::vector<std::uint32_t> quad_keys;
     const std::vector<std::uint32_t> order = Order(rays, quad_keys);
     const Hierarchy h = Sub("build", rays.size(), [&] { return Build(rays, order, quad_keys); });
-    if (cfg_.fused) watertight_ = Sub("intersect.setup", rays.size(), [&] { return ToWatertightArrays(rays, order); });
+    if (HostFastPath()) watertight_ = Sub("intersect.setup", rays.size(), [&] { return ToWatertightArrays(rays, order); });
     for (int L = 1; L <= cfg_.depth; ++L) Digest("build", "nodes.L" + std::to_string(L), h.nodes[L - 1]);
     const std::uint32_t top = static_cast<std::uint32_t>(h.nodes[cfg_.depth - 1].size());
 

@@ -36,10 +36,10 @@ struct HierarchyConfig {
   std::vector<std::uint64_t>* candidate_log = nullptr;
   // Test hook: when set, every level's compacted pairs are appended, level by level, block by block.
   std::vector<std::vector<std::uint32_t>>* pair_log = nullptr;
-  // The emulator's fused path (render --backend emu): each level tests and compacts in one pass over
-  // blocks of slots, with no slot arrays and no separate reduction. It gives the same pairs, in the
-  // same order, as the passes (docs/performance.md); it bypasses `passes`, so the diff, replay and
-  // accuracy, which work call by call, never set it.
+  // The fused path (render's default): each level tests and compacts in one pass (traverse.compact)
+  // instead of traverse then reduce, with the same pairs in the same order (docs/performance.md).
+  // Without `passes` (the emulator's own), the sort and the final tests also take host shortcuts
+  // with the same results.
   bool fused = false;
 };
 
