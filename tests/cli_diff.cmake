@@ -148,9 +148,9 @@ function(replay_check dir expect_rc expect_text)
   endif()
 endfunction()
 
-# replay_saved(NAME PATTERN EXPECT_RC EXPECT_TEXT [replay options...]): replays the call replay.save
-# wrote under WORK/saved whose folder matches PATTERN.
-function(replay_saved name pattern expect_rc expect_text)
+# The start of a case that reads a call replay.save wrote: records `name` (after the save), returns
+# unless it is the case to run, and sets `dir` to the saved call matching `pattern` (or fails).
+macro(begin_saved_case name pattern)
   set(cli_diff_after_save ${cli_diff_after_save} ${name} PARENT_SCOPE)
   begin_case("${name}")
   file(GLOB dir "${WORK}/saved/${pattern}")
@@ -158,6 +158,12 @@ function(replay_saved name pattern expect_rc expect_text)
     set(failures "${failures}\n${name}: no saved ${pattern} call under ${WORK}/saved" PARENT_SCOPE)
     return()
   endif()
+endmacro()
+
+# replay_saved(NAME PATTERN EXPECT_RC EXPECT_TEXT [replay options...]): replays the call replay.save
+# wrote under WORK/saved whose folder matches PATTERN.
+function(replay_saved name pattern expect_rc expect_text)
+  begin_saved_case("${name}" "${pattern}")
   replay_check("${dir}" ${expect_rc} "${expect_text}" ${ARGN})
   set(failures "${failures}" PARENT_SCOPE)
 endfunction()
@@ -345,13 +351,7 @@ replay_saved(replay.split "*-trim.shadow.b0" 5 "NOT reproduced" --inject trim:2 
 # must make the replay diverge in traverse.compact's pairs or tested count.
 # compact_case(NAME PATTERN METHOD INJECT EXPECT_RC [replay options...])
 function(compact_case name pattern method inject expect_rc)
-  set(cli_diff_after_save ${cli_diff_after_save} ${name} PARENT_SCOPE)
-  begin_case("${name}")
-  file(GLOB dir "${WORK}/saved/${pattern}")
-  if(NOT dir)
-    set(failures "${failures}\n${name}: no saved ${pattern} call under ${WORK}/saved" PARENT_SCOPE)
-    return()
-  endif()
+  begin_saved_case("${name}" "${pattern}")
   file(COPY "${dir}/" DESTINATION "${case_work}/call")
   file(REMOVE "${case_work}/call/comparison.json")  # recorded for the slots, not for the fused call
   file(READ "${case_work}/call/pass.json" pass)
