@@ -10,7 +10,7 @@ namespace rayspace::app {
 // The frame, tracer and device options shared with diff (FrameArgs), and render's own.
 struct RenderArgs : FrameArgs {
   std::string scene, out, stats, direct = "auto", backend = "emu";
-  std::string path = "auto";  // --path: auto (fused on the emulator), fused or passes
+  std::string path = "auto";  // --path: auto (fused unless the emulated workgroups are checked), fused or passes
   int threads = 0;
   bool no_oracle = false, progress = false, timings = false;
 };

@@ -38,8 +38,7 @@ struct RenderedFrame {
   std::vector<Phase> phases;
 };
 
-// Whether a hierarchy frame traverses fused (--path, resolving auto); throws InputError for --path
-// fused on a backend that runs its kernels pass by pass.
+// Whether a hierarchy frame traverses fused (--path, resolving auto).
 bool UsesFusedPath(const RenderArgs& args);
 
 // The backend --backend names, with the emulated kernels configured for it.

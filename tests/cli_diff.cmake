@@ -345,9 +345,9 @@ replay_saved(replay.raster.relaxed "*-raster" 5 "every difference is within the 
 # the stream is split, so the same saved call stays equal without the option and diverges with it.
 replay_saved(replay.unsplit "*-trim.shadow.b0" 0 "recorded comparison: reproduced" --inject trim:2)
 replay_saved(replay.split "*-trim.shadow.b0" 5 "NOT reproduced" --inject trim:2 --split-bytes 4096)
-# traverse.compact (the traversal fused with its reduction) is not in the frame's path yet: its cases
-# replay the top-level and level calls replay.save wrote as traverse.compact calls, which take the
-# same inputs. Without a fault both backends give the same survivors and tests; each planted fault
+# traverse.compact (the traversal fused with its reduction) on single calls: these cases replay the
+# top-level and level calls replay.save wrote (a pass-by-pass diff) as traverse.compact calls, which
+# take the same inputs (the fused.* cases above diff it in whole frames). Without a fault both backends give the same survivors and tests; each planted fault
 # must make the replay diverge in traverse.compact's pairs or tested count.
 # compact_case(NAME PATTERN METHOD INJECT EXPECT_RC [replay options...])
 function(compact_case name pattern method inject expect_rc)

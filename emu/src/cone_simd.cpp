@@ -20,6 +20,7 @@ lanes::Output OutputOf(std::uint32_t first, int shift, std::uint32_t* out) { ret
 }  // namespace
 
 bool Runs(Isa isa) {
+  __builtin_cpu_init();  // may run from a static initializer, before libgcc's own
   switch (isa) {
     case Isa::kScalar: return true;
     case Isa::kAvx2: return __builtin_cpu_supports("avx2");
