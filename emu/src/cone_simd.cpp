@@ -45,7 +45,7 @@ const char* IsaName(Isa isa) {
 
 SphereArrays ToArrays(std::span<const glm::vec4> spheres) {
   SphereArrays a{Padded(spheres.size()), Padded(spheres.size()), Padded(spheres.size()), Padded(spheres.size()),
-                 std::vector<glm::vec4>(spheres.begin(), spheres.end())};
+                 spheres};
   for (std::size_t i = 0; i < spheres.size(); ++i) {
     a.x[i] = spheres[i].x;
     a.y[i] = spheres[i].y;
@@ -58,7 +58,7 @@ SphereArrays ToArrays(std::span<const glm::vec4> spheres) {
 NodeArrays ToArrays(std::span<const layout::ConeNode> nodes) {
   const std::size_t n = nodes.size();
   NodeArrays a{Padded(n), Padded(n), Padded(n), Padded(n), Padded(n), Padded(n), Padded(n), Padded(n), Padded(n),
-               std::vector<layout::ConeNode>(nodes.begin(), nodes.end())};
+               nodes};
   for (std::size_t i = 0; i < n; ++i) {
     const layout::ConeNode& c = nodes[i];
     a.x[i] = c.sphere.x, a.y[i] = c.sphere.y, a.z[i] = c.sphere.z, a.r[i] = c.sphere.w;

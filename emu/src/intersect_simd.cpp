@@ -27,11 +27,10 @@ intersect_lanes::Triangle LanesTriangle(const layout::Triangle& t) {
   return {{v0.x, v0.y, v0.z}, {v1.x, v1.y, v1.z}, {v2.x, v2.y, v2.z}, {n.x, n.y, n.z}};
 }
 
-// The call's triangles (batch-local, up to the highest its pairs name) with their plane normals,
-// computed once rather than once per pair.
+// The triangles a pair can name (batch-local: b0 and the next 2^kPairTriangleBits) with their
+// plane normals, computed once per call rather than once per pair.
 std::vector<intersect_lanes::Triangle> BatchTriangles(const call::Intersect& c) {
-  std::uint32_t count = 0;
-  for (std::uint32_t pair : c.pairs) count = std::max(count, (pair & kPairTriangleMask) + 1);
+  const std::size_t count = std::min<std::size_t>(c.scene->triangles.size() - c.b0, std::size_t{kPairTriangleMask} + 1);
   std::vector<intersect_lanes::Triangle> tris(count);
   ParallelFor(count, [&](std::size_t t) { tris[t] = LanesTriangle(c.scene->triangles[c.b0 + t]); });
   return tris;

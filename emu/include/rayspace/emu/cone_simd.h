@@ -24,14 +24,14 @@ inline constexpr std::size_t kLanePad = 16;
 // Spheres (x, y, z, r), one array per component.
 struct SphereArrays {
   std::vector<float> x, y, z, r;
-  std::vector<glm::vec4> spheres;  // as given, for the scalar loop
+  std::span<const glm::vec4> spheres;  // as given (the caller keeps them), for the scalar loop
 };
 SphereArrays ToArrays(std::span<const glm::vec4> spheres);
 
 // Cone nodes, one array per field the test reads.
 struct NodeArrays {
   std::vector<float> x, y, z, r, ax, ay, az, cosa, sina;
-  std::vector<layout::ConeNode> nodes;  // as given, for the scalar loop
+  std::span<const layout::ConeNode> nodes;  // as given (the caller keeps them), for the scalar loop
 };
 NodeArrays ToArrays(std::span<const layout::ConeNode> nodes);
 

@@ -179,7 +179,6 @@ Compacted TraverseLevelCompactedWith(TestFn&& test, const call::TraverseLevel& c
 // loop, and an instruction set the CPU lacks means the best it has.
 Compacted PassTraverseTopCompacted(const call::TraverseTop& c);
 void SetFusedIsa(cone::Isa isa);
-cone::Isa FusedIsa();
 Compacted PassTraverseLevelCompacted(const call::TraverseLevel& c);
 // The traverse.compact calls (emu/calls.h), as the emulator's backend runs them: the two above.
 Compacted PassTraverseTopCompacted(const call::TraverseTopCompacted& c);
