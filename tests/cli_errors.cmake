@@ -118,6 +118,9 @@ expect_error(NAME "--split-bytes 100 (below one element of every buffer)"
 expect_error(NAME "--path unknown"
              NEEDLES "--path"
              ARGS render "${WORK}/good.json" --path sideways --out "${WORK}/x.png")
+expect_error(NAME "diff --path unknown"
+             NEEDLES "--path" "sideways"
+             ARGS diff "${WORK}/good.json" --path sideways)
 expect_error(NAME "--max-groups 0"
              NEEDLES "--max-groups" "0"
              ARGS diff "${WORK}/good.json" --max-groups 0)
