@@ -1,16 +1,20 @@
 #version 460
 // The traversal fused with its stream reduction (mirrors emu PassTraverseTopCompacted /
 // PassTraverseLevelCompacted): the survivors of traverse.comp's slots, in slot order, without the
-// flag and value arrays and the separate reduce pass. Three dispatches (rayspace/contract.h):
-//   kTraverseCompactPhaseTop / Level  one workgroup per block of kCompactBlock slots, in rounds of
-//       kLocalSize x kCompactRun slots: each invocation tests kCompactRun consecutive slots and keeps
-//       its survivors; one workgroup scan of (survivors, tests) places them after the survivors of
-//       the invocations and rounds before, in the block's region of the scratch buffer
-//   kTraverseCompactPhaseScan      one workgroup: exclusive scan of the block counts, sum of the tests
-//   kTraverseCompactPhaseScatter   one workgroup per block copies its survivors to its offset
-// Slot order follows: within a round from the invocations' consecutive runs and the scan, across
-// rounds from the carry, across blocks from the scan. Reduce-then-scan, no decoupled look-back:
-// look-back needs forward progress between workgroups, which lavapipe does not promise.
+// flag and value arrays and the separate reduce pass. Three dispatches (rayspace/contract.h), over
+// blocks: a block is a top node's row of slots at the top level, kCompactBlock slots below.
+//   kTraverseCompactPhaseTop    one workgroup per tile of kCompactRows rows: every invocation holds
+//       kCompactCols consecutive triangles of a round and tests them against each row's node, which
+//       the subgroup's lanes load once and pass around by shuffle (a node per test from memory costs
+//       a CPU device more than the test); one workgroup scan of the rows' packed counts places each
+//       round's survivors after the rounds before, in the row's region of the scratch buffer
+//   kTraverseCompactPhaseLevel  one workgroup per block, in rounds of kLocalSize x kCompactRun slots:
+//       each invocation tests kCompactRun consecutive slots, one workgroup scan places them
+//   kTraverseCompactPhaseScan   one workgroup: exclusive scan of the block counts, sum of the tests
+//   kTraverseCompactPhaseScatter one workgroup per block copies its survivors to its offset
+// Reduce-then-scan, no decoupled look-back: look-back needs forward progress between workgroups,
+// which lavapipe does not promise.
+#extension GL_KHR_shader_subgroup_shuffle : require
 #include "common.glsl"
 #include "cone.glsl"
 #include "paged.glsl"
@@ -33,27 +37,100 @@ layout(push_constant) uniform Block { TraverseCompactPush pc; };
 // The survivors of the invocation's slots in the current round, in slot order (private memory).
 uint kept[kCompactRun];
 
-// Phase A's tests of top-level slots [s0, s1): slot (row, col) is top node t0 + row against triangle
-// b0 + col, row-major, with traverse.comp's packing and object-mask rule. The slots are consecutive,
-// so the column steps instead of a division per slot, and a row's node is fetched once. Returns the
-// survivors (in kept); `tests` receives the tests run.
-uint TestTopSlots(uint s0, uint s1, out uint tests) {
-  uint row = s0 / pc.tris, col = s0 - row * pc.tris, n = 0u;
-  ConeNode node = LoadNodes(pc.t0 + row, pc.node_page);
-  tests = 0u;
-  for (uint s = s0; s < s1; ++s) {
-    const uint tri = pc.b0 + col;
-    if (pc.use_mask == 0u || object_mask[row * pc.objects + info[tri].ids.y] != 0u) {
-      ++tests;
-      if (ConeTest(node, tri_spheres[tri], pc.eps)) kept[n++] = ((pc.t0 + row - pc.id_base) << kPairTriangleBits) | col;
+// kTraverseCompactPhaseTop's counts, kCompactRows per invocation and round, two 16-bit fields a
+// word (a round has at most kMaxLocalSize x kCompactCols < 2^16 survivors per row), scanned at once.
+shared uvec4 wg_tile4[kMaxLocalSize / 4u];  // one per subgroup: the host keeps subgroups <= kMaxLocalSize / 4
+uvec4 WorkgroupInclusiveAdd4(uvec4 v, out uvec4 total) {
+  const uvec4 inclusive = subgroupInclusiveAdd(v);
+  const uvec4 subgroup_sum = subgroupAdd(v);
+  if (subgroupElect()) wg_tile4[gl_SubgroupID] = subgroup_sum;
+  barrier();
+  uvec4 before = uvec4(0u), all = uvec4(0u);
+  for (uint k = 0u; k < NumSubgroups(); ++k) {
+    const uvec4 x = wg_tile4[k];
+    if (k < gl_SubgroupID) before += x;
+    all += x;
+  }
+  total = all;
+  barrier();  // the tile is free for the next round
+  return before + inclusive;
+}
+uint Field(uvec4 v, uint r) { return (v[r >> 1u] >> ((r & 1u) * 16u)) & 0xFFFFu; }
+
+// Bit r: may row0 + r's node meet triangles of `object` (the object mask; all rows without one)?
+uint RowBits(uint object, uint row0, uint rows) {
+  if (pc.use_mask == 0u) return (1u << rows) - 1u;
+  uint bits = 0u;
+  for (uint r = 0u; r < rows; ++r)
+    if (object_mask[(row0 + r) * pc.objects + object] != 0u) bits |= 1u << r;
+  return bits;
+}
+
+// Row r's node: lane r of the subgroup loaded it (a subgroup of fewer lanes: memory). The last
+// subgroup of a workgroup whose size is not a multiple of gl_SubgroupSize has fewer lanes.
+ConeNode RowNode(ConeNode mine, uint row0, uint r) {
+  if (min(gl_SubgroupSize, kLocalSize - gl_SubgroupID * gl_SubgroupSize) < kCompactRows) return LoadNodes(pc.t0 + row0 + r, pc.node_page);
+  ConeNode n;
+  n.sphere = subgroupShuffle(mine.sphere, r);
+  n.cone = subgroupShuffle(mine.cone, r);
+  n.extra = subgroupShuffle(mine.extra, r);
+  return n;
+}
+
+// Phase A at the top level for the tile of rows [row0, row0 + rows) of this dispatch's part: slot
+// (row, col) is top node t0 + row against triangle b0 + col, with traverse.comp's packing and
+// object-mask rule; row r's survivors go to its slots' region, scratch[(row0 + r) * tris ..].
+void TestTopTile(uint g) {
+  const uint row0 = g * kCompactRows, rows = min(kCompactRows, pc.count / pc.tris - row0), l = gl_LocalInvocationID.x;
+  const ConeNode mine = LoadNodes(pc.t0 + row0 + min(gl_SubgroupInvocationID, rows - 1u), pc.node_page);
+  uint run[kCompactRows];  // survivors of the rounds before, per row
+  for (uint r = 0u; r < kCompactRows; ++r) run[r] = 0u;
+  uint tests = 0u;
+  for (uint c0 = 0u; c0 < pc.tris; c0 += kLocalSize * kCompactCols) {
+    const uint col0 = c0 + l * kCompactCols;
+    vec4 sphere[kCompactCols];
+    uint may[kCompactCols];  // bit r: row r tests this triangle
+    uint object = 0xFFFFFFFFu, object_bits = 0u;
+    for (uint i = 0u; i < kCompactCols; ++i) {
+      may[i] = 0u;
+      if (col0 + i >= pc.tris) continue;
+      sphere[i] = tri_spheres[pc.b0 + col0 + i];
+      const uint o = info[pc.b0 + col0 + i].ids.y;
+      if (o != object) object_bits = RowBits(o, row0, rows);  // a lane's triangles mostly share an object
+      object = o;
+      may[i] = object_bits;
     }
-    if (++col == pc.tris && s + 1u < s1) {
-      col = 0u;
-      ++row;
-      node = LoadNodes(pc.t0 + row, pc.node_page);
+    uint hit[kCompactRows];  // bit i: column col0 + i survives in row r
+    uvec4 n = uvec4(0u);
+    for (uint r = 0u; r < rows; ++r) {
+      const ConeNode node = RowNode(mine, row0, r);
+      hit[r] = 0u;
+      for (uint i = 0u; i < kCompactCols; ++i) {
+        if ((may[i] >> r & 1u) == 0u) continue;
+        ++tests;
+        if (ConeTest(node, sphere[i], pc.eps)) hit[r] |= 1u << i;
+      }
+      n[r >> 1u] += bitCount(hit[r]) << ((r & 1u) * 16u);
+    }
+    uvec4 sums;
+    const uvec4 before = WorkgroupInclusiveAdd4(n, sums) - n;  // fieldwise: no field borrows
+    for (uint r = 0u; r < rows; ++r) {
+      // Fault 3: every round starts at the row's start (the carry between rounds is dropped).
+      uint at = (row0 + r) * pc.tris + (kFault == 3u ? 0u : run[r]) + Field(before, r);
+      for (uint bits = hit[r]; bits != 0u; bits &= bits - 1u)
+        scratch[at++] = ((pc.t0 + row0 + r - pc.id_base) << kPairTriangleBits) | (col0 + uint(findLSB(bits)));
+      run[r] += Field(sums, r);
     }
   }
-  return n;
+  uint all_tests;
+  WorkgroupInclusiveAdd(tests, all_tests);
+  if (l == 0u) {
+    for (uint r = 0u; r < rows; ++r) {
+      // Fault 2: the last survivor of every block is dropped. Fault 4: the survivors reported as tests.
+      counts[row0 + r] = (kFault == 2u && run[r] > 0u) ? run[r] - 1u : run[r];
+      tested[row0 + r] = kFault == 4u ? run[r] : (r == 0u ? all_tests : 0u);
+    }
+  }
 }
 
 // Phase A's tests of lower-level slots [s0, s1): slot (p, k) is child k of the node of pair p,
@@ -76,14 +153,14 @@ uint TestLevelSlots(uint s0, uint s1, out uint tests) {
   return n;
 }
 
-// Phase A for block g (uniform control flow: every invocation runs every round).
+// Phase A one level down for block g (uniform control flow: every invocation runs every round).
 void TestBlock(uint g) {
   const uint first = g * kCompactBlock, end = min(pc.count, first + kCompactBlock), l = gl_LocalInvocationID.x;
   uint run = 0u, tests = 0u;  // survivors and tests of the rounds before
   for (uint r0 = first; r0 < end; r0 += kLocalSize * kCompactRun) {
     const uint s0 = min(r0 + l * kCompactRun, end), s1 = min(s0 + kCompactRun, end);
     uint t = 0u, n = 0u;
-    if (s0 < s1) n = pc.phase == kTraverseCompactPhaseTop ? TestTopSlots(s0, s1, t) : TestLevelSlots(s0, s1, t);
+    if (s0 < s1) n = TestLevelSlots(s0, s1, t);
     // One scan for both counts, 16 bits each: a round has at most kMaxLocalSize x kCompactRun < 2^16.
     uint sums;
     const uint before = (WorkgroupInclusiveAdd(n | (t << 16), sums) & 0xFFFFu) - n;
@@ -100,13 +177,13 @@ void TestBlock(uint g) {
   }
 }
 
-// Phase C for block g: its survivors from the scratch region to its offset.
+// Phase C for block g: its survivors from its scratch region (pc.region slots a block) to its offset.
 void ScatterBlock(uint g) {
   const uint at = counts[g], n = counts[g + 1u] - at;
   // Fault 1: the block lands at the next block's offset (the scan read as inclusive).
   const uint dst = kFault == 1u ? counts[g + 1u] : at;
   for (uint k = gl_LocalInvocationID.x; k < n; k += kLocalSize)
-    if (dst + k < pc.count) out_pairs[dst + k] = scratch[g * kCompactBlock + k];  // the bound holds but for fault 1
+    if (dst + k < pc.count) out_pairs[dst + k] = scratch[g * pc.region + k];  // the bound holds but for fault 1
 }
 
 void main() {
@@ -121,7 +198,9 @@ void main() {
   } else if (g < pc.blocks) {  // uniform: the whole workgroup leaves
     if (pc.phase == kTraverseCompactPhaseScatter)
       ScatterBlock(g);
-    else
+    else if (pc.phase == kTraverseCompactPhaseLevel)
       TestBlock(g);
+    else if (g * kCompactRows < pc.blocks)
+      TestTopTile(g);
   }
 }

@@ -50,7 +50,14 @@ class Traverser {
   vk::Status CompactPart(layout::TraverseCompactPush push, std::span<const std::uint32_t> mask, std::span<const std::uint32_t> pairs,
                          emu::Compacted& out) const {
     Keep keep;
-    push.blocks = static_cast<std::uint32_t>((std::uint64_t{push.count} + layout::kCompactBlock - 1) / layout::kCompactBlock);
+    const bool top = push.phase == layout::kTraverseCompactPhaseTop;
+    push.blocks = top ? (push.tris ? push.count / push.tris : 0)
+                      : static_cast<std::uint32_t>((std::uint64_t{push.count} + layout::kCompactBlock - 1) / layout::kCompactBlock);
+    push.region = top ? push.tris : layout::kCompactBlock;
+    // The top phase's uvec4 tile holds one entry per subgroup.
+    if (k_.local_size() > c_.subgroup_size() * (layout::kMaxLocalSize / 4))
+      return vk::Status::Fail(fmt::format("traverse.compact: local size {} has more than {} subgroups of {}", k_.local_size(),
+                                          layout::kMaxLocalSize / 4, c_.subgroup_size()));
     push.node_page = nodes_.page;
     push.first_page = first_.page;
     const vk::Buffer *bm = nullptr, *bp = nullptr, *bs = nullptr, *bc = nullptr, *bt = nullptr, *bo = nullptr;
@@ -69,8 +76,11 @@ class Traverser {
     for (const std::uint32_t phase : {push.phase, layout::kTraverseCompactPhaseScan, layout::kTraverseCompactPhaseScatter}) {
       layout::TraverseCompactPush p = push;
       p.phase = phase;
-      // A workgroup per block of slots; the scan of the block counts is one workgroup.
-      RS_TRY(rec.DispatchGroups(k_, b.All(), &p, sizeof p, phase == layout::kTraverseCompactPhaseScan ? 1 : push.blocks));
+      // A workgroup per block of slots, or per tile of rows; the scan of the block counts is one workgroup.
+      const std::uint32_t groups = phase == layout::kTraverseCompactPhaseScan ? 1
+                                   : phase == layout::kTraverseCompactPhaseTop ? (push.blocks + layout::kCompactRows - 1) / layout::kCompactRows
+                                                                                : push.blocks;
+      RS_TRY(rec.DispatchGroups(k_, b.All(), &p, sizeof p, groups));
     }
     RS_TRY(rec.Submit());
     return AppendSurvivors(*bc, *bt, *bo, push, out);
@@ -196,7 +206,7 @@ vk::Status VulkanPasses::Run(const emu::call::TraverseTopCompacted& call, emu::C
   const std::size_t row_words = std::max<std::size_t>({T, object_mask.empty() ? 1 : objects, 1});
   return ForParts(call.t1 - t0, PerPart(4 * row_words), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
     const std::uint32_t r0 = t0 + static_cast<std::uint32_t>(i0), n = static_cast<std::uint32_t>((i1 - i0) * T);
-    const layout::TraverseCompactPush push{layout::kTraverseCompactPhaseTop, n, 0, r0, b0, T, objects, object_mask.empty() ? 0u : 1u,
+    const layout::TraverseCompactPush push{layout::kTraverseCompactPhaseTop, n, 0, 0, r0, b0, T, objects, object_mask.empty() ? 0u : 1u,
                                         0, 0, 0, call.eps, t0, 0, 0};
     const std::span<const std::uint32_t> mask_rows =
         object_mask.empty() ? std::span<const std::uint32_t>() : std::span(object_mask).subspan(std::size_t{r0} * objects, (i1 - i0) * objects);
@@ -213,7 +223,7 @@ vk::Status VulkanPasses::Run(const emu::call::TraverseLevelCompacted& call, emu:
   const std::size_t per = PerPart(4 * std::size_t{std::max(children_max, 1u)});
   return ForParts(call.pairs.size(), per, extra_dispatches_, [&](std::size_t p0, std::size_t p1) -> vk::Status {
     const std::uint32_t n = static_cast<std::uint32_t>((p1 - p0) * children_max);
-    const layout::TraverseCompactPush push{layout::kTraverseCompactPhaseLevel, n, 0, 0, call.b0, 0, 0, 0, call.base_up, call.base,
+    const layout::TraverseCompactPush push{layout::kTraverseCompactPhaseLevel, n, 0, 0, 0, call.b0, 0, 0, 0, call.base_up, call.base,
                                         children_max, call.eps, 0, 0, 0};
     return tr.CompactPart(push, {}, Slice(call.pairs, p0, p1), out);
   });

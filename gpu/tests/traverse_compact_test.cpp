@@ -253,9 +253,10 @@ TEST_CASE("traverse.compact: calls split into parts by a small binding limit con
 }
 
 TEST_CASE("traverse.compact: every planted fault of the kernel is seen") {
-  const TopCase tc(21, 300, 340, 3, false);
+  // Rows of 1,200 triangles: several rounds of the top phase at the default local size (fault 3).
+  const TopCase tc(21, 300, 1200, 3, false);
   const LevelCase lc(22, 400, 3000, 8);
-  const TraverseTopCompacted top = tc.Call(0, 300, 0, 340);
+  const TraverseTopCompacted top = tc.Call(0, 300, 0, 1200);
   const emu::Compacted expected = Emulated(top);
   for (const FaultSpec& f : Pass(PassId::kTraverseCompact).faults) {
     CAPTURE(f.effect);

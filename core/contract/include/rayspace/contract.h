@@ -215,14 +215,19 @@ struct TraversePush {
 };
 
 // ---- traverse.compact: the traversal fused with its stream reduction ------------------------------
-// Phase A (Top or Level): one workgroup per block of kCompactBlock consecutive slots (traverse.comp's
-// numbering), walked in rounds of kLocalSize x kCompactRun slots, kCompactRun consecutive ones per
-// invocation; a workgroup scan places each round's survivors after the round before, in slot order,
-// in the block's region of the scratch buffer (slot-indexed: a block never has more survivors than
-// slots). Phase Scan: one workgroup scans the block counts (exclusive offsets, the total last) and
-// sums the block tests. Phase Scatter: one workgroup per block copies its survivors to its offset.
+// Blocks of slots (traverse.comp's numbering), each with its region of the scratch buffer (slot-
+// indexed: a block never has more survivors than slots): at the top level a block is one top node's
+// row of `tris` slots, below it kCompactBlock consecutive slots. Phase A, Top: one workgroup per tile
+// of kCompactRows rows, in rounds of kLocalSize x kCompactCols triangles, kCompactCols consecutive ones
+// per invocation tested against every row's node; Level: one workgroup per block, in rounds of
+// kLocalSize x kCompactRun slots, kCompactRun consecutive ones per invocation. A workgroup scan places
+// each round's survivors after the round before, in slot order. Phase Scan: one workgroup scans the
+// block counts (exclusive offsets, the total last) and sums the block tests. Phase Scatter: one
+// workgroup per block copies its survivors to its offset.
 RS_CONST(uint, kCompactBlock, 4096u);
 RS_CONST(uint, kCompactRun, 32u);
+RS_CONST(uint, kCompactRows, 8u);  // a subgroup of at least this many lanes passes the rows' nodes around
+RS_CONST(uint, kCompactCols, 8u);
 RS_CONST(uint, kTraverseCompactBindTriSpheres, 0u);
 RS_CONST(uint, kTraverseCompactBindInfo, 1u);
 RS_CONST(uint, kTraverseCompactBindMask, 2u);     // the object mask's rows of this dispatch's top nodes
@@ -241,7 +246,8 @@ RS_CONST(uint, kTraverseCompactPhaseScatter, 3u);  // phase C
 struct TraverseCompactPush {
   uint phase;
   uint count;   // slots of this dispatch's part
-  uint blocks;  // (count + kCompactBlock - 1) / kCompactBlock
+  uint blocks;  // top: rows (count / tris); level: (count + kCompactBlock - 1) / kCompactBlock
+  uint region;  // slots a block's scratch region holds: top tris, level kCompactBlock
   uint t0;      // top: the part's first top node (its object-mask rows start there)
   uint b0;
   uint tris;
@@ -348,13 +354,15 @@ static_assert(kTraverseCompactBindFirst == kTraverseCompactBindNodes + kBufferPa
               kTraverseCompactBindings == kTraverseCompactBindFirst + kBufferPages);
 // traverse.compact scans a round's survivors and tests as one word, 16 bits each.
 static_assert(kMaxLocalSize * kCompactRun < 65536u && kCompactBlock % kCompactRun == 0u);
+// The top phase scans the rows' survivors as a uvec4 of 16-bit fields.
+static_assert(kMaxLocalSize * kCompactCols < 65536u && kCompactRows <= 8u && kCompactCols <= 32u);
 // Push-constant blocks: scalars only (same offsets in std430 and C++), within the 128 bytes every
 // Vulkan device guarantees.
 static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && sizeof(RaygenShadowPush) == 8 &&
               sizeof(RaygenPush) == 8 && sizeof(TrimPush) == 12 && sizeof(HashPush) == 32 && sizeof(SortPush) == 24 &&
               sizeof(BuildPush) == 20 && sizeof(TraversePush) == 56 && sizeof(ReducePush) == 20 &&
               sizeof(IntersectPush) == 36 && sizeof(ShadePush) == 16 && sizeof(ElementwisePush) == 8 &&
-              sizeof(TraverseCompactPush) == 60);
+              sizeof(TraverseCompactPush) == 64);
 static_assert(offsetof(TraversePush, eps) == 40);
 }  // namespace rayspace::layout
 #endif
