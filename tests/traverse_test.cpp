@@ -178,6 +178,7 @@ struct ModelGuard {
     wg::SetSubgroupSize(8);
     wg::SetChecking(true);
     SetEmuFaults({});
+    SetWorkgroupModel(false);
   }
 };
 
@@ -323,6 +324,29 @@ TEST_CASE("traverse.compact mirror: empty calls, calls shorter than a round and 
     CheckMirror(RandomLevel(4, 30, 0, 4).Call());
     CheckMirror(RandomLevel(4, 30, 50, 0).Call());
   }
+}
+
+TEST_CASE("traverse.compact mirror: each planted fault changes the result; the backend runs the mirror when asked") {
+  ModelGuard guard;
+  const RandomTop tc(11, 150, 170, 6);
+  const RandomLevel lc(12, 400, 3000, 8);
+  const call::TraverseTopCompacted top{tc.Call(0, 150, 0, 170, true)};
+  const call::TraverseLevelCompacted level{lc.Call()};
+  const Compacted top_lanes = Lanes(top), level_lanes = Lanes(level);
+  CHECK_FALSE(RunsWorkgroupMirror("traverse.compact"));
+  // Local size 64: two rounds a block, which fault 3 needs.
+  for (std::uint32_t fault : {1u, 2u, 3u, 4u}) {
+    INFO("traverse.compact:" << fault << "@emu");
+    SetEmuFaults({{"traverse.compact", fault}});
+    CHECK(RunsWorkgroupMirror("traverse.compact"));
+    CHECK_FALSE(Same(EmuHierarchyPasses().TraverseTopCompacted(top), top_lanes));
+    CHECK_FALSE(Same(EmuHierarchyPasses().TraverseLevelCompacted(level), level_lanes));
+  }
+  SetEmuFaults({});
+  CHECK(Same(EmuHierarchyPasses().TraverseTopCompacted(top), top_lanes));
+  SetWorkgroupModel(true);
+  CHECK(RunsWorkgroupMirror("traverse.compact"));
+  CHECK(Same(EmuHierarchyPasses().TraverseLevelCompacted(level), level_lanes));
 }
 
 TEST_CASE("traverse.compact mirror: a dropped barrier in its workgroup scan is named by the checker") {

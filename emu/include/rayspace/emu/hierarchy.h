@@ -185,7 +185,9 @@ Compacted PassTraverseLevelCompacted(const call::TraverseLevel& c);
 // faults (`--inject traverse.compact:N@emu`).
 Compacted TraverseTopCompactedWorkgroups(const call::TraverseTop& c);
 Compacted TraverseLevelCompactedWorkgroups(const call::TraverseLevel& c);
-// The traverse.compact calls (emu/calls.h), as the emulator's backend runs them: the two above.
+// The traverse.compact calls (emu/calls.h), as the emulator's backend runs them: the workgroup mirror
+// when the run asks for the workgroup model or an emulator-side fault is planted in the pass
+// (RunsWorkgroupMirror, emu/workgroup_ops.h), the lanes above otherwise.
 Compacted PassTraverseTopCompacted(const call::TraverseTopCompacted& c);
 Compacted PassTraverseLevelCompacted(const call::TraverseLevelCompacted& c);
 
