@@ -14,6 +14,7 @@
 
 #include "rayspace/emu/frame.h"
 #include "rayspace/emu/hierarchy.h"
+#include "rayspace/emu/workgroup_ops.h"
 #include "rayspace/error.h"
 #include "rayspace/gpu/passes.h"
 #include "rayspace/pass_registry.h"
@@ -250,6 +251,7 @@ void WriteDiffReport(const DiffArgs& args, const Scene& scene, const emu::FrameO
                       {"local_size", args.local_size},
                       {"subgroup_size", wg::SubgroupSize()},
                       {"schedule", ToString(wg::GetSchedule())},
+                      {"workgroup_model", emu::WorkgroupModel()},
                       {"workgroup_checker", checker},
                       {"split_dispatches", gpu.extra_dispatches(gpu)},
                       {"paged_arrays", gpu.paged_arrays(gpu)},
@@ -264,6 +266,27 @@ void WriteDiffReport(const DiffArgs& args, const Scene& scene, const emu::FrameO
   std::ofstream f(args.report);
   if (!f) ThrowInput("{}: cannot write the report", args.report);
   f << j.dump(2) << "\n";
+}
+
+// A planted fault in a frame that compared equal. A kernel-side fault the device ran without a visible
+// effect (a race that came out right, a divergent barrier its SIMD code reaches anyway) is not a
+// pass: say so. An emulator-side one may sit in a pass the frame did not run (traverse.compact's,
+// which only --path fused runs).
+void PrintUnseenFault(const DiffArgs& args, const Injection& injection, std::size_t within_spec) {
+  if (!injection.kernel.empty() && within_spec)
+    std::printf("  planted fault %s: seen, and every difference is within the spec's precision\n", args.inject.c_str());
+  else if (!injection.kernel.empty())
+    std::printf("  planted fault %s: not seen, the device executed it benignly (local size %d, subgroup size %u)\n",
+                args.inject.c_str(), args.local_size, wg::SubgroupSize());
+  else if (!injection.emu.empty())
+    std::printf("  planted fault %s: not seen, its emulated pass did not run or the fault changed nothing\n", args.inject.c_str());
+}
+
+// The fused path's traverse.compact, for the workgroups line: it runs on the workgroup model only
+// when the run asks for it.
+const char* CompactEmulation(const DiffArgs& args, bool hierarchy) {
+  if (!hierarchy || args.path != "fused") return "";
+  return emu::RunsWorkgroupMirror("traverse.compact") ? "; traverse.compact on its workgroup mirror" : "; traverse.compact on SIMD lanes";
 }
 
 }  // namespace
@@ -301,8 +324,8 @@ ExitCode RunDiff(const DiffArgs& args) {
 
   std::printf("rayspace diff: %s (%dx%d, %s) on %s\n  emulation model: %s\n", scene.name.c_str(), fo.width, fo.height,
               args.algo.c_str(), gpu.device.c_str(), EmulationModel().c_str());
-  std::printf("  workgroups: local size %d, subgroup size %u, schedule %s, checker %s\n", args.local_size,
-              wg::SubgroupSize(), ToString(wg::GetSchedule()).c_str(), wg::Checking() ? "on" : "off");
+  std::printf("  workgroups: local size %d, subgroup size %u, schedule %s, checker %s%s\n", args.local_size,
+              wg::SubgroupSize(), ToString(wg::GetSchedule()).c_str(), wg::Checking() ? "on" : "off", CompactEmulation(args, hierarchy != nullptr));
   std::printf("  comparison: %s\n", relaxed ? "relaxed (what a conformant device may compute; docs/numerics.md)"
                                              : "bitwise");
   std::string stopped;
@@ -334,13 +357,7 @@ ExitCode RunDiff(const DiffArgs& args) {
   else
     std::printf("  no pass compared unequal before the stop\n");
   if (equal && totals.within_spec == 0) std::printf("  frame digest %s\n", HexDigest(frame.digest.Frame()).c_str());
-  // A kernel-side fault the device ran without a visible effect (a race that came out right, a
-  // divergent barrier its SIMD code reaches anyway) is not a pass: say so.
-  if (equal && !injection.kernel.empty() && totals.within_spec)
-    std::printf("  planted fault %s: seen, and every difference is within the spec's precision\n", args.inject.c_str());
-  else if (equal && !injection.kernel.empty())
-    std::printf("  planted fault %s: not seen, the device executed it benignly (local size %d, subgroup size %u)\n",
-                args.inject.c_str(), args.local_size, wg::SubgroupSize());
+  if (equal) PrintUnseenFault(args, injection, totals.within_spec);
   std::printf("  vulkan: %zu split dispatches, %zu arrays paged over several bindings\n", gpu.extra_dispatches(gpu),
               gpu.paged_arrays(gpu));
   if (!args.report.empty())

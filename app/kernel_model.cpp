@@ -1,5 +1,7 @@
 #include "kernel_model.h"
 
+#include <vector>
+
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
@@ -49,6 +51,10 @@ void AddKernelModelOptions(CLI::App& command, KernelModelArgs& args) {
                                "default {})", args.check ? "on" : "off"));
 }
 
+bool RequestsWorkgroupModel(const KernelModelArgs& args) {
+  return args.check || ParseSchedule(args.schedule).order != wg::Order::kForward;
+}
+
 namespace {
 
 // FAULT of PASS:FAULT: a number or a name the pass lists.
@@ -60,6 +66,19 @@ std::uint32_t FaultNumber(const PassSpec& p, const std::string& fault, const std
     if (fault == std::to_string(f.number) || (!f.name.empty() && fault == f.name)) return f.number;
   }
   ThrowInput("--inject '{}': {} has faults {}", spec, p.name, known);
+}
+
+// "traverse.compact:1 to 4": the passes' own faults their emulated kernels mirror.
+std::string EmulatedOwnFaults() {
+  std::string list;
+  for (const PassSpec& p : kPasses) {
+    std::vector<std::uint32_t> n;
+    for (const FaultSpec& f : p.faults)
+      if (f.emu) n.push_back(f.number);
+    if (n.empty()) continue;
+    list += fmt::format("{}{}:{}{}", list.empty() ? "" : ", ", p.name, n.front(), n.size() > 1 ? fmt::format(" to {}", n.back()) : "");
+  }
+  return list;
 }
 
 }  // namespace
@@ -83,9 +102,11 @@ Injection ParseInject(const std::string& spec) {
     if (p.name != pass) continue;
     const std::uint32_t n = FaultNumber(p, fault, spec);
     if (emu) {
-      bool named = false;
-      for (const FaultSpec& f : p.faults) named |= f.number == n && !f.name.empty();
-      if (!named) ThrowInput("--inject '{}': only the workgroup faults (named ones) can be planted on the emulator's side", spec);
+      bool mirrored = false;
+      for (const FaultSpec& f : p.faults) mirrored |= f.number == n && (!f.name.empty() || f.emu);
+      if (!mirrored)
+        ThrowInput("--inject '{}': only the workgroup faults (named ones) and {} can be planted on the emulator's side", spec,
+                   EmulatedOwnFaults());
       in.emu[pass] = n;
     } else {
       in.kernel[pass] = n;
@@ -102,6 +123,7 @@ void ConfigureEmulatedKernels(const KernelModelArgs& args, std::uint32_t local_s
   wg::SetSubgroupSize(subgroup_size == 0 ? 8u : subgroup_size);
   wg::SetChecking(args.check || !injection.emu.empty());
   emu::SetEmuFaults(injection.emu);
+  emu::SetWorkgroupModel(RequestsWorkgroupModel(args) || !injection.emu.empty());
 }
 
 }  // namespace rayspace::app

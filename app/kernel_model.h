@@ -28,6 +28,9 @@ struct KernelModelArgs {
   }
 };
 void AddKernelModelOptions(CLI::App& command, KernelModelArgs& args);
+// Whether the options ask for the emulated kernels' workgroups: the checker on, or a schedule other
+// than forward (an @emu fault asks too, through the Injection).
+bool RequestsWorkgroupModel(const KernelModelArgs& args);
 
 // --inject PASS[:FAULT][@emu]: FAULT is a number or a workgroup fault's name (pass_registry.h);
 // "@emu" plants it in the emulated kernel instead of the Vulkan one. Bad specs are InputErrors listing
@@ -38,7 +41,8 @@ struct Injection {
 Injection ParseInject(const std::string& spec);
 
 // Sets the emulator's workgroup model for this process: schedule, local size, subgroup size (the
-// device's, or lavapipe's 8 without one), checking, and the emulator-side faults.
+// device's, or lavapipe's 8 without one), checking, the emulator-side faults, and whether the model
+// was asked for (emu::SetWorkgroupModel: traverse.compact then runs its workgroup mirror).
 void ConfigureEmulatedKernels(const KernelModelArgs& args, std::uint32_t local_size, std::uint32_t subgroup_size,
                               const Injection& injection);
 

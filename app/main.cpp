@@ -110,7 +110,8 @@ void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
   AddCompareOption(*dc, cmds.diff.compare);
   dc->add_option("--path", cmds.diff.path,
                  "Hierarchy traversal: passes (traverse then reduce, default) or fused (traverse.compact, what render "
-                 "runs by default)")
+                 "runs by default; the emulator runs its workgroup mirror unless --no-check-workgroups with the forward "
+                 "schedule asks for its SIMD lanes)")
       ->check(CLI::IsMember({"fused", "passes"}));
   CLI::App* pc = cmds.replay_cmd = app.add_subcommand("replay", "Run one pass call saved by diff --save-inputs on both backends and compare");
   pc->add_option("dir", cmds.replay.dir, "Directory of the saved call (DIR/NNNN-PASS)")->required();

@@ -48,10 +48,9 @@ emu::FrameResult RenderChecked(const Scene& scene, const SceneBuffers& buffers, 
 // The fused path runs each level as one traverse.compact pass, on any backend (the emulator adds
 // host shortcuts for the sort and the final tests). Checking or reordering the emulated workgroups
 // (--check-workgroups, --schedule) is about the passes' workgroup kernels (the reduction's among
-// them), so `auto` keeps the passes then.
+// them), so `auto` keeps the passes then; `fused` with them runs traverse.compact's workgroup mirror.
 bool UsesFusedPath(const RenderArgs& args) {
-  const bool workgroup_model = args.model.check || args.model.schedule != "forward";
-  return args.path == "fused" || (args.path == "auto" && !workgroup_model);
+  return args.path == "fused" || (args.path == "auto" && !RequestsWorkgroupModel(args.model));
 }
 
 Backend MakeRenderBackend(const RenderArgs& args) {

@@ -1,13 +1,19 @@
-// Traversal: the cone-sphere test and conservative traversal (no accepted pair is culled).
+// Traversal: the cone-sphere test and conservative traversal (no accepted pair is culled), and
+// traverse.compact's workgroup mirror against its lanes and against traverse + reduce.
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <random>
 #include <set>
+#include <type_traits>
 
+#include "rayspace/contract.h"
 #include "rayspace/emu/backend.h"
 #include "rayspace/emu/cone.h"
 #include "rayspace/emu/frame.h"
 #include "rayspace/emu/hierarchy.h"
+#include "rayspace/emu/workgroup_ops.h"
+#include "rayspace/workgroup.h"
 #include "test_util.h"
 
 using namespace rayspace;
@@ -156,4 +162,205 @@ TEST_CASE("traverse.compact: the emulator's backend gives the survivors of the s
   CHECK(lr.pairs == ReduceScan(ls.flags, ls.values));
   CHECK(lr.pairs == std::vector<std::uint32_t>{Pair(0, 0), Pair(2, 1)});
   CHECK(lr.tested == 4u);
+}
+
+// ---- traverse.compact's workgroup mirror (emu/src/traverse_compact_wg.cpp) ---------------------------
+
+namespace {
+
+using Rng = std::mt19937;
+
+// Restores the emulator's workgroup settings after a test changes them.
+struct ModelGuard {
+  ~ModelGuard() {
+    wg::SetSchedule({});
+    wg::SetLocalSize(64);
+    wg::SetSubgroupSize(8);
+    wg::SetChecking(true);
+    SetEmuFaults({});
+    SetWorkgroupModel(false);
+  }
+};
+
+// Narrow cones (2 to 20 degrees) from small spheres in a box, some full spheres: a few percent of the
+// random spheres meet a node, so blocks and rounds hold some survivors, not all.
+std::vector<layout::ConeNode> RandomNodes(Rng& rng, std::size_t count) {
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f), angle(0.035f, 0.35f);
+  std::normal_distribution<float> g;
+  std::vector<layout::ConeNode> nodes(count);
+  for (layout::ConeNode& n : nodes) {
+    const glm::vec3 axis = glm::normalize(glm::vec3(g(rng), g(rng), g(rng))), centre(u(rng) * 2, u(rng) * 2, u(rng) * 2);
+    const float a = angle(rng);
+    n = cone::FromRay(centre, axis);
+    n.sphere.w = 0.1f * (u(rng) + 1.0f);
+    n.cone.w = std::cos(a);
+    n.extra.x = std::sin(a);
+    if (rng() % 50 == 0) n = cone::FullSphereCone(n);
+  }
+  return nodes;
+}
+
+std::vector<glm::vec4> RandomSpheres(Rng& rng, std::size_t count) {
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f), r(0.05f, 1.5f);
+  std::vector<glm::vec4> s(count);
+  for (glm::vec4& x : s) x = glm::vec4(u(rng) * 6, u(rng) * 6, u(rng) * 6, r(rng));
+  return s;
+}
+
+// A top level of `nodes` x `tris` slots whose triangles belong to `objects` objects in runs, with a
+// random object mask.
+struct RandomTop {
+  std::vector<layout::ConeNode> top;
+  std::vector<glm::vec4> spheres;
+  std::vector<std::uint8_t> mask;
+  SceneBuffers scene;
+  RandomTop(std::uint32_t seed, std::size_t nodes, std::size_t tris, std::uint32_t objects) {
+    Rng rng(seed);
+    top = RandomNodes(rng, nodes);
+    spheres = RandomSpheres(rng, tris);
+    scene.info.resize(tris);
+    scene.objects.resize(objects);
+    for (std::size_t t = 0; t < tris; ++t) scene.info[t].ids.y = static_cast<std::uint32_t>(t * objects / tris);
+    for (std::size_t e = 0; e < nodes * objects; ++e) mask.push_back(rng() % 3 != 0);
+  }
+  call::TraverseTop Call(std::uint32_t t0, std::uint32_t t1, std::uint32_t b0, std::uint32_t b1, bool masked, float eps = 0) const {
+    return {.top = top, .t0 = t0, .t1 = t1, .b0 = b0, .b1 = b1, .tri_spheres = spheres, .scene = &scene,
+            .object_mask = masked ? In<std::uint8_t>(mask) : In<std::uint8_t>{}, .eps = eps};
+  }
+};
+
+// A lower level: `parents` nodes with 0..children_max children each, and random (parent, triangle)
+// pairs of the parents from base_up on.
+struct RandomLevel {
+  std::vector<layout::ConeNode> nodes;
+  std::vector<std::uint32_t> first{0}, pairs;
+  std::vector<glm::vec4> spheres;
+  std::uint32_t base_up = 3, children_max;
+  RandomLevel(std::uint32_t seed, std::uint32_t parents, std::size_t pair_count, std::uint32_t children_max_)
+      : children_max(children_max_) {
+    Rng rng(seed);
+    for (std::uint32_t p = 0; p < parents; ++p) first.push_back(first.back() + rng() % (children_max + 1));
+    nodes = RandomNodes(rng, first.back());
+    spheres = RandomSpheres(rng, 200);
+    for (std::size_t i = 0; i < pair_count; ++i) pairs.push_back(((rng() % (parents - base_up)) << kPairTriangleBits) | (rng() % 150));
+  }
+  call::TraverseLevel Call(float eps = 0) const {
+    return {.pairs = pairs, .nodes = nodes, .first = first, .base_up = base_up, .base = first[base_up], .children_max = children_max,
+            .b0 = 50, .tri_spheres = spheres, .eps = eps};
+  }
+};
+
+// traverse, then reduce: the result traverse.compact stands for.
+template <typename C>
+Compacted TwoPasses(const C& c) {
+  PairSlots s;
+  if constexpr (std::is_same_v<C, call::TraverseTop>)
+    s = PassTraverseTop(c);
+  else
+    s = PassTraverseLevel(c);
+  Compacted r;
+  for (std::uint8_t t : s.tested) r.tested += t;
+  r.pairs = ReduceScan(s.flags, s.values);
+  return r;
+}
+
+// The fused path's lanes and the workgroup mirror.
+Compacted Lanes(const call::TraverseTop& c) { return PassTraverseTopCompacted(c); }
+Compacted Lanes(const call::TraverseLevel& c) { return PassTraverseLevelCompacted(c); }
+Compacted Mirror(const call::TraverseTop& c) { return TraverseTopCompactedWorkgroups(c); }
+Compacted Mirror(const call::TraverseLevel& c) { return TraverseLevelCompactedWorkgroups(c); }
+
+bool Same(const Compacted& a, const Compacted& b) { return a.pairs == b.pairs && a.tested == b.tested; }
+
+// The mirror equals the lanes and the two passes (the checker on: a report throws); returns it.
+template <typename C>
+Compacted CheckMirror(const C& c) {
+  const Compacted m = Mirror(c), lanes = Lanes(c);
+  CHECK(m.tested == lanes.tested);
+  CHECK(m.pairs == lanes.pairs);
+  CHECK(Same(m, TwoPasses(c)));
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("traverse.compact mirror: random calls give the lanes' and traverse + reduce's result at every local size, "
+          "subgroup size and schedule, the checker silent") {
+  ModelGuard guard;
+  // 150 x 170 slots: 7 blocks of kCompactBlock, 4 rounds a block at local size 32, 1 from 128 on.
+  const RandomTop tc(3, 150, 170, 6);
+  const RandomLevel lc(5, 300, 2000, 8), lc_wide(6, 120, 600, 16);
+  for (std::uint32_t local : {32u, 64u, 128u, 256u})
+    for (std::uint32_t sg : {8u, 32u})
+      for (wg::Schedule s : {wg::Schedule{wg::Order::kForward, 0}, wg::Schedule{wg::Order::kReverse, 0},
+                             wg::Schedule{wg::Order::kRandom, 17}}) {
+        INFO("local size " << local << " subgroup " << sg << " order " << static_cast<int>(s.order));
+        wg::SetLocalSize(local);
+        wg::SetSubgroupSize(sg);
+        wg::SetSchedule(s);
+        const Compacted all = CheckMirror(tc.Call(0, 150, 0, 170, false));
+        CHECK(all.tested == 150u * 170u);
+        CHECK(all.pairs.size() > all.tested / 100);
+        CHECK(all.pairs.size() < all.tested / 2);
+        const Compacted culled = CheckMirror(tc.Call(0, 150, 0, 170, true));
+        CHECK(culled.tested < all.tested);
+        CheckMirror(tc.Call(17, 131, 33, 160, true, 0.05f));  // ids relative to t0 and b0, mask rows from t0
+        const Compacted level = CheckMirror(lc.Call());
+        CHECK(level.pairs.size() > 0u);
+        CheckMirror(lc_wide.Call(0.05f));
+      }
+}
+
+TEST_CASE("traverse.compact mirror: empty calls, calls shorter than a round and a lone slot") {
+  ModelGuard guard;
+  const RandomTop tc(9, 40, 50, 3);
+  for (std::uint32_t local : {1u, 7u, 64u}) {
+    INFO("local size " << local);
+    wg::SetLocalSize(local);
+    CHECK(Mirror(tc.Call(5, 5, 0, 50, false)).pairs.empty());
+    CHECK(Mirror(tc.Call(0, 40, 7, 7, true)).tested == 0u);
+    CheckMirror(tc.Call(3, 4, 10, 11, false));
+    CheckMirror(tc.Call(0, 40, 0, 50, true));
+    CheckMirror(RandomLevel(4, 30, 0, 4).Call());
+    CheckMirror(RandomLevel(4, 30, 50, 0).Call());
+  }
+}
+
+TEST_CASE("traverse.compact mirror: each planted fault changes the result; the backend runs the mirror when asked") {
+  ModelGuard guard;
+  const RandomTop tc(11, 150, 170, 6);
+  const RandomLevel lc(12, 400, 3000, 8);
+  const call::TraverseTopCompacted top{tc.Call(0, 150, 0, 170, true)};
+  const call::TraverseLevelCompacted level{lc.Call()};
+  const Compacted top_lanes = Lanes(top), level_lanes = Lanes(level);
+  CHECK_FALSE(RunsWorkgroupMirror("traverse.compact"));
+  // Local size 64: two rounds a block, which fault 3 needs.
+  for (std::uint32_t fault : {1u, 2u, 3u, 4u}) {
+    INFO("traverse.compact:" << fault << "@emu");
+    SetEmuFaults({{"traverse.compact", fault}});
+    CHECK(RunsWorkgroupMirror("traverse.compact"));
+    CHECK_FALSE(Same(EmuHierarchyPasses().TraverseTopCompacted(top), top_lanes));
+    CHECK_FALSE(Same(EmuHierarchyPasses().TraverseLevelCompacted(level), level_lanes));
+  }
+  SetEmuFaults({});
+  CHECK(Same(EmuHierarchyPasses().TraverseTopCompacted(top), top_lanes));
+  SetWorkgroupModel(true);
+  CHECK(RunsWorkgroupMirror("traverse.compact"));
+  CHECK(Same(EmuHierarchyPasses().TraverseLevelCompacted(level), level_lanes));
+}
+
+TEST_CASE("traverse.compact mirror: a dropped barrier in its workgroup scan is named by the checker") {
+  // The phase-A scan is WorkgroupInclusiveAdd with the pass's fault, as in the kernel.
+  ModelGuard guard;
+  const RandomTop tc(13, 60, 100, 2);
+  SetEmuFaults({{"traverse.compact", layout::kFaultDroppedBarrier}});
+  try {
+    Mirror(tc.Call(0, 60, 0, 100, false));
+    FAIL("the checker did not report the dropped barrier");
+  } catch (const wg::CheckError& e) {
+    REQUIRE_FALSE(e.result.reports.empty());
+    CHECK(e.result.reports.front().dispatch == "traverse.compact.Test");
+    CHECK(e.result.reports.front().array == "wg_tile");
+    CHECK(e.result.Count(wg::ReportKind::kRace) > 0u);
+  }
 }

@@ -6,6 +6,7 @@
 
 #include "rayspace/emu/cone.h"
 #include "rayspace/emu/hierarchy.h"
+#include "rayspace/emu/workgroup_ops.h"
 
 namespace rayspace::emu {
 
@@ -17,6 +18,7 @@ float TraversalEpsilon(const SceneBuffers& scene) {
 namespace {
 // A lambda, not a function pointer, so the test inlines into the traversal loops.
 constexpr auto kConeTest = [](const layout::ConeNode& n, glm::vec4 sphere, float eps) { return cone::Test(n, sphere, eps); };
+constexpr std::string_view kCompactPass = "traverse.compact";
 }  // namespace
 
 PairSlots PassTraverseTop(const call::TraverseTop& c) { return TraverseTopWith(kConeTest, c); }
@@ -25,12 +27,17 @@ std::vector<std::uint8_t> PassObjectMask(const call::ObjectMask& c) { return Obj
 
 PairSlots PassTraverseLevel(const call::TraverseLevel& c) { return TraverseLevelWith(kConeTest, c); }
 
-// traverse.compact is the fused path's levels (emu/src/traverse_fused.cpp): the same survivors in slot
-// order and the same test counts as traverse_compact.comp gives, whatever its blocks and workgroups.
+// traverse.compact has two emulations with the same survivors in slot order and the same test
+// counts: the fused path's levels on SIMD lanes (emu/src/traverse_fused.cpp), which renders need for
+// speed, and the mirror of traverse_compact.comp's workgroups (emu/src/traverse_compact_wg.cpp),
+// which is what --check-workgroups, a --schedule other than forward and an @emu fault act on. The
+// mirror runs when one of those asks for the workgroup model (RunsWorkgroupMirror); the lanes else.
 Compacted PassTraverseTopCompacted(const call::TraverseTopCompacted& c) {
+  if (RunsWorkgroupMirror(kCompactPass)) return TraverseTopCompactedWorkgroups(c);
   return PassTraverseTopCompacted(static_cast<const call::TraverseTop&>(c));
 }
 Compacted PassTraverseLevelCompacted(const call::TraverseLevelCompacted& c) {
+  if (RunsWorkgroupMirror(kCompactPass)) return TraverseLevelCompactedWorkgroups(c);
   return PassTraverseLevelCompacted(static_cast<const call::TraverseLevel&>(c));
 }
 

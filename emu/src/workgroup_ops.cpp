@@ -11,6 +11,7 @@ namespace rayspace::emu {
 namespace {
 
 std::map<std::string, std::uint32_t, std::less<>> g_faults;
+bool g_workgroup_model = false;
 
 }  // namespace
 
@@ -20,6 +21,10 @@ std::uint32_t EmuFault(std::string_view pass) {
   auto it = g_faults.find(pass);
   return it == g_faults.end() ? 0u : it->second;
 }
+
+void SetWorkgroupModel(bool on) { g_workgroup_model = on; }
+bool WorkgroupModel() { return g_workgroup_model; }
+bool RunsWorkgroupMirror(std::string_view pass) { return g_workgroup_model || EmuFault(pass) != 0; }
 
 void DispatchKernel(const KernelSite& site, std::string_view phase, std::uint32_t groups,
                     const std::function<void(wg::Workgroup&)>& kernel) {

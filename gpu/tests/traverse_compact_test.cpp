@@ -1,5 +1,6 @@
 // traverse.compact (gpu/shaders/traverse_compact.comp): the fused test and compaction against the
-// emulator's PassTraverseTopCompacted / PassTraverseLevelCompacted and against the two passes it
+// emulator's PassTraverseTopCompacted / PassTraverseLevelCompacted and its workgroup mirror, with and
+// without the planted faults, and against the two passes it
 // replaces (traverse, then reduce), on the calls of real frames and on random configurations: blocks
 // of survivors that straddle workgroups and rounds, workgroup sizes, parts, object masks, empty calls
 // and calls without survivors; and every planted fault of the kernel must be seen.
@@ -18,8 +19,10 @@
 #include "rayspace/emu/frame.h"
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/intersect.h"
+#include "rayspace/emu/workgroup_ops.h"
 #include "rayspace/gpu/passes.h"
 #include "rayspace/scene.h"
+#include "rayspace/workgroup.h"
 
 namespace rayspace {
 namespace {
@@ -168,16 +171,27 @@ struct LevelCase {
 
 emu::Compacted Emulated(const TraverseTopCompacted& c) { return emu::EmuHierarchyPasses().TraverseTopCompacted(c); }
 emu::Compacted Emulated(const TraverseLevelCompacted& c) { return emu::EmuHierarchyPasses().TraverseLevelCompacted(c); }
+// The kernel's workgroups on the emulator (emu/src/traverse_compact_wg.cpp), at wg::LocalSize().
+emu::Compacted Mirrored(const TraverseTopCompacted& c) { return emu::TraverseTopCompactedWorkgroups(c); }
+emu::Compacted Mirrored(const TraverseLevelCompacted& c) { return emu::TraverseLevelCompactedWorkgroups(c); }
 
-// The Vulkan result of `call` equals the emulator's and that of the two passes on the device; returns it.
+// The Vulkan result of `call` equals the emulator's (its fast path and its workgroup mirror) and that
+// of the two passes on the device; returns it.
 template <typename C>
 emu::Compacted CheckCall(gpu_backend::VulkanPasses& gpu, const C& call) {
   emu::CheckInputs(call);
   const emu::Compacted expected = Emulated(call), got = OnGpu(gpu, call);
   CHECK(Difference(expected, got) == "");
+  CHECK(Difference(Mirrored(call), got) == "");
   CHECK(Difference(expected, TwoPassesOnGpu(gpu, call)) == "");
   return got;
 }
+
+// Sets the emulator's local size for a test and restores the default after it.
+struct LocalSizeGuard {
+  explicit LocalSizeGuard(std::uint32_t n) { wg::SetLocalSize(n); }
+  ~LocalSizeGuard() { wg::SetLocalSize(64); }
+};
 
 }  // namespace
 
@@ -187,6 +201,7 @@ TEST_CASE("traverse.compact: random top-level calls equal the emulator and trave
   for (const std::uint32_t local_size : {64u, 1u, 7u, 256u}) {
     CAPTURE(local_size);
     auto gpu = MakeGpu({}, local_size);
+    const LocalSizeGuard mirror_local_size(local_size);
     const emu::Compacted all = CheckCall(*gpu, plain.Call(0, 300, 0, 340));
     // Both answers are common, so blocks hold some survivors and not all.
     CHECK(all.pairs.size() > all.tested / 50);
@@ -210,6 +225,7 @@ TEST_CASE("traverse.compact: random lower-level calls equal the emulator and tra
     CheckCall(*gpu, lc.Call(0.05f));
   }
   auto gpu7 = MakeGpu({}, 7);
+  const LocalSizeGuard mirror_local_size(7);
   CheckCall(*gpu7, LevelCase(99, 300, 2000, 8).Call());
 }
 
@@ -252,7 +268,17 @@ TEST_CASE("traverse.compact: calls split into parts by a small binding limit con
   CheckCall(*gpu, LevelCase(13, 150, 4000, 8).Call());  // parts of 512 pairs
 }
 
-TEST_CASE("traverse.compact: every planted fault of the kernel is seen") {
+namespace {
+
+// Fault 1 leaves the output words before the second block's offset unwritten: zero in the mirror,
+// undefined on the device. The device's are cleared up to the mirror's first written word.
+void ClearUnwritten(const emu::Compacted& mirror, emu::Compacted& device) {
+  for (std::size_t k = 0; k < mirror.pairs.size() && k < device.pairs.size() && mirror.pairs[k] == 0u; ++k) device.pairs[k] = 0u;
+}
+
+}  // namespace
+
+TEST_CASE("traverse.compact: every planted fault of the kernel is seen, and is the mirror's fault of that number") {
   // Rows of 1,200 triangles: several rounds of the top phase at the default local size (fault 3).
   const TopCase tc(21, 300, 1200, 3, false);
   const LevelCase lc(22, 400, 3000, 8);
@@ -261,8 +287,19 @@ TEST_CASE("traverse.compact: every planted fault of the kernel is seen") {
   for (const FaultSpec& f : Pass(PassId::kTraverseCompact).faults) {
     CAPTURE(f.effect);
     auto gpu = MakeGpu({{"traverse.compact", f.number}});
-    CHECK(Difference(expected, OnGpu(*gpu, top)) != "");
-    CHECK(Difference(Emulated(lc.Call()), OnGpu(*gpu, lc.Call())) != "");
+    emu::Compacted faulty = OnGpu(*gpu, top), faulty_level = OnGpu(*gpu, lc.Call());
+    CHECK(Difference(expected, faulty) != "");
+    CHECK(Difference(Emulated(lc.Call()), faulty_level) != "");
+    // The same fault planted in the emulator's mirror (@emu) is the same mistake, bit for bit.
+    emu::SetEmuFaults({{"traverse.compact", f.number}});
+    const emu::Compacted mirrored = Mirrored(top), mirrored_level = Mirrored(lc.Call());
+    emu::SetEmuFaults({});
+    if (f.number == 1) {
+      ClearUnwritten(mirrored, faulty);
+      ClearUnwritten(mirrored_level, faulty_level);
+    }
+    CHECK(Difference(mirrored, faulty) == "");
+    CHECK(Difference(mirrored_level, faulty_level) == "");
   }
 }
 

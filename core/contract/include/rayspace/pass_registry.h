@@ -42,11 +42,14 @@ inline constexpr std::size_t kPassCount = static_cast<std::size_t>(PassId::kCoun
 // A planted fault: a known bug compiled into the kernel through specialization constant 0
 // (`--inject PASS:N` or `PASS:NAME`), which the diff must report in this pass first. Faults with a name
 // are the workgroup faults (kFault* of rayspace/contract.h), plantable on the emulator's side too
-// (`PASS:NAME@emu`), where the workgroup checker must name them before any comparison.
+// (`PASS:NAME@emu`), where the workgroup checker must name them before any comparison. A pass's own
+// fault marked `emu` is mirrored by its emulated kernel too (`PASS:N@emu`), where the diff must catch
+// it as it catches the kernel's.
 struct FaultSpec {
   std::uint32_t number;
   std::string_view effect;
   std::string_view name = {};
+  bool emu = false;
 };
 
 // A call of the backend interface (emu/backend.h) that runs this pass. `index_outputs` are outputs
@@ -172,11 +175,12 @@ inline constexpr FaultSpec kReduceFaults[] = {{1, "the last element of every seg
                                               {2, "each scan block starts at the previous block's offset"},
                                               RS_WORKGROUP_FAULTS};
 #undef RS_WORKGROUP_FAULTS
+// Mirrored by the emulated kernel (emu/src/traverse_compact_wg.cpp).
 inline constexpr FaultSpec kTraverseCompactFaults[] = {
-    {1, "each block's survivors land at the next block's offset (the block scan read as inclusive)"},
-    {2, "the last survivor of every block is dropped"},
-    {3, "every round of a block starts at the block's start (the carry between rounds is dropped)"},
-    {4, "each block reports its survivors as its tests"}};
+    {1, "each block's survivors land at the next block's offset (the block scan read as inclusive)", {}, true},
+    {2, "the last survivor of every block is dropped", {}, true},
+    {3, "every round of a block starts at the block's start (the carry between rounds is dropped)", {}, true},
+    {4, "each block reports its survivors as its tests", {}, true}};
 inline constexpr FaultSpec kIntersectFaults[] = {{1, "tmin and tmax swapped in the range check"},
                                                  {2, "every paged load reads the first page (--split-bytes)"},
                                                  RS_APPROX_DIV,

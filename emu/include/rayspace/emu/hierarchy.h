@@ -180,7 +180,14 @@ Compacted TraverseLevelCompactedWith(TestFn&& test, const call::TraverseLevel& c
 Compacted PassTraverseTopCompacted(const call::TraverseTop& c);
 void SetFusedIsa(cone::Isa isa);
 Compacted PassTraverseLevelCompacted(const call::TraverseLevel& c);
-// The traverse.compact calls (emu/calls.h), as the emulator's backend runs them: the two above.
+// traverse_compact.comp's three dispatches on the workgroup model (emu/src/traverse_compact_wg.cpp):
+// the same result as the two above, from the kernel's workgroups, rounds and scans, with its planted
+// faults (`--inject traverse.compact:N@emu`).
+Compacted TraverseTopCompactedWorkgroups(const call::TraverseTop& c);
+Compacted TraverseLevelCompactedWorkgroups(const call::TraverseLevel& c);
+// The traverse.compact calls (emu/calls.h), as the emulator's backend runs them: the workgroup mirror
+// when the run asks for the workgroup model or an emulator-side fault is planted in the pass
+// (RunsWorkgroupMirror, emu/workgroup_ops.h), the lanes above otherwise.
 Compacted PassTraverseTopCompacted(const call::TraverseTopCompacted& c);
 Compacted PassTraverseLevelCompacted(const call::TraverseLevelCompacted& c);
 

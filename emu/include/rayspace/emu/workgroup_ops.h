@@ -18,6 +18,16 @@ namespace rayspace::emu {
 void SetEmuFaults(std::map<std::string, std::uint32_t> faults);
 std::uint32_t EmuFault(std::string_view pass);
 
+// Whether the run asks for the emulated kernels' workgroups: the commands set it when the checker is
+// on, the schedule is not forward or a fault is planted with @emu (app/kernel_model.cpp). A pass
+// whose emulation has a faster path than its workgroup mirror (traverse.compact's lanes) takes the
+// mirror then, since the faster path has no workgroups to check, reorder or plant a fault in.
+// Process-wide, like the faults; off by default, so that library users and renders get the fast path.
+void SetWorkgroupModel(bool on);
+bool WorkgroupModel();
+// Whether `pass` runs its workgroup mirror: the model is asked for, or a fault is planted in it.
+bool RunsWorkgroupMirror(std::string_view pass);
+
 // The pass an emulated kernel runs for (its name labels the dispatches, "trim.Scatter") and its
 // planted fault (0 = none).
 struct KernelSite {

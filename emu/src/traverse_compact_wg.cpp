@@ -1,0 +1,333 @@
+// traverse.compact on the workgroup model: mirrors gpu/shaders/traverse_compact.comp dispatch for
+// dispatch (Test, Scan, Scatter) and phase for phase, with its push constants, tiles, rounds, shuffles, packing,
+// scratch and count buffers and its planted faults 1..4, so that --check-workgroups, --schedule and
+// `--inject traverse.compact:N@emu` reach the kernel's structure and not only its result. The
+// cone-sphere test is the pass-by-pass traversal's scalar cone::Test, bit for bit the kernel's
+// ConeTest. The host's parts (bindings of limited size) are not mirrored: one part covers the call,
+// and parts only concatenate in slot order.
+#include <algorithm>
+#include <array>
+#include <bit>
+
+#include "rayspace/contract.h"
+#include "rayspace/emu/cone.h"
+#include "rayspace/emu/hierarchy.h"
+#include "rayspace/emu/workgroup_ops.h"
+#include "rayspace/error.h"
+
+namespace rayspace::emu {
+namespace {
+
+using layout::kCompactBlock;
+using layout::kCompactRun;
+// uint kept[kCompactRun]: the survivors of an invocation's slots in the current round.
+using Kept = std::array<std::uint32_t, kCompactRun>;
+
+using layout::kCompactCols;
+using layout::kCompactRows;
+using RowNodes = wg::Private<std::array<layout::ConeNode, kCompactRows>>;
+
+// A row's 16-bit field of the top phase's packed counts.
+std::uint32_t Field(const glm::uvec4& v, std::uint32_t r) { return (v[r >> 1] >> ((r & 1u) * 16u)) & 0xFFFFu; }
+
+// The kernel's WorkgroupInclusiveAdd4: subgroup scans of the four words, one uvec4 per subgroup in
+// shared memory, two barriers.
+wg::Private<glm::uvec4> WorkgroupInclusiveAdd4(wg::Workgroup& w, wg::Shared<glm::uvec4>& tile, const wg::Private<glm::uvec4>& v,
+                                               wg::Private<glm::uvec4>& total) {
+  wg::Private<glm::uvec4> inclusive = w.Private<glm::uvec4>(), subgroup_sum = inclusive;
+  for (int c = 0; c < 4; ++c) {  // subgroupInclusiveAdd / subgroupAdd of a uvec4 act per component
+    wg::Private<std::uint32_t> x = w.Private<std::uint32_t>();
+    w.Phase([&](wg::Inv& i) { x[i] = v[i][c]; });
+    const wg::Private<std::uint32_t> in = w.SubgroupInclusiveAdd(x), sum = w.SubgroupAdd(x);
+    w.Phase([&](wg::Inv& i) { inclusive[i][c] = in[i], subgroup_sum[i][c] = sum[i]; });
+  }
+  const wg::Private<bool> elect = w.SubgroupElect();
+  w.Phase([&](wg::Inv& i) {
+    if (elect[i]) tile[i.subgroup_id] = subgroup_sum[i];
+  });
+  w.Barrier();
+  wg::Private<glm::uvec4> out = w.Private<glm::uvec4>();
+  w.Phase([&](wg::Inv& i) {
+    glm::uvec4 before(0u), all(0u);
+    for (std::uint32_t k = 0; k < w.num_subgroups(); ++k) {
+      const glm::uvec4 x = tile[k];
+      if (k < i.subgroup_id) before += x;
+      all += x;
+    }
+    total[i] = all;
+    out[i] = before + inclusive[i];
+  });
+  w.Barrier();  // the tile is free for the next round
+  return out;
+}
+
+// One part of traverse_compact.comp: the push constants and buffers the host binds, and the three
+// dispatches over them.
+class CompactKernel {
+ public:
+  CompactKernel(const layout::TraverseCompactPush& pc, In<glm::vec4> tri_spheres)
+      : site_(KernelSite::Of("traverse.compact")), pc_(pc), tri_spheres_(tri_spheres) {
+    scratch_.assign(pc.count, 0u);
+    counts_.assign(std::size_t{pc.blocks} + 1, 0u);
+    tested_.assign(std::size_t{pc.blocks} + 1, 0u);
+    out_.assign(pc.count, 0u);
+  }
+  void BindTop(In<layout::ConeNode> top, In<layout::TriangleInfo> info, In<std::uint8_t> mask_rows) {
+    nodes_ = top, info_ = info, mask_ = mask_rows;
+  }
+  void BindLevel(In<std::uint32_t> pairs, In<layout::ConeNode> nodes, In<std::uint32_t> first) {
+    pairs_ = pairs, nodes_ = nodes, first_ = first;
+  }
+
+  // The host's submit (phase A, Scan, Scatter) and read-back: the total after the scanned counts,
+  // the tests after the block tests.
+  Compacted Run() {
+    if (pc_.phase == layout::kTraverseCompactPhaseTop)
+      DispatchKernel(site_, "Test", (pc_.blocks + kCompactRows - 1) / kCompactRows, [&](wg::Workgroup& w) { TestTopTile(w); });
+    else
+      DispatchKernel(site_, "Test", pc_.blocks, [&](wg::Workgroup& w) { TestBlock(w); });
+    DispatchKernel(site_, "Scan", 1, [&](wg::Workgroup& w) { ScanBlocks(w); });
+    DispatchKernel(site_, "Scatter", pc_.blocks, [&](wg::Workgroup& w) { ScatterBlock(w); });
+    const std::uint32_t total = counts_[pc_.blocks];
+    RS_CHECK_MSG(total <= pc_.count, "traverse.compact: {} survivors of {} slots", total, pc_.count);
+    Compacted r;
+    r.pairs.assign(out_.begin(), out_.begin() + total);
+    r.tested = tested_[pc_.blocks];
+    return r;
+  }
+
+ private:
+  // traverse.comp's object-mask rule: a slot whose triangle's object the node misses runs no test.
+  bool Tested(std::uint32_t row, std::uint32_t tri) const {
+    return pc_.use_mask == 0u || mask_[std::size_t{row} * pc_.objects + info_[tri].ids.y] != 0u;
+  }
+
+  // RowBits: bit r set when row0 + r's node may meet triangles of `object`.
+  std::uint32_t RowBits(std::uint32_t object, std::uint32_t row0, std::uint32_t rows) const {
+    if (pc_.use_mask == 0u) return (1u << rows) - 1u;
+    std::uint32_t bits = 0;
+    for (std::uint32_t r = 0; r < rows; ++r)
+      if (mask_[std::size_t{row0 + r} * pc_.objects + object] != 0u) bits |= 1u << r;
+    return bits;
+  }
+
+  // Each invocation's row nodes: RowNode's subgroupShuffle of lane r's node when its subgroup has
+  // kCompactRows lanes, else a load. The shuffles run once per tile here, once per round in the
+  // kernel: the same values (mine does not change within a tile).
+  RowNodes NodesOfRows(wg::Workgroup& w, std::uint32_t row0, std::uint32_t rows) {
+    wg::Private<layout::ConeNode> mine = w.Private<layout::ConeNode>();
+    w.Phase([&](wg::Inv& i) { mine[i] = nodes_[pc_.t0 + row0 + std::min(i.lane, rows - 1u)]; });
+    const auto full = [&](const wg::Inv& i) {
+      return std::min(w.subgroup_size(), w.local_size() - i.subgroup_id * w.subgroup_size()) >= kCompactRows;
+    };
+    RowNodes out = w.Private<std::array<layout::ConeNode, kCompactRows>>();
+    for (std::uint32_t r = 0; r < rows; ++r) {
+      wg::Private<std::uint32_t> src = w.Private<std::uint32_t>();
+      w.Phase([&](wg::Inv& i) { src[i] = full(i) ? r : i.lane; });  // a short subgroup reads memory instead
+      const wg::Private<layout::ConeNode> shuffled = w.SubgroupShuffle(mine, src);
+      w.Phase([&](wg::Inv& i) { out[i][r] = full(i) ? shuffled[i] : nodes_[pc_.t0 + row0 + r]; });
+    }
+    return out;
+  }
+
+  // One invocation's round of TestTopTile: its kCompactCols triangles from col0 against the rows;
+  // hit[r] bit k: column col0 + k survives in row r. Returns the rows' survivor counts, 16 bits each.
+  glm::uvec4 TestTopRound(const std::array<layout::ConeNode, kCompactRows>& node, std::uint32_t row0, std::uint32_t rows,
+                          std::uint32_t col0, std::array<std::uint32_t, kCompactRows>& hit, std::uint32_t& tests) const {
+    std::array<glm::vec4, kCompactCols> sphere{};
+    std::array<std::uint32_t, kCompactCols> may{};
+    std::uint32_t object = 0xFFFFFFFFu, object_bits = 0;
+    for (std::uint32_t k = 0; k < kCompactCols && col0 + k < pc_.tris; ++k) {
+      sphere[k] = tri_spheres_[pc_.b0 + col0 + k];
+      const std::uint32_t o = info_[pc_.b0 + col0 + k].ids.y;
+      if (o != object) object_bits = RowBits(o, row0, rows);
+      object = o;
+      may[k] = object_bits;
+    }
+    glm::uvec4 n(0u);
+    hit.fill(0u);
+    for (std::uint32_t r = 0; r < rows; ++r) {
+      for (std::uint32_t k = 0; k < kCompactCols; ++k) {
+        if ((may[k] >> r & 1u) == 0u) continue;
+        ++tests;
+        if (cone::Test(node[r], sphere[k], pc_.eps)) hit[r] |= 1u << k;
+      }
+      n[r >> 1] += static_cast<std::uint32_t>(std::popcount(hit[r])) << ((r & 1u) * 16u);
+    }
+    return n;
+  }
+
+  // Phase A at the top level for tile w.id(): rows [row0, row0 + rows) of the part, rounds of
+  // local_size x kCompactCols triangles, one WorkgroupInclusiveAdd4 of the rows' counts a round.
+  void TestTopTile(wg::Workgroup& w) {
+    auto& tile = WorkgroupTile(w);
+    auto& tile4 = w.Shared<glm::uvec4>(layout::kMaxLocalSize / 4u, "wg_tile4");
+    const std::uint32_t row0 = w.id() * kCompactRows, rows = std::min(kCompactRows, pc_.blocks - row0);
+    const RowNodes node = NodesOfRows(w, row0, rows);
+    wg::Private<std::array<std::uint32_t, kCompactRows>> run = w.Private<std::array<std::uint32_t, kCompactRows>>(), hit = run;
+    wg::Private<glm::uvec4> n = w.Private<glm::uvec4>(), sums = n;
+    wg::Private<std::uint32_t> tests = w.Private<std::uint32_t>(), all_tests = tests;
+    for (std::uint32_t c0 = 0; c0 < pc_.tris; c0 += w.local_size() * kCompactCols) {
+      w.Phase([&](wg::Inv& i) { n[i] = TestTopRound(node[i], row0, rows, c0 + i.local_id * kCompactCols, hit[i], tests[i]); });
+      const wg::Private<glm::uvec4> inclusive = WorkgroupInclusiveAdd4(w, tile4, n, sums);
+      w.Phase([&](wg::Inv& i) {
+        const glm::uvec4 before = inclusive[i] - n[i];  // fieldwise: no field borrows
+        for (std::uint32_t r = 0; r < rows; ++r) {
+          // Fault 3: every round starts at the row's start (the carry between rounds is dropped).
+          std::uint32_t at = (row0 + r) * pc_.tris + (site_.fault == 3u ? 0u : run[i][r]) + Field(before, r);
+          for (std::uint32_t bits = hit[i][r]; bits != 0u; bits &= bits - 1u)
+            scratch_[at++] = ((pc_.t0 + row0 + r - pc_.id_base) << kPairTriangleBits) |
+                             (c0 + i.local_id * kCompactCols + static_cast<std::uint32_t>(std::countr_zero(bits)));
+          run[i][r] += Field(sums[i], r);
+        }
+      });
+    }
+    WorkgroupInclusiveAdd(w, tile, tests, all_tests, site_.fault);
+    w.Phase([&](wg::Inv& i) {
+      if (i.local_id != 0) return;
+      for (std::uint32_t r = 0; r < rows; ++r) {
+        // Fault 2: the last survivor of every block is dropped. Fault 4: the survivors reported as tests.
+        counts_[row0 + r] = site_.fault == 2u && run[i][r] > 0u ? run[i][r] - 1u : run[i][r];
+        tested_[row0 + r] = site_.fault == 4u ? run[i][r] : (r == 0 ? all_tests[i] : 0u);
+      }
+    });
+  }
+
+  // TestLevelSlots: slots [s0, s1) as (pair, child), visiting only the slots that hold a child.
+  std::uint32_t TestLevelSlots(std::uint32_t s0, std::uint32_t s1, std::uint32_t& tests, Kept& kept) const {
+    std::uint32_t n = 0;
+    tests = 0;
+    for (std::uint32_t p = s0 / pc_.children_max; p * pc_.children_max < s1; ++p) {
+      const std::uint32_t parent = pc_.base_up + (pairs_[p] >> kPairTriangleBits), tri_local = pairs_[p] & kPairTriangleMask;
+      const std::uint32_t c0 = first_[parent], c1 = first_[parent + 1u];
+      const std::uint32_t row0 = p * pc_.children_max, k1 = std::min(std::min(s1, row0 + pc_.children_max) - row0, c1 - c0);
+      const glm::vec4 sphere = tri_spheres_[pc_.b0 + tri_local];
+      for (std::uint32_t k = std::max(s0, row0) - row0; k < k1; ++k) {
+        ++tests;
+        if (cone::Test(nodes_[c0 + k], sphere, pc_.eps)) kept[n++] = ((c0 + k - pc_.base) << kPairTriangleBits) | tri_local;
+      }
+    }
+    return n;
+  }
+
+  // Phase A one level down for block w.id(): every invocation runs every round (the scan's barriers are uniform).
+  // The kernel's `run` and `tests` are locals of each invocation, equal in all of them.
+  void TestBlock(wg::Workgroup& w) {
+    auto& tile = WorkgroupTile(w);
+    const std::uint32_t g = w.id(), first = g * kCompactBlock, end = std::min(pc_.count, first + kCompactBlock);
+    const std::uint32_t round = w.local_size() * kCompactRun;
+    wg::Private<Kept> kept = w.Private<Kept>();
+    wg::Private<std::uint32_t> n = w.Private<std::uint32_t>(), packed = w.Private<std::uint32_t>();
+    wg::Private<std::uint32_t> sums = w.Private<std::uint32_t>(), run = w.Private<std::uint32_t>(), tests = w.Private<std::uint32_t>();
+    for (std::uint32_t r0 = first; r0 < end; r0 += round) {
+      w.Phase([&](wg::Inv& i) {
+        const std::uint32_t s0 = std::min(r0 + i.local_id * kCompactRun, end), s1 = std::min(s0 + kCompactRun, end);
+        std::uint32_t t = 0;
+        n[i] = 0;
+        if (s0 < s1)
+          n[i] = TestLevelSlots(s0, s1, t, kept[i]);
+        packed[i] = n[i] | (t << 16);  // survivors and tests in one scan, 16 bits each
+      });
+      const wg::Private<std::uint32_t> inclusive = WorkgroupInclusiveAdd(w, tile, packed, sums, site_.fault);
+      w.Phase([&](wg::Inv& i) {
+        const std::uint32_t before = (inclusive[i] & 0xFFFFu) - n[i];
+        // Fault 3: every round starts at the block's start (the carry between rounds is dropped).
+        const std::uint32_t at = first + (site_.fault == 3u ? 0u : run[i]) + before;
+        // A store past the buffer (only a planted fault makes one) is dropped, as robust buffer
+        // access drops the kernel's.
+        for (std::uint32_t j = 0; j < n[i]; ++j)
+          if (at + j < pc_.count) scratch_[at + j] = kept[i][j];
+        run[i] += sums[i] & 0xFFFFu;
+        tests[i] += sums[i] >> 16;
+      });
+    }
+    w.Phase([&](wg::Inv& i) {
+      if (i.local_id != 0) return;
+      // Fault 2: the last survivor of every block is dropped. Fault 4: the survivors reported as tests.
+      counts_[g] = site_.fault == 2u && run[i] > 0u ? run[i] - 1u : run[i];
+      tested_[g] = site_.fault == 4u ? run[i] : tests[i];
+    });
+  }
+
+  // Phase Scan (one workgroup): exclusive offsets of the blocks with the total last, and the sum of
+  // their tests. The kernel's store of the total and WORKGROUP_SUM's loads share a barrier interval;
+  // they touch different buffers, so the phase boundary between them here changes nothing.
+  void ScanBlocks(wg::Workgroup& w) {
+    auto& tile = WorkgroupTile(w);
+    const std::uint32_t total = WorkgroupScanInPlace(w, tile, counts_.data(), pc_.blocks, site_.fault);
+    w.Phase([&](wg::Inv& i) {
+      if (i.local_id == 0) counts_[pc_.blocks] = total;
+    });
+    const wg::Private<std::uint32_t> sum = WorkgroupSum(
+        w, tile, [&](std::uint32_t k) { return tested_[k]; }, 0u, pc_.blocks, site_.fault);
+    w.Phase([&](wg::Inv& i) {
+      if (i.local_id == 0) tested_[pc_.blocks] = sum[i];
+    });
+  }
+
+  // Phase Scatter for block w.id(): its survivors from its scratch region to its offset.
+  void ScatterBlock(wg::Workgroup& w) {
+    const std::uint32_t g = w.id(), at = counts_[g], n = counts_[g + 1u] - at;
+    // Fault 1: the block lands at the next block's offset (the scan read as inclusive).
+    const std::uint32_t dst = site_.fault == 1u ? counts_[g + 1u] : at;
+    w.Phase([&](wg::Inv& i) {
+      for (std::uint32_t k = i.local_id; k < n; k += w.local_size())
+        if (dst + k < pc_.count && g * pc_.region + k < pc_.count)  // the bounds hold but for faults
+          out_[dst + k] = scratch_[g * pc_.region + k];
+    });
+  }
+
+  KernelSite site_;
+  layout::TraverseCompactPush pc_;
+  In<glm::vec4> tri_spheres_;
+  In<layout::TriangleInfo> info_;
+  In<std::uint8_t> mask_;  // the object mask's rows from top node t0
+  In<std::uint32_t> pairs_, first_;
+  In<layout::ConeNode> nodes_;
+  std::vector<std::uint32_t> scratch_, counts_, tested_, out_;
+};
+
+// The push constants of a part of `count` slots. The rounds' slot arithmetic is 32-bit, as in the
+// kernel: the last round must not wrap.
+layout::TraverseCompactPush Push(std::uint32_t phase, std::size_t count, float eps) {
+  RS_CHECK_MSG(count <= 0xffffffffu - layout::kMaxLocalSize * kCompactRun, "traverse.compact: {} slots exceed 32-bit slot numbers",
+               count);
+  layout::TraverseCompactPush pc{};
+  pc.phase = phase;
+  pc.count = static_cast<std::uint32_t>(count);
+  pc.blocks = (pc.count + kCompactBlock - 1) / kCompactBlock;  // the top level's: its rows (TraverseTopCompactedWorkgroups)
+  pc.region = kCompactBlock;
+  pc.eps = eps;
+  return pc;
+}
+
+}  // namespace
+
+Compacted TraverseTopCompactedWorkgroups(const call::TraverseTop& c) {
+  const std::uint32_t T = c.b1 - c.b0, objects = static_cast<std::uint32_t>(c.scene->objects.size());
+  layout::TraverseCompactPush pc = Push(layout::kTraverseCompactPhaseTop, std::size_t{c.t1 - c.t0} * T, c.eps);
+  pc.t0 = c.t0;
+  pc.b0 = c.b0;
+  pc.tris = T;
+  pc.blocks = T ? c.t1 - c.t0 : 0;  // a block is a row of T slots (none without triangles, as the host)
+  pc.region = T;
+  pc.objects = objects;
+  pc.use_mask = c.object_mask.empty() ? 0u : 1u;
+  pc.id_base = c.t0;
+  CompactKernel k(pc, c.tri_spheres);
+  k.BindTop(c.top, c.scene->info, pc.use_mask ? c.object_mask.subspan(std::size_t{c.t0} * objects) : In<std::uint8_t>{});
+  return k.Run();
+}
+
+Compacted TraverseLevelCompactedWorkgroups(const call::TraverseLevel& c) {
+  layout::TraverseCompactPush pc = Push(layout::kTraverseCompactPhaseLevel, c.pairs.size() * c.children_max, c.eps);
+  pc.b0 = c.b0;
+  pc.base_up = c.base_up;
+  pc.base = c.base;
+  pc.children_max = c.children_max;
+  CompactKernel k(pc, c.tri_spheres);
+  k.BindLevel(c.pairs, c.nodes, c.first);
+  return k.Run();
+}
+
+}  // namespace rayspace::emu
