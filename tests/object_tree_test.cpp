@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <string>
 
 #include <doctest/doctest.h>
 
@@ -150,10 +151,14 @@ TEST_CASE("object tree: the bundled scenes' objects keep every invariant") {
     MESSAGE("no scene data; skipping");
     return;
   }
-  for (const char* file : {"cornell-mirrors.json", "office.json", "sponza.json"}) {
+  for (const char* file : {"cornell-mirrors.json", "office.json", "sponza.json", "dragon-closeup.json"}) {
     CAPTURE(file);
     const rayspace::SceneBuffers b = rayspace::FlattenScene(rayspace::test::LoadBundled(file));
     const ObjectTree t = BuildObjectTree(b.triangles, b.objects);
     CHECK(CheckInvariants(t, b.triangles, b.objects) > b.objects.size());
+    std::size_t leaves = 0;
+    for (const ObjectTreeNode& n : t.nodes) leaves += n.children == 0 ? 1 : 0;
+    MESSAGE(std::string(file) << ": " << b.triangles.size() << " triangles, " << t.nodes.size() << " nodes, " << leaves << " leaves, depth "
+                 << *std::max_element(t.depth.begin(), t.depth.end()));
   }
 }
