@@ -35,6 +35,11 @@ void AddFrameOptions(CLI::App& command, FrameArgs& args) {
   command.add_option("--depth", args.depth, "Hierarchy levels (rah-quadtree: log2 of the image size)")
       ->check(CLI::Range(1, 12))
       ->each([&args](const std::string&) { args.depth_given = true; });
+  command
+      .add_option("--objects", args.objects,
+                  "Hierarchy tracers' top level against the objects: flat (every triangle of every object whose "
+                  "sphere a node may meet, the thesis's) or tree (each object's bounding-sphere tree; emulator only)")
+      ->check(CLI::IsMember({"flat", "tree"}));
   command.add_option("--reduction", args.reduction, "Stream reduction: hierarchical (Roger et al.) or scan")
       ->check(CLI::IsMember({"hierarchical", "scan"}));
   command.add_option("--component-size", args.component_size, "Component size s of the hierarchical reduction")
@@ -126,6 +131,7 @@ emu::HierarchyConfig MakeHierarchyConfig(const FrameArgs& args, int width, int h
   hc.reduction = args.reduction == "scan" ? emu::Reduction::kScan : emu::Reduction::kHierarchical;
   hc.component_size = args.component_size;
   hc.pair_capacity = args.pair_capacity;
+  hc.object_tree = args.objects == "tree";
   hc.image_width = width;
   hc.image_height = height;
   hc.passes = passes;

@@ -22,17 +22,19 @@ Statistics CollectStatistics(const std::vector<emu::BatchStats>& batches) {
     t.rays += b.rays;
     t.brute_force += b.BruteForce();
     t.object_sphere_tests += b.object_sphere_tests;
+    t.object_tree_tests += b.object_tree_tests;
     s.total += b.Total();
     s.brute_force += b.BruteForce();
     s.object_sphere_tests += b.object_sphere_tests;
+    s.object_tree_tests += b.object_tree_tests;
   }
   // The accounting identity, recomputed from the per-type sums.
   std::uint64_t check = 0;
   for (const auto& [kind, t] : s.types) {
-    check += t.final_tests;
+    check += t.final_tests + t.object_tree_tests;
     for (const emu::LevelStats& l : t.levels) check += l.intersections;
   }
-  RS_CHECK_MSG(check == s.total, "total {} != levels + final tests {}", s.total, check);
+  RS_CHECK_MSG(check == s.total, "total {} != levels + object-tree tests + final tests {}", s.total, check);
   return s;
 }
 
@@ -70,6 +72,7 @@ void Statistics::ToJson(nlohmann::json& j) const {
     batch_list.push_back({{"batch", b.batch}, {"ray_type", emu::RayKindName(b.kind)}, {"bounce", b.bounce},
                           {"rays", b.rays}, {"levels", bl}, {"final_tests", b.final_tests}, {"total_tests", b.Total()},
                           {"object_sphere_tests", b.object_sphere_tests}, {"object_sphere_hits", b.object_sphere_hits},
+                          {"object_tree_tests", b.object_tree_tests}, {"object_tree_hits", b.object_tree_hits},
                           {"triangle_batches", b.triangle_batches}, {"overflow_splits", b.overflow_splits}});
   }
   j["levels"] = levels;
@@ -77,6 +80,7 @@ void Statistics::ToJson(nlohmann::json& j) const {
   j["total_tests"] = total;
   j["brute_force_tests"] = brute_force;
   j["object_sphere_tests"] = object_sphere_tests;
+  j["object_tree_tests"] = object_tree_tests;
   j["batches"] = batch_list;
 }
 
@@ -104,6 +108,8 @@ void Statistics::Print(std::FILE* out) const {
       std::fprintf(out, "\n  # %s %-17s %16llu\n", kShort[kind], "FINAL TESTS", static_cast<unsigned long long>(t.final_tests));
     }
     if (object_sphere_tests) std::fprintf(out, "  object-sphere tests   %16llu\n", static_cast<unsigned long long>(object_sphere_tests));
+    if (object_tree_tests)
+      std::fprintf(out, "  object-tree tests     %16llu (in the total)\n", static_cast<unsigned long long>(object_tree_tests));
   }
   std::fprintf(out, "  total tests           %16llu (%.2f%% of brute force %llu)\n", static_cast<unsigned long long>(total),
                100.0 * static_cast<double>(total) / bf, static_cast<unsigned long long>(brute_force));

@@ -12,13 +12,14 @@
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/intersect_simd.h"
 #include "rayspace/emu/passes.h"
+#include "rayspace/emu/object_tree_top.h"
 #include "rayspace/error.h"
 #include "rayspace/parallel.h"
 
 namespace rayspace::emu {
 
 std::uint64_t BatchStats::Total() const {
-  std::uint64_t t = final_tests;
+  std::uint64_t t = final_tests + object_tree_tests;
   for (const LevelStats& l : levels) t += l.intersections;
   return t;
 }
@@ -52,6 +53,11 @@ class Impl final : public HierarchyTracer {
       : scene_(scene), cfg_(cfg), passes_(cfg.passes ? *cfg.passes : EmuHierarchyPasses()) {
     RS_CHECK(cfg.subdivision >= 2 && cfg.depth >= 1 && cfg.component_size >= 1);
     RS_CHECK(cfg.max_batch_triangles >= 1 && cfg.max_batch_triangles <= (1u << kTriBits));
+    // The object tree's top level has an emulation and no kernel yet: a backend's frame or a diff
+    // would run it on the host on both sides and call that verified.
+    if (cfg.object_tree && cfg.passes != nullptr)
+      ThrowInput("--objects tree: runs on the emulator only (render --backend emu): the object tree's top level has no Vulkan "
+                 "kernel yet, so neither --backend vulkan nor diff can run it");
 
     eps_ = TraversalEpsilon(scene);
   }
@@ -79,6 +85,9 @@ class Impl final : public HierarchyTracer {
     RS_CHECK(tri_spheres.size() == scene_.triangles.size() && obj_spheres.size() == scene_.objects.size());
     tri_spheres_ = &tri_spheres;
     obj_spheres_ = &obj_spheres;
+    // The object tree depends on the scene alone: built once, as Embree's and the direct tracer's BVHs.
+    if (cfg_.object_tree && tree_.tree.nodes.empty())
+      tree_ = IndexObjectTree(BuildObjectTree(scene_.triangles, scene_.objects, cfg_.object_tree_options, tri_spheres));
   }
   void BeginBatch(const BatchContext& ctx) override { ctx_ = ctx; }
   const std::vector<BatchStats>& Stats() const override { return stats_; }
@@ -260,6 +269,17 @@ class Impl final : public HierarchyTracer {
     return pairs;
   }
 
+  // --objects tree: the top level through the object tree, the flat level's pairs in its order.
+  std::vector<std::uint32_t> TreeTop(int L, std::size_t slots_n, const call::TraverseTop& call, LevelStats& lv, BatchStats& st) {
+    TreeTopResult r = Sub("traverse.tree.L" + std::to_string(L), slots_n, [&] { return TraverseTopTree(call, tree_); });
+    lv.intersections = r.pairs.tested;
+    lv.hits = r.pairs.pairs.size();
+    st.object_tree_tests += r.node_tests;
+    st.object_tree_hits += r.node_hits;
+    if (cfg_.pair_log) cfg_.pair_log->push_back(r.pairs.pairs);
+    return std::move(r.pairs.pairs);
+  }
+
   // Traverses one block (top nodes [t0, t1) x triangles [b0, b1)); false when a level overflows the
   // pair capacity, in which case nothing was written.
   bool Block(const Hierarchy& h, const std::vector<layout::Ray>& rays, const std::vector<std::uint32_t>& order,
@@ -276,7 +296,7 @@ class Impl final : public HierarchyTracer {
     const std::size_t grid = static_cast<std::size_t>(N) * T;
     const call::TraverseTop top{.top = h.nodes[D - 1], .t0 = t0, .t1 = t1, .b0 = b0, .b1 = b1, .tri_spheres = *tri_spheres_,
                                 .scene = &scene_, .object_mask = crsh ? object_mask : kNoMask, .eps = eps_};
-    std::vector<std::uint32_t> pairs = TestAndCompact(D, grid, top, lv[D - 1]);
+    std::vector<std::uint32_t> pairs = cfg_.object_tree ? TreeTop(D, grid, top, lv[D - 1], st) : TestAndCompact(D, grid, top, lv[D - 1]);
     if (pairs.size() > cfg_.pair_capacity) return false;
 
     // Levels D-1 .. 1: each surviving pair tests the node's children.
@@ -362,7 +382,7 @@ class Impl final : public HierarchyTracer {
 
     // CRSH: top nodes against object spheres first, once per batch.
     std::vector<std::uint8_t> mask;
-    if (cfg_.algorithm == Algorithm::kCrsh) {
+    if (cfg_.algorithm == Algorithm::kCrsh && !cfg_.object_tree) {  // the tree's roots take the object spheres' place
       mask = Sub("traverse.objects", static_cast<std::size_t>(top) * scene_.objects.size(),
                  [&] { return passes_.ObjectMask({.top = h.nodes[cfg_.depth - 1], .object_spheres = *obj_spheres_, .eps = eps_}); });
       st.object_sphere_tests = mask.size();
@@ -393,6 +413,7 @@ class Impl final : public HierarchyTracer {
   HierarchyConfig cfg_;
   HierarchyPasses& passes_;
   float eps_ = 0;
+  ObjectTreeIndex tree_;  // --objects tree
   WatertightArrays watertight_;  // the fused path's rays of the batch, set up for the final tests
   BatchContext ctx_;
   std::vector<BatchStats> stats_;

@@ -32,8 +32,9 @@ glm::dvec3 Vertex(const layout::Triangle& t, int k) {
 
 glm::dvec3 Centroid(const layout::Triangle& t) { return (Vertex(t, 0) + Vertex(t, 1) + Vertex(t, 2)) / 3.0; }
 
-// The sphere centred at the centre of the triangles' tight bounding box holding all their vertices.
-glm::vec4 NodeSphere(std::span<const layout::Triangle> tris, const std::vector<std::uint32_t>& set) {
+// The sphere centred at the centre of the triangles' tight bounding box holding all their vertices
+// (and their spheres, when given).
+glm::vec4 NodeSphere(std::span<const layout::Triangle> tris, std::span<const glm::vec4> spheres, const std::vector<std::uint32_t>& set) {
   glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
   for (const std::uint32_t i : set)
     for (const glm::vec4& v : {tris[i].v0, tris[i].v1, tris[i].v2}) {
@@ -43,8 +44,13 @@ glm::vec4 NodeSphere(std::span<const layout::Triangle> tris, const std::vector<s
     }
   const glm::vec3 c = lo * 0.5f + hi * 0.5f;  // halves first: no overflow for extreme boxes
   double r = 0.0;
-  for (const std::uint32_t i : set)
+  for (const std::uint32_t i : set) {
     for (int k = 0; k < 3; ++k) r = std::max(r, glm::length(Vertex(tris[i], k) - glm::dvec3(c)));
+    if (!spheres.empty()) {
+      const glm::vec4& s = spheres[i];
+      r = std::max(r, glm::length(glm::dvec3(s.x, s.y, s.z) - glm::dvec3(c)) + static_cast<double>(s.w));
+    }
+  }
   return {c, OutwardFloat(r)};
 }
 
@@ -74,11 +80,11 @@ void Split(std::span<const layout::Triangle> tris, const std::vector<std::uint32
 
 // Builds one node from `p.set`; its non-empty octants become children appended (together) to the
 // node array and queued.
-void BuildNode(std::span<const layout::Triangle> tris, const ObjectTreeOptions& o, Pending p, ObjectTree& tree,
-               std::deque<Pending>& queue) {
+void BuildNode(std::span<const layout::Triangle> tris, std::span<const glm::vec4> spheres, const ObjectTreeOptions& o, Pending p,
+               ObjectTree& tree, std::deque<Pending>& queue) {
   constexpr std::uint32_t kMaxDepth = 64;
   ObjectTreeNode& node = tree.nodes[p.node];
-  node.sphere = NodeSphere(tris, p.set);
+  node.sphere = NodeSphere(tris, spheres, p.set);
   std::vector<std::uint32_t> own;
   std::array<std::vector<std::uint32_t>, 8> octant;
   if (p.set.size() > o.leaf_triangles && p.depth < kMaxDepth) Split(tris, p.set, node.sphere, o, own, octant);
@@ -105,7 +111,9 @@ void BuildNode(std::span<const layout::Triangle> tris, const ObjectTreeOptions& 
 }  // namespace
 
 ObjectTree BuildObjectTree(std::span<const layout::Triangle> triangles, std::span<const glm::uvec4> objects,
-                           const ObjectTreeOptions& options) {
+                           const ObjectTreeOptions& options, std::span<const glm::vec4> tri_spheres) {
+  RS_CHECK_MSG(tri_spheres.empty() || tri_spheres.size() == triangles.size(), "object tree: {} spheres for {} triangles",
+               tri_spheres.size(), triangles.size());
   RS_CHECK_MSG(options.big_fraction > 0.0f && options.leaf_triangles >= 1, "object tree: big_fraction {} leaf_triangles {}",
                options.big_fraction, options.leaf_triangles);
   ObjectTree tree;
@@ -123,7 +131,7 @@ ObjectTree BuildObjectTree(std::span<const layout::Triangle> triangles, std::spa
     while (!queue.empty()) {
       Pending p = std::move(queue.front());
       queue.pop_front();
-      BuildNode(triangles, options, std::move(p), tree, queue);
+      BuildNode(triangles, tri_spheres, options, std::move(p), tree, queue);
     }
   }
   return tree;

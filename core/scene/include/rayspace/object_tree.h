@@ -39,8 +39,10 @@ struct ObjectTree {
 };
 
 // `objects[o]`: x first triangle, y count (SceneBuffers::objects). Vertices must be finite (the
-// scene loaders refuse others); a violation is an invariant failure, not a bad input.
+// scene loaders refuse others); a violation is an invariant failure, not a bad input. With
+// `tri_spheres` (one per triangle), every node's sphere also holds the spheres of the triangles below
+// it, so that a test that keeps a triangle's sphere keeps every node above it.
 ObjectTree BuildObjectTree(std::span<const layout::Triangle> triangles, std::span<const glm::uvec4> objects,
-                           const ObjectTreeOptions& options = {});
+                           const ObjectTreeOptions& options = {}, std::span<const glm::vec4> tri_spheres = {});
 
 }  // namespace rayspace

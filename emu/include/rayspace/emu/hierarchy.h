@@ -11,6 +11,7 @@
 
 #include "rayspace/contract.h"
 #include "rayspace/emu/calls.h"
+#include "rayspace/object_tree.h"
 #include "rayspace/emu/cone_simd.h"
 #include "rayspace/emu/tracer.h"
 #include "rayspace/parallel.h"
@@ -41,6 +42,10 @@ struct HierarchyConfig {
   // Without `passes` (the emulator's own), the sort and the final tests also take host shortcuts
   // with the same results.
   bool fused = false;
+  // --objects tree: the top level descends each object's bounding-sphere tree instead of testing
+  // every triangle (emu/object_tree_top.h); the emulator's passes only.
+  bool object_tree = false;
+  ObjectTreeOptions object_tree_options;
 };
 
 // Per ray type and level, as the thesis counts (level `depth` = top).
@@ -54,6 +59,7 @@ struct BatchStats {
   std::uint64_t rays = 0, triangles = 0;
   std::vector<LevelStats> levels;  // index L-1 for level L
   std::uint64_t object_sphere_tests = 0, object_sphere_hits = 0;
+  std::uint64_t object_tree_tests = 0, object_tree_hits = 0;  // --objects tree: counted in Total()
   std::uint64_t final_tests = 0;
   std::uint64_t triangle_batches = 0, overflow_splits = 0;
   std::uint64_t Total() const;
