@@ -12,6 +12,7 @@ namespace {
 // (it is in kAlgorithms). Configurations of one --algo must give the same frame digest.
 const BenchConfig kVariants[] = {
     {"crsh-passes", "crsh", "passes", "emu", "crsh with the kernels' passes on the emulator (render --path passes)"},
+    {"crsh-tree", "crsh", "auto", "emu", "crsh with the top level through each object's bounding-sphere tree (render --objects tree)", "tree"},
     {"vulkan", "crsh", "fused", "vulkan", "crsh with the GLSL kernels, levels fused (render --backend vulkan; skipped without a device)"},
     {"vulkan-passes", "crsh", "passes", "vulkan", "crsh with the GLSL kernels pass by pass (render --backend vulkan --path passes)"},
 };
@@ -69,6 +70,7 @@ void ApplyBenchConfig(const BenchConfig& config, RenderArgs& args) {
   args.algo = config.algo;
   args.path = config.path;
   args.backend = config.backend;
+  args.objects = config.objects;
 }
 
 }  // namespace rayspace::app

@@ -16,6 +16,7 @@ struct BenchConfig {
   std::string path = "auto";     // render --path
   std::string backend = "emu";   // render --backend
   std::string what;              // one line for --help
+  std::string objects = "flat";  // render --objects
 };
 
 // The configuration every ratio is taken against.

@@ -5,9 +5,10 @@
 set(failures "")
 file(MAKE_DIRECTORY "${WORK}")
 
+# Extra arguments after `depth` go to render as they are (--objects tree).
 function(render name scene size algo depth)
   execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/${scene}.json" --data "${DATA}" --size ${size}
-                          --algo ${algo} --depth ${depth} --out "${WORK}/${name}.png" --stats "${WORK}/${name}.json"
+                          --algo ${algo} --depth ${depth} ${ARGN} --out "${WORK}/${name}.png" --stats "${WORK}/${name}.json"
                   RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
   if(NOT rc EQUAL 0)
     message(FATAL_ERROR "${name}: exit ${rc}: ${err}")
@@ -18,8 +19,9 @@ function(render name scene size algo depth)
     message(FATAL_ERROR "${name}: ${mism} oracle mismatches")
   endif()
   string(JSON total GET "${j}" total_tests)
-  # Identity: total = every level's intersections + every type's final tests.
-  set(sum 0)
+  # Identity: total = every level's intersections + every type's final tests + the object tree's
+  # node tests (--objects tree; 0 otherwise).
+  string(JSON sum GET "${j}" object_tree_tests)
   string(JSON nlev LENGTH "${j}" levels)
   if(nlev GREATER 0)
     math(EXPR last "${nlev} - 1")
@@ -58,6 +60,10 @@ function(render name scene size algo depth)
   set(${name}_brute ${brute} PARENT_SCOPE)
   set(${name}_tris ${tris} PARENT_SCOPE)
   set(${name}_rays ${rays} PARENT_SCOPE)
+  string(JSON tree GET "${j}" object_tree_tests)
+  set(${name}_tree ${tree} PARENT_SCOPE)
+  file(SHA256 "${WORK}/${name}.png" png)
+  set(${name}_png ${png} PARENT_SCOPE)
 endfunction()
 
 macro(expect a op b msg)
@@ -74,6 +80,14 @@ expect(${cornell_crsh_total} LESS ${cornell_rah_total} "cornell: CRSH total ${co
 render(office_crsh office 96x96 crsh 2)
 render(office_rah office 96x96 rah 2)
 expect(${office_crsh_top} LESS ${office_rah_top} "office: CRSH top level ${office_crsh_top} not below RAH ${office_rah_top}")
+
+# --objects tree: the same image, the object nodes' tests reported and in the total, fewer top-level
+# triangle tests than flat.
+render(office_tree office 96x96 crsh 2 --objects tree)
+expect("${office_tree_png}" STREQUAL "${office_crsh_png}" "office: --objects tree gave another image than flat")
+expect(${office_tree_tree} GREATER 0 "office: --objects tree reported no object-tree tests")
+expect(${office_crsh_tree} EQUAL 0 "office: flat reported object-tree tests")
+expect(${office_tree_top} LESS ${office_crsh_top} "office: tree top level ${office_tree_top} not below flat ${office_crsh_top}")
 
 if(EXISTS "${DATA}/sponza_dabrovic/sponza.obj")
   render(sponza_crsh sponza 128x128 crsh 2)

@@ -8,6 +8,7 @@
 
 #include <doctest/doctest.h>
 
+#include "rayspace/emu/passes.h"
 #include "rayspace/object_tree.h"
 #include "rayspace/scene_buffers.h"
 #include "test_util.h"
@@ -60,6 +61,21 @@ std::size_t CheckInvariants(const ObjectTree& t, std::span<const Triangle> tris,
       }
   }
   return t.nodes.size();
+}
+
+// With the triangles' spheres: every node's sphere holds the sphere of every triangle below it,
+// checked in long double.
+void CheckHoldsSpheres(const ObjectTree& t, std::span<const glm::vec4> spheres) {
+  for (std::uint32_t n = 0; n < t.nodes.size(); ++n) {
+    const glm::vec4 c = t.nodes[n].sphere;
+    std::vector<std::uint32_t> below;
+    Below(t, n, below);
+    for (const std::uint32_t i : below) {
+      const glm::vec4 s = spheres[i];
+      const long double dx = (long double)s.x - c.x, dy = (long double)s.y - c.y, dz = (long double)s.z - c.z;
+      if (std::sqrt(dx * dx + dy * dy + dz * dz) + s.w > (long double)c.w) FAIL_CHECK("node " << n << " misses the sphere of " << i);
+    }
+  }
 }
 
 std::vector<Triangle> RandomSoup(std::uint32_t seed, int n, float spread, float size) {
@@ -118,6 +134,11 @@ TEST_CASE("object tree: random soups keep every invariant, and the build is dete
     CHECK(a.triangles == b.triangles);
     // An object's nodes are contiguous, starting at its root.
     for (std::size_t o = 0; o + 1 < objects.size(); ++o) CHECK(a.roots[o] < a.roots[o + 1]);
+    // With the triangles' spheres (what --objects tree builds): they are held too.
+    const std::vector<glm::vec4> spheres = rayspace::emu::PassTriangleSpheres(tris);
+    const ObjectTree s = BuildObjectTree(tris, objects, {}, spheres);
+    CheckInvariants(s, tris, objects);
+    CheckHoldsSpheres(s, spheres);
   }
 }
 

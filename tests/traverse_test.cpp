@@ -287,8 +287,9 @@ Compacted CheckMirror(const C& c) {
 TEST_CASE("traverse.compact mirror: random calls give the lanes' and traverse + reduce's result at every local size, "
           "subgroup size and schedule, the checker silent") {
   ModelGuard guard;
-  // 150 x 170 slots: 7 blocks of kCompactBlock, 4 rounds a block at local size 32, 1 from 128 on.
-  const RandomTop tc(3, 150, 170, 6);
+  // Rows of 170 triangles: one round a row from local size 32 on; rows of 1,300 (tc_wide): several
+  // rounds of the top phase up to local size 128, the rows' nodes shuffled between rounds.
+  const RandomTop tc(3, 150, 170, 6), tc_wide(4, 40, 1300, 5);
   const RandomLevel lc(5, 300, 2000, 8), lc_wide(6, 120, 600, 16);
   for (std::uint32_t local : {32u, 64u, 128u, 256u})
     for (std::uint32_t sg : {8u, 32u})
@@ -305,6 +306,8 @@ TEST_CASE("traverse.compact mirror: random calls give the lanes' and traverse + 
         const Compacted culled = CheckMirror(tc.Call(0, 150, 0, 170, true));
         CHECK(culled.tested < all.tested);
         CheckMirror(tc.Call(17, 131, 33, 160, true, 0.05f));  // ids relative to t0 and b0, mask rows from t0
+        CheckMirror(tc_wide.Call(0, 40, 0, 1300, true));
+        CheckMirror(tc_wide.Call(3, 30, 100, 1250, false, 0.05f));
         const Compacted level = CheckMirror(lc.Call());
         CHECK(level.pairs.size() > 0u);
         CheckMirror(lc_wide.Call(0.05f));
@@ -326,15 +329,15 @@ TEST_CASE("traverse.compact mirror: empty calls, calls shorter than a round and 
   }
 }
 
-TEST_CASE("traverse.compact mirror: each planted fault changes the result; the backend runs the mirror when asked") {
+TEST_CASE("traverse.compact mirror: each planted fault changes the result, and the backend runs the mirror when asked") {
   ModelGuard guard;
-  const RandomTop tc(11, 150, 170, 6);
+  const RandomTop tc(11, 150, 700, 6);
   const RandomLevel lc(12, 400, 3000, 8);
-  const call::TraverseTopCompacted top{tc.Call(0, 150, 0, 170, true)};
+  const call::TraverseTopCompacted top{tc.Call(0, 150, 0, 700, true)};
   const call::TraverseLevelCompacted level{lc.Call()};
   const Compacted top_lanes = Lanes(top), level_lanes = Lanes(level);
   CHECK_FALSE(RunsWorkgroupMirror("traverse.compact"));
-  // Local size 64: two rounds a block, which fault 3 needs.
+  // Local size 64: rounds of 512 triangles, two a top-level row and a lower-level block, which fault 3 needs.
   for (std::uint32_t fault : {1u, 2u, 3u, 4u}) {
     INFO("traverse.compact:" << fault << "@emu");
     SetEmuFaults({{"traverse.compact", fault}});
@@ -343,9 +346,11 @@ TEST_CASE("traverse.compact mirror: each planted fault changes the result; the b
     CHECK_FALSE(Same(EmuHierarchyPasses().TraverseLevelCompacted(level), level_lanes));
   }
   SetEmuFaults({});
-  CHECK(Same(EmuHierarchyPasses().TraverseTopCompacted(top), top_lanes));
+  CHECK_FALSE(RunsWorkgroupMirror("traverse.compact"));
   SetWorkgroupModel(true);
   CHECK(RunsWorkgroupMirror("traverse.compact"));
+  // The mirror without a fault: the lanes' result.
+  CHECK(Same(EmuHierarchyPasses().TraverseTopCompacted(top), top_lanes));
   CHECK(Same(EmuHierarchyPasses().TraverseLevelCompacted(level), level_lanes));
 }
 

@@ -84,7 +84,7 @@ TEST_CASE("trim: the workgroup mirror is bit-identical under every schedule, loc
       }
 }
 
-TEST_CASE("trim: each planted workgroup fault is named by the checker; the wrong offset by the result") {
+TEST_CASE("trim: each planted workgroup fault is named by the checker, and the wrong offset by the result") {
   ModelGuard guard;
   const std::vector<std::uint32_t> flags = RandomFlags(2 * 4096 + 5, 9);
   struct Case {

@@ -348,7 +348,7 @@ TEST_CASE("workgroup: atomicAdd from every invocation gives the exact total unde
   }
 }
 
-TEST_CASE("workgroup: atomics on one word do not race; an atomic and a plain write do; old values follow the schedule") {
+TEST_CASE("workgroup: atomics on one word do not race, an atomic and a plain write do, and old values follow the schedule") {
   auto run = [](bool plain_write, Schedule s, std::vector<std::uint32_t>* slots) {
     return Dispatch("atomics.race", 1, 16, [&](Workgroup& w) {
       auto& c = w.Shared<std::uint32_t>(1, "counter");

@@ -11,8 +11,8 @@
 #include "rayspace/emu/cone.h"
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/intersect_simd.h"
-#include "rayspace/emu/passes.h"
 #include "rayspace/emu/object_tree_top.h"
+#include "rayspace/emu/passes.h"
 #include "rayspace/error.h"
 #include "rayspace/parallel.h"
 
@@ -54,10 +54,8 @@ class Impl final : public HierarchyTracer {
     RS_CHECK(cfg.subdivision >= 2 && cfg.depth >= 1 && cfg.component_size >= 1);
     RS_CHECK(cfg.max_batch_triangles >= 1 && cfg.max_batch_triangles <= (1u << kTriBits));
     // The object tree's top level has an emulation and no kernel yet: a backend's frame or a diff
-    // would run it on the host on both sides and call that verified.
-    if (cfg.object_tree && cfg.passes != nullptr)
-      ThrowInput("--objects tree: runs on the emulator only (render --backend emu): the object tree's top level has no Vulkan "
-                 "kernel yet, so neither --backend vulkan nor diff can run it");
+    // would run it on the host on both sides and call that verified (the commands refuse it first).
+    RS_CHECK_MSG(!cfg.object_tree || cfg.passes == nullptr, "the object tree's top level runs on the emulator's own passes only");
 
     eps_ = TraversalEpsilon(scene);
   }
@@ -270,12 +268,11 @@ class Impl final : public HierarchyTracer {
   }
 
   // --objects tree: the top level through the object tree, the flat level's pairs in its order.
-  std::vector<std::uint32_t> TreeTop(int L, std::size_t slots_n, const call::TraverseTop& call, LevelStats& lv, BatchStats& st) {
+  std::vector<std::uint32_t> TreeTop(int L, std::size_t slots_n, const call::TraverseTop& call, LevelStats& lv, LevelStats& nodes) {
     TreeTopResult r = Sub("traverse.tree.L" + std::to_string(L), slots_n, [&] { return TraverseTopTree(call, tree_); });
     lv.intersections = r.pairs.tested;
     lv.hits = r.pairs.pairs.size();
-    st.object_tree_tests += r.node_tests;
-    st.object_tree_hits += r.node_hits;
+    nodes = {r.node_tests, r.node_hits};
     if (cfg_.pair_log) cfg_.pair_log->push_back(r.pairs.pairs);
     return std::move(r.pairs.pairs);
   }
@@ -296,7 +293,9 @@ class Impl final : public HierarchyTracer {
     const std::size_t grid = static_cast<std::size_t>(N) * T;
     const call::TraverseTop top{.top = h.nodes[D - 1], .t0 = t0, .t1 = t1, .b0 = b0, .b1 = b1, .tri_spheres = *tri_spheres_,
                                 .scene = &scene_, .object_mask = crsh ? object_mask : kNoMask, .eps = eps_};
-    std::vector<std::uint32_t> pairs = cfg_.object_tree ? TreeTop(D, grid, top, lv[D - 1], st) : TestAndCompact(D, grid, top, lv[D - 1]);
+    LevelStats tree_nodes;  // --objects tree: the object nodes' tests, kept with lv until the block succeeds
+    std::vector<std::uint32_t> pairs =
+        cfg_.object_tree ? TreeTop(D, grid, top, lv[D - 1], tree_nodes) : TestAndCompact(D, grid, top, lv[D - 1]);
     if (pairs.size() > cfg_.pair_capacity) return false;
 
     // Levels D-1 .. 1: each surviving pair tests the node's children.
@@ -337,6 +336,8 @@ class Impl final : public HierarchyTracer {
       st.levels[L].intersections += lv[L].intersections;
       st.levels[L].hits += lv[L].hits;
     }
+    st.object_tree_tests += tree_nodes.intersections;
+    st.object_tree_hits += tree_nodes.hits;
     ++st.triangle_batches;
     return true;
   }

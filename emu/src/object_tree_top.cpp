@@ -1,10 +1,13 @@
 // The top level against the object tree (emu/object_tree_top.h): one top node per work item, a
-// depth-first descent with an explicit stack, the reached triangles sorted and tested in order.
+// depth-first descent with an explicit stack (a node's children tested together on the lanes), the
+// reached triangles tested in ascending order on the lanes: bit for bit the scalar cone::Test.
 #include "rayspace/emu/object_tree_top.h"
 
 #include <algorithm>
+#include <bit>
 
 #include "rayspace/emu/cone.h"
+#include "rayspace/emu/hierarchy.h"
 #include "rayspace/error.h"
 #include "rayspace/parallel.h"
 
@@ -16,25 +19,68 @@ struct NodeResult {
   std::uint64_t tri_tests = 0, node_tests = 0, node_hits = 0;
 };
 
-// The triangles of [b0, b1) below the object nodes top node `n`'s cone may meet, ascending.
-std::vector<std::uint32_t> Reached(const call::TraverseTop& c, const ObjectTreeIndex& x, const layout::ConeNode& n, NodeResult& r) {
-  std::vector<std::uint32_t> stack(x.tree.roots.rbegin(), x.tree.roots.rend()), found;
-  while (!stack.empty()) {
-    const std::uint32_t id = stack.back();
-    stack.pop_back();
-    if (x.hi[id] < c.b0 || x.lo[id] >= c.b1) continue;  // nothing of this batch below
-    const ObjectTreeNode& node = x.tree.nodes[id];
+bool Holds(const call::TraverseTop& c, const ObjectTreeIndex& x, std::uint32_t id) { return x.hi[id] >= c.b0 && x.lo[id] < c.b1; }
+
+// The children of `node` that hold triangles of the batch and whose spheres the cone may meet, onto
+// the stack: all of them at once on the lanes when every child holds some, else one by one.
+void PushChildren(const call::TraverseTop& c, const ObjectTreeIndex& x, const layout::ConeNode& n, const ObjectTreeNode& node,
+                  std::vector<std::uint32_t>& stack, std::vector<std::uint32_t>& buf, NodeResult& r) {
+  const std::uint32_t k0 = node.first_child, k1 = node.first_child + node.children;
+  bool all = true;
+  for (std::uint32_t k = k0; k < k1 && all; ++k) all = Holds(c, x, k);
+  if (all) {
+    buf.resize(node.children + cone::kLanePad);
+    const std::size_t m = cone::TestSpheres(FusedIsa(), n, x.lanes, k0, k1, c.eps, 0, 0, buf.data());
+    r.node_tests += node.children, r.node_hits += m;
+    stack.insert(stack.end(), buf.begin(), buf.begin() + static_cast<std::ptrdiff_t>(m));
+    return;
+  }
+  for (std::uint32_t k = k0; k < k1; ++k) {
+    if (!Holds(c, x, k)) continue;
     ++r.node_tests;
-    if (!cone::Test(n, node.sphere, c.eps)) continue;
+    if (!cone::Test(n, x.spheres[k], c.eps)) continue;
     ++r.node_hits;
+    stack.push_back(k);
+  }
+}
+
+// The triangles of [b0, b1) below the object nodes top node `n`'s cone may meet, ascending: marked in
+// a bitmap of the batch while descending, read out in order (no sort).
+std::vector<std::uint32_t> Reached(const call::TraverseTop& c, const ObjectTreeIndex& x, const layout::ConeNode& n, NodeResult& r) {
+  std::vector<std::uint32_t> stack, buf, found;
+  std::vector<std::uint64_t> marked((c.b1 - c.b0 + 63) / 64, 0);
+  for (const std::uint32_t root : x.tree.roots) {
+    if (!Holds(c, x, root)) continue;
+    ++r.node_tests;
+    if (!cone::Test(n, x.spheres[root], c.eps)) continue;
+    ++r.node_hits;
+    stack.push_back(root);
+  }
+  while (!stack.empty()) {  // every node on the stack passed its test
+    const ObjectTreeNode& node = x.tree.nodes[stack.back()];
+    stack.pop_back();
     for (std::uint32_t k = 0; k < node.tris; ++k) {
       const std::uint32_t tri = x.tree.triangles[node.first_tri + k];
-      if (tri >= c.b0 && tri < c.b1) found.push_back(tri);
+      if (tri >= c.b0 && tri < c.b1) marked[(tri - c.b0) >> 6] |= std::uint64_t{1} << ((tri - c.b0) & 63);
     }
-    for (std::uint32_t k = node.children; k-- > 0;) stack.push_back(node.first_child + k);
+    PushChildren(c, x, n, node, stack, buf, r);
   }
-  std::sort(found.begin(), found.end());
+  for (std::size_t w = 0; w < marked.size(); ++w)
+    for (std::uint64_t m = marked[w]; m != 0; m &= m - 1)
+      found.push_back(c.b0 + static_cast<std::uint32_t>(w * 64 + static_cast<std::size_t>(std::countr_zero(m))));
   return found;
+}
+
+// Top node t (item i of the block) against the reached triangles, on the lanes: their spheres
+// gathered, the survivors' indices mapped back to batch-local triangles.
+void TestReached(const call::TraverseTop& c, std::uint32_t i, const std::vector<std::uint32_t>& found, NodeResult& r) {
+  std::vector<glm::vec4> gathered(found.size());
+  for (std::size_t k = 0; k < found.size(); ++k) gathered[k] = c.tri_spheres[found[k]];
+  const cone::SphereArrays lanes = cone::ToArrays(gathered);
+  std::vector<std::uint32_t> out(found.size() + cone::kLanePad);
+  const std::size_t m = cone::TestSpheres(FusedIsa(), c.top[c.t0 + i], lanes, 0, static_cast<std::uint32_t>(found.size()), c.eps, 0, 0, out.data());
+  r.tri_tests += found.size();
+  for (std::size_t k = 0; k < m; ++k) r.pairs.push_back((i << layout::kPairTriangleBits) | (found[out[k]] - c.b0));
 }
 
 }  // namespace
@@ -57,6 +103,9 @@ ObjectTreeIndex IndexObjectTree(ObjectTree tree) {
       x.lo[i] = std::min(x.lo[i], x.lo[ch]), x.hi[i] = std::max(x.hi[i], x.hi[ch]);
     }
   }
+  x.spheres.resize(n);
+  for (std::size_t i = 0; i < n; ++i) x.spheres[i] = tree.nodes[i].sphere;
+  x.lanes = cone::ToArrays(x.spheres);  // spans x.spheres' buffer, which moves with x
   x.tree = std::move(tree);
   return x;
 }
@@ -64,13 +113,8 @@ ObjectTreeIndex IndexObjectTree(ObjectTree tree) {
 TreeTopResult TraverseTopTree(const call::TraverseTop& c, const ObjectTreeIndex& index) {
   std::vector<NodeResult> per(c.t1 - c.t0);
   ParallelForDynamic(per.size(), 16, [&](std::size_t i) {
-    const std::uint32_t t = c.t0 + static_cast<std::uint32_t>(i);
     NodeResult& r = per[i];
-    for (const std::uint32_t tri : Reached(c, index, c.top[t], r)) {
-      ++r.tri_tests;
-      if (cone::Test(c.top[t], c.tri_spheres[tri], c.eps))
-        r.pairs.push_back((static_cast<std::uint32_t>(i) << layout::kPairTriangleBits) | (tri - c.b0));
-    }
+    TestReached(c, static_cast<std::uint32_t>(i), Reached(c, index, c.top[c.t0 + i], r), r);
   });
   TreeTopResult out;
   for (NodeResult& r : per) {

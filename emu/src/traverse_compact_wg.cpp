@@ -111,15 +111,15 @@ class CompactKernel {
     return bits;
   }
 
-  // Each invocation's row nodes: RowNode's subgroupShuffle of lane r's node when its subgroup has
-  // kCompactRows lanes, else a load. The shuffles run once per tile here, once per round in the
-  // kernel: the same values (mine does not change within a tile).
+  // Each invocation's row nodes: RowNode's subgroupShuffle of lane r's node when lanes 0 ..
+  // kCompactRows - 1 of its subgroup are there (SharedRows' ballot), else a load. The shuffles run
+  // once per tile here, once per round in the kernel: the same values (mine does not change).
   RowNodes NodesOfRows(wg::Workgroup& w, std::uint32_t row0, std::uint32_t rows) {
     wg::Private<layout::ConeNode> mine = w.Private<layout::ConeNode>();
     w.Phase([&](wg::Inv& i) { mine[i] = nodes_[pc_.t0 + row0 + std::min(i.lane, rows - 1u)]; });
-    const auto full = [&](const wg::Inv& i) {
-      return std::min(w.subgroup_size(), w.local_size() - i.subgroup_id * w.subgroup_size()) >= kCompactRows;
-    };
+    const wg::Private<glm::uvec4> ballot = w.SubgroupBallot(w.Private<bool>(true));
+    constexpr std::uint32_t kLow = (1u << kCompactRows) - 1u;
+    const auto full = [&](const wg::Inv& i) { return w.subgroup_size() >= kCompactRows && (ballot[i].x & kLow) == kLow; };
     RowNodes out = w.Private<std::array<layout::ConeNode, kCompactRows>>();
     for (std::uint32_t r = 0; r < rows; ++r) {
       wg::Private<std::uint32_t> src = w.Private<std::uint32_t>();
@@ -162,6 +162,9 @@ class CompactKernel {
   void TestTopTile(wg::Workgroup& w) {
     auto& tile = WorkgroupTile(w);
     auto& tile4 = w.Shared<glm::uvec4>(layout::kMaxLocalSize / 4u, "wg_tile4");
+    // The host refuses more subgroups than the kernel's wg_tile4 holds; so does the mirror.
+    RS_CHECK_MSG(w.num_subgroups() <= layout::kMaxLocalSize / 4u, "traverse.compact: {} subgroups of {} exceed wg_tile4",
+                 w.num_subgroups(), w.subgroup_size());
     const std::uint32_t row0 = w.id() * kCompactRows, rows = std::min(kCompactRows, pc_.blocks - row0);
     const RowNodes node = NodesOfRows(w, row0, rows);
     wg::Private<std::array<std::uint32_t, kCompactRows>> run = w.Private<std::array<std::uint32_t, kCompactRows>>(), hit = run;

@@ -53,6 +53,7 @@ void TestNodeRow(const call::TraverseTop& c, const cone::SphereArrays& spheres, 
 }  // namespace
 
 void SetFusedIsa(cone::Isa isa) { g_isa = cone::Runs(isa) ? isa : cone::BestIsa(); }
+cone::Isa FusedIsa() { return g_isa; }
 
 Compacted PassTraverseTopCompacted(const call::TraverseTop& c) {
   const std::uint32_t T = c.b1 - c.b0;

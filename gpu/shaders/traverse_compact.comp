@@ -66,10 +66,14 @@ uint RowBits(uint object, uint row0, uint rows) {
   return bits;
 }
 
-// Row r's node: lane r of the subgroup loaded it (a subgroup of fewer lanes: memory). The last
-// subgroup of a workgroup whose size is not a multiple of gl_SubgroupSize has fewer lanes.
-ConeNode RowNode(ConeNode mine, uint row0, uint r) {
-  if (min(gl_SubgroupSize, kLocalSize - gl_SubgroupID * gl_SubgroupSize) < kCompactRows) return LoadNodes(pc.t0 + row0 + r, pc.node_page);
+// Row r's node: lane r of the subgroup loaded it, when lanes 0 .. kCompactRows - 1 are all there (a
+// subgroup is not promised full: the last one of a workgroup whose size is not a multiple of
+// gl_SubgroupSize is not, e.g. at local size 7); else memory. `shared_rows`: SharedRows(), uniform.
+bool SharedRows() {
+  return gl_SubgroupSize >= kCompactRows && (subgroupBallot(true).x & ((1u << kCompactRows) - 1u)) == (1u << kCompactRows) - 1u;
+}
+ConeNode RowNode(ConeNode mine, uint row0, uint r, bool shared_rows) {
+  if (!shared_rows) return LoadNodes(pc.t0 + row0 + r, pc.node_page);
   ConeNode n;
   n.sphere = subgroupShuffle(mine.sphere, r);
   n.cone = subgroupShuffle(mine.cone, r);
@@ -83,6 +87,7 @@ ConeNode RowNode(ConeNode mine, uint row0, uint r) {
 void TestTopTile(uint g) {
   const uint row0 = g * kCompactRows, rows = min(kCompactRows, pc.count / pc.tris - row0), l = gl_LocalInvocationID.x;
   const ConeNode mine = LoadNodes(pc.t0 + row0 + min(gl_SubgroupInvocationID, rows - 1u), pc.node_page);
+  const bool shared_rows = SharedRows();
   uint run[kCompactRows];  // survivors of the rounds before, per row
   for (uint r = 0u; r < kCompactRows; ++r) run[r] = 0u;
   uint tests = 0u;
@@ -103,7 +108,7 @@ void TestTopTile(uint g) {
     uint hit[kCompactRows];  // bit i: column col0 + i survives in row r
     uvec4 n = uvec4(0u);
     for (uint r = 0u; r < rows; ++r) {
-      const ConeNode node = RowNode(mine, row0, r);
+      const ConeNode node = RowNode(mine, row0, r, shared_rows);
       hit[r] = 0u;
       for (uint i = 0u; i < kCompactCols; ++i) {
         if ((may[i] >> r & 1u) == 0u) continue;

@@ -203,7 +203,9 @@ vk::Status VulkanPasses::Run(const emu::call::TraverseTopCompacted& call, emu::C
   const std::uint32_t objects = static_cast<std::uint32_t>(call.scene->objects.size());
   Traverser tr(*ctx_, K(PassId::kTraverseCompact));
   RS_TRY(tr.Upload(call.top, {}, call.tri_spheres, call.scene->info, paged_arrays_));
-  const std::size_t row_words = std::max<std::size_t>({T, object_mask.empty() ? 1 : objects, 1});
+  // A row also holds a survivor count and a test count (one word each, in bindings of their own): at
+  // least two words a row keeps those within one binding too.
+  const std::size_t row_words = std::max<std::size_t>({T, object_mask.empty() ? 1 : objects, 2});
   return ForParts(call.t1 - t0, PerPart(4 * row_words), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
     const std::uint32_t r0 = t0 + static_cast<std::uint32_t>(i0), n = static_cast<std::uint32_t>((i1 - i0) * T);
     const layout::TraverseCompactPush push{layout::kTraverseCompactPhaseTop, n, 0, 0, r0, b0, T, objects, object_mask.empty() ? 0u : 1u,

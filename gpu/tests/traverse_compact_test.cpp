@@ -196,8 +196,10 @@ struct LocalSizeGuard {
 }  // namespace
 
 TEST_CASE("traverse.compact: random top-level calls equal the emulator and traverse + reduce at every workgroup size") {
-  // 300 x 340 slots: 25 blocks of kCompactBlock, each of 1 to 4096 rounds depending on the local size.
-  const TopCase plain(7, 300, 340, 5, false), masked(8, 300, 340, 5, true);
+  // 300 rows of 340 triangles: tiles of 8 rows, one round a row from local size 64 on (many at 1 and
+  // 7, whose short subgroups read the rows' nodes from memory); rows of 1,300 (wide): several rounds
+  // at local size 64 with the nodes shuffled.
+  const TopCase plain(7, 300, 340, 5, false), masked(8, 300, 340, 5, true), wide(9, 60, 1300, 4, true);
   for (const std::uint32_t local_size : {64u, 1u, 7u, 256u}) {
     CAPTURE(local_size);
     auto gpu = MakeGpu({}, local_size);
@@ -211,6 +213,7 @@ TEST_CASE("traverse.compact: random top-level calls equal the emulator and trave
     CHECK(culled.tested < all.tested);
     CHECK(culled.tested > 0u);
     CheckCall(*gpu, masked.Call(17, 211, 33, 301, 0.05f));  // a sub-block: ids relative to t0 and b0, mask rows from t0
+    CheckCall(*gpu, wide.Call(0, 60, 0, 1300));
   }
 }
 

@@ -30,7 +30,7 @@ vk::Status Raster(vk::Context& ctx, const gpu_backend::RasterViolations& planted
                                     buffers, 0, g, planted);
 }
 
-TEST_CASE("validation: the raster is clean; a dropped subpass dependency and differing blend states are refused") {
+TEST_CASE("validation: the raster is clean, and a dropped subpass dependency and differing blend states are refused") {
   Validated on;
   std::unique_ptr<vk::Context> ctx;
   const vk::Status created = vk::Context::Create(-1, ctx);

@@ -185,6 +185,7 @@ Compacted TraverseLevelCompactedWith(TestFn&& test, const call::TraverseLevel& c
 // loop, and an instruction set the CPU lacks means the best it has.
 Compacted PassTraverseTopCompacted(const call::TraverseTop& c);
 void SetFusedIsa(cone::Isa isa);
+cone::Isa FusedIsa();  // what the fused levels and the object tree's top level run on
 Compacted PassTraverseLevelCompacted(const call::TraverseLevel& c);
 // traverse_compact.comp's three dispatches on the workgroup model (emu/src/traverse_compact_wg.cpp):
 // the same result as the two above, from the kernel's workgroups, rounds and scans, with its planted

@@ -10,16 +10,25 @@
 #include <vector>
 
 #include "rayspace/emu/calls.h"
+#include "rayspace/emu/cone_simd.h"
 #include "rayspace/emu/streams.h"
 #include "rayspace/object_tree.h"
 
 namespace rayspace::emu {
 
 // The tree with what the descent reads per node: the smallest and largest scene triangle below it,
-// so that a triangle batch [b0, b1) skips the subtrees it holds nothing of.
+// so that a triangle batch [b0, b1) skips the subtrees it holds nothing of, and the node spheres as
+// lane arrays (a node's children are consecutive: one multi-lane test).
 struct ObjectTreeIndex {
+  ObjectTreeIndex() = default;
+  ObjectTreeIndex(ObjectTreeIndex&&) = default;  // moving keeps `spheres`' buffer, which `lanes` spans
+  ObjectTreeIndex& operator=(ObjectTreeIndex&&) = default;
+  ObjectTreeIndex(const ObjectTreeIndex&) = delete;  // a copy's `lanes` would span the original's buffer
+  ObjectTreeIndex& operator=(const ObjectTreeIndex&) = delete;
   ObjectTree tree;
   std::vector<std::uint32_t> lo, hi;  // per node
+  std::vector<glm::vec4> spheres;     // per node
+  cone::SphereArrays lanes;           // of `spheres`
 };
 ObjectTreeIndex IndexObjectTree(ObjectTree tree);
 
