@@ -14,6 +14,7 @@
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/workgroup_ops.h"
 #include "rayspace/workgroup.h"
+#include "random_traversal.h"
 #include "test_util.h"
 
 using namespace rayspace;
@@ -168,86 +169,20 @@ TEST_CASE("traverse.compact: the emulator's backend gives the survivors of the s
 
 namespace {
 
-using Rng = std::mt19937;
 
-// Restores the emulator's workgroup settings after a test changes them.
-struct ModelGuard {
-  ~ModelGuard() {
-    wg::SetSchedule({});
-    wg::SetLocalSize(64);
-    wg::SetSubgroupSize(8);
-    wg::SetChecking(true);
-    SetEmuFaults({});
-    SetWorkgroupModel(false);
-  }
-};
+using test::ModelGuard;
 
-// Narrow cones (2 to 20 degrees) from small spheres in a box, some full spheres: a few percent of the
-// random spheres meet a node, so blocks and rounds hold some survivors, not all.
-std::vector<layout::ConeNode> RandomNodes(Rng& rng, std::size_t count) {
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f), angle(0.035f, 0.35f);
-  std::normal_distribution<float> g;
-  std::vector<layout::ConeNode> nodes(count);
-  for (layout::ConeNode& n : nodes) {
-    const glm::vec3 axis = glm::normalize(glm::vec3(g(rng), g(rng), g(rng))), centre(u(rng) * 2, u(rng) * 2, u(rng) * 2);
-    const float a = angle(rng);
-    n = cone::FromRay(centre, axis);
-    n.sphere.w = 0.1f * (u(rng) + 1.0f);
-    n.cone.w = std::cos(a);
-    n.extra.x = std::sin(a);
-    if (rng() % 50 == 0) n = cone::FullSphereCone(n);
-  }
-  return nodes;
-}
-
-std::vector<glm::vec4> RandomSpheres(Rng& rng, std::size_t count) {
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f), r(0.05f, 1.5f);
-  std::vector<glm::vec4> s(count);
-  for (glm::vec4& x : s) x = glm::vec4(u(rng) * 6, u(rng) * 6, u(rng) * 6, r(rng));
-  return s;
-}
-
-// A top level of `nodes` x `tris` slots whose triangles belong to `objects` objects in runs, with a
-// random object mask.
-struct RandomTop {
-  std::vector<layout::ConeNode> top;
-  std::vector<glm::vec4> spheres;
-  std::vector<std::uint8_t> mask;
-  SceneBuffers scene;
-  RandomTop(std::uint32_t seed, std::size_t nodes, std::size_t tris, std::uint32_t objects) {
-    Rng rng(seed);
-    top = RandomNodes(rng, nodes);
-    spheres = RandomSpheres(rng, tris);
-    scene.info.resize(tris);
-    scene.objects.resize(objects);
-    for (std::size_t t = 0; t < tris; ++t) scene.info[t].ids.y = static_cast<std::uint32_t>(t * objects / tris);
-    for (std::size_t e = 0; e < nodes * objects; ++e) mask.push_back(rng() % 3 != 0);
-  }
+// The shared random calls (random_traversal.h): a top level whose calls choose the object mask, and
+// a lower level.
+struct RandomTop : test::TopCase {
+  using test::TopCase::TopCase;
   call::TraverseTop Call(std::uint32_t t0, std::uint32_t t1, std::uint32_t b0, std::uint32_t b1, bool masked, float eps = 0) const {
-    return {.top = top, .t0 = t0, .t1 = t1, .b0 = b0, .b1 = b1, .tri_spheres = spheres, .scene = &scene,
-            .object_mask = masked ? In<std::uint8_t>(mask) : In<std::uint8_t>{}, .eps = eps};
+    return Top(t0, t1, b0, b1, masked, eps);
   }
 };
-
-// A lower level: `parents` nodes with 0..children_max children each, and random (parent, triangle)
-// pairs of the parents from base_up on.
-struct RandomLevel {
-  std::vector<layout::ConeNode> nodes;
-  std::vector<std::uint32_t> first{0}, pairs;
-  std::vector<glm::vec4> spheres;
-  std::uint32_t base_up = 3, children_max;
-  RandomLevel(std::uint32_t seed, std::uint32_t parents, std::size_t pair_count, std::uint32_t children_max_)
-      : children_max(children_max_) {
-    Rng rng(seed);
-    for (std::uint32_t p = 0; p < parents; ++p) first.push_back(first.back() + rng() % (children_max + 1));
-    nodes = RandomNodes(rng, first.back());
-    spheres = RandomSpheres(rng, 200);
-    for (std::size_t i = 0; i < pair_count; ++i) pairs.push_back(((rng() % (parents - base_up)) << kPairTriangleBits) | (rng() % 150));
-  }
-  call::TraverseLevel Call(float eps = 0) const {
-    return {.pairs = pairs, .nodes = nodes, .first = first, .base_up = base_up, .base = first[base_up], .children_max = children_max,
-            .b0 = 50, .tri_spheres = spheres, .eps = eps};
-  }
+struct RandomLevel : test::LevelCase {
+  using test::LevelCase::LevelCase;
+  call::TraverseLevel Call(float eps = 0) const { return Level(eps); }
 };
 
 // traverse, then reduce: the result traverse.compact stands for.

@@ -10,6 +10,7 @@
 #include "rayspace/contract.h"
 #include "rayspace/parallel.h"
 #include "rayspace/workgroup.h"
+#include "test_util.h"
 
 using namespace rayspace;
 
@@ -45,16 +46,7 @@ TEST_CASE("trim: exclusive scan and scatter keep input order") {
 
 namespace {
 
-// Restores the emulator's workgroup settings after a test changes them.
-struct ModelGuard {
-  ~ModelGuard() {
-    wg::SetSchedule({});
-    wg::SetLocalSize(64);
-    wg::SetSubgroupSize(8);
-    wg::SetChecking(true);
-    emu::SetEmuFaults({});
-  }
-};
+using test::ModelGuard;
 
 std::vector<std::uint32_t> RandomFlags(std::size_t n, std::uint32_t seed) {
   std::mt19937 rng(seed);

@@ -23,11 +23,11 @@
 #include "rayspace/gpu/passes.h"
 #include "rayspace/scene.h"
 #include "rayspace/workgroup.h"
+#include "random_traversal.h"
 
 namespace rayspace {
 namespace {
 
-using Rng = std::mt19937;
 using emu::call::TraverseLevel;
 using emu::call::TraverseLevelCompacted;
 using emu::call::TraverseTop;
@@ -82,91 +82,19 @@ std::string Difference(const emu::Compacted& expected, const emu::Compacted& act
 
 // ---- random configurations -------------------------------------------------------------------------
 
-glm::vec3 RandomDir(Rng& rng) {
-  std::normal_distribution<float> n;
-  return emu::Normalize(glm::vec3(n(rng), n(rng), n(rng)));
-}
-
-// Cone-sphere nodes over 1..8 rays each, the rays of a node leaving a small box in similar directions
-// (narrow cones: a few percent of the spheres meet a node). `up`: every direction has z > 0.
-std::vector<layout::ConeNode> RandomNodes(Rng& rng, std::size_t count, bool up = false) {
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  std::vector<layout::Ray> rays;
-  std::vector<std::uint32_t> order, first{0};
-  while (first.size() <= count) {
-    glm::vec3 dir = RandomDir(rng);
-    if (up) dir = emu::Normalize(glm::vec3(dir.x, dir.y, std::fabs(dir.z) + 1.0f));
-    const glm::vec3 centre(u(rng) * 2.0f, u(rng) * 2.0f, u(rng) * 2.0f);
-    for (std::uint32_t j = 0, n = 1 + rng() % 8; j < n; ++j) {
-      layout::Ray r{};
-      r.origin_tmin = glm::vec4(centre + 0.1f * glm::vec3(u(rng), u(rng), u(rng)), 0.0f);
-      r.direction_tmax = glm::vec4(emu::Normalize(dir + 0.2f * glm::vec3(u(rng), u(rng), u(rng))), 100.0f);
-      r.info = glm::uvec4(static_cast<std::uint32_t>(rays.size()), layout::kNoPrim, 0u, 0u);
-      order.push_back(static_cast<std::uint32_t>(rays.size()));
-      rays.push_back(r);
-    }
-    first.push_back(static_cast<std::uint32_t>(order.size()));
-  }
-  return emu::PassBuildLeaves({.rays = rays, .order = order, .first = first});
-}
-
-// `behind`: every sphere far below z = 0, behind nodes whose rays all go up (no survivors).
-std::vector<glm::vec4> RandomSpheres(Rng& rng, std::size_t count, bool behind = false) {
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f), r(0.05f, 1.5f);
-  std::vector<glm::vec4> s(count);
-  for (glm::vec4& x : s) x = glm::vec4(u(rng) * 6.0f, u(rng) * 6.0f, u(rng) * 6.0f - (behind ? 1000.0f : 0.0f), r(rng));
-  return s;
-}
-
-// A top-level configuration: nodes, spheres, a scene whose triangles belong to `objects` objects in
-// runs, and a random object mask (kept only when `masked`).
-struct TopCase {
-  std::vector<layout::ConeNode> top;
-  std::vector<glm::vec4> spheres;
-  std::vector<std::uint8_t> mask;
-  SceneBuffers scene;
-  TopCase(std::uint32_t seed, std::size_t nodes, std::size_t tris, std::uint32_t objects, bool masked, bool far = false) {
-    Rng rng(seed);
-    top = RandomNodes(rng, nodes, far);
-    spheres = RandomSpheres(rng, tris, far);
-    scene.triangles.resize(tris);
-    scene.info.resize(tris);
-    scene.objects.resize(objects);
-    for (std::size_t t = 0; t < tris; ++t) scene.info[t].ids.y = static_cast<std::uint32_t>(t * objects / tris);
-    if (masked)
-      for (std::size_t e = 0; e < top.size() * objects; ++e) mask.push_back(rng() % 3 != 0);
-  }
+// The shared random calls (tests/random_traversal.h) as this file's compacted calls; `masked`: the
+// top level's calls use the object mask.
+struct TopCase : test::TopCase {
+  bool masked;
+  TopCase(std::uint32_t seed, std::size_t nodes, std::size_t tris, std::uint32_t objects, bool masked_, bool far = false)
+      : test::TopCase(seed, nodes, tris, objects, far), masked(masked_) {}
   TraverseTopCompacted Call(std::uint32_t t0, std::uint32_t t1, std::uint32_t b0, std::uint32_t b1, float eps = 0.0f) const {
-    TraverseTopCompacted c;
-    static_cast<TraverseTop&>(c) = {.top = top, .t0 = t0, .t1 = t1, .b0 = b0, .b1 = b1, .tri_spheres = spheres, .scene = &scene,
-                                    .object_mask = mask, .eps = eps};
-    return c;
+    return TraverseTopCompacted{Top(t0, t1, b0, b1, masked, eps)};
   }
 };
-
-// A lower level: `parents` nodes above with 0..children_max children each among `nodes`, and random
-// (parent, triangle) pairs of the parents from base_up on.
-struct LevelCase {
-  std::vector<layout::ConeNode> nodes;
-  std::vector<std::uint32_t> first{0}, pairs;
-  std::vector<glm::vec4> spheres;
-  std::uint32_t base_up = 3, children_max;
-  LevelCase(std::uint32_t seed, std::uint32_t parents, std::size_t pair_count, std::uint32_t children_max_, bool far = false)
-      : children_max(children_max_) {
-    Rng rng(seed);
-    for (std::uint32_t p = 0; p < parents; ++p) first.push_back(first.back() + (children_max ? rng() % (children_max + 1) : 0));
-    nodes = RandomNodes(rng, first.back(), far);
-    nodes.resize(first.back());
-    spheres = RandomSpheres(rng, 200, far);
-    for (std::size_t i = 0; i < pair_count; ++i)
-      pairs.push_back(((rng() % (parents - base_up)) << layout::kPairTriangleBits) | (rng() % 150));
-  }
-  TraverseLevelCompacted Call(float eps = 0.0f) const {
-    TraverseLevelCompacted c;
-    static_cast<TraverseLevel&>(c) = {.pairs = pairs, .nodes = nodes, .first = first, .base_up = base_up, .base = first[base_up],
-                                      .children_max = children_max, .b0 = 50, .tri_spheres = spheres, .eps = eps};
-    return c;
-  }
+struct LevelCase : test::LevelCase {
+  using test::LevelCase::LevelCase;
+  TraverseLevelCompacted Call(float eps = 0.0f) const { return TraverseLevelCompacted{Level(eps)}; }
 };
 
 emu::Compacted Emulated(const TraverseTopCompacted& c) { return emu::EmuHierarchyPasses().TraverseTopCompacted(c); }
