@@ -14,6 +14,13 @@
 namespace rayspace::emu {
 namespace {
 
+// A worker thread's buffers, reused from one top node to the next (no allocation per node once warm).
+struct Scratch {
+  std::vector<std::uint32_t> stack, buf, found, out;
+  std::vector<std::uint64_t> marked;
+  std::vector<glm::vec4> gathered;
+};
+
 struct NodeResult {
   std::vector<std::uint32_t> pairs;
   std::uint64_t tri_tests = 0, node_tests = 0, node_hits = 0;
@@ -46,9 +53,13 @@ void PushChildren(const call::TraverseTop& c, const ObjectTreeIndex& x, const la
 
 // The triangles of [b0, b1) below the object nodes top node `n`'s cone may meet, ascending: marked in
 // a bitmap of the batch while descending, read out in order (no sort).
-std::vector<std::uint32_t> Reached(const call::TraverseTop& c, const ObjectTreeIndex& x, const layout::ConeNode& n, NodeResult& r) {
-  std::vector<std::uint32_t> stack, buf, found;
-  std::vector<std::uint64_t> marked((c.b1 - c.b0 + 63) / 64, 0);
+// The result is z.found.
+void Reached(const call::TraverseTop& c, const ObjectTreeIndex& x, const layout::ConeNode& n, Scratch& z, NodeResult& r) {
+  std::vector<std::uint32_t>& stack = z.stack;
+  std::vector<std::uint64_t>& marked = z.marked;
+  stack.clear();
+  z.found.clear();
+  marked.assign((c.b1 - c.b0 + 63) / 64, 0);
   for (const std::uint32_t root : x.tree.roots) {
     if (!Holds(c, x, root)) continue;
     ++r.node_tests;
@@ -63,24 +74,25 @@ std::vector<std::uint32_t> Reached(const call::TraverseTop& c, const ObjectTreeI
       const std::uint32_t tri = x.tree.triangles[node.first_tri + k];
       if (tri >= c.b0 && tri < c.b1) marked[(tri - c.b0) >> 6] |= std::uint64_t{1} << ((tri - c.b0) & 63);
     }
-    PushChildren(c, x, n, node, stack, buf, r);
+    PushChildren(c, x, n, node, stack, z.buf, r);
   }
   for (std::size_t w = 0; w < marked.size(); ++w)
     for (std::uint64_t m = marked[w]; m != 0; m &= m - 1)
-      found.push_back(c.b0 + static_cast<std::uint32_t>(w * 64 + static_cast<std::size_t>(std::countr_zero(m))));
-  return found;
+      z.found.push_back(c.b0 + static_cast<std::uint32_t>(w * 64 + static_cast<std::size_t>(std::countr_zero(m))));
 }
 
 // Top node t (item i of the block) against the reached triangles, on the lanes: their spheres
 // gathered, the survivors' indices mapped back to batch-local triangles.
-void TestReached(const call::TraverseTop& c, std::uint32_t i, const std::vector<std::uint32_t>& found, NodeResult& r) {
-  std::vector<glm::vec4> gathered(found.size());
-  for (std::size_t k = 0; k < found.size(); ++k) gathered[k] = c.tri_spheres[found[k]];
-  const cone::SphereArrays lanes = cone::ToArrays(gathered);
-  std::vector<std::uint32_t> out(found.size() + cone::kLanePad);
-  const std::size_t m = cone::TestSpheres(FusedIsa(), c.top[c.t0 + i], lanes, 0, static_cast<std::uint32_t>(found.size()), c.eps, 0, 0, out.data());
+void TestReached(const call::TraverseTop& c, std::uint32_t i, Scratch& z, NodeResult& r) {
+  const std::vector<std::uint32_t>& found = z.found;
+  z.gathered.resize(found.size());
+  for (std::size_t k = 0; k < found.size(); ++k) z.gathered[k] = c.tri_spheres[found[k]];
+  const cone::SphereArrays lanes = cone::ToArrays(z.gathered);
+  z.out.resize(found.size() + cone::kLanePad);
+  const std::size_t m =
+      cone::TestSpheres(FusedIsa(), c.top[c.t0 + i], lanes, 0, static_cast<std::uint32_t>(found.size()), c.eps, 0, 0, z.out.data());
   r.tri_tests += found.size();
-  for (std::size_t k = 0; k < m; ++k) r.pairs.push_back((i << layout::kPairTriangleBits) | (found[out[k]] - c.b0));
+  for (std::size_t k = 0; k < m; ++k) r.pairs.push_back((i << layout::kPairTriangleBits) | (found[z.out[k]] - c.b0));
 }
 
 }  // namespace
@@ -113,8 +125,10 @@ ObjectTreeIndex IndexObjectTree(ObjectTree tree) {
 TreeTopResult TraverseTopTree(const call::TraverseTop& c, const ObjectTreeIndex& index) {
   std::vector<NodeResult> per(c.t1 - c.t0);
   ParallelForDynamic(per.size(), 16, [&](std::size_t i) {
+    thread_local Scratch z;
     NodeResult& r = per[i];
-    TestReached(c, static_cast<std::uint32_t>(i), Reached(c, index, c.top[c.t0 + i], r), r);
+    Reached(c, index, c.top[c.t0 + i], z, r);
+    TestReached(c, static_cast<std::uint32_t>(i), z, r);
   });
   TreeTopResult out;
   for (NodeResult& r : per) {

@@ -244,22 +244,20 @@ class CompactChecker final : public emu::ForwardingHierarchyPasses {
  public:
   explicit CompactChecker(gpu_backend::VulkanPasses& gpu) : gpu_(gpu) {}
   emu::PairSlots TraverseTop(const emu::call::TraverseTop& c) override {
-    emu::PairSlots s = ForwardingHierarchyPasses::TraverseTop(c);
-    emu::call::TraverseTopCompacted cc;
-    static_cast<emu::call::TraverseTop&>(cc) = c;
-    Check(cc, s);
-    return s;
+    return Checked(emu::call::TraverseTopCompacted{c}, ForwardingHierarchyPasses::TraverseTop(c));
   }
   emu::PairSlots TraverseLevel(const emu::call::TraverseLevel& c) override {
-    emu::PairSlots s = ForwardingHierarchyPasses::TraverseLevel(c);
-    emu::call::TraverseLevelCompacted cc;
-    static_cast<emu::call::TraverseLevel&>(cc) = c;
-    Check(cc, s);
-    return s;
+    return Checked(emu::call::TraverseLevelCompacted{c}, ForwardingHierarchyPasses::TraverseLevel(c));
   }
   std::size_t calls = 0, pairs = 0, mismatches = 0;
 
  private:
+  // The pass's slots, after checking the compacted call of the same inputs against them.
+  template <typename Compacted>
+  emu::PairSlots Checked(const Compacted& cc, emu::PairSlots s) {
+    Check(cc, s);
+    return s;
+  }
   template <typename C>
   void Check(const C& c, const emu::PairSlots& s) {
     emu::Compacted two;
