@@ -22,19 +22,35 @@ Statistics CollectStatistics(const std::vector<emu::BatchStats>& batches) {
     t.rays += b.rays;
     t.brute_force += b.BruteForce();
     t.object_sphere_tests += b.object_sphere_tests;
-    t.object_tree_tests += b.object_tree_tests;
+    t.ray_level.intersections += b.ray_level.intersections;
+    t.ray_level.hits += b.ray_level.hits;
     s.total += b.Total();
     s.brute_force += b.BruteForce();
     s.object_sphere_tests += b.object_sphere_tests;
-    s.object_tree_tests += b.object_tree_tests;
+    s.object_tree = s.object_tree || b.tree_rounds > 0;
+    s.object_levels.resize(std::max(s.object_levels.size(), b.object_levels.size()));
+    for (std::size_t d = 0; d < b.object_levels.size(); ++d) {
+      s.object_levels[d].intersections += b.object_levels[d].intersections;
+      s.object_levels[d].hits += b.object_levels[d].hits;
+    }
+    s.object_triangles.intersections += b.object_triangles.intersections;
+    s.object_triangles.hits += b.object_triangles.hits;
   }
   // The accounting identity, recomputed from the per-type sums.
   std::uint64_t check = 0;
   for (const auto& [kind, t] : s.types) {
-    check += t.final_tests + t.object_tree_tests;
+    check += t.final_tests + t.ray_level.intersections;
     for (const emu::LevelStats& l : t.levels) check += l.intersections;
   }
-  RS_CHECK_MSG(check == s.total, "total {} != levels + object-tree tests + final tests {}", s.total, check);
+  RS_CHECK_MSG(check == s.total, "total {} != levels + ray tests + final tests {}", s.total, check);
+  // --objects tree: the same tests counted by their object side.
+  std::uint64_t by_object = s.object_triangles.intersections;
+  for (const emu::LevelStats& l : s.object_levels) by_object += l.intersections;
+  if (s.object_tree) {
+    std::uint64_t finals = 0;
+    for (const auto& [kind, t] : s.types) finals += t.final_tests;
+    RS_CHECK_MSG(by_object + finals == s.total, "tree tests by object side {} + final tests {} != total {}", by_object, finals, s.total);
+  }
   return s;
 }
 
@@ -54,6 +70,26 @@ Statistics BruteStatistics(const emu::FrameResult& frame, std::size_t triangles)
   return s;
 }
 
+namespace {
+
+nlohmann::json LevelJson(const emu::LevelStats& l) {
+  return {{"intersections", l.intersections}, {"hits", l.hits}, {"misses", l.intersections - l.hits}};
+}
+
+// --objects tree: the rays' own tests, and every test by its object side.
+nlohmann::json TreeJson(const emu::LevelStats& rays, const std::vector<emu::LevelStats>& object_levels, const emu::LevelStats& triangles,
+                        std::uint64_t rounds) {
+  nlohmann::json depths = nlohmann::json::array();
+  for (std::size_t d = 0; d < object_levels.size(); ++d) {
+    nlohmann::json e = LevelJson(object_levels[d]);
+    e["depth"] = d;
+    depths.push_back(e);
+  }
+  return {{"rays", LevelJson(rays)}, {"object_depths", depths}, {"triangle_spheres", LevelJson(triangles)}, {"rounds", rounds}};
+}
+
+}  // namespace
+
 void Statistics::ToJson(nlohmann::json& j) const {
   nlohmann::json levels = nlohmann::json::array(), finals = nlohmann::json::object(), batch_list = nlohmann::json::array();
   for (const auto& [kind, t] : types) {
@@ -72,15 +108,21 @@ void Statistics::ToJson(nlohmann::json& j) const {
     batch_list.push_back({{"batch", b.batch}, {"ray_type", emu::RayKindName(b.kind)}, {"bounce", b.bounce},
                           {"rays", b.rays}, {"levels", bl}, {"final_tests", b.final_tests}, {"total_tests", b.Total()},
                           {"object_sphere_tests", b.object_sphere_tests}, {"object_sphere_hits", b.object_sphere_hits},
-                          {"object_tree_tests", b.object_tree_tests}, {"object_tree_hits", b.object_tree_hits},
                           {"triangle_batches", b.triangle_batches}, {"overflow_splits", b.overflow_splits}});
+    if (b.tree_rounds > 0) batch_list.back()["object_tree"] = TreeJson(b.ray_level, b.object_levels, b.object_triangles, b.tree_rounds);
   }
   j["levels"] = levels;
   j["final_tests"] = finals;
   j["total_tests"] = total;
   j["brute_force_tests"] = brute_force;
   j["object_sphere_tests"] = object_sphere_tests;
-  j["object_tree_tests"] = object_tree_tests;
+  if (object_tree) {
+    emu::LevelStats rays;
+    for (const auto& [kind, t] : types) rays.intersections += t.ray_level.intersections, rays.hits += t.ray_level.hits;
+    std::uint64_t rounds = 0;
+    for (const emu::BatchStats& b : batches) rounds += b.tree_rounds;
+    j["object_tree"] = TreeJson(rays, object_levels, object_triangles, rounds);
+  }
   j["batches"] = batch_list;
 }
 
@@ -108,8 +150,15 @@ void Statistics::Print(std::FILE* out) const {
       std::fprintf(out, "\n  # %s %-17s %16llu\n", kShort[kind], "FINAL TESTS", static_cast<unsigned long long>(t.final_tests));
     }
     if (object_sphere_tests) std::fprintf(out, "  object-sphere tests   %16llu\n", static_cast<unsigned long long>(object_sphere_tests));
-    if (object_tree_tests)
-      std::fprintf(out, "  object-tree tests     %16llu (in the total)\n", static_cast<unsigned long long>(object_tree_tests));
+    if (object_tree) {
+      for (const auto& [kind, t] : types)
+        std::fprintf(out, "  # %s %-17s %16llu (hits %llu, in the total)\n", kShort[kind], "RAY TESTS",
+                     static_cast<unsigned long long>(t.ray_level.intersections), static_cast<unsigned long long>(t.ray_level.hits));
+      std::fprintf(out, "  object tree, tests by depth of the tested node:");
+      for (std::size_t d = 0; d < object_levels.size(); ++d)
+        std::fprintf(out, " %zu:%llu", d, static_cast<unsigned long long>(object_levels[d].intersections));
+      std::fprintf(out, "; triangle spheres %llu\n", static_cast<unsigned long long>(object_triangles.intersections));
+    }
   }
   std::fprintf(out, "  total tests           %16llu (%.2f%% of brute force %llu)\n", static_cast<unsigned long long>(total),
                100.0 * static_cast<double>(total) / bf, static_cast<unsigned long long>(brute_force));

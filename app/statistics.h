@@ -1,7 +1,8 @@
 // Intersection statistics counted as the CRSH thesis counts them (docs/hierarchy.md, "Statistics"):
 // per ray type and level the node-sphere tests (intersections), survivors (hits) and misses; final
-// ray-triangle tests; total = every level's intersections + final tests (+ the object tree's node tests
-// with --objects tree); brute force = rays x triangles.
+// ray-triangle tests; total = every level's intersections + final tests (+ the rays' own tests with
+// --objects tree, where a level's intersections are its cones' tests against object nodes and
+// triangle spheres); brute force = rays x triangles.
 #pragma once
 #include <cstdio>
 #include <map>
@@ -20,11 +21,16 @@ struct Statistics {
   // Per ray type: per level (index L-1) summed over bounces, final tests, rays, brute force.
   struct PerType {
     std::vector<emu::LevelStats> levels;
-    std::uint64_t final_tests = 0, rays = 0, brute_force = 0, object_sphere_tests = 0, object_tree_tests = 0;
+    std::uint64_t final_tests = 0, rays = 0, brute_force = 0, object_sphere_tests = 0;
+    emu::LevelStats ray_level;  // --objects tree
   };
   std::map<std::uint32_t, PerType> types;
   std::vector<emu::BatchStats> batches;
-  std::uint64_t total = 0, brute_force = 0, object_sphere_tests = 0, object_tree_tests = 0;
+  std::uint64_t total = 0, brute_force = 0, object_sphere_tests = 0;
+  // --objects tree: every test again by its object side (per depth of the tested node; triangle spheres).
+  bool object_tree = false;
+  std::vector<emu::LevelStats> object_levels;
+  emu::LevelStats object_triangles;
 
   void ToJson(nlohmann::json& j) const;
   void Print(std::FILE* out) const;

@@ -42,11 +42,12 @@ struct FrameRun {
   Traced traced;
 };
 
-FrameRun Run(const Scene& s, emu::Algorithm algo) {
+FrameRun Run(const Scene& s, emu::Algorithm algo, bool object_tree = false) {
   FrameRun out;
   const SceneBuffers b = FlattenScene(s);
   emu::HierarchyConfig hc;
   hc.algorithm = algo;
+  hc.object_tree = object_tree;
   auto tracer = emu::MakeHierarchyTracer(b, hc);
   emu::FrameOptions fo;
   fo.width = 64;
@@ -65,18 +66,22 @@ FrameRun Run(const Scene& s, emu::Algorithm algo) {
 
 TEST_CASE("metamorphic: scaling the scene by a power of two changes no statistic and no hit") {
   const Scene base = test::LoadBundled("cornell-mirrors.json");
+  for (const bool tree : {false, true})
   for (emu::Algorithm algo : {emu::Algorithm::kCrsh, emu::Algorithm::kRah}) {
-    const FrameRun a = Run(base, algo);
+    CAPTURE(tree);
+    const FrameRun a = Run(base, algo, tree);
     // cornell-mirrors spans about 2^9 units: 2^50 brings it close to the 2^62 domain limit.
     for (float k : {0x1p-60f, 0x1p-12f, 0x1p20f, 0x1p50f}) {
       CAPTURE(k);
-      const FrameRun b = Run(Scaled(base, k), algo);
+      const FrameRun b = Run(Scaled(base, k), algo, tree);
       for (int kind = 0; kind < 3; ++kind) CHECK(a.frame.rays[kind] == b.frame.rays[kind]);
       REQUIRE(a.stats.size() == b.stats.size());
       for (std::size_t i = 0; i < a.stats.size(); ++i) {
         CAPTURE(a.stats[i].batch);
         CHECK(a.stats[i].final_tests == b.stats[i].final_tests);
         CHECK(a.stats[i].object_sphere_hits == b.stats[i].object_sphere_hits);
+        CHECK(a.stats[i].ray_level.hits == b.stats[i].ray_level.hits);
+        CHECK(a.stats[i].object_triangles.intersections == b.stats[i].object_triangles.intersections);
         for (std::size_t l = 0; l < a.stats[i].levels.size(); ++l) {
           CHECK(a.stats[i].levels[l].intersections == b.stats[i].levels[l].intersections);
           CHECK(a.stats[i].levels[l].hits == b.stats[i].levels[l].hits);

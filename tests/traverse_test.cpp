@@ -37,11 +37,14 @@ TEST_CASE("cone test: wide cones, spheres behind the apex, the full sphere") {
   CHECK(cone::Test(cone::FullSphereCone(n), {0, 0, -5, 0.1f}, 0));
 }
 
-TEST_CASE("traversal: every pair the final test accepts is a hierarchy candidate (cornell-mirrors)") {
+TEST_CASE("traversal: every pair the final test accepts is a hierarchy candidate, flat and with the object tree (cornell-mirrors)") {
   const Scene s = test::LoadBundled("cornell-mirrors.json");
   const SceneBuffers b = FlattenScene(s);
+  for (const bool tree : {false, true})
   for (Algorithm a : {Algorithm::kCrsh, Algorithm::kRah, Algorithm::kRahQuadtree}) {
+    INFO("object tree " << tree << ", algorithm " << static_cast<int>(a));
     HierarchyConfig cfg;
+    cfg.object_tree = tree;
     cfg.algorithm = a;
     cfg.depth = a == Algorithm::kRahQuadtree ? 5 : 2;
     cfg.subdivision = a == Algorithm::kRahQuadtree ? 4 : 8;

@@ -11,7 +11,7 @@
 #include "rayspace/emu/cone.h"
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/intersect_simd.h"
-#include "rayspace/emu/object_tree_top.h"
+#include "rayspace/emu/object_tree_traverse.h"
 #include "rayspace/emu/passes.h"
 #include "rayspace/error.h"
 #include "rayspace/parallel.h"
@@ -19,7 +19,7 @@
 namespace rayspace::emu {
 
 std::uint64_t BatchStats::Total() const {
-  std::uint64_t t = final_tests + object_tree_tests;
+  std::uint64_t t = final_tests + ray_level.intersections;
   for (const LevelStats& l : levels) t += l.intersections;
   return t;
 }
@@ -53,9 +53,9 @@ class Impl final : public HierarchyTracer {
       : scene_(scene), cfg_(cfg), passes_(cfg.passes ? *cfg.passes : EmuHierarchyPasses()) {
     RS_CHECK(cfg.subdivision >= 2 && cfg.depth >= 1 && cfg.component_size >= 1);
     RS_CHECK(cfg.max_batch_triangles >= 1 && cfg.max_batch_triangles <= (1u << kTriBits));
-    // The object tree's top level has an emulation and no kernel yet: a backend's frame or a diff
-    // would run it on the host on both sides and call that verified (the commands refuse it first).
-    RS_CHECK_MSG(!cfg.object_tree || cfg.passes == nullptr, "the object tree's top level runs on the emulator's own passes only");
+    // The joint descent has an emulation and no kernel yet: a backend's frame or a diff would run it
+    // on the host on both sides and call that verified (the commands refuse it first).
+    RS_CHECK_MSG(!cfg.object_tree || cfg.passes == nullptr, "the object tree's descent runs on the emulator's own passes only");
 
     eps_ = TraversalEpsilon(scene);
   }
@@ -85,7 +85,7 @@ class Impl final : public HierarchyTracer {
     obj_spheres_ = &obj_spheres;
     // The object tree depends on the scene alone: built once, as Embree's and the direct tracer's BVHs.
     if (cfg_.object_tree && tree_.tree.nodes.empty())
-      tree_ = IndexObjectTree(BuildObjectTree(scene_.triangles, scene_.objects, cfg_.object_tree_options, tri_spheres));
+      tree_ = IndexObjectTree(BuildObjectTree(scene_.triangles, scene_.objects, cfg_.object_tree_options, tri_spheres), tri_spheres);
   }
   void BeginBatch(const BatchContext& ctx) override { ctx_ = ctx; }
   const std::vector<BatchStats>& Stats() const override { return stats_; }
@@ -267,16 +267,6 @@ class Impl final : public HierarchyTracer {
     return pairs;
   }
 
-  // --objects tree: the top level through the object tree, the flat level's pairs in its order.
-  std::vector<std::uint32_t> TreeTop(int L, std::size_t slots_n, const call::TraverseTop& call, LevelStats& lv, LevelStats& nodes) {
-    TreeTopResult r = Sub("traverse.tree.L" + std::to_string(L), slots_n, [&] { return TraverseTopTree(call, tree_); });
-    lv.intersections = r.pairs.tested;
-    lv.hits = r.pairs.pairs.size();
-    nodes = {r.node_tests, r.node_hits};
-    if (cfg_.pair_log) cfg_.pair_log->push_back(r.pairs.pairs);
-    return std::move(r.pairs.pairs);
-  }
-
   // Traverses one block (top nodes [t0, t1) x triangles [b0, b1)); false when a level overflows the
   // pair capacity, in which case nothing was written.
   bool Block(const Hierarchy& h, const std::vector<layout::Ray>& rays, const std::vector<std::uint32_t>& order,
@@ -293,9 +283,7 @@ class Impl final : public HierarchyTracer {
     const std::size_t grid = static_cast<std::size_t>(N) * T;
     const call::TraverseTop top{.top = h.nodes[D - 1], .t0 = t0, .t1 = t1, .b0 = b0, .b1 = b1, .tri_spheres = *tri_spheres_,
                                 .scene = &scene_, .object_mask = crsh ? object_mask : kNoMask, .eps = eps_};
-    LevelStats tree_nodes;  // --objects tree: the object nodes' tests, kept with lv until the block succeeds
-    std::vector<std::uint32_t> pairs =
-        cfg_.object_tree ? TreeTop(D, grid, top, lv[D - 1], tree_nodes) : TestAndCompact(D, grid, top, lv[D - 1]);
+    std::vector<std::uint32_t> pairs = TestAndCompact(D, grid, top, lv[D - 1]);
     if (pairs.size() > cfg_.pair_capacity) return false;
 
     // Levels D-1 .. 1: each surviving pair tests the node's children.
@@ -336,8 +324,134 @@ class Impl final : public HierarchyTracer {
       st.levels[L].intersections += lv[L].intersections;
       st.levels[L].hits += lv[L].hits;
     }
-    st.object_tree_tests += tree_nodes.intersections;
-    st.object_tree_hits += tree_nodes.hits;
+    ++st.triangle_batches;
+    return true;
+  }
+
+  // --objects tree (emu/object_tree_traverse.h): the hierarchy's levels with one node per sorted ray
+  // below them, descended together with the object tree by top-node groups.
+  void TraceTree(const Hierarchy& h, const std::vector<layout::Ray>& rays, const std::vector<std::uint32_t>& order, BatchStats& st,
+                 std::vector<std::uint64_t>* hits, std::vector<std::uint32_t>* occluded) {
+    const std::vector<std::uint32_t> singles = Fixed(order.size(), 1);
+    const std::vector<layout::ConeNode> ray_nodes =
+        Sub("build.rays", rays.size(), [&] { return passes_.BuildLeaves({.rays = rays, .order = order, .first = singles}); });
+    ConeLevels cones;
+    cones.nodes.push_back(ray_nodes);
+    cones.first.emplace_back();
+    for (int L = 1; L <= cfg_.depth; ++L) {
+      cones.nodes.push_back(h.nodes[L - 1]);
+      cones.first.push_back(h.first[L - 1]);
+    }
+    if (cfg_.fused)
+      for (const auto& level : cones.nodes) cones.lanes.push_back(cone::ToArrays(level));
+    const TreeBatch batch{&cones, &rays, &order, hits, occluded};
+    TreeGroup(batch, static_cast<std::uint32_t>(cfg_.depth), 0, static_cast<std::uint32_t>(h.nodes.back().size()), st);
+  }
+
+  struct TreeBatch {
+    const ConeLevels* cones;
+    const std::vector<layout::Ray>* rays;
+    const std::vector<std::uint32_t>* order;
+    std::vector<std::uint64_t>* hits;
+    std::vector<std::uint32_t>* occluded;
+  };
+
+  // Cone nodes [t0, t1) of `level`: split in halves when a round's pairs overflow the pair capacity,
+  // a single node into its children.
+  void TreeGroup(const TreeBatch& b, std::uint32_t level, std::uint32_t t0, std::uint32_t t1, BatchStats& st) {
+    if (TreeBlock(b, level, t0, t1, st)) return;
+    ++st.overflow_splits;
+    if (t1 - t0 > 1) {
+      const std::uint32_t mid = t0 + (t1 - t0) / 2;
+      TreeGroup(b, level, t0, mid, st);
+      TreeGroup(b, level, mid, t1, st);
+    } else if (level > 0) {
+      TreeGroup(b, level - 1, b.cones->first[level][t0], b.cones->first[level][t0 + 1], st);
+    } else {
+      ThrowInput("--pair-capacity {}: too small to hold the pairs of one ray with --objects tree", cfg_.pair_capacity);
+    }
+  }
+
+  void LogTree(const TreeRound& r) {
+    if (!cfg_.pair_log) return;
+    for (const TreePairs* p : {&r.next, &r.final}) {
+      cfg_.pair_log->push_back(p->cone);
+      cfg_.pair_log->push_back(p->item);
+    }
+  }
+
+  // The final tests of `finals` as (ray, triangle), in the order the final tests take them.
+  void LogTreeCandidates(const TreeBatch& b, const TreePairs& finals) {
+    for (std::size_t p = 0; p < finals.size(); ++p) {
+      const std::uint32_t L = finals.cone[p] >> layout::kTreeLevelShift, n = finals.cone[p] & layout::kTreeNodeMask;
+      const std::uint32_t prim = tree_.tree.triangles[finals.item[p] & ~layout::kTreeItemTriangle];
+      const std::uint32_t j0 = L == 1 ? b.cones->first[1][n] : n, j1 = L == 1 ? b.cones->first[1][n + 1] : n + 1;
+      for (std::uint32_t j = j0; j < j1; ++j) cfg_.candidate_log->push_back((static_cast<std::uint64_t>((*b.order)[j]) << 32) | prim);
+    }
+  }
+
+  // One round as its passes: expand, scan, test, and the two reductions (next and final).
+  TreeRound TreeRoundByPasses(const call::TreeStep& c) {
+    const std::vector<std::uint32_t> counts = Sub("tree.expand", c.pairs->size(), [&] { return PassTreeExpand(c); });
+    std::vector<std::uint32_t> offsets(counts.size());
+    std::size_t slots = 0;
+    for (std::size_t p = 0; p < counts.size(); ++p) offsets[p] = static_cast<std::uint32_t>(slots), slots += counts[p];
+    RS_CHECK_MSG(slots < (std::size_t{1} << 32), "tree round of {} slots", slots);
+    const TreeSlots s = Sub("tree.test", slots, [&] { return PassTreeTest(c, offsets, slots); });
+    std::vector<std::uint32_t> index(slots);
+    for (std::size_t k = 0; k < slots; ++k) index[k] = static_cast<std::uint32_t>(k);
+    TreeRound r;
+    r.counts = s.counts;
+    for (const std::uint8_t kind : {std::uint8_t{1}, std::uint8_t{2}}) {
+      std::vector<std::uint8_t> flags(slots);
+      for (std::size_t k = 0; k < slots; ++k) flags[k] = s.flags[k] == kind;
+      const std::vector<std::uint32_t> kept = Sub("reduce.tree", slots, [&] { return Reduce(flags, index); });
+      TreePairs& to = kind == 1 ? r.next : r.final;
+      for (const std::uint32_t k : kept) to.cone.push_back(s.pairs.cone[k]), to.item.push_back(s.pairs.item[k]);
+    }
+    return r;
+  }
+
+  bool TreeBlock(const TreeBatch& b, std::uint32_t level, std::uint32_t t0, std::uint32_t t1, BatchStats& st) {
+    TreeRound r = Sub("tree.roots", static_cast<std::size_t>(t1 - t0) * tree_.tree.roots.size(), [&] {
+      return PassTreeRoots({.cones = b.cones, .tree = &tree_, .level = level, .t0 = t0, .t1 = t1, .eps = eps_});
+    });
+    LogTree(r);
+    TreeCounts counts = r.counts;
+    TreePairs finals = std::move(r.final), pairs = std::move(r.next);
+    std::uint64_t rounds = 1;
+    while (pairs.size() > 0) {
+      if (pairs.size() > cfg_.pair_capacity || finals.size() > cfg_.pair_capacity) return false;
+      const call::TreeStep c{.cones = b.cones, .tree = &tree_, .pairs = &pairs, .eps = eps_};
+      TreeRound next = cfg_.fused ? Sub("tree.step", pairs.size(), [&] { return PassTreeStepLanes(c); }) : TreeRoundByPasses(c);
+      LogTree(next);
+      counts.Add(next.counts);
+      finals.cone.insert(finals.cone.end(), next.final.cone.begin(), next.final.cone.end());
+      finals.item.insert(finals.item.end(), next.final.item.begin(), next.final.item.end());
+      pairs = std::move(next.next);
+      ++rounds;
+    }
+    if (finals.size() > cfg_.pair_capacity) return false;
+    const std::vector<std::uint32_t> tests = Sub("intersect.tree", finals.size(), [&] {
+      return PassIntersectTree({.pairs = &finals, .first1 = b.cones->first[1], .tree = &tree_, .order = *b.order, .rays = *b.rays,
+                                .scene = &scene_, .hits = b.hits, .occluded = b.occluded});
+    });
+    for (const std::uint32_t t : tests) st.final_tests += t;
+    if (cfg_.candidate_log) LogTreeCandidates(b, finals);
+    for (int L = 1; L <= cfg_.depth; ++L) {
+      st.levels[L - 1].intersections += counts.cone_tests[L];
+      st.levels[L - 1].hits += counts.cone_hits[L];
+    }
+    st.ray_level.intersections += counts.cone_tests[0];
+    st.ray_level.hits += counts.cone_hits[0];
+    st.object_levels.resize(std::max(st.object_levels.size(), counts.node_tests.size()));
+    for (std::size_t d = 0; d < counts.node_tests.size(); ++d) {
+      st.object_levels[d].intersections += counts.node_tests[d];
+      st.object_levels[d].hits += counts.node_hits[d];
+    }
+    st.object_triangles.intersections += counts.tri_tests;
+    st.object_triangles.hits += counts.tri_hits;
+    st.tree_rounds += rounds;
     ++st.triangle_batches;
     return true;
   }
@@ -381,9 +495,15 @@ class Impl final : public HierarchyTracer {
     for (int L = 1; L <= cfg_.depth; ++L) Digest("build", "nodes.L" + std::to_string(L), h.nodes[L - 1]);
     const std::uint32_t top = static_cast<std::uint32_t>(h.nodes[cfg_.depth - 1].size());
 
+    if (cfg_.object_tree) {
+      TraceTree(h, rays, order, st, hits, occluded);
+      stats_.push_back(st);
+      return;
+    }
+
     // CRSH: top nodes against object spheres first, once per batch.
     std::vector<std::uint8_t> mask;
-    if (cfg_.algorithm == Algorithm::kCrsh && !cfg_.object_tree) {  // the tree's roots take the object spheres' place
+    if (cfg_.algorithm == Algorithm::kCrsh) {
       mask = Sub("traverse.objects", static_cast<std::size_t>(top) * scene_.objects.size(),
                  [&] { return passes_.ObjectMask({.top = h.nodes[cfg_.depth - 1], .object_spheres = *obj_spheres_, .eps = eps_}); });
       st.object_sphere_tests = mask.size();

@@ -44,6 +44,12 @@ RS_CONST(uint, kFaultSqrtHigh, 24u);    // sqrt(x) two ULP high, within what inv
 // a triangle batch holds at most 2^14 triangles and a level at most 2^18 nodes per batch.
 RS_CONST(uint, kPairTriangleBits, 14u);
 RS_CONST(uint, kPairTriangleMask, 16383u);  // (1 << kPairTriangleBits) - 1
+// --objects tree: a pair of the joint descent is two words. cone = level << kTreeLevelShift | node
+// within its level (level 0: a ray, by its place in the sorted order); item = an object-tree node,
+// or kTreeItemTriangle | an index into the tree's triangle list.
+RS_CONST(uint, kTreeLevelShift, 28u);
+RS_CONST(uint, kTreeNodeMask, 268435455u);  // (1 << kTreeLevelShift) - 1
+RS_CONST(uint, kTreeItemTriangle, 2147483648u);
 // Margins of the cone-sphere nodes (docs/numerics.md, derived for any conformant device: division
 // within 2.5 ULP, sqrt from inversesqrt, RTE or RTZ, denormals flushed): radii grow by a relative
 // 2^-18 plus an absolute 2^-122 (a normal float, so flushing cannot erase it) and half-angles by
@@ -342,6 +348,7 @@ RS_CONST(uint, kResolveBindings, 2u);
 
 #ifdef __cplusplus
 static_assert(kPairTriangleMask == (1u << kPairTriangleBits) - 1u);
+static_assert(kTreeNodeMask == (1u << kTreeLevelShift) - 1u && kTreeItemTriangle == 1u << 31);
 static_assert(kBufferPages == 4, "the paged bindings below assume four pages");
 static_assert(kBuildBindOrder == kBuildBindRays + kBufferPages && kBuildBindBelow == kBuildBindOrder + kBufferPages &&
               kBuildBindings == kBuildBindBelow + kBufferPages);

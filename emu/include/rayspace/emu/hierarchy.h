@@ -42,8 +42,8 @@ struct HierarchyConfig {
   // Without `passes` (the emulator's own), the sort and the final tests also take host shortcuts
   // with the same results.
   bool fused = false;
-  // --objects tree: the top level descends each object's bounding-sphere tree instead of testing
-  // every triangle (emu/object_tree_top.h); the emulator's passes only.
+  // --objects tree: the hierarchy descends together with each object's bounding-sphere tree instead
+  // of testing every triangle (emu/object_tree_traverse.h); the emulator's passes only.
   bool object_tree = false;
   ObjectTreeOptions object_tree_options;
 };
@@ -59,7 +59,13 @@ struct BatchStats {
   std::uint64_t rays = 0, triangles = 0;
   std::vector<LevelStats> levels;  // index L-1 for level L
   std::uint64_t object_sphere_tests = 0, object_sphere_hits = 0;
-  std::uint64_t object_tree_tests = 0, object_tree_hits = 0;  // --objects tree: counted in Total()
+  // --objects tree: `levels` count every test of a level's cones (against object nodes and triangle
+  // spheres); rays (level 0) have their own; the same tests again by the object side: per depth of
+  // the tested object node, and against triangle spheres.
+  LevelStats ray_level;
+  std::vector<LevelStats> object_levels;
+  LevelStats object_triangles;
+  std::uint64_t tree_rounds = 0;
   std::uint64_t final_tests = 0;
   std::uint64_t triangle_batches = 0, overflow_splits = 0;
   std::uint64_t Total() const;

@@ -1,0 +1,292 @@
+// The joint descent of the ray-space hierarchy and the object tree (emu/object_tree_traverse.h): its
+// passes one by one, the fused round (scalar and on the SIMD lanes) and the final tests.
+#include "rayspace/emu/object_tree_traverse.h"
+
+#include <algorithm>
+#include <atomic>
+
+#include "rayspace/emu/cone.h"
+#include "rayspace/emu/hierarchy.h"
+#include "rayspace/emu/intersect.h"
+#include "rayspace/error.h"
+#include "rayspace/parallel.h"
+
+namespace rayspace::emu {
+namespace {
+
+using layout::kTreeItemTriangle;
+using layout::kTreeLevelShift;
+using layout::kTreeNodeMask;
+
+TreeFault g_fault = TreeFault::kNone;
+
+std::uint32_t LevelOf(std::uint32_t cone) { return cone >> kTreeLevelShift; }
+std::uint32_t NodeOf(std::uint32_t cone) { return cone & kTreeNodeMask; }
+std::uint32_t ConeOf(std::uint32_t level, std::uint32_t node) { return level << kTreeLevelShift | node; }
+bool IsTriangle(std::uint32_t item) { return (item & kTreeItemTriangle) != 0; }
+
+// The candidates of one pair: the cone side's children [k0, k1) of level `level`, or the object
+// side's child nodes [k0, k1) then own triangles [t0, t1), tested against the cone at `level`.
+struct Expansion {
+  bool cone_side = false;
+  std::uint32_t level = 0, k0 = 0, k1 = 0, t0 = 0, t1 = 0;
+  std::uint32_t Count() const { return (k1 - k0) + (t1 - t0); }
+};
+
+Expansion Expand(const call::TreeStep& c, std::uint32_t cone, std::uint32_t item) {
+  const std::uint32_t L = LevelOf(cone), n = NodeOf(cone);
+  RS_CHECK_MSG(!(IsTriangle(item) && L <= 1), "tree pair ({}, {}) is final, not one to refine", cone, item);
+  const bool cone_side = IsTriangle(item) || (L > 0 && SplitCone(c.cones->nodes[L][n], c.tree->spheres[item]));
+  if (cone_side) {
+    const std::span<const std::uint32_t> f = c.cones->first[L];
+    return {true, L - 1, f[n], f[n + 1], 0, 0};
+  }
+  const ObjectTreeNode& o = c.tree->tree.nodes[item];
+  const std::uint32_t children = o.children - (g_fault == TreeFault::kDropLastChild && o.children > 0);
+  return {false, L, o.first_child, o.first_child + children, o.first_tri, o.first_tri + o.tris};
+}
+
+// Candidate k of pair (cone, item) under expansion e.
+std::pair<std::uint32_t, std::uint32_t> Candidate(const Expansion& e, std::uint32_t cone, std::uint32_t item, std::uint32_t k) {
+  if (e.cone_side) return {ConeOf(e.level, e.k0 + k), item};
+  const std::uint32_t nodes = e.k1 - e.k0;
+  return {cone, k < nodes ? e.k0 + k : kTreeItemTriangle | (e.t0 + k - nodes)};
+}
+
+glm::vec4 SphereOf(const ObjectTreeIndex& x, std::uint32_t item) {
+  return IsTriangle(item) ? x.tri_spheres[item & ~kTreeItemTriangle] : x.spheres[item];
+}
+
+bool TestCandidate(const call::TreeStep& c, std::uint32_t cone, std::uint32_t item) {
+  return cone::Test(c.cones->nodes[LevelOf(cone)][NodeOf(cone)], SphereOf(*c.tree, item), c.eps);
+}
+
+// 2 when the pair is final (a level-1 node or a ray with a triangle), else 1.
+std::uint8_t KindOf(std::uint32_t cone, std::uint32_t item) { return IsTriangle(item) && LevelOf(cone) <= 1 ? 2 : 1; }
+
+void Count(TreeCounts& k, const ObjectTreeIndex& x, std::uint32_t cone, std::uint32_t item, std::uint64_t tests, std::uint64_t hits) {
+  k.cone_tests[LevelOf(cone)] += tests, k.cone_hits[LevelOf(cone)] += hits;
+  if (IsTriangle(item)) {
+    k.tri_tests += tests, k.tri_hits += hits;
+  } else {
+    k.node_tests[x.tree.depth[item]] += tests, k.node_hits[x.tree.depth[item]] += hits;
+  }
+}
+
+TreeCounts EmptyCounts(const call::TreeStep& c) {
+  TreeCounts k;
+  std::uint32_t depths = 0;
+  for (const std::uint32_t d : c.tree->tree.depth) depths = std::max(depths, d + 1);
+  k.Resize(c.cones->Depth() + 1, depths);
+  return k;
+}
+
+// Blocks of pairs whose candidates make about kFusedBlock slots (a pair has about eight).
+constexpr std::size_t kPairsPerBlock = kFusedBlock / 8;
+
+void Append(TreePairs& to, const TreePairs& from) {
+  to.cone.insert(to.cone.end(), from.cone.begin(), from.cone.end());
+  to.item.insert(to.item.end(), from.item.begin(), from.item.end());
+}
+
+// Runs block(p0, p1, round) over blocks of pairs in parallel and concatenates the blocks' rounds in
+// block order (the pairs of a round are in pair order, each pair's candidates in candidate order).
+template <typename BlockFn>
+TreeRound InBlocks(const call::TreeStep& c, BlockFn&& block) {
+  const std::size_t n = c.pairs->size(), blocks = (n + kPairsPerBlock - 1) / kPairsPerBlock;
+  std::vector<TreeRound> parts(blocks);
+  ParallelForDynamic(blocks, 1, [&](std::size_t b) {
+    TreeRound& r = parts[b];
+    r.counts = EmptyCounts(c);
+    block(b * kPairsPerBlock, std::min(n, (b + 1) * kPairsPerBlock), r);
+    if (g_fault == TreeFault::kDropBlockSurvivor && !r.next.cone.empty()) r.next.cone.pop_back(), r.next.item.pop_back();
+  });
+  TreeRound out;
+  out.counts = EmptyCounts(c);
+  for (const TreeRound& r : parts) {
+    Append(out.next, r.next);
+    Append(out.final, r.final);
+    out.counts.Add(r.counts);
+  }
+  return out;
+}
+
+void Push(TreeRound& r, std::uint32_t cone, std::uint32_t item) {
+  TreePairs& to = KindOf(cone, item) == 2 ? r.final : r.next;
+  to.cone.push_back(cone);
+  to.item.push_back(item);
+}
+
+}  // namespace
+
+void TreeCounts::Resize(int cone_levels, std::size_t node_depths) {
+  cone_tests.assign(cone_levels, 0), cone_hits.assign(cone_levels, 0);
+  node_tests.assign(node_depths, 0), node_hits.assign(node_depths, 0);
+}
+
+void TreeCounts::Add(const TreeCounts& o) {
+  RS_CHECK(o.cone_tests.size() == cone_tests.size() && o.node_tests.size() == node_tests.size());
+  for (std::size_t i = 0; i < cone_tests.size(); ++i) cone_tests[i] += o.cone_tests[i], cone_hits[i] += o.cone_hits[i];
+  for (std::size_t i = 0; i < node_tests.size(); ++i) node_tests[i] += o.node_tests[i], node_hits[i] += o.node_hits[i];
+  tri_tests += o.tri_tests, tri_hits += o.tri_hits;
+}
+
+std::uint64_t TreeCounts::Tests() const {
+  std::uint64_t t = 0;
+  for (const std::uint64_t v : cone_tests) t += v;
+  return t;
+}
+
+ObjectTreeIndex IndexObjectTree(ObjectTree tree, std::span<const glm::vec4> tri_spheres) {
+  ObjectTreeIndex x;
+  x.spheres.resize(tree.nodes.size());
+  for (std::size_t i = 0; i < tree.nodes.size(); ++i) x.spheres[i] = tree.nodes[i].sphere;
+  x.tri_spheres.resize(tree.triangles.size());
+  for (std::size_t k = 0; k < tree.triangles.size(); ++k) x.tri_spheres[k] = tri_spheres[tree.triangles[k]];
+  x.lanes = cone::ToArrays(x.spheres);  // span the vectors' buffers, which move with x
+  x.tri_lanes = cone::ToArrays(x.tri_spheres);
+  x.tree = std::move(tree);
+  return x;
+}
+
+bool SplitCone(const layout::ConeNode& n, glm::vec4 o) {
+  const float cosa = n.cone.w, sina = n.extra.x;
+  if (!(cosa > 0.0f)) return true;  // a hemisphere or wider: refining the object cannot narrow it
+  // r + d tan(alpha) > R  <=>  d sin > (R - r) cos, squared when both sides are non-negative.
+  const float rhs = (o.w - n.sphere.w) * cosa;
+  if (rhs < 0.0f) return true;
+  const float dx = o.x - n.sphere.x, dy = o.y - n.sphere.y, dz = o.z - n.sphere.z;
+  const float d2 = dx * dx + dy * dy + dz * dz;
+  return d2 * (sina * sina) > rhs * rhs;
+}
+
+TreeRound PassTreeRoots(const call::TreeRoots& c) {
+  const call::TreeStep s{.cones = c.cones, .tree = c.tree, .pairs = nullptr, .eps = c.eps};
+  TreeRound r;
+  r.counts = EmptyCounts(s);
+  for (std::uint32_t t = c.t0; t < c.t1; ++t)
+    for (const std::uint32_t root : c.tree->tree.roots) {
+      const std::uint32_t cone = ConeOf(c.level, t);
+      const bool hit = TestCandidate(s, cone, root);
+      Count(r.counts, *c.tree, cone, root, 1, hit);
+      if (hit) Push(r, cone, root);
+    }
+  return r;
+}
+
+std::vector<std::uint32_t> PassTreeExpand(const call::TreeStep& c) {
+  std::vector<std::uint32_t> counts(c.pairs->size());
+  ParallelFor(counts.size(), [&](std::size_t p) { counts[p] = Expand(c, c.pairs->cone[p], c.pairs->item[p]).Count(); });
+  return counts;
+}
+
+TreeSlots PassTreeTest(const call::TreeStep& c, std::span<const std::uint32_t> offsets, std::size_t slots) {
+  TreeSlots s;
+  s.flags.assign(slots, 0);
+  s.pairs.cone.assign(slots, 0);
+  s.pairs.item.assign(slots, 0);
+  const std::size_t n = c.pairs->size(), blocks = (n + kPairsPerBlock - 1) / kPairsPerBlock;
+  std::vector<TreeCounts> counts(blocks, EmptyCounts(c));
+  ParallelForDynamic(blocks, 1, [&](std::size_t b) {
+    for (std::size_t p = b * kPairsPerBlock; p < std::min(n, (b + 1) * kPairsPerBlock); ++p) {
+      const std::uint32_t cone = c.pairs->cone[p], item = c.pairs->item[p];
+      const Expansion e = Expand(c, cone, item);
+      for (std::uint32_t k = 0; k < e.Count(); ++k) {
+        const auto [kc, ki] = Candidate(e, cone, item, k);
+        const bool hit = TestCandidate(c, kc, ki);
+        Count(counts[b], *c.tree, kc, ki, 1, hit);
+        const std::size_t slot = offsets[p] + k;
+        s.pairs.cone[slot] = kc, s.pairs.item[slot] = ki;
+        s.flags[slot] = hit ? KindOf(kc, ki) : 0;
+      }
+    }
+  });
+  s.counts = EmptyCounts(c);
+  for (const TreeCounts& k : counts) s.counts.Add(k);
+  return s;
+}
+
+TreeRound PassTreeStep(const call::TreeStep& c) {
+  return InBlocks(c, [&](std::size_t p0, std::size_t p1, TreeRound& r) {
+    for (std::size_t p = p0; p < p1; ++p) {
+      const std::uint32_t cone = c.pairs->cone[p], item = c.pairs->item[p];
+      const Expansion e = Expand(c, cone, item);
+      for (std::uint32_t k = 0; k < e.Count(); ++k) {
+        const auto [kc, ki] = Candidate(e, cone, item, k);
+        const bool hit = TestCandidate(c, kc, ki);
+        Count(r.counts, *c.tree, kc, ki, 1, hit);
+        if (hit) Push(r, kc, ki);
+      }
+    }
+  });
+}
+
+TreeRound PassTreeStepLanes(const call::TreeStep& c) {
+  const cone::Isa isa = FusedIsa();
+  if (isa == cone::Isa::kScalar || c.cones->lanes.size() != c.cones->nodes.size()) return PassTreeStep(c);
+  return InBlocks(c, [&](std::size_t p0, std::size_t p1, TreeRound& r) {
+    std::vector<std::uint32_t> buf;
+    // Tests candidates [k0, k1) of one kind at once and pushes the survivors (indices into the range).
+    auto run = [&](std::uint32_t k0, std::uint32_t k1, auto test, auto make) {
+      if (k1 == k0) return;
+      buf.resize(k1 - k0 + cone::kLanePad);
+      const std::size_t m = test(k0, k1, buf.data());
+      const auto [c0, i0] = make(k0);
+      Count(r.counts, *c.tree, c0, i0, k1 - k0, m);
+      for (std::size_t q = 0; q < m; ++q) {
+        const auto [kc, ki] = make(buf[q]);
+        Push(r, kc, ki);
+      }
+    };
+    for (std::size_t p = p0; p < p1; ++p) {
+      const std::uint32_t cone = c.pairs->cone[p], item = c.pairs->item[p];
+      const Expansion e = Expand(c, cone, item);
+      if (e.cone_side) {
+        const glm::vec4 s = SphereOf(*c.tree, item);
+        run(e.k0, e.k1,
+            [&](std::uint32_t a, std::uint32_t b, std::uint32_t* out) { return cone::TestNodes(isa, c.cones->lanes[e.level], s, a, b, c.eps, 0, 0, out); },
+            [&](std::uint32_t k) { return std::pair{ConeOf(e.level, k), item}; });
+        continue;
+      }
+      const layout::ConeNode& n = c.cones->nodes[e.level][NodeOf(cone)];
+      run(e.k0, e.k1,
+          [&](std::uint32_t a, std::uint32_t b, std::uint32_t* out) { return cone::TestSpheres(isa, n, c.tree->lanes, a, b, c.eps, 0, 0, out); },
+          [&](std::uint32_t k) { return std::pair{cone, k}; });
+      run(e.t0, e.t1,
+          [&](std::uint32_t a, std::uint32_t b, std::uint32_t* out) { return cone::TestSpheres(isa, n, c.tree->tri_lanes, a, b, c.eps, 0, 0, out); },
+          [&](std::uint32_t k) { return std::pair{cone, kTreeItemTriangle | k}; });
+    }
+  });
+}
+
+std::vector<std::uint32_t> PassIntersectTree(const call::IntersectTree& c) {
+  const TreePairs& f = *c.pairs;
+  std::vector<std::uint32_t> tests(f.size());
+  ParallelFor(f.size(), [&](std::size_t p) {
+    const std::uint32_t L = LevelOf(f.cone[p]), n = NodeOf(f.cone[p]);
+    RS_CHECK_MSG(L <= 1 && IsTriangle(f.item[p]), "tree pair ({}, {}) is not final", f.cone[p], f.item[p]);
+    const std::uint32_t j0 = L == 1 ? c.first1[n] : n;
+    const std::uint32_t j1 = L == 1 && g_fault != TreeFault::kFirstRayOnly ? c.first1[n + 1] : j0 + 1;
+    const std::uint32_t prim = c.tree->tree.triangles[f.item[p] & ~kTreeItemTriangle];
+    const layout::Triangle& tri = c.scene->triangles[prim];
+    tests[p] = j1 - j0;
+    for (std::uint32_t j = j0; j < j1; ++j) {
+      const std::uint32_t ray = c.order[j];
+      const layout::Ray& r = c.rays[ray];
+      if (prim == r.info.y) continue;  // the surface the ray leaves
+      float t = 0.0f;
+      if (!IntersectWatertight(SetupWatertight(Xyz(r.origin_tmin), Xyz(r.direction_tmax)), Xyz(tri.v0), Xyz(tri.v1), Xyz(tri.v2),
+                               r.origin_tmin.w, r.direction_tmax.w, t))
+        continue;
+      if (c.occluded)
+        std::atomic_ref<std::uint32_t>((*c.occluded)[ray]).store(1u, std::memory_order_relaxed);
+      else
+        RecordClosestHit(*c.hits, ray, PackHit(t, prim));
+    }
+  });
+  return tests;
+}
+
+void SetTreeFaultForTesting(TreeFault fault) { g_fault = fault; }
+
+}  // namespace rayspace::emu
