@@ -433,8 +433,9 @@ class Impl final : public HierarchyTracer {
     }
     if (finals.size() > cfg_.pair_capacity) return false;
     const std::vector<std::uint32_t> tests = Sub("intersect.tree", finals.size(), [&] {
-      return PassIntersectTree({.pairs = &finals, .first1 = b.cones->first[1], .tree = &tree_, .order = *b.order, .rays = *b.rays,
-                                .scene = &scene_, .hits = b.hits, .occluded = b.occluded});
+      const call::IntersectTree call{.pairs = &finals, .first1 = b.cones->first[1], .tree = &tree_, .order = *b.order, .rays = *b.rays,
+                                     .scene = &scene_, .hits = b.hits, .occluded = b.occluded};
+      return HostFastPath() ? PassIntersectTreeLanes(call, watertight_) : PassIntersectTree(call);
     });
     for (const std::uint32_t t : tests) st.final_tests += t;
     if (cfg_.candidate_log) LogTreeCandidates(b, finals);

@@ -85,6 +85,25 @@ void TestRuns(const call::Intersect& c, const WatertightArrays& w) {
 
 }  // namespace
 
+void IntersectRaysLanes(const call::Intersect& c, const WatertightArrays& w, std::uint32_t prim, std::uint32_t j0, std::uint32_t j1) {
+  const intersect_lanes::Triangle tri = LanesTriangle(c.scene->triangles[prim]);
+  if (g_isa == cone::Isa::kAvx512) return TestRays<16>(c, View(w), tri, prim, j0, j1);
+  if (g_isa == cone::Isa::kAvx2) return TestRays<8>(c, View(w), tri, prim, j0, j1);
+  const layout::Triangle& t = c.scene->triangles[prim];
+  for (std::uint32_t j = j0; j < j1; ++j) {
+    const std::uint32_t ray = c.order[j];
+    const layout::Ray& r = c.rays[ray];
+    float th = 0.0f;
+    if (prim == r.info.y || !IntersectWatertight(SetupWatertight(Xyz(r.origin_tmin), Xyz(r.direction_tmax)), Xyz(t.v0), Xyz(t.v1),
+                                                 Xyz(t.v2), r.origin_tmin.w, r.direction_tmax.w, th))
+      continue;
+    if (c.occluded)
+      std::atomic_ref<std::uint32_t>((*c.occluded)[ray]).store(1u, std::memory_order_relaxed);
+    else
+      RecordClosestHit(*c.hits, ray, PackHit(th, prim));
+  }
+}
+
 void SetIntersectIsa(cone::Isa isa) { g_isa = cone::Runs(isa) ? isa : cone::BestIsa(); }
 
 WatertightArrays ToWatertightArrays(std::span<const layout::Ray> rays, std::span<const std::uint32_t> order) {

@@ -8,6 +8,7 @@
 #include "rayspace/emu/cone.h"
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/intersect.h"
+#include "rayspace/emu/intersect_simd.h"
 #include "rayspace/error.h"
 #include "rayspace/parallel.h"
 
@@ -283,6 +284,22 @@ std::vector<std::uint32_t> PassIntersectTree(const call::IntersectTree& c) {
       else
         RecordClosestHit(*c.hits, ray, PackHit(t, prim));
     }
+  });
+  return tests;
+}
+
+std::vector<std::uint32_t> PassIntersectTreeLanes(const call::IntersectTree& c, const WatertightArrays& w) {
+  const TreePairs& f = *c.pairs;
+  const call::Intersect target{.pairs = {}, .first1 = {}, .base1 = 0, .b0 = 0, .order = c.order, .rays = c.rays, .scene = c.scene,
+                               .hits = c.hits, .occluded = c.occluded};
+  std::vector<std::uint32_t> tests(f.size());
+  ParallelForDynamic(f.size(), 256, [&](std::size_t p) {
+    const std::uint32_t L = LevelOf(f.cone[p]), n = NodeOf(f.cone[p]);
+    RS_CHECK_MSG(L <= 1 && IsTriangle(f.item[p]), "tree pair ({}, {}) is not final", f.cone[p], f.item[p]);
+    const std::uint32_t j0 = L == 1 ? c.first1[n] : n;
+    const std::uint32_t j1 = L == 1 && g_fault != TreeFault::kFirstRayOnly ? c.first1[n + 1] : j0 + 1;
+    tests[p] = j1 - j0;
+    IntersectRaysLanes(target, w, c.tree->tree.triangles[f.item[p] & ~kTreeItemTriangle], j0, j1);
   });
   return tests;
 }

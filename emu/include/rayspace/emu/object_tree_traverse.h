@@ -129,6 +129,9 @@ TreeSlots PassTreeTest(const call::TreeStep& c, std::span<const std::uint32_t> o
 TreeRound PassTreeStep(const call::TreeStep& c);      // the scalar test, in blocks of pairs
 TreeRound PassTreeStepLanes(const call::TreeStep& c); // the same on the SIMD lanes (FusedIsa())
 std::vector<std::uint32_t> PassIntersectTree(const call::IntersectTree& c);  // per final pair: the rays tested
+// The same on the lanes, with the batch's rays set up once (the fused path's host shortcut).
+struct WatertightArrays;
+std::vector<std::uint32_t> PassIntersectTreeLanes(const call::IntersectTree& c, const WatertightArrays& w);
 
 // Test hooks, so that the tests that guard the descent can fail: the fused step drops the last
 // survivor of every block; both paths refine an object node into all but its last child; the final
