@@ -12,7 +12,8 @@ namespace {
 // (it is in kAlgorithms). Configurations of one --algo must give the same frame digest.
 const BenchConfig kVariants[] = {
     {"crsh-passes", "crsh", "passes", "emu", "crsh with the kernels' passes on the emulator (render --path passes)"},
-    {"crsh-tree", "crsh", "auto", "emu", "crsh with the top level through each object's bounding-sphere tree (render --objects tree)", "tree"},
+    {"crsh-tree", "crsh", "auto", "emu", "crsh descending each object's bounding-sphere tree with the cone hierarchy (render --objects tree)", "tree"},
+    {"crsh-auto", "crsh", "auto", "emu", "crsh with flat or tree chosen per ray batch, render's default (render --objects auto)", "auto"},
     {"vulkan", "crsh", "fused", "vulkan", "crsh with the GLSL kernels, levels fused (render --backend vulkan; skipped without a device)"},
     {"vulkan-passes", "crsh", "passes", "vulkan", "crsh with the GLSL kernels pass by pass (render --backend vulkan --path passes)"},
 };

@@ -37,9 +37,17 @@ void AddFrameOptions(CLI::App& command, FrameArgs& args) {
       ->each([&args](const std::string&) { args.depth_given = true; });
   command
       .add_option("--objects", args.objects,
-                  "Hierarchy tracers' top level against the objects: flat (every triangle of every object whose "
-                  "sphere a node may meet, the thesis's) or tree (each object's bounding-sphere tree; emulator only)")
-      ->check(CLI::IsMember({"flat", "tree"}));
+                  "Hierarchy tracers against the objects: flat (every triangle of every object whose sphere a top "
+                  "node may meet, the thesis's), tree (the cone hierarchy and each object's bounding-sphere tree "
+                  "descended together; emulator only) or auto (per ray batch: tree when the batch's leaf cones spread "
+                  "by at least 0.1, see `leaf_spread` in --stats, else flat; flat on Vulkan)")
+      ->check(CLI::IsMember({"flat", "tree", "auto"}));
+  command.add_option("--tree-leaf", args.tree_leaf, "--objects tree: an object-tree node of at most this many triangles is a leaf")
+      ->check(CLI::Range(1u, 1024u));
+  command
+      .add_option("--tree-big", args.tree_big,
+                  "--objects tree: a triangle whose radius is at least this fraction of its node's stays the node's own")
+      ->check(CLI::Range(0.001f, 1000.0f));
   command.add_option("--reduction", args.reduction, "Stream reduction: hierarchical (Roger et al.) or scan")
       ->check(CLI::IsMember({"hierarchical", "scan"}));
   command.add_option("--component-size", args.component_size, "Component size s of the hierarchical reduction")
@@ -132,6 +140,10 @@ emu::HierarchyConfig MakeHierarchyConfig(const FrameArgs& args, int width, int h
   hc.component_size = args.component_size;
   hc.pair_capacity = args.pair_capacity;
   hc.object_tree = args.objects == "tree";
+  // auto runs the tree where it exists: on the emulator's own passes (docs/object-tree.md, "Which one").
+  if (args.objects == "auto" && passes == nullptr) hc.auto_tree_spread = emu::kAutoTreeSpread;
+  hc.object_tree_options.leaf_triangles = args.tree_leaf;
+  hc.object_tree_options.big_fraction = args.tree_big;
   hc.image_width = width;
   hc.image_height = height;
   hc.passes = passes;

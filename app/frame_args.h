@@ -40,7 +40,9 @@ struct FrameArgs {
   int subdivision = kHierarchyDefaults.subdivision, depth = kHierarchyDefaults.depth;
   bool depth_given = false;  // --depth was given (rah-quadtree otherwise derives it from the image size)
   std::string reduction = "hierarchical";
-  std::string objects = "flat";  // --objects flat|tree
+  std::string objects = "auto";  // --objects flat|tree|auto
+  std::uint32_t tree_leaf = ObjectTreeOptions{}.leaf_triangles;  // --tree-leaf
+  float tree_big = ObjectTreeOptions{}.big_fraction;             // --tree-big
   int component_size = kHierarchyDefaults.component_size;
   std::size_t pair_capacity = kHierarchyDefaults.pair_capacity;
   std::string size, data;
@@ -58,7 +60,7 @@ struct FrameArgs {
   }
 };
 
-// Registers --algo, --subdivision, --depth, --objects, --reduction, --component-size, --pair-capacity, --size,
+// Registers --algo, --subdivision, --depth, --objects, --tree-leaf, --tree-big, --reduction, --component-size, --pair-capacity, --size,
 // --data, --device, --split-bytes, --max-groups, --kernel, --schedule and --check-workgroups on
 // `command`, writing into `args`.
 void AddFrameOptions(CLI::App& command, FrameArgs& args);

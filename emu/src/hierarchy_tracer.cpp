@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include <nlohmann/json.hpp>
 
@@ -47,6 +48,22 @@ struct Hierarchy {
   std::vector<std::vector<std::uint32_t>> first;
 };
 
+// Half the diagonal of the scene's bounding box (1 for an empty or point-like scene).
+double SceneRadius(const SceneBuffers& scene) {
+  glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+  for (const layout::Triangle& t : scene.triangles)
+    for (const glm::vec4& v : {t.v0, t.v1, t.v2}) lo = glm::min(lo, glm::dvec3(v)), hi = glm::max(hi, glm::dvec3(v));
+  const double r = scene.triangles.empty() ? 0.0 : glm::length(hi - lo) / 2;
+  return r > 0.0 ? r : 1.0;
+}
+
+// BatchStats::leaf_spread of the level-1 nodes, summed in node order.
+double LeafSpread(const std::vector<layout::ConeNode>& leaves, double scene_radius) {
+  double sum = 0.0;
+  for (const layout::ConeNode& n : leaves) sum += std::min(1.0, (n.cone.w > 0.0f ? double(n.extra.x) : 1.0) + n.sphere.w / scene_radius);
+  return leaves.empty() ? 0.0 : sum / static_cast<double>(leaves.size());
+}
+
 class Impl final : public HierarchyTracer {
  public:
   Impl(const SceneBuffers& scene, const HierarchyConfig& cfg)
@@ -83,9 +100,10 @@ class Impl final : public HierarchyTracer {
     RS_CHECK(tri_spheres.size() == scene_.triangles.size() && obj_spheres.size() == scene_.objects.size());
     tri_spheres_ = &tri_spheres;
     obj_spheres_ = &obj_spheres;
+    scene_radius_ = SceneRadius(scene_);
     // The object tree depends on the scene alone: built once, as Embree's and the direct tracer's BVHs.
-    if (cfg_.object_tree && tree_.tree.nodes.empty())
-      tree_ = IndexObjectTree(BuildObjectTree(scene_.triangles, scene_.objects, cfg_.object_tree_options, tri_spheres), tri_spheres);
+    if ((cfg_.object_tree || cfg_.auto_tree_spread > 0.0f) && tree_.tree.nodes.empty())
+      tree_ = IndexObjectTree(BuildObjectTree(scene_.triangles, scene_.objects, cfg_.object_tree_options, tri_spheres), tri_spheres, scene_.triangles);
   }
   void BeginBatch(const BatchContext& ctx) override { ctx_ = ctx; }
   const std::vector<BatchStats>& Stats() const override { return stats_; }
@@ -496,7 +514,9 @@ class Impl final : public HierarchyTracer {
     for (int L = 1; L <= cfg_.depth; ++L) Digest("build", "nodes.L" + std::to_string(L), h.nodes[L - 1]);
     const std::uint32_t top = static_cast<std::uint32_t>(h.nodes[cfg_.depth - 1].size());
 
-    if (cfg_.object_tree) {
+    st.leaf_spread = LeafSpread(h.nodes[0], scene_radius_);
+    st.object_tree = cfg_.auto_tree_spread > 0.0f ? st.leaf_spread >= cfg_.auto_tree_spread : cfg_.object_tree;
+    if (st.object_tree) {
       TraceTree(h, rays, order, st, hits, occluded);
       stats_.push_back(st);
       return;
@@ -536,6 +556,7 @@ class Impl final : public HierarchyTracer {
   HierarchyPasses& passes_;
   float eps_ = 0;
   ObjectTreeIndex tree_;  // --objects tree
+  double scene_radius_ = 1.0;
   WatertightArrays watertight_;  // the fused path's rays of the batch, set up for the final tests
   BatchContext ctx_;
   std::vector<BatchStats> stats_;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/intersect.h"
@@ -21,7 +22,7 @@ intersect_lanes::RayArrays View(const WatertightArrays& w) {
           w.sy.data(), w.tmin.data(), w.tmax.data(), w.kx.data(), w.ky.data(), w.kz.data()};
 }
 
-intersect_lanes::Triangle LanesTriangle(const layout::Triangle& t) {
+intersect_lanes::Triangle ToLanes(const layout::Triangle& t) {
   const glm::vec3 v0 = Xyz(t.v0), v1 = Xyz(t.v1), v2 = Xyz(t.v2);
   const glm::vec3 n = PlaneNormalOf(v0, v1, v2);
   return {{v0.x, v0.y, v0.z}, {v1.x, v1.y, v1.z}, {v2.x, v2.y, v2.z}, {n.x, n.y, n.z}};
@@ -32,7 +33,7 @@ intersect_lanes::Triangle LanesTriangle(const layout::Triangle& t) {
 std::vector<intersect_lanes::Triangle> BatchTriangles(const call::Intersect& c) {
   const std::size_t count = std::min<std::size_t>(c.scene->triangles.size() - c.b0, std::size_t{kPairTriangleMask} + 1);
   std::vector<intersect_lanes::Triangle> tris(count);
-  ParallelFor(count, [&](std::size_t t) { tris[t] = LanesTriangle(c.scene->triangles[c.b0 + t]); });
+  ParallelFor(count, [&](std::size_t t) { tris[t] = ToLanes(c.scene->triangles[c.b0 + t]); });
   return tris;
 }
 
@@ -85,8 +86,13 @@ void TestRuns(const call::Intersect& c, const WatertightArrays& w) {
 
 }  // namespace
 
-void IntersectRaysLanes(const call::Intersect& c, const WatertightArrays& w, std::uint32_t prim, std::uint32_t j0, std::uint32_t j1) {
-  const intersect_lanes::Triangle tri = LanesTriangle(c.scene->triangles[prim]);
+static_assert(sizeof(emu::LanesTriangle) == sizeof(intersect_lanes::Triangle));
+
+emu::LanesTriangle PrepareLanesTriangle(const layout::Triangle& t) { return std::bit_cast<emu::LanesTriangle>(ToLanes(t)); }
+
+void IntersectRaysLanes(const call::Intersect& c, const WatertightArrays& w, const emu::LanesTriangle& prepared, std::uint32_t prim,
+                        std::uint32_t j0, std::uint32_t j1) {
+  const intersect_lanes::Triangle tri = std::bit_cast<intersect_lanes::Triangle>(prepared);
   if (g_isa == cone::Isa::kAvx512) return TestRays<16>(c, View(w), tri, prim, j0, j1);
   if (g_isa == cone::Isa::kAvx2) return TestRays<8>(c, View(w), tri, prim, j0, j1);
   const layout::Triangle& t = c.scene->triangles[prim];

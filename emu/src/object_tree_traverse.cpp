@@ -138,8 +138,10 @@ std::uint64_t TreeCounts::Tests() const {
   return t;
 }
 
-ObjectTreeIndex IndexObjectTree(ObjectTree tree, std::span<const glm::vec4> tri_spheres) {
+ObjectTreeIndex IndexObjectTree(ObjectTree tree, std::span<const glm::vec4> tri_spheres, std::span<const layout::Triangle> triangles) {
   ObjectTreeIndex x;
+  x.tri_prepared.resize(tree.triangles.size());
+  ParallelFor(tree.triangles.size(), [&](std::size_t k) { x.tri_prepared[k] = PrepareLanesTriangle(triangles[tree.triangles[k]]); });
   x.spheres.resize(tree.nodes.size());
   for (std::size_t i = 0; i < tree.nodes.size(); ++i) x.spheres[i] = tree.nodes[i].sphere;
   x.tri_spheres.resize(tree.triangles.size());
@@ -292,14 +294,24 @@ std::vector<std::uint32_t> PassIntersectTreeLanes(const call::IntersectTree& c, 
   const TreePairs& f = *c.pairs;
   const call::Intersect target{.pairs = {}, .first1 = {}, .base1 = 0, .b0 = 0, .order = c.order, .rays = c.rays, .scene = c.scene,
                                .hits = c.hits, .occluded = c.occluded};
-  std::vector<std::uint32_t> tests(f.size());
-  ParallelForDynamic(f.size(), 256, [&](std::size_t p) {
+  std::vector<std::uint32_t> j0(f.size()), j1(f.size()), tests(f.size());
+  ParallelFor(f.size(), [&](std::size_t p) {
     const std::uint32_t L = LevelOf(f.cone[p]), n = NodeOf(f.cone[p]);
     RS_CHECK_MSG(L <= 1 && IsTriangle(f.item[p]), "tree pair ({}, {}) is not final", f.cone[p], f.item[p]);
-    const std::uint32_t j0 = L == 1 ? c.first1[n] : n;
-    const std::uint32_t j1 = L == 1 && g_fault != TreeFault::kFirstRayOnly ? c.first1[n + 1] : j0 + 1;
-    tests[p] = j1 - j0;
-    IntersectRaysLanes(target, w, c.tree->tree.triangles[f.item[p] & ~kTreeItemTriangle], j0, j1);
+    j0[p] = L == 1 ? c.first1[n] : n;
+    j1[p] = L == 1 && g_fault != TreeFault::kFirstRayOnly ? c.first1[n + 1] : j0[p] + 1;
+    tests[p] = j1[p] - j0[p];
+  });
+  // Consecutive pairs of one triangle whose rays are adjacent (a node's children that all passed
+  // against it) are one run of rays: the same tests in fuller lane groups.
+  std::vector<std::size_t> runs;
+  for (std::size_t p = 0; p < f.size(); ++p)
+    if (p == 0 || f.item[p] != f.item[p - 1] || j1[p - 1] != j0[p]) runs.push_back(p);
+  runs.push_back(f.size());
+  ParallelForDynamic(runs.size() - 1, 64, [&](std::size_t r) {
+    const std::size_t a = runs[r], b = runs[r + 1] - 1;
+    const std::uint32_t k = f.item[a] & ~kTreeItemTriangle;
+    IntersectRaysLanes(target, w, c.tree->tri_prepared[k], c.tree->tree.triangles[k], j0[a], j1[b]);
   });
   return tests;
 }

@@ -19,6 +19,9 @@
 namespace rayspace::emu {
 
 enum class Algorithm { kCrsh, kRah, kRahQuadtree };
+
+// --objects auto: the leaf spread from which a batch takes the object tree (docs/object-tree.md).
+inline constexpr float kAutoTreeSpread = 0.1f;
 class HierarchyPasses;
 
 struct HierarchyConfig {
@@ -45,6 +48,9 @@ struct HierarchyConfig {
   // --objects tree: the hierarchy descends together with each object's bounding-sphere tree instead
   // of testing every triangle (emu/object_tree_traverse.h); the emulator's passes only.
   bool object_tree = false;
+  // --objects auto: each batch takes the tree when its leaves' mean spread (BatchStats::leaf_spread)
+  // is at least this, else flat (docs/object-tree.md, "Which one"); 0: off (object_tree decides).
+  float auto_tree_spread = 0.0f;
   ObjectTreeOptions object_tree_options;
 };
 
@@ -66,6 +72,11 @@ struct BatchStats {
   std::vector<LevelStats> object_levels;
   LevelStats object_triangles;
   std::uint64_t tree_rounds = 0;
+  // The mean over the level-1 nodes of sin(alpha) + radius / (the scene's bounding radius), a cone
+  // wider than a hemisphere counting 1: how far a leaf's rays spread. And whether the batch was
+  // traced with the object tree.
+  double leaf_spread = 0.0;
+  bool object_tree = false;
   std::uint64_t final_tests = 0;
   std::uint64_t triangle_batches = 0, overflow_splits = 0;
   std::uint64_t Total() const;

@@ -23,10 +23,16 @@ WatertightArrays ToWatertightArrays(std::span<const layout::Ray> rays, std::span
 
 // What PassIntersect returns and writes, given the arrays of c.rays in c.order.
 std::vector<std::uint32_t> PassIntersectLanes(const call::Intersect& c, const WatertightArrays& w);
-// Rays [j0, j1) of c.order (set up in w) against scene triangle `prim`, recorded into c.hits or
-// c.occluded as PassIntersect records them (c.pairs is not read): the joint descent's final tests.
-// Scalar when the lanes are.
-void IntersectRaysLanes(const call::Intersect& c, const WatertightArrays& w, std::uint32_t prim, std::uint32_t j0, std::uint32_t j1);
+// A triangle as the lanes read it: vertices and plane normal (PlaneNormalOf), set up once.
+struct LanesTriangle {
+  float v[12];
+};
+LanesTriangle PrepareLanesTriangle(const layout::Triangle& t);
+// Rays [j0, j1) of c.order (set up in w) against scene triangle `prim` (set up in tri), recorded
+// into c.hits or c.occluded as PassIntersect records them (c.pairs is not read): the joint
+// descent's final tests. Scalar when the lanes are.
+void IntersectRaysLanes(const call::Intersect& c, const WatertightArrays& w, const LanesTriangle& tri, std::uint32_t prim,
+                        std::uint32_t j0, std::uint32_t j1);
 // The lanes PassIntersectLanes uses (cone::Isa: scalar, AVX2 or AVX-512F); one the CPU lacks means
 // the best it has. For tests and measurements.
 void SetIntersectIsa(cone::Isa isa);

@@ -16,6 +16,7 @@
 
 #include "rayspace/emu/calls.h"
 #include "rayspace/emu/cone_simd.h"
+#include "rayspace/emu/intersect_simd.h"
 #include "rayspace/emu/streams.h"
 #include "rayspace/object_tree.h"
 
@@ -33,8 +34,9 @@ struct ObjectTreeIndex {
   std::vector<glm::vec4> spheres;      // per node
   std::vector<glm::vec4> tri_spheres;  // per entry of tree.triangles
   cone::SphereArrays lanes, tri_lanes;
+  std::vector<LanesTriangle> tri_prepared;  // per entry of tree.triangles: the final tests' lanes
 };
-ObjectTreeIndex IndexObjectTree(ObjectTree tree, std::span<const glm::vec4> tri_spheres);
+ObjectTreeIndex IndexObjectTree(ObjectTree tree, std::span<const glm::vec4> tri_spheres, std::span<const layout::Triangle> triangles);
 
 // A pair's two halves (rayspace/contract.h, kTree*): cone = level << kTreeLevelShift | node within
 // its level (level 0: a ray, by its place in the sorted order); item = an object-tree node, or
@@ -130,7 +132,6 @@ TreeRound PassTreeStep(const call::TreeStep& c);      // the scalar test, in blo
 TreeRound PassTreeStepLanes(const call::TreeStep& c); // the same on the SIMD lanes (FusedIsa())
 std::vector<std::uint32_t> PassIntersectTree(const call::IntersectTree& c);  // per final pair: the rays tested
 // The same on the lanes, with the batch's rays set up once (the fused path's host shortcut).
-struct WatertightArrays;
 std::vector<std::uint32_t> PassIntersectTreeLanes(const call::IntersectTree& c, const WatertightArrays& w);
 
 // Test hooks, so that the tests that guard the descent can fail: the fused step drops the last
