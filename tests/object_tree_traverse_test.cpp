@@ -3,6 +3,7 @@
 // round; its counts add up; and each planted fault of the descent fails the check that guards it.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <random>
@@ -156,4 +157,35 @@ TEST_CASE("objects tree: the side refined is the cone where its cross-section at
   CHECK(emu::SplitCone(n, glm::vec4(0, 0, 10, 1000)));
   n.cone.w = -1.0f, n.extra.x = 0.0f;  // the full sphere
   CHECK(emu::SplitCone(n, glm::vec4(0, 0, 10, 1000)));
+}
+
+TEST_CASE("objects auto: a batch takes the tree exactly when its leaves spread at least the threshold, and the digest is flat's") {
+  const Scene s = test::LoadBundled("cornell-mirrors.json");
+  emu::HierarchyConfig cfg;
+  cfg.fused = true;
+  const Run flat = RunObjects(s, 48, cfg, false);
+  // Between the least and the most spread batch, so that both kinds occur.
+  double lo = 1.0, hi = 0.0;
+  for (const emu::BatchStats& b : flat.stats) lo = std::min(lo, b.leaf_spread), hi = std::max(hi, b.leaf_spread);
+  REQUIRE(lo < hi);
+  const float threshold = static_cast<float>((lo + hi) / 2);
+  cfg.auto_tree_spread = threshold;
+  const Run automatic = RunObjects(s, 48, cfg, false);
+  std::size_t trees = 0;
+  for (const emu::BatchStats& b : automatic.stats) {
+    CAPTURE(b.batch);
+    CAPTURE(b.leaf_spread);
+    CHECK(b.object_tree == (b.leaf_spread >= threshold));
+    CHECK((b.tree_rounds > 0) == b.object_tree);
+    trees += b.object_tree;
+  }
+  CHECK(trees > 0);
+  CHECK(trees < automatic.stats.size());
+  CHECK(automatic.digest == flat.digest);
+  REQUIRE(flat.stats.size() == automatic.stats.size());
+  for (std::size_t i = 0; i < flat.stats.size(); ++i) {
+    CHECK(flat.stats[i].leaf_spread == automatic.stats[i].leaf_spread);  // the same hierarchy, whichever descent
+    CHECK(flat.stats[i].leaf_spread > 0.0);
+    CHECK(flat.stats[i].leaf_spread <= 1.0);
+  }
 }
