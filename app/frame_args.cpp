@@ -40,7 +40,8 @@ void AddFrameOptions(CLI::App& command, FrameArgs& args) {
                   "Hierarchy tracers against the objects: flat (every triangle of every object whose sphere a top "
                   "node may meet, the thesis's), tree (the cone hierarchy and each object's bounding-sphere tree "
                   "descended together; emulator only) or auto (per ray batch: tree when the batch's leaf cones spread "
-                  "by at least 0.1, see `leaf_spread` in --stats, else flat; flat on Vulkan)")
+                  "by at least 0.1, see `leaf_spread` in --stats, or an object has 16,384 triangles or more, else "
+                  "flat; flat on Vulkan)")
       ->check(CLI::IsMember({"flat", "tree", "auto"}));
   command.add_option("--tree-leaf", args.tree_leaf, "--objects tree: an object-tree node of at most this many triangles is a leaf")
       ->check(CLI::Range(1u, 1024u));
@@ -141,7 +142,10 @@ emu::HierarchyConfig MakeHierarchyConfig(const FrameArgs& args, int width, int h
   hc.pair_capacity = args.pair_capacity;
   hc.object_tree = args.objects == "tree";
   // auto runs the tree where it exists: on the emulator's own passes (docs/object-tree.md, "Which one").
-  if (args.objects == "auto" && passes == nullptr) hc.auto_tree_spread = emu::kAutoTreeSpread;
+  if (args.objects == "auto" && passes == nullptr) {
+    hc.auto_tree_spread = emu::kAutoTreeSpread;
+    hc.auto_tree_triangles = emu::kAutoTreeTriangles;
+  }
   hc.object_tree_options.leaf_triangles = args.tree_leaf;
   hc.object_tree_options.big_fraction = args.tree_big;
   hc.image_width = width;

@@ -159,7 +159,7 @@ TEST_CASE("objects tree: the side refined is the cone where its cross-section at
   CHECK(emu::SplitCone(n, glm::vec4(0, 0, 10, 1000)));
 }
 
-TEST_CASE("objects auto: a batch takes the tree exactly when its leaves spread at least the threshold, and the digest is flat's") {
+TEST_CASE("objects auto: a batch takes the tree exactly when its leaves spread at least the threshold or an object is big, and the digest is flat's") {
   const Scene s = test::LoadBundled("cornell-mirrors.json");
   emu::HierarchyConfig cfg;
   cfg.fused = true;
@@ -188,4 +188,10 @@ TEST_CASE("objects auto: a batch takes the tree exactly when its leaves spread a
     CHECK(flat.stats[i].leaf_spread > 0.0);
     CHECK(flat.stats[i].leaf_spread <= 1.0);
   }
+  // An object of at least auto_tree_triangles sends every batch to the tree (cornell-mirrors' room
+  // and ball have a few hundred triangles each).
+  cfg.auto_tree_triangles = 100;
+  for (const emu::BatchStats& b : RunObjects(s, 48, cfg, false).stats) CHECK(b.object_tree);
+  cfg.auto_tree_triangles = 100000;
+  for (const emu::BatchStats& b : RunObjects(s, 48, cfg, false).stats) CHECK(b.object_tree == (b.leaf_spread >= threshold));
 }

@@ -141,6 +141,13 @@ class Impl final : public HierarchyTracer {
     if (ctx_.digest) ctx_.digest->Add(pass + "." + ctx_.name, buffer, v);
   }
 
+  bool HasBigObject() const {
+    if (cfg_.auto_tree_triangles == 0) return false;
+    for (const glm::uvec4& o : scene_.objects)
+      if (o.y >= cfg_.auto_tree_triangles) return true;
+    return false;
+  }
+
   // Ray order and the group id of each sorted ray per level (rays with equal ids share a node).
   std::vector<std::uint32_t> Order(const std::vector<layout::Ray>& rays, std::vector<std::uint32_t>& quad_keys) {
     const std::size_t n = rays.size();
@@ -515,7 +522,7 @@ class Impl final : public HierarchyTracer {
     const std::uint32_t top = static_cast<std::uint32_t>(h.nodes[cfg_.depth - 1].size());
 
     st.leaf_spread = LeafSpread(h.nodes[0], scene_radius_);
-    st.object_tree = cfg_.auto_tree_spread > 0.0f ? st.leaf_spread >= cfg_.auto_tree_spread : cfg_.object_tree;
+    st.object_tree = cfg_.auto_tree_spread > 0.0f ? st.leaf_spread >= cfg_.auto_tree_spread || HasBigObject() : cfg_.object_tree;
     if (st.object_tree) {
       TraceTree(h, rays, order, st, hits, occluded);
       stats_.push_back(st);

@@ -20,8 +20,10 @@ namespace rayspace::emu {
 
 enum class Algorithm { kCrsh, kRah, kRahQuadtree };
 
-// --objects auto: the leaf spread from which a batch takes the object tree (docs/object-tree.md).
+// --objects auto: the leaf spread from which a batch takes the object tree, and the object size from
+// which every batch does (docs/object-tree.md).
 inline constexpr float kAutoTreeSpread = 0.1f;
+inline constexpr std::uint32_t kAutoTreeTriangles = 16384;
 class HierarchyPasses;
 
 struct HierarchyConfig {
@@ -49,8 +51,11 @@ struct HierarchyConfig {
   // of testing every triangle (emu/object_tree_traverse.h); the emulator's passes only.
   bool object_tree = false;
   // --objects auto: each batch takes the tree when its leaves' mean spread (BatchStats::leaf_spread)
-  // is at least this, else flat (docs/object-tree.md, "Which one"); 0: off (object_tree decides).
+  // is at least auto_tree_spread, or when the scene has an object of at least auto_tree_triangles
+  // triangles; else flat (docs/object-tree.md, "Which one"). auto_tree_spread 0: off (object_tree
+  // decides).
   float auto_tree_spread = 0.0f;
+  std::uint32_t auto_tree_triangles = 0;
   ObjectTreeOptions object_tree_options;
 };
 
