@@ -295,8 +295,6 @@ ExitCode RunDiff(const DiffArgs& args) {
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
   const Injection injection = ParseInject(args.inject);
-  if (args.objects == "tree")
-    ThrowInput("--objects tree: diff cannot compare it: the object tree's top level runs on the emulator only (no Vulkan kernel yet)");
   const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, injection.kernel, args.Limits(), args.kernels);
   ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
   const SceneBuffers buffers = FlattenScene(scene);

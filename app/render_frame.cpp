@@ -54,8 +54,6 @@ bool UsesFusedPath(const RenderArgs& args) {
 }
 
 Backend MakeRenderBackend(const RenderArgs& args) {
-  if (args.objects == "tree" && args.backend != "emu")
-    ThrowInput("--objects tree: runs on the emulator only (--backend emu): the object tree's top level has no Vulkan kernel yet");
   Backend backend = MakeBackend(args.backend, args.device, 64, {}, args.Limits(), args.kernels);
   ConfigureEmulatedKernels(args.model, 64, backend.subgroup_size, {});
   return backend;

@@ -305,6 +305,35 @@ foreach(f traverse.compact:1 traverse.compact:2 traverse.compact:3 traverse.comp
   # checker does not watch, so the diff must catch it in traverse.compact.
   diff_case(fault.fused.${f}@emu cornell-mirrors 64x64 ${f}@emu 4 traverse.compact --path fused)
 endforeach()
+# --objects tree: the joint descent's passes (tree.roots, tree.expand, tree.test, intersect.tree) and
+# the fused tree.step equal on both backends, with the frame digest of the flat top level; each
+# planted fault of the tree kernels caught in its own pass.
+foreach(scene cornell-mirrors office)
+  foreach(path passes fused)
+    diff_case(${scene}.crsh.tree.${path} ${scene} 48x48 "" 0 "" --objects tree --path ${path})
+    if("${CASE}" STREQUAL "${scene}.crsh.tree.${path}" AND NOT failures)
+      scene_path("${scene}" path_json)
+      execute_process(COMMAND "${RAYSPACE}" render "${path_json}" --data "${DATA}" --size 48x48 --backend emu --objects flat
+                              --out "${case_work}/flat.png" --stats "${case_work}/flat.json"
+                      RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+      file(READ "${case_work}/report.json" j)
+      string(JSON tree_digest GET "${j}" digest)
+      file(READ "${case_work}/flat.json" fj)
+      string(JSON flat_digest GET "${fj}" digest)
+      if(NOT rc EQUAL 0 OR NOT "${tree_digest}" STREQUAL "${flat_digest}")
+        set(failures "${failures}\n${CASE}: digest ${tree_digest} differs from flat's ${flat_digest} (exit ${rc}: ${err})")
+      endif()
+    endif()
+  endforeach()
+endforeach()
+foreach(f tree.roots:1 tree.roots:2 tree.roots:3 tree.expand:1 tree.expand:2 tree.expand:3 tree.test:1 tree.test:2 tree.test:3
+          intersect.tree:1 intersect.tree:2 intersect.tree:3)
+  string(REGEX REPLACE ":.*" "" pass "${f}")
+  diff_case(fault.tree.${f} cornell-mirrors 48x48 ${f} 4 ${pass} --objects tree --path passes)
+endforeach()
+foreach(f tree.step:1 tree.step:2 tree.step:3 tree.step:4)
+  diff_case(fault.tree.${f} cornell-mirrors 48x48 ${f} 4 tree.step --objects tree --path fused)
+endforeach()
 # The emulator runs traverse.compact on its workgroup mirror when the run asks for the workgroup
 # model (the checker, on by default in diff; a schedule other than forward; an @emu fault) and on
 # SIMD lanes otherwise: both must equal the kernel, and the report says which ran.

@@ -121,12 +121,6 @@ expect_error(NAME "--path unknown"
 expect_error(NAME "diff --path unknown"
              NEEDLES "--path" "sideways"
              ARGS diff "${WORK}/good.json" --path sideways)
-expect_error(NAME "--objects tree on the Vulkan backend (no kernel yet)"
-             NEEDLES "--objects tree" "emulator only"
-             ARGS render "${WORK}/good.json" --backend vulkan --objects tree --out "${WORK}/x.png")
-expect_error(NAME "diff --objects tree (no kernel yet)"
-             NEEDLES "--objects tree" "emulator only"
-             ARGS diff "${WORK}/good.json" --objects tree)
 expect_error(NAME "--objects unknown"
              NEEDLES "--objects" "bush"
              ARGS render "${WORK}/good.json" --objects bush --out "${WORK}/x.png")

@@ -1,6 +1,7 @@
 // The emulator as a backend: each call runs the pass function that mirrors its kernel.
 #include "rayspace/emu/backend.h"
 
+#include "rayspace/emu/object_tree_traverse.h"
 
 namespace rayspace::emu {
 namespace {

@@ -70,9 +70,6 @@ class Impl final : public HierarchyTracer {
       : scene_(scene), cfg_(cfg), passes_(cfg.passes ? *cfg.passes : EmuHierarchyPasses()) {
     RS_CHECK(cfg.subdivision >= 2 && cfg.depth >= 1 && cfg.component_size >= 1);
     RS_CHECK(cfg.max_batch_triangles >= 1 && cfg.max_batch_triangles <= (1u << kTriBits));
-    // The joint descent has an emulation and no kernel yet: a backend's frame or a diff would run it
-    // on the host on both sides and call that verified (the commands refuse it first).
-    RS_CHECK_MSG(!cfg.object_tree || cfg.passes == nullptr, "the object tree's descent runs on the emulator's own passes only");
 
     eps_ = TraversalEpsilon(scene);
   }
@@ -354,27 +351,24 @@ class Impl final : public HierarchyTracer {
   }
 
   // --objects tree (emu/object_tree_traverse.h): the hierarchy's levels with one node per sorted ray
-  // below them, descended together with the object tree by top-node groups.
+  // below them (the build pass with groups of one), descended together with the object tree by
+  // top-node groups.
   void TraceTree(const Hierarchy& h, const std::vector<layout::Ray>& rays, const std::vector<std::uint32_t>& order, BatchStats& st,
                  std::vector<std::uint64_t>* hits, std::vector<std::uint32_t>* occluded) {
     const std::vector<std::uint32_t> singles = Fixed(order.size(), 1);
     const std::vector<layout::ConeNode> ray_nodes =
         Sub("build.rays", rays.size(), [&] { return passes_.BuildLeaves({.rays = rays, .order = order, .first = singles}); });
-    ConeLevels cones;
-    cones.nodes.push_back(ray_nodes);
-    cones.first.emplace_back();
-    for (int L = 1; L <= cfg_.depth; ++L) {
-      cones.nodes.push_back(h.nodes[L - 1]);
-      cones.first.push_back(h.first[L - 1]);
-    }
-    if (cfg_.fused)
-      for (const auto& level : cones.nodes) cones.lanes.push_back(cone::ToArrays(level));
-    const TreeBatch batch{&cones, &rays, &order, hits, occluded};
+    ConeTree cones = MakeConeTree(ray_nodes, h.nodes, h.first);
+    if (HostFastPath())
+      for (int L = 0; L <= cfg_.depth; ++L) cones.lanes.push_back(cone::ToArrays(cones.View().Level(L)));
+    const TreeBatch batch{&cones, cones.View(), tree_.View(), &rays, &order, hits, occluded};
     TreeGroup(batch, static_cast<std::uint32_t>(cfg_.depth), 0, static_cast<std::uint32_t>(h.nodes.back().size()), st);
   }
 
   struct TreeBatch {
-    const ConeLevels* cones;
+    const ConeTree* cones;
+    ConeTreeView cv;
+    ObjectTreeView tv;
     const std::vector<layout::Ray>* rays;
     const std::vector<std::uint32_t>* order;
     std::vector<std::uint64_t>* hits;
@@ -391,7 +385,7 @@ class Impl final : public HierarchyTracer {
       TreeGroup(b, level, t0, mid, st);
       TreeGroup(b, level, mid, t1, st);
     } else if (level > 0) {
-      TreeGroup(b, level - 1, b.cones->first[level][t0], b.cones->first[level][t0 + 1], st);
+      TreeGroup(b, level - 1, b.cv.First(level, t0), b.cv.First(level, t0 + 1), st);
     } else {
       ThrowInput("--pair-capacity {}: too small to hold the pairs of one ray with --objects tree", cfg_.pair_capacity);
     }
@@ -410,19 +404,14 @@ class Impl final : public HierarchyTracer {
     for (std::size_t p = 0; p < finals.size(); ++p) {
       const std::uint32_t L = finals.cone[p] >> layout::kTreeLevelShift, n = finals.cone[p] & layout::kTreeNodeMask;
       const std::uint32_t prim = tree_.tree.triangles[finals.item[p] & ~layout::kTreeItemTriangle];
-      const std::uint32_t j0 = L == 1 ? b.cones->first[1][n] : n, j1 = L == 1 ? b.cones->first[1][n + 1] : n + 1;
+      const std::uint32_t j0 = L == 1 ? b.cv.First(1, n) : n, j1 = L == 1 ? b.cv.First(1, n + 1) : n + 1;
       for (std::uint32_t j = j0; j < j1; ++j) cfg_.candidate_log->push_back((static_cast<std::uint64_t>((*b.order)[j]) << 32) | prim);
     }
   }
 
-  // One round as its passes: expand, scan, test, and the two reductions (next and final).
-  TreeRound TreeRoundByPasses(const call::TreeStep& c) {
-    const std::vector<std::uint32_t> counts = Sub("tree.expand", c.pairs->size(), [&] { return PassTreeExpand(c); });
-    std::vector<std::uint32_t> offsets(counts.size());
-    std::size_t slots = 0;
-    for (std::size_t p = 0; p < counts.size(); ++p) offsets[p] = static_cast<std::uint32_t>(slots), slots += counts[p];
-    RS_CHECK_MSG(slots < (std::size_t{1} << 32), "tree round of {} slots", slots);
-    const TreeSlots s = Sub("tree.test", slots, [&] { return PassTreeTest(c, offsets, slots); });
+  // Slots compacted into the pairs that go on and the final ones: two reductions over slot indices.
+  TreeRound CompactTreeSlots(const TreeSlots& s) {
+    const std::size_t slots = s.flags.size();
     std::vector<std::uint32_t> index(slots);
     for (std::size_t k = 0; k < slots; ++k) index[k] = static_cast<std::uint32_t>(k);
     TreeRound r;
@@ -437,18 +426,42 @@ class Impl final : public HierarchyTracer {
     return r;
   }
 
-  bool TreeBlock(const TreeBatch& b, std::uint32_t level, std::uint32_t t0, std::uint32_t t1, BatchStats& st) {
-    TreeRound r = Sub("tree.roots", static_cast<std::size_t>(t1 - t0) * tree_.tree.roots.size(), [&] {
-      return PassTreeRoots({.cones = b.cones, .tree = &tree_, .level = level, .t0 = t0, .t1 = t1, .eps = eps_});
+  // One round as its passes: expand, the exclusive scan of the counts (on the host), test, and the
+  // two reductions.
+  TreeRound TreeRoundByPasses(const TreeBatch& b, const TreePairs& pairs) {
+    const std::vector<std::uint32_t> counts = Sub("tree.expand", pairs.size(), [&] {
+      return passes_.TreeExpand({.cones = b.cv, .tree = b.tv, .pair_cone = pairs.cone, .pair_item = pairs.item});
     });
+    std::vector<std::uint32_t> offsets(counts.size());
+    std::size_t slots = 0;
+    for (std::size_t p = 0; p < counts.size(); ++p) offsets[p] = static_cast<std::uint32_t>(slots), slots += counts[p];
+    RS_CHECK_MSG(slots < (std::size_t{1} << 32), "tree round of {} slots", slots);
+    const TreeSlots s = Sub("tree.test", slots, [&] {
+      return passes_.TreeTest({.cones = b.cv, .tree = b.tv, .pair_cone = pairs.cone, .pair_item = pairs.item, .offsets = offsets,
+                               .slots = static_cast<std::uint32_t>(slots), .eps = eps_});
+    });
+    return CompactTreeSlots(s);
+  }
+
+  TreeRound TreeRoundFused(const TreeBatch& b, const TreePairs& pairs) {
+    return Sub("tree.step", pairs.size(), [&] {
+      const call::TreeStep c{.cones = b.cv, .tree = b.tv, .pair_cone = pairs.cone, .pair_item = pairs.item, .eps = eps_};
+      return HostFastPath() ? PassTreeStepLanes(c, {&b.cones->lanes, &tree_}) : passes_.TreeStep(c);
+    });
+  }
+
+  bool TreeBlock(const TreeBatch& b, std::uint32_t level, std::uint32_t t0, std::uint32_t t1, BatchStats& st) {
+    const TreeSlots roots = Sub("tree.roots", static_cast<std::size_t>(t1 - t0) * tree_.tree.roots.size(), [&] {
+      return passes_.TreeRoots({.cones = b.cv, .tree = b.tv, .level = level, .t0 = t0, .t1 = t1, .eps = eps_});
+    });
+    TreeRound r = CompactTreeSlots(roots);
     LogTree(r);
     TreeCounts counts = r.counts;
     TreePairs finals = std::move(r.final), pairs = std::move(r.next);
     std::uint64_t rounds = 1;
     while (pairs.size() > 0) {
       if (pairs.size() > cfg_.pair_capacity || finals.size() > cfg_.pair_capacity) return false;
-      const call::TreeStep c{.cones = b.cones, .tree = &tree_, .pairs = &pairs, .eps = eps_};
-      TreeRound next = cfg_.fused ? Sub("tree.step", pairs.size(), [&] { return PassTreeStepLanes(c); }) : TreeRoundByPasses(c);
+      TreeRound next = cfg_.fused ? TreeRoundFused(b, pairs) : TreeRoundByPasses(b, pairs);
       LogTree(next);
       counts.Add(next.counts);
       finals.cone.insert(finals.cone.end(), next.final.cone.begin(), next.final.cone.end());
@@ -458,12 +471,18 @@ class Impl final : public HierarchyTracer {
     }
     if (finals.size() > cfg_.pair_capacity) return false;
     const std::vector<std::uint32_t> tests = Sub("intersect.tree", finals.size(), [&] {
-      const call::IntersectTree call{.pairs = &finals, .first1 = b.cones->first[1], .tree = &tree_, .order = *b.order, .rays = *b.rays,
-                                     .scene = &scene_, .hits = b.hits, .occluded = b.occluded};
-      return HostFastPath() ? PassIntersectTreeLanes(call, watertight_) : PassIntersectTree(call);
+      const call::IntersectTree call{.pair_cone = finals.cone, .pair_item = finals.item, .first1 = b.cv.FirstOf(1),
+                                     .tree_triangles = tree_.tree.triangles, .order = *b.order, .rays = *b.rays, .scene = &scene_,
+                                     .hits = b.hits, .occluded = b.occluded};
+      return HostFastPath() ? PassIntersectTreeLanes(call, watertight_, tree_) : passes_.IntersectTree(call);
     });
     for (const std::uint32_t t : tests) st.final_tests += t;
     if (cfg_.candidate_log) LogTreeCandidates(b, finals);
+    AddTreeCounts(counts, rounds, st);
+    return true;
+  }
+
+  void AddTreeCounts(const TreeCounts& counts, std::uint64_t rounds, BatchStats& st) const {
     for (int L = 1; L <= cfg_.depth; ++L) {
       st.levels[L - 1].intersections += counts.cone_tests[L];
       st.levels[L - 1].hits += counts.cone_hits[L];
@@ -479,7 +498,6 @@ class Impl final : public HierarchyTracer {
     st.object_triangles.hits += counts.tri_hits;
     st.tree_rounds += rounds;
     ++st.triangle_batches;
-    return true;
   }
 
   void Process(const Hierarchy& h, const std::vector<layout::Ray>& rays, const std::vector<std::uint32_t>& order,

@@ -3,6 +3,8 @@
 #include "rayspace/gpu/passes.h"
 #include "kernel_util.h"
 
+#include <algorithm>
+
 namespace rayspace::gpu_backend {
 using namespace detail;
 
@@ -60,5 +62,42 @@ vk::Status VulkanPasses::Run(const emu::call::Intersect& call, std::vector<std::
   return vk::Status::Ok();
 }
 
+
+// intersect.tree (gpu/shaders/intersect_tree.comp): the final tests of `--objects tree`'s final
+// pairs, each array in one binding (a call whose array outgrows it fails).
+vk::Status VulkanPasses::Run(const emu::call::IntersectTree& call, std::vector<std::uint32_t>& tests) {
+  const bool shadow = call.occluded != nullptr;
+  if (shadow == (call.hits != nullptr)) return vk::Status::Fail("intersect.tree: exactly one of hits and occlusion is needed");
+  vk::Context& c = *ctx_;
+  const std::size_t n = call.pair_cone.size(), rays = call.rays.size();
+  std::vector<std::uint64_t> hits(shadow ? 0 : rays, ~std::uint64_t{0});
+  std::vector<std::uint32_t> occluded(shadow ? rays : 0, 0);
+  tests.assign(n, 0);
+  Keep keep;
+  Bindings<layout::kIntersectTreeBindings> b;
+  const vk::Buffer *x = nullptr, *bh = nullptr, *bocc = nullptr;
+  RS_TRY(keep.From(c, call.pair_cone, x)); b.Set(layout::kIntersectTreeBindPairCone, x);
+  RS_TRY(keep.From(c, call.pair_item, x)); b.Set(layout::kIntersectTreeBindPairItem, x);
+  RS_TRY(keep.From(c, call.first1, x)); b.Set(layout::kIntersectTreeBindFirst, x);
+  RS_TRY(keep.From(c, call.tree_triangles, x)); b.Set(layout::kIntersectTreeBindTreeTriangles, x);
+  RS_TRY(keep.From(c, call.order, x)); b.Set(layout::kIntersectTreeBindOrder, x);
+  RS_TRY(keep.From(c, call.rays, x)); b.Set(layout::kIntersectTreeBindRays, x);
+  RS_TRY(keep.From(c, std::span<const layout::Triangle>(call.scene->triangles), x)); b.Set(layout::kIntersectTreeBindTriangles, x);
+  RS_TRY(keep.Output(c, n * 4, x, tests.data())); b.Set(layout::kIntersectTreeBindTests, x);
+  RS_TRY(keep.From(c, std::span<const std::uint64_t>(hits), bh)); b.Set(layout::kIntersectTreeBindHits, bh);
+  RS_TRY(keep.From(c, std::span<const std::uint32_t>(occluded), bocc)); b.Set(layout::kIntersectTreeBindOccluded, bocc);
+  const layout::IntersectTreePush push{static_cast<std::uint32_t>(n), shadow ? 1u : 0u};
+  if (n) RS_TRY(RunKernel(c, K(PassId::kIntersectTree), b.All(), &push, sizeof push, push.count));
+  RS_TRY(keep.CopyBack());
+  // The kernel starts from empty results; merge into the caller's (min for hits, or for occlusion).
+  if (shadow) {
+    RS_TRY(bocc->Read(occluded.data(), occluded.size() * 4));
+    for (std::size_t i = 0; i < rays; ++i) (*call.occluded)[i] |= occluded[i];
+  } else {
+    RS_TRY(bh->Read(hits.data(), hits.size() * 8));
+    for (std::size_t i = 0; i < rays; ++i) (*call.hits)[i] = std::min((*call.hits)[i], hits[i]);
+  }
+  return vk::Status::Ok();
+}
 
 }  // namespace rayspace::gpu_backend

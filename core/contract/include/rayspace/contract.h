@@ -315,6 +315,64 @@ struct IntersectPush {
   uint occluded_page;
 };
 
+// ---- --objects tree: the joint descent (tree.roots, tree.expand, tree.test, tree.step) ----------
+// The four tree kernels share their bindings: the two hierarchies (emu/tree_streams.h), the pairs of
+// the round, and what they write. Counters: u32 words, per cone level (levels) its tests then hits,
+// per object-node depth (depths) its tests then hits, then the triangle spheres' tests and hits.
+RS_CONST(uint, kTreeBindConeNodes, 0u);
+RS_CONST(uint, kTreeBindConeBase, 1u);
+RS_CONST(uint, kTreeBindConeFirst, 2u);
+RS_CONST(uint, kTreeBindSpheres, 3u);
+RS_CONST(uint, kTreeBindLinks, 4u);
+RS_CONST(uint, kTreeBindDepth, 5u);
+RS_CONST(uint, kTreeBindRoots, 6u);
+RS_CONST(uint, kTreeBindTriSpheres, 7u);
+RS_CONST(uint, kTreeBindPairCone, 8u);
+RS_CONST(uint, kTreeBindPairItem, 9u);
+RS_CONST(uint, kTreeBindOffsets, 10u);    // tree.test: per pair its first slot; tree.step: per block 2 counts, then their scan
+RS_CONST(uint, kTreeBindFlags, 11u);      // tree.expand: per pair its candidates; tree.roots / tree.test: per slot
+RS_CONST(uint, kTreeBindOutCone, 12u);    // per slot; tree.step: the next pairs, then the final ones
+RS_CONST(uint, kTreeBindOutItem, 13u);
+RS_CONST(uint, kTreeBindCounters, 14u);
+RS_CONST(uint, kTreeBindings, 15u);
+// tree.step: blocks of kTreeStepBlock pairs, one workgroup each, in rounds of kLocalSize pairs (one an
+// invocation). Phase Count: each block's survivors of both kinds (and the counters); phase Scan: one
+// workgroup scans the block counts (exclusive offsets; totals last); phase Scatter: each block tests
+// again and writes its survivors at its offsets, pairs in pair order, candidates in candidate order.
+RS_CONST(uint, kTreeStepBlock, 1024u);
+RS_CONST(uint, kTreeStepPhaseCount, 0u);
+RS_CONST(uint, kTreeStepPhaseScan, 1u);
+RS_CONST(uint, kTreeStepPhaseScatter, 2u);
+struct TreePush {
+  uint count;    // roots: slots; otherwise pairs
+  uint levels;   // cone levels, D + 1
+  uint depths;   // object-node depths
+  uint level;    // roots: the level of nodes t0 ..
+  uint t0;
+  uint roots;
+  float eps;
+  uint phase;    // tree.step
+  uint blocks;   // tree.step
+  uint slots;    // tree.test: the slots; tree.step Scatter: the next pairs' total (the final ones follow)
+};
+
+// ---- intersect.tree: final ray-triangle tests of (level-1 node or ray, triangle) pairs -------------
+RS_CONST(uint, kIntersectTreeBindPairCone, 0u);
+RS_CONST(uint, kIntersectTreeBindPairItem, 1u);
+RS_CONST(uint, kIntersectTreeBindFirst, 2u);
+RS_CONST(uint, kIntersectTreeBindTreeTriangles, 3u);
+RS_CONST(uint, kIntersectTreeBindOrder, 4u);
+RS_CONST(uint, kIntersectTreeBindRays, 5u);
+RS_CONST(uint, kIntersectTreeBindTriangles, 6u);
+RS_CONST(uint, kIntersectTreeBindTests, 7u);
+RS_CONST(uint, kIntersectTreeBindHits, 8u);
+RS_CONST(uint, kIntersectTreeBindOccluded, 9u);
+RS_CONST(uint, kIntersectTreeBindings, 10u);
+struct IntersectTreePush {
+  uint count;
+  uint shadow;
+};
+
 // ---- shade: direct light at the shading points into the fixed-point accumulator ---------------
 RS_CONST(uint, kShadeBindSurfaces, 0u);
 RS_CONST(uint, kShadeBindShadowFlags, 1u);
@@ -369,7 +427,8 @@ static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && size
               sizeof(RaygenPush) == 8 && sizeof(TrimPush) == 12 && sizeof(HashPush) == 32 && sizeof(SortPush) == 24 &&
               sizeof(BuildPush) == 20 && sizeof(TraversePush) == 56 && sizeof(ReducePush) == 20 &&
               sizeof(IntersectPush) == 36 && sizeof(ShadePush) == 16 && sizeof(ElementwisePush) == 8 &&
-              sizeof(TraverseCompactPush) == 64);
+              sizeof(TraverseCompactPush) == 64 && sizeof(TreePush) == 40 && sizeof(IntersectTreePush) == 8);
+static_assert(kTreeStepBlock % kMaxLocalSize == 0u);
 static_assert(offsetof(TraversePush, eps) == 40);
 }  // namespace rayspace::layout
 #endif

@@ -33,6 +33,11 @@ enum class PassId : std::uint8_t {
   kReduce,
   kTraverseCompact,
   kIntersect,
+  kTreeRoots,
+  kTreeExpand,
+  kTreeTest,
+  kTreeStep,
+  kIntersectTree,
   kShade,
   kResolve,
   kCount
@@ -90,6 +95,9 @@ inline constexpr SV kTraverseIdx[] = {"values"};
 inline constexpr SV kReduceIdx[] = {"pairs"};
 inline constexpr SV kTraverseCompactIdx[] = {"pairs"};
 inline constexpr SV kIntersectIdx[] = {"tests"};
+inline constexpr SV kTreeSlotsIdx[] = {"flags", "cone", "item"};
+inline constexpr SV kTreeExpandIdx[] = {"counts"};
+inline constexpr SV kTreeStepIdx[] = {"next_cone", "next_item", "final_cone", "final_item"};
 constexpr std::span<const SV> None() { return {}; }
 
 inline constexpr CallSpec kRasterCalls[] = {{"raster", kRasterIdx}};
@@ -109,6 +117,11 @@ inline constexpr CallSpec kReduceCalls[] = {{"reduce", kReduceIdx}};
 inline constexpr CallSpec kTraverseCompactCalls[] = {{"traverse.compact.top", kTraverseCompactIdx},
                                                      {"traverse.compact.level", kTraverseCompactIdx}};
 inline constexpr CallSpec kIntersectCalls[] = {{"intersect", kIntersectIdx}};
+inline constexpr CallSpec kTreeRootsCalls[] = {{"tree.roots", kTreeSlotsIdx}};
+inline constexpr CallSpec kTreeExpandCalls[] = {{"tree.expand", kTreeExpandIdx}};
+inline constexpr CallSpec kTreeTestCalls[] = {{"tree.test", kTreeSlotsIdx}};
+inline constexpr CallSpec kTreeStepCalls[] = {{"tree.step", kTreeStepIdx}};
+inline constexpr CallSpec kIntersectTreeCalls[] = {{"intersect.tree", kIntersectIdx}};
 inline constexpr CallSpec kShadeCalls[] = {{"shade", None()}};
 inline constexpr CallSpec kResolveCalls[] = {{"resolve", None()}};
 
@@ -129,6 +142,7 @@ inline constexpr PhaseSpec kReducePhases[] = {RS_PHASE(Reduce, Local),    RS_PHA
                                               RS_PHASE(Reduce, Scatter)};
 inline constexpr PhaseSpec kTraverseCompactPhases[] = {RS_PHASE(TraverseCompact, Top), RS_PHASE(TraverseCompact, Level),
                                                       RS_PHASE(TraverseCompact, Scan), RS_PHASE(TraverseCompact, Scatter)};
+inline constexpr PhaseSpec kTreeStepPhases[] = {RS_PHASE(TreeStep, Count), RS_PHASE(TreeStep, Scan), RS_PHASE(TreeStep, Scatter)};
 #undef RS_PHASE
 
 inline constexpr FaultSpec kRasterFaults[] = {{1, "the depth is written without the 1/far scale"},
@@ -185,6 +199,22 @@ inline constexpr FaultSpec kIntersectFaults[] = {{1, "tmin and tmax swapped in t
                                                  {2, "every paged load reads the first page (--split-bytes)"},
                                                  RS_APPROX_DIV,
                                                  {layout::kFaultUlp4, "the distance t is 4 ULP too far (beyond any device)", "ulp4"}};
+inline constexpr FaultSpec kTreeRootsFaults[] = {{1, "the last root is never tested"},
+                                                 {2, "a slot's node and root are taken in the other order (slot % nodes)"},
+                                                 {3, "a hit is counted as a second test"}};
+inline constexpr FaultSpec kTreeExpandFaults[] = {{1, "an object node's own triangles are not counted"},
+                                                  {2, "a cone node's last child is not counted"},
+                                                  {3, "the object side is refined wherever the item is a node"}};
+inline constexpr FaultSpec kTreeTestFaults[] = {{1, "a final pair is flagged to go on"},
+                                                {2, "each pair's candidates start one slot late"},
+                                                {3, "a hit is counted as a second test"}};
+inline constexpr FaultSpec kTreeStepFaults[] = {{1, "each block's survivors land at the next block's offset (the block scan read as inclusive)"},
+                                                {2, "the last survivor of every block is dropped"},
+                                                {3, "every round of a block starts at the block's start (the carry between rounds is dropped)"},
+                                                {4, "the final pairs land among the next ones"}};
+inline constexpr FaultSpec kIntersectTreeFaults[] = {{1, "a level-1 node's rays after its first are skipped"},
+                                                     {2, "tmin and tmax swapped in the range check"},
+                                                     {3, "each pair reports one test"}};
 inline constexpr FaultSpec kShadeFaults[] = {{1, "the quadratic attenuation uses the distance, not its square"},
                                              RS_APPROX_DIV, RS_APPROX_SQRT};
 inline constexpr FaultSpec kResolveFaults[] = {{1, "the gamma step is skipped"}};
@@ -212,6 +242,11 @@ inline constexpr std::array<PassSpec, kPassCount> kPasses = {{
   {PassId::kReduce,           "reduce",            "reduce",            false, pass_registry_detail::kReducePhases,      layout::kReduceBindings,       RS_PUSH(ReducePush),        pass_registry_detail::kReduceCalls,        "hierarchy_traversal",       pass_registry_detail::kReduceFaults},
   {PassId::kTraverseCompact,  "traverse.compact",  "traverse_compact",  false, pass_registry_detail::kTraverseCompactPhases, layout::kTraverseCompactBindings, RS_PUSH(TraverseCompactPush), pass_registry_detail::kTraverseCompactCalls, "hierarchy_traversal", pass_registry_detail::kTraverseCompactFaults},
   {PassId::kIntersect,        "intersect",         "intersect",         false, {},                                        layout::kIntersectBindings,    RS_PUSH(IntersectPush),     pass_registry_detail::kIntersectCalls,     "final_intersection_tests",  pass_registry_detail::kIntersectFaults},
+  {PassId::kTreeRoots,        "tree.roots",        "tree_roots",        false, {},                                        layout::kTreeBindings,         RS_PUSH(TreePush),          pass_registry_detail::kTreeRootsCalls,     "hierarchy_traversal",       pass_registry_detail::kTreeRootsFaults},
+  {PassId::kTreeExpand,       "tree.expand",       "tree_expand",       false, {},                                        layout::kTreeBindings,         RS_PUSH(TreePush),          pass_registry_detail::kTreeExpandCalls,    "hierarchy_traversal",       pass_registry_detail::kTreeExpandFaults},
+  {PassId::kTreeTest,         "tree.test",         "tree_test",         false, {},                                        layout::kTreeBindings,         RS_PUSH(TreePush),          pass_registry_detail::kTreeTestCalls,      "hierarchy_traversal",       pass_registry_detail::kTreeTestFaults},
+  {PassId::kTreeStep,         "tree.step",         "tree_step",         false, pass_registry_detail::kTreeStepPhases,    layout::kTreeBindings,         RS_PUSH(TreePush),          pass_registry_detail::kTreeStepCalls,      "hierarchy_traversal",       pass_registry_detail::kTreeStepFaults},
+  {PassId::kIntersectTree,    "intersect.tree",    "intersect_tree",    false, {},                                        layout::kIntersectTreeBindings, RS_PUSH(IntersectTreePush), pass_registry_detail::kIntersectTreeCalls, "final_intersection_tests",  pass_registry_detail::kIntersectTreeFaults},
   {PassId::kShade,            "shade",             "shade",             false, {},                                        layout::kShadeBindings,        RS_PUSH(ShadePush),         pass_registry_detail::kShadeCalls,         "",                          pass_registry_detail::kShadeFaults},
   {PassId::kResolve,          "resolve",           "resolve",           false, {},                                        layout::kResolveBindings,      RS_PUSH(ElementwisePush),      pass_registry_detail::kResolveCalls,       "",                          pass_registry_detail::kResolveFaults},
 }};

@@ -17,6 +17,7 @@
 
 #include "rayspace/emu/fields.h"
 #include "rayspace/emu/streams.h"
+#include "rayspace/emu/tree_streams.h"
 #include "rayspace/layout.h"
 #include "rayspace/scene_buffers.h"
 
@@ -247,13 +248,78 @@ struct Intersect {
   RS_FIELDS(pairs, first1, base1, b0, order, rays, scene, hits, occluded)
 };
 
+// ---- --objects tree: the joint descent of both hierarchies (emu/object_tree_traverse.h) -------------
+// Cone nodes [t0, t1) of `level` against every object's root sphere: per slot (node, root), in that
+// order, its flag (1 goes on, 2 final, 0 missed), its pair and the counts.
+struct TreeRoots {
+  static constexpr std::string_view kName = "tree.roots";
+  using Result = TreeSlots;
+  ConeTreeView cones;
+  ObjectTreeView tree;
+  std::uint32_t level = 0, t0 = 0, t1 = 0;
+  float eps = 0.0f;
+  RS_FIELDS(cones, tree, level, t0, t1, eps)
+};
+
+// Per pair (pair_cone, pair_item): the number of its candidates, the children of the side refined.
+struct TreeExpand {
+  static constexpr std::string_view kName = "tree.expand";
+  using Result = std::vector<std::uint32_t>;
+  static constexpr std::string_view kResult = "counts";
+  ConeTreeView cones;
+  ObjectTreeView tree;
+  In<std::uint32_t> pair_cone{}, pair_item{};
+  RS_FIELDS(cones, tree, pair_cone, pair_item)
+};
+
+// Every candidate of every pair tested: pair p's candidates in slots offsets[p] .. (the exclusive
+// scan of tree.expand's counts; `slots` their total).
+struct TreeTest {
+  static constexpr std::string_view kName = "tree.test";
+  using Result = TreeSlots;
+  ConeTreeView cones;
+  ObjectTreeView tree;
+  In<std::uint32_t> pair_cone{}, pair_item{}, offsets{};
+  std::uint32_t slots = 0;
+  float eps = 0.0f;
+  RS_FIELDS(cones, tree, pair_cone, pair_item, offsets, slots, eps)
+};
+
+// One round fused: the survivors of tree.test's slots in slot order, split into the pairs that go on
+// and the final ones.
+struct TreeStep {
+  static constexpr std::string_view kName = "tree.step";
+  using Result = TreeRound;
+  ConeTreeView cones;
+  ObjectTreeView tree;
+  In<std::uint32_t> pair_cone{}, pair_item{};
+  float eps = 0.0f;
+  RS_FIELDS(cones, tree, pair_cone, pair_item, eps)
+};
+
+// The final tests: each final pair's rays (a level-1 node's through first1 and `order`, or the one
+// ray at level 0) against its triangle (tree_triangles[item]); merged into `hits` or `occluded` as
+// Intersect does. Returns the tests per pair.
+struct IntersectTree {
+  static constexpr std::string_view kName = "intersect.tree";
+  using Result = std::vector<std::uint32_t>;
+  static constexpr std::string_view kResult = "tests";
+  In<std::uint32_t> pair_cone{}, pair_item{}, first1{}, tree_triangles{}, order{};
+  In<layout::Ray> rays{};
+  const SceneBuffers* scene = nullptr;
+  std::vector<std::uint64_t>* hits = nullptr;
+  std::vector<std::uint32_t>* occluded = nullptr;
+  RS_FIELDS(pair_cone, pair_item, first1, tree_triangles, order, rays, scene, hits, occluded)
+};
+
 }  // namespace call
 
 // The calls of each backend group, for code generated per call (X-macros): X(Call).
 #define RS_FRAME_CALLS(X) X(Raster) X(SurfacesFromGBuffer) X(SurfacesFromHits) X(Raygen) X(Trim) X(Shade) X(Resolve)
 #define RS_HIERARCHY_CALLS(X)                                                                        \
   X(Hash) X(Compress) X(SortChunks) X(Decompress) X(BuildLeaves) X(BuildParents) X(ObjectMask) X(TraverseTop) \
-  X(TraverseLevel) X(Reduce) X(TraverseTopCompacted) X(TraverseLevelCompacted) X(Intersect)
+  X(TraverseLevel) X(Reduce) X(TraverseTopCompacted) X(TraverseLevelCompacted) X(Intersect) X(TreeRoots) \
+  X(TreeExpand) X(TreeTest) X(TreeStep) X(IntersectTree)
 
 // Calls whose kernel runs one invocation per element over input arrays of one length, with no other
 // input (rayspace/contract.h, "element-wise passes"): the Vulkan backend launches them generically.

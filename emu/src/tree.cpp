@@ -34,17 +34,21 @@ struct Expansion {
   std::uint32_t Count() const { return (k1 - k0) + (t1 - t0); }
 };
 
-Expansion Expand(const call::TreeStep& c, std::uint32_t cone, std::uint32_t item) {
+// What every tree pass reads: the two hierarchies and the test margin.
+struct Trees {
+  const ConeTreeView& cones;
+  const ObjectTreeView& tree;
+  float eps;
+};
+
+Expansion Expand(const Trees& c, std::uint32_t cone, std::uint32_t item) {
   const std::uint32_t L = LevelOf(cone), n = NodeOf(cone);
   RS_CHECK_MSG(!(IsTriangle(item) && L <= 1), "tree pair ({}, {}) is final, not one to refine", cone, item);
-  const bool cone_side = IsTriangle(item) || (L > 0 && SplitCone(c.cones->nodes[L][n], c.tree->spheres[item]));
-  if (cone_side) {
-    const std::span<const std::uint32_t> f = c.cones->first[L];
-    return {true, L - 1, f[n], f[n + 1], 0, 0};
-  }
-  const ObjectTreeNode& o = c.tree->tree.nodes[item];
-  const std::uint32_t children = o.children - (g_fault == TreeFault::kDropLastChild && o.children > 0);
-  return {false, L, o.first_child, o.first_child + children, o.first_tri, o.first_tri + o.tris};
+  const bool cone_side = IsTriangle(item) || (L > 0 && SplitCone(c.cones.Node(L, n), c.tree.tree_spheres[item]));
+  if (cone_side) return {true, L - 1, c.cones.First(L, n), c.cones.First(L, n + 1), 0, 0};
+  const glm::uvec4 o = c.tree.tree_links[item];
+  const std::uint32_t children = o.y - (g_fault == TreeFault::kDropLastChild && o.y > 0);
+  return {false, L, o.x, o.x + children, o.z, o.z + o.w};
 }
 
 // Candidate k of pair (cone, item) under expansion e.
@@ -54,31 +58,31 @@ std::pair<std::uint32_t, std::uint32_t> Candidate(const Expansion& e, std::uint3
   return {cone, k < nodes ? e.k0 + k : kTreeItemTriangle | (e.t0 + k - nodes)};
 }
 
-glm::vec4 SphereOf(const ObjectTreeIndex& x, std::uint32_t item) {
-  return IsTriangle(item) ? x.tri_spheres[item & ~kTreeItemTriangle] : x.spheres[item];
+glm::vec4 SphereOf(const ObjectTreeView& x, std::uint32_t item) {
+  return IsTriangle(item) ? x.tree_tri_spheres[item & ~kTreeItemTriangle] : x.tree_spheres[item];
 }
 
-bool TestCandidate(const call::TreeStep& c, std::uint32_t cone, std::uint32_t item) {
-  return cone::Test(c.cones->nodes[LevelOf(cone)][NodeOf(cone)], SphereOf(*c.tree, item), c.eps);
+bool TestCandidate(const Trees& c, std::uint32_t cone, std::uint32_t item) {
+  return cone::Test(c.cones.Node(LevelOf(cone), NodeOf(cone)), SphereOf(c.tree, item), c.eps);
 }
 
 // 2 when the pair is final (a level-1 node or a ray with a triangle), else 1.
 std::uint8_t KindOf(std::uint32_t cone, std::uint32_t item) { return IsTriangle(item) && LevelOf(cone) <= 1 ? 2 : 1; }
 
-void Count(TreeCounts& k, const ObjectTreeIndex& x, std::uint32_t cone, std::uint32_t item, std::uint64_t tests, std::uint64_t hits) {
+void Count(TreeCounts& k, const ObjectTreeView& x, std::uint32_t cone, std::uint32_t item, std::uint64_t tests, std::uint64_t hits) {
   k.cone_tests[LevelOf(cone)] += tests, k.cone_hits[LevelOf(cone)] += hits;
   if (IsTriangle(item)) {
     k.tri_tests += tests, k.tri_hits += hits;
   } else {
-    k.node_tests[x.tree.depth[item]] += tests, k.node_hits[x.tree.depth[item]] += hits;
+    k.node_tests[x.tree_depth[item]] += tests, k.node_hits[x.tree_depth[item]] += hits;
   }
 }
 
-TreeCounts EmptyCounts(const call::TreeStep& c) {
+TreeCounts EmptyCounts(const Trees& c) {
   TreeCounts k;
   std::uint32_t depths = 0;
-  for (const std::uint32_t d : c.tree->tree.depth) depths = std::max(depths, d + 1);
-  k.Resize(c.cones->Depth() + 1, depths);
+  for (const std::uint32_t d : c.tree.tree_depth) depths = std::max(depths, d + 1);
+  k.Resize(c.cones.Depth() + 1, depths);
   return k;
 }
 
@@ -93,8 +97,8 @@ void Append(TreePairs& to, const TreePairs& from) {
 // Runs block(p0, p1, round) over blocks of pairs in parallel and concatenates the blocks' rounds in
 // block order (the pairs of a round are in pair order, each pair's candidates in candidate order).
 template <typename BlockFn>
-TreeRound InBlocks(const call::TreeStep& c, BlockFn&& block) {
-  const std::size_t n = c.pairs->size(), blocks = (n + kPairsPerBlock - 1) / kPairsPerBlock;
+TreeRound InBlocks(const Trees& c, std::size_t n, BlockFn&& block) {
+  const std::size_t blocks = (n + kPairsPerBlock - 1) / kPairsPerBlock;
   std::vector<TreeRound> parts(blocks);
   ParallelForDynamic(blocks, 1, [&](std::size_t b) {
     TreeRound& r = parts[b];
@@ -143,7 +147,12 @@ ObjectTreeIndex IndexObjectTree(ObjectTree tree, std::span<const glm::vec4> tri_
   x.tri_prepared.resize(tree.triangles.size());
   ParallelFor(tree.triangles.size(), [&](std::size_t k) { x.tri_prepared[k] = PrepareLanesTriangle(triangles[tree.triangles[k]]); });
   x.spheres.resize(tree.nodes.size());
-  for (std::size_t i = 0; i < tree.nodes.size(); ++i) x.spheres[i] = tree.nodes[i].sphere;
+  x.links.resize(tree.nodes.size());
+  for (std::size_t i = 0; i < tree.nodes.size(); ++i) {
+    const ObjectTreeNode& o = tree.nodes[i];
+    x.spheres[i] = o.sphere;
+    x.links[i] = glm::uvec4(o.first_child, o.children, o.first_tri, o.tris);
+  }
   x.tri_spheres.resize(tree.triangles.size());
   for (std::size_t k = 0; k < tree.triangles.size(); ++k) x.tri_spheres[k] = tri_spheres[tree.triangles[k]];
   x.lanes = cone::ToArrays(x.spheres);  // span the vectors' buffers, which move with x
@@ -163,71 +172,96 @@ bool SplitCone(const layout::ConeNode& n, glm::vec4 o) {
   return d2 * (sina * sina) > rhs * rhs;
 }
 
-TreeRound PassTreeRoots(const call::TreeRoots& c) {
-  const call::TreeStep s{.cones = c.cones, .tree = c.tree, .pairs = nullptr, .eps = c.eps};
-  TreeRound r;
-  r.counts = EmptyCounts(s);
-  for (std::uint32_t t = c.t0; t < c.t1; ++t)
-    for (const std::uint32_t root : c.tree->tree.roots) {
-      const std::uint32_t cone = ConeOf(c.level, t);
-      const bool hit = TestCandidate(s, cone, root);
-      Count(r.counts, *c.tree, cone, root, 1, hit);
-      if (hit) Push(r, cone, root);
-    }
-  return r;
+ConeTree MakeConeTree(std::span<const layout::ConeNode> rays, const std::vector<std::vector<layout::ConeNode>>& levels,
+                      const std::vector<std::vector<std::uint32_t>>& first) {
+  RS_CHECK(levels.size() == first.size());
+  ConeTree t;
+  t.nodes.assign(rays.begin(), rays.end());
+  t.base = {0, static_cast<std::uint32_t>(rays.size())};
+  for (std::uint32_t j = 0; j <= rays.size(); ++j) t.first.push_back(j);
+  for (std::size_t L = 1; L <= levels.size(); ++L) {
+    RS_CHECK(first[L - 1].size() == levels[L - 1].size() + 1);
+    t.nodes.insert(t.nodes.end(), levels[L - 1].begin(), levels[L - 1].end());
+    t.base.push_back(static_cast<std::uint32_t>(t.nodes.size()));
+    t.first.insert(t.first.end(), first[L - 1].begin(), first[L - 1].end());
+  }
+  return t;
 }
 
-std::vector<std::uint32_t> PassTreeExpand(const call::TreeStep& c) {
-  std::vector<std::uint32_t> counts(c.pairs->size());
-  ParallelFor(counts.size(), [&](std::size_t p) { counts[p] = Expand(c, c.pairs->cone[p], c.pairs->item[p]).Count(); });
+TreeSlots PassTreeRoots(const call::TreeRoots& c) {
+  const Trees x{c.cones, c.tree, c.eps};
+  const std::size_t roots = c.tree.tree_roots.size();
+  TreeSlots s;
+  s.counts = EmptyCounts(x);
+  for (std::uint32_t t = c.t0; t < c.t1; ++t)
+    for (const std::uint32_t root : c.tree.tree_roots) {
+      const std::uint32_t cone = ConeOf(c.level, t);
+      const bool hit = TestCandidate(x, cone, root);
+      Count(s.counts, c.tree, cone, root, 1, hit);
+      s.flags.push_back(hit ? KindOf(cone, root) : 0);
+      s.pairs.cone.push_back(cone);
+      s.pairs.item.push_back(root);
+    }
+  RS_CHECK(s.flags.size() == (c.t1 - c.t0) * roots);
+  return s;
+}
+
+std::vector<std::uint32_t> PassTreeExpand(const call::TreeExpand& c) {
+  const Trees x{c.cones, c.tree, 0.0f};
+  std::vector<std::uint32_t> counts(c.pair_cone.size());
+  ParallelFor(counts.size(), [&](std::size_t p) { counts[p] = Expand(x, c.pair_cone[p], c.pair_item[p]).Count(); });
   return counts;
 }
 
-TreeSlots PassTreeTest(const call::TreeStep& c, std::span<const std::uint32_t> offsets, std::size_t slots) {
+TreeSlots PassTreeTest(const call::TreeTest& c) {
+  const Trees x{c.cones, c.tree, c.eps};
   TreeSlots s;
-  s.flags.assign(slots, 0);
-  s.pairs.cone.assign(slots, 0);
-  s.pairs.item.assign(slots, 0);
-  const std::size_t n = c.pairs->size(), blocks = (n + kPairsPerBlock - 1) / kPairsPerBlock;
-  std::vector<TreeCounts> counts(blocks, EmptyCounts(c));
+  s.flags.assign(c.slots, 0);
+  s.pairs.cone.assign(c.slots, 0);
+  s.pairs.item.assign(c.slots, 0);
+  const std::size_t n = c.pair_cone.size(), blocks = (n + kPairsPerBlock - 1) / kPairsPerBlock;
+  std::vector<TreeCounts> counts(blocks, EmptyCounts(x));
   ParallelForDynamic(blocks, 1, [&](std::size_t b) {
     for (std::size_t p = b * kPairsPerBlock; p < std::min(n, (b + 1) * kPairsPerBlock); ++p) {
-      const std::uint32_t cone = c.pairs->cone[p], item = c.pairs->item[p];
-      const Expansion e = Expand(c, cone, item);
+      const std::uint32_t cone = c.pair_cone[p], item = c.pair_item[p];
+      const Expansion e = Expand(x, cone, item);
       for (std::uint32_t k = 0; k < e.Count(); ++k) {
         const auto [kc, ki] = Candidate(e, cone, item, k);
-        const bool hit = TestCandidate(c, kc, ki);
-        Count(counts[b], *c.tree, kc, ki, 1, hit);
-        const std::size_t slot = offsets[p] + k;
+        const bool hit = TestCandidate(x, kc, ki);
+        Count(counts[b], c.tree, kc, ki, 1, hit);
+        const std::size_t slot = c.offsets[p] + k;
         s.pairs.cone[slot] = kc, s.pairs.item[slot] = ki;
         s.flags[slot] = hit ? KindOf(kc, ki) : 0;
       }
     }
   });
-  s.counts = EmptyCounts(c);
+  s.counts = EmptyCounts(x);
   for (const TreeCounts& k : counts) s.counts.Add(k);
   return s;
 }
 
 TreeRound PassTreeStep(const call::TreeStep& c) {
-  return InBlocks(c, [&](std::size_t p0, std::size_t p1, TreeRound& r) {
+  const Trees x{c.cones, c.tree, c.eps};
+  return InBlocks(x, c.pair_cone.size(), [&](std::size_t p0, std::size_t p1, TreeRound& r) {
     for (std::size_t p = p0; p < p1; ++p) {
-      const std::uint32_t cone = c.pairs->cone[p], item = c.pairs->item[p];
-      const Expansion e = Expand(c, cone, item);
+      const std::uint32_t cone = c.pair_cone[p], item = c.pair_item[p];
+      const Expansion e = Expand(x, cone, item);
       for (std::uint32_t k = 0; k < e.Count(); ++k) {
         const auto [kc, ki] = Candidate(e, cone, item, k);
-        const bool hit = TestCandidate(c, kc, ki);
-        Count(r.counts, *c.tree, kc, ki, 1, hit);
+        const bool hit = TestCandidate(x, kc, ki);
+        Count(r.counts, c.tree, kc, ki, 1, hit);
         if (hit) Push(r, kc, ki);
       }
     }
   });
 }
 
-TreeRound PassTreeStepLanes(const call::TreeStep& c) {
+TreeRound PassTreeStepLanes(const call::TreeStep& c, const ObjectTreeLanes& lanes) {
   const cone::Isa isa = FusedIsa();
-  if (isa == cone::Isa::kScalar || c.cones->lanes.size() != c.cones->nodes.size()) return PassTreeStep(c);
-  return InBlocks(c, [&](std::size_t p0, std::size_t p1, TreeRound& r) {
+  if (isa == cone::Isa::kScalar || !lanes.cones || !lanes.tree || lanes.cones->size() != static_cast<std::size_t>(c.cones.Depth() + 1))
+    return PassTreeStep(c);
+  const Trees x{c.cones, c.tree, c.eps};
+  return InBlocks(x, c.pair_cone.size(), [&](std::size_t p0, std::size_t p1, TreeRound& r) {
     std::vector<std::uint32_t> buf;
     // Tests candidates [k0, k1) of one kind at once and pushes the survivors (indices into the range).
     auto run = [&](std::uint32_t k0, std::uint32_t k1, auto test, auto make) {
@@ -235,42 +269,41 @@ TreeRound PassTreeStepLanes(const call::TreeStep& c) {
       buf.resize(k1 - k0 + cone::kLanePad);
       const std::size_t m = test(k0, k1, buf.data());
       const auto [c0, i0] = make(k0);
-      Count(r.counts, *c.tree, c0, i0, k1 - k0, m);
+      Count(r.counts, c.tree, c0, i0, k1 - k0, m);
       for (std::size_t q = 0; q < m; ++q) {
         const auto [kc, ki] = make(buf[q]);
         Push(r, kc, ki);
       }
     };
     for (std::size_t p = p0; p < p1; ++p) {
-      const std::uint32_t cone = c.pairs->cone[p], item = c.pairs->item[p];
-      const Expansion e = Expand(c, cone, item);
+      const std::uint32_t cone = c.pair_cone[p], item = c.pair_item[p];
+      const Expansion e = Expand(x, cone, item);
       if (e.cone_side) {
-        const glm::vec4 s = SphereOf(*c.tree, item);
+        const glm::vec4 s = SphereOf(c.tree, item);
         run(e.k0, e.k1,
-            [&](std::uint32_t a, std::uint32_t b, std::uint32_t* out) { return cone::TestNodes(isa, c.cones->lanes[e.level], s, a, b, c.eps, 0, 0, out); },
+            [&](std::uint32_t a, std::uint32_t b, std::uint32_t* out) { return cone::TestNodes(isa, (*lanes.cones)[e.level], s, a, b, c.eps, 0, 0, out); },
             [&](std::uint32_t k) { return std::pair{ConeOf(e.level, k), item}; });
         continue;
       }
-      const layout::ConeNode& n = c.cones->nodes[e.level][NodeOf(cone)];
+      const layout::ConeNode& n = c.cones.Node(e.level, NodeOf(cone));
       run(e.k0, e.k1,
-          [&](std::uint32_t a, std::uint32_t b, std::uint32_t* out) { return cone::TestSpheres(isa, n, c.tree->lanes, a, b, c.eps, 0, 0, out); },
+          [&](std::uint32_t a, std::uint32_t b, std::uint32_t* out) { return cone::TestSpheres(isa, n, lanes.tree->lanes, a, b, c.eps, 0, 0, out); },
           [&](std::uint32_t k) { return std::pair{cone, k}; });
       run(e.t0, e.t1,
-          [&](std::uint32_t a, std::uint32_t b, std::uint32_t* out) { return cone::TestSpheres(isa, n, c.tree->tri_lanes, a, b, c.eps, 0, 0, out); },
+          [&](std::uint32_t a, std::uint32_t b, std::uint32_t* out) { return cone::TestSpheres(isa, n, lanes.tree->tri_lanes, a, b, c.eps, 0, 0, out); },
           [&](std::uint32_t k) { return std::pair{cone, kTreeItemTriangle | k}; });
     }
   });
 }
 
 std::vector<std::uint32_t> PassIntersectTree(const call::IntersectTree& c) {
-  const TreePairs& f = *c.pairs;
-  std::vector<std::uint32_t> tests(f.size());
-  ParallelFor(f.size(), [&](std::size_t p) {
-    const std::uint32_t L = LevelOf(f.cone[p]), n = NodeOf(f.cone[p]);
-    RS_CHECK_MSG(L <= 1 && IsTriangle(f.item[p]), "tree pair ({}, {}) is not final", f.cone[p], f.item[p]);
+  std::vector<std::uint32_t> tests(c.pair_cone.size());
+  ParallelFor(tests.size(), [&](std::size_t p) {
+    const std::uint32_t L = LevelOf(c.pair_cone[p]), n = NodeOf(c.pair_cone[p]);
+    RS_CHECK_MSG(L <= 1 && IsTriangle(c.pair_item[p]), "tree pair ({}, {}) is not final", c.pair_cone[p], c.pair_item[p]);
     const std::uint32_t j0 = L == 1 ? c.first1[n] : n;
     const std::uint32_t j1 = L == 1 && g_fault != TreeFault::kFirstRayOnly ? c.first1[n + 1] : j0 + 1;
-    const std::uint32_t prim = c.tree->tree.triangles[f.item[p] & ~kTreeItemTriangle];
+    const std::uint32_t prim = c.tree_triangles[c.pair_item[p] & ~kTreeItemTriangle];
     const layout::Triangle& tri = c.scene->triangles[prim];
     tests[p] = j1 - j0;
     for (std::uint32_t j = j0; j < j1; ++j) {
@@ -290,28 +323,28 @@ std::vector<std::uint32_t> PassIntersectTree(const call::IntersectTree& c) {
   return tests;
 }
 
-std::vector<std::uint32_t> PassIntersectTreeLanes(const call::IntersectTree& c, const WatertightArrays& w) {
-  const TreePairs& f = *c.pairs;
+std::vector<std::uint32_t> PassIntersectTreeLanes(const call::IntersectTree& c, const WatertightArrays& w, const ObjectTreeIndex& tree) {
   const call::Intersect target{.pairs = {}, .first1 = {}, .base1 = 0, .b0 = 0, .order = c.order, .rays = c.rays, .scene = c.scene,
                                .hits = c.hits, .occluded = c.occluded};
-  std::vector<std::uint32_t> j0(f.size()), j1(f.size()), tests(f.size());
-  ParallelFor(f.size(), [&](std::size_t p) {
-    const std::uint32_t L = LevelOf(f.cone[p]), n = NodeOf(f.cone[p]);
-    RS_CHECK_MSG(L <= 1 && IsTriangle(f.item[p]), "tree pair ({}, {}) is not final", f.cone[p], f.item[p]);
-    j0[p] = L == 1 ? c.first1[n] : n;
-    j1[p] = L == 1 && g_fault != TreeFault::kFirstRayOnly ? c.first1[n + 1] : j0[p] + 1;
+  const std::size_t n = c.pair_cone.size();
+  std::vector<std::uint32_t> j0(n), j1(n), tests(n);
+  ParallelFor(n, [&](std::size_t p) {
+    const std::uint32_t L = LevelOf(c.pair_cone[p]), node = NodeOf(c.pair_cone[p]);
+    RS_CHECK_MSG(L <= 1 && IsTriangle(c.pair_item[p]), "tree pair ({}, {}) is not final", c.pair_cone[p], c.pair_item[p]);
+    j0[p] = L == 1 ? c.first1[node] : node;
+    j1[p] = L == 1 && g_fault != TreeFault::kFirstRayOnly ? c.first1[node + 1] : j0[p] + 1;
     tests[p] = j1[p] - j0[p];
   });
   // Consecutive pairs of one triangle whose rays are adjacent (a node's children that all passed
   // against it) are one run of rays: the same tests in fuller lane groups.
   std::vector<std::size_t> runs;
-  for (std::size_t p = 0; p < f.size(); ++p)
-    if (p == 0 || f.item[p] != f.item[p - 1] || j1[p - 1] != j0[p]) runs.push_back(p);
-  runs.push_back(f.size());
+  for (std::size_t p = 0; p < n; ++p)
+    if (p == 0 || c.pair_item[p] != c.pair_item[p - 1] || j1[p - 1] != j0[p]) runs.push_back(p);
+  runs.push_back(n);
   ParallelForDynamic(runs.size() - 1, 64, [&](std::size_t r) {
     const std::size_t a = runs[r], b = runs[r + 1] - 1;
-    const std::uint32_t k = f.item[a] & ~kTreeItemTriangle;
-    IntersectRaysLanes(target, w, c.tree->tri_prepared[k], c.tree->tree.triangles[k], j0[a], j1[b]);
+    const std::uint32_t k = c.pair_item[a] & ~kTreeItemTriangle;
+    IntersectRaysLanes(target, w, tree.tri_prepared[k], c.tree_triangles[k], j0[a], j1[b]);
   });
   return tests;
 }
