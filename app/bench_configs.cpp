@@ -16,6 +16,7 @@ const BenchConfig kVariants[] = {
     {"crsh-auto", "crsh", "auto", "emu", "crsh with flat or tree chosen per ray batch, render's default (render --objects auto)", "auto"},
     {"vulkan", "crsh", "fused", "vulkan", "crsh with the GLSL kernels, levels fused (render --backend vulkan; skipped without a device)"},
     {"vulkan-passes", "crsh", "passes", "vulkan", "crsh with the GLSL kernels pass by pass (render --backend vulkan --path passes)"},
+    {"vulkan-tree", "crsh", "fused", "vulkan", "crsh-tree with the GLSL kernels (render --backend vulkan --objects tree)", "tree"},
 };
 
 std::vector<BenchConfig> MakeConfigs() {
