@@ -54,6 +54,15 @@ struct TreeCall {
     b.Set(binding, x);
     return vk::Status::Ok();
   }
+  // The per-slot outputs of tree.roots and tree.test: flags, and each slot's pair.
+  vk::Status SlotOutputs(vk::Context& c, std::size_t slots, std::vector<std::uint32_t>& flags, emu::TreeSlots& out) {
+    flags.assign(slots, 0);
+    out.pairs.cone.assign(slots, 0);
+    out.pairs.item.assign(slots, 0);
+    RS_TRY(Output(c, layout::kTreeBindFlags, slots, flags.data()));
+    RS_TRY(Output(c, layout::kTreeBindOutCone, slots, out.pairs.cone.data()));
+    return Output(c, layout::kTreeBindOutItem, slots, out.pairs.item.data());
+  }
   vk::Status Counts(emu::TreeCounts& out) {
     RS_TRY(counters_->Read(counters.data(), counters.size() * 4));
     const std::uint32_t L = push.levels, D = push.depths;
@@ -87,12 +96,8 @@ vk::Status VulkanPasses::Run(const emu::call::TreeRoots& call, emu::TreeSlots& o
   const std::size_t roots = call.tree.tree_roots.size(), slots = std::size_t{call.t1 - call.t0} * roots;
   TreeCall t;
   RS_TRY(t.Upload(*ctx_, call.cones, call.tree, {}, {}, {}));
-  std::vector<std::uint32_t> flags(slots);
-  out.pairs.cone.assign(slots, 0);
-  out.pairs.item.assign(slots, 0);
-  RS_TRY(t.Output(*ctx_, layout::kTreeBindFlags, slots, flags.data()));
-  RS_TRY(t.Output(*ctx_, layout::kTreeBindOutCone, slots, out.pairs.cone.data()));
-  RS_TRY(t.Output(*ctx_, layout::kTreeBindOutItem, slots, out.pairs.item.data()));
+  std::vector<std::uint32_t> flags;
+  RS_TRY(t.SlotOutputs(*ctx_, slots, flags, out));
   t.push.count = static_cast<std::uint32_t>(slots);
   t.push.level = call.level, t.push.t0 = call.t0, t.push.roots = static_cast<std::uint32_t>(roots), t.push.eps = call.eps;
   if (slots) RS_TRY(RunKernel(*ctx_, K(PassId::kTreeRoots), t.b.All(), &t.push, sizeof t.push, t.push.count));
@@ -118,12 +123,8 @@ vk::Status VulkanPasses::Run(const emu::call::TreeTest& call, emu::TreeSlots& ou
   const std::size_t n = call.pair_cone.size(), slots = call.slots;
   TreeCall t;
   RS_TRY(t.Upload(*ctx_, call.cones, call.tree, call.pair_cone, call.pair_item, call.offsets));
-  std::vector<std::uint32_t> flags(slots);
-  out.pairs.cone.assign(slots, 0);
-  out.pairs.item.assign(slots, 0);
-  RS_TRY(t.Output(*ctx_, layout::kTreeBindFlags, slots, flags.data()));
-  RS_TRY(t.Output(*ctx_, layout::kTreeBindOutCone, slots, out.pairs.cone.data()));
-  RS_TRY(t.Output(*ctx_, layout::kTreeBindOutItem, slots, out.pairs.item.data()));
+  std::vector<std::uint32_t> flags;
+  RS_TRY(t.SlotOutputs(*ctx_, slots, flags, out));
   t.push.count = static_cast<std::uint32_t>(n), t.push.slots = call.slots, t.push.eps = call.eps;
   if (n) RS_TRY(RunKernel(*ctx_, K(PassId::kTreeTest), t.b.All(), &t.push, sizeof t.push, t.push.count));
   RS_TRY(t.keep.CopyBack());
