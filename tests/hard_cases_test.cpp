@@ -3,12 +3,16 @@
 // beside their concept: shared edges of a closed mesh and sliver distances in intersect_test.cpp, total
 // internal reflection in raygen_test.cpp, NaN/inf and out-of-range transforms in
 // scene_loader_test.cpp; the scale and permutation metamorphic tests are in metamorphic_test.cpp.
+// The tracer-level cases hold the exhaustive direct tracer and the hierarchy, flat and with the
+// object tree, to the same answer.
 #include <doctest/doctest.h>
 
 #include <cmath>
 #include <vector>
 
 #include "rayspace/emu/cone.h"
+#include "rayspace/emu/hierarchy.h"
+#include "rayspace/emu/passes.h"
 #include "rayspace/emu/intersect.h"
 #include "rayspace/emu/tracer.h"
 #include "rayspace/error.h"
@@ -71,6 +75,26 @@ bool FloatHit(glm::vec3 o, glm::vec3 d, glm::vec3 a, glm::vec3 b, glm::vec3 c) {
   float t;
   return IntersectWatertight(SetupWatertight(o, d), a, b, c, 0.0f, INFINITY, t) && std::isfinite(t) && t > 0.0f;
 }
+
+// The tracers these hard cases hold to one answer: the exhaustive direct tracer, and the hierarchy
+// (CRSH) with flat objects and with the object tree's joint descent.
+struct HardTracers {
+  std::vector<glm::vec4> tri_spheres, obj_spheres;
+  std::vector<std::unique_ptr<Tracer>> all;
+  std::vector<std::string> names;
+  explicit HardTracers(const SceneBuffers& buf) : tri_spheres(PassTriangleSpheres(buf.triangles)), obj_spheres(PassObjectSpheres(buf)) {
+    all.push_back(MakeDirectTracer(buf, DirectMode::kExhaustive));
+    names.push_back("direct");
+    for (const bool tree : {false, true}) {
+      HierarchyConfig cfg;
+      cfg.object_tree = tree;
+      cfg.subdivision = 4;
+      all.push_back(MakeHierarchyTracer(buf, cfg));
+      names.push_back(tree ? "crsh, object tree" : "crsh, flat");
+    }
+    for (auto& t : all) t->Prepare(tri_spheres, obj_spheres);
+  }
+};
 
 }  // namespace
 
@@ -143,15 +167,22 @@ TEST_CASE("hard case: secondary rays do not hit their own surface or its coplana
   s.materials.push_back(test::Diffuse("m", glm::vec3(0.5f)));
   test::AddQuad(s, "floor", {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1});
   const SceneBuffers buf = FlattenScene(s);
-  auto tracer = MakeDirectTracer(buf, DirectMode::kExhaustive);
+  HardTracers tracers(buf);
   const float eps = static_cast<float>(glm::length(buf.hi - buf.lo) * kRayEpsilonRelative);
   std::vector<layout::Ray> rays;
   for (float x : {-0.5f, 0.0f, 0.3f, 0.999f})
-    for (glm::vec3 d : {glm::vec3(0, 1, 0), glm::vec3(1, 1e-3f, 0), glm::vec3(-1, 1e-6f, 1), glm::vec3(0, 1e-7f, 1)})
-      rays.push_back(Ray({x, 0, x}, glm::normalize(d), 0, eps));  // on the diagonal edge shared by both
-  std::vector<std::uint64_t> hits;
-  tracer->Closest(rays, hits);
-  for (std::size_t i = 0; i < hits.size(); ++i) CHECK_MESSAGE(hits[i] == kMissPacked, "ray " << i);
+    for (glm::vec3 d : {glm::vec3(0, 1, 0), glm::vec3(1, 1e-3f, 0), glm::vec3(-1, 1e-6f, 1), glm::vec3(0, 1e-7f, 1)}) {
+      layout::Ray r = Ray({x, 0, x}, glm::normalize(d), 0, eps);  // on the diagonal edge shared by both
+      r.info.z = layout::kRayReflection;
+      rays.push_back(r);
+    }
+  for (std::size_t k = 0; k < tracers.all.size(); ++k) {
+    CAPTURE(tracers.names[k]);
+    std::vector<std::uint64_t> hits;
+    tracers.all[k]->Closest(rays, hits);
+    REQUIRE(hits.size() == rays.size());
+    for (std::size_t i = 0; i < hits.size(); ++i) CHECK_MESSAGE(hits[i] == kMissPacked, "ray " << i);
+  }
 }
 
 TEST_CASE("hard case: a shadow ray toward a light lying on a surface is not blocked by that surface") {
@@ -159,7 +190,7 @@ TEST_CASE("hard case: a shadow ray toward a light lying on a surface is not bloc
   s.materials.push_back(test::Diffuse("m", glm::vec3(0.5f)));
   test::AddQuad(s, "floor", {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1});
   const SceneBuffers buf = FlattenScene(s);
-  auto tracer = MakeDirectTracer(buf, DirectMode::kExhaustive);
+  HardTracers tracers(buf);
   // The light sits on the floor at the origin; shadow rays run from it to floor points, inside the
   // floor's plane, and stop just short of the surface point (kShadowTmaxFactor).
   std::vector<layout::Ray> rays;
@@ -168,9 +199,13 @@ TEST_CASE("hard case: a shadow ray toward a light lying on a surface is not bloc
     r.info.z = layout::kRayShadow;
     rays.push_back(r);
   }
-  std::vector<std::uint32_t> occluded;
-  tracer->Occluded(rays, occluded);
-  for (std::uint32_t o : occluded) CHECK(o == 0u);
+  for (std::size_t k = 0; k < tracers.all.size(); ++k) {
+    CAPTURE(tracers.names[k]);
+    std::vector<std::uint32_t> occluded;
+    tracers.all[k]->Occluded(rays, occluded);
+    REQUIRE(occluded.size() == rays.size());
+    for (std::uint32_t o : occluded) CHECK(o == 0u);
+  }
 }
 
 TEST_CASE("hard case: coordinates scaled by 2^60 and 2^-60 keep the ray-triangle and cone answers") {
