@@ -32,6 +32,8 @@ constexpr std::uint32_t kTriMask = layout::kPairTriangleMask;
 constexpr std::uint32_t kMaxLevelNodes = 1u << (32 - kTriBits);  // the node ids left in a packed pair
 // Largest top-level test grid (nodes x triangles) held at once; bigger grids take several node groups.
 constexpr std::size_t kMaxTopGrid = std::size_t{1} << 26;
+// --objects tree: rays below one group of top nodes descended together.
+constexpr std::uint32_t kTreeGroupRays = 1u << 17;
 
 class Clock {
  public:
@@ -362,7 +364,20 @@ class Impl final : public HierarchyTracer {
     if (HostFastPath())
       for (int L = 0; L <= cfg_.depth; ++L) cones.lanes.push_back(cone::ToArrays(cones.View().Level(L)));
     const TreeBatch batch{&cones, cones.View(), tree_.View(), &rays, &order, hits, occluded};
-    TreeGroup(batch, static_cast<std::uint32_t>(cfg_.depth), 0, static_cast<std::uint32_t>(h.nodes.back().size()), st);
+    // Groups of top nodes over at most kTreeGroupRays rays: a frame's pairs at the ray level would
+    // otherwise outgrow the pair capacity and a whole group's rounds run twice.
+    const std::uint32_t top = static_cast<std::uint32_t>(h.nodes.back().size());
+    for (std::uint32_t t0 = 0; t0 < top;) {
+      std::uint32_t t1 = t0 + 1;
+      while (t1 < top && RaysBelow(h, t0, t1 + 1) <= kTreeGroupRays) ++t1;
+      TreeGroup(batch, static_cast<std::uint32_t>(cfg_.depth), t0, t1, st);
+      t0 = t1;
+    }
+  }
+
+  std::uint32_t RaysBelow(const Hierarchy& h, std::uint32_t t0, std::uint32_t t1) const {
+    const auto [lo, hi] = Descendants(h, 1, t0, t1);
+    return h.first[0][hi] - h.first[0][lo];
   }
 
   struct TreeBatch {
