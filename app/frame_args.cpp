@@ -48,6 +48,12 @@ void AddFrameOptions(CLI::App& command, FrameArgs& args) {
   command
       .add_option("--tree-big", args.tree_big,
                   "--objects tree: a triangle whose radius is at least this fraction of its node's stays the node's own")
+      ->check(CLI::Validator(
+          [](std::string& v) {  // Range lets NaN through: every comparison with it is false
+            const float f = std::strtof(v.c_str(), nullptr);
+            return std::isfinite(f) ? std::string() : "Value " + v + " is not a finite number";
+          },
+          "FINITE"))
       ->check(CLI::Range(0.001f, 1000.0f));
   command.add_option("--reduction", args.reduction, "Stream reduction: hierarchical (Roger et al.) or scan")
       ->check(CLI::IsMember({"hierarchical", "scan"}));

@@ -124,6 +124,12 @@ expect_error(NAME "diff --path unknown"
 expect_error(NAME "--objects unknown"
              NEEDLES "--objects" "bush"
              ARGS render "${WORK}/good.json" --objects bush --out "${WORK}/x.png")
+expect_error(NAME "--tree-big nan"
+             NEEDLES "--tree-big" "finite"
+             ARGS render "${WORK}/good.json" --tree-big nan --out "${WORK}/x.png")
+expect_error(NAME "--tree-leaf 0"
+             NEEDLES "--tree-leaf" "0"
+             ARGS render "${WORK}/good.json" --tree-leaf 0 --out "${WORK}/x.png")
 expect_error(NAME "--max-groups 0"
              NEEDLES "--max-groups" "0"
              ARGS diff "${WORK}/good.json" --max-groups 0)
