@@ -417,9 +417,8 @@ class Impl final : public HierarchyTracer {
   // The final tests of `finals` as (ray, triangle), in the order the final tests take them.
   void LogTreeCandidates(const TreeBatch& b, const TreePairs& finals) {
     for (std::size_t p = 0; p < finals.size(); ++p) {
-      const std::uint32_t L = finals.cone[p] >> layout::kTreeLevelShift, n = finals.cone[p] & layout::kTreeNodeMask;
       const std::uint32_t prim = tree_.tree.triangles[finals.item[p] & ~layout::kTreeItemTriangle];
-      const std::uint32_t j0 = L == 1 ? b.cv.First(1, n) : n, j1 = L == 1 ? b.cv.First(1, n + 1) : n + 1;
+      const auto [j0, j1] = TreeFinalRays(b.cv.FirstOf(1), finals.cone[p], finals.item[p]);
       for (std::uint32_t j = j0; j < j1; ++j) cfg_.candidate_log->push_back((static_cast<std::uint64_t>((*b.order)[j]) << 32) | prim);
     }
   }

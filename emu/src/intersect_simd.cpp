@@ -95,6 +95,10 @@ void IntersectRaysLanes(const call::Intersect& c, const WatertightArrays& w, con
   const intersect_lanes::Triangle tri = std::bit_cast<intersect_lanes::Triangle>(prepared);
   if (g_isa == cone::Isa::kAvx512) return TestRays<16>(c, View(w), tri, prim, j0, j1);
   if (g_isa == cone::Isa::kAvx2) return TestRays<8>(c, View(w), tri, prim, j0, j1);
+  IntersectRaysScalar(c, prim, j0, j1);
+}
+
+void IntersectRaysScalar(const call::Intersect& c, std::uint32_t prim, std::uint32_t j0, std::uint32_t j1) {
   const layout::Triangle& t = c.scene->triangles[prim];
   for (std::uint32_t j = j0; j < j1; ++j) {
     const std::uint32_t ray = c.order[j];

@@ -3,7 +3,7 @@
 #include "rayspace/emu/object_tree_traverse.h"
 
 #include <algorithm>
-#include <atomic>
+#include <tuple>
 
 #include "rayspace/emu/cone.h"
 #include "rayspace/emu/hierarchy.h"
@@ -66,6 +66,12 @@ bool TestCandidate(const Trees& c, std::uint32_t cone, std::uint32_t item) {
   return cone::Test(c.cones.Node(LevelOf(cone), NodeOf(cone)), SphereOf(c.tree, item), c.eps);
 }
 
+// The call the final tests record through (its pairs unused).
+call::Intersect RecordTarget(const call::IntersectTree& c) {
+  return {.pairs = {}, .first1 = {}, .base1 = 0, .b0 = 0, .order = c.order, .rays = c.rays, .scene = c.scene, .hits = c.hits,
+          .occluded = c.occluded};
+}
+
 // 2 when the pair is final (a level-1 node or a ray with a triangle), else 1.
 std::uint8_t KindOf(std::uint32_t cone, std::uint32_t item) { return IsTriangle(item) && LevelOf(cone) <= 1 ? 2 : 1; }
 
@@ -99,15 +105,16 @@ void Append(TreePairs& to, const TreePairs& from) {
 template <typename BlockFn>
 TreeRound InBlocks(const Trees& c, std::size_t n, BlockFn&& block) {
   const std::size_t blocks = (n + kPairsPerBlock - 1) / kPairsPerBlock;
+  const TreeCounts empty = EmptyCounts(c);  // O(tree nodes): once per call, not per block
   std::vector<TreeRound> parts(blocks);
   ParallelForDynamic(blocks, 1, [&](std::size_t b) {
     TreeRound& r = parts[b];
-    r.counts = EmptyCounts(c);
+    r.counts = empty;
     block(b * kPairsPerBlock, std::min(n, (b + 1) * kPairsPerBlock), r);
     if (g_fault == TreeFault::kDropBlockSurvivor && !r.next.cone.empty()) r.next.cone.pop_back(), r.next.item.pop_back();
   });
   TreeRound out;
-  out.counts = EmptyCounts(c);
+  out.counts = empty;
   for (const TreeRound& r : parts) {
     Append(out.next, r.next);
     Append(out.final, r.final);
@@ -134,12 +141,6 @@ void TreeCounts::Add(const TreeCounts& o) {
   for (std::size_t i = 0; i < cone_tests.size(); ++i) cone_tests[i] += o.cone_tests[i], cone_hits[i] += o.cone_hits[i];
   for (std::size_t i = 0; i < node_tests.size(); ++i) node_tests[i] += o.node_tests[i], node_hits[i] += o.node_hits[i];
   tri_tests += o.tri_tests, tri_hits += o.tri_hits;
-}
-
-std::uint64_t TreeCounts::Tests() const {
-  std::uint64_t t = 0;
-  for (const std::uint64_t v : cone_tests) t += v;
-  return t;
 }
 
 ObjectTreeIndex IndexObjectTree(ObjectTree tree, std::span<const glm::vec4> tri_spheres, std::span<const layout::Triangle> triangles) {
@@ -220,7 +221,8 @@ TreeSlots PassTreeTest(const call::TreeTest& c) {
   s.pairs.cone.assign(c.slots, 0);
   s.pairs.item.assign(c.slots, 0);
   const std::size_t n = c.pair_cone.size(), blocks = (n + kPairsPerBlock - 1) / kPairsPerBlock;
-  std::vector<TreeCounts> counts(blocks, EmptyCounts(x));
+  const TreeCounts empty = EmptyCounts(x);
+  std::vector<TreeCounts> counts(blocks, empty);
   ParallelForDynamic(blocks, 1, [&](std::size_t b) {
     for (std::size_t p = b * kPairsPerBlock; p < std::min(n, (b + 1) * kPairsPerBlock); ++p) {
       const std::uint32_t cone = c.pair_cone[p], item = c.pair_item[p];
@@ -235,7 +237,7 @@ TreeSlots PassTreeTest(const call::TreeTest& c) {
       }
     }
   });
-  s.counts = EmptyCounts(x);
+  s.counts = empty;
   for (const TreeCounts& k : counts) s.counts.Add(k);
   return s;
 }
@@ -296,43 +298,30 @@ TreeRound PassTreeStepLanes(const call::TreeStep& c, const ObjectTreeLanes& lane
   });
 }
 
+std::pair<std::uint32_t, std::uint32_t> TreeFinalRays(std::span<const std::uint32_t> first1, std::uint32_t cone, std::uint32_t item) {
+  const std::uint32_t L = LevelOf(cone), n = NodeOf(cone);
+  RS_CHECK_MSG(L <= 1 && IsTriangle(item), "tree pair ({}, {}) is not final", cone, item);
+  const std::uint32_t j0 = L == 1 ? first1[n] : n;
+  return {j0, L == 1 && g_fault != TreeFault::kFirstRayOnly ? first1[n + 1] : j0 + 1};
+}
+
 std::vector<std::uint32_t> PassIntersectTree(const call::IntersectTree& c) {
+  const call::Intersect target = RecordTarget(c);
   std::vector<std::uint32_t> tests(c.pair_cone.size());
   ParallelFor(tests.size(), [&](std::size_t p) {
-    const std::uint32_t L = LevelOf(c.pair_cone[p]), n = NodeOf(c.pair_cone[p]);
-    RS_CHECK_MSG(L <= 1 && IsTriangle(c.pair_item[p]), "tree pair ({}, {}) is not final", c.pair_cone[p], c.pair_item[p]);
-    const std::uint32_t j0 = L == 1 ? c.first1[n] : n;
-    const std::uint32_t j1 = L == 1 && g_fault != TreeFault::kFirstRayOnly ? c.first1[n + 1] : j0 + 1;
-    const std::uint32_t prim = c.tree_triangles[c.pair_item[p] & ~kTreeItemTriangle];
-    const layout::Triangle& tri = c.scene->triangles[prim];
+    const auto [j0, j1] = TreeFinalRays(c.first1, c.pair_cone[p], c.pair_item[p]);
     tests[p] = j1 - j0;
-    for (std::uint32_t j = j0; j < j1; ++j) {
-      const std::uint32_t ray = c.order[j];
-      const layout::Ray& r = c.rays[ray];
-      if (prim == r.info.y) continue;  // the surface the ray leaves
-      float t = 0.0f;
-      if (!IntersectWatertight(SetupWatertight(Xyz(r.origin_tmin), Xyz(r.direction_tmax)), Xyz(tri.v0), Xyz(tri.v1), Xyz(tri.v2),
-                               r.origin_tmin.w, r.direction_tmax.w, t))
-        continue;
-      if (c.occluded)
-        std::atomic_ref<std::uint32_t>((*c.occluded)[ray]).store(1u, std::memory_order_relaxed);
-      else
-        RecordClosestHit(*c.hits, ray, PackHit(t, prim));
-    }
+    IntersectRaysScalar(target, c.tree_triangles[c.pair_item[p] & ~kTreeItemTriangle], j0, j1);
   });
   return tests;
 }
 
 std::vector<std::uint32_t> PassIntersectTreeLanes(const call::IntersectTree& c, const WatertightArrays& w, const ObjectTreeIndex& tree) {
-  const call::Intersect target{.pairs = {}, .first1 = {}, .base1 = 0, .b0 = 0, .order = c.order, .rays = c.rays, .scene = c.scene,
-                               .hits = c.hits, .occluded = c.occluded};
+  const call::Intersect target = RecordTarget(c);
   const std::size_t n = c.pair_cone.size();
   std::vector<std::uint32_t> j0(n), j1(n), tests(n);
   ParallelFor(n, [&](std::size_t p) {
-    const std::uint32_t L = LevelOf(c.pair_cone[p]), node = NodeOf(c.pair_cone[p]);
-    RS_CHECK_MSG(L <= 1 && IsTriangle(c.pair_item[p]), "tree pair ({}, {}) is not final", c.pair_cone[p], c.pair_item[p]);
-    j0[p] = L == 1 ? c.first1[node] : node;
-    j1[p] = L == 1 && g_fault != TreeFault::kFirstRayOnly ? c.first1[node + 1] : j0[p] + 1;
+    std::tie(j0[p], j1[p]) = TreeFinalRays(c.first1, c.pair_cone[p], c.pair_item[p]);
     tests[p] = j1[p] - j0[p];
   });
   // Consecutive pairs of one triangle whose rays are adjacent (a node's children that all passed

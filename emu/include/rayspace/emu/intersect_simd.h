@@ -28,6 +28,9 @@ struct LanesTriangle {
   float v[12];
 };
 LanesTriangle PrepareLanesTriangle(const layout::Triangle& t);
+// Rays [j0, j1) of c.order against scene triangle `prim`, one by one with the scalar watertight test,
+// recorded into c.hits or c.occluded as PassIntersect records them (c.pairs is not read).
+void IntersectRaysScalar(const call::Intersect& c, std::uint32_t prim, std::uint32_t j0, std::uint32_t j1);
 // Rays [j0, j1) of c.order (set up in w) against scene triangle `prim` (set up in tri), recorded
 // into c.hits or c.occluded as PassIntersect records them (c.pairs is not read): the joint
 // descent's final tests. Scalar when the lanes are.

@@ -65,6 +65,8 @@ std::vector<std::uint32_t> PassTreeExpand(const call::TreeExpand& c);
 TreeSlots PassTreeTest(const call::TreeTest& c);
 TreeRound PassTreeStep(const call::TreeStep& c);  // the scalar test, in blocks of pairs
 std::vector<std::uint32_t> PassIntersectTree(const call::IntersectTree& c);  // per final pair: the rays tested
+// The sorted rays [j0, j1) a final pair tests: a level-1 node's (first1 = its CSR offsets), or the ray.
+std::pair<std::uint32_t, std::uint32_t> TreeFinalRays(std::span<const std::uint32_t> first1, std::uint32_t cone, std::uint32_t item);
 
 // The fused path's host shortcuts: the same round on the SIMD lanes (FusedIsa()), and the final tests
 // on the lanes with the batch's rays set up once.

@@ -58,7 +58,6 @@ struct TreeCounts {
   std::uint64_t tri_tests = 0, tri_hits = 0;
   void Resize(int cone_levels, std::size_t node_depths);
   void Add(const TreeCounts& o);
-  std::uint64_t Tests() const;
   bool operator==(const TreeCounts&) const = default;
   RS_FIELDS(cone_tests, cone_hits, node_tests, node_hits, tri_tests, tri_hits)
 };
