@@ -18,10 +18,12 @@
 #include "rayspace/error.h"
 #include "rayspace/refs/exact.h"
 #include "rayspace/refs/exact_cone.h"
+#include "hard_tracers.h"
 #include "test_util.h"
 
 using namespace rayspace;
 using namespace rayspace::emu;
+using test::HardTracers;
 
 namespace {
 
@@ -75,26 +77,6 @@ bool FloatHit(glm::vec3 o, glm::vec3 d, glm::vec3 a, glm::vec3 b, glm::vec3 c) {
   float t;
   return IntersectWatertight(SetupWatertight(o, d), a, b, c, 0.0f, INFINITY, t) && std::isfinite(t) && t > 0.0f;
 }
-
-// The tracers these hard cases hold to one answer: the exhaustive direct tracer, and the hierarchy
-// (CRSH) with flat objects and with the object tree's joint descent.
-struct HardTracers {
-  std::vector<glm::vec4> tri_spheres, obj_spheres;
-  std::vector<std::unique_ptr<Tracer>> all;
-  std::vector<std::string> names;
-  explicit HardTracers(const SceneBuffers& buf) : tri_spheres(PassTriangleSpheres(buf.triangles)), obj_spheres(PassObjectSpheres(buf)) {
-    all.push_back(MakeDirectTracer(buf, DirectMode::kExhaustive));
-    names.push_back("direct");
-    for (const bool tree : {false, true}) {
-      HierarchyConfig cfg;
-      cfg.object_tree = tree;
-      cfg.subdivision = 4;
-      all.push_back(MakeHierarchyTracer(buf, cfg));
-      names.push_back(tree ? "crsh, object tree" : "crsh, flat");
-    }
-    for (auto& t : all) t->Prepare(tri_spheres, obj_spheres);
-  }
-};
 
 }  // namespace
 

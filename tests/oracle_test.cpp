@@ -130,3 +130,120 @@ TEST_CASE("exact adjudication: a ray just outside a triangle misses exactly") {
   r.direction_tmax.w = 0.999f;  // tmax before the hit
   CHECK_FALSE(refs::ExactHits(r, t));
 }
+
+namespace {
+
+// A tracer that answers like another but reports the second-nearest triangle the emulator's test
+// accepts in place of the nearest for one ray (hit/miss unchanged): a planted fault the hit/miss
+// comparison alone would not see.
+class SwapOne final : public Tracer {
+ public:
+  SwapOne(Tracer& inner, const SceneBuffers& scene) : inner_(inner), scene_(scene) {}
+  std::string Name() const override { return "swap-one"; }
+  void Describe(nlohmann::json& out) const override { inner_.Describe(out); }
+  void Closest(const std::vector<layout::Ray>& rays, std::vector<std::uint64_t>& hits) override {
+    inner_.Closest(rays, hits);
+    for (std::size_t i = 0; i < rays.size() && swapped_ == SIZE_MAX; ++i) {
+      if (hits[i] == emu::kMissPacked) continue;
+      const std::uint64_t second = SecondNearest(rays[i], hits[i]);
+      if (second == emu::kMissPacked) continue;
+      hits[i] = second;
+      swapped_ = i;
+    }
+  }
+  void Occluded(const std::vector<layout::Ray>& rays, std::vector<std::uint32_t>& occ) override { inner_.Occluded(rays, occ); }
+  std::size_t swapped() const { return swapped_; }
+
+ private:
+  // The nearest hit farther than `first` by more than rounding could explain (a thousandth of t).
+  std::uint64_t SecondNearest(const layout::Ray& r, std::uint64_t first) const {
+    const emu::WatertightRay wr = emu::SetupWatertight(emu::Xyz(r.origin_tmin), emu::Xyz(r.direction_tmax));
+    std::uint64_t best = emu::kMissPacked;
+    for (std::uint32_t p = 0; p < scene_.triangles.size(); ++p) {
+      const layout::Triangle& t = scene_.triangles[p];
+      float th;
+      if (p == r.info.y || !emu::IntersectWatertight(wr, emu::Xyz(t.v0), emu::Xyz(t.v1), emu::Xyz(t.v2), r.origin_tmin.w,
+                                                      r.direction_tmax.w, th))
+        continue;
+      if (th > emu::HitT(first) * 1.001f) best = std::min(best, emu::PackHit(th, p));
+    }
+    return best;
+  }
+
+  Tracer& inner_;
+  const SceneBuffers& scene_;
+  std::size_t swapped_ = SIZE_MAX;
+};
+
+// One shadow ray of the dragon close-up (512x512, light at (8, 20, 14)) and the two dragon triangles
+// it crosses just before its end: the light lies almost in their plane, so the ray grazes them, and
+// in exact arithmetic it passes through both interiors near their shared edge; the watertight test
+// misses both. Triangle 0 is the surface the ray ends on (info.y), triangle 1 its neighbour.
+struct GrazingShadow {
+  SceneBuffers scene;
+  layout::Ray ray{};
+  GrazingShadow() {
+    scene.triangles.resize(2);
+    scene.triangles[0].v0 = {-0x1.0c5c82p+2f, 0x1.86594ap-2f, 0x1.ceac52p+0f, 1};
+    scene.triangles[0].v1 = {-0x1.fe48b4p+1f, 0x1.5cc64p-2f, 0x1.d4e402p+0f, 1};
+    scene.triangles[0].v2 = {-0x1.067dacp+2f, 0x1.de00d2p-2f, 0x1.de666cp+0f, 1};
+    scene.triangles[1].v0 = {-0x1.02e03ap+2f, 0x1.167a1p-1f, 0x1.e99db4p+0f, 1};
+    scene.triangles[1].v1 = scene.triangles[0].v2;
+    scene.triangles[1].v2 = scene.triangles[0].v1;
+    ray.origin_tmin = {8, 20, 14, 0x1.c64eb2p-14f};
+    ray.direction_tmax = {-0x1.d9f26p-2f, -0x1.81beb2p-1f, -0x1.de484p-2f, 0x1.a04ceap+4f};
+    ray.info = glm::uvec4(0, 0, layout::kRayShadow, 0);
+  }
+};
+
+}  // namespace
+
+TEST_CASE("oracle: a grazing shadow ray the float test calls lit is within rounding, not a mismatch") {
+  GrazingShadow g;
+  REQUIRE(refs::ExactOccluded(g.ray, g.scene) == refs::Contact::kInterior);
+  const refs::Judgement j = refs::ExactJudge(g.ray, g.scene.triangles[1], refs::kRoundingRel);
+  CHECK(j.hit);
+  CHECK_FALSE(j.robust);
+  float t;
+  const layout::Triangle& n = g.scene.triangles[1];
+  CHECK_FALSE(emu::IntersectWatertight(emu::SetupWatertight(emu::Xyz(g.ray.origin_tmin), emu::Xyz(g.ray.direction_tmax)),
+                                       emu::Xyz(n.v0), emu::Xyz(n.v1), emu::Xyz(n.v2), g.ray.origin_tmin.w,
+                                       g.ray.direction_tmax.w, t));
+  auto embree = refs::MakeEmbreeTracer(g.scene, 1);
+  const std::vector<layout::Ray> rays{g.ray};
+  const std::vector<std::uint32_t> lit{0u};
+  emu::Batch batch{"shadow.b0", layout::kRayShadow, 0, &rays, nullptr, &lit};
+  refs::Oracle oracle(*embree, g.scene);
+  oracle.Check(batch);
+  CHECK(oracle.mismatches().empty());
+  CHECK(oracle.within_rounding().size() + oracle.oracle_wrong().size() == 1);
+
+  // A ray along the neighbour's normal through its centroid crosses it robustly: "lit" is a mismatch.
+  const glm::vec3 c = (emu::Xyz(n.v0) + emu::Xyz(n.v1) + emu::Xyz(n.v2)) / 3.0f;
+  const glm::vec3 nn = glm::normalize(glm::cross(emu::Xyz(n.v1) - emu::Xyz(n.v0), emu::Xyz(n.v2) - emu::Xyz(n.v0)));
+  std::vector<layout::Ray> across{g.ray};
+  across[0].origin_tmin = glm::vec4(c + 3.0f * nn, g.ray.origin_tmin.w);
+  across[0].direction_tmax = glm::vec4(-nn, 6.0f);
+  CHECK(refs::ExactJudge(across[0], n, refs::kRoundingRel).robust);
+  refs::Oracle strict(*embree, g.scene);
+  strict.Check(emu::Batch{"shadow.b0", layout::kRayShadow, 0, &across, nullptr, &lit});
+  CHECK(strict.mismatches().size() == 1);
+  CHECK(strict.within_rounding().empty());
+}
+
+TEST_CASE("planted fault: a tracer that reports another triangle for one ray is a mismatch on that ray") {
+  const Scene s = test::LoadBundled("cornell-mirrors.json");
+  const SceneBuffers b = FlattenScene(s);
+  auto direct = emu::MakeDirectTracer(b, emu::DirectMode::kAuto);
+  SwapOne faulty(*direct, b);
+  auto embree = refs::MakeEmbreeTracer(b, 0);
+  refs::Oracle oracle(*embree, b);
+  emu::FrameOptions fo;
+  fo.width = 32;
+  fo.height = 32;
+  emu::RenderFrame(s, b, faulty, fo, [&](const emu::Batch& batch) { oracle.Check(batch); });
+  REQUIRE(faulty.swapped() != SIZE_MAX);
+  REQUIRE(oracle.mismatches().size() >= 1);
+  for (const auto& m : oracle.mismatches()) CHECK(m.frame_prim != m.oracle_prim);
+  CHECK(oracle.within_rounding().empty());
+}

@@ -1,5 +1,7 @@
 #include "rayspace/refs/embree_tracer.h"
 
+#include <cmath>
+
 #include <embree3/rtcore.h>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -13,17 +15,46 @@ namespace {
 
 constexpr const char* kIsa = "sse4.2";
 
-// The context carries the primitive a ray must ignore (the surface it leaves), like the emulator.
+// The context carries the primitive a ray must ignore (the surface it leaves), like the emulator,
+// and the closest hit accepted so far, for the tie-break.
 struct Context {
   RTCIntersectContext base;
   std::uint32_t ignore;
+  float tmin, tmax;
+  float best_t;
+  std::uint32_t best_prim;
 };
 
-void IgnoreFilter(const RTCFilterFunctionNArguments* args) {
+// tmin < t < tmax on the distance Embree reports (docs/numerics.md, "The hit convention"). Embree's
+// own bounds test t >= tnear and t <= tfar on the scaled numerator before it divides, so the ray is
+// handed to it with bounds a little wider (Fill) and the convention is applied here.
+bool Outside(const Context& ctx, float t) { return !(t > ctx.tmin && t < ctx.tmax); }
+
+// Embree calls the filter with the candidate's distance in the ray's tfar, for candidates no farther
+// than the closest accepted one. Equal distances go to the lower primitive id, as the emulator's
+// packed (t, id) minimum does (docs/numerics.md, "The hit convention"); Embree alone would keep the
+// last one its traversal meets.
+void IntersectFilter(const RTCFilterFunctionNArguments* args) {
+  auto* ctx = reinterpret_cast<Context*>(args->context);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    const std::uint32_t prim = RTCHitN_primID(args->hit, args->N, i);
+    const float t = RTCRayN_tfar(args->ray, args->N, i);
+    if (prim == ctx->ignore || Outside(*ctx, t) || (t == ctx->best_t && prim > ctx->best_prim)) {
+      args->valid[i] = 0;
+      continue;
+    }
+    ctx->best_t = t;
+    ctx->best_prim = prim;
+  }
+}
+
+void OccludedFilter(const RTCFilterFunctionNArguments* args) {
   const auto* ctx = reinterpret_cast<const Context*>(args->context);
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] == 0) continue;
-    if (RTCHitN_primID(args->hit, args->N, i) == ctx->ignore) args->valid[i] = 0;
+    if (RTCHitN_primID(args->hit, args->N, i) == ctx->ignore || Outside(*ctx, RTCRayN_tfar(args->ray, args->N, i)))
+      args->valid[i] = 0;
   }
 }
 
@@ -54,8 +85,8 @@ class EmbreeTracer final : public Tracer {
         idx[3 * t + k] = static_cast<unsigned>(3 * t + k);
       }
     }
-    rtcSetGeometryIntersectFilterFunction(geom, IgnoreFilter);
-    rtcSetGeometryOccludedFilterFunction(geom, IgnoreFilter);
+    rtcSetGeometryIntersectFilterFunction(geom, IntersectFilter);
+    rtcSetGeometryOccludedFilterFunction(geom, OccludedFilter);
     rtcCommitGeometry(geom);
     rtcAttachGeometry(scene_, geom);
     rtcReleaseGeometry(geom);
@@ -82,8 +113,9 @@ class EmbreeTracer final : public Tracer {
     hits.assign(rays.size(), emu::kMissPacked);
     ParallelFor(rays.size(), [&](std::size_t i) {
       Context ctx;
-      rtcInitIntersectContext(&ctx.base);
-      ctx.ignore = rays[i].info.y;
+      Start(rays[i], ctx);
+      ctx.best_t = INFINITY;
+      ctx.best_prim = layout::kNoPrim;
       RTCRayHit rh{};
       Fill(rays[i], rh.ray);
       rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
@@ -96,8 +128,7 @@ class EmbreeTracer final : public Tracer {
     occluded.assign(rays.size(), 0u);
     ParallelFor(rays.size(), [&](std::size_t i) {
       Context ctx;
-      rtcInitIntersectContext(&ctx.base);
-      ctx.ignore = rays[i].info.y;
+      Start(rays[i], ctx);
       RTCRay r{};
       Fill(rays[i], r);
       rtcOccluded1(scene_, &ctx.base, &r);
@@ -106,15 +137,25 @@ class EmbreeTracer final : public Tracer {
   }
 
  private:
+  static void Start(const layout::Ray& in, Context& ctx) {
+    rtcInitIntersectContext(&ctx.base);
+    ctx.ignore = in.info.y;
+    ctx.tmin = in.origin_tmin.w;
+    ctx.tmax = in.direction_tmax.w;
+  }
+
   static void Fill(const layout::Ray& in, RTCRay& r) {
     r.org_x = in.origin_tmin.x;
     r.org_y = in.origin_tmin.y;
     r.org_z = in.origin_tmin.z;
-    r.tnear = in.origin_tmin.w;
+    const float tmin = in.origin_tmin.w;
+    r.tnear = tmin > 0.0f ? tmin * (1.0f - 0x1p-16f) : tmin;
     r.dir_x = in.direction_tmax.x;
     r.dir_y = in.direction_tmax.y;
     r.dir_z = in.direction_tmax.z;
-    r.tfar = in.direction_tmax.w;
+    // Wider by 2^-16 (the filters apply the exact bounds to the reported t).
+    const float tmax = in.direction_tmax.w;
+    r.tfar = tmax > 0.0f ? tmax * (1.0f + 0x1p-16f) : tmax;
     r.mask = ~0u;
     r.flags = 0;
     r.time = 0;

@@ -44,6 +44,56 @@ bool RobustHit(glm::vec3 o, glm::vec3 dir, glm::vec3 v0, glm::vec3 v1, glm::vec3
          Sign<NT>(T * T - side_bound) > 0;
 }
 
+// The hit decision with tmin < t < tmax (as HitDecision) and whether it survives moving the vertices
+// relative to the origin by up to delta = rel L per coordinate, L the largest coordinate magnitude of
+// those relative vertices (the float tests round v - o and what follows at that scale). The bounds are
+// RobustHit's with L for M (|b| <= sqrt(3) L); for an interval end e, e S - T moves by less than
+// 36 delta L (L + |e| |d|) (S by less than 24 |d| delta L), squared as 2592 delta^2 L^2 (L^2 + e^2 |d|^2).
+// A miss is robust when one reason for it is: an edge volume of the other sign beyond its bound, or
+// t beyond an end by more than its bound.
+template <typename NT>
+Judgement Judge(const layout::Ray& ray, const layout::Triangle& tri, float rel, float scale) {
+  const glm::vec3 o(ray.origin_tmin), dir(ray.direction_tmax);
+  const V3<NT> d{NT(dir.x), NT(dir.y), NT(dir.z)};
+  const V3<NT> a = Rel<NT>(glm::vec3(tri.v0), o), b = Rel<NT>(glm::vec3(tri.v1), o), c = Rel<NT>(glm::vec3(tri.v2), o);
+  const NT V[3] = {Det(d, b, c), Det(d, c, a), Det(d, a, b)};
+  const NT S = V[0] + V[1] + V[2], T = Det(a, b, c);
+  const NT M(scale), delta = NT(rel) * M, dd = Dot(d, d);
+  const NT edge_bound = NT(64) * delta * delta * M * M * dd;
+  const int s = Sign<NT>(S);
+  if (s == 0) return {false, false};  // in the triangle's plane, or parallel to it
+  bool robust_edges = true, robust_out = false, hit = true;
+  for (const NT& v : V) {
+    const bool clear = Sign<NT>(v * v - edge_bound) > 0;
+    if (Sign<NT>(v) == -s) {
+      hit = false;
+      robust_out = robust_out || clear;
+    }
+    robust_edges = robust_edges && clear;
+  }
+  // An interval end e: s (T - e S) > 0 is t > e. Its margin grows with |e| |d|.
+  auto beyond = [&](float e, int want) -> std::pair<bool, bool> {
+    const NT m = T - NT(e) * S;
+    const NT w = NT(2592) * delta * delta * M * M * (M * M + NT(e) * NT(e) * dd);
+    return {Sign<NT>(m) * s == want, Sign<NT>(m * m - w) > 0};
+  };
+  const auto [after_min, clear_min] = beyond(ray.origin_tmin.w, 1);
+  hit = hit && after_min;
+  robust_out = robust_out || (!after_min && clear_min);
+  bool clear_max = true;
+  if (std::isinf(ray.direction_tmax.w)) {
+    hit = hit && ray.direction_tmax.w > 0;
+  } else {
+    const auto [before_max, c] = beyond(ray.direction_tmax.w, -1);
+    hit = hit && before_max;
+    robust_out = robust_out || (!before_max && c);
+    clear_max = c;
+  }
+  if (!hit) return {false, robust_out};
+  const NT side_bound = NT(2048) * delta * delta * M * M * M * M;
+  return {true, robust_edges && clear_min && clear_max && Sign<NT>(T * T - side_bound) > 0};
+}
+
 template <typename NT>
 bool HitDecision(const layout::Ray& ray, const layout::Triangle& tri) {
   const glm::vec3 o(ray.origin_tmin), dir(ray.direction_tmax);
@@ -81,6 +131,25 @@ int CompareT(const layout::Ray& ray, const layout::Triangle& ta, const layout::T
   return Sign<NT>(Ta * Sb - Tb * Sa) * Sign<NT>(Sa * Sb);
 }
 
+// |t_a - t_b| <= rel (L + max(|t_a|, |t_b|) |d|) / |d|, with t = T / S and L the relative vertices'
+// largest coordinate magnitude: the order of two distances that close may come out either way in float.
+template <typename NT>
+bool Close(const layout::Ray& ray, const layout::Triangle& ta, const layout::Triangle& tb, float rel, float scale) {
+  NT Ta, Sa, Tb, Sb;
+  TS(ray, ta, Ta, Sa);
+  TS(ray, tb, Tb, Sb);
+  if (Sign<NT>(Sa) == 0 || Sign<NT>(Sb) == 0) return false;
+  const glm::vec3 dir(ray.direction_tmax);
+  const NT dd = NT(dir.x) * NT(dir.x) + NT(dir.y) * NT(dir.y) + NT(dir.z) * NT(dir.z);
+  // (t_a - t_b) Sa Sb = Ta Sb - Tb Sa, and max(|t_a|, |t_b|) |Sa Sb| <= |Ta Sb| + |Tb Sa|.
+  const NT diff = Ta * Sb - Tb * Sa, ss = Sa * Sb, M(scale), r(rel);
+  const NT big = CGAL::abs(Ta * Sb) + CGAL::abs(Tb * Sa);
+  // diff^2 dd <= r^2 (M |Sa Sb| + big sqrt(dd))^2, relaxed by (x + y)^2 <= 2 x^2 + 2 y^2.
+  const NT lhs = diff * diff * dd;
+  const NT rhs = NT(2) * r * r * (M * M * ss * ss + big * big * dd);
+  return Sign<NT>(rhs - lhs) >= 0;
+}
+
 template <typename NT>
 bool InPlane(const layout::Ray& ray, const layout::Triangle& tri) {
   const glm::vec3 o(ray.origin_tmin), dir(ray.direction_tmax);
@@ -91,11 +160,34 @@ bool InPlane(const layout::Ray& ray, const layout::Triangle& tri) {
 
 float MaxAbs(glm::vec3 v) { return std::max(std::fabs(v.x), std::max(std::fabs(v.y), std::fabs(v.z))); }
 
+// The largest coordinate magnitude of the vertices relative to the ray's origin (rounded up by a
+// relative 2^-20, so that the float subtraction's rounding never shrinks the scale).
+float RelativeScale(const layout::Ray& ray, const layout::Triangle& tri) {
+  const glm::vec3 o(ray.origin_tmin);
+  const float l = std::max(std::max(MaxAbs(glm::vec3(tri.v0) - o), MaxAbs(glm::vec3(tri.v1) - o)), MaxAbs(glm::vec3(tri.v2) - o));
+  return l * (1.0f + 0x1p-20f);
+}
+
 }  // namespace
 
 bool ExactRobustInteriorHit(glm::vec3 o, glm::vec3 d, glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, float rel) {
   const float scale = std::max(std::max(MaxAbs(o), MaxAbs(v0)), std::max(MaxAbs(v1), MaxAbs(v2)));
   return detail::Filtered([&](auto nt) { return RobustHit<decltype(nt)>(o, d, v0, v1, v2, rel, scale); });
+}
+
+Judgement ExactJudge(const layout::Ray& ray, const layout::Triangle& tri, float rel) {
+  const float scale = RelativeScale(ray, tri);
+  Judgement j;
+  detail::Filtered([&](auto nt) {
+    j = Judge<decltype(nt)>(ray, tri, rel, scale);
+    return true;
+  });
+  return j;
+}
+
+bool ExactDistancesClose(const layout::Ray& ray, const layout::Triangle& a, const layout::Triangle& b, float rel) {
+  const float scale = std::max(RelativeScale(ray, a), RelativeScale(ray, b));
+  return detail::Filtered([&](auto nt) { return Close<decltype(nt)>(ray, a, b, rel, scale); });
 }
 
 bool ExactHitDecision(const layout::Ray& ray, const layout::Triangle& tri, bool filtered) {

@@ -35,6 +35,20 @@ bool ExactRobustInteriorHit(glm::vec3 o, glm::vec3 d, glm::vec3 v0, glm::vec3 v1
 // constructions); a ray in the triangle's plane counts as a miss, as in float tests. `filtered`:
 // interval arithmetic first; else exact rationals throughout.
 bool ExactHitDecision(const layout::Ray& ray, const layout::Triangle& tri, bool filtered = true);
+// What a float test may answer for a ray and a triangle: the exact decision with tmin < t < tmax,
+// and whether it is robust: it survives moving every vertex relative to the origin by rel x L per
+// coordinate, L the largest coordinate magnitude of those relative vertices, which covers what the
+// watertight test's rounding does (docs/numerics.md, "The hit convention"). A robust answer is what every
+// correct float tracer gives; a fragile one (grazing rays, hits near an edge or an interval end) may
+// come out either way.
+struct Judgement {
+  bool hit = false;
+  bool robust = false;
+};
+Judgement ExactJudge(const layout::Ray& ray, const layout::Triangle& tri, float rel);
+// Could rounding order the two triangles' distances either way: |t_a - t_b| |d| <= rel (L + |t| |d|)?
+bool ExactDistancesClose(const layout::Ray& ray, const layout::Triangle& a, const layout::Triangle& b, float rel);
+
 // For two triangles the ray hits (ExactHitDecision): the sign of t_a - t_b, exactly.
 int ExactCompareHitDistance(const layout::Ray& ray, const layout::Triangle& a, const layout::Triangle& b);
 // Does the ray's line lie in the triangle's plane (origin in the plane, direction parallel to it)?
