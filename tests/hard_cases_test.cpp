@@ -4,7 +4,8 @@
 // internal reflection in raygen_test.cpp, NaN/inf and out-of-range transforms in
 // scene_loader_test.cpp; the scale and permutation metamorphic tests are in metamorphic_test.cpp.
 // The tracer-level cases hold the exhaustive direct tracer and the hierarchy, flat and with the
-// object tree, to the same answer.
+// object tree, to the same answer. More ray cases: hard_cases_rays_test.cpp; the interval ends and
+// ties: hit_convention_test.cpp (docs/numerics.md, "The hard-case suite").
 #include <doctest/doctest.h>
 
 #include <cmath>

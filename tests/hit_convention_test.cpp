@@ -15,59 +15,10 @@
 
 using namespace rayspace;
 using test::HardTracers;
-
-namespace {
-
-void AddTriangle(Scene& s, glm::vec3 a, glm::vec3 b, glm::vec3 c) {
-  Object o;
-  o.name = fmt::format("t{}", s.objects.size());
-  o.positions = {a, b, c};
-  o.normals.assign(3, glm::normalize(glm::cross(b - a, c - a)));
-  o.material.assign(1, 0);
-  s.objects.push_back(o);
-}
-
-Scene OneScene() {
-  Scene s;
-  s.materials.push_back(test::Diffuse("m", glm::vec3(0.5f)));
-  return s;
-}
-
-layout::Ray Ray(glm::vec3 o, glm::vec3 d, float tmin, float tmax, std::uint32_t kind = layout::kRayReflection) {
-  layout::Ray r{};
-  r.origin_tmin = glm::vec4(o, tmin);
-  r.direction_tmax = glm::vec4(d, tmax);
-  r.info = glm::uvec4(0, layout::kNoPrim, kind, 0);
-  return r;
-}
-
-// The embree path computes t its own way (not bit for bit the watertight test's); the convention
-// holds for the t each path computes, so its t is compared within a few ulps only.
-bool SameT(float a, float b, bool exact) { return exact ? a == b : std::fabs(a - b) <= 8.0f * std::fabs(b) * 0x1p-24f; }
-
-// Every tracer's closest hit for each ray, and its occlusion flag for the same rays as shadow rays.
-void ExpectEveryTracer(const SceneBuffers& buf, const std::vector<layout::Ray>& rays, const std::vector<std::uint64_t>& expected) {
-  HardTracers tracers(buf, true);
-  std::vector<layout::Ray> shadow = rays;
-  for (layout::Ray& r : shadow) r.info.z = layout::kRayShadow;
-  for (std::size_t k = 0; k < tracers.all.size(); ++k) {
-    CAPTURE(tracers.names[k]);
-    std::vector<std::uint64_t> hits;
-    std::vector<std::uint32_t> occluded;
-    tracers.all[k]->Closest(rays, hits);
-    tracers.all[k]->Occluded(shadow, occluded);
-    REQUIRE(hits.size() == rays.size());
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-      CAPTURE(i);
-      CHECK(emu::HitPrim(hits[i]) == emu::HitPrim(expected[i]));
-      if (expected[i] != emu::kMissPacked && hits[i] != emu::kMissPacked)
-        CHECK(SameT(emu::HitT(hits[i]), emu::HitT(expected[i]), tracers.names[k] != "embree"));
-      CHECK(occluded[i] == (expected[i] != emu::kMissPacked ? 1u : 0u));
-    }
-  }
-}
-
-}  // namespace
+using test::Ray;
+using test::AddTriangle;
+using test::OneScene;
+using test::ExpectEveryTracer;
 
 TEST_CASE("hard case: a triangle exactly at t = tmin or t = tmax is not hit, one float inside it is, on every path") {
   // The plane z = 2 meets the ray from the origin along +z at t = 2 exactly, in float and exactly.
