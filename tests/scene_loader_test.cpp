@@ -234,6 +234,28 @@ TEST_CASE("scene: defaults for name (file stem), up, max_depth and the default m
   for (std::uint32_t m : s.objects[0].material) CHECK(m == 0u);
 }
 
+TEST_CASE("scene: camera up is judged by its direction, not its length") {
+  // A tiny or huge up that is not parallel to the view is valid; the frame is the same as with a
+  // unit up (fails before: [0, 1e-7, 0] was refused by an absolute threshold).
+  auto scene_with_up = [](const std::string& up) {
+    return fmt::format(R"({{"camera": {{"eye": [0, 0, 5], "target": [0, 0, 0], "up": {}, "fov_y_deg": 45}}, {},
+                            "objects": [{{"generator": "box"}}]}})",
+                       up, kImage);
+  };
+  TempDir dir;
+  ScopedDataEnv env(std::nullopt);
+  std::vector<glm::vec3> rights;
+  for (const char* up : {"[0, 1, 0]", "[0, 1e-7, 0]", "[0, 1e-30, 0]", "[0, 1e30, 0]", "[1e-38, 1e-38, 0]"}) {
+    CAPTURE(up);
+    const Scene s = LoadScene(dir.Write("up.json", scene_with_up(up)), LoadOptions{});
+    CHECK(glm::length(glm::cross(glm::normalize(glm::dvec3(s.camera.up)), glm::dvec3(0, 1, 0))) < 0.8);
+    CHECK(FlattenScene(s).triangles.size() == 12);
+  }
+  ExpectSceneError(scene_with_up("[0, 0, 0]"), {"camera.up", "zero"});
+  ExpectSceneError(scene_with_up("[0, 0, 1e-7]"), {"camera.up", "parallel"});
+  ExpectSceneError(scene_with_up("[0, 0, -3e29]"), {"camera.up", "parallel"});
+}
+
 TEST_CASE("scene: transform applies scale then rotation then translation to positions and normals") {
   TempDir dir;
   // Scale, then rotate about Z by 90 degrees, then translate.

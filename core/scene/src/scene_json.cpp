@@ -44,8 +44,12 @@ CameraDesc ParseCamera(const Ctx& c, const json& j) {
   cam.fov_y_deg = static_cast<float>(Number(c, Required(c, j, "fov_y_deg", "camera"), "camera.fov_y_deg", 1.0, 170.0));
   const glm::dvec3 f = glm::dvec3(cam.target) - glm::dvec3(cam.eye);
   if (glm::length(f) == 0.0) c.Fail("camera.target", "equals camera.eye");
-  if (glm::length(glm::cross(glm::normalize(f), glm::dvec3(cam.up))) < 1e-6)
-    c.Fail("camera.up", "is zero or parallel to the viewing direction");
+  // Any non-zero up not parallel to the view is valid whatever its length: the angle between the
+  // two is decided on unit vectors (sin below 1e-6, about 0.2 arc seconds, counts as parallel).
+  const glm::dvec3 up(cam.up);
+  if (glm::length(up) == 0.0) c.Fail("camera.up", "is zero");
+  if (glm::length(glm::cross(glm::normalize(f), glm::normalize(up))) < 1e-6)
+    c.Fail("camera.up", "is parallel to the viewing direction");
   return cam;
 }
 
