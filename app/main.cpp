@@ -172,6 +172,7 @@ int main(int argc, char** argv) {
     return ToInt(ExitCode::kBadInput);
   }
   rayspace::wg::SetChecking(false);  // unless a command asks: --check-workgroups, an @emu fault
+  rayspace::SetCheckFailuresThrow(true);
 #ifdef RAYSPACE_HAVE_VULKAN
   if (cmds.validate) rayspace::vk::SetValidation(true);
   rayspace::vk::Context::SetStrictMath(cmds.strict_math);
@@ -182,6 +183,9 @@ int main(int argc, char** argv) {
   } catch (const rayspace::InputError& e) {
     std::fprintf(stderr, "rayspace: error: %s\n", e.what());
     return ToInt(ExitCode::kBadInput);
+  } catch (const rayspace::CheckFailure& e) {
+    std::fprintf(stderr, "rayspace: internal check failed: %s\n", e.what());
+    return ToInt(ExitCode::kInternal);
   } catch (const rayspace::wg::CheckError& e) {
     std::fprintf(stderr, "rayspace: workgroup checker: %s\n", e.what());
     return ToInt(ExitCode::kWorkgroupFault);

@@ -449,7 +449,12 @@ class Impl final : public HierarchyTracer {
     std::vector<std::uint32_t> offsets(counts.size());
     std::size_t slots = 0;
     for (std::size_t p = 0; p < counts.size(); ++p) offsets[p] = static_cast<std::uint32_t>(slots), slots += counts[p];
-    RS_CHECK_MSG(slots < (std::size_t{1} << 32), "tree round of {} slots", slots);
+    // The pairs of a round are bounded by the pair capacity, what they expand to is not: a capacity
+    // near its maximum can ask for more slots than 32-bit offsets address.
+    if (slots >= (std::size_t{1} << 32))
+      ThrowInput("--pair-capacity {}: an object-tree round expands {} pairs to {} slots, beyond 32-bit offsets; give a smaller "
+                 "capacity",
+                 cfg_.pair_capacity, pairs.size(), slots);
     const TreeSlots s = Sub("tree.test", slots, [&] {
       return passes_.TreeTest({.cones = b.cv, .tree = b.tv, .pair_cone = pairs.cone, .pair_item = pairs.item, .offsets = offsets,
                                .slots = static_cast<std::uint32_t>(slots), .eps = eps_});

@@ -2,6 +2,10 @@
 
 #include <omp.h>
 
+#include <atomic>
+#include <exception>
+#include <mutex>
+
 #if defined(__SSE__)
 #include <xmmintrin.h>
 #endif
@@ -10,6 +14,32 @@ namespace rayspace {
 namespace {
 int g_threads = 0;
 std::size_t g_chunk = 0;
+
+// An exception must not leave an OpenMP region (the runtime terminates the process): each iteration
+// runs under a catch, the first exception is kept, the remaining iterations are skipped, and the
+// exception is rethrown on the calling thread after the loop.
+class FirstException {
+ public:
+  void Run(const std::function<void(std::size_t)>& fn, std::size_t i) {
+    if (failed_.load(std::memory_order_relaxed)) return;
+    try {
+      fn(i);
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!error_) error_ = std::current_exception();
+      failed_.store(true, std::memory_order_relaxed);
+    }
+  }
+  void Rethrow() const {
+    if (error_) std::rethrow_exception(error_);
+  }
+
+ private:
+  std::atomic<bool> failed_{false};
+  std::mutex mutex_;
+  std::exception_ptr error_;
+};
+
 }  // namespace
 
 void SetThreadCount(int n) { g_threads = n; }
@@ -23,14 +53,16 @@ void ParallelFor(std::size_t n, const std::function<void(std::size_t)>& fn) {
     for (long long i = 0; i < count; ++i) fn(static_cast<std::size_t>(i));
     return;
   }
+  FirstException first;
   if (g_chunk == 0) {
 #pragma omp parallel for schedule(static) num_threads(threads)
-    for (long long i = 0; i < count; ++i) fn(static_cast<std::size_t>(i));
+    for (long long i = 0; i < count; ++i) first.Run(fn, static_cast<std::size_t>(i));
   } else {
     const int chunk = static_cast<int>(g_chunk);
 #pragma omp parallel for schedule(dynamic, chunk) num_threads(threads)
-    for (long long i = 0; i < count; ++i) fn(static_cast<std::size_t>(i));
+    for (long long i = 0; i < count; ++i) first.Run(fn, static_cast<std::size_t>(i));
   }
+  first.Rethrow();
 }
 
 void ParallelForDynamic(std::size_t n, std::size_t grain, const std::function<void(std::size_t)>& fn) {
@@ -41,8 +73,10 @@ void ParallelForDynamic(std::size_t n, std::size_t grain, const std::function<vo
   }
   const long long count = static_cast<long long>(n);
   const int chunk = static_cast<int>(grain == 0 ? 1 : grain);
+  FirstException first;
 #pragma omp parallel for schedule(dynamic, chunk) num_threads(threads)
-  for (long long i = 0; i < count; ++i) fn(static_cast<std::size_t>(i));
+  for (long long i = 0; i < count; ++i) first.Run(fn, static_cast<std::size_t>(i));
+  first.Rethrow();
 }
 
 ScopedFtzDaz::ScopedFtzDaz() {

@@ -1,0 +1,54 @@
+// Errors leave the program as values, never as a signal: an exception thrown inside a parallel loop
+// reaches the caller (OpenMP would terminate the process), and a failed invariant check throws
+// CheckFailure when the CLI asks for it.
+#include <doctest/doctest.h>
+
+#include <atomic>
+#include <string>
+
+#include "rayspace/error.h"
+#include "rayspace/parallel.h"
+
+using namespace rayspace;
+
+TEST_CASE("errors: an exception in a parallel loop reaches the caller, under every schedule") {
+  for (int threads : {1, 2, 4})
+    for (std::size_t chunk : {std::size_t{0}, std::size_t{1}, std::size_t{7}}) {
+      CAPTURE(threads);
+      CAPTURE(chunk);
+      SetThreadCount(threads);
+      SetChunkSize(chunk);
+      std::atomic<int> ran{0};
+      CHECK_THROWS_WITH_AS(ParallelFor(1000, [&](std::size_t i) {
+                             ran.fetch_add(1);
+                             if (i == 617) ThrowInput("mesh.obj: line {}: bad", i);
+                           }),
+                           "mesh.obj: line 617: bad", InputError);
+      CHECK(ran.load() >= 1);
+      CHECK_THROWS_AS(ParallelForDynamic(1000, 16, [&](std::size_t i) {
+                        if (i % 100 == 99) throw std::runtime_error("x");
+                      }),
+                      std::runtime_error);
+      // After a failure the pool is usable and complete again.
+      std::atomic<int> all{0};
+      ParallelFor(1000, [&](std::size_t) { all.fetch_add(1); });
+      CHECK(all.load() == 1000);
+    }
+  SetThreadCount(0);
+  SetChunkSize(0);
+}
+
+TEST_CASE("errors: a failed check throws CheckFailure naming the condition when asked to") {
+  SetCheckFailuresThrow(true);
+  SetThreadCount(2);
+  try {
+    ParallelFor(64, [](std::size_t i) { RS_CHECK_MSG(i != 40, "slot {}", i); });
+    FAIL("the check did not fire");
+  } catch (const CheckFailure& e) {
+    const std::string what = e.what();
+    CHECK(what.find("i != 40") != std::string::npos);
+    CHECK(what.find("slot 40") != std::string::npos);
+  }
+  SetCheckFailuresThrow(false);
+  SetThreadCount(0);
+}
