@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rayspace/error.h"
+#include "version.h"
 #include "rayspace/workgroup.h"
 #include "accuracy_command.h"
 #include "bench_command.h"
@@ -147,6 +148,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.fallthrough();  // --validate may follow the command's own options
   app.footer(rayspace::app::ExitCodeHelp());  // before the subcommands, which inherit it
+  app.set_version_flag("--version", [] { return rayspace::app::VersionText(); }, "Print the version, commit, backends and libraries");
   Commands cmds;
   app.add_flag("--strict-math", cmds.strict_math,
                "Vulkan: the kernels divide and take square roots correctly rounded in integer arithmetic, so they "
@@ -167,6 +169,9 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    std::fputs(e.what(), stdout);
+    return 0;
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "rayspace: error: %s\n", e.what());
     return ToInt(ExitCode::kBadInput);
