@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "memory_estimate.h"
 #include "peak_memory.h"
 #include "rayspace/error.h"
 #include "rayspace/image_io.h"
@@ -41,6 +42,7 @@ struct Outcome {
   Statistics stats;
   std::vector<Phase> phases;
   std::size_t peak_rss = 0;    // bytes, the process's peak resident set (0: unknown)
+  MemoryEstimate estimate{};
 };
 
 nlohmann::json OracleJson(const refs::Oracle* oracle, double oracle_ms) {
@@ -92,6 +94,7 @@ nlohmann::json StatsJson(const RenderArgs& args, const Outcome& o) {
   j["frame_ms"] = r.total_ms;
   j["peak_rss_bytes"] = o.peak_rss;
   j["bytes_per_pixel"] = static_cast<double>(o.peak_rss) / (static_cast<double>(r.width) * r.height);
+  j["memory_estimate"] = MemoryEstimateJson(o.estimate);
   if (backend.extra_dispatches) j["backend"]["split_dispatches"] = backend.extra_dispatches(backend);
   if (backend.paged_arrays) j["backend"]["paged_arrays"] = backend.paged_arrays(backend);
   if (backend.max_buffer_bytes) j["backend"]["binding_bytes"] = backend.max_buffer_bytes;
@@ -138,8 +141,9 @@ void PrintSummary(const RenderArgs& args, const Outcome& o) {
   }
   std::printf("  frame       %.1f ms (oracle %.1f ms)\n", r.total_ms, o.oracle_ms);
   if (o.peak_rss)
-    std::printf("  memory      %.1f MB peak resident (%.0f bytes per pixel)\n", static_cast<double>(o.peak_rss) / 1e6,
-                static_cast<double>(o.peak_rss) / (static_cast<double>(r.width) * r.height));
+    std::printf("  memory      %.1f MB peak resident (%.0f bytes per pixel); estimated before the frame %.1f MB\n",
+                static_cast<double>(o.peak_rss) / 1e6, static_cast<double>(o.peak_rss) / (static_cast<double>(r.width) * r.height),
+                static_cast<double>(o.estimate.total) / 1e6);
   std::printf("  digest      %s\n", HexDigest(r.digest.Frame()).c_str());
   std::printf("  image       %s\n", o.out.c_str());
   if (!args.stats.empty()) std::printf("  stats       %s\n", args.stats.c_str());
@@ -155,6 +159,9 @@ ExitCode RunRender(const RenderArgs& args) {
   const std::string out = args.out.empty() ? scene.name + ".png" : args.out;
   ProbeWritable(out, "the output image");  // before the frame, leaving no file behind if the run fails
 
+  const MemoryEstimate estimate = EstimateFrameMemory(fo.width, fo.height, scene.lights.size(), scene.TriangleCount(), args.pair_capacity, 1);
+  CheckFitsMachine(estimate, fo.width, fo.height);
+
   const Backend backend = MakeRenderBackend(args);
   const SceneBuffers buffers = FlattenScene(scene);
   CheckFrameFits(backend, fo.width, fo.height, scene.lights.size(), buffers.triangles.size());
@@ -164,7 +171,7 @@ ExitCode RunRender(const RenderArgs& args) {
 
   const refs::Oracle* checked = f->oracle ? &*f->oracle : nullptr;
   const Outcome o{scene, backend, r, checked, f->oracle_ms, out, f->tracer, OracleJson(checked, f->oracle_ms),
-                  f->stats, f->phases, PeakRssBytes()};
+                  f->stats, f->phases, PeakRssBytes(), estimate};
   if (!args.stats.empty()) {
     std::ofstream file(args.stats);
     if (!file) ThrowInput("{}: cannot write the statistics file", args.stats);

@@ -278,6 +278,15 @@ void AddObject(const Ctx& c, const json& oj, std::size_t i, const std::filesyste
   const std::uint32_t dflt = fixed == UINT32_MAX ? DefaultMaterial(s, by_name) : fixed;
 
   const std::vector<glm::dmat4> transforms = ObjectTransforms(c, oj, f);
+  // The limit is checked before the copies are made: a million instances of a mesh must be refused
+  // by count, not by running out of memory while placing them.
+  std::size_t per_copy = 0;
+  for (const SubMesh& sub : mesh.submeshes) per_copy += sub.TriangleCount();
+  const double total = static_cast<double>(s.TriangleCount()) + static_cast<double>(per_copy) * static_cast<double>(transforms.size());
+  if (total >= static_cast<double>(kMaxSceneTriangles))
+    c.Fail(transforms.size() > 1 ? f + ".instances" : f,
+           fmt::format("{} placements of {} triangles bring the scene to {:.0f} triangles, beyond the limit of 2^28", transforms.size(),
+                       per_copy, total));
   for (std::size_t k = 0; k < transforms.size(); ++k) {
     for (const SubMesh& sub : mesh.submeshes) {
       Object o = PlaceSubMesh(c, f, sub, transforms[k], material_map, fixed, dflt);
@@ -318,7 +327,7 @@ Scene LoadScene(const std::filesystem::path& path, const LoadOptions& options) {
   if (!objects.is_array() || objects.empty()) c.Fail("objects", "expected a non-empty array");
   for (std::size_t i = 0; i < objects.size(); ++i) AddObject(c, objects[i], i, path.parent_path(), options, s, by_name);
   if (s.TriangleCount() == 0) c.Fail("objects", "the scene has no triangles");
-  if (s.TriangleCount() >= (1u << 28)) c.Fail("objects", "more than 2^28 triangles");
+  if (s.TriangleCount() >= kMaxSceneTriangles) c.Fail("objects", "more than 2^28 triangles");
   return s;
 }
 

@@ -78,6 +78,8 @@ inline constexpr int kMaxImageSide = 16384;
 // 2^62, so that differences and their cross products stay in float range (docs/numerics.md).
 inline constexpr double kMaxCoordinate = 4611686018427387904.0;  // 2^62
 inline constexpr int kMaxDepth = 16;
+// Triangles of a scene: primitive ids and the hierarchy's triangle indices are 28-bit fields.
+inline constexpr std::size_t kMaxSceneTriangles = std::size_t{1} << 28;
 
 // Loads and validates a scene JSON. Throws InputError naming the file and field on bad input.
 Scene LoadScene(const std::filesystem::path& path, const LoadOptions& options);

@@ -1,0 +1,61 @@
+# Sizes out of range are refused before anything is allocated, run as
+#   cmake -DRAYSPACE=<exe> -DWORK=<scratch dir> -P cli_memory.cmake
+# A frame whose estimated peak exceeds the machine's memory names --size, the estimate and the
+# machine's memory; a scene whose instances would pass the triangle limit is refused by count
+# before the copies are made; a frame that fits reports its estimate in --stats.
+file(REMOVE_RECURSE "${WORK}")
+file(MAKE_DIRECTORY "${WORK}")
+set(failures "")
+set(CAMERA [=["camera": {"eye": [0, 0, 5], "target": [0, 0, 0], "fov_y_deg": 45}]=])
+file(WRITE "${WORK}/box.json" "{${CAMERA}, \"image\": {\"width\": 16, \"height\": 16}, \"lights\": [{\"position\": [0, 4, 4]}], \"objects\": [{\"generator\": \"box\"}]}\n")
+# 68 copies of a 3,998,792-triangle height field: 271.9 M triangles, beyond 2^28.
+set(instances "{}")
+foreach(i RANGE 1 67)
+  string(APPEND instances ", {}")
+endforeach()
+file(WRITE "${WORK}/instances.json"
+     "{${CAMERA}, \"image\": {\"width\": 16, \"height\": 16}, \"objects\": [{\"generator\": \"wavy\", \"params\": {\"resolution\": 1414}, \"instances\": [${instances}]}]}\n")
+
+function(expect_refused name needles)
+  execute_process(COMMAND "${RAYSPACE}" ${ARGN} WORKING_DIRECTORY "${WORK}" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
+  string(REGEX MATCHALL "\n" lines "${err}")
+  list(LENGTH lines n)
+  if(NOT rc EQUAL 2 OR NOT n EQUAL 1)
+    set(failures "${failures}\n[${name}] exit ${rc} (expected 2), ${n} stderr lines: ${err}" PARENT_SCOPE)
+    return()
+  endif()
+  foreach(needle IN LISTS needles)
+    string(FIND "${err}" "${needle}" at)
+    if(at EQUAL -1)
+      set(failures "${failures}\n[${name}] stderr does not name '${needle}': ${err}" PARENT_SCOPE)
+    endif()
+  endforeach()
+  message(STATUS "ok: ${name}: ${err}")
+endfunction()
+
+expect_refused("16384x16384 frame" "--size 16384x16384;estimated;GB;machine" render box.json --size 16384x16384 --no-oracle --out big.png)
+expect_refused("instances past the triangle limit" "instances.json;objects[0].instances;2^28" render instances.json --no-oracle --out i.png)
+foreach(f big.png i.png)
+  if(EXISTS "${WORK}/${f}")
+    set(failures "${failures}\n${f} was left behind by a refused run")
+  endif()
+endforeach()
+
+execute_process(COMMAND "${RAYSPACE}" render box.json --no-oracle --out ok.png --stats ok.json WORKING_DIRECTORY "${WORK}"
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  set(failures "${failures}\nthe 16x16 box frame failed: ${err}")
+else()
+  file(READ "${WORK}/ok.json" stats)
+  string(JSON total ERROR_VARIABLE jerr GET "${stats}" memory_estimate total_bytes)
+  if(jerr OR NOT total GREATER 0)
+    set(failures "${failures}\nstats: memory_estimate.total_bytes is '${total}' (${jerr})")
+  endif()
+  string(FIND "${out}" "estimated before the frame" at)
+  if(at EQUAL -1)
+    set(failures "${failures}\nthe summary does not print the estimate:\n${out}")
+  endif()
+endif()
+if(failures)
+  message(FATAL_ERROR "${failures}")
+endif()
