@@ -2,6 +2,8 @@
 // comparison catches a planted wrong answer.
 #include <doctest/doctest.h>
 
+#include <functional>
+
 #include "rayspace/emu/frame.h"
 #include "rayspace/emu/intersect.h"
 #include "rayspace/refs/embree_tracer.h"
@@ -77,7 +79,7 @@ namespace {
 // A tracer that answers like another but flips one ray's answer: a planted fault.
 class FlipOne final : public Tracer {
  public:
-  FlipOne(Tracer& inner, std::size_t ray) : inner_(inner), ray_(ray) {}
+  FlipOne(Tracer& inner, const SceneBuffers&, std::size_t ray = 123) : inner_(inner), ray_(ray) {}
   std::string Name() const override { return "flip-one"; }
   void Describe(nlohmann::json& out) const override { inner_.Describe(out); }
   void Closest(const std::vector<layout::Ray>& rays, std::vector<std::uint64_t>& hits) override {
@@ -96,20 +98,29 @@ class FlipOne final : public Tracer {
 
 }  // namespace
 
-TEST_CASE("planted fault: a tracer that flips one answer is reported as a mismatch on that ray") {
+// Renders cornell-mirrors at 32x32 with a faulty frame tracer wrapped around the direct tracer and
+// checks it with the Embree oracle; `inspect` sees the oracle and the faulty tracer afterwards.
+template <typename Fault>
+void RunWithFault(const std::function<void(const refs::Oracle&, const Fault&)>& inspect) {
   const Scene s = test::LoadBundled("cornell-mirrors.json");
   const SceneBuffers b = FlattenScene(s);
   auto direct = emu::MakeDirectTracer(b, emu::DirectMode::kAuto);
-  FlipOne faulty(*direct, 123);
+  Fault faulty(*direct, b);
   auto embree = refs::MakeEmbreeTracer(b, 0);
   refs::Oracle oracle(*embree, b);
   emu::FrameOptions fo;
   fo.width = 32;
   fo.height = 32;
   emu::RenderFrame(s, b, faulty, fo, [&](const emu::Batch& batch) { oracle.Check(batch); });
-  REQUIRE(!oracle.mismatches().empty());
-  for (const auto& m : oracle.mismatches()) CHECK(m.ray == 123);
-  CHECK(oracle.oracle_wrong().empty());
+  inspect(oracle, faulty);
+}
+
+TEST_CASE("planted fault: a tracer that flips one answer is reported as a mismatch on that ray") {
+  RunWithFault<FlipOne>([](const refs::Oracle& oracle, const FlipOne&) {
+    REQUIRE(!oracle.mismatches().empty());
+    for (const auto& m : oracle.mismatches()) CHECK(m.ray == 123);
+    CHECK(oracle.oracle_wrong().empty());
+  });
 }
 
 TEST_CASE("exact adjudication: a ray just outside a triangle misses exactly") {
@@ -232,18 +243,10 @@ TEST_CASE("oracle: a grazing shadow ray the float test calls lit is within round
 }
 
 TEST_CASE("planted fault: a tracer that reports another triangle for one ray is a mismatch on that ray") {
-  const Scene s = test::LoadBundled("cornell-mirrors.json");
-  const SceneBuffers b = FlattenScene(s);
-  auto direct = emu::MakeDirectTracer(b, emu::DirectMode::kAuto);
-  SwapOne faulty(*direct, b);
-  auto embree = refs::MakeEmbreeTracer(b, 0);
-  refs::Oracle oracle(*embree, b);
-  emu::FrameOptions fo;
-  fo.width = 32;
-  fo.height = 32;
-  emu::RenderFrame(s, b, faulty, fo, [&](const emu::Batch& batch) { oracle.Check(batch); });
-  REQUIRE(faulty.swapped() != SIZE_MAX);
-  REQUIRE(oracle.mismatches().size() >= 1);
-  for (const auto& m : oracle.mismatches()) CHECK(m.frame_prim != m.oracle_prim);
-  CHECK(oracle.within_rounding().empty());
+  RunWithFault<SwapOne>([](const refs::Oracle& oracle, const SwapOne& faulty) {
+    REQUIRE(faulty.swapped() != SIZE_MAX);
+    REQUIRE(oracle.mismatches().size() >= 1);
+    for (const auto& m : oracle.mismatches()) CHECK(m.frame_prim != m.oracle_prim);
+    CHECK(oracle.within_rounding().empty());
+  });
 }
