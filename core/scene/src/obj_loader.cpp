@@ -1,28 +1,54 @@
 // OBJ + MTL through tinyobjloader. A light pre-pass over the text checks every `v` and `f` line first
 // so that a malformed file is reported with its line number (tinyobjloader silently reads bad numbers
-// as 0 and does not check index ranges).
+// as 0 and does not check index ranges). The OBJ and its MTL files are read by rayspace, not by
+// tinyobjloader, so that only bounded regular files are read (input_file.h).
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <fstream>
-#include <sstream>
+#include <istream>
+#include <streambuf>
 #include <string_view>
 
 #include <tiny_obj_loader.h>
 
 #include "rayspace/error.h"
+#include "rayspace/input_file.h"
 #include "rayspace/scene.h"
 
 namespace rayspace {
 namespace {
 
-std::string ReadFile(const std::filesystem::path& path, const char* what) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) ThrowInput("{}: cannot open {}", path.string(), what);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+// An istream over text already in memory, without the copy an istringstream makes.
+class TextBuf : public std::streambuf {
+ public:
+  explicit TextBuf(std::string& text) { setg(text.data(), text.data(), text.data() + text.size()); }
+};
+
+// The `mtllib` files of one OBJ, looked up beside it (an absolute name is used as is). A missing
+// file is a warning, as tinyobjloader makes it; a file that exists is read like every input.
+class MtlFiles : public tinyobj::MaterialReader {
+ public:
+  explicit MtlFiles(const std::filesystem::path& obj)
+      : dir_(obj.parent_path()), what_(fmt::format("material file (mtllib of {})", obj.filename().string())) {}
+
+  bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
+                  std::map<std::string, int>* by_name, std::string* warn, std::string* err) override {
+    const std::filesystem::path path = dir_ / name;
+    if (std::error_code ec; !std::filesystem::exists(path, ec)) {
+      if (warn) *warn += fmt::format("material file '{}' not found (looked at {})\n", name, path.string());
+      return false;
+    }
+    std::string text = ReadInputFile(path, {what_, kMaxTextFileBytes});
+    TextBuf buf(text);
+    std::istream in(&buf);
+    tinyobj::LoadMtl(by_name, materials, &in, warn, err);
+    return true;
+  }
+
+ private:
+  std::filesystem::path dir_;
+  std::string what_;
+};
 
 std::vector<std::string_view> Tokens(std::string_view line) {
   std::vector<std::string_view> out;
@@ -97,32 +123,45 @@ void ValidateObjText(const std::filesystem::path& path, const std::string& text)
   }
 }
 
+// What tinyobjloader makes of the OBJ text, with its warnings and error.
+struct ParsedObj {
+  tinyobj::attrib_t attrib;
+  std::vector<tinyobj::shape_t> shapes;
+  std::vector<tinyobj::material_t> materials;
+};
+
+std::string OneLine(std::string text) {
+  while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
+  for (char& c : text)
+    if (c == '\n' || c == '\r') c = ' ';
+  return text;
+}
+
+ParsedObj ParseObj(const std::filesystem::path& path, std::string& text) {
+  ParsedObj obj;
+  std::string warn, err;
+  TextBuf buf(text);
+  std::istream in(&buf);
+  MtlFiles mtl(path);
+  // No triangulation: we fan-triangulate ourselves, tinyobjloader may split quads otherwise.
+  if (!tinyobj::LoadObj(&obj.attrib, &obj.shapes, &obj.materials, &warn, &err, &in, &mtl, /*triangulate=*/false,
+                        /*default_vcols_fallback=*/false)) {
+    err = OneLine(err);
+    ThrowInput("{}: {}", path.string(), err.empty() ? "cannot parse OBJ" : err);
+  }
+  if (!warn.empty()) std::fprintf(stderr, "rayspace: warning: %s: %s\n", path.string().c_str(), OneLine(warn).c_str());
+  return obj;
+}
+
 }  // namespace
 
 MeshData LoadObj(const std::filesystem::path& path) {
-  const std::string text = ReadFile(path, "mesh");
+  std::string text = ReadInputFile(path, {"mesh", kMaxDataFileBytes});
   ValidateObjText(path, text);
-
-  tinyobj::ObjReaderConfig config;
-  config.triangulate = false;  // we fan-triangulate ourselves: tinyobjloader may split quads otherwise
-  config.vertex_color = false;
-  config.mtl_search_path = path.parent_path().string();
-  tinyobj::ObjReader reader;
-  if (!reader.ParseFromFile(path.string(), config)) {
-    std::string err = reader.Error();
-    while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
-    for (char& c : err) if (c == '\n') c = ' ';
-    ThrowInput("{}: {}", path.string(), err.empty() ? "cannot parse OBJ" : err);
-  }
-  if (!reader.Warning().empty()) {
-    std::string w = reader.Warning();
-    for (char& c : w) if (c == '\n') c = ' ';
-    std::fprintf(stderr, "rayspace: warning: %s: %s\n", path.string().c_str(), w.c_str());
-  }
-
-  const auto& attrib = reader.GetAttrib();
+  const ParsedObj parsed = ParseObj(path, text);
+  const auto& attrib = parsed.attrib;
   MeshData mesh;
-  for (const tinyobj::material_t& m : reader.GetMaterials()) {
+  for (const tinyobj::material_t& m : parsed.materials) {
     MaterialDesc d;
     d.name = m.name;
     d.diffuse = {m.diffuse[0], m.diffuse[1], m.diffuse[2]};
@@ -133,7 +172,7 @@ MeshData LoadObj(const std::filesystem::path& path) {
   }
 
   const std::size_t nv = attrib.vertices.size() / 3, nn = attrib.normals.size() / 3;
-  for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+  for (const tinyobj::shape_t& shape : parsed.shapes) {
     SubMesh sub;
     sub.name = shape.name.empty() ? path.stem().string() : shape.name;
     const auto& m = shape.mesh;
