@@ -128,6 +128,18 @@ expect_error(NAME "mtllib larger than the bound (sparse 300 MiB)" TIMEOUT ${T}
              NEEDLES "huge.mtl" "314572800 bytes" "256 MiB"
              ARGS render "${WORK}/mtl_huge.json" --out "${WORK}/x.png")
 
+# --- Line ends: OBJ lines are checked as the parser splits them (CR, LF and CRLF alike) ------------
+file(WRITE "${WORK}/cr_nan.obj" "v 0 0 0\rv 1 0 0\rv 0 1 0\rv nan 0 0\rf 1 2 3\r")
+mesh_scene(cr_nan cr_nan.obj)
+file(WRITE "${WORK}/cr_face.obj" "v 0 0 0\rv 1 0 0\r\nv 0 1 0\nf 1 2\rf 1 2 3\r")
+mesh_scene(cr_face cr_face.obj)
+expect_error(NAME "CR-only OBJ with a NaN vertex" TIMEOUT ${T}
+             NEEDLES "cr_nan.obj:4:" "non-finite vertex coordinate 'nan'"
+             ARGS render "${WORK}/cr_nan.json" --out "${WORK}/x.png")
+expect_error(NAME "mixed line ends, a face of two vertices" TIMEOUT ${T}
+             NEEDLES "cr_face.obj:4:" "face needs at least 3 vertices"
+             ARGS render "${WORK}/cr_face.json" --out "${WORK}/x.png")
+
 # --- Replay directories -------------------------------------------------------------------------
 file(MAKE_DIRECTORY "${WORK}/replay_fifo")
 make_fifo("${WORK}/replay_fifo/pass.json")
