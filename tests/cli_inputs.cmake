@@ -140,6 +140,23 @@ expect_error(NAME "mixed line ends, a face of two vertices" TIMEOUT ${T}
              NEEDLES "cr_face.obj:4:" "face needs at least 3 vertices"
              ARGS render "${WORK}/cr_face.json" --out "${WORK}/x.png")
 
+# --- MTL values: in range, or refused naming file, line and key ----------------------------------
+file(WRITE "${WORK}/nan.mtl" "newmtl a\nKd nan 0.5 0.5\n")
+obj_with_mtllib(mtl_nan nan.mtl)
+file(WRITE "${WORK}/neg.mtl" "newmtl a\nKd 0.5 0.5 0.5\nKs -2 0 0\n")
+obj_with_mtllib(mtl_neg neg.mtl)
+file(WRITE "${WORK}/ns.mtl" "newmtl a\rKd 0.5 0.5 0.5\rNs 1e9\r")
+obj_with_mtllib(mtl_ns ns.mtl)
+expect_error(NAME "MTL Kd NaN" TIMEOUT ${T}
+             NEEDLES "nan.mtl:2: Kd: 'nan' is not finite"
+             ARGS render "${WORK}/mtl_nan.json" --out "${WORK}/x.png")
+expect_error(NAME "MTL Ks negative" TIMEOUT ${T}
+             NEEDLES "neg.mtl:3: Ks: -2 out of range"
+             ARGS render "${WORK}/mtl_neg.json" --out "${WORK}/x.png")
+expect_error(NAME "MTL Ns far out of range (CR-only file)" TIMEOUT ${T}
+             NEEDLES "ns.mtl:3: Ns: 1e9 out of range [0, 4096]"
+             ARGS render "${WORK}/mtl_ns.json" --out "${WORK}/x.png")
+
 # --- Replay directories -------------------------------------------------------------------------
 file(MAKE_DIRECTORY "${WORK}/replay_fifo")
 make_fifo("${WORK}/replay_fifo/pass.json")

@@ -1,5 +1,5 @@
 // Tests for the OBJ and MTL loader beyond scene_loader_test.cpp: line endings (CR, LF, CRLF and
-// mixed) checked exactly as the parser splits them.
+// mixed) checked exactly as the parser splits them, and MTL values checked against their ranges.
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -106,6 +106,69 @@ TEST_CASE("MTL with CR-only line ends gives the same materials as with LF") {
     CHECK(m.materials[0].shininess == 12.0f);
     CHECK(m.submeshes.at(0).material == std::vector<int>{0});
   }
+}
+
+TEST_CASE("MTL values: NaN, infinite, negative, out of range or malformed are refused naming file, line and key") {
+  struct Case {
+    std::string line, expected;
+  };
+  const std::vector<Case> cases = {
+      {"Kd nan 0.5 0.5", ":3: Kd: 'nan' is not finite"},
+      {"Kd 0.5 inf 0.5", ":3: Kd: 'inf' is not finite"},
+      {"Kd 0.5 0.5 -0.1", ":3: Kd: -0.1 out of range [0, 1000000]"},
+      {"Kd 0.5 0.5 1e7", ":3: Kd: 1e7 out of range"},
+      {"Kd 1e400 0 0", ":3: Kd: '1e400' is not a number"},
+      {"Kd 0.5", ":3: Kd needs 3 numbers (r g b), got 1"},
+      {"Kd 0.5 0.5 0.5 0.5", ":3: Kd needs 3 numbers (r g b), got 4"},
+      {"Kd 0.5 abc 0.5", ":3: Kd: 'abc' is not a number"},
+      {"Kd spectral file.rfl", ":3: Kd needs 3 numbers"},
+      {"Ks -1 0 0", ":3: Ks: -1 out of range"},
+      {"Ks nan nan nan", ":3: Ks: 'nan' is not finite"},
+      {"Ns -5", ":3: Ns: -5 out of range [0, 4096]"},
+      {"Ns 5000", ":3: Ns: 5000 out of range [0, 4096]"},
+      {"Ns nan", ":3: Ns: 'nan' is not finite"},
+      {"Ns", ":3: Ns needs 1 number, got 0"},
+      {"Ka 0 -1 0", ":3: Ka: -1 out of range"},
+      {"Ke inf 0 0", ":3: Ke: 'inf' is not finite"},
+      {"Tf 1 1 nan", ":3: Tf: 'nan' is not finite"},
+      {"Ni -1", ":3: Ni: -1 out of range [0, 100]"},
+      {"Ni 1e9", ":3: Ni: 1e9 out of range"},
+      {"d 1.5", ":3: d: 1.5 out of range [0, 1]"},
+      {"Tr -0.5", ":3: Tr: -0.5 out of range [0, 1]"},
+      {"illum 2.5", ":3: illum: 2.5 is not an integer"},
+      {"illum 11", ":3: illum: 11 out of range [0, 10]"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.line);
+    TempDir dir;
+    dir.Write("bad.mtl", "newmtl a\nKa 0 0 0\n" + c.line + "\nKd 0.5 0.5 0.5\n");
+    const fs::path obj = dir.Write("t.obj", "mtllib bad.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n");
+    std::string message = "<no error>";
+    try {
+      rayspace::LoadMesh(obj);
+    } catch (const rayspace::InputError& e) {
+      message = e.what();
+    }
+    CHECK_MESSAGE(Contains(message, "bad.mtl" + c.expected), message);
+    CHECK(message.find('\n') == std::string::npos);
+  }
+}
+
+TEST_CASE("MTL values at the ends of their ranges and as exporters write them load") {
+  TempDir dir;
+  dir.Write("ok.mtl",
+            "# exported\nnewmtl a\nNs 96.078431\nKa 0.000000 0.000000 0.000000\nKd +0.640000 0.64 0.64\n"
+            "Ks 0.5 0.5 0.5\nKe 0 0 0\nNi 0\nd 1.000000\nTr 0\nillum 2\nmap_Kd wood.png\n"
+            "newmtl b\nKd 0 0 1000000\nKs 1000000 0 0\nNs 4096\nNi 100\nd 0\nTf 1 1 1\nillum 0\n");
+  const fs::path obj =
+      dir.Write("t.obj", "mtllib ok.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\nusemtl b\nf 1 3 2\n");
+  const MeshData m = rayspace::LoadMesh(obj);
+  REQUIRE(m.materials.size() == 2);
+  CHECK(m.materials[0].diffuse == glm::vec3(0.64f));
+  CHECK(m.materials[0].shininess == 96.0f);
+  CHECK(m.materials[1].diffuse == glm::vec3(0, 0, 1e6f));
+  CHECK(m.materials[1].specular == glm::vec3(1e6f, 0, 0));
+  CHECK(m.materials[1].shininess == 4096.0f);
 }
 
 }  // TEST_SUITE

@@ -1,11 +1,9 @@
 // OBJ + MTL through tinyobjloader. A light pre-pass over the text checks every `v` and `f` line first
 // so that a malformed file is reported with its line number (tinyobjloader silently reads bad numbers
-// as 0 and does not check index ranges). The OBJ and its MTL files are read by rayspace, not by
-// tinyobjloader, so that only bounded regular files are read (input_file.h).
-#include <algorithm>
+// as 0 and does not check index ranges). The OBJ and its MTL files (mtl_reader.h) are read by
+// rayspace, not by tinyobjloader, so that only bounded regular files are read (input_file.h).
 #include <cmath>
 #include <istream>
-#include <streambuf>
 #include <string_view>
 
 #include <tiny_obj_loader.h>
@@ -13,43 +11,11 @@
 #include "rayspace/error.h"
 #include "rayspace/input_file.h"
 #include "rayspace/scene.h"
+#include "mtl_reader.h"
 #include "obj_text.h"
 
 namespace rayspace {
 namespace {
-
-// An istream over text already in memory, without the copy an istringstream makes.
-class TextBuf : public std::streambuf {
- public:
-  explicit TextBuf(std::string& text) { setg(text.data(), text.data(), text.data() + text.size()); }
-};
-
-// The `mtllib` files of one OBJ, looked up beside it (an absolute name is used as is). A missing
-// file is a warning, as tinyobjloader makes it; a file that exists is read like every input.
-class MtlFiles : public tinyobj::MaterialReader {
- public:
-  explicit MtlFiles(const std::filesystem::path& obj)
-      : dir_(obj.parent_path()), what_(fmt::format("material file (mtllib of {})", obj.filename().string())) {}
-
-  bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
-                  std::map<std::string, int>* by_name, std::string* warn, std::string* err) override {
-    const std::filesystem::path path = dir_ / name;
-    if (std::error_code ec; !std::filesystem::exists(path, ec)) {
-      if (warn) *warn += fmt::format("material file '{}' not found (looked at {})\n", name, path.string());
-      return false;
-    }
-    std::string text = ReadInputFile(path, {what_, kMaxTextFileBytes});
-    obj_text::NormaliseLineEnds(text, path.string());
-    TextBuf buf(text);
-    std::istream in(&buf);
-    tinyobj::LoadMtl(by_name, materials, &in, warn, err);
-    return true;
-  }
-
- private:
-  std::filesystem::path dir_;
-  std::string what_;
-};
 
 // How many of each element the checked lines define, as face indices refer to them.
 struct ObjCounts {
@@ -125,7 +91,7 @@ std::string OneLine(std::string text) {
 ParsedObj ParseObj(const std::filesystem::path& path, std::string& text) {
   ParsedObj obj;
   std::string warn, err;
-  TextBuf buf(text);
+  obj_text::TextBuf buf(text);
   std::istream in(&buf);
   MtlFiles mtl(path);
   // No triangulation: we fan-triangulate ourselves, tinyobjloader may split quads otherwise.
@@ -170,8 +136,9 @@ MeshData LoadObj(const std::filesystem::path& path) {
     d.name = m.name;
     d.diffuse = {m.diffuse[0], m.diffuse[1], m.diffuse[2]};
     d.specular = {m.specular[0], m.specular[1], m.specular[2]};
-    // Shininess is an integer exponent in rayspace (powers by repeated squaring in the kernels).
-    d.shininess = std::clamp(std::round(m.shininess), 0.0f, 4096.0f);
+    // Shininess is an integer exponent in rayspace (powers by repeated squaring in the kernels);
+    // MtlFiles has checked it lies in [0, 4096].
+    d.shininess = std::round(m.shininess);
     mesh.materials.push_back(d);
   }
 

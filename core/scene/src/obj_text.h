@@ -2,6 +2,7 @@
 // run before tinyobjloader parses the same text.
 #pragma once
 #include <cstddef>
+#include <streambuf>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -21,6 +22,12 @@ std::vector<std::string_view> Tokens(std::string_view line);
 // The whole token as a number (std::from_chars, correctly rounded); false for anything else.
 bool ParseFloat(std::string_view s, double& v);
 bool ParseInt(std::string_view s, long long& v);
+
+// An istream buffer over text already in memory, without the copy an istringstream makes.
+class TextBuf : public std::streambuf {
+ public:
+  explicit TextBuf(std::string& text) { setg(text.data(), text.data(), text.data() + text.size()); }
+};
 
 // Calls f(line_number, line) for every line of normalised text, numbered from 1.
 template <typename F>
