@@ -157,6 +157,42 @@ expect_error(NAME "MTL Ns far out of range (CR-only file)" TIMEOUT ${T}
              NEEDLES "ns.mtl:3: Ns: 1e9 out of range [0, 4096]"
              ARGS render "${WORK}/mtl_ns.json" --out "${WORK}/x.png")
 
+# --- gzip-compressed meshes, made here: the same frame as the plain mesh, or exit 2 naming the file --
+file(WRITE "${WORK}/quad.obj" "o quad\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3 4\n")
+file(ARCHIVE_CREATE OUTPUT "${WORK}/quad.obj.gz" PATHS "${WORK}/quad.obj" FORMAT raw COMPRESSION GZip)
+mesh_scene(quad_plain quad.obj)
+mesh_scene(quad_gz quad.obj.gz)
+set(digests "")
+foreach(scene quad_plain quad_gz)
+  math(EXPR CASES "${CASES} + 1")
+  execute_process(COMMAND "${RAYSPACE}" render "${WORK}/${scene}.json" --out "${WORK}/${scene}.png"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 120)
+  string(REGEX MATCH "digest +([0-9a-f]+)" found "${out}")
+  if(NOT rc EQUAL 0 OR NOT found)
+    set(FAILURES "${FAILURES}\n  [${scene}] exit code '${rc}', no digest\n    ${out}${err}")
+  else()
+    list(APPEND digests "${CMAKE_MATCH_1}")
+  endif()
+endforeach()
+list(LENGTH digests n)
+list(REMOVE_DUPLICATES digests)
+list(LENGTH digests distinct)
+if(n EQUAL 2 AND distinct EQUAL 1)
+  message(STATUS "ok: quad.obj.gz renders the frame of quad.obj (digest ${digests})")
+elseif(n EQUAL 2)
+  set(FAILURES "${FAILURES}\n  [quad.obj.gz] digests differ from quad.obj: ${digests}")
+endif()
+execute_process(COMMAND head -c 20 "${WORK}/quad.obj.gz" OUTPUT_FILE "${WORK}/cut.obj.gz")
+mesh_scene(gz_cut cut.obj.gz)
+file(WRITE "${WORK}/text.obj.gz" "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+mesh_scene(gz_text text.obj.gz)
+expect_error(NAME "truncated .obj.gz" TIMEOUT ${T}
+             NEEDLES "cut.obj.gz" "truncated gzip data"
+             ARGS render "${WORK}/gz_cut.json" --out "${WORK}/x.png")
+expect_error(NAME ".obj.gz that is not gzip" TIMEOUT ${T}
+             NEEDLES "text.obj.gz" "not valid gzip data"
+             ARGS render "${WORK}/gz_text.json" --out "${WORK}/x.png")
+
 # --- Replay directories -------------------------------------------------------------------------
 file(MAKE_DIRECTORY "${WORK}/replay_fifo")
 make_fifo("${WORK}/replay_fifo/pass.json")

@@ -124,7 +124,7 @@ void CheckParsed(const std::filesystem::path& path, const ParsedObj& parsed, con
 }  // namespace
 
 MeshData LoadObj(const std::filesystem::path& path) {
-  std::string text = ReadInputFile(path, {"mesh", kMaxDataFileBytes});
+  std::string text = ReadInputFile(path, {"mesh", kMaxDataFileBytes, Gzip::kByExtension});
   obj_text::NormaliseLineEnds(text, path.string());
   const ObjCounts counts = ValidateObjText(path, text);
   const ParsedObj parsed = ParseObj(path, text);
@@ -145,7 +145,7 @@ MeshData LoadObj(const std::filesystem::path& path) {
   const std::size_t nv = attrib.vertices.size() / 3, nn = attrib.normals.size() / 3;
   for (const tinyobj::shape_t& shape : parsed.shapes) {
     SubMesh sub;
-    sub.name = shape.name.empty() ? path.stem().string() : shape.name;
+    sub.name = shape.name.empty() ? StemWithoutGz(path) : shape.name;
     const auto& m = shape.mesh;
     bool has_normals = true;
     for (const auto& idx : m.indices)
@@ -186,11 +186,13 @@ MeshData LoadObj(const std::filesystem::path& path) {
 }
 
 MeshData LoadMesh(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
+  // "mesh.obj.gz" is an OBJ: the loaders undo gzip while reading.
+  std::string ext = (IsGzipName(path) ? path.stem() : path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (ext == ".obj") return LoadObj(path);
   if (ext == ".ply") return LoadPly(path);
-  ThrowInput("{}: unsupported mesh format '{}' (expected .obj or .ply)", path.string(), ext);
+  ThrowInput("{}: unsupported mesh format '{}' (expected .obj or .ply, or either gzipped: .obj.gz, .ply.gz)",
+             path.string(), ext);
 }
 
 }  // namespace rayspace

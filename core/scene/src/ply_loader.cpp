@@ -623,7 +623,7 @@ class PlyParser {
 
   MeshData BuildMesh() {
     SubMesh mesh;
-    mesh.name = path_.stem().string();
+    mesh.name = StemWithoutGz(path_);
     mesh.positions.reserve(triangles_.size());
     for (std::uint32_t i : triangles_) mesh.positions.push_back(positions_[i]);
     if (has_normals_) {
@@ -666,7 +666,7 @@ class PlyParser {
 }  // namespace
 
 MeshData LoadPly(const std::filesystem::path& path) {
-  const std::string data = ReadInputFile(path, {"mesh", kMaxDataFileBytes});
+  const std::string data = ReadInputFile(path, {"mesh", kMaxDataFileBytes, Gzip::kByExtension});
   return PlyParser(path, data).Parse();
 }
 

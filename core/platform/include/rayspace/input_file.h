@@ -19,18 +19,28 @@ namespace rayspace {
 inline constexpr std::uint64_t kMaxTextFileBytes = std::uint64_t{256} << 20;
 inline constexpr std::uint64_t kMaxDataFileBytes = std::uint64_t{4} << 30;
 
+enum class Gzip { kNo, kByExtension };
+
 struct InputFile {
   std::string_view what;           // the file's role in messages: "scene file", "mesh", "material file"
-  std::uint64_t max_bytes = kMaxTextFileBytes;
+  std::uint64_t max_bytes = kMaxTextFileBytes;  // decompressed, for gzip (and compressed too)
+  Gzip gzip = Gzip::kNo;  // kByExtension: a name ending in ".gz" is gzip data, decompressed while read
 };
 
-// The whole file. Throws InputError naming the file when it cannot be opened, is not a regular
-// file or holds more than spec.max_bytes.
+// The whole file, decompressed when asked. Throws InputError naming the file when it cannot be
+// opened, is not a regular file, holds (or decompresses to) more than spec.max_bytes, or is not
+// valid gzip data: corrupt, truncated or empty.
 std::string ReadInputFile(const std::filesystem::path& path, const InputFile& spec);
 
 // "" when `path` is a regular file (symbolic links followed); otherwise why it is not one, as the
 // end of a sentence: "does not exist", "is a directory", "is a FIFO (named pipe)", ... For files
 // handed to another program (glslc) that rayspace does not read itself.
 std::string NotRegularFile(const std::filesystem::path& path);
+
+// True when the name ends in ".gz" (case-insensitive).
+bool IsGzipName(const std::filesystem::path& path);
+
+// The name without ".gz" and then without its extension: "conference.obj.gz" -> "conference".
+std::string StemWithoutGz(const std::filesystem::path& path);
 
 }  // namespace rayspace
