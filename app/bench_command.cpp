@@ -15,6 +15,7 @@
 #include "bench_run.h"
 #include "cli_util.h"
 #include "rayspace/error.h"
+#include "rayspace/input_file.h"
 #include "rayspace/parallel.h"
 
 namespace rayspace::app {
@@ -37,7 +38,7 @@ std::vector<std::pair<int, int>> ParseSizes(const std::string& list) {
 // Every input is checked before the first frame: a bad scene path should not wait for the runs before it.
 void CheckInputs(const BenchArgs& args) {
   for (const std::string& s : args.scenes)
-    if (!std::filesystem::is_regular_file(s)) ThrowInput("{}: cannot open scene file", s);
+    if (const std::string why = NotRegularFile(s); !why.empty()) ThrowInput("{}: cannot open scene file: it {}", s, why);
   if (!args.json.empty()) ProbeWritable(args.json, "the JSON file");
 }
 

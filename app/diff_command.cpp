@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <optional>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -16,6 +17,7 @@
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/workgroup_ops.h"
 #include "rayspace/error.h"
+#include "rayspace/input_file.h"
 #include "rayspace/gpu/passes.h"
 #include "rayspace/pass_registry.h"
 #include "rayspace/refs/embree_tracer.h"
@@ -366,11 +368,26 @@ ExitCode RunDiff(const DiffArgs& args) {
   return equal ? ExitCode::kOk : ExitCode::kDivergence;
 }
 
+// The comparison.json a diff saved beside a call's inputs, checked; nothing when there is none.
+std::optional<nlohmann::json> ReadRecorded(const std::string& path) {
+  if (NotRegularFile(path) == "does not exist") return std::nullopt;
+  nlohmann::json recorded;
+  try {
+    recorded = nlohmann::json::parse(ReadInputFile(path, {"recorded comparison", kMaxTextFileBytes}));
+  } catch (const nlohmann::json::exception&) {
+    ThrowInput("{}: not valid JSON", path);
+  }
+  CheckRecorded(recorded, path);
+  return recorded;
+}
+
 ExitCode RunReplay(const ReplayArgs& args) {
   std::string method_name;
   const verify::BufferSet in = verify::BufferSet::Load(args.dir, method_name);
   const verify::PassMethod& method = verify::FindPassMethod(method_name);
   CheckSavedInputs(in, args.dir);
+  // The comparison the diff recorded when it saved these inputs, if present: same answer expected.
+  const std::optional<nlohmann::json> saved = ReadRecorded(args.dir + "/comparison.json");
   const Injection injection = ParseInject(args.inject);
   const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, injection.kernel, {args.split_bytes, args.max_groups}, args.kernels);
   ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
@@ -391,16 +408,8 @@ ExitCode RunReplay(const ReplayArgs& args) {
   if (!r.spec.empty()) std::printf("  relaxed model: %s\n", r.spec.c_str());
   if (!r.raster.empty()) std::printf("  raster: %s\n", r.raster.c_str());
   if (!r.equal && r.within_spec) std::printf("  every difference is within the spec's precision\n");
-  // The comparison the diff recorded when it saved these inputs, if present: same answer expected.
-  std::ifstream cf(args.dir + "/comparison.json");
-  nlohmann::json recorded;
-  if (cf) {
-    try {
-      recorded = nlohmann::json::parse(cf);
-    } catch (const nlohmann::json::exception&) {
-      ThrowInput("{}/comparison.json: not valid JSON", args.dir);
-    }
-    CheckRecorded(recorded, args.dir + "/comparison.json");
+  if (saved) {
+    const nlohmann::json& recorded = *saved;
     bool same = recorded.value("equal", !r.equal) == r.equal && recorded.contains("buffers") &&
                 recorded["buffers"].size() == r.buffers.size();
     if (same) {

@@ -1,15 +1,59 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer harnesses with clang (build-fuzz/, RAYSPACE_FUZZ=ON) and runs each for N
-# seconds from a fresh random seed, starting from the committed seed corpus; prints exec/s and any
-# finding. Usage: fuzz/run.sh [SECONDS=60] [HARNESS...]
+# Builds the libFuzzer harnesses with clang (build-fuzz/, RAYSPACE_FUZZ=ON) and runs each for the
+# given seconds from a fresh random seed, starting from the committed seed corpus; prints exec/s and
+# any finding.
+#
+# Usage: fuzz/run.sh --harness NAME[,NAME...]|all --seconds N
+#   --harness  which harnesses to run (the names in fuzz/CMakeLists.txt), or all of them
+#   --seconds  how long each one runs: a whole number of seconds, 1 to 604800 (a week)
+# Both are required, so that neither can be taken for the other.
+# Exit: 0 no finding, 1 a finding or the build failed, 2 bad arguments (one line on stderr naming
+# the argument; nothing is built).
 set -euo pipefail
-secs=${1:-60}
-shift || true
-harnesses=("$@")
-[ ${#harnesses[@]} -eq 0 ] && harnesses=(cone_union cone_grow cone_sphere ray_triangle scene_load)
 root=$(cd "$(dirname "$0")/.." && pwd)
-build=${RAYSPACE_FUZZ_BUILD:-$root/build-fuzz}
+usage="usage: fuzz/run.sh --harness NAME[,NAME...]|all --seconds N"
 
+# The harness names, from the one list the build uses.
+known=$(sed -n 's/^set(RAYSPACE_HARNESSES \(.*\))$/\1/p' "$root/fuzz/CMakeLists.txt")
+if [ -z "$known" ]; then
+  echo "fuzz/run.sh: no RAYSPACE_HARNESSES list in fuzz/CMakeLists.txt" >&2
+  exit 1
+fi
+
+bad() {
+  echo "fuzz/run.sh: $1 ($usage)" >&2
+  exit 2
+}
+
+harness_arg="" secs=""
+while [ $# -gt 0 ]; do
+  case "$1" in
+    -h|--help) echo "$usage"; echo "harnesses: ${known// /, }"; exit 0 ;;
+    --harness|--seconds)
+      [ $# -ge 2 ] || bad "$1 needs a value"
+      if [ "$1" = --harness ]; then harness_arg=$2; else secs=$2; fi
+      shift 2 ;;
+    --harness=*) harness_arg=${1#--harness=}; shift ;;
+    --seconds=*) secs=${1#--seconds=}; shift ;;
+    *) bad "unexpected argument '$1'" ;;
+  esac
+done
+[ -n "$harness_arg" ] || bad "--harness is required"
+[ -n "$secs" ] || bad "--seconds is required"
+if ! [[ "$secs" =~ ^[1-9][0-9]{0,5}$ ]] || [ "$secs" -gt 604800 ]; then
+  bad "--seconds '$secs': expected a whole number of seconds from 1 to 604800"
+fi
+harnesses=()
+if [ "$harness_arg" = all ]; then
+  read -r -a harnesses <<< "$known"
+else
+  IFS=, read -r -a harnesses <<< "$harness_arg"
+  for h in "${harnesses[@]}"; do
+    [[ " $known " == *" $h "* ]] || bad "--harness '$h': unknown harness (known: ${known// /, }, or all)"
+  done
+fi
+
+build=${RAYSPACE_FUZZ_BUILD:-$root/build-fuzz}
 CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DRAYSPACE_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo > /dev/null
 cmake --build "$build" -j "$(nproc)" --target "${harnesses[@]}" > "$build/build.log" 2>&1 || { tail -30 "$build/build.log"; exit 1; }
 

@@ -7,7 +7,7 @@ PACKAGES=(
   build-essential cmake ccache pkg-config
   libomp-dev libembree-dev libcgal-dev libgmp-dev libmpfr-dev libglm-dev
   libopenimageio-dev openimageio-tools
-  doctest-dev libcli11-dev nlohmann-json3-dev libfmt-dev libtinyobjloader-dev libxxhash-dev
+  doctest-dev libcli11-dev nlohmann-json3-dev libfmt-dev libtinyobjloader-dev libxxhash-dev zlib1g-dev
   libbenchmark-dev
   mesa-vulkan-drivers libvulkan-dev glslc libspirv-cross-c-shared-dev spirv-tools vulkan-validationlayers
   clang libclang-rt-14-dev fonts-dejavu-core python3-clang

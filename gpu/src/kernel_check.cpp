@@ -9,12 +9,13 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
-#include <sstream>
 
 #include <fmt/format.h>
 #include <spirv_cross/spirv_cross_c.h>
 
+#include "rayspace/error.h"
 #include "rayspace/gpu/passes.h"
+#include "rayspace/input_file.h"
 
 namespace rayspace::gpu_backend {
 namespace {
@@ -158,7 +159,8 @@ vk::Status CheckKernel(const PassSpec& pass, std::span<const std::uint32_t> spir
 vk::Status LoadKernelFile(const std::string& path, std::vector<std::uint32_t>& out) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) return vk::Status::Fail(fmt::format("kernel file '{}' not found", path));
+  if (const std::string why = NotRegularFile(path); !why.empty())
+    return vk::Status::Fail(fmt::format("kernel file '{}' {}", path, why == "does not exist" ? "not found" : why));
   std::string spv_path = path;
   fs::path tmp;
   if (fs::path(path).extension() != ".spv") {
@@ -188,10 +190,13 @@ vk::Status LoadKernelFile(const std::string& path, std::vector<std::uint32_t>& o
     }
     spv_path = tmp.string();
   }
-  std::ifstream in(spv_path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string bytes = ss.str();
+  std::string bytes;
+  try {
+    bytes = ReadInputFile(spv_path, {"kernel file", kMaxTextFileBytes});
+  } catch (const InputError& e) {
+    if (!tmp.empty()) fs::remove(tmp, ec);
+    return vk::Status::Fail(e.what());
+  }
   if (!tmp.empty()) fs::remove(tmp, ec);
   if (bytes.size() < 20 || bytes.size() % 4 != 0)
     return vk::Status::Fail(fmt::format("kernel file '{}' is not SPIR-V ({} bytes)", path, bytes.size()));

@@ -3,6 +3,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include "rayspace/input_file.h"
+
 namespace rayspace::verify {
 namespace {
 
@@ -97,11 +99,14 @@ void BufferSet::Save(const std::string& dir, const std::string& method) const {
 BufferSet BufferSet::Load(const std::string& dir, std::string& method) {
   namespace fs = std::filesystem;
   const fs::path meta = fs::path(dir) / "pass.json";
-  std::ifstream f(meta);
-  if (!f) ThrowInput("{}: cannot open (is '{}' a directory written by diff --save-inputs?)", meta.string(), dir);
+  if (std::error_code ec; fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    ThrowInput("{}: not a directory (replay reads a directory written by diff --save-inputs)", dir);
+  if (NotRegularFile(meta) == "does not exist")
+    ThrowInput("{}: cannot open (is '{}' a directory written by diff --save-inputs?)", meta.string(), dir);
+  const std::string text = ReadInputFile(meta, {"pass file", kMaxTextFileBytes});
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(f);
+    j = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
     ThrowInput("{}: {}", meta.string(), e.what());
   }
@@ -126,15 +131,12 @@ BufferSet BufferSet::Load(const std::string& dir, std::string& method) {
     b.type = static_cast<ElemType>(type);
     const std::uint64_t count = desc["count"].get<std::uint64_t>();
     const fs::path bin = fs::path(dir) / (name + ".bin");
-    std::error_code ec;
-    const std::uint64_t size = fs::file_size(bin, ec);
-    if (ec) ThrowInput("{}: cannot read ({})", bin.string(), ec.message());
-    if (size != count * Info(b.type).bytes)
+    const std::string bytes = ReadInputFile(bin, {"buffer file", kMaxDataFileBytes});
+    const std::uint64_t size = bytes.size();
+    // Compared by division: count times the element size may overflow.
+    if (size % Info(b.type).bytes != 0 || size / Info(b.type).bytes != count)
       ThrowInput("{}: {} bytes, expected {} elements of {} bytes", bin.string(), size, count, Info(b.type).bytes);
-    b.bytes.resize(size);
-    std::ifstream in(bin, std::ios::binary);
-    in.read(reinterpret_cast<char*>(b.bytes.data()), static_cast<std::streamsize>(size));
-    if (!in) ThrowInput("{}: short read", bin.string());
+    b.bytes.assign(bytes.begin(), bytes.end());
     s.blobs_[name] = std::move(b);
   }
   return s;

@@ -1,141 +1,151 @@
 // OBJ + MTL through tinyobjloader. A light pre-pass over the text checks every `v` and `f` line first
 // so that a malformed file is reported with its line number (tinyobjloader silently reads bad numbers
-// as 0 and does not check index ranges).
-#include <algorithm>
-#include <charconv>
+// as 0 and does not check index ranges). The OBJ and its MTL files (mtl_reader.h) are read by
+// rayspace, not by tinyobjloader, so that only bounded regular files are read (input_file.h).
 #include <cmath>
-#include <fstream>
-#include <sstream>
+#include <istream>
 #include <string_view>
 
 #include <tiny_obj_loader.h>
 
 #include "rayspace/error.h"
+#include "rayspace/input_file.h"
 #include "rayspace/scene.h"
+#include "mtl_reader.h"
+#include "obj_text.h"
 
 namespace rayspace {
 namespace {
 
-std::string ReadFile(const std::filesystem::path& path, const char* what) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) ThrowInput("{}: cannot open {}", path.string(), what);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+// How many of each element the checked lines define, as face indices refer to them.
+struct ObjCounts {
+  long long vertices = 0, texcoords = 0, normals = 0;
+};
 
-std::vector<std::string_view> Tokens(std::string_view line) {
-  std::vector<std::string_view> out;
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
-    std::size_t j = i;
-    while (j < line.size() && line[j] != ' ' && line[j] != '\t' && line[j] != '\r') ++j;
-    if (j > i) out.push_back(line.substr(i, j - i));
-    i = j;
+void CheckVertex(const std::string& file, std::size_t line_no, const std::vector<std::string_view>& tok) {
+  if (tok.size() < 4) ThrowInput("{}:{}: vertex needs 3 coordinates", file, line_no);
+  for (int k = 1; k <= 3; ++k) {
+    double v;
+    if (!obj_text::ParseFloat(tok[k], v)) ThrowInput("{}:{}: bad vertex coordinate '{}'", file, line_no, tok[k]);
+    if (!std::isfinite(v) || std::fabs(v) > 3.0e38)
+      ThrowInput("{}:{}: non-finite vertex coordinate '{}'", file, line_no, tok[k]);
   }
-  return out;
 }
 
-bool ParseFloat(std::string_view s, double& v) {
-  auto r = std::from_chars(s.data(), s.data() + s.size(), v);
-  return r.ec == std::errc() && r.ptr == s.data() + s.size();
-}
-
-bool ParseInt(std::string_view s, long long& v) {
-  auto r = std::from_chars(s.data(), s.data() + s.size(), v);
-  return r.ec == std::errc() && r.ptr == s.data() + s.size();
-}
-
-// Checks positions and face indices line by line; throws naming file and line.
-void ValidateObjText(const std::filesystem::path& path, const std::string& text) {
-  long long vertices = 0, normals = 0, texcoords = 0;
-  std::size_t line_no = 0, pos = 0;
-  const std::string file = path.string();
-  while (pos < text.size()) {
-    std::size_t end = text.find('\n', pos);
-    if (end == std::string::npos) end = text.size();
-    std::string_view line(text.data() + pos, end - pos);
-    pos = end + 1;
-    ++line_no;
-    if (auto hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
-    auto tok = Tokens(line);
-    if (tok.empty()) continue;
-    if (tok[0] == "v") {
-      if (tok.size() < 4) ThrowInput("{}:{}: vertex needs 3 coordinates", file, line_no);
-      for (int k = 1; k <= 3; ++k) {
-        double v;
-        if (!ParseFloat(tok[k], v)) ThrowInput("{}:{}: bad vertex coordinate '{}'", file, line_no, tok[k]);
-        if (!std::isfinite(v) || std::fabs(v) > 3.0e38)
-          ThrowInput("{}:{}: non-finite vertex coordinate '{}'", file, line_no, tok[k]);
-      }
-      ++vertices;
-    } else if (tok[0] == "vn") {
-      ++normals;
-    } else if (tok[0] == "vt") {
-      ++texcoords;
-    } else if (tok[0] == "f") {
-      if (tok.size() < 4) ThrowInput("{}:{}: face needs at least 3 vertices", file, line_no);
-      for (std::size_t k = 1; k < tok.size(); ++k) {
-        std::string_view t = tok[k];
-        const long long counts[3] = {vertices, texcoords, normals};
-        const char* names[3] = {"vertex", "texture", "normal"};
-        for (int part = 0; part < 3 && !t.empty(); ++part) {
-          std::size_t slash = t.find('/');
-          std::string_view idx = t.substr(0, slash);
-          t = slash == std::string_view::npos ? std::string_view{} : t.substr(slash + 1);
-          if (idx.empty() && part > 0) continue;  // "1//3"
-          long long v;
-          if (!ParseInt(idx, v) || v == 0)
-            ThrowInput("{}:{}: bad face index '{}'", file, line_no, tok[k]);
-          const long long resolved = v < 0 ? counts[part] + v : v - 1;
-          if (resolved < 0 || resolved >= counts[part])
-            ThrowInput("{}:{}: {} index {} out of range (have {})", file, line_no, names[part], v, counts[part]);
-        }
-      }
+void CheckFace(const std::string& file, std::size_t line_no, const std::vector<std::string_view>& tok, const ObjCounts& n) {
+  if (tok.size() < 4) ThrowInput("{}:{}: face needs at least 3 vertices", file, line_no);
+  const long long counts[3] = {n.vertices, n.texcoords, n.normals};
+  const char* names[3] = {"vertex", "texture", "normal"};
+  for (std::size_t k = 1; k < tok.size(); ++k) {
+    std::string_view t = tok[k];
+    for (int part = 0; part < 3 && !t.empty(); ++part) {
+      std::size_t slash = t.find('/');
+      std::string_view idx = t.substr(0, slash);
+      t = slash == std::string_view::npos ? std::string_view{} : t.substr(slash + 1);
+      if (idx.empty() && part > 0) continue;  // "1//3"
+      long long v;
+      if (!obj_text::ParseInt(idx, v) || v == 0) ThrowInput("{}:{}: bad face index '{}'", file, line_no, tok[k]);
+      const long long resolved = v < 0 ? counts[part] + v : v - 1;
+      if (resolved < 0 || resolved >= counts[part])
+        ThrowInput("{}:{}: {} index {} out of range (have {})", file, line_no, names[part], v, counts[part]);
     }
   }
+}
+
+// Checks positions and face indices line by line (text with normalised line ends); throws naming
+// file and line.
+ObjCounts ValidateObjText(const std::filesystem::path& path, const std::string& text) {
+  ObjCounts n;
+  const std::string file = path.string();
+  obj_text::ForEachLine(text, [&](std::size_t line_no, std::string_view line) {
+    const auto tok = obj_text::Tokens(line);
+    if (tok.empty()) return;
+    if (tok[0] == "v") {
+      CheckVertex(file, line_no, tok);
+      ++n.vertices;
+    } else if (tok[0] == "vn") {
+      ++n.normals;
+    } else if (tok[0] == "vt") {
+      ++n.texcoords;
+    } else if (tok[0] == "f") {
+      CheckFace(file, line_no, tok, n);
+    }
+  });
+  return n;
+}
+
+// What tinyobjloader makes of the OBJ text, with its warnings and error.
+struct ParsedObj {
+  tinyobj::attrib_t attrib;
+  std::vector<tinyobj::shape_t> shapes;
+  std::vector<tinyobj::material_t> materials;
+};
+
+std::string OneLine(std::string text) {
+  while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
+  for (char& c : text)
+    if (c == '\n' || c == '\r') c = ' ';
+  return text;
+}
+
+ParsedObj ParseObj(const std::filesystem::path& path, std::string& text) {
+  ParsedObj obj;
+  std::string warn, err;
+  obj_text::TextBuf buf(text);
+  std::istream in(&buf);
+  MtlFiles mtl(path);
+  // No triangulation: we fan-triangulate ourselves, tinyobjloader may split quads otherwise.
+  if (!tinyobj::LoadObj(&obj.attrib, &obj.shapes, &obj.materials, &warn, &err, &in, &mtl, /*triangulate=*/false,
+                        /*default_vcols_fallback=*/false)) {
+    err = OneLine(err);
+    ThrowInput("{}: {}", path.string(), err.empty() ? "cannot parse OBJ" : err);
+  }
+  if (!warn.empty()) std::fprintf(stderr, "rayspace: warning: %s: %s\n", path.string().c_str(), OneLine(warn).c_str());
+  return obj;
+}
+
+// What the parser made must be what the checks passed: the same number of vertices, all finite,
+// and faces of at least 3 vertices. Should the two ever read a line differently, the mesh is
+// refused rather than loaded with what only the parser saw.
+void CheckParsed(const std::filesystem::path& path, const ParsedObj& parsed, const ObjCounts& counts) {
+  const auto& v = parsed.attrib.vertices;
+  if (static_cast<long long>(v.size() / 3) != counts.vertices)
+    ThrowInput("{}: the OBJ parser read {} vertices where the file has {} vertex lines", path.string(), v.size() / 3,
+               counts.vertices);
+  for (std::size_t i = 0; i < v.size(); ++i)
+    if (!std::isfinite(v[i])) ThrowInput("{}: vertex {} is not finite as parsed", path.string(), i / 3 + 1);
+  for (const tinyobj::shape_t& shape : parsed.shapes)
+    for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f)
+      if (shape.mesh.num_face_vertices[f] < 3)
+        ThrowInput("{}: shape '{}' face {} has {} vertices as parsed, a face needs at least 3", path.string(), shape.name,
+                   f, int{shape.mesh.num_face_vertices[f]});
 }
 
 }  // namespace
 
 MeshData LoadObj(const std::filesystem::path& path) {
-  const std::string text = ReadFile(path, "mesh");
-  ValidateObjText(path, text);
-
-  tinyobj::ObjReaderConfig config;
-  config.triangulate = false;  // we fan-triangulate ourselves: tinyobjloader may split quads otherwise
-  config.vertex_color = false;
-  config.mtl_search_path = path.parent_path().string();
-  tinyobj::ObjReader reader;
-  if (!reader.ParseFromFile(path.string(), config)) {
-    std::string err = reader.Error();
-    while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
-    for (char& c : err) if (c == '\n') c = ' ';
-    ThrowInput("{}: {}", path.string(), err.empty() ? "cannot parse OBJ" : err);
-  }
-  if (!reader.Warning().empty()) {
-    std::string w = reader.Warning();
-    for (char& c : w) if (c == '\n') c = ' ';
-    std::fprintf(stderr, "rayspace: warning: %s: %s\n", path.string().c_str(), w.c_str());
-  }
-
-  const auto& attrib = reader.GetAttrib();
+  std::string text = ReadInputFile(path, {"mesh", kMaxDataFileBytes, Gzip::kByExtension});
+  obj_text::NormaliseLineEnds(text, path.string());
+  const ObjCounts counts = ValidateObjText(path, text);
+  const ParsedObj parsed = ParseObj(path, text);
+  CheckParsed(path, parsed, counts);
+  const auto& attrib = parsed.attrib;
   MeshData mesh;
-  for (const tinyobj::material_t& m : reader.GetMaterials()) {
+  for (const tinyobj::material_t& m : parsed.materials) {
     MaterialDesc d;
     d.name = m.name;
     d.diffuse = {m.diffuse[0], m.diffuse[1], m.diffuse[2]};
     d.specular = {m.specular[0], m.specular[1], m.specular[2]};
-    // Shininess is an integer exponent in rayspace (powers by repeated squaring in the kernels).
-    d.shininess = std::clamp(std::round(m.shininess), 0.0f, 4096.0f);
+    // Shininess is an integer exponent in rayspace (powers by repeated squaring in the kernels);
+    // MtlFiles has checked it lies in [0, 4096].
+    d.shininess = std::round(m.shininess);
     mesh.materials.push_back(d);
   }
 
   const std::size_t nv = attrib.vertices.size() / 3, nn = attrib.normals.size() / 3;
-  for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+  for (const tinyobj::shape_t& shape : parsed.shapes) {
     SubMesh sub;
-    sub.name = shape.name.empty() ? path.stem().string() : shape.name;
+    sub.name = shape.name.empty() ? StemWithoutGz(path) : shape.name;
     const auto& m = shape.mesh;
     bool has_normals = true;
     for (const auto& idx : m.indices)
@@ -176,11 +186,13 @@ MeshData LoadObj(const std::filesystem::path& path) {
 }
 
 MeshData LoadMesh(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
+  // "mesh.obj.gz" is an OBJ: the loaders undo gzip while reading.
+  std::string ext = (IsGzipName(path) ? path.stem() : path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (ext == ".obj") return LoadObj(path);
   if (ext == ".ply") return LoadPly(path);
-  ThrowInput("{}: unsupported mesh format '{}' (expected .obj or .ply)", path.string(), ext);
+  ThrowInput("{}: unsupported mesh format '{}' (expected .obj or .ply, or either gzipped: .obj.gz, .ply.gz)",
+             path.string(), ext);
 }
 
 }  // namespace rayspace

@@ -11,7 +11,6 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <limits>
 #include <optional>
 #include <string>
@@ -21,6 +20,7 @@
 #include <vector>
 
 #include "rayspace/error.h"
+#include "rayspace/input_file.h"
 #include "rayspace/scene.h"
 
 namespace rayspace {
@@ -133,28 +133,6 @@ struct Element {
 
 // What each vertex property feeds; the values index the position/normal components.
 enum Role : int { kNone = -1, kX = 0, kY, kZ, kNx, kNy, kNz };
-
-std::string ReadWholeFile(const std::filesystem::path& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) ThrowInput("{}: cannot open: is a directory", path.string());
-  std::ifstream in(path, std::ios::binary);
-  if (!in) ThrowInput("{}: cannot open file", path.string());
-  // Read in chunks rather than trusting file_size(): it is only a capacity hint, so special files
-  // and files that change while being read are still handled.
-  constexpr std::size_t kChunk = std::size_t{1} << 20;
-  std::string data;
-  const auto size_hint = std::filesystem::file_size(path, ec);
-  if (!ec) data.reserve(static_cast<std::size_t>(size_hint) + kChunk);
-  for (;;) {
-    const std::size_t old = data.size();
-    data.resize(old + kChunk);
-    in.read(data.data() + old, static_cast<std::streamsize>(kChunk));
-    data.resize(old + static_cast<std::size_t>(in.gcount()));
-    if (!in) break;
-  }
-  if (in.bad()) ThrowInput("{}: read error", path.string());
-  return data;
-}
 
 class PlyParser {
  public:
@@ -645,7 +623,7 @@ class PlyParser {
 
   MeshData BuildMesh() {
     SubMesh mesh;
-    mesh.name = path_.stem().string();
+    mesh.name = StemWithoutGz(path_);
     mesh.positions.reserve(triangles_.size());
     for (std::uint32_t i : triangles_) mesh.positions.push_back(positions_[i]);
     if (has_normals_) {
@@ -688,7 +666,7 @@ class PlyParser {
 }  // namespace
 
 MeshData LoadPly(const std::filesystem::path& path) {
-  const std::string data = ReadWholeFile(path);
+  const std::string data = ReadInputFile(path, {"mesh", kMaxDataFileBytes, Gzip::kByExtension});
   return PlyParser(path, data).Parse();
 }
 

@@ -2,7 +2,6 @@
 // the file and the field path, because a typo silently ignored renders a different scene.
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <map>
 #include <set>
 
@@ -12,6 +11,7 @@
 
 #include "json_checks.h"
 #include "rayspace/error.h"
+#include "rayspace/input_file.h"
 #include "rayspace/procedural.h"
 #include "rayspace/scene.h"
 
@@ -113,8 +113,10 @@ std::filesystem::path ResolveMesh(const Ctx& c, const std::string& field, const 
     }
     if (!root.empty()) tried.push_back(root / p);
   }
+  // The first path that exists is the mesh, whatever it is: a FIFO or a directory there is refused
+  // by the loader with what it is, rather than reported as missing.
   for (const auto& t : tried)
-    if (std::filesystem::is_regular_file(t)) return t;
+    if (std::error_code ec; std::filesystem::exists(t, ec)) return t;
   std::string list;
   for (const auto& t : tried) list += (list.empty() ? "" : ", ") + t.string();
   c.Fail(field, fmt::format("mesh '{}' not found (looked at {}{})", rel, list,
@@ -180,11 +182,10 @@ std::uint32_t DefaultMaterial(Scene& s, std::map<std::string, std::uint32_t>& by
 }
 
 json ParseFile(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) ThrowInput("{}: cannot open scene file", path.string());
+  const std::string text = ReadInputFile(path, {"scene file", kMaxTextFileBytes});
   json root;
   try {
-    root = json::parse(in);
+    root = json::parse(text);
   } catch (const json::exception& e) {  // syntax errors and number overflow (1e400) alike
     std::string what = e.what();
     if (auto p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);

@@ -1,0 +1,50 @@
+# expect_error() for the CLI-contract scripts (cli_errors.cmake, cli_inputs.cmake), which set
+# RAYSPACE (the executable) and WORK (the scratch directory) and collect FAILURES and CASES.
+
+# expect_error(NAME <case> NEEDLES <substring>... ARGS <arg>... [TIMEOUT <seconds>])
+# Runs the CLI with ARGS in WORK; expects exit code 2 and one line on stderr containing every needle.
+# A run that outlives TIMEOUT (default 120 s) is killed and fails the case, so a read that blocks
+# (a FIFO without a writer) is reported instead of hanging the test.
+function(expect_error)
+  cmake_parse_arguments(E "" "NAME;TIMEOUT" "NEEDLES;ARGS" ${ARGN})
+  if(NOT E_TIMEOUT)
+    set(E_TIMEOUT 120)
+  endif()
+  math(EXPR n "${CASES} + 1")
+  set(CASES ${n} PARENT_SCOPE)
+  execute_process(COMMAND "${RAYSPACE}" ${E_ARGS}
+                  WORKING_DIRECTORY "${WORK}"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err
+                  TIMEOUT ${E_TIMEOUT})
+  set(problems "")
+  if(NOT "${rc}" STREQUAL "2")
+    list(APPEND problems "exit code '${rc}', expected 2")
+  endif()
+  # Exactly one line: ends in a newline and has no other.
+  string(REGEX MATCHALL "\n" newlines "${err}")
+  list(LENGTH newlines lines)
+  string(LENGTH "${err}" len)
+  if(len EQUAL 0)
+    list(APPEND problems "stderr is empty")
+  elseif(NOT lines EQUAL 1 OR NOT err MATCHES "\n$")
+    list(APPEND problems "stderr is not exactly one line (${lines} newlines)")
+  endif()
+  if(err MATCHES "\r")
+    list(APPEND problems "stderr contains a carriage return")
+  endif()
+  foreach(needle IN LISTS E_NEEDLES)
+    string(FIND "${err}" "${needle}" at)
+    if(at EQUAL -1)
+      list(APPEND problems "stderr does not name '${needle}'")
+    endif()
+  endforeach()
+  if(problems)
+    string(REPLACE ";" "; " problems "${problems}")
+    string(REPLACE ";" " " args "${E_ARGS}")
+    set(FAILURES "${FAILURES}\n  [${E_NAME}] rayspace ${args}\n    ${problems}\n    stderr: ${err}" PARENT_SCOPE)
+  else()
+    string(STRIP "${err}" line)
+    message(STATUS "ok: ${E_NAME}: ${line}")
+  endif()
+endfunction()
+
