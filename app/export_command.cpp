@@ -53,7 +53,7 @@ struct Recorded {
 };
 
 std::uint64_t RecordedCount(const nlohmann::json& j, const char* key, const std::string& file) {
-  if (!j.contains(key)) return 0;
+  if (!j.contains(key) || j[key].is_null()) return 0;
   if (!j[key].is_number_unsigned()) ThrowInput("{}: '{}' must be a non-negative integer", file, key);
   return j[key].get<std::uint64_t>();
 }
@@ -70,8 +70,9 @@ Recorded ReadRecorded(const std::string& dir) {
     ThrowInput("{}: not valid JSON", file);
   }
   if (!j.is_object()) ThrowInput("{}: expected a JSON object", file);
-  if (j.contains("inject") && !j["inject"].is_string()) ThrowInput("{}: 'inject' must be a string", file);
-  r.inject = j.value("inject", std::string());
+  if (j.contains("inject") && !j["inject"].is_string() && !j["inject"].is_null())
+    ThrowInput("{}: 'inject' must be a string", file);
+  if (j.contains("inject") && j["inject"].is_string()) r.inject = j["inject"].get<std::string>();
   r.local_size = static_cast<std::uint32_t>(std::min<std::uint64_t>(RecordedCount(j, "local_size", file), 1u << 20));
   r.split_bytes = RecordedCount(j, "split_bytes", file);
   r.max_groups = static_cast<std::uint32_t>(std::min<std::uint64_t>(RecordedCount(j, "max_groups", file), 65535));

@@ -6,6 +6,7 @@
 #   fault.<pass>:<n>   the first divergent call of a diff with --inject: its reproducer runs the
 #                      faulted kernel and reports the first mismatch (exit 1)
 #   inject             calls of a clean diff exported with --inject PASS:N: each reports a mismatch
+#   recorded           the fault, local size and binding limits comparison.json records are used
 #   validate           the reproducer's --validate and REPRO_VALIDATE=1 load the validation layer
 # tests/CMakeLists.txt includes this file with CASE unset to collect the case names; each test runs
 #   cmake -DRAYSPACE=<exe> -DCC=<C compiler> -DSRC=<source dir> -DWORK=<scratch> -DCASE=<case> -P cli_export.cmake
@@ -233,6 +234,50 @@ function(inject_case name)
   endforeach()
 endfunction()
 inject_case(inject)
+
+# What comparison.json records of the run that saved a call (its fault, local size and binding
+# limits) is what the export records with unless given; a null key counts as absent.
+function(recorded_case name)
+  begin_case("${name}")
+  save_calls(0 --local-size 32 --split-bytes 65536 --max-groups 2)
+  file(GLOB d LIST_DIRECTORIES true "${case_work}/saved/*-trim.shadow.b0")
+  file(COPY "${d}/" DESTINATION "${case_work}/call")
+  file(READ "${case_work}/call/comparison.json" cj)
+  string(JSON cj SET "${cj}" inject "\"trim:2\"")
+  string(JSON cj SET "${cj}" local_size 32)
+  string(JSON cj SET "${cj}" split_bytes 65536)
+  string(JSON cj SET "${cj}" max_groups 2)
+  file(WRITE "${case_work}/call/comparison.json" "${cj}")
+  export_call("${case_work}/call" "${case_work}/export")
+  if(NOT export_rc EQUAL 0)
+    fail("export as recorded: exit ${export_rc}: ${export_out}")
+    return()
+  endif()
+  file(READ "${case_work}/export/call.json" info)
+  string(JSON split GET "${info}" split_bytes)
+  string(JSON groups GET "${info}" max_groups)
+  file(STRINGS "${case_work}/export/sequence.txt" pipe REGEX "^pipeline ")
+  if(NOT split EQUAL 65536 OR NOT groups EQUAL 2 OR NOT pipe STREQUAL "pipeline 0 trim kernels/trim.spv 5 2 32 0")
+    fail("export as recorded: split ${split}, groups ${groups}, '${pipe}': ${export_out}")
+  endif()
+  build_repro("${case_work}/export")
+  run_repro("${case_work}/export" 1 "\nfirst mismatch: ")  # trim:2 drops the carry between parts
+  foreach(key inject local_size split_bytes max_groups)
+    string(JSON cj SET "${cj}" ${key} null)
+  endforeach()
+  file(WRITE "${case_work}/call/comparison.json" "${cj}")
+  export_call("${case_work}/call" "${case_work}/export-null")
+  if(NOT export_rc EQUAL 0)
+    fail("export with null keys: exit ${export_rc}: ${export_out}")
+    return()
+  endif()
+  file(STRINGS "${case_work}/export-null/sequence.txt" pipe REGEX "^pipeline ")
+  if(NOT pipe STREQUAL "pipeline 0 trim kernels/trim.spv 5 0 64 0")
+    fail("export with null keys: '${pipe}': ${export_out}")
+  endif()
+  run_repro("${case_work}/export-null" 0 "\nequal: ")
+endfunction()
+recorded_case(recorded)
 
 # --validate and REPRO_VALIDATE=1 ask for the layer: with no layer on the loader's path both fail
 # naming it (exit 3); with it, the reproducer runs clean either way.
