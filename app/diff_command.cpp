@@ -44,6 +44,8 @@ bool InDomain(const glm::vec4& v) {
   return true;
 }
 
+}  // namespace
+
 // A saved call's inputs must be ones a render could have made (a hand-edited set may hold anything):
 // triangles inside the scene loader's coordinate domain (beyond it clip coordinates overflow and
 // the raster clipper's bounds no longer hold), a finite frame whose size the passes can allocate
@@ -70,6 +72,8 @@ void CheckSavedInputs(const verify::BufferSet& in, const std::string& dir) {
                  fc.dims.w, scene.triangles.size(), scene.lights.size());
   }
 }
+
+namespace {
 
 // DIR/comparison.json as diff --save-inputs writes it: an object whose optional 'equal' is a boolean,
 // 'inject' a string and 'buffers' an array of objects (each with an optional string 'pass').

@@ -5,6 +5,10 @@
 #include "exit_codes.h"
 #include "frame_args.h"
 
+namespace rayspace::verify {
+class BufferSet;
+}
+
 namespace rayspace::app {
 
 // The frame, tracer and device options shared with render (FrameArgs), and diff's own.
@@ -34,5 +38,9 @@ struct ReplayArgs {
 // Runs one saved pass call (diff --save-inputs) on both backends and compares. Returns kOk when equal,
 // kDivergence when divergent, kNotReproduced when the comparison recorded at save time is not reproduced.
 ExitCode RunReplay(const ReplayArgs& args);
+
+// Throws InputError, naming the file in `dir`, when a saved call's inputs are none a render could have
+// made (triangles beyond the coordinate domain, a frame that is not finite or does not match the scene).
+void CheckSavedInputs(const verify::BufferSet& in, const std::string& dir);
 
 }  // namespace rayspace::app

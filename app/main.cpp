@@ -18,6 +18,7 @@
 #ifdef RAYSPACE_HAVE_VULKAN
 #include "devices_command.h"
 #include "diff_command.h"
+#include "export_command.h"
 #include "rayspace/gpu/validation.h"
 #endif
 
@@ -28,12 +29,14 @@ struct Commands {
   rayspace::app::RenderArgs render;
   rayspace::app::AccuracyArgs accuracy;
   rayspace::app::BenchArgs bench;
-  CLI::App *render_cmd = nullptr, *accuracy_cmd = nullptr, *bench_cmd = nullptr, *diff_cmd = nullptr, *replay_cmd = nullptr, *devices_cmd = nullptr;
+  CLI::App *render_cmd = nullptr, *accuracy_cmd = nullptr, *bench_cmd = nullptr, *diff_cmd = nullptr, *replay_cmd = nullptr, *devices_cmd = nullptr,
+           *export_cmd = nullptr;
   bool validate = false;
   bool strict_math = false;
 #ifdef RAYSPACE_HAVE_VULKAN
   rayspace::app::DiffArgs diff;
   rayspace::app::ReplayArgs replay;
+  rayspace::app::ExportArgs export_args;
 #endif
 };
 
@@ -125,6 +128,26 @@ void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
   rayspace::app::AddDeviceOption(*pc, cmds.replay.device);
   rayspace::app::AddLimitOptions(*pc, cmds.replay.split_bytes, cmds.replay.max_groups);
 }
+
+void AddExport(CLI::App& app, Commands& cmds) {
+  rayspace::app::ExportArgs& e = cmds.export_args;
+  CLI::App* ec = cmds.export_cmd = app.add_subcommand(
+      "export", "Write a call saved by diff --save-inputs as a reproducer for a Vulkan driver developer: SPIR-V, input "
+                "and expected buffers, the dispatch sequence, and a C program that needs only the Vulkan loader");
+  ec->add_option("dir", e.dir, "Directory of the saved call (DIR/NNNN-PASS)")->required();
+  ec->add_option("--out", e.out, "Directory to write the reproducer into (new or empty)")->required();
+  ec->add_option_function<std::string>(
+      "--inject",
+      [&e](const std::string& v) {
+        e.inject = v;
+        e.inject_given = true;
+      },
+      "The planted fault to set in the exported kernel: PASS[:FAULT] (default: the one the saved call records)");
+  rayspace::app::AddDeviceOption(*ec, e.device);
+  ec->add_option("--local-size", e.local_size, "Workgroup size of the kernels (default: as recorded, else 64)")
+      ->check(CLI::Range(1, 1024));
+  rayspace::app::AddLimitOptions(*ec, e.split_bytes, e.max_groups);
+}
 #endif
 
 rayspace::app::ExitCode Run(const Commands& cmds) {
@@ -136,6 +159,7 @@ rayspace::app::ExitCode Run(const Commands& cmds) {
   if (cmds.diff_cmd->parsed()) return rayspace::app::RunDiff(cmds.diff);
   if (cmds.replay_cmd->parsed()) return rayspace::app::RunReplay(cmds.replay);
   if (cmds.devices_cmd->parsed()) return rayspace::app::RunDevices();
+  if (cmds.export_cmd->parsed()) return rayspace::app::RunExport(cmds.export_args);
 #endif
   return ExitCode::kOk;
 }
@@ -161,6 +185,7 @@ int main(int argc, char** argv) {
   AddBench(app, cmds);
 #ifdef RAYSPACE_HAVE_VULKAN
   AddDiffAndReplay(app, cmds);
+  AddExport(app, cmds);
   cmds.devices_cmd = app.add_subcommand("devices", "List the Vulkan devices, each requirement of rayspace met or not, the "
                                                    "device used without --device and how diff compares on it");
   rayspace::app::AddDeviceLacksOption(*cmds.devices_cmd);

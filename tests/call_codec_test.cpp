@@ -13,6 +13,7 @@
 #include <tuple>
 #include <type_traits>
 #include <utility>
+#include <variant>
 
 #include "rayspace/emu/calls.h"
 #include "rayspace/error.h"
@@ -323,6 +324,69 @@ TEST_CASE("call codec: a Compacted result is its pairs and a one-element tested 
   CHECK_FALSE(t.Equal());
   CHECK(t.Summary().find("traverse.compact/tested: 1 of 1 elements differ; first at 0") == 0);
   CHECK(verify::CompareBlobs("traverse.compact", "pairs", out.blobs().at("pairs"), out2.blobs().at("pairs")).Equal());
+}
+
+// ---- output ranges ----------------------------------------------------------------------------------
+
+namespace {
+
+// A result with a few distinct bytes in every array and count.
+template <typename S>
+void FillResult(S& s, std::uint8_t& seed) {
+  auto fill = [&](auto& v) {
+    using V = std::decay_t<decltype(v)>;
+    if constexpr (cd::IsVector<V>::value) {
+      v.resize(2 + seed % 3);
+      auto* p = reinterpret_cast<std::uint8_t*>(v.data());
+      for (std::size_t i = 0; i < v.size() * sizeof(typename V::value_type); ++i) p[i] = static_cast<std::uint8_t>(seed * 17 + i);
+      ++seed;
+    } else if constexpr (std::is_same_v<V, std::uint64_t>) {
+      v = (std::uint64_t{seed++} << 40) + 7;
+    } else if constexpr (HasFields<V>) {
+      FillResult(v, seed);
+    }
+  };
+  if constexpr (HasFields<S>) ForEachField(s, [&](std::string_view, auto& f) { fill(f); });
+  else fill(s);
+}
+
+// Every output range names a buffer EncodeOutputs writes, holds its bytes at its place in memory and
+// its element size, and every buffer has a range.
+template <typename C>
+void CheckOutputRanges() {
+  INFO("call " << C::kName);
+  Filler filler;
+  C c;
+  filler.Fill(c);
+  using R = std::conditional_t<std::is_void_v<typename C::Result>, std::monostate, typename C::Result>;
+  R r{};
+  std::uint8_t seed = 3;
+  FillResult(r, seed);
+  BufferSet out;
+  if constexpr (std::is_void_v<typename C::Result>) out = verify::EncodeOutputs(c, nullptr);
+  else out = verify::EncodeOutputs(c, &r);
+  std::set<std::string> ranges, blobs;
+  verify::ForEachOutputRange(c, &r, [&](std::string_view name_view, const void* first, std::size_t bytes, std::size_t elem) {
+    const std::string name(name_view);
+    INFO("output " << name);
+    ranges.insert(name);
+    REQUIRE(out.Has(name));
+    const verify::Blob& b = out.blobs().at(name);
+    CHECK(b.bytes.size() == bytes);
+    CHECK((bytes == 0 || std::memcmp(b.bytes.data(), first, bytes) == 0));
+    CHECK(verify::Info(b.type).bytes == elem);
+  });
+  for (const auto& [name, blob] : out.blobs()) blobs.insert(name);
+  CHECK(ranges == blobs);
+}
+
+}  // namespace
+
+TEST_CASE("call codec: every call's output ranges are its encoded outputs, in place in memory") {
+#define RS_RANGES(C) CheckOutputRanges<call::C>();
+  RS_FRAME_CALLS(RS_RANGES)
+  RS_HIERARCHY_CALLS(RS_RANGES)
+#undef RS_RANGES
 }
 
 // ---- CheckInputs ----------------------------------------------------------------------------------

@@ -108,6 +108,61 @@ expect_error(NAME "--inject trim:1@emu (a fault the emulator does not have)"
 expect_error(NAME "--inject trim:dropped-barrier@gpu"
              NEEDLES "--inject" "'emu'"
              ARGS diff "${WORK}/good.json" --inject trim:dropped-barrier@gpu)
+# `rayspace export`: a saved call, an output directory that is new or empty, and a pass it can
+# replay with compute dispatches. Every refusal leaves no output directory behind.
+execute_process(COMMAND "${RAYSPACE}" diff "${WORK}/good.json" --size 8x8 --save-inputs "${WORK}/saved"
+                RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err TIMEOUT 120)
+if(NOT rc EQUAL 0)
+  set(FAILURES "${FAILURES}\n  [export] diff --save-inputs: exit ${rc}: ${err}")
+endif()
+file(GLOB saved_trim LIST_DIRECTORIES true "${WORK}/saved/*-trim.shadow.b0")
+file(GLOB saved_raster LIST_DIRECTORIES true "${WORK}/saved/*-raster")
+file(MAKE_DIRECTORY "${WORK}/empty-dir" "${WORK}/full-dir")
+file(WRITE "${WORK}/full-dir/keep.txt" "not the export's\n")
+expect_error(NAME "export: a saved call that does not exist"
+             NEEDLES "${WORK}/no-such-call" "no such directory"
+             ARGS export "${WORK}/no-such-call" --out "${WORK}/export-1")
+expect_error(NAME "export: a directory that is not a saved call"
+             NEEDLES "${WORK}/empty-dir" "not a call saved by diff --save-inputs"
+             ARGS export "${WORK}/empty-dir" --out "${WORK}/export-2")
+expect_error(NAME "export: the directory of all saved calls"
+             NEEDLES "${WORK}/saved" "a directory of saved calls, not one call"
+             ARGS export "${WORK}/saved" --out "${WORK}/export-3")
+expect_error(NAME "export: a file as the saved call"
+             NEEDLES "${WORK}/good.json" "not a directory"
+             ARGS export "${WORK}/good.json" --out "${WORK}/export-4")
+expect_error(NAME "export --out a non-empty directory"
+             NEEDLES "--out" "${WORK}/full-dir" "not empty"
+             ARGS export "${saved_trim}" --out "${WORK}/full-dir")
+expect_error(NAME "export --out an existing file"
+             NEEDLES "--out" "${WORK}/full-dir/keep.txt" "not a directory"
+             ARGS export "${saved_trim}" --out "${WORK}/full-dir/keep.txt")
+expect_error(NAME "export without --out"
+             NEEDLES "--out"
+             ARGS export "${saved_trim}")
+expect_error(NAME "export of the raster (a graphics pipeline)"
+             NEEDLES "${saved_raster}" "pass raster cannot be exported" "graphics pipeline"
+             ARGS export "${saved_raster}" --out "${WORK}/export-5")
+expect_error(NAME "export --inject of an unknown pass"
+             NEEDLES "--inject" "nope:1"
+             ARGS export "${saved_trim}" --out "${WORK}/export-6" --inject nope:1)
+expect_error(NAME "export --device 63"
+             NEEDLES "--device 63"
+             ARGS export "${saved_trim}" --out "${WORK}/export-7" --device 63)
+file(COPY "${saved_trim}/" DESTINATION "${WORK}/bad-comparison")
+file(WRITE "${WORK}/bad-comparison/comparison.json" "{\"local_size\": -3}")
+expect_error(NAME "export of a call whose comparison.json is malformed"
+             NEEDLES "${WORK}/bad-comparison/comparison.json" "local_size"
+             ARGS export "${WORK}/bad-comparison" --out "${WORK}/export-8")
+foreach(i RANGE 1 8)
+  if(EXISTS "${WORK}/export-${i}")
+    set(FAILURES "${FAILURES}\n  [export] a refused export left ${WORK}/export-${i} behind")
+  endif()
+endforeach()
+file(GLOB partial "${WORK}/*.partial-*")
+if(partial OR NOT EXISTS "${WORK}/full-dir/keep.txt")
+  set(FAILURES "${FAILURES}\n  [export] a refused export left '${partial}' behind or touched --out")
+endif()
 # --validate without the validation layer (the loader searches an empty layer path).
 file(MAKE_DIRECTORY "${WORK}/no-layers")
 set(ENV{VK_LAYER_PATH} "${WORK}/no-layers")

@@ -93,6 +93,7 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
   std::swap(range_, o.range_);
   std::swap(size_, o.size_);
   std::swap(mapped_, o.mapped_);
+  std::swap(observed_, o.observed_);
   return *this;
 }
 
@@ -100,31 +101,38 @@ Status Buffer::Write(const void* src, std::size_t bytes) {
   if (bytes > size_) return Status::Fail(fmt::format("a write of {} bytes into a buffer of {}", bytes, size_));
   if (mapped_) {
     if (bytes) std::memcpy(mapped_, src, bytes);
-    return Status::Ok();
+  } else {
+    RS_TRY(ctx_->Stage(*this, const_cast<void*>(src), bytes, /*to_device=*/true));
   }
-  return ctx_->Stage(*this, const_cast<void*>(src), bytes, /*to_device=*/true);
+  if (observed_ && ctx_->observer()) ctx_->observer()->BufferWritten(*this, src, bytes);
+  return Status::Ok();
 }
 
 Status Buffer::Zero() {
   if (mapped_) {
     std::memset(mapped_, 0, size_);
-    return Status::Ok();
+  } else {
+    std::vector<char> zeros(size_, 0);
+    RS_TRY(ctx_->Stage(*this, zeros.data(), size_, /*to_device=*/true));
   }
-  std::vector<char> zeros(size_, 0);
-  return ctx_->Stage(*this, zeros.data(), size_, /*to_device=*/true);
+  if (observed_ && ctx_->observer()) ctx_->observer()->BufferWritten(*this, nullptr, size_);
+  return Status::Ok();
 }
 
 Status Buffer::Read(void* dst, std::size_t bytes) const {
   if (bytes > size_) return Status::Fail(fmt::format("a read of {} bytes from a buffer of {}", bytes, size_));
   if (mapped_) {
     if (bytes) std::memcpy(dst, mapped_, bytes);
-    return Status::Ok();
+  } else {
+    RS_TRY(ctx_->Stage(*this, dst, bytes, /*to_device=*/false));
   }
-  return ctx_->Stage(*this, dst, bytes, /*to_device=*/false);
+  if (observed_ && ctx_->observer()) ctx_->observer()->BufferRead(*this, dst, bytes);
+  return Status::Ok();
 }
 
 Buffer::~Buffer() {
   if (!device_) return;
+  if (observed_ && ctx_->observer()) ctx_->observer()->BufferDestroyed(*this);
   vkDestroyBuffer(device_, buffer_, nullptr);
   if (pool_) pool_->Release(range_);
 }
@@ -279,6 +287,11 @@ Status CheckDevice(VkPhysicalDevice d, int index) {
 
 }  // namespace
 
+namespace {
+Observer* g_observer = nullptr;
+}  // namespace
+void Context::SetObserver(Observer* observer) { g_observer = observer; }
+
 Status Context::Create(int device, std::unique_ptr<Context>& out) {
   auto c = std::make_unique<Context>();
   RS_TRY(CreateInstance(c->instance_, &c->messenger_));
@@ -293,6 +306,7 @@ Status Context::Create(int device, std::unique_ptr<Context>& out) {
   RS_TRY(CheckDevice(c->physical_, chosen));
   c->ReadProperties();
   if (Status s = c->CreateDevice(); !s) return s;
+  c->observer_ = g_observer;
   out = std::move(c);
   return Status::Ok();
 }
@@ -403,7 +417,9 @@ Status Context::CreateBuffer(std::size_t bytes, Buffer& out, bool storage) {
   RS_TRY(pool_->Allocate(req, type, mappable, /*image=*/false, b.range_));
   RS_VK(vkBindBufferMemory(device_, b.buffer_, b.range_.memory, b.range_.offset));
   b.mapped_ = b.range_.mapped;
+  b.observed_ = storage && observer_;
   out = std::move(b);
+  if (out.observed_) observer_->BufferCreated(out);
   return Status::Ok();
 }
 
@@ -442,6 +458,7 @@ Status Context::CreateKernel(const std::string& name, std::span<const std::uint3
   cp.stage.pSpecializationInfo = &si;
   cp.layout = k.layout_;
   RS_VK(vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &cp, nullptr, &k.pipeline_));
+  if (observer_) observer_->KernelCreated(k, spirv, spec);
   return Status::Ok();
 }
 
@@ -723,6 +740,10 @@ Status Recorder::DispatchGroups(const Kernel& k, std::span<const Buffer* const> 
     return Status::Fail(fmt::format("kernel {}: {} invocations need {} x {} workgroups, beyond maxComputeWorkGroupCount",
                                     k.name_, groups * k.local_size_, gx, gy));
   if (groups > 0) vkCmdDispatch(cmd_, gx, static_cast<std::uint32_t>(gy), 1);
+  dispatched_ = true;
+  if (ctx_.observer_)
+    ctx_.observer_->Dispatched(*this, k, buffers, {static_cast<const std::uint8_t*>(push), push ? push_size : 0}, gx,
+                               static_cast<std::uint32_t>(gy));
   VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
   mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_HOST_READ_BIT |
@@ -799,6 +820,8 @@ Status Recorder::Submit() {
   RS_VK(vkEndCommandBuffer(cmd_));
   recording_ = false;
   if (Status st = ctx_.SubmitAndWait(cmd_); !st) return st;
+  if (ctx_.observer_ && dispatched_) ctx_.observer_->Submitted(*this);
+  dispatched_ = false;
   for (VkDescriptorPool p : pools_) RS_VK(vkResetDescriptorPool(ctx_.device_, p, 0));
   current_ = static_cast<std::size_t>(-1);
   sets_left_ = descriptors_left_ = 0;

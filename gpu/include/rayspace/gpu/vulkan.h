@@ -85,6 +85,7 @@ class Buffer {
   MemoryRange range_{};
   std::size_t size_ = 0;
   void* mapped_ = nullptr;
+  bool observed_ = false;  // a storage buffer made while an Observer watched (below)
 };
 
 // A compute pipeline over `bindings` storage buffers with up to 128 bytes of push constants and
@@ -97,6 +98,7 @@ class Kernel {
   ~Kernel();
   const std::string& name() const { return name_; }
   std::uint32_t local_size() const { return local_size_; }
+  std::uint32_t bindings() const { return bindings_; }
 
  private:
   friend class Context;
@@ -175,6 +177,29 @@ class Graphics {
   VkFramebuffer framebuffer_ = VK_NULL_HANDLE;
 };
 
+// What a Context does at the Vulkan boundary, told as it happens, for `rayspace export`, which
+// records one pass call and writes it out as a program that needs only the Vulkan loader. Storage
+// buffers are told by the Buffer (its handle names it while it lives); staging and read-back buffers
+// (storage = false), their copies and the raster's graphics work are not told. Dispatches are told
+// when recorded, and the submit of a Recorder that recorded any once it has run.
+class Recorder;
+class Observer {
+ public:
+  virtual ~Observer() = default;
+  // `spec` holds the specialization constants 0, 1, 2 (planted fault, local size, strict math).
+  virtual void KernelCreated(const Kernel& k, std::span<const std::uint32_t> spirv, std::span<const std::uint32_t> spec) = 0;
+  virtual void BufferCreated(const Buffer& b) = 0;
+  virtual void BufferDestroyed(const Buffer& b) = 0;
+  // The host wrote `bytes` from `src` at the buffer's start; src is null for Zero (every byte 0).
+  virtual void BufferWritten(const Buffer& b, const void* src, std::size_t bytes) = 0;
+  // The host read `bytes` from the buffer's start into `dst` (filled when this is called).
+  virtual void BufferRead(const Buffer& b, const void* dst, std::size_t bytes) = 0;
+  // A dispatch of gx x gy workgroups (none when either is 0), followed by the Recorder's barrier.
+  virtual void Dispatched(const Recorder& r, const Kernel& k, std::span<const Buffer* const> buffers,
+                          std::span<const std::uint8_t> push, std::uint32_t gx, std::uint32_t gy) = 0;
+  virtual void Submitted(const Recorder& r) = 0;
+};
+
 // Records dispatches (with a full memory barrier between them), draws and image read-backs into one
 // command buffer.
 class Recorder {
@@ -213,6 +238,7 @@ class Recorder {
   std::size_t current_ = static_cast<std::size_t>(-1);  // pool sets are taken from (none yet)
   std::uint32_t sets_left_ = 0, descriptors_left_ = 0;  // room left in pools_[current_]
   bool recording_ = false;
+  bool dispatched_ = false;  // a dispatch since the last submit (what an Observer is told of)
 };
 
 // The instance rayspace uses: Vulkan 1.2, portability enumeration where the loader offers it, and,
@@ -247,6 +273,9 @@ class Context {
   // emulator's bits on any conformant device.
   static void SetStrictMath(bool on);
   static bool StrictMath();
+  // Contexts created afterwards tell `observer` what they do (null: none); it must outlive them.
+  static void SetObserver(Observer* observer);
+  Observer* observer() const { return observer_; }
   // lavapipe: its float operations are correctly rounded (docs/gpu.md), so its kernels give the
   // emulator's bits; on other devices Vulkan's looser division and square root may not.
   bool correctly_rounded_floats() const { return driver_id_ == VK_DRIVER_ID_MESA_LLVMPIPE; }
@@ -277,6 +306,7 @@ class Context {
   std::uint32_t FindMemoryType(std::uint32_t bits, VkMemoryPropertyFlags flags) const;
   VkInstance instance_ = VK_NULL_HANDLE;
   VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;  // --validate only
+  Observer* observer_ = nullptr;                          // rayspace export only
   std::unique_ptr<MemoryPool> pool_;                      // every buffer's and image's memory
   std::uint32_t max_allocations_ = 4096;                  // maxMemoryAllocationCount
   VkDriverId driver_id_{};

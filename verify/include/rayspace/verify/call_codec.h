@@ -142,6 +142,21 @@ void DecodeInOut(const BufferSet& in, const C& c) {
   });
 }
 
+// Calls f(name, first byte, bytes, element bytes) for each array and 64-bit count of a struct.
+template <typename S, typename F>
+void ForEachRange(const S& s, F&& f) {
+  emu::ForEachField(s, [&](std::string_view name, const auto& v) {
+    using V = std::decay_t<decltype(v)>;
+    if constexpr (IsVector<V>::value) {
+      f(name, static_cast<const void*>(v.data()), v.size() * sizeof(typename V::value_type), sizeof(typename V::value_type));
+    } else if constexpr (std::is_same_v<V, std::uint64_t>) {
+      f(name, static_cast<const void*>(&v), sizeof v, sizeof v);
+    } else if constexpr (emu::HasFields<V>) {
+      ForEachRange(v, f);
+    }
+  });
+}
+
 }  // namespace codec_detail
 
 // A call decoded from a buffer set, with the storage its views point into.
@@ -173,6 +188,25 @@ BufferSet EncodeOutputs(const C& c, const typename C::Result* result) {
   else if constexpr (!std::is_void_v<typename C::Result>) codec_detail::Encode(out, *result);
   codec_detail::EncodeInOut(out, c);
   return out;
+}
+
+// Where a call's outputs are in memory now, named as EncodeOutputs names them: f(name, first byte,
+// bytes, element bytes) for its result's arrays (and 64-bit counts) and its in-place arrays. `result`
+// is null for a call without one. What `rayspace export` uses to tell where a read-back lands.
+template <typename C, typename R, typename F>
+void ForEachOutputRange(const C& c, const R* result, F&& f) {
+  if constexpr (codec_detail::IsVector<R>::value) {
+    f(C::kResult, static_cast<const void*>(result->data()), result->size() * sizeof(typename R::value_type),
+      sizeof(typename R::value_type));
+  } else if constexpr (emu::HasFields<R>) {
+    codec_detail::ForEachRange(*result, f);
+  }
+  emu::ForEachField(c, [&](std::string_view name, const auto& v) {
+    using V = std::decay_t<decltype(v)>;
+    if constexpr (codec_detail::IsVectorPtr<V>::value)
+      if (v) f(name, static_cast<const void*>(v->data()), v->size() * sizeof(typename codec_detail::IsVectorPtr<V>::Elem),
+               sizeof(typename codec_detail::IsVectorPtr<V>::Elem));
+  });
 }
 
 // Reads a call's result from its outputs and updates its in-place arrays.

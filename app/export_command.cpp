@@ -1,0 +1,229 @@
+#include "export_command.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "diff_command.h"
+#include "export_recording.h"
+#include "export_writer.h"
+#include "kernel_model.h"
+#include "rayspace/error.h"
+#include "rayspace/gpu/passes.h"
+#include "rayspace/pass_registry.h"
+#include "rayspace/verify/call_codec.h"
+#include "rayspace/verify/pass_table.h"
+
+namespace rayspace::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The saved call's directory: it must hold pass.json (a directory of saved calls is named as such).
+void CheckSavedDir(const std::string& dir) {
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) ThrowInput("{}: no such directory", dir);
+  if (!fs::is_directory(dir, ec)) ThrowInput("{}: not a directory (expected a call saved by diff --save-inputs)", dir);
+  if (fs::is_regular_file(fs::path(dir) / "pass.json", ec)) return;
+  fs::path first;  // the first saved call inside, by name
+  for (const fs::directory_entry& e : fs::directory_iterator(dir, ec))
+    if (fs::is_regular_file(e.path() / "pass.json", ec) && (first.empty() || e.path() < first)) first = e.path();
+  if (!first.empty()) ThrowInput("{}: a directory of saved calls, not one call; name one of them, e.g. {}", dir, first.string());
+  ThrowInput("{}: not a call saved by diff --save-inputs (no pass.json)", dir);
+}
+
+// --out: a new directory or an empty one, so that an export never mixes with other files.
+void CheckOutDir(const std::string& out) {
+  std::error_code ec;
+  if (!fs::exists(out, ec)) return;
+  if (!fs::is_directory(out, ec)) ThrowInput("--out {}: exists and is not a directory", out);
+  if (!fs::is_empty(out, ec)) ThrowInput("--out {}: not empty; the export writes into a new or empty directory", out);
+}
+
+// What comparison.json recorded about the run that saved the call (each key optional).
+struct Recorded {
+  std::string inject;
+  std::uint32_t local_size = 0, max_groups = 0;
+  std::size_t split_bytes = 0;
+};
+
+std::uint64_t RecordedCount(const nlohmann::json& j, const char* key, const std::string& file) {
+  if (!j.contains(key) || j[key].is_null()) return 0;
+  if (!j[key].is_number_unsigned()) ThrowInput("{}: '{}' must be a non-negative integer", file, key);
+  return j[key].get<std::uint64_t>();
+}
+
+Recorded ReadRecorded(const std::string& dir) {
+  const std::string file = (fs::path(dir) / "comparison.json").string();
+  Recorded r;
+  std::ifstream f(file);
+  if (!f) return r;
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(f);
+  } catch (const nlohmann::json::exception&) {
+    ThrowInput("{}: not valid JSON", file);
+  }
+  if (!j.is_object()) ThrowInput("{}: expected a JSON object", file);
+  if (j.contains("inject") && !j["inject"].is_string() && !j["inject"].is_null())
+    ThrowInput("{}: 'inject' must be a string", file);
+  if (j.contains("inject") && j["inject"].is_string()) r.inject = j["inject"].get<std::string>();
+  r.local_size = static_cast<std::uint32_t>(std::min<std::uint64_t>(RecordedCount(j, "local_size", file), 1u << 20));
+  r.split_bytes = RecordedCount(j, "split_bytes", file);
+  r.max_groups = static_cast<std::uint32_t>(std::min<std::uint64_t>(RecordedCount(j, "max_groups", file), 65535));
+  return r;
+}
+
+// Where `bytes` at `dst` lie among the call's outputs right now (a read-back lands there).
+template <typename C, typename R>
+std::optional<Landing> Land(const C& call, const R* result, const void* dst, std::size_t bytes) {
+  std::optional<Landing> found;
+  const auto at = reinterpret_cast<std::uintptr_t>(dst);
+  verify::ForEachOutputRange(call, result, [&](std::string_view name, const void* first, std::size_t size, std::size_t elem) {
+    const auto f = reinterpret_cast<std::uintptr_t>(first);
+    if (!found && bytes && at >= f && at - f + bytes <= size) found = Landing{std::string(name), at - f, elem};
+  });
+  return found;
+}
+
+// Runs one call on the Vulkan backend with `rec` recording it; returns its outputs.
+template <typename C>
+verify::BufferSet Capture(const verify::BufferSet& in, gpu_backend::VulkanPasses& gpu, Recording& rec) {
+  verify::DecodedCall<C> d = verify::DecodeCall<C>(in);
+  emu::CheckInputs(d.call);
+  gpu_backend::VulkanOut<C> out;
+  rec.Start([&](const void* dst, std::size_t bytes) { return Land(d.call, &out, dst, bytes); });
+  const vk::Status s = gpu.Run(d.call, out);
+  rec.Stop();
+  if (!s) throw std::runtime_error(fmt::format("Vulkan backend, pass {}: {}", C::kName, s.message));
+  if constexpr (std::is_void_v<typename C::Result>) return verify::EncodeOutputs(d.call, nullptr);
+  else return verify::EncodeOutputs(d.call, &out);
+}
+
+using CaptureFn = verify::BufferSet (*)(const verify::BufferSet&, gpu_backend::VulkanPasses&, Recording&);
+
+CaptureFn FindCapture(const std::string& method) {
+  static const std::map<std::string, CaptureFn> kCaptures = [] {
+    std::map<std::string, CaptureFn> m;
+#define RS_CAPTURE(C) m[std::string(emu::call::C::kName)] = &Capture<emu::call::C>;
+    RS_FRAME_CALLS(RS_CAPTURE)
+    RS_HIERARCHY_CALLS(RS_CAPTURE)
+#undef RS_CAPTURE
+    return m;
+  }();
+  return kCaptures.at(method);  // FindPassMethod has checked the name
+}
+
+// The built-in kernels (no fault: the sequence is the one a correct device takes) on the chosen
+// device, every kernel made with `rec` watching.
+std::unique_ptr<gpu_backend::VulkanPasses> MakeRecordedPasses(int device, const ExportInfo& info, Recording& rec) {
+  std::unique_ptr<gpu_backend::VulkanPasses> gpu;
+  vk::Context::SetObserver(&rec);
+  const vk::Status s = gpu_backend::VulkanPasses::Create(device, {}, gpu, info.local_size);
+  vk::Context::SetObserver(nullptr);
+  if (!s && s.message.rfind("--", 0) == 0) ThrowInput("{}", s.message);
+  if (!s) throw std::runtime_error("Vulkan: " + s.message);
+  gpu->LimitForTesting(info.split_bytes, info.max_groups);
+  return gpu;
+}
+
+// The recorded outputs must be the emulator's: then the sequence (its sizes, counts and carries,
+// which the host computes from what it reads back) is the one a correct device takes.
+void CheckAgainstEmulator(const verify::PassMethod& method, const verify::BufferSet& in, const verify::BufferSet& actual,
+                          const ExportInfo& info) {
+  verify::Backends emulator{emu::EmuFramePasses(), emu::EmuHierarchyPasses()};
+  const verify::BufferSet expected = method.run(in, emulator);
+  for (const auto& [name, blob] : expected.blobs()) {
+    auto it = actual.blobs().find(name);
+    const BufferComparison c = verify::CompareBlobs(info.pass, name, blob, it == actual.blobs().end() ? verify::Blob{} : it->second);
+    if (!c.Equal())
+      ThrowInput("{}: pass {}: the built-in kernels on '{}' do not give the emulator's bits ({}); record on a device that "
+                 "does (--device N, see rayspace devices) or with --strict-math",
+                 info.saved, info.pass, info.device, c.Summary());
+  }
+}
+
+// Writes into a fresh sibling directory and renames it to `out` when complete, so that a failed
+// export leaves nothing behind.
+ExportCounts WriteAtomically(const std::string& out, const Recording& rec, const ExportInfo& info) {
+  fs::path tmp = fs::path(out).lexically_normal();
+  if (tmp.filename().empty()) tmp = tmp.parent_path();
+  tmp += fmt::format(".partial-{}", static_cast<long>(::getpid()));
+  std::error_code ec;
+  fs::create_directories(tmp, ec);
+  if (ec) ThrowInput("--out {}: cannot create the directory: {}", out, ec.message());
+  try {
+    const ExportCounts counts = WriteExport(tmp, rec, info);
+    if (fs::exists(out)) fs::remove(out);
+    fs::rename(tmp, out);
+    return counts;
+  } catch (...) {
+    fs::remove_all(tmp, ec);
+    throw;
+  }
+}
+
+ExportInfo Describe(const ExportArgs& args, const verify::PassMethod& method, const verify::BufferSet& in) {
+  const Recorded recorded = ReadRecorded(args.dir);
+  ExportInfo info;
+  info.saved = args.dir;
+  info.label = fs::path(args.dir).lexically_normal().filename().string();
+  if (info.label.empty()) info.label = fs::path(args.dir).lexically_normal().parent_path().filename().string();
+  info.pass = method.pass(in);
+  info.method = method.method;
+  info.inject = args.inject_given ? args.inject : recorded.inject;
+  info.faults = ParseInject(info.inject).kernel;  // a fault planted in the emulator changes no kernel
+  info.local_size = static_cast<std::uint32_t>(args.local_size ? args.local_size : recorded.local_size ? recorded.local_size : 64);
+  info.split_bytes = args.split_bytes ? args.split_bytes : recorded.split_bytes;
+  info.max_groups = args.max_groups ? args.max_groups : recorded.max_groups;
+  info.strict_math = vk::Context::StrictMath();
+  return info;
+}
+
+void PrintSummary(const ExportArgs& args, const ExportInfo& info, const ExportCounts& c) {
+  std::printf("rayspace export: %s (pass %s, method %s), recorded on %s\n", info.label.c_str(), info.pass.c_str(),
+              info.method.c_str(), info.device.c_str());
+  std::printf("  %zu dispatch(es) in %zu submit(s), %zu buffer(s), %zu upload(s), %zu read-back(s) (%zu of them outputs); "
+              "outputs equal to the emulator's\n",
+              c.dispatches, c.submits, c.buffers, c.writes, c.reads, c.output_reads);
+  std::printf("  kernels: %s\n", c.kernels.c_str());
+  if (!info.inject.empty() && !c.fault_set)
+    std::printf("  planted fault %s: not in this call's kernels; they are the built-in ones\n", info.inject.c_str());
+  std::printf("  wrote %s: repro.c, README.md, sequence.txt, call.json, %zu kernel(s), %zu input(s), %zu expected read-back(s)\n",
+              args.out.c_str(), c.pipelines, c.writes, c.reads);
+  std::printf("  build and run: cd %s && cc repro.c -lvulkan -o repro && ./repro\n", args.out.c_str());
+}
+
+}  // namespace
+
+ExitCode RunExport(const ExportArgs& args) {
+  CheckSavedDir(args.dir);
+  CheckOutDir(args.out);
+  std::string method_name;
+  const verify::BufferSet in = verify::BufferSet::Load(args.dir, method_name);
+  const verify::PassMethod& method = verify::FindPassMethod(method_name);
+  CheckSavedInputs(in, args.dir);
+  ExportInfo info = Describe(args, method, in);
+  const std::optional<PassId> id = FindPass(info.pass);
+  if (id && Pass(*id).graphics)
+    ThrowInput("{}: pass {} cannot be exported: it draws with a graphics pipeline (render pass, colour and depth "
+               "attachments), and the reproducer replays compute dispatches only",
+               args.dir, info.pass);
+  Recording rec;
+  std::unique_ptr<gpu_backend::VulkanPasses> gpu = MakeRecordedPasses(args.device, info, rec);
+  info.device = gpu->context().device_name();
+  info.driver = gpu->context().driver();
+  const verify::BufferSet actual = FindCapture(method_name)(in, *gpu, rec);
+  if (!rec.problem().empty()) ThrowInput("{}: pass {} cannot be exported: {}", args.dir, info.pass, rec.problem());
+  CheckAgainstEmulator(method, in, actual, info);
+  const ExportCounts counts = WriteAtomically(args.out, rec, info);
+  PrintSummary(args, info, counts);
+  return ExitCode::kOk;
+}
+
+}  // namespace rayspace::app
