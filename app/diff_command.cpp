@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <optional>
@@ -374,7 +375,7 @@ ExitCode RunDiff(const DiffArgs& args) {
 
 // The comparison.json a diff saved beside a call's inputs, checked; nothing when there is none.
 std::optional<nlohmann::json> ReadRecorded(const std::string& path) {
-  if (NotRegularFile(path) == "does not exist") return std::nullopt;
+  if (std::error_code ec; !std::filesystem::exists(path, ec)) return std::nullopt;
   nlohmann::json recorded;
   try {
     recorded = nlohmann::json::parse(ReadInputFile(path, {"recorded comparison", kMaxTextFileBytes}));

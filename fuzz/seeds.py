@@ -2,6 +2,7 @@
 """Writes the seed corpora of the numeric harnesses (fuzz/corpus/<harness>/) in the documented
 float32 layouts (fuzz/README.md), and a few scene files for scene_load. Run from anywhere; the
 output is committed, so this only needs rerunning to add seeds."""
+import gzip
 import math
 import os
 import struct
@@ -88,3 +89,19 @@ write("scene_load", "ply-triangle", raw=b"\x02ply\nformat ascii 1.0\nelement ver
       b"0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")
 write("scene_load", "ply-nan", raw=b"\x02ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n"
       b"property float y\nproperty float z\nend_header\nnan 0 0\n")
+good_scene = b'{"camera": {"eye": [0, 0, 5], "target": [0, 0, 0], "fov_y_deg": 45}, "image": {"width": 8, ' \
+             b'"height": 8}, "lights": [{"position": [0, 3, 3]}], "objects": [{"generator": "box"}]}'
+write("scene_load", "json-valid", raw=b"\x00" + good_scene)
+write("scene_load", "obj-cr-only", raw=b"\x01v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 3\r")
+write("scene_load", "obj-mixed-nan", raw=b"\x01v 0 0 0\r\nv 1 0 0\rv nan 0 0\nf 1 2 3\r")
+write("scene_load", "mtl-material", raw=b"\x03newmtl a\nKa 0 0 0\nKd 0.8 0.7 0.6\nKs 0.5 0.5 0.5\nNs 96.07\n"
+      b"Ni 1.5\nd 1\nillum 2\nKe 0 0 0\nTf 1 1 1\n")
+write("scene_load", "mtl-nan", raw=b"\x03newmtl a\rKd nan 0.5 0.5\rNs 1e9\r")
+# gzip's header holds a time stamp: mtime=0 keeps the seeds the same on every run.
+obj_tri = b"o tri\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"
+write("scene_load", "objgz-triangle", raw=b"\x04" + gzip.compress(obj_tri, mtime=0))
+write("scene_load", "objgz-two-members", raw=b"\x04" + gzip.compress(obj_tri[:20], mtime=0)
+      + gzip.compress(obj_tri[20:], mtime=0))
+write("scene_load", "plygz-triangle", raw=b"\x05" + gzip.compress(
+    b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+    b"element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", mtime=0))

@@ -48,6 +48,8 @@ std::string WithLineEnds(const std::string& lf, const std::string& eol) {
 TEST_SUITE("obj_mtl") {
 
 TEST_CASE("OBJ with CR-only line ends: every line is checked, bad ones refused as in an LF file") {
+  // Each case under LF, CR and CRLF line ends alike; the normal and texture cases are also the
+  // check of vn and vt values, which tinyobjloader would read as 0.
   TempDir dir;
   struct Case {
     std::string name, lf_text, expected;
@@ -58,6 +60,12 @@ TEST_CASE("OBJ with CR-only line ends: every line is checked, bad ones refused a
       {"two_vertex_face", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\nf 1 2 3\n", ":4: face needs at least 3 vertices"},
       {"index_range", "v 0 0 0\nv 1 0 0\nf 1 2 3\n", ":3: vertex index 3 out of range (have 2)"},
       {"short_vertex", "v 0 0 0\nv 1 0\nv 0 1 0\nf 1 2 3\n", ":2: vertex needs 3 coordinates"},
+      {"nan_normal", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn nan 0 1\nf 1//1 2//2 3//1\n",
+       ":5: non-finite normal coordinate 'nan'"},
+      {"garbage_normal", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 x 1\nf 1//1 2//1 3//1\n", ":4: bad normal coordinate 'x'"},
+      {"short_normal", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 1\nf 1//1 2//1 3//1\n", ":4: normal needs 3 coordinates"},
+      {"huge_texcoord", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.5 1e39\nf 1/1 2/1 3/1\n", ":4: non-finite texture coordinate '1e39'"},
+      {"empty_texcoord", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt\nf 1 2 3\n", ":4: texture needs 1 coordinate"},
   };
   for (const Case& c : cases) {
     for (const std::string eol : {"\n", "\r", "\r\n"}) {

@@ -159,8 +159,9 @@ vk::Status CheckKernel(const PassSpec& pass, std::span<const std::uint32_t> spir
 vk::Status LoadKernelFile(const std::string& path, std::vector<std::uint32_t>& out) {
   namespace fs = std::filesystem;
   std::error_code ec;
+  if (!fs::exists(path, ec)) return vk::Status::Fail(fmt::format("kernel file '{}' not found", path));
   if (const std::string why = NotRegularFile(path); !why.empty())
-    return vk::Status::Fail(fmt::format("kernel file '{}' {}", path, why == "does not exist" ? "not found" : why));
+    return vk::Status::Fail(fmt::format("kernel file '{}' {}", path, why));
   std::string spv_path = path;
   fs::path tmp;
   if (fs::path(path).extension() != ".spv") {

@@ -101,7 +101,7 @@ BufferSet BufferSet::Load(const std::string& dir, std::string& method) {
   const fs::path meta = fs::path(dir) / "pass.json";
   if (std::error_code ec; fs::exists(dir, ec) && !fs::is_directory(dir, ec))
     ThrowInput("{}: not a directory (replay reads a directory written by diff --save-inputs)", dir);
-  if (NotRegularFile(meta) == "does not exist")
+  if (std::error_code ec; !fs::exists(meta, ec))
     ThrowInput("{}: cannot open (is '{}' a directory written by diff --save-inputs?)", meta.string(), dir);
   const std::string text = ReadInputFile(meta, {"pass file", kMaxTextFileBytes});
   nlohmann::json j;

@@ -22,13 +22,17 @@ struct ObjCounts {
   long long vertices = 0, texcoords = 0, normals = 0;
 };
 
-void CheckVertex(const std::string& file, std::size_t line_no, const std::vector<std::string_view>& tok) {
-  if (tok.size() < 4) ThrowInput("{}:{}: vertex needs 3 coordinates", file, line_no);
-  for (int k = 1; k <= 3; ++k) {
+// A `v`, `vn` or `vt` line: at least `need` numbers, of which the first `read` (what the parser
+// reads) must be finite as floats. tinyobjloader would read a bad one as 0.
+void CheckCoordinates(const std::string& file, std::size_t line_no, const std::vector<std::string_view>& tok,
+                      const char* what, std::size_t need, std::size_t read) {
+  if (tok.size() < need + 1)
+    ThrowInput("{}:{}: {} needs {} coordinate{}", file, line_no, what, need, need == 1 ? "" : "s");
+  for (std::size_t k = 1; k <= read && k < tok.size(); ++k) {
     double v;
-    if (!obj_text::ParseFloat(tok[k], v)) ThrowInput("{}:{}: bad vertex coordinate '{}'", file, line_no, tok[k]);
+    if (!obj_text::ParseFloat(tok[k], v)) ThrowInput("{}:{}: bad {} coordinate '{}'", file, line_no, what, tok[k]);
     if (!std::isfinite(v) || std::fabs(v) > 3.0e38)
-      ThrowInput("{}:{}: non-finite vertex coordinate '{}'", file, line_no, tok[k]);
+      ThrowInput("{}:{}: non-finite {} coordinate '{}'", file, line_no, what, tok[k]);
   }
 }
 
@@ -52,8 +56,8 @@ void CheckFace(const std::string& file, std::size_t line_no, const std::vector<s
   }
 }
 
-// Checks positions and face indices line by line (text with normalised line ends); throws naming
-// file and line.
+// Checks positions, normals, texture coordinates and face indices line by line (text with
+// normalised line ends); throws naming file and line.
 ObjCounts ValidateObjText(const std::filesystem::path& path, const std::string& text) {
   ObjCounts n;
   const std::string file = path.string();
@@ -61,11 +65,13 @@ ObjCounts ValidateObjText(const std::filesystem::path& path, const std::string& 
     const auto tok = obj_text::Tokens(line);
     if (tok.empty()) return;
     if (tok[0] == "v") {
-      CheckVertex(file, line_no, tok);
+      CheckCoordinates(file, line_no, tok, "vertex", 3, 3);
       ++n.vertices;
     } else if (tok[0] == "vn") {
+      CheckCoordinates(file, line_no, tok, "normal", 3, 3);
       ++n.normals;
     } else if (tok[0] == "vt") {
+      CheckCoordinates(file, line_no, tok, "texture", 1, 3);
       ++n.texcoords;
     } else if (tok[0] == "f") {
       CheckFace(file, line_no, tok, n);

@@ -1,6 +1,8 @@
 // PLY mesh loader: a small strict parser for the ascii and binary PLY 1.0 formats.
 //
-// Debian packages no PLY library, so the format is parsed here. Meshes are user input and the
+// The PLY readers of CGAL and Assimp accept malformed files, misread them, give no location and
+// size allocations from unchecked counts (docs/scene-format.md, "Why PLY is read by rayspace's own
+// parser", has the cases), so the format is parsed here. Meshes are user input and the
 // loader is fuzzed, so the parser trusts nothing in the file: every count is checked against the
 // bytes actually present before it sizes an allocation or a loop, every read is bounds-checked,
 // and every failure is an InputError with a one-line message naming the file and the header line,
