@@ -98,6 +98,17 @@ TEST_CASE("hard case: a ray along a shared edge, in neither triangle's plane, is
   // The edge (1, 1, -1)-(1, 1, 1) of the cube: the ray runs along its line from outside.
   const SceneBuffers buf = FlattenScene(Cube());
   const std::vector<layout::Ray> rays = {Ray({1, 1, 5}, {0, 0, -1}, 0.0f, INFINITY), Ray({1, 1, -5}, {0, 0, 1}, 0.0f, INFINITY)};
+  // Exactly the ray touches the cube only on that edge: no triangle's interior, so either answer
+  // is defensible, but the edge's triangles are touched.
+  for (const layout::Ray& r : rays) {
+    int touched = 0;
+    for (const layout::Triangle& t : buf.triangles) {
+      const refs::Contact c = refs::ExactContact(r, t);
+      CHECK(c != refs::Contact::kInterior);
+      touched += c == refs::Contact::kBoundary;
+    }
+    CHECK(touched >= 2);
+  }
   ExpectEmulatorAgrees(buf, rays);
 }
 
@@ -233,5 +244,12 @@ TEST_CASE("hard case: rays with NaN or infinite directions hit nothing and shado
   const float nan = std::nanf(""), inf = INFINITY;
   const std::vector<layout::Ray> rays = {Ray({0, 0, 5}, {nan, 0, -1}, 0.0f, INFINITY), Ray({0, 0, 5}, {0, 0, -inf}, 0.0f, INFINITY),
                                          Ray({0, 0, 5}, {0, 0, -1}, nan, INFINITY), Ray({0, 0, 5}, {0, 0, -1}, 0.0f, nan)};
+  // The watertight test itself refuses every triangle: its comparisons with NaN are false.
+  for (const layout::Ray& r : rays)
+    for (const layout::Triangle& t : buf.triangles) {
+      float th = 0;
+      CHECK_FALSE(emu::IntersectWatertight(emu::SetupWatertight(emu::Xyz(r.origin_tmin), emu::Xyz(r.direction_tmax)), emu::Xyz(t.v0),
+                                           emu::Xyz(t.v1), emu::Xyz(t.v2), r.origin_tmin.w, r.direction_tmax.w, th));
+    }
   ExpectEveryTracer(buf, rays, std::vector<std::uint64_t>(rays.size(), emu::kMissPacked), false);
 }
