@@ -41,7 +41,8 @@ void AddRender(CLI::App& app, Commands& cmds) {
   rc->add_option("scene", cmds.render.scene, "Scene JSON file")->required();
   rayspace::app::AddFrameOptions(*rc, cmds.render);
   rc->add_option("--out", cmds.render.out, "Output image (PNG); default <scene name>.png in the current directory");
-  rc->add_option("--stats", cmds.render.stats, "Write statistics as JSON to this file");
+  rc->add_option("--stats", cmds.render.stats, "Write statistics as JSON to this file (-: to standard output, in place "
+                 "of the summary)");
   rc->add_option("--threads", cmds.render.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
   rc->add_option("--direct", cmds.render.direct, "Direct tracer mode: auto, exhaustive or bvh")
       ->check(CLI::IsMember({"auto", "exhaustive", "bvh"}));
@@ -81,7 +82,8 @@ void AddBench(CLI::App& app, Commands& cmds) {
   bc->add_option("--repetitions", b.repetitions, "Frames per configuration, scene and size; the table shows the median "
                  "(default 3)")->check(CLI::Range(1, 1000));
   bc->add_option("--threads", b.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
-  bc->add_option("--json", b.json, "Write every measurement as JSON to this file");
+  bc->add_option("--json", b.json, "Write every measurement as JSON to this file (-: to standard output, in place of "
+                 "the tables)");
   rayspace::app::AddDeviceOption(*bc, b.device);
   bc->add_flag("--progress", b.progress, "Print each frame's time on stderr (default when stderr is a terminal)");
 }

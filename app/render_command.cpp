@@ -3,8 +3,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <regex>
 
 #include <unistd.h>
 
@@ -13,6 +11,7 @@
 #include "peak_memory.h"
 #include "rayspace/error.h"
 #include "rayspace/image_io.h"
+#include "rayspace/json_text.h"
 #include "rayspace/parallel.h"
 #include "render_frame.h"
 
@@ -145,6 +144,21 @@ void PrintSummary(const RenderArgs& args, const Outcome& o) {
   if (!args.stats.empty()) std::printf("  stats       %s\n", args.stats.c_str());
 }
 
+// The image and the statistics file, checked before the frame (a bad path costs no render).
+struct RenderOutputs {
+  OutputFile image, stats;
+};
+
+RenderOutputs OpenRenderOutputs(const RenderArgs& args, const Scene& scene) {
+  RenderOutputs o;
+  const std::string image = args.out.empty() ? scene.name + ".png" : args.out;
+  CheckImageFormat(image);
+  o.image = OpenOutput(image, "the output image", &scene, false);
+  o.stats = OpenOutput(args.stats, "the statistics file", &scene);
+  CheckDistinctOutputs({&o.image, &o.stats});
+  return o;
+}
+
 }  // namespace
 
 ExitCode RunRender(const RenderArgs& args) {
@@ -152,26 +166,24 @@ ExitCode RunRender(const RenderArgs& args) {
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
   fo.progress = args.progress || isatty(STDERR_FILENO);  // progress on stderr when someone watches
-  const std::string out = args.out.empty() ? scene.name + ".png" : args.out;
-  ProbeWritable(out, "the output image");  // before the frame, leaving no file behind if the run fails
+  RenderOutputs outputs = OpenRenderOutputs(args, scene);
 
   const Backend backend = MakeRenderBackend(args);
   const SceneBuffers buffers = FlattenScene(scene);
   CheckFrameFits(backend, fo.width, fo.height, scene.lights.size(), buffers.triangles.size());
   const std::unique_ptr<RenderedFrame> f = RenderOnBackend(args, scene, buffers, fo, backend);
   const emu::FrameResult& r = f->result;
-  WriteImage(out, r.width, r.height, r.rgb);
 
   const refs::Oracle* checked = f->oracle ? &*f->oracle : nullptr;
-  const Outcome o{scene, backend, r, checked, f->oracle_ms, out, f->tracer, OracleJson(checked, f->oracle_ms),
-                  f->stats, f->phases, PeakRssBytes()};
-  if (!args.stats.empty()) {
-    std::ofstream file(args.stats);
-    if (!file) ThrowInput("{}: cannot write the statistics file", args.stats);
-    file << StatsJson(args, o).dump(2) << "\n";
-  }
+  const Outcome o{scene, backend, r, checked, f->oracle_ms, outputs.image.path(), f->tracer,
+                  OracleJson(checked, f->oracle_ms), f->stats, f->phases, PeakRssBytes()};
   PrintSummary(args, o);
-  return !checked || checked->mismatches().empty() ? ExitCode::kOk : ExitCode::kOracleMismatch;
+  const bool wrong = checked && !checked->mismatches().empty();
+  return WriteOutputs(wrong ? ExitCode::kOracleMismatch : ExitCode::kOk, [&] {
+    WriteImage(outputs.image, r.width, r.height, r.rgb);
+    outputs.stats.Write(JsonText(StatsJson(args, o)));
+    PublishAll({&outputs.image, &outputs.stats});
+  });
 }
 
 }  // namespace rayspace::app

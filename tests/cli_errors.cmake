@@ -19,47 +19,7 @@ unset(ENV{RAYSPACE_DATA})
 set(FAILURES "")
 set(CASES 0)
 
-# expect_error(NAME <case> NEEDLES <substring>... ARGS <arg>...)
-# Runs the CLI with ARGS in WORK; expects exit code 2 and one line on stderr containing every needle.
-function(expect_error)
-  cmake_parse_arguments(E "" "NAME" "NEEDLES;ARGS" ${ARGN})
-  math(EXPR n "${CASES} + 1")
-  set(CASES ${n} PARENT_SCOPE)
-  execute_process(COMMAND "${RAYSPACE}" ${E_ARGS}
-                  WORKING_DIRECTORY "${WORK}"
-                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err
-                  TIMEOUT 120)
-  set(problems "")
-  if(NOT "${rc}" STREQUAL "2")
-    list(APPEND problems "exit code '${rc}', expected 2")
-  endif()
-  # Exactly one line: ends in a newline and has no other.
-  string(REGEX MATCHALL "\n" newlines "${err}")
-  list(LENGTH newlines lines)
-  string(LENGTH "${err}" len)
-  if(len EQUAL 0)
-    list(APPEND problems "stderr is empty")
-  elseif(NOT lines EQUAL 1 OR NOT err MATCHES "\n$")
-    list(APPEND problems "stderr is not exactly one line (${lines} newlines)")
-  endif()
-  if(err MATCHES "\r")
-    list(APPEND problems "stderr contains a carriage return")
-  endif()
-  foreach(needle IN LISTS E_NEEDLES)
-    string(FIND "${err}" "${needle}" at)
-    if(at EQUAL -1)
-      list(APPEND problems "stderr does not name '${needle}'")
-    endif()
-  endforeach()
-  if(problems)
-    string(REPLACE ";" "; " problems "${problems}")
-    string(REPLACE ";" " " args "${E_ARGS}")
-    set(FAILURES "${FAILURES}\n  [${E_NAME}] rayspace ${args}\n    ${problems}\n    stderr: ${err}" PARENT_SCOPE)
-  else()
-    string(STRIP "${err}" line)
-    message(STATUS "ok: ${E_NAME}: ${line}")
-  endif()
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)  # expect_error
 
 # --- Inputs -------------------------------------------------------------------------------------
 set(CAMERA [=["camera": {"eye": [0, 0, 5], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y_deg": 45}]=])

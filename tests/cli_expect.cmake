@@ -1,0 +1,56 @@
+# expect_error for the CLI's error contract, shared by cli_errors.cmake and cli_outputs.cmake. The
+# including script sets RAYSPACE and WORK and keeps FAILURES and CASES.
+#
+# expect_error(NAME <case> NEEDLES <substring>... [ABSENT <path>...] [COMMAND <prefix>...] ARGS <arg>...)
+# Runs the CLI with ARGS in WORK (after COMMAND, e.g. a shell that sets a limit first); expects exit
+# code 2, one line on stderr containing every needle, none of the ABSENT paths afterwards and no
+# temporary output file (.NAME.tmp-*) left in WORK.
+function(expect_error)
+  cmake_parse_arguments(E "" "NAME" "NEEDLES;ARGS;ABSENT;COMMAND" ${ARGN})
+  math(EXPR n "${CASES} + 1")
+  set(CASES ${n} PARENT_SCOPE)
+  execute_process(COMMAND ${E_COMMAND} "${RAYSPACE}" ${E_ARGS}
+                  WORKING_DIRECTORY "${WORK}"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err
+                  TIMEOUT 120)
+  set(problems "")
+  if(NOT "${rc}" STREQUAL "2")
+    list(APPEND problems "exit code '${rc}', expected 2")
+  endif()
+  # Exactly one line: ends in a newline and has no other.
+  string(REGEX MATCHALL "\n" newlines "${err}")
+  list(LENGTH newlines lines)
+  string(LENGTH "${err}" len)
+  if(len EQUAL 0)
+    list(APPEND problems "stderr is empty")
+  elseif(NOT lines EQUAL 1 OR NOT err MATCHES "\n$")
+    list(APPEND problems "stderr is not exactly one line (${lines} newlines)")
+  endif()
+  if(err MATCHES "\r")
+    list(APPEND problems "stderr contains a carriage return")
+  endif()
+  foreach(needle IN LISTS E_NEEDLES)
+    string(FIND "${err}" "${needle}" at)
+    if(at EQUAL -1)
+      list(APPEND problems "stderr does not name '${needle}'")
+    endif()
+  endforeach()
+  foreach(path IN LISTS E_ABSENT)
+    if(EXISTS "${path}" OR IS_SYMLINK "${path}")
+      list(APPEND problems "left behind: ${path}")
+    endif()
+  endforeach()
+  file(GLOB temps "${WORK}/.*.tmp-*")
+  if(temps)
+    list(APPEND problems "temporary files left behind: ${temps}")
+    file(REMOVE ${temps})
+  endif()
+  if(problems)
+    string(REPLACE ";" "; " problems "${problems}")
+    string(REPLACE ";" " " args "${E_ARGS}")
+    set(FAILURES "${FAILURES}\n  [${E_NAME}] rayspace ${args}\n    ${problems}\n    stderr: ${err}" PARENT_SCOPE)
+  else()
+    string(STRIP "${err}" line)
+    message(STATUS "ok: ${E_NAME}: ${line}")
+  endif()
+endfunction()
