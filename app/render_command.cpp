@@ -159,6 +159,20 @@ RenderOutputs OpenRenderOutputs(const RenderArgs& args, const Scene& scene) {
   return o;
 }
 
+// Exit 3's reason, on stderr: the summary on stdout says how many rays, this line which came first.
+void PrintMismatchVerdict(const refs::Oracle& oracle) {
+  const refs::Disagreement& d = oracle.mismatches().front();
+  const bool shadow = d.batch.rfind("shadow", 0) == 0;  // prim holds the occluded flag there, told by the note
+  auto hit = [](std::uint32_t prim, float t) {
+    return prim == layout::kNoPrim ? std::string("miss") : fmt::format("triangle {} at t {}", prim, t);
+  };
+  const std::string what = shadow ? d.note
+                                  : fmt::format("frame {}, oracle {}{}{}", hit(d.frame_prim, d.frame_t), hit(d.oracle_prim, d.oracle_t),
+                                                d.note.empty() ? "" : ": ", d.note);
+  std::fprintf(stderr, "rayspace render: the oracle found %zu ray(s) the frame got wrong; first: %s ray %zu: %s\n",
+               oracle.mismatches().size(), d.batch.c_str(), d.ray, what.c_str());
+}
+
 }  // namespace
 
 ExitCode RunRender(const RenderArgs& args) {
@@ -179,6 +193,7 @@ ExitCode RunRender(const RenderArgs& args) {
                   OracleJson(checked, f->oracle_ms), f->stats, f->phases, PeakRssBytes()};
   PrintSummary(args, o);
   const bool wrong = checked && !checked->mismatches().empty();
+  if (wrong) PrintMismatchVerdict(*checked);
   return WriteOutputs(wrong ? ExitCode::kOracleMismatch : ExitCode::kOk, [&] {
     WriteImage(outputs.image, r.width, r.height, r.rgb);
     outputs.stats.Write(JsonText(StatsJson(args, o)));
