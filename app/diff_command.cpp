@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
 
@@ -17,6 +18,7 @@
 #include "rayspace/emu/workgroup_ops.h"
 #include "rayspace/error.h"
 #include "rayspace/gpu/passes.h"
+#include "rayspace/json_text.h"
 #include "rayspace/pass_registry.h"
 #include "rayspace/refs/embree_tracer.h"
 #include "rayspace/scene.h"
@@ -188,18 +190,18 @@ void PrintWithinSpec(const DiffTotals& d) {
 
 void PrintFirstDivergence(const verify::CallRecord* first) {
   if (first) {
-    std::printf("  first divergence: %s at %s (call %zu)\n", first->pass.c_str(), first->label.c_str(), first->seq);
-    if (!first->error.empty()) std::printf("    %s\n", first->error.c_str());
+    std::fprintf(stderr, "  first divergence: %s at %s (call %zu)\n", first->pass.c_str(), first->label.c_str(), first->seq);
+    if (!first->error.empty()) std::fprintf(stderr, "    %s\n", first->error.c_str());
     for (const BufferComparison& b : first->buffers)
-      if (!b.Equal()) std::printf("    %s\n", b.Summary().c_str());
-    if (!first->hits.empty()) std::printf("    hits: %s\n", first->hits.c_str());
-    if (!first->raster.empty()) std::printf("    raster: %s\n", first->raster.c_str());
-    if (!first->spec.empty()) std::printf("    relaxed model: %s\n", first->spec.c_str());
+      if (!b.Equal()) std::fprintf(stderr, "    %s\n", b.Summary().c_str());
+    if (!first->hits.empty()) std::fprintf(stderr, "    hits: %s\n", first->hits.c_str());
+    if (!first->raster.empty()) std::fprintf(stderr, "    raster: %s\n", first->raster.c_str());
+    if (!first->spec.empty()) std::fprintf(stderr, "    relaxed model: %s\n", first->spec.c_str());
   }
 }
 
 // The workgroup checker's reports (an emulated kernel raced, read an unwritten shared word or hit a
-// divergent barrier) on stdout, at most 10 lines, and as the report's "workgroup_checker".
+// divergent barrier) on stderr, at most 10 lines, and as the report's "workgroup_checker".
 nlohmann::json PrintCheckerReports(const wg::CheckResult& r) {
   const std::string dispatch = r.reports.empty() ? std::string("?") : r.reports.front().dispatch;
   const std::optional<PassId> pass = PassOfLabel(dispatch);
@@ -219,11 +221,11 @@ nlohmann::json PrintCheckerReports(const wg::CheckResult& r) {
     for (const wg::Report& rep : r.reports)
       if (rep.kind == k) ordered.push_back(&rep);
   }
-  std::printf("  workgroup checker: %zu report(s) in %s (pass %s): %s\n", r.reports.size() + r.dropped, dispatch.c_str(),
+  std::fprintf(stderr, "  workgroup checker: %zu report(s) in %s (pass %s): %s\n", r.reports.size() + r.dropped, dispatch.c_str(),
               j["pass"].get<std::string>().c_str(), kinds.c_str());
   for (std::size_t k = 0; k < ordered.size(); ++k) {
     const wg::Report& rep = *ordered[k];
-    if (k < 10) std::printf("    %s\n", rep.message.c_str());
+    if (k < 10) std::fprintf(stderr, "    %s\n", rep.message.c_str());
     j["reports"].push_back({{"kind", wg::ToString(rep.kind)}, {"workgroup", rep.workgroup}, {"phase", rep.phase},
                             {"array", rep.array}, {"word", rep.word}, {"invocations", {rep.inv_a, rep.inv_b}},
                             {"message", rep.message}});
@@ -231,41 +233,44 @@ nlohmann::json PrintCheckerReports(const wg::CheckResult& r) {
   return j;
 }
 
+// What the diff's frame came to.
+struct DiffOutcome {
+  emu::FrameResult frame;
+  std::string stopped;              // why the frame stopped early, or ""
+  nlohmann::json checker = nullptr; // the workgroup checker's reports, when it stopped the frame
+};
+
 // The --report file: the run, every pass's totals and every call.
-void WriteDiffReport(const DiffArgs& args, const Scene& scene, const emu::FrameOptions& fo, const Backend& gpu,
-                     const verify::Differ& differ, const nlohmann::json& passes, bool equal, const std::string& stopped,
-                     const verify::CallRecord* first, const emu::FrameResult& frame, const nlohmann::json& checker,
-                     bool relaxed, std::size_t within_spec) {
+nlohmann::json DiffReport(const DiffArgs& args, const Scene& scene, const emu::FrameOptions& fo, const Backend& gpu,
+                          const verify::Differ& differ, const nlohmann::json& passes, bool equal, const DiffOutcome& run,
+                          const verify::CallRecord* first, bool relaxed, std::size_t within_spec) {
   nlohmann::json calls = nlohmann::json::array();
   for (const verify::CallRecord& c : differ.calls()) calls.push_back(CallJson(c));
-  nlohmann::json j = {{"scene", scene.name},
-                      {"width", fo.width},
-                      {"height", fo.height},
-                      {"algorithm", args.algo},
-                      {"device", gpu.device},
-                      {"emulation_model", EmulationModel()},
-                      {"inject", args.inject},
-                      {"planted_fault_seen", args.inject.empty() ? nlohmann::json(nullptr) : nlohmann::json(!equal || within_spec > 0)},
-                      {"comparison", relaxed ? "relaxed" : "bitwise"},
-                      {"calls_within_spec", within_spec},
-                      {"local_size", args.local_size},
-                      {"subgroup_size", wg::SubgroupSize()},
-                      {"schedule", ToString(wg::GetSchedule())},
-                      {"workgroup_model", emu::WorkgroupModel()},
-                      {"workgroup_checker", checker},
-                      {"split_dispatches", gpu.extra_dispatches(gpu)},
-                      {"paged_arrays", gpu.paged_arrays(gpu)},
-                      {"passes", passes},
-                      {"calls", calls},
-                      {"host_only", {"prep (bounding spheres: per-scene preprocessing)", "rah ray order (a stable partition by light)",
-                                     args.algo == "brute" || args.algo == "embree" ? "trace (host tracer)" : "hierarchy groups (CSR offsets)"}},
-                      {"equal", equal},
-                      {"stopped", stopped.empty() ? nlohmann::json(nullptr) : nlohmann::json(stopped)},
-                      {"first_divergent_pass", first ? nlohmann::json(first->pass) : nlohmann::json(nullptr)},
-                      {"digest", equal && within_spec == 0 ? nlohmann::json(HexDigest(frame.digest.Frame())) : nlohmann::json(nullptr)}};
-  std::ofstream f(args.report);
-  if (!f) ThrowInput("{}: cannot write the report", args.report);
-  f << j.dump(2) << "\n";
+  return {{"scene", scene.name},
+          {"width", fo.width},
+          {"height", fo.height},
+          {"algorithm", args.algo},
+          {"device", gpu.device},
+          {"emulation_model", EmulationModel()},
+          {"inject", args.inject},
+          {"planted_fault_seen", args.inject.empty() ? nlohmann::json(nullptr) : nlohmann::json(!equal || within_spec > 0)},
+          {"comparison", relaxed ? "relaxed" : "bitwise"},
+          {"calls_within_spec", within_spec},
+          {"local_size", args.local_size},
+          {"subgroup_size", wg::SubgroupSize()},
+          {"schedule", ToString(wg::GetSchedule())},
+          {"workgroup_model", emu::WorkgroupModel()},
+          {"workgroup_checker", run.checker},
+          {"split_dispatches", gpu.extra_dispatches(gpu)},
+          {"paged_arrays", gpu.paged_arrays(gpu)},
+          {"passes", passes},
+          {"calls", calls},
+          {"host_only", {"prep (bounding spheres: per-scene preprocessing)", "rah ray order (a stable partition by light)",
+                         args.algo == "brute" || args.algo == "embree" ? "trace (host tracer)" : "hierarchy groups (CSR offsets)"}},
+          {"equal", equal},
+          {"stopped", run.stopped.empty() ? nlohmann::json(nullptr) : nlohmann::json(run.stopped)},
+          {"first_divergent_pass", first ? nlohmann::json(first->pass) : nlohmann::json(nullptr)},
+          {"digest", equal && within_spec == 0 ? nlohmann::json(HexDigest(run.frame.digest.Frame())) : nlohmann::json(nullptr)}};
 }
 
 // A planted fault in a frame that compared equal. A kernel-side fault the device ran without a visible
@@ -289,12 +294,75 @@ const char* CompactEmulation(const DiffArgs& args, bool hierarchy) {
   return emu::RunsWorkgroupMirror("traverse.compact") ? "; traverse.compact on its workgroup mirror" : "; traverse.compact on SIMD lanes";
 }
 
+// The frame's tracer: a hierarchy whose passes go through the Differ, or a host tracer (brute,
+// embree) whose traces are not GPU passes.
+struct DiffTracer {
+  std::unique_ptr<Tracer> host;
+  std::unique_ptr<emu::HierarchyTracer> hierarchy;
+  Tracer& get() { return hierarchy ? static_cast<Tracer&>(*hierarchy) : *host; }
+};
+
+DiffTracer MakeDiffTracer(const DiffArgs& args, const SceneBuffers& buffers, const emu::FrameOptions& fo, verify::Differ& differ) {
+  DiffTracer t;
+  if (args.algo == "brute") {
+    t.host = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);
+  } else if (args.algo == "embree") {
+    t.host = refs::MakeEmbreeTracer(buffers, 0);
+  } else {
+    emu::HierarchyConfig cfg = MakeHierarchyConfig(args, fo.width, fo.height, &differ.hierarchy());
+    cfg.fused = args.path == "fused";
+    t.hierarchy = emu::MakeHierarchyTracer(buffers, cfg);
+  }
+  return t;
+}
+
+DiffOutcome RunDiffFrame(const Scene& scene, const SceneBuffers& buffers, Tracer& tracer, const emu::FrameOptions& fo) {
+  DiffOutcome run;
+  try {
+    run.frame = emu::RenderFrame(scene, buffers, tracer, fo);
+  } catch (const verify::DiffStop& stop) {
+    run.stopped = stop.what();
+  } catch (const wg::CheckError& e) {
+    run.checker = PrintCheckerReports(e.result);
+    run.stopped = "the emulator's workgroup checker stopped the frame in " + run.checker["pass"].get<std::string>();
+  }
+  return run;
+}
+
+void PrintDiffHeader(const DiffArgs& args, const Scene& scene, const emu::FrameOptions& fo, const Backend& gpu, bool relaxed,
+                     bool hierarchy) {
+  std::printf("rayspace diff: %s (%dx%d, %s) on %s\n  emulation model: %s\n", scene.name.c_str(), fo.width, fo.height,
+              args.algo.c_str(), gpu.device.c_str(), EmulationModel().c_str());
+  std::printf("  workgroups: local size %d, subgroup size %u, schedule %s, checker %s%s\n", args.local_size,
+              wg::SubgroupSize(), ToString(wg::GetSchedule()).c_str(), wg::Checking() ? "on" : "off", CompactEmulation(args, hierarchy));
+  std::printf("  comparison: %s\n", relaxed ? "relaxed (what a conformant device may compute; docs/numerics.md)" : "bitwise");
+}
+
+// The verdict: on stdout when every pass is equal; on stderr, with the first divergence, otherwise.
+void PrintDiffVerdict(const DiffArgs& args, const Injection& injection, const DiffTotals& totals, const DiffOutcome& run,
+                      bool equal) {
+  PrintWithinSpec(totals);
+  if (equal && totals.within_spec)
+    std::printf("  all passes equal or within the spec's precision\n");
+  else if (equal)
+    std::printf("  all passes equal\n");
+  else if (totals.first)
+    std::fprintf(stderr, "rayspace diff: first divergent pass: %s\n", totals.first->pass.c_str());
+  else
+    std::fprintf(stderr, "rayspace diff: no pass compared unequal before the stop\n");
+  PrintFirstDivergence(totals.first);
+  if (!run.stopped.empty()) std::fprintf(stderr, "  stopped: %s\n", run.stopped.c_str());
+  if (equal && totals.within_spec == 0) std::printf("  frame digest %s\n", HexDigest(run.frame.digest.Frame()).c_str());
+  if (equal) PrintUnseenFault(args, injection, totals.within_spec);
+}
+
 }  // namespace
 
 ExitCode RunDiff(const DiffArgs& args) {
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
   const Injection injection = ParseInject(args.inject);
+  OutputFile report = OpenOutput(args.report, "the report", &scene);  // before the frame, as --save-inputs
   const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, injection.kernel, args.Limits(), args.kernels);
   ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
   const SceneBuffers buffers = FlattenScene(scene);
@@ -306,126 +374,143 @@ ExitCode RunDiff(const DiffArgs& args) {
   const bool relaxed = args.compare == "relaxed" || (args.compare == "auto" && !gpu.correctly_rounded);
   verify::Differ differ(expected, actual, {args.save_inputs, direct.get(), args.inject, relaxed});
   fo.passes = &differ.frame();
+  DiffTracer tracer = MakeDiffTracer(args, buffers, fo, differ);
+  PrintDiffHeader(args, scene, fo, gpu, relaxed, tracer.hierarchy != nullptr);
+  const DiffOutcome run = RunDiffFrame(scene, buffers, tracer.get(), fo);
 
-  // The frame's tracer: a hierarchy whose passes go through the Differ, or a host tracer (brute,
-  // embree) whose traces are not GPU passes.
-  std::unique_ptr<Tracer> host_tracer;
-  std::unique_ptr<emu::HierarchyTracer> hierarchy;
-  if (args.algo == "brute") {
-    host_tracer = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);
-  } else if (args.algo == "embree") {
-    host_tracer = refs::MakeEmbreeTracer(buffers, 0);
-  } else {
-    emu::HierarchyConfig cfg = MakeHierarchyConfig(args, fo.width, fo.height, &differ.hierarchy());
-    cfg.fused = args.path == "fused";
-    hierarchy = emu::MakeHierarchyTracer(buffers, cfg);
-  }
-  Tracer& tracer = hierarchy ? static_cast<Tracer&>(*hierarchy) : *host_tracer;
-
-  std::printf("rayspace diff: %s (%dx%d, %s) on %s\n  emulation model: %s\n", scene.name.c_str(), fo.width, fo.height,
-              args.algo.c_str(), gpu.device.c_str(), EmulationModel().c_str());
-  std::printf("  workgroups: local size %d, subgroup size %u, schedule %s, checker %s%s\n", args.local_size,
-              wg::SubgroupSize(), ToString(wg::GetSchedule()).c_str(), wg::Checking() ? "on" : "off", CompactEmulation(args, hierarchy != nullptr));
-  std::printf("  comparison: %s\n", relaxed ? "relaxed (what a conformant device may compute; docs/numerics.md)"
-                                             : "bitwise");
-  std::string stopped;
-  nlohmann::json checker = nullptr;  // the workgroup checker's reports, when it stopped the frame
-  emu::FrameResult frame;
-  try {
-    frame = emu::RenderFrame(scene, buffers, tracer, fo);
-  } catch (const verify::DiffStop& stop) {
-    stopped = stop.what();
-  } catch (const wg::CheckError& e) {
-    checker = PrintCheckerReports(e.result);
-    stopped = "the emulator's workgroup checker stopped the frame in " + checker["pass"].get<std::string>();
-  }
-
-  // Totals per kernel pass, in order of first appearance.
   DiffTotals totals = Totals(differ.calls());
-  const verify::CallRecord* first = totals.first;
   const nlohmann::json passes = PrintPasses(totals);
-  PrintWithinSpec(totals);
-  PrintFirstDivergence(first);
-  if (!stopped.empty()) std::printf("  stopped: %s\n", stopped.c_str());
-  const bool equal = first == nullptr && stopped.empty();
-  if (equal && totals.within_spec)
-    std::printf("  all passes equal or within the spec's precision\n");
-  else if (equal)
-    std::printf("  all passes equal\n");
-  else if (first)
-    std::printf("  first divergent pass: %s\n", first->pass.c_str());
-  else
-    std::printf("  no pass compared unequal before the stop\n");
-  if (equal && totals.within_spec == 0) std::printf("  frame digest %s\n", HexDigest(frame.digest.Frame()).c_str());
-  if (equal) PrintUnseenFault(args, injection, totals.within_spec);
+  const bool equal = totals.first == nullptr && run.stopped.empty();
+  PrintDiffVerdict(args, injection, totals, run, equal);
   std::printf("  vulkan: %zu split dispatches, %zu arrays paged over several bindings\n", gpu.extra_dispatches(gpu),
               gpu.paged_arrays(gpu));
-  if (!args.report.empty())
-    WriteDiffReport(args, scene, fo, gpu, differ, passes, equal, stopped, first, frame, checker, relaxed, totals.within_spec);
-  if (!checker.is_null()) return ExitCode::kWorkgroupFault;
-  return equal ? ExitCode::kOk : ExitCode::kDivergence;
+  const ExitCode verdict = !run.checker.is_null() ? ExitCode::kWorkgroupFault : equal ? ExitCode::kOk : ExitCode::kDivergence;
+  return WriteOutputs(verdict, [&] {
+    report.Commit(JsonText(DiffReport(args, scene, fo, gpu, differ, passes, equal, run, totals.first, relaxed, totals.within_spec)));
+  });
 }
+
+namespace {
+
+// A saved call whose inputs fail a check deep in a pass: the message names the call, the user gave
+// the directory, so the directory is named too.
+template <typename F>
+decltype(auto) InSavedCall(const std::string& where, F&& f) {
+  try {
+    return f();
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    if (m.rfind(where, 0) == 0) throw;
+    ThrowInput("{}: {}", where, m);
+  }
+}
+
+// DIR/comparison.json as diff --save-inputs wrote it, checked (CheckRecorded); null when there is none.
+nlohmann::json ReadRecorded(const std::string& dir) {
+  const std::string file = dir + "/comparison.json";
+  std::ifstream cf(file);
+  if (!cf) return nullptr;
+  nlohmann::json recorded;
+  try {
+    recorded = nlohmann::json::parse(cf);
+  } catch (const nlohmann::json::exception&) {
+    ThrowInput("{}: not valid JSON", file);
+  }
+  CheckRecorded(recorded, file);
+  return recorded;
+}
+
+// How this run compares with the one recorded: reproduced (the same verdict and the same differences)
+// or not.
+struct Reproduction {
+  bool recorded = false, same = true;
+};
+
+Reproduction CompareWithRecorded(const verify::CallRecord& r, const nlohmann::json& recorded) {
+  Reproduction rep;
+  if (recorded.is_null()) return rep;
+  rep.recorded = true;
+  rep.same = recorded.value("equal", !r.equal) == r.equal && recorded.contains("buffers") &&
+             recorded["buffers"].size() == r.buffers.size();
+  for (std::size_t i = 0; rep.same && i < r.buffers.size(); ++i) {
+    nlohmann::json now;
+    r.buffers[i].ToJson(now);
+    now["pass"] = recorded["buffers"][i].value("pass", now["pass"].get<std::string>());
+    rep.same &= now == recorded["buffers"][i];
+  }
+  return rep;
+}
+
+void PrintReplayCall(const verify::CallRecord& r) {
+  if (!r.error.empty()) std::fprintf(stderr, "  vulkan backend failed: %s\n", r.error.c_str());
+  for (const BufferComparison& b : r.buffers) std::printf("  %s\n", b.Summary().c_str());
+  if (!r.spec.empty()) std::printf("  relaxed model: %s\n", r.spec.c_str());
+  if (!r.raster.empty()) std::printf("  raster: %s\n", r.raster.c_str());
+  if (!r.equal && r.within_spec) std::printf("  every difference is within the spec's precision\n");
+}
+
+// The verdict: on stdout when the call is equal and the recording reproduced; on stderr otherwise.
+ExitCode PrintReplayVerdict(const verify::CallRecord& r, const Reproduction& rep, const nlohmann::json& recorded,
+                            const std::string& inject) {
+  if (rep.recorded && rep.same) std::printf("  recorded comparison: reproduced\n");
+  if (!rep.same) {
+    std::fprintf(stderr, "rayspace replay: recorded comparison: NOT reproduced\n");
+    const std::string rec_inject = recorded.value("inject", std::string());
+    if (rec_inject != inject)
+      std::fprintf(stderr, "  (recorded with --inject '%s', replayed with '%s')\n", rec_inject.c_str(), inject.c_str());
+    return ExitCode::kNotReproduced;
+  }
+  if (r.equal || r.within_spec) {
+    std::printf("  %s\n", r.equal ? "equal" : "within the spec's precision");
+    return ExitCode::kOk;
+  }
+  std::fprintf(stderr, "rayspace replay: divergent\n");
+  return ExitCode::kDivergence;
+}
+
+// Every file of the saved call: the report may replace none of them.
+std::vector<std::filesystem::path> SavedFiles(const std::string& dir) {
+  std::vector<std::filesystem::path> files;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(dir, ec)) files.push_back(e.path());
+  return files;
+}
+
+}  // namespace
 
 ExitCode RunReplay(const ReplayArgs& args) {
   std::string method_name;
   const verify::BufferSet in = verify::BufferSet::Load(args.dir, method_name);
-  const verify::PassMethod& method = verify::FindPassMethod(method_name);
+  const verify::PassMethod& method = InSavedCall(args.dir + "/pass.json", [&]() -> const verify::PassMethod& {
+    return verify::FindPassMethod(method_name);
+  });
   CheckSavedInputs(in, args.dir);
+  const nlohmann::json recorded = ReadRecorded(args.dir);
+  OutputOptions ro{"the report", true, true, SavedFiles(args.dir)};
+  OutputFile report = args.report.empty() ? OutputFile() : OutputFile(args.report, ro);
   const Injection injection = ParseInject(args.inject);
   const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, injection.kernel, {args.split_bytes, args.max_groups}, args.kernels);
   ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
   verify::Backends expected{emu::EmuFramePasses(), emu::EmuHierarchyPasses()};
   verify::Backends actual{gpu.Frame(), gpu.Hierarchy()};
-  verify::BufferSet out;
-  std::printf("rayspace replay: %s (%s) on %s\n", method.pass(in).c_str(), method_name.c_str(), gpu.device.c_str());
+  std::printf("rayspace replay: %s (%s) on %s\n", InSavedCall(args.dir, [&] { return method.pass(in); }).c_str(),
+              method_name.c_str(), gpu.device.c_str());
+  nlohmann::json j = {{"dir", args.dir}};
   verify::CallRecord r;
   try {
+    verify::BufferSet out;
     const bool relaxed = args.compare == "relaxed" || (args.compare == "auto" && !gpu.correctly_rounded);
-    r = verify::RunAndCompare(method, in, expected, actual, out, nullptr, relaxed);
+    r = InSavedCall(args.dir, [&] { return verify::RunAndCompare(method, in, expected, actual, out, nullptr, relaxed); });
   } catch (const wg::CheckError& e) {
-    PrintCheckerReports(e.result);
-    return ExitCode::kWorkgroupFault;
+    j["workgroup_checker"] = PrintCheckerReports(e.result);
+    return WriteOutputs(ExitCode::kWorkgroupFault, [&] { report.Commit(JsonText(j)); });
   }
-  if (!r.error.empty()) std::printf("  vulkan backend failed: %s\n", r.error.c_str());
-  for (const BufferComparison& b : r.buffers) std::printf("  %s\n", b.Summary().c_str());
-  if (!r.spec.empty()) std::printf("  relaxed model: %s\n", r.spec.c_str());
-  if (!r.raster.empty()) std::printf("  raster: %s\n", r.raster.c_str());
-  if (!r.equal && r.within_spec) std::printf("  every difference is within the spec's precision\n");
-  // The comparison the diff recorded when it saved these inputs, if present: same answer expected.
-  std::ifstream cf(args.dir + "/comparison.json");
-  nlohmann::json recorded;
-  if (cf) {
-    try {
-      recorded = nlohmann::json::parse(cf);
-    } catch (const nlohmann::json::exception&) {
-      ThrowInput("{}/comparison.json: not valid JSON", args.dir);
-    }
-    CheckRecorded(recorded, args.dir + "/comparison.json");
-    bool same = recorded.value("equal", !r.equal) == r.equal && recorded.contains("buffers") &&
-                recorded["buffers"].size() == r.buffers.size();
-    if (same) {
-      for (std::size_t i = 0; i < r.buffers.size(); ++i) {
-        nlohmann::json now;
-        r.buffers[i].ToJson(now);
-        now["pass"] = recorded["buffers"][i].value("pass", now["pass"].get<std::string>());
-        same &= now == recorded["buffers"][i];
-      }
-    }
-    std::printf("  recorded comparison: %s\n", same ? "reproduced" : "NOT reproduced");
-    const std::string rec_inject = recorded.value("inject", std::string());
-    if (!same && rec_inject != args.inject)
-      std::printf("  (recorded with --inject '%s', replayed with '%s')\n", rec_inject.c_str(), args.inject.c_str());
-    if (!same) return ExitCode::kNotReproduced;
-  }
-  std::printf("  %s\n", r.equal ? "equal" : (r.within_spec ? "within the spec's precision" : "divergent"));
-  if (!args.report.empty()) {
-    nlohmann::json j = CallJson(r);
-    j["dir"] = args.dir;
-    std::ofstream f(args.report);
-    if (!f) ThrowInput("{}: cannot write the report", args.report);
-    f << j.dump(2) << "\n";
-  }
-  return r.equal || r.within_spec ? ExitCode::kOk : ExitCode::kDivergence;
+  PrintReplayCall(r);
+  const Reproduction rep = CompareWithRecorded(r, recorded);
+  const ExitCode verdict = PrintReplayVerdict(r, rep, recorded, args.inject);
+  j.update(CallJson(r));
+  j["recorded"] = rep.recorded ? nlohmann::json{{"reproduced", rep.same}} : nlohmann::json(nullptr);
+  return WriteOutputs(verdict, [&] { report.Commit(JsonText(j)); });
 }
 
 }  // namespace rayspace::app

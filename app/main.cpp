@@ -104,7 +104,8 @@ void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
                                     "host)");
   dc->add_option("scene", cmds.diff.scene, "Scene JSON file")->required();
   rayspace::app::AddFrameOptions(*dc, cmds.diff);
-  dc->add_option("--report", cmds.diff.report, "Write the comparison as JSON to this file");
+  dc->add_option("--report", cmds.diff.report, "Write the comparison as JSON to this file (-: to standard output, in "
+                 "place of the summary)");
   dc->add_option("--inject", cmds.diff.inject, "Plant a fault in one kernel: PASS[:FAULT][@emu], FAULT a number or a "
                  "workgroup fault's name; @emu plants it in the emulated kernel (test use)");
   rayspace::app::AddLocalSizeOption(*dc, cmds.diff.local_size);
@@ -117,7 +118,8 @@ void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
       ->check(CLI::IsMember({"fused", "passes"}));
   CLI::App* pc = cmds.replay_cmd = app.add_subcommand("replay", "Run one pass call saved by diff --save-inputs on both backends and compare");
   pc->add_option("dir", cmds.replay.dir, "Directory of the saved call (DIR/NNNN-PASS)")->required();
-  pc->add_option("--report", cmds.replay.report, "Write the comparison as JSON to this file");
+  pc->add_option("--report", cmds.replay.report, "Write the comparison as JSON to this file (-: to standard output, in "
+                 "place of the summary)");
   pc->add_option("--inject", cmds.replay.inject, "Plant a fault in one kernel: PASS[:FAULT][@emu] (test use)");
   rayspace::app::AddKernelModelOptions(*pc, cmds.replay.model);
   rayspace::app::AddLocalSizeOption(*pc, cmds.replay.local_size);

@@ -101,6 +101,10 @@ function(diff_case name scene size inject expect_rc expect_first)
   if(NOT "${first}" STREQUAL "${expect_first}")
     set(failures "${failures}\n${name}: first divergent pass '${first}', expected '${expect_first}'" PARENT_SCOPE)
   endif()
+  # A divergence is a verdict: on stderr, where errors go, not only in the summary.
+  if(expect_rc EQUAL 4 AND NOT err MATCHES "rayspace diff: first divergent pass: ${expect_first}\n")
+    set(failures "${failures}\n${name}: stderr does not give the first divergent pass: ${err}" PARENT_SCOPE)
+  endif()
 endfunction()
 
 # checker_case(NAME SCENE SIZE INJECT PASS [diff options...]): a fault planted in an emulated kernel
@@ -113,7 +117,7 @@ function(checker_case name scene size inject pass)
   execute_process(COMMAND "${RAYSPACE}" diff "${path}" --data "${DATA}" --size ${size} --inject ${inject}
                           --report "${case_work}/report.json" ${ARGN}
                   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 6 OR NOT out MATCHES "workgroup checker: [0-9]+ report\\(s\\) in ${pass}\\.[A-Za-z]+ \\(pass ${pass}\\)")
+  if(NOT rc EQUAL 6 OR NOT err MATCHES "workgroup checker: [0-9]+ report\\(s\\) in ${pass}\\.[A-Za-z]+ \\(pass ${pass}\\)")
     set(failures "${failures}\n${name}: exit ${rc}, expected 6 and the checker naming ${pass}: ${out}${err}" PARENT_SCOPE)
     return()
   endif()
@@ -466,6 +470,63 @@ if(run)
   string(REPEAT "${del}" ${bytes} tris)
   file(WRITE "${case_work}/set/scene.triangles.bin" "${tris}")
   replay_check("${case_work}/set" 2 "scene.triangles.bin: triangle 0 leaves the coordinate domain")
+endif()
+
+# A call that pass.json names with an unknown method, and a saved raygen call whose ray kind was edited:
+# bad input naming the saved call's file or directory.
+case_selected(replay.unknown-method run)
+if(run)
+  file(MAKE_DIRECTORY "${case_work}/warp")
+  file(WRITE "${case_work}/warp/pass.json" "{\"method\": \"warp\", \"buffers\": {}}")
+  execute_process(COMMAND "${RAYSPACE}" replay "${case_work}/warp" RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+  if(NOT rc EQUAL 2 OR NOT err MATCHES "^rayspace: error: ${case_work}/warp/pass.json: unknown pass method 'warp'[^\n]*\n$")
+    set(failures "${failures}\nreplay.unknown-method: exit ${rc}, stderr '${err}'")
+  endif()
+endif()
+case_selected(replay.bad-kind run)
+set(cli_diff_after_save ${cli_diff_after_save} replay.bad-kind)
+if(run)
+  file(GLOB raygen_dir "${WORK}/saved/*-raygen.shadow.b0")
+  file(COPY "${raygen_dir}/" DESTINATION "${case_work}/set")
+  file(READ "${case_work}/set/pass.json" pass)
+  string(JSON pass SET "${pass}" scalars kind 9)
+  file(WRITE "${case_work}/set/pass.json" "${pass}")
+  execute_process(COMMAND "${RAYSPACE}" replay "${case_work}/set" RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+  if(NOT rc EQUAL 2 OR NOT err MATCHES "^rayspace: error: ${case_work}/set: [^\n]*'kind' = 9[^\n]*\n$")
+    set(failures "${failures}\nreplay.bad-kind: exit ${rc}, stderr '${err}'")
+  endif()
+endif()
+
+# Outputs: the report's path is checked before the frame (with --device 63 as the next error, the
+# message must name the report); a report whose late write fails (a file size limit) keeps the
+# divergence's exit 4; --report - is standard output.
+case_selected(report.nodir run)
+if(run)
+  execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --report "${case_work}/nodir/r.json"
+                          --device 63
+                  RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+  if(NOT rc EQUAL 2 OR NOT err MATCHES "^rayspace: error: ${case_work}/nodir/r.json: cannot write the report[^\n]*\n$")
+    set(failures "${failures}\nreport.nodir: exit ${rc}, stderr '${err}'")
+  endif()
+endif()
+case_selected(report.late-failure run)
+if(run)
+  execute_process(COMMAND sh -c "trap '' XFSZ\nulimit -f 4\nexec \"$0\" \"$@\"" "${RAYSPACE}" diff
+                          "${SRC}/scenes/cornell-mirrors.json" --size 32x32 --inject raster:1 --report "${case_work}/r.json"
+                  RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+  file(GLOB left "${case_work}/r.json" "${case_work}/.r.json.tmp-*")
+  if(NOT rc EQUAL 4 OR NOT err MATCHES "r.json: cannot write the report: File too large" OR left)
+    set(failures "${failures}\nreport.late-failure: exit ${rc} (expected 4), left behind '${left}', stderr '${err}'")
+  endif()
+endif()
+case_selected(report.stdout run)
+if(run)
+  execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 32x32 --report -
+                  WORKING_DIRECTORY "${case_work}" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  string(JSON equal ERROR_VARIABLE jerr GET "${out}" equal)
+  if(NOT rc EQUAL 0 OR jerr OR NOT equal OR EXISTS "${case_work}/-")
+    set(failures "${failures}\nreport.stdout: exit ${rc}, 'equal' ${equal} (${jerr}): ${out}${err}")
+  endif()
 endif()
 
 # A device index that does not exist is bad input: exit 2 and one line naming the option.

@@ -63,6 +63,8 @@ class Differ {
   void SetLabel(const std::string& label) { label_ = label; }
 
  private:
+  // Writes the call's comparison and inputs under options_.save_dir; sets r.saved.
+  void Save(CallRecord& r, const BufferSet& in, const std::string& method_name) const;
   Backends expected_, actual_;
   DiffOptions options_;
   std::string label_;
