@@ -3,8 +3,10 @@
 #include "cli_util.h"
 #include "kernel_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -270,6 +272,7 @@ nlohmann::json DiffReport(const DiffArgs& args, const Scene& scene, const emu::F
           {"equal", equal},
           {"stopped", run.stopped.empty() ? nlohmann::json(nullptr) : nlohmann::json(run.stopped)},
           {"first_divergent_pass", first ? nlohmann::json(first->pass) : nlohmann::json(nullptr)},
+          {"saved_inputs", args.save_inputs.empty() ? nlohmann::json(nullptr) : nlohmann::json(args.save_inputs)},
           {"digest", equal && within_spec == 0 ? nlohmann::json(HexDigest(run.frame.digest.Frame())) : nlohmann::json(nullptr)}};
 }
 
@@ -292,6 +295,42 @@ void PrintUnseenFault(const DiffArgs& args, const Injection& injection, std::siz
 const char* CompactEmulation(const DiffArgs& args, bool hierarchy) {
   if (!hierarchy || args.path != "fused") return "";
   return emu::RunsWorkgroupMirror("traverse.compact") ? "; traverse.compact on its workgroup mirror" : "; traverse.compact on SIMD lanes";
+}
+
+// Every option of a diff (or a replay) that changes what a pass call computes or how it is compared,
+// recorded beside each saved call so that `replay` reruns the call as the diff ran it.
+template <typename Args>
+nlohmann::json RecordedOptions(const Args& args, const Backend& gpu) {
+  nlohmann::json kernels = nlohmann::json::array();
+  for (const std::string& k : args.kernels) {  // PASS=FILE with FILE made absolute: replay may run elsewhere
+    const auto eq = k.find('=');
+    kernels.push_back(eq == std::string::npos ? k : k.substr(0, eq + 1) + std::filesystem::absolute(k.substr(eq + 1)).string());
+  }
+  return {{"split_bytes", args.split_bytes},   {"max_groups", args.max_groups},
+          {"local_size", args.local_size},     {"inject", args.inject},
+          {"compare", args.compare},           {"schedule", args.model.schedule},
+          {"check_workgroups", args.model.check}, {"strict_math", vk::Context::StrictMath()},
+          {"kernels", kernels},                {"device", gpu.device}};
+}
+
+// --save-inputs: a new or empty directory, so that the calls of different runs never mix, in which a
+// file can be created.
+void PrepareSaveDir(const std::string& dir) {
+  namespace fs = std::filesystem;
+  if (dir.empty()) return;
+  std::error_code ec;
+  const fs::file_status st = fs::status(dir, ec);
+  if (fs::exists(st) && !fs::is_directory(st)) ThrowInput("--save-inputs {}: not a directory", dir);
+  if (fs::exists(st)) {
+    const bool empty = fs::is_empty(dir, ec);
+    if (ec) ThrowInput("--save-inputs {}: cannot read the directory ({})", dir, ec.message());
+    if (!empty)
+      ThrowInput("--save-inputs {}: the directory is not empty; give a new or empty one, so that the saved calls of "
+                 "different runs do not mix", dir);
+  }
+  fs::create_directories(dir, ec);
+  if (ec) ThrowInput("--save-inputs {}: cannot create the directory ({})", dir, ec.message());
+  OpenOutput(dir + "/pass.json", "the saved inputs", nullptr, false);  // its temporary file goes again
 }
 
 // The frame's tracer: a hierarchy whose passes go through the Differ, or a host tracer (brute,
@@ -338,9 +377,22 @@ void PrintDiffHeader(const DiffArgs& args, const Scene& scene, const emu::FrameO
   std::printf("  comparison: %s\n", relaxed ? "relaxed (what a conformant device may compute; docs/numerics.md)" : "bitwise");
 }
 
+// Why the planted fault could not fire in this frame, or "" (also when the frame stopped early: the
+// passes after the stop did not get their chance).
+std::string DiffFaultCannotFire(const DiffArgs& args, const Injection& injection, const verify::Differ& differ,
+                                const Backend& gpu, const DiffOutcome& run) {
+  if (args.inject.empty() || !run.stopped.empty()) return {};
+  FaultFacts facts;
+  for (const verify::CallRecord& c : differ.calls()) facts.passes.insert(c.pass);
+  facts.split = gpu.extra_dispatches(gpu) + gpu.paged_arrays(gpu) > 0;
+  facts.rows = gpu.folded_launches(gpu) > 0;
+  facts.scan = args.reduction == "scan";
+  return FaultCannotFire(args.inject, injection, facts);
+}
+
 // The verdict: on stdout when every pass is equal; on stderr, with the first divergence, otherwise.
 void PrintDiffVerdict(const DiffArgs& args, const Injection& injection, const DiffTotals& totals, const DiffOutcome& run,
-                      bool equal) {
+                      bool equal, const std::string& cannot_fire) {
   PrintWithinSpec(totals);
   if (equal && totals.within_spec)
     std::printf("  all passes equal or within the spec's precision\n");
@@ -353,7 +405,18 @@ void PrintDiffVerdict(const DiffArgs& args, const Injection& injection, const Di
   PrintFirstDivergence(totals.first);
   if (!run.stopped.empty()) std::fprintf(stderr, "  stopped: %s\n", run.stopped.c_str());
   if (equal && totals.within_spec == 0) std::printf("  frame digest %s\n", HexDigest(run.frame.digest.Frame()).c_str());
-  if (equal) PrintUnseenFault(args, injection, totals.within_spec);
+  if (!cannot_fire.empty())
+    std::fprintf(stderr, "rayspace diff: warning: %s\n", cannot_fire.c_str());
+  else if (equal)
+    PrintUnseenFault(args, injection, totals.within_spec);
+}
+
+void PrintSavedInputs(const DiffArgs& args, const verify::Differ& differ) {
+  if (args.save_inputs.empty()) return;
+  std::size_t saved = 0;
+  for (const verify::CallRecord& c : differ.calls()) saved += !c.saved.empty();
+  std::printf("  inputs saved: %zu call%s in %s (rayspace replay %s/NNNN-PASS)\n", saved, saved == 1 ? "" : "s",
+              args.save_inputs.c_str(), args.save_inputs.c_str());
 }
 
 }  // namespace
@@ -367,12 +430,13 @@ ExitCode RunDiff(const DiffArgs& args) {
   ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
   const SceneBuffers buffers = FlattenScene(scene);
   CheckFrameFits(gpu, fo.width, fo.height, scene.lights.size(), buffers.triangles.size());
+  PrepareSaveDir(args.save_inputs);  // last: it creates the directory
   auto direct = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);
 
   verify::Backends expected{emu::EmuFramePasses(), emu::EmuHierarchyPasses()};
   verify::Backends actual{gpu.Frame(), gpu.Hierarchy()};
   const bool relaxed = args.compare == "relaxed" || (args.compare == "auto" && !gpu.correctly_rounded);
-  verify::Differ differ(expected, actual, {args.save_inputs, direct.get(), args.inject, relaxed});
+  verify::Differ differ(expected, actual, {args.save_inputs, direct.get(), args.inject, relaxed, RecordedOptions(args, gpu)});
   fo.passes = &differ.frame();
   DiffTracer tracer = MakeDiffTracer(args, buffers, fo, differ);
   PrintDiffHeader(args, scene, fo, gpu, relaxed, tracer.hierarchy != nullptr);
@@ -381,9 +445,10 @@ ExitCode RunDiff(const DiffArgs& args) {
   DiffTotals totals = Totals(differ.calls());
   const nlohmann::json passes = PrintPasses(totals);
   const bool equal = totals.first == nullptr && run.stopped.empty();
-  PrintDiffVerdict(args, injection, totals, run, equal);
+  PrintDiffVerdict(args, injection, totals, run, equal, DiffFaultCannotFire(args, injection, differ, gpu, run));
   std::printf("  vulkan: %zu split dispatches, %zu arrays paged over several bindings\n", gpu.extra_dispatches(gpu),
               gpu.paged_arrays(gpu));
+  PrintSavedInputs(args, differ);
   const ExitCode verdict = !run.checker.is_null() ? ExitCode::kWorkgroupFault : equal ? ExitCode::kOk : ExitCode::kDivergence;
   return WriteOutputs(verdict, [&] {
     report.Commit(JsonText(DiffReport(args, scene, fo, gpu, differ, passes, equal, run, totals.first, relaxed, totals.within_spec)));
@@ -420,10 +485,71 @@ nlohmann::json ReadRecorded(const std::string& dir) {
   return recorded;
 }
 
-// How this run compares with the one recorded: reproduced (the same verdict and the same differences)
-// or not.
+// options.KEY of the recording into `field`, unless the command line gave `option`; the value must be
+// of the JSON type `is` accepts and pass `ok`. Returns whether it was applied.
+template <typename T, typename Is, typename Ok>
+bool Reapply(const nlohmann::json& options, const char* key, const ReplayArgs& given, const char* option, T& field,
+             const std::string& file, Is is, Ok ok) {
+  if (!options.contains(key) || given.given.count(option)) return false;
+  const nlohmann::json& v = options[key];
+  if (!is(v) || !ok(v.get<T>())) ThrowInput("{}: options.{} = {} is not a value {} takes", file, key, v.dump(), option);
+  const bool changed = v.get<T>() != field;
+  field = v.get<T>();
+  return changed;
+}
+
+// The options the diff recorded beside the call, each applied unless the command line gives it, so that
+// the call runs as the diff ran it. Returns the applied ones as a command line, for the summary.
+std::string ApplyRecordedOptions(const nlohmann::json& recorded, const std::string& file, ReplayArgs& args) {
+  if (!recorded.is_object() || !recorded.contains("options")) return {};
+  const nlohmann::json& o = recorded["options"];
+  const auto uint = [](const nlohmann::json& v) { return v.is_number_unsigned(); };
+  const auto uint32 = [](const nlohmann::json& v) { return v.is_number_unsigned() && v.get<std::uint64_t>() <= UINT32_MAX; };
+  const auto str = [](const nlohmann::json& v) { return v.is_string(); };
+  const auto boolean = [](const nlohmann::json& v) { return v.is_boolean(); };
+  const auto valid = [](auto check) {
+    return [check](const auto& v) {
+      try {
+        check(v);
+        return true;
+      } catch (const InputError&) {
+        return false;
+      }
+    };
+  };
+  std::string applied;
+  if (Reapply(o, "split_bytes", args, "--split-bytes", args.split_bytes, file, uint,
+              [](std::size_t v) { return v == 0 || (v >= 4096 && v <= (std::size_t{1} << 40)); }))
+    applied += fmt::format(" --split-bytes {}", args.split_bytes);
+  if (Reapply(o, "max_groups", args, "--max-groups", args.max_groups, file, uint32, [](std::uint32_t v) { return v <= 65535; }))
+    applied += fmt::format(" --max-groups {}", args.max_groups);
+  if (Reapply(o, "local_size", args, "--local-size", args.local_size, file, uint32, [](int v) { return v >= 1 && v <= 1024; }))
+    applied += fmt::format(" --local-size {}", args.local_size);
+  if (Reapply(o, "inject", args, "--inject", args.inject, file, str, valid([](const std::string& v) { ParseInject(v); })))
+    applied += fmt::format(" --inject '{}'", args.inject);
+  if (Reapply(o, "compare", args, "--compare", args.compare, file, str,
+              [](const std::string& v) { return v == "auto" || v == "bitwise" || v == "relaxed"; }))
+    applied += fmt::format(" --compare {}", args.compare);
+  if (Reapply(o, "schedule", args, "--schedule", args.model.schedule, file, str, valid([](const std::string& v) { ParseSchedule(v); })))
+    applied += fmt::format(" --schedule {}", args.model.schedule);
+  if (Reapply(o, "check_workgroups", args, "--check-workgroups", args.model.check, file, boolean, [](bool) { return true; }))
+    applied += args.model.check ? " --check-workgroups" : " --no-check-workgroups";
+  if (Reapply(o, "kernels", args, "--kernel", args.kernels, file,
+              [](const nlohmann::json& v) { return v.is_array() && std::all_of(v.begin(), v.end(), [](const auto& e) { return e.is_string(); }); },
+              [](const KernelFiles&) { return true; }))
+    for (const std::string& k : args.kernels) applied += " --kernel " + k;
+  bool strict = vk::Context::StrictMath();
+  if (Reapply(o, "strict_math", args, "--strict-math", strict, file, boolean, [](bool) { return true; }) && strict) {
+    vk::Context::SetStrictMath(true);
+    applied += " --strict-math";
+  }
+  return applied;
+}
+
+// How this run compares with the one recorded: reproduced (the same verdict and the same differences),
+// or not, and then whether a recorded divergence is gone.
 struct Reproduction {
-  bool recorded = false, same = true;
+  bool recorded = false, same = true, now_equal = false;
 };
 
 Reproduction CompareWithRecorded(const verify::CallRecord& r, const nlohmann::json& recorded) {
@@ -438,6 +564,7 @@ Reproduction CompareWithRecorded(const verify::CallRecord& r, const nlohmann::js
     now["pass"] = recorded["buffers"][i].value("pass", now["pass"].get<std::string>());
     rep.same &= now == recorded["buffers"][i];
   }
+  rep.now_equal = !rep.same && !recorded.value("equal", true) && r.equal;
   return rep;
 }
 
@@ -454,7 +581,8 @@ ExitCode PrintReplayVerdict(const verify::CallRecord& r, const Reproduction& rep
                             const std::string& inject) {
   if (rep.recorded && rep.same) std::printf("  recorded comparison: reproduced\n");
   if (!rep.same) {
-    std::fprintf(stderr, "rayspace replay: recorded comparison: NOT reproduced\n");
+    std::fprintf(stderr, "rayspace replay: recorded comparison: NOT reproduced%s\n",
+                 rep.now_equal ? ", now equal: the recorded divergence is gone" : "");
     const std::string rec_inject = recorded.value("inject", std::string());
     if (rec_inject != inject)
       std::fprintf(stderr, "  (recorded with --inject '%s', replayed with '%s')\n", rec_inject.c_str(), inject.c_str());
@@ -468,6 +596,15 @@ ExitCode PrintReplayVerdict(const verify::CallRecord& r, const Reproduction& rep
   return ExitCode::kDivergence;
 }
 
+FaultFacts ReplayFacts(const verify::BufferSet& in, const verify::PassMethod& method, const Backend& gpu) {
+  FaultFacts facts;
+  facts.passes.insert(method.pass(in));
+  facts.split = gpu.extra_dispatches(gpu) + gpu.paged_arrays(gpu) > 0;
+  facts.rows = gpu.folded_launches(gpu) > 0;
+  facts.scan = method.method == "reduce" && in.scalars.is_object() && in.scalars.value("reduction", 0) == 1;
+  return facts;
+}
+
 // Every file of the saved call: the report may replace none of them.
 std::vector<std::filesystem::path> SavedFiles(const std::string& dir) {
   std::vector<std::filesystem::path> files;
@@ -478,7 +615,9 @@ std::vector<std::filesystem::path> SavedFiles(const std::string& dir) {
 
 }  // namespace
 
-ExitCode RunReplay(const ReplayArgs& args) {
+// The recording is read before the backend exists: its options decide how the backend is made.
+ExitCode RunReplay(const ReplayArgs& given) {
+  ReplayArgs args = given;
   std::string method_name;
   const verify::BufferSet in = verify::BufferSet::Load(args.dir, method_name);
   const verify::PassMethod& method = InSavedCall(args.dir + "/pass.json", [&]() -> const verify::PassMethod& {
@@ -486,6 +625,7 @@ ExitCode RunReplay(const ReplayArgs& args) {
   });
   CheckSavedInputs(in, args.dir);
   const nlohmann::json recorded = ReadRecorded(args.dir);
+  const std::string applied = ApplyRecordedOptions(recorded, args.dir + "/comparison.json", args);
   OutputOptions ro{"the report", true, true, SavedFiles(args.dir)};
   OutputFile report = args.report.empty() ? OutputFile() : OutputFile(args.report, ro);
   const Injection injection = ParseInject(args.inject);
@@ -495,7 +635,8 @@ ExitCode RunReplay(const ReplayArgs& args) {
   verify::Backends actual{gpu.Frame(), gpu.Hierarchy()};
   std::printf("rayspace replay: %s (%s) on %s\n", InSavedCall(args.dir, [&] { return method.pass(in); }).c_str(),
               method_name.c_str(), gpu.device.c_str());
-  nlohmann::json j = {{"dir", args.dir}};
+  if (!applied.empty()) std::printf("  as recorded:%s\n", applied.c_str());
+  nlohmann::json j = {{"dir", args.dir}, {"options", RecordedOptions(args, gpu)}};
   verify::CallRecord r;
   try {
     verify::BufferSet out;
@@ -506,10 +647,12 @@ ExitCode RunReplay(const ReplayArgs& args) {
     return WriteOutputs(ExitCode::kWorkgroupFault, [&] { report.Commit(JsonText(j)); });
   }
   PrintReplayCall(r);
+  if (const std::string why = FaultCannotFire(args.inject, injection, ReplayFacts(in, method, gpu)); !why.empty())
+    std::fprintf(stderr, "rayspace replay: warning: %s\n", why.c_str());
   const Reproduction rep = CompareWithRecorded(r, recorded);
   const ExitCode verdict = PrintReplayVerdict(r, rep, recorded, args.inject);
   j.update(CallJson(r));
-  j["recorded"] = rep.recorded ? nlohmann::json{{"reproduced", rep.same}} : nlohmann::json(nullptr);
+  j["recorded"] = rep.recorded ? nlohmann::json{{"reproduced", rep.same}, {"now_equal", rep.now_equal}} : nlohmann::json(nullptr);
   return WriteOutputs(verdict, [&] { report.Commit(JsonText(j)); });
 }
 

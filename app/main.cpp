@@ -109,7 +109,8 @@ void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
   dc->add_option("--inject", cmds.diff.inject, "Plant a fault in one kernel: PASS[:FAULT][@emu], FAULT a number or a "
                  "workgroup fault's name; @emu plants it in the emulated kernel (test use)");
   rayspace::app::AddLocalSizeOption(*dc, cmds.diff.local_size);
-  dc->add_option("--save-inputs", cmds.diff.save_inputs, "Write every pass call's inputs to DIR/NNNN-PASS/ (for replay)");
+  dc->add_option("--save-inputs", cmds.diff.save_inputs, "Write every pass call's inputs and options to DIR/NNNN-PASS/ "
+                 "(for replay); DIR must be new or empty");
   AddCompareOption(*dc, cmds.diff.compare);
   dc->add_option("--path", cmds.diff.path,
                  "Hierarchy traversal: passes (traverse then reduce, default) or fused (traverse.compact, what render "
@@ -117,16 +118,29 @@ void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
                  "schedule asks for its SIMD lanes)")
       ->check(CLI::IsMember({"fused", "passes"}));
   CLI::App* pc = cmds.replay_cmd = app.add_subcommand("replay", "Run one pass call saved by diff --save-inputs on both backends and compare");
-  pc->add_option("dir", cmds.replay.dir, "Directory of the saved call (DIR/NNNN-PASS)")->required();
+  pc->add_option("dir", cmds.replay.dir, "Directory of the saved call (DIR/NNNN-PASS); the options the diff ran it "
+                 "with (--split-bytes, --max-groups, --local-size, --inject, --compare, --schedule, --check-workgroups, "
+                 "--kernel, --strict-math) apply unless given here")->required();
   pc->add_option("--report", cmds.replay.report, "Write the comparison as JSON to this file (-: to standard output, in "
                  "place of the summary)");
-  pc->add_option("--inject", cmds.replay.inject, "Plant a fault in one kernel: PASS[:FAULT][@emu] (test use)");
+  pc->add_option("--inject", cmds.replay.inject, "Plant a fault in one kernel: PASS[:FAULT][@emu], or none (default: the "
+                 "fault the diff planted when it saved the call; test use)");
   rayspace::app::AddKernelModelOptions(*pc, cmds.replay.model);
   rayspace::app::AddLocalSizeOption(*pc, cmds.replay.local_size);
   AddCompareOption(*pc, cmds.replay.compare);
   rayspace::app::AddKernelOption(*pc, cmds.replay.kernels);
   rayspace::app::AddDeviceOption(*pc, cmds.replay.device);
   rayspace::app::AddLimitOptions(*pc, cmds.replay.split_bytes, cmds.replay.max_groups);
+}
+#endif
+
+#ifdef RAYSPACE_HAVE_VULKAN
+// The replay options the command line gives; the rest come from the saved call's recording.
+void NoteGivenReplayOptions(Commands& cmds) {
+  if (!cmds.replay_cmd->parsed()) return;
+  for (const CLI::Option* o : cmds.replay_cmd->get_options())
+    if (o->count() > 0) cmds.replay.given.insert(o->get_name());
+  if (cmds.strict_math) cmds.replay.given.insert("--strict-math");
 }
 #endif
 
@@ -177,6 +191,7 @@ int main(int argc, char** argv) {
   }
   rayspace::wg::SetChecking(false);  // unless a command asks: --check-workgroups, an @emu fault
 #ifdef RAYSPACE_HAVE_VULKAN
+  NoteGivenReplayOptions(cmds);
   if (cmds.validate) rayspace::vk::SetValidation(true);
   rayspace::vk::Context::SetStrictMath(cmds.strict_math);
 #endif

@@ -163,7 +163,8 @@ void Differ::Save(CallRecord& r, const BufferSet& in, const std::string& method_
     c.ToJson(j);
     cj.push_back(j);
   }
-  const nlohmann::json comparison = {{"pass", r.pass}, {"label", r.label}, {"inject", options_.inject}, {"equal", r.equal}, {"buffers", cj}};
+  const nlohmann::json comparison = {{"pass", r.pass},   {"label", r.label}, {"inject", options_.inject},
+                                     {"equal", r.equal}, {"buffers", cj},    {"options", options_.options}};
   // Before the inputs: BufferSet::Save writes pass.json last, so a call whose pass.json exists is whole.
   OutputFile(r.saved + "/comparison.json", {"a saved comparison", false, false, {}}).Commit(JsonText(comparison));
   in.Save(r.saved, method_name);
