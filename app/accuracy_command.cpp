@@ -19,6 +19,7 @@ ExitCode RunAccuracy(const AccuracyArgs& args) {
   std::error_code ec;
   std::filesystem::create_directories(args.out, ec);
   if (ec) ThrowInput("{}: cannot create the output directory ({})", args.out, ec.message());
+  accuracy::ReportFiles files = accuracy::OpenReportFiles(args.out, scene);
   const SceneBuffers b = FlattenScene(scene);
 
   // 1. The workload: queries sampled from a CRSH frame, and near-boundary variants of them.
@@ -37,7 +38,7 @@ ExitCode RunAccuracy(const AccuracyArgs& args) {
     report.tri_e2e = accuracy::TriEndToEnd(scene, b, fo);
   }
   // 5. Report: markdown, CSV, plot.
-  accuracy::WriteReport(args.out, report);
+  accuracy::WriteReport(files, report);
   return ExitCode::kOk;
 }
 

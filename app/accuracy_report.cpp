@@ -4,20 +4,20 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <fmt/format.h>
 
 #include "rayspace/error.h"
+#include "rayspace/image_io.h"
 
 namespace rayspace::app::accuracy {
 namespace {
 
 // ---- the plot: error rate against time per test, log-log ---------------------------------------------
 
-void Plot(const std::filesystem::path& path, const std::string& title, const std::vector<Row>& rows) {
+void Plot(OutputFile& file, const std::string& title, const std::vector<Row>& rows) {
   using namespace OIIO;
   const int W = 900, H = 620, L = 90, R = 330, T = 70, B = 70;
   ImageBuf img(ImageSpec(W, H, 3, TypeDesc::UINT8));
@@ -77,7 +77,9 @@ void Plot(const std::filesystem::path& path, const std::string& title, const std
   }
   for (std::size_t m = 0; m < seen.size(); ++m) text(W - R + 2, T + 130 + 20 * static_cast<int>(m), fmt::format("{}", m + 1), 12, black);
   if (!text_ok) std::fprintf(stderr, "rayspace accuracy: warning: no font at %s (install fonts-dejavu-core); the plot has no labels\n", font.c_str());
-  if (!img.write(path.string())) ThrowInput("{}: cannot write the plot ({})", path.string(), img.geterror());
+  std::vector<std::uint8_t> rgb(static_cast<std::size_t>(W) * H * 3);
+  if (!img.get_pixels(img.roi(), TypeDesc::UINT8, rgb.data())) ThrowInput("{}: cannot draw the plot ({})", file.path(), img.geterror());
+  WriteImage(file, W, H, rgb);
 }
 
 // The table of modes: one row per mode and query set, numbered by mode as in the plot.
@@ -122,18 +124,27 @@ void AppendEndToEnd(const Report& rep, std::string& md, std::string& csv) {
 
 }  // namespace
 
-void WriteReport(const std::string& dir, const Report& rep) {
+ReportFiles OpenReportFiles(const std::string& dir, const Scene& scene) {
+  ReportFiles f;
+  f.base = (std::filesystem::path(dir) / (scene.name + "-accuracy")).string();
+  f.md = OutputFile(f.base + ".md", {"the accuracy table", false, true, scene.files});
+  f.csv = OutputFile(f.base + ".csv", {"the accuracy CSV", false, true, scene.files});
+  f.png = OutputFile(f.base + ".png", {"the accuracy plot", false, true, scene.files});
+  return f;
+}
+
+void WriteReport(ReportFiles& files, const Report& rep) {
   const Workload& w = *rep.workload;
-  const std::filesystem::path base = std::filesystem::path(dir) / (rep.scene + "-accuracy");
   std::string md = fmt::format("### {} ({}x{}, crsh)\n\nQueries sampled uniformly from the frame's own work: {} cone-sphere tests of {} and {} ray-triangle tests of {}; near-boundary sets move each sphere to touch the bundle (radius within 2^-20 of the distance) and aim each ray at an edge (2^-22 of the edge across it). FN: the mode says miss where the exact answer is hit; FP: the reverse. Time: median of three passes, one thread.\n\n",
                                rep.scene, rep.width, rep.height, w.cones.size(), w.cones_seen, w.tris.size(), w.tris_seen);
   std::string csv = "scene,test,set,mode,queries,ns_per_test,false_negatives,false_positives,in_plane\n";
   AppendModeRows(rep.scene, rep.rows, md, csv);
   AppendEndToEnd(rep, md, csv);
-  std::ofstream(base.string() + ".md") << md;
-  std::ofstream(base.string() + ".csv") << csv;
-  Plot(base.string() + ".png", fmt::format("{}: errors against time per test", rep.scene), rep.rows);
-  std::printf("%s\n  wrote %s.md, .csv, .png\n", md.c_str(), base.string().c_str());
+  files.md.Write(md);
+  files.csv.Write(csv);
+  Plot(files.png, fmt::format("{}: errors against time per test", rep.scene), rep.rows);
+  PublishAll({&files.md, &files.csv, &files.png});
+  std::printf("%s\n  wrote %s.md, .csv, .png\n", md.c_str(), files.base.c_str());
 }
 
 }  // namespace rayspace::app::accuracy

@@ -6,6 +6,8 @@
 
 #include "accuracy_measure.h"
 #include "accuracy_sampler.h"
+#include "rayspace/output_file.h"
+#include "rayspace/scene.h"
 
 namespace rayspace::app::accuracy {
 
@@ -17,7 +19,14 @@ struct Report {
   std::vector<EndToEnd> cone_e2e, tri_e2e;  // empty: not measured
 };
 
-// Writes DIR/<scene>-accuracy.{md,csv,png} and prints the markdown and the files written.
-void WriteReport(const std::string& dir, const Report& report);
+// DIR/<scene>-accuracy.{md,csv,png}, opened (and so checked) before the measurements.
+struct ReportFiles {
+  std::string base;  // DIR/<scene>-accuracy
+  OutputFile md, csv, png;
+};
+ReportFiles OpenReportFiles(const std::string& dir, const Scene& scene);
+
+// Writes the three files and prints the markdown and the files written.
+void WriteReport(ReportFiles& files, const Report& report);
 
 }  // namespace rayspace::app::accuracy

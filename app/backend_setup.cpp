@@ -101,6 +101,9 @@ Backend MakeBackend(const std::string& name, int device, int local_size, const s
     return static_cast<const VulkanOwner*>(be.owner.get())->gpu->extra_dispatches();
   };
   b.paged_arrays = [](const Backend& be) { return static_cast<const VulkanOwner*>(be.owner.get())->gpu->paged_arrays(); };
+  b.folded_launches = [](const Backend& be) {
+    return static_cast<const VulkanOwner*>(be.owner.get())->gpu->context().folded_launches();
+  };
   return b;
 #else
   (void)device;

@@ -21,6 +21,7 @@ struct Backend {
   emu::FramePasses& Frame() const { return frame ? *frame : emu::EmuFramePasses(); }
   std::size_t (*extra_dispatches)(const Backend&) = nullptr;  // split dispatches so far (vulkan)
   std::size_t (*paged_arrays)(const Backend&) = nullptr;      // arrays bound over several pages (vulkan)
+  std::size_t (*folded_launches)(const Backend&) = nullptr;   // launches folded into rows of workgroups (vulkan)
   emu::HierarchyPasses& Hierarchy() const { return hierarchy ? *hierarchy : emu::EmuHierarchyPasses(); }
 };
 

@@ -2,7 +2,6 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <utility>
 
@@ -16,6 +15,7 @@
 #include "cli_util.h"
 #include "rayspace/error.h"
 #include "rayspace/input_file.h"
+#include "rayspace/json_text.h"
 #include "rayspace/parallel.h"
 
 namespace rayspace::app {
@@ -35,11 +35,15 @@ std::vector<std::pair<int, int>> ParseSizes(const std::string& list) {
   return sizes;
 }
 
-// Every input is checked before the first frame: a bad scene path should not wait for the runs before it.
-void CheckInputs(const BenchArgs& args) {
-  for (const std::string& s : args.scenes)
+// Every input and the JSON file are checked before the first frame: a bad path should not wait for the
+// runs before it.
+OutputFile CheckInputsAndOutput(const BenchArgs& args) {
+  OutputOptions o{"the JSON file", true, true, {}};
+  for (const std::string& s : args.scenes) {
     if (const std::string why = NotRegularFile(s); !why.empty()) ThrowInput("{}: cannot open scene file: it {}", s, why);
-  if (!args.json.empty()) ProbeWritable(args.json, "the JSON file");
+    o.inputs.emplace_back(s);
+  }
+  return args.json.empty() ? OutputFile() : OutputFile(args.json, std::move(o));
 }
 
 // Each configuration at each size of one scene, the scene loaded once.
@@ -65,7 +69,7 @@ ExitCode RunBench(const BenchArgs& args) {
   const std::vector<std::pair<int, int>> sizes = ParseSizes(args.sizes);
   const std::vector<const BenchConfig*> configs =
       ParseBenchConfigs(args.configs.empty() ? DefaultBenchConfigs() : args.configs);
-  CheckInputs(args);
+  OutputFile json = CheckInputsAndOutput(args);
   if (args.threads > 0) SetThreadCount(args.threads);
 
   std::vector<BenchRow> rows;
@@ -77,13 +81,10 @@ ExitCode RunBench(const BenchArgs& args) {
   if (sizes.size() > 1) PrintGrowthTable(stdout, rows);
   std::fflush(stdout);
   const bool agree = CheckDigests(stdout, stderr, rows);
-  if (!args.json.empty()) {
-    std::ofstream f(args.json);
-    f << BenchJson(rows, args.repetitions, ThreadCount()).dump(2) << "\n";
-    if (!f) ThrowInput("{}: cannot write the JSON file", args.json);
-    std::printf("JSON: %s\n", args.json.c_str());
-  }
-  return agree ? ExitCode::kOk : ExitCode::kDivergence;
+  return WriteOutputs(agree ? ExitCode::kOk : ExitCode::kDivergence, [&] {
+    json.Commit(JsonText(BenchJson(rows, args.repetitions, ThreadCount())));
+    if (!json.empty() && !json.is_stdout()) std::printf("JSON: %s\n", args.json.c_str());
+  });
 }
 
 }  // namespace rayspace::app

@@ -1,11 +1,13 @@
 // Helpers shared by the CLI's subcommands.
 #pragma once
-#include <filesystem>
-#include <fstream>
+#include <cstdio>
 #include <regex>
 #include <string>
+#include <utility>
 
+#include "exit_codes.h"
 #include "rayspace/error.h"
+#include "rayspace/output_file.h"
 #include "rayspace/scene.h"
 
 namespace rayspace::app {
@@ -23,14 +25,29 @@ inline void ParseSize(const std::string& s, int& w, int& h, const char* option =
   h = static_cast<int>(lh);
 }
 
-// Fails, naming `what`, on an output file that cannot be written, before time is spent on it; leaves
-// no file behind when there was none.
-inline void ProbeWritable(const std::string& path, const char* what) {
-  const bool existed = std::filesystem::exists(path);
-  std::ofstream probe(path, std::ios::app);
-  if (!probe) ThrowInput("{}: cannot write {}", path, what);
-  probe.close();
-  if (!existed) std::filesystem::remove(path);
+// An output file the user named, checked now, before the work that fills it (OutputFile): it may not
+// replace the scene or a mesh the run reads. "-" is standard output where `allow_stdout`.
+inline OutputFile OpenOutput(const std::string& path, const char* what, const Scene* scene, bool allow_stdout = true) {
+  if (path.empty()) return {};
+  OutputOptions o;
+  o.what = what;
+  o.allow_stdout = allow_stdout;
+  if (scene) o.inputs = scene->files;
+  return OutputFile(path, std::move(o));
+}
+
+// Writes a command's outputs once its verdict is known. A failed write is bad input (exit 2), unless
+// the run failed already: that exit code (an oracle mismatch, a divergence) must not be hidden, so the
+// write's error is printed and the verdict returned.
+template <typename Write>
+ExitCode WriteOutputs(ExitCode verdict, Write&& write) {
+  try {
+    write();
+  } catch (const InputError& e) {
+    if (verdict == ExitCode::kOk) throw;
+    std::fprintf(stderr, "rayspace: error: %s\n", e.what());
+  }
+  return verdict;
 }
 
 // Loads the scene and sets the frame size from the scene or --size.

@@ -3,8 +3,10 @@
 #include "cli_util.h"
 #include "kernel_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -20,6 +22,7 @@
 #include "rayspace/error.h"
 #include "rayspace/input_file.h"
 #include "rayspace/gpu/passes.h"
+#include "rayspace/json_text.h"
 #include "rayspace/pass_registry.h"
 #include "rayspace/refs/embree_tracer.h"
 #include "rayspace/scene.h"
@@ -195,18 +198,18 @@ void PrintWithinSpec(const DiffTotals& d) {
 
 void PrintFirstDivergence(const verify::CallRecord* first) {
   if (first) {
-    std::printf("  first divergence: %s at %s (call %zu)\n", first->pass.c_str(), first->label.c_str(), first->seq);
-    if (!first->error.empty()) std::printf("    %s\n", first->error.c_str());
+    std::fprintf(stderr, "  first divergence: %s at %s (call %zu)\n", first->pass.c_str(), first->label.c_str(), first->seq);
+    if (!first->error.empty()) std::fprintf(stderr, "    %s\n", first->error.c_str());
     for (const BufferComparison& b : first->buffers)
-      if (!b.Equal()) std::printf("    %s\n", b.Summary().c_str());
-    if (!first->hits.empty()) std::printf("    hits: %s\n", first->hits.c_str());
-    if (!first->raster.empty()) std::printf("    raster: %s\n", first->raster.c_str());
-    if (!first->spec.empty()) std::printf("    relaxed model: %s\n", first->spec.c_str());
+      if (!b.Equal()) std::fprintf(stderr, "    %s\n", b.Summary().c_str());
+    if (!first->hits.empty()) std::fprintf(stderr, "    hits: %s\n", first->hits.c_str());
+    if (!first->raster.empty()) std::fprintf(stderr, "    raster: %s\n", first->raster.c_str());
+    if (!first->spec.empty()) std::fprintf(stderr, "    relaxed model: %s\n", first->spec.c_str());
   }
 }
 
 // The workgroup checker's reports (an emulated kernel raced, read an unwritten shared word or hit a
-// divergent barrier) on stdout, at most 10 lines, and as the report's "workgroup_checker".
+// divergent barrier) on stderr, at most 10 lines, and as the report's "workgroup_checker".
 nlohmann::json PrintCheckerReports(const wg::CheckResult& r) {
   const std::string dispatch = r.reports.empty() ? std::string("?") : r.reports.front().dispatch;
   const std::optional<PassId> pass = PassOfLabel(dispatch);
@@ -226,11 +229,11 @@ nlohmann::json PrintCheckerReports(const wg::CheckResult& r) {
     for (const wg::Report& rep : r.reports)
       if (rep.kind == k) ordered.push_back(&rep);
   }
-  std::printf("  workgroup checker: %zu report(s) in %s (pass %s): %s\n", r.reports.size() + r.dropped, dispatch.c_str(),
+  std::fprintf(stderr, "  workgroup checker: %zu report(s) in %s (pass %s): %s\n", r.reports.size() + r.dropped, dispatch.c_str(),
               j["pass"].get<std::string>().c_str(), kinds.c_str());
   for (std::size_t k = 0; k < ordered.size(); ++k) {
     const wg::Report& rep = *ordered[k];
-    if (k < 10) std::printf("    %s\n", rep.message.c_str());
+    if (k < 10) std::fprintf(stderr, "    %s\n", rep.message.c_str());
     j["reports"].push_back({{"kind", wg::ToString(rep.kind)}, {"workgroup", rep.workgroup}, {"phase", rep.phase},
                             {"array", rep.array}, {"word", rep.word}, {"invocations", {rep.inv_a, rep.inv_b}},
                             {"message", rep.message}});
@@ -238,41 +241,45 @@ nlohmann::json PrintCheckerReports(const wg::CheckResult& r) {
   return j;
 }
 
+// What the diff's frame came to.
+struct DiffOutcome {
+  emu::FrameResult frame;
+  std::string stopped;              // why the frame stopped early, or ""
+  nlohmann::json checker = nullptr; // the workgroup checker's reports, when it stopped the frame
+};
+
 // The --report file: the run, every pass's totals and every call.
-void WriteDiffReport(const DiffArgs& args, const Scene& scene, const emu::FrameOptions& fo, const Backend& gpu,
-                     const verify::Differ& differ, const nlohmann::json& passes, bool equal, const std::string& stopped,
-                     const verify::CallRecord* first, const emu::FrameResult& frame, const nlohmann::json& checker,
-                     bool relaxed, std::size_t within_spec) {
+nlohmann::json DiffReport(const DiffArgs& args, const Scene& scene, const emu::FrameOptions& fo, const Backend& gpu,
+                          const verify::Differ& differ, const nlohmann::json& passes, bool equal, const DiffOutcome& run,
+                          const verify::CallRecord* first, bool relaxed, std::size_t within_spec) {
   nlohmann::json calls = nlohmann::json::array();
   for (const verify::CallRecord& c : differ.calls()) calls.push_back(CallJson(c));
-  nlohmann::json j = {{"scene", scene.name},
-                      {"width", fo.width},
-                      {"height", fo.height},
-                      {"algorithm", args.algo},
-                      {"device", gpu.device},
-                      {"emulation_model", EmulationModel()},
-                      {"inject", args.inject},
-                      {"planted_fault_seen", args.inject.empty() ? nlohmann::json(nullptr) : nlohmann::json(!equal || within_spec > 0)},
-                      {"comparison", relaxed ? "relaxed" : "bitwise"},
-                      {"calls_within_spec", within_spec},
-                      {"local_size", args.local_size},
-                      {"subgroup_size", wg::SubgroupSize()},
-                      {"schedule", ToString(wg::GetSchedule())},
-                      {"workgroup_model", emu::WorkgroupModel()},
-                      {"workgroup_checker", checker},
-                      {"split_dispatches", gpu.extra_dispatches(gpu)},
-                      {"paged_arrays", gpu.paged_arrays(gpu)},
-                      {"passes", passes},
-                      {"calls", calls},
-                      {"host_only", {"prep (bounding spheres: per-scene preprocessing)", "rah ray order (a stable partition by light)",
-                                     args.algo == "brute" || args.algo == "embree" ? "trace (host tracer)" : "hierarchy groups (CSR offsets)"}},
-                      {"equal", equal},
-                      {"stopped", stopped.empty() ? nlohmann::json(nullptr) : nlohmann::json(stopped)},
-                      {"first_divergent_pass", first ? nlohmann::json(first->pass) : nlohmann::json(nullptr)},
-                      {"digest", equal && within_spec == 0 ? nlohmann::json(HexDigest(frame.digest.Frame())) : nlohmann::json(nullptr)}};
-  std::ofstream f(args.report);
-  if (!f) ThrowInput("{}: cannot write the report", args.report);
-  f << j.dump(2) << "\n";
+  return {{"scene", scene.name},
+          {"width", fo.width},
+          {"height", fo.height},
+          {"algorithm", args.algo},
+          {"device", gpu.device},
+          {"emulation_model", EmulationModel()},
+          {"inject", args.inject},
+          {"planted_fault_seen", args.inject.empty() ? nlohmann::json(nullptr) : nlohmann::json(!equal || within_spec > 0)},
+          {"comparison", relaxed ? "relaxed" : "bitwise"},
+          {"calls_within_spec", within_spec},
+          {"local_size", args.local_size},
+          {"subgroup_size", wg::SubgroupSize()},
+          {"schedule", ToString(wg::GetSchedule())},
+          {"workgroup_model", emu::WorkgroupModel()},
+          {"workgroup_checker", run.checker},
+          {"split_dispatches", gpu.extra_dispatches(gpu)},
+          {"paged_arrays", gpu.paged_arrays(gpu)},
+          {"passes", passes},
+          {"calls", calls},
+          {"host_only", {"prep (bounding spheres: per-scene preprocessing)", "rah ray order (a stable partition by light)",
+                         args.algo == "brute" || args.algo == "embree" ? "trace (host tracer)" : "hierarchy groups (CSR offsets)"}},
+          {"equal", equal},
+          {"stopped", run.stopped.empty() ? nlohmann::json(nullptr) : nlohmann::json(run.stopped)},
+          {"first_divergent_pass", first ? nlohmann::json(first->pass) : nlohmann::json(nullptr)},
+          {"saved_inputs", args.save_inputs.empty() ? nlohmann::json(nullptr) : nlohmann::json(args.save_inputs)},
+          {"digest", equal && within_spec == 0 ? nlohmann::json(HexDigest(run.frame.digest.Frame())) : nlohmann::json(nullptr)}};
 }
 
 // A planted fault in a frame that compared equal. A kernel-side fault the device ran without a visible
@@ -296,150 +303,362 @@ const char* CompactEmulation(const DiffArgs& args, bool hierarchy) {
   return emu::RunsWorkgroupMirror("traverse.compact") ? "; traverse.compact on its workgroup mirror" : "; traverse.compact on SIMD lanes";
 }
 
+// Every option of a diff (or a replay) that changes what a pass call computes or how it is compared,
+// recorded beside each saved call so that `replay` reruns the call as the diff ran it.
+template <typename Args>
+nlohmann::json RecordedOptions(const Args& args, const Backend& gpu) {
+  nlohmann::json kernels = nlohmann::json::array();
+  for (const std::string& k : args.kernels) {  // PASS=FILE with FILE made absolute: replay may run elsewhere
+    const auto eq = k.find('=');
+    kernels.push_back(eq == std::string::npos ? k : k.substr(0, eq + 1) + std::filesystem::absolute(k.substr(eq + 1)).string());
+  }
+  return {{"split_bytes", args.split_bytes},   {"max_groups", args.max_groups},
+          {"local_size", args.local_size},     {"inject", args.inject},
+          {"compare", args.compare},           {"schedule", args.model.schedule},
+          {"check_workgroups", args.model.check}, {"strict_math", vk::Context::StrictMath()},
+          {"kernels", kernels},                {"device", gpu.device}};
+}
+
+// --save-inputs: a new or empty directory, so that the calls of different runs never mix, in which a
+// file can be created.
+void PrepareSaveDir(const std::string& dir) {
+  namespace fs = std::filesystem;
+  if (dir.empty()) return;
+  std::error_code ec;
+  const fs::file_status st = fs::status(dir, ec);
+  if (fs::exists(st) && !fs::is_directory(st)) ThrowInput("--save-inputs {}: not a directory", dir);
+  if (fs::exists(st)) {
+    const bool empty = fs::is_empty(dir, ec);
+    if (ec) ThrowInput("--save-inputs {}: cannot read the directory ({})", dir, ec.message());
+    if (!empty)
+      ThrowInput("--save-inputs {}: the directory is not empty; give a new or empty one, so that the saved calls of "
+                 "different runs do not mix", dir);
+  }
+  fs::create_directories(dir, ec);
+  if (ec) ThrowInput("--save-inputs {}: cannot create the directory ({})", dir, ec.message());
+  OpenOutput(dir + "/pass.json", "the saved inputs", nullptr, false);  // its temporary file goes again
+}
+
+// The frame's tracer: a hierarchy whose passes go through the Differ, or a host tracer (brute,
+// embree) whose traces are not GPU passes.
+struct DiffTracer {
+  std::unique_ptr<Tracer> host;
+  std::unique_ptr<emu::HierarchyTracer> hierarchy;
+  Tracer& get() { return hierarchy ? static_cast<Tracer&>(*hierarchy) : *host; }
+};
+
+DiffTracer MakeDiffTracer(const DiffArgs& args, const SceneBuffers& buffers, const emu::FrameOptions& fo, verify::Differ& differ) {
+  DiffTracer t;
+  if (args.algo == "brute") {
+    t.host = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);
+  } else if (args.algo == "embree") {
+    t.host = refs::MakeEmbreeTracer(buffers, 0);
+  } else {
+    emu::HierarchyConfig cfg = MakeHierarchyConfig(args, fo.width, fo.height, &differ.hierarchy());
+    cfg.fused = args.path == "fused";
+    t.hierarchy = emu::MakeHierarchyTracer(buffers, cfg);
+  }
+  return t;
+}
+
+DiffOutcome RunDiffFrame(const Scene& scene, const SceneBuffers& buffers, Tracer& tracer, const emu::FrameOptions& fo) {
+  DiffOutcome run;
+  try {
+    run.frame = emu::RenderFrame(scene, buffers, tracer, fo);
+  } catch (const verify::DiffStop& stop) {
+    run.stopped = stop.what();
+  } catch (const wg::CheckError& e) {
+    run.checker = PrintCheckerReports(e.result);
+    run.stopped = "the emulator's workgroup checker stopped the frame in " + run.checker["pass"].get<std::string>();
+  }
+  return run;
+}
+
+void PrintDiffHeader(const DiffArgs& args, const Scene& scene, const emu::FrameOptions& fo, const Backend& gpu, bool relaxed,
+                     bool hierarchy) {
+  std::printf("rayspace diff: %s (%dx%d, %s) on %s\n  emulation model: %s\n", scene.name.c_str(), fo.width, fo.height,
+              args.algo.c_str(), gpu.device.c_str(), EmulationModel().c_str());
+  std::printf("  workgroups: local size %d, subgroup size %u, schedule %s, checker %s%s\n", args.local_size,
+              wg::SubgroupSize(), ToString(wg::GetSchedule()).c_str(), wg::Checking() ? "on" : "off", CompactEmulation(args, hierarchy));
+  std::printf("  comparison: %s\n", relaxed ? "relaxed (what a conformant device may compute; docs/numerics.md)" : "bitwise");
+}
+
+// Why the planted fault could not fire in this frame, or "" (also when the frame stopped early: the
+// passes after the stop did not get their chance).
+std::string DiffFaultCannotFire(const DiffArgs& args, const Injection& injection, const verify::Differ& differ,
+                                const Backend& gpu, const DiffOutcome& run) {
+  if (args.inject.empty() || !run.stopped.empty()) return {};
+  FaultFacts facts;
+  for (const verify::CallRecord& c : differ.calls()) facts.passes.insert(c.pass);
+  facts.split = gpu.extra_dispatches(gpu) + gpu.paged_arrays(gpu) > 0;
+  facts.rows = gpu.folded_launches(gpu) > 0;
+  facts.scan = args.reduction == "scan";
+  return FaultCannotFire(args.inject, injection, facts);
+}
+
+// The verdict: on stdout when every pass is equal; on stderr, with the first divergence, otherwise.
+void PrintDiffVerdict(const DiffArgs& args, const Injection& injection, const DiffTotals& totals, const DiffOutcome& run,
+                      bool equal, const std::string& cannot_fire) {
+  PrintWithinSpec(totals);
+  if (equal && totals.within_spec)
+    std::printf("  all passes equal or within the spec's precision\n");
+  else if (equal)
+    std::printf("  all passes equal\n");
+  else if (totals.first)
+    std::fprintf(stderr, "rayspace diff: first divergent pass: %s\n", totals.first->pass.c_str());
+  else
+    std::fprintf(stderr, "rayspace diff: no pass compared unequal before the stop\n");
+  PrintFirstDivergence(totals.first);
+  if (!run.stopped.empty()) std::fprintf(stderr, "  stopped: %s\n", run.stopped.c_str());
+  if (equal && totals.within_spec == 0) std::printf("  frame digest %s\n", HexDigest(run.frame.digest.Frame()).c_str());
+  if (!cannot_fire.empty())
+    std::fprintf(stderr, "rayspace diff: warning: %s\n", cannot_fire.c_str());
+  else if (equal)
+    PrintUnseenFault(args, injection, totals.within_spec);
+}
+
+void PrintSavedInputs(const DiffArgs& args, const verify::Differ& differ) {
+  if (args.save_inputs.empty()) return;
+  std::size_t saved = 0;
+  for (const verify::CallRecord& c : differ.calls()) saved += !c.saved.empty();
+  std::printf("  inputs saved: %zu call%s in %s (rayspace replay %s/NNNN-PASS)\n", saved, saved == 1 ? "" : "s",
+              args.save_inputs.c_str(), args.save_inputs.c_str());
+}
+
 }  // namespace
 
 ExitCode RunDiff(const DiffArgs& args) {
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
   const Injection injection = ParseInject(args.inject);
+  OutputFile report = OpenOutput(args.report, "the report", &scene);  // before the frame, as --save-inputs
   const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, injection.kernel, args.Limits(), args.kernels);
   ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
   const SceneBuffers buffers = FlattenScene(scene);
   CheckFrameFits(gpu, fo.width, fo.height, scene.lights.size(), buffers.triangles.size());
+  PrepareSaveDir(args.save_inputs);  // last: it creates the directory
   auto direct = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);
 
   verify::Backends expected{emu::EmuFramePasses(), emu::EmuHierarchyPasses()};
   verify::Backends actual{gpu.Frame(), gpu.Hierarchy()};
   const bool relaxed = args.compare == "relaxed" || (args.compare == "auto" && !gpu.correctly_rounded);
-  verify::Differ differ(expected, actual, {args.save_inputs, direct.get(), args.inject, relaxed});
+  verify::Differ differ(expected, actual, {args.save_inputs, direct.get(), args.inject, relaxed, RecordedOptions(args, gpu)});
   fo.passes = &differ.frame();
+  DiffTracer tracer = MakeDiffTracer(args, buffers, fo, differ);
+  PrintDiffHeader(args, scene, fo, gpu, relaxed, tracer.hierarchy != nullptr);
+  const DiffOutcome run = RunDiffFrame(scene, buffers, tracer.get(), fo);
 
-  // The frame's tracer: a hierarchy whose passes go through the Differ, or a host tracer (brute,
-  // embree) whose traces are not GPU passes.
-  std::unique_ptr<Tracer> host_tracer;
-  std::unique_ptr<emu::HierarchyTracer> hierarchy;
-  if (args.algo == "brute") {
-    host_tracer = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);
-  } else if (args.algo == "embree") {
-    host_tracer = refs::MakeEmbreeTracer(buffers, 0);
-  } else {
-    emu::HierarchyConfig cfg = MakeHierarchyConfig(args, fo.width, fo.height, &differ.hierarchy());
-    cfg.fused = args.path == "fused";
-    hierarchy = emu::MakeHierarchyTracer(buffers, cfg);
-  }
-  Tracer& tracer = hierarchy ? static_cast<Tracer&>(*hierarchy) : *host_tracer;
-
-  std::printf("rayspace diff: %s (%dx%d, %s) on %s\n  emulation model: %s\n", scene.name.c_str(), fo.width, fo.height,
-              args.algo.c_str(), gpu.device.c_str(), EmulationModel().c_str());
-  std::printf("  workgroups: local size %d, subgroup size %u, schedule %s, checker %s%s\n", args.local_size,
-              wg::SubgroupSize(), ToString(wg::GetSchedule()).c_str(), wg::Checking() ? "on" : "off", CompactEmulation(args, hierarchy != nullptr));
-  std::printf("  comparison: %s\n", relaxed ? "relaxed (what a conformant device may compute; docs/numerics.md)"
-                                             : "bitwise");
-  std::string stopped;
-  nlohmann::json checker = nullptr;  // the workgroup checker's reports, when it stopped the frame
-  emu::FrameResult frame;
-  try {
-    frame = emu::RenderFrame(scene, buffers, tracer, fo);
-  } catch (const verify::DiffStop& stop) {
-    stopped = stop.what();
-  } catch (const wg::CheckError& e) {
-    checker = PrintCheckerReports(e.result);
-    stopped = "the emulator's workgroup checker stopped the frame in " + checker["pass"].get<std::string>();
-  }
-
-  // Totals per kernel pass, in order of first appearance.
   DiffTotals totals = Totals(differ.calls());
-  const verify::CallRecord* first = totals.first;
   const nlohmann::json passes = PrintPasses(totals);
-  PrintWithinSpec(totals);
-  PrintFirstDivergence(first);
-  if (!stopped.empty()) std::printf("  stopped: %s\n", stopped.c_str());
-  const bool equal = first == nullptr && stopped.empty();
-  if (equal && totals.within_spec)
-    std::printf("  all passes equal or within the spec's precision\n");
-  else if (equal)
-    std::printf("  all passes equal\n");
-  else if (first)
-    std::printf("  first divergent pass: %s\n", first->pass.c_str());
-  else
-    std::printf("  no pass compared unequal before the stop\n");
-  if (equal && totals.within_spec == 0) std::printf("  frame digest %s\n", HexDigest(frame.digest.Frame()).c_str());
-  if (equal) PrintUnseenFault(args, injection, totals.within_spec);
+  const bool equal = totals.first == nullptr && run.stopped.empty();
+  PrintDiffVerdict(args, injection, totals, run, equal, DiffFaultCannotFire(args, injection, differ, gpu, run));
   std::printf("  vulkan: %zu split dispatches, %zu arrays paged over several bindings\n", gpu.extra_dispatches(gpu),
               gpu.paged_arrays(gpu));
-  if (!args.report.empty())
-    WriteDiffReport(args, scene, fo, gpu, differ, passes, equal, stopped, first, frame, checker, relaxed, totals.within_spec);
-  if (!checker.is_null()) return ExitCode::kWorkgroupFault;
-  return equal ? ExitCode::kOk : ExitCode::kDivergence;
+  PrintSavedInputs(args, differ);
+  const ExitCode verdict = !run.checker.is_null() ? ExitCode::kWorkgroupFault : equal ? ExitCode::kOk : ExitCode::kDivergence;
+  return WriteOutputs(verdict, [&] {
+    report.Commit(JsonText(DiffReport(args, scene, fo, gpu, differ, passes, equal, run, totals.first, relaxed, totals.within_spec)));
+  });
 }
 
-// The comparison.json a diff saved beside a call's inputs, checked; nothing when there is none.
-std::optional<nlohmann::json> ReadRecorded(const std::string& path) {
-  if (std::error_code ec; !std::filesystem::exists(path, ec)) return std::nullopt;
+namespace {
+
+// A saved call whose inputs fail a check deep in a pass: the message names the call, the user gave
+// the directory, so the directory is named too.
+template <typename F>
+decltype(auto) InSavedCall(const std::string& where, F&& f) {
+  try {
+    return f();
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    if (m.rfind(where, 0) == 0) throw;
+    ThrowInput("{}: {}", where, m);
+  }
+}
+
+// DIR/comparison.json as diff --save-inputs wrote it, checked (CheckRecorded); null when there is none.
+nlohmann::json ReadRecorded(const std::string& dir) {
+  const std::string file = dir + "/comparison.json";
+  if (std::error_code ec; !std::filesystem::exists(file, ec)) return nullptr;
   nlohmann::json recorded;
   try {
-    recorded = nlohmann::json::parse(ReadInputFile(path, {"recorded comparison", kMaxTextFileBytes}));
+    recorded = nlohmann::json::parse(ReadInputFile(file, {"recorded comparison", kMaxTextFileBytes}));
   } catch (const nlohmann::json::exception&) {
-    ThrowInput("{}: not valid JSON", path);
+    ThrowInput("{}: not valid JSON", file);
   }
-  CheckRecorded(recorded, path);
+  CheckRecorded(recorded, file);
   return recorded;
 }
 
-ExitCode RunReplay(const ReplayArgs& args) {
+// options.KEY of the recording into `field`, unless the command line gave `option`; the value must be
+// of the JSON type `is` accepts and pass `ok`. Returns whether it was applied.
+template <typename T, typename Is, typename Ok>
+bool Reapply(const nlohmann::json& options, const char* key, const ReplayArgs& given, const char* option, T& field,
+             const std::string& file, Is is, Ok ok) {
+  if (!options.contains(key) || given.given.count(option)) return false;
+  const nlohmann::json& v = options[key];
+  if (!is(v) || !ok(v.get<T>())) ThrowInput("{}: options.{} = {} is not a value {} takes", file, key, v.dump(), option);
+  const bool changed = v.get<T>() != field;
+  field = v.get<T>();
+  return changed;
+}
+
+// The options the diff recorded beside the call, each applied unless the command line gives it, so that
+// the call runs as the diff ran it. Returns the applied ones as a command line, for the summary.
+std::string ApplyRecordedOptions(const nlohmann::json& recorded, const std::string& file, ReplayArgs& args) {
+  if (!recorded.is_object() || !recorded.contains("options")) return {};
+  const nlohmann::json& o = recorded["options"];
+  const auto uint = [](const nlohmann::json& v) { return v.is_number_unsigned(); };
+  const auto uint32 = [](const nlohmann::json& v) { return v.is_number_unsigned() && v.get<std::uint64_t>() <= UINT32_MAX; };
+  const auto str = [](const nlohmann::json& v) { return v.is_string(); };
+  const auto boolean = [](const nlohmann::json& v) { return v.is_boolean(); };
+  const auto valid = [](auto check) {
+    return [check](const auto& v) {
+      try {
+        check(v);
+        return true;
+      } catch (const InputError&) {
+        return false;
+      }
+    };
+  };
+  std::string applied;
+  if (Reapply(o, "split_bytes", args, "--split-bytes", args.split_bytes, file, uint,
+              [](std::size_t v) { return v == 0 || (v >= 4096 && v <= (std::size_t{1} << 40)); }))
+    applied += fmt::format(" --split-bytes {}", args.split_bytes);
+  if (Reapply(o, "max_groups", args, "--max-groups", args.max_groups, file, uint32, [](std::uint32_t v) { return v <= 65535; }))
+    applied += fmt::format(" --max-groups {}", args.max_groups);
+  if (Reapply(o, "local_size", args, "--local-size", args.local_size, file, uint32, [](int v) { return v >= 1 && v <= 1024; }))
+    applied += fmt::format(" --local-size {}", args.local_size);
+  if (Reapply(o, "inject", args, "--inject", args.inject, file, str, valid([](const std::string& v) { ParseInject(v); })))
+    applied += fmt::format(" --inject '{}'", args.inject);
+  if (Reapply(o, "compare", args, "--compare", args.compare, file, str,
+              [](const std::string& v) { return v == "auto" || v == "bitwise" || v == "relaxed"; }))
+    applied += fmt::format(" --compare {}", args.compare);
+  if (Reapply(o, "schedule", args, "--schedule", args.model.schedule, file, str, valid([](const std::string& v) { ParseSchedule(v); })))
+    applied += fmt::format(" --schedule {}", args.model.schedule);
+  if (Reapply(o, "check_workgroups", args, "--check-workgroups", args.model.check, file, boolean, [](bool) { return true; }))
+    applied += args.model.check ? " --check-workgroups" : " --no-check-workgroups";
+  if (Reapply(o, "kernels", args, "--kernel", args.kernels, file,
+              [](const nlohmann::json& v) { return v.is_array() && std::all_of(v.begin(), v.end(), [](const auto& e) { return e.is_string(); }); },
+              [](const KernelFiles&) { return true; }))
+    for (const std::string& k : args.kernels) applied += " --kernel " + k;
+  bool strict = vk::Context::StrictMath();
+  if (Reapply(o, "strict_math", args, "--strict-math", strict, file, boolean, [](bool) { return true; }) && strict) {
+    vk::Context::SetStrictMath(true);
+    applied += " --strict-math";
+  }
+  return applied;
+}
+
+// How this run compares with the one recorded: reproduced (the same verdict and the same differences),
+// or not, and then whether a recorded divergence is gone.
+struct Reproduction {
+  bool recorded = false, same = true, now_equal = false;
+};
+
+Reproduction CompareWithRecorded(const verify::CallRecord& r, const nlohmann::json& recorded) {
+  Reproduction rep;
+  if (recorded.is_null()) return rep;
+  rep.recorded = true;
+  rep.same = recorded.value("equal", !r.equal) == r.equal && recorded.contains("buffers") &&
+             recorded["buffers"].size() == r.buffers.size();
+  for (std::size_t i = 0; rep.same && i < r.buffers.size(); ++i) {
+    nlohmann::json now;
+    r.buffers[i].ToJson(now);
+    now["pass"] = recorded["buffers"][i].value("pass", now["pass"].get<std::string>());
+    rep.same &= now == recorded["buffers"][i];
+  }
+  rep.now_equal = !rep.same && !recorded.value("equal", true) && r.equal;
+  return rep;
+}
+
+void PrintReplayCall(const verify::CallRecord& r) {
+  if (!r.error.empty()) std::fprintf(stderr, "  vulkan backend failed: %s\n", r.error.c_str());
+  for (const BufferComparison& b : r.buffers) std::printf("  %s\n", b.Summary().c_str());
+  if (!r.spec.empty()) std::printf("  relaxed model: %s\n", r.spec.c_str());
+  if (!r.raster.empty()) std::printf("  raster: %s\n", r.raster.c_str());
+  if (!r.equal && r.within_spec) std::printf("  every difference is within the spec's precision\n");
+}
+
+// The verdict: on stdout when the call is equal and the recording reproduced; on stderr otherwise.
+ExitCode PrintReplayVerdict(const verify::CallRecord& r, const Reproduction& rep, const nlohmann::json& recorded,
+                            const std::string& inject) {
+  if (rep.recorded && rep.same) std::printf("  recorded comparison: reproduced\n");
+  if (!rep.same) {
+    std::fprintf(stderr, "rayspace replay: recorded comparison: NOT reproduced%s\n",
+                 rep.now_equal ? ", now equal: the recorded divergence is gone" : "");
+    const std::string rec_inject = recorded.value("inject", std::string());
+    if (rec_inject != inject)
+      std::fprintf(stderr, "  (recorded with --inject '%s', replayed with '%s')\n", rec_inject.c_str(), inject.c_str());
+    return ExitCode::kNotReproduced;
+  }
+  if (r.equal || r.within_spec) {
+    std::printf("  %s\n", r.equal ? "equal" : "within the spec's precision");
+    return ExitCode::kOk;
+  }
+  std::fprintf(stderr, "rayspace replay: divergent\n");
+  return ExitCode::kDivergence;
+}
+
+FaultFacts ReplayFacts(const verify::BufferSet& in, const verify::PassMethod& method, const Backend& gpu) {
+  FaultFacts facts;
+  facts.passes.insert(method.pass(in));
+  facts.split = gpu.extra_dispatches(gpu) + gpu.paged_arrays(gpu) > 0;
+  facts.rows = gpu.folded_launches(gpu) > 0;
+  facts.scan = method.method == "reduce" && in.scalars.is_object() && in.scalars.value("reduction", 0) == 1;
+  return facts;
+}
+
+// Every file of the saved call: the report may replace none of them.
+std::vector<std::filesystem::path> SavedFiles(const std::string& dir) {
+  std::vector<std::filesystem::path> files;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(dir, ec)) files.push_back(e.path());
+  return files;
+}
+
+}  // namespace
+
+// The recording is read before the backend exists: its options decide how the backend is made.
+ExitCode RunReplay(const ReplayArgs& given) {
+  ReplayArgs args = given;
   std::string method_name;
   const verify::BufferSet in = verify::BufferSet::Load(args.dir, method_name);
-  const verify::PassMethod& method = verify::FindPassMethod(method_name);
+  const verify::PassMethod& method = InSavedCall(args.dir + "/pass.json", [&]() -> const verify::PassMethod& {
+    return verify::FindPassMethod(method_name);
+  });
   CheckSavedInputs(in, args.dir);
-  // The comparison the diff recorded when it saved these inputs, if present: same answer expected.
-  const std::optional<nlohmann::json> saved = ReadRecorded(args.dir + "/comparison.json");
+  const nlohmann::json recorded = ReadRecorded(args.dir);
+  const std::string applied = ApplyRecordedOptions(recorded, args.dir + "/comparison.json", args);
+  OutputOptions ro{"the report", true, true, SavedFiles(args.dir)};
+  OutputFile report = args.report.empty() ? OutputFile() : OutputFile(args.report, ro);
   const Injection injection = ParseInject(args.inject);
   const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, injection.kernel, {args.split_bytes, args.max_groups}, args.kernels);
   ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
   verify::Backends expected{emu::EmuFramePasses(), emu::EmuHierarchyPasses()};
   verify::Backends actual{gpu.Frame(), gpu.Hierarchy()};
-  verify::BufferSet out;
-  std::printf("rayspace replay: %s (%s) on %s\n", method.pass(in).c_str(), method_name.c_str(), gpu.device.c_str());
+  std::printf("rayspace replay: %s (%s) on %s\n", InSavedCall(args.dir, [&] { return method.pass(in); }).c_str(),
+              method_name.c_str(), gpu.device.c_str());
+  if (!applied.empty()) std::printf("  as recorded:%s\n", applied.c_str());
+  nlohmann::json j = {{"dir", args.dir}, {"options", RecordedOptions(args, gpu)}};
   verify::CallRecord r;
   try {
+    verify::BufferSet out;
     const bool relaxed = args.compare == "relaxed" || (args.compare == "auto" && !gpu.correctly_rounded);
-    r = verify::RunAndCompare(method, in, expected, actual, out, nullptr, relaxed);
+    r = InSavedCall(args.dir, [&] { return verify::RunAndCompare(method, in, expected, actual, out, nullptr, relaxed); });
   } catch (const wg::CheckError& e) {
-    PrintCheckerReports(e.result);
-    return ExitCode::kWorkgroupFault;
+    j["workgroup_checker"] = PrintCheckerReports(e.result);
+    return WriteOutputs(ExitCode::kWorkgroupFault, [&] { report.Commit(JsonText(j)); });
   }
-  if (!r.error.empty()) std::printf("  vulkan backend failed: %s\n", r.error.c_str());
-  for (const BufferComparison& b : r.buffers) std::printf("  %s\n", b.Summary().c_str());
-  if (!r.spec.empty()) std::printf("  relaxed model: %s\n", r.spec.c_str());
-  if (!r.raster.empty()) std::printf("  raster: %s\n", r.raster.c_str());
-  if (!r.equal && r.within_spec) std::printf("  every difference is within the spec's precision\n");
-  if (saved) {
-    const nlohmann::json& recorded = *saved;
-    bool same = recorded.value("equal", !r.equal) == r.equal && recorded.contains("buffers") &&
-                recorded["buffers"].size() == r.buffers.size();
-    if (same) {
-      for (std::size_t i = 0; i < r.buffers.size(); ++i) {
-        nlohmann::json now;
-        r.buffers[i].ToJson(now);
-        now["pass"] = recorded["buffers"][i].value("pass", now["pass"].get<std::string>());
-        same &= now == recorded["buffers"][i];
-      }
-    }
-    std::printf("  recorded comparison: %s\n", same ? "reproduced" : "NOT reproduced");
-    const std::string rec_inject = recorded.value("inject", std::string());
-    if (!same && rec_inject != args.inject)
-      std::printf("  (recorded with --inject '%s', replayed with '%s')\n", rec_inject.c_str(), args.inject.c_str());
-    if (!same) return ExitCode::kNotReproduced;
-  }
-  std::printf("  %s\n", r.equal ? "equal" : (r.within_spec ? "within the spec's precision" : "divergent"));
-  if (!args.report.empty()) {
-    nlohmann::json j = CallJson(r);
-    j["dir"] = args.dir;
-    std::ofstream f(args.report);
-    if (!f) ThrowInput("{}: cannot write the report", args.report);
-    f << j.dump(2) << "\n";
-  }
-  return r.equal || r.within_spec ? ExitCode::kOk : ExitCode::kDivergence;
+  PrintReplayCall(r);
+  if (const std::string why = FaultCannotFire(args.inject, injection, ReplayFacts(in, method, gpu)); !why.empty())
+    std::fprintf(stderr, "rayspace replay: warning: %s\n", why.c_str());
+  const Reproduction rep = CompareWithRecorded(r, recorded);
+  const ExitCode verdict = PrintReplayVerdict(r, rep, recorded, args.inject);
+  j.update(CallJson(r));
+  j["recorded"] = rep.recorded ? nlohmann::json{{"reproduced", rep.same}, {"now_equal", rep.now_equal}} : nlohmann::json(nullptr);
+  return WriteOutputs(verdict, [&] { report.Commit(JsonText(j)); });
 }
 
 }  // namespace rayspace::app

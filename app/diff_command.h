@@ -1,5 +1,6 @@
 #pragma once
 #include <cstddef>
+#include <set>
 #include <string>
 
 #include "exit_codes.h"
@@ -33,10 +34,14 @@ struct ReplayArgs {
   std::size_t split_bytes = 0;  // TestLimits, as for render and diff
   std::uint32_t max_groups = 0;
   std::string compare = "auto";  // --compare, as for diff
+  // The options given on the command line ("--split-bytes", ...); the others come from the recording
+  // beside the saved call (diff --save-inputs), so that the call runs as the diff ran it.
+  std::set<std::string> given;
 };
 
-// Runs one saved pass call (diff --save-inputs) on both backends and compares. Returns kOk when equal,
-// kDivergence when divergent, kNotReproduced when the comparison recorded at save time is not reproduced.
+// Runs one saved pass call (diff --save-inputs) on both backends, with the options recorded beside it
+// unless given, and compares. Returns kOk when equal, kDivergence when divergent, kNotReproduced when
+// the comparison recorded at save time is not reproduced (also when a recorded divergence is now gone).
 ExitCode RunReplay(const ReplayArgs& args);
 
 // Throws InputError, naming the file in `dir`, when a saved call's inputs are none a render could have

@@ -14,6 +14,7 @@
 #include "export_writer.h"
 #include "kernel_model.h"
 #include "rayspace/error.h"
+#include "rayspace/input_file.h"
 #include "rayspace/gpu/passes.h"
 #include "rayspace/pass_registry.h"
 #include "rayspace/verify/call_codec.h"
@@ -54,24 +55,27 @@ struct Recorded {
 
 std::uint64_t RecordedCount(const nlohmann::json& j, const char* key, const std::string& file) {
   if (!j.contains(key) || j[key].is_null()) return 0;
-  if (!j[key].is_number_unsigned()) ThrowInput("{}: '{}' must be a non-negative integer", file, key);
+  if (!j[key].is_number_unsigned()) ThrowInput("{}: 'options.{}' must be a non-negative integer", file, key);
   return j[key].get<std::uint64_t>();
 }
 
+// The options diff --save-inputs recorded under "options" (each key optional).
 Recorded ReadRecorded(const std::string& dir) {
   const std::string file = (fs::path(dir) / "comparison.json").string();
   Recorded r;
-  std::ifstream f(file);
-  if (!f) return r;
+  if (std::error_code ec; !fs::exists(file, ec)) return r;
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(f);
+    j = nlohmann::json::parse(ReadInputFile(file, {"recorded comparison", kMaxTextFileBytes}));
   } catch (const nlohmann::json::exception&) {
     ThrowInput("{}: not valid JSON", file);
   }
   if (!j.is_object()) ThrowInput("{}: expected a JSON object", file);
+  if (!j.contains("options")) return r;
+  if (!j["options"].is_object()) ThrowInput("{}: 'options' must be an object", file);
+  j = j["options"];
   if (j.contains("inject") && !j["inject"].is_string() && !j["inject"].is_null())
-    ThrowInput("{}: 'inject' must be a string", file);
+    ThrowInput("{}: 'options.inject' must be a string", file);
   if (j.contains("inject") && j["inject"].is_string()) r.inject = j["inject"].get<std::string>();
   r.local_size = static_cast<std::uint32_t>(std::min<std::uint64_t>(RecordedCount(j, "local_size", file), 1u << 20));
   r.split_bytes = RecordedCount(j, "split_bytes", file);

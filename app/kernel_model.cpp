@@ -85,7 +85,7 @@ std::string EmulatedOwnFaults() {
 
 Injection ParseInject(const std::string& spec) {
   Injection in;
-  if (spec.empty()) return in;
+  if (spec.empty() || spec == "none") return in;
   std::string body = spec;
   bool emu = false;
   if (const auto at = body.rfind('@'); at != std::string::npos) {
@@ -114,6 +114,26 @@ Injection ParseInject(const std::string& spec) {
     return in;
   }
   ThrowInput("--inject '{}': no kernel named '{}'; kernels: {}", spec, pass, known);
+}
+
+std::string FaultCannotFire(const std::string& spec, const Injection& injection, const FaultFacts& facts) {
+  for (const auto* side : {&injection.kernel, &injection.emu}) {
+    for (const auto& [pass, number] : *side) {
+      if (!facts.passes.count(pass)) return fmt::format("the planted fault {} cannot fire: pass {} did not run", spec, pass);
+      const std::optional<PassId> id = FindPass(pass);
+      if (!id) continue;
+      for (const FaultSpec& f : Pass(*id).faults) {
+        if (f.number != number) continue;
+        if (f.needs == FaultNeeds::kSplit && !facts.split)
+          return fmt::format("the planted fault {} cannot fire: no buffer was split or paged (give --split-bytes)", spec);
+        if (f.needs == FaultNeeds::kRows && !facts.rows)
+          return fmt::format("the planted fault {} cannot fire: no launch was folded into rows (give --max-groups)", spec);
+        if (f.needs == FaultNeeds::kScanReduction && !facts.scan)
+          return fmt::format("the planted fault {} cannot fire: the reduction did not run as a scan (give --reduction scan)", spec);
+      }
+    }
+  }
+  return {};
 }
 
 void ConfigureEmulatedKernels(const KernelModelArgs& args, std::uint32_t local_size, std::uint32_t subgroup_size,

@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdint>
 #include <map>
+#include <set>
 #include <string>
 
 #include "rayspace/workgroup.h"
@@ -33,12 +34,24 @@ void AddKernelModelOptions(CLI::App& command, KernelModelArgs& args);
 bool RequestsWorkgroupModel(const KernelModelArgs& args);
 
 // --inject PASS[:FAULT][@emu]: FAULT is a number or a workgroup fault's name (pass_registry.h);
-// "@emu" plants it in the emulated kernel instead of the Vulkan one. Bad specs are InputErrors listing
-// what exists.
+// "@emu" plants it in the emulated kernel instead of the Vulkan one; "none" (or "") plants nothing,
+// which `replay` needs to run a call without the fault recorded with it. Bad specs are InputErrors
+// listing what exists.
 struct Injection {
   std::map<std::string, std::uint32_t> kernel, emu;
 };
 Injection ParseInject(const std::string& spec);
+
+// What a run did that decides whether a planted fault can fire at all.
+struct FaultFacts {
+  std::set<std::string> passes;  // kernel passes the run called
+  bool split = false;            // a buffer was split into parts or paged over bindings
+  bool rows = false;             // a launch was folded into rows of workgroups
+  bool scan = false;             // the reduction ran as a scan
+};
+// Why the fault `spec` (--inject, parsed into `injection`) could not fire in a run with these facts, or
+// "" when it could.
+std::string FaultCannotFire(const std::string& spec, const Injection& injection, const FaultFacts& facts);
 
 // Sets the emulator's workgroup model for this process: schedule, local size, subgroup size (the
 // device's, or lavapipe's 8 without one), checking, the emulator-side faults, and whether the model

@@ -45,7 +45,8 @@ void AddRender(CLI::App& app, Commands& cmds) {
   rc->add_option("scene", cmds.render.scene, "Scene JSON file")->required();
   rayspace::app::AddFrameOptions(*rc, cmds.render);
   rc->add_option("--out", cmds.render.out, "Output image (PNG); default <scene name>.png in the current directory");
-  rc->add_option("--stats", cmds.render.stats, "Write statistics as JSON to this file");
+  rc->add_option("--stats", cmds.render.stats, "Write statistics as JSON to this file (-: to standard output, in place "
+                 "of the summary)");
   rc->add_option("--threads", cmds.render.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
   rc->add_option("--direct", cmds.render.direct, "Direct tracer mode: auto, exhaustive or bvh")
       ->check(CLI::IsMember({"auto", "exhaustive", "bvh"}));
@@ -85,7 +86,8 @@ void AddBench(CLI::App& app, Commands& cmds) {
   bc->add_option("--repetitions", b.repetitions, "Frames per configuration, scene and size; the table shows the median "
                  "(default 3)")->check(CLI::Range(1, 1000));
   bc->add_option("--threads", b.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
-  bc->add_option("--json", b.json, "Write every measurement as JSON to this file");
+  bc->add_option("--json", b.json, "Write every measurement as JSON to this file (-: to standard output, in place of "
+                 "the tables)");
   rayspace::app::AddDeviceOption(*bc, b.device);
   bc->add_flag("--progress", b.progress, "Print each frame's time on stderr (default when stderr is a terminal)");
 }
@@ -106,11 +108,13 @@ void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
                                     "host)");
   dc->add_option("scene", cmds.diff.scene, "Scene JSON file")->required();
   rayspace::app::AddFrameOptions(*dc, cmds.diff);
-  dc->add_option("--report", cmds.diff.report, "Write the comparison as JSON to this file");
+  dc->add_option("--report", cmds.diff.report, "Write the comparison as JSON to this file (-: to standard output, in "
+                 "place of the summary)");
   dc->add_option("--inject", cmds.diff.inject, "Plant a fault in one kernel: PASS[:FAULT][@emu], FAULT a number or a "
                  "workgroup fault's name; @emu plants it in the emulated kernel (test use)");
   rayspace::app::AddLocalSizeOption(*dc, cmds.diff.local_size);
-  dc->add_option("--save-inputs", cmds.diff.save_inputs, "Write every pass call's inputs to DIR/NNNN-PASS/ (for replay)");
+  dc->add_option("--save-inputs", cmds.diff.save_inputs, "Write every pass call's inputs and options to DIR/NNNN-PASS/ "
+                 "(for replay); DIR must be new or empty");
   AddCompareOption(*dc, cmds.diff.compare);
   dc->add_option("--path", cmds.diff.path,
                  "Hierarchy traversal: passes (traverse then reduce, default) or fused (traverse.compact, what render "
@@ -118,9 +122,13 @@ void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
                  "schedule asks for its SIMD lanes)")
       ->check(CLI::IsMember({"fused", "passes"}));
   CLI::App* pc = cmds.replay_cmd = app.add_subcommand("replay", "Run one pass call saved by diff --save-inputs on both backends and compare");
-  pc->add_option("dir", cmds.replay.dir, "Directory of the saved call (DIR/NNNN-PASS)")->required();
-  pc->add_option("--report", cmds.replay.report, "Write the comparison as JSON to this file");
-  pc->add_option("--inject", cmds.replay.inject, "Plant a fault in one kernel: PASS[:FAULT][@emu] (test use)");
+  pc->add_option("dir", cmds.replay.dir, "Directory of the saved call (DIR/NNNN-PASS); the options the diff ran it "
+                 "with (--split-bytes, --max-groups, --local-size, --inject, --compare, --schedule, --check-workgroups, "
+                 "--kernel, --strict-math) apply unless given here")->required();
+  pc->add_option("--report", cmds.replay.report, "Write the comparison as JSON to this file (-: to standard output, in "
+                 "place of the summary)");
+  pc->add_option("--inject", cmds.replay.inject, "Plant a fault in one kernel: PASS[:FAULT][@emu], or none (default: the "
+                 "fault the diff planted when it saved the call; test use)");
   rayspace::app::AddKernelModelOptions(*pc, cmds.replay.model);
   rayspace::app::AddLocalSizeOption(*pc, cmds.replay.local_size);
   AddCompareOption(*pc, cmds.replay.compare);
@@ -147,6 +155,16 @@ void AddExport(CLI::App& app, Commands& cmds) {
   ec->add_option("--local-size", e.local_size, "Workgroup size of the kernels (default: as recorded, else 64)")
       ->check(CLI::Range(1, 1024));
   rayspace::app::AddLimitOptions(*ec, e.split_bytes, e.max_groups);
+}
+#endif
+
+#ifdef RAYSPACE_HAVE_VULKAN
+// The replay options the command line gives; the rest come from the saved call's recording.
+void NoteGivenReplayOptions(Commands& cmds) {
+  if (!cmds.replay_cmd->parsed()) return;
+  for (const CLI::Option* o : cmds.replay_cmd->get_options())
+    if (o->count() > 0) cmds.replay.given.insert(o->get_name());
+  if (cmds.strict_math) cmds.replay.given.insert("--strict-math");
 }
 #endif
 
@@ -204,6 +222,7 @@ int main(int argc, char** argv) {
   rayspace::wg::SetChecking(false);  // unless a command asks: --check-workgroups, an @emu fault
   rayspace::SetCheckFailuresThrow(true);
 #ifdef RAYSPACE_HAVE_VULKAN
+  NoteGivenReplayOptions(cmds);
   if (cmds.validate) rayspace::vk::SetValidation(true);
   rayspace::vk::Context::SetStrictMath(cmds.strict_math);
 #endif

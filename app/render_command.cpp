@@ -3,8 +3,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <regex>
 
 #include <unistd.h>
 
@@ -14,6 +12,7 @@
 #include "peak_memory.h"
 #include "rayspace/error.h"
 #include "rayspace/image_io.h"
+#include "rayspace/json_text.h"
 #include "rayspace/parallel.h"
 #include "render_frame.h"
 
@@ -149,6 +148,35 @@ void PrintSummary(const RenderArgs& args, const Outcome& o) {
   if (!args.stats.empty()) std::printf("  stats       %s\n", args.stats.c_str());
 }
 
+// The image and the statistics file, checked before the frame (a bad path costs no render).
+struct RenderOutputs {
+  OutputFile image, stats;
+};
+
+RenderOutputs OpenRenderOutputs(const RenderArgs& args, const Scene& scene) {
+  RenderOutputs o;
+  const std::string image = args.out.empty() ? scene.name + ".png" : args.out;
+  CheckImageFormat(image);
+  o.image = OpenOutput(image, "the output image", &scene, false);
+  o.stats = OpenOutput(args.stats, "the statistics file", &scene);
+  CheckDistinctOutputs({&o.image, &o.stats});
+  return o;
+}
+
+// Exit 3's reason, on stderr: the summary on stdout says how many rays, this line which came first.
+void PrintMismatchVerdict(const refs::Oracle& oracle) {
+  const refs::Disagreement& d = oracle.mismatches().front();
+  const bool shadow = d.batch.rfind("shadow", 0) == 0;  // prim holds the occluded flag there, told by the note
+  auto hit = [](std::uint32_t prim, float t) {
+    return prim == layout::kNoPrim ? std::string("miss") : fmt::format("triangle {} at t {}", prim, t);
+  };
+  const std::string what = shadow ? d.note
+                                  : fmt::format("frame {}, oracle {}{}{}", hit(d.frame_prim, d.frame_t), hit(d.oracle_prim, d.oracle_t),
+                                                d.note.empty() ? "" : ": ", d.note);
+  std::fprintf(stderr, "rayspace render: the oracle found %zu ray(s) the frame got wrong; first: %s ray %zu: %s\n",
+               oracle.mismatches().size(), d.batch.c_str(), d.ray, what.c_str());
+}
+
 }  // namespace
 
 ExitCode RunRender(const RenderArgs& args) {
@@ -156,8 +184,7 @@ ExitCode RunRender(const RenderArgs& args) {
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
   fo.progress = args.progress || isatty(STDERR_FILENO);  // progress on stderr when someone watches
-  const std::string out = args.out.empty() ? scene.name + ".png" : args.out;
-  ProbeWritable(out, "the output image");  // before the frame, leaving no file behind if the run fails
+  RenderOutputs outputs = OpenRenderOutputs(args, scene);
 
   const MemoryEstimate estimate = EstimateFrameMemory(fo.width, fo.height, scene.lights.size(), scene.TriangleCount(), args.pair_capacity, 1);
   CheckFitsMachine(estimate, fo.width, fo.height);
@@ -167,18 +194,18 @@ ExitCode RunRender(const RenderArgs& args) {
   CheckFrameFits(backend, fo.width, fo.height, scene.lights.size(), buffers.triangles.size());
   const std::unique_ptr<RenderedFrame> f = RenderOnBackend(args, scene, buffers, fo, backend);
   const emu::FrameResult& r = f->result;
-  WriteImage(out, r.width, r.height, r.rgb);
 
   const refs::Oracle* checked = f->oracle ? &*f->oracle : nullptr;
-  const Outcome o{scene, backend, r, checked, f->oracle_ms, out, f->tracer, OracleJson(checked, f->oracle_ms),
-                  f->stats, f->phases, PeakRssBytes(), estimate};
-  if (!args.stats.empty()) {
-    std::ofstream file(args.stats);
-    if (!file) ThrowInput("{}: cannot write the statistics file", args.stats);
-    file << StatsJson(args, o).dump(2) << "\n";
-  }
+  const Outcome o{scene, backend, r, checked, f->oracle_ms, outputs.image.path(), f->tracer,
+                  OracleJson(checked, f->oracle_ms), f->stats, f->phases, PeakRssBytes(), estimate};
   PrintSummary(args, o);
-  return !checked || checked->mismatches().empty() ? ExitCode::kOk : ExitCode::kOracleMismatch;
+  const bool wrong = checked && !checked->mismatches().empty();
+  if (wrong) PrintMismatchVerdict(*checked);
+  return WriteOutputs(wrong ? ExitCode::kOracleMismatch : ExitCode::kOk, [&] {
+    WriteImage(outputs.image, r.width, r.height, r.rgb);
+    outputs.stats.Write(JsonText(StatsJson(args, o)));
+    PublishAll({&outputs.image, &outputs.stats});
+  });
 }
 
 }  // namespace rayspace::app

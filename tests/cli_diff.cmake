@@ -79,6 +79,7 @@ function(diff_case name scene size inject expect_rc expect_first)
   execute_process(COMMAND "${RAYSPACE}" diff "${path}" --data "${DATA}" --size ${size}
                           --report "${case_work}/report.json" ${extra}
                   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  set(case_out "${out}" PARENT_SCOPE)  # for checks after the call
   if(NOT rc EQUAL expect_rc)
     set(failures "${failures}\n${name}: exit ${rc}, expected ${expect_rc}: ${out}${err}" PARENT_SCOPE)
     return()
@@ -101,6 +102,10 @@ function(diff_case name scene size inject expect_rc expect_first)
   if(NOT "${first}" STREQUAL "${expect_first}")
     set(failures "${failures}\n${name}: first divergent pass '${first}', expected '${expect_first}'" PARENT_SCOPE)
   endif()
+  # A divergence is a verdict: on stderr, where errors go, not only in the summary.
+  if(expect_rc EQUAL 4 AND NOT err MATCHES "rayspace diff: first divergent pass: ${expect_first}\n")
+    set(failures "${failures}\n${name}: stderr does not give the first divergent pass: ${err}" PARENT_SCOPE)
+  endif()
 endfunction()
 
 # checker_case(NAME SCENE SIZE INJECT PASS [diff options...]): a fault planted in an emulated kernel
@@ -113,7 +118,7 @@ function(checker_case name scene size inject pass)
   execute_process(COMMAND "${RAYSPACE}" diff "${path}" --data "${DATA}" --size ${size} --inject ${inject}
                           --report "${case_work}/report.json" ${ARGN}
                   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 6 OR NOT out MATCHES "workgroup checker: [0-9]+ report\\(s\\) in ${pass}\\.[A-Za-z]+ \\(pass ${pass}\\)")
+  if(NOT rc EQUAL 6 OR NOT err MATCHES "workgroup checker: [0-9]+ report\\(s\\) in ${pass}\\.[A-Za-z]+ \\(pass ${pass}\\)")
     set(failures "${failures}\n${name}: exit ${rc}, expected 6 and the checker naming ${pass}: ${out}${err}" PARENT_SCOPE)
     return()
   endif()
@@ -388,15 +393,29 @@ if("${CASE}" STREQUAL "replay.save")
   file(REMOVE_RECURSE "${WORK}/saved")
 endif()
 diff_case(replay.save cornell-mirrors 64x64 traverse:1 4 traverse --save-inputs "${WORK}/saved")
-replay_saved(replay.fault "*-traverse.L2.shadow.b0" 4 "recorded comparison: reproduced" --inject traverse)
-replay_saved(replay.clean "*-traverse.L2.shadow.b0" 5 "NOT reproduced")
+if("${CASE}" STREQUAL "replay.save" AND NOT case_out MATCHES "inputs saved: [0-9]+ calls in ${WORK}/saved")
+  set(failures "${failures}\nreplay.save: the summary does not say where the inputs went")
+endif()
+# The fault the diff planted is recorded with each call and planted again; --inject none replays the
+# call without it: the recorded divergence is gone, which the replay says, and its report is written.
+replay_saved(replay.fault "*-traverse.L2.shadow.b0" 4 "recorded comparison: reproduced")
+replay_saved(replay.clean "*-traverse.L2.shadow.b0" 5 "NOT reproduced, now equal: the recorded divergence is gone"
+             --inject none --report "${WORK}/replay-clean.json")
+if("${CASE}" STREQUAL "replay.clean" AND NOT failures)
+  file(READ "${WORK}/replay-clean.json" j)
+  string(JSON now_equal GET "${j}" recorded now_equal)
+  if(NOT now_equal)
+    set(failures "${failures}\nreplay.clean: the report does not record 'now_equal'")
+  endif()
+endif()
 replay_saved(replay.raster "*-raster" 0 "raster/prim: 4096 elements equal")
 # A device-like raster (edges shifted) replayed under the relaxed comparison: within the spec, which
 # the equal comparison recorded at save time does not reproduce.
 replay_saved(replay.raster.relaxed "*-raster" 5 "every difference is within the spec's precision" --inject raster:2 --compare relaxed)
 # --split-bytes reaches replay: trim's fault 2 (the carry between parts dropped) shows only when
 # the stream is split, so the same saved call stays equal without the option and diverges with it.
-replay_saved(replay.unsplit "*-trim.shadow.b0" 0 "recorded comparison: reproduced" --inject trim:2)
+replay_saved(replay.unsplit "*-trim.shadow.b0" 0 "recorded comparison: reproduced.*warning: the planted fault trim:2 cannot fire: no buffer was split or paged"
+             --inject trim:2)
 replay_saved(replay.split "*-trim.shadow.b0" 5 "NOT reproduced" --inject trim:2 --split-bytes 4096)
 # traverse.compact (the traversal fused with its reduction) on single calls: these cases replay the
 # top-level and level calls replay.save wrote (a pass-by-pass diff) as traverse.compact calls, which
@@ -466,6 +485,104 @@ if(run)
   string(REPEAT "${del}" ${bytes} tris)
   file(WRITE "${case_work}/set/scene.triangles.bin" "${tris}")
   replay_check("${case_work}/set" 2 "scene.triangles.bin: triangle 0 leaves the coordinate domain")
+endif()
+
+# A call that pass.json names with an unknown method, and a saved raygen call whose ray kind was edited:
+# bad input naming the saved call's file or directory.
+case_selected(replay.unknown-method run)
+if(run)
+  file(MAKE_DIRECTORY "${case_work}/warp")
+  file(WRITE "${case_work}/warp/pass.json" "{\"method\": \"warp\", \"buffers\": {}}")
+  execute_process(COMMAND "${RAYSPACE}" replay "${case_work}/warp" RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+  if(NOT rc EQUAL 2 OR NOT err MATCHES "^rayspace: error: ${case_work}/warp/pass.json: unknown pass method 'warp'[^\n]*\n$")
+    set(failures "${failures}\nreplay.unknown-method: exit ${rc}, stderr '${err}'")
+  endif()
+endif()
+case_selected(replay.bad-kind run)
+set(cli_diff_after_save ${cli_diff_after_save} replay.bad-kind)
+if(run)
+  file(GLOB raygen_dir "${WORK}/saved/*-raygen.shadow.b0")
+  file(COPY "${raygen_dir}/" DESTINATION "${case_work}/set")
+  file(READ "${case_work}/set/pass.json" pass)
+  string(JSON pass SET "${pass}" scalars kind 9)
+  file(WRITE "${case_work}/set/pass.json" "${pass}")
+  execute_process(COMMAND "${RAYSPACE}" replay "${case_work}/set" RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+  if(NOT rc EQUAL 2 OR NOT err MATCHES "^rayspace: error: ${case_work}/set: [^\n]*'kind' = 9[^\n]*\n$")
+    set(failures "${failures}\nreplay.bad-kind: exit ${rc}, stderr '${err}'")
+  endif()
+endif()
+
+# replay stands alone: the diff records every option that changes what a call computes (here
+# --split-bytes, without which trim's fault 2 cannot fire, and --inject) beside each saved call, and
+# replay applies them, so that the divergence reproduces without repeating them.
+case_selected(replay.recorded-options run)
+if(run)
+  execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 96x96 --split-bytes 163840
+                          --inject trim:2 --save-inputs "${case_work}/saved" --report "${case_work}/report.json"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  file(GLOB trim_dir "${case_work}/saved/*-trim.shadow.b0")
+  if(NOT rc EQUAL 4 OR NOT trim_dir)
+    set(failures "${failures}\nreplay.recorded-options: diff exit ${rc}, saved trim call '${trim_dir}': ${err}")
+  else()
+    execute_process(COMMAND "${RAYSPACE}" replay "${trim_dir}" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc EQUAL 4 OR NOT out MATCHES "as recorded: --split-bytes 163840 --inject 'trim:2'"
+       OR NOT out MATCHES "recorded comparison: reproduced" OR NOT err MATCHES "rayspace replay: divergent")
+      set(failures "${failures}\nreplay.recorded-options: replay exit ${rc}: ${out}${err}")
+    endif()
+  endif()
+endif()
+
+# A fault that cannot fire in the run's configuration (trim's fault 2 needs split buffers): one warning
+# line on stderr, not "executed benignly".
+case_selected(fault.trim:2.unsplit run)
+if(run)
+  execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 64x64 --inject trim:2
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0 OR out MATCHES "benignly"
+     OR NOT err STREQUAL "rayspace diff: warning: the planted fault trim:2 cannot fire: no buffer was split or paged (give --split-bytes)\n")
+    set(failures "${failures}\nfault.trim:2.unsplit: exit ${rc}, stderr '${err}', stdout ${out}")
+  endif()
+endif()
+
+# Outputs: --save-inputs must name a new or empty directory; the report's path is checked before the
+# frame (with --device 63 as the next error, the message must name the report); a report whose late
+# write fails (a file size limit) keeps the divergence's exit 4; --report - is standard output.
+case_selected(save-inputs.not-empty run)
+if(run)
+  file(WRITE "${case_work}/used/0000-raster/pass.json" "{}")
+  execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --save-inputs "${case_work}/used"
+                  RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+  if(NOT rc EQUAL 2 OR NOT err MATCHES "^rayspace: error: --save-inputs ${case_work}/used: the directory is not empty[^\n]*\n$")
+    set(failures "${failures}\nsave-inputs.not-empty: exit ${rc}, stderr '${err}'")
+  endif()
+endif()
+case_selected(report.nodir run)
+if(run)
+  execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --report "${case_work}/nodir/r.json"
+                          --device 63
+                  RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+  if(NOT rc EQUAL 2 OR NOT err MATCHES "^rayspace: error: ${case_work}/nodir/r.json: cannot write the report[^\n]*\n$")
+    set(failures "${failures}\nreport.nodir: exit ${rc}, stderr '${err}'")
+  endif()
+endif()
+case_selected(report.late-failure run)
+if(run)
+  execute_process(COMMAND sh -c "trap '' XFSZ\nulimit -f 4\nexec \"$0\" \"$@\"" "${RAYSPACE}" diff
+                          "${SRC}/scenes/cornell-mirrors.json" --size 32x32 --inject raster:1 --report "${case_work}/r.json"
+                  RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+  file(GLOB left "${case_work}/r.json" "${case_work}/.r.json.tmp-*")
+  if(NOT rc EQUAL 4 OR NOT err MATCHES "r.json: cannot write the report: File too large" OR left)
+    set(failures "${failures}\nreport.late-failure: exit ${rc} (expected 4), left behind '${left}', stderr '${err}'")
+  endif()
+endif()
+case_selected(report.stdout run)
+if(run)
+  execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 32x32 --report -
+                  WORKING_DIRECTORY "${case_work}" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  string(JSON equal ERROR_VARIABLE jerr GET "${out}" equal)
+  if(NOT rc EQUAL 0 OR jerr OR NOT equal OR EXISTS "${case_work}/-")
+    set(failures "${failures}\nreport.stdout: exit ${rc}, 'equal' ${equal} (${jerr}): ${out}${err}")
+  endif()
 endif()
 
 # A device index that does not exist is bad input: exit 2 and one line naming the option.

@@ -1,18 +1,21 @@
-# expect_error() for the CLI-contract scripts (cli_errors.cmake, cli_inputs.cmake), which set
-# RAYSPACE (the executable) and WORK (the scratch directory) and collect FAILURES and CASES.
-
-# expect_error(NAME <case> NEEDLES <substring>... ARGS <arg>... [TIMEOUT <seconds>])
-# Runs the CLI with ARGS in WORK; expects exit code 2 and one line on stderr containing every needle.
-# A run that outlives TIMEOUT (default 120 s) is killed and fails the case, so a read that blocks
-# (a FIFO without a writer) is reported instead of hanging the test.
+# expect_error() for the CLI-contract scripts (cli_errors.cmake, cli_inputs.cmake, cli_outputs.cmake),
+# which set RAYSPACE (the executable) and WORK (the scratch directory) and collect FAILURES and CASES.
+#
+# expect_error(NAME <case> NEEDLES <substring>... [ABSENT <path>...] [COMMAND <prefix>...]
+#              [TIMEOUT <seconds>] ARGS <arg>...)
+# Runs the CLI with ARGS in WORK (after COMMAND, e.g. a shell that sets a limit first); expects exit
+# code 2, one line on stderr containing every needle, none of the ABSENT paths afterwards and no
+# temporary output file (.NAME.tmp-*) left in WORK. A run that outlives TIMEOUT (default 120 s) is
+# killed and fails the case, so a read that blocks (a FIFO without a writer) is reported instead of
+# hanging the test.
 function(expect_error)
-  cmake_parse_arguments(E "" "NAME;TIMEOUT" "NEEDLES;ARGS" ${ARGN})
+  cmake_parse_arguments(E "" "NAME;TIMEOUT" "NEEDLES;ARGS;ABSENT;COMMAND" ${ARGN})
   if(NOT E_TIMEOUT)
     set(E_TIMEOUT 120)
   endif()
   math(EXPR n "${CASES} + 1")
   set(CASES ${n} PARENT_SCOPE)
-  execute_process(COMMAND "${RAYSPACE}" ${E_ARGS}
+  execute_process(COMMAND ${E_COMMAND} "${RAYSPACE}" ${E_ARGS}
                   WORKING_DIRECTORY "${WORK}"
                   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err
                   TIMEOUT ${E_TIMEOUT})
@@ -38,6 +41,16 @@ function(expect_error)
       list(APPEND problems "stderr does not name '${needle}'")
     endif()
   endforeach()
+  foreach(path IN LISTS E_ABSENT)
+    if(EXISTS "${path}" OR IS_SYMLINK "${path}")
+      list(APPEND problems "left behind: ${path}")
+    endif()
+  endforeach()
+  file(GLOB temps "${WORK}/.*.tmp-*")
+  if(temps)
+    list(APPEND problems "temporary files left behind: ${temps}")
+    file(REMOVE ${temps})
+  endif()
   if(problems)
     string(REPLACE ";" "; " problems "${problems}")
     string(REPLACE ";" " " args "${E_ARGS}")
@@ -47,4 +60,3 @@ function(expect_error)
     message(STATUS "ok: ${E_NAME}: ${line}")
   endif()
 endfunction()
-

@@ -739,6 +739,7 @@ Status Recorder::DispatchGroups(const Kernel& k, std::span<const Buffer* const> 
   if (gy > ctx_.max_groups_[1])
     return Status::Fail(fmt::format("kernel {}: {} invocations need {} x {} workgroups, beyond maxComputeWorkGroupCount",
                                     k.name_, groups * k.local_size_, gx, gy));
+  if (gy > 1) ++ctx_.folded_launches_;
   if (groups > 0) vkCmdDispatch(cmd_, gx, static_cast<std::uint32_t>(gy), 1);
   dispatched_ = true;
   if (ctx_.observer_)

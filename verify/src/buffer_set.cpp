@@ -4,6 +4,8 @@
 #include <fstream>
 
 #include "rayspace/input_file.h"
+#include "rayspace/json_text.h"
+#include "rayspace/output_file.h"
 
 namespace rayspace::verify {
 namespace {
@@ -85,15 +87,14 @@ void BufferSet::Save(const std::string& dir, const std::string& method) const {
   fs::create_directories(dir, ec);
   if (ec) ThrowInput("{}: cannot create the directory ({})", dir, ec.message());
   nlohmann::json j = {{"method", method}, {"scalars", scalars}, {"buffers", nlohmann::json::object()}};
+  // Bulk files: each written whole, none synced. pass.json comes last, so a directory that has it is
+  // complete.
+  OutputOptions o{"a saved input", false, false, {}};
   for (const auto& [name, b] : blobs_) {
     j["buffers"][name] = {{"type", Info(b.type).name}, {"count", b.count()}};
-    std::ofstream f(fs::path(dir) / (name + ".bin"), std::ios::binary);
-    f.write(reinterpret_cast<const char*>(b.bytes.data()), static_cast<std::streamsize>(b.bytes.size()));
-    if (!f) ThrowInput("{}/{}.bin: cannot write", dir, name);
+    OutputFile(dir + "/" + name + ".bin", o).Commit(std::string_view(reinterpret_cast<const char*>(b.bytes.data()), b.bytes.size()));
   }
-  std::ofstream f(fs::path(dir) / "pass.json");
-  f << j.dump(2) << "\n";
-  if (!f) ThrowInput("{}/pass.json: cannot write", dir);
+  OutputFile(dir + "/pass.json", o).Commit(JsonText(j));
 }
 
 BufferSet BufferSet::Load(const std::string& dir, std::string& method) {

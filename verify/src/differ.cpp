@@ -4,10 +4,12 @@
 #include <cstring>
 #include <chrono>
 #include <filesystem>
-#include <fstream>
+
 
 #include <fmt/format.h>
 
+#include "rayspace/json_text.h"
+#include "rayspace/output_file.h"
 #include "rayspace/verify/call_codec.h"
 #include "rayspace/verify/raster_edges.h"
 #include "rayspace/verify/spec_model.h"
@@ -150,24 +152,31 @@ Differ::~Differ() = default;
 emu::FramePasses& Differ::frame() { return *frame_; }
 emu::HierarchyPasses& Differ::hierarchy() { return *hierarchy_; }
 
+void Differ::Save(CallRecord& r, const BufferSet& in, const std::string& method_name) const {
+  r.saved = (std::filesystem::path(options_.save_dir) / DirName(r.seq, r.label)).string();
+  std::error_code ec;
+  std::filesystem::create_directories(r.saved, ec);
+  if (ec) ThrowInput("{}: cannot create the directory ({})", r.saved, ec.message());
+  nlohmann::json cj = nlohmann::json::array();
+  for (const BufferComparison& c : r.buffers) {
+    nlohmann::json j;
+    c.ToJson(j);
+    cj.push_back(j);
+  }
+  const nlohmann::json comparison = {{"pass", r.pass},   {"label", r.label}, {"inject", options_.inject},
+                                     {"equal", r.equal}, {"buffers", cj},    {"options", options_.options}};
+  // Before the inputs: BufferSet::Save writes pass.json last, so a call whose pass.json exists is whole.
+  OutputFile(r.saved + "/comparison.json", {"a saved comparison", false, false, {}}).Commit(JsonText(comparison));
+  in.Save(r.saved, method_name);
+}
+
 BufferSet Differ::Call(const std::string& method_name, const BufferSet& in) {
   const PassMethod& method = FindPassMethod(method_name);
   BufferSet actual_out;
   CallRecord r = RunAndCompare(method, in, expected_, actual_, actual_out, options_.hit_tracer, options_.relaxed);
   r.seq = calls_.size();
   r.label = label_.empty() ? method_name : label_;
-  if (!options_.save_dir.empty()) {
-    r.saved = (std::filesystem::path(options_.save_dir) / DirName(r.seq, r.label)).string();
-    in.Save(r.saved, method_name);
-    nlohmann::json cj = nlohmann::json::array();
-    for (const BufferComparison& c : r.buffers) {
-      nlohmann::json j;
-      c.ToJson(j);
-      cj.push_back(j);
-    }
-    std::ofstream f(std::filesystem::path(r.saved) / "comparison.json");
-    f << nlohmann::json{{"pass", r.pass}, {"label", r.label}, {"inject", options_.inject}, {"equal", r.equal}, {"buffers", cj}}.dump(2) << "\n";
-  }
+  if (!options_.save_dir.empty()) Save(r, in, method_name);
   calls_.push_back(r);
   const CallRecord& rec = calls_.back();
   if (!rec.error.empty()) throw DiffStop(fmt::format("{} ({}): the actual backend failed: {}", rec.pass, rec.label, rec.error));

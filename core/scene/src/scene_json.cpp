@@ -215,11 +215,12 @@ void ParseLightsAndMaterials(const Ctx& c, const json& root, Scene& s, std::map<
 
 // The object's geometry: its mesh file, or its generator with params.
 MeshData ObjectMesh(const Ctx& c, const json& oj, const std::string& f, const std::string& name,
-                    const std::filesystem::path& scene_dir, const LoadOptions& options) {
+                    const std::filesystem::path& scene_dir, const LoadOptions& options, Scene& s) {
   MeshData mesh;
   if (oj.contains("mesh")) {
     const std::string& rel = String(c, oj["mesh"], f + ".mesh", "a path string");
     const std::filesystem::path mesh_path = ResolveMesh(c, f + ".mesh", rel, scene_dir, options);
+    s.files.push_back(mesh_path);
     try {
       mesh = LoadMesh(mesh_path);
     } catch (const InputError& e) {  // name the object too: the mesh may be shared by several
@@ -257,7 +258,7 @@ void AddObject(const Ctx& c, const json& oj, std::size_t i, const std::filesyste
   if (oj.contains("params") && !has_gen) c.Fail(f + ".params", "only valid with 'generator'");
   if (oj.contains("transform") && oj.contains("instances")) c.Fail(f, "give 'transform' or 'instances', not both");
   const std::string name = oj.contains("name") ? String(c, oj["name"], f + ".name") : std::string();
-  const MeshData mesh = ObjectMesh(c, oj, f, name, scene_dir, options);
+  const MeshData mesh = ObjectMesh(c, oj, f, name, scene_dir, options, s);
 
   std::uint32_t fixed = UINT32_MAX;
   if (oj.contains("material")) {
@@ -313,6 +314,7 @@ Scene LoadScene(const std::filesystem::path& path, const LoadOptions& options) {
 
   Scene s;
   s.path = path;
+  s.files.push_back(path);
   s.name = path.stem().string();
   if (root.contains("name")) s.name = String(c, root["name"], "name");
   s.camera = ParseCamera(c, Required(c, root, "camera", ""));

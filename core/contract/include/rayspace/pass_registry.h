@@ -50,11 +50,21 @@ inline constexpr std::size_t kPassCount = static_cast<std::size_t>(PassId::kCoun
 // (`PASS:NAME@emu`), where the workgroup checker must name them before any comparison. A pass's own
 // fault marked `emu` is mirrored by its emulated kernel too (`PASS:N@emu`), where the diff must catch
 // it as it catches the kernel's.
+// What a run must do for a fault to fire at all: a fault of the split, paged or folded paths changes
+// nothing on a frame that fits the device (`rayspace diff` and `replay` warn then).
+enum class FaultNeeds : std::uint8_t {
+  kNothing,
+  kSplit,          // a buffer split into parts or paged over bindings (--split-bytes)
+  kRows,           // a launch folded into rows of workgroups (--max-groups)
+  kScanReduction,  // the scan-based reduction (--reduction scan)
+};
+
 struct FaultSpec {
   std::uint32_t number;
   std::string_view effect;
   std::string_view name = {};
   bool emu = false;
+  FaultNeeds needs = FaultNeeds::kNothing;
 };
 
 // A call of the backend interface (emu/backend.h) that runs this pass. `index_outputs` are outputs
@@ -169,11 +179,11 @@ inline constexpr FaultSpec kRaygenRefractionFaults[] = {{1, "the index ratio is 
   {layout::kFaultSharedOffByOne, "subgroup sums are published one shared word too far", "shared-off-by-one"}
 inline constexpr FaultSpec kTrimFaults[] = {
     {1, "an inclusive scan where an exclusive one belongs"},
-    {2, "the carry between parts is dropped (--split-bytes)"},
+    {2, "the carry between parts is dropped (--split-bytes)", {}, false, FaultNeeds::kSplit},
     RS_WORKGROUP_FAULTS,
     {layout::kFaultWorkgroupOffset, "a workgroup starts at the next block's offset of the global scan", "workgroup-offset"}};
 inline constexpr FaultSpec kHashFaults[] = {{1, "the azimuth cell comes from the wrong coordinate pair"},
-                                            {2, "the launch row is ignored (--max-groups)"},
+                                            {2, "the launch row is ignored (--max-groups)", {}, false, FaultNeeds::kRows},
                                             RS_APPROX_DIV, RS_APPROX_SQRT};
 inline constexpr FaultSpec kCompressFaults[] = {{1, "the last chunk loses its last ray"}, RS_WORKGROUP_FAULTS};
 inline constexpr FaultSpec kSortFaults[] = {{1, "a bin's position is not advanced in the top byte's pass"},
@@ -183,10 +193,11 @@ inline constexpr FaultSpec kDecompressFaults[] = {{1, "the chunk is looked up wi
 inline constexpr FaultSpec kBuildFaults[] = {{1, "the float containment checks of each step are skipped"},
                                              RS_APPROX_DIV, RS_APPROX_SQRT};
 inline constexpr FaultSpec kTraverseFaults[] = {{1, "the top level ignores the triangle sphere's radius"},
-                                                {2, "a mask part's start is dropped (--split-bytes)"},
+                                                {2, "a mask part's start is dropped (--split-bytes)", {}, false, FaultNeeds::kSplit},
                                                 {layout::kFaultSqrtHigh, "every sqrt two ULP high, as a GPU may", "sqrt-high"}};
 inline constexpr FaultSpec kReduceFaults[] = {{1, "the last element of every segment is dropped"},
-                                              {2, "each scan block starts at the previous block's offset"},
+                                              {2, "each scan block starts at the previous block's offset (--reduction scan)", {}, false,
+                                               FaultNeeds::kScanReduction},
                                               RS_WORKGROUP_FAULTS};
 #undef RS_WORKGROUP_FAULTS
 // Mirrored by the emulated kernel (emu/src/traverse_compact_wg.cpp).
@@ -196,7 +207,7 @@ inline constexpr FaultSpec kTraverseCompactFaults[] = {
     {3, "every round of a block starts at the block's start (the carry between rounds is dropped)", {}, true},
     {4, "each block reports its survivors as its tests", {}, true}};
 inline constexpr FaultSpec kIntersectFaults[] = {{1, "tmin and tmax swapped in the range check"},
-                                                 {2, "every paged load reads the first page (--split-bytes)"},
+                                                 {2, "every paged load reads the first page (--split-bytes)", {}, false, FaultNeeds::kSplit},
                                                  RS_APPROX_DIV,
                                                  {layout::kFaultUlp4, "the distance t is 4 ULP too far (beyond any device)", "ulp4"}};
 inline constexpr FaultSpec kTreeRootsFaults[] = {{1, "the last root is never tested"},

@@ -58,6 +58,7 @@ struct Object {
 struct Scene {
   std::string name;
   std::filesystem::path path;
+  std::vector<std::filesystem::path> files;  // every file it was read from: the scene JSON and its meshes
   CameraDesc camera;
   int width = 512;
   int height = 512;

@@ -287,6 +287,8 @@ class Context {
   // Descriptor pools the recorders have created so far (a recorder adds one when a pass's parts
   // outgrow the pools it has; for tests).
   std::size_t descriptor_pools_created() const { return descriptor_pools_; }
+  // Launches folded into more than one row of workgroups so far (for reports and warnings).
+  std::size_t folded_launches() const { return folded_launches_; }
   // vkDeviceMemory objects alive now and at most so far (buffers and images share pooled blocks).
   std::size_t memory_allocations() const;
   // The host's access to a buffer whose memory it cannot map: a host-visible staging buffer and a
@@ -322,6 +324,7 @@ class Context {
   std::uint32_t max_stage_storage_buffers_ = 0, max_image_side_ = 0, subgroup_size_ = 1;
   std::uint32_t max_invocations_ = 0, max_size_x_ = 0;  // maxComputeWorkGroupInvocations, ...Size[0]
   std::size_t descriptor_pools_ = 0;
+  std::size_t folded_launches_ = 0;
 };
 
 }  // namespace rayspace::vk

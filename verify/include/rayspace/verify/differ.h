@@ -43,6 +43,7 @@ struct DiffOptions {
   Tracer* hit_tracer = nullptr;   // traces diverged ray batches to tell whether hits change
   std::string inject;             // the planted fault of the actual backend, recorded with saved inputs
   bool relaxed = false;           // accept differences a conformant device may produce (spec_model.h)
+  nlohmann::json options;         // every option that changes what a call computes, recorded for replay
 };
 
 // Runs `method` on both backends with `in`; `actual_out` receives the actual backend's outputs.
@@ -63,6 +64,8 @@ class Differ {
   void SetLabel(const std::string& label) { label_ = label; }
 
  private:
+  // Writes the call's comparison and inputs under options_.save_dir; sets r.saved.
+  void Save(CallRecord& r, const BufferSet& in, const std::string& method_name) const;
   Backends expected_, actual_;
   DiffOptions options_;
   std::string label_;

@@ -1,0 +1,241 @@
+#include "rayspace/output_file.h"
+
+#include <atomic>
+#include <climits>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <mutex>
+#include <utility>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "rayspace/error.h"
+
+namespace rayspace {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The temporary files alive now, for the signal handler: it may only read plain memory and call
+// unlink, so the paths live in fixed slots, each published by its `used` flag.
+struct TempSlot {
+  std::atomic<bool> used{false};
+  char path[PATH_MAX] = {};
+};
+constexpr int kTempSlots = 64;
+TempSlot g_temps[kTempSlots];
+std::mutex g_temps_mutex;  // slot allocation only; the handler never takes it
+std::atomic<bool> g_stdout_taken{false};
+
+void RemoveTemps() noexcept {
+  for (TempSlot& s : g_temps)
+    if (s.used.load(std::memory_order_acquire)) ::unlink(s.path);
+}
+
+extern "C" void RemoveTempsAndDie(int sig) {
+  RemoveTemps();
+  struct sigaction dfl {};
+  dfl.sa_handler = SIG_DFL;
+  sigemptyset(&dfl.sa_mask);
+  ::sigaction(sig, &dfl, nullptr);
+  ::raise(sig);  // delivered when the handler returns: the process ends as the signal meant
+}
+
+// std::exit runs static destructors but not those of the OutputFiles on the stack.
+struct RemoveTempsAtExit {
+  ~RemoveTempsAtExit() { RemoveTemps(); }
+} g_remove_at_exit;
+
+void InstallHandlers() {
+  for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGABRT}) {
+    struct sigaction old {};
+    ::sigaction(sig, nullptr, &old);
+    if (old.sa_handler != SIG_DFL) continue;  // ignored (nohup) or someone else's: leave it
+    struct sigaction sa {};
+    sa.sa_handler = RemoveTempsAndDie;
+    sigemptyset(&sa.sa_mask);
+    ::sigaction(sig, &sa, nullptr);
+  }
+}
+
+int RegisterTemp(const std::string& path) {
+  static std::once_flag installed;
+  std::call_once(installed, InstallHandlers);
+  if (path.size() >= PATH_MAX) return -1;
+  const std::lock_guard<std::mutex> lock(g_temps_mutex);
+  for (int i = 0; i < kTempSlots; ++i) {
+    if (g_temps[i].used.load(std::memory_order_relaxed)) continue;
+    std::memcpy(g_temps[i].path, path.c_str(), path.size() + 1);
+    g_temps[i].used.store(true, std::memory_order_release);
+    return i;
+  }
+  return -1;  // beyond the slots the file is still removed on every path but a signal
+}
+
+void UnregisterTemp(int slot) noexcept {
+  if (slot < 0) return;
+  const std::lock_guard<std::mutex> lock(g_temps_mutex);
+  g_temps[slot].used.store(false, std::memory_order_release);
+}
+
+bool WriteAll(int fd, std::string_view bytes) {
+  while (!bytes.empty()) {
+    const ssize_t n = ::write(fd, bytes.data(), bytes.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      if (n == 0) errno = EIO;
+      return false;
+    }
+    bytes.remove_prefix(static_cast<std::size_t>(n));
+  }
+  return true;
+}
+
+// The mode a new file gets from the umask, or the mode of the file it replaces.
+mode_t ModeFor(const fs::path& target) {
+  struct stat st {};
+  if (::stat(target.c_str(), &st) == 0) return st.st_mode & 07777;
+  const mode_t mask = ::umask(0);
+  ::umask(mask);
+  return 0666 & ~mask;
+}
+
+}  // namespace
+
+OutputFile::OutputFile(const std::string& path, OutputOptions options) : path_(path), options_(std::move(options)) {
+  if (path_.empty()) ThrowInput("an empty path: cannot write {}", options_.what);
+  if (path_ == "-" && options_.allow_stdout) {
+    if (g_stdout_taken.exchange(true)) Fail("standard output already carries another output of this run");
+    std::fflush(stdout);
+    stdout_fd_ = ::fcntl(STDOUT_FILENO, F_DUPFD_CLOEXEC, 3);
+    const int null_fd = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+    const bool moved = stdout_fd_ >= 0 && null_fd >= 0 && ::dup2(null_fd, STDOUT_FILENO) >= 0;
+    const int err = errno;
+    if (null_fd >= 0) ::close(null_fd);
+    if (!moved) Fail(std::strerror(err));
+    return;
+  }
+  target_ = path_;
+  std::error_code ec;
+  if (fs::is_symlink(fs::symlink_status(target_, ec))) {
+    const fs::path resolved = fs::canonical(target_, ec);
+    if (ec) {
+      const std::string why = ec.message();
+      Fail(fmt::format("is a dangling symbolic link to '{}' ({})", fs::read_symlink(target_, ec).string(), why));
+    }
+    target_ = resolved;
+  }
+  const fs::file_status st = fs::status(target_, ec);
+  if (fs::is_directory(st)) Fail("is a directory");
+  if (fs::exists(st) && !fs::is_regular_file(st))
+    Fail("is not a regular file (a device, FIFO or socket); outputs are written whole through a temporary file and a rename");
+  if (fs::exists(st) && ::access(target_.c_str(), W_OK) != 0) Fail(std::strerror(errno));
+  for (const fs::path& input : options_.inputs)
+    if (fs::equivalent(target_, input, ec)) Fail(fmt::format("is also an input of this run ('{}')", input.string()));
+  const std::string name = target_.filename().string(), ext = target_.extension().string();
+  if (name.empty() || name == "." || name == "..") Fail("names a directory, not a file");
+  // The extension stays last, for writers that choose the format by the file name.
+  std::string tmpl = ((target_.has_parent_path() ? target_.parent_path() : fs::path(".")) /
+                      ("." + name.substr(0, 200) + ".tmp-XXXXXX" + (ext.size() <= 16 ? ext : std::string())))
+                         .string();
+  fd_ = ::mkostemps(tmpl.data(), static_cast<int>(ext.size() <= 16 ? ext.size() : 0), O_CLOEXEC);
+  if (fd_ < 0) Fail(std::strerror(errno));
+  temp_ = tmpl;
+  slot_ = RegisterTemp(tmpl);
+  ::fchmod(fd_, ModeFor(target_));
+}
+
+OutputFile::OutputFile(OutputFile&& other) noexcept { *this = std::move(other); }
+
+OutputFile& OutputFile::operator=(OutputFile&& other) noexcept {
+  if (this == &other) return *this;
+  Discard();
+  path_ = std::move(other.path_);
+  options_ = std::move(other.options_);
+  target_ = std::move(other.target_);
+  temp_ = std::move(other.temp_);
+  fd_ = std::exchange(other.fd_, -1);
+  written_ = std::exchange(other.written_, false);
+  stdout_fd_ = std::exchange(other.stdout_fd_, -1);
+  slot_ = std::exchange(other.slot_, -1);
+  other.path_.clear();
+  other.temp_.clear();
+  return *this;
+}
+
+OutputFile::~OutputFile() { Discard(); }
+
+void OutputFile::Discard() noexcept {
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
+  if (!temp_.empty()) ::unlink(temp_.c_str());
+  temp_.clear();
+  UnregisterTemp(slot_);
+  slot_ = -1;
+  if (stdout_fd_ >= 0) ::close(stdout_fd_);
+  stdout_fd_ = -1;
+}
+
+void OutputFile::Fail(const std::string& reason) {
+  Discard();
+  ThrowInput("{}: cannot write {}: {}", path_ == "-" ? std::string("- (standard output)") : path_, options_.what, reason);
+}
+
+void OutputFile::Write(std::string_view bytes) {
+  if (empty()) return;
+  if (is_stdout()) {
+    if (!WriteAll(stdout_fd_, bytes)) Fail(std::strerror(errno));
+    written_ = true;
+    return;
+  }
+  if (fd_ < 0) Fail("written twice");
+  if (!WriteAll(fd_, bytes)) Fail(std::strerror(errno));
+  Close();
+}
+
+void OutputFile::Written() {
+  if (empty()) return;
+  if (fd_ < 0) Fail("written twice");
+  Close();
+}
+
+void OutputFile::Close() {
+  if (options_.sync && ::fsync(fd_) != 0) Fail(std::strerror(errno));
+  const int fd = std::exchange(fd_, -1);
+  if (::close(fd) != 0) Fail(std::strerror(errno));
+  written_ = true;
+}
+
+void OutputFile::Publish() {
+  if (empty() || is_stdout()) return;
+  if (!written_ || temp_.empty()) Fail("nothing was written");
+  if (::rename(temp_.c_str(), target_.c_str()) != 0) Fail(std::strerror(errno));
+  temp_.clear();
+  UnregisterTemp(slot_);
+  slot_ = -1;
+}
+
+void PublishAll(const std::vector<OutputFile*>& outputs) {
+  for (OutputFile* o : outputs)
+    if (o) o->Publish();
+}
+
+void CheckDistinctOutputs(const std::vector<const OutputFile*>& outputs) {
+  std::error_code ec;
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    if (!outputs[i] || outputs[i]->empty() || outputs[i]->is_stdout()) continue;
+    const fs::path a = fs::weakly_canonical(outputs[i]->target(), ec);
+    for (std::size_t j = 0; j < i; ++j) {
+      if (!outputs[j] || outputs[j]->empty() || outputs[j]->is_stdout()) continue;
+      if (fs::weakly_canonical(outputs[j]->target(), ec) == a)
+        ThrowInput("{}: given as {} and as {}: each output needs its own file", outputs[i]->path(), outputs[j]->what(),
+                   outputs[i]->what());
+    }
+  }
+}
+
+}  // namespace rayspace
