@@ -150,7 +150,7 @@ expect_error(NAME "export --device 63"
              NEEDLES "--device 63"
              ARGS export "${saved_trim}" --out "${WORK}/export-7" --device 63)
 file(COPY "${saved_trim}/" DESTINATION "${WORK}/bad-comparison")
-file(WRITE "${WORK}/bad-comparison/comparison.json" "{\"local_size\": -3}")
+file(WRITE "${WORK}/bad-comparison/comparison.json" "{\"options\": {\"local_size\": -3}}")
 expect_error(NAME "export of a call whose comparison.json is malformed"
              NEEDLES "${WORK}/bad-comparison/comparison.json" "local_size"
              ARGS export "${WORK}/bad-comparison" --out "${WORK}/export-8")
