@@ -2,6 +2,7 @@
 #include "backend_setup.h"
 #include "cli_util.h"
 #include "kernel_model.h"
+#include "memory_estimate.h"
 
 #include <algorithm>
 #include <cmath>
@@ -432,6 +433,9 @@ ExitCode RunDiff(const DiffArgs& args) {
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
   const Injection injection = ParseInject(args.inject);
   OutputFile report = OpenOutput(args.report, "the report", &scene);  // before the frame, as --save-inputs
+  const MemoryEstimate estimate =
+      EstimateFrameMemory(fo.width, fo.height, scene.lights.size(), scene.TriangleCount(), args.pair_capacity, kDiffCopies);
+  CheckFitsMachine(estimate, fo.width, fo.height, "--size", "the diff");
   const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, injection.kernel, args.Limits(), args.kernels);
   ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
   const SceneBuffers buffers = FlattenScene(scene);
@@ -457,7 +461,9 @@ ExitCode RunDiff(const DiffArgs& args) {
   PrintSavedInputs(args, differ);
   const ExitCode verdict = !run.checker.is_null() ? ExitCode::kWorkgroupFault : equal ? ExitCode::kOk : ExitCode::kDivergence;
   return WriteOutputs(verdict, [&] {
-    report.Commit(JsonText(DiffReport(args, scene, fo, gpu, differ, passes, equal, run, totals.first, relaxed, totals.within_spec)));
+    nlohmann::json j = DiffReport(args, scene, fo, gpu, differ, passes, equal, run, totals.first, relaxed, totals.within_spec);
+    j["memory_estimate"] = MemoryEstimateJson(estimate);
+    report.Commit(JsonText(j));
   });
 }
 
