@@ -14,6 +14,8 @@
 #include <map>
 #include <optional>
 
+#include <unistd.h>
+
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
@@ -431,6 +433,7 @@ void PrintSavedInputs(const DiffArgs& args, const verify::Differ& differ) {
 ExitCode RunDiff(const DiffArgs& args) {
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
+  fo.progress = args.progress || isatty(STDERR_FILENO);  // progress on stderr when someone watches
   const Injection injection = ParseInject(args.inject);
   OutputFile report = OpenOutput(args.report, "the report", &scene);  // before the frame, as --save-inputs
   const MemoryEstimate estimate =

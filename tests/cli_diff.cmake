@@ -585,6 +585,20 @@ if(run)
   endif()
 endif()
 
+# --progress with stderr not a terminal: a plain line per pass, "k of n" up to "n of n" with the
+# elapsed time and an ETA on the lines before the last; none on stdout.
+case_selected(progress run)
+if(run)
+  execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 32x32 --progress
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  string(REGEX MATCH "\\[rayspace\\] ([0-9]+) of ([0-9]+) resolve [^\n]*elapsed" last "${err}")
+  if(NOT rc EQUAL 0 OR NOT last OR NOT CMAKE_MATCH_1 EQUAL CMAKE_MATCH_2
+     OR NOT err MATCHES "\\[rayspace\\] 1 of [0-9]+ prep [^\n]*; elapsed [0-9.]+ s, ETA [0-9.]+ s\n"
+     OR out MATCHES "rayspace\\]")
+    set(failures "${failures}\n--progress: exit ${rc}, stdout:\n${out}\nstderr:\n${err}")
+  endif()
+endif()
+
 # A device index that does not exist is bad input: exit 2 and one line naming the option.
 case_selected(bad-device run)
 if(run)
