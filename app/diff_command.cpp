@@ -1,6 +1,7 @@
 #include "diff_command.h"
 #include "backend_setup.h"
 #include "cli_util.h"
+#include "diff_impact.h"
 #include "kernel_model.h"
 #include "memory_estimate.h"
 
@@ -350,14 +351,14 @@ struct DiffTracer {
   Tracer& get() { return hierarchy ? static_cast<Tracer&>(*hierarchy) : *host; }
 };
 
-DiffTracer MakeDiffTracer(const DiffArgs& args, const SceneBuffers& buffers, const emu::FrameOptions& fo, verify::Differ& differ) {
+DiffTracer MakeDiffTracer(const DiffArgs& args, const SceneBuffers& buffers, const emu::FrameOptions& fo, emu::HierarchyPasses& passes) {
   DiffTracer t;
   if (args.algo == "brute") {
     t.host = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);
   } else if (args.algo == "embree") {
     t.host = refs::MakeEmbreeTracer(buffers, 0);
   } else {
-    emu::HierarchyConfig cfg = MakeHierarchyConfig(args, fo.width, fo.height, &differ.hierarchy());
+    emu::HierarchyConfig cfg = MakeHierarchyConfig(args, fo.width, fo.height, &passes);
     cfg.fused = args.path == "fused";
     t.hierarchy = emu::MakeHierarchyTracer(buffers, cfg);
   }
@@ -428,6 +429,22 @@ void PrintSavedInputs(const DiffArgs& args, const verify::Differ& differ) {
               args.save_inputs.c_str(), args.save_inputs.c_str());
 }
 
+// After a divergence, what it does to the picture: the frame on each backend alone, compared (null when
+// the diff found none, or the workgroup checker stopped it before any comparison mattered).
+nlohmann::json MeasureDiffImpact(const DiffArgs& args, const Scene& scene, const SceneBuffers& buffers, const emu::FrameOptions& fo,
+                                 const Backend& gpu, const DiffTotals& totals, const DiffOutcome& run) {
+  if (!totals.first || !run.checker.is_null()) return nullptr;
+  const ImpactTracerFactory make = [&](emu::HierarchyPasses& passes) -> std::unique_ptr<Tracer> {
+    DiffTracer t = MakeDiffTracer(args, buffers, fo, passes);
+    if (t.hierarchy) return std::move(t.hierarchy);
+    return std::move(t.host);
+  };
+  const DiffImpact impact = MeasureImpact(scene, buffers, fo, make, {&emu::EmuFramePasses(), &emu::EmuHierarchyPasses()},
+                                          {&gpu.Frame(), &gpu.Hierarchy()});
+  PrintImpact(stderr, impact);
+  return ImpactJson(impact);
+}
+
 }  // namespace
 
 ExitCode RunDiff(const DiffArgs& args) {
@@ -451,7 +468,7 @@ ExitCode RunDiff(const DiffArgs& args) {
   const bool relaxed = args.compare == "relaxed" || (args.compare == "auto" && !gpu.correctly_rounded);
   verify::Differ differ(expected, actual, {args.save_inputs, direct.get(), args.inject, relaxed, RecordedOptions(args, gpu)});
   fo.passes = &differ.frame();
-  DiffTracer tracer = MakeDiffTracer(args, buffers, fo, differ);
+  DiffTracer tracer = MakeDiffTracer(args, buffers, fo, differ.hierarchy());
   PrintDiffHeader(args, scene, fo, gpu, relaxed, tracer.hierarchy != nullptr);
   const DiffOutcome run = RunDiffFrame(scene, buffers, tracer.get(), fo);
 
@@ -462,12 +479,12 @@ ExitCode RunDiff(const DiffArgs& args) {
   std::printf("  vulkan: %zu split dispatches, %zu arrays paged over several bindings\n", gpu.extra_dispatches(gpu),
               gpu.paged_arrays(gpu));
   PrintSavedInputs(args, differ);
+  // The report is made before the impact's frames add to the device's dispatch counts.
+  nlohmann::json j = DiffReport(args, scene, fo, gpu, differ, passes, equal, run, totals.first, relaxed, totals.within_spec);
+  j["memory_estimate"] = MemoryEstimateJson(estimate);
+  j["impact"] = MeasureDiffImpact(args, scene, buffers, fo, gpu, totals, run);
   const ExitCode verdict = !run.checker.is_null() ? ExitCode::kWorkgroupFault : equal ? ExitCode::kOk : ExitCode::kDivergence;
-  return WriteOutputs(verdict, [&] {
-    nlohmann::json j = DiffReport(args, scene, fo, gpu, differ, passes, equal, run, totals.first, relaxed, totals.within_spec);
-    j["memory_estimate"] = MemoryEstimateJson(estimate);
-    report.Commit(JsonText(j));
-  });
+  return WriteOutputs(verdict, [&] { report.Commit(JsonText(j)); });
 }
 
 namespace {
