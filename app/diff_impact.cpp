@@ -1,6 +1,7 @@
 #include "diff_impact.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -72,8 +73,18 @@ std::vector<std::size_t> MatchRays(const std::vector<layout::Ray>& e, const std:
   return match;
 }
 
+// A faulty kernel's ray may be garbage (not finite, or beyond what exact arithmetic takes): no
+// answer for it is right. Reflection and refraction rays run to tmax = +inf.
 refs::Answer Judge(const Captured& c, std::size_t i, const SceneBuffers& scene) {
-  return c.shadow ? refs::JudgeOccluded(c.rays[i], c.hits[i] != 0, scene) : refs::JudgeClosest(c.rays[i], c.hits[i], scene);
+  const layout::Ray& r = c.rays[i];
+  for (int k = 0; k < 3; ++k)
+    if (!std::isfinite(r.origin_tmin[k]) || !std::isfinite(r.direction_tmax[k])) return refs::Answer::kWrong;
+  if (std::isnan(r.origin_tmin.w) || std::isnan(r.direction_tmax.w)) return refs::Answer::kWrong;  // tmax may be +inf
+  try {
+    return c.shadow ? refs::JudgeOccluded(r, c.hits[i] != 0, scene) : refs::JudgeClosest(r, c.hits[i], scene);
+  } catch (const std::exception&) {
+    return refs::Answer::kWrong;
+  }
 }
 
 // Which side the exact oracle says is right: one of them, both (exactly, as at a tie or when each
