@@ -7,12 +7,14 @@
 
 #include <unistd.h>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "bench_configs.h"
 #include "bench_report.h"
 #include "bench_run.h"
 #include "cli_util.h"
+#include "memory_estimate.h"
 #include "rayspace/error.h"
 #include "rayspace/input_file.h"
 #include "rayspace/json_text.h"
@@ -46,6 +48,21 @@ OutputFile CheckInputsAndOutput(const BenchArgs& args) {
   return args.json.empty() ? OutputFile() : OutputFile(args.json, std::move(o));
 }
 
+// Every size of every scene must fit the machine before the first frame runs, so that a size too large
+// for one scene is refused at once rather than after the frames before it. Each scene is loaded here
+// only for its counts, then let go.
+void CheckBenchMemory(const BenchArgs& args, const std::vector<std::pair<int, int>>& sizes) {
+  LoadOptions lo;
+  lo.data_root = args.data;
+  const RenderArgs base;
+  for (const std::string& path : args.scenes) {
+    const Scene scene = LoadScene(path, lo);
+    for (const auto& [w, h] : sizes)
+      CheckFitsMachine(EstimateFrameMemory(w, h, scene.lights.size(), scene.TriangleCount(), base.pair_capacity, 1), w, h,
+                       "--sizes", fmt::format("a frame of {}", path).c_str());
+  }
+}
+
 // Each configuration at each size of one scene, the scene loaded once.
 void RunScene(const BenchArgs& args, const std::string& path, const std::vector<std::pair<int, int>>& sizes,
               const std::vector<const BenchConfig*>& configs, std::vector<BenchRow>& rows) {
@@ -71,6 +88,7 @@ ExitCode RunBench(const BenchArgs& args) {
       ParseBenchConfigs(args.configs.empty() ? DefaultBenchConfigs() : args.configs);
   OutputFile json = CheckInputsAndOutput(args);
   if (args.threads > 0) SetThreadCount(args.threads);
+  CheckBenchMemory(args, sizes);
 
   std::vector<BenchRow> rows;
   for (const std::string& path : args.scenes) RunScene(args, path, sizes, configs, rows);

@@ -1,7 +1,9 @@
 #include "diff_command.h"
 #include "backend_setup.h"
 #include "cli_util.h"
+#include "diff_impact.h"
 #include "kernel_model.h"
+#include "memory_estimate.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,6 +14,8 @@
 #include <fstream>
 #include <map>
 #include <optional>
+
+#include <unistd.h>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -347,14 +351,14 @@ struct DiffTracer {
   Tracer& get() { return hierarchy ? static_cast<Tracer&>(*hierarchy) : *host; }
 };
 
-DiffTracer MakeDiffTracer(const DiffArgs& args, const SceneBuffers& buffers, const emu::FrameOptions& fo, verify::Differ& differ) {
+DiffTracer MakeDiffTracer(const DiffArgs& args, const SceneBuffers& buffers, const emu::FrameOptions& fo, emu::HierarchyPasses& passes) {
   DiffTracer t;
   if (args.algo == "brute") {
     t.host = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);
   } else if (args.algo == "embree") {
     t.host = refs::MakeEmbreeTracer(buffers, 0);
   } else {
-    emu::HierarchyConfig cfg = MakeHierarchyConfig(args, fo.width, fo.height, &differ.hierarchy());
+    emu::HierarchyConfig cfg = MakeHierarchyConfig(args, fo.width, fo.height, &passes);
     cfg.fused = args.path == "fused";
     t.hierarchy = emu::MakeHierarchyTracer(buffers, cfg);
   }
@@ -425,13 +429,33 @@ void PrintSavedInputs(const DiffArgs& args, const verify::Differ& differ) {
               args.save_inputs.c_str(), args.save_inputs.c_str());
 }
 
+// After a divergence, what it does to the picture: the frame on each backend alone, compared (null when
+// the diff found none, or the workgroup checker stopped it before any comparison mattered).
+nlohmann::json MeasureDiffImpact(const DiffArgs& args, const Scene& scene, const SceneBuffers& buffers, const emu::FrameOptions& fo,
+                                 const Backend& gpu, const DiffTotals& totals, const DiffOutcome& run) {
+  if (!totals.first || !run.checker.is_null()) return nullptr;
+  const ImpactTracerFactory make = [&](emu::HierarchyPasses& passes) -> std::unique_ptr<Tracer> {
+    DiffTracer t = MakeDiffTracer(args, buffers, fo, passes);
+    if (t.hierarchy) return std::move(t.hierarchy);
+    return std::move(t.host);
+  };
+  const DiffImpact impact = MeasureImpact(scene, buffers, fo, make, {&emu::EmuFramePasses(), &emu::EmuHierarchyPasses()},
+                                          {&gpu.Frame(), &gpu.Hierarchy()});
+  PrintImpact(stderr, impact);
+  return ImpactJson(impact);
+}
+
 }  // namespace
 
 ExitCode RunDiff(const DiffArgs& args) {
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
+  fo.progress = args.progress || isatty(STDERR_FILENO);  // progress on stderr when someone watches
   const Injection injection = ParseInject(args.inject);
   OutputFile report = OpenOutput(args.report, "the report", &scene);  // before the frame, as --save-inputs
+  const MemoryEstimate estimate =
+      EstimateFrameMemory(fo.width, fo.height, scene.lights.size(), scene.TriangleCount(), args.pair_capacity, kDiffCopies);
+  CheckFitsMachine(estimate, fo.width, fo.height, "--size", "the diff");
   const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, injection.kernel, args.Limits(), args.kernels);
   ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
   const SceneBuffers buffers = FlattenScene(scene);
@@ -444,7 +468,7 @@ ExitCode RunDiff(const DiffArgs& args) {
   const bool relaxed = args.compare == "relaxed" || (args.compare == "auto" && !gpu.correctly_rounded);
   verify::Differ differ(expected, actual, {args.save_inputs, direct.get(), args.inject, relaxed, RecordedOptions(args, gpu)});
   fo.passes = &differ.frame();
-  DiffTracer tracer = MakeDiffTracer(args, buffers, fo, differ);
+  DiffTracer tracer = MakeDiffTracer(args, buffers, fo, differ.hierarchy());
   PrintDiffHeader(args, scene, fo, gpu, relaxed, tracer.hierarchy != nullptr);
   const DiffOutcome run = RunDiffFrame(scene, buffers, tracer.get(), fo);
 
@@ -455,10 +479,12 @@ ExitCode RunDiff(const DiffArgs& args) {
   std::printf("  vulkan: %zu split dispatches, %zu arrays paged over several bindings\n", gpu.extra_dispatches(gpu),
               gpu.paged_arrays(gpu));
   PrintSavedInputs(args, differ);
+  // The report is made before the impact's frames add to the device's dispatch counts.
+  nlohmann::json j = DiffReport(args, scene, fo, gpu, differ, passes, equal, run, totals.first, relaxed, totals.within_spec);
+  j["memory_estimate"] = MemoryEstimateJson(estimate);
+  j["impact"] = MeasureDiffImpact(args, scene, buffers, fo, gpu, totals, run);
   const ExitCode verdict = !run.checker.is_null() ? ExitCode::kWorkgroupFault : equal ? ExitCode::kOk : ExitCode::kDivergence;
-  return WriteOutputs(verdict, [&] {
-    report.Commit(JsonText(DiffReport(args, scene, fo, gpu, differ, passes, equal, run, totals.first, relaxed, totals.within_spec)));
-  });
+  return WriteOutputs(verdict, [&] { report.Commit(JsonText(j)); });
 }
 
 namespace {

@@ -19,6 +19,7 @@ struct DiffArgs : FrameArgs {
   int local_size = 64;
   std::string compare = "auto";  // --compare: auto, bitwise or relaxed
   std::string path = "passes";   // --path: passes (traverse then reduce) or fused (traverse.compact)
+  bool progress = false;         // --progress: also when stderr is not a terminal
 };
 
 // Runs the whole frame with every pass on both backends (same inputs: the GPU's previous outputs)

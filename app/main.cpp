@@ -121,6 +121,8 @@ void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
                  "runs by default; the emulator runs its workgroup mirror unless --no-check-workgroups with the forward "
                  "schedule asks for its SIMD lanes)")
       ->check(CLI::IsMember({"fused", "passes"}));
+  dc->add_flag("--progress", cmds.diff.progress, "Print each pass as k of n with its time and an ETA on stderr (default "
+               "when stderr is a terminal)");
   CLI::App* pc = cmds.replay_cmd = app.add_subcommand("replay", "Run one pass call saved by diff --save-inputs on both backends and compare");
   pc->add_option("dir", cmds.replay.dir, "Directory of the saved call (DIR/NNNN-PASS); the options the diff ran it "
                  "with (--split-bytes, --max-groups, --local-size, --inject, --compare, --schedule, --check-workgroups, "

@@ -17,13 +17,20 @@ struct MemoryEstimate {
   std::size_t total = 0;
 };
 
-// backends: 1 for render, 2 for diff (both sides hold the frame's buffers).
+// copies: how many copies of the frame's buffers live at once: 1 for render and bench, kDiffCopies
+// for diff.
 MemoryEstimate EstimateFrameMemory(int width, int height, std::size_t lights, std::size_t triangles, std::size_t pair_capacity,
-                                   int backends);
+                                   int copies);
+// diff holds the frame on both backends, and the differ holds each call's encoded inputs and the
+// expected side's outputs beside them; the impact of a divergence keeps every batch's rays and hits
+// of two further frames, one per side.
+inline constexpr int kDiffCopies = 4;
 // The machine's physical memory in bytes (0 when unknown).
 std::size_t MachineMemoryBytes();
-// Refuses (InputError naming --size) a frame whose estimate exceeds the machine's memory.
-void CheckFitsMachine(const MemoryEstimate& e, int width, int height);
+// Refuses (InputError naming `flag` and the size) a frame whose estimate exceeds the machine's memory;
+// `subject` says what needs it ("the frame", "the diff").
+void CheckFitsMachine(const MemoryEstimate& e, int width, int height, const char* flag = "--size",
+                      const char* subject = "the frame");
 nlohmann::json MemoryEstimateJson(const MemoryEstimate& e);
 
 }  // namespace rayspace::app

@@ -102,9 +102,47 @@ function(diff_case name scene size inject expect_rc expect_first)
   if(NOT "${first}" STREQUAL "${expect_first}")
     set(failures "${failures}\n${name}: first divergent pass '${first}', expected '${expect_first}'" PARENT_SCOPE)
   endif()
+  # The impact of a divergence is measured only when there is one.
+  string(JSON impact_type TYPE "${j}" impact)
+  if(expect_rc EQUAL 0 AND NOT impact_type STREQUAL "NULL")
+    set(failures "${failures}\n${name}: an equal diff reports an impact (${impact_type})" PARENT_SCOPE)
+  endif()
   # A divergence is a verdict: on stderr, where errors go, not only in the summary.
   if(expect_rc EQUAL 4 AND NOT err MATCHES "rayspace diff: first divergent pass: ${expect_first}\n")
     set(failures "${failures}\n${name}: stderr does not give the first divergent pass: ${err}" PARENT_SCOPE)
+  endif()
+endfunction()
+
+# impact_case(NAME SCENE SIZE INJECT EXPECT [diff options...]): the planted fault diverges (exit 4)
+# and the frame runs on each backend alone. EXPECT "changes": rays' final hits and pixels change, and
+# the exact oracle says the emulator is right (vulkan on none); "benign": no hit and no pixel changes.
+function(impact_case name scene size inject expect)
+  begin_case("${name}")
+  scene_path("${scene}" path)
+  execute_process(COMMAND "${RAYSPACE}" diff "${path}" --data "${DATA}" --size ${size} --inject ${inject}
+                          --report "${case_work}/report.json" ${ARGN}
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 4)
+    set(failures "${failures}\n${name}: exit ${rc}, expected 4: ${out}${err}" PARENT_SCOPE)
+    return()
+  endif()
+  file(READ "${case_work}/report.json" j)
+  foreach(key measured benign rays rays_changed pixels_changed judged)
+    string(JSON ${key} ERROR_VARIABLE jerr GET "${j}" impact ${key})
+  endforeach()
+  string(JSON emu_right ERROR_VARIABLE jerr GET "${j}" impact verdicts emulator)
+  string(JSON vk_right ERROR_VARIABLE jerr GET "${j}" impact verdicts vulkan)
+  set(facts "measured ${measured}, benign ${benign}, ${rays_changed} of ${rays} rays, ${pixels_changed} pixels, emulator right on ${emu_right}, vulkan on ${vk_right} (${jerr})")
+  if(expect STREQUAL "changes")
+    string(JSON first_verdict ERROR_VARIABLE jerr GET "${j}" impact changed_rays 0 verdict)
+    if(NOT measured OR benign OR NOT rays_changed GREATER 0 OR NOT pixels_changed GREATER 0 OR NOT emu_right GREATER 0
+       OR NOT vk_right EQUAL 0 OR first_verdict STREQUAL "vulkan"
+       OR NOT err MATCHES "impact: [0-9]+ of [0-9]+ rays change their final hit \\(emulator right on [1-9][0-9]*, vulkan on 0")
+      set(failures "${failures}\n${name}: expected changed hits and pixels, the emulator right: ${facts}\n${err}" PARENT_SCOPE)
+    endif()
+  elseif(NOT measured OR NOT benign OR NOT rays_changed EQUAL 0 OR NOT pixels_changed EQUAL 0 OR NOT rays GREATER 0
+         OR NOT err MATCHES "impact: benign: no ray's final hit and no pixel changes")
+    set(failures "${failures}\n${name}: expected a benign impact: ${facts}\n${err}" PARENT_SCOPE)
   endif()
 endfunction()
 
@@ -392,6 +430,13 @@ endforeach()
 if("${CASE}" STREQUAL "replay.save")
   file(REMOVE_RECURSE "${WORK}/saved")
 endif()
+# What a divergence does to the picture: faults that change hits, and ones that only regroup rays.
+# traverse:1 drops top-level pairs: in the office some of them held hits, in the Cornell box none.
+impact_case(impact.traverse:1 office 64x64 traverse:1 changes)
+impact_case(impact.intersect:1 cornell-mirrors 64x64 intersect:1 changes)
+impact_case(impact.benign.traverse:1 cornell-mirrors 64x64 traverse:1 benign)
+impact_case(impact.benign.hash:1 cornell-mirrors 64x64 hash:1 benign)
+impact_case(impact.benign.tree.roots:3 cornell-mirrors 48x48 tree.roots:3 benign --objects tree --path passes)
 diff_case(replay.save cornell-mirrors 64x64 traverse:1 4 traverse --save-inputs "${WORK}/saved")
 if("${CASE}" STREQUAL "replay.save" AND NOT case_out MATCHES "inputs saved: [0-9]+ calls in ${WORK}/saved")
   set(failures "${failures}\nreplay.save: the summary does not say where the inputs went")
@@ -582,6 +627,21 @@ if(run)
   string(JSON equal ERROR_VARIABLE jerr GET "${out}" equal)
   if(NOT rc EQUAL 0 OR jerr OR NOT equal OR EXISTS "${case_work}/-")
     set(failures "${failures}\nreport.stdout: exit ${rc}, 'equal' ${equal} (${jerr}): ${out}${err}")
+  endif()
+endif()
+
+# --progress with stderr not a terminal: a plain line per pass, "k of n" up to "n of n" with the
+# elapsed time and an ETA on the lines before the last, the impact's frames labelled; none on stdout.
+case_selected(progress run)
+if(run)
+  execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 32x32 --inject intersect:1 --progress
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  string(REGEX MATCH "\\[rayspace\\] ([0-9]+) of ([0-9]+) resolve [^\n]*elapsed" last "${err}")
+  if(NOT rc EQUAL 4 OR NOT last OR NOT CMAKE_MATCH_1 EQUAL CMAKE_MATCH_2
+     OR NOT err MATCHES "\\[rayspace\\] 1 of [0-9]+ prep [^\n]*; elapsed [0-9.]+ s, ETA [0-9.]+ s\n"
+     OR NOT err MATCHES "\\[rayspace\\] impact, the emulator alone: 1 of "
+     OR NOT err MATCHES "\\[rayspace\\] impact, the vulkan backend alone: [0-9]+ of [0-9]+ resolve" OR out MATCHES "rayspace\\]")
+    set(failures "${failures}\n--progress: exit ${rc}, stdout:\n${out}\nstderr:\n${err}")
   endif()
 endif()
 

@@ -2,7 +2,9 @@
 #   cmake -DRAYSPACE=<exe> -DWORK=<scratch dir> -P cli_memory.cmake
 # A frame whose estimated peak exceeds the machine's memory names --size, the estimate and the
 # machine's memory; a scene whose instances would pass the triangle limit is refused by count
-# before the copies are made; a frame that fits reports its estimate in --stats.
+# before the copies are made; a frame that fits reports its estimate in --stats. diff (both backends
+# and the differ's copies) and bench (every size of every scene, before the first frame) are refused
+# the same way, and diff's --report carries its estimate.
 file(REMOVE_RECURSE "${WORK}")
 file(MAKE_DIRECTORY "${WORK}")
 set(failures "")
@@ -35,7 +37,13 @@ endfunction()
 
 expect_refused("16384x16384 frame" "--size 16384x16384;estimated;GB;machine" render box.json --size 16384x16384 --no-oracle --out big.png)
 expect_refused("instances past the triangle limit" "instances.json;objects[0].instances;2^28" render instances.json --no-oracle --out i.png)
-foreach(f big.png i.png)
+if(VULKAN)
+  expect_refused("16384x16384 diff" "--size 16384x16384;the diff;estimated;GB;machine" diff box.json --size 16384x16384 --report big-diff.json)
+endif()
+# The large size comes last: no frame of the small one may run before the refusal.
+expect_refused("bench with a 16384x16384 size" "--sizes 16384x16384;box.json;estimated;GB;machine"
+               bench box.json --sizes 16x16,16384x16384 --repetitions 1 --configs crsh --json big-bench.json --progress)
+foreach(f big.png i.png big-diff.json big-bench.json)
   if(EXISTS "${WORK}/${f}")
     set(failures "${failures}\n${f} was left behind by a refused run")
   endif()
@@ -54,6 +62,21 @@ else()
   string(FIND "${out}" "estimated before the frame" at)
   if(at EQUAL -1)
     set(failures "${failures}\nthe summary does not print the estimate:\n${out}")
+  endif()
+endif()
+
+# diff's estimate (two backends and the differ's copies) is in its report, above render's.
+if(VULKAN)
+  execute_process(COMMAND "${RAYSPACE}" diff box.json --report diff.json WORKING_DIRECTORY "${WORK}"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    set(failures "${failures}\nthe 16x16 box diff failed: ${err}")
+  else()
+    file(READ "${WORK}/diff.json" report)
+    string(JSON diff_total ERROR_VARIABLE jerr GET "${report}" memory_estimate total_bytes)
+    if(jerr OR NOT diff_total GREATER "${total}")
+      set(failures "${failures}\ndiff report: memory_estimate.total_bytes is '${diff_total}', render's '${total}' (${jerr})")
+    endif()
   endif()
 endif()
 if(failures)

@@ -2,6 +2,9 @@
 
 #include <chrono>
 #include <cstdio>
+#include <map>
+
+#include <unistd.h>
 
 #include <fmt/format.h>
 
@@ -31,6 +34,63 @@ class Clock {
   std::chrono::steady_clock::time_point t0_;
 };
 
+// The frame's progress on stderr: "pass k of n" with the pass's time, the elapsed time and an ETA
+// (the mean time per pass so far times the passes left). A tracer's own passes (hash, sort, build,
+// and traverse and reduce once per level) are folded into their pass's line, each name once with
+// how often it ran, so that a level loop does not repeat a name.
+class Progress {
+ public:
+  explicit Progress(const FrameOptions& opt) : on_(opt.progress), tty_(on_ && isatty(STDERR_FILENO)), label_(opt.progress_label) {}
+  void SetTotal(std::size_t n) { total_ = n; }
+  void Start(const std::string& name) {
+    ++started_;
+    if (tty_) Line(name, "...", Eta(), false);
+  }
+  void Finish(const std::string& name, std::size_t elements, double ms, const std::vector<SubPass>& sub) {
+    if (!on_) return;
+    finished_ = started_;
+    Line(name, fmt::format("{} elements, {:.1f} ms{}", elements, ms, Folded(sub)), Eta(), !tty_);
+  }
+  void End() {
+    if (tty_) std::fprintf(stderr, "\n");
+  }
+
+ private:
+  std::string Eta() const {
+    const double s = clock_.Ms() / 1000.0;
+    if (finished_ == 0 || finished_ >= total_) return fmt::format("elapsed {:.1f} s", s);
+    return fmt::format("elapsed {:.1f} s, ETA {:.1f} s", s,
+                       s / static_cast<double>(finished_) * static_cast<double>(total_ - finished_));
+  }
+  static std::string Folded(const std::vector<SubPass>& sub) {
+    std::vector<std::string> order;
+    std::map<std::string, std::pair<std::size_t, double>> by_name;
+    for (const SubPass& sp : sub) {
+      auto [it, fresh] = by_name.try_emplace(sp.name, 0, 0.0);
+      if (fresh) order.push_back(sp.name);
+      ++it->second.first;
+      it->second.second += sp.ms;
+    }
+    std::string s;
+    for (const std::string& n : order) {
+      const auto& [count, ms] = by_name[n];
+      s += fmt::format("{}{}{} {:.1f} ms", s.empty() ? " (" : ", ", n, count > 1 ? fmt::format(" x{}", count) : "", ms);
+    }
+    return s.empty() ? s : s + ")";
+  }
+  void Line(const std::string& name, const std::string& what, const std::string& eta, bool newline) const {
+    const std::string lead = label_.empty() ? "" : label_ + ": ";
+    std::fprintf(stderr, "%s[rayspace] %s%zu of %zu %s %s; %s%s", tty_ ? "\r\033[K" : "", lead.c_str(), started_, total_,
+                 name.c_str(), what.c_str(), eta.c_str(), newline ? "\n" : "");
+    std::fflush(stderr);
+  }
+
+  bool on_, tty_;
+  std::string label_;
+  std::size_t total_ = 0, started_ = 0, finished_ = 0;
+  Clock clock_;
+};
+
 class Runner {
  public:
   Runner(const Scene& scene, const SceneBuffers& b, Tracer& tracer, const FrameOptions& opt, const BatchObserver& obs)
@@ -43,6 +103,7 @@ class Runner {
     r_.triangles = b_.triangles.size();
     const int depth = scene_.max_depth;
     fc_ = MakeFrameConstants(scene_, b_, r_.width, r_.height);
+    progress_.SetTotal(CountPasses());
     PrepAndRaster();
 
     std::vector<std::uint64_t> accum(static_cast<std::size_t>(r_.width) * r_.height * 3, 0);
@@ -87,10 +148,26 @@ class Runner {
       return r_.rgb.size() / 3;
     });
     r_.total_ms = total.Ms();
+    progress_.End();
     return std::move(r_);
   }
 
  private:
+  // The passes Run() will run, for the progress line's "k of n": prep, raster, the first surfaces,
+  // per bounce the shadow rays (raygen, trim, trace) and the shading, per later generation and kind
+  // raygen, trim, trace and surfaces, and the resolve.
+  std::size_t CountPasses() const {
+    bool reflective = false, transparent = false;
+    for (const MaterialDesc& m : scene_.materials) {
+      reflective |= m.reflectivity > 0.0f;
+      transparent |= m.transparency > 0.0f;
+    }
+    const std::size_t last = (reflective || transparent) ? static_cast<std::size_t>(scene_.max_depth) : 0;
+    const std::size_t per_bounce = (b_.lights.empty() ? 0 : 3) + 1;
+    const std::size_t per_generation = 4 * (static_cast<std::size_t>(reflective) + static_cast<std::size_t>(transparent));
+    return 3 + (last + 1) * per_bounce + last * per_generation + 1;
+  }
+
   // Bounding spheres of the triangles and objects, the tracer's preparation, and the G-buffer.
   void PrepAndRaster() {
     Pass("prep", [&] {
@@ -214,15 +291,13 @@ class Runner {
     Clock c;
     subpasses_.clear();
     passes_.Label(name);
+    progress_.Start(name);
     const std::size_t n = body();
     // A tracer's own passes (hash, sort, build, traverse, ...) are listed before the trace pass.
-    for (const SubPass& sp : subpasses_) {
-      if (opt_.progress) std::fprintf(stderr, "[rayspace]   %-26s %10zu elements %9.1f ms\n", sp.name.c_str(), sp.elements, sp.ms);
-      r_.passes.push_back({sp.name, true, {}, sp.ms, sp.elements});
-    }
-    subpasses_.clear();
+    for (const SubPass& sp : subpasses_) r_.passes.push_back({sp.name, true, {}, sp.ms, sp.elements});
     PassRecord rec{name, true, {}, c.Ms(), n};
-    if (opt_.progress) std::fprintf(stderr, "[rayspace] %-28s %10zu elements %9.1f ms\n", name.c_str(), n, rec.ms);
+    progress_.Finish(name, n, rec.ms, subpasses_);
+    subpasses_.clear();
     r_.passes.push_back(std::move(rec));
   }
   void Skip(const std::string& name, const std::string& reason) { r_.passes.push_back({name, false, reason, 0.0, 0}); }
@@ -236,6 +311,7 @@ class Runner {
   layout::FrameConstants fc_{};
   FrameResult r_;
   std::vector<SubPass> subpasses_;
+  Progress progress_{opt_};
   bool reflective_ = false, transparent_ = false;  // some material spawns reflection, refraction rays
 };
 

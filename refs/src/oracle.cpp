@@ -77,6 +77,20 @@ bool ClosestDefensible(const layout::Ray& ray, std::uint32_t prim, const SceneBu
 
 }  // namespace
 
+Answer JudgeClosest(const layout::Ray& ray, std::uint32_t prim, const SceneBuffers& scene) {
+  if (prim != layout::kNoPrim && prim >= scene.triangles.size()) return Answer::kWrong;  // a faulty kernel's garbage
+  const std::vector<std::uint32_t> exact = ExactClosest(ray, scene);
+  const bool right = prim == layout::kNoPrim ? exact.empty() : std::find(exact.begin(), exact.end(), prim) != exact.end();
+  if (right) return Answer::kExact;
+  return ClosestDefensible(ray, prim, scene) ? Answer::kWithinRounding : Answer::kWrong;
+}
+
+Answer JudgeOccluded(const layout::Ray& ray, bool occluded, const SceneBuffers& scene) {
+  const Contact exact = ExactOccluded(ray, scene);
+  if (exact == Contact::kBoundary || (exact == Contact::kInterior) == occluded) return Answer::kExact;
+  return (occluded ? OccludedDefensible(ray, scene) : LitDefensible(ray, scene)) ? Answer::kWithinRounding : Answer::kWrong;
+}
+
 void Oracle::CheckOccluded(const emu::Batch& batch) {
   const std::vector<layout::Ray>& rays = *batch.rays;
   std::vector<std::uint32_t> mine;

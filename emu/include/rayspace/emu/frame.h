@@ -54,7 +54,10 @@ struct FrameResult {
 
 struct FrameOptions {
   int width = 0, height = 0;  // 0: the scene's size
-  bool progress = false;      // pass names and times on stderr
+  // Each pass as "k of n" with its time and an ETA on stderr: one line rewritten in place when stderr
+  // is a terminal, a line per pass otherwise; `progress_label` (e.g. "impact, emulator") leads it.
+  bool progress = false;
+  std::string progress_label;
   FramePasses* passes = nullptr;  // the backend of the frame's passes (nullptr: the emulator)
 };
 

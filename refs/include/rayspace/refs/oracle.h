@@ -24,6 +24,14 @@ struct Disagreement {
 // round (docs/numerics.md, "The hit convention").
 inline constexpr float kRoundingRel = 0x1p-20f;
 
+// How exact arithmetic judges one tracer's answer for one ray: the exact answer (or one side of an
+// exact tie, or an occluder met exactly on an edge), an answer a correct float tracer may give
+// (within rounding, as the Oracle's lists), or wrong.
+enum class Answer { kExact, kWithinRounding, kWrong };
+// `prim`: the closest hit's primitive, kNoPrim for a miss.
+Answer JudgeClosest(const layout::Ray& ray, std::uint32_t prim, const SceneBuffers& scene);
+Answer JudgeOccluded(const layout::Ray& ray, bool occluded, const SceneBuffers& scene);
+
 class Oracle {
  public:
   // `tracer` re-traces; `scene` lets ties be recognised by re-testing both triangles.
