@@ -429,7 +429,7 @@ void PrintSavedInputs(const DiffArgs& args, const verify::Differ& differ) {
 
 ExitCode RunDiff(const DiffArgs& args) {
   emu::FrameOptions fo;
-  const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
+  const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height, args.bounces);
   const Injection injection = ParseInject(args.inject);
   OutputFile report = OpenOutput(args.report, "the report", &scene);  // before the frame, as --save-inputs
   const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, injection.kernel, args.Limits(), args.kernels);
