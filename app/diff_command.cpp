@@ -1,4 +1,5 @@
 #include "diff_command.h"
+#include "version.h"
 #include "backend_setup.h"
 #include "cli_util.h"
 #include "kernel_model.h"
@@ -457,7 +458,9 @@ ExitCode RunDiff(const DiffArgs& args) {
   PrintSavedInputs(args, differ);
   const ExitCode verdict = !run.checker.is_null() ? ExitCode::kWorkgroupFault : equal ? ExitCode::kOk : ExitCode::kDivergence;
   return WriteOutputs(verdict, [&] {
-    report.Commit(JsonText(DiffReport(args, scene, fo, gpu, differ, passes, equal, run, totals.first, relaxed, totals.within_spec)));
+    nlohmann::json j = DiffReport(args, scene, fo, gpu, differ, passes, equal, run, totals.first, relaxed, totals.within_spec);
+    AddProvenance(j);
+    report.Commit(JsonText(j));
   });
 }
 
@@ -642,6 +645,7 @@ ExitCode RunReplay(const ReplayArgs& given) {
               method_name.c_str(), gpu.device.c_str());
   if (!applied.empty()) std::printf("  as recorded:%s\n", applied.c_str());
   nlohmann::json j = {{"dir", args.dir}, {"options", RecordedOptions(args, gpu)}};
+  AddProvenance(j);
   verify::CallRecord r;
   try {
     verify::BufferSet out;

@@ -219,6 +219,7 @@ int main(int argc, char** argv) {
                                                    "device used without --device and how diff compares on it");
   rayspace::app::AddDeviceLacksOption(*cmds.devices_cmd);
 #endif
+  rayspace::app::SetArguments(argc, argv);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

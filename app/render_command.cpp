@@ -15,6 +15,7 @@
 #include "rayspace/json_text.h"
 #include "rayspace/parallel.h"
 #include "render_frame.h"
+#include "version.h"
 
 namespace rayspace::app {
 namespace {
@@ -100,6 +101,7 @@ nlohmann::json StatsJson(const RenderArgs& args, const Outcome& o) {
   if (backend.paged_arrays) j["backend"]["paged_arrays"] = backend.paged_arrays(backend);
   if (backend.max_buffer_bytes) j["backend"]["binding_bytes"] = backend.max_buffer_bytes;
   j["image"] = o.out;
+  AddProvenance(j);
   return j;
 }
 
