@@ -4,6 +4,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include "bench_command.h"
+#include "bench_configs.h"
+#include "rayspace/error.h"
 #include "render_command.h"
 #include "render_frame.h"
 
@@ -68,6 +71,18 @@ std::vector<IgnoredOption> IgnoredRenderOptions(const CLI::App& command, const R
   if (args.backend == "emu")
     for (const char* name : {"--device", "--split-bytes", "--max-groups"})
       Note(out, command, name, "--backend emu runs on the host, without a Vulkan device");
+  return out;
+}
+
+std::vector<IgnoredOption> IgnoredBenchOptions(const CLI::App& command, const BenchArgs& args) {
+  std::vector<IgnoredOption> out;
+  try {
+    for (const BenchConfig* c : ParseBenchConfigs(args.configs.empty() ? DefaultBenchConfigs() : args.configs))
+      if (c->backend == "vulkan") return out;
+  } catch (const InputError&) {
+    return out;
+  }
+  Note(out, command, "--device", "no configuration of --configs runs on Vulkan");
   return out;
 }
 

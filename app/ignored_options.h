@@ -11,6 +11,7 @@ class App;
 
 namespace rayspace::app {
 
+struct BenchArgs;
 struct FrameArgs;
 struct RenderArgs;
 
@@ -23,6 +24,8 @@ struct IgnoredOption {
 std::vector<IgnoredOption> IgnoredFrameOptions(const CLI::App& command, const FrameArgs& args, bool fused);
 // render's: the frame options, and --direct, --path and the Vulkan options where they do nothing.
 std::vector<IgnoredOption> IgnoredRenderOptions(const CLI::App& command, const RenderArgs& args);
+// bench's: --device when no configuration runs on Vulkan (a bad --configs is left to the run).
+std::vector<IgnoredOption> IgnoredBenchOptions(const CLI::App& command, const BenchArgs& args);
 // Prints "rayspace <cmd>: warning: <option> is ignored: <why>" for each.
 void WarnIgnored(const std::string& cmd, const std::vector<IgnoredOption>& ignored);
 

@@ -173,6 +173,8 @@ void NoteGivenReplayOptions(Commands& cmds) {
 void WarnIgnoredOptions(const Commands& cmds) {
   if (cmds.render_cmd->parsed())
     rayspace::app::WarnIgnored("render", rayspace::app::IgnoredRenderOptions(*cmds.render_cmd, cmds.render));
+  if (cmds.bench_cmd->parsed())
+    rayspace::app::WarnIgnored("bench", rayspace::app::IgnoredBenchOptions(*cmds.bench_cmd, cmds.bench));
 #ifdef RAYSPACE_HAVE_VULKAN
   if (cmds.diff_cmd->parsed())
     rayspace::app::WarnIgnored("diff", rayspace::app::IgnoredFrameOptions(*cmds.diff_cmd, cmds.diff, cmds.diff.path == "fused"));

@@ -96,6 +96,8 @@ expect_warning(NAME "--component-size with --reduction scan" NEEDLES "--componen
                ARGS render "${cornell}" ${small} --path passes --reduction scan --component-size 8)
 expect_warning(NAME "--path with brute" NEEDLES "--path passes is ignored"
                ARGS render "${cornell}" ${small} --algo brute --path passes)
+expect_warning(NAME "bench --device without a Vulkan configuration" NEEDLES "rayspace bench: warning: --device 0 is ignored"
+               ARGS bench "${cornell}" --sizes 16x16 --repetitions 1 --configs crsh --device 0)
 # Flags the run does use draw none.
 expect_warning(NAME "no warning: used flags" WARNINGS 0
                ARGS render "${cornell}" ${small} --subdivision 16 --levels 2 --path passes --reduction scan --objects tree --tree-leaf 4)
