@@ -1,4 +1,5 @@
 #include "bench_report.h"
+#include "version.h"
 
 #include <algorithm>
 #include <map>
@@ -179,8 +180,10 @@ bool CheckDigests(std::FILE* out, std::FILE* err, const std::vector<BenchRow>& r
 nlohmann::json BenchJson(const std::vector<BenchRow>& rows, int repetitions, int threads) {
   nlohmann::json results = nlohmann::json::array();
   for (const BenchRow& r : rows) results.push_back(RowJson(rows, r));
-  return {{"repetitions", repetitions}, {"threads", threads}, {"peak_reset_per_config", AllPeaksReset(rows)},
-          {"results", results}};
+  nlohmann::json j = {{"repetitions", repetitions}, {"threads", threads}, {"peak_reset_per_config", AllPeaksReset(rows)},
+                      {"results", results}};
+  AddProvenance(j);
+  return j;
 }
 
 }  // namespace rayspace::app

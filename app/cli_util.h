@@ -50,12 +50,14 @@ ExitCode WriteOutputs(ExitCode verdict, Write&& write) {
   return verdict;
 }
 
-// Loads the scene and sets the frame size from the scene or --size.
+// Loads the scene and sets the frame size from the scene or --size, and its bounces from --bounces
+// when given (>= 0).
 inline Scene LoadSceneForFrame(const std::string& path, const std::string& data, const std::string& size, int& width,
-                               int& height) {
+                               int& height, int bounces = -1) {
   LoadOptions lo;
   lo.data_root = data;
   Scene scene = LoadScene(path, lo);
+  if (bounces >= 0) scene.max_depth = bounces;
   width = scene.width;
   height = scene.height;
   if (!size.empty()) ParseSize(size, width, height);

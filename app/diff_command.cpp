@@ -1,4 +1,5 @@
 #include "diff_command.h"
+#include "version.h"
 #include "backend_setup.h"
 #include "cli_util.h"
 #include "diff_impact.h"
@@ -449,7 +450,7 @@ nlohmann::json MeasureDiffImpact(const DiffArgs& args, const Scene& scene, const
 
 ExitCode RunDiff(const DiffArgs& args) {
   emu::FrameOptions fo;
-  const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
+  const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height, args.bounces);
   fo.progress = args.progress || isatty(STDERR_FILENO);  // progress on stderr when someone watches
   const Injection injection = ParseInject(args.inject);
   OutputFile report = OpenOutput(args.report, "the report", &scene);  // before the frame, as --save-inputs
@@ -484,6 +485,7 @@ ExitCode RunDiff(const DiffArgs& args) {
   j["memory_estimate"] = MemoryEstimateJson(estimate);
   j["impact"] = MeasureDiffImpact(args, scene, buffers, fo, gpu, totals, run);
   const ExitCode verdict = !run.checker.is_null() ? ExitCode::kWorkgroupFault : equal ? ExitCode::kOk : ExitCode::kDivergence;
+  AddProvenance(j);
   return WriteOutputs(verdict, [&] { report.Commit(JsonText(j)); });
 }
 
@@ -668,6 +670,7 @@ ExitCode RunReplay(const ReplayArgs& given) {
               method_name.c_str(), gpu.device.c_str());
   if (!applied.empty()) std::printf("  as recorded:%s\n", applied.c_str());
   nlohmann::json j = {{"dir", args.dir}, {"options", RecordedOptions(args, gpu)}};
+  AddProvenance(j);
   verify::CallRecord r;
   try {
     verify::BufferSet out;

@@ -4,6 +4,10 @@
 #include <cmath>
 
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "rayspace/error.h"
+#include "rayspace/scene.h"
 
 #ifdef RAYSPACE_HAVE_VULKAN
 #include "rayspace/gpu/requirements.h"
@@ -29,12 +33,23 @@ void AddFrameOptions(CLI::App& command, FrameArgs& args) {
                   "Tracer for secondary rays: crsh (ray hashing + sorting, object spheres), rah (same hierarchy "
                   "over unsorted rays), rah-quadtree (Roger et al.'s screen quadtree), brute (emulated direct "
                   "tracer), embree")
-      ->check(CLI::IsMember(AlgorithmNames()));
-  command.add_option("--subdivision", args.subdivision, "Children per hierarchy node")
-      ->check(CLI::IsMember({4, 8, 16}));
-  command.add_option("--depth", args.depth, "Hierarchy levels (rah-quadtree: log2 of the image size)")
+      ->check(CLI::IsMember(AlgorithmNames()))
+      ->capture_default_str();
+  command.add_option("--subdivision", args.subdivision, "Children per hierarchy node (rah-quadtree: always 4)")
+      ->check(CLI::IsMember({4, 8, 16}))
+      ->capture_default_str();
+  // Levels of the ray hierarchy, not bounces (--bounces): --depth is its older name, kept working.
+  command
+      .add_option("--levels,--depth", args.depth,
+                  "Hierarchy levels (rah-quadtree: log2 of the image size unless given); --depth is the same option. "
+                  "Not the bounces: see --bounces")
       ->check(CLI::Range(1, 12))
+      ->capture_default_str()
       ->each([&args](const std::string&) { args.depth_given = true; });
+  command
+      .add_option("--bounces", args.bounces,
+                  fmt::format("Reflection and refraction bounces, in place of the scene's max_depth (0 to {})", kMaxDepth))
+      ->check(CLI::Range(0, kMaxDepth));
   command
       .add_option("--objects", args.objects,
                   "Hierarchy tracers against the objects: flat (every triangle of every object whose sphere a top "
@@ -42,9 +57,11 @@ void AddFrameOptions(CLI::App& command, FrameArgs& args) {
                   "descended together; emulator only) or auto (per ray batch: tree when the batch's leaf cones spread "
                   "by at least 0.1, see `leaf_spread` in --stats, or an object has 16,384 triangles or more, else "
                   "flat; flat on Vulkan)")
-      ->check(CLI::IsMember({"flat", "tree", "auto"}));
+      ->check(CLI::IsMember({"flat", "tree", "auto"}))
+      ->capture_default_str();
   command.add_option("--tree-leaf", args.tree_leaf, "--objects tree: an object-tree node of at most this many triangles is a leaf")
-      ->check(CLI::Range(1u, 1024u));
+      ->check(CLI::Range(1u, 1024u))
+      ->capture_default_str();
   command
       .add_option("--tree-big", args.tree_big,
                   "--objects tree: a triangle whose radius is at least this fraction of its node's stays the node's own")
@@ -54,15 +71,21 @@ void AddFrameOptions(CLI::App& command, FrameArgs& args) {
             return std::isfinite(f) ? std::string() : "Value " + v + " is not a finite number";
           },
           "FINITE"))
-      ->check(CLI::Range(0.001f, 1000.0f));
+      ->check(CLI::Range(0.001f, 1000.0f))
+      ->capture_default_str();
   command.add_option("--reduction", args.reduction, "Stream reduction: hierarchical (Roger et al.) or scan")
-      ->check(CLI::IsMember({"hierarchical", "scan"}));
+      ->check(CLI::IsMember({"hierarchical", "scan"}))
+      ->capture_default_str();
   command.add_option("--component-size", args.component_size, "Component size s of the hierarchical reduction")
-      ->check(CLI::Range(1, 1 << 20));
+      ->check(CLI::Range(1, 1 << 20))
+      ->capture_default_str();
   command
       .add_option("--pair-capacity", args.pair_capacity,
-                  "Pairs one traversal level may hold; more splits the triangle batch")
-      ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 30));
+                  "Pairs one traversal level may hold; more splits the triangle batch. At least "
+                  "subdivision^(levels-1), the pairs one top node and one triangle can reach (8 with the defaults, "
+                  "4^(levels-1) with rah-quadtree); --objects tree may need more, and says so")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 30).description("UINT in [subdivision^(levels-1) - 2^30]"))
+      ->capture_default_str();
   command.add_option("--size", args.size, "Image size WxH (overrides the scene)");
   command.add_option("--data", args.data, "Data root for mesh paths (default: $RAYSPACE_DATA)");
   AddDeviceOption(command, args.device);
@@ -130,6 +153,16 @@ void AddLocalSizeOption(CLI::App& command, int& local_size) {
       ->check(CLI::Range(1, 1024));
 }
 
+// One top node and one triangle can leave subdivision^(levels-1) pairs at level 1, and a block that
+// small is never split further: a smaller capacity would fail mid-frame, so it is refused first.
+void CheckPairCapacity(std::size_t capacity, int subdivision, int levels) {
+  std::size_t need = 1;
+  for (int L = 1; L < levels && need <= capacity; ++L) need *= static_cast<std::size_t>(subdivision);
+  if (capacity < need)
+    ThrowInput("--pair-capacity {}: too small for subdivision {} with {} levels; give at least {} (subdivision^(levels-1))",
+               capacity, subdivision, levels, need);
+}
+
 emu::HierarchyConfig MakeHierarchyConfig(const FrameArgs& args, int width, int height, emu::HierarchyPasses* passes) {
   emu::HierarchyConfig hc;
   hc.algorithm = args.algo == "crsh" ? emu::Algorithm::kCrsh
@@ -143,6 +176,7 @@ emu::HierarchyConfig MakeHierarchyConfig(const FrameArgs& args, int width, int h
     if (!args.depth_given) hc.depth = static_cast<int>(std::ceil(std::log2(std::max(width, height))));
     hc.depth = std::max(hc.depth, 1);
   }
+  CheckPairCapacity(args.pair_capacity, hc.subdivision, hc.depth);
   hc.reduction = args.reduction == "scan" ? emu::Reduction::kScan : emu::Reduction::kHierarchical;
   hc.component_size = args.component_size;
   hc.pair_capacity = args.pair_capacity;

@@ -38,7 +38,8 @@ const Algorithm* FindAlgorithm(std::string_view name);
 struct FrameArgs {
   std::string algo = "crsh";
   int subdivision = kHierarchyDefaults.subdivision, depth = kHierarchyDefaults.depth;
-  bool depth_given = false;  // --depth was given (rah-quadtree otherwise derives it from the image size)
+  bool depth_given = false;  // --levels was given (rah-quadtree otherwise derives it from the image size)
+  int bounces = -1;          // --bounces: the scene's max_depth unless given
   std::string reduction = "hierarchical";
   std::string objects = "auto";  // --objects flat|tree|auto
   std::uint32_t tree_leaf = ObjectTreeOptions{}.leaf_triangles;  // --tree-leaf
@@ -60,7 +61,7 @@ struct FrameArgs {
   }
 };
 
-// Registers --algo, --subdivision, --depth, --objects, --tree-leaf, --tree-big, --reduction, --component-size, --pair-capacity, --size,
+// Registers --algo, --subdivision, --levels (alias --depth), --bounces, --objects, --tree-leaf, --tree-big, --reduction, --component-size, --pair-capacity, --size,
 // --data, --device, --split-bytes, --max-groups, --kernel, --schedule and --check-workgroups on
 // `command`, writing into `args`.
 void AddFrameOptions(CLI::App& command, FrameArgs& args);
@@ -74,6 +75,9 @@ void AddKernelOption(CLI::App& command, KernelFiles& kernels);
 void AddLimitOptions(CLI::App& command, std::size_t& split_bytes, std::uint32_t& max_groups);
 // --local-size (diff and replay).
 void AddLocalSizeOption(CLI::App& command, int& local_size);
+
+// Refuses a pair capacity below subdivision^(levels-1), the most pairs one node and one triangle reach.
+void CheckPairCapacity(std::size_t capacity, int subdivision, int levels);
 
 // The hierarchy tracer's configuration for a frame of width x height, for a hierarchy --algo.
 emu::HierarchyConfig MakeHierarchyConfig(const FrameArgs& args, int width, int height, emu::HierarchyPasses* passes);

@@ -14,6 +14,7 @@
 #include "bench_command.h"
 #include "bench_configs.h"
 #include "exit_codes.h"
+#include "ignored_options.h"
 #include "render_command.h"
 #ifdef RAYSPACE_HAVE_VULKAN
 #include "devices_command.h"
@@ -170,6 +171,18 @@ void NoteGivenReplayOptions(Commands& cmds) {
 }
 #endif
 
+// Flags the chosen mode does not use: a warning each, before the run.
+void WarnIgnoredOptions(const Commands& cmds) {
+  if (cmds.render_cmd->parsed())
+    rayspace::app::WarnIgnored("render", rayspace::app::IgnoredRenderOptions(*cmds.render_cmd, cmds.render));
+  if (cmds.bench_cmd->parsed())
+    rayspace::app::WarnIgnored("bench", rayspace::app::IgnoredBenchOptions(*cmds.bench_cmd, cmds.bench));
+#ifdef RAYSPACE_HAVE_VULKAN
+  if (cmds.diff_cmd->parsed())
+    rayspace::app::WarnIgnored("diff", rayspace::app::IgnoredFrameOptions(*cmds.diff_cmd, cmds.diff, cmds.diff.path == "fused"));
+#endif
+}
+
 rayspace::app::ExitCode Run(const Commands& cmds) {
   using rayspace::app::ExitCode;
   if (cmds.render_cmd->parsed()) return rayspace::app::RunRender(cmds.render);
@@ -210,6 +223,7 @@ int main(int argc, char** argv) {
                                                    "device used without --device and how diff compares on it");
   rayspace::app::AddDeviceLacksOption(*cmds.devices_cmd);
 #endif
+  rayspace::app::SetArguments(argc, argv);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -228,6 +242,7 @@ int main(int argc, char** argv) {
   if (cmds.validate) rayspace::vk::SetValidation(true);
   rayspace::vk::Context::SetStrictMath(cmds.strict_math);
 #endif
+  WarnIgnoredOptions(cmds);
   ExitCode code = ExitCode::kOk;
   try {
     code = Run(cmds);

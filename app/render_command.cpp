@@ -15,6 +15,7 @@
 #include "rayspace/json_text.h"
 #include "rayspace/parallel.h"
 #include "render_frame.h"
+#include "version.h"
 
 namespace rayspace::app {
 namespace {
@@ -66,7 +67,9 @@ nlohmann::json StatsJson(const RenderArgs& args, const Outcome& o) {
   j["objects"] = scene.objects.size();
   j["width"] = r.width;
   j["height"] = r.height;
-  j["max_depth"] = scene.max_depth;
+  j["max_depth"] = scene.max_depth;  // the bounces (--bounces or the scene's), under the scene format's name
+  j["bounces"] = scene.max_depth;
+  if (o.tracer.contains("depth")) j["hierarchy_levels"] = o.tracer["depth"];  // "levels" holds the per-level counts
   j["lights"] = scene.lights.size();
   j["algorithm"] = args.algo;
   if (args.Hierarchy()) j["path"] = UsesFusedPath(args) ? "fused" : "passes";
@@ -98,6 +101,7 @@ nlohmann::json StatsJson(const RenderArgs& args, const Outcome& o) {
   if (backend.paged_arrays) j["backend"]["paged_arrays"] = backend.paged_arrays(backend);
   if (backend.max_buffer_bytes) j["backend"]["binding_bytes"] = backend.max_buffer_bytes;
   j["image"] = o.out;
+  AddProvenance(j);
   return j;
 }
 
@@ -107,12 +111,13 @@ void PrintSummary(const RenderArgs& args, const Outcome& o) {
   const Backend& backend = o.backend;
   const emu::FrameResult& r = o.r;
   const nlohmann::json& tracer = o.tracer;
-  std::printf("rayspace render: %s (%zu triangles in %zu objects, %dx%d, max_depth %d, %zu light%s)\n",
+  std::printf("rayspace render: %s (%zu triangles in %zu objects, %dx%d, bounces %d from %s, %zu light%s)\n",
               scene.name.c_str(), r.triangles, scene.objects.size(), r.width, r.height, scene.max_depth,
+              args.bounces >= 0 ? "--bounces" : "the scene's max_depth",
               scene.lights.size(), scene.lights.size() == 1 ? "" : "s");
   std::string how;
   if (tracer.contains("subdivision"))
-    how = fmt::format("subdivision {}, depth {}, {} reduction", tracer["subdivision"].get<int>(), tracer["depth"].get<int>(),
+    how = fmt::format("subdivision {}, {} hierarchy levels, {} reduction", tracer["subdivision"].get<int>(), tracer["depth"].get<int>(),
                       tracer["reduction"].get<std::string>());
   else
     how = tracer.value("mode", tracer.value("isa", std::string()));
@@ -182,7 +187,7 @@ void PrintMismatchVerdict(const refs::Oracle& oracle) {
 ExitCode RunRender(const RenderArgs& args) {
   if (args.threads > 0) SetThreadCount(args.threads);
   emu::FrameOptions fo;
-  const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
+  const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height, args.bounces);
   fo.progress = args.progress || isatty(STDERR_FILENO);  // progress on stderr when someone watches
   RenderOutputs outputs = OpenRenderOutputs(args, scene);
 

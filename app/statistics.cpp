@@ -6,6 +6,12 @@
 
 namespace rayspace::app {
 
+std::uint64_t Statistics::PerType::Total() const {
+  std::uint64_t sum = final_tests + ray_level.intersections;
+  for (const emu::LevelStats& l : levels) sum += l.intersections;
+  return sum;
+}
+
 Statistics CollectStatistics(const std::vector<emu::BatchStats>& batches) {
   Statistics s;
   s.hierarchy = true;
@@ -38,10 +44,7 @@ Statistics CollectStatistics(const std::vector<emu::BatchStats>& batches) {
   }
   // The accounting identity, recomputed from the per-type sums.
   std::uint64_t check = 0;
-  for (const auto& [kind, t] : s.types) {
-    check += t.final_tests + t.ray_level.intersections;
-    for (const emu::LevelStats& l : t.levels) check += l.intersections;
-  }
+  for (const auto& [kind, t] : s.types) check += t.Total();
   RS_CHECK_MSG(check == s.total, "total {} != levels + ray tests + final tests {}", s.total, check);
   // --objects tree: a tree batch's tests counted again by their object side.
   for (const emu::BatchStats& b : batches) {
@@ -72,6 +75,22 @@ Statistics BruteStatistics(const emu::FrameResult& frame, std::size_t triangles)
 
 namespace {
 
+double Percent(std::uint64_t part, std::uint64_t whole) {
+  return whole > 0 ? 100.0 * static_cast<double>(part) / static_cast<double>(whole) : 0.0;
+}
+
+// Per ray type: its rays, its brute force (rays x triangles) and its tests as a share of it.
+nlohmann::json PerTypeJson(const std::map<std::uint32_t, Statistics::PerType>& types, std::uint64_t frame_brute_force) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [kind, t] : types)
+    j[emu::RayKindName(kind)] = {{"rays", t.rays},
+                                 {"brute_force_tests", t.brute_force},
+                                 {"total_tests", t.Total()},
+                                 {"percent_of_brute_force", Percent(t.Total(), t.brute_force)},
+                                 {"percent_of_frame_brute_force", Percent(t.Total(), frame_brute_force)}};
+  return j;
+}
+
 nlohmann::json LevelJson(const emu::LevelStats& l) {
   return {{"intersections", l.intersections}, {"hits", l.hits}, {"misses", l.intersections - l.hits}};
 }
@@ -96,7 +115,9 @@ void Statistics::ToJson(nlohmann::json& j) const {
     for (std::size_t L = t.levels.size(); L-- > 0;) {
       const emu::LevelStats& l = t.levels[L];
       levels.push_back({{"ray_type", emu::RayKindName(kind)}, {"level", L + 1}, {"intersections", l.intersections},
-                        {"hits", l.hits}, {"misses", l.intersections - l.hits}});
+                        {"hits", l.hits}, {"misses", l.intersections - l.hits},
+                        {"percent_of_brute_force", Percent(l.intersections, t.brute_force)},
+                        {"percent_of_frame_brute_force", Percent(l.intersections, brute_force)}});
     }
     finals[emu::RayKindName(kind)] = t.final_tests;
   }
@@ -117,6 +138,8 @@ void Statistics::ToJson(nlohmann::json& j) const {
   j["final_tests"] = finals;
   j["total_tests"] = total;
   j["brute_force_tests"] = brute_force;
+  j["percent_of_brute_force"] = Percent(total, brute_force);
+  j["per_type"] = PerTypeJson(types, brute_force);
   j["object_sphere_tests"] = object_sphere_tests;
   if (object_tree) {
     emu::LevelStats rays;
@@ -128,42 +151,66 @@ void Statistics::ToJson(nlohmann::json& j) const {
   j["batches"] = batch_list;
 }
 
+namespace {
+
+const char* const kShort[3] = {"SH", "RE", "RF"};
+
+void PrintRow(std::FILE* out, std::uint32_t kind, const char* name) { std::fprintf(out, "  # %s %-17s", kShort[kind], name); }
+
+// One ray type's rows of the thesis's table: per level its counts and its share of brute force, the
+// type's own (the thesis's) and the frame's; then its final tests and brute force.
+void PrintType(std::FILE* out, std::uint32_t kind, const Statistics::PerType& t, int depth, std::uint64_t frame_bf) {
+  const char* rows[3] = {"INTERSECTIONS", "MISSES", "HITS"};
+  for (int r = 0; r < 3; ++r) {
+    PrintRow(out, kind, rows[r]);
+    for (int L = depth; L >= 1; --L) {
+      const emu::LevelStats& l = t.levels[L - 1];
+      const std::uint64_t v = r == 0 ? l.intersections : r == 1 ? l.intersections - l.hits : l.hits;
+      std::fprintf(out, " %16llu", static_cast<unsigned long long>(v));
+    }
+    std::fprintf(out, "\n");
+  }
+  const std::pair<const char*, std::uint64_t> shares[2] = {{"% OF BRUTE FORCE", t.brute_force}, {"% OF FRAME BF", frame_bf}};
+  for (const auto& [name, whole] : shares) {
+    PrintRow(out, kind, name);
+    for (int L = depth; L >= 1; --L) std::fprintf(out, " %15.2f%%", Percent(t.levels[L - 1].intersections, whole));
+    std::fprintf(out, "\n");
+  }
+  PrintRow(out, kind, "FINAL TESTS");
+  std::fprintf(out, " %16llu\n", static_cast<unsigned long long>(t.final_tests));
+}
+
+void PrintObjectTree(std::FILE* out, const Statistics& s) {
+  for (const auto& [kind, t] : s.types) {
+    PrintRow(out, kind, "RAY TESTS");
+    std::fprintf(out, " %16llu (hits %llu, in the total)\n", static_cast<unsigned long long>(t.ray_level.intersections),
+                 static_cast<unsigned long long>(t.ray_level.hits));
+  }
+  std::fprintf(out, "  object tree, tests by depth of the tested node:");
+  for (std::size_t d = 0; d < s.object_levels.size(); ++d)
+    std::fprintf(out, " %zu:%llu", d, static_cast<unsigned long long>(s.object_levels[d].intersections));
+  std::fprintf(out, "; triangle spheres %llu\n", static_cast<unsigned long long>(s.object_triangles.intersections));
+}
+
+}  // namespace
+
 void Statistics::Print(std::FILE* out) const {
-  static const char* kShort[3] = {"SH", "RE", "RF"};
-  const double bf = brute_force > 0 ? static_cast<double>(brute_force) : 1.0;
   if (hierarchy && depth > 0) {
     std::fprintf(out, "  %-22s", "");
     for (int L = depth; L >= 1; --L) std::fprintf(out, " %16s", ("LEVEL " + std::to_string(L)).c_str());
     std::fprintf(out, "\n");
-    for (const auto& [kind, t] : types) {
-      const char* rows[3] = {"INTERSECTIONS", "MISSES", "HITS"};
-      for (int r = 0; r < 3; ++r) {
-        std::fprintf(out, "  # %s %-17s", kShort[kind], rows[r]);
-        for (int L = depth; L >= 1; --L) {
-          const emu::LevelStats& l = t.levels[L - 1];
-          const std::uint64_t v = r == 0 ? l.intersections : r == 1 ? l.intersections - l.hits : l.hits;
-          std::fprintf(out, " %16llu", static_cast<unsigned long long>(v));
-        }
-        std::fprintf(out, "\n");
-      }
-      std::fprintf(out, "  # %s %-17s", kShort[kind], "% OF BRUTE FORCE");
-      for (int L = depth; L >= 1; --L)
-        std::fprintf(out, " %15.2f%%", 100.0 * static_cast<double>(t.levels[L - 1].intersections) / bf);
-      std::fprintf(out, "\n  # %s %-17s %16llu\n", kShort[kind], "FINAL TESTS", static_cast<unsigned long long>(t.final_tests));
-    }
+    for (const auto& [kind, t] : types) PrintType(out, kind, t, depth, brute_force);
     if (object_sphere_tests) std::fprintf(out, "  object-sphere tests   %16llu\n", static_cast<unsigned long long>(object_sphere_tests));
-    if (object_tree) {
-      for (const auto& [kind, t] : types)
-        std::fprintf(out, "  # %s %-17s %16llu (hits %llu, in the total)\n", kShort[kind], "RAY TESTS",
-                     static_cast<unsigned long long>(t.ray_level.intersections), static_cast<unsigned long long>(t.ray_level.hits));
-      std::fprintf(out, "  object tree, tests by depth of the tested node:");
-      for (std::size_t d = 0; d < object_levels.size(); ++d)
-        std::fprintf(out, " %zu:%llu", d, static_cast<unsigned long long>(object_levels[d].intersections));
-      std::fprintf(out, "; triangle spheres %llu\n", static_cast<unsigned long long>(object_triangles.intersections));
-    }
+    if (object_tree) PrintObjectTree(out, *this);
   }
-  std::fprintf(out, "  total tests           %16llu (%.2f%% of brute force %llu)\n", static_cast<unsigned long long>(total),
-               100.0 * static_cast<double>(total) / bf, static_cast<unsigned long long>(brute_force));
+  // Each type's tests against its own brute force (rays of the type x triangles), then the frame's.
+  for (const auto& [kind, t] : types)
+    std::fprintf(out, "  %-11s tests %llu (%.2f%% of its brute force %llu = %llu rays x %llu triangles)\n", emu::RayKindName(kind),
+                 static_cast<unsigned long long>(t.Total()), Percent(t.Total(), t.brute_force),
+                 static_cast<unsigned long long>(t.brute_force), static_cast<unsigned long long>(t.rays),
+                 static_cast<unsigned long long>(t.rays ? t.brute_force / t.rays : 0));
+  std::fprintf(out, "  total tests           %16llu (%.2f%% of the frame's brute force %llu)\n", static_cast<unsigned long long>(total),
+               Percent(total, brute_force), static_cast<unsigned long long>(brute_force));
 }
 
 }  // namespace rayspace::app

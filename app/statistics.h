@@ -2,7 +2,8 @@
 // per ray type and level the node-sphere tests (intersections), survivors (hits) and misses; final
 // ray-triangle tests; total = every level's intersections + final tests (+ the rays' own tests with
 // --objects tree, where a level's intersections are its cones' tests against object nodes and
-// triangle spheres); brute force = rays x triangles.
+// triangle spheres); brute force = rays x triangles, per ray type (the thesis's per-type shares divide
+// by the type's own) and for the whole frame.
 #pragma once
 #include <cstdio>
 #include <map>
@@ -23,6 +24,8 @@ struct Statistics {
     std::vector<emu::LevelStats> levels;
     std::uint64_t final_tests = 0, rays = 0, brute_force = 0, object_sphere_tests = 0;
     emu::LevelStats ray_level;  // --objects tree
+    // Every test of this ray type: its levels, its rays' own (--objects tree) and its final tests.
+    std::uint64_t Total() const;
   };
   std::map<std::uint32_t, PerType> types;
   std::vector<emu::BatchStats> batches;

@@ -7,6 +7,8 @@
 #include <fmt/format.h>
 #include <glm/detail/setup.hpp>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 #ifdef RAYSPACE_HAVE_VULKAN
 #include <vulkan/vulkan_core.h>
 #endif
@@ -14,6 +16,20 @@
 #include "rayspace_version.h"
 
 namespace rayspace::app {
+namespace {
+std::vector<std::string>& Arguments() {
+  static std::vector<std::string> args;
+  return args;
+}
+}  // namespace
+
+void SetArguments(int argc, char** argv) { Arguments().assign(argv, argv + argc); }
+
+void AddProvenance(nlohmann::json& j) {
+  j["rayspace_version"] = RAYSPACE_VERSION;
+  j["commit"] = RAYSPACE_COMMIT;
+  j["arguments"] = Arguments();
+}
 
 std::string VersionText() {
   std::string s = fmt::format("rayspace {}\ncommit {}\n", RAYSPACE_VERSION, RAYSPACE_COMMIT);

@@ -3,8 +3,16 @@
 #pragma once
 #include <string>
 
+#include <nlohmann/json_fwd.hpp>
+
 namespace rayspace::app {
 
 std::string VersionText();
+
+// The command line as given (main sets it once), for the JSON files a run writes.
+void SetArguments(int argc, char** argv);
+// What made a JSON file, so that a result can be traced to its build and its options: adds
+// "rayspace_version", "commit" and "arguments" (argv as given, the program's name first).
+void AddProvenance(nlohmann::json& j);
 
 }  // namespace rayspace::app

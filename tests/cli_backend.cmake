@@ -1,11 +1,26 @@
 # `rayspace render --backend vulkan` gives the same digest and the same PNG bytes as `--backend emu`
 # for every algorithm, on the bundled scenes (reduced sizes), with bounces, refraction, both
 # reductions, forced dispatch splitting and paging, launches folded into rows.
-# Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DDATA=<data root> -DWORK=<scratch> -P cli_backend.cmake
+# Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DDATA=<data root> -DWORK=<scratch> [-DPART=sponza] -P cli_backend.cmake
 set(failures "")
 file(MAKE_DIRECTORY "${WORK}")
 
 include("${CMAKE_CURRENT_LIST_DIR}/cli_same_frame.cmake")
+
+# PART=sponza: only the Sponza frames (test cli.backend.sponza), which need the data root; without it
+# they print "data root not found" and ctest counts them as skipped (SKIP_REGULAR_EXPRESSION).
+if(PART STREQUAL "sponza")
+  if(NOT EXISTS "${DATA}/sponza_dabrovic/sponza.obj")
+    message(STATUS "data root not found: ${DATA} (no sponza_dabrovic/sponza.obj): cli.backend.sponza skipped")
+    return()
+  endif()
+  same_frame(sponza "${SRC}/scenes/sponza.json" 128x128)
+  same_frame(sponza_rah "${SRC}/scenes/sponza.json" 128x128 --algo rah)
+  if(failures)
+    message(FATAL_ERROR "render --backend vulkan differs from emu:${failures}")
+  endif()
+  return()
+endif()
 
 set(cornell "${SRC}/scenes/cornell-mirrors.json")
 foreach(algo crsh rah rah-quadtree brute embree)
@@ -43,10 +58,6 @@ foreach(algo crsh rah)
 endforeach()
 same_frame(office "${SRC}/scenes/office.json" 96x96)
 same_frame(office_rah "${SRC}/scenes/office.json" 96x96 --algo rah)
-if(EXISTS "${DATA}/sponza_dabrovic/sponza.obj")
-  same_frame(sponza "${SRC}/scenes/sponza.json" 128x128)
-  same_frame(sponza_rah "${SRC}/scenes/sponza.json" 128x128 --algo rah)
-endif()
 
 # A frame whose rays outgrow every page, or a scene array beyond one binding, is refused up front
 # as bad input (exit 2, one line): with the device's own limit, and with lowered ones.

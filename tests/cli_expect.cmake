@@ -1,4 +1,5 @@
-# expect_error() for the CLI-contract scripts (cli_errors.cmake, cli_inputs.cmake, cli_outputs.cmake),
+# expect_error() and expect_warning() for the CLI-contract scripts (cli_errors.cmake, cli_inputs.cmake,
+# cli_outputs.cmake, cli_names.cmake),
 # which set RAYSPACE (the executable) and WORK (the scratch directory) and collect FAILURES and CASES.
 #
 # expect_error(NAME <case> NEEDLES <substring>... [ABSENT <path>...] [COMMAND <prefix>...]
@@ -58,5 +59,43 @@ function(expect_error)
   else()
     string(STRIP "${err}" line)
     message(STATUS "ok: ${E_NAME}: ${line}")
+  endif()
+endfunction()
+
+# expect_warning(NAME <case> [WARNINGS <n>] NEEDLES <substring>... ARGS <arg>...)
+# Runs the CLI with ARGS in WORK; expects exit code 0, and on stderr WARNINGS (default 1) lines of
+# the form "rayspace <cmd>: warning: ..." that together contain every needle. WARNINGS 0 checks that
+# a flag the run does use draws no warning.
+function(expect_warning)
+  cmake_parse_arguments(E "" "NAME;WARNINGS" "NEEDLES;ARGS" ${ARGN})
+  if(NOT DEFINED E_WARNINGS)
+    set(E_WARNINGS 1)
+  endif()
+  math(EXPR n "${CASES} + 1")
+  set(CASES ${n} PARENT_SCOPE)
+  execute_process(COMMAND "${RAYSPACE}" ${E_ARGS} WORKING_DIRECTORY "${WORK}"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
+  set(problems "")
+  if(NOT "${rc}" STREQUAL "0")
+    list(APPEND problems "exit code '${rc}', expected 0")
+  endif()
+  string(REGEX MATCHALL "rayspace [a-z]+: warning: [^\n]*\n" warnings "${err}")
+  string(REGEX MATCHALL "rayspace [a-z]+: warning: " prefixes "${err}")  # a warning may hold ';'
+  list(LENGTH prefixes count)
+  if(NOT count EQUAL E_WARNINGS)
+    list(APPEND problems "${count} warning line(s), expected ${E_WARNINGS}")
+  endif()
+  foreach(needle IN LISTS E_NEEDLES)
+    string(FIND "${warnings}" "${needle}" at)
+    if(at EQUAL -1)
+      list(APPEND problems "no warning names '${needle}'")
+    endif()
+  endforeach()
+  if(problems)
+    string(REPLACE ";" "; " problems "${problems}")
+    string(REPLACE ";" " " args "${E_ARGS}")
+    set(FAILURES "${FAILURES}\n  [${E_NAME}] rayspace ${args}\n    ${problems}\n    stderr: ${err}" PARENT_SCOPE)
+  else()
+    message(STATUS "ok: ${E_NAME}: ${warnings}")
   endif()
 endfunction()

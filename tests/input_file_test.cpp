@@ -194,10 +194,7 @@ TEST_CASE("gzip names: the format and the sub-mesh name come from the name witho
 
 TEST_CASE("the shared conference room loads from its .obj.gz") {
   const fs::path file = fs::path(RAYSPACE_TEST_DATA_ROOT) / "conference" / "conference.obj.gz";
-  if (!fs::is_regular_file(file)) {
-    MESSAGE(file.string(), " is not present; skipping the conference room");
-    return;
-  }
+  if (rayspace::test::SkipWithoutData("conference/conference.obj.gz")) return;
   const rayspace::MeshData mesh = rayspace::LoadMesh(file);
   REQUIRE(mesh.submeshes.size() == 1);
   CHECK(mesh.submeshes[0].name == "conference");

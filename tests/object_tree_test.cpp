@@ -168,10 +168,7 @@ TEST_CASE("object tree: coincident and zero-area triangles end in a leaf") {
 }
 
 TEST_CASE("object tree: the bundled scenes' objects keep every invariant") {
-  if (!rayspace::test::HaveData()) {
-    MESSAGE("no scene data; skipping");
-    return;
-  }
+  if (rayspace::test::SkipWithoutData("sponza_dabrovic/sponza.obj")) return;
   for (const char* file : {"cornell-mirrors.json", "office.json", "sponza.json", "dragon-closeup.json"}) {
     CAPTURE(file);
     const rayspace::SceneBuffers b = rayspace::FlattenScene(rayspace::test::LoadBundled(file));

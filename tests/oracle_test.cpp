@@ -62,10 +62,7 @@ TEST_CASE("oracle: office agrees with Embree") {
 }
 
 TEST_CASE("oracle: sponza agrees with Embree, and BVH equals exhaustive tracing") {
-  if (!test::HaveData()) {
-    MESSAGE("data root " << test::DataRoot() << " not found; skipping Sponza");
-    return;
-  }
+  if (test::SkipWithoutData("sponza_dabrovic/sponza.obj")) return;
   const Scene s = test::LoadBundled("sponza.json");
   const OracleRun r = Check(s, 48, 48, false, emu::DirectMode::kBvh);
   CHECK(r.checked > 48 * 48 / 2);

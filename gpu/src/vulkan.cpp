@@ -289,6 +289,17 @@ Status CheckDevice(VkPhysicalDevice d, int index) {
 
 namespace {
 Observer* g_observer = nullptr;
+
+// "0 'name', 1 'name'": what --device may name, for its error.
+std::string DeviceList(const std::vector<VkPhysicalDevice>& devs) {
+  std::string list;
+  for (std::size_t i = 0; i < devs.size(); ++i) {
+    VkPhysicalDeviceProperties p{};
+    vkGetPhysicalDeviceProperties(devs[i], &p);
+    list += fmt::format("{}{} '{}'", i ? ", " : "", i, p.deviceName);
+  }
+  return list;
+}
 }  // namespace
 void Context::SetObserver(Observer* observer) { g_observer = observer; }
 
@@ -300,7 +311,7 @@ Status Context::Create(int device, std::unique_ptr<Context>& out) {
   if (n == 0) return Status::Fail("no Vulkan device found (install a driver, e.g. Debian's mesa-vulkan-drivers for lavapipe)");
   std::vector<VkPhysicalDevice> devs(n);
   RS_VK(vkEnumeratePhysicalDevices(c->instance_, &n, devs.data()));
-  if (device >= static_cast<int>(n)) return Status::Fail(fmt::format("--device {}: only {} Vulkan device(s)", device, n));
+  if (device >= static_cast<int>(n)) return Status::Fail(fmt::format("--device {}: only {} Vulkan device(s): {}", device, n, DeviceList(devs)));
   const int chosen = device >= 0 ? device : PreferredDevice(devs);
   c->physical_ = devs[chosen];
   RS_TRY(CheckDevice(c->physical_, chosen));

@@ -148,7 +148,10 @@ BufferComparison CompareBlobs(const std::string& pass, const std::string& name, 
   const ElemInfo& info = Info(expected.type);
   const std::size_t words = info.bytes == 1 ? 1 : info.bytes / 4;
   const std::vector<std::uint32_t> e = Words(expected), a = Words(actual);
-  return CompareWords(pass, name, e, a, words, info.float_mask);
+  BufferComparison c = CompareWords(pass, name, e, a, words, info.float_mask);
+  c.expected_name = "emu";
+  c.actual_name = "vulkan";
+  return c;
 }
 
 }  // namespace rayspace::verify

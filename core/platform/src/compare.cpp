@@ -67,15 +67,17 @@ BufferComparison CompareWords(const std::string& pass, const std::string& buffer
 std::string BufferComparison::Summary() const {
   if (Equal()) return fmt::format("{}/{}: {} elements equal", pass, buffer, elements);
   if (mismatches == 0)
-    return fmt::format("{}/{}: sizes differ (expected {} elements, got {})", pass, buffer, expected_elements, actual_elements);
-  return fmt::format("{}/{}: {} of {} elements differ; first at {} (word {}): expected {}, got {}{}", pass, buffer,
-                     mismatches, elements, first_index, first_word, Show(first_expected, first_is_float),
+    return fmt::format("{}/{}: sizes differ ({} {} elements, {} {})", pass, buffer, expected_name, expected_elements, actual_name,
+                       actual_elements);
+  return fmt::format("{}/{}: {} of {} elements differ; first at {} (word {}): {} {}, {} {}{}", pass, buffer, mismatches, elements,
+                     first_index, first_word, expected_name, Show(first_expected, first_is_float), actual_name,
                      Show(first_actual, first_is_float), has_float ? fmt::format(", max {} ULP", max_ulp) : "");
 }
 
 void BufferComparison::ToJson(nlohmann::json& j) const {
   j = {{"pass", pass}, {"buffer", buffer}, {"elements", elements}, {"expected_elements", expected_elements},
-       {"actual_elements", actual_elements}, {"mismatches", mismatches}, {"equal", Equal()}};
+       {"actual_elements", actual_elements}, {"mismatches", mismatches}, {"equal", Equal()},
+       {"expected_backend", expected_name}, {"actual_backend", actual_name}};
   if (has_float) {
     j["max_ulp"] = max_ulp;
     j["nan_class_matches"] = nan_class_matches;

@@ -101,7 +101,8 @@ class BufferSet {
   std::string origin_ = "buffer set";
 };
 
-// Bitwise comparison of two buffers of the same name (float words get ULP distances and NaN classes).
+// Bitwise comparison of two buffers of the same name (float words get ULP distances and NaN classes):
+// `expected` the emulator's, `actual` the Vulkan kernels', as the comparison's text and JSON name them.
 BufferComparison CompareBlobs(const std::string& pass, const std::string& name, const Blob& expected, const Blob& actual);
 
 }  // namespace rayspace::verify

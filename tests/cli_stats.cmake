@@ -1,0 +1,102 @@
+# The statistics a user reads, on a scene whose counts follow by hand, run as
+#   cmake -DRAYSPACE=<exe> -DWORK=<scratch dir> -P cli_stats.cmake
+# The camera sits inside a 12-triangle box whose walls are mirrors, at 4x4 with one light and one
+# bounce: every pixel hits a wall, so 16 shadow rays at bounce 0, 16 reflection rays and their 16
+# shadow rays at bounce 1. Brute force per type = rays of the type x 12: shadow 32 x 12 = 384,
+# reflection 16 x 12 = 192, the frame 576. The thesis's per-type shares divide by the type's own.
+cmake_minimum_required(VERSION 3.19)  # string(JSON)
+foreach(var RAYSPACE WORK)
+  if(NOT DEFINED ${var} OR "${${var}}" STREQUAL "")
+    message(FATAL_ERROR "cli_stats.cmake: pass -D${var}=...")
+  endif()
+endforeach()
+file(REMOVE_RECURSE "${WORK}")
+file(MAKE_DIRECTORY "${WORK}")
+set(failures "")
+file(WRITE "${WORK}/box.json" [=[
+{"camera": {"eye": [0, 0, 0], "target": [0, 0, 1], "up": [0, 1, 0], "fov_y_deg": 60},
+ "image": {"width": 4, "height": 4},
+ "lights": [{"position": [0, 3, 0]}],
+ "materials": {"mirror": {"diffuse": [0.5, 0.5, 0.5], "reflectivity": 0.5}},
+ "objects": [{"generator": "box", "params": {"size": 10, "inward": true}, "material": "mirror"}],
+ "max_depth": 1}
+]=])
+
+function(check what got want)
+  if(NOT "${got}" STREQUAL "${want}")
+    set(failures "${failures}\n  ${what}: ${got}, expected ${want}" PARENT_SCOPE)
+  endif()
+endfunction()
+
+# Percent to two places as printf rounds it (ties aside): 100 * part / whole.
+function(percent out part whole)
+  if(NOT part MATCHES "^[0-9]+$")
+    set(${out} "(no count: ${part})" PARENT_SCOPE)
+    return()
+  endif()
+  math(EXPR bp "(${part} * 20000 + ${whole}) / (2 * ${whole})")
+  math(EXPR int "${bp} / 100")
+  math(EXPR frac "${bp} % 100")
+  if(frac LESS 10)
+    set(frac "0${frac}")
+  endif()
+  set(${out} "${int}.${frac}%" PARENT_SCOPE)
+endfunction()
+
+foreach(algo crsh brute)
+  execute_process(COMMAND "${RAYSPACE}" render "${WORK}/box.json" --algo ${algo} --objects flat --out "${WORK}/${algo}.png"
+                          --stats "${WORK}/${algo}.json"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "render --algo ${algo}: exit ${rc}: ${err}")
+  endif()
+  file(READ "${WORK}/${algo}.json" stats)
+  string(JSON frame_bf ERROR_VARIABLE jerr GET "${stats}" brute_force_tests)
+  check("${algo}: frame brute force" "${frame_bf}" 576)
+  foreach(type_bf shadow:32:384 reflection:16:192)
+    string(REPLACE ":" ";" type_bf "${type_bf}")
+    list(GET type_bf 0 type)
+    list(GET type_bf 1 rays)
+    list(GET type_bf 2 bf)
+    string(JSON got_rays ERROR_VARIABLE jerr GET "${stats}" per_type ${type} rays)
+    string(JSON got_bf ERROR_VARIABLE jerr GET "${stats}" per_type ${type} brute_force_tests)
+    string(JSON got_total ERROR_VARIABLE jerr GET "${stats}" per_type ${type} total_tests)
+    check("${algo}: ${type} rays" "${got_rays}" ${rays})
+    check("${algo}: ${type} brute force" "${got_bf}" ${bf})
+    percent(own "${got_total}" ${bf})
+    string(FIND "${out}" "tests ${got_total} (${own} of its brute force ${bf} = ${rays} rays x 12 triangles)" at)
+    if(at EQUAL -1)
+      set(failures "${failures}\n  ${algo}: the summary does not give ${type}'s tests as ${own} of its brute force ${bf}")
+    endif()
+  endforeach()
+  if(algo STREQUAL "crsh")
+    # The table's per-level share: the shadow rays' top level against the shadow brute force (384),
+    # and the old figure against the frame's (576) on its own, labelled row.
+    string(JSON top_type ERROR_VARIABLE jerr GET "${stats}" levels 0 ray_type)
+    string(JSON top_level ERROR_VARIABLE jerr GET "${stats}" levels 0 level)
+    check("levels[0]" "${top_type} ${top_level}" "shadow 2")
+    string(JSON sh_top ERROR_VARIABLE jerr GET "${stats}" levels 0 intersections)
+    percent(own "${sh_top}" 384)
+    percent(frame "${sh_top}" 576)
+    if(NOT out MATCHES "# SH % OF BRUTE FORCE +${own} ")
+      set(failures "${failures}\n  the shadow level-2 share is not ${own} (${sh_top} of 384):\n${out}")
+    endif()
+    if(NOT out MATCHES "# SH % OF FRAME BF +${frame} ")
+      set(failures "${failures}\n  the shadow level-2 share of the frame is not ${frame} (${sh_top} of 576)")
+    endif()
+  endif()
+  # What made the file: the version and the arguments as given.
+  string(JSON version ERROR_VARIABLE jerr GET "${stats}" rayspace_version)
+  if(jerr OR NOT version MATCHES "^[0-9]+\\.[0-9]+\\.[0-9]+$")
+    set(failures "${failures}\n  ${algo}: rayspace_version '${version}' (${jerr})")
+  endif()
+  string(JSON arg4 ERROR_VARIABLE jerr GET "${stats}" arguments 4)
+  string(JSON nargs ERROR_VARIABLE jerr LENGTH "${stats}" arguments)
+  check("${algo}: arguments[4]" "${arg4}" ${algo})
+  check("${algo}: arguments" "${nargs}" 11)
+endforeach()
+
+if(failures)
+  message(FATAL_ERROR "cli.stats:${failures}")
+endif()
+message(STATUS "cli.stats: per-type brute force 384 and 192 of 576, shares of each type's own, version and arguments recorded")
