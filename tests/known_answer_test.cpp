@@ -98,3 +98,32 @@ TEST_CASE("cone union: known answer, two spheres and two narrow cones at right a
   b.extra.x = 0;
   CHECK(cone::IsFull(cone::Union(a, b)));
 }
+
+TEST_CASE("prep: known answer, a triangle's sphere is its circumcircle when acute, its longest edge's when not") {
+  std::vector<layout::Triangle> tris(2);
+  // Acute (equilateral): the circumcentre (1/3, 1/3, 1/3), radius sqrt(2/3).
+  tris[0].v0 = {1, 0, 0, 1};
+  tris[0].v1 = {0, 1, 0, 1};
+  tris[0].v2 = {0, 0, 1, 1};
+  // Right angle at the origin: the hypotenuse's midpoint (2, 1.5, 0), radius 2.5.
+  tris[1].v0 = {0, 0, 0, 1};
+  tris[1].v1 = {4, 0, 0, 1};
+  tris[1].v2 = {0, 3, 0, 1};
+  const std::vector<glm::vec4> s = PassTriangleSpheres(tris);
+  REQUIRE(s.size() == 2);
+  for (int k = 0; k < 3; ++k) CHECK(s[0][k] == doctest::Approx(1.0 / 3.0).epsilon(1e-6));
+  CHECK(s[0].w == doctest::Approx(std::sqrt(2.0 / 3.0)).epsilon(1e-5));
+  CHECK(s[0].w >= std::sqrt(2.0f / 3.0f));  // rounded outward
+  CHECK(s[1].x == 2.0f);
+  CHECK(s[1].y == 1.5f);
+  CHECK(s[1].z == 0.0f);
+  CHECK(s[1].w == doctest::Approx(2.5).epsilon(1e-5));
+  CHECK(s[1].w >= 2.5f);
+}
+
+TEST_CASE("traverse: known answer, the cone test's margin is a millionth of the scene's diagonal") {
+  SceneBuffers b;
+  b.lo = {1, 1, 1};
+  b.hi = {4, 5, 1};  // diagonal (3, 4, 0): length 5
+  CHECK(TraversalEpsilon(b) == doctest::Approx(5e-6).epsilon(1e-6));
+}
