@@ -1,6 +1,7 @@
 // Known answers, worked out by hand, for the emulated passes whose other tests compare them with a
-// reference implementation or with each other: trim, compress, sort, decompress, reduce and the cone
-// union of build.parents. No Vulkan; each input is small enough to check on paper.
+// reference implementation or with each other: trim, compress, sort, decompress, reduce, the cone
+// union of build.parents, the triangle spheres of prep and the traversal's margin. No Vulkan; each
+// input is small enough to check on paper.
 #include <doctest/doctest.h>
 
 #include <cmath>
