@@ -289,6 +289,17 @@ foreach(f raster:1 surfaces:1 raygen.shadow:1 raygen.shadow:2 trim:1 hash:1 comp
   string(REGEX REPLACE ":.*" "" pass "${f}")
   diff_case(fault.${f} cornell-mirrors 64x64 ${f} 4 ${pass})
 endforeach()
+# Every pass's own faults beyond its first: a wrong operand, an off-by-one bound or index, a lost tail,
+# a swapped index; each fires on every frame and is caught in its own pass.
+foreach(f raster:3 surfaces:2 surfaces:3 surfaces.hits:2 surfaces.hits:3 raygen.shadow:3 raygen.reflection:2
+          raygen.reflection:3 trim:3 hash:3 compress:2 compress:3 sort:2 sort:3 decompress:2 decompress:3 build:2
+          build:3 traverse:3 reduce:3 intersect:3 shade:2 shade:3 resolve:2 resolve:3)
+  string(REGEX REPLACE ":.*" "" pass "${f}")
+  diff_case(fault.${f} cornell-mirrors 64x64 ${f} 4 ${pass})
+endforeach()
+foreach(f raygen.refraction:2 raygen.refraction:3)  # refraction rays need a transparent object
+  diff_case(fault.${f} glass 96x96 ${f} 4 raygen.refraction)
+endforeach()
 # The raster's faults, classified: a half-pixel shift (what a device snapping differently does)
 # changes edge pixels only; the depth scale, interior ones.
 diff_case(fault.raster:2 cornell-mirrors 64x64 raster:2 4 raster)

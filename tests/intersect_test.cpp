@@ -113,3 +113,29 @@ TEST_CASE("intersect: one pass over hand-made pairs (tests per pair, closest hit
   CHECK(tests == std::vector<std::uint32_t>{3});
   CHECK(occluded == std::vector<std::uint32_t>{1, 1, 0, 0});
 }
+
+// The range is open at both ends: a triangle before tmin (or at it) is not hit, however near. Rays
+// spawned on a surface rely on it, and a test that ignored tmin would still pass every ray above
+// whose tmin is 0.
+TEST_CASE("intersect: tmin excludes the triangles before it, one pass over hand-made pairs") {
+  const TwoQuads q;
+  std::vector<layout::Ray> rays(4, MakeRay({0.2f, 0.1f, 1}, {0, 0, -1}));  // triangle 0 at t = 1, triangle 2 at t = 3
+  rays[0].origin_tmin.w = 1.5f;                                          // past the near quad: the far one
+  rays[1].origin_tmin.w = 1.0f;                                          // exactly at the near quad: the far one
+  rays[2].origin_tmin.w = 3.5f;                                          // past both: a miss
+  rays[3].origin_tmin.w = 0.5f;                                          // before both: the near one
+  const std::vector<std::uint32_t> order = {0, 1, 2, 3}, first1 = {0, 4}, pairs = {Pair(0, 0), Pair(0, 2)};
+  std::vector<std::uint64_t> hits(4, kMissPacked);
+  PassIntersect({.pairs = pairs, .first1 = first1, .order = order, .rays = rays, .scene = &q.b, .hits = &hits});
+  CHECK(hits == std::vector<std::uint64_t>{PackHit(3.0f, 2), PackHit(3.0f, 2), kMissPacked, PackHit(1.0f, 0)});
+  // Shadow rays between tmin 1.5 and tmax 2.5 meet neither quad; from tmin 0.5 they meet the near one.
+  for (layout::Ray& r : rays) r.direction_tmax.w = 2.5f;
+  std::vector<std::uint32_t> occluded(4, 0);
+  PassIntersect({.pairs = pairs, .first1 = first1, .order = order, .rays = rays, .scene = &q.b, .occluded = &occluded});
+  CHECK(occluded == std::vector<std::uint32_t>{0, 0, 0, 1});
+  // The direct tracer, the brute-force reference, agrees.
+  auto direct = MakeDirectTracer(q.b, DirectMode::kExhaustive);
+  std::vector<std::uint32_t> direct_occluded;
+  direct->Occluded(rays, direct_occluded);
+  CHECK(direct_occluded == occluded);
+}

@@ -247,3 +247,42 @@ TEST_CASE("planted fault: a tracer that reports another triangle for one ray is 
     CHECK(oracle.within_rounding().empty());
   });
 }
+
+namespace {
+
+// A tracer that answers like another but puts one ray's hit 1% farther along the ray, on the same
+// triangle: a planted fault that comparing triangles alone would not see.
+class StretchOne final : public Tracer {
+ public:
+  StretchOne(Tracer& inner, const SceneBuffers&) : inner_(inner) {}
+  std::string Name() const override { return "stretch-one"; }
+  void Describe(nlohmann::json& out) const override { inner_.Describe(out); }
+  void Closest(const std::vector<layout::Ray>& rays, std::vector<std::uint64_t>& hits) override {
+    inner_.Closest(rays, hits);
+    for (std::size_t i = 0; i < rays.size() && stretched_ == SIZE_MAX; ++i) {
+      if (hits[i] == emu::kMissPacked) continue;
+      hits[i] = emu::PackHit(emu::HitT(hits[i]) * 1.01f, emu::HitPrim(hits[i]));
+      stretched_ = i;
+    }
+  }
+  void Occluded(const std::vector<layout::Ray>& rays, std::vector<std::uint32_t>& occ) override { inner_.Occluded(rays, occ); }
+  std::size_t stretched() const { return stretched_; }
+
+ private:
+  Tracer& inner_;
+  std::size_t stretched_ = SIZE_MAX;
+};
+
+}  // namespace
+
+TEST_CASE("planted fault: a tracer that reports the right triangle at the wrong distance is a mismatch on that ray") {
+  RunWithFault<StretchOne>([](const refs::Oracle& oracle, const StretchOne& faulty) {
+    REQUIRE(faulty.stretched() != SIZE_MAX);
+    REQUIRE(oracle.mismatches().size() == 1);
+    const refs::Disagreement& m = oracle.mismatches().front();
+    CHECK(m.ray == faulty.stretched());
+    CHECK(m.frame_prim == m.oracle_prim);
+    CHECK(m.frame_t == doctest::Approx(m.oracle_t * 1.01f).epsilon(1e-5));
+    CHECK(oracle.oracle_wrong().empty());
+  });
+}

@@ -172,3 +172,26 @@ TEST_CASE("raster: the draw path runs with flush-to-zero and denormals-are-zero"
   CHECK(outside != 0.0f);
   CHECK(inside == 0.0f);
 }
+
+TEST_CASE("raster: a wall far wider than the view covers every pixel, clipped on all four side planes") {
+  // A 200 x 200 quad one unit in front of the camera reaches past every side of the view frustum, so
+  // each triangle is clipped against the left, right, top and bottom planes; every pixel, the four
+  // corners included, must be covered and lie on the wall. A wrong side plane cuts off a corner.
+  Scene s;
+  s.camera.eye = {0, 0, 1};
+  s.camera.target = {0, 0, 0};
+  s.camera.up = {0, 1, 0};
+  s.camera.fov_y_deg = 60;
+  s.materials.push_back(test::Diffuse("wall", glm::vec3(0.5f)));
+  test::AddQuad(s, "wall", {-100, -100, 0}, {100, -100, 0}, {100, 100, 0}, {-100, 100, 0});
+  const SceneBuffers b = FlattenScene(s);
+  const int w = 32, h = 24;
+  const GBuffer g = PassRaster({.frame = MakeFrameConstants(s, b, w, h), .scene = &b});
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * w + x;
+      INFO("pixel " << x << "," << y);
+      CHECK(g.prim[i] != layout::kNoPrim);
+      CHECK(std::fabs(g.position[i].z) < 1e-5f);
+    }
+}

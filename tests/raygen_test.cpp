@@ -89,3 +89,20 @@ TEST_CASE("raygen: refraction follows Snell's law and stops at total internal re
     }
   }
 }
+
+TEST_CASE("raygen: a slot without a surface (a background pixel) gets no ray of any kind") {
+  LightDesc light;
+  light.position = {0, 4, 0};
+  MaterialDesc glass = test::Diffuse("m", glm::vec3(0.5f));
+  glass.reflectivity = 0.5f;  // every kind of ray, had the slot a surface
+  glass.transparency = 0.5f;
+  glass.ior = 1.5f;
+  Fixture f(glass, light);
+  layout::Surface none = f.Surface({0, 0, 3}, {0, 1, 0}, {0, -1, 0});
+  none.position.w = 0.0f;  // what surfaces writes for a pixel no triangle covers
+  for (const SparseRays& rays : {RaygenShadow(f, none), RaygenReflection(f, none), RaygenRefraction(f, none)}) {
+    REQUIRE(rays.flags.size() == 1);
+    CHECK(rays.flags[0] == 0u);
+    CHECK(Xyz(rays.rays[0].direction_tmax) == glm::vec3(0.0f));
+  }
+}

@@ -311,6 +311,44 @@ TEST_CASE("scene: non-uniform scale with rotation keeps normals unit and perpend
   }
 }
 
+// A box's normals are the scale's axes, which the matrix and its inverse transpose map alike; a
+// slanted normal under a non-uniform scale tells them apart.
+TEST_CASE("scene: a slanted OBJ normal under scale (2, 1, 1) goes through the inverse transpose") {
+  TempDir dir;
+  dir.Write("slant.obj", "v 0 0 0\nv 1 -1 0\nv 0 0 1\nvn 0.70710678 0.70710678 0\nf 1//1 2//1 3//1\n");
+  const fs::path scene =
+      dir.Write("slant.json", SceneWith(R"({"name": "s", "mesh": "slant.obj", "transform": {"scale": [2, 1, 1]}})"));
+  const Scene s = LoadScene(scene, LoadOptions{});
+  REQUIRE(s.objects.size() == 1);
+  REQUIRE(s.objects[0].TriangleCount() == 1u);
+  // inverse transpose diag(1/2, 1, 1): (1, 1, 0) -> (0.5, 1, 0); the matrix would give (2, 1, 0).
+  const glm::vec3 expected = glm::normalize(glm::vec3(0.5f, 1.0f, 0.0f));
+  for (int k = 0; k < 3; ++k) CheckVec(s.objects[0].normals[k], expected, 1e-5f);
+  // The plane x + y = 0 stays perpendicular to its normal: scaled, it is x/2 + y = 0.
+  const glm::vec3 edge = s.objects[0].positions[1] - s.objects[0].positions[0];
+  CHECK(std::fabs(glm::dot(s.objects[0].normals[0], edge)) < 1e-5f);
+}
+
+// A sphere of radius r scaled by (a, b, c) is the ellipsoid (x/ar)^2 + (y/br)^2 + (z/cr)^2 = 1, whose
+// normal at p is the gradient's direction (x/a^2, y/b^2, z/c^2): the sphere's radial vertex normals
+// must land on it.
+TEST_CASE("scene: an ellipsoid's vertex normals are its analytic gradient") {
+  TempDir dir;
+  const fs::path scene = dir.Write(
+      "ellipsoid.json", SceneWith(R"({"generator": "sphere", "params": {"radius": 1.5, "segments": 16, "rings": 8},
+                                       "transform": {"scale": [3, 1, 0.5], "translate": [4, -2, 7]}})"));
+  const Scene s = LoadScene(scene, LoadOptions{});
+  REQUIRE(s.objects.size() == 1);
+  const rayspace::Object& o = s.objects[0];
+  REQUIRE(o.normals.size() == o.positions.size());
+  for (std::size_t i = 0; i < o.positions.size(); ++i) {
+    const glm::vec3 p = o.positions[i] - glm::vec3(4, -2, 7);
+    const glm::vec3 gradient = glm::normalize(glm::vec3(p.x / 9.0f, p.y, p.z / 0.25f));
+    INFO("vertex " << i);
+    CheckVec(o.normals[i], gradient, 1e-4f);
+  }
+}
+
 TEST_CASE("scene: instances make one object per instance named name#k") {
   TempDir dir;
   const fs::path scene = dir.Write(

@@ -74,3 +74,27 @@ TEST_CASE("shade: Phong specular, shadows and back-facing lights") {
   // Light behind the lit side (two-sided surface seen from below, light above): nothing.
   CHECK(ShadeOne(f, f.Surface({0, 0, 0}, {0, 1, 0}, {0, 1, 0}), false) == glm::vec3(0));
 }
+
+// Two surfaces and two lights: slot s x lights + l holds surface s's ray to light l. Only surface 1's
+// ray to light 1 is unoccluded, so only that pair may light anything.
+TEST_CASE("shade: two surfaces and two lights read each light's own shadow slot") {
+  LightDesc near_light, far_light;
+  near_light.position = {0, 2, 0};
+  near_light.attenuation = {1, 0, 1};  // 1 / (1 + 4) at d = 2
+  far_light.position = {0, 4, 0};
+  far_light.attenuation = {1, 0, 1};   // 1 / (1 + 16) at d = 4
+  Fixture f(test::Diffuse("m", glm::vec3(0.5f)), near_light);
+  f.scene.lights.push_back(far_light);
+  f.b = FlattenScene(f.scene);
+  const glm::vec3 view = glm::normalize(glm::vec3(0, -1, -1));
+  std::vector<layout::Surface> surfaces{f.Surface({0, 0, 0}, {0, 1, 0}, view), f.Surface({0, 0, 0}, {0, 1, 0}, view)};
+  surfaces[1].info.y = 1;  // pixel 1
+  // Dense shadow rays 0..3 in slot order; occluded: all but slot 3 (surface 1, light 1).
+  const std::vector<std::uint32_t> flags{1, 1, 1, 1}, offsets{0, 1, 2, 3}, occ{1, 1, 1, 0};
+  std::vector<std::uint64_t> accum(3 * 64, 0);
+  PassShade({.frame = f.fc, .surfaces = surfaces, .shadow_flags = flags, .shadow_offsets = offsets, .occluded = occ,
+             .accum = &accum, .scene = &f.b});
+  CHECK(accum[0] == 0);  // pixel 0: both its rays occluded
+  // Pixel 1: the far light only, straight above: kd 0.5 x cos 0 x 1/17.
+  CHECK(accum[3] / double(layout::kAccumScale) == doctest::Approx(0.5 / 17.0).epsilon(1e-5));
+}

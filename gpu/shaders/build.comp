@@ -51,7 +51,8 @@ ConeNode Leaf(uint f0, uint f1, uint lanes) {
     }
     const uint m = min(lanes, f1 - j0);
     for (uint k = 0u; k < m; ++k) {
-      const vec3 ok = subgroupShuffle(o, k), rk = subgroupShuffle(r, k);
+      // Fault 2: each ray is grown with its predecessor's origin (a lane index off by one).
+      const vec3 ok = subgroupShuffle(o, kFault == 2u && k > 0u ? k - 1u : k), rk = subgroupShuffle(r, k);
       if (j0 + k == f0) {
         n.sphere = vec4(ok, 0.0);
         n.cone = vec4(rk, 1.0);
@@ -97,7 +98,9 @@ void main() {
   const uint stride = gl_NumWorkGroups.x * gl_NumWorkGroups.y * NumSubgroups();
   for (uint i = WorkGroupIndex() * NumSubgroups() + gl_SubgroupID; i < pc.count; i += stride) {
     const uint f0 = first[i], f1 = first[i + 1u];
-    const ConeNode n = pc.phase == kBuildPhaseLeaves ? Leaf(f0, f1, lanes) : Parent(f0, f1, lanes);
+    // Fault 3: a parent leaves out its last child (a lost tail).
+    const uint end = kFault == 3u && pc.phase != kBuildPhaseLeaves && f1 > f0 + 1u ? f1 - 1u : f1;
+    const ConeNode n = pc.phase == kBuildPhaseLeaves ? Leaf(f0, end, lanes) : Parent(f0, end, lanes);
     if (subgroupElect()) nodes[i] = n;
   }
 }

@@ -34,9 +34,11 @@ uint DirectionKey(vec3 d, int polar_bits, int azimuth_bits) {
   // Fault 1: the azimuth cell comes from the wrong coordinate pair (x, z).
   const uint a = kFault == 1u ? Cell(DiamondAngle(d.x, d.z) * 0.25, azimuth_bits) : Cell(az, azimuth_bits);
   uint key = 0u;
+  // Fault 3: the two cells are interleaved azimuth first (swapped operands).
+  const uint first = kFault == 3u ? a : p, second = kFault == 3u ? p : a;
   for (int b = max(polar_bits, azimuth_bits) - 1; b >= 0; --b) {
-    if (b < polar_bits) key = (key << 1) | ((p >> uint(b)) & 1u);
-    if (b < azimuth_bits) key = (key << 1) | ((a >> uint(b)) & 1u);
+    if (b < polar_bits) key = (key << 1) | ((first >> uint(b)) & 1u);
+    if (b < azimuth_bits) key = (key << 1) | ((second >> uint(b)) & 1u);
   }
   return key;
 }

@@ -53,10 +53,12 @@ void main() {
   const Triangle t = triangles[prim];
   const uint px = uint(gl_FragCoord.x), py = uint(gl_FragCoord.y);
   precise vec3 d;
+  // Fault 3: the pixel's column steps along the rows and its row along the columns (a swapped index).
+  const uint sx = kFault == 3u ? py : px, sy = kFault == 3u ? px : py;
   for (int k = 0; k < 3; ++k) {
-    precise float a = float(px) * fc.pixel_dx[k];
+    precise float a = float(sx) * fc.pixel_dx[k];
     precise float b = fc.pixel_origin[k] + a;
-    precise float c = float(py) * fc.pixel_dy[k];
+    precise float c = float(sy) * fc.pixel_dy[k];
     d[k] = b + c;
   }
   precise const vec3 e1 = t.v1.xyz - t.v0.xyz, e2 = t.v2.xyz - t.v0.xyz;

@@ -28,9 +28,12 @@ void main() {
   const float ni = Dot3(n, i);
   // Fault 1: the factor 2 of the mirror formula is lost.
   precise const float k = kFault == 1u ? ni : 2.0 * ni;
-  precise const vec3 d = vec3(i.x - n.x * k, i.y - n.y * k, i.z - n.z * k);
+  // Fault 2: the normal term is added, not subtracted (a wrong operand: the ray goes into the surface).
+  precise const vec3 d = kFault == 2u ? vec3(i.x + n.x * k, i.y + n.y * k, i.z + n.z * k)
+                                      : vec3(i.x - n.x * k, i.y - n.y * k, i.z - n.z * k);
   if (!(Dot3(d, d) > 0.0)) return;
-  r.origin_tmin = vec4(sf.position.xyz, fc.params.x);
+  // Fault 3: the ray starts at tmin 0, so it may hit the surface it leaves.
+  r.origin_tmin = vec4(sf.position.xyz, kFault == 3u ? 0.0 : fc.params.x);
   r.direction_tmax = vec4(d, uintBitsToFloat(0x7F800000u));  // +inf
   r.info = uvec4(sf.info.y, sf.info.x, kRayReflection, pc.base + s);
   precise const vec4 w = vec4(sf.weight.x * kr, sf.weight.y * kr, sf.weight.z * kr, 0.0);

@@ -31,11 +31,13 @@ void main() {
   precise float ri = Div(1.0, m.transparency_ior.y);
   // Fault 1: the ratio is not inverted when the ray leaves the medium.
   if (cosi > 0.0) {
-    n = -n;
+    // Fault 2: the normal is not turned to face the ray when it leaves the medium.
+    if (kFault != 2u) n = -n;
     cosi = -cosi;
     ri = kFault == 1u ? ri : m.transparency_ior.y;
   }
-  precise const float k = 1.0 - (ri * ri) * (1.0 - cosi * cosi);
+  // Fault 3: the ratio's square is lost from Snell's law under the root (a dropped factor).
+  precise const float k = kFault == 3u ? 1.0 - (1.0 - cosi * cosi) : 1.0 - (ri * ri) * (1.0 - cosi * cosi);
   if (k < 0.0) return;
   precise const float a = ri * cosi + Sqrt(k);
   precise const vec3 d = vec3(i.x * ri - n.x * a, i.y * ri - n.y * a, i.z * ri - n.z * a);

@@ -27,7 +27,9 @@ void main() {
   }
   if (sf.position.w == 0.0) return;
   const vec3 p = sf.position.xyz;
-  for (uint l = 0; l < pc.light_count; ++l) {
+  // Fault 3: the last light of every surface is skipped (a lost tail).
+  const uint lights_used = kFault == 3u ? pc.light_count - 1u : pc.light_count;
+  for (uint l = 0; l < lights_used; ++l) {
     const vec3 o = lights[l].position.xyz;
     precise const vec3 v = p - o;
     const float dist = Length3(v);

@@ -87,7 +87,9 @@ void main() {
       const uint next = c + 1u < pc.comps ? counts[c + 1u] : sums[pc.blocks];
       // Fault 1: the last element of every segment is dropped.
       const uint len = next - counts[c] - ((kFault == 1u && next > counts[c]) ? 1u : 0u);
-      for (uint k = gl_SubgroupInvocationID; k < len; k += lanes) out_values[counts[c] + k] = local_values[c * pc.s + k];
+      // Fault 3: each segment is copied from one value late (an off-by-one source index).
+      const uint from = c * pc.s + (kFault == 3u ? 1u : 0u);
+      for (uint k = gl_SubgroupInvocationID; k < len; k += lanes) out_values[counts[c] + k] = local_values[from + k];
     }
   }
 }

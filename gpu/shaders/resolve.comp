@@ -10,9 +10,12 @@ layout(push_constant) uniform Block { ElementwisePush pc; };
 void main() {
   const uint i = GlobalIndex();
   if (i >= pc.count) return;
-  precise const float c = Div(float(accum[i]), kAccumScale);
+  // Fault 3: red and blue swapped (the channel index mirrored within its pixel).
+  const uint src = kFault == 3u ? i - i % 3u + (2u - i % 3u) : i;
+  precise const float c = Div(float(accum[src]), kAccumScale);
   // Fault 1: the gamma step is skipped.
   const float g = kFault == 1u ? min(max(c, 0.0), 1.0) : Sqrt(min(max(c, 0.0), 1.0));
-  precise const float v = g * 255.0 + 0.5;
+  // Fault 2: the value is truncated, not rounded (the half is lost).
+  precise const float v = kFault == 2u ? g * 255.0 : g * 255.0 + 0.5;
   rgb[i] = uint(v);
 }

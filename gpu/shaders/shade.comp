@@ -37,7 +37,8 @@ void main() {
     const uint slot = s * pc.light_count + l;
     if (shadow_flags[slot] == 0u || LoadOccluded(shadow_offsets[slot], pc.occluded_page) != 0u) continue;
     const Light light = lights[l];
-    precise const vec3 lv = light.position.xyz - p;
+    // Fault 2: the light vector points from the light to the surface (swapped operands).
+    precise const vec3 lv = kFault == 2u ? p - light.position.xyz : light.position.xyz - p;
     const float dist = Length3(lv);
     precise const vec3 ldir = vec3(Div(lv.x, dist), Div(lv.y, dist), Div(lv.z, dist));
     // Fault 1: the quadratic attenuation term uses the distance instead of its square.
@@ -58,7 +59,8 @@ void main() {
     }
   }
   const uint pixel = sf.info.y;
-  for (int k = 0; k < 3; ++k) {
+  // Fault 3: the blue channel is never accumulated (a loop bound one short).
+  for (int k = 0; k < (kFault == 3u ? 2 : 3); ++k) {
     precise const float c = color[k] * sf.weight[k];
     const uint64_t q = ToFixed(c);
     if (q != 0ul) atomicAddAccum(3u * pixel + uint(k), pc.accum_page, q);

@@ -38,10 +38,13 @@ void RankAndScatter(uint g, uint n, uint blocks) {
     uint before = 0u, after = 0u;
     for (uint k = 0u; k < kLocalSize; ++k) {
       const uint d = digits[k];
-      before += k < l && d == digit ? 1u : 0u;
+      // Fault 2 (sort): an element counts itself among the earlier ones of its digit (<= for <).
+      before += (kFault == 2u && pc.phase == kSortPhaseScatter ? k <= l : k < l) && d == digit ? 1u : 0u;
       after += k > l && d == digit ? 1u : 0u;
     }
-    if (i < end) sorted[pc.dst + scratch[256u * blocks + digit] + scratch[digit * blocks + g] + bins[digit] + before] = c;
+    // Fault 3 (sort): each digit starts at the next digit's base (the total scan read as inclusive).
+    const uint base_digit = kFault == 3u ? min(digit + 1u, 255u) : digit;
+    if (i < end) sorted[pc.dst + scratch[256u * blocks + base_digit] + scratch[digit * blocks + g] + bins[digit] + before] = c;
     barrier();  // every bin read before it advances
     // Fault 1 (sort): a bin's running position is not advanced in the top byte's pass.
     if (i < end && after == 0u && !(kFault == 1u && pc.shift == 24u)) bins[digit] += before + 1u;
@@ -68,7 +71,8 @@ void main() {
         WORKGROUP_SCAN_IN_PLACE(sums, 0u, blocks, total);
         if (l == 0u) {
           sums[blocks] = total;
-          count[0] = total;
+          // Fault 3 (compress): the chunk count is the last chunk's index, not the count.
+          count[0] = kFault == 3u ? total - 1u : total;
         }
       }
       break;
@@ -92,7 +96,9 @@ void main() {
       const uint chunks = count[0];
       // Fault 1 (compress): the last chunk loses its last ray.
       const uint end = kFault == 1u ? n - 1u : n;
-      if (t < chunks) chunk_size[t] = (t + 1u < chunks ? chunk_base[t + 1u] : end) - chunk_base[t];
+      // Fault 2 (compress): every chunk but the last reaches one ray into the next (an off-by-one bound).
+      const uint over = kFault == 2u ? 1u : 0u;
+      if (t < chunks) chunk_size[t] = (t + 1u < chunks ? chunk_base[t + 1u] + over : end) - chunk_base[t];
       break;
     }
     // ---- one LSD radix pass over n chunks (8 bits at `shift`), sorted[src..] -> sorted[dst..] ----
@@ -124,7 +130,8 @@ void main() {
       break;
     // ---- decompress: sizes in sorted order, scan, then every ray finds its chunk ----
     case kDecompressPhaseSizes:  // n = chunks here
-      if (t < n) scratch[t] = chunk_size[sorted[t]];
+      // Fault 2 (decompress): the sizes are read in chunk order, not sorted order.
+      if (t < n) scratch[t] = chunk_size[kFault == 2u ? t : sorted[t]];
       break;
     case kDecompressPhaseBlockSums:  // one workgroup per block
       if (g < blocks) {
@@ -146,7 +153,8 @@ void main() {
           const uint i = c0 + l;
           const uint size = i < end ? scratch[i] : 0u;
           const uint start = run + (WorkgroupInclusiveAdd(size, total) - size);
-          if (i < end) scratch[n + i] = start;
+          // Fault 3 (decompress): a chunk starts where it ends (the scan read as inclusive).
+          if (i < end) scratch[n + i] = kFault == 3u ? start + size : start;
           run += total;
         }
       }

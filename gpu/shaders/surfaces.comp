@@ -26,9 +26,11 @@ void main() {
     // Fault 1: rows and columns swapped when the pixel index is split.
     const uint px = kFault == 1u ? g / width : g % width, py = kFault == 1u ? g % width : g / width;
     const vec3 d = PixelDirection(fc, px, py);
-    s.position = vec4(position[i].xyz, 1.0);
+    // Fault 3: the position is read from the next pixel's texel (an index off by one).
+    s.position = vec4(position[kFault == 3u ? i + 1u : i].xyz, 1.0);
     s.normal = vec4(normal[i].xyz, 0.0);
-    s.incoming = vec4(Normalize3(d), 0.0);
+    // Fault 2: the view direction is left unnormalised.
+    s.incoming = vec4(kFault == 2u ? d : Normalize3(d), 0.0);
     s.weight = vec4(1.0, 1.0, 1.0, 0.0);
     s.info = uvec4(p, g, info[p].ids.x, 0u);
   } else {

@@ -32,8 +32,10 @@ void main() {
     s.position = vec4(p, 1.0);
     s.normal = vec4(ShadingNormalOf(triangles[prim], normals[prim], p), 0.0);
     s.incoming = vec4(Normalize3(d), 0.0);
-    s.weight = r.weight;
-    s.info = uvec4(prim, r.info.x, info[prim].ids.x, 0u);
+    // Fault 2: the ray's weight is not carried (every surface weighs 1).
+    s.weight = kFault == 2u ? vec4(1.0, 1.0, 1.0, 0.0) : r.weight;
+    // Fault 3: the pixel is taken from the surface the ray left, not the ray's pixel (a swapped field).
+    s.info = uvec4(prim, kFault == 3u ? r.info.y : r.info.x, info[prim].ids.x, 0u);
   } else {
     s.info = uvec4(kNoPrim, r.info.x, 0u, 0u);
   }

@@ -49,7 +49,8 @@ void main() {
       flags[e * pc.children_max + k] = 0u;
       values[e * pc.children_max + k] = 0u;
     }
-    for (uint c = c0; c < c1; ++c) {
+    // Fault 3: a level's first child of every parent is skipped (a loop starting one late).
+    for (uint c = kFault == 3u ? c0 + 1u : c0; c < c1; ++c) {
       const uint slot = e * pc.children_max + (c - c0);
       flags[slot] = ConeTest(NodeAt(c), sphere, pc.eps) ? 1u : 0u;
       values[slot] = ((c - pc.base) << kPairTriangleBits) | tri_local;

@@ -43,7 +43,8 @@ void main() {
         // Fault 1: an inclusive scan where an exclusive one belongs (off by one).
         // Fault 2 (seen only when a stream is trimmed in parts, --split-bytes): the carry is dropped.
         offsets[i] = (kFault == 2u ? 0u : pc.carry) + (kFault == 1u ? s + f : s);
-        if (f != 0u) dense[s] = sparse[i];
+        // Fault 3: the flagged slot's neighbour is gathered (an index off by one).
+        if (f != 0u) dense[s] = sparse[kFault == 3u ? i + 1u : i];
       }
       run += total;
     }

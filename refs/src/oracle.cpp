@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
 #include "rayspace/emu/intersect.h"
@@ -75,6 +76,27 @@ bool ClosestDefensible(const layout::Ray& ray, std::uint32_t prim, const SceneBu
   return true;
 }
 
+// How far a float tracer's t for this triangle may lie from the true one: the rounding kRoundingRel
+// allows on the vertices (scale L, their largest coordinate relative to the origin) and on t |d|,
+// moved along the ray by 1 / cos of the angle between the ray and the plane.
+double TTolerance(const layout::Ray& ray, const layout::Triangle& tri, double t) {
+  const glm::dvec3 o(emu::Xyz(ray.origin_tmin)), d(emu::Xyz(ray.direction_tmax));
+  const glm::dvec3 a = glm::dvec3(emu::Xyz(tri.v0)) - o, b = glm::dvec3(emu::Xyz(tri.v1)) - o,
+                   c = glm::dvec3(emu::Xyz(tri.v2)) - o;
+  double l = 0;
+  for (const glm::dvec3& v : {a, b, c}) l = std::max({l, std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
+  const glm::dvec3 n = glm::cross(b - a, c - a);
+  const double dl = glm::length(d), cosine = std::fabs(glm::dot(n, d)) / (glm::length(n) * dl);
+  return kRoundingRel * (l + std::fabs(t) * dl) / (dl * std::max(cosine, 1e-30));
+}
+
+// The distance to the triangle's plane along the ray, in double: the reference for two t's.
+double PlaneT(const layout::Ray& ray, const layout::Triangle& tri) {
+  const glm::dvec3 o(emu::Xyz(ray.origin_tmin)), d(emu::Xyz(ray.direction_tmax)), v0(emu::Xyz(tri.v0));
+  const glm::dvec3 n = glm::cross(glm::dvec3(emu::Xyz(tri.v1)) - v0, glm::dvec3(emu::Xyz(tri.v2)) - v0);
+  return glm::dot(v0 - o, n) / glm::dot(d, n);
+}
+
 }  // namespace
 
 Answer JudgeClosest(const layout::Ray& ray, std::uint32_t prim, const SceneBuffers& scene) {
@@ -89,6 +111,23 @@ Answer JudgeOccluded(const layout::Ray& ray, bool occluded, const SceneBuffers& 
   const Contact exact = ExactOccluded(ray, scene);
   if (exact == Contact::kBoundary || (exact == Contact::kInterior) == occluded) return Answer::kExact;
   return (occluded ? OccludedDefensible(ray, scene) : LitDefensible(ray, scene)) ? Answer::kWithinRounding : Answer::kWrong;
+}
+
+// Both tracers hit the same triangle; their distances must agree within rounding, and when they do
+// not, the plane's distance in double says which one is off.
+void Oracle::CheckSameTriangle(const std::string& batch, std::size_t i, const layout::Ray& ray, std::uint64_t frame,
+                               std::uint64_t oracle) {
+  const std::uint32_t p = emu::HitPrim(frame);
+  const float tf = emu::HitT(frame), to = emu::HitT(oracle);
+  const layout::Triangle& tri = scene_.triangles[p];
+  const double tol = TTolerance(ray, tri, tf);
+  if (std::fabs(double(tf) - double(to)) <= tol) return;
+  const double exact = PlaneT(ray, tri);
+  Disagreement d{batch, i, p, p, tf, to, "", ray};
+  const bool frame_right = std::fabs(double(tf) - exact) <= tol;
+  d.note = fmt::format("same triangle {}, t {} against the oracle's {}: {} (plane distance {}, tolerance {:.3g})", p, tf, to,
+                       frame_right ? "oracle wrong" : "frame wrong", exact, tol);
+  (frame_right ? oracle_wrong_ : mismatches_).push_back(d);
 }
 
 void Oracle::CheckOccluded(const emu::Batch& batch) {
@@ -138,7 +177,10 @@ void Oracle::Check(const emu::Batch& batch) {
     const std::uint64_t a = (*batch.hits)[i], b = mine[i];
     const std::uint32_t pa = emu::HitPrim(a), pb = emu::HitPrim(b);
     const bool ha = a != emu::kMissPacked, hb = b != emu::kMissPacked;
-    if (ha == hb && (!ha || pa == pb)) continue;
+    if (ha == hb && (!ha || pa == pb)) {
+      if (ha) CheckSameTriangle(batch.name, i, rays[i], a, b);
+      continue;
+    }
     Disagreement d;
     d.batch = batch.name;
     d.ray = i;

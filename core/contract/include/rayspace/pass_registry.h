@@ -156,19 +156,29 @@ inline constexpr PhaseSpec kTreeStepPhases[] = {RS_PHASE(TreeStep, Count), RS_PH
 #undef RS_PHASE
 
 inline constexpr FaultSpec kRasterFaults[] = {{1, "the depth is written without the 1/far scale"},
-                                              {2, "every vertex half a pixel to the right (edge pixels only)"}};
+                                              {2, "every vertex half a pixel to the right (edge pixels only)"},
+                                              {3, "the pixel's column steps along the rows and its row along the columns"}};
 // What many GPUs compute where Vulkan permits it: the relaxed comparison accepts these.
 #define RS_APPROX_DIV {layout::kFaultApproxDiv, "a / b computed as a * (1 / b), as a GPU may", "approx-div"}
 #define RS_APPROX_SQRT {layout::kFaultApproxSqrt, "sqrt(x) computed as 1 / inversesqrt(x), as a GPU may", "approx-sqrt"}
 inline constexpr FaultSpec kSurfacesFaults[] = {{1, "rows and columns swapped when the pixel index is split"},
+                                                {2, "the view direction is left unnormalised"},
+                                                {3, "the position is read from the next pixel's texel"},
                                                 RS_APPROX_DIV};
 inline constexpr FaultSpec kSurfacesHitsFaults[] = {{1, "the hit point is taken at t from the ray's tmin, not its origin"},
+                                                    {2, "the ray's weight is not carried"},
+                                                    {3, "the pixel is taken from the surface the ray left"},
                                                     RS_APPROX_DIV, RS_APPROX_SQRT};
 inline constexpr FaultSpec kRaygenShadowFaults[] = {{1, "the shadow ray runs all the way to the surface"},
                                                     {2, "the ray is credited to the next pixel"},
+                                                    {3, "the last light of every surface is skipped"},
                                                     RS_APPROX_DIV, RS_APPROX_SQRT};
-inline constexpr FaultSpec kRaygenReflectionFaults[] = {{1, "the factor 2 of the mirror formula is lost"}};
+inline constexpr FaultSpec kRaygenReflectionFaults[] = {{1, "the factor 2 of the mirror formula is lost"},
+                                                        {2, "the normal term is added, not subtracted"},
+                                                        {3, "the ray starts at tmin 0"}};
 inline constexpr FaultSpec kRaygenRefractionFaults[] = {{1, "the index ratio is not inverted when the ray leaves"},
+                                                        {2, "the normal is not turned to face a leaving ray"},
+                                                        {3, "the ratio's square is lost under the root of Snell's law"},
                                                         RS_APPROX_SQRT};
 // The faults of workgroup.glsl's WorkgroupInclusiveAdd, in every pass that calls it and whose emulated
 // pass runs its mirror.
@@ -180,24 +190,37 @@ inline constexpr FaultSpec kRaygenRefractionFaults[] = {{1, "the index ratio is 
 inline constexpr FaultSpec kTrimFaults[] = {
     {1, "an inclusive scan where an exclusive one belongs"},
     {2, "the carry between parts is dropped (--split-bytes)", {}, false, FaultNeeds::kSplit},
+    {3, "a flagged slot's neighbour is gathered"},
     RS_WORKGROUP_FAULTS,
     {layout::kFaultWorkgroupOffset, "a workgroup starts at the next block's offset of the global scan", "workgroup-offset"}};
 inline constexpr FaultSpec kHashFaults[] = {{1, "the azimuth cell comes from the wrong coordinate pair"},
                                             {2, "the launch row is ignored (--max-groups)", {}, false, FaultNeeds::kRows},
+                                            {3, "the direction's cells are interleaved azimuth first"},
                                             RS_APPROX_DIV, RS_APPROX_SQRT};
-inline constexpr FaultSpec kCompressFaults[] = {{1, "the last chunk loses its last ray"}, RS_WORKGROUP_FAULTS};
+inline constexpr FaultSpec kCompressFaults[] = {{1, "the last chunk loses its last ray"},
+                                                {2, "every chunk but the last reaches one ray into the next"},
+                                                {3, "the chunk count is the last chunk's index"},
+                                                RS_WORKGROUP_FAULTS};
 inline constexpr FaultSpec kSortFaults[] = {{1, "a bin's position is not advanced in the top byte's pass"},
+                                            {2, "an element counts itself among the earlier ones of its digit"},
+                                            {3, "each digit starts at the next digit's base"},
                                             RS_WORKGROUP_FAULTS};
 inline constexpr FaultSpec kDecompressFaults[] = {{1, "the chunk is looked up without the sorted permutation"},
+                                                  {2, "the chunk sizes are read in chunk order, not sorted order"},
+                                                  {3, "a chunk starts where it ends (the scan read as inclusive)"},
                                                   RS_WORKGROUP_FAULTS};
 inline constexpr FaultSpec kBuildFaults[] = {{1, "the float containment checks of each step are skipped"},
+                                             {2, "each ray is grown with its predecessor's origin"},
+                                             {3, "a parent leaves out its last child"},
                                              RS_APPROX_DIV, RS_APPROX_SQRT};
 inline constexpr FaultSpec kTraverseFaults[] = {{1, "the top level ignores the triangle sphere's radius"},
                                                 {2, "a mask part's start is dropped (--split-bytes)", {}, false, FaultNeeds::kSplit},
+                                                {3, "a level skips every parent's first child"},
                                                 {layout::kFaultSqrtHigh, "every sqrt two ULP high, as a GPU may", "sqrt-high"}};
 inline constexpr FaultSpec kReduceFaults[] = {{1, "the last element of every segment is dropped"},
                                               {2, "each scan block starts at the previous block's offset (--reduction scan)", {}, false,
                                                FaultNeeds::kScanReduction},
+                                              {3, "each segment is copied from one value late"},
                                               RS_WORKGROUP_FAULTS};
 #undef RS_WORKGROUP_FAULTS
 // Mirrored by the emulated kernel (emu/src/traverse_compact_wg.cpp).
@@ -208,6 +231,7 @@ inline constexpr FaultSpec kTraverseCompactFaults[] = {
     {4, "each block reports its survivors as its tests", {}, true}};
 inline constexpr FaultSpec kIntersectFaults[] = {{1, "tmin and tmax swapped in the range check"},
                                                  {2, "every paged load reads the first page (--split-bytes)", {}, false, FaultNeeds::kSplit},
+                                                 {3, "a node's last ray is never tested"},
                                                  RS_APPROX_DIV,
                                                  {layout::kFaultUlp4, "the distance t is 4 ULP too far (beyond any device)", "ulp4"}};
 inline constexpr FaultSpec kTreeRootsFaults[] = {{1, "the last root is never tested"},
@@ -227,8 +251,12 @@ inline constexpr FaultSpec kIntersectTreeFaults[] = {{1, "a level-1 node's rays 
                                                      {2, "tmin and tmax swapped in the range check"},
                                                      {3, "each pair reports one test"}};
 inline constexpr FaultSpec kShadeFaults[] = {{1, "the quadratic attenuation uses the distance, not its square"},
+                                             {2, "the light vector points from the light to the surface"},
+                                             {3, "the blue channel is never accumulated"},
                                              RS_APPROX_DIV, RS_APPROX_SQRT};
-inline constexpr FaultSpec kResolveFaults[] = {{1, "the gamma step is skipped"}};
+inline constexpr FaultSpec kResolveFaults[] = {{1, "the gamma step is skipped"},
+                                               {2, "the value is truncated, not rounded"},
+                                               {3, "red and blue swapped"}};
 #undef RS_APPROX_DIV
 #undef RS_APPROX_SQRT
 }  // namespace pass_registry_detail

@@ -38,6 +38,8 @@ class Oracle {
   Oracle(Tracer& tracer, const SceneBuffers& scene) : tracer_(tracer), scene_(scene) {}
   void Check(const emu::Batch& batch);
   std::size_t rays_checked() const { return rays_checked_; }
+  // A closest hit agrees when both name the same triangle (or both miss) at distances within
+  // rounding (kRoundingRel on the vertices and on t, along the ray's angle to the plane).
   // Every disagreement is settled with exact arithmetic (refs/exact.h) and lands in one list: the
   // frame is wrong (a mismatch), the oracle is wrong, a tie (both hit triangles at exactly the same
   // distance, or the only occluder met exactly on an edge), or within rounding: the frame's answer
@@ -52,6 +54,8 @@ class Oracle {
 
  private:
   void CheckOccluded(const emu::Batch& batch);
+  void CheckSameTriangle(const std::string& batch, std::size_t i, const layout::Ray& ray, std::uint64_t frame,
+                         std::uint64_t oracle);
 
   Tracer& tracer_;
   const SceneBuffers& scene_;

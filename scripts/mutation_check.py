@@ -1,0 +1,294 @@
+#!/usr/bin/env python3
+"""Mutation check of the emulator's C++ sources: do the fast unit tests notice a planted bug?
+
+Picks a seeded sample of mutants over emu/ (relational operators <, <=, >, >=, ==, != swapped for
+their neighbour; + and - swapped; && and || swapped; an integer constant off by one; a statement
+dropped; two plain arguments of a call swapped), applies each one alone to a copy of the source tree,
+rebuilds the unit tests there (ccache makes that one translation unit and a link), and runs a ctest
+subset with a timeout. A mutant is killed when a test fails or times out, survives when every test
+passes, and is stillborn when it does not compile (not counted in the score). Prints killed and
+survived per pass (the source file decides the pass) and every survivor with file:line and the
+mutation. The original file is restored after each mutant whatever happens (an exception, Ctrl-C or
+SIGTERM): with --build the mutants go into the source tree that build was configured from; without
+it into a copy under --work, configured and built once first.
+
+The same seed, count and sources give the same mutants: every pass's candidate sites, shuffled by
+the seed, are taken in turn, so a small sample still reaches every pass. `--dry-run` lists them without building anything.
+
+Usage: mutation_check.py [--seed N] [--count N] [--tests REGEX] [--exclude REGEX] [--files PATH ...]
+                         [--source DIR] [--build DIR | --work DIR] [--timeout SEC] [--jobs N]
+                         [--cmake-arg ARG ...] [--report JSON] [--dry-run]
+Exit: 0 when the run completed (survivors are a result, not an error), 2 on a usage error.
+"""
+import argparse
+import glob
+import json
+import os
+import random
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+# The fast emulator unit tests (doctest names; no Vulkan, no CLI): the known-answer tests of every
+# pass and the frame-level checks that run in seconds.
+DEFAULT_TESTS = ("^(raster|surfaces|raygen|trim|hash|sort|compress|decompress|build|cone|traverse|reduce|reduction|"
+                 "intersect|shade|resolve|IntPow|objects tree|tree|known answer|workgroup|hard case|hit convention|"
+                 "frame|determinism)")
+# The frame-level and randomized sweeps that take tens of seconds each: left out of every mutant's run.
+DEFAULT_EXCLUDE = ("^(objects tree: fused rounds|objects tree: the same frame digest|intersect simd: many rays|"
+                   "determinism: hierarchy digests|traverse.compact mirror: random calls)")
+# The passes' sources; a mutated header rebuilds every file that includes it, so headers are opt-in.
+DEFAULT_FILES = ("emu/src/*.cpp",)
+
+# Source file stem -> the pass its code serves (docs/mutation.md); files serving every pass are "shared".
+PASS_OF_STEM = {
+    "raster": "raster", "raster_detail": "raster", "surfaces": "surfaces", "surface_math": "surfaces",
+    "raygen": "raygen", "raygen_math": "raygen", "trim": "trim", "hash": "hash", "hash_math": "hash",
+    "sort": "compress/sort/decompress", "build": "build", "cone": "build", "spheres": "build",
+    "traverse": "traverse", "cone_simd": "traverse", "reduce": "reduce", "traverse_fused": "traverse.compact",
+    "traverse_compact_wg": "traverse.compact", "intersect": "intersect", "intersect_simd": "intersect",
+    "tree": "tree", "tree_calls": "tree", "tree_streams": "tree", "object_tree_traverse": "tree", "shade": "shade",
+    "shade_math": "shade", "resolve": "resolve",
+}
+
+# (name, pattern, replacement): one mutation of one match. Operators need spaces around them, which
+# the sources' formatting gives binary operators and never template brackets or shifts.
+OPERATOR_SWAPS = [
+    ("< to <=", r"(?<=\s)<(?=\s)", "<="), ("<= to <", r"(?<=\s)<=(?=\s)", "<"),
+    ("> to >=", r"(?<=\s)>(?=\s)", ">="), (">= to >", r"(?<=\s)>=(?=\s)", ">"),
+    ("== to !=", r"(?<=\s)==(?=\s)", "!="), ("!= to ==", r"(?<=\s)!=(?=\s)", "=="),
+    ("+ to -", r"(?<=\s)\+(?=\s)", "-"), ("- to +", r"(?<=\s)-(?=\s)", "+"),
+    ("&& to ||", r"(?<=\s)&&(?=\s)", "||"), ("|| to &&", r"(?<=\s)\|\|(?=\s)", "&&"),
+]
+CONSTANT = re.compile(r"(?<![\w.])(\d+)(u|U)?(?![\w.'])")
+SWAP_ARGS = re.compile(r"\b(\w+)\((\w+), (\w+)\)")
+STATEMENT = re.compile(r"^\s*[\w\[\]().>-]+\s*(\+=|-=|\*=|=|\+\+|--)[^=].*;\s*$|^\s*[\w.>-]+\+\+;\s*$")
+
+
+def pass_of(path):
+    stem = os.path.splitext(os.path.basename(path))[0]
+    return PASS_OF_STEM.get(stem, "shared")
+
+
+def code_lines(text):
+    """Yields (line number, line) for lines that are code: no comments, preprocessor or asserts."""
+    in_block = False
+    for n, line in enumerate(text.split("\n"), 1):
+        s = line.strip()
+        if in_block:
+            in_block = "*/" not in s
+            continue
+        if s.startswith("/*"):
+            in_block = "*/" not in s
+            continue
+        if not s or s.startswith(("//", "#", "static_assert", "RS_CHECK", "assert")):
+            continue
+        yield n, line.split("//")[0]
+
+
+def line_mutants(path, n, line):
+    out = []
+    for name, pattern, repl in OPERATOR_SWAPS:
+        for m in re.finditer(pattern, line):
+            out.append((path, n, m.start(), m.end(), repl, name))
+    for m in CONSTANT.finditer(line):
+        if '"' in line[:m.start()] and '"' in line[m.end():]:
+            continue  # inside a string
+        out.append((path, n, m.start(1), m.end(1), str(int(m.group(1)) + 1), f"{m.group(1)} to {int(m.group(1)) + 1}"))
+    for m in SWAP_ARGS.finditer(line):
+        if m.group(2) != m.group(3):
+            out.append((path, n, m.start(2), m.end(3), f"{m.group(3)}, {m.group(2)}",
+                        f"{m.group(1)}({m.group(2)}, {m.group(3)}) to {m.group(1)}({m.group(3)}, {m.group(2)})"))
+    if STATEMENT.match(line) and not re.match(r"^\s*(const|auto|std::|for|if|return|using|\w+\s+\w+\s*=)", line):
+        body = line.rstrip()
+        out.append((path, n, len(line) - len(line.lstrip()), len(body), "", f"statement dropped: {body.strip()}"))
+    return out
+
+
+def all_mutants(source, files):
+    mutants = []
+    for rel in files:
+        with open(os.path.join(source, rel), encoding="utf-8") as f:
+            text = f.read()
+        for n, line in code_lines(text):
+            mutants.extend(line_mutants(rel, n, line))
+    return sorted(mutants)
+
+
+def draw(candidates, count, seed):
+    """Every pass gets its turn: each pass's candidates shuffled by the seed, taken round-robin."""
+    rng = random.Random(seed)
+    by_pass = {}
+    for m in candidates:
+        by_pass.setdefault(pass_of(m[0]), []).append(m)
+    queues = [by_pass[p] for p in sorted(by_pass)]
+    for q in queues:
+        rng.shuffle(q)
+    sample = []
+    while len(sample) < count and any(queues):
+        for q in queues:
+            if q and len(sample) < count:
+                sample.append(q.pop())
+    return sorted(sample)
+
+
+def apply(text, mutant):
+    _, n, start, end, repl, _ = mutant
+    lines = text.split("\n")
+    line = lines[n - 1]
+    lines[n - 1] = line[:start] + repl + line[end:]
+    return "\n".join(lines)
+
+
+def run(cmd, cwd, timeout=None):
+    try:
+        p = subprocess.run(["nice"] + cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=timeout,
+                           text=True)
+        return p.returncode, p.stdout
+    except subprocess.TimeoutExpired:
+        return None, "timeout"
+
+
+def prepare_copy(args):
+    """Copies the source tree (without build folders) to WORK/src and configures WORK/src/build."""
+    src = os.path.join(args.work, "src")
+    skip = shutil.ignore_patterns("build", "build-*", ".git", "out")
+    if not os.path.isdir(src):
+        shutil.copytree(args.source, src, ignore=skip, symlinks=True)
+    build = os.path.join(src, "build")
+    os.makedirs(build, exist_ok=True)
+    rc, out = run(["cmake", ".."] + args.cmake_arg, build)
+    if rc != 0:
+        sys.exit(f"mutation_check.py: configuring the copy failed:\n{out}")
+    rc, out = run(["make", f"-j{args.jobs}", "rayspace_tests"], build)
+    if rc != 0:
+        sys.exit(f"mutation_check.py: the unmutated copy does not build:\n{out[-3000:]}")
+    rc, out = ctest(args, build, [])
+    if rc != 0:
+        sys.exit(f"mutation_check.py: the unmutated copy fails its tests:\n{out[-3000:]}")
+    return src, build
+
+
+def ctest(args, build, extra):
+    cmd = ["ctest", "-R", args.tests, f"-j{args.jobs}", "--timeout", str(args.timeout)] + extra
+    if args.exclude:
+        cmd += ["-E", args.exclude]
+    return run(cmd, build, timeout=args.timeout * 4)
+
+
+def try_mutant(args, src, build, mutant):
+    path = os.path.join(src, mutant[0])
+    with open(path, encoding="utf-8") as f:
+        original = f.read()
+    try:
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(apply(original, mutant))
+        rc, _ = run(["make", f"-j{args.jobs}", "rayspace_tests"], build)
+        if rc != 0:
+            return "stillborn"
+        rc, _ = ctest(args, build, ["--stop-on-failure"])
+        return "survived" if rc == 0 else "killed"
+    finally:
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(original)
+
+
+def describe(m):
+    return f"{m[0]}:{m[1]}: {m[5]}"
+
+
+def print_table(results):
+    passes = sorted({pass_of(m[0]) for m, _ in results})
+    print(f"{'pass':<26} {'killed':>6} {'survived':>8} {'stillborn':>9} {'score':>6}")
+    for p in passes + ["all"]:
+        rows = [r for m, r in results if p == "all" or pass_of(m[0]) == p]
+        k, s, b = rows.count("killed"), rows.count("survived"), rows.count("stillborn")
+        score = f"{100 * k / (k + s):.0f}%" if k + s else "-"
+        print(f"{p:<26} {k:>6} {s:>8} {b:>9} {score:>6}")
+    survivors = [m for m, r in results if r == "survived"]
+    print(f"\nsurvivors ({len(survivors)}):")
+    for m in survivors:
+        print(f"  {describe(m)}")
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """A usage error is one line on stderr naming the argument, and exit code 2."""
+
+    def error(self, message):
+        sys.stderr.write(f"mutation_check.py: {message}\n")
+        sys.exit(2)
+
+
+def parse_args(argv):
+    here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    ap = OneLineParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--count", type=int, default=40)
+    ap.add_argument("--tests", default=DEFAULT_TESTS, help="ctest -R regex (the fast unit tests by default)")
+    ap.add_argument("--exclude", default=DEFAULT_EXCLUDE, help="ctest -E regex ('' runs every test --tests matches)")
+    ap.add_argument("--files", nargs="+", default=None, help="sources to mutate, relative to --source (globs)")
+    ap.add_argument("--source", default=here)
+    ap.add_argument("--build", default=None, help="a configured build of --source: mutate in place, restoring each file")
+    ap.add_argument("--work", default=None, help="scratch folder for the copy (default SOURCE/build/mutation)")
+    ap.add_argument("--timeout", type=int, default=300, help="seconds per test")
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--cmake-arg", action="append", default=None)
+    ap.add_argument("--report", default=None, help="write every mutant and its result as JSON")
+    ap.add_argument("--dry-run", action="store_true", help="list the sampled mutants; build nothing")
+    args = ap.parse_args(argv)
+    if args.count < 1:
+        ap.error(f"--count {args.count}: must be at least 1")
+    if args.timeout < 1 or args.jobs < 1:
+        ap.error("--timeout and --jobs must be at least 1")
+    for flag, value in (("--tests", args.tests), ("--exclude", args.exclude)):
+        try:
+            re.compile(value)
+        except re.error as e:
+            ap.error(f"{flag} '{value}': not a regular expression ({e})")
+    if args.build and not os.path.isfile(os.path.join(args.build, "CMakeCache.txt")):
+        ap.error(f"--build '{args.build}': not a configured build (no CMakeCache.txt)")
+    files = []
+    for pattern in args.files or DEFAULT_FILES:
+        found = sorted(os.path.relpath(p, args.source) for p in glob.glob(os.path.join(args.source, pattern)))
+        if not found:
+            ap.error(f"--files '{pattern}': no such source under {args.source}")
+        files.extend(found)
+    args.files = sorted(set(files))
+    args.work = args.work or os.path.join(args.source, "build", "mutation")
+    args.cmake_arg = args.cmake_arg or ["-DCMAKE_BUILD_TYPE=RelWithDebInfo", "-DRAYSPACE_VULKAN=OFF"]
+    return args
+
+
+def main(argv):
+    args = parse_args(argv)
+    candidates = all_mutants(args.source, args.files)
+    sample = draw(candidates, args.count, args.seed)
+    print(f"seed {args.seed}: {len(sample)} of {len(candidates)} mutants over {len(args.files)} files")
+    if args.dry_run:
+        for m in sample:
+            print(f"  [{pass_of(m[0])}] {describe(m)}")
+        return 0
+    src, build = (args.source, args.build) if args.build else prepare_copy(args)
+    # SIGTERM unwinds like Ctrl-C, so the mutated file is restored.
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
+    results = []
+    for i, m in enumerate(sample, 1):
+        t0 = time.time()
+        r = try_mutant(args, src, build, m)
+        results.append((m, r))
+        print(f"[{i}/{len(sample)}] {r:<9} {describe(m)} ({time.time() - t0:.0f} s)", flush=True)
+    print()
+    print_table(results)
+    if args.report:
+        with open(args.report, "w", encoding="utf-8") as f:
+            json.dump({"seed": args.seed, "count": args.count, "tests": args.tests,
+                       "mutants": [{"file": m[0], "line": m[1], "pass": pass_of(m[0]), "mutation": m[5], "result": r}
+                                   for m, r in results]}, f, indent=1)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -1,0 +1,58 @@
+# scripts/mutation_check.py's argument contract and its sample, run as
+#   cmake -DSCRIPT=<scripts/mutation_check.py> -DSRC=<source dir> -P mutation_check_args.cmake
+# The sample is a function of the seed, the count and the sources: the same call lists the same
+# mutants, another seed others. A bad call is exit code 2 with one line on stderr naming the argument.
+# Only --dry-run runs here; a real run rebuilds the unit tests once per mutant (docs/mutation.md).
+cmake_minimum_required(VERSION 3.19)
+foreach(var SCRIPT SRC)
+  if(NOT DEFINED ${var} OR "${${var}}" STREQUAL "")
+    message(FATAL_ERROR "mutation_check_args.cmake: pass -D${var}=...")
+  endif()
+endforeach()
+set(FAILURES "")
+
+function(dry_run out_var)
+  execute_process(COMMAND python3 "${SCRIPT}" --source "${SRC}" --dry-run ${ARGN}
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 60)
+  if(NOT rc EQUAL 0)
+    set(FAILURES "${FAILURES}\n  --dry-run ${ARGN}: exit ${rc}: ${err}" PARENT_SCOPE)
+  endif()
+  set(${out_var} "${out}" PARENT_SCOPE)
+endfunction()
+
+dry_run(a --seed 3 --count 3 --files emu/src/resolve.cpp emu/src/shade.cpp)
+dry_run(b --seed 3 --count 3 --files emu/src/resolve.cpp emu/src/shade.cpp)
+dry_run(c --seed 4 --count 3 --files emu/src/resolve.cpp emu/src/shade.cpp)
+if(NOT a STREQUAL b)
+  set(FAILURES "${FAILURES}\n  the same seed listed different mutants:\n${a}\n${b}")
+endif()
+if(a STREQUAL c)
+  set(FAILURES "${FAILURES}\n  seeds 3 and 4 listed the same mutants:\n${a}")
+endif()
+string(REGEX MATCHALL "\n  .(resolve|shade). emu/src/(resolve|shade)\\.cpp:[0-9]+: " listed "${a}")
+list(LENGTH listed n)
+if(NOT n EQUAL 3 OR NOT a MATCHES "^seed 3: 3 of [0-9]+ mutants over 2 files")
+  set(FAILURES "${FAILURES}\n  expected 3 mutants of resolve.cpp and shade.cpp with their pass and file:line:\n${a}")
+endif()
+
+# bad_call(<needle> <arg>...): exit 2, one line on stderr containing the needle.
+function(bad_call needle)
+  execute_process(COMMAND python3 "${SCRIPT}" --source "${SRC}" ${ARGN}
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 60)
+  string(REGEX MATCHALL "\n" newlines "${err}")
+  list(LENGTH newlines lines)
+  string(FIND "${err}" "${needle}" at)
+  if(NOT "${rc}" STREQUAL "2" OR NOT lines EQUAL 1 OR at EQUAL -1)
+    set(FAILURES "${FAILURES}\n  [${ARGN}] exit '${rc}' (expected 2), ${lines} stderr lines (expected 1), needle '${needle}': ${err}" PARENT_SCOPE)
+  endif()
+endfunction()
+bad_call("--count 0" --dry-run --count 0)
+bad_call("--files 'emu/src/no_such.cpp'" --dry-run --files emu/src/no_such.cpp)
+bad_call("--tests '('" --dry-run --tests "(")
+bad_call("--seed" --dry-run --seed many)
+bad_call("--no-such-flag" --no-such-flag)
+bad_call("--build" --dry-run --build "${SRC}/no-such-build")
+
+if(FAILURES)
+  message(FATAL_ERROR "mutation_check.py:${FAILURES}")
+endif()
