@@ -6,8 +6,12 @@
 #include <atomic>
 #include <string>
 
+#include "rayspace/emu/backend.h"
+#include "rayspace/emu/frame.h"
+#include "rayspace/emu/hierarchy.h"
 #include "rayspace/error.h"
 #include "rayspace/parallel.h"
+#include "test_util.h"
 
 using namespace rayspace;
 
@@ -51,4 +55,40 @@ TEST_CASE("errors: a failed check throws CheckFailure naming the condition when 
   }
   SetCheckFailuresThrow(false);
   SetThreadCount(0);
+}
+
+namespace {
+
+// A device whose fused traversal returns one pair outside its block, as a faulty kernel may.
+class StrayPairPasses : public emu::ForwardingHierarchyPasses {
+ public:
+  emu::Compacted TraverseLevelCompacted(const emu::call::TraverseLevelCompacted& c) override {
+    emu::Compacted r = ForwardingHierarchyPasses::TraverseLevelCompacted(c);
+    if (!r.pairs.empty()) r.pairs.back() = 0x3f800000u;  // 1.0f read as a pair: node 65024
+    return r;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("errors: a pair outside its block from a device stops the frame with a check naming the level") {
+  const Scene s = test::LoadBundled("cornell-mirrors.json");
+  const SceneBuffers b = FlattenScene(s);
+  StrayPairPasses stray;
+  emu::HierarchyConfig hc;
+  hc.passes = &stray;
+  hc.fused = true;
+  auto tracer = emu::MakeHierarchyTracer(b, hc);
+  emu::FrameOptions fo;
+  fo.width = fo.height = 32;
+  SetCheckFailuresThrow(true);
+  try {
+    emu::RenderFrame(s, b, *tracer, fo);
+    FAIL("the stray pair was used");
+  } catch (const CheckFailure& e) {
+    const std::string what = e.what();
+    CHECK(what.find("traversal of level") != std::string::npos);
+    CHECK(what.find("0x3f800000") != std::string::npos);
+  }
+  SetCheckFailuresThrow(false);
 }
