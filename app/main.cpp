@@ -16,6 +16,8 @@
 #include "exit_codes.h"
 #include "ignored_options.h"
 #include "render_command.h"
+#include "reproduce/command.h"
+#include "reproduce/frame.h"
 #ifdef RAYSPACE_HAVE_VULKAN
 #include "devices_command.h"
 #include "diff_command.h"
@@ -30,6 +32,8 @@ struct Commands {
   rayspace::app::RenderArgs render;
   rayspace::app::AccuracyArgs accuracy;
   rayspace::app::BenchArgs bench;
+  rayspace::reproduce::ReproduceArgs reproduce;
+  std::pair<CLI::App*, CLI::App*> reproduce_cmds{};
   CLI::App *render_cmd = nullptr, *accuracy_cmd = nullptr, *bench_cmd = nullptr, *diff_cmd = nullptr, *replay_cmd = nullptr, *devices_cmd = nullptr,
            *export_cmd = nullptr;
   bool validate = false;
@@ -188,6 +192,8 @@ rayspace::app::ExitCode Run(const Commands& cmds) {
   if (cmds.render_cmd->parsed()) return rayspace::app::RunRender(cmds.render);
   if (cmds.accuracy_cmd->parsed()) return rayspace::app::RunAccuracy(cmds.accuracy);
   if (cmds.bench_cmd->parsed()) return rayspace::app::RunBench(cmds.bench);
+  if (cmds.reproduce_cmds.second->parsed()) return rayspace::reproduce::RunMerge(cmds.reproduce);
+  if (cmds.reproduce_cmds.first->parsed()) return rayspace::reproduce::RunReproduce(cmds.reproduce, rayspace::reproduce::RenderConfig);
 #ifdef RAYSPACE_HAVE_VULKAN
   if (cmds.diff_cmd->parsed()) return rayspace::app::RunDiff(cmds.diff);
   if (cmds.replay_cmd->parsed()) return rayspace::app::RunReplay(cmds.replay);
@@ -216,6 +222,7 @@ int main(int argc, char** argv) {
   AddRender(app, cmds);
   AddAccuracy(app, cmds);
   AddBench(app, cmds);
+  cmds.reproduce_cmds = rayspace::reproduce::AddReproduceCommand(app, cmds.reproduce);
 #ifdef RAYSPACE_HAVE_VULKAN
   AddDiffAndReplay(app, cmds);
   AddExport(app, cmds);

@@ -1,0 +1,84 @@
+#include "configs.h"
+
+#include <fmt/format.h>
+
+namespace rayspace::reproduce {
+
+const std::vector<SceneChoice>& ThesisScenes() {
+  static const std::vector<SceneChoice> scenes = {
+      {"OFFICE", {"office.json"}, 1, "stand-in office model, 2 lights"},
+      {"CORNELL", {"cornell-mirrors.json"}, 2,
+       "stand-in: cornell-mirrors, shadow rays after each of 2 bounces"},
+      {"SPONZA", {"sponza-thesis.json", "sponza.json"}, 1, "34 objects, not one mesh; another viewpoint"},
+  };
+  return scenes;
+}
+
+const std::vector<Target>& Targets() {
+  static const std::vector<Target> targets = {
+      {"thesis", "", "CRSH thesis (Reis 2015) tables 4.1-4.27: RAH and CRSH per level, totals, % of brute force, phase timings; Roger's quadtree beside them"},
+      {"roger", "Roger et al. 2007's figures 9-14 are not measured yet", "Roger et al. 2007 figures 9-14"},
+      {"toczek", "the algorithm is not built yet", "Toczek et al. tables 1-2"},
+      {"hunt-mark", "the algorithm is not built yet", "Hunt and Mark tables 1 and 5"},
+  };
+  return targets;
+}
+
+const Target* FindTarget(const std::string& name) {
+  for (const Target& t : Targets())
+    if (t.name == name) return &t;
+  return nullptr;
+}
+
+const std::vector<std::pair<int, int>>& ThesisShapes() {
+  static const std::vector<std::pair<int, int>> shapes = {{8, 2}, {8, 3}, {8, 4}, {16, 2}, {16, 3}, {16, 4}};
+  return shapes;
+}
+
+std::string Config::Canonical() const {
+  // The quadtree's subdivision is 4 and its depth log2 of the image size: both follow from the size.
+  const std::string shape = quadtree() ? "quadtree" : fmt::format("subdivision={} levels={}", subdivision, levels);
+  return fmt::format("target={} scene={} file={} algo={} {} bounces={} size={}x{} objects=flat backend=emu", target, scene,
+                     scene_file, algo, shape, bounces, width, height);
+}
+
+std::string Config::Name() const {
+  return quadtree() ? fmt::format("{} {}", scene, algo) : fmt::format("{} {} s{} d{}", scene, algo, subdivision, levels);
+}
+
+std::string Config::RenderArgs() const {
+  const std::string shape = quadtree() ? "" : fmt::format(" --subdivision {} --levels {}", subdivision, levels);
+  return fmt::format("scenes/{} --algo {}{} --bounces {} --objects flat --size {}x{} --no-oracle", scene_file, algo, shape,
+                     bounces, width, height);
+}
+
+std::vector<Config> ThesisConfigs(const std::filesystem::path& scenes_dir, int width, int height) {
+  std::vector<Config> configs;
+  for (const SceneChoice& s : ThesisScenes()) {
+    Config c;
+    c.scene = s.paper;
+    c.scene_file = s.files.back();
+    for (const std::string& f : s.files)
+      if (std::filesystem::exists(scenes_dir / f)) {
+        c.scene_file = f;
+        break;
+      }
+    c.bounces = s.bounces;
+    c.width = width;
+    c.height = height;
+    for (const auto& [sub, depth] : ThesisShapes())
+      for (const char* algo : {"rah", "crsh"}) {
+        c.algo = algo;
+        c.subdivision = sub;
+        c.levels = depth;
+        configs.push_back(c);
+      }
+    c.algo = "rah-quadtree";
+    c.subdivision = 4;
+    c.levels = 0;
+    configs.push_back(c);
+  }
+  return configs;
+}
+
+}  // namespace rayspace::reproduce

@@ -1,0 +1,53 @@
+// What `rayspace reproduce` measures: its targets, and each target's configurations (scene, tracer,
+// hierarchy shape, frame size), each with a canonical text that, with the scene's content and the
+// version, names its result.
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace rayspace::reproduce {
+
+// A paper's scene and the scene file that stands in for it. The first of `files` found in the scenes
+// directory is used, so a closer stand-in takes over when it is added.
+struct SceneChoice {
+  std::string paper;               // the thesis's name: OFFICE, CORNELL, SPONZA
+  std::vector<std::string> files;  // candidates, best first, relative to the scenes directory
+  int bounces = 1;                 // --bounces: reflection bounces the thesis's frame traces
+  std::string note;                // how ours differs, for the report's rows
+};
+// The thesis's scenes, the one table to change when a scene's stand-in changes.
+const std::vector<SceneChoice>& ThesisScenes();
+
+struct Target {
+  std::string name;
+  std::string skip_reason;  // empty: implemented
+  std::string what;         // one line for --list
+};
+const std::vector<Target>& Targets();
+const Target* FindTarget(const std::string& name);
+
+struct Config {
+  std::string target = "thesis";
+  std::string scene;       // the paper's name
+  std::string scene_file;  // relative to the scenes directory
+  std::string algo;        // crsh, rah, rah-quadtree
+  int subdivision = 8, levels = 2, bounces = 1;
+  int width = 512, height = 512;
+  bool quadtree() const { return algo == "rah-quadtree"; }
+  // Every setting that changes the counts, as one line (part of the result's key).
+  std::string Canonical() const;
+  // Short, for progress lines and tables: "OFFICE crsh s8 d2".
+  std::string Name() const;
+  // The equivalent `rayspace render` arguments.
+  std::string RenderArgs() const;
+};
+
+// The thesis's configurations at width x height: per scene, 6 shapes x {rah, crsh}, then Roger's quadtree.
+// Scene files are resolved in `scenes_dir`.
+std::vector<Config> ThesisConfigs(const std::filesystem::path& scenes_dir, int width, int height);
+
+// The hierarchy shapes of the thesis's tables, in table order.
+const std::vector<std::pair<int, int>>& ThesisShapes();
+
+}  // namespace rayspace::reproduce

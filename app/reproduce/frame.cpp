@@ -1,0 +1,77 @@
+#include "frame.h"
+
+#include <mutex>
+
+#include "render_frame.h"
+
+namespace rayspace::reproduce {
+namespace {
+
+app::RenderArgs Args(const Config& c) {
+  app::RenderArgs args;
+  args.algo = c.algo;
+  if (!c.quadtree()) {
+    args.subdivision = c.subdivision;
+    args.depth = c.levels;
+    args.depth_given = true;
+  }
+  args.bounces = c.bounces;
+  args.objects = "flat";  // the thesis's: every triangle of every object a top node's sphere may meet
+  args.no_oracle = true;
+  args.backend = "emu";
+  return args;
+}
+
+// Per ray type, what the top level tests when every top node meets every triangle.
+void TopNodes(const std::vector<emu::BatchStats>& batches, const Config& c, Counts& counts) {
+  for (const emu::BatchStats& b : batches) {
+    if (b.levels.empty()) continue;
+    std::uint64_t per_top = 1;
+    for (std::size_t L = 0; L < b.levels.size(); ++L) per_top *= static_cast<std::uint64_t>(c.quadtree() ? 4 : c.subdivision);
+    counts.types[emu::RayKindName(b.kind)].top_nodes_x_triangles += (b.rays + per_top - 1) / per_top * b.triangles;
+  }
+}
+
+Counts ToCounts(const app::Statistics& s, const Config& c) {
+  Counts counts;
+  counts.total = s.total;
+  counts.brute_force = s.brute_force;
+  for (const auto& [kind, t] : s.types) {
+    TypeCounts& tc = counts.types[emu::RayKindName(kind)];
+    for (const emu::LevelStats& l : t.levels) tc.levels.push_back({l.intersections, l.hits});
+    tc.final_tests = t.final_tests;
+    tc.rays = t.rays;
+    tc.brute_force = t.brute_force;
+    tc.total = t.Total();
+  }
+  TopNodes(s.batches, c, counts);
+  return counts;
+}
+
+// The backend setup configures process-wide emulated-kernel settings: one job at a time.
+std::mutex g_backend_mutex;
+
+}  // namespace
+
+FrameOutput RenderConfig(const Config& c, const Scene& scene, const SceneBuffers& buffers) {
+  const app::RenderArgs args = Args(c);
+  emu::FrameOptions fo;
+  fo.width = c.width;
+  fo.height = c.height;
+  std::unique_ptr<app::Backend> backend;
+  {
+    std::lock_guard<std::mutex> lock(g_backend_mutex);
+    backend = std::make_unique<app::Backend>(app::MakeRenderBackend(args));
+    app::CheckFrameFits(*backend, c.width, c.height, scene.lights.size(), buffers.triangles.size());
+  }
+  const std::unique_ptr<app::RenderedFrame> f = app::RenderOnBackend(args, scene, buffers, fo, *backend);
+  FrameOutput out;
+  out.counts = ToCounts(f->stats, c);
+  f->stats.ToJson(out.statistics);
+  nlohmann::json phases = nlohmann::json::array();
+  for (const app::Phase& p : f->phases) phases.push_back({{"phase", p.name}, {"ms", p.ms}});
+  out.timings = {{"frame_ms", f->result.total_ms}, {"phases", phases}};
+  return out;
+}
+
+}  // namespace rayspace::reproduce

@@ -1,0 +1,51 @@
+// The report of a `reproduce thesis` run, from its results alone (so that one run, a resumed run and
+// merged shards write the same bytes): report.md with a section per thesis table, one CSV per table in
+// tables/, results.json with every raw statistic; and, outside that byte-identical set, timings.md and
+// timings.csv (phase times vary run to run).
+#pragma once
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "relations.h"
+#include "store.h"
+
+namespace rayspace::reproduce {
+
+// One table of the report: its markdown section and its CSV.
+struct Table {
+  std::string id;     // names the CSV: tables/table-<id>.csv
+  std::string title;  // the section's heading
+  std::vector<std::string> columns;
+  std::vector<std::vector<std::string>> rows;
+  std::vector<std::string> notes;  // lines under the table: how the scene differs, the relations' verdicts
+};
+
+// A relation checked on one table's numbers: its verdict on ours and on the published.
+struct RelationRow {
+  std::string relation, where;
+  std::optional<Outcome> ours, published;
+};
+
+struct Report {
+  std::vector<Table> tables;
+  std::vector<RelationRow> relations;
+  std::vector<std::string> preamble;  // lines above the summary
+};
+
+// Builds every table from the results (any order) and the published numbers.
+Report BuildReport(const std::vector<Result>& results, const Published& published);
+std::string ReportMarkdown(const Report& report);
+std::string TableCsv(const Table& table);
+// The summary: per relation, how many of its checks hold, ours and published.
+Table SummaryTable(const std::vector<RelationRow>& relations);
+
+// Writes report.md, tables/*.csv, results.json, timings.md and timings.csv into `out`, atomically each.
+void WriteReport(const std::filesystem::path& out, const std::vector<Result>& results);
+
+// Where a table's plot is drawn once the report has a plotting library: returns the markdown that
+// shows it (nothing yet).
+std::string TablePlots(const Table& table, const std::filesystem::path& out);
+
+}  // namespace rayspace::reproduce
