@@ -7,6 +7,7 @@
 #include "accuracy_measure.h"
 #include "accuracy_report.h"
 #include "accuracy_sampler.h"
+#include "plot.h"
 #include "rayspace/error.h"
 #include "rayspace/scene.h"
 
@@ -16,6 +17,7 @@ ExitCode RunAccuracy(const AccuracyArgs& args) {
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
   if (args.samples < 100 || args.samples > 10000000) ThrowInput("--samples {}: expected 100 to 10000000", args.samples);
+  plot::CheckTool();  // before the measurements, not after them
   std::error_code ec;
   std::filesystem::create_directories(args.out, ec);
   if (ec) ThrowInput("{}: cannot create the output directory ({})", args.out, ec.message());

@@ -5,94 +5,56 @@
 #include <cstdio>
 #include <filesystem>
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
 #include <fmt/format.h>
 
-#include "rayspace/error.h"
-#include "rayspace/image_io.h"
+#include "plot.h"
 
 namespace rayspace::app::accuracy {
 namespace {
 
 // ---- the plot: error rate against time per test, log-log ---------------------------------------------
 
-// The rows' markers: per row its false negatives (filled: a missed hit, a wrong image) and its false
-// positives (open: an extra test, time only) apart, since a conservative test has FP by design and no
-// FN; colour by test and query set, numbered by mode as in the table.
-template <typename XF, typename YF, typename TextF>
-void PlotRows(OIIO::ImageBuf& img, const std::vector<Row>& rows, XF X, YF Y, TextF text) {
-  using namespace OIIO;
-  const int W = img.spec().width, R = 330, T = 70;
-  const float black[3] = {0, 0, 0};
-  const float colours[4][3] = {{0.85f, 0.1f, 0.1f}, {0.1f, 0.35f, 0.85f}, {0.1f, 0.6f, 0.2f}, {0.6f, 0.3f, 0.7f}};
+// Error rates below this (and zero) are drawn on the bottom line, labelled "0 (none)".
+constexpr double kFloorRate = 1e-7;
+
+// One point per row and kind: the rate of `count` errors in n queries at the row's time per test.
+plot::Point RatePoint(const Row& r, std::size_t count, std::size_t mode) {
+  const double n = static_cast<double>(std::max<std::size_t>(r.n, 1));
+  return {std::max(r.ns, 1.0), std::max(static_cast<double>(count) / n, kFloorRate), fmt::format("{}", mode + 1)};
+}
+
+// Per row its false negatives (filled: a missed hit, a wrong image) and its false positives (open:
+// an extra test, time only) apart, since a conservative test has FP by design and no FN; colour by
+// test and query set, numbered by mode as in the table, the modes named in the key.
+plot::Plot AccuracyPlot(const std::string& title, const std::vector<Row>& rows) {
+  static const char* colours[4] = {"#d91a1a", "#1a59d9", "#1a9933", "#994db3"};
+  plot::Plot p;
+  p.title = title;
+  p.width = 1100;
+  p.x = {"ns per test (log)", plot::Scale::kLog, 1.0, 1e6, {}};
+  p.y = {"errors per test against the exact answer (log)", plot::Scale::kLog, kFloorRate, 1.0, {}};
+  p.y.ticks.push_back({kFloorRate, "0 (none)"});
+  for (int e = 6; e >= 0; --e) p.y.ticks.push_back({std::pow(10.0, -e), fmt::format("1e-{}", e)});
   std::vector<std::string> keys, modes;
   for (const Row& r : rows) {
     if (std::find(keys.begin(), keys.end(), r.test + " / " + r.set) == keys.end()) keys.push_back(r.test + " / " + r.set);
     if (std::find(modes.begin(), modes.end(), r.mode) == modes.end()) modes.push_back(r.mode);
   }
-  for (const Row& r : rows) {
-    const int k = static_cast<int>(std::find(keys.begin(), keys.end(), r.test + " / " + r.set) - keys.begin()) % 4;
-    const std::size_t m = std::find(modes.begin(), modes.end(), r.mode) - modes.begin();
-    const double n = static_cast<double>(std::max<std::size_t>(r.n, 1));
-    const int x = X(r.ns), y_fn = Y(static_cast<double>(r.fn) / n), y_fp = Y(static_cast<double>(r.fp) / n);
-    ImageBufAlgo::render_box(img, x - 4, y_fn - 4, x + 4, y_fn + 4, colours[k], true);
-    ImageBufAlgo::render_box(img, x - 5, y_fp - 5, x + 5, y_fp + 5, colours[k], false);
-    ImageBufAlgo::render_box(img, x - 4, y_fp - 4, x + 4, y_fp + 4, colours[k], false);
-    text(x + 7, y_fn - 6, fmt::format("{}", m + 1), 11, black);
-    if (y_fp != y_fn) text(x + 7, y_fp - 6, fmt::format("{}", m + 1), 11, black);
-  }
   for (std::size_t k = 0; k < keys.size(); ++k) {
-    const int y = T + 20 + static_cast<int>(k) * 22;
-    ImageBufAlgo::render_box(img, W - R + 15, y - 10, W - R + 25, y, colours[k % 4], true);
-    text(W - R + 32, y, keys[k], 14, black);
+    plot::Series fn{keys[k] + ": FN, missed hits (wrong image)", plot::Style::kPoints, plot::Marker::kFilledSquare, colours[k % 4], {}};
+    plot::Series fp{keys[k] + ": FP, extra tests (time only)", plot::Style::kPoints, plot::Marker::kOpenSquare, colours[k % 4], {}};
+    for (const Row& r : rows) {
+      if (r.test + " / " + r.set != keys[k]) continue;
+      const std::size_t m = std::find(modes.begin(), modes.end(), r.mode) - modes.begin();
+      fn.points.push_back(RatePoint(r, r.fn, m));
+      fp.points.push_back(RatePoint(r, r.fp, m));
+    }
+    p.series.push_back(std::move(fn));
+    p.series.push_back(std::move(fp));
   }
-  const int key_y = T + 20 + static_cast<int>(keys.size()) * 22;
-  ImageBufAlgo::render_box(img, W - R + 15, key_y - 10, W - R + 25, key_y, black, true);
-  text(W - R + 32, key_y, "FN: missed hits (wrong image)", 12, black);
-  ImageBufAlgo::render_box(img, W - R + 15, key_y + 10, W - R + 25, key_y + 20, black, false);
-  text(W - R + 32, key_y + 20, "FP: extra tests (time only)", 12, black);
-  for (std::size_t m = 0; m < modes.size(); ++m) {
-    const int y = key_y + 45 + 20 * static_cast<int>(m);
-    text(W - R + 2, y, fmt::format("{}", m + 1), 12, black);
-    text(W - R + 15, y, modes[m], 12, black);
-  }
-}
-
-void Plot(OutputFile& file, const std::string& title, const std::vector<Row>& rows) {
-  using namespace OIIO;
-  const int W = 900, H = 620, L = 90, R = 330, T = 70, B = 70;
-  ImageBuf img(ImageSpec(W, H, 3, TypeDesc::UINT8));
-  const float white[3] = {1, 1, 1}, black[3] = {0, 0, 0}, grey[3] = {0.85f, 0.85f, 0.85f};
-  ImageBufAlgo::fill(img, white);
-  const std::string font = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
-  bool text_ok = true;
-  auto text = [&](int x, int y, const std::string& s, int size, const float* c) {
-    text_ok = ImageBufAlgo::render_text(img, x, y, s, size, font, c) && text_ok;
-  };
-  // x: log10(ns) in [0, 6]; y: log10(error rate) in [-7, 0], zero errors drawn on the bottom line.
-  auto X = [&](double ns) { return L + static_cast<int>((std::log10(std::max(ns, 1.0)) / 6.0) * (W - L - R)); };
-  auto Y = [&](double rate) {
-    const double lr = rate > 0 ? std::max(std::log10(rate), -7.0) : -7.0;
-    return T + static_cast<int>((-lr / 7.0) * (H - T - B));
-  };
-  for (int d = 0; d <= 6; ++d) {
-    ImageBufAlgo::render_line(img, X(std::pow(10, d)), T, X(std::pow(10, d)), H - B, grey);
-    text(X(std::pow(10, d)) - 12, H - B + 22, fmt::format("1e{}", d), 14, black);
-  }
-  for (int e = 0; e <= 7; ++e) {
-    ImageBufAlgo::render_line(img, L, Y(std::pow(10, -e)), W - R, Y(std::pow(10, -e)), grey);
-    text(L - 55, Y(std::pow(10, -e)) + 5, e == 7 ? "0 (none)" : fmt::format("1e-{}", e), 14, black);
-  }
-  ImageBufAlgo::render_box(img, L, T, W - R, H - B, black);
-  text(10, 24, title, 18, black);
-  text(10, T - 16, "errors per test against the exact answer (log): FN filled, FP open", 14, black);
-  text((W - R) / 2 - 40, H - 15, "ns per test (log)", 15, black);
-  PlotRows(img, rows, X, Y, text);
-  if (!text_ok) std::fprintf(stderr, "rayspace accuracy: warning: no font at %s (install fonts-dejavu-core); the plot has no labels\n", font.c_str());
-  std::vector<std::uint8_t> rgb(static_cast<std::size_t>(W) * H * 3);
-  if (!img.get_pixels(img.roi(), TypeDesc::UINT8, rgb.data())) ThrowInput("{}: cannot draw the plot ({})", file.path(), img.geterror());
-  WriteImage(file, W, H, rgb);
+  for (std::size_t m = 0; m < modes.size(); ++m)
+    p.series.push_back({fmt::format("{}  {}", m + 1, modes[m]), plot::Style::kPoints, plot::Marker::kNone, "#000000", {}});
+  return p;
 }
 
 // The table of modes: one row per mode and query set, numbered by mode as in the plot.
@@ -142,6 +104,7 @@ ReportFiles OpenReportFiles(const std::string& dir, const Scene& scene) {
   f.base = (std::filesystem::path(dir) / (scene.name + "-accuracy")).string();
   f.md = OutputFile(f.base + ".md", {"the accuracy table", false, true, scene.files});
   f.csv = OutputFile(f.base + ".csv", {"the accuracy CSV", false, true, scene.files});
+  f.svg = OutputFile(f.base + ".svg", {"the accuracy plot", false, true, scene.files});
   f.png = OutputFile(f.base + ".png", {"the accuracy plot", false, true, scene.files});
   return f;
 }
@@ -157,9 +120,13 @@ void WriteReport(ReportFiles& files, const Report& rep) {
   AppendEndToEnd(rep, md, csv);
   files.md.Write(md);
   files.csv.Write(csv);
-  Plot(files.png, fmt::format("{}: errors against time per test", rep.scene), rep.rows);
-  PublishAll({&files.md, &files.csv, &files.png});
-  std::printf("%s\n  wrote %s.md, .csv, .png\n", md.c_str(), files.base.c_str());
+  const plot::Plot p = AccuracyPlot(fmt::format("{}: errors against time per test", rep.scene), rep.rows);
+  for (auto [file, format] : {std::pair{&files.svg, plot::Format::kSvg}, std::pair{&files.png, plot::Format::kPng}}) {
+    const std::vector<std::uint8_t> bytes = plot::Render(p, format);
+    file->Write(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+  }
+  PublishAll({&files.md, &files.csv, &files.svg, &files.png});
+  std::printf("%s\n  wrote %s.md, .csv, .svg, .png\n", md.c_str(), files.base.c_str());
 }
 
 }  // namespace rayspace::app::accuracy

@@ -19,14 +19,14 @@ struct Report {
   std::vector<EndToEnd> cone_e2e, tri_e2e;  // empty: not measured
 };
 
-// DIR/<scene>-accuracy.{md,csv,png}, opened (and so checked) before the measurements.
+// DIR/<scene>-accuracy.{md,csv,svg,png}, opened (and so checked) before the measurements.
 struct ReportFiles {
   std::string base;  // DIR/<scene>-accuracy
-  OutputFile md, csv, png;
+  OutputFile md, csv, svg, png;
 };
 ReportFiles OpenReportFiles(const std::string& dir, const Scene& scene);
 
-// Writes the three files and prints the markdown and the files written.
+// Writes the four files and prints the markdown and the files written.
 void WriteReport(ReportFiles& files, const Report& report);
 
 }  // namespace rayspace::app::accuracy

@@ -10,7 +10,7 @@ execute_process(COMMAND "${RAYSPACE}" accuracy "${SRC}/scenes/cornell-mirrors.js
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "accuracy: exit ${rc}: ${out}${err}")
 endif()
-foreach(ext md csv png)
+foreach(ext md csv svg png)
   if(NOT EXISTS "${WORK}/cornell-mirrors-accuracy.${ext}")
     set(failures "${failures}\nno cornell-mirrors-accuracy.${ext}")
   endif()

@@ -92,7 +92,7 @@ expect_error(NAME "bench --json, a write that fails late" NEEDLES "lim-bench.jso
 # The accuracy report's files are opened before the measurements.
 file(MAKE_DIRECTORY "${WORK}/acc/good-accuracy.md")
 expect_error(NAME "accuracy: a report file that is a directory" NEEDLES "good-accuracy.md: cannot write the accuracy table: is a directory"
-             ABSENT "${WORK}/acc/good-accuracy.csv" "${WORK}/acc/good-accuracy.png"
+             ABSENT "${WORK}/acc/good-accuracy.csv" "${WORK}/acc/good-accuracy.svg" "${WORK}/acc/good-accuracy.png"
              ARGS accuracy "${WORK}/good.json" --size 8x8 --samples 100 --out "${WORK}/acc")
 
 # --- Positive cases ------------------------------------------------------------------------------
