@@ -13,6 +13,7 @@
 #include "accuracy_command.h"
 #include "bench_command.h"
 #include "bench_configs.h"
+#include "data_command.h"
 #include "exit_codes.h"
 #include "ignored_options.h"
 #include "render_command.h"
@@ -34,6 +35,8 @@ struct Commands {
   rayspace::app::BenchArgs bench;
   rayspace::reproduce::ReproduceArgs reproduce;
   std::pair<CLI::App*, CLI::App*> reproduce_cmds{};
+  rayspace::app::DataCheckArgs data_check;
+  CLI::App* data_check_cmd = nullptr;
   CLI::App *render_cmd = nullptr, *accuracy_cmd = nullptr, *bench_cmd = nullptr, *diff_cmd = nullptr, *replay_cmd = nullptr, *devices_cmd = nullptr,
            *export_cmd = nullptr;
   bool validate = false;
@@ -95,6 +98,17 @@ void AddBench(CLI::App& app, Commands& cmds) {
                  "the tables)");
   rayspace::app::AddDeviceOption(*bc, b.device);
   bc->add_flag("--progress", b.progress, "Print each frame's time on stderr (default when stderr is a terminal)");
+}
+
+void AddData(CLI::App& app, Commands& cmds) {
+  CLI::App* dc = app.add_subcommand("data", "The scene data: check the data root against the manifest of the files the "
+                                            "bundled scenes need");
+  dc->require_subcommand(1);
+  CLI::App* cc = cmds.data_check_cmd = dc->add_subcommand(
+      "check", "Check that every file the scenes need is under the data root with the manifest's size and SHA-256; "
+               "one line per scene, exit 2 when a file is missing or differs");
+  cc->add_option("scenes", cmds.data_check.scenes, "Scene JSON files or bundled scene names (default: every bundled scene)");
+  cc->add_option("--data", cmds.data_check.data, "Data root (default: $RAYSPACE_DATA)");
 }
 
 #ifdef RAYSPACE_HAVE_VULKAN
@@ -194,6 +208,7 @@ rayspace::app::ExitCode Run(const Commands& cmds) {
   if (cmds.bench_cmd->parsed()) return rayspace::app::RunBench(cmds.bench);
   if (cmds.reproduce_cmds.second->parsed()) return rayspace::reproduce::RunMerge(cmds.reproduce);
   if (cmds.reproduce_cmds.first->parsed()) return rayspace::reproduce::RunReproduce(cmds.reproduce, rayspace::reproduce::RenderConfig);
+  if (cmds.data_check_cmd->parsed()) return rayspace::app::RunDataCheck(cmds.data_check);
 #ifdef RAYSPACE_HAVE_VULKAN
   if (cmds.diff_cmd->parsed()) return rayspace::app::RunDiff(cmds.diff);
   if (cmds.replay_cmd->parsed()) return rayspace::app::RunReplay(cmds.replay);
@@ -223,6 +238,7 @@ int main(int argc, char** argv) {
   AddAccuracy(app, cmds);
   AddBench(app, cmds);
   cmds.reproduce_cmds = rayspace::reproduce::AddReproduceCommand(app, cmds.reproduce);
+  AddData(app, cmds);
 #ifdef RAYSPACE_HAVE_VULKAN
   AddDiffAndReplay(app, cmds);
   AddExport(app, cmds);

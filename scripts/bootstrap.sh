@@ -11,7 +11,7 @@ PACKAGES=(
   libbenchmark-dev
   mesa-vulkan-drivers libvulkan-dev glslc libspirv-cross-c-shared-dev spirv-tools vulkan-validationlayers
   clang libclang-rt-14-dev fonts-dejavu-core python3-clang
-  gnuplot-nox
+  libssl-dev gnuplot-nox
 )
 
 missing=()

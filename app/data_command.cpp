@@ -1,0 +1,55 @@
+#include "data_command.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "data_check.h"
+#include "rayspace/error.h"
+
+namespace rayspace::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A scene argument: a JSON file, or a bundled scene's name with or without ".json".
+fs::path SceneArgument(const std::string& arg, const std::vector<std::string>& bundled) {
+  std::error_code ec;
+  if (fs::is_regular_file(arg, ec)) return arg;
+  const std::string name = arg.size() > 5 && arg.ends_with(".json") ? arg : arg + ".json";
+  if (std::find(bundled.begin(), bundled.end(), name) != bundled.end()) return name;
+  std::string list;
+  for (const std::string& b : bundled) list += (list.empty() ? "" : ", ") + b.substr(0, b.size() - 5);
+  ThrowInput("data check: scene '{}' is neither a file nor a bundled scene ({})", arg, list);
+}
+
+}  // namespace
+
+ExitCode RunDataCheck(const DataCheckArgs& args) {
+  std::string root = args.data;
+  if (root.empty())
+    if (const char* env = std::getenv("RAYSPACE_DATA")) root = env;
+  if (root.empty()) ThrowInput("data check: no data root: give --data DIR or set RAYSPACE_DATA (README.md, \"Data\")");
+  if (std::error_code ec; !fs::is_directory(root, ec)) ThrowInput("data check: --data {}: not a directory", root);
+  const std::vector<std::string> bundled = data::ManifestScenes(data::EmbeddedManifest());
+  std::vector<fs::path> scenes;
+  for (const std::string& s : args.scenes) scenes.push_back(SceneArgument(s, bundled));
+  if (args.scenes.empty())
+    for (const std::string& b : bundled) scenes.emplace_back(b);
+  std::size_t problems = 0;
+  for (const fs::path& scene : scenes) {
+    const std::vector<data::Problem> found = data::CheckSceneData({scene}, root);
+    if (found.empty()) std::printf("%s: ok\n", scene.filename().c_str());
+    for (const data::Problem& p : found) std::printf("%s: problem: %s\n", p.scene.c_str(), p.message.c_str());
+    problems += found.size();
+  }
+  if (problems == 0) return ExitCode::kOk;
+  std::fprintf(stderr, "rayspace: error: data check: %zu file%s missing or different under %s\n", problems,
+               problems == 1 ? "" : "s", root.c_str());
+  return ExitCode::kBadInput;
+}
+
+}  // namespace rayspace::app
