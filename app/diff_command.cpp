@@ -23,6 +23,7 @@
 
 #include "rayspace/emu/frame.h"
 #include "rayspace/emu/hierarchy.h"
+#include "rayspace/emu/output_checks.h"
 #include "rayspace/emu/workgroup_ops.h"
 #include "rayspace/error.h"
 #include "rayspace/input_file.h"
@@ -372,6 +373,9 @@ DiffOutcome RunDiffFrame(const Scene& scene, const SceneBuffers& buffers, Tracer
     run.frame = emu::RenderFrame(scene, buffers, tracer, fo);
   } catch (const verify::DiffStop& stop) {
     run.stopped = stop.what();
+  } catch (const emu::DeviceOutputError& e) {
+    // The Differ compared the call's outputs before the host checked them: the pass is reported.
+    run.stopped = std::string("device output error: ") + e.what();
   } catch (const wg::CheckError& e) {
     run.checker = PrintCheckerReports(e.result);
     run.stopped = "the emulator's workgroup checker stopped the frame in " + run.checker["pass"].get<std::string>();

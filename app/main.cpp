@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "rayspace/emu/output_checks.h"
 #include "rayspace/error.h"
 #include "version.h"
 #include "rayspace/workgroup.h"
@@ -274,6 +275,11 @@ int main(int argc, char** argv) {
     return ToInt(ExitCode::kBadInput);
   } catch (const rayspace::CheckFailure& e) {
     std::fprintf(stderr, "rayspace: internal check failed: %s\n", e.what());
+    return ToInt(ExitCode::kInternal);
+  } catch (const rayspace::emu::DeviceOutputError& e) {
+    // A backend's kernel returned an index or count out of range: the device or the kernel is wrong,
+    // not the input, and the frame stopped before anything read with it.
+    std::fprintf(stderr, "rayspace: device output error: %s\n", e.what());
     return ToInt(ExitCode::kInternal);
   } catch (const rayspace::wg::CheckError& e) {
     std::fprintf(stderr, "rayspace: workgroup checker: %s\n", e.what());

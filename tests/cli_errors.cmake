@@ -5,21 +5,8 @@
 # All cases run; the failures are listed together at the end.
 cmake_minimum_required(VERSION 3.19)  # string(JSON)
 
-foreach(var RAYSPACE SRC WORK)
-  if(NOT DEFINED ${var} OR "${${var}}" STREQUAL "")
-    message(FATAL_ERROR "cli_errors.cmake: pass -D${var}=...")
-  endif()
-endforeach()
-
-file(REMOVE_RECURSE "${WORK}")
-file(MAKE_DIRECTORY "${WORK}")
-# Mesh lookups must not find anything through the caller's environment.
-unset(ENV{RAYSPACE_DATA})
-
-set(FAILURES "")
-set(CASES 0)
-
 include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)
+cli_script_begin(cli_errors.cmake RAYSPACE SRC WORK)
 
 # --- Inputs -------------------------------------------------------------------------------------
 set(CAMERA [=["camera": {"eye": [0, 0, 5], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y_deg": 45}]=])
@@ -241,7 +228,4 @@ else()
   endif()
 endif()
 
-if(NOT FAILURES STREQUAL "")
-  message(FATAL_ERROR "cli.errors: failures among ${CASES} cases:${FAILURES}")
-endif()
-message(STATUS "cli.errors: all ${CASES} cases passed")
+cli_script_end(cli.errors)

@@ -1,6 +1,45 @@
-# expect_error() and expect_warning() for the CLI-contract scripts (cli_errors.cmake, cli_inputs.cmake,
-# cli_outputs.cmake, cli_names.cmake),
-# which set RAYSPACE (the executable) and WORK (the scratch directory) and collect FAILURES and CASES.
+# The harness of the CLI-contract scripts (cli_errors, cli_inputs, cli_outputs, cli_names, cli_stats,
+# cli_export, cli_diff): their common start and end, and expect_error() and expect_warning(). A script
+# gets RAYSPACE (the executable) and WORK (the scratch directory) as -D variables and collects
+# FAILURES and CASES.
+#
+# cli_script_begin(<script> [<var>...]): stops with "<script>: pass -D<var>=..." when a -D variable
+# the script needs is missing, empties WORK, unsets RAYSPACE_DATA (a user's data root must not change
+# what the scripts see) and starts FAILURES and CASES.
+macro(cli_script_begin script)
+  foreach(_cli_var ${ARGN})
+    if(NOT DEFINED ${_cli_var} OR "${${_cli_var}}" STREQUAL "")
+      message(FATAL_ERROR "${script}: pass -D${_cli_var}=...")
+    endif()
+  endforeach()
+  file(REMOVE_RECURSE "${WORK}")
+  file(MAKE_DIRECTORY "${WORK}")
+  unset(ENV{RAYSPACE_DATA})
+  set(FAILURES "")
+  set(CASES 0)
+endmacro()
+
+# cli_script_end(<test>): fails the script listing FAILURES, or says all CASES passed.
+macro(cli_script_end test)
+  if(NOT FAILURES STREQUAL "")
+    message(FATAL_ERROR "${test}: failures among ${CASES} cases:${FAILURES}")
+  endif()
+  message(STATUS "${test}: all ${CASES} cases passed")
+endmacro()
+
+# cli_case_begin(): for the scripts of one ctest per case (cli_diff, cli_export), which
+# tests/CMakeLists.txt also includes with CASE unset to list the cases: when CASE is set, a scratch
+# directory of its own, case_work (cases run in parallel), emptied first.
+macro(cli_case_begin)
+  set(FAILURES "")
+  set(CASES 0)
+  if(DEFINED CASE)
+    string(REPLACE ":" "_" case_dir "${CASE}")
+    set(case_work "${WORK}/${case_dir}")
+    file(REMOVE_RECURSE "${case_work}")
+    file(MAKE_DIRECTORY "${case_work}")
+  endif()
+endmacro()
 #
 # expect_error(NAME <case> NEEDLES <substring>... [ABSENT <path>...] [COMMAND <prefix>...]
 #              [TIMEOUT <seconds>] ARGS <arg>...)

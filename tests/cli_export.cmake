@@ -12,12 +12,8 @@
 #   cmake -DRAYSPACE=<exe> -DCC=<C compiler> -DSRC=<source dir> -DWORK=<scratch> -DCASE=<case> -P cli_export.cmake
 set(cli_export_cases "")
 set(matched FALSE)
-if(DEFINED CASE)
-  string(REPLACE ":" "_" case_dir "${CASE}")
-  set(case_work "${WORK}/${case_dir}")  # per case: cases run in parallel
-  file(REMOVE_RECURSE "${case_work}")
-  file(MAKE_DIRECTORY "${case_work}")
-endif()
+include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)
+cli_case_begin()
 
 # The start of a case function: records `name` and returns unless it is the case to run.
 macro(begin_case name)

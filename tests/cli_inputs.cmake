@@ -6,19 +6,8 @@
 # FIFOs have no writer, so a read that blocks would hang: every case runs under a timeout.
 cmake_minimum_required(VERSION 3.19)
 
-foreach(var RAYSPACE SRC WORK)
-  if(NOT DEFINED ${var} OR "${${var}}" STREQUAL "")
-    message(FATAL_ERROR "cli_inputs.cmake: pass -D${var}=...")
-  endif()
-endforeach()
-
-file(REMOVE_RECURSE "${WORK}")
-file(MAKE_DIRECTORY "${WORK}")
-unset(ENV{RAYSPACE_DATA})
-
-set(FAILURES "")
-set(CASES 0)
 include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)
+cli_script_begin(cli_inputs.cmake RAYSPACE SRC WORK)
 
 find_program(MKFIFO mkfifo REQUIRED)
 find_program(TRUNCATE truncate REQUIRED)
@@ -51,17 +40,35 @@ function(obj_with_mtllib name mtl)
   mesh_scene(${name} ${name}.obj)
 endfunction()
 set(T 20)  # seconds: far more than any case needs, far less than ctest's limit
+# expect_errors(<command> <case>...): each case three list items, its name, the input under WORK the
+# command reads and the needles its one-line error must hold ('|' between them); `render` cases also
+# write --out WORK/x.png, which must not be left behind.
+macro(expect_errors command)
+  set(_cases ${ARGN})
+  list(LENGTH _cases _n)
+  math(EXPR _last "${_n} - 1")
+  foreach(_i RANGE 0 ${_last} 3)
+    math(EXPR _j "${_i} + 1")
+    math(EXPR _k "${_i} + 2")
+    list(GET _cases ${_i} _name)
+    list(GET _cases ${_j} _input)
+    list(GET _cases ${_k} _needles)
+    string(REPLACE "|" ";" _needles "${_needles}")
+    set(_args ${command} "${WORK}/${_input}")
+    if("${command}" STREQUAL "render")
+      list(APPEND _args --out "${WORK}/x.png")
+    endif()
+    expect_error(NAME "${_name}" TIMEOUT ${T} NEEDLES ${_needles} ARGS ${_args})
+  endforeach()
+endmacro()
 
 # --- Scene files --------------------------------------------------------------------------------
 file(WRITE "${WORK}/good.json" "{${CAMERA}, ${IMAGE}, ${LIGHTS}, \"objects\": [{\"generator\": \"box\"}]}\n")
 file(MAKE_DIRECTORY "${WORK}/dir.json")
 make_fifo("${WORK}/fifo.json")
-expect_error(NAME "scene file is a directory" TIMEOUT ${T}
-             NEEDLES "dir.json" "is a directory"
-             ARGS render "${WORK}/dir.json" --out "${WORK}/x.png")
-expect_error(NAME "scene file is a FIFO" TIMEOUT ${T}
-             NEEDLES "fifo.json" "is a FIFO"
-             ARGS render "${WORK}/fifo.json" --out "${WORK}/x.png")
+expect_errors(render
+  "scene file is a directory" dir.json "dir.json|is a directory"
+  "scene file is a FIFO" fifo.json "fifo.json|is a FIFO")
 expect_error(NAME "scene file is a character device" TIMEOUT ${T}
              NEEDLES "/dev/null" "is a character device"
              ARGS render /dev/null --out "${WORK}/x.png")
@@ -86,21 +93,12 @@ file(CREATE_LINK /dev/zero "${WORK}/zero.ply" SYMBOLIC)
 mesh_scene(ply_zero zero.ply)
 make_sparse("${WORK}/huge.obj" 5G)
 mesh_scene(mesh_huge huge.obj)
-expect_error(NAME "mesh is a directory" TIMEOUT ${T}
-             NEEDLES "mesh_dir.json" "objects[0]" "dir.obj" "is a directory"
-             ARGS render "${WORK}/mesh_dir.json" --out "${WORK}/x.png")
-expect_error(NAME "OBJ mesh is a FIFO" TIMEOUT ${T}
-             NEEDLES "mesh_fifo.json" "fifo.obj" "is a FIFO"
-             ARGS render "${WORK}/mesh_fifo.json" --out "${WORK}/x.png")
-expect_error(NAME "PLY mesh is a FIFO" TIMEOUT ${T}
-             NEEDLES "ply_fifo.json" "fifo.ply" "is a FIFO"
-             ARGS render "${WORK}/ply_fifo.json" --out "${WORK}/x.png")
-expect_error(NAME "PLY mesh is a link to /dev/zero" TIMEOUT ${T}
-             NEEDLES "zero.ply" "is a character device"
-             ARGS render "${WORK}/ply_zero.json" --out "${WORK}/x.png")
-expect_error(NAME "mesh larger than the bound (sparse 5 GiB)" TIMEOUT ${T}
-             NEEDLES "huge.obj" "5368709120 bytes" "4 GiB"
-             ARGS render "${WORK}/mesh_huge.json" --out "${WORK}/x.png")
+expect_errors(render
+  "mesh is a directory" mesh_dir.json "mesh_dir.json|objects[0]|dir.obj|is a directory"
+  "OBJ mesh is a FIFO" mesh_fifo.json "mesh_fifo.json|fifo.obj|is a FIFO"
+  "PLY mesh is a FIFO" ply_fifo.json "ply_fifo.json|fifo.ply|is a FIFO"
+  "PLY mesh is a link to /dev/zero" ply_zero.json "zero.ply|is a character device"
+  "mesh larger than the bound (sparse 5 GiB)" mesh_huge.json "huge.obj|5368709120 bytes|4 GiB")
 
 # --- MTL files ----------------------------------------------------------------------------------
 make_fifo("${WORK}/fifo.mtl")
@@ -112,33 +110,21 @@ file(MAKE_DIRECTORY "${WORK}/dir.mtl")
 obj_with_mtllib(mtl_dir dir.mtl)
 make_sparse("${WORK}/huge.mtl" 300M)
 obj_with_mtllib(mtl_huge huge.mtl)
-expect_error(NAME "mtllib names a FIFO" TIMEOUT ${T}
-             NEEDLES "fifo.mtl" "mtllib of mtl_fifo.obj" "is a FIFO"
-             ARGS render "${WORK}/mtl_fifo.json" --out "${WORK}/x.png")
-expect_error(NAME "mtllib names /dev/zero" TIMEOUT ${T}
-             NEEDLES "/dev/zero" "mtl_dev_zero.obj" "is a character device"
-             ARGS render "${WORK}/mtl_dev_zero.json" --out "${WORK}/x.png")
-expect_error(NAME "mtllib names a link to /dev/zero" TIMEOUT ${T}
-             NEEDLES "zero.mtl" "is a character device"
-             ARGS render "${WORK}/mtl_zero_link.json" --out "${WORK}/x.png")
-expect_error(NAME "mtllib names a directory" TIMEOUT ${T}
-             NEEDLES "dir.mtl" "is a directory"
-             ARGS render "${WORK}/mtl_dir.json" --out "${WORK}/x.png")
-expect_error(NAME "mtllib larger than the bound (sparse 300 MiB)" TIMEOUT ${T}
-             NEEDLES "huge.mtl" "314572800 bytes" "256 MiB"
-             ARGS render "${WORK}/mtl_huge.json" --out "${WORK}/x.png")
+expect_errors(render
+  "mtllib names a FIFO" mtl_fifo.json "fifo.mtl|mtllib of mtl_fifo.obj|is a FIFO"
+  "mtllib names /dev/zero" mtl_dev_zero.json "/dev/zero|mtl_dev_zero.obj|is a character device"
+  "mtllib names a link to /dev/zero" mtl_zero_link.json "zero.mtl|is a character device"
+  "mtllib names a directory" mtl_dir.json "dir.mtl|is a directory"
+  "mtllib larger than the bound (sparse 300 MiB)" mtl_huge.json "huge.mtl|314572800 bytes|256 MiB")
 
 # --- Line ends: OBJ lines are checked as the parser splits them (CR, LF and CRLF alike) ------------
 file(WRITE "${WORK}/cr_nan.obj" "v 0 0 0\rv 1 0 0\rv 0 1 0\rv nan 0 0\rf 1 2 3\r")
 mesh_scene(cr_nan cr_nan.obj)
 file(WRITE "${WORK}/cr_face.obj" "v 0 0 0\rv 1 0 0\r\nv 0 1 0\nf 1 2\rf 1 2 3\r")
 mesh_scene(cr_face cr_face.obj)
-expect_error(NAME "CR-only OBJ with a NaN vertex" TIMEOUT ${T}
-             NEEDLES "cr_nan.obj:4:" "non-finite vertex coordinate 'nan'"
-             ARGS render "${WORK}/cr_nan.json" --out "${WORK}/x.png")
-expect_error(NAME "mixed line ends, a face of two vertices" TIMEOUT ${T}
-             NEEDLES "cr_face.obj:4:" "face needs at least 3 vertices"
-             ARGS render "${WORK}/cr_face.json" --out "${WORK}/x.png")
+expect_errors(render
+  "CR-only OBJ with a NaN vertex" cr_nan.json "cr_nan.obj:4:|non-finite vertex coordinate 'nan'"
+  "mixed line ends, a face of two vertices" cr_face.json "cr_face.obj:4:|face needs at least 3 vertices")
 
 # --- MTL values: in range, or refused naming file, line and key ----------------------------------
 file(WRITE "${WORK}/nan.mtl" "newmtl a\nKd nan 0.5 0.5\n")
@@ -147,15 +133,10 @@ file(WRITE "${WORK}/neg.mtl" "newmtl a\nKd 0.5 0.5 0.5\nKs -2 0 0\n")
 obj_with_mtllib(mtl_neg neg.mtl)
 file(WRITE "${WORK}/ns.mtl" "newmtl a\rKd 0.5 0.5 0.5\rNs 1e9\r")
 obj_with_mtllib(mtl_ns ns.mtl)
-expect_error(NAME "MTL Kd NaN" TIMEOUT ${T}
-             NEEDLES "nan.mtl:2: Kd: 'nan' is not finite"
-             ARGS render "${WORK}/mtl_nan.json" --out "${WORK}/x.png")
-expect_error(NAME "MTL Ks negative" TIMEOUT ${T}
-             NEEDLES "neg.mtl:3: Ks: -2 out of range"
-             ARGS render "${WORK}/mtl_neg.json" --out "${WORK}/x.png")
-expect_error(NAME "MTL Ns far out of range (CR-only file)" TIMEOUT ${T}
-             NEEDLES "ns.mtl:3: Ns: 1e9 out of range [0, 4096]"
-             ARGS render "${WORK}/mtl_ns.json" --out "${WORK}/x.png")
+expect_errors(render
+  "MTL Kd NaN" mtl_nan.json "nan.mtl:2: Kd: 'nan' is not finite"
+  "MTL Ks negative" mtl_neg.json "neg.mtl:3: Ks: -2 out of range"
+  "MTL Ns far out of range (CR-only file)" mtl_ns.json "ns.mtl:3: Ns: 1e9 out of range [0, 4096]")
 
 # --- gzip-compressed meshes, made here: the same frame as the plain mesh, or exit 2 naming the file --
 file(WRITE "${WORK}/quad.obj" "o quad\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3 4\n")
@@ -186,12 +167,9 @@ execute_process(COMMAND head -c 20 "${WORK}/quad.obj.gz" OUTPUT_FILE "${WORK}/cu
 mesh_scene(gz_cut cut.obj.gz)
 file(WRITE "${WORK}/text.obj.gz" "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
 mesh_scene(gz_text text.obj.gz)
-expect_error(NAME "truncated .obj.gz" TIMEOUT ${T}
-             NEEDLES "cut.obj.gz" "truncated gzip data"
-             ARGS render "${WORK}/gz_cut.json" --out "${WORK}/x.png")
-expect_error(NAME ".obj.gz that is not gzip" TIMEOUT ${T}
-             NEEDLES "text.obj.gz" "not valid gzip data"
-             ARGS render "${WORK}/gz_text.json" --out "${WORK}/x.png")
+expect_errors(render
+  "truncated .obj.gz" gz_cut.json "cut.obj.gz|truncated gzip data"
+  ".obj.gz that is not gzip" gz_text.json "text.obj.gz|not valid gzip data")
 
 # --- Replay directories -------------------------------------------------------------------------
 file(MAKE_DIRECTORY "${WORK}/replay_fifo")
@@ -201,18 +179,11 @@ file(MAKE_DIRECTORY "${WORK}/replay_bin")
 file(WRITE "${WORK}/replay_bin/pass.json" "{\"method\": \"trim\", \"buffers\": {\"rays\": {\"type\": \"u32\", \"count\": 1}}}\n")
 make_fifo("${WORK}/replay_bin/rays.bin")
 file(WRITE "${WORK}/replay_file" "not a directory\n")
-expect_error(NAME "replay: pass.json is a FIFO" TIMEOUT ${T}
-             NEEDLES "replay_fifo/pass.json" "is a FIFO"
-             ARGS replay "${WORK}/replay_fifo")
-expect_error(NAME "replay: pass.json is a directory" TIMEOUT ${T}
-             NEEDLES "replay_dir/pass.json" "is a directory"
-             ARGS replay "${WORK}/replay_dir")
-expect_error(NAME "replay: a buffer file is a FIFO" TIMEOUT ${T}
-             NEEDLES "replay_bin/rays.bin" "is a FIFO"
-             ARGS replay "${WORK}/replay_bin")
-expect_error(NAME "replay: the directory is a file" TIMEOUT ${T}
-             NEEDLES "replay_file" "not a directory"
-             ARGS replay "${WORK}/replay_file")
+expect_errors(replay
+  "replay: pass.json is a FIFO" replay_fifo "replay_fifo/pass.json|is a FIFO"
+  "replay: pass.json is a directory" replay_dir "replay_dir/pass.json|is a directory"
+  "replay: a buffer file is a FIFO" replay_bin "replay_bin/rays.bin|is a FIFO"
+  "replay: the directory is a file" replay_file "replay_file|not a directory")
 
 # --- Files only the Vulkan side reads: a saved call's recorded comparison, --kernel files ------------
 if(VULKAN)
@@ -237,7 +208,4 @@ if(VULKAN)
                ARGS diff "${WORK}/good.json" --kernel "trim=${WORK}/dir.spv")
 endif()
 
-if(NOT FAILURES STREQUAL "")
-  message(FATAL_ERROR "cli.inputs: failures among ${CASES} cases:${FAILURES}")
-endif()
-message(STATUS "cli.inputs: all ${CASES} cases passed")
+cli_script_end(cli.inputs)

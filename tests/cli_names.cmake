@@ -6,17 +6,8 @@
 # refused naming what would do; a mismatch names the backends.
 cmake_minimum_required(VERSION 3.19)  # string(JSON)
 
-foreach(var RAYSPACE SRC WORK)
-  if(NOT DEFINED ${var} OR "${${var}}" STREQUAL "")
-    message(FATAL_ERROR "cli_names.cmake: pass -D${var}=...")
-  endif()
-endforeach()
-file(REMOVE_RECURSE "${WORK}")
-file(MAKE_DIRECTORY "${WORK}")
-unset(ENV{RAYSPACE_DATA})
-set(FAILURES "")
-set(CASES 0)
 include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)
+cli_script_begin(cli_names.cmake RAYSPACE SRC WORK)
 
 set(cornell "${SRC}/scenes/cornell-mirrors.json")
 set(small --size 24x24 --no-oracle --out "${WORK}/x.png")
@@ -124,7 +115,4 @@ if(VULKAN)
   expect_match("diff report names the backends" "${report}" "\"expected_backend\": \"emu\"")
 endif()
 
-if(NOT FAILURES STREQUAL "")
-  message(FATAL_ERROR "cli.names: failures among ${CASES} cases:${FAILURES}")
-endif()
-message(STATUS "cli.names: all ${CASES} cases passed")
+cli_script_end(cli.names)

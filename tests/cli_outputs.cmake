@@ -7,18 +7,8 @@
 # The diff's and replay's outputs are cases of cli_diff.cmake (they need Vulkan).
 cmake_minimum_required(VERSION 3.19)  # string(JSON)
 
-foreach(var RAYSPACE WORK)
-  if(NOT DEFINED ${var} OR "${${var}}" STREQUAL "")
-    message(FATAL_ERROR "cli_outputs.cmake: pass -D${var}=...")
-  endif()
-endforeach()
-
-file(REMOVE_RECURSE "${WORK}")
-file(MAKE_DIRECTORY "${WORK}")
-unset(ENV{RAYSPACE_DATA})
-set(FAILURES "")
-set(CASES 0)
-include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)  # expect_error
+include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)
+cli_script_begin(cli_outputs.cmake RAYSPACE WORK)
 
 set(SCENE [=[{"camera": {"eye": [0, 0, 5], "target": [0, 0, 0], "up": [0, 1, 0], "fov_y_deg": 45}, "image": {"width": 16, "height": 16}, "lights": [{"position": [0, 4, 4]}], "objects": [{"generator": "box"}]}]=])
 file(WRITE "${WORK}/good.json" "${SCENE}\n")
@@ -146,7 +136,4 @@ kill -${sig} $pid; wait $pid; echo \"exit $?\"" "${RAYSPACE}"
   endif()
 endforeach()
 
-if(NOT FAILURES STREQUAL "")
-  message(FATAL_ERROR "cli.outputs: failures among ${CASES} cases:${FAILURES}")
-endif()
-message(STATUS "cli.outputs: all ${CASES} cases passed")
+cli_script_end(cli.outputs)

@@ -9,6 +9,7 @@
 #include "rayspace/emu/backend.h"
 #include "rayspace/emu/frame.h"
 #include "rayspace/emu/hierarchy.h"
+#include "rayspace/emu/output_checks.h"
 #include "rayspace/error.h"
 #include "rayspace/parallel.h"
 #include "test_util.h"
@@ -62,6 +63,7 @@ namespace {
 // A device whose fused traversal returns one pair outside its block, as a faulty kernel may.
 class StrayPairPasses : public emu::ForwardingHierarchyPasses {
  public:
+  std::string Name() const override { return "stray"; }
   emu::Compacted TraverseLevelCompacted(const emu::call::TraverseLevelCompacted& c) override {
     emu::Compacted r = ForwardingHierarchyPasses::TraverseLevelCompacted(c);
     if (!r.pairs.empty()) r.pairs.back() = 0x3f800000u;  // 1.0f read as a pair: node 65024
@@ -71,7 +73,7 @@ class StrayPairPasses : public emu::ForwardingHierarchyPasses {
 
 }  // namespace
 
-TEST_CASE("errors: a pair outside its block from a device stops the frame with a check naming the level") {
+TEST_CASE("errors: a pair outside its block from a device stops the frame as a device output error naming the call and level") {
   const Scene s = test::LoadBundled("cornell-mirrors.json");
   const SceneBuffers b = FlattenScene(s);
   StrayPairPasses stray;
@@ -81,14 +83,14 @@ TEST_CASE("errors: a pair outside its block from a device stops the frame with a
   auto tracer = emu::MakeHierarchyTracer(b, hc);
   emu::FrameOptions fo;
   fo.width = fo.height = 32;
-  SetCheckFailuresThrow(true);
   try {
     emu::RenderFrame(s, b, *tracer, fo);
     FAIL("the stray pair was used");
-  } catch (const CheckFailure& e) {
+  } catch (const emu::DeviceOutputError& e) {
     const std::string what = e.what();
-    CHECK(what.find("traversal of level") != std::string::npos);
+    INFO(what);
+    CHECK(what.find("traverse.compact.level (traverse.compact.L1.") == 0);
+    CHECK(what.find("from the stray backend: output 'pairs' element ") != std::string::npos);
     CHECK(what.find("0x3f800000") != std::string::npos);
   }
-  SetCheckFailuresThrow(false);
 }

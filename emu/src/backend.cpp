@@ -2,6 +2,7 @@
 #include "rayspace/emu/backend.h"
 
 #include "rayspace/emu/object_tree_traverse.h"
+#include "rayspace/emu/output_checks.h"
 
 namespace rayspace::emu {
 namespace {
@@ -21,7 +22,51 @@ class EmuHierarchy final : public HierarchyPasses {
   RS_HIERARCHY_CALLS(RS_EMU_CALL)
 };
 
+// Runs a call on the target and checks its outputs before returning them (emu/output_checks.h).
+template <typename C, typename Run>
+typename C::Result CheckedRun(const C& c, const std::string& backend, const std::string& label, Run&& run) {
+  const OutputSource from{backend, label};
+  if constexpr (std::is_void_v<typename C::Result>) {
+    run();
+    CheckOutputs(c, nullptr, from);
+  } else {
+    typename C::Result r = run();
+    CheckOutputs(c, &r, from);
+    return r;
+  }
+}
+
+#define RS_CHECKED_CALL(C) \
+  call::C::Result C(const call::C& c) override { return CheckedRun(c, t_.Name(), label_, [&] { return t_.C(c); }); }
+
+class CheckedFrame final : public FramePasses {
+ public:
+  explicit CheckedFrame(FramePasses& t) : t_(t) {}
+  std::string Name() const override { return t_.Name(); }
+  void Label(const std::string& pass) override { label_ = pass, t_.Label(pass); }
+  RS_FRAME_CALLS(RS_CHECKED_CALL)
+
+ private:
+  FramePasses& t_;
+  std::string label_;
+};
+
+class CheckedHierarchy final : public HierarchyPasses {
+ public:
+  explicit CheckedHierarchy(HierarchyPasses& t) : t_(t) {}
+  std::string Name() const override { return t_.Name(); }
+  void Label(const std::string& pass) override { label_ = pass, t_.Label(pass); }
+  RS_HIERARCHY_CALLS(RS_CHECKED_CALL)
+
+ private:
+  HierarchyPasses& t_;
+  std::string label_;
+};
+
 }  // namespace
+
+std::unique_ptr<FramePasses> CheckedFramePasses(FramePasses& target) { return std::make_unique<CheckedFrame>(target); }
+std::unique_ptr<HierarchyPasses> CheckedHierarchyPasses(HierarchyPasses& target) { return std::make_unique<CheckedHierarchy>(target); }
 
 ForwardingHierarchyPasses::ForwardingHierarchyPasses(HierarchyPasses* target)
     : t_(target ? *target : EmuHierarchyPasses()) {}

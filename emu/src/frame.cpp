@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "rayspace/emu/output_checks.h"
 #include "rayspace/error.h"
 
 namespace rayspace::emu {
@@ -94,7 +95,9 @@ class Progress {
 class Runner {
  public:
   Runner(const Scene& scene, const SceneBuffers& b, Tracer& tracer, const FrameOptions& opt, const BatchObserver& obs)
-      : scene_(scene), b_(b), tracer_(tracer), opt_(opt), observer_(obs), passes_(opt.passes ? *opt.passes : EmuFramePasses()) {}
+      : scene_(scene), b_(b), tracer_(tracer), opt_(opt), observer_(obs),
+        checked_(opt.passes && opt.passes != &EmuFramePasses() ? CheckedFramePasses(*opt.passes) : nullptr),
+        passes_(checked_ ? *checked_ : EmuFramePasses()) {}
 
   FrameResult Run() {
     Clock total;
@@ -307,6 +310,8 @@ class Runner {
   Tracer& tracer_;
   const FrameOptions& opt_;
   const BatchObserver& observer_;
+  // A backend other than the emulator's own hands back outputs checked where it returns them.
+  std::unique_ptr<FramePasses> checked_;
   FramePasses& passes_;
   layout::FrameConstants fc_{};
   FrameResult r_;

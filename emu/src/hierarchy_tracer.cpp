@@ -13,6 +13,7 @@
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/intersect_simd.h"
 #include "rayspace/emu/object_tree_traverse.h"
+#include "rayspace/emu/output_checks.h"
 #include "rayspace/emu/passes.h"
 #include "rayspace/error.h"
 #include "rayspace/parallel.h"
@@ -69,7 +70,10 @@ double LeafSpread(const std::vector<layout::ConeNode>& leaves, double scene_radi
 class Impl final : public HierarchyTracer {
  public:
   Impl(const SceneBuffers& scene, const HierarchyConfig& cfg)
-      : scene_(scene), cfg_(cfg), passes_(cfg.passes ? *cfg.passes : EmuHierarchyPasses()) {
+      : scene_(scene),
+        cfg_(cfg),
+        checked_(cfg.passes && cfg.passes != &EmuHierarchyPasses() ? CheckedHierarchyPasses(*cfg.passes) : nullptr),
+        passes_(checked_ ? *checked_ : EmuHierarchyPasses()) {
     RS_CHECK(cfg.subdivision >= 2 && cfg.depth >= 1 && cfg.component_size >= 1);
     RS_CHECK(cfg.max_batch_triangles >= 1 && cfg.max_batch_triangles <= (1u << kTriBits));
 
@@ -291,16 +295,6 @@ class Impl final : public HierarchyTracer {
     return pairs;
   }
 
-  // Pairs may come from a device's kernel; one outside the block would index the host's arrays in the
-  // levels below, so it stops the frame as a failed check naming the level, not as a read past an array.
-  static void CheckPairs(const std::vector<std::uint32_t>& pairs, int L, std::uint32_t nodes, std::uint32_t tris) {
-    for (std::size_t i = 0; i < pairs.size(); ++i) {
-      const std::uint32_t node = pairs[i] >> kTriBits, tri = pairs[i] & kTriMask;
-      RS_CHECK_MSG(node < nodes && tri < tris, "traversal of level {} returned pair {} = {:#x} (node {}, triangle {}), outside the block's {} nodes x {} triangles",
-                   L, i, pairs[i], node, tri, nodes, tris);
-    }
-  }
-
   // Traverses one block (top nodes [t0, t1) x triangles [b0, b1)); false when a level overflows the
   // pair capacity, in which case nothing was written.
   bool Block(const Hierarchy& h, const std::vector<layout::Ray>& rays, const std::vector<std::uint32_t>& order,
@@ -319,7 +313,6 @@ class Impl final : public HierarchyTracer {
                                 .scene = &scene_, .object_mask = crsh ? object_mask : kNoMask, .eps = eps_};
     std::vector<std::uint32_t> pairs = TestAndCompact(D, grid, top, lv[D - 1]);
     if (pairs.size() > cfg_.pair_capacity) return false;
-    CheckPairs(pairs, D, N, T);
 
     // Levels D-1 .. 1: each surviving pair tests the node's children.
     const std::uint32_t S = static_cast<std::uint32_t>(Children());
@@ -329,8 +322,6 @@ class Impl final : public HierarchyTracer {
                                       .children_max = S, .b0 = b0, .tri_spheres = *tri_spheres_, .eps = eps_};
       pairs = TestAndCompact(L, pairs.size() * S, level, lv[L - 1]);
       if (pairs.size() > cfg_.pair_capacity) return false;
-      const auto [lo, hi] = Descendants(h, L, t0, t1);
-      CheckPairs(pairs, L, hi - lo, T);
     }
 
     // Final ray-triangle tests on the surviving level-1 pairs.
@@ -610,6 +601,9 @@ class Impl final : public HierarchyTracer {
   const std::vector<glm::vec4>* tri_spheres_ = nullptr;
   const std::vector<glm::vec4>* obj_spheres_ = nullptr;
   HierarchyConfig cfg_;
+  // A backend other than the emulator's own hands back outputs checked where it returns them
+  // (emu/output_checks.h): pairs, counts and hit primitives are in range before the host reads with them.
+  std::unique_ptr<HierarchyPasses> checked_;
   HierarchyPasses& passes_;
   float eps_ = 0;
   ObjectTreeIndex tree_;  // --objects tree

@@ -98,8 +98,9 @@ void main() {
   const uint stride = gl_NumWorkGroups.x * gl_NumWorkGroups.y * NumSubgroups();
   for (uint i = WorkGroupIndex() * NumSubgroups() + gl_SubgroupID; i < pc.count; i += stride) {
     const uint f0 = first[i], f1 = first[i + 1u];
-    // Fault 3: a parent leaves out its last child (a lost tail).
-    const uint end = kFault == 3u && pc.phase != kBuildPhaseLeaves && f1 > f0 + 1u ? f1 - 1u : f1;
+    // Fault 3: a parent leaves out its last child; fault 4: a leaf drops its last ray (lost tails).
+    const bool lost_tail = kFault == (pc.phase == kBuildPhaseLeaves ? 4u : 3u) && f1 > f0 + 1u;
+    const uint end = lost_tail ? f1 - 1u : f1;
     const ConeNode n = pc.phase == kBuildPhaseLeaves ? Leaf(f0, end, lanes) : Parent(f0, end, lanes);
     if (subgroupElect()) nodes[i] = n;
   }

@@ -32,7 +32,8 @@ void main() {
     // Fault 2: the view direction is left unnormalised.
     s.incoming = vec4(kFault == 2u ? d : Normalize3(d), 0.0);
     s.weight = vec4(1.0, 1.0, 1.0, 0.0);
-    s.info = uvec4(p, g, info[p].ids.x, 0u);
+    // Fault 4: the material id read one past the triangle's (an off-by-one index).
+    s.info = uvec4(p, g, info[p].ids.x + (kFault == 4u ? 1u : 0u), 0u);
   } else {
     s.info = uvec4(kNoPrim, g, 0u, 0u);
   }

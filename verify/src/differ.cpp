@@ -78,7 +78,8 @@ typename C::Result Through(Differ& d, const C& c) {
 class FrameDecorator final : public emu::FramePasses {
  public:
   explicit FrameDecorator(Differ& d) : d_(d) {}
-  std::string Name() const override { return "diff"; }
+  // The outputs it returns are the actual backend's, so checks of them name that backend.
+  std::string Name() const override { return d_.ActualName(); }
   void Label(const std::string& pass) override { d_.SetLabel(pass); }
   RS_FRAME_CALLS(RS_DIFF_CALL)
 
@@ -89,7 +90,7 @@ class FrameDecorator final : public emu::FramePasses {
 class HierarchyDecorator final : public emu::HierarchyPasses {
  public:
   explicit HierarchyDecorator(Differ& d) : d_(d) {}
-  std::string Name() const override { return "diff"; }
+  std::string Name() const override { return d_.ActualName(); }
   void Label(const std::string& pass) override { d_.SetLabel(pass); }
   RS_HIERARCHY_CALLS(RS_DIFF_CALL)
 

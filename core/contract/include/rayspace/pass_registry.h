@@ -164,6 +164,7 @@ inline constexpr FaultSpec kRasterFaults[] = {{1, "the depth is written without 
 inline constexpr FaultSpec kSurfacesFaults[] = {{1, "rows and columns swapped when the pixel index is split"},
                                                 {2, "the view direction is left unnormalised"},
                                                 {3, "the position is read from the next pixel's texel"},
+                                                {4, "the material id is one past the triangle's"},
                                                 RS_APPROX_DIV};
 inline constexpr FaultSpec kSurfacesHitsFaults[] = {{1, "the hit point is taken at t from the ray's tmin, not its origin"},
                                                     {2, "the ray's weight is not carried"},
@@ -212,6 +213,7 @@ inline constexpr FaultSpec kDecompressFaults[] = {{1, "the chunk is looked up wi
 inline constexpr FaultSpec kBuildFaults[] = {{1, "the float containment checks of each step are skipped"},
                                              {2, "each ray is grown with its predecessor's origin"},
                                              {3, "a parent leaves out its last child"},
+                                             {4, "a leaf drops its last ray"},
                                              RS_APPROX_DIV, RS_APPROX_SQRT};
 inline constexpr FaultSpec kTraverseFaults[] = {{1, "the top level ignores the triangle sphere's radius"},
                                                 {2, "a mask part's start is dropped (--split-bytes)", {}, false, FaultNeeds::kSplit},

@@ -62,6 +62,7 @@ class Differ {
   // Runs one call on both backends, records it, returns the actual outputs (throws DiffStop).
   BufferSet Call(const std::string& method, const BufferSet& in);
   void SetLabel(const std::string& label) { label_ = label; }
+  std::string ActualName() const { return actual_.frame.Name(); }
 
  private:
   // Writes the call's comparison and inputs under options_.save_dir; sets r.saved.
