@@ -2,8 +2,12 @@
 // parsing, the shards' coverage check and the summary's counts.
 #include <doctest/doctest.h>
 
+#include <fstream>
+#include <iterator>
+
 #include "rayspace/error.h"
 #include "relations.h"
+#include "runner.h"
 #include "report.h"
 #include "store.h"
 
@@ -108,6 +112,54 @@ TEST_CASE("reproduce: merge takes every shard of one run exactly once") {
   CHECK_THROWS_WITH_AS(ParseShard("2/2"), "--shard '2/2': needs 0 <= I < N", InputError);
   CHECK_THROWS_AS(ParseShard("a/2"), InputError);
   CHECK(ParseShard("1/4") == Shard{1, 4});
+}
+
+}  // namespace
+}  // namespace rayspace::reproduce
+
+namespace rayspace::reproduce {
+namespace {
+
+// A frame whose counts follow from the configuration alone, so that any schedule gives the same.
+FrameOutput FakeFrame(const Config& c, const Scene&, const SceneBuffers&) {
+  FrameOutput out;
+  TypeCounts& t = out.counts.types["shadow"];
+  for (int L = 1; L <= c.levels; ++L) t.levels.push_back({static_cast<std::uint64_t>(100 * L + c.subdivision), 7});
+  t.rays = 64;
+  t.brute_force = 64 * 10;
+  t.total = 200 + static_cast<std::uint64_t>(c.subdivision + c.levels + (c.algo == "crsh" ? 0 : 50));
+  out.counts.total = t.total;
+  out.counts.brute_force = t.brute_force;
+  out.statistics = {{"total_tests", t.total}};
+  out.timings = {{"frame_ms", 1.0}, {"phases", nlohmann::json::array()}};
+  return out;
+}
+
+std::string ReportOf(const std::filesystem::path& dir, const std::vector<Planned>& planned, int jobs) {
+  std::filesystem::remove_all(dir);
+  RunPlanned(planned, {dir, jobs, 0, false}, FakeFrame);
+  std::vector<Result> results;
+  for (const Planned& p : planned) results.push_back(*ReadResult(dir, p.key));
+  WriteReport(dir, results);
+  std::ifstream in(dir / "report.md");
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST_CASE("reproduce: the report does not depend on --jobs, and a failing frame stops the run") {
+  const LoadedScene scene;
+  std::vector<Planned> planned;
+  for (const Config& c : ThesisConfigs("no-such-dir", 16, 16))
+    planned.push_back({c, ResultKey("digest", c.Canonical(), Version()), &scene});
+  const std::filesystem::path tmp = std::filesystem::temp_directory_path() / "rayspace_reproduce_test";
+  const std::string one = ReportOf(tmp / "one", planned, 1);
+  CHECK(one.find("| CRSH total < RAH total | 18 of 18 |") != std::string::npos);
+  CHECK(ReportOf(tmp / "three", planned, 3) == one);
+  const FrameFn failing = [](const Config& c, const Scene& s, const SceneBuffers& b) {
+    if (c.algo == "rah-quadtree") throw InputError("no quadtree here");
+    return FakeFrame(c, s, b);
+  };
+  CHECK_THROWS_WITH_AS(RunPlanned(planned, {tmp / "failing", 2, 0, false}, failing), "no quadtree here", InputError);
+  std::filesystem::remove_all(tmp);
 }
 
 }  // namespace
