@@ -1,0 +1,106 @@
+# `rayspace reproduce thesis`: the report and its tables are byte-identical whether written by one run,
+# a second run, a run with --jobs 2, a run interrupted (--stop-after, as Ctrl-C) and resumed, or three
+# shards merged; an interrupted run leaves no partial file; bad arguments exit 2 with one line.
+# Frames are 16x16 (the hidden --size), and 15 of the 39 configurations (--only), to keep it quick.
+# Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DDATA=<data root> -DWORK=<scratch> -P cli_reproduce.cmake
+cmake_minimum_required(VERSION 3.19)
+include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)
+if(NOT EXISTS "${DATA}/sponza_dabrovic/sponza.obj")
+  message(STATUS "data root not found: ${DATA} (no sponza_dabrovic/sponza.obj): cli.reproduce skipped")
+  return()
+endif()
+file(REMOVE_RECURSE "${WORK}")
+file(MAKE_DIRECTORY "${WORK}")
+set(FAILURES "")
+set(CASES 0)
+set(common thesis --size 16x16 --only "s8 d[23]|quadtree" --scenes "${SRC}/scenes" --data "${DATA}")
+
+# Runs reproduce with ARGN in WORK; expects exit 0.
+function(run name)
+  execute_process(COMMAND "${RAYSPACE}" reproduce ${ARGN} WORKING_DIRECTORY "${WORK}"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
+  if(NOT rc EQUAL 0)
+    set(FAILURES "${FAILURES}\n  [${name}] exit ${rc}, expected 0:\n${out}${err}" PARENT_SCOPE)
+  endif()
+  set(last_err "${err}" PARENT_SCOPE)
+endfunction()
+
+# The byte-identical set of directory DIR: report.md, results.json and every table.
+function(same name dir)
+  file(GLOB tables RELATIVE "${WORK}/first" "${WORK}/first/tables/*.csv")
+  list(LENGTH tables n)
+  if(n LESS 27)
+    set(FAILURES "${FAILURES}\n  [${name}] ${n} tables, expected at least 27" PARENT_SCOPE)
+  endif()
+  foreach(f report.md results.json ${tables})
+    execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files "${WORK}/first/${f}" "${WORK}/${dir}/${f}" RESULT_VARIABLE differ)
+    if(differ)
+      set(FAILURES "${FAILURES}\n  [${name}] ${dir}/${f} differs from first/${f}" PARENT_SCOPE)
+    endif()
+  endforeach()
+endfunction()
+
+run(first ${common} --out first)
+foreach(f report.md results.json run.json timings.md timings.csv tables/table-4.01.csv tables/table-4.24.csv
+          tables/table-quadtree.csv tables/table-summary.csv)
+  if(NOT EXISTS "${WORK}/first/${f}")
+    set(FAILURES "${FAILURES}\n  [first] no ${f}")
+  endif()
+endforeach()
+file(READ "${WORK}/first/report.md" report)
+foreach(needle "## Summary" "| CRSH total < RAH total |" "## Table 4.1: OFFICE, subdivision 8, depth 2"
+               "## Table 4.24: totals, subdivision 16, depth 4" "published fails (632,408,864 != 610,873,884)")
+  string(FIND "${report}" "${needle}" at)
+  if(at EQUAL -1)
+    set(FAILURES "${FAILURES}\n  [first] report.md lacks '${needle}'")
+  endif()
+endforeach()
+if(report MATCHES "${WORK}|${SRC}|${DATA}")
+  set(FAILURES "${FAILURES}\n  [first] report.md names a machine path")
+endif()
+
+run(rerun ${common} --out first)
+same(rerun first)
+run(jobs ${common} --out jobs --jobs 2)
+same(jobs jobs)
+
+# Interrupted after 3 configurations with 2 jobs in flight: a non-zero exit, 3 results, no partial file.
+execute_process(COMMAND "${RAYSPACE}" reproduce ${common} --out stopped --jobs 2 --stop-after 3 WORKING_DIRECTORY "${WORK}"
+                RESULT_VARIABLE rc OUTPUT_QUIET ERROR_QUIET TIMEOUT 300)
+file(GLOB done "${WORK}/stopped/results/*.json")
+file(GLOB partial "${WORK}/stopped/results/.*" "${WORK}/stopped/.*")
+list(LENGTH done n)
+if("${rc}" STREQUAL "0" OR NOT n EQUAL 3 OR partial OR EXISTS "${WORK}/stopped/report.md")
+  set(FAILURES "${FAILURES}\n  [stop-after] exit '${rc}', ${n} results (expected non-zero, 3), partial files: '${partial}'")
+endif()
+run(resume ${common} --out stopped --resume)
+same(resume stopped)
+
+foreach(i 0 1 2)
+  run(shard-${i} ${common} --out shard${i} --shard ${i}/3)
+endforeach()
+run(merge merge merged shard0 shard1 shard2)
+same(merge merged)
+
+run(skip roger)
+if(NOT last_err MATCHES "rayspace reproduce: skipping roger: Roger et al. 2007's figures 9-14 are not measured yet\n")
+  set(FAILURES "${FAILURES}\n  [skip] stderr: ${last_err}")
+endif()
+
+expect_error(NAME shard-range NEEDLES "--shard '3/3': needs 0 <= I < N" ARGS reproduce ${common} --shard 3/3)
+expect_error(NAME shard-form NEEDLES "--shard 'x': expected I/N" ARGS reproduce ${common} --shard x)
+expect_error(NAME jobs NEEDLES "--jobs" ARGS reproduce ${common} --jobs 0)
+expect_error(NAME quick-full NEEDLES "--quick and --full exclude each other" ARGS reproduce ${common} --quick --full)
+expect_error(NAME target NEEDLES "unknown target 'nope'" ARGS reproduce nope)
+expect_error(NAME only NEEDLES "--only 'zzz': matches no configuration" ARGS reproduce thesis --scenes "${SRC}/scenes" --only zzz)
+expect_error(NAME other-run NEEDLES "--out first: holds results of another run" ARGS reproduce thesis --size 16x16 --scenes "${SRC}/scenes" --data "${DATA}" --out first --only OFFICE)
+expect_error(NAME merge-missing NEEDLES "shard 1/3 is missing" ARGS reproduce merge m2 shard0 shard2)
+expect_error(NAME merge-twice NEEDLES "shard 0/3 given twice: shard0 and shard0" ARGS reproduce merge m3 shard0 shard0 shard1 shard2)
+expect_error(NAME merge-nodir NEEDLES "nodir: no such directory" ARGS reproduce merge m4 shard0 nodir)
+expect_error(NAME merge-notshard NEEDLES "first: shard 0/1, but shard0 is one of 3" ARGS reproduce merge m5 shard0 first)
+expect_error(NAME scenes NEEDLES "nowhere/office.json: cannot open scene file" ARGS reproduce thesis --scenes nowhere --out x)
+
+if(NOT FAILURES STREQUAL "")
+  message(FATAL_ERROR "cli.reproduce: failures:${FAILURES}")
+endif()
+message(STATUS "cli.reproduce: every run byte-identical, ${CASES} bad arguments refused")

@@ -1,0 +1,166 @@
+// `rayspace reproduce`'s logic on hand-made numbers: the relations' verdicts, the published tables'
+// parsing, the shards' coverage check and the summary's counts.
+#include <doctest/doctest.h>
+
+#include <fstream>
+#include <iterator>
+
+#include "rayspace/error.h"
+#include "relations.h"
+#include "runner.h"
+#include "report.h"
+#include "store.h"
+
+namespace rayspace::reproduce {
+namespace {
+
+// A two-level hierarchy of one ray type: level 2 then level 1 (intersections, hits).
+Measurement Hand(std::uint64_t total, std::uint64_t brute, LevelCounts top, LevelCounts bottom) {
+  Measurement m;
+  m.total = total;
+  m.brute_force = brute;
+  m.levels["SH"] = {bottom, top};
+  m.top_nodes_x_triangles["SH"] = top.intersections;
+  return m;
+}
+
+TEST_CASE("reproduce: relations hold or fail on hand-made numbers") {
+  // 100 + 40 + level-1 hits 5 x subdivision 8 = 180.
+  const Measurement rah = Hand(180, 1000, {100, 10}, {40, 5});
+  const Measurement crsh = Hand(150, 1000, {60, 10}, {50, 5});
+  CHECK(CrshBelowRah(rah, crsh).holds);
+  CHECK(Verdict(CrshBelowRah(rah, crsh)) == "holds");
+  const Outcome reversed = CrshBelowRah(crsh, rah);
+  CHECK_FALSE(reversed.holds);
+  CHECK(Verdict(reversed) == "fails");
+  CHECK(reversed.detail == "180 >= 150");
+  CHECK(Verdict(std::nullopt) == "n/a");
+
+  CHECK(Identity(rah, 8).holds);
+  const Outcome off = Identity(rah, 16);  // 100 + 40 + 5 x 16 = 220
+  CHECK_FALSE(off.holds);
+  CHECK(off.detail == "180 != 220");
+
+  CHECK(DeeperLowers(rah, crsh).holds);
+  CHECK_FALSE(DeeperLowers(crsh, rah).holds);
+  CHECK(BelowBrute(rah).holds);
+  CHECK_FALSE(BelowBrute(Hand(1000, 1000, {1, 0}, {1, 0})).holds);
+
+  CHECK(RahTopLevel(rah, 2).holds);
+  Measurement culled = rah;
+  culled.top_nodes_x_triangles["SH"] = 120;
+  CHECK_FALSE(RahTopLevel(culled, 2).holds);
+  CHECK(Thousands(1234567) == "1,234,567");
+  CHECK(Thousands(12) == "12");
+}
+
+TEST_CASE("reproduce: the summary counts each relation's verdicts") {
+  const std::vector<RelationRow> rows = {
+      {kCrshBelowRah, "a", Outcome{true, ""}, Outcome{true, ""}},
+      {kCrshBelowRah, "b", Outcome{false, ""}, Outcome{true, ""}},
+      {kIdentity, "a", std::nullopt, Outcome{false, ""}},
+  };
+  const Table t = SummaryTable(rows);
+  REQUIRE(t.rows.size() == 2);
+  CHECK(t.rows[0] == std::vector<std::string>{kCrshBelowRah, "1 of 2", "2 of 2"});
+  CHECK(t.rows[1] == std::vector<std::string>{kIdentity, "0 of 0", "0 of 1"});
+  CHECK(TableCsv(t).find("\"total = sum of level intersections") == std::string::npos);  // no comma: unquoted
+}
+
+TEST_CASE("reproduce: the published CSV files parse, and a bad row is named") {
+  const std::string levels = "subdivision,depth,scene,algorithm,ray_type,level,metric,count\n8,2,OFFICE,RAH,SH,2,intersections,42\n";
+  const std::string totals = "subdivision,depth,scene,algorithm,total_intersections,relative_percent\n8,2,OFFICE,RAH,100,5.5\n";
+  const std::string timings = "scene,algorithm,ms_per_frame,phase,total_ms_58_frames,relative_percent\nOFFICE,RAH,618,ray_creation,40.2,0.11\n";
+  const Published p = ParsePublished(levels, totals, timings, "x/");
+  REQUIRE(p.Level({8, 2}, "OFFICE", "RAH", "SH", 2, "intersections"));
+  CHECK(*p.Level({8, 2}, "OFFICE", "RAH", "SH", 2, "intersections") == 42);
+  CHECK(p.Level({8, 3}, "OFFICE", "RAH", "SH", 2, "intersections") == nullptr);
+  CHECK(p.Total({8, 2}, "OFFICE", "RAH")->second == doctest::Approx(5.5));
+  CHECK(p.timings.at(0).phase == "ray_creation");
+  CHECK_THROWS_WITH_AS(ParsePublished(levels + "8,2,OFFICE\n", totals, timings, "x/"), "x/crsh_levels.csv:3: 3 columns, expected 8",
+                       InputError);
+  CHECK_THROWS_WITH_AS(ParsePublished(levels, "h\n8,2,OFFICE,RAH,lots,5.5\n", timings, "x/"),
+                       "x/crsh_totals.csv: row 2: total_intersections 'lots' is not a number", InputError);
+}
+
+TEST_CASE("reproduce: the embedded thesis tables hold the one published inconsistency") {
+  const Published& p = ThesisPublished();
+  CHECK(p.totals.size() == 54);
+  const auto sponza_d3 = PublishedMeasurement(p, {8, 3}, "SPONZA", "RAH");
+  REQUIRE(sponza_d3);
+  CHECK(sponza_d3->total == 632408864);
+  const Outcome o = Identity(*sponza_d3, 8);
+  CHECK_FALSE(o.holds);
+  CHECK(o.detail == "632,408,864 != 610,873,884");
+  const auto sponza_d2 = PublishedMeasurement(p, {8, 2}, "SPONZA", "RAH");
+  CHECK(Identity(*sponza_d2, 8).holds);
+  CHECK(RahTopLevel(*sponza_d2, 2).holds);
+}
+
+TEST_CASE("reproduce: merge takes every shard of one run exactly once") {
+  const std::vector<std::string> keys = {"c", "a", "b", "d"};
+  auto shard = [&](int i, int n) { return MakeManifest(keys, {i, n}); };
+  CHECK(shard(0, 2).keys == std::vector<std::string>{"a", "b", "c", "d"});
+  CHECK(shard(1, 2).Slice() == std::vector<std::string>{"b", "d"});
+  CHECK_NOTHROW(CheckCoverage({{"s0", shard(0, 2)}, {"s1", shard(1, 2)}}));
+  CHECK_THROWS_WITH_AS(CheckCoverage({{"s0", shard(0, 3)}, {"s2", shard(2, 3)}}), "shard 1/3 is missing", InputError);
+  CHECK_THROWS_WITH_AS(CheckCoverage({{"s0", shard(0, 2)}, {"t0", shard(0, 2)}}), "shard 0/2 given twice: s0 and t0", InputError);
+  CHECK_THROWS_WITH_AS(CheckCoverage({{"s0", shard(0, 2)}, {"s1", shard(1, 3)}}), "s1: shard 1/3, but s0 is one of 2", InputError);
+  Manifest other = MakeManifest({"a", "b"}, {1, 2});
+  CHECK_THROWS_WITH_AS(CheckCoverage({{"s0", shard(0, 2)}, {"x", other}}),
+                       doctest::Contains("x: holds another run than s0"), InputError);
+  CHECK_THROWS_WITH_AS(ParseShard("2/2"), "--shard '2/2': needs 0 <= I < N", InputError);
+  CHECK_THROWS_AS(ParseShard("a/2"), InputError);
+  CHECK(ParseShard("1/4") == Shard{1, 4});
+}
+
+}  // namespace
+}  // namespace rayspace::reproduce
+
+namespace rayspace::reproduce {
+namespace {
+
+// A frame whose counts follow from the configuration alone, so that any schedule gives the same.
+FrameOutput FakeFrame(const Config& c, const Scene&, const SceneBuffers&) {
+  FrameOutput out;
+  TypeCounts& t = out.counts.types["shadow"];
+  for (int L = 1; L <= c.levels; ++L) t.levels.push_back({static_cast<std::uint64_t>(100 * L + c.subdivision), 7});
+  t.rays = 64;
+  t.brute_force = 64 * 10;
+  t.total = 200 + static_cast<std::uint64_t>(c.subdivision + c.levels + (c.algo == "crsh" ? 0 : 50));
+  out.counts.total = t.total;
+  out.counts.brute_force = t.brute_force;
+  out.statistics = {{"total_tests", t.total}};
+  out.timings = {{"frame_ms", 1.0}, {"phases", nlohmann::json::array()}};
+  return out;
+}
+
+std::string ReportOf(const std::filesystem::path& dir, const std::vector<Planned>& planned, int jobs) {
+  std::filesystem::remove_all(dir);
+  RunPlanned(planned, {dir, jobs, 0, false}, FakeFrame);
+  std::vector<Result> results;
+  for (const Planned& p : planned) results.push_back(*ReadResult(dir, p.key));
+  WriteReport(dir, results);
+  std::ifstream in(dir / "report.md");
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST_CASE("reproduce: the report does not depend on --jobs, and a failing frame stops the run") {
+  const LoadedScene scene;
+  std::vector<Planned> planned;
+  for (const Config& c : ThesisConfigs("no-such-dir", 16, 16))
+    planned.push_back({c, ResultKey("digest", c.Canonical(), Version()), &scene});
+  const std::filesystem::path tmp = std::filesystem::temp_directory_path() / "rayspace_reproduce_test";
+  const std::string one = ReportOf(tmp / "one", planned, 1);
+  CHECK(one.find("| CRSH total < RAH total | 18 of 18 |") != std::string::npos);
+  CHECK(ReportOf(tmp / "three", planned, 3) == one);
+  const FrameFn failing = [](const Config& c, const Scene& s, const SceneBuffers& b) {
+    if (c.algo == "rah-quadtree") throw InputError("no quadtree here");
+    return FakeFrame(c, s, b);
+  };
+  CHECK_THROWS_WITH_AS(RunPlanned(planned, {tmp / "failing", 2, 0, false}, failing), "no quadtree here", InputError);
+  std::filesystem::remove_all(tmp);
+}
+
+}  // namespace
+}  // namespace rayspace::reproduce
