@@ -56,17 +56,34 @@ class Progress {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
-void RunOne(const Planned& p, const RunOptions& options, const FrameFn& frame) {
+Result RunOne(const Planned& p, const FrameFn& frame) {
   FrameOutput out = frame(p.config, p.scene->scene, p.scene->buffers);
-  Result r{p.key, p.scene->digest, p.config, std::move(out.counts), std::move(out.statistics), std::move(out.timings)};
-  WriteResult(options.out, r);
+  return {p.key, p.scene->digest, p.config, std::move(out.counts), std::move(out.statistics), std::move(out.timings)};
 }
+
+// Writes each result as it finishes, one at a time. --stop-after interrupts here, as Ctrl-C would,
+// with exactly K results written and no other job's file half-made.
+class Writer {
+ public:
+  explicit Writer(const RunOptions& options) : options_(options) {}
+  void Write(const Result& r) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    WriteResult(options_.out, r);
+    if (options_.stop_after > 0 && ++written_ == options_.stop_after) std::raise(SIGINT);
+  }
+
+ private:
+  const RunOptions& options_;
+  std::mutex mutex_;
+  int written_ = 0;
+};
 
 }  // namespace
 
 void RunPlanned(const std::vector<Planned>& todo, const RunOptions& options, const FrameFn& frame) {
   Progress progress(options.progress, todo.size());
-  std::atomic<std::size_t> next{0}, finished{0};
+  std::atomic<std::size_t> next{0};
+  Writer writer(options);
   std::atomic<bool> failed{false};
   std::exception_ptr error;
   std::mutex error_mutex;
@@ -74,15 +91,13 @@ void RunPlanned(const std::vector<Planned>& todo, const RunOptions& options, con
     for (std::size_t i; !failed && (i = next++) < todo.size();) {
       try {
         progress.Start(todo[i].config.Name());
-        RunOne(todo[i], options, frame);
+        writer.Write(RunOne(todo[i], frame));
         progress.Finish(todo[i].config.Name());
       } catch (...) {
         std::lock_guard<std::mutex> lock(error_mutex);
         if (!error) error = std::current_exception();
         failed = true;
       }
-      // --stop-after: what Ctrl-C does, at a known point (the other jobs' temporary files are removed).
-      if (options.stop_after > 0 && ++finished == static_cast<std::size_t>(options.stop_after)) std::raise(SIGINT);
     }
   };
   std::vector<std::thread> threads;
