@@ -13,7 +13,9 @@
 #include "cli_util.h"
 #include "data_check.h"
 #include "rayspace/error.h"
+#include "rayspace/input_file.h"
 #include "rayspace/parallel.h"
+#include "plot.h"
 #include "report.h"
 
 namespace rayspace::reproduce {
@@ -77,13 +79,27 @@ app::ExitCode List(const ReproduceArgs& args) {
   return app::ExitCode::kOk;
 }
 
+// Every scene file readable and every data file its scene needs present with the manifest's size and
+// SHA-256, before the first frame: a run of hours must not stop at its last scene, nor measure other
+// data than the published numbers were compared with.
+void CheckScenesAndData(const std::vector<fs::path>& scenes, const std::string& data_root) {
+  for (const fs::path& s : scenes)
+    if (const std::string why = NotRegularFile(s.string()); !why.empty())
+      ThrowInput("{}: cannot open scene file: it {} (--scenes names the directory of the scene files)", s.string(), why);
+  const std::vector<data::Problem> problems = data::CheckSceneData(scenes, data_root);
+  if (problems.size() == 1) ThrowInput("{}", problems.front().message);
+  if (!problems.empty())
+    ThrowInput("{} (and {} more: `rayspace data check --data {}` lists them)", problems.front().message, problems.size() - 1,
+               data_root);
+}
+
 // Loads each scene file once, with the bounces its configurations trace.
 std::map<std::string, LoadedScene> LoadScenes(const std::vector<Config>& configs, const ReproduceArgs& args) {
   std::vector<fs::path> paths;
   for (const Config& c : configs)
     if (std::find(paths.begin(), paths.end(), fs::path(args.scenes) / c.scene_file) == paths.end())
       paths.push_back(fs::path(args.scenes) / c.scene_file);
-  CheckSceneData(paths, args.data);
+  CheckScenesAndData(paths, args.data);
   std::map<std::string, LoadedScene> scenes;
   LoadOptions lo;
   lo.data_root = args.data;
@@ -123,6 +139,7 @@ std::vector<Result> ReadRun(const fs::path& dir, const std::vector<std::string>&
 app::ExitCode RunReproduce(const ReproduceArgs& args, const FrameFn& frame) {
   if (args.list) return List(args);
   const Shard shard = ParseShard(args.shard);
+  if (shard.count == 1) plot::CheckTool();  // the report's plots: refuse before hours of frames, not after
   const std::vector<Config> configs = Configurations(args);
   if (configs.empty()) return app::ExitCode::kOk;
   const std::map<std::string, LoadedScene> scenes = LoadScenes(configs, args);
@@ -158,6 +175,7 @@ app::ExitCode RunReproduce(const ReproduceArgs& args, const FrameFn& frame) {
 }
 
 app::ExitCode RunMerge(const ReproduceArgs& args) {
+  plot::CheckTool();
   std::vector<std::pair<std::string, Manifest>> shards;
   for (const std::string& d : args.merge_dirs) {
     if (!fs::is_directory(d)) ThrowInput("{}: no such directory", d);

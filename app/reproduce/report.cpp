@@ -312,6 +312,4 @@ std::string TableCsv(const Table& table) {
   return s;
 }
 
-std::string TablePlots(const Table&, const std::filesystem::path&) { return {}; }
-
 }  // namespace rayspace::reproduce

@@ -44,8 +44,8 @@ Table SummaryTable(const std::vector<RelationRow>& relations);
 // Writes report.md, tables/*.csv, results.json, timings.md and timings.csv into `out`, atomically each.
 void WriteReport(const std::filesystem::path& out, const std::vector<Result>& results);
 
-// Where a table's plot is drawn once the report has a plotting library: returns the markdown that
-// shows it (nothing yet).
+// Draws the table's ours-against-published plot into out/plots/table-<id>.svg (gnuplot) and returns
+// the markdown line that links it; nothing for a table without both columns.
 std::string TablePlots(const Table& table, const std::filesystem::path& out);
 
 }  // namespace rayspace::reproduce
