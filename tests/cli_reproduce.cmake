@@ -100,6 +100,12 @@ expect_error(NAME merge-missing NEEDLES "shard 1/3 is missing" ARGS reproduce me
 expect_error(NAME merge-twice NEEDLES "shard 0/3 given twice: shard0 and shard0" ARGS reproduce merge m3 shard0 shard0 shard1 shard2)
 expect_error(NAME merge-nodir NEEDLES "nodir: no such directory" ARGS reproduce merge m4 shard0 nodir)
 expect_error(NAME merge-notshard NEEDLES "first: shard 0/1, but shard0 is one of 3" ARGS reproduce merge m5 shard0 first)
+file(MAKE_DIRECTORY "${WORK}/nodata")
+expect_error(NAME data NEEDLES "sponza_dabrovic/sponza.mtl: missing under the data root" "rayspace data check"
+             ARGS reproduce thesis --scenes "${SRC}/scenes" --data "${WORK}/nodata" --out y)
+if(EXISTS "${WORK}/y")
+  set(FAILURES "${FAILURES}\n  [data] a run refused for its data left y/ behind")
+endif()
 expect_error(NAME scenes NEEDLES "nowhere/office.json: cannot open scene file" ARGS reproduce thesis --scenes nowhere --out x)
 
 if(NOT FAILURES STREQUAL "")
