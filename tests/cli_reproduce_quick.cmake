@@ -1,0 +1,44 @@
+# `rayspace reproduce thesis --quick`, whole (39 configurations at 128x128): every table of 4.1-4.24
+# has its section, CSV and plot, and every relation the thesis states is judged on both sides with
+# no relation left without a verdict. The counts themselves are the report's, not this test's: it
+# checks that the sweep runs end to end and says something about each relation.
+# Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DDATA=<data root> -DWORK=<scratch> -P cli_reproduce_quick.cmake
+cmake_minimum_required(VERSION 3.19)
+if(NOT EXISTS "${DATA}/sponza_dabrovic/sponza.obj")
+  message(STATUS "data root not found: ${DATA} (no sponza_dabrovic/sponza.obj): cli.reproduce.quick skipped")
+  return()
+endif()
+file(REMOVE_RECURSE "${WORK}")
+file(MAKE_DIRECTORY "${WORK}")
+execute_process(COMMAND "${RAYSPACE}" reproduce thesis --quick --scenes "${SRC}/scenes" --data "${DATA}" --out quick
+                WORKING_DIRECTORY "${WORK}" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 900)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "cli.reproduce.quick: exit ${rc}:\n${out}${err}")
+endif()
+set(FAILURES "")
+file(READ "${WORK}/quick/report.md" report)
+foreach(n RANGE 1 24)
+  if(n LESS 10)
+    set(id "4.0${n}")
+  else()
+    set(id "4.${n}")
+  endif()
+  string(FIND "${report}" "## Table 4.${n}:" at)
+  if(at EQUAL -1 OR NOT EXISTS "${WORK}/quick/tables/table-${id}.csv" OR NOT EXISTS "${WORK}/quick/plots/table-${id}.svg")
+    set(FAILURES "${FAILURES}\n  table 4.${n}: section, CSV or plot missing")
+  endif()
+endforeach()
+# The summary: each relation with "k of n" on both sides, n > 0.
+foreach(relation "CRSH total < RAH total" "RAH top level = top nodes x triangles"
+                 "total = sum of level intersections + level-1 hits x subdivision" "total < brute force"
+                 "depth d+1 total < depth d total")
+  string(REPLACE "+" "\\+" pattern "${relation}")
+  string(REGEX MATCH "\\| ${pattern} \\| [0-9]+ of [1-9][0-9]* \\| [0-9]+ of [1-9][0-9]* \\|" row "${report}")
+  if(row STREQUAL "")
+    set(FAILURES "${FAILURES}\n  relation '${relation}' has no verdict on both sides in the summary")
+  endif()
+endforeach()
+if(NOT FAILURES STREQUAL "")
+  message(FATAL_ERROR "cli.reproduce.quick: failures:${FAILURES}")
+endif()
+message(STATUS "cli.reproduce.quick: 24 tables with CSV and plot, every relation judged")
