@@ -20,16 +20,6 @@ namespace {
 
 // ---- cone-sphere modes --------------------------------------------------------------------------
 
-// Thesis eq. 3.16 as printed (after Roger et al.): |C - H| tan(alpha) + (d + r) / cos(alpha) >= |P - H|,
-// H the projection of the sphere's centre P on the axis; in float, no margins.
-bool PaperConeTest(const layout::ConeNode& n, glm::vec4 sphere) {
-  const glm::vec3 v = emu::Xyz(sphere) - emu::Xyz(n.sphere), x = emu::Xyz(n.cone);
-  const float a = emu::Dot(v, x);
-  const glm::vec3 off = v - x * a;
-  const float c = n.cone.w, s = n.extra.x;
-  return std::fabs(a) * (s / c) + (n.sphere.w + sphere.w) / c >= emu::Length(off);
-}
-
 struct Mode {
   std::string name;
   std::function<bool(std::size_t)> answer;  // decision for sample i
@@ -209,7 +199,7 @@ void MeasureConeModes(const Workload& w, std::vector<Row>& rows) {
     std::vector<char> truth(qs.size());
     for (std::size_t i = 0; i < qs.size(); ++i) truth[i] = refs::ExactNodeMeetsSphere(qs[i].node, qs[i].sphere);
     const std::vector<Mode> modes = {
-        {"float, eq. 3.16 as printed", [&](std::size_t i) { return PaperConeTest(qs[i].node, qs[i].sphere); }},
+        {"float, eq. 3.16 as printed", [&](std::size_t i) { return emu::cone::PrintedTest(qs[i].node, qs[i].sphere); }},
         {"float, conservative (rayspace)", [&](std::size_t i) { return emu::cone::Test(qs[i].node, qs[i].sphere, 0.0f); }},
         {"double, no margins", [&](std::size_t i) { return refs::DoubleNodeMeetsSphere(qs[i].node, qs[i].sphere); }},
         {"CGAL filtered (interval + exact)", [&](std::size_t i) { return refs::ExactNodeMeetsSphere(qs[i].node, qs[i].sphere); }},
@@ -253,7 +243,7 @@ void MeasureTriModes(const Workload& w, std::vector<Row>& rows) {
 std::vector<EndToEnd> ConeEndToEnd(const Scene& scene, const SceneBuffers& b, const emu::FrameOptions& fo) {
   ModeTraversal exact_passes([](const layout::ConeNode& n, glm::vec4 s, float) { return refs::ExactNodeMeetsSphere(n, s); });
   const FrameOutcome exact = RunFrame(scene, b, fo, exact_passes);
-  ModeTraversal paper([](const layout::ConeNode& n, glm::vec4 s, float eps) { return PaperConeTest(n, glm::vec4(glm::vec3(s), s.w + eps)); });
+  ModeTraversal paper([](const layout::ConeNode& n, glm::vec4 s, float eps) { return emu::cone::PrintedTest(n, glm::vec4(glm::vec3(s), s.w + eps)); });
   ModeTraversal dbl([](const layout::ConeNode& n, glm::vec4 s, float eps) { return refs::DoubleNodeMeetsSphere(n, glm::vec4(glm::vec3(s), s.w + eps)); });
   const FrameOutcome fp = RunFrame(scene, b, fo, paper);
   const FrameOutcome fc = RunFrame(scene, b, fo, emu::EmuHierarchyPasses());

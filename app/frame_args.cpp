@@ -92,6 +92,7 @@ void AddFrameOptions(CLI::App& command, FrameArgs& args) {
   AddLimitOptions(command, args.split_bytes, args.max_groups);
   AddKernelOption(command, args.kernels);
   AddKernelModelOptions(command, args.model);
+  AddFaithfulOptions(command, args.faithful);
 }
 
 void AddLimitOptions(CLI::App& command, std::size_t& split_bytes, std::uint32_t& max_groups) {
@@ -191,6 +192,7 @@ emu::HierarchyConfig MakeHierarchyConfig(const FrameArgs& args, int width, int h
   hc.image_width = width;
   hc.image_height = height;
   hc.passes = passes;
+  ApplyFaithful(args.faithful, hc);
   return hc;
 }
 

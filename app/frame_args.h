@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "backend_setup.h"
+#include "faithful_args.h"
 #include "kernel_model.h"
 #include "rayspace/emu/hierarchy.h"
 
@@ -52,6 +53,7 @@ struct FrameArgs {
   std::uint32_t max_groups = 0;
   KernelFiles kernels;  // --kernel PASS=FILE (Vulkan): user kernels in place of built-in ones
   KernelModelArgs model;  // --schedule, --check-workgroups (the emulated workgroup kernels)
+  FaithfulArgs faithful;  // --hash-order, --hash-bits: the thesis's hierarchy as printed
 
   TestLimits Limits() const { return {split_bytes, max_groups}; }
   // Whether --algo traces with the hierarchy (crsh, rah and rah-quadtree do; brute and embree do not).
@@ -62,7 +64,8 @@ struct FrameArgs {
 };
 
 // Registers --algo, --subdivision, --levels (alias --depth), --bounces, --objects, --tree-leaf, --tree-big, --reduction, --component-size, --pair-capacity, --size,
-// --data, --device, --split-bytes, --max-groups, --kernel, --schedule and --check-workgroups on
+// --data, --device, --split-bytes, --max-groups, --kernel, --schedule, --check-workgroups and the
+// thesis's switches (faithful_args.h) on
 // `command`, writing into `args`.
 void AddFrameOptions(CLI::App& command, FrameArgs& args);
 // --device and --device-lacks (replay runs on a device but renders no frame).

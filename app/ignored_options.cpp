@@ -33,10 +33,12 @@ void NoteHierarchyOptions(std::vector<IgnoredOption>& out, const CLI::App& comma
   const std::string flat = "--algo " + args.algo + " traces without the hierarchy";
   if (!args.Hierarchy()) {
     for (const char* name : {"--subdivision", "--levels", "--reduction", "--component-size", "--pair-capacity", "--objects",
-                             "--tree-leaf", "--tree-big"})
+                             "--tree-leaf", "--tree-big", "--hash-order", "--hash-bits"})
       Note(out, command, name, flat);
     return;
   }
+  if (args.algo != "crsh")
+    for (const char* name : {"--hash-order", "--hash-bits"}) Note(out, command, name, "--algo " + args.algo + " does not hash its rays");
   if (args.algo == "rah-quadtree") Note(out, command, "--subdivision", "rah-quadtree always subdivides by 4 (2x2 tiles)");
   if (args.objects == "flat") {
     Note(out, command, "--tree-leaf", "--objects flat builds no object tree");

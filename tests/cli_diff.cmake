@@ -348,6 +348,10 @@ diff_case(fault.rah.traverse:1 cornell-mirrors 64x64 traverse:1 4 traverse --alg
 # The fused path, render's default: each level one traverse.compact call on both backends; equal on
 # the frames, and each of the pass's faults caught in a whole frame.
 diff_case(cornell.crsh.fused cornell-mirrors 96x80 "" 0 "" --path fused)
+# The thesis's hash layout (docs/hierarchy.md, "Faithful to the thesis"): other keys, the same on both
+# backends; glass brings refraction keys in.
+diff_case(cornell.crsh.polar-first cornell-mirrors 64x64 "" 0 "" --hash-order polar-first --hash-bits 8)
+diff_case(glass.crsh.polar-first glass 64x64 "" 0 "" --hash-order polar-first --hash-bits 8 --path fused)
 diff_case(office.rah.fused office 64x64 "" 0 "" --path fused --algo rah)
 diff_case(cornell.rah-quadtree.fused cornell-mirrors 64x64 "" 0 "" --path fused --algo rah-quadtree)
 foreach(f traverse.compact:1 traverse.compact:2 traverse.compact:3 traverse.compact:4)

@@ -160,6 +160,15 @@ unset(ENV{VK_LAYER_PATH})
 expect_error(NAME "--algo nope"
              NEEDLES "--algo" "nope"
              ARGS render "${WORK}/good.json" --algo nope --out "${WORK}/x.png")
+expect_error(NAME "--hash-order nope"
+             NEEDLES "--hash-order" "nope"
+             ARGS render "${WORK}/good.json" --hash-order nope --out "${WORK}/x.png")
+expect_error(NAME "--hash-bits past the key"
+             NEEDLES "--hash-bits" "15"
+             ARGS diff "${WORK}/good.json" --hash-bits 15)
+expect_error(NAME "bench --hash-bits 0"
+             NEEDLES "--hash-bits" "0"
+             ARGS bench "${WORK}/good.json" --hash-bits 0)
 expect_error(NAME "bench --configs with an unknown configuration"
              NEEDLES "--configs" "warp" "crsh-passes"
              ARGS bench "${WORK}/good.json" --configs embree,warp)

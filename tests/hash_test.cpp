@@ -84,6 +84,28 @@ TEST_CASE("hash: hand-computed keys") {
   CHECK(keys[4] == 0u);
 }
 
+TEST_CASE("hash: polar-first keys as the thesis prints them (--hash-order polar-first, --hash-bits)") {
+  const SceneBuffers b = BoxScene();
+  HashConfig h;
+  h.order = layout::kHashOrderPolarFirst;
+  h.polar_bits = h.azimuth_bits = 8;
+  // Shadow, light 2, along +z: polar cell 2^8 - 1 (clamped) above azimuth cell 0: 0xFF00, light 2
+  // above the 16 direction bits: 0x2FF00.
+  // Shadow, light 1, along (1,1,0): polar cell 2^7 (cos 0 -> 0.5), azimuth 2^8 / 8 = 32: 0x8020,
+  // light 1 above: 0x18020.
+  // Reflection from the box's centre along (1,1,0): origin 0xE0000000 as interleaved (origin cells do
+  // not change); direction polar 64 above azimuth 16 with 7 bits each: 64 << 7 | 16 = 0x2010.
+  const std::vector<layout::Ray> rays = {ShadowRay(2, {0, 0, 1}), ShadowRay(1, {1, 1, 0}),
+                                         SecondaryRay({0, 0, 1}, {1, 1, 0})};
+  const auto keys = PassHash({.rays = rays, .scene = &b, .hash = h});
+  CHECK(keys[0] == 0x2FF00u);
+  CHECK(keys[1] == 0x18020u);
+  CHECK(keys[2] == 0xE0002010u);
+  // The widest direction part: 14 + 14 bits, light above: polar 2^13 << 14 | 2^11.
+  h.polar_bits = h.azimuth_bits = 14;
+  CHECK(PassHash({.rays = rays, .scene = &b, .hash = h})[1] == ((1u << 28) | (1u << 27) | (1u << 11)));
+}
+
 TEST_CASE("hash: the quadtree key of pixel (x, y) is its Morton code with the light above it") {
   const SceneBuffers b = BoxScene();
   const std::uint32_t width = 8;

@@ -307,3 +307,20 @@ TEST_CASE("traverse.compact mirror: a dropped barrier in its workgroup scan is n
     CHECK(e.result.Count(wg::ReportKind::kRace) > 0u);
   }
 }
+
+TEST_CASE("cone: the test as printed (eq. 3.16) rejects what the conservative test keeps") {
+  // A node whose cone opens past 90 degrees (cos alpha = -0.5, sin alpha = sqrt(3)/2), and a sphere
+  // on its apex: they overlap, so the conservative test keeps the pair; the printed test divides by
+  // the negative cos alpha, its left side is 2 / -0.5 = -4 < 0 = |P - H|, and it rejects.
+  layout::ConeNode n{};
+  n.sphere = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  n.cone = glm::vec4(0.0f, 0.0f, 1.0f, -0.5f);
+  n.extra.x = 0.8660254f;
+  const glm::vec4 sphere(0.0f, 0.0f, 0.0f, 1.0f);
+  CHECK(emu::cone::Test(n, sphere, 0.0f));
+  CHECK_FALSE(emu::cone::PrintedTest(n, sphere));
+  // A narrow cone and a sphere on its axis ahead: both keep it.
+  n.cone.w = 0.99f;
+  n.extra.x = 0.14106736f;
+  CHECK(emu::cone::PrintedTest(n, glm::vec4(0.0f, 0.0f, 10.0f, 0.5f)));
+}

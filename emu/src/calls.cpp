@@ -137,7 +137,10 @@ void CheckInputs(const call::Hash& c) {
   const HashConfig& h = c.hash;
   for (int bits : {h.light_bits, h.polar_bits, h.azimuth_bits, h.origin_bits, h.direction_bits})
     if (bits < 0 || bits > 31) ThrowInput("{}: hash bit counts must be in [0, 31]", c.kName);
-  if (h.light_bits + h.polar_bits + h.azimuth_bits > 32 || 3 * h.origin_bits + 2 * h.direction_bits > 32)
+  if (h.order != layout::kHashOrderInterleaved && h.order != layout::kHashOrderPolarFirst)
+    ThrowInput("{}: hash order {} is neither interleaved (0) nor polar-first (1)", c.kName, h.order);
+  if (h.light_bits + h.polar_bits + h.azimuth_bits > layout::kHashKeyBits ||
+      3 * h.origin_bits + 2 * h.direction_bits > layout::kHashKeyBits)
     ThrowInput("{}: hash keys need more than 32 bits (light {} + polar {} + azimuth {}; 3 x origin {} + 2 x direction {})",
                c.kName, h.light_bits, h.polar_bits, h.azimuth_bits, h.origin_bits, h.direction_bits);
   if (c.quadtree_depth < 0 || c.quadtree_depth > 15)

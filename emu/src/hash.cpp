@@ -20,11 +20,13 @@ std::uint32_t Cell(float f, int bits) {
   return static_cast<std::uint32_t>(v);
 }
 
-// Spherical cells of a unit direction: cos(theta) = z for the polar angle, the pseudo-angle for phi,
-// bit-interleaved (polar bit above azimuth bit) so that sorted neighbours are close in both angles.
-std::uint32_t DirectionKey(glm::vec3 d, int polar_bits, int azimuth_bits) {
+// Spherical cells of a unit direction: cos(theta) = z for the polar angle, the pseudo-angle for phi;
+// bit-interleaved (polar bit above azimuth bit) so that sorted neighbours are close in both angles, or
+// polar first as the thesis prints it (layout::kHashOrderPolarFirst).
+std::uint32_t DirectionKey(glm::vec3 d, int polar_bits, int azimuth_bits, std::uint32_t order) {
   const std::uint32_t p = Cell(PolarArgument(d.z), polar_bits);
   const std::uint32_t a = Cell(DiamondAngle(d.x, d.y) * 0.25f, azimuth_bits);
+  if (order == layout::kHashOrderPolarFirst) return (p << azimuth_bits) | a;
   std::uint32_t key = 0;
   for (int b = std::max(polar_bits, azimuth_bits) - 1; b >= 0; --b) {
     if (b < polar_bits) key = (key << 1) | ((p >> b) & 1u);
@@ -50,7 +52,7 @@ std::vector<std::uint32_t> PassHashKeys(const call::Hash& c) {
   const In<layout::Ray> rays = c.rays;
   const SceneBuffers& scene = *c.scene;
   const HashConfig& h = c.hash;
-  RS_CHECK(h.light_bits + h.polar_bits + h.azimuth_bits <= 32);
+  RS_CHECK(h.light_bits + h.polar_bits + h.azimuth_bits <= layout::kHashKeyBits);
   RS_CHECK(3 * h.origin_bits + 2 * h.direction_bits <= 32);
   std::vector<std::uint32_t> keys(rays.size());
   const glm::vec3 lo = scene.lo, ext = scene.hi - scene.lo;
@@ -59,13 +61,13 @@ std::vector<std::uint32_t> PassHashKeys(const call::Hash& c) {
     const glm::vec3 d = Normalize(Xyz(r.direction_tmax));
     if (r.info.z == layout::kRayShadow) {
       const std::uint32_t light = std::min(r.info.w, (1u << h.light_bits) - 1u);  // more lights share the last value
-      keys[i] = (light << (h.polar_bits + h.azimuth_bits)) | DirectionKey(d, h.polar_bits, h.azimuth_bits);
+      keys[i] = (light << (h.polar_bits + h.azimuth_bits)) | DirectionKey(d, h.polar_bits, h.azimuth_bits, h.order);
     } else {
       const glm::vec3 o = Xyz(r.origin_tmin);
       const std::uint32_t cx = Cell((o.x - lo.x) / ext.x, h.origin_bits), cy = Cell((o.y - lo.y) / ext.y, h.origin_bits),
                           cz = Cell((o.z - lo.z) / ext.z, h.origin_bits);
       keys[i] = (Interleave3(cx, cy, cz, h.origin_bits) << (2 * h.direction_bits)) |
-                DirectionKey(d, h.direction_bits, h.direction_bits);
+                DirectionKey(d, h.direction_bits, h.direction_bits, h.order);
     }
   });
   return keys;

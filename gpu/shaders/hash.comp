@@ -27,12 +27,13 @@ float DiamondAngle(float x, float y) {
   return r;
 }
 
-uint DirectionKey(vec3 d, int polar_bits, int azimuth_bits) {
+uint DirectionKey(vec3 d, int polar_bits, int azimuth_bits, uint order) {
   precise const float pz = (d.z + 1.0) * 0.5;
   precise const float az = DiamondAngle(d.x, d.y) * 0.25;
   const uint p = Cell(pz, polar_bits);
   // Fault 1: the azimuth cell comes from the wrong coordinate pair (x, z).
   const uint a = kFault == 1u ? Cell(DiamondAngle(d.x, d.z) * 0.25, azimuth_bits) : Cell(az, azimuth_bits);
+  if (order == kHashOrderPolarFirst) return (p << uint(azimuth_bits)) | a;  // the thesis's layout
   uint key = 0u;
   // Fault 3: the two cells are interleaved azimuth first (swapped operands).
   const uint first = kFault == 3u ? a : p, second = kFault == 3u ? p : a;
@@ -68,13 +69,13 @@ void main() {
   const vec3 d = Normalize3(r.direction_tmax.xyz);
   if (r.info.z == kRayShadow) {
     const uint light = min(r.info.w, (1u << uint(pc.light_bits)) - 1u);
-    keys[i] = (light << uint(pc.polar_bits + pc.azimuth_bits)) | DirectionKey(d, pc.polar_bits, pc.azimuth_bits);
+    keys[i] = (light << uint(pc.polar_bits + pc.azimuth_bits)) | DirectionKey(d, pc.polar_bits, pc.azimuth_bits, pc.order);
   } else {
     precise const vec3 ext = fc.scene_hi.xyz - fc.scene_lo.xyz;
     precise const vec3 rel = r.origin_tmin.xyz - fc.scene_lo.xyz;
     const uint cx = Cell(Div(rel.x, ext.x), pc.origin_bits), cy = Cell(Div(rel.y, ext.y), pc.origin_bits),
                cz = Cell(Div(rel.z, ext.z), pc.origin_bits);
     keys[i] = (Interleave3(cx, cy, cz, pc.origin_bits) << uint(2 * pc.direction_bits)) |
-              DirectionKey(d, pc.direction_bits, pc.direction_bits);
+              DirectionKey(d, pc.direction_bits, pc.direction_bits, pc.order);
   }
 }

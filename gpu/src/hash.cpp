@@ -24,7 +24,7 @@ vk::Status VulkanPasses::Run(const emu::call::Hash& call, std::vector<std::uint3
     RS_TRY(keep.From(c, Slice(rays, i0, i1), br));
     RS_TRY(keep.Output(c, (i1 - i0) * 4, bk, keys.data() + i0));
     const layout::HashPush push{static_cast<std::uint32_t>(i1 - i0), h.light_bits, h.polar_bits, h.azimuth_bits, h.origin_bits,
-                             h.direction_bits, quad_width, quad_depth};
+                             h.direction_bits, quad_width, quad_depth, h.order};
     Bindings<layout::kHashBindings> b;
     b.Set(layout::kHashBindRays, br).Set(layout::kHashBindFrame, bf).Set(layout::kHashBindKeys, bk);
     return rec.Dispatch(K(PassId::kHash), b.All(), &push, sizeof push, push.n);

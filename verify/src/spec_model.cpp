@@ -283,8 +283,15 @@ CellRange Cells(SpecReal f, int bits, bool any) {
   return {static_cast<std::uint32_t>(v.lo), static_cast<std::uint32_t>(v.hi)};
 }
 
-// Splits a direction key (emu DirectionKey: polar bit above azimuth bit, from the top) into its cells.
-void SplitDirection(std::uint32_t key, int polar_bits, int azimuth_bits, std::uint32_t& p, std::uint32_t& a) {
+// Splits a direction key (emu DirectionKey: polar bit above azimuth bit, from the top, or all polar
+// bits above the azimuth's) into its cells.
+void SplitDirection(std::uint32_t key, int polar_bits, int azimuth_bits, std::uint32_t order, std::uint32_t& p,
+                    std::uint32_t& a) {
+  if (order == layout::kHashOrderPolarFirst) {
+    p = (key >> azimuth_bits) & LowBits(polar_bits);
+    a = key & LowBits(azimuth_bits);
+    return;
+  }
   int pos = polar_bits + azimuth_bits;
   p = a = 0;
   for (int b = std::max(polar_bits, azimuth_bits) - 1; b >= 0; --b) {
@@ -294,14 +301,14 @@ void SplitDirection(std::uint32_t key, int polar_bits, int azimuth_bits, std::ui
 }
 
 // The direction part of a key: are its cells those of some permitted unit direction?
-bool DirectionAllowed(std::uint32_t key, glm::vec3 dir, int polar_bits, int azimuth_bits) {
+bool DirectionAllowed(std::uint32_t key, glm::vec3 dir, int polar_bits, int azimuth_bits, std::uint32_t order) {
   ScopedSpecTrace trace(CurrentSpecTrace().flush_denormals);
   const V d = emu::Normalize(Spec3(dir));
   const SpecReal polar = emu::PolarArgument(d.z);
   const SpecReal azimuth = emu::DiamondAngle(d.x, d.y) * R(0.25f);
   const bool branch_flips = trace.trace().ambiguous != 0;  // the azimuth's quadrant is not certain
   std::uint32_t p, a;
-  SplitDirection(key, polar_bits, azimuth_bits, p, a);
+  SplitDirection(key, polar_bits, azimuth_bits, order, p, a);
   return Cells(polar, polar_bits, false).Holds(p) && Cells(azimuth, azimuth_bits, branch_flips).Holds(a);
 }
 
@@ -319,13 +326,13 @@ SpecVerdict Hash(const BufferSet& in, const BufferSet& e, const BufferSet& a, bo
       const int dir_bits = h.polar_bits + h.azimuth_bits;
       const std::uint32_t light = std::min(r.info.w, LowBits(h.light_bits));
       ok = High(key, dir_bits) == light &&
-           DirectionAllowed(key & LowBits(dir_bits), emu::Xyz(r.direction_tmax), h.polar_bits, h.azimuth_bits);
+           DirectionAllowed(key & LowBits(dir_bits), emu::Xyz(r.direction_tmax), h.polar_bits, h.azimuth_bits, h.order);
     } else {
       const int dir_bits = 2 * h.direction_bits;
       const V lo = Spec3(c.scene->lo), ext = Spec3(c.scene->hi) - lo, rel = Spec3(emu::Xyz(r.origin_tmin)) - lo;
       const std::uint32_t cells = High(key, dir_bits);
       ok = High(cells, 3 * h.origin_bits) == 0u &&
-           DirectionAllowed(key & LowBits(dir_bits), emu::Xyz(r.direction_tmax), h.direction_bits, h.direction_bits);
+           DirectionAllowed(key & LowBits(dir_bits), emu::Xyz(r.direction_tmax), h.direction_bits, h.direction_bits, h.order);
       for (int axis = 0; axis < 3; ++axis) {
         std::uint32_t cell = 0;  // emu Interleave3: x, y, z bits from the top
         for (int b = h.origin_bits - 1; b >= 0; --b) cell |= ((cells >> (3 * b + 2 - axis)) & 1u) << b;

@@ -123,6 +123,14 @@ RS_CONST(uint, kHashBindRays, 0u);
 RS_CONST(uint, kHashBindFrame, 1u);
 RS_CONST(uint, kHashBindKeys, 2u);
 RS_CONST(uint, kHashBindings, 3u);
+// The layout of a key's direction part (--hash-order): the polar and azimuth cells bit-interleaved,
+// polar bit above azimuth bit (the default: sorted neighbours are close in both angles), or all the
+// polar bits above all the azimuth bits (the CRSH thesis, sec. 3.8: light index, then the spherical
+// coordinates, polar first).
+RS_CONST(uint, kHashOrderInterleaved, 0u);
+RS_CONST(uint, kHashOrderPolarFirst, 1u);
+// Bits of a key; a shadow key holds the light index and both angles' cells in them.
+RS_CONST(int, kHashKeyBits, 32);
 struct HashPush {
   uint n;
   int light_bits;
@@ -132,6 +140,7 @@ struct HashPush {
   int direction_bits;
   uint quad_width;  // > 0: Roger et al.'s quadtree keys
   uint quad_depth;
+  uint order;  // kHashOrderInterleaved or kHashOrderPolarFirst
 };
 
 // ---- compress / sort / decompress: one kernel (sort.comp), three passes ------------------------
@@ -424,7 +433,7 @@ static_assert(kMaxLocalSize * kCompactCols < 65536u && kCompactRows <= 8u && kCo
 // Push-constant blocks: scalars only (same offsets in std430 and C++), within the 128 bytes every
 // Vulkan device guarantees.
 static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && sizeof(RaygenShadowPush) == 8 &&
-              sizeof(RaygenPush) == 8 && sizeof(TrimPush) == 12 && sizeof(HashPush) == 32 && sizeof(SortPush) == 24 &&
+              sizeof(RaygenPush) == 8 && sizeof(TrimPush) == 12 && sizeof(HashPush) == 36 && sizeof(SortPush) == 24 &&
               sizeof(BuildPush) == 20 && sizeof(TraversePush) == 56 && sizeof(ReducePush) == 20 &&
               sizeof(IntersectPush) == 36 && sizeof(ShadePush) == 16 && sizeof(ElementwisePush) == 8 &&
               sizeof(TraverseCompactPush) == 64 && sizeof(TreePush) == 40 && sizeof(IntersectTreePush) == 8);

@@ -254,6 +254,18 @@ template <typename S>
 
 inline bool Test(const layout::ConeNode& n, glm::vec4 sphere, float eps) { return TestOf<float>(n, sphere, eps); }
 
+// Thesis eq. 3.16 as printed (after Roger et al. eq. 1): |C - H| tan(alpha) + (d + r) / cos(alpha) >=
+// |P - H|, H the projection of the sphere's centre P on the axis; in float, with no margins and none
+// of Test's special cases, so it is not conservative (docs/accuracy.md measures how often it errs).
+// One function, so that every caller evaluates the printed test the same way.
+inline bool PrintedTest(const layout::ConeNode& n, glm::vec4 sphere) {
+  const glm::vec3 v = Xyz(sphere) - Xyz(n.sphere), x = Xyz(n.cone);
+  const float a = Dot(v, x);
+  const glm::vec3 off = v - x * a;
+  const float c = n.cone.w, s = n.extra.x;
+  return Abs(a) * (s / c) + (n.sphere.w + sphere.w) / c >= Length(off);
+}
+
 // One step of a leaf build: the node grown by one ray (origin o, unit direction r) with eqs. 3.8-3.11
 // and 3.14-3.15, checked in float against the old node and the ray, then finished with the margins.
 // It contains both exactly (docs/numerics.md; fuzz/cone_grow), so a leaf folded from these steps

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "rayspace/emu/fields.h"
+#include "rayspace/contract.h"
 #include "rayspace/layout.h"
 
 namespace rayspace::emu {
@@ -70,7 +71,9 @@ struct HashConfig {
   int azimuth_bits = 14;   // shadow keys: azimuth cells (pseudo-angle, no trigonometry)
   int origin_bits = 6;     // reflection/refraction: cells per axis of the scene box (x3, interleaved)
   int direction_bits = 7;  // reflection/refraction: cells per direction coordinate (x2)
-  RS_FIELDS(light_bits, polar_bits, azimuth_bits, origin_bits, direction_bits)
+  // Both keys' direction part: layout::kHashOrderInterleaved or kHashOrderPolarFirst (--hash-order).
+  std::uint32_t order = layout::kHashOrderInterleaved;
+  RS_FIELDS(light_bits, polar_bits, azimuth_bits, origin_bits, direction_bits, order)
 };
 
 }  // namespace rayspace::emu
