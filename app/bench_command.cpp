@@ -74,6 +74,7 @@ void RunScene(const BenchArgs& args, const std::string& path, const std::vector<
   base.scene = path;
   base.data = args.data;
   base.device = args.device;
+  base.faithful = args.faithful;
   const bool progress = args.progress || isatty(STDERR_FILENO);
   for (const auto& [w, h] : sizes)
     for (const BenchConfig* c : configs)

@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "exit_codes.h"
+#include "faithful_args.h"
 
 namespace rayspace::app {
 
@@ -13,6 +14,7 @@ struct BenchArgs {
   std::string configs;  // empty: every configuration (bench_configs.h)
   int repetitions = 3, threads = 0, device = -1;
   bool progress = false;
+  FaithfulArgs faithful;  // the frames' --shadow-rule
 };
 
 // Runs `rayspace bench`: every configuration on every scene at every size, in this process, each frame

@@ -92,6 +92,7 @@ void AddFrameOptions(CLI::App& command, FrameArgs& args) {
   AddLimitOptions(command, args.split_bytes, args.max_groups);
   AddKernelOption(command, args.kernels);
   AddKernelModelOptions(command, args.model);
+  AddFaithfulOptions(command, args.faithful);
 }
 
 void AddLimitOptions(CLI::App& command, std::size_t& split_bytes, std::uint32_t& max_groups) {

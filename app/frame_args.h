@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "backend_setup.h"
+#include "faithful_args.h"
 #include "kernel_model.h"
 #include "rayspace/emu/hierarchy.h"
 
@@ -52,6 +53,7 @@ struct FrameArgs {
   std::uint32_t max_groups = 0;
   KernelFiles kernels;  // --kernel PASS=FILE (Vulkan): user kernels in place of built-in ones
   KernelModelArgs model;  // --schedule, --check-workgroups (the emulated workgroup kernels)
+  FaithfulArgs faithful;  // --shadow-rule: the thesis's rays and objects
 
   TestLimits Limits() const { return {split_bytes, max_groups}; }
   // Whether --algo traces with the hierarchy (crsh, rah and rah-quadtree do; brute and embree do not).

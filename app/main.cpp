@@ -98,6 +98,7 @@ void AddBench(CLI::App& app, Commands& cmds) {
   bc->add_option("--json", b.json, "Write every measurement as JSON to this file (-: to standard output, in place of "
                  "the tables)");
   rayspace::app::AddDeviceOption(*bc, b.device);
+  rayspace::app::AddFaithfulOptions(*bc, b.faithful);
   bc->add_flag("--progress", b.progress, "Print each frame's time on stderr (default when stderr is a terminal)");
 }
 

@@ -189,6 +189,7 @@ ExitCode RunRender(const RenderArgs& args) {
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height, args.bounces);
   fo.progress = args.progress || isatty(STDERR_FILENO);  // progress on stderr when someone watches
+  ApplyFaithful(args.faithful, fo);
   RenderOutputs outputs = OpenRenderOutputs(args, scene);
 
   const MemoryEstimate estimate = EstimateFrameMemory(fo.width, fo.height, scene.lights.size(), scene.TriangleCount(), args.pair_capacity, 1);

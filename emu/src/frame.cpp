@@ -201,7 +201,7 @@ class Runner {
     Trimmed shadow_trim;
     std::vector<std::uint32_t> occluded;
     if (!b_.lights.empty()) {
-      RaygenAndTrim(layout::kRayShadow, "shadow." + bs, [&] { return passes_.Raygen({.kind = layout::kRayShadow, .frame = fc_, .surfaces = surfaces, .scene = &b_}); }, shadow, shadow_trim);
+      RaygenAndTrim(layout::kRayShadow, "shadow." + bs, [&] { return passes_.Raygen({.kind = layout::kRayShadow, .frame = fc_, .surfaces = surfaces, .scene = &b_, .shadow_rule = opt_.shadow_rule}); }, shadow, shadow_trim);
       r_.rays[layout::kRayShadow][bounce] = shadow_trim.rays.size();
       Pass("trace.shadow." + bs, [&] {
         Begin("shadow." + bs, layout::kRayShadow, bounce);

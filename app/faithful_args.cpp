@@ -1,0 +1,20 @@
+#include "faithful_args.h"
+
+#include <CLI/CLI.hpp>
+
+namespace rayspace::app {
+
+void AddFaithfulOptions(CLI::App& command, FaithfulArgs& args) {
+  command
+      .add_option("--shadow-rule", args.shadow_rule,
+                  "Shadow rays: all (one per covered pixel and light) or lit (only where the light is in front of "
+                  "the surface, n.l > 0, as the thesis counts them); the image is the same")
+      ->check(CLI::IsMember({"all", "lit"}))
+      ->capture_default_str();
+}
+
+void ApplyFaithful(const FaithfulArgs& args, emu::FrameOptions& fo) {
+  fo.shadow_rule = args.shadow_rule == "lit" ? layout::kShadowRuleLit : layout::kShadowRuleAll;
+}
+
+}  // namespace rayspace::app

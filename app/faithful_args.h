@@ -1,0 +1,23 @@
+// The switches that make a frame trace the rays and objects the CRSH thesis traced (docs/hierarchy.md,
+// "Faithful to the thesis"): options of render, diff and bench, defaults the frame rayspace traces.
+#pragma once
+#include <string>
+
+#include "rayspace/emu/frame.h"
+
+namespace CLI {
+class App;
+}
+
+namespace rayspace::app {
+
+struct FaithfulArgs {
+  std::string shadow_rule = "all";  // --shadow-rule all|lit
+};
+
+// Registers --shadow-rule on `command`, writing into `args`.
+void AddFaithfulOptions(CLI::App& command, FaithfulArgs& args);
+// Sets the frame options the switches name.
+void ApplyFaithful(const FaithfulArgs& args, emu::FrameOptions& fo);
+
+}  // namespace rayspace::app
