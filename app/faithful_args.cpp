@@ -11,10 +11,17 @@ void AddFaithfulOptions(CLI::App& command, FaithfulArgs& args) {
                   "the surface, n.l > 0, as the thesis counts them); the image is the same")
       ->check(CLI::IsMember({"all", "lit"}))
       ->capture_default_str();
+  command
+      .add_option("--shadow-bounces", args.shadow_bounces,
+                  "Shadow rays after every bounce (all) or from the primary hits only (first, the thesis's one shadow "
+                  "batch; later bounces then shade with every light unoccluded)")
+      ->check(CLI::IsMember({"all", "first"}))
+      ->capture_default_str();
 }
 
 void ApplyFaithful(const FaithfulArgs& args, emu::FrameOptions& fo) {
   fo.shadow_rule = args.shadow_rule == "lit" ? layout::kShadowRuleLit : layout::kShadowRuleAll;
+  fo.shadow_first_bounce_only = args.shadow_bounces == "first";
 }
 
 }  // namespace rayspace::app

@@ -12,10 +12,11 @@ class App;
 namespace rayspace::app {
 
 struct FaithfulArgs {
-  std::string shadow_rule = "all";  // --shadow-rule all|lit
+  std::string shadow_rule = "all";     // --shadow-rule all|lit
+  std::string shadow_bounces = "all";  // --shadow-bounces all|first
 };
 
-// Registers --shadow-rule on `command`, writing into `args`.
+// Registers --shadow-rule and --shadow-bounces on `command`, writing into `args`.
 void AddFaithfulOptions(CLI::App& command, FaithfulArgs& args);
 // Sets the frame options the switches name.
 void ApplyFaithful(const FaithfulArgs& args, emu::FrameOptions& fo);

@@ -360,6 +360,7 @@ endforeach()
 # both backends, and a planted raygen.shadow fault still caught under --shadow-rule lit.
 foreach(scene cornell-mirrors office)
   diff_case(${scene}.crsh.faithful.shadow_rule ${scene} 64x64 "" 0 "" --shadow-rule lit)
+  diff_case(${scene}.crsh.faithful.shadow_bounces ${scene} 64x64 "" 0 "" --shadow-bounces first)
 endforeach()
 diff_case(fault.faithful.raygen.shadow:1 office 64x64 raygen.shadow:1 4 raygen.shadow --shadow-rule lit)
 # --objects tree: the joint descent's passes (tree.roots, tree.expand, tree.test, intersect.tree) and

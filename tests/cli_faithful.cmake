@@ -44,8 +44,22 @@ if(NOT all_png STREQUAL lit_png)
   string(APPEND FAILURES "\n--shadow-rule lit: the image differs from all's")
 endif()
 
+# --shadow-bounces first: the bounce-0 shadow rays and every reflection ray as before, no shadow rays
+# after bounce 0 (cornell-mirrors has two bounces of mirrors).
+math(EXPR CASES "${CASES} + 1")
+render_stats(every cornell-mirrors)
+render_stats(first cornell-mirrors --shadow-bounces first)
+expect_equal_json(every first "--shadow-bounces first: bounce-0 shadow rays" rays shadow per_bounce 0 rays)
+expect_equal_json(every first "--shadow-bounces first: reflection rays" rays reflection total)
+string(JSON first_shadow GET "${first_stats}" rays shadow total)
+string(JSON first_b0 GET "${first_stats}" rays shadow per_bounce 0 rays)
+string(JSON every_shadow GET "${every_stats}" rays shadow total)
+if(NOT first_shadow EQUAL first_b0 OR NOT first_shadow LESS every_shadow)
+  string(APPEND FAILURES "\n--shadow-bounces first: ${first_shadow} shadow rays, expected bounce 0's ${first_b0} (all: ${every_shadow})")
+endif()
+
 # Bad values: one line naming the option, exit 2, on every command that takes it.
-foreach(bad "render;--shadow-rule;some" "diff;--shadow-rule;some")
+foreach(bad "render;--shadow-rule;some" "diff;--shadow-rule;some" "render;--shadow-bounces;2" "diff;--shadow-bounces;2")
   list(GET bad 0 cmd)
   list(SUBLIST bad 1 -1 opt)
   math(EXPR CASES "${CASES} + 1")

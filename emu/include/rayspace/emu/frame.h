@@ -64,6 +64,9 @@ struct FrameOptions {
   // ray per covered surface and light (layout::kShadowRuleAll) or only where the light is in front
   // (kShadowRuleLit, the thesis's count); the image is the same either way.
   std::uint32_t shadow_rule = layout::kShadowRuleAll;
+  // --shadow-bounces first: shadow rays at bounce 0 only (the thesis's one shadow batch); later
+  // bounces shade with every light unoccluded.
+  bool shadow_first_bounce_only = false;
 };
 
 FrameResult RenderFrame(const Scene& scene, const SceneBuffers& buffers, Tracer& tracer,
