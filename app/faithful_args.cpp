@@ -17,6 +17,17 @@ void AddFaithfulOptions(CLI::App& command, FaithfulArgs& args) {
                   "batch; later bounces then shade with every light unoccluded)")
       ->check(CLI::IsMember({"all", "first"}))
       ->capture_default_str();
+  command.add_flag("--one-object", args.one_object,
+                   "Merge all of the scene's objects into one (one bounding sphere), as the thesis's Sponza; same hits");
+}
+
+SceneBuffers FlattenForFrame(const Scene& scene, const FaithfulArgs& args) {
+  SceneBuffers b = FlattenScene(scene);
+  if (!args.one_object || b.objects.size() <= 1) return b;
+  // Objects' triangles are consecutive from 0, so the merged object is all of them.
+  b.objects.assign(1, glm::uvec4(0u, static_cast<std::uint32_t>(b.triangles.size()), 0u, 0u));
+  for (layout::TriangleInfo& i : b.info) i.ids.y = 0u;  // ids.x, the material, stays per triangle
+  return b;
 }
 
 void ApplyFaithful(const FaithfulArgs& args, emu::FrameOptions& fo) {

@@ -14,10 +14,14 @@ namespace rayspace::app {
 struct FaithfulArgs {
   std::string shadow_rule = "all";     // --shadow-rule all|lit
   std::string shadow_bounces = "all";  // --shadow-bounces all|first
+  bool one_object = false;             // --one-object
 };
 
-// Registers --shadow-rule and --shadow-bounces on `command`, writing into `args`.
+// Registers --shadow-rule, --shadow-bounces and --one-object on `command`, writing into `args`.
 void AddFaithfulOptions(CLI::App& command, FaithfulArgs& args);
+// The scene's buffers; with --one-object every triangle in one object (one bounding sphere), each
+// triangle keeping its material, as the thesis's Sponza was "not divided into submeshes".
+SceneBuffers FlattenForFrame(const Scene& scene, const FaithfulArgs& args);
 // Sets the frame options the switches name.
 void ApplyFaithful(const FaithfulArgs& args, emu::FrameOptions& fo);
 

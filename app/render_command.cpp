@@ -196,7 +196,7 @@ ExitCode RunRender(const RenderArgs& args) {
   CheckFitsMachine(estimate, fo.width, fo.height);
 
   const Backend backend = MakeRenderBackend(args);
-  const SceneBuffers buffers = FlattenScene(scene);
+  const SceneBuffers buffers = FlattenForFrame(scene, args.faithful);
   CheckFrameFits(backend, fo.width, fo.height, scene.lights.size(), buffers.triangles.size());
   const std::unique_ptr<RenderedFrame> f = RenderOnBackend(args, scene, buffers, fo, backend);
   const emu::FrameResult& r = f->result;

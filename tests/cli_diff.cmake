@@ -361,6 +361,7 @@ endforeach()
 foreach(scene cornell-mirrors office)
   diff_case(${scene}.crsh.faithful.shadow_rule ${scene} 64x64 "" 0 "" --shadow-rule lit)
   diff_case(${scene}.crsh.faithful.shadow_bounces ${scene} 64x64 "" 0 "" --shadow-bounces first)
+  diff_case(${scene}.crsh.faithful.one_object ${scene} 64x64 "" 0 "" --one-object)
 endforeach()
 diff_case(fault.faithful.raygen.shadow:1 office 64x64 raygen.shadow:1 4 raygen.shadow --shadow-rule lit)
 # --objects tree: the joint descent's passes (tree.roots, tree.expand, tree.test, intersect.tree) and

@@ -58,6 +58,20 @@ if(NOT first_shadow EQUAL first_b0 OR NOT first_shadow LESS every_shadow)
   string(APPEND FAILURES "\n--shadow-bounces first: ${first_shadow} shadow rays, expected bounce 0's ${first_b0} (all: ${every_shadow})")
 endif()
 
+# --one-object: the office's objects merged into one (fewer object-sphere tests), the same rays and image.
+math(EXPR CASES "${CASES} + 1")
+render_stats(one office --one-object)
+expect_equal_json(all one "--one-object: rays" rays)
+string(JSON one_tests GET "${one_stats}" object_sphere_tests)
+string(JSON many_tests GET "${all_stats}" object_sphere_tests)
+if(NOT one_tests LESS many_tests)
+  string(APPEND FAILURES "\n--one-object: ${one_tests} object-sphere tests, not fewer than ${many_tests}")
+endif()
+file(SHA256 "${WORK}/one.png" one_png)
+if(NOT one_png STREQUAL all_png)
+  string(APPEND FAILURES "\n--one-object: the image differs")
+endif()
+
 # Bad values: one line naming the option, exit 2, on every command that takes it.
 foreach(bad "render;--shadow-rule;some" "diff;--shadow-rule;some" "render;--shadow-bounces;2" "diff;--shadow-bounces;2")
   list(GET bad 0 cmd)
