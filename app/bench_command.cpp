@@ -69,7 +69,7 @@ void RunScene(const BenchArgs& args, const std::string& path, const std::vector<
   LoadOptions lo;
   lo.data_root = args.data;
   const Scene scene = LoadScene(path, lo);
-  const SceneBuffers buffers = FlattenScene(scene);
+  const SceneBuffers buffers = FlattenForFrame(scene, args.faithful);
   RenderArgs base;
   base.scene = path;
   base.data = args.data;

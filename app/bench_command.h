@@ -14,7 +14,7 @@ struct BenchArgs {
   std::string configs;  // empty: every configuration (bench_configs.h)
   int repetitions = 3, threads = 0, device = -1;
   bool progress = false;
-  FaithfulArgs faithful;  // --hash-order, --hash-bits: every hierarchy configuration takes them
+  FaithfulArgs faithful;  // the thesis's hierarchy, rays and objects: every configuration takes them
 };
 
 // Runs `rayspace bench`: every configuration on every scene at every size, in this process, each frame

@@ -59,6 +59,7 @@ BenchRow RunBenchConfig(const RenderArgs& base, const BenchConfig& config, const
   emu::FrameOptions fo;
   fo.width = width;
   fo.height = height;
+  ApplyFaithful(args.faithful, fo);
   row.peak_reset = ResetPeakRss();
   row.start_rss = CurrentRssBytes();
   for (int rep = 0; rep < repetitions; ++rep) {

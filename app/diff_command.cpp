@@ -456,6 +456,7 @@ ExitCode RunDiff(const DiffArgs& args) {
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height, args.bounces);
   fo.progress = args.progress || isatty(STDERR_FILENO);  // progress on stderr when someone watches
+  ApplyFaithful(args.faithful, fo);
   const Injection injection = ParseInject(args.inject);
   OutputFile report = OpenOutput(args.report, "the report", &scene);  // before the frame, as --save-inputs
   const MemoryEstimate estimate =
@@ -463,7 +464,7 @@ ExitCode RunDiff(const DiffArgs& args) {
   CheckFitsMachine(estimate, fo.width, fo.height, "--size", "the diff");
   const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, injection.kernel, args.Limits(), args.kernels);
   ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
-  const SceneBuffers buffers = FlattenScene(scene);
+  const SceneBuffers buffers = FlattenForFrame(scene, args.faithful);
   CheckFrameFits(gpu, fo.width, fo.height, scene.lights.size(), buffers.triangles.size());
   PrepareSaveDir(args.save_inputs);  // last: it creates the directory
   auto direct = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);

@@ -53,7 +53,7 @@ struct FrameArgs {
   std::uint32_t max_groups = 0;
   KernelFiles kernels;  // --kernel PASS=FILE (Vulkan): user kernels in place of built-in ones
   KernelModelArgs model;  // --schedule, --check-workgroups (the emulated workgroup kernels)
-  FaithfulArgs faithful;  // --hash-order, --hash-bits: the thesis's hierarchy as printed
+  FaithfulArgs faithful;  // the thesis's hierarchy as printed, its rays and objects
 
   TestLimits Limits() const { return {split_bytes, max_groups}; }
   // Whether --algo traces with the hierarchy (crsh, rah and rah-quadtree do; brute and embree do not).

@@ -189,13 +189,14 @@ ExitCode RunRender(const RenderArgs& args) {
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height, args.bounces);
   fo.progress = args.progress || isatty(STDERR_FILENO);  // progress on stderr when someone watches
+  ApplyFaithful(args.faithful, fo);
   RenderOutputs outputs = OpenRenderOutputs(args, scene);
 
   const MemoryEstimate estimate = EstimateFrameMemory(fo.width, fo.height, scene.lights.size(), scene.TriangleCount(), args.pair_capacity, 1);
   CheckFitsMachine(estimate, fo.width, fo.height);
 
   const Backend backend = MakeRenderBackend(args);
-  const SceneBuffers buffers = FlattenScene(scene);
+  const SceneBuffers buffers = FlattenForFrame(scene, args.faithful);
   CheckFrameFits(backend, fo.width, fo.height, scene.lights.size(), buffers.triangles.size());
   const std::unique_ptr<RenderedFrame> f = RenderOnBackend(args, scene, buffers, fo, backend);
   const emu::FrameResult& r = f->result;

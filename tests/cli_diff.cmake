@@ -360,6 +360,14 @@ foreach(f traverse.compact:1 traverse.compact:2 traverse.compact:3 traverse.comp
   # checker does not watch, so the diff must catch it in traverse.compact.
   diff_case(fault.fused.${f}@emu cornell-mirrors 64x64 ${f}@emu 4 traverse.compact --path fused)
 endforeach()
+# The thesis's rays and objects (docs/hierarchy.md, "Faithful to the thesis"): each switch equal on
+# both backends, and a planted raygen.shadow fault still caught under --shadow-rule lit.
+foreach(scene cornell-mirrors office)
+  diff_case(${scene}.crsh.faithful.shadow_rule ${scene} 64x64 "" 0 "" --shadow-rule lit)
+  diff_case(${scene}.crsh.faithful.shadow_bounces ${scene} 64x64 "" 0 "" --shadow-bounces first)
+  diff_case(${scene}.crsh.faithful.one_object ${scene} 64x64 "" 0 "" --one-object)
+endforeach()
+diff_case(fault.faithful.raygen.shadow:1 office 64x64 raygen.shadow:1 4 raygen.shadow --shadow-rule lit)
 # --objects tree: the joint descent's passes (tree.roots, tree.expand, tree.test, intersect.tree) and
 # the fused tree.step equal on both backends, with the frame digest of the flat top level; each
 # planted fault of the tree kernels caught in its own pass.

@@ -103,6 +103,8 @@ void CheckInputs(const call::Raygen& c) {
   CheckFrame(c.kName, c.frame);
   CheckScene(c.kName, c.scene);
   CheckSurfaces(c.kName, c.surfaces, c.frame, *c.scene);
+  if (c.shadow_rule != layout::kShadowRuleAll && c.shadow_rule != layout::kShadowRuleLit)
+    ThrowInput("{}: shadow_rule {} is neither all (0) nor lit (1)", c.kName, c.shadow_rule);
 }
 
 void CheckInputs(const call::Trim& c) {

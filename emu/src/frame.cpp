@@ -166,9 +166,10 @@ class Runner {
       transparent |= m.transparency > 0.0f;
     }
     const std::size_t last = (reflective || transparent) ? static_cast<std::size_t>(scene_.max_depth) : 0;
-    const std::size_t per_bounce = (b_.lights.empty() ? 0 : 3) + 1;
+    const std::size_t shadow = b_.lights.empty() ? 0 : 3;  // raygen, trim and trace of one bounce
+    const std::size_t shadow_bounces = opt_.shadow_first_bounce_only ? 1 : last + 1;
     const std::size_t per_generation = 4 * (static_cast<std::size_t>(reflective) + static_cast<std::size_t>(transparent));
-    return 3 + (last + 1) * per_bounce + last * per_generation + 1;
+    return 3 + shadow_bounces * shadow + (last + 1) + last * per_generation + 1;
   }
 
   // Bounding spheres of the triangles and objects, the tracer's preparation, and the G-buffer.
@@ -200,8 +201,11 @@ class Runner {
     SparseRays shadow;
     Trimmed shadow_trim;
     std::vector<std::uint32_t> occluded;
-    if (!b_.lights.empty()) {
-      RaygenAndTrim(layout::kRayShadow, "shadow." + bs, [&] { return passes_.Raygen({.kind = layout::kRayShadow, .frame = fc_, .surfaces = surfaces, .scene = &b_}); }, shadow, shadow_trim);
+    if (!b_.lights.empty() && bounce > 0 && opt_.shadow_first_bounce_only) {
+      for (const char* p : {"raygen.", "trim.", "trace."}) Skip(p + ("shadow." + bs), "--shadow-bounces first");
+      Unoccluded(surfaces.size(), shadow, shadow_trim, occluded);
+    } else if (!b_.lights.empty()) {
+      RaygenAndTrim(layout::kRayShadow, "shadow." + bs, [&] { return passes_.Raygen({.kind = layout::kRayShadow, .frame = fc_, .surfaces = surfaces, .scene = &b_, .shadow_rule = opt_.shadow_rule}); }, shadow, shadow_trim);
       r_.rays[layout::kRayShadow][bounce] = shadow_trim.rays.size();
       Pass("trace.shadow." + bs, [&] {
         Begin("shadow." + bs, layout::kRayShadow, bounce);
@@ -221,6 +225,17 @@ class Runner {
       r_.digest.Add("shade." + bs, "accum", accum);
       return surfaces.size();
     });
+  }
+
+  // The shade pass's shadow inputs when no shadow ray was traced (--shadow-bounces first after bounce
+  // 0): every slot flagged, each its own dense ray, none occluded, so every light reaches every point
+  // it faces.
+  void Unoccluded(std::size_t surfaces, SparseRays& shadow, Trimmed& trim, std::vector<std::uint32_t>& occluded) const {
+    const std::size_t slots = surfaces * b_.lights.size();
+    shadow.flags.assign(slots, 1u);
+    trim.offsets.resize(slots);
+    for (std::size_t i = 0; i < slots; ++i) trim.offsets[i] = static_cast<std::uint32_t>(i);
+    occluded.assign(slots, 0u);
   }
 
   // Next generation: reflection and refraction rays; their hits are the surfaces returned.

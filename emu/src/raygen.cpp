@@ -13,6 +13,7 @@ SparseRays PassRaygenShadow(const call::Raygen& c) {
   const In<layout::Surface> surfaces = c.surfaces;
   const SceneBuffers& scene = *c.scene;
   const std::size_t lights = scene.lights.size();
+  const bool lit_only = c.shadow_rule == layout::kShadowRuleLit;
   SparseRays out;
   out.rays.assign(surfaces.size() * lights, layout::Ray{});
   out.flags.assign(surfaces.size() * lights, 0u);
@@ -25,6 +26,8 @@ SparseRays PassRaygenShadow(const call::Raygen& c) {
       glm::vec3 d;
       float dist;
       if (!ShadowDirection(p, o, d, dist)) continue;
+      // --shadow-rule lit: no ray where the shade pass would not light the point anyway.
+      if (lit_only && !LightInFront(d, Xyz(sf.normal), Xyz(sf.incoming))) continue;
       layout::Ray r;
       r.origin_tmin = glm::vec4(o, fc.params.x);
       r.direction_tmax = glm::vec4(d, dist * fc.params.z);

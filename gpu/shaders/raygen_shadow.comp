@@ -35,6 +35,12 @@ void main() {
     const float dist = Length3(v);
     if (!(dist > 0.0) || !(abs(v.x) <= kFloatMax && abs(v.y) <= kFloatMax && abs(v.z) <= kFloatMax)) continue;
     precise const vec3 d = vec3(Div(v.x, dist), Div(v.y, dist), Div(v.z, dist));
+    // kShadowRuleLit: only where the light is in front (n.l > 0 with n turned to the viewer, as shade.comp).
+    if (pc.rule == kShadowRuleLit) {
+      vec3 n = sf.normal.xyz;
+      if (Dot3(n, sf.incoming.xyz) > 0.0) n = -n;
+      if (!(Dot3(-d, n) > 0.0)) continue;
+    }
     // Fault 1: the shadow ray runs all the way to the surface (no tmax shortening).
     precise const float tmax = kFault == 1u ? dist : dist * fc.params.z;
     Ray r;

@@ -29,7 +29,7 @@ vk::Status VulkanPasses::RaygenShadow(const emu::call::Raygen& call, emu::Sparse
                     RS_TRY(keep.From(c, Slice(surfaces, i0, i1), bs));
                     RS_TRY(keep.Output(c, (i1 - i0) * lights * sizeof(layout::Ray), br, out.rays.data() + i0 * lights));
                     RS_TRY(keep.Output(c, (i1 - i0) * lights * 4, bflags, out.flags.data() + i0 * lights));
-                    const layout::RaygenShadowPush push{static_cast<std::uint32_t>(i1 - i0), static_cast<std::uint32_t>(lights)};
+                    const layout::RaygenShadowPush push{static_cast<std::uint32_t>(i1 - i0), static_cast<std::uint32_t>(lights), call.shadow_rule};
                     Bindings<layout::kRaygenBindings> b;
                     b.Set(layout::kRaygenBindSurfaces, bs).Set(layout::kRaygenBindLightsOrMaterials, bl).Set(layout::kRaygenBindFrame, bf);
                     b.Set(layout::kRaygenBindRays, br).Set(layout::kRaygenBindFlags, bflags);

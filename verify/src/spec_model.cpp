@@ -102,6 +102,8 @@ RayModel ModelShadowRay(const emu::call::Raygen& c, std::size_t slot) {
   V d;
   R dist;
   m.spawn = emu::ShadowDirection(Spec3(emu::Xyz(sf.position)), Spec3(o), d, dist);
+  if (m.spawn && c.shadow_rule == layout::kShadowRuleLit)
+    m.spawn = emu::LightInFront(d, Spec3(emu::Xyz(sf.normal)), Spec3(emu::Xyz(sf.incoming)));
   if (m.spawn) {
     m.words[4] = Range(d.x);
     m.words[5] = Range(d.y);

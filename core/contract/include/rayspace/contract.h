@@ -93,9 +93,14 @@ RS_CONST(uint, kRaygenBindFrame, 2u);
 RS_CONST(uint, kRaygenBindRays, 3u);
 RS_CONST(uint, kRaygenBindFlags, 4u);
 RS_CONST(uint, kRaygenBindings, 5u);
+// Which covered surfaces get a shadow ray per light (--shadow-rule): all, or only those the light
+// lies in front of (n.l > 0, the thesis's count; docs/hierarchy.md, "Faithful to the thesis").
+RS_CONST(uint, kShadowRuleAll, 0u);
+RS_CONST(uint, kShadowRuleLit, 1u);
 struct RaygenShadowPush {
   uint surface_count;
   uint light_count;
+  uint rule;  // kShadowRuleAll or kShadowRuleLit
 };
 struct RaygenPush {  // reflection, refraction
   uint surface_count;
@@ -432,7 +437,7 @@ static_assert(kMaxLocalSize * kCompactRun < 65536u && kCompactBlock % kCompactRu
 static_assert(kMaxLocalSize * kCompactCols < 65536u && kCompactRows <= 8u && kCompactCols <= 32u);
 // Push-constant blocks: scalars only (same offsets in std430 and C++), within the 128 bytes every
 // Vulkan device guarantees.
-static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && sizeof(RaygenShadowPush) == 8 &&
+static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && sizeof(RaygenShadowPush) == 12 &&
               sizeof(RaygenPush) == 8 && sizeof(TrimPush) == 12 && sizeof(HashPush) == 36 && sizeof(SortPush) == 24 &&
               sizeof(BuildPush) == 20 && sizeof(TraversePush) == 56 && sizeof(ReducePush) == 20 &&
               sizeof(IntersectPush) == 36 && sizeof(ShadePush) == 16 && sizeof(ElementwisePush) == 8 &&

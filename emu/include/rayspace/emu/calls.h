@@ -15,6 +15,7 @@
 #include <string_view>
 #include <vector>
 
+#include "rayspace/contract.h"
 #include "rayspace/emu/fields.h"
 #include "rayspace/emu/streams.h"
 #include "rayspace/emu/tree_streams.h"
@@ -71,7 +72,8 @@ struct Raygen {
   layout::FrameConstants frame{};
   In<layout::Surface> surfaces{};
   const SceneBuffers* scene = nullptr;
-  RS_FIELDS(kind, frame, surfaces, scene)
+  std::uint32_t shadow_rule = layout::kShadowRuleAll;  // shadow rays: layout::kShadowRule*
+  RS_FIELDS(kind, frame, surfaces, scene, shadow_rule)
 };
 
 // Order-preserving compaction (exclusive scan of flags + scatter); one kernel for every kind.

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "rayspace/digest.h"
+#include "rayspace/contract.h"
 #include "rayspace/emu/backend.h"
 #include "rayspace/emu/passes.h"
 #include "rayspace/emu/tracer.h"
@@ -59,6 +60,13 @@ struct FrameOptions {
   bool progress = false;
   std::string progress_label;
   FramePasses* passes = nullptr;  // the backend of the frame's passes (nullptr: the emulator)
+  // Which rays the frame traces (docs/hierarchy.md, "Faithful to the thesis"). --shadow-rule: a shadow
+  // ray per covered surface and light (layout::kShadowRuleAll) or only where the light is in front
+  // (kShadowRuleLit, the thesis's count); the image is the same either way.
+  std::uint32_t shadow_rule = layout::kShadowRuleAll;
+  // --shadow-bounces first: shadow rays at bounce 0 only (the thesis's one shadow batch); later
+  // bounces shade with every light unoccluded.
+  bool shadow_first_bounce_only = false;
 };
 
 FrameResult RenderFrame(const Scene& scene, const SceneBuffers& buffers, Tracer& tracer,

@@ -24,6 +24,16 @@ bool ShadowDirection(Vec3<S> p, Vec3<S> o, Vec3<S>& d, S& dist) {
   return true;
 }
 
+// --shadow-rule lit: whether the light lies in front of the surface, n.l > 0, with the shading
+// normal n turned to the side the ray arrived on (`view`, the incoming direction) and l = -d, the unit
+// vector to the light. Exactly the test the shade pass makes before it lights a point (shade_math.h):
+// -d is bit for bit the shade pass's l, so a ray this test drops would have added nothing.
+template <typename S>
+bool LightInFront(Vec3<S> d, Vec3<S> n, Vec3<S> view) {
+  if (Dot(n, view) > S(0.0f)) n = -n;
+  return Dot(-d, n) > S(0.0f);
+}
+
 // Mirror direction i - 2 n (n.i) (eq. 3.4).
 template <typename S>
 Vec3<S> ReflectionDirection(Vec3<S> i, Vec3<S> n) {
