@@ -69,8 +69,8 @@ TEST_CASE("registry: the contract check refuses a kernel that binds outside the 
   CHECK(bindings.message.find("pass 'reduce'") != std::string::npos);
   INFO(bindings.message);
   CHECK(bindings.message.find("binding 6") != std::string::npos);
-  // trim.comp has 5 bindings like raygen's but a 12-byte push block against raygen.shadow's 8.
-  const vk::Status push = CheckKernel(Pass(PassId::kRaygenShadow), BuiltinKernel("trim"));
+  // trim.comp has 5 bindings like raygen's but a 12-byte push block against raygen.reflection's 8.
+  const vk::Status push = CheckKernel(Pass(PassId::kRaygenReflection), BuiltinKernel("trim"));
   CHECK_FALSE(push);
   CHECK(push.message.find("push-constant") != std::string::npos);
   // The raster is a graphics pipeline.
