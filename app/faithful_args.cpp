@@ -3,11 +3,58 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "rayspace/error.h"
+#include "rayspace/merge_objects.h"
+
 namespace rayspace::app {
 
 int MaxHashBits() { return (layout::kHashKeyBits - emu::HashConfig{}.light_bits) / 2; }
 
+std::vector<std::string> FaithfulPreset(const std::string& name) {
+  // The thesis's Sponza as one object is a property of that scene, not of the method: --one-object
+  // stays a switch of its own (`rayspace reproduce` sets it for Sponza).
+  if (name == "thesis") return {"--hash-order", "polar-first", "--hash-bits", "8", "--shadow-bounces", "first", "--objects", "flat"};
+  if (name == "roger") return {"--objects", "flat"};
+  if (name == "none") return {};
+  return {};
+}
+
+namespace {
+
+std::string PresetHelp() {
+  std::string help = "Work as a paper printed it: thesis (the CRSH thesis) or roger (Roger et al. 2007); none keeps "
+                     "rayspace's own choices. A preset sets switches the command line does not give:";
+  for (const char* name : {"thesis", "roger"}) {
+    help += fmt::format(" {} =", name);
+    for (const std::string& w : FaithfulPreset(name)) help += " " + w;
+    help += ";";
+  }
+  help.pop_back();
+  return help;
+}
+
+// Applies the preset's switches that `command` has and the command line did not give, through the
+// options themselves, so each value passes the same checks as when typed.
+void ResolvePreset(CLI::App& command, const std::string& preset) {
+  const std::vector<std::string> words = FaithfulPreset(preset);
+  for (std::size_t i = 0; i < words.size(); ++i) {
+    const bool has_value = i + 1 < words.size() && words[i + 1].rfind("--", 0) != 0;
+    CLI::Option* opt = command.get_option_no_throw(words[i]);
+    const std::string value = has_value ? words[i + 1] : "true";
+    if (has_value) ++i;
+    if (opt == nullptr || opt->count() > 0) continue;
+    opt->add_result(value);
+    opt->run_callback();
+  }
+}
+
+}  // namespace
+
 void AddFaithfulOptions(CLI::App& command, FaithfulArgs& args) {
+  command.add_option("--faithful", args.preset, PresetHelp())
+      ->check(CLI::IsMember({"none", "thesis", "roger"}))
+      ->capture_default_str();
+  command.parse_complete_callback([&command, &args] { ResolvePreset(command, args.preset); });
   command
       .add_option("--hash-order", args.hash_order,
                   "Direction part of the CRSH hash keys: interleaved (polar and azimuth bits alternate) or polar-first "
@@ -37,6 +84,18 @@ void AddFaithfulOptions(CLI::App& command, FaithfulArgs& args) {
                    "Merge all of the scene's objects into one (one bounding sphere), as the thesis's Sponza; same hits");
 }
 
+FaithfulArgs FaithfulFromPreset(const std::string& name) {
+  FaithfulArgs args;
+  CLI::App app;
+  AddFaithfulOptions(app, args);
+  try {
+    app.parse(std::vector<std::string>{name, "--faithful"});  // CLI11 reads the vector from its back
+  } catch (const CLI::ParseError& e) {
+    ThrowInput("--faithful {}: {}", name, e.what());
+  }
+  return args;
+}
+
 void ApplyFaithful(const FaithfulArgs& args, emu::HierarchyConfig& hc) {
   hc.hash.order = args.hash_order == "polar-first" ? layout::kHashOrderPolarFirst : layout::kHashOrderInterleaved;
   hc.hash.polar_bits = hc.hash.azimuth_bits = args.hash_bits;
@@ -44,10 +103,7 @@ void ApplyFaithful(const FaithfulArgs& args, emu::HierarchyConfig& hc) {
 
 SceneBuffers FlattenForFrame(const Scene& scene, const FaithfulArgs& args) {
   SceneBuffers b = FlattenScene(scene);
-  if (!args.one_object || b.objects.size() <= 1) return b;
-  // Objects' triangles are consecutive from 0, so the merged object is all of them.
-  b.objects.assign(1, glm::uvec4(0u, static_cast<std::uint32_t>(b.triangles.size()), 0u, 0u));
-  for (layout::TriangleInfo& i : b.info) i.ids.y = 0u;  // ids.x, the material, stays per triangle
+  if (args.one_object) MergeObjects(b);
   return b;
 }
 

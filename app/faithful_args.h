@@ -3,6 +3,7 @@
 // function, so their defaults agree; the defaults are the frame rayspace traces.
 #pragma once
 #include <string>
+#include <vector>
 
 #include "rayspace/emu/frame.h"
 #include "rayspace/emu/hierarchy.h"
@@ -14,6 +15,7 @@ class App;
 namespace rayspace::app {
 
 struct FaithfulArgs {
+  std::string preset = "none";                           // --faithful none|thesis|roger
   std::string hash_order = "interleaved";                // --hash-order interleaved|polar-first
   int hash_bits = emu::HierarchyConfig{}.hash.polar_bits;  // --hash-bits: shadow keys' cells per angle
   std::string shadow_rule = "all";                       // --shadow-rule all|lit
@@ -21,9 +23,17 @@ struct FaithfulArgs {
   bool one_object = false;                               // --one-object
 };
 
-// Registers --hash-order, --hash-bits, --shadow-rule, --shadow-bounces and --one-object on `command`,
-// writing into `args`.
+// Registers --faithful, --hash-order, --hash-bits, --shadow-rule, --shadow-bounces and --one-object on
+// `command`, writing into `args`. --faithful is resolved when the command's parse completes: each
+// switch of the preset that the command line does not give is set as if it had been given, so an
+// explicit switch wins over the preset.
 void AddFaithfulOptions(CLI::App& command, FaithfulArgs& args);
+// A preset's switches, as command-line words ("--hash-order", "polar-first", "--one-object", ...): the
+// one list --faithful applies and --help prints. An unknown name: empty.
+std::vector<std::string> FaithfulPreset(const std::string& name);
+// The switches of a preset, as `--faithful name` alone on a command line gives them (for callers
+// without a command line, such as `rayspace reproduce`). Throws InputError for an unknown name.
+FaithfulArgs FaithfulFromPreset(const std::string& name);
 // The largest --hash-bits: a shadow key holds the light index and both angles' cells.
 int MaxHashBits();
 // Sets the hierarchy configuration's fields the switches name.

@@ -2,6 +2,7 @@
 # for every algorithm, on the bundled scenes (reduced sizes), with bounces, refraction, both
 # reductions, forced dispatch splitting and paging, launches folded into rows.
 # Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DDATA=<data root> -DWORK=<scratch> [-DPART=sponza] -P cli_backend.cmake
+include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)
 set(failures "")
 file(MAKE_DIRECTORY "${WORK}")
 
@@ -10,10 +11,7 @@ include("${CMAKE_CURRENT_LIST_DIR}/cli_same_frame.cmake")
 # PART=sponza: only the Sponza frames (test cli.backend.sponza), which need the data root; without it
 # they print "data root not found" and ctest counts them as skipped (SKIP_REGULAR_EXPRESSION).
 if(PART STREQUAL "sponza")
-  if(NOT EXISTS "${DATA}/sponza_dabrovic/sponza.obj")
-    message(STATUS "data root not found: ${DATA} (no sponza_dabrovic/sponza.obj): cli.backend.sponza skipped")
-    return()
-  endif()
+  cli_require_data(cli.backend.sponza)
   same_frame(sponza "${SRC}/scenes/sponza.json" 128x128)
   same_frame(sponza_rah "${SRC}/scenes/sponza.json" 128x128 --algo rah)
   if(failures)

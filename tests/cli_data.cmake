@@ -3,10 +3,8 @@
 # real data root passes for every bundled scene; scenes/manifest.json is what
 # scripts/make_manifest.py writes from it. Needs the data root (skipped without it).
 # Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DDATA=<data root> -DWORK=<scratch> -P cli_data.cmake
-if(NOT EXISTS "${DATA}/sponza_dabrovic/sponza.obj")
-  message(STATUS "data root not found: ${DATA}")
-  return()
-endif()
+include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)
+cli_require_data(cli.data)
 file(REMOVE_RECURSE "${WORK}")
 file(MAKE_DIRECTORY "${WORK}/root/sponza_dabrovic")
 set(failures "")

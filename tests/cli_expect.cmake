@@ -27,6 +27,16 @@ macro(cli_script_end test)
   message(STATUS "${test}: all ${CASES} cases passed")
 endmacro()
 
+# cli_require_data(<test>): ends the script with "data root not found: <DATA> ... <test> skipped" when
+# DATA lacks Sponza, the file every data test reads first; tests/CMakeLists.txt's
+# SKIP_REGULAR_EXPRESSION turns that line into a skip. A macro, so that its return() ends the script.
+macro(cli_require_data test)
+  if(NOT EXISTS "${DATA}/sponza_dabrovic/sponza.obj")
+    message(STATUS "data root not found: ${DATA} (no sponza_dabrovic/sponza.obj): ${test} skipped")
+    return()
+  endif()
+endmacro()
+
 # cli_case_begin(): for the scripts of one ctest per case (cli_diff, cli_export), which
 # tests/CMakeLists.txt also includes with CASE unset to list the cases: when CASE is set, a scratch
 # directory of its own, case_work (cases run in parallel), emptied first.

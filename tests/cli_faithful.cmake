@@ -1,5 +1,5 @@
 # The "Faithful to the thesis" switches (docs/hierarchy.md): each changes what it names and nothing
-# else, and a bad value is refused naming the option (exit 2). Their bit-equality on both backends is
+# else, --faithful is exactly its list of switches, and a bad value is refused naming the option (exit 2). Their bit-equality on both backends is
 # in cli_diff.cmake (the *.faithful.* cases).
 # Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DWORK=<scratch> -P cli_faithful.cmake
 include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)
@@ -72,8 +72,34 @@ if(NOT one_png STREQUAL all_png)
   string(APPEND FAILURES "\n--one-object: the image differs")
 endif()
 
+# --faithful thesis: the same frame as its switches given one by one (the preset is only a list of
+# switches), and a switch given beside it wins over the preset's value.
+math(EXPR CASES "${CASES} + 1")
+set(thesis_switches --hash-order polar-first --hash-bits 8 --shadow-bounces first --objects flat)
+render_stats(preset cornell-mirrors --faithful thesis)
+render_stats(spelled cornell-mirrors ${thesis_switches})
+render_stats(preset10 cornell-mirrors --faithful thesis --hash-bits 12)
+render_stats(spelled10 cornell-mirrors --hash-order polar-first --hash-bits 12 --shadow-bounces first --objects flat)
+foreach(path "total_tests" "rays;shadow;total" "rays;reflection;total" "object_sphere_tests")
+  expect_equal_json(preset spelled "--faithful thesis: ${path}" ${path})
+  expect_equal_json(preset10 spelled10 "--faithful thesis --hash-bits 12: ${path}" ${path})
+endforeach()
+string(JSON preset_total GET "${preset_stats}" total_tests)
+string(JSON preset10_total GET "${preset10_stats}" total_tests)
+string(JSON every_total GET "${every_stats}" total_tests)
+if(preset_total EQUAL preset10_total OR preset_total EQUAL every_total)
+  string(APPEND FAILURES "\n--faithful thesis: ${preset_total} tests, the same as with --hash-bits 12 (${preset10_total}) "
+                         "or without the preset (${every_total}): the preset changes nothing here")
+endif()
+foreach(img preset spelled)
+  file(SHA256 "${WORK}/${img}.png" ${img}_png)
+endforeach()
+if(NOT preset_png STREQUAL spelled_png)
+  string(APPEND FAILURES "\n--faithful thesis: the image differs from its switches'")
+endif()
+
 # Bad values: one line naming the option, exit 2, on every command that takes it.
-foreach(bad "render;--shadow-rule;some" "diff;--shadow-rule;some" "render;--shadow-bounces;2" "diff;--shadow-bounces;2")
+foreach(bad "render;--faithful;rogers" "diff;--faithful;Thesis" "render;--shadow-rule;some" "diff;--shadow-rule;some" "render;--shadow-bounces;2" "diff;--shadow-bounces;2")
   list(GET bad 0 cmd)
   list(SUBLIST bad 1 -1 opt)
   math(EXPR CASES "${CASES} + 1")

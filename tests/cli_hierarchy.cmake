@@ -2,6 +2,7 @@
 # docs/performance.md): the thesis's trends, the RAH top-level count, the accounting identity in
 # every stats file and zero oracle mismatches.
 # Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DDATA=<data root> -DWORK=<scratch> [-DPART=sponza] -P cli_hierarchy.cmake
+include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)
 set(failures "")
 file(MAKE_DIRECTORY "${WORK}")
 
@@ -81,10 +82,7 @@ endmacro()
 # PART=sponza: only the Sponza cases (test cli.hierarchy.sponza), which need the data root; without
 # it they print "data root not found" and ctest counts them as skipped (SKIP_REGULAR_EXPRESSION).
 if(PART STREQUAL "sponza")
-  if(NOT EXISTS "${DATA}/sponza_dabrovic/sponza.obj")
-    message(STATUS "data root not found: ${DATA} (no sponza_dabrovic/sponza.obj): cli.hierarchy.sponza skipped")
-    return()
-  endif()
+  cli_require_data(cli.hierarchy.sponza)
   render(sponza_crsh sponza 128x128 crsh 2 --objects flat)
   render(sponza_rah sponza 128x128 rah 2 --objects flat)
   render(sponza_crsh3 sponza 128x128 crsh 3 --objects flat)

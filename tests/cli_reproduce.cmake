@@ -5,10 +5,7 @@
 # Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DDATA=<data root> -DWORK=<scratch> -P cli_reproduce.cmake
 cmake_minimum_required(VERSION 3.19)
 include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)
-if(NOT EXISTS "${DATA}/sponza_dabrovic/sponza.obj")
-  message(STATUS "data root not found: ${DATA} (no sponza_dabrovic/sponza.obj): cli.reproduce skipped")
-  return()
-endif()
+cli_require_data(cli.reproduce)
 file(REMOVE_RECURSE "${WORK}")
 file(MAKE_DIRECTORY "${WORK}")
 set(FAILURES "")

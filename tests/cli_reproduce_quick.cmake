@@ -4,10 +4,8 @@
 # checks that the sweep runs end to end and says something about each relation.
 # Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DDATA=<data root> -DWORK=<scratch> -P cli_reproduce_quick.cmake
 cmake_minimum_required(VERSION 3.19)
-if(NOT EXISTS "${DATA}/sponza_dabrovic/sponza.obj")
-  message(STATUS "data root not found: ${DATA} (no sponza_dabrovic/sponza.obj): cli.reproduce.quick skipped")
-  return()
-endif()
+include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)
+cli_require_data(cli.reproduce.quick)
 file(REMOVE_RECURSE "${WORK}")
 file(MAKE_DIRECTORY "${WORK}")
 execute_process(COMMAND "${RAYSPACE}" reproduce thesis --quick --scenes "${SRC}/scenes" --data "${DATA}" --out quick

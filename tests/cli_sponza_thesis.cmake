@@ -1,10 +1,8 @@
 # scenes/sponza-thesis.json traces the shadow rays docs/hierarchy.md states at 512x512: 256,802,
 # within 0.5 % of the thesis's 256,713. Needs the data root (skipped without it).
 # Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DDATA=<data root> -DWORK=<scratch> -P cli_sponza_thesis.cmake
-if(NOT EXISTS "${DATA}/sponza_dabrovic/sponza.obj")
-  message(STATUS "data root not found: ${DATA}")
-  return()
-endif()
+include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)
+cli_require_data(cli.sponza_thesis)
 file(REMOVE_RECURSE "${WORK}")
 file(MAKE_DIRECTORY "${WORK}")
 execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/sponza-thesis.json" --data "${DATA}" --size 512x512 --no-oracle
