@@ -11,6 +11,10 @@ Blocks:
   brute                      docs/performance.md: `render --algo brute` per scene, 1 and 2 threads
                              (frame, raster and tracing ms, rays, digest)
   accuracy SCENE             docs/accuracy.md: the tables `rayspace accuracy SCENE` writes
+  hierarchy                  docs/performance.md: the hierarchy's totals and phase times at subdivision 8,
+                             depth 2, read from the committed `rayspace reproduce thesis --full` report
+                             (docs/reproduce/thesis: tables/table-4.04.csv, tables/table-quadtree.csv,
+                             timings.csv); it runs nothing
 
 Usage:
   scripts/doc_numbers.py [--build DIR] [--data DIR] [BLOCK...]   rewrite the blocks (all by default)
@@ -18,7 +22,8 @@ Usage:
 
 --check renders each scene of the brute block whose data is present, once, and exits 1 naming every
 digest the docs state that the binary no longer gives (timings are noise and are not checked); a
-scene whose meshes are missing is reported as skipped. Exit 2: bad arguments or a missing block.
+scene whose meshes are missing is reported as skipped. It also exits 1 when the hierarchy block is not
+what the committed report gives (edited by hand, or the report regenerated without the block). Exit 2: bad arguments or a missing block.
 """
 import argparse
 import json
@@ -31,6 +36,7 @@ import tempfile
 SOURCE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PERFORMANCE = os.path.join(SOURCE, "docs", "performance.md")
 ACCURACY = os.path.join(SOURCE, "docs", "accuracy.md")
+THESIS_REPORT = os.path.join(SOURCE, "docs", "reproduce", "thesis")
 BRUTE_SCENES = ["cornell-mirrors", "office", "sponza"]
 ACCURACY_SCENES = ["cornell-mirrors", "sponza"]
 # A scene's meshes under the data root, to tell a missing data root from a failure.
@@ -182,6 +188,65 @@ def stated_digests():
     return found
 
 
+def read_csv(path):
+    import csv
+    if not os.path.exists(path):
+        fail("%s: missing (run `rayspace reproduce thesis --full --out docs/reproduce/thesis`)" % path)
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def hierarchy_body(report):
+    """The hierarchy block's text, from the reproduce report in `report` (a directory)."""
+    totals = read_csv(os.path.join(report, "tables", "table-4.04.csv"))
+    quad = read_csv(os.path.join(report, "tables", "table-quadtree.csv"))
+    timings_path = os.path.join(report, "timings.csv")
+    phases, order = {}, []
+    if os.path.exists(timings_path):
+        for row in read_csv(timings_path):
+            name = row["configuration"]
+            if not name.endswith(" s8 d2") and not name.endswith("rah-quadtree"):
+                continue
+            phases.setdefault(name, {})[row["phase"]] = row["ours ms"]
+            if row["phase"] not in order:
+                order.append(row["phase"])
+    head = ["scene", "algorithm", "total tests", "% of brute force", "thesis %"] + ["%s ms" % p for p in order]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * 2 + "---:|" * (len(head) - 2)]
+
+    def times(config):
+        got = phases.get(config, {})
+        return [got.get(p, "") for p in order]
+
+    for r in totals:
+        if r["algorithm"] == "BRUTE":
+            continue
+        config = "%s %s s8 d2" % (r["scene"], r["algorithm"].lower())
+        lines.append("| " + " | ".join([r["scene"], r["algorithm"].lower(), "{:,}".format(int(r["ours total"])),
+                                        r["ours % of brute force"] + "%", r["published % of brute force"] + "%"]
+                                       + times(config)) + " |")
+    for r in quad:
+        config = "%s rah-quadtree" % r["scene"]
+        lines.append("| " + " | ".join([r["scene"], "rah-quadtree", "{:,}".format(int(r["quadtree total"])),
+                                        r["quadtree % of brute force"] + "%", "n/a"] + times(config)) + " |")
+    note = ("Phase times: this report's timings.csv, one run, as that file's header says."
+            if order else "Phase times: not in this report (its timings.csv is not committed).")
+    return "\n".join(lines) + "\n\n" + note
+
+
+def generate_hierarchy():
+    replace_block(PERFORMANCE, "hierarchy", hierarchy_body(THESIS_REPORT))
+
+
+def check_hierarchy():
+    stated = read_block(PERFORMANCE, "hierarchy")
+    if stated != "\n" + hierarchy_body(THESIS_REPORT) + "\n":
+        print("doc_numbers: the hierarchy block of docs/performance.md is not what docs/reproduce/thesis gives; "
+              "run scripts/doc_numbers.py hierarchy", file=sys.stderr)
+        return 1
+    print("doc_numbers: the hierarchy block matches docs/reproduce/thesis")
+    return 0
+
+
 def check(build, data):
     stated = stated_digests()
     if not stated:
@@ -218,17 +283,19 @@ def main():
     if a.check:
         if a.blocks:
             fail("--check takes no blocks")
-        return check(build, data)
-    for block in a.blocks or ["brute", "accuracy"]:
+        return max(check_hierarchy(), check(build, data))
+    for block in a.blocks or ["brute", "accuracy", "hierarchy"]:
         if block == "brute":
             generate_brute(build, data)
         elif block == "accuracy":
             for scene in ACCURACY_SCENES:
                 generate_accuracy(scene, build, data)
+        elif block == "hierarchy":
+            generate_hierarchy()
         elif block.startswith("accuracy:") and block[9:] in ACCURACY_SCENES:
             generate_accuracy(block[9:], build, data)
         else:
-            fail("unknown block '%s': brute, accuracy or accuracy:SCENE (%s)" % (block, ", ".join(ACCURACY_SCENES)))
+            fail("unknown block '%s': brute, hierarchy, accuracy or accuracy:SCENE (%s)" % (block, ", ".join(ACCURACY_SCENES)))
     return 0
 
 
