@@ -1,7 +1,7 @@
 # `rayspace reproduce thesis`: the report and its tables are byte-identical whether written by one run,
 # a second run, a run with --jobs 2, a run interrupted (--stop-after, as Ctrl-C) and resumed, or three
 # shards merged; an interrupted run leaves no partial file; bad arguments exit 2 with one line.
-# Frames are 16x16 (the hidden --size), and 15 of the 39 configurations (--only), to keep it quick.
+# Frames are 16x16 (the hidden --size), and 27 of the 75 configurations (--only), to keep it quick.
 # Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DDATA=<data root> -DWORK=<scratch> -P cli_reproduce.cmake
 cmake_minimum_required(VERSION 3.19)
 include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)

@@ -1,4 +1,4 @@
-# `rayspace reproduce thesis --quick`, whole (39 configurations at 128x128): every table of 4.1-4.24
+# `rayspace reproduce thesis --quick`, whole (75 configurations at 128x128): every table of 4.1-4.24
 # has its section, CSV and plot, and every relation the thesis states is judged on both sides with
 # no relation left without a verdict. The counts themselves are the report's, not this test's: it
 # checks that the sweep runs end to end and says something about each relation.

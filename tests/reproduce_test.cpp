@@ -6,6 +6,7 @@
 #include <iterator>
 
 #include "rayspace/error.h"
+#include "faithful_table.h"
 #include "relations.h"
 #include "runner.h"
 #include "report.h"
@@ -95,6 +96,46 @@ TEST_CASE("reproduce: the embedded thesis tables hold the one published inconsis
   const auto sponza_d2 = PublishedMeasurement(p, {8, 2}, "SPONZA", "RAH");
   CHECK(Identity(*sponza_d2, 8).holds);
   CHECK(RahTopLevel(*sponza_d2, 2).holds);
+}
+
+// A result of `algo` on SPONZA at subdivision 8, depth 2, 512x512, with a total.
+Result SponzaTotal(const std::string& algo, const std::string& faithful, double total) {
+  Result r;
+  r.config.scene = "SPONZA";
+  r.config.algo = algo;
+  r.config.faithful = faithful;
+  r.counts.total = static_cast<std::uint64_t>(total);
+  return r;
+}
+
+TEST_CASE("reproduce: the faithful table judges each total and the CRSH/RAH ratio against 15 %") {
+  // Published, table 4.4: SPONZA s8 d2 RAH 632,408,864 and CRSH 405,619,896 (ratio 0.6414).
+  const std::vector<Result> results = {SponzaTotal("rah", "thesis", 632408864 * 1.10), SponzaTotal("crsh", "thesis", 405619896 * 0.80),
+                                       SponzaTotal("rah", "", 1e9), SponzaTotal("crsh", "", 1e8)};
+  std::vector<RelationRow> relations;
+  const Table t = FaithfulTable(results, ThesisPublished(), relations);
+  REQUIRE(t.rows.size() == 1);
+  const std::vector<std::string>& row = t.rows[0];
+  CHECK(row[0] == "SPONZA");
+  CHECK(row[4] == "1.100");
+  CHECK(row[7] == "0.800");
+  CHECK(row[9] == "0.100");   // defaults: 1e8 / 1e9
+  CHECK(row[10] == "0.466");  // faithful: 0.8 x 405,619,896 / (1.1 x 632,408,864)
+  CHECK(row[11] == "1 of 3 within 15 %");
+  REQUIRE(relations.size() == 3);
+  CHECK(relations[0].relation == std::string(kFaithfulTotal));
+  CHECK(relations[0].where == "SPONZA s8 d2 RAH");
+  CHECK(relations[0].ours->holds);
+  CHECK_FALSE(relations[1].ours->holds);
+  CHECK(relations[1].ours->detail == "324495916 vs 405619896: -20.0 %");
+  CHECK_FALSE(relations[2].ours->holds);
+  CHECK_FALSE(relations[2].published.has_value());
+  // Exactly at the tolerance holds; just past it fails.
+  relations.clear();
+  FaithfulTable({SponzaTotal("rah", "thesis", 632408864 * 1.15), SponzaTotal("crsh", "thesis", 405619896 * 1.151)}, ThesisPublished(),
+                relations);
+  CHECK(relations[0].ours->holds);
+  CHECK_FALSE(relations[1].ours->holds);
 }
 
 TEST_CASE("reproduce: merge takes every shard of one run exactly once") {

@@ -14,6 +14,7 @@
 #include "data_check.h"
 #include "rayspace/error.h"
 #include "rayspace/input_file.h"
+#include "rayspace/merge_objects.h"
 #include "rayspace/parallel.h"
 #include "plot.h"
 #include "report.h"
@@ -93,7 +94,10 @@ void CheckScenesAndData(const std::vector<fs::path>& scenes, const std::string& 
                data_root);
 }
 
-// Loads each scene file once, with the bounces its configurations trace.
+// A scene as the frames read it: its file, and whether its objects are merged into one.
+std::string SceneKey(const Config& c) { return c.scene_file + (c.one_object ? " one-object" : ""); }
+
+// Loads each scene file once per object layout, with the bounces its configurations trace.
 std::map<std::string, LoadedScene> LoadScenes(const std::vector<Config>& configs, const ReproduceArgs& args) {
   std::vector<fs::path> paths;
   for (const Config& c : configs)
@@ -104,11 +108,12 @@ std::map<std::string, LoadedScene> LoadScenes(const std::vector<Config>& configs
   LoadOptions lo;
   lo.data_root = args.data;
   for (const Config& c : configs) {
-    if (scenes.count(c.scene_file)) continue;
-    LoadedScene& s = scenes[c.scene_file];
+    if (scenes.count(SceneKey(c))) continue;
+    LoadedScene& s = scenes[SceneKey(c)];
     s.scene = LoadScene(fs::path(args.scenes) / c.scene_file, lo);
     s.scene.max_depth = c.bounces;
     s.buffers = FlattenScene(s.scene);
+    if (c.one_object) MergeObjects(s.buffers);
     s.digest = SceneDigest(s.scene.files);
   }
   return scenes;
@@ -146,7 +151,7 @@ app::ExitCode RunReproduce(const ReproduceArgs& args, const FrameFn& frame) {
   std::vector<Planned> planned;
   std::vector<std::string> keys;
   for (const Config& c : configs) {
-    const LoadedScene& s = scenes.at(c.scene_file);
+    const LoadedScene& s = scenes.at(SceneKey(c));
     planned.push_back({c, ResultKey(s.digest, c.Canonical(), Version()), &s});
     keys.push_back(planned.back().key);
   }

@@ -10,7 +10,8 @@ const std::vector<SceneChoice>& ThesisScenes() {
       {"CORNELL", {"cornell-mirrors.json"}, 2,
        "stand-in: cornell-mirrors, shadow rays after each of 2 bounces"},
       {"SPONZA", {"sponza-thesis.json"}, 1,
-       "34 objects, not one mesh; our viewpoint, chosen for the thesis's shadow-ray count (its camera is not published)"},
+       "34 objects, not one mesh; our viewpoint, chosen for the thesis's shadow-ray count (its camera is not published)",
+       true},
   };
   return scenes;
 }
@@ -39,18 +40,24 @@ const std::vector<std::pair<int, int>>& ThesisShapes() {
 std::string Config::Canonical() const {
   // The quadtree's subdivision is 4 and its depth log2 of the image size: both follow from the size.
   const std::string shape = quadtree() ? "quadtree" : fmt::format("subdivision={} levels={}", subdivision, levels);
-  return fmt::format("target={} scene={} file={} algo={} {} bounces={} size={}x{} objects=flat backend=emu", target, scene,
-                     scene_file, algo, shape, bounces, width, height);
+  // Faithful settings are appended only when set, so the keys of the default configurations stay as they were.
+  const std::string faithful_text = faithful.empty() ? "" : fmt::format(" faithful={}{}", faithful, one_object ? " one-object" : "");
+  return fmt::format("target={} scene={} file={} algo={} {} bounces={} size={}x{} objects=flat backend=emu{}", target, scene,
+                     scene_file, algo, shape, bounces, width, height, faithful_text);
 }
 
 std::string Config::Name() const {
-  return quadtree() ? fmt::format("{} {}", scene, algo) : fmt::format("{} {} s{} d{}", scene, algo, subdivision, levels);
+  const std::string name =
+      quadtree() ? fmt::format("{} {}", scene, algo) : fmt::format("{} {} s{} d{}", scene, algo, subdivision, levels);
+  return faithful.empty() ? name : name + " faithful";
 }
 
 std::string Config::RenderArgs() const {
   const std::string shape = quadtree() ? "" : fmt::format(" --subdivision {} --levels {}", subdivision, levels);
-  return fmt::format("scenes/{} --algo {}{} --bounces {} --objects flat --size {}x{} --no-oracle", scene_file, algo, shape,
-                     bounces, width, height);
+  const std::string faithful_args =
+      faithful.empty() ? "" : fmt::format(" --faithful {}{}", faithful, one_object ? " --one-object" : "");
+  return fmt::format("scenes/{} --algo {}{} --bounces {} --objects flat --size {}x{}{} --no-oracle", scene_file, algo, shape,
+                     bounces, width, height, faithful_args);
 }
 
 std::vector<Config> ThesisConfigs(const std::filesystem::path& scenes_dir, int width, int height) {
@@ -77,6 +84,16 @@ std::vector<Config> ThesisConfigs(const std::filesystem::path& scenes_dir, int w
     c.algo = "rah-quadtree";
     c.subdivision = 4;
     c.levels = 0;
+    configs.push_back(c);
+  }
+  // The same shapes with the thesis's method as printed, beside rayspace's defaults.
+  const std::size_t defaults = configs.size();
+  for (std::size_t i = 0; i < defaults; ++i) {
+    Config c = configs[i];
+    if (c.quadtree()) continue;
+    c.faithful = "thesis";
+    for (const SceneChoice& s : ThesisScenes())
+      if (s.paper == c.scene) c.one_object = s.one_object;
     configs.push_back(c);
   }
   return configs;

@@ -15,6 +15,7 @@ struct SceneChoice {
   std::vector<std::string> files;  // candidates, best first, relative to the scenes directory
   int bounces = 1;                 // --bounces: reflection bounces the thesis's frame traces
   std::string note;                // how ours differs, for the report's rows
+  bool one_object = false;         // the thesis's model is one object: --one-object in faithful runs
 };
 // The thesis's scenes, the one table to change when a scene's stand-in changes.
 const std::vector<SceneChoice>& ThesisScenes();
@@ -34,6 +35,8 @@ struct Config {
   std::string algo;        // crsh, rah, rah-quadtree
   int subdivision = 8, levels = 2, bounces = 1;
   int width = 512, height = 512;
+  std::string faithful;    // empty, or a --faithful preset (the thesis's method as printed)
+  bool one_object = false;  // --one-object
   bool quadtree() const { return algo == "rah-quadtree"; }
   // Every setting that changes the counts, as one line (part of the result's key).
   std::string Canonical() const;
@@ -43,7 +46,8 @@ struct Config {
   std::string RenderArgs() const;
 };
 
-// The thesis's configurations at width x height: per scene, 6 shapes x {rah, crsh}, then Roger's quadtree.
+// The thesis's configurations at width x height: per scene, 6 shapes x {rah, crsh}, then Roger's
+// quadtree; then, per scene, the 6 shapes x {rah, crsh} again with --faithful thesis.
 // Scene files are resolved in `scenes_dir`.
 std::vector<Config> ThesisConfigs(const std::filesystem::path& scenes_dir, int width, int height);
 

@@ -19,6 +19,8 @@ app::RenderArgs Args(const Config& c) {
   args.objects = "flat";  // the thesis's: every triangle of every object a top node's sphere may meet
   args.no_oracle = true;
   args.backend = "emu";
+  if (!c.faithful.empty()) args.faithful = app::FaithfulFromPreset(c.faithful);
+  args.faithful.one_object = c.one_object;
   return args;
 }
 
@@ -58,6 +60,7 @@ FrameOutput RenderConfig(const Config& c, const Scene& scene, const SceneBuffers
   emu::FrameOptions fo;
   fo.width = c.width;
   fo.height = c.height;
+  app::ApplyFaithful(args.faithful, fo);
   std::unique_ptr<app::Backend> backend;
   {
     std::lock_guard<std::mutex> lock(g_backend_mutex);

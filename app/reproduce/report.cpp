@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "faithful_table.h"
 #include "rayspace/json_text.h"
 
 namespace rayspace::reproduce {
@@ -20,7 +21,7 @@ using Index = std::map<std::tuple<std::string, std::string, int, int>, const Res
 Index MakeIndex(const std::vector<Result>& results) {
   Index idx;
   for (const Result& r : results)
-    idx[{r.config.scene, r.config.algo, r.config.subdivision, r.config.levels}] = &r;
+    if (r.config.faithful.empty()) idx[{r.config.scene, r.config.algo, r.config.subdivision, r.config.levels}] = &r;
   return idx;
 }
 
@@ -263,6 +264,7 @@ Report BuildReport(const std::vector<Result>& results, const Published& publishe
     report.tables.push_back(TotalsTable(first + 3, s, idx, published, report));
   }
   report.tables.push_back(QuadtreeTable(idx));
+  report.tables.push_back(FaithfulTable(results, published, report.relations));
   return report;
 }
 

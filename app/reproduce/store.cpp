@@ -38,7 +38,8 @@ namespace {
 nlohmann::json ConfigJson(const Config& c) {
   return {{"target", c.target}, {"scene", c.scene},       {"scene_file", c.scene_file}, {"algo", c.algo},
           {"subdivision", c.subdivision}, {"levels", c.levels}, {"bounces", c.bounces},
-          {"width", c.width},   {"height", c.height},     {"canonical", c.Canonical()}};
+          {"width", c.width},   {"height", c.height},     {"faithful", c.faithful},     {"one_object", c.one_object},
+          {"canonical", c.Canonical()}};
 }
 
 Config ConfigFromJson(const nlohmann::json& j) {
@@ -52,6 +53,8 @@ Config ConfigFromJson(const nlohmann::json& j) {
   j.at("bounces").get_to(c.bounces);
   j.at("width").get_to(c.width);
   j.at("height").get_to(c.height);
+  c.faithful = j.value("faithful", std::string());
+  c.one_object = j.value("one_object", false);
   return c;
 }
 
