@@ -3,6 +3,8 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "rayspace/error.h"
+
 namespace rayspace::app {
 
 int MaxHashBits() { return (layout::kHashKeyBits - emu::HashConfig{}.light_bits) / 2; }
@@ -35,11 +37,22 @@ void AddFaithfulOptions(CLI::App& command, FaithfulArgs& args) {
       ->capture_default_str();
   command.add_flag("--one-object", args.one_object,
                    "Merge all of the scene's objects into one (one bounding sphere), as the thesis's Sponza; same hits");
+  command
+      .add_option("--cone-test", args.cone_test,
+                  "The traversal's cone-sphere test: conservative (never loses a hit) or printed (the thesis's eq. 3.16 "
+                  "as printed, no margins; it can lose hits, which the oracle counts); printed traces --objects flat")
+      ->check(CLI::IsMember({"conservative", "printed"}))
+      ->capture_default_str();
 }
 
 void ApplyFaithful(const FaithfulArgs& args, emu::HierarchyConfig& hc) {
   hc.hash.order = args.hash_order == "polar-first" ? layout::kHashOrderPolarFirst : layout::kHashOrderInterleaved;
   hc.hash.polar_bits = hc.hash.azimuth_bits = args.hash_bits;
+  if (args.cone_test != "printed") return;
+  if (hc.object_tree) ThrowInput("--cone-test printed: the object tree (--objects tree) has only the conservative test");
+  hc.cone_test = layout::kConeTestPrinted;
+  hc.auto_tree_spread = 0.0f;  // --objects auto: flat, the only descent with the printed test
+  hc.auto_tree_triangles = 0;
 }
 
 SceneBuffers FlattenForFrame(const Scene& scene, const FaithfulArgs& args) {

@@ -19,14 +19,16 @@ struct FaithfulArgs {
   std::string shadow_rule = "all";                       // --shadow-rule all|lit
   std::string shadow_bounces = "all";                    // --shadow-bounces all|first
   bool one_object = false;                               // --one-object
+  std::string cone_test = "conservative";                // --cone-test conservative|printed
 };
 
-// Registers --hash-order, --hash-bits, --shadow-rule, --shadow-bounces and --one-object on `command`,
-// writing into `args`.
+// Registers --hash-order, --hash-bits, --shadow-rule, --shadow-bounces, --one-object and --cone-test on
+// `command`, writing into `args`.
 void AddFaithfulOptions(CLI::App& command, FaithfulArgs& args);
 // The largest --hash-bits: a shadow key holds the light index and both angles' cells.
 int MaxHashBits();
-// Sets the hierarchy configuration's fields the switches name.
+// Sets the hierarchy configuration's fields the switches name; --cone-test printed takes --objects
+// auto as flat and refuses --objects tree (the object tree's descent has only the conservative test).
 void ApplyFaithful(const FaithfulArgs& args, emu::HierarchyConfig& hc);
 // The scene's buffers; with --one-object every triangle in one object (one bounding sphere), each
 // triangle keeping its material, as the thesis's Sponza was "not divided into submeshes".

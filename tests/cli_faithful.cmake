@@ -72,8 +72,21 @@ if(NOT one_png STREQUAL all_png)
   string(APPEND FAILURES "\n--one-object: the image differs")
 endif()
 
+# --cone-test printed: the same rays, other pairs kept by the traversal (it traces --objects flat, so
+# against the conservative test on flat objects).
+math(EXPR CASES "${CASES} + 1")
+render_stats(flat cornell-mirrors --objects flat)
+render_stats(printed cornell-mirrors --cone-test printed)
+expect_equal_json(flat printed "--cone-test printed: rays" rays)
+string(JSON flat_tests GET "${flat_stats}" total_tests)
+string(JSON printed_tests GET "${printed_stats}" total_tests)
+if(flat_tests EQUAL printed_tests)
+  string(APPEND FAILURES "\n--cone-test printed: ${printed_tests} tests, as many as the conservative test's")
+endif()
+
 # Bad values: one line naming the option, exit 2, on every command that takes it.
-foreach(bad "render;--shadow-rule;some" "diff;--shadow-rule;some" "render;--shadow-bounces;2" "diff;--shadow-bounces;2")
+foreach(bad "render;--shadow-rule;some" "diff;--shadow-rule;some" "render;--shadow-bounces;2" "diff;--shadow-bounces;2"
+            "render;--cone-test;exact" "diff;--cone-test;exact" "render;--cone-test;printed;--objects;tree")
   list(GET bad 0 cmd)
   list(SUBLIST bad 1 -1 opt)
   math(EXPR CASES "${CASES} + 1")
