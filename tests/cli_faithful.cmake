@@ -103,5 +103,12 @@ execute_process(COMMAND "${RAYSPACE}" bench "${SRC}/scenes/cornell-mirrors.json"
 if(NOT rc EQUAL 2 OR NOT err MATCHES "--shadow-rule")
   string(APPEND FAILURES "\nbench --shadow-rule some: exit ${rc}, expected 2 naming --shadow-rule: ${err}")
 endif()
+# bench: a named object-tree configuration is refused under --cone-test printed before the first frame.
+math(EXPR CASES "${CASES} + 1")
+execute_process(COMMAND "${RAYSPACE}" bench "${SRC}/scenes/cornell-mirrors.json" --cone-test printed --configs crsh-tree
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 2 OR NOT err MATCHES "--cone-test printed: configuration 'crsh-tree'")
+  string(APPEND FAILURES "\nbench --cone-test printed --configs crsh-tree: exit ${rc}, expected 2 naming the configuration: ${err}")
+endif()
 
 cli_script_end(cli_faithful)
