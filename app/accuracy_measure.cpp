@@ -243,7 +243,7 @@ void MeasureTriModes(const Workload& w, std::vector<Row>& rows) {
 std::vector<EndToEnd> ConeEndToEnd(const Scene& scene, const SceneBuffers& b, const emu::FrameOptions& fo) {
   ModeTraversal exact_passes([](const layout::ConeNode& n, glm::vec4 s, float) { return refs::ExactNodeMeetsSphere(n, s); });
   const FrameOutcome exact = RunFrame(scene, b, fo, exact_passes);
-  ModeTraversal paper([](const layout::ConeNode& n, glm::vec4 s, float eps) { return emu::cone::PrintedTest(n, glm::vec4(glm::vec3(s), s.w + eps)); });
+  ModeTraversal paper([](const layout::ConeNode& n, glm::vec4 s, float eps) { return emu::cone::PrintedTest(n, s, eps); });
   ModeTraversal dbl([](const layout::ConeNode& n, glm::vec4 s, float eps) { return refs::DoubleNodeMeetsSphere(n, glm::vec4(glm::vec3(s), s.w + eps)); });
   const FrameOutcome fp = RunFrame(scene, b, fo, paper);
   const FrameOutcome fc = RunFrame(scene, b, fo, emu::EmuHierarchyPasses());

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <sstream>
 #include <utility>
+#include <vector>
 
 #include <unistd.h>
 
@@ -85,8 +86,16 @@ void RunScene(const BenchArgs& args, const std::string& path, const std::vector<
 
 ExitCode RunBench(const BenchArgs& args) {
   const std::vector<std::pair<int, int>> sizes = ParseSizes(args.sizes);
-  const std::vector<const BenchConfig*> configs =
-      ParseBenchConfigs(args.configs.empty() ? DefaultBenchConfigs() : args.configs);
+  std::vector<const BenchConfig*> configs = ParseBenchConfigs(args.configs.empty() ? DefaultBenchConfigs() : args.configs);
+  // The object tree has only the conservative test: without --configs its configurations are left out,
+  // a named one is refused before the first frame.
+  if (args.faithful.cone_test == "printed") {
+    if (args.configs.empty()) std::erase_if(configs, [](const BenchConfig* c) { return c->objects == "tree"; });
+    for (const BenchConfig* c : configs)
+      if (c->objects == "tree")
+        ThrowInput("--cone-test printed: configuration '{}' traces the object tree, which has only the conservative test",
+                   c->name);
+  }
   OutputFile json = CheckInputsAndOutput(args);
   if (args.threads > 0) SetThreadCount(args.threads);
   CheckBenchMemory(args, sizes);

@@ -13,8 +13,9 @@ int MaxHashBits() { return (layout::kHashKeyBits - emu::HashConfig{}.light_bits)
 std::vector<std::string> FaithfulPreset(const std::string& name) {
   // The thesis's Sponza as one object is a property of that scene, not of the method: --one-object
   // stays a switch of its own (`rayspace reproduce` sets it for Sponza).
-  if (name == "thesis") return {"--hash-order", "polar-first", "--hash-bits", "8", "--shadow-bounces", "first", "--objects", "flat"};
-  if (name == "roger") return {"--objects", "flat"};
+  if (name == "thesis")
+    return {"--hash-order", "polar-first", "--hash-bits", "8", "--shadow-bounces", "first", "--objects", "flat", "--cone-test", "printed"};
+  if (name == "roger") return {"--objects", "flat", "--cone-test", "printed"};
   if (name == "none") return {};
   return {};
 }
@@ -82,6 +83,12 @@ void AddFaithfulOptions(CLI::App& command, FaithfulArgs& args) {
       ->capture_default_str();
   command.add_flag("--one-object", args.one_object,
                    "Merge all of the scene's objects into one (one bounding sphere), as the thesis's Sponza; same hits");
+  command
+      .add_option("--cone-test", args.cone_test,
+                  "The traversal's cone-sphere test: conservative (never loses a hit) or printed (the thesis's eq. 3.16 "
+                  "as printed, no margins; it can lose hits, which the oracle counts); printed traces --objects flat")
+      ->check(CLI::IsMember({"conservative", "printed"}))
+      ->capture_default_str();
 }
 
 FaithfulArgs FaithfulFromPreset(const std::string& name) {
@@ -99,6 +106,11 @@ FaithfulArgs FaithfulFromPreset(const std::string& name) {
 void ApplyFaithful(const FaithfulArgs& args, emu::HierarchyConfig& hc) {
   hc.hash.order = args.hash_order == "polar-first" ? layout::kHashOrderPolarFirst : layout::kHashOrderInterleaved;
   hc.hash.polar_bits = hc.hash.azimuth_bits = args.hash_bits;
+  if (args.cone_test != "printed") return;
+  if (hc.object_tree) ThrowInput("--cone-test printed: the object tree (--objects tree) has only the conservative test");
+  hc.cone_test = layout::kConeTestPrinted;
+  hc.auto_tree_spread = 0.0f;  // --objects auto: flat, the only descent with the printed test
+  hc.auto_tree_triangles = 0;
 }
 
 SceneBuffers FlattenForFrame(const Scene& scene, const FaithfulArgs& args) {

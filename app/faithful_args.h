@@ -21,10 +21,11 @@ struct FaithfulArgs {
   std::string shadow_rule = "all";                       // --shadow-rule all|lit
   std::string shadow_bounces = "all";                    // --shadow-bounces all|first
   bool one_object = false;                               // --one-object
+  std::string cone_test = "conservative";                // --cone-test conservative|printed
 };
 
-// Registers --faithful, --hash-order, --hash-bits, --shadow-rule, --shadow-bounces and --one-object on
-// `command`, writing into `args`. --faithful is resolved when the command's parse completes: each
+// Registers --faithful, --hash-order, --hash-bits, --shadow-rule, --shadow-bounces, --one-object and
+// --cone-test on `command`, writing into `args`. --faithful is resolved when the command's parse completes: each
 // switch of the preset that the command line does not give is set as if it had been given, so an
 // explicit switch wins over the preset.
 void AddFaithfulOptions(CLI::App& command, FaithfulArgs& args);
@@ -36,7 +37,8 @@ std::vector<std::string> FaithfulPreset(const std::string& name);
 FaithfulArgs FaithfulFromPreset(const std::string& name);
 // The largest --hash-bits: a shadow key holds the light index and both angles' cells.
 int MaxHashBits();
-// Sets the hierarchy configuration's fields the switches name.
+// Sets the hierarchy configuration's fields the switches name; --cone-test printed takes --objects
+// auto as flat and refuses --objects tree (the object tree's descent has only the conservative test).
 void ApplyFaithful(const FaithfulArgs& args, emu::HierarchyConfig& hc);
 // The scene's buffers; with --one-object every triangle in one object (one bounding sphere), each
 // triangle keeping its material, as the thesis's Sponza was "not divided into submeshes".

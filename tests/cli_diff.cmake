@@ -368,6 +368,13 @@ foreach(scene cornell-mirrors office)
   diff_case(${scene}.crsh.faithful.one_object ${scene} 64x64 "" 0 "" --one-object)
 endforeach()
 diff_case(fault.faithful.raygen.shadow:1 office 64x64 raygen.shadow:1 4 raygen.shadow --shadow-rule lit)
+# --cone-test printed: eq. 3.16 as printed in every traversal pass (traverse.objects, .top, .level; the
+# fused path's traverse.compact; rah's top level without the object mask), the same pairs on both
+# backends.
+diff_case(cornell.crsh.faithful.cone_test cornell-mirrors 64x64 "" 0 "" --cone-test printed)
+diff_case(office.crsh.faithful.cone_test.fused office 64x64 "" 0 "" --cone-test printed --path fused)
+diff_case(cornell.rah.faithful.cone_test cornell-mirrors 64x64 "" 0 "" --cone-test printed --algo rah)
+diff_case(glass.rah.faithful.cone_test.fused glass 64x64 "" 0 "" --cone-test printed --algo rah --path fused)
 # --objects tree: the joint descent's passes (tree.roots, tree.expand, tree.test, intersect.tree) and
 # the fused tree.step equal on both backends, with the frame digest of the flat top level; each
 # planted fault of the tree kernels caught in its own pass.

@@ -72,14 +72,27 @@ if(NOT one_png STREQUAL all_png)
   string(APPEND FAILURES "\n--one-object: the image differs")
 endif()
 
+# --cone-test printed: the same rays, other pairs kept by the traversal (it traces --objects flat, so
+# against the conservative test on flat objects).
+math(EXPR CASES "${CASES} + 1")
+render_stats(flat cornell-mirrors --objects flat)
+render_stats(printed cornell-mirrors --cone-test printed)
+expect_equal_json(flat printed "--cone-test printed: rays" rays)
+string(JSON flat_tests GET "${flat_stats}" total_tests)
+string(JSON printed_tests GET "${printed_stats}" total_tests)
+if(flat_tests EQUAL printed_tests)
+  string(APPEND FAILURES "\n--cone-test printed: ${printed_tests} tests, as many as the conservative test's")
+endif()
+
 # --faithful thesis: the same frame as its switches given one by one (the preset is only a list of
 # switches), and a switch given beside it wins over the preset's value.
 math(EXPR CASES "${CASES} + 1")
-set(thesis_switches --hash-order polar-first --hash-bits 8 --shadow-bounces first --objects flat)
+set(thesis_switches --hash-order polar-first --hash-bits 8 --shadow-bounces first --objects flat --cone-test printed)
 render_stats(preset cornell-mirrors --faithful thesis)
 render_stats(spelled cornell-mirrors ${thesis_switches})
 render_stats(preset10 cornell-mirrors --faithful thesis --hash-bits 12)
-render_stats(spelled10 cornell-mirrors --hash-order polar-first --hash-bits 12 --shadow-bounces first --objects flat)
+render_stats(spelled10 cornell-mirrors --hash-order polar-first --hash-bits 12 --shadow-bounces first --objects flat
+             --cone-test printed)
 foreach(path "total_tests" "rays;shadow;total" "rays;reflection;total" "object_sphere_tests")
   expect_equal_json(preset spelled "--faithful thesis: ${path}" ${path})
   expect_equal_json(preset10 spelled10 "--faithful thesis --hash-bits 12: ${path}" ${path})
@@ -99,7 +112,9 @@ if(NOT preset_png STREQUAL spelled_png)
 endif()
 
 # Bad values: one line naming the option, exit 2, on every command that takes it.
-foreach(bad "render;--faithful;rogers" "diff;--faithful;Thesis" "render;--shadow-rule;some" "diff;--shadow-rule;some" "render;--shadow-bounces;2" "diff;--shadow-bounces;2")
+foreach(bad "render;--faithful;rogers" "diff;--faithful;Thesis" "render;--shadow-rule;some" "diff;--shadow-rule;some"
+            "render;--shadow-bounces;2" "diff;--shadow-bounces;2" "render;--cone-test;exact" "diff;--cone-test;exact"
+            "render;--cone-test;printed;--objects;tree")
   list(GET bad 0 cmd)
   list(SUBLIST bad 1 -1 opt)
   math(EXPR CASES "${CASES} + 1")
@@ -115,6 +130,13 @@ execute_process(COMMAND "${RAYSPACE}" bench "${SRC}/scenes/cornell-mirrors.json"
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 2 OR NOT err MATCHES "--shadow-rule")
   string(APPEND FAILURES "\nbench --shadow-rule some: exit ${rc}, expected 2 naming --shadow-rule: ${err}")
+endif()
+# bench: a named object-tree configuration is refused under --cone-test printed before the first frame.
+math(EXPR CASES "${CASES} + 1")
+execute_process(COMMAND "${RAYSPACE}" bench "${SRC}/scenes/cornell-mirrors.json" --cone-test printed --configs crsh-tree
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 2 OR NOT err MATCHES "--cone-test printed: configuration 'crsh-tree'")
+  string(APPEND FAILURES "\nbench --cone-test printed --configs crsh-tree: exit ${rc}, expected 2 naming the configuration: ${err}")
 endif()
 
 cli_script_end(cli_faithful)

@@ -2,6 +2,7 @@
 // traverse.compact's workgroup mirror against its lanes and against traverse + reduce.
 #include <doctest/doctest.h>
 
+#include <bit>
 #include <cmath>
 #include <random>
 #include <set>
@@ -13,6 +14,8 @@
 #include "rayspace/emu/frame.h"
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/workgroup_ops.h"
+#include "rayspace/error.h"
+#include "rayspace/refs/exact_cone.h"
 #include "rayspace/workgroup.h"
 #include "random_traversal.h"
 #include "test_util.h"
@@ -308,19 +311,97 @@ TEST_CASE("traverse.compact mirror: a dropped barrier in its workgroup scan is n
   }
 }
 
-TEST_CASE("cone: the test as printed (eq. 3.16) rejects what the conservative test keeps") {
-  // A node whose cone opens past 90 degrees (cos alpha = -0.5, sin alpha = sqrt(3)/2), and a sphere
-  // on its apex: they overlap, so the conservative test keeps the pair; the printed test divides by
-  // the negative cos alpha, its left side is 2 / -0.5 = -4 < 0 = |P - H|, and it rejects.
+TEST_CASE("cone: the test as printed (eq. 3.16) rejects what the exact geometry and the conservative test keep") {
+  // Worked by hand. Apex C at the origin, d = 0, axis z, cos alpha = sin alpha = h = float(sqrt(1/2))
+  // (an exact pi/4 as the angle of (h, h)); sphere P = (224, 3, 215), r = 0x40cc19ef = 6.3781657...
+  // Exactly: |C - H| = 215, |P - H| = sqrt(50185) = 224.0200884, so the distance from P to the cone
+  // is (224.0200884 - 215) / sqrt(2) = 6.3781657 - 5.8e-8 < r: they meet, and the conservative test
+  // (margins for its rounding) keeps the pair. Printed, in float: tan = h / h = 1 exactly; r / h =
+  // 9.0200886 rounds down to 9.0200882, and 215 + that rounds down again to 224.0200806; |P - H|
+  // rounds up to 224.0200958, above the left side: rejected, a hit lost to rounding alone.
+  const float h = std::sqrt(0.5f);
   layout::ConeNode n{};
-  n.sphere = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
-  n.cone = glm::vec4(0.0f, 0.0f, 1.0f, -0.5f);
-  n.extra.x = 0.8660254f;
-  const glm::vec4 sphere(0.0f, 0.0f, 0.0f, 1.0f);
+  n.sphere = glm::vec4(0.0f);
+  n.cone = glm::vec4(0.0f, 0.0f, 1.0f, h);
+  n.extra.x = h;
+  const glm::vec4 sphere(224.0f, 3.0f, 215.0f, std::bit_cast<float>(0x40cc19efu));
+  CHECK(refs::ExactNodeMeetsSphere(n, sphere));
   CHECK(emu::cone::Test(n, sphere, 0.0f));
   CHECK_FALSE(emu::cone::PrintedTest(n, sphere));
-  // A narrow cone and a sphere on its axis ahead: both keep it.
+  CHECK_FALSE(emu::cone::TestBy(layout::kConeTestPrinted, n, sphere, 0.0f));
+  CHECK(emu::cone::TestBy(layout::kConeTestConservative, n, sphere, 0.0f));
+  // The next float of radius is enough: 215 + (r' / h) rounds to 224.0200958 = |P - H|.
+  CHECK(emu::cone::PrintedTest(n, glm::vec4(glm::vec3(sphere), std::bit_cast<float>(0x40cc19f0u))));
+  // eq. 3.16 assumes alpha < pi/2; past it (cos alpha = -0.5) and for a full cone (cos = -1) dividing
+  // by cos alpha would make the left side negative and reject everything: the printed test keeps them,
+  // as the conservative test keeps full cones.
+  n.cone.w = -0.5f;
+  n.extra.x = 0.8660254f;
+  CHECK(emu::cone::PrintedTest(n, glm::vec4(0.0f, 0.0f, 0.0f, 1.0f)));
+  CHECK(emu::cone::PrintedTest(emu::cone::FullSphereCone(n), glm::vec4(100.0f, 0.0f, -50.0f, 0.0f)));
+  // A narrow cone and a sphere on its axis ahead: kept.
   n.cone.w = 0.99f;
   n.extra.x = 0.14106736f;
   CHECK(emu::cone::PrintedTest(n, glm::vec4(0.0f, 0.0f, 10.0f, 0.5f)));
+  // The traversal's eps widens the sphere: a sphere 1 off a zero-angle cone's axis needs r + eps >= 1.
+  n.cone.w = 1.0f;
+  n.extra.x = 0.0f;
+  CHECK_FALSE(emu::cone::PrintedTest(n, glm::vec4(1.0f, 0.0f, 5.0f, 0.5f), 0.25f));
+  CHECK(emu::cone::PrintedTest(n, glm::vec4(1.0f, 0.0f, 5.0f, 0.5f), 0.5f));
+}
+
+TEST_CASE("traverse: cone_test printed runs eq. 3.16 in every traversal pass, the fused lanes' fallback and the "
+          "workgroup mirror alike") {
+  ModelGuard guard;
+  const RandomTop tc(3, 150, 170, 6);
+  const RandomLevel lc(5, 300, 2000, 8);
+  const auto printed = [](const layout::ConeNode& n, glm::vec4 s, float eps) { return emu::cone::PrintedTest(n, s, eps); };
+  for (bool mask : {false, true}) {
+    call::TraverseTop top = tc.Call(0, 150, 0, 170, mask, 0.05f);
+    const Compacted conservative = CheckMirror(top);
+    top.cone_test = layout::kConeTestPrinted;
+    const Compacted p = CheckMirror(top);  // mirror = fused = traverse.top + reduce
+    CHECK(Same(p, TraverseTopCompactedWith(printed, top)));
+    CHECK(p.tested == conservative.tested);  // the same slots are tested, other pairs survive
+    CHECK(p.pairs != conservative.pairs);
+  }
+  call::TraverseLevel level = lc.Call(0.05f);
+  const Compacted conservative = CheckMirror(level);
+  level.cone_test = layout::kConeTestPrinted;
+  const Compacted p = CheckMirror(level);
+  CHECK(Same(p, TraverseLevelCompactedWith(printed, level)));
+  CHECK(p.pairs != conservative.pairs);
+  // The object mask too.
+  const call::TraverseTop any = tc.Call(0, 150, 0, 170, false, 0.05f);
+  call::ObjectMask om{.top = any.top, .object_spheres = any.tri_spheres.subspan(0, 40), .eps = 0.05f};
+  const std::vector<std::uint8_t> mask_conservative = PassObjectMask(om);
+  om.cone_test = layout::kConeTestPrinted;
+  CHECK(PassObjectMask(om) == ObjectMaskWith(printed, om));
+  CHECK(PassObjectMask(om) != mask_conservative);
+  // An unknown test is refused with the call's name.
+  om.cone_test = 2;
+  CHECK_THROWS_WITH_AS(CheckInputs(om), doctest::Contains("traverse.objects: cone_test 2"), InputError);
+}
+
+TEST_CASE("hierarchy: --cone-test printed changes what a real frame's traversal keeps, on both emulated paths") {
+  const Scene s = test::LoadBundled("cornell-mirrors.json");
+  HierarchyConfig cfg;
+  const HRun conservative = RunHierarchy(s, 64, 64, cfg);
+  cfg.cone_test = layout::kConeTestPrinted;
+  const HRun printed = RunHierarchy(s, 64, 64, cfg);
+  cfg.fused = true;
+  const HRun printed_fused = RunHierarchy(s, 64, 64, cfg);
+  REQUIRE(printed.stats.size() == conservative.stats.size());
+  REQUIRE(printed_fused.stats.size() == printed.stats.size());
+  bool differs = false;
+  for (std::size_t b = 0; b < printed.stats.size(); ++b) {
+    CHECK(printed.stats[b].rays == conservative.stats[b].rays);
+    for (std::size_t l = 0; l < printed.stats[b].levels.size(); ++l) {
+      differs = differs || printed.stats[b].levels[l].hits != conservative.stats[b].levels[l].hits;
+      CHECK(printed_fused.stats[b].levels[l].hits == printed.stats[b].levels[l].hits);
+      CHECK(printed_fused.stats[b].levels[l].intersections == printed.stats[b].levels[l].intersections);
+    }
+  }
+  CHECK(differs);
+  CHECK(printed_fused.frame.digest.Frame() == printed.frame.digest.Frame());
 }

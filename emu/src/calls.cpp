@@ -169,7 +169,14 @@ void CheckInputs(const call::BuildLeaves& c) {
 
 void CheckInputs(const call::BuildParents& c) { CheckFirst(c.kName, "first", c.first, c.below.size()); }
 
-void CheckInputs(const call::ObjectMask&) {}  // any nodes and spheres
+namespace {
+void CheckConeTest(std::string_view call, std::uint32_t cone_test) {
+  if (cone_test != layout::kConeTestConservative && cone_test != layout::kConeTestPrinted)
+    ThrowInput("{}: cone_test {} is neither conservative (0) nor printed (1)", call, cone_test);
+}
+}  // namespace
+
+void CheckInputs(const call::ObjectMask& c) { CheckConeTest(c.kName, c.cone_test); }  // any nodes and spheres
 
 namespace {
 // traverse.top and traverse.compact.top read the same inputs, as do the two level calls; errors name
@@ -177,6 +184,7 @@ namespace {
 template <typename C>
 void CheckTopCall(const C& c) {
   CheckScene(c.kName, c.scene);
+  CheckConeTest(c.kName, c.cone_test);
   const SceneBuffers& s = *c.scene;
   if (c.t0 > c.t1 || c.t1 > c.top.size()) ThrowInput("{}: top nodes [{}, {}) out of [0, {})", c.kName, c.t0, c.t1, c.top.size());
   if (c.b0 > c.b1 || c.b1 > s.triangles.size() || c.b1 - c.b0 > (1u << layout::kPairTriangleBits))
@@ -195,6 +203,7 @@ void CheckTopCall(const C& c) {
 template <typename C>
 void CheckLevelCall(const C& c) {
   CheckFirst(c.kName, "first", c.first, c.nodes.size());
+  CheckConeTest(c.kName, c.cone_test);
   if (c.children_max > 255) ThrowInput("{}: scalar 'children_max' = {} exceeds 255", c.kName, c.children_max);
   for (std::size_t i = 0; i < c.pairs.size(); ++i) {
     const std::uint32_t p = c.pairs[i];

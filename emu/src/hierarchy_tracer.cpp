@@ -76,6 +76,9 @@ class Impl final : public HierarchyTracer {
         passes_(checked_ ? *checked_ : EmuHierarchyPasses()) {
     RS_CHECK(cfg.subdivision >= 2 && cfg.depth >= 1 && cfg.component_size >= 1);
     RS_CHECK(cfg.max_batch_triangles >= 1 && cfg.max_batch_triangles <= (1u << kTriBits));
+    RS_CHECK_MSG(cfg.cone_test == layout::kConeTestConservative ||
+                     (cfg.cone_test == layout::kConeTestPrinted && !cfg.object_tree && cfg.auto_tree_spread <= 0.0f),
+                 "cone test {}: the object tree's descent has only the conservative test", cfg.cone_test);
 
     eps_ = TraversalEpsilon(scene);
   }
@@ -98,6 +101,7 @@ class Impl final : public HierarchyTracer {
     out["batch_triangles"] = cfg_.max_batch_triangles;
     out["object_spheres"] = cfg_.algorithm == Algorithm::kCrsh;
     out["backend"] = passes_.Name();
+    if (cfg_.cone_test == layout::kConeTestPrinted) out["cone_test"] = "printed";  // the default's description unchanged
   }
   void Prepare(const std::vector<glm::vec4>& tri_spheres, const std::vector<glm::vec4>& obj_spheres) override {
     RS_CHECK(tri_spheres.size() == scene_.triangles.size() && obj_spheres.size() == scene_.objects.size());
@@ -310,7 +314,8 @@ class Impl final : public HierarchyTracer {
     static const std::vector<std::uint8_t> kNoMask;
     const std::size_t grid = static_cast<std::size_t>(N) * T;
     const call::TraverseTop top{.top = h.nodes[D - 1], .t0 = t0, .t1 = t1, .b0 = b0, .b1 = b1, .tri_spheres = *tri_spheres_,
-                                .scene = &scene_, .object_mask = crsh ? object_mask : kNoMask, .eps = eps_};
+                                .scene = &scene_, .object_mask = crsh ? object_mask : kNoMask, .eps = eps_,
+                                .cone_test = cfg_.cone_test};
     std::vector<std::uint32_t> pairs = TestAndCompact(D, grid, top, lv[D - 1]);
     if (pairs.size() > cfg_.pair_capacity) return false;
 
@@ -319,7 +324,8 @@ class Impl final : public HierarchyTracer {
     for (int L = D - 1; L >= 1; --L) {
       const std::uint32_t base_up = Descendants(h, L + 1, t0, t1).first, base = Descendants(h, L, t0, t1).first;
       const call::TraverseLevel level{.pairs = pairs, .nodes = h.nodes[L - 1], .first = h.first[L], .base_up = base_up, .base = base,
-                                      .children_max = S, .b0 = b0, .tri_spheres = *tri_spheres_, .eps = eps_};
+                                      .children_max = S, .b0 = b0, .tri_spheres = *tri_spheres_, .eps = eps_,
+                                      .cone_test = cfg_.cone_test};
       pairs = TestAndCompact(L, pairs.size() * S, level, lv[L - 1]);
       if (pairs.size() > cfg_.pair_capacity) return false;
     }
@@ -574,7 +580,8 @@ class Impl final : public HierarchyTracer {
     std::vector<std::uint8_t> mask;
     if (cfg_.algorithm == Algorithm::kCrsh) {
       mask = Sub("traverse.objects", static_cast<std::size_t>(top) * scene_.objects.size(),
-                 [&] { return passes_.ObjectMask({.top = h.nodes[cfg_.depth - 1], .object_spheres = *obj_spheres_, .eps = eps_}); });
+                 [&] { return passes_.ObjectMask({.top = h.nodes[cfg_.depth - 1], .object_spheres = *obj_spheres_, .eps = eps_,
+                                              .cone_test = cfg_.cone_test}); });
       st.object_sphere_tests = mask.size();
       st.object_sphere_hits = Sum(mask);
     }

@@ -18,14 +18,27 @@ float TraversalEpsilon(const SceneBuffers& scene) {
 namespace {
 // A lambda, not a function pointer, so the test inlines into the traversal loops.
 constexpr auto kConeTest = [](const layout::ConeNode& n, glm::vec4 sphere, float eps) { return cone::Test(n, sphere, eps); };
+constexpr auto kPrintedTest = [](const layout::ConeNode& n, glm::vec4 sphere, float eps) { return cone::PrintedTest(n, sphere, eps); };
 constexpr std::string_view kCompactPass = "traverse.compact";
+
+// Chosen once per call, so the default loops keep the conservative test inlined with no branch.
+template <typename Loop, typename Call>
+auto WithConeTest(Loop&& loop, const Call& c) {
+  return c.cone_test == layout::kConeTestPrinted ? loop(kPrintedTest, c) : loop(kConeTest, c);
+}
 }  // namespace
 
-PairSlots PassTraverseTop(const call::TraverseTop& c) { return TraverseTopWith(kConeTest, c); }
+PairSlots PassTraverseTop(const call::TraverseTop& c) {
+  return WithConeTest([](auto test, const call::TraverseTop& k) { return TraverseTopWith(test, k); }, c);
+}
 
-std::vector<std::uint8_t> PassObjectMask(const call::ObjectMask& c) { return ObjectMaskWith(kConeTest, c); }
+std::vector<std::uint8_t> PassObjectMask(const call::ObjectMask& c) {
+  return WithConeTest([](auto test, const call::ObjectMask& k) { return ObjectMaskWith(test, k); }, c);
+}
 
-PairSlots PassTraverseLevel(const call::TraverseLevel& c) { return TraverseLevelWith(kConeTest, c); }
+PairSlots PassTraverseLevel(const call::TraverseLevel& c) {
+  return WithConeTest([](auto test, const call::TraverseLevel& k) { return TraverseLevelWith(test, k); }, c);
+}
 
 // traverse.compact has two emulations with the same survivors in slot order and the same test
 // counts: the fused path's levels on SIMD lanes (emu/src/traverse_fused.cpp), which renders need for

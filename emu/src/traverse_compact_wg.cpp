@@ -150,7 +150,7 @@ class CompactKernel {
       for (std::uint32_t k = 0; k < kCompactCols; ++k) {
         if ((may[k] >> r & 1u) == 0u) continue;
         ++tests;
-        if (cone::Test(node[r], sphere[k], pc_.eps)) hit[r] |= 1u << k;
+        if (cone::TestBy(pc_.cone_test, node[r], sphere[k], pc_.eps)) hit[r] |= 1u << k;
       }
       n[r >> 1] += static_cast<std::uint32_t>(std::popcount(hit[r])) << ((r & 1u) * 16u);
     }
@@ -207,7 +207,7 @@ class CompactKernel {
       const glm::vec4 sphere = tri_spheres_[pc_.b0 + tri_local];
       for (std::uint32_t k = std::max(s0, row0) - row0; k < k1; ++k) {
         ++tests;
-        if (cone::Test(nodes_[c0 + k], sphere, pc_.eps)) kept[n++] = ((c0 + k - pc_.base) << kPairTriangleBits) | tri_local;
+        if (cone::TestBy(pc_.cone_test, nodes_[c0 + k], sphere, pc_.eps)) kept[n++] = ((c0 + k - pc_.base) << kPairTriangleBits) | tri_local;
       }
     }
     return n;
@@ -292,7 +292,7 @@ class CompactKernel {
 
 // The push constants of a part of `count` slots. The rounds' slot arithmetic is 32-bit, as in the
 // kernel: the last round must not wrap.
-layout::TraverseCompactPush Push(std::uint32_t phase, std::size_t count, float eps) {
+layout::TraverseCompactPush Push(std::uint32_t phase, std::size_t count, float eps, std::uint32_t cone_test) {
   RS_CHECK_MSG(count <= 0xffffffffu - layout::kMaxLocalSize * kCompactRun, "traverse.compact: {} slots exceed 32-bit slot numbers",
                count);
   layout::TraverseCompactPush pc{};
@@ -301,6 +301,7 @@ layout::TraverseCompactPush Push(std::uint32_t phase, std::size_t count, float e
   pc.blocks = (pc.count + kCompactBlock - 1) / kCompactBlock;  // the top level's: its rows (TraverseTopCompactedWorkgroups)
   pc.region = kCompactBlock;
   pc.eps = eps;
+  pc.cone_test = cone_test;
   return pc;
 }
 
@@ -308,7 +309,7 @@ layout::TraverseCompactPush Push(std::uint32_t phase, std::size_t count, float e
 
 Compacted TraverseTopCompactedWorkgroups(const call::TraverseTop& c) {
   const std::uint32_t T = c.b1 - c.b0, objects = static_cast<std::uint32_t>(c.scene->objects.size());
-  layout::TraverseCompactPush pc = Push(layout::kTraverseCompactPhaseTop, std::size_t{c.t1 - c.t0} * T, c.eps);
+  layout::TraverseCompactPush pc = Push(layout::kTraverseCompactPhaseTop, std::size_t{c.t1 - c.t0} * T, c.eps, c.cone_test);
   pc.t0 = c.t0;
   pc.b0 = c.b0;
   pc.tris = T;
@@ -323,7 +324,7 @@ Compacted TraverseTopCompactedWorkgroups(const call::TraverseTop& c) {
 }
 
 Compacted TraverseLevelCompactedWorkgroups(const call::TraverseLevel& c) {
-  layout::TraverseCompactPush pc = Push(layout::kTraverseCompactPhaseLevel, c.pairs.size() * c.children_max, c.eps);
+  layout::TraverseCompactPush pc = Push(layout::kTraverseCompactPhaseLevel, c.pairs.size() * c.children_max, c.eps, c.cone_test);
   pc.b0 = c.b0;
   pc.base_up = c.base_up;
   pc.base = c.base;

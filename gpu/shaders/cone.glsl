@@ -171,3 +171,25 @@ bool ConeTest(ConeNode n, vec4 sphere, float eps) {
   precise const float rr = R * R;
   return Dot3(v, v) <= rr;
 }
+
+// --cone-test printed: eq. 3.16 as the thesis prints it, emu cone::PrintedTest with the traversal's
+// eps widening the sphere; the same operations in the same order, each rounded on its own (precise:
+// no contraction into FMAs), so both backends keep the same pairs. Cones at or past a half-space
+// (cos alpha <= 0) are kept, where the equation's division by cos alpha would flip its sense.
+bool PrintedConeTest(ConeNode n, vec4 sphere, float eps) {
+  const float c = n.cone.w, s = n.extra.x;
+  if (!(c > 0.0)) return true;
+  precise const float r = sphere.w + eps;
+  precise const vec3 v = sphere.xyz - n.sphere.xyz;
+  const vec3 x = n.cone.xyz;
+  const float a = Dot3(v, x);
+  precise const vec3 off = v - x * a;
+  precise const float reach = n.sphere.w + r;
+  precise const float lhs = abs(a) * Div(s, c) + Div(reach, c);
+  return lhs >= Length3(off);
+}
+
+// The test the push block's cone_test names (kConeTestConservative or kConeTestPrinted).
+bool ConeTestBy(uint cone_test, ConeNode n, vec4 sphere, float eps) {
+  return cone_test == kConeTestPrinted ? PrintedConeTest(n, sphere, eps) : ConeTest(n, sphere, eps);
+}

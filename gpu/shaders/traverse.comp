@@ -34,12 +34,12 @@ void main() {
     // Fault 1: the top level ignores the triangle sphere's radius (a too-small bound).
     vec4 sphere = tri_spheres[tri];
     if (kFault == 1u) sphere.w = 0.0;
-    flags[e] = (test && ConeTest(NodeAt(node), sphere, pc.eps)) ? 1u : 0u;
+    flags[e] = (test && ConeTestBy(pc.cone_test, NodeAt(node), sphere, pc.eps)) ? 1u : 0u;
     values[e] = ((node - pc.id_base) << kPairTriangleBits) | (tri - pc.b0);
   } else if (pc.phase == kTraversePhaseObjects) {
     // Fault 2 (seen only when the mask is computed in parts, --split-bytes): the part's start is dropped.
     const uint g = (kFault == 2u ? 0u : pc.t0) + e;  // element of the whole mask; this dispatch writes a part of it
-    flags[e] = ConeTest(NodeAt(g / pc.objects), tri_spheres[g % pc.objects], pc.eps) ? 1u : 0u;
+    flags[e] = ConeTestBy(pc.cone_test, NodeAt(g / pc.objects), tri_spheres[g % pc.objects], pc.eps) ? 1u : 0u;
   } else {
     const uint parent = pc.base_up + (pairs[e] >> kPairTriangleBits), tri_local = pairs[e] & kPairTriangleMask;
     const vec4 sphere = tri_spheres[pc.b0 + tri_local];
@@ -52,7 +52,7 @@ void main() {
     // Fault 3: a level's first child of every parent is skipped (a loop starting one late).
     for (uint c = kFault == 3u ? c0 + 1u : c0; c < c1; ++c) {
       const uint slot = e * pc.children_max + (c - c0);
-      flags[slot] = ConeTest(NodeAt(c), sphere, pc.eps) ? 1u : 0u;
+      flags[slot] = ConeTestBy(pc.cone_test, NodeAt(c), sphere, pc.eps) ? 1u : 0u;
       values[slot] = ((c - pc.base) << kPairTriangleBits) | tri_local;
     }
   }

@@ -113,7 +113,7 @@ void TestTopTile(uint g) {
       for (uint i = 0u; i < kCompactCols; ++i) {
         if ((may[i] >> r & 1u) == 0u) continue;
         ++tests;
-        if (ConeTest(node, sphere[i], pc.eps)) hit[r] |= 1u << i;
+        if (ConeTestBy(pc.cone_test, node, sphere[i], pc.eps)) hit[r] |= 1u << i;
       }
       n[r >> 1u] += bitCount(hit[r]) << ((r & 1u) * 16u);
     }
@@ -152,7 +152,7 @@ uint TestLevelSlots(uint s0, uint s1, out uint tests) {
     const vec4 sphere = tri_spheres[pc.b0 + tri_local];
     for (uint k = max(s0, row0) - row0; k < k1; ++k) {
       ++tests;
-      if (ConeTest(LoadNodes(c0 + k, pc.node_page), sphere, pc.eps)) kept[n++] = ((c0 + k - pc.base) << kPairTriangleBits) | tri_local;
+      if (ConeTestBy(pc.cone_test, LoadNodes(c0 + k, pc.node_page), sphere, pc.eps)) kept[n++] = ((c0 + k - pc.base) << kPairTriangleBits) | tri_local;
     }
   }
   return n;

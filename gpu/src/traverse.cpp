@@ -149,7 +149,7 @@ vk::Status VulkanPasses::Run(const emu::call::TraverseTop& call, emu::PairSlots&
     const std::uint32_t r0 = t0 + static_cast<std::uint32_t>(i0), r1 = t0 + static_cast<std::uint32_t>(i1);
     const std::size_t at = i0 * T, n = (i1 - i0) * T;
     const layout::TraversePush push{layout::kTraversePhaseTop, static_cast<std::uint32_t>(n), r0, b0, static_cast<std::uint32_t>(T),
-                                 static_cast<std::uint32_t>(objects), object_mask.empty() ? 0u : 1u, 0, 0, 0, call.eps, t0, 0, 0};
+                                 static_cast<std::uint32_t>(objects), object_mask.empty() ? 0u : 1u, 0, 0, 0, call.eps, t0, 0, 0, call.cone_test};
     const std::span<const std::uint32_t> mask_rows =
         object_mask.empty() ? std::span<const std::uint32_t>() : std::span(object_mask).subspan(r0 * objects, (r1 - r0) * objects);
     return tr.Part(push, mask_rows, {}, n, n, flags.data() + at, values.data() + at, tested.data() + at);
@@ -167,7 +167,7 @@ vk::Status VulkanPasses::Run(const emu::call::TraverseLevel& call, emu::PairSlot
   RS_TRY(ForParts(count, PerPart(4 * std::size_t{children_max}), extra_dispatches_, [&](std::size_t p0, std::size_t p1) -> vk::Status {
     const std::uint32_t n = static_cast<std::uint32_t>(p1 - p0);
     const layout::TraversePush push{layout::kTraversePhaseLevel, n, 0, call.b0, 0, 0, 0, call.base_up, call.base, children_max,
-                                 call.eps, 0, 0, 0};
+                                 call.eps, 0, 0, 0, call.cone_test};
     return tr.Part(push, {}, Slice(call.pairs, p0, p1), std::size_t{n} * children_max, n, flags.data() + p0 * children_max,
                    values.data() + p0 * children_max, tested.data() + p0);
   }));
@@ -187,7 +187,7 @@ vk::Status VulkanPasses::Run(const emu::call::ObjectMask& call, std::vector<std:
   RS_TRY(ForParts(count, PerPart(4), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
     const std::uint32_t n = static_cast<std::uint32_t>(i1 - i0);
     const layout::TraversePush push{layout::kTraversePhaseObjects, n, static_cast<std::uint32_t>(i0), 0, 0, objects, 0, 0, 0, 0, call.eps,
-                                 0, 0, 0};
+                                 0, 0, 0, call.cone_test};
     return tr.Part(push, {}, {}, n, 0, mask.data() + i0, nullptr, nullptr);
   }));
   return Narrow("traverse.objects", mask, out);
@@ -209,7 +209,7 @@ vk::Status VulkanPasses::Run(const emu::call::TraverseTopCompacted& call, emu::C
   return ForParts(call.t1 - t0, PerPart(4 * row_words), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
     const std::uint32_t r0 = t0 + static_cast<std::uint32_t>(i0), n = static_cast<std::uint32_t>((i1 - i0) * T);
     const layout::TraverseCompactPush push{layout::kTraverseCompactPhaseTop, n, 0, 0, r0, b0, T, objects, object_mask.empty() ? 0u : 1u,
-                                        0, 0, 0, call.eps, t0, 0, 0};
+                                        0, 0, 0, call.eps, t0, 0, 0, call.cone_test};
     const std::span<const std::uint32_t> mask_rows =
         object_mask.empty() ? std::span<const std::uint32_t>() : std::span(object_mask).subspan(std::size_t{r0} * objects, (i1 - i0) * objects);
     return tr.CompactPart(push, mask_rows, {}, out);
@@ -226,7 +226,7 @@ vk::Status VulkanPasses::Run(const emu::call::TraverseLevelCompacted& call, emu:
   return ForParts(call.pairs.size(), per, extra_dispatches_, [&](std::size_t p0, std::size_t p1) -> vk::Status {
     const std::uint32_t n = static_cast<std::uint32_t>((p1 - p0) * children_max);
     const layout::TraverseCompactPush push{layout::kTraverseCompactPhaseLevel, n, 0, 0, 0, call.b0, 0, 0, 0, call.base_up, call.base,
-                                        children_max, call.eps, 0, 0, 0};
+                                        children_max, call.eps, 0, 0, 0, call.cone_test};
     return tr.CompactPart(push, {}, Slice(call.pairs, p0, p1), out);
   });
 }

@@ -428,17 +428,20 @@ SpecVerdict SurfacesFromHits(const BufferSet& in, const BufferSet& e, const Buff
 
 // Could some conformant device decide the cone-sphere test the other way? (Only then may its flag
 // differ: a test whose every decision is certain gives lavapipe's answer everywhere.)
-bool TestMayFlip(const layout::ConeNode& n, glm::vec4 sphere, float eps, bool flush) {
+bool TestMayFlip(const layout::ConeNode& n, glm::vec4 sphere, float eps, std::uint32_t cone_test, bool flush) {
   ScopedSpecTrace trace(flush);
-  (void)emu::cone::TestOf<SpecReal>(n, sphere, eps);
+  if (cone_test == layout::kConeTestPrinted)
+    (void)emu::cone::PrintedTestOf<SpecReal>(n, sphere, eps);
+  else
+    (void)emu::cone::TestOf<SpecReal>(n, sphere, eps);
   return trace.trace().ambiguous != 0;
 }
 
 // Differing flags of one traversal call: `test_of(slot, node, sphere)` names the test a slot ran,
 // or returns false when the slot runs none (its flag must then be 0 on every device).
 template <typename TestOfSlot>
-void TallyFlags(const std::vector<std::uint8_t>& ef, const std::vector<std::uint8_t>& af, float eps, bool flush,
-                Tally& t, const std::string& name, TestOfSlot&& test_of) {
+void TallyFlags(const std::vector<std::uint8_t>& ef, const std::vector<std::uint8_t>& af, float eps, std::uint32_t cone_test,
+                bool flush, Tally& t, const std::string& name, TestOfSlot&& test_of) {
   if (ef.size() != af.size()) {
     t.Beyond(name + ": sizes differ");
     return;
@@ -448,7 +451,7 @@ void TallyFlags(const std::vector<std::uint8_t>& ef, const std::vector<std::uint
     const layout::ConeNode* node = nullptr;
     glm::vec4 sphere;
     const bool runs = test_of(i, node, sphere);
-    if (runs && af[i] <= 1u && TestMayFlip(*node, sphere, eps, flush))
+    if (runs && af[i] <= 1u && TestMayFlip(*node, sphere, eps, cone_test, flush))
       t.Within();
     else
       t.Beyond(fmt::format("{}[{}]: {} where every conformant device gives {}", name, i, af[i], ef[i]));
@@ -467,7 +470,7 @@ SpecVerdict TraverseTop(const BufferSet& in, const BufferSet& e, const BufferSet
   Tally t;
   TallyExact(e, a, t);
   const std::uint32_t tris = c.b1 - c.b0;
-  TallyFlags(e.Get<std::uint8_t>("flags"), a.Get<std::uint8_t>("flags"), c.eps, flush, t, "flags",
+  TallyFlags(e.Get<std::uint8_t>("flags"), a.Get<std::uint8_t>("flags"), c.eps, c.cone_test, flush, t, "flags",
              [&](std::size_t slot, const layout::ConeNode*& node, glm::vec4& sphere) {
                const std::uint32_t n = c.t0 + static_cast<std::uint32_t>(slot / tris), tri = c.b0 + static_cast<std::uint32_t>(slot % tris);
                if (!emu::TopSlotTested(c, n, tri)) return false;
@@ -483,7 +486,7 @@ SpecVerdict TraverseLevel(const BufferSet& in, const BufferSet& e, const BufferS
   const emu::call::TraverseLevel& c = d.call;
   Tally t;
   TallyExact(e, a, t);
-  TallyFlags(e.Get<std::uint8_t>("flags"), a.Get<std::uint8_t>("flags"), c.eps, flush, t, "flags",
+  TallyFlags(e.Get<std::uint8_t>("flags"), a.Get<std::uint8_t>("flags"), c.eps, c.cone_test, flush, t, "flags",
              [&](std::size_t slot, const layout::ConeNode*& node, glm::vec4& sphere) {
                const std::size_t p = slot / c.children_max;
                const std::uint32_t parent = c.base_up + (c.pairs[p] >> emu::kPairTriangleBits);
@@ -501,7 +504,7 @@ SpecVerdict ObjectMask(const BufferSet& in, const BufferSet& e, const BufferSet&
   const emu::call::ObjectMask& c = d.call;
   Tally t;
   const std::size_t objects = c.object_spheres.size();
-  TallyFlags(e.Get<std::uint8_t>("mask"), a.Get<std::uint8_t>("mask"), c.eps, flush, t, "mask",
+  TallyFlags(e.Get<std::uint8_t>("mask"), a.Get<std::uint8_t>("mask"), c.eps, c.cone_test, flush, t, "mask",
              [&](std::size_t slot, const layout::ConeNode*& node, glm::vec4& sphere) {
                node = &c.top[slot / objects];
                sphere = c.object_spheres[slot % objects];

@@ -217,6 +217,13 @@ RS_CONST(uint, kTraverseBindings, 15u);
 RS_CONST(uint, kTraversePhaseTop, 0u);        // top nodes x triangles
 RS_CONST(uint, kTraversePhaseLevel, 1u);      // children of each surviving pair's node
 RS_CONST(uint, kTraversePhaseObjects, 2u);    // top nodes x object spheres (CRSH's culling mask)
+// Which cone-sphere test the traversal runs (--cone-test; docs/hierarchy.md, "Faithful to the
+// thesis"): the conservative one (cone.glsl ConeTest, emu cone::Test) or eq. 3.16 as the thesis prints
+// it (PrintedConeTest, emu cone::PrintedTest), which can lose hits. A push field, not a specialization
+// constant: it is a frame's data like eps, carried by the emulator's calls and their saved replays,
+// and one pipeline serves both.
+RS_CONST(uint, kConeTestConservative, 0u);
+RS_CONST(uint, kConeTestPrinted, 1u);
 struct TraversePush {
   uint phase;
   uint count;
@@ -232,6 +239,7 @@ struct TraversePush {
   uint id_base;  // top: packed node ids relative to this node (a dispatch may cover part of a block)
   uint node_page;
   uint first_page;
+  uint cone_test;  // kConeTestConservative or kConeTestPrinted
 };
 
 // ---- traverse.compact: the traversal fused with its stream reduction ------------------------------
@@ -280,6 +288,7 @@ struct TraverseCompactPush {
   uint id_base;  // top: packed node ids relative to this node (the call's first)
   uint node_page;
   uint first_page;
+  uint cone_test;  // kConeTestConservative or kConeTestPrinted
 };
 
 // ---- reduce: stream reduction of (flag, value) slots -------------------------------------------
@@ -439,9 +448,9 @@ static_assert(kMaxLocalSize * kCompactCols < 65536u && kCompactRows <= 8u && kCo
 // Vulkan device guarantees.
 static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && sizeof(RaygenShadowPush) == 12 &&
               sizeof(RaygenPush) == 8 && sizeof(TrimPush) == 12 && sizeof(HashPush) == 36 && sizeof(SortPush) == 24 &&
-              sizeof(BuildPush) == 20 && sizeof(TraversePush) == 56 && sizeof(ReducePush) == 20 &&
+              sizeof(BuildPush) == 20 && sizeof(TraversePush) == 60 && sizeof(ReducePush) == 20 &&
               sizeof(IntersectPush) == 36 && sizeof(ShadePush) == 16 && sizeof(ElementwisePush) == 8 &&
-              sizeof(TraverseCompactPush) == 64 && sizeof(TreePush) == 40 && sizeof(IntersectTreePush) == 8);
+              sizeof(TraverseCompactPush) == 68 && sizeof(TreePush) == 40 && sizeof(IntersectTreePush) == 8);
 static_assert(kTreeStepBlock % kMaxLocalSize == 0u);
 static_assert(offsetof(TraversePush, eps) == 40);
 }  // namespace rayspace::layout

@@ -176,7 +176,8 @@ struct ObjectMask {
   In<layout::ConeNode> top{};
   In<glm::vec4> object_spheres{};
   float eps = 0.0f;
-  RS_FIELDS(top, object_spheres, eps)
+  std::uint32_t cone_test = layout::kConeTestConservative;  // the cone-sphere test: layout::kConeTest*
+  RS_FIELDS(top, object_spheres, eps, cone_test)
 };
 
 // Top level of one block: top nodes [t0, t1) x triangles [b0, b1). `object_mask` (top nodes x
@@ -190,7 +191,8 @@ struct TraverseTop {
   const SceneBuffers* scene = nullptr;
   In<std::uint8_t> object_mask{};
   float eps = 0.0f;
-  RS_FIELDS(top, t0, t1, b0, b1, tri_spheres, scene, object_mask, eps)
+  std::uint32_t cone_test = layout::kConeTestConservative;  // the cone-sphere test: layout::kConeTest*
+  RS_FIELDS(top, t0, t1, b0, b1, tri_spheres, scene, object_mask, eps, cone_test)
 };
 
 // One level down: the node of each pair (base_up + id) tests its children [first[.], first[. + 1])
@@ -204,7 +206,8 @@ struct TraverseLevel {
   std::uint32_t base_up = 0, base = 0, children_max = 0, b0 = 0;
   In<glm::vec4> tri_spheres{};
   float eps = 0.0f;
-  RS_FIELDS(pairs, nodes, first, base_up, base, children_max, b0, tri_spheres, eps)
+  std::uint32_t cone_test = layout::kConeTestConservative;  // the cone-sphere test: layout::kConeTest*
+  RS_FIELDS(pairs, nodes, first, base_up, base, children_max, b0, tri_spheres, eps, cone_test)
 };
 
 // traverse.compact: the same inputs as TraverseTop / TraverseLevel, tested and compacted in one pass.

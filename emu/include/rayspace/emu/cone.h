@@ -256,14 +256,31 @@ inline bool Test(const layout::ConeNode& n, glm::vec4 sphere, float eps) { retur
 
 // Thesis eq. 3.16 as printed (after Roger et al. eq. 1): |C - H| tan(alpha) + (d + r) / cos(alpha) >=
 // |P - H|, H the projection of the sphere's centre P on the axis; in float, with no margins and none
-// of Test's special cases, so it is not conservative (docs/accuracy.md measures how often it errs).
-// One function, so that every caller evaluates the printed test the same way.
-inline bool PrintedTest(const layout::ConeNode& n, glm::vec4 sphere) {
-  const glm::vec3 v = Xyz(sphere) - Xyz(n.sphere), x = Xyz(n.cone);
-  const float a = Dot(v, x);
-  const glm::vec3 off = v - x * a;
-  const float c = n.cone.w, s = n.extra.x;
-  return Abs(a) * (s / c) + (n.sphere.w + sphere.w) / c >= Length(off);
+// of Test's other special cases, so it is not conservative (docs/accuracy.md measures how often it
+// errs). The equation assumes alpha < pi/2: a cone at or past a half-space (cos alpha <= 0, the full
+// sphere among them) is kept, as Test keeps full cones, instead of dividing by a cos that flips or
+// zeroes the left side. One function, so that accuracy and the traversal (--cone-test printed)
+// evaluate the printed test the same way (cone.glsl PrintedConeTest: the same operations in order).
+// The traversal's absolute margin eps widens the sphere. Templated over the scalar like TestOf
+// (verify::SpecReal bounds what a device may decide).
+template <typename S>
+[[gnu::always_inline]] inline bool PrintedTestOf(const layout::ConeNode& n, glm::vec4 sphere, float eps) {
+  using V = Vec3<S>;
+  const S c(n.cone.w), s(n.extra.x);
+  if (!(c > S(0.0f))) return true;
+  const S r = S(sphere.w) + S(eps);
+  const V v = V(Xyz(sphere)) - V(Xyz(n.sphere)), x = V(Xyz(n.cone));
+  const S a = Dot(v, x);
+  const V off = v - x * a;
+  return Abs(a) * (s / c) + (S(n.sphere.w) + r) / c >= Length(off);
+}
+inline bool PrintedTest(const layout::ConeNode& n, glm::vec4 sphere, float eps) { return PrintedTestOf<float>(n, sphere, eps); }
+// The geometric question alone (accuracy's per-query table): no margin, sphere.w + 0 = sphere.w.
+inline bool PrintedTest(const layout::ConeNode& n, glm::vec4 sphere) { return PrintedTest(n, sphere, 0.0f); }
+
+// The test a traversal's cone_test (layout::kConeTest*) names.
+[[gnu::always_inline]] inline bool TestBy(std::uint32_t cone_test, const layout::ConeNode& n, glm::vec4 sphere, float eps) {
+  return cone_test == layout::kConeTestPrinted ? PrintedTest(n, sphere, eps) : Test(n, sphere, eps);
 }
 
 // One step of a leaf build: the node grown by one ray (origin o, unit direction r) with eqs. 3.8-3.11

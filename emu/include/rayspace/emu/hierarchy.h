@@ -57,6 +57,10 @@ struct HierarchyConfig {
   float auto_tree_spread = 0.0f;
   std::uint32_t auto_tree_triangles = 0;
   ObjectTreeOptions object_tree_options;
+  // --cone-test: the traversal's cone-sphere test, conservative (cone::Test) or the thesis's eq. 3.16
+  // as printed (cone::PrintedTest, which can lose hits); layout::kConeTest*. The object tree's descent
+  // has only the conservative test.
+  std::uint32_t cone_test = layout::kConeTestConservative;
 };
 
 // Per ray type and level, as the thesis counts (level `depth` = top).
