@@ -35,11 +35,19 @@ void AddFaithfulOptions(CLI::App& command, FaithfulArgs& args) {
       ->capture_default_str();
   command.add_flag("--one-object", args.one_object,
                    "Merge all of the scene's objects into one (one bounding sphere), as the thesis's Sponza; same hits");
+  command
+      .add_option("--leaf-test", args.leaf_test,
+                  "Rays of a surviving leaf node against its triangle: node (each ray's ray-triangle test) or ray-sphere "
+                  "(each ray first against the triangle's bounding sphere, as Roger et al.; counted as leaf sphere "
+                  "tests); same hits")
+      ->check(CLI::IsMember({"node", "ray-sphere"}))
+      ->capture_default_str();
 }
 
 void ApplyFaithful(const FaithfulArgs& args, emu::HierarchyConfig& hc) {
   hc.hash.order = args.hash_order == "polar-first" ? layout::kHashOrderPolarFirst : layout::kHashOrderInterleaved;
   hc.hash.polar_bits = hc.hash.azimuth_bits = args.hash_bits;
+  hc.leaf_test = args.leaf_test == "ray-sphere" ? layout::kLeafTestRaySphere : layout::kLeafTestNode;
 }
 
 SceneBuffers FlattenForFrame(const Scene& scene, const FaithfulArgs& args) {

@@ -368,6 +368,12 @@ foreach(scene cornell-mirrors office)
   diff_case(${scene}.crsh.faithful.one_object ${scene} 64x64 "" 0 "" --one-object)
 endforeach()
 diff_case(fault.faithful.raygen.shadow:1 office 64x64 raygen.shadow:1 4 raygen.shadow --shadow-rule lit)
+# Roger et al.'s leaf test (--leaf-test ray-sphere): each ray of a surviving leaf node against the
+# triangle's sphere before its ray-triangle test; the per-pair counts and the hits equal on both
+# backends, for each hierarchy, on the passes and on the fused path.
+diff_case(cornell.crsh.faithful.leaf_test cornell-mirrors 64x64 "" 0 "" --leaf-test ray-sphere)
+diff_case(cornell.rah-quadtree.faithful.leaf_test cornell-mirrors 64x64 "" 0 "" --leaf-test ray-sphere --algo rah-quadtree)
+diff_case(office.rah.faithful.leaf_test office 64x64 "" 0 "" --leaf-test ray-sphere --algo rah --path fused)
 # --objects tree: the joint descent's passes (tree.roots, tree.expand, tree.test, intersect.tree) and
 # the fused tree.step equal on both backends, with the frame digest of the flat top level; each
 # planted fault of the tree kernels caught in its own pass.

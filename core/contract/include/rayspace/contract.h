@@ -316,7 +316,14 @@ RS_CONST(uint, kIntersectBindOrder, 7u);     // paged
 RS_CONST(uint, kIntersectBindRays, 11u);     // paged
 RS_CONST(uint, kIntersectBindHits, 15u);     // paged
 RS_CONST(uint, kIntersectBindOccluded, 19u); // paged
-RS_CONST(uint, kIntersectBindings, 23u);
+RS_CONST(uint, kIntersectBindTriSpheres, 23u);  // read with kLeafTestRaySphere only
+RS_CONST(uint, kIntersectBindings, 24u);
+// What a ray of a surviving level-1 pair meets before its ray-triangle test (--leaf-test): nothing
+// (every ray of the node is tested against the triangle), or the triangle's bounding sphere, each ray
+// as a one-ray cone node under the traversal's test (Roger et al. 2007: a leaf keeps "the ID of all
+// triangles whose bounding sphere it intersects"); conservative, so the hits are the same.
+RS_CONST(uint, kLeafTestNode, 0u);
+RS_CONST(uint, kLeafTestRaySphere, 1u);
 struct IntersectPush {
   uint count;
   uint base1;
@@ -327,6 +334,8 @@ struct IntersectPush {
   uint ray_page;
   uint hit_page;
   uint occluded_page;
+  uint leaf_test;  // kLeafTestNode or kLeafTestRaySphere
+  float eps;       // the traversal's margin, for the ray-sphere test
 };
 
 // ---- --objects tree: the joint descent (tree.roots, tree.expand, tree.test, tree.step) ----------
@@ -427,7 +436,8 @@ static_assert(kBuildBindOrder == kBuildBindRays + kBufferPages && kBuildBindBelo
 static_assert(kTraverseBindFirst == kTraverseBindNodes + kBufferPages && kTraverseBindings == kTraverseBindFirst + kBufferPages);
 static_assert(kIntersectBindOrder == kIntersectBindFirst + kBufferPages && kIntersectBindRays == kIntersectBindOrder + kBufferPages &&
               kIntersectBindHits == kIntersectBindRays + kBufferPages &&
-              kIntersectBindOccluded == kIntersectBindHits + kBufferPages && kIntersectBindings == kIntersectBindOccluded + kBufferPages);
+              kIntersectBindOccluded == kIntersectBindHits + kBufferPages &&
+              kIntersectBindTriSpheres == kIntersectBindOccluded + kBufferPages && kIntersectBindings == kIntersectBindTriSpheres + 1u);
 static_assert(kShadeBindAccum == kShadeBindOccluded + kBufferPages && kShadeBindings == kShadeBindAccum + kBufferPages);
 static_assert(kTraverseCompactBindFirst == kTraverseCompactBindNodes + kBufferPages &&
               kTraverseCompactBindings == kTraverseCompactBindFirst + kBufferPages);
@@ -440,7 +450,7 @@ static_assert(kMaxLocalSize * kCompactCols < 65536u && kCompactRows <= 8u && kCo
 static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && sizeof(RaygenShadowPush) == 12 &&
               sizeof(RaygenPush) == 8 && sizeof(TrimPush) == 12 && sizeof(HashPush) == 36 && sizeof(SortPush) == 24 &&
               sizeof(BuildPush) == 20 && sizeof(TraversePush) == 56 && sizeof(ReducePush) == 20 &&
-              sizeof(IntersectPush) == 36 && sizeof(ShadePush) == 16 && sizeof(ElementwisePush) == 8 &&
+              sizeof(IntersectPush) == 44 && sizeof(ShadePush) == 16 && sizeof(ElementwisePush) == 8 &&
               sizeof(TraverseCompactPush) == 64 && sizeof(TreePush) == 40 && sizeof(IntersectTreePush) == 8);
 static_assert(kTreeStepBlock % kMaxLocalSize == 0u);
 static_assert(offsetof(TraversePush, eps) == 40);

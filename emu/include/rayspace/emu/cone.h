@@ -254,6 +254,15 @@ template <typename S>
 
 inline bool Test(const layout::ConeNode& n, glm::vec4 sphere, float eps) { return TestOf<float>(n, sphere, eps); }
 
+// --leaf-test ray-sphere (kLeafTestRaySphere): may the ray meet the sphere? The ray as the leaf build
+// makes a one-ray node (normalised direction, Finish), under the traversal's Test: a node holding the
+// ray passes wherever the ray meets the sphere, so this one does too (the test is conservative).
+inline bool RayMayMeetSphere(const layout::Ray& r, glm::vec4 sphere, float eps) {
+  layout::ConeNode n = FromRay(Xyz(r.origin_tmin), Normalize(Xyz(r.direction_tmax)));
+  Finish(n);
+  return Test(n, sphere, eps);
+}
+
 // Thesis eq. 3.16 as printed (after Roger et al. eq. 1): |C - H| tan(alpha) + (d + r) / cos(alpha) >=
 // |P - H|, H the projection of the sphere's centre P on the axis; in float, with no margins and none
 // of Test's special cases, so it is not conservative (docs/accuracy.md measures how often it errs).
