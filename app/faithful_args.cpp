@@ -42,12 +42,19 @@ void AddFaithfulOptions(CLI::App& command, FaithfulArgs& args) {
                   "tests); same hits")
       ->check(CLI::IsMember({"node", "ray-sphere"}))
       ->capture_default_str();
+  command
+      .add_option("--child-merge", args.child_merge,
+                  "How a parent node unites its children: sequential (one after another, as the thesis folds them) "
+                  "or pairwise (a balanced binary tree: smaller spheres); same hits")
+      ->check(CLI::IsMember({"sequential", "pairwise"}))
+      ->capture_default_str();
 }
 
 void ApplyFaithful(const FaithfulArgs& args, emu::HierarchyConfig& hc) {
   hc.hash.order = args.hash_order == "polar-first" ? layout::kHashOrderPolarFirst : layout::kHashOrderInterleaved;
   hc.hash.polar_bits = hc.hash.azimuth_bits = args.hash_bits;
   hc.leaf_test = args.leaf_test == "ray-sphere" ? layout::kLeafTestRaySphere : layout::kLeafTestNode;
+  hc.child_merge = args.child_merge == "pairwise" ? layout::kChildMergePairwise : layout::kChildMergeSequential;
 }
 
 SceneBuffers FlattenForFrame(const Scene& scene, const FaithfulArgs& args) {

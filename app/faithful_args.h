@@ -20,10 +20,11 @@ struct FaithfulArgs {
   std::string shadow_bounces = "all";                    // --shadow-bounces all|first
   bool one_object = false;                               // --one-object
   std::string leaf_test = "node";                        // --leaf-test node|ray-sphere
+  std::string child_merge = "sequential";                // --child-merge sequential|pairwise
 };
 
-// Registers --hash-order, --hash-bits, --shadow-rule, --shadow-bounces, --one-object and --leaf-test
-// on `command`, writing into `args`.
+// Registers --hash-order, --hash-bits, --shadow-rule, --shadow-bounces, --one-object, --leaf-test and
+// --child-merge on `command`, writing into `args`.
 void AddFaithfulOptions(CLI::App& command, FaithfulArgs& args);
 // The largest --hash-bits: a shadow key holds the light index and both angles' cells.
 int MaxHashBits();

@@ -374,6 +374,11 @@ diff_case(fault.faithful.raygen.shadow:1 office 64x64 raygen.shadow:1 4 raygen.s
 diff_case(cornell.crsh.faithful.leaf_test cornell-mirrors 64x64 "" 0 "" --leaf-test ray-sphere)
 diff_case(cornell.rah-quadtree.faithful.leaf_test cornell-mirrors 64x64 "" 0 "" --leaf-test ray-sphere --algo rah-quadtree)
 diff_case(office.rah.faithful.leaf_test office 64x64 "" 0 "" --leaf-test ray-sphere --algo rah --path fused)
+# --child-merge pairwise: parents united as a balanced tree of unions (build.comp's stack of partial
+# unions against the emulator's), equal on both backends for each hierarchy.
+diff_case(cornell.crsh.child_merge cornell-mirrors 64x64 "" 0 "" --child-merge pairwise)
+diff_case(cornell.rah-quadtree.child_merge cornell-mirrors 64x64 "" 0 "" --child-merge pairwise --algo rah-quadtree)
+diff_case(office.crsh.child_merge office 64x64 "" 0 "" --child-merge pairwise --leaf-test ray-sphere --path fused)
 # --objects tree: the joint descent's passes (tree.roots, tree.expand, tree.test, intersect.tree) and
 # the fused tree.step equal on both backends, with the frame digest of the flat top level; each
 # planted fault of the tree kernels caught in its own pass.

@@ -167,7 +167,11 @@ void CheckInputs(const call::BuildLeaves& c) {
   CheckFirst(c.kName, "first", c.first, c.order.size());
 }
 
-void CheckInputs(const call::BuildParents& c) { CheckFirst(c.kName, "first", c.first, c.below.size()); }
+void CheckInputs(const call::BuildParents& c) {
+  CheckFirst(c.kName, "first", c.first, c.below.size());
+  if (c.child_merge != layout::kChildMergeSequential && c.child_merge != layout::kChildMergePairwise)
+    ThrowInput("{}: scalar 'child_merge' = {} is neither 0 (sequential) nor 1 (pairwise)", c.kName, c.child_merge);
+}
 
 void CheckInputs(const call::ObjectMask&) {}  // any nodes and spheres
 

@@ -231,7 +231,7 @@ class Impl final : public HierarchyTracer {
       if (L == 1) {
         h.nodes[0] = passes_.BuildLeaves({.rays = rays, .order = order, .first = f});
       } else {
-        h.nodes[L - 1] = passes_.BuildParents({.below = h.nodes[L - 2], .first = f});
+        h.nodes[L - 1] = passes_.BuildParents({.below = h.nodes[L - 2], .first = f, .child_merge = cfg_.child_merge});
       }
       if (quad) {
         std::vector<std::uint32_t> next(nodes);

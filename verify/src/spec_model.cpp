@@ -612,7 +612,7 @@ SpecVerdict BuildParents(const BufferSet& in, const BufferSet& e, const BufferSe
       [&](std::size_t i) {
         std::vector<SpecNode> children;
         for (std::uint32_t k = c.first[i]; k < c.first[i + 1]; ++k) children.push_back(ToSpec(c.below[k]));
-        return emu::cone::ParentNode(children.data(), static_cast<std::uint32_t>(children.size()));
+        return emu::cone::ParentNode(children.data(), static_cast<std::uint32_t>(children.size()), c.child_merge);
       },
       [&](std::size_t i, const layout::ConeNode& n, std::string& why) {
         for (std::uint32_t k = c.first[i]; k < c.first[i + 1]; ++k)

@@ -195,12 +195,19 @@ RS_CONST(uint, kBuildBindBelow, 10u);  // paged
 RS_CONST(uint, kBuildBindings, 14u);
 RS_CONST(uint, kBuildPhaseLeaves, 0u);
 RS_CONST(uint, kBuildPhaseParents, 1u);
+// How a parent unites its children (--child-merge): one after another (the thesis's fold), or as a
+// balanced binary tree in child order, whose spheres grow with the depth of the tree instead of the
+// number of children (docs/hierarchy.md, "Faithful to the thesis"). Either way the parent is then
+// checked against every child and finished, so it holds them.
+RS_CONST(uint, kChildMergeSequential, 0u);
+RS_CONST(uint, kChildMergePairwise, 1u);
 struct BuildPush {
   uint count;
   uint phase;
   uint ray_page;
   uint order_page;
   uint below_page;
+  uint child_merge;  // parents: kChildMergeSequential or kChildMergePairwise
 };
 
 // ---- traverse: cone-sphere nodes against triangle or object spheres ----------------------------
@@ -449,7 +456,7 @@ static_assert(kMaxLocalSize * kCompactCols < 65536u && kCompactRows <= 8u && kCo
 // Vulkan device guarantees.
 static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && sizeof(RaygenShadowPush) == 12 &&
               sizeof(RaygenPush) == 8 && sizeof(TrimPush) == 12 && sizeof(HashPush) == 36 && sizeof(SortPush) == 24 &&
-              sizeof(BuildPush) == 20 && sizeof(TraversePush) == 56 && sizeof(ReducePush) == 20 &&
+              sizeof(BuildPush) == 24 && sizeof(TraversePush) == 56 && sizeof(ReducePush) == 20 &&
               sizeof(IntersectPush) == 44 && sizeof(ShadePush) == 16 && sizeof(ElementwisePush) == 8 &&
               sizeof(TraverseCompactPush) == 64 && sizeof(TreePush) == 40 && sizeof(IntersectTreePush) == 8);
 static_assert(kTreeStepBlock % kMaxLocalSize == 0u);

@@ -165,7 +165,8 @@ struct BuildParents {
   static constexpr std::string_view kResult = "nodes";
   In<layout::ConeNode> below{};
   In<std::uint32_t> first{};
-  RS_FIELDS(below, first)
+  std::uint32_t child_merge = layout::kChildMergeSequential;  // cone::ParentNode's merge
+  RS_FIELDS(below, first, child_merge)
 };
 
 // CRSH's object culling: 1 where top node e / objects may meet object sphere e % objects.

@@ -62,6 +62,9 @@ struct HierarchyConfig {
   // kLeafTestRaySphere (first the triangle's bounding sphere, Roger et al. 2007); the flat descent only
   // (--objects tree already tests every ray against the triangle spheres, as its level 0).
   std::uint32_t leaf_test = layout::kLeafTestNode;
+  // --child-merge: kChildMergeSequential (a parent folds its children one after another) or
+  // kChildMergePairwise (as a balanced binary tree; cone::ParentNode).
+  std::uint32_t child_merge = layout::kChildMergeSequential;
 };
 
 // Per ray type and level, as the thesis counts (level `depth` = top).
