@@ -15,7 +15,7 @@ std::vector<std::string> FaithfulPreset(const std::string& name) {
   // stays a switch of its own (`rayspace reproduce` sets it for Sponza).
   if (name == "thesis")
     return {"--hash-order", "polar-first", "--hash-bits", "8", "--shadow-bounces", "first", "--objects", "flat", "--cone-test", "printed"};
-  if (name == "roger") return {"--objects", "flat", "--cone-test", "printed"};
+  if (name == "roger") return {"--objects", "flat", "--cone-test", "printed", "--leaf-test", "ray-sphere"};
   if (name == "none") return {};
   return {};
 }
@@ -89,6 +89,19 @@ void AddFaithfulOptions(CLI::App& command, FaithfulArgs& args) {
                   "as printed, no margins; it can lose hits, which the oracle counts); printed traces --objects flat")
       ->check(CLI::IsMember({"conservative", "printed"}))
       ->capture_default_str();
+  command
+      .add_option("--leaf-test", args.leaf_test,
+                  "Rays of a surviving leaf node against its triangle: node (each ray's ray-triangle test) or ray-sphere "
+                  "(each ray first against the triangle's bounding sphere, as Roger et al.; counted as leaf sphere "
+                  "tests); same hits")
+      ->check(CLI::IsMember({"node", "ray-sphere"}))
+      ->capture_default_str();
+  command
+      .add_option("--child-merge", args.child_merge,
+                  "How a parent node unites its children: sequential (one after another, as the thesis folds them) "
+                  "or pairwise (a balanced binary tree: smaller spheres); same hits")
+      ->check(CLI::IsMember({"sequential", "pairwise"}))
+      ->capture_default_str();
 }
 
 FaithfulArgs FaithfulFromPreset(const std::string& name) {
@@ -106,6 +119,8 @@ FaithfulArgs FaithfulFromPreset(const std::string& name) {
 void ApplyFaithful(const FaithfulArgs& args, emu::HierarchyConfig& hc) {
   hc.hash.order = args.hash_order == "polar-first" ? layout::kHashOrderPolarFirst : layout::kHashOrderInterleaved;
   hc.hash.polar_bits = hc.hash.azimuth_bits = args.hash_bits;
+  hc.leaf_test = args.leaf_test == "ray-sphere" ? layout::kLeafTestRaySphere : layout::kLeafTestNode;
+  hc.child_merge = args.child_merge == "pairwise" ? layout::kChildMergePairwise : layout::kChildMergeSequential;
   if (args.cone_test != "printed") return;
   if (hc.object_tree) ThrowInput("--cone-test printed: the object tree (--objects tree) has only the conservative test");
   hc.cone_test = layout::kConeTestPrinted;

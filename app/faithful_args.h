@@ -22,12 +22,14 @@ struct FaithfulArgs {
   std::string shadow_bounces = "all";                    // --shadow-bounces all|first
   bool one_object = false;                               // --one-object
   std::string cone_test = "conservative";                // --cone-test conservative|printed
+  std::string leaf_test = "node";                        // --leaf-test node|ray-sphere
+  std::string child_merge = "sequential";                // --child-merge sequential|pairwise
 };
 
-// Registers --faithful, --hash-order, --hash-bits, --shadow-rule, --shadow-bounces, --one-object and
-// --cone-test on `command`, writing into `args`. --faithful is resolved when the command's parse completes: each
-// switch of the preset that the command line does not give is set as if it had been given, so an
-// explicit switch wins over the preset.
+// Registers --faithful, --hash-order, --hash-bits, --shadow-rule, --shadow-bounces, --one-object,
+// --cone-test, --leaf-test and --child-merge on `command`, writing into `args`. --faithful is resolved
+// when the command's parse completes: each switch of the preset that the command line does not give
+// is set as if it had been given, so an explicit switch wins over the preset.
 void AddFaithfulOptions(CLI::App& command, FaithfulArgs& args);
 // A preset's switches, as command-line words ("--hash-order", "polar-first", "--one-object", ...): the
 // one list --faithful applies and --help prints. An unknown name: empty.

@@ -7,7 +7,7 @@
 namespace rayspace::app {
 
 std::uint64_t Statistics::PerType::Total() const {
-  std::uint64_t sum = final_tests + ray_level.intersections;
+  std::uint64_t sum = final_tests + leaf_sphere_tests + ray_level.intersections;
   for (const emu::LevelStats& l : levels) sum += l.intersections;
   return sum;
 }
@@ -25,6 +25,8 @@ Statistics CollectStatistics(const std::vector<emu::BatchStats>& batches) {
       t.levels[L].hits += b.levels[L].hits;
     }
     t.final_tests += b.final_tests;
+    t.leaf_sphere_tests += b.leaf_sphere_tests;
+    s.leaf_sphere_tests += b.leaf_sphere_tests;
     t.rays += b.rays;
     t.brute_force += b.BruteForce();
     t.object_sphere_tests += b.object_sphere_tests;
@@ -111,6 +113,7 @@ nlohmann::json TreeJson(const emu::LevelStats& rays, const std::vector<emu::Leve
 
 void Statistics::ToJson(nlohmann::json& j) const {
   nlohmann::json levels = nlohmann::json::array(), finals = nlohmann::json::object(), batch_list = nlohmann::json::array();
+  nlohmann::json leaf_spheres = nlohmann::json::object();
   for (const auto& [kind, t] : types) {
     for (std::size_t L = t.levels.size(); L-- > 0;) {
       const emu::LevelStats& l = t.levels[L];
@@ -120,6 +123,7 @@ void Statistics::ToJson(nlohmann::json& j) const {
                         {"percent_of_frame_brute_force", Percent(l.intersections, brute_force)}});
     }
     finals[emu::RayKindName(kind)] = t.final_tests;
+    if (leaf_sphere_tests > 0) leaf_spheres[emu::RayKindName(kind)] = t.leaf_sphere_tests;
   }
   for (const emu::BatchStats& b : batches) {
     nlohmann::json bl = nlohmann::json::array();
@@ -131,11 +135,14 @@ void Statistics::ToJson(nlohmann::json& j) const {
                           {"object_sphere_tests", b.object_sphere_tests}, {"object_sphere_hits", b.object_sphere_hits},
                           {"triangle_batches", b.triangle_batches}, {"overflow_splits", b.overflow_splits}});
     batch_list.back()["leaf_spread"] = b.leaf_spread;
+    if (leaf_sphere_tests > 0) batch_list.back()["leaf_sphere_tests"] = b.leaf_sphere_tests;
     batch_list.back()["objects"] = b.object_tree ? "tree" : "flat";
     if (b.tree_rounds > 0) batch_list.back()["object_tree"] = TreeJson(b.ray_level, b.object_levels, b.object_triangles, b.tree_rounds);
   }
   j["levels"] = levels;
   j["final_tests"] = finals;
+  // --leaf-test ray-sphere only, so that the default's statistics stay as they were.
+  if (leaf_sphere_tests > 0) j["leaf_sphere_tests"] = leaf_spheres;
   j["total_tests"] = total;
   j["brute_force_tests"] = brute_force;
   j["percent_of_brute_force"] = Percent(total, brute_force);
@@ -175,6 +182,10 @@ void PrintType(std::FILE* out, std::uint32_t kind, const Statistics::PerType& t,
     PrintRow(out, kind, name);
     for (int L = depth; L >= 1; --L) std::fprintf(out, " %15.2f%%", Percent(t.levels[L - 1].intersections, whole));
     std::fprintf(out, "\n");
+  }
+  if (t.leaf_sphere_tests > 0) {
+    PrintRow(out, kind, "LEAF SPHERE TESTS");
+    std::fprintf(out, " %16llu\n", static_cast<unsigned long long>(t.leaf_sphere_tests));
   }
   PrintRow(out, kind, "FINAL TESTS");
   std::fprintf(out, " %16llu\n", static_cast<unsigned long long>(t.final_tests));

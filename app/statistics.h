@@ -1,6 +1,7 @@
 // Intersection statistics counted as the CRSH thesis counts them (docs/hierarchy.md, "Statistics"):
 // per ray type and level the node-sphere tests (intersections), survivors (hits) and misses; final
-// ray-triangle tests; total = every level's intersections + final tests (+ the rays' own tests with
+// ray-triangle tests (with --leaf-test ray-sphere, the leaf sphere tests before them); total = every
+// level's intersections + leaf sphere tests + final tests (+ the rays' own tests with
 // --objects tree, where a level's intersections are its cones' tests against object nodes and
 // triangle spheres); brute force = rays x triangles, per ray type (the thesis's per-type shares divide
 // by the type's own) and for the whole frame.
@@ -23,13 +24,14 @@ struct Statistics {
   struct PerType {
     std::vector<emu::LevelStats> levels;
     std::uint64_t final_tests = 0, rays = 0, brute_force = 0, object_sphere_tests = 0;
+    std::uint64_t leaf_sphere_tests = 0;  // --leaf-test ray-sphere
     emu::LevelStats ray_level;  // --objects tree
     // Every test of this ray type: its levels, its rays' own (--objects tree) and its final tests.
     std::uint64_t Total() const;
   };
   std::map<std::uint32_t, PerType> types;
   std::vector<emu::BatchStats> batches;
-  std::uint64_t total = 0, brute_force = 0, object_sphere_tests = 0;
+  std::uint64_t total = 0, brute_force = 0, object_sphere_tests = 0, leaf_sphere_tests = 0;
   // --objects tree: every test again by its object side (per depth of the tested node; triangle spheres).
   bool object_tree = false;
   std::vector<emu::LevelStats> object_levels;

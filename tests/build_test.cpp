@@ -189,3 +189,30 @@ TEST_CASE("cone: the radius floor survives a device that flushes denormals") {
   CHECK(n.sphere.w < 0x1p-121f);
 #endif
 }
+
+// --child-merge: 8 one-point children evenly spaced on a line. Each step of the sequential fold adds
+// half the distance to the next child (0.5, 1.25, 2.125, ... 6.0078125 = 6 + 2^-7 spacings, where 3.5
+// would do); the pairwise tree's radius only grows per level (0.5, 1.5, 3.5), exactly. After the checks and margins both parents hold every child, the pairwise one
+// within its margins of 3.5.
+TEST_CASE("build: pairwise child merge gives radius 3.5 where the sequential fold gives about 6 (8 points on a line)") {
+  std::vector<layout::ConeNode> kids;
+  for (int k = 0; k < 8; ++k) kids.push_back(cone::FromRay(glm::vec3(static_cast<float>(k), 0, 0), glm::vec3(0, 0, 1)));
+  layout::ConeNode sequential = kids[0];
+  for (std::size_t k = 1; k < kids.size(); ++k) sequential = cone::Union(sequential, kids[k]);
+  CHECK(sequential.sphere.w == 6.0078125f);
+  const layout::ConeNode pairwise = cone::PairwiseUnion(kids.data(), 8);
+  CHECK(pairwise.sphere.w == 3.5f);
+  CHECK(glm::vec3(pairwise.sphere) == glm::vec3(3.5f, 0, 0));
+  CHECK(pairwise.extra.y == 8.0f);  // the children's rays, summed
+  // Counts that are no power of two: 5 children give ((0 u 1) u (2 u 3)) u 4.
+  const layout::ConeNode five = cone::PairwiseUnion(kids.data(), 5);
+  CHECK(five.sphere.w == cone::Union(cone::Union(cone::Union(kids[0], kids[1]), cone::Union(kids[2], kids[3])), kids[4]).sphere.w);
+  for (std::uint32_t merge : {layout::kChildMergeSequential, layout::kChildMergePairwise}) {
+    const layout::ConeNode parent = cone::ParentNode(kids.data(), 8, merge);
+    INFO("merge " << merge);
+    for (const auto& k : kids) CHECK(glm::length(glm::dvec3(k.sphere) - glm::dvec3(parent.sphere)) <= parent.sphere.w);
+    const float radius = merge == layout::kChildMergePairwise ? 3.5f : 6.0078125f;
+    CHECK(parent.sphere.w >= radius);
+    CHECK(parent.sphere.w < radius * 1.0001f);
+  }
+}

@@ -375,6 +375,17 @@ diff_case(cornell.crsh.faithful.cone_test cornell-mirrors 64x64 "" 0 "" --cone-t
 diff_case(office.crsh.faithful.cone_test.fused office 64x64 "" 0 "" --cone-test printed --path fused)
 diff_case(cornell.rah.faithful.cone_test cornell-mirrors 64x64 "" 0 "" --cone-test printed --algo rah)
 diff_case(glass.rah.faithful.cone_test.fused glass 64x64 "" 0 "" --cone-test printed --algo rah --path fused)
+# Roger et al.'s leaf test (--leaf-test ray-sphere): each ray of a surviving leaf node against the
+# triangle's sphere before its ray-triangle test; the per-pair counts and the hits equal on both
+# backends, for each hierarchy, on the passes and on the fused path.
+diff_case(cornell.crsh.faithful.leaf_test cornell-mirrors 64x64 "" 0 "" --leaf-test ray-sphere)
+diff_case(cornell.rah-quadtree.faithful.leaf_test cornell-mirrors 64x64 "" 0 "" --leaf-test ray-sphere --algo rah-quadtree)
+diff_case(office.rah.faithful.leaf_test office 64x64 "" 0 "" --leaf-test ray-sphere --algo rah --path fused)
+# --child-merge pairwise: parents united as a balanced tree of unions (build.comp's stack of partial
+# unions against the emulator's), equal on both backends for each hierarchy.
+diff_case(cornell.crsh.child_merge cornell-mirrors 64x64 "" 0 "" --child-merge pairwise)
+diff_case(cornell.rah-quadtree.child_merge cornell-mirrors 64x64 "" 0 "" --child-merge pairwise --algo rah-quadtree)
+diff_case(office.crsh.child_merge office 64x64 "" 0 "" --child-merge pairwise --leaf-test ray-sphere --path fused)
 # --objects tree: the joint descent's passes (tree.roots, tree.expand, tree.test, intersect.tree) and
 # the fused tree.step equal on both backends, with the frame digest of the flat top level; each
 # planted fault of the tree kernels caught in its own pass.

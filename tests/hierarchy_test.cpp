@@ -91,3 +91,41 @@ TEST_CASE("determinism: hierarchy digests across threads, reductions, component 
   CHECK(splits > 0);  // overflow really happened
   CHECK(over.frame.digest.Frame() == ref);
 }
+
+// --leaf-test ray-sphere on every hierarchy: the rays below the surviving leaves meet the triangle
+// spheres first (as many sphere tests as the node test's ray-triangle tests), far fewer ray-triangle
+// tests follow, and every hit, shading and pixel stays the same.
+TEST_CASE("leaf test: ray-sphere cuts the ray-triangle tests per ray on cornell-mirrors, same hits, every algorithm") {
+  const Scene s = test::LoadBundled("cornell-mirrors.json");
+  for (Algorithm algo : {Algorithm::kCrsh, Algorithm::kRah, Algorithm::kRahQuadtree}) {
+    HierarchyConfig cfg;
+    cfg.algorithm = algo;
+    if (algo == Algorithm::kRahQuadtree) cfg.subdivision = 4, cfg.depth = 6;
+    INFO("algorithm " << static_cast<int>(algo));
+    const HRun node = RunHierarchy(s, 64, 64, cfg);
+    cfg.leaf_test = layout::kLeafTestRaySphere;
+    const HRun sphere = RunHierarchy(s, 64, 64, cfg);
+    REQUIRE(node.stats.size() == sphere.stats.size());
+    std::uint64_t node_finals = 0, sphere_finals = 0, leaf_tests = 0;
+    for (std::size_t i = 0; i < node.stats.size(); ++i) {
+      CHECK(node.stats[i].leaf_sphere_tests == 0);
+      CHECK(sphere.stats[i].leaf_sphere_tests == node.stats[i].final_tests);
+      CHECK(sphere.stats[i].final_tests <= sphere.stats[i].leaf_sphere_tests);
+      node_finals += node.stats[i].final_tests, sphere_finals += sphere.stats[i].final_tests;
+      leaf_tests += sphere.stats[i].leaf_sphere_tests;
+    }
+    CHECK(leaf_tests == node_finals);
+    CHECK(sphere_finals * 2 < node_finals);
+    CHECK(Results(sphere.frame) == Results(node.frame));
+    CHECK(sphere.frame.rgb == node.frame.rgb);
+    // The fused path's final tests run on lanes (PassIntersectLanes): the same counts and hits.
+    cfg.fused = true;
+    const HRun lanes = RunHierarchy(s, 64, 64, cfg);
+    REQUIRE(lanes.stats.size() == sphere.stats.size());
+    for (std::size_t i = 0; i < lanes.stats.size(); ++i) {
+      CHECK(lanes.stats[i].final_tests == sphere.stats[i].final_tests);
+      CHECK(lanes.stats[i].leaf_sphere_tests == sphere.stats[i].leaf_sphere_tests);
+    }
+    CHECK(Results(lanes.frame) == Results(node.frame));
+  }
+}

@@ -5,7 +5,9 @@
 #include <algorithm>
 
 #include "rayspace/emu/intersect.h"
+#include "rayspace/emu/cone.h"
 #include "rayspace/emu/hierarchy.h"
+#include "rayspace/emu/passes.h"
 #include "rayspace/emu/tracer.h"
 #include "test_util.h"
 
@@ -138,4 +140,38 @@ TEST_CASE("intersect: tmin excludes the triangles before it, one pass over hand-
   std::vector<std::uint32_t> direct_occluded;
   direct->Occluded(rays, direct_occluded);
   CHECK(direct_occluded == occluded);
+}
+
+// --leaf-test ray-sphere: a ray that misses the triangle's sphere is culled before its ray-triangle
+// test, while rays that hit the triangle at its vertex and at a glancing angle near it are kept (the
+// sphere test is conservative): the pair counts the two, with the same hits as the node test.
+TEST_CASE("intersect: the leaf sphere test culls a ray beside the sphere and keeps grazing rays that hit") {
+  const TwoQuads q;
+  const std::vector<glm::vec4> spheres = PassTriangleSpheres(q.b.triangles);
+  const layout::Triangle& t = q.b.triangles[0];
+  const glm::vec3 v1 = Xyz(t.v1), centroid = (Xyz(t.v0) + Xyz(t.v1) + Xyz(t.v2)) / 3.0f;
+  const glm::vec3 near_vertex = v1 * 0.98f + centroid * 0.02f;
+  std::vector<layout::Ray> rays = {MakeRay({5, 5, 1}, {0, 0, -1}),                         // beside the sphere
+                                   MakeRay(v1 + glm::vec3(0, 0, 1), {0, 0, -1}),            // onto the vertex
+                                   MakeRay(near_vertex + glm::vec3(-1000, 0, 1), {1000, 0, -1})};  // glancing
+  float th = 0.0f;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const layout::Ray& r = rays[i];
+    const bool hit = IntersectWatertight(SetupWatertight(Xyz(r.origin_tmin), Xyz(r.direction_tmax)), Xyz(t.v0), Xyz(t.v1), Xyz(t.v2),
+                                         r.origin_tmin.w, r.direction_tmax.w, th);
+    INFO("ray " << i);
+    CHECK(hit == (i != 0));
+    CHECK(cone::RayMayMeetSphere(r, spheres[0], 0.0f) == (i != 0));
+  }
+  const std::vector<std::uint32_t> order = {0, 1, 2}, first1 = {0, 3}, pairs = {Pair(0, 0)};
+  std::vector<std::uint64_t> node_hits(3, kMissPacked), sphere_hits(3, kMissPacked);
+  const auto node_tests = PassIntersect({.pairs = pairs, .first1 = first1, .order = order, .rays = rays, .scene = &q.b, .hits = &node_hits});
+  const auto sphere_tests = PassIntersect({.pairs = pairs, .first1 = first1, .order = order, .rays = rays, .scene = &q.b,
+                                           .hits = &sphere_hits, .leaf_test = layout::kLeafTestRaySphere, .tri_spheres = spheres});
+  CHECK(node_tests == std::vector<std::uint32_t>{3});
+  CHECK(sphere_tests == std::vector<std::uint32_t>{2});
+  CHECK(sphere_hits == node_hits);
+  CHECK(sphere_hits[0] == kMissPacked);
+  CHECK(sphere_hits[1] != kMissPacked);
+  CHECK(sphere_hits[2] != kMissPacked);
 }

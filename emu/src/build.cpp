@@ -23,7 +23,7 @@ std::vector<layout::ConeNode> PassBuildParents(const call::BuildParents& c) {
   const In<layout::ConeNode> below = c.below;
   const In<std::uint32_t> first = c.first;
   std::vector<layout::ConeNode> nodes(first.size() - 1);
-  ParallelFor(nodes.size(), [&](std::size_t i) { nodes[i] = cone::ParentNode(&below[first[i]], first[i + 1] - first[i]); });
+  ParallelFor(nodes.size(), [&](std::size_t i) { nodes[i] = cone::ParentNode(&below[first[i]], first[i + 1] - first[i], c.child_merge); });
   return nodes;
 }
 

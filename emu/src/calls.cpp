@@ -167,7 +167,11 @@ void CheckInputs(const call::BuildLeaves& c) {
   CheckFirst(c.kName, "first", c.first, c.order.size());
 }
 
-void CheckInputs(const call::BuildParents& c) { CheckFirst(c.kName, "first", c.first, c.below.size()); }
+void CheckInputs(const call::BuildParents& c) {
+  CheckFirst(c.kName, "first", c.first, c.below.size());
+  if (c.child_merge != layout::kChildMergeSequential && c.child_merge != layout::kChildMergePairwise)
+    ThrowInput("{}: scalar 'child_merge' = {} is neither 0 (sequential) nor 1 (pairwise)", c.kName, c.child_merge);
+}
 
 namespace {
 void CheckConeTest(std::string_view call, std::uint32_t cone_test) {
@@ -243,6 +247,10 @@ void CheckInputs(const call::Intersect& c) {
   if ((c.hits == nullptr) == (c.occluded == nullptr)) ThrowInput("{}: exactly one of 'hits' and 'occluded' is needed", c.kName);
   const std::size_t n = c.hits ? c.hits->size() : c.occluded->size();
   CheckSameLength(c.kName, c.hits ? "hits" : "occluded", n, "rays", c.rays.size());
+  if (c.leaf_test != layout::kLeafTestNode && c.leaf_test != layout::kLeafTestRaySphere)
+    ThrowInput("{}: scalar 'leaf_test' = {} is neither 0 (node) nor 1 (ray-sphere)", c.kName, c.leaf_test);
+  if (c.leaf_test == layout::kLeafTestRaySphere)
+    CheckSameLength(c.kName, "tri_spheres", c.tri_spheres.size(), "triangles", c.scene->triangles.size());
 }
 
 }  // namespace rayspace::emu

@@ -21,7 +21,7 @@
 namespace rayspace::emu {
 
 std::uint64_t BatchStats::Total() const {
-  std::uint64_t t = final_tests + ray_level.intersections;
+  std::uint64_t t = final_tests + leaf_sphere_tests + ray_level.intersections;
   for (const LevelStats& l : levels) t += l.intersections;
   return t;
 }
@@ -235,7 +235,7 @@ class Impl final : public HierarchyTracer {
       if (L == 1) {
         h.nodes[0] = passes_.BuildLeaves({.rays = rays, .order = order, .first = f});
       } else {
-        h.nodes[L - 1] = passes_.BuildParents({.below = h.nodes[L - 2], .first = f});
+        h.nodes[L - 1] = passes_.BuildParents({.below = h.nodes[L - 2], .first = f, .child_merge = cfg_.child_merge});
       }
       if (quad) {
         std::vector<std::uint32_t> next(nodes);
@@ -336,14 +336,16 @@ class Impl final : public HierarchyTracer {
     const std::vector<std::uint32_t> tests =
         Sub("intersect", pairs.size(), [&] {
           const call::Intersect call{.pairs = pairs, .first1 = f1, .base1 = base1, .b0 = b0, .order = order, .rays = rays,
-                                     .scene = &scene_, .hits = hits, .occluded = occluded};
+                                     .scene = &scene_, .hits = hits, .occluded = occluded, .leaf_test = cfg_.leaf_test,
+                                     .tri_spheres = *tri_spheres_, .eps = eps_};
           return HostFastPath() ? PassIntersectLanes(call, watertight_) : passes_.Intersect(call);
         });
     if (cfg_.candidate_log) {
       for (std::uint32_t pair : pairs) {
         const std::uint32_t node = base1 + (pair >> kTriBits), prim = b0 + (pair & kTriMask);
         for (std::uint32_t j = f1[node]; j < f1[node + 1]; ++j)
-          cfg_.candidate_log->push_back((static_cast<std::uint64_t>(order[j]) << 32) | prim);
+          if (cfg_.leaf_test != layout::kLeafTestRaySphere || cone::RayMayMeetSphere(rays[order[j]], (*tri_spheres_)[prim], eps_))
+            cfg_.candidate_log->push_back((static_cast<std::uint64_t>(order[j]) << 32) | prim);
       }
     }
     std::uint64_t performed = 0, expected = 0;
@@ -351,8 +353,14 @@ class Impl final : public HierarchyTracer {
       performed += tests[p];
       expected += static_cast<std::uint64_t>(h.nodes[0][base1 + (pairs[p] >> kTriBits)].extra.y);
     }
-    // The thesis's accounting: final tests = rays below the surviving level-1 nodes.
-    RS_CHECK_MSG(performed == expected, "final tests {} != rays below surviving nodes {}", performed, expected);
+    // The thesis's accounting: final tests = rays below the surviving level-1 nodes; with the leaf
+    // sphere test those rays are its tests, and the final tests the ones that passed.
+    if (cfg_.leaf_test == layout::kLeafTestRaySphere) {
+      RS_CHECK_MSG(performed <= expected, "final tests {} > rays below surviving nodes {}", performed, expected);
+      st.leaf_sphere_tests += expected;
+    } else {
+      RS_CHECK_MSG(performed == expected, "final tests {} != rays below surviving nodes {}", performed, expected);
+    }
     st.final_tests += performed;
     for (int L = 0; L < D; ++L) {
       st.levels[L].intersections += lv[L].intersections;

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <bit>
 
+#include "rayspace/emu/cone.h"
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/intersect.h"
 #include "rayspace/parallel.h"
@@ -48,6 +49,9 @@ void TestRays(const call::Intersect& c, const intersect_lanes::RayArrays& r, con
     for (; bits; bits &= bits - 1) {
       const std::uint32_t i = static_cast<std::uint32_t>(__builtin_ctz(bits)), ray = c.order[j + i];
       if (prim == c.rays[ray].info.y) continue;  // the surface the ray leaves
+      // A hit the sphere test would have kept from its test (none, the test being conservative,
+      // but the emulator states what the kernel does).
+      if (c.leaf_test == layout::kLeafTestRaySphere && !cone::RayMayMeetSphere(c.rays[ray], c.tri_spheres[prim], c.eps)) continue;
       if (c.occluded)
         std::atomic_ref<std::uint32_t>((*c.occluded)[ray]).store(1u, std::memory_order_relaxed);
       else
@@ -104,6 +108,7 @@ void IntersectRaysScalar(const call::Intersect& c, std::uint32_t prim, std::uint
     const std::uint32_t ray = c.order[j];
     const layout::Ray& r = c.rays[ray];
     float th = 0.0f;
+    if (c.leaf_test == layout::kLeafTestRaySphere && !cone::RayMayMeetSphere(r, c.tri_spheres[prim], c.eps)) continue;
     if (prim == r.info.y || !IntersectWatertight(SetupWatertight(Xyz(r.origin_tmin), Xyz(r.direction_tmax)), Xyz(t.v0), Xyz(t.v1),
                                                  Xyz(t.v2), r.origin_tmin.w, r.direction_tmax.w, th))
       continue;
@@ -135,7 +140,13 @@ WatertightArrays ToWatertightArrays(std::span<const layout::Ray> rays, std::span
 std::vector<std::uint32_t> PassIntersectLanes(const call::Intersect& c, const WatertightArrays& w) {
   if (g_isa == cone::Isa::kScalar) return PassIntersect(c);
   std::vector<std::uint32_t> tests(c.pairs.size());
-  ParallelFor(c.pairs.size(), [&](std::size_t p) { tests[p] = EndRay(c, p) - FirstRay(c, p); });
+  ParallelFor(c.pairs.size(), [&](std::size_t p) {
+    tests[p] = EndRay(c, p) - FirstRay(c, p);
+    if (c.leaf_test != layout::kLeafTestRaySphere) return;
+    // The lanes test every ray of the pair; the count is of those whose sphere test passes.
+    const glm::vec4 sphere = c.tri_spheres[c.b0 + (c.pairs[p] & kPairTriangleMask)];
+    for (std::uint32_t j = FirstRay(c, p); j < EndRay(c, p); ++j) tests[p] -= !cone::RayMayMeetSphere(c.rays[c.order[j]], sphere, c.eps);
+  });
   if (!c.pairs.empty()) (g_isa == cone::Isa::kAvx512 ? TestRuns<16> : TestRuns<8>)(c, w);
   return tests;
 }

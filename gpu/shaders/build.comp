@@ -67,11 +67,39 @@ ConeNode Leaf(uint f0, uint f1, uint lanes) {
   return n;
 }
 
-// A parent over children f0 .. f1 - 1 of the level below: their union in order, then every child
-// enclosed in order (eqs. 3.12-3.15); the lanes fetch the children, every lane folds.
+// --child-merge pairwise (emu cone::PairwiseUnion): a stack of partial unions as a binary counter;
+// the two newest merge (older first) while they hold equally many children.
+ConeNode stack_nodes[33];
+uint stack_held[33];
+int stack_top = -1;
+
+void PushChild(ConeNode c) {
+  ++stack_top;
+  stack_nodes[stack_top] = c;
+  stack_held[stack_top] = 1u;
+  while (stack_top >= 1 && stack_held[stack_top] == stack_held[stack_top - 1]) {
+    stack_nodes[stack_top - 1] = Union(stack_nodes[stack_top - 1], stack_nodes[stack_top]);
+    stack_held[stack_top - 1] *= 2u;
+    --stack_top;
+  }
+}
+
+// The partial unions left, folded newest first into the older ones.
+ConeNode FoldStack() {
+  ConeNode n = stack_nodes[stack_top];
+  for (int i = stack_top - 1; i >= 0; --i) n = Union(stack_nodes[i], n);
+  return n;
+}
+
+// A parent over children f0 .. f1 - 1 of the level below: their union in order (one after another,
+// or pairwise), then every child enclosed in order (eqs. 3.12-3.15); the lanes fetch the children,
+// every lane folds.
 ConeNode Parent(uint f0, uint f1, uint lanes) {
   ConeNode n;
+  const bool pairwise = pc.child_merge == kChildMergePairwise && f1 > f0 + 1u;
+  stack_top = -1;
   for (uint pass = 0u; pass < 2u; ++pass) {
+    if (pass == 1u && pairwise) n = FoldStack();
     for (uint j0 = f0; j0 < f1; j0 += lanes) {
       const uint j = j0 + gl_SubgroupInvocationID;
       ConeNode b;
@@ -80,7 +108,9 @@ ConeNode Parent(uint f0, uint f1, uint lanes) {
       const uint m = min(lanes, f1 - j0);
       for (uint k = 0u; k < m; ++k) {
         const ConeNode bk = ShuffleNode(b, k);
-        if (pass == 0u) {
+        if (pass == 0u && pairwise) {
+          PushChild(bk);
+        } else if (pass == 0u) {
           n = j0 + k == f0 ? bk : Union(n, bk);
         } else {
           n = EncloseSphere(n, bk.sphere.xyz, bk.sphere.w);

@@ -9,7 +9,7 @@ using namespace detail;
 // slice of `first`, one longer, and of the output); rays, order and the level below are paged.
 vk::Status VulkanPasses::Build(std::uint32_t phase, std::span<const layout::Ray> rays, std::span<const std::uint32_t> order,
                                std::span<const layout::ConeNode> below, std::span<const std::uint32_t> first,
-                               std::vector<layout::ConeNode>& nodes) {
+                               std::vector<layout::ConeNode>& nodes, std::uint32_t child_merge) {
   vk::Context& c = *ctx_;
   if (first.empty()) return vk::Status::Fail("build: empty node offsets");
   const std::size_t count = first.size() - 1;
@@ -24,7 +24,7 @@ vk::Status VulkanPasses::Build(std::uint32_t phase, std::span<const layout::Ray>
     const vk::Buffer *bf = nullptr, *bn = nullptr;
     RS_TRY(keep.From(c, Slice(first, i0, i1 + 1), bf));
     RS_TRY(keep.Output(c, (i1 - i0) * sizeof(layout::ConeNode), bn, nodes.data() + i0));
-    const layout::BuildPush push{static_cast<std::uint32_t>(i1 - i0), phase, pr.page, po.page, pb.page};
+    const layout::BuildPush push{static_cast<std::uint32_t>(i1 - i0), phase, pr.page, po.page, pb.page, child_merge};
     Bindings<layout::kBuildBindings> b;
     b.Set(layout::kBuildBindFirst, bf).Set(layout::kBuildBindNodes, bn);
     b.Set(layout::kBuildBindRays, pr).Set(layout::kBuildBindOrder, po).Set(layout::kBuildBindBelow, pb);
@@ -43,7 +43,7 @@ vk::Status VulkanPasses::Run(const emu::call::BuildLeaves& call, std::vector<lay
 }
 
 vk::Status VulkanPasses::Run(const emu::call::BuildParents& call, std::vector<layout::ConeNode>& nodes) {
-  return Build(layout::kBuildPhaseParents, {}, {}, call.below, call.first, nodes);
+  return Build(layout::kBuildPhaseParents, {}, {}, call.below, call.first, nodes, call.child_merge);
 }
 
 

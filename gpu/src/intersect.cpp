@@ -34,19 +34,24 @@ vk::Status VulkanPasses::Run(const emu::call::Intersect& call, std::vector<std::
   RS_TRY(MakePaged(c, shadow ? std::span<const std::uint32_t>(occluded) : std::span<const std::uint32_t>(),
                    "intersect: occlusion flags", pocc, paged_arrays_));
   Keep keep;
-  const vk::Buffer* bt = nullptr;
+  const vk::Buffer *bt = nullptr, *bs = nullptr;
   RS_TRY(keep.From(c, std::span<const layout::Triangle>(scene.triangles), bt));
+  // The node test reads no sphere: a placeholder word stands in.
+  static const glm::vec4 kNoSphere(0.0f);
+  const std::span<const glm::vec4> spheres =
+      call.leaf_test == layout::kLeafTestRaySphere ? std::span<const glm::vec4>(call.tri_spheres) : std::span<const glm::vec4>(&kNoSphere, 1);
+  RS_TRY(keep.From(c, spheres, bs));
   vk::Recorder rec(c);
   RS_TRY(ForParts(pairs.size(), PerPart(4), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
     const vk::Buffer *bp = nullptr, *btests = nullptr;
     RS_TRY(keep.From(c, Slice(pairs, i0, i1), bp));
     RS_TRY(keep.Output(c, (i1 - i0) * 4, btests, tests.data() + i0));
     const layout::IntersectPush push{static_cast<std::uint32_t>(i1 - i0), base1, b0, shadow ? 1u : 0u, pf.page, po.page,
-                                  pr.page, ph.page, pocc.page};
+                                  pr.page, ph.page, pocc.page, call.leaf_test, call.eps};
     Bindings<layout::kIntersectBindings> b;
     b.Set(layout::kIntersectBindPairs, bp).Set(layout::kIntersectBindTriangles, bt).Set(layout::kIntersectBindTests, btests);
     b.Set(layout::kIntersectBindFirst, pf).Set(layout::kIntersectBindOrder, po).Set(layout::kIntersectBindRays, pr);
-    b.Set(layout::kIntersectBindHits, ph).Set(layout::kIntersectBindOccluded, pocc);
+    b.Set(layout::kIntersectBindHits, ph).Set(layout::kIntersectBindOccluded, pocc).Set(layout::kIntersectBindTriSpheres, bs);
     return rec.Dispatch(K(PassId::kIntersect), b.All(), &push, sizeof push, push.count);
   }));
   RS_TRY(rec.Submit());

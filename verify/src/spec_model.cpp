@@ -215,11 +215,40 @@ bool ClosestAllowed(std::uint64_t h0, std::uint64_t a, const std::vector<Candida
   return false;
 }
 
+bool TestMayFlip(const layout::ConeNode& n, glm::vec4 sphere, float eps, bool flush);
+
+// --leaf-test ray-sphere: a pair's count may be any between the rays whose sphere test passes on every
+// conformant device and those whose test passes on some (the one-ray node as lavapipe builds it).
+void TallyLeafTests(const emu::call::Intersect& c, const std::vector<std::uint32_t>& et, const std::vector<std::uint32_t>& at,
+                    bool flush, Tally& t) {
+  for (std::size_t p = 0; p < et.size() && p < at.size(); ++p) {
+    if (et[p] == at[p]) continue;
+    const std::uint32_t node = c.base1 + (c.pairs[p] >> emu::kPairTriangleBits), prim = c.b0 + (c.pairs[p] & emu::kPairTriangleMask);
+    std::uint32_t lo = 0, hi = 0;
+    for (std::uint32_t j = c.first1[node]; j < c.first1[node + 1]; ++j) {
+      const layout::Ray& r = c.rays[c.order[j]];
+      layout::ConeNode n = emu::cone::FromRay(emu::Xyz(r.origin_tmin), emu::Normalize(emu::Xyz(r.direction_tmax)));
+      emu::cone::Finish(n);
+      const bool pass = emu::cone::Test(n, c.tri_spheres[prim], c.eps), flip = TestMayFlip(n, c.tri_spheres[prim], c.eps, flush);
+      lo += pass && !flip;
+      hi += pass || flip;
+    }
+    if (lo <= at[p] && at[p] <= hi)
+      t.Within();
+    else
+      t.Beyond(fmt::format("tests[{}]: {} outside the {} to {} rays whose sphere test may pass", p, at[p], lo, hi));
+  }
+}
+
 SpecVerdict Intersect(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
   const DecodedCall<emu::call::Intersect> d = DecodeCall<emu::call::Intersect>(in);
   const emu::call::Intersect& c = d.call;
   Tally t;
-  if (e.Get<std::uint32_t>("tests") != a.Get<std::uint32_t>("tests")) t.Beyond("tests: the per-pair test counts are integers");
+  const std::vector<std::uint32_t> et = e.Get<std::uint32_t>("tests"), at = a.Get<std::uint32_t>("tests");
+  if (et.size() != at.size() || (et != at && c.leaf_test != layout::kLeafTestRaySphere))
+    t.Beyond("tests: the per-pair test counts are integers");
+  else if (et != at)
+    TallyLeafTests(c, et, at, flush, t);
   const bool shadow = c.occluded != nullptr;
   const std::string out = shadow ? "occluded" : "hits";
   std::vector<std::uint64_t> eh, ah;
@@ -586,7 +615,7 @@ SpecVerdict BuildParents(const BufferSet& in, const BufferSet& e, const BufferSe
       [&](std::size_t i) {
         std::vector<SpecNode> children;
         for (std::uint32_t k = c.first[i]; k < c.first[i + 1]; ++k) children.push_back(ToSpec(c.below[k]));
-        return emu::cone::ParentNode(children.data(), static_cast<std::uint32_t>(children.size()));
+        return emu::cone::ParentNode(children.data(), static_cast<std::uint32_t>(children.size()), c.child_merge);
       },
       [&](std::size_t i, const layout::ConeNode& n, std::string& why) {
         for (std::uint32_t k = c.first[i]; k < c.first[i + 1]; ++k)

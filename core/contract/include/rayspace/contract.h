@@ -195,12 +195,19 @@ RS_CONST(uint, kBuildBindBelow, 10u);  // paged
 RS_CONST(uint, kBuildBindings, 14u);
 RS_CONST(uint, kBuildPhaseLeaves, 0u);
 RS_CONST(uint, kBuildPhaseParents, 1u);
+// How a parent unites its children (--child-merge): one after another (the thesis's fold), or as a
+// balanced binary tree in child order, whose spheres grow with the depth of the tree instead of the
+// number of children (docs/hierarchy.md, "Faithful to the thesis"). Either way the parent is then
+// checked against every child and finished, so it holds them.
+RS_CONST(uint, kChildMergeSequential, 0u);
+RS_CONST(uint, kChildMergePairwise, 1u);
 struct BuildPush {
   uint count;
   uint phase;
   uint ray_page;
   uint order_page;
   uint below_page;
+  uint child_merge;  // parents: kChildMergeSequential or kChildMergePairwise
 };
 
 // ---- traverse: cone-sphere nodes against triangle or object spheres ----------------------------
@@ -325,7 +332,14 @@ RS_CONST(uint, kIntersectBindOrder, 7u);     // paged
 RS_CONST(uint, kIntersectBindRays, 11u);     // paged
 RS_CONST(uint, kIntersectBindHits, 15u);     // paged
 RS_CONST(uint, kIntersectBindOccluded, 19u); // paged
-RS_CONST(uint, kIntersectBindings, 23u);
+RS_CONST(uint, kIntersectBindTriSpheres, 23u);  // read with kLeafTestRaySphere only
+RS_CONST(uint, kIntersectBindings, 24u);
+// What a ray of a surviving level-1 pair meets before its ray-triangle test (--leaf-test): nothing
+// (every ray of the node is tested against the triangle), or the triangle's bounding sphere, each ray
+// as a one-ray cone node under the traversal's test (Roger et al. 2007: a leaf keeps "the ID of all
+// triangles whose bounding sphere it intersects"); conservative, so the hits are the same.
+RS_CONST(uint, kLeafTestNode, 0u);
+RS_CONST(uint, kLeafTestRaySphere, 1u);
 struct IntersectPush {
   uint count;
   uint base1;
@@ -336,6 +350,8 @@ struct IntersectPush {
   uint ray_page;
   uint hit_page;
   uint occluded_page;
+  uint leaf_test;  // kLeafTestNode or kLeafTestRaySphere
+  float eps;       // the traversal's margin, for the ray-sphere test
 };
 
 // ---- --objects tree: the joint descent (tree.roots, tree.expand, tree.test, tree.step) ----------
@@ -436,7 +452,8 @@ static_assert(kBuildBindOrder == kBuildBindRays + kBufferPages && kBuildBindBelo
 static_assert(kTraverseBindFirst == kTraverseBindNodes + kBufferPages && kTraverseBindings == kTraverseBindFirst + kBufferPages);
 static_assert(kIntersectBindOrder == kIntersectBindFirst + kBufferPages && kIntersectBindRays == kIntersectBindOrder + kBufferPages &&
               kIntersectBindHits == kIntersectBindRays + kBufferPages &&
-              kIntersectBindOccluded == kIntersectBindHits + kBufferPages && kIntersectBindings == kIntersectBindOccluded + kBufferPages);
+              kIntersectBindOccluded == kIntersectBindHits + kBufferPages &&
+              kIntersectBindTriSpheres == kIntersectBindOccluded + kBufferPages && kIntersectBindings == kIntersectBindTriSpheres + 1u);
 static_assert(kShadeBindAccum == kShadeBindOccluded + kBufferPages && kShadeBindings == kShadeBindAccum + kBufferPages);
 static_assert(kTraverseCompactBindFirst == kTraverseCompactBindNodes + kBufferPages &&
               kTraverseCompactBindings == kTraverseCompactBindFirst + kBufferPages);
@@ -448,8 +465,8 @@ static_assert(kMaxLocalSize * kCompactCols < 65536u && kCompactRows <= 8u && kCo
 // Vulkan device guarantees.
 static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && sizeof(RaygenShadowPush) == 12 &&
               sizeof(RaygenPush) == 8 && sizeof(TrimPush) == 12 && sizeof(HashPush) == 36 && sizeof(SortPush) == 24 &&
-              sizeof(BuildPush) == 20 && sizeof(TraversePush) == 60 && sizeof(ReducePush) == 20 &&
-              sizeof(IntersectPush) == 36 && sizeof(ShadePush) == 16 && sizeof(ElementwisePush) == 8 &&
+              sizeof(BuildPush) == 24 && sizeof(TraversePush) == 60 && sizeof(ReducePush) == 20 &&
+              sizeof(IntersectPush) == 44 && sizeof(ShadePush) == 16 && sizeof(ElementwisePush) == 8 &&
               sizeof(TraverseCompactPush) == 68 && sizeof(TreePush) == 40 && sizeof(IntersectTreePush) == 8);
 static_assert(kTreeStepBlock % kMaxLocalSize == 0u);
 static_assert(offsetof(TraversePush, eps) == 40);

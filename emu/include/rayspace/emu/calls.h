@@ -165,7 +165,8 @@ struct BuildParents {
   static constexpr std::string_view kResult = "nodes";
   In<layout::ConeNode> below{};
   In<std::uint32_t> first{};
-  RS_FIELDS(below, first)
+  std::uint32_t child_merge = layout::kChildMergeSequential;  // cone::ParentNode's merge
+  RS_FIELDS(below, first, child_merge)
 };
 
 // CRSH's object culling: 1 where top node e / objects may meet object sphere e % objects.
@@ -250,7 +251,12 @@ struct Intersect {
   const SceneBuffers* scene = nullptr;
   std::vector<std::uint64_t>* hits = nullptr;
   std::vector<std::uint32_t>* occluded = nullptr;
-  RS_FIELDS(pairs, first1, base1, b0, order, rays, scene, hits, occluded)
+  // kLeafTestRaySphere: each ray meets the triangle's sphere (cone::RayMayMeetSphere with the margin
+  // eps) before its ray-triangle test, and a pair's tests count only the rays that did.
+  std::uint32_t leaf_test = layout::kLeafTestNode;
+  In<glm::vec4> tri_spheres{};
+  float eps = 0.0f;
+  RS_FIELDS(pairs, first1, base1, b0, order, rays, scene, hits, occluded, leaf_test, tri_spheres, eps)
 };
 
 // ---- --objects tree: the joint descent of both hierarchies (emu/object_tree_traverse.h) -------------

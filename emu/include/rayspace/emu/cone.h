@@ -254,6 +254,15 @@ template <typename S>
 
 inline bool Test(const layout::ConeNode& n, glm::vec4 sphere, float eps) { return TestOf<float>(n, sphere, eps); }
 
+// --leaf-test ray-sphere (kLeafTestRaySphere): may the ray meet the sphere? The ray as the leaf build
+// makes a one-ray node (normalised direction, Finish), under the traversal's Test: a node holding the
+// ray passes wherever the ray meets the sphere, so this one does too (the test is conservative).
+inline bool RayMayMeetSphere(const layout::Ray& r, glm::vec4 sphere, float eps) {
+  layout::ConeNode n = FromRay(Xyz(r.origin_tmin), Normalize(Xyz(r.direction_tmax)));
+  Finish(n);
+  return Test(n, sphere, eps);
+}
+
 // Thesis eq. 3.16 as printed (after Roger et al. eq. 1): |C - H| tan(alpha) + (d + r) / cos(alpha) >=
 // |P - H|, H the projection of the sphere's centre P on the axis; in float, with no margins and none
 // of Test's other special cases, so it is not conservative (docs/accuracy.md measures how often it
@@ -319,11 +328,39 @@ layout::ConeNode LeafNode(std::uint32_t count, RayAt&& ray_at) {
   return LeafNodeOf<float>(count, ray_at);
 }
 
-// An upper-level node: unions of the children (eqs. 3.12-3.15), checked against each child, finished.
+// --child-merge pairwise: the children united as a balanced binary tree in child order. A binary
+// counter over a stack: each child is pushed, and while the two newest partial unions hold equally
+// many children they merge (older one first); the partial unions left are then folded newest first
+// into the older ones. 8 points evenly spaced on a line: radius 3.5 spacings where the sequential fold
+// gives 6 (a union's radius is half the distance plus the larger radius, so it grows per fold step).
 template <typename N>
-N ParentNode(const N* children, std::uint32_t count) {
+N PairwiseUnion(const N* children, std::uint32_t count) {
+  N stack[33];
+  std::uint32_t held[33];
+  int top = -1;
+  for (std::uint32_t j = 0; j < count; ++j) {
+    stack[++top] = children[j];
+    held[top] = 1;
+    while (top >= 1 && held[top] == held[top - 1]) {
+      stack[top - 1] = Union(stack[top - 1], stack[top]);
+      held[top - 1] *= 2;
+      --top;
+    }
+  }
+  N n = stack[top];
+  for (int i = top - 1; i >= 0; --i) n = Union(stack[i], n);
+  return n;
+}
+
+// An upper-level node: unions of the children (eqs. 3.12-3.15), one after another or pairwise
+// (layout::kChildMergePairwise), checked against each child, finished.
+template <typename N>
+N ParentNode(const N* children, std::uint32_t count, std::uint32_t merge = layout::kChildMergeSequential) {
   N n = children[0];
-  for (std::uint32_t j = 1; j < count; ++j) n = Union(n, children[j]);
+  if (merge == layout::kChildMergePairwise && count > 1)
+    n = PairwiseUnion(children, count);
+  else
+    for (std::uint32_t j = 1; j < count; ++j) n = Union(n, children[j]);
   for (std::uint32_t j = 0; j < count; ++j) {
     EncloseSphere(n, Xyz(children[j].sphere), children[j].sphere.w);
     EncloseCone(n, children[j]);

@@ -11,6 +11,7 @@
 
 #include "rayspace/contract.h"
 #include "rayspace/emu/calls.h"
+#include "rayspace/emu/cone.h"
 #include "rayspace/object_tree.h"
 #include "rayspace/emu/cone_simd.h"
 #include "rayspace/emu/tracer.h"
@@ -61,6 +62,13 @@ struct HierarchyConfig {
   // as printed (cone::PrintedTest, which can lose hits); layout::kConeTest*. The object tree's descent
   // has only the conservative test.
   std::uint32_t cone_test = layout::kConeTestConservative;
+  // --leaf-test: kLeafTestNode (every ray of a surviving level-1 pair meets the triangle) or
+  // kLeafTestRaySphere (first the triangle's bounding sphere, Roger et al. 2007); the flat descent only
+  // (--objects tree already tests every ray against the triangle spheres, as its level 0).
+  std::uint32_t leaf_test = layout::kLeafTestNode;
+  // --child-merge: kChildMergeSequential (a parent folds its children one after another) or
+  // kChildMergePairwise (as a balanced binary tree; cone::ParentNode).
+  std::uint32_t child_merge = layout::kChildMergeSequential;
 };
 
 // Per ray type and level, as the thesis counts (level `depth` = top).
@@ -87,6 +95,9 @@ struct BatchStats {
   double leaf_spread = 0.0;
   bool object_tree = false;
   std::uint64_t final_tests = 0;
+  // --leaf-test ray-sphere: the rays of surviving level-1 pairs tested against the triangle's sphere
+  // before the final tests (which then count only the rays that passed); in the total.
+  std::uint64_t leaf_sphere_tests = 0;
   std::uint64_t triangle_batches = 0, overflow_splits = 0;
   std::uint64_t Total() const;
   std::uint64_t BruteForce() const { return rays * triangles; }
@@ -262,17 +273,22 @@ inline void RecordClosestHit(std::vector<std::uint64_t>& hits, std::uint32_t ray
 
 // The final tests with the ray-triangle test and the closest-hit record as parameters (PassIntersect
 // uses the watertight test and RecordClosestHit; `rayspace accuracy` swaps in other tests):
-// hit(ray, triangle, t&) -> bool; closest(ray index, ray, t, primitive). Shadow rays store 1.
+// hit(ray, triangle, t&) -> bool; closest(ray index, ray, t, primitive). Shadow rays store 1. With
+// kLeafTestRaySphere a ray that misses the triangle's sphere is neither tested nor counted; a ray
+// leaving the triangle's own surface is counted as today's tests count it, then skipped.
 template <typename HitFn, typename ClosestFn>
 std::vector<std::uint32_t> IntersectWith(HitFn&& hit, ClosestFn&& closest, const call::Intersect& c) {
   std::vector<std::uint32_t> tests(c.pairs.size());
   ParallelFor(c.pairs.size(), [&](std::size_t p) {
     const std::uint32_t node = c.base1 + (c.pairs[p] >> kPairTriangleBits), prim = c.b0 + (c.pairs[p] & kPairTriangleMask);
     const layout::Triangle& tri = c.scene->triangles[prim];
-    tests[p] = c.first1[node + 1] - c.first1[node];
+    const bool sphere_first = c.leaf_test == layout::kLeafTestRaySphere;
+    std::uint32_t performed = 0;
     for (std::uint32_t j = c.first1[node]; j < c.first1[node + 1]; ++j) {
       const std::uint32_t ray = c.order[j];
       const layout::Ray& r = c.rays[ray];
+      if (sphere_first && !cone::RayMayMeetSphere(r, c.tri_spheres[prim], c.eps)) continue;
+      ++performed;
       if (prim == r.info.y) continue;  // the surface the ray leaves
       float t = 0.0f;
       if (!hit(r, tri, t)) continue;
@@ -281,6 +297,7 @@ std::vector<std::uint32_t> IntersectWith(HitFn&& hit, ClosestFn&& closest, const
       else
         closest(ray, r, t, prim);
     }
+    tests[p] = performed;
   });
   return tests;
 }

@@ -63,7 +63,7 @@ class VulkanPasses {
                            bool scan, std::vector<std::uint32_t>& out);
   vk::Status Build(std::uint32_t phase, std::span<const layout::Ray> rays, std::span<const std::uint32_t> order,
                    std::span<const layout::ConeNode> below, std::span<const std::uint32_t> first,
-                   std::vector<layout::ConeNode>& nodes);
+                   std::vector<layout::ConeNode>& nodes, std::uint32_t child_merge = layout::kChildMergeSequential);
   // Elements per part when each element takes `bytes_per_element` in the largest per-part binding.
   std::size_t PerPart(std::size_t bytes_per_element) const;
   vk::Status RaygenShadow(const emu::call::Raygen& c, emu::SparseRays& out);
