@@ -34,6 +34,9 @@ struct Config {
   std::string algo;        // crsh, rah, rah-quadtree
   int subdivision = 8, levels = 2, bounces = 1;
   int width = 512, height = 512;
+  // --path: empty for render's default (fused: each level tests and compacts in one pass); "passes"
+  // runs the cone-sphere tests and the stream reduction as separate passes, timed apart (roger).
+  std::string path;
   bool quadtree() const { return algo == "rah-quadtree"; }
   // Every setting that changes the counts, as one line (part of the result's key).
   std::string Canonical() const;

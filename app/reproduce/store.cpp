@@ -36,9 +36,11 @@ void WriteText(const std::filesystem::path& path, const std::string& text, const
 namespace {
 
 nlohmann::json ConfigJson(const Config& c) {
-  return {{"target", c.target}, {"scene", c.scene},       {"scene_file", c.scene_file}, {"algo", c.algo},
-          {"subdivision", c.subdivision}, {"levels", c.levels}, {"bounces", c.bounces},
-          {"width", c.width},   {"height", c.height},     {"canonical", c.Canonical()}};
+  nlohmann::json j = {{"target", c.target}, {"scene", c.scene},       {"scene_file", c.scene_file}, {"algo", c.algo},
+                      {"subdivision", c.subdivision}, {"levels", c.levels}, {"bounces", c.bounces},
+                      {"width", c.width},   {"height", c.height},     {"canonical", c.Canonical()}};
+  if (!c.path.empty()) j["path"] = c.path;  // only when set: results without it read as before
+  return j;
 }
 
 Config ConfigFromJson(const nlohmann::json& j) {
@@ -52,6 +54,7 @@ Config ConfigFromJson(const nlohmann::json& j) {
   j.at("bounces").get_to(c.bounces);
   j.at("width").get_to(c.width);
   j.at("height").get_to(c.height);
+  c.path = j.value("path", std::string());
   return c;
 }
 
