@@ -69,6 +69,12 @@ def source_of(data, directory):
     repo, commit = field(text, "GitHub repo").split(" ")[0], field(text, "commit")
     # The path value may be quoted and may carry a parenthesised note after two spaces.
     src_path = re.split(r"\s{2,}|\s\(", field(text, "path"))[0].strip().strip('"')
+    # A path line may list several files of one directory: "dir/a.ply, b.ply, c.ply"; each file of
+    # the data is then matched by name (file_url), and the source's own url is the first's.
+    names = [n.strip() for n in src_path.split(",") if n.strip()]
+    src_dir = os.path.dirname(names[0]) if names else ""
+    src_files = [names[0]] + [n if "/" in n else f"{src_dir}/{n}" for n in names[1:]] if names else []
+    src_path = src_files[0] if src_files else src_path
     if not repo or not commit:
         fail(f"{path}: no 'GitHub repo' or 'commit' line")
     url = f"https://github.com/{repo}/blob/{commit}/{urllib.parse.quote(src_path)}"
@@ -80,7 +86,16 @@ def source_of(data, directory):
         "url": url,
         "licence": section(text, "Licence"),
         "source_file": f"{directory}/SOURCE.txt",
+        "files": src_files,
     }
+
+
+def file_url(src, rel):
+    """The url of the source file a data file is a copy of (same name), else the source's first."""
+    for f in src.get("files", []):
+        if os.path.basename(f) == os.path.basename(rel):
+            return f"{src['repository']}/blob/{src['commit']}/{urllib.parse.quote(f)}"
+    return src["url"]
 
 
 def sha256(path):
@@ -106,10 +121,12 @@ def manifest(data, scenes_dir):
         full = os.path.join(data, rel)
         src = sources[rel.split("/")[0]]
         # A file named as the source's is a byte-for-byte copy; another was converted from it (SOURCE.txt says how).
-        copy = os.path.basename(rel) == os.path.basename(src["path"])
+        copy = any(os.path.basename(rel) == os.path.basename(f) for f in src["files"])
         entries.append({"path": rel, "size": os.path.getsize(full), "sha256": sha256(full),
-                        "source": rel.split("/")[0], "url": src["url"], "obtained": "copy" if copy else "converted",
+                        "source": rel.split("/")[0], "url": file_url(src, rel), "obtained": "copy" if copy else "converted",
                         "scenes": files[rel]})
+    for src in sources.values():
+        del src["files"]  # only for the entries' urls
     return {"format": 1,
             "about": "Files under the data root the bundled scenes need; regenerate with scripts/make_manifest.py",
             "scenes": scenes, "files": entries, "sources": sources}

@@ -1,4 +1,4 @@
-# `rayspace reproduce thesis --quick`, whole (75 configurations at 128x128): every table of 4.1-4.24
+# `rayspace reproduce thesis roger --quick`, whole (the thesis's 75 configurations and roger's, at 128x128): every table of 4.1-4.24
 # has its section, CSV and plot, and every relation the thesis states is judged on both sides with
 # no relation left without a verdict. The counts themselves are the report's, not this test's: it
 # checks that the sweep runs end to end and says something about each relation.
@@ -8,7 +8,7 @@ include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)
 cli_require_data(cli.reproduce.quick)
 file(REMOVE_RECURSE "${WORK}")
 file(MAKE_DIRECTORY "${WORK}")
-execute_process(COMMAND "${RAYSPACE}" reproduce thesis --quick --scenes "${SRC}/scenes" --data "${DATA}" --out quick
+execute_process(COMMAND "${RAYSPACE}" reproduce thesis roger --quick --scenes "${SRC}/scenes" --data "${DATA}" --out quick
                 WORKING_DIRECTORY "${WORK}" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 900)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "cli.reproduce.quick: exit ${rc}:\n${out}${err}")
@@ -34,6 +34,18 @@ foreach(relation "CRSH total < RAH total" "RAH top level = top nodes x triangles
   string(REGEX MATCH "\\| ${pattern} \\| [0-9]+ of [1-9][0-9]* \\| [0-9]+ of [1-9][0-9]* \\|" row "${report}")
   if(row STREQUAL "")
     set(FAILURES "${FAILURES}\n  relation '${relation}' has no verdict on both sides in the summary")
+  endif()
+endforeach()
+# roger: every claim judged (holds or fails) in its summary, each figure with its CSV.
+foreach(claim "grows with the bunny's polygons" "grows with n of cos" "between 2.5 and 4.5" "less than 4x the cone-sphere tests")
+  string(REGEX MATCH "\\| [^|\n]*${claim}[^|\n]* \\| [^|\n]+ \\| (holds|fails) \\|" row "${report}")
+  if(row STREQUAL "")
+    set(FAILURES "${FAILURES}\n  roger claim '${claim}' has no verdict in the summary")
+  endif()
+endforeach()
+foreach(id roger-summary roger-9a roger-9b roger-9c roger-13a roger-13c)
+  if(NOT EXISTS "${WORK}/quick/tables/table-${id}.csv")
+    set(FAILURES "${FAILURES}\n  no tables/table-${id}.csv")
   endif()
 endforeach()
 if(NOT FAILURES STREQUAL "")

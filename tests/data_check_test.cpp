@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <string>
+
+#include <unistd.h>
 
 #include "data_check.h"
 #include "rayspace/error.h"
@@ -19,7 +22,8 @@ void Write(const fs::path& p, const std::string& text) {
 
 // A data root with d/tri.obj = "abc" and a manifest that lists it for tiny.json.
 struct TinyRoot {
-  fs::path dir = fs::temp_directory_path() / "rayspace_data_check_test";
+  // One directory per process: ctest -j runs these test cases as processes side by side.
+  fs::path dir = fs::temp_directory_path() / ("rayspace_data_check_test_" + std::to_string(getpid()));
   // Both files should hold "abc"; d/changed.obj holds "abd".
   std::string manifest = R"({"format": 1, "scenes": {"tiny.json": ["d/tri.obj"], "changed.json": ["d/changed.obj"]},
     "files": [{"path": "d/tri.obj", "size": 3, "source": "d", "url": "https://example.org/tri.obj", "obtained": "copy",

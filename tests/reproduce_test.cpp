@@ -2,7 +2,9 @@
 // parsing, the shards' coverage check and the summary's counts.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <fstream>
+#include <map>
 #include <iterator>
 
 #include "rayspace/error.h"
@@ -10,6 +12,7 @@
 #include "relations.h"
 #include "runner.h"
 #include "report.h"
+#include "roger.h"
 #include "store.h"
 
 namespace rayspace::reproduce {
@@ -53,6 +56,75 @@ TEST_CASE("reproduce: relations hold or fail on hand-made numbers") {
   CHECK_FALSE(RahTopLevel(culled, 2).holds);
   CHECK(Thousands(1234567) == "1,234,567");
   CHECK(Thousands(12) == "12");
+}
+
+TEST_CASE("reproduce roger: relations hold on good counts and fail on bad ones") {
+  // Growth: in x order, whatever order the points come in; a flat or falling step fails.
+  const Outcome up = GrowsWith({{16, 3000}, {4, 1000}, {8, 2000}});
+  CHECK(up.holds);
+  CHECK(up.detail == "1,000 < 2,000 < 3,000");
+  const Outcome flat = GrowsWith({{4, 1000}, {8, 1000}, {16, 3000}});
+  CHECK_FALSE(flat.holds);
+  CHECK(flat.detail == "1,000 >= 1,000 < 3,000");
+  CHECK_FALSE(GrowsWith({{16, 500}, {4, 1000}}).holds);
+  CHECK_FALSE(GrowsWith({{4, 1000}}).holds);  // one point shows no growth
+
+  CHECK(InRange(3.2, 2.5, 4.5).holds);
+  CHECK(InRange(2.5, 2.5, 4.5).holds);
+  const Outcome many = InRange(12.25, 2.5, 4.5);
+  CHECK_FALSE(many.holds);
+  CHECK(many.detail == "12.25 not in [2.5, 4.5]");
+
+  CHECK(SubLinear(1000, 2100, 4.0).holds);
+  const Outcome linear = SubLinear(1000, 4000, 4.0);
+  CHECK_FALSE(linear.holds);
+  CHECK(linear.detail == "x4.00 >= x4 pixels (1,000 -> 4,000)");
+  CHECK_FALSE(SubLinear(0, 10, 4.0).holds);
+}
+
+TEST_CASE("reproduce roger: the report's verdicts follow the counts") {
+  // Two levels of detail and two sizes of a frame with one ray type: cone-sphere tests are the sum
+  // of the levels' intersections.
+  auto result = [](const std::string& scene, int side, std::uint64_t cone, std::uint64_t final_tests, std::uint64_t rays) {
+    Result r;
+    r.config.target = "roger";
+    r.config.scene = scene;
+    r.config.algo = "rah-quadtree";
+    r.config.width = r.config.height = side;
+    TypeCounts& t = r.counts.types["reflection"];
+    t.levels = {{cone / 2, 1}, {cone - cone / 2, 1}};
+    t.final_tests = final_tests;
+    t.rays = rays;
+    t.brute_force = rays * 100;
+    r.counts.total = cone + final_tests;
+    return r;
+  };
+  auto verdicts = [](const std::vector<Result>& rs) {
+    std::vector<const Result*> ptrs;
+    for (const Result& r : rs) ptrs.push_back(&r);
+    Report report;
+    AddRogerReport(report, ptrs);
+    const auto summary = std::find_if(report.tables.begin(), report.tables.end(), [](const Table& t) { return t.id == "roger-summary"; });
+    REQUIRE(summary != report.tables.end());
+    std::map<std::string, std::string> by_claim;
+    for (const auto& row : summary->rows) by_claim[row[0] + " | " + row[1]] = row[2];
+    return by_claim;
+  };
+  const std::string lod = std::string(kRogerGrowsLod) + " | rah-quadtree, cone-sphere tests";
+  const std::string pixels = std::string(kRogerSubLinear) + " | rah-quadtree, 32x32 -> 64x64";
+  const std::string per_ray = std::string(kRogerPerRay) + " | rah-quadtree, BUNNY res4, 64x64";
+  const std::vector<Result> good = {result("BUNNY res4", 64, 1000, 300, 100), result("BUNNY res3", 64, 1500, 300, 100),
+                                    result("BUNNY res4", 32, 600, 80, 25)};
+  auto v = verdicts(good);
+  CHECK(v.at(lod) == "holds");
+  CHECK(v.at(pixels) == "holds");  // 600 -> 1000: x1.67
+  CHECK(v.at(per_ray) == "holds");  // 3 per ray
+  const std::vector<Result> bad = {result("BUNNY res4", 64, 2400, 900, 100), result("BUNNY res3", 64, 1500, 300, 100),
+                                   result("BUNNY res4", 32, 600, 80, 25)};
+  v = verdicts(bad);
+  CHECK(v.at(lod) == "fails");     // the finer bunny took fewer tests
+  CHECK(v.at(pixels) == "fails");  // 600 -> 2400: x4
+  CHECK(v.at(per_ray) == "fails");  // 9 per ray
 }
 
 TEST_CASE("reproduce: the summary counts each relation's verdicts") {

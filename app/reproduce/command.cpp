@@ -18,6 +18,7 @@
 #include "rayspace/parallel.h"
 #include "plot.h"
 #include "report.h"
+#include "roger.h"
 
 namespace rayspace::reproduce {
 namespace {
@@ -31,6 +32,13 @@ void FrameSize(const ReproduceArgs& args, int& w, int& h) {
   if (args.quick && args.full) ThrowInput("--quick and --full exclude each other");
   w = h = args.full ? kFullSide : kQuickSide;
   if (!args.size.empty()) app::ParseSize(args.size, w, h);
+}
+
+// One implemented target's configurations at the run's frame size (roger's figure 13(c) adds half and
+// twice the side; --full runs every level of detail of the bunny, --quick the two lowest).
+std::vector<Config> TargetConfigs(const std::string& target, const ReproduceArgs& args, int w, int h) {
+  if (target == "roger") return RogerConfigs(w, args.full);
+  return ThesisConfigs(args.scenes, w, h);
 }
 
 // The configurations of the implemented targets asked for; a skipped target is said on stderr.
@@ -51,7 +59,7 @@ std::vector<Config> Configurations(const ReproduceArgs& args) {
       std::fprintf(stderr, "rayspace reproduce: skipping %s: %s\n", t.c_str(), target->skip_reason.c_str());
       continue;
     }
-    for (const Config& c : ThesisConfigs(args.scenes, w, h)) configs.push_back(c);
+    for (const Config& c : TargetConfigs(t, args, w, h)) configs.push_back(c);
   }
   if (!args.only.empty()) {
     std::regex re;
@@ -74,8 +82,8 @@ app::ExitCode List(const ReproduceArgs& args) {
       std::printf("%-9s skipped: %s (%s)\n", t.name.c_str(), t.skip_reason.c_str(), t.what.c_str());
       continue;
     }
-    for (const Config& c : ThesisConfigs(args.scenes, w, h))
-      std::printf("%-9s %-26s rayspace render %s\n", t.name.c_str(), c.Name().c_str(), c.RenderArgs().c_str());
+    for (const Config& c : TargetConfigs(t.name, args, w, h))
+      std::printf("%-9s %-34s rayspace render %s\n", t.name.c_str(), c.Name().c_str(), c.RenderArgs().c_str());
   }
   return app::ExitCode::kOk;
 }

@@ -19,7 +19,7 @@ const std::vector<SceneChoice>& ThesisScenes() {
 const std::vector<Target>& Targets() {
   static const std::vector<Target> targets = {
       {"thesis", "", "CRSH thesis (Reis 2015) tables 4.1-4.27: RAH and CRSH per level, totals, % of brute force, phase timings; Roger's quadtree beside them"},
-      {"roger", "Roger et al. 2007's figures 9-14 are not measured yet", "Roger et al. 2007 figures 9-14"},
+      {"roger", "", "Roger et al. 2007 figures 9(a-c), 13(a-c): phase shares, work against the bunny's LOD, against cos(nx)cos(ny), tests per ray, against pixels; rah-quadtree and rah"},
       {"toczek", "the algorithm is not built yet", "Toczek et al. tables 1-2"},
       {"hunt-mark", "the algorithm is not built yet", "Hunt and Mark tables 1 and 5"},
   };
@@ -40,24 +40,26 @@ const std::vector<std::pair<int, int>>& ThesisShapes() {
 std::string Config::Canonical() const {
   // The quadtree's subdivision is 4 and its depth log2 of the image size: both follow from the size.
   const std::string shape = quadtree() ? "quadtree" : fmt::format("subdivision={} levels={}", subdivision, levels);
-  // Faithful settings are appended only when set, so the keys of the default configurations stay as they were.
+  // Faithful and path settings are appended only when set, so the keys of the other configurations stay as they were.
   const std::string faithful_text = faithful.empty() ? "" : fmt::format(" faithful={}{}", faithful, one_object ? " one-object" : "");
-  return fmt::format("target={} scene={} file={} algo={} {} bounces={} size={}x{} objects=flat backend=emu{}", target, scene,
-                     scene_file, algo, shape, bounces, width, height, faithful_text);
+  return fmt::format("target={} scene={} file={} algo={} {} bounces={} size={}x{} objects=flat backend=emu{}{}", target, scene,
+                     scene_file, algo, shape, bounces, width, height, path.empty() ? "" : " path=" + path, faithful_text);
 }
 
 std::string Config::Name() const {
   const std::string name =
       quadtree() ? fmt::format("{} {}", scene, algo) : fmt::format("{} {} s{} d{}", scene, algo, subdivision, levels);
-  return faithful.empty() ? name : name + " faithful";
+  // roger measures one scene at several sizes (figure 13(c)); the thesis's run has one size.
+  const std::string sized = target == "thesis" ? name : fmt::format("{} {}x{}", name, width, height);
+  return faithful.empty() ? sized : sized + " faithful";
 }
 
 std::string Config::RenderArgs() const {
   const std::string shape = quadtree() ? "" : fmt::format(" --subdivision {} --levels {}", subdivision, levels);
   const std::string faithful_args =
       faithful.empty() ? "" : fmt::format(" --faithful {}{}", faithful, one_object ? " --one-object" : "");
-  return fmt::format("scenes/{} --algo {}{} --bounces {} --objects flat --size {}x{}{} --no-oracle", scene_file, algo, shape,
-                     bounces, width, height, faithful_args);
+  return fmt::format("scenes/{} --algo {}{} --bounces {} --objects flat --size {}x{}{}{} --no-oracle", scene_file, algo, shape,
+                     bounces, width, height, path.empty() ? "" : " --path " + path, faithful_args);
 }
 
 std::vector<Config> ThesisConfigs(const std::filesystem::path& scenes_dir, int width, int height) {

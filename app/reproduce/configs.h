@@ -37,6 +37,9 @@ struct Config {
   int width = 512, height = 512;
   std::string faithful;    // empty, or a --faithful preset (the thesis's method as printed)
   bool one_object = false;  // --one-object
+  // --path: empty for render's default (fused: each level tests and compacts in one pass); "passes"
+  // runs the cone-sphere tests and the stream reduction as separate passes, timed apart (roger).
+  std::string path;
   bool quadtree() const { return algo == "rah-quadtree"; }
   // Every setting that changes the counts, as one line (part of the result's key).
   std::string Canonical() const;

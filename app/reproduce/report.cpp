@@ -286,7 +286,7 @@ Table SummaryTable(const std::vector<RelationRow>& relations) {
 }
 
 std::string ReportMarkdown(const Report& report) {
-  std::string s = "# CRSH thesis: published and ours\n\n";
+  std::string s = "# " + report.title + "\n\n";
   for (const std::string& line : report.preamble) s += line + "\n";
   if (!report.relations.empty()) s += "\n## Summary\n\n" + MarkdownTable(SummaryTable(report.relations));
   for (const Table& t : report.tables) {

@@ -20,6 +20,9 @@ struct Table {
   std::vector<std::string> columns;
   std::vector<std::vector<std::string>> rows;
   std::vector<std::string> notes;  // lines under the table: how the scene differs, the relations' verdicts
+  // A series plot (Roger's figures): this column against that, one line per value of `plot_group`, log
+  // axes; empty: the ours-against-published plot when the table has both columns.
+  std::string plot_x, plot_y, plot_group;
 };
 
 // A relation checked on one table's numbers: its verdict on ours and on the published.
@@ -29,6 +32,7 @@ struct RelationRow {
 };
 
 struct Report {
+  std::string title = "CRSH thesis: published and ours";
   std::vector<Table> tables;
   std::vector<RelationRow> relations;
   std::vector<std::string> preamble;  // lines above the summary
@@ -36,6 +40,14 @@ struct Report {
 
 // Builds every table from the results (any order) and the published numbers.
 Report BuildReport(const std::vector<Result>& results, const Published& published);
+// Appends the sections of `reproduce roger` (roger_report.cpp): a summary of its claims' verdicts, then a
+// table per figure; each relation's verdict under its table and in the summary.
+void AddRogerReport(Report& report, const std::vector<const Result*>& results);
+// The timings of `reproduce roger`: Roger's four phases per frame with the figure 9(a) claims judged,
+// and time against cone-sphere tests (figures 13(b) and 13(c)). Not byte-identical.
+std::vector<Table> RogerTimings(const std::vector<const Result*>& results);
+// A table's series plot (plot_x against plot_y) into out/plots/table-<id>.svg, and its markdown line.
+std::string SeriesPlot(const Table& table, const std::filesystem::path& out);
 std::string ReportMarkdown(const Report& report);
 std::string TableCsv(const Table& table);
 // The summary: per relation, how many of its checks hold, ours and published.

@@ -6,6 +6,7 @@
 
 #include "report.h"
 #include "rayspace/json_text.h"
+#include "roger.h"
 
 namespace rayspace::reproduce {
 namespace {
@@ -48,39 +49,60 @@ Table TimingsTable(const std::vector<const Result*>& sorted, const Published& p)
 }
 
 // In table order: by scene as the thesis lists them, then configuration.
-std::vector<const Result*> TableOrder(const std::vector<Result>& results) {
-  std::vector<const Result*> sorted;
-  for (const Result& r : results) sorted.push_back(&r);
+std::vector<const Result*> TableOrder(std::vector<const Result*> sorted) {
   auto scene_rank = [](const std::string& scene) {
     for (std::size_t i = 0; i < ThesisScenes().size(); ++i)
       if (ThesisScenes()[i].paper == scene) return i;
-    return ThesisScenes().size();
+    for (std::size_t i = 0; i < RogerScenes().size(); ++i)
+      if (RogerScenes()[i].name == scene) return ThesisScenes().size() + i;
+    return ThesisScenes().size() + RogerScenes().size();
   };
   std::sort(sorted.begin(), sorted.end(), [&](const Result* a, const Result* b) {
-    return std::make_tuple(scene_rank(a->config.scene), a->config.quadtree(), a->config.subdivision, a->config.levels, a->config.algo) <
-           std::make_tuple(scene_rank(b->config.scene), b->config.quadtree(), b->config.subdivision, b->config.levels, b->config.algo);
+    return std::make_tuple(a->config.target, scene_rank(a->config.scene), a->config.quadtree(), a->config.subdivision, a->config.levels,
+                           a->config.algo, a->config.width) <
+           std::make_tuple(b->config.target, scene_rank(b->config.scene), b->config.quadtree(), b->config.subdivision, b->config.levels,
+                           b->config.algo, b->config.width);
   });
   return sorted;
+}
+
+std::vector<const Result*> TableOrder(const std::vector<Result>& results) {
+  std::vector<const Result*> all;
+  for (const Result& r : results) all.push_back(&r);
+  return TableOrder(std::move(all));
 }
 
 }  // namespace
 
 void WriteReport(const std::filesystem::path& out, const std::vector<Result>& results) {
   const Published& published = ThesisPublished();
-  Report report = BuildReport(results, published);
+  // Each target's sections from its own results: a run of roger alone has no thesis tables.
+  std::vector<Result> thesis;
+  std::vector<const Result*> roger;
+  for (const Result& r : results)
+    if (r.config.target == "roger") roger.push_back(&r);
+    else thesis.push_back(r);
+  const std::vector<const Result*> sorted = TableOrder(results), roger_sorted = TableOrder(roger);
+  Report report = thesis.empty() ? Report{} : BuildReport(thesis, published);
+  if (thesis.empty()) report.title = "Roger et al. 2007: its claims and ours";
+  AddRogerReport(report, roger_sorted);
   for (Table& t : report.tables)
-    if (const std::string plot = TablePlots(t, out); !plot.empty()) t.notes.push_back(plot);
+    if (const std::string plot = t.plot_x.empty() ? TablePlots(t, out) : SeriesPlot(t, out); !plot.empty()) t.notes.push_back(plot);
   std::filesystem::create_directories(out / "tables");
   for (const Table& t : report.tables) WriteText(out / "tables" / ("table-" + t.id + ".csv"), TableCsv(t), "a report table");
-  WriteText(out / "tables" / "table-summary.csv", TableCsv(SummaryTable(report.relations)), "a report table");
-  const std::vector<const Result*> sorted = TableOrder(results);
+  if (!thesis.empty()) WriteText(out / "tables" / "table-summary.csv", TableCsv(SummaryTable(report.relations)), "a report table");
   WriteText(out / "results.json", JsonText(ResultsJson(sorted)), "the results file");
-  const Table timings = TimingsTable(sorted, published);
-  WriteText(out / "timings.csv", TableCsv(timings), "the timings file");
+  std::vector<const Result*> thesis_sorted;
+  for (const Result* r : sorted)
+    if (r->config.target != "roger") thesis_sorted.push_back(r);
   Report timing_report;
   timing_report.preamble.push_back("Phase times vary run to run and from machine to machine: this file and timings.csv are "
                                    "not part of the reproducible report.");
-  timing_report.tables.push_back(timings);
+  if (!thesis_sorted.empty()) timing_report.tables.push_back(TimingsTable(thesis_sorted, published));
+  for (Table& t : RogerTimings(roger_sorted)) timing_report.tables.push_back(std::move(t));
+  std::string csv;
+  for (const Table& t : timing_report.tables) csv += (csv.empty() ? "" : "\n") + TableCsv(t);
+  WriteText(out / "timings.csv", csv, "the timings file");
   std::string md = ReportMarkdown(timing_report);
   md.replace(0, md.find('\n'), "# Phase timings");
   WriteText(out / "timings.md", md, "the timings file");

@@ -36,10 +36,14 @@ void WriteText(const std::filesystem::path& path, const std::string& text, const
 namespace {
 
 nlohmann::json ConfigJson(const Config& c) {
-  return {{"target", c.target}, {"scene", c.scene},       {"scene_file", c.scene_file}, {"algo", c.algo},
-          {"subdivision", c.subdivision}, {"levels", c.levels}, {"bounces", c.bounces},
-          {"width", c.width},   {"height", c.height},     {"faithful", c.faithful},     {"one_object", c.one_object},
-          {"canonical", c.Canonical()}};
+  nlohmann::json j = {{"target", c.target}, {"scene", c.scene},       {"scene_file", c.scene_file}, {"algo", c.algo},
+                      {"subdivision", c.subdivision}, {"levels", c.levels}, {"bounces", c.bounces},
+                      {"width", c.width},   {"height", c.height},     {"canonical", c.Canonical()}};
+  // Only when set: results without them read as before.
+  if (!c.path.empty()) j["path"] = c.path;
+  if (!c.faithful.empty()) j["faithful"] = c.faithful;
+  if (c.one_object) j["one_object"] = true;
+  return j;
 }
 
 Config ConfigFromJson(const nlohmann::json& j) {
@@ -55,6 +59,7 @@ Config ConfigFromJson(const nlohmann::json& j) {
   j.at("height").get_to(c.height);
   c.faithful = j.value("faithful", std::string());
   c.one_object = j.value("one_object", false);
+  c.path = j.value("path", std::string());
   return c;
 }
 
