@@ -37,7 +37,7 @@ void FrameSize(const ReproduceArgs& args, int& w, int& h) {
 // One implemented target's configurations at the run's frame size (roger's figure 13(c) adds half and
 // twice the side; --full runs every level of detail of the bunny, --quick the two lowest).
 std::vector<Config> TargetConfigs(const std::string& target, const ReproduceArgs& args, int w, int h) {
-  if (target == "roger") return RogerConfigs(w, args.full);
+  if (target == "roger") return RogerConfigs(w, h, args.full);
   return ThesisConfigs(args.scenes, w, h);
 }
 

@@ -22,16 +22,17 @@ const std::vector<RogerScene>& RogerScenes() {
   return scenes;
 }
 
-std::vector<Config> RogerConfigs(int side, bool full) {
+std::vector<Config> RogerConfigs(int width, int height, bool full) {
   std::vector<Config> configs;
-  auto add = [&](const RogerScene& s, int size) {
+  auto add = [&](const RogerScene& s, int w, int h) {
     Config c;
     c.target = "roger";
     c.scene = s.name;
     c.scene_file = s.file;
     c.bounces = 1;  // the paper's figures 9 and 13: one bounce
     c.path = "passes";  // cone-sphere tests, then the stream reduction: figure 9(a) times them apart
-    c.width = c.height = size;
+    c.width = w;
+    c.height = h;
     c.algo = "rah-quadtree";
     c.subdivision = 4;
     c.levels = 0;
@@ -42,9 +43,10 @@ std::vector<Config> RogerConfigs(int side, bool full) {
     configs.push_back(c);
   };
   for (const RogerScene& s : RogerScenes())
-    if (full || s.quick) add(s, side);
-  // Figure 13(c): the same frame at a quarter and four times the pixels.
-  for (const int size : {side / 2, side * 2}) add(RogerScenes().front(), size);
+    if (full || s.quick) add(s, width, height);
+  // Figure 13(c): the same frame at a quarter (when it has a pixel) and four times the pixels.
+  if (width >= 2 && height >= 2) add(RogerScenes().front(), width / 2, height / 2);
+  add(RogerScenes().front(), width * 2, height * 2);
   return configs;
 }
 

@@ -27,10 +27,10 @@ const std::vector<RogerScene>& RogerScenes();
 inline constexpr const char* kRogerStandIn =
     "stand-in: the paper's Kitchen is not held; a room (cornell_room, a ball, a block) holds the reflector";
 
-// The configurations of `reproduce roger` at a base frame side: every scene with Roger's quadtree and
-// the thesis's RAH (subdivision 8, depth 2) at side x side, and the first bunny at half and twice the
-// side too (figure 13(c)).
-std::vector<Config> RogerConfigs(int side, bool full);
+// The configurations of `reproduce roger` at a base frame size: every scene (--quick: those marked
+// quick) with Roger's quadtree and the thesis's RAH (subdivision 8, depth 2) at width x height, and the
+// first bunny at half and twice each side too (figure 13(c)).
+std::vector<Config> RogerConfigs(int width, int height, bool full);
 
 // Our counts in the paper's terms, summed over the ray types.
 std::uint64_t ConeSphereTests(const Counts& c);  // every level's intersections: the traversal's tests
