@@ -215,7 +215,7 @@ bool ClosestAllowed(std::uint64_t h0, std::uint64_t a, const std::vector<Candida
   return false;
 }
 
-bool TestMayFlip(const layout::ConeNode& n, glm::vec4 sphere, float eps, bool flush);
+bool TestMayFlip(const layout::ConeNode& n, glm::vec4 sphere, float eps, std::uint32_t cone_test, bool flush);
 
 // --leaf-test ray-sphere: a pair's count may be any between the rays whose sphere test passes on every
 // conformant device and those whose test passes on some (the one-ray node as lavapipe builds it).
@@ -229,7 +229,7 @@ void TallyLeafTests(const emu::call::Intersect& c, const std::vector<std::uint32
       const layout::Ray& r = c.rays[c.order[j]];
       layout::ConeNode n = emu::cone::FromRay(emu::Xyz(r.origin_tmin), emu::Normalize(emu::Xyz(r.direction_tmax)));
       emu::cone::Finish(n);
-      const bool pass = emu::cone::Test(n, c.tri_spheres[prim], c.eps), flip = TestMayFlip(n, c.tri_spheres[prim], c.eps, flush);
+      const bool pass = emu::cone::Test(n, c.tri_spheres[prim], c.eps), flip = TestMayFlip(n, c.tri_spheres[prim], c.eps, layout::kConeTestConservative, flush);
       lo += pass && !flip;
       hi += pass || flip;
     }
