@@ -24,7 +24,7 @@ const std::vector<RogerScene>& RogerScenes() {
 
 std::vector<Config> RogerConfigs(int width, int height, bool full) {
   std::vector<Config> configs;
-  auto add = [&](const RogerScene& s, int w, int h) {
+  auto add = [&](const RogerScene& s, int w, int h, bool faithful) {
     Config c;
     c.target = "roger";
     c.scene = s.name;
@@ -41,12 +41,20 @@ std::vector<Config> RogerConfigs(int width, int height, bool full) {
     c.subdivision = 8;
     c.levels = 2;
     configs.push_back(c);
+    if (!faithful) return;
+    // The quadtree as the paper describes it (--faithful roger: its leaf-level ray-sphere test and its
+    // printed cone test), beside rayspace's: figure 13(a)'s tests per ray depend on the leaf test.
+    c.algo = "rah-quadtree";
+    c.subdivision = 4;
+    c.levels = 0;
+    c.faithful = "roger";
+    configs.push_back(c);
   };
   for (const RogerScene& s : RogerScenes())
-    if (full || s.quick) add(s, width, height);
+    if (full || s.quick) add(s, width, height, true);
   // Figure 13(c): the same frame at a quarter (when it has a pixel) and four times the pixels.
-  if (width >= 2 && height >= 2) add(RogerScenes().front(), width / 2, height / 2);
-  add(RogerScenes().front(), width * 2, height * 2);
+  if (width >= 2 && height >= 2) add(RogerScenes().front(), width / 2, height / 2, false);
+  add(RogerScenes().front(), width * 2, height * 2, false);
   return configs;
 }
 

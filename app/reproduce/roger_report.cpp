@@ -28,7 +28,10 @@ std::string PerRay(std::uint64_t tests, std::uint64_t rays) {
   return rays ? fmt::format("{:.2f}", static_cast<double>(tests) / static_cast<double>(rays)) : "n/a";
 }
 
-std::string Shape(const Config& c) { return c.quadtree() ? "rah-quadtree" : fmt::format("rah s{} d{}", c.subdivision, c.levels); }
+std::string Shape(const Config& c) {
+  const std::string shape = c.quadtree() ? "rah-quadtree" : fmt::format("rah s{} d{}", c.subdivision, c.levels);
+  return c.faithful.empty() ? shape : shape + " --faithful " + c.faithful;
+}
 
 // The algorithms (hierarchy shapes) of the results, the quadtree first.
 std::vector<std::string> Algorithms(const std::vector<const Result*>& results) {
@@ -138,7 +141,8 @@ Table PerRayTable(const std::vector<const Result*>& results, Verdicts& v) {
           {}, {}};
   t.notes.push_back("The paper: between 2.5 and 4.5 ray-triangle tests per ray on Patio (its hierarchy tests each ray's own "
                     "sphere at the leaves). rayspace sends every ray of a surviving leaf to the final test, with no leaf-level "
-                    "ray-sphere test: our number is larger by construction. The verdict is on every ray (shadow and reflection); "
+                    "ray-sphere test: our number is larger by construction. `rah-quadtree --faithful roger` adds that test "
+                    "(`--leaf-test ray-sphere`, and the printed cone test). The verdict is on every ray (shadow and reflection); "
                     "the reflection rays' own number is beside it.");
   for (const Result* r : results) {
     const std::uint64_t rays = Rays(r->counts), tests = FinalTests(r->counts);
