@@ -1,0 +1,318 @@
+// Traversal lists (rayspace/emu/tl/tl.h): a hand-worked scene, the lists' invariants, the walk
+// against brute force for every list count and order (random soups, the bunny, rays ending or
+// starting exactly at a hit), determinism and a degenerate set.
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <string>
+
+#include <doctest/doctest.h>
+
+#include "rayspace/emu/intersect.h"
+#include "rayspace/emu/tl/tl.h"
+#include "rayspace/scene.h"
+#include "test_util.h"
+
+namespace tl = rayspace::emu::tl;
+using rayspace::emu::HitPrim;
+using rayspace::emu::HitT;
+using rayspace::emu::kMissPacked;
+using rayspace::emu::PackHit;
+using rayspace::layout::kNoPrim;
+using rayspace::layout::Ray;
+using rayspace::layout::Triangle;
+
+namespace {
+
+Triangle Tri(glm::vec3 a, glm::vec3 b, glm::vec3 c) { return {glm::vec4(a, 1.0f), glm::vec4(b, 1.0f), glm::vec4(c, 1.0f)}; }
+
+Ray MakeRay(glm::vec3 o, glm::vec3 d, float tmin = 0.0f, float tmax = INFINITY, std::uint32_t ignore = kNoPrim) {
+  Ray r{};
+  r.origin_tmin = glm::vec4(o, tmin);
+  r.direction_tmax = glm::vec4(d, tmax);
+  r.info = glm::uvec4(0u, ignore, 0u, 0u);
+  return r;
+}
+
+// Every triangle, as the direct tracer's exhaustive mode tests them.
+std::uint64_t BruteClosest(const std::vector<Triangle>& tris, const Ray& ray) {
+  const glm::vec3 o = rayspace::emu::Xyz(ray.origin_tmin), d = rayspace::emu::Xyz(ray.direction_tmax);
+  const rayspace::emu::WatertightRay wr = rayspace::emu::SetupWatertight(o, d);
+  std::uint64_t best = kMissPacked;
+  for (std::uint32_t i = 0; i < tris.size(); ++i) {
+    float t;
+    if (i != ray.info.y && rayspace::emu::IntersectWatertight(wr, rayspace::emu::Xyz(tris[i].v0), rayspace::emu::Xyz(tris[i].v1),
+                                                               rayspace::emu::Xyz(tris[i].v2), ray.origin_tmin.w, ray.direction_tmax.w, t))
+      best = std::min(best, PackHit(t, i));
+  }
+  return best;
+}
+
+std::vector<std::uint32_t> Prims(const tl::Lists& l, std::uint32_t k) {
+  std::vector<std::uint32_t> p;
+  for (std::uint32_t i = l.first[k]; i < l.first[k + 1]; ++i)
+    if (tl::IsTriangle(l.escapes[i])) p.push_back(l.words[i].w);
+  return p;
+}
+std::vector<tl::Escape> Escapes(const tl::Lists& l, std::uint32_t k) {
+  return {l.escapes.begin() + l.first[k], l.escapes.begin() + l.first[k + 1]};
+}
+
+// Three small triangles at three corners of a 10 x 10 square in z = 0:
+//   T0 (0,0) (1,0) (0,1), T1 (10,0) (9,0) (10,1), T2 (0,10) (1,10) (0,9).
+// With leaf_triangles = 1, the root R is centred at the box centre (5,5,0), radius sqrt(50) ~ 7.07
+// (rounded up); each triangle's radius about its centroid is sqrt(5)/3 ~ 0.75 < 0.25 x 7.07, so none
+// is big, and the centroids (1/3,1/3), (29/3,1/3), (1/3,29/3) fall in octants 0, 1, 2: children A
+// (T0), B (T1), C (T2), each a leaf of radius sqrt(0.5) ~ 0.71 about (0.5,0.5), (9.5,0.5), (0.5,9.5).
+// Projections on +x: A [-0.21, 1.21], B [8.79, 10.21], C = A's: earliest first gives A, C, B (A
+// before C: the tie keeps octant order). On -x: B [-10.21, -8.79] first, then A, C. On +y: A, B, C;
+// on -y: C, A, B; on +-z all equal: A, B, C. Each list is R, X, Tx, Y, Ty, Z, Tz with escapes
+//   R: -1 (its subtree is the list), X: 2, Tx: 1, Y: 2, Ty: 1, Z: -1 (no super-sibling), Tz: 0 (last).
+std::vector<Triangle> HandScene() {
+  return {Tri({0, 0, 0}, {1, 0, 0}, {0, 1, 0}), Tri({10, 0, 0}, {9, 0, 0}, {10, 1, 0}), Tri({0, 10, 0}, {1, 10, 0}, {0, 9, 0})};
+}
+tl::Options HandOptions(std::uint32_t lists) {
+  tl::Options o;
+  o.lists = lists;
+  o.tree.leaf_triangles = 1;
+  return o;
+}
+
+}  // namespace
+
+TEST_CASE("tl: the hand-worked scene's lists and escapes") {
+  const tl::Lists l = tl::Build(HandScene(), HandOptions(6));
+  REQUIRE(l.first == std::vector<std::uint32_t>{0, 7, 14, 21, 28, 35, 42});
+  const std::vector<tl::Escape> esc{-1, 2, 1, 2, 1, -1, 0};
+  const std::vector<std::vector<std::uint32_t>> prims{{0, 2, 1}, {1, 0, 2}, {0, 1, 2}, {2, 0, 1}, {0, 1, 2}, {0, 1, 2}};
+  for (std::uint32_t k = 0; k < 6; ++k) {
+    CAPTURE(k);
+    CHECK(Escapes(l, k) == esc);
+    CHECK(Prims(l, k) == prims[k]);
+  }
+  // The shared vertices: nine distinct, in first-use order; T1's word names 3, 4, 5 and id 1.
+  CHECK(l.vertices.size() == 9);
+  CHECK(l.words[6] == tl::Word(3, 4, 5, 1));  // list 0's last element: T1
+  const glm::vec4 root(std::bit_cast<float>(l.words[0].x), std::bit_cast<float>(l.words[0].y), std::bit_cast<float>(l.words[0].z),
+                       std::bit_cast<float>(l.words[0].w));
+  CHECK(glm::vec3(root) == glm::vec3(5, 5, 0));
+  CHECK(static_cast<double>(root.w) >= std::sqrt(50.0));
+  CHECK(root.w < 7.0711f);
+  // 42 elements of 20 bytes, 9 vertices of 16, 7 offsets of 4.
+  CHECK(l.Bytes() == 42 * 20 + 9 * 16 + 7 * 4);
+}
+
+TEST_CASE("tl: the hand-worked scene's walks") {
+  const tl::Lists l = tl::Build(HandScene(), HandOptions(6));
+  // Down onto T1 at (9.7, 0.2): list -z (R, A, T0, B, T1, C, T2). R hit, A missed (escape 2 to B), B hit, T1 hit at
+  // t = 5, C missed and its escape -1 ends the walk: 4 spheres, 1 triangle.
+  tl::Stats s;
+  const Ray down = MakeRay({9.7f, 0.2f, 5.0f}, {0, 0, -1});
+  CHECK(tl::ListFor(6, {0, 0, -1}) == 5);
+  CHECK(tl::Closest(l, down, &s) == PackHit(5.0f, 1));
+  CHECK(s.spheres == 4);
+  CHECK(s.triangles == 1);
+  // Any hit stops at T1: R, A, B.
+  s = {};
+  CHECK(tl::Any(l, down, &s));
+  CHECK(s.spheres == 3);
+  CHECK(s.triangles == 1);
+  // Through the middle: R hit, A, B, C missed by escapes, no triangle tested.
+  s = {};
+  CHECK(tl::Closest(l, MakeRay({5, 5, 5}, {0, 0, -1}), &s) == kMissPacked);
+  CHECK(s.spheres == 4);
+  CHECK(s.triangles == 0);
+  // Outside the root: its escape -1 ends the walk at once.
+  s = {};
+  CHECK_FALSE(tl::Any(l, MakeRay({20, 20, 5}, {0, 0, -1}), &s));
+  CHECK(s.spheres == 1);
+  // The interval is open: a hit at exactly tmax or tmin is not one.
+  CHECK(tl::Closest(l, MakeRay({9.7f, 0.2f, 5.0f}, {0, 0, -1}, 0.0f, 5.0f)) == kMissPacked);
+  CHECK(tl::Closest(l, MakeRay({9.7f, 0.2f, 5.0f}, {0, 0, -1}, 5.0f, INFINITY)) == kMissPacked);
+  CHECK(tl::Closest(l, MakeRay({9.7f, 0.2f, 5.0f}, {0, 0, -1}, 0.0f, 5.0f + 1e-5f)) == PackHit(5.0f, 1));
+  CHECK_FALSE(tl::Any(l, MakeRay({9.7f, 0.2f, 5.0f}, {0, 0, -1}, 0.0f, INFINITY, 1)));
+}
+
+TEST_CASE("tl: the two orders differ where the projections do") {
+  // U0 spans x in [0, 4], U1 x in [1, 2]: earliest first (by lo) U0, U1; latest last (by hi) U1, U0.
+  const std::vector<Triangle> tris{Tri({0, 0, 0}, {4, 0, 0}, {0, 1, 0}), Tri({1, 0, 1}, {2, 0, 1}, {1, 1, 1})};
+  tl::Options o;
+  o.lists = 1;
+  tl::Lists l = tl::Build(tris, o);
+  CHECK(Prims(l, 0) == std::vector<std::uint32_t>{0, 1});
+  CHECK(Escapes(l, 0) == std::vector<tl::Escape>{-1, 1, 0});
+  o.order = tl::Order::kLatestLast;
+  l = tl::Build(tris, o);
+  CHECK(Prims(l, 0) == std::vector<std::uint32_t>{1, 0});
+}
+
+TEST_CASE("tl: a ray's list") {
+  CHECK(tl::ListFor(1, {-1, -2, -3}) == 0);
+  CHECK(tl::ListFor(2, {0.5f, -9, 0}) == 0);
+  CHECK(tl::ListFor(2, {-0.5f, 9, 0}) == 1);
+  CHECK(tl::ListFor(6, {0.1f, -0.2f, 0.15f}) == 3);
+  CHECK(tl::ListFor(6, {-1, 1, 1}) == 1);  // a tie goes to the lower axis
+  CHECK(tl::ListFor(6, {0, 0, 2}) == 4);
+  CHECK(tl::ListFor(8, {1, -1, 1}) == 2);
+  CHECK(tl::ListFor(8, {-1, -1, -1}) == 7);
+  CHECK(tl::ListFor(8, {0, 0, 0}) == 0);
+}
+
+namespace {
+
+// A soup of small and large triangles in [-1, 1]^3 (the large ones are kept high as big triangles).
+std::vector<Triangle> Soup(std::uint32_t n, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<Triangle> t;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const glm::vec3 c(u(rng), u(rng), u(rng));
+    const float s = i % 10 == 0 ? 0.6f : 0.06f;
+    t.push_back(Tri(c + s * glm::vec3(u(rng), u(rng), u(rng)), c + s * glm::vec3(u(rng), u(rng), u(rng)),
+                    c + s * glm::vec3(u(rng), u(rng), u(rng))));
+  }
+  return t;
+}
+
+// Rays at random triangles' interiors (so that many hit), random rays, axis-aligned ones (zero
+// components, ties between axes) and, for each hit, the rays that end or start exactly at it or
+// ignore its triangle.
+std::vector<Ray> Rays(const std::vector<Triangle>& tris, std::uint32_t n, std::uint32_t seed, float extent) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f), w(0.0f, 1.0f);
+  std::vector<Ray> rays;
+  const glm::vec3 axes[] = {{0, 0, -1}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {-1, 0, 1}};
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const glm::vec3 o = extent * 2.0f * glm::vec3(u(rng), u(rng), u(rng));
+    const Triangle& t = tris[rng() % tris.size()];
+    const float a = w(rng), b = w(rng) * (1.0f - a);
+    const glm::vec3 p = glm::vec3(t.v0) + a * (glm::vec3(t.v1) - glm::vec3(t.v0)) + b * (glm::vec3(t.v2) - glm::vec3(t.v0));
+    glm::vec3 d = i % 4 == 3 ? glm::vec3(u(rng), u(rng), u(rng)) : (p - o) * (0.5f + w(rng));
+    if (i % 16 == 5) d = axes[(i / 16) % 5];
+    rays.push_back(MakeRay(o, d, i % 8 == 1 ? 0.3f : 0.0f, i % 8 == 2 ? 0.7f : INFINITY));
+    const std::uint64_t h = BruteClosest(tris, rays.back());
+    if (h == kMissPacked) continue;
+    rays.push_back(MakeRay(o, d, 0.0f, HitT(h)));
+    rays.push_back(MakeRay(o, d, HitT(h), INFINITY));
+    rays.push_back(MakeRay(o, d, 0.0f, INFINITY, HitPrim(h)));
+  }
+  return rays;
+}
+
+// Every list count and order against brute force; returns the elements visited per ray (K = 6).
+double CheckAgainstBrute(const std::vector<Triangle>& tris, const std::vector<Ray>& rays) {
+  std::vector<std::uint64_t> brute;
+  for (const Ray& r : rays) brute.push_back(BruteClosest(tris, r));
+  // A quarter of the rays at least must hit, or agreeing on misses would prove little.
+  CHECK(std::count(brute.begin(), brute.end(), kMissPacked) < static_cast<std::ptrdiff_t>(rays.size() * 3 / 4));
+  double visited = 0.0;
+  for (const std::uint32_t k : {1u, 2u, 6u, 8u})
+    for (const tl::Order order : {tl::Order::kEarliestFirst, tl::Order::kLatestLast}) {
+      tl::Options o;
+      o.lists = k;
+      o.order = order;
+      const tl::Lists l = tl::Build(tris, o);
+      std::size_t closest_bad = 0, any_bad = 0;
+      tl::Stats s;
+      for (std::size_t i = 0; i < rays.size(); ++i) {
+        closest_bad += tl::Closest(l, rays[i], &s) != brute[i];
+        any_bad += tl::Any(l, rays[i]) != (brute[i] != kMissPacked);
+      }
+      CAPTURE(k);
+      CAPTURE(static_cast<int>(order));
+      CHECK(closest_bad == 0);
+      CHECK(any_bad == 0);
+      if (k == 6 && order == tl::Order::kEarliestFirst) visited = static_cast<double>(s.spheres + s.triangles) / rays.size();
+    }
+  return visited;
+}
+
+// Each list holds every triangle once; a triangle's escape is 1 (0 at the end), a sphere's reaches
+// past its subtree, which is exactly what its sphere must hold (checked in double).
+void CheckInvariants(const std::vector<Triangle>& tris, const tl::Lists& l) {
+  for (std::uint32_t k = 0; k < l.count; ++k) {
+    const std::int64_t b = l.first[k], e = l.first[k + 1];
+    std::vector<std::uint32_t> p = Prims(l, k);
+    std::sort(p.begin(), p.end());
+    for (std::uint32_t i = 0; i < p.size(); ++i) REQUIRE(p[i] == i);
+    REQUIRE(p.size() == tris.size());
+    CHECK(l.escapes[static_cast<std::size_t>(e - 1)] == tl::kEscapeLast);
+    for (std::int64_t i = b; i < e; ++i) {
+      const tl::Escape x = l.escapes[static_cast<std::size_t>(i)];
+      if (tl::IsTriangle(x)) continue;
+      const std::int64_t end = x == tl::kEscapeNone ? e : i + x;
+      REQUIRE((x >= 2 || x == tl::kEscapeNone));
+      REQUIRE(end <= e);
+      const tl::Word& w = l.words[static_cast<std::size_t>(i)];
+      const glm::dvec3 c(std::bit_cast<float>(w.x), std::bit_cast<float>(w.y), std::bit_cast<float>(w.z));
+      for (std::int64_t j = i + 1; j < end; ++j) {
+        const tl::Word& t = l.words[static_cast<std::size_t>(j)];
+        if (!tl::IsTriangle(l.escapes[static_cast<std::size_t>(j)])) continue;
+        for (const std::uint32_t v : {t.x, t.y, t.z})
+          REQUIRE(glm::length(glm::dvec3(glm::vec3(l.vertices[v])) - c) <= static_cast<double>(std::bit_cast<float>(w.w)));
+      }
+    }
+  }
+}
+
+}  // namespace
+
+TEST_CASE("tl: every list count and order gives brute force's hits on a random soup") {
+  const std::vector<Triangle> tris = Soup(400, 7);
+  for (const std::uint32_t k : {1u, 2u, 6u, 8u}) {
+    tl::Options o;
+    o.lists = k;
+    CheckInvariants(tris, tl::Build(tris, o));
+  }
+  const std::vector<Ray> rays = Rays(tris, 600, 11, 1.0f);
+  const double visited = CheckAgainstBrute(tris, rays);
+  MESSAGE("soup: " << rays.size() << " rays, " << visited << " elements visited per ray (K = 6) of " << tris.size());
+  CHECK(visited < 0.5 * static_cast<double>(tris.size()));  // the escapes do skip
+}
+
+TEST_CASE("tl: every list count and order gives brute force's hits on the bunny") {
+  if (rayspace::test::SkipWithoutData("bunny/bun_zipper_res4.ply")) return;
+  const rayspace::MeshData mesh = rayspace::LoadPly(rayspace::test::DataRoot() / "bunny/bun_zipper_res4.ply");
+  std::vector<Triangle> tris;
+  for (const rayspace::SubMesh& m : mesh.submeshes)
+    for (std::size_t i = 0; i + 2 < m.positions.size(); i += 3) tris.push_back(Tri(m.positions[i], m.positions[i + 1], m.positions[i + 2]));
+  REQUIRE(tris.size() > 500);
+  tl::Options o;
+  CheckInvariants(tris, tl::Build(tris, o));
+  const std::vector<Ray> rays = Rays(tris, 500, 13, 0.12f);
+  const double visited = CheckAgainstBrute(tris, rays);
+  MESSAGE("bunny: " << tris.size() << " triangles, " << rays.size() << " rays, " << visited << " elements visited per ray (K = 6)");
+  CHECK(visited < 0.25 * static_cast<double>(tris.size()));
+}
+
+TEST_CASE("tl: the build is deterministic") {
+  const std::vector<Triangle> tris = Soup(300, 3);
+  for (const std::uint32_t k : {1u, 2u, 6u, 8u}) {
+    tl::Options o;
+    o.lists = k;
+    o.order = k == 2 ? tl::Order::kLatestLast : tl::Order::kEarliestFirst;
+    const tl::Lists a = tl::Build(tris, o), b = tl::Build(tris, o);
+    CHECK(a.first == b.first);
+    REQUIRE(a.escapes.size() == b.escapes.size());
+    REQUIRE(a.words.size() == b.words.size());
+    REQUIRE(a.vertices.size() == b.vertices.size());
+    CHECK(std::memcmp(a.escapes.data(), b.escapes.data(), a.escapes.size() * sizeof(tl::Escape)) == 0);
+    CHECK(std::memcmp(a.words.data(), b.words.data(), a.words.size() * sizeof(tl::Word)) == 0);
+    CHECK(std::memcmp(a.vertices.data(), b.vertices.data(), a.vertices.size() * sizeof(tl::Vertex)) == 0);
+  }
+}
+
+TEST_CASE("tl: coincident centroids end the build, and an empty scene is an empty walk") {
+  std::vector<Triangle> tris(40, Tri({0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
+  const std::vector<Triangle> more = Soup(40, 5);
+  tris.insert(tris.end(), more.begin(), more.end());
+  const tl::Lists l = tl::Build(tris, {});
+  CheckInvariants(tris, l);
+  CheckAgainstBrute(tris, Rays(tris, 100, 17, 1.0f));
+  const tl::Lists empty = tl::Build(std::vector<Triangle>{}, {});
+  CHECK(empty.escapes.empty());
+  CHECK(tl::Closest(empty, MakeRay({0, 0, 1}, {0, 0, -1})) == kMissPacked);
+  CHECK_FALSE(tl::Any(empty, MakeRay({0, 0, 1}, {0, 0, -1})));
+}
