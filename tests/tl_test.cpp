@@ -316,3 +316,34 @@ TEST_CASE("tl: coincident centroids end the build, and an empty scene is an empt
   CHECK(tl::Closest(empty, MakeRay({0, 0, 1}, {0, 0, -1})) == kMissPacked);
   CHECK_FALSE(tl::Any(empty, MakeRay({0, 0, 1}, {0, 0, -1})));
 }
+
+TEST_CASE("tl: the sphere test keeps every sphere the ray's part truly meets") {
+  // Rays whose point at t = 1 (exactly, in double) lies in the sphere, near its surface, at scales
+  // from 2^-20 to 2^20 and with the sphere far from the origin: the test, with t ending or starting
+  // at 1, must keep them all.
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int tested = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const double scale = std::ldexp(1.0, static_cast<int>(rng() % 41) - 20);
+    const glm::dvec3 c = scale * glm::dvec3(u(rng), u(rng), u(rng)) * (i % 2 ? 1000.0 : 1.0);
+    const glm::vec4 s(glm::vec3(c), static_cast<float>(scale * (0.01 + std::abs(u(rng)))));
+    const glm::dvec3 dir = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)));
+    const glm::dvec3 p = glm::dvec3(glm::vec3(s)) + dir * static_cast<double>(s.w) * (1.0 - 1e-12);
+    const glm::vec3 o = glm::vec3(p + scale * 3.0 * glm::dvec3(u(rng), u(rng), u(rng)));
+    const glm::vec3 d = glm::vec3(p) - o;
+    const glm::dvec3 q = glm::dvec3(o) + glm::dvec3(d);
+    if (glm::length(q - glm::dvec3(glm::vec3(s))) > static_cast<double>(s.w)) continue;
+    ++tested;
+    CAPTURE(i);
+    REQUIRE(tl::SphereMayHit(o, d, 0.0f, 1.0f, s));
+    REQUIRE(tl::SphereMayHit(o, d, 1.0f, INFINITY, s));
+  }
+  CHECK(tested > 10000);
+  // And it does prune: a sphere behind the part, beside the line, or beyond the limit.
+  const glm::vec4 s(0, 0, 10, 1);
+  CHECK_FALSE(tl::SphereMayHit({0, 0, 0}, {0, 0, 1}, 0.0f, 8.9f, s));
+  CHECK_FALSE(tl::SphereMayHit({0, 0, 0}, {0, 0, 1}, 11.1f, INFINITY, s));
+  CHECK_FALSE(tl::SphereMayHit({1.01f, 0, 0}, {0, 0, 1}, 0.0f, INFINITY, s));
+  CHECK(tl::SphereMayHit({0, 0, 0}, {0, 0, 2}, 0.0f, 4.5f, s));
+}
