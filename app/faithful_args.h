@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "rayspace/emu/frame.h"
+#include "faithful_presets.h"
 #include "rayspace/emu/hierarchy.h"
 
 namespace CLI {
@@ -31,9 +32,6 @@ struct FaithfulArgs {
 // when the command's parse completes: each switch of the preset that the command line does not give
 // is set as if it had been given, so an explicit switch wins over the preset.
 void AddFaithfulOptions(CLI::App& command, FaithfulArgs& args);
-// A preset's switches, as command-line words ("--hash-order", "polar-first", "--one-object", ...): the
-// one list --faithful applies and --help prints. An unknown name: empty.
-std::vector<std::string> FaithfulPreset(const std::string& name);
 // The switches of a preset, as `--faithful name` alone on a command line gives them (for callers
 // without a command line, such as `rayspace reproduce`). Throws InputError for an unknown name.
 FaithfulArgs FaithfulFromPreset(const std::string& name);

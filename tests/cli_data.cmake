@@ -4,7 +4,7 @@
 # scripts/make_manifest.py writes from it. Needs the data root (skipped without it).
 # Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DDATA=<data root> -DWORK=<scratch> -P cli_data.cmake
 include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)
-cli_require_data(cli.data)
+cli_require_data(cli.data bunny/bun_zipper.ply bunny/bun_zipper_res2.ply bunny/bun_zipper_res3.ply bunny/bun_zipper_res4.ply)
 file(REMOVE_RECURSE "${WORK}")
 file(MAKE_DIRECTORY "${WORK}/root/sponza_dabrovic")
 set(failures "")

@@ -27,14 +27,17 @@ macro(cli_script_end test)
   message(STATUS "${test}: all ${CASES} cases passed")
 endmacro()
 
-# cli_require_data(<test>): ends the script with "data root not found: <DATA> ... <test> skipped" when
-# DATA lacks Sponza, the file every data test reads first; tests/CMakeLists.txt's
-# SKIP_REGULAR_EXPRESSION turns that line into a skip. A macro, so that its return() ends the script.
+# cli_require_data(<test> [<file>...]): ends the script with "data root not found: <DATA> ... <test>
+# skipped" when DATA lacks Sponza (every data test reads it) or one of the other files named, relative
+# to DATA; tests/CMakeLists.txt's SKIP_REGULAR_EXPRESSION turns that line into a skip. A macro, so
+# that its return() ends the script.
 macro(cli_require_data test)
-  if(NOT EXISTS "${DATA}/sponza_dabrovic/sponza.obj")
-    message(STATUS "data root not found: ${DATA} (no sponza_dabrovic/sponza.obj): ${test} skipped")
-    return()
-  endif()
+  foreach(_cli_file sponza_dabrovic/sponza.obj ${ARGN})
+    if(NOT EXISTS "${DATA}/${_cli_file}")
+      message(STATUS "data root not found: ${DATA} (no ${_cli_file}): ${test} skipped")
+      return()
+    endif()
+  endforeach()
 endmacro()
 
 # cli_case_begin(): for the scripts of one ctest per case (cli_diff, cli_export), which

@@ -5,7 +5,7 @@
 # Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DDATA=<data root> -DWORK=<scratch> -P cli_reproduce.cmake
 cmake_minimum_required(VERSION 3.19)
 include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)
-cli_require_data(cli.reproduce)
+cli_require_data(cli.reproduce bunny/bun_zipper_res4.ply bunny/bun_zipper_res3.ply)
 file(REMOVE_RECURSE "${WORK}")
 file(MAKE_DIRECTORY "${WORK}")
 set(FAILURES "")

@@ -136,7 +136,7 @@ TEST_CASE("reproduce: the summary counts each relation's verdicts") {
   const Table t = SummaryTable(rows);
   REQUIRE(t.rows.size() == 2);
   CHECK(t.rows[0] == std::vector<std::string>{kCrshBelowRah, "1 of 2", "2 of 2"});
-  CHECK(t.rows[1] == std::vector<std::string>{kIdentity, "0 of 0", "0 of 1"});
+  CHECK(t.rows[1] == std::vector<std::string>{kIdentity, "n/a", "0 of 1"});  // nothing judged: n/a, not "0 of 0"
   CHECK(TableCsv(t).find("\"total = sum of level intersections") == std::string::npos);  // no comma: unquoted
 }
 
@@ -202,12 +202,33 @@ TEST_CASE("reproduce: the faithful table judges each total and the CRSH/RAH rati
   CHECK(relations[1].ours->detail == "324495916 vs 405619896: -20.0 %");
   CHECK_FALSE(relations[2].ours->holds);
   CHECK_FALSE(relations[2].published.has_value());
-  // Exactly at the tolerance holds; just past it fails.
+  // Just inside the tolerance holds (1.15 x the published, rounded down); just past it fails.
   relations.clear();
   FaithfulTable({SponzaTotal("rah", "thesis", 632408864 * 1.15), SponzaTotal("crsh", "thesis", 405619896 * 1.151)}, ThesisPublished(),
                 relations);
   CHECK(relations[0].ours->holds);
   CHECK_FALSE(relations[1].ours->holds);
+}
+
+TEST_CASE("reproduce: the canonical text names every setting, and keeps the defaults' keys") {
+  Config c;
+  c.scene = "SPONZA";
+  c.scene_file = "sponza-thesis.json";
+  c.algo = "crsh";
+  // The text the default configurations' results were stored under before the faithful settings
+  // existed: they must still be found (--resume, merge).
+  CHECK(c.Canonical() ==
+        "target=thesis scene=SPONZA file=sponza-thesis.json algo=crsh subdivision=8 levels=2 bounces=1 size=512x512 "
+        "objects=flat backend=emu");
+  c.faithful = "thesis";
+  c.one_object = true;
+  // A preset is keyed by the switches it stands for, so a preset that changes names new results.
+  CHECK(c.Canonical().ends_with(
+      " faithful=thesis [--hash-order polar-first --hash-bits 8 --shadow-bounces first --objects flat --cone-test printed] "
+      "one-object"));
+  Config merged_only = c;
+  merged_only.faithful.clear();
+  CHECK(merged_only.Canonical().ends_with("backend=emu one-object"));
 }
 
 TEST_CASE("reproduce: merge takes every shard of one run exactly once") {

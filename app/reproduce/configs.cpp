@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "faithful_presets.h"
+
 namespace rayspace::reproduce {
 
 const std::vector<SceneChoice>& ThesisScenes() {
@@ -40,8 +42,16 @@ const std::vector<std::pair<int, int>>& ThesisShapes() {
 std::string Config::Canonical() const {
   // The quadtree's subdivision is 4 and its depth log2 of the image size: both follow from the size.
   const std::string shape = quadtree() ? "quadtree" : fmt::format("subdivision={} levels={}", subdivision, levels);
-  // Faithful and path settings are appended only when set, so the keys of the other configurations stay as they were.
-  const std::string faithful_text = faithful.empty() ? "" : fmt::format(" faithful={}{}", faithful, one_object ? " one-object" : "");
+  // Faithful, object and path settings are appended only when set, so the keys of the other
+  // configurations stay as they were. A preset is written as the switches it stands for: a preset
+  // that gains a switch names other results.
+  std::string faithful_text;
+  if (!faithful.empty()) {
+    faithful_text = " faithful=" + faithful + " [";
+    for (const std::string& w : app::FaithfulPreset(faithful)) faithful_text += (faithful_text.back() == '[' ? "" : " ") + w;
+    faithful_text += "]";
+  }
+  if (one_object) faithful_text += " one-object";
   return fmt::format("target={} scene={} file={} algo={} {} bounces={} size={}x{} objects=flat backend=emu{}{}", target, scene,
                      scene_file, algo, shape, bounces, width, height, path.empty() ? "" : " path=" + path, faithful_text);
 }

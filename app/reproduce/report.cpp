@@ -264,7 +264,8 @@ Report BuildReport(const std::vector<Result>& results, const Published& publishe
     report.tables.push_back(TotalsTable(first + 3, s, idx, published, report));
   }
   report.tables.push_back(QuadtreeTable(idx));
-  report.tables.push_back(FaithfulTable(results, published, report.relations));
+  if (Table faithful = FaithfulTable(results, published, report.relations); !faithful.rows.empty())
+    report.tables.push_back(std::move(faithful));
   return report;
 }
 
@@ -280,7 +281,9 @@ Table SummaryTable(const std::vector<RelationRow>& relations) {
   }
   for (const std::string& name : order) {
     const auto& c = counts[name];
-    t.rows.push_back({name, fmt::format("{} of {}", c[0], c[1]), fmt::format("{} of {}", c[2], c[3])});
+    // A side with nothing judged (the faithful relations' published side, the reference) says so.
+    auto of = [](int holds, int n) { return n ? fmt::format("{} of {}", holds, n) : std::string("n/a"); };
+    t.rows.push_back({name, of(c[0], c[1]), of(c[2], c[3])});
   }
   return t;
 }

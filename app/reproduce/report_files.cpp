@@ -58,10 +58,12 @@ std::vector<const Result*> TableOrder(std::vector<const Result*> sorted) {
     return ThesisScenes().size() + RogerScenes().size();
   };
   std::sort(sorted.begin(), sorted.end(), [&](const Result* a, const Result* b) {
+    // Every field of the configuration, so that no two results tie and the order never falls back
+    // to the order of their keys.
     return std::make_tuple(a->config.target, scene_rank(a->config.scene), a->config.quadtree(), a->config.subdivision, a->config.levels,
-                           a->config.algo, a->config.width) <
+                           a->config.algo, a->config.width, a->config.height, a->config.faithful, a->config.one_object, a->config.path) <
            std::make_tuple(b->config.target, scene_rank(b->config.scene), b->config.quadtree(), b->config.subdivision, b->config.levels,
-                           b->config.algo, b->config.width);
+                           b->config.algo, b->config.width, b->config.height, b->config.faithful, b->config.one_object, b->config.path);
   });
   return sorted;
 }

@@ -44,8 +44,9 @@ std::array<double, kPhases> PhaseMs(const Result& r) {
 }
 
 std::string Name(const Result& r) {
-  return fmt::format("{} {} {}x{}", r.config.scene, r.config.quadtree() ? "rah-quadtree" : "rah s8 d2", r.config.width,
-                     r.config.height);
+  const std::string name = fmt::format("{} {} {}x{}", r.config.scene, r.config.quadtree() ? "rah-quadtree" : "rah s8 d2",
+                                       r.config.width, r.config.height);
+  return r.config.faithful.empty() ? name : name + " --faithful " + r.config.faithful;
 }
 
 Table PhasesTable(const std::vector<const Result*>& results) {
@@ -112,7 +113,8 @@ Table PixelsTimes(const std::vector<const Result*>& results) {
           {}, {}};
   std::map<std::pair<bool, int>, double> ms;  // (quadtree, side) -> traversal ms
   for (const Result* r : results) {
-    if (r->config.scene != RogerScenes().front().name) continue;
+    // The sizes are measured with rayspace's defaults only: a faithful frame has no quarter to compare with.
+    if (r->config.scene != RogerScenes().front().name || !r->config.faithful.empty()) continue;
     const std::array<double, kPhases> p = PhaseMs(*r);
     const double traversal = p[kConeSphere] + p[kReduction];
     ms[{r->config.quadtree(), r->config.width}] = traversal;
