@@ -7,6 +7,7 @@
 #include "accuracy_measure.h"
 #include "accuracy_report.h"
 #include "accuracy_sampler.h"
+#include "accuracy_tl.h"
 #include "plot.h"
 #include "rayspace/error.h"
 #include "rayspace/scene.h"
@@ -34,10 +35,14 @@ ExitCode RunAccuracy(const AccuracyArgs& args) {
   // 2. Cone-sphere modes, 3. ray-triangle modes, each against the exact answer.
   accuracy::MeasureConeModes(workload, report.rows);
   accuracy::MeasureTriModes(workload, report.rows);
+  const accuracy::SphereWorkload spheres = accuracy::SampleSpheres(scene, b, fo, args.samples);
+  report.spheres = &spheres;
+  accuracy::MeasureSphereModes(spheres, report.rows);
   // 4. End to end: the frame with each mode in the traversal or the final tests, against the exact one.
   if (args.end_to_end) {
     report.cone_e2e = accuracy::ConeEndToEnd(scene, b, fo);
     report.tri_e2e = accuracy::TriEndToEnd(scene, b, fo);
+    report.sphere_e2e = accuracy::SphereEndToEnd(scene, b, fo);
   }
   // 5. Report: markdown, CSV, plot.
   accuracy::WriteReport(files, report);

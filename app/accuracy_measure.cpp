@@ -18,14 +18,6 @@
 namespace rayspace::app::accuracy {
 namespace {
 
-// ---- cone-sphere modes --------------------------------------------------------------------------
-
-struct Mode {
-  std::string name;
-  std::function<bool(std::size_t)> answer;  // decision for sample i
-  bool slow = false;                         // exact rationals: timed on a subsample
-};
-
 double NsPerTest(const std::function<bool(std::size_t)>& f, std::size_t n) {
   // Median of three timed passes; each pass repeats the samples until it has run 0.2 s.
   std::vector<double> runs;
@@ -45,8 +37,10 @@ double NsPerTest(const std::function<bool(std::size_t)>& f, std::size_t n) {
   return runs[1];
 }
 
+}  // namespace
+
 void Evaluate(const std::string& test, const std::string& set, std::size_t n, const std::vector<Mode>& modes,
-              const std::vector<char>& truth, std::vector<Row>& rows, const std::vector<char>* in_plane = nullptr) {
+              const std::vector<char>& truth, std::vector<Row>& rows, const std::vector<char>* in_plane) {
   for (const Mode& m : modes) {
     Row r{test, set, m.name, n};
     const std::size_t timed = m.slow ? std::min<std::size_t>(n, 2000) : n;
@@ -62,6 +56,8 @@ void Evaluate(const std::string& test, const std::string& set, std::size_t n, co
                  r.ns, r.fn, r.fp);
   }
 }
+
+namespace {
 
 // ---- ray-triangle modes -----------------------------------------------------------------------------
 
@@ -148,6 +144,8 @@ class ModeTraversal final : public emu::ForwardingHierarchyPasses {
   std::mutex locks_[kLocks];
 };
 
+}  // namespace
+
 std::size_t RaysChanged(const FrameOutcome& a, const FrameOutcome& b) {
   std::size_t changed = 0;
   for (std::size_t i = 0; i < a.hits.size() && i < b.hits.size(); ++i) {
@@ -156,6 +154,8 @@ std::size_t RaysChanged(const FrameOutcome& a, const FrameOutcome& b) {
   }
   return changed;
 }
+
+namespace {
 
 // Rays whose hit primitive (or miss) or occlusion differs; distances are compared only through order.
 std::size_t RaysChangedPrim(const FrameOutcome& a, const FrameOutcome& b) {

@@ -3,6 +3,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,19 @@ struct FrameOutcome {
   std::vector<std::vector<std::uint32_t>> occluded;
   std::uint64_t tests = 0;
 };
+
+// A precision mode of a test: its decision on sample i.
+struct Mode {
+  std::string name;
+  std::function<bool(std::size_t)> answer;
+  bool slow = false;  // exact rationals: timed on a subsample
+};
+// Each mode on n samples against `truth` (the exact decisions): one row each, FN and FP counted, time
+// per test the median of three timed passes; `in_plane` marks rays in the triangle's plane.
+void Evaluate(const std::string& test, const std::string& set, std::size_t n, const std::vector<Mode>& modes,
+              const std::vector<char>& truth, std::vector<Row>& rows, const std::vector<char>* in_plane = nullptr);
+// Rays whose packed hit or occlusion differs between two frames.
+std::size_t RaysChanged(const FrameOutcome& a, const FrameOutcome& b);
 
 // Renders the frame with the hierarchy tracer running `passes`.
 FrameOutcome RunFrame(const Scene& scene, const SceneBuffers& b, const emu::FrameOptions& fo, emu::HierarchyPasses& passes);

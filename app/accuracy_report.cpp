@@ -27,7 +27,7 @@ plot::Point RatePoint(const Row& r, std::size_t count, std::size_t mode) {
 // an extra test, time only) apart, since a conservative test has FP by design and no FN; colour by
 // test and query set, numbered by mode as in the table, the modes named in the key.
 plot::Plot AccuracyPlot(const std::string& title, const std::vector<Row>& rows) {
-  static const char* colours[4] = {"#d91a1a", "#1a59d9", "#1a9933", "#994db3"};
+  static const char* colours[6] = {"#d91a1a", "#1a59d9", "#1a9933", "#994db3", "#d9821a", "#1a9999"};
   plot::Plot p;
   p.title = title;
   p.width = 1100;
@@ -41,8 +41,8 @@ plot::Plot AccuracyPlot(const std::string& title, const std::vector<Row>& rows) 
     if (std::find(modes.begin(), modes.end(), r.mode) == modes.end()) modes.push_back(r.mode);
   }
   for (std::size_t k = 0; k < keys.size(); ++k) {
-    plot::Series fn{keys[k] + ": FN, missed hits (wrong image)", plot::Style::kPoints, plot::Marker::kFilledSquare, colours[k % 4], {}};
-    plot::Series fp{keys[k] + ": FP, extra tests (time only)", plot::Style::kPoints, plot::Marker::kOpenSquare, colours[k % 4], {}};
+    plot::Series fn{keys[k] + ": FN, missed hits (wrong image)", plot::Style::kPoints, plot::Marker::kFilledSquare, colours[k % 6], {}};
+    plot::Series fp{keys[k] + ": FP, extra tests (time only)", plot::Style::kPoints, plot::Marker::kOpenSquare, colours[k % 6], {}};
     for (const Row& r : rows) {
       if (r.test + " / " + r.set != keys[k]) continue;
       const std::size_t m = std::find(modes.begin(), modes.end(), r.mode) - modes.begin();
@@ -95,6 +95,10 @@ void AppendEndToEnd(const Report& rep, std::string& md, std::string& csv) {
                       "where the exact answer misses or the reverse, or changes occlusion (later bounces inherit the "
                       "differences):",
                       "final and hierarchy tests", md, csv);
+  AppendEndToEndTable(rep.sphere_e2e, rep, "ray-sphere",
+                      "End to end, the `--algo tl` frame with each ray-sphere mode in its walks, against the walks with "
+                      "the exact test (a changed ray: another hit, or another occlusion):",
+                      "sphere and triangle tests", md, csv);
 }
 
 }  // namespace
@@ -113,6 +117,11 @@ void WriteReport(ReportFiles& files, const Report& rep) {
   const Workload& w = *rep.workload;
   std::string md = fmt::format("### {} ({}x{}, crsh)\n\nQueries sampled uniformly from the frame's own work: {} cone-sphere tests of {} and {} ray-triangle tests of {}; near-boundary sets move each sphere to touch the bundle (radius within 2^-20 of the distance) and aim each ray at an edge (2^-22 of the edge across it). FN: the mode says miss where the exact answer is hit (a missed hit changes the image); FP: the reverse (an extra test costs time only); the plot draws them apart, FN filled and FP open. The CSV holds this table and the end-to-end ones (set `end-to-end`, columns frame_ms, tests, rays_changed). Time: median of three passes, one thread.\n\n",
                                rep.scene, rep.width, rep.height, w.cones.size(), w.cones_seen, w.tris.size(), w.tris_seen);
+  if (rep.spheres)
+    md += fmt::format("The traversal lists' sphere test (`--algo tl`): {} of the {} ray-sphere tests of the same frame traced "
+                      "with the lists; its near-boundary set moves each sphere to touch the ray's part (radius within 2^-20 of "
+                      "the distance).\n\n",
+                      rep.spheres->spheres.size(), rep.spheres->seen);
   // One header for both tables: a mode row fills the columns up to in_plane, an end-to-end row (set
   // "end-to-end") the last three.
   std::string csv = "scene,test,set,mode,queries,ns_per_test,false_negatives,false_positives,in_plane,frame_ms,tests,rays_changed\n";

@@ -6,6 +6,7 @@
 
 #include "accuracy_measure.h"
 #include "accuracy_sampler.h"
+#include "accuracy_tl.h"
 #include "rayspace/output_file.h"
 #include "rayspace/scene.h"
 
@@ -16,7 +17,8 @@ struct Report {
   int width = 0, height = 0;
   const Workload* workload = nullptr;
   std::vector<Row> rows;
-  std::vector<EndToEnd> cone_e2e, tri_e2e;  // empty: not measured
+  const SphereWorkload* spheres = nullptr;      // the traversal lists' sphere tests
+  std::vector<EndToEnd> cone_e2e, tri_e2e, sphere_e2e;  // empty: not measured
 };
 
 // DIR/<scene>-accuracy.{md,csv,svg,png}, opened (and so checked) before the measurements.

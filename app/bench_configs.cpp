@@ -17,6 +17,7 @@ const BenchConfig kVariants[] = {
     {"vulkan", "crsh", "fused", "vulkan", "crsh with the GLSL kernels, levels fused (render --backend vulkan; skipped without a device)"},
     {"vulkan-passes", "crsh", "passes", "vulkan", "crsh with the GLSL kernels pass by pass (render --backend vulkan --path passes)"},
     {"vulkan-tree", "crsh", "fused", "vulkan", "crsh-tree with the GLSL kernels (render --backend vulkan --objects tree)", "tree"},
+    {"vulkan-tl", "tl", "auto", "vulkan", "tl with the GLSL kernels (render --backend vulkan --algo tl)"},
 };
 
 std::vector<BenchConfig> MakeConfigs() {

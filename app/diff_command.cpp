@@ -23,6 +23,7 @@
 
 #include "rayspace/emu/frame.h"
 #include "rayspace/emu/hierarchy.h"
+#include "rayspace/emu/tl/tracer.h"
 #include "rayspace/emu/output_checks.h"
 #include "rayspace/emu/workgroup_ops.h"
 #include "rayspace/error.h"
@@ -280,7 +281,9 @@ nlohmann::json DiffReport(const DiffArgs& args, const Scene& scene, const emu::F
           {"passes", passes},
           {"calls", calls},
           {"host_only", {"prep (bounding spheres: per-scene preprocessing)", "rah ray order (a stable partition by light)",
-                         args.algo == "brute" || args.algo == "embree" ? "trace (host tracer)" : "hierarchy groups (CSR offsets)"}},
+                         args.algo == "brute" || args.algo == "embree" ? "trace (host tracer)"
+                         : args.algo == "tl"                            ? "tl tree (the bounding-sphere tree and shared vertices)"
+                                                                        : "hierarchy groups (CSR offsets)"}},
           {"equal", equal},
           {"stopped", run.stopped.empty() ? nlohmann::json(nullptr) : nlohmann::json(run.stopped)},
           {"first_divergent_pass", first ? nlohmann::json(first->pass) : nlohmann::json(nullptr)},
@@ -350,7 +353,8 @@ void PrepareSaveDir(const std::string& dir) {
 struct DiffTracer {
   std::unique_ptr<Tracer> host;
   std::unique_ptr<emu::HierarchyTracer> hierarchy;
-  Tracer& get() { return hierarchy ? static_cast<Tracer&>(*hierarchy) : *host; }
+  std::unique_ptr<emu::TlTracer> tl;  // --algo tl: its passes go through the Differ too
+  Tracer& get() { return hierarchy ? static_cast<Tracer&>(*hierarchy) : tl ? static_cast<Tracer&>(*tl) : *host; }
 };
 
 DiffTracer MakeDiffTracer(const DiffArgs& args, const SceneBuffers& buffers, const emu::FrameOptions& fo, emu::HierarchyPasses& passes) {
@@ -359,6 +363,8 @@ DiffTracer MakeDiffTracer(const DiffArgs& args, const SceneBuffers& buffers, con
     t.host = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);
   } else if (args.algo == "embree") {
     t.host = refs::MakeEmbreeTracer(buffers, 0);
+  } else if (args.algo == "tl") {
+    t.tl = emu::MakeTlTracer(buffers, MakeTlOptions(args), &passes);
   } else {
     emu::HierarchyConfig cfg = MakeHierarchyConfig(args, fo.width, fo.height, &passes);
     cfg.fused = args.path == "fused";
@@ -442,6 +448,7 @@ nlohmann::json MeasureDiffImpact(const DiffArgs& args, const Scene& scene, const
   const ImpactTracerFactory make = [&](emu::HierarchyPasses& passes) -> std::unique_ptr<Tracer> {
     DiffTracer t = MakeDiffTracer(args, buffers, fo, passes);
     if (t.hierarchy) return std::move(t.hierarchy);
+    if (t.tl) return std::move(t.tl);
     return std::move(t.host);
   };
   const DiffImpact impact = MeasureImpact(scene, buffers, fo, make, {&emu::EmuFramePasses(), &emu::EmuHierarchyPasses()},

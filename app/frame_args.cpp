@@ -31,8 +31,8 @@ void AddFrameOptions(CLI::App& command, FrameArgs& args) {
   command
       .add_option("--algo", args.algo,
                   "Tracer for secondary rays: crsh (ray hashing + sorting, object spheres), rah (same hierarchy "
-                  "over unsorted rays), rah-quadtree (Roger et al.'s screen quadtree), brute (emulated direct "
-                  "tracer), embree")
+                  "over unsorted rays), rah-quadtree (Roger et al.'s screen quadtree), tl (Toczek et al.'s "
+                  "traversal lists), brute (emulated direct tracer), embree")
       ->check(CLI::IsMember(AlgorithmNames()))
       ->capture_default_str();
   command.add_option("--subdivision", args.subdivision, "Children per hierarchy node (rah-quadtree: always 4)")
@@ -59,12 +59,22 @@ void AddFrameOptions(CLI::App& command, FrameArgs& args) {
                   "flat; flat on Vulkan)")
       ->check(CLI::IsMember({"flat", "tree", "auto"}))
       ->capture_default_str();
-  command.add_option("--tree-leaf", args.tree_leaf, "--objects tree: an object-tree node of at most this many triangles is a leaf")
+  command.add_option("--lists", args.lists, "--algo tl: traversal lists, 1 (+x), 2 (+-x), 6 (+-x, +-y, +-z) or 8 (the diagonals)")
+      ->check(CLI::IsMember({1u, 2u, 6u, 8u}))
+      ->capture_default_str();
+  command
+      .add_option("--node-order", args.node_order,
+                  "--algo tl: a node's children along each list by the low end of their projection (earliest-first) "
+                  "or its high end (latest-last)")
+      ->check(CLI::IsMember({"earliest-first", "latest-last"}))
+      ->capture_default_str();
+  command.add_option("--tree-leaf", args.tree_leaf, "--objects tree, --algo tl: an object-tree node of at most this many triangles is a leaf")
       ->check(CLI::Range(1u, 1024u))
       ->capture_default_str();
   command
       .add_option("--tree-big", args.tree_big,
-                  "--objects tree: a triangle whose radius is at least this fraction of its node's stays the node's own")
+                  "--objects tree, --algo tl: a triangle whose radius is at least this fraction of its node's stays the node's own "
+                  "(--algo tl: 0.7 unless given)")
       ->check(CLI::Validator(
           [](std::string& v) {  // Range lets NaN through: every comparison with it is false
             const float f = std::strtof(v.c_str(), nullptr);
@@ -72,7 +82,8 @@ void AddFrameOptions(CLI::App& command, FrameArgs& args) {
           },
           "FINITE"))
       ->check(CLI::Range(0.001f, 1000.0f))
-      ->capture_default_str();
+      ->capture_default_str()
+      ->each([&args](const std::string&) { args.tree_big_given = true; });
   command.add_option("--reduction", args.reduction, "Stream reduction: hierarchical (Roger et al.) or scan")
       ->check(CLI::IsMember({"hierarchical", "scan"}))
       ->capture_default_str();
@@ -194,6 +205,15 @@ emu::HierarchyConfig MakeHierarchyConfig(const FrameArgs& args, int width, int h
   hc.passes = passes;
   ApplyFaithful(args.faithful, hc);
   return hc;
+}
+
+emu::tl::Options MakeTlOptions(const FrameArgs& args) {
+  emu::tl::Options o;
+  o.lists = args.lists;
+  o.order = args.node_order == "latest-last" ? emu::tl::Order::kLatestLast : emu::tl::Order::kEarliestFirst;
+  o.tree.leaf_triangles = args.tree_leaf;
+  if (args.tree_big_given) o.tree.big_fraction = args.tree_big;
+  return o;
 }
 
 }  // namespace rayspace::app

@@ -11,6 +11,7 @@
 #include "faithful_args.h"
 #include "kernel_model.h"
 #include "rayspace/emu/hierarchy.h"
+#include "rayspace/emu/tl/tl.h"
 
 namespace CLI {
 class App;
@@ -29,7 +30,7 @@ struct Algorithm {
   bool hierarchy;  // traces with the ray-space hierarchy (MakeHierarchyConfig knows it)
 };
 inline constexpr Algorithm kAlgorithms[] = {
-    {"crsh", true}, {"rah", true}, {"rah-quadtree", true}, {"brute", false}, {"embree", false},
+    {"crsh", true}, {"rah", true}, {"rah-quadtree", true}, {"tl", false}, {"brute", false}, {"embree", false},
 };
 // kAlgorithms' names, in order.
 std::vector<std::string> AlgorithmNames();
@@ -43,8 +44,11 @@ struct FrameArgs {
   int bounces = -1;          // --bounces: the scene's max_depth unless given
   std::string reduction = "hierarchical";
   std::string objects = "auto";  // --objects flat|tree|auto
+  std::uint32_t lists = emu::tl::Options{}.lists;  // --lists (--algo tl)
+  std::string node_order = "earliest-first";      // --node-order (--algo tl)
   std::uint32_t tree_leaf = ObjectTreeOptions{}.leaf_triangles;  // --tree-leaf
   float tree_big = ObjectTreeOptions{}.big_fraction;             // --tree-big
+  bool tree_big_given = false;  // --tree-big was given (--algo tl otherwise keeps its own default)
   int component_size = kHierarchyDefaults.component_size;
   std::size_t pair_capacity = kHierarchyDefaults.pair_capacity;
   std::string size, data;
@@ -63,7 +67,10 @@ struct FrameArgs {
   }
 };
 
-// Registers --algo, --subdivision, --levels (alias --depth), --bounces, --objects, --tree-leaf, --tree-big, --reduction, --component-size, --pair-capacity, --size,
+// The traversal lists' options (--algo tl): --lists, --node-order, --tree-leaf and --tree-big.
+emu::tl::Options MakeTlOptions(const FrameArgs& args);
+
+// Registers --algo, --lists, --node-order, --subdivision, --levels (alias --depth), --bounces, --objects, --tree-leaf, --tree-big, --reduction, --component-size, --pair-capacity, --size,
 // --data, --device, --split-bytes, --max-groups, --kernel, --schedule, --check-workgroups and the
 // thesis's switches (faithful_args.h) on
 // `command`, writing into `args`.

@@ -31,10 +31,14 @@ void Note(std::vector<IgnoredOption>& out, const CLI::App& command, const std::s
 
 void NoteHierarchyOptions(std::vector<IgnoredOption>& out, const CLI::App& command, const FrameArgs& args, bool fused) {
   const std::string flat = "--algo " + args.algo + " traces without the hierarchy";
+  if (args.algo != "tl")
+    for (const char* name : {"--lists", "--node-order"}) Note(out, command, name, "only --algo tl walks traversal lists");
   if (!args.Hierarchy()) {
     for (const char* name : {"--subdivision", "--levels", "--reduction", "--component-size", "--pair-capacity", "--objects",
-                             "--tree-leaf", "--tree-big", "--hash-order", "--hash-bits"})
+                             "--hash-order", "--hash-bits"})
       Note(out, command, name, flat);
+    if (args.algo != "tl")
+      for (const char* name : {"--tree-leaf", "--tree-big"}) Note(out, command, name, flat);
     return;
   }
   if (args.algo != "crsh")

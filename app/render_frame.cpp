@@ -24,7 +24,8 @@ Tracers MakeTracers(const RenderArgs& args, const SceneBuffers& buffers, const e
     cfg.fused = UsesFusedPath(args);
     t.hierarchy = emu::MakeHierarchyTracer(buffers, cfg);
   }
-  t.frame = t.hierarchy ? t.hierarchy.get() : embree_frames ? t.embree.get() : t.direct.get();
+  if (args.algo == "tl") t.tl = emu::MakeTlTracer(buffers, MakeTlOptions(args), backend.hierarchy);
+  t.frame = t.hierarchy ? t.hierarchy.get() : t.tl ? t.tl.get() : embree_frames ? t.embree.get() : t.direct.get();
   t.oracle = embree_frames ? t.direct.get() : t.embree.get();
   return t;
 }
@@ -68,6 +69,7 @@ std::unique_ptr<RenderedFrame> RenderOnBackend(const RenderArgs& args, const Sce
   f->result = RenderChecked(scene, buffers, *f->tracers.frame, fo, f->oracle ? &*f->oracle : nullptr, f->oracle_ms);
   f->tracers.frame->Describe(f->tracer);
   f->stats = f->tracers.hierarchy ? CollectStatistics(f->tracers.hierarchy->Stats())
+             : f->tracers.tl      ? TlStatistics(*f->tracers.tl, buffers.triangles.size())
                                   : BruteStatistics(f->result, buffers.triangles.size());
   f->phases = Phases(f->result.passes);
   return f;

@@ -10,6 +10,7 @@
 #include "backend_setup.h"
 #include "rayspace/emu/frame.h"
 #include "rayspace/emu/hierarchy.h"
+#include "rayspace/emu/tl/tracer.h"
 #include "rayspace/refs/oracle.h"
 #include "rayspace/scene.h"
 #include "render_command.h"
@@ -22,6 +23,7 @@ namespace rayspace::app {
 struct Tracers {
   std::unique_ptr<Tracer> direct, embree;
   std::unique_ptr<emu::HierarchyTracer> hierarchy;
+  std::unique_ptr<emu::TlTracer> tl;
   Tracer* frame = nullptr;
   Tracer* oracle = nullptr;
 };

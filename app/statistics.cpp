@@ -7,7 +7,7 @@
 namespace rayspace::app {
 
 std::uint64_t Statistics::PerType::Total() const {
-  std::uint64_t sum = final_tests + leaf_sphere_tests + ray_level.intersections;
+  std::uint64_t sum = final_tests + leaf_sphere_tests + tl_sphere_tests + ray_level.intersections;
   for (const emu::LevelStats& l : levels) sum += l.intersections;
   return sum;
 }
@@ -55,6 +55,30 @@ Statistics CollectStatistics(const std::vector<emu::BatchStats>& batches) {
     for (const emu::LevelStats& l : b.object_levels) by_object += l.intersections;
     for (const emu::LevelStats& l : b.levels) by_cone += l.intersections;
     RS_CHECK_MSG(by_object == by_cone, "batch {}: tree tests by object side {} != by cone level {}", b.batch, by_object, by_cone);
+  }
+  return s;
+}
+
+Statistics TlStatistics(const emu::TlTracer& tracer, std::size_t triangles) {
+  Statistics s;
+  s.tl = true;
+  s.tl_shape = tracer.Shape();
+  s.tl_lists.resize(s.tl_shape.lists);
+  for (const emu::TlBatchStats& b : tracer.Stats()) {
+    Statistics::PerType& t = s.types[b.kind];
+    t.rays += b.rays;
+    t.brute_force += b.rays * triangles;
+    t.final_tests += b.triangles;
+    t.tl_sphere_tests += b.spheres;
+    for (std::size_t k = 0; k < b.list_rays.size() && k < s.tl_lists.size(); ++k) {
+      s.tl_lists[k].rays += b.list_rays[k];
+      s.tl_lists[k].spheres += b.list_spheres[k];
+      s.tl_lists[k].triangles += b.list_triangles[k];
+    }
+  }
+  for (const auto& [kind, t] : s.types) {
+    s.total += t.Total();
+    s.brute_force += t.brute_force;
   }
   return s;
 }
@@ -111,6 +135,32 @@ nlohmann::json TreeJson(const emu::LevelStats& rays, const std::vector<emu::Leve
 
 }  // namespace
 
+namespace {
+
+double PerRay(std::uint64_t n, std::uint64_t rays) { return rays ? static_cast<double>(n) / static_cast<double>(rays) : 0.0; }
+
+// The lists' shape and memory, then per ray type and per list the elements tested per ray.
+nlohmann::json TlJson(const Statistics& s) {
+  const emu::TlShape& sh = s.tl_shape;
+  nlohmann::json types = nlohmann::json::object(), lists = nlohmann::json::array();
+  for (const auto& [kind, t] : s.types)
+    types[emu::RayKindName(kind)] = {{"rays", t.rays},
+                                     {"sphere_tests", t.tl_sphere_tests},
+                                     {"triangle_tests", t.final_tests},
+                                     {"spheres_per_ray", PerRay(t.tl_sphere_tests, t.rays)},
+                                     {"triangles_per_ray", PerRay(t.final_tests, t.rays)}};
+  for (const Statistics::TlList& l : s.tl_lists)
+    lists.push_back({{"rays", l.rays},
+                     {"sphere_tests", l.spheres},
+                     {"triangle_tests", l.triangles},
+                     {"elements_per_ray", PerRay(l.spheres + l.triangles, l.rays)}});
+  return {{"lists", sh.lists},         {"tree_nodes", sh.nodes},  {"triangle_references", sh.triangle_refs},
+          {"elements_per_list", sh.nodes + sh.triangle_refs}, {"bytes", sh.bytes}, {"per_type", types},
+          {"per_list", lists}};
+}
+
+}  // namespace
+
 void Statistics::ToJson(nlohmann::json& j) const {
   nlohmann::json levels = nlohmann::json::array(), finals = nlohmann::json::object(), batch_list = nlohmann::json::array();
   nlohmann::json leaf_spheres = nlohmann::json::object();
@@ -156,6 +206,7 @@ void Statistics::ToJson(nlohmann::json& j) const {
     j["object_tree"] = TreeJson(rays, object_levels, object_triangles, rounds);
   }
   j["batches"] = batch_list;
+  if (tl) j["traversal_lists"] = TlJson(*this);
 }
 
 namespace {
@@ -213,6 +264,17 @@ void Statistics::Print(std::FILE* out) const {
     for (const auto& [kind, t] : types) PrintType(out, kind, t, depth, brute_force);
     if (object_sphere_tests) std::fprintf(out, "  object-sphere tests   %16llu\n", static_cast<unsigned long long>(object_sphere_tests));
     if (object_tree) PrintObjectTree(out, *this);
+  }
+  if (tl) {
+    const emu::TlShape& sh = tl_shape;
+    std::fprintf(out, "  traversal lists: %u x %u elements (%u spheres, %u triangle references), %.1f MB\n", sh.lists,
+                 sh.nodes + sh.triangle_refs, sh.nodes, sh.triangle_refs, static_cast<double>(sh.bytes) / 1e6);
+    for (const auto& [kind, t] : types)
+      std::fprintf(out, "  %-11s %10.1f spheres + %8.1f triangles per ray\n", emu::RayKindName(kind), PerRay(t.tl_sphere_tests, t.rays),
+                   PerRay(t.final_tests, t.rays));
+    for (std::size_t k = 0; k < tl_lists.size(); ++k)
+      std::fprintf(out, "  list %zu: %llu rays, %.1f elements per ray\n", k, static_cast<unsigned long long>(tl_lists[k].rays),
+                   PerRay(tl_lists[k].spheres + tl_lists[k].triangles, tl_lists[k].rays));
   }
   // Each type's tests against its own brute force (rays of the type x triangles), then the frame's.
   for (const auto& [kind, t] : types)

@@ -14,6 +14,7 @@
 
 #include "rayspace/emu/frame.h"
 #include "rayspace/emu/hierarchy.h"
+#include "rayspace/emu/tl/tracer.h"
 
 namespace rayspace::app {
 
@@ -25,6 +26,7 @@ struct Statistics {
     std::vector<emu::LevelStats> levels;
     std::uint64_t final_tests = 0, rays = 0, brute_force = 0, object_sphere_tests = 0;
     std::uint64_t leaf_sphere_tests = 0;  // --leaf-test ray-sphere
+    std::uint64_t tl_sphere_tests = 0;    // --algo tl (final_tests: its triangle tests)
     emu::LevelStats ray_level;  // --objects tree
     // Every test of this ray type: its levels, its rays' own (--objects tree) and its final tests.
     std::uint64_t Total() const;
@@ -37,11 +39,21 @@ struct Statistics {
   std::vector<emu::LevelStats> object_levels;
   emu::LevelStats object_triangles;
 
+  // --algo tl: the lists' shape and per list the walks of the rays that chose it.
+  struct TlList {
+    std::uint64_t rays = 0, spheres = 0, triangles = 0;
+  };
+  bool tl = false;
+  emu::TlShape tl_shape;
+  std::vector<TlList> tl_lists;
+
   void ToJson(nlohmann::json& j) const;
   void Print(std::FILE* out) const;
 };
 
 Statistics CollectStatistics(const std::vector<emu::BatchStats>& batches);
+// --algo tl: per ray type the sphere and triangle elements its walks tested (each a test).
+Statistics TlStatistics(const emu::TlTracer& tracer, std::size_t triangles);
 // Brute force: every ray against every triangle, no levels.
 Statistics BruteStatistics(const emu::FrameResult& frame, std::size_t triangles);
 

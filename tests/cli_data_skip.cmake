@@ -13,17 +13,21 @@ file(MAKE_DIRECTORY "${WORK}")
 set(root "${WORK}/no-such-data-root")
 set(failures "")
 set(tests "")
-set(scripts cli_hierarchy cli_backend cli_data cli_sponza_thesis cli_reproduce cli_reproduce_quick)
+set(scripts cli_hierarchy cli_backend cli_data cli_sponza_thesis cli_reproduce cli_reproduce_quick cli_tl)
 list(LENGTH scripts expected)
 foreach(script ${scripts})
+  set(part sponza)
+  if(script STREQUAL "cli_tl")
+    set(part data)
+  endif()
   execute_process(COMMAND "${CMAKE_COMMAND}" -DRAYSPACE=${RAYSPACE} -DSRC=${SRC} -DDATA=${root} -DWORK=${WORK}/${script}
-                          -DPART=sponza -P "${SRC}/tests/${script}.cmake"
+                          -DPART=${part} -P "${SRC}/tests/${script}.cmake"
                   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(NOT rc EQUAL 0 OR NOT "${out}${err}" MATCHES "data root not found: ${root}")
     string(APPEND failures "\n${script}.cmake -DPART=sponza -DDATA=${root}: exit ${rc}, no 'data root not found: ${root}':\n${out}${err}")
   endif()
   string(APPEND tests "add_test(${script}.sponza \"${CMAKE_COMMAND}\" -DRAYSPACE=${RAYSPACE} -DSRC=${SRC} -DDATA=${root} "
-                      "-DWORK=${WORK}/${script} -DPART=sponza -P \"${SRC}/tests/${script}.cmake\")\n"
+                      "-DWORK=${WORK}/${script} -DPART=${part} -P \"${SRC}/tests/${script}.cmake\")\n"
                       "set_tests_properties(${script}.sponza PROPERTIES SKIP_REGULAR_EXPRESSION \"data root not found: \")\n")
 endforeach()
 # The same runs as ctest sees them.

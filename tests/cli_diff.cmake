@@ -419,6 +419,32 @@ endforeach()
 foreach(f tree.step:1 tree.step:2 tree.step:3 tree.step:4)
   diff_case(fault.tree.${f} cornell-mirrors 48x48 ${f} 4 tree.step --objects tree --path fused)
 endforeach()
+# --algo tl: the traversal lists' two passes equal on every list count and order, on refraction rays
+# (glass) and at another local size; each planted fault caught in its own pass.
+foreach(lists 1 2 6 8)
+  diff_case(cornell.tl.lists-${lists} cornell-mirrors 48x48 "" 0 "" --algo tl --lists ${lists})
+endforeach()
+diff_case(cornell.tl.latest-last cornell-mirrors 48x48 "" 0 "" --algo tl --node-order latest-last --local-size 32)
+diff_case(glass.tl glass 64x64 "" 0 "" --algo tl --lists 8)
+diff_case(office.tl office 64x64 "" 0 "" --algo tl)
+foreach(f tl.lists:1 tl.lists:2 tl.lists:3 tl.trace:1 tl.trace:2 tl.trace:3)
+  string(REGEX REPLACE ":.*" "" pass "${f}")
+  diff_case(fault.tl.${f} cornell-mirrors 48x48 ${f} 4 ${pass} --algo tl)
+endforeach()
+# A traversal-list call saved by a diff replays as the call it was: with its fault reproduced, without
+# it equal; the lists' call replays equal.
+diff_case(replay.tl cornell-mirrors 48x48 tl.trace:2 4 tl.trace --algo tl --save-inputs "${case_work}/saved")
+if("${CASE}" STREQUAL "replay.tl" AND NOT FAILURES)
+  file(GLOB trace_dir "${case_work}/saved/*-tl.trace.shadow.b0")
+  file(GLOB lists_dir "${case_work}/saved/*-tl.lists")
+  if(NOT trace_dir OR NOT lists_dir)
+    set(FAILURES "${FAILURES}\nreplay.tl: no saved tl.trace.shadow.b0 or tl.lists call")
+  else()
+    replay_check("${trace_dir}" 4 "recorded comparison: reproduced")
+    replay_check("${trace_dir}" 5 "NOT reproduced, now equal" --inject none)
+    replay_check("${lists_dir}" 0 "tl.lists/escapes: [0-9]+ elements equal")
+  endif()
+endif()
 # The emulator runs traverse.compact on its workgroup mirror when the run asks for the workgroup
 # model (the checker, on by default in diff; a schedule other than forward; an @emu fault) and on
 # SIMD lanes otherwise: both must equal the kernel, and the report says which ran.

@@ -5,13 +5,17 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <random>
 #include <string>
 
 #include <doctest/doctest.h>
 
 #include "rayspace/emu/intersect.h"
+#include "rayspace/emu/calls.h"
 #include "rayspace/emu/tl/tl.h"
+#include "rayspace/error.h"
+#include "rayspace/parallel.h"
 #include "rayspace/scene.h"
 #include "test_util.h"
 
@@ -346,4 +350,119 @@ TEST_CASE("tl: the sphere test keeps every sphere the ray's part truly meets") {
   CHECK_FALSE(tl::SphereMayHit({0, 0, 0}, {0, 0, 1}, 11.1f, INFINITY, s));
   CHECK_FALSE(tl::SphereMayHit({1.01f, 0, 0}, {0, 0, 1}, 0.0f, INFINITY, s));
   CHECK(tl::SphereMayHit({0, 0, 0}, {0, 0, 2}, 0.0f, 4.5f, s));
+}
+
+namespace {
+
+// tl.lists at a given schedule: threads and the ParallelFor chunk size.
+rayspace::emu::TlListArrays ListsOn(const tl::Tree& tree, std::uint32_t k, int threads, std::size_t chunk) {
+  rayspace::SetThreadCount(threads);
+  rayspace::SetChunkSize(chunk);
+  const std::vector<glm::vec4> dirs = tl::Directions(k);
+  rayspace::emu::TlListArrays a = rayspace::emu::PassTlLists({.tree = tree.View(), .directions = dirs, .order = 0});
+  rayspace::SetThreadCount(0);
+  rayspace::SetChunkSize(0);
+  return a;
+}
+
+std::string InputErrorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const rayspace::InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("tl.lists: the same bits on every schedule (threads, chunk sizes)") {
+  const std::vector<Triangle> tris = Soup(500, 11);
+  const tl::Tree tree = tl::PrepareTree(tris);
+  for (const std::uint32_t k : {2u, 8u}) {
+    const rayspace::emu::TlListArrays ref = ListsOn(tree, k, 1, 0);
+    for (const auto& [threads, chunk] : {std::pair{2, std::size_t{1}}, {3, std::size_t{7}}, {2, std::size_t{1000}}}) {
+      const rayspace::emu::TlListArrays a = ListsOn(tree, k, threads, chunk);
+      CAPTURE(threads);
+      CAPTURE(chunk);
+      CHECK(a.escapes == ref.escapes);
+      CHECK(std::memcmp(a.words.data(), ref.words.data(), a.words.size() * sizeof(tl::Word)) == 0);
+    }
+  }
+}
+
+TEST_CASE("tl.trace: per ray the walk's hit and its sphere and triangle counts") {
+  const std::vector<Triangle> tris = Soup(300, 13);
+  const std::vector<Ray> rays = Rays(tris, 300, 5, 1.0f);
+  const tl::Lists l = tl::Build(tris, {});
+  for (const std::uint32_t shadow : {0u, 1u}) {
+    const rayspace::emu::TlWalks w = rayspace::emu::PassTlTrace(
+        {.first = l.first, .escapes = l.escapes, .words = l.words, .vertices = l.vertices, .rays = rays, .shadow = shadow});
+    REQUIRE(w.spheres.size() == rays.size());
+    CHECK((shadow ? w.hits.empty() : w.occluded.empty()));
+    std::size_t bad = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      tl::Stats s;
+      const std::uint64_t h = shadow ? (tl::Any(l, rays[i], &s) ? 1u : 0u) : tl::Closest(l, rays[i], &s);
+      bad += (shadow ? w.occluded[i] : w.hits[i]) != h || w.spheres[i] != s.spheres || w.triangles[i] != s.triangles;
+    }
+    CHECK(bad == 0);
+  }
+}
+
+TEST_CASE("tl: keys order like their floats, -0 before +0 and a NaN last") {
+  const glm::vec3 x(1, 0, 0);
+  const std::uint32_t neg = tl::SphereKey({-2, 0, 0, 1}, x, 0), zero_neg = tl::SphereKey({-0.0f, -0.0f, -0.0f, 0}, x, 0),
+                      zero = tl::SphereKey({0, 0, 0, 0}, x, 0), pos = tl::SphereKey({3, 0, 0, 1}, x, 0),
+                      nan = tl::SphereKey({INFINITY, 0, 0, INFINITY}, x, 0);  // inf - inf
+  CHECK(neg < zero_neg);
+  CHECK(zero_neg < zero);
+  CHECK(zero < pos);
+  CHECK(pos < nan);
+  CHECK(tl::SphereKey({3, 0, 0, 1}, x, 1) > pos);  // latest-last: the high end, 4 against 2
+  CHECK(tl::TriangleKey({5, 0, 0}, {1, 0, 0}, {3, 0, 0}, x, 0) == tl::SphereKey({1, 0, 0, 0}, x, 0));
+  CHECK(tl::TriangleKey({5, 0, 0}, {1, 0, 0}, {3, 0, 0}, x, 1) == tl::SphereKey({5, 0, 0, 0}, x, 0));
+}
+
+TEST_CASE("tl: calls whose inputs break the contract are refused, naming the call") {
+  const std::vector<Triangle> tris = Soup(200, 3);
+  tl::Tree tree = tl::PrepareTree(tris);
+  const std::vector<glm::vec4> dirs = tl::Directions(6);
+  auto lists_error = [&](const tl::Tree& t, std::span<const glm::vec4> d) {
+    return InputErrorOf([&] { rayspace::emu::CheckInputs(rayspace::emu::call::TlLists{.tree = t.View(), .directions = d}); });
+  };
+  CHECK(lists_error(tree, dirs).empty());
+  CHECK(lists_error(tree, std::span<const glm::vec4>(dirs).first(5)).find("5 directions") != std::string::npos);
+  tl::Tree bad = tree;
+  bad.sizes[0] += 1;
+  CHECK(lists_error(bad, dirs).find("tl.lists: input 'tl_sizes' element 0") != std::string::npos);
+  bad = tree;
+  REQUIRE(bad.links.size() > 2);
+  bad.links[1].x = 0, bad.links[1].y = 1;  // a child before its parent: a cycle
+  CHECK(lists_error(bad, dirs).find("'tl_links' element 1 is out of range") != std::string::npos);
+  bad = tree;
+  bad.parents.back() = 0;
+  CHECK_FALSE(lists_error(bad, dirs).empty());
+  bad = tree;
+  bad.tri_words[0].y = static_cast<std::uint32_t>(bad.vertices.size());
+  CHECK(lists_error(bad, dirs).find("'tl_tri_words' element 0") != std::string::npos);
+
+  const tl::Lists l = tl::Build(tris, {});
+  const std::vector<Ray> rays{MakeRay({0, 0, 2}, {0, 0, -1})};
+  auto trace_error = [&](std::vector<std::uint32_t> escapes, std::vector<std::uint32_t> first) {
+    return InputErrorOf([&] {
+      rayspace::emu::CheckInputs(
+          rayspace::emu::call::TlTrace{.first = first, .escapes = escapes, .words = l.words, .vertices = l.vertices, .rays = rays});
+    });
+  };
+  CHECK(trace_error(l.escapes, l.first).empty());
+  std::vector<std::uint32_t> e = l.escapes;
+  e[l.first[1] - 1] = 1;  // the last triangle of list 0 does not end the walk
+  CHECK(trace_error(e, l.first).find("tl.trace: the lists: element") != std::string::npos);
+  e = l.escapes;
+  e[0] = static_cast<std::uint32_t>(l.first[1]);  // list 0's root escapes out of its list
+  CHECK(trace_error(e, l.first).find("outside its list") != std::string::npos);
+  std::vector<std::uint32_t> f = l.first;
+  f.pop_back();
+  CHECK(trace_error(l.escapes, f).find("5 lists") != std::string::npos);
 }

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "rayspace/contract.h"
+#include "rayspace/emu/tl/tl.h"
 
 namespace rayspace::emu {
 namespace {
@@ -377,6 +378,41 @@ void CheckOutputs(const call::IntersectTree& c, const std::vector<std::uint32_t>
     if ((*r)[p] != TreeFinalRayCount(c, p))
       k.Fail("tests", p, "counts {} tests, but the pair covers {} rays", (*r)[p], TreeFinalRayCount(c, p));
   k.Records(c.hits, c.occluded, c.rays.size(), c.scene->triangles.size());
+}
+
+}  // namespace rayspace::emu
+
+namespace rayspace::emu {
+
+// The lists are what tl.trace walks: each must be a list the walk can follow (tl::ListsError), and a
+// triangle's id one the scene has.
+void CheckOutputs(const call::TlLists& c, const TlListArrays* r, const OutputSource& from) {
+  const Check k(c.kName, from);
+  const std::size_t e = c.tree.Elements(), total = c.directions.size() * e;
+  k.Size("escapes", r->escapes.size(), total);
+  k.Size("words", r->words.size(), total);
+  std::vector<std::uint32_t> first;
+  for (std::size_t j = 0; j <= c.directions.size(); ++j) first.push_back(static_cast<std::uint32_t>(j * e));
+  std::size_t bad = 0;
+  const std::string why = tl::ListsError({first, r->escapes, r->words, c.tree.tl_vertices}, &bad);
+  if (!why.empty()) k.Fail("escapes", bad, "makes no list ({})", why);
+  for (std::size_t i = 0; i < total; ++i)
+    if (tl::IsTriangle(static_cast<tl::Escape>(r->escapes[i])) && r->words[i].w >= c.tree.tl_tri_words.size())
+      k.Fail("words", i, "names triangle {}, out of range [0, {})", r->words[i].w, c.tree.tl_tri_words.size());
+}
+
+void CheckOutputs(const call::TlTrace& c, const TlWalks* r, const OutputSource& from) {
+  const Check k(c.kName, from);
+  std::uint64_t prims = 0;  // the ids a hit may name: those of the lists' triangles
+  for (std::size_t i = 0; i < c.words.size(); ++i)
+    if (tl::IsTriangle(static_cast<tl::Escape>(c.escapes[i]))) prims = std::max<std::uint64_t>(prims, std::uint64_t{c.words[i].w} + 1);
+  k.Records(c.shadow ? nullptr : &r->hits, c.shadow ? &r->occluded : nullptr, c.rays.size(), prims);
+  k.Size(c.shadow ? "hits" : "occluded", c.shadow ? r->hits.size() : r->occluded.size(), 0);
+  k.Size("spheres", r->spheres.size(), c.rays.size());
+  k.Size("triangles", r->triangles.size(), c.rays.size());
+  const std::uint64_t longest = c.escapes.size() + 1;
+  k.Below("spheres", r->spheres, longest);
+  k.Below("triangles", r->triangles, longest);
 }
 
 }  // namespace rayspace::emu

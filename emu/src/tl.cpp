@@ -8,83 +8,16 @@
 #include <cmath>
 #include <unordered_map>
 
+#include <fmt/format.h>
 #include <glm/geometric.hpp>
 
 #include "rayspace/contract.h"
 #include "rayspace/emu/intersect.h"
 #include "rayspace/error.h"
+#include "rayspace/parallel.h"
 
 namespace rayspace::emu::tl {
 namespace {
-
-struct Child {
-  double key;
-  bool triangle;
-  std::uint32_t id;  // triangle: scene index; otherwise tree node
-};
-
-struct Flattener {
-  std::span<const layout::Triangle> tris;
-  const ObjectTree& tree;
-  const std::vector<Word>& tri_words;
-  glm::dvec3 axis;
-  Order order;
-  Lists& out;
-
-  double TriangleKey(std::uint32_t i) const {
-    const layout::Triangle& t = tris[i];
-    double lo = INFINITY, hi = -INFINITY;
-    for (const glm::vec4& v : {t.v0, t.v1, t.v2}) {
-      const double p = glm::dot(glm::dvec3(v.x, v.y, v.z), axis);
-      lo = std::min(lo, p);
-      hi = std::max(hi, p);
-    }
-    return order == Order::kEarliestFirst ? lo : hi;
-  }
-  double NodeKey(std::uint32_t n) const {
-    const glm::vec4& s = tree.nodes[n].sphere;
-    const double p = glm::dot(glm::dvec3(s.x, s.y, s.z), axis);
-    return order == Order::kEarliestFirst ? p - s.w : p + s.w;
-  }
-  // Own triangles (input order) then child nodes (octant order); the stable sort keeps that order
-  // among equal keys, so the result depends on nothing but the tree and the direction.
-  std::vector<Child> Children(std::uint32_t n) const {
-    const ObjectTreeNode& node = tree.nodes[n];
-    std::vector<Child> c;
-    for (std::uint32_t j = 0; j < node.tris; ++j) {
-      const std::uint32_t t = tree.triangles[node.first_tri + j];
-      c.push_back({TriangleKey(t), true, t});
-    }
-    for (std::uint32_t j = 0; j < node.children; ++j) c.push_back({NodeKey(node.first_child + j), false, node.first_child + j});
-    std::stable_sort(c.begin(), c.end(), [](const Child& a, const Child& b) { return a.key < b.key; });
-    return c;
-  }
-  // Depth first; a sphere's escape is the size of its subtree (its super-sibling follows it).
-  void Emit(std::uint32_t n) {
-    const std::size_t at = out.words.size();
-    const glm::vec4& s = tree.nodes[n].sphere;
-    out.words.push_back({std::bit_cast<std::uint32_t>(s.x), std::bit_cast<std::uint32_t>(s.y), std::bit_cast<std::uint32_t>(s.z),
-                         std::bit_cast<std::uint32_t>(s.w)});
-    out.escapes.push_back(0);
-    for (const Child& c : Children(n)) {
-      if (!c.triangle) {
-        Emit(c.id);
-        continue;
-      }
-      out.words.push_back(tri_words[c.id]);
-      out.escapes.push_back(1);
-    }
-    out.escapes[at] = static_cast<Escape>(out.words.size() - at);
-  }
-};
-
-// An escape past the list's end is the paper's special value: 0 for the last triangle, -1 for a
-// sphere on the last branch.
-void MarkEnds(Lists& out, std::size_t begin) {
-  const std::size_t end = out.escapes.size();
-  for (std::size_t i = begin; i < end; ++i)
-    if (i + static_cast<std::size_t>(out.escapes[i]) >= end) out.escapes[i] = out.escapes[i] == 1 ? kEscapeLast : kEscapeNone;
-}
 
 // Distinct positions by their bits, in first-use order: deterministic, and -0 and 0 stay apart so
 // a triangle reads back exactly the floats it was given.
@@ -107,17 +40,79 @@ std::vector<Word> ShareVertices(std::span<const layout::Triangle> tris, std::vec
   return words;
 }
 
-std::vector<glm::vec3> Directions(std::uint32_t k) {
-  if (k == 1) return {{1, 0, 0}};
-  if (k == 2) return {{1, 0, 0}, {-1, 0, 0}};
-  if (k == 6) return {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  std::vector<glm::vec3> d;
-  const float c = static_cast<float>(1.0 / std::sqrt(3.0));
-  for (std::uint32_t b = 0; b < 8; ++b) d.push_back({(b & 1) ? -c : c, (b & 2) ? -c : c, (b & 4) ? -c : c});
-  return d;
+// A float as an unsigned integer of the same order (-0 before +0), a NaN after everything.
+std::uint32_t Ordered(float f) {
+  if (std::isnan(f)) return ~0u;
+  const std::uint32_t b = std::bit_cast<std::uint32_t>(f);
+  return (b & 0x80000000u) ? ~b : b | 0x80000000u;
 }
 
 }  // namespace
+
+TlTreeView Tree::View() const {
+  return {links, spheres, parents, sizes, roots, triangles, owners, tri_words, vertices};
+}
+
+// Nodes are breadth first (a child after its parent), so sizes accumulate from the last node up.
+Tree PrepareTree(std::span<const layout::Triangle> triangles, const ObjectTreeOptions& options) {
+  Tree t;
+  t.tri_words = ShareVertices(triangles, t.vertices);
+  if (triangles.empty()) return t;
+  const glm::uvec4 all(0u, static_cast<std::uint32_t>(triangles.size()), 0u, 0u);
+  const ObjectTree tree = BuildObjectTree(triangles, std::span<const glm::uvec4>(&all, 1), options);
+  const std::size_t n = tree.nodes.size();
+  t.links.resize(n);
+  t.spheres.resize(n);
+  t.parents.assign(n, layout::kTlNoParent);
+  t.sizes.assign(n, 0);
+  t.owners.assign(tree.triangles.size(), 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const ObjectTreeNode& nd = tree.nodes[i];
+    t.links[i] = {nd.first_child, nd.children, nd.first_tri, nd.tris};
+    t.spheres[i] = nd.sphere;
+    for (std::uint32_t c = 0; c < nd.children; ++c) t.parents[nd.first_child + c] = static_cast<std::uint32_t>(i);
+    for (std::uint32_t j = 0; j < nd.tris; ++j) t.owners[nd.first_tri + j] = static_cast<std::uint32_t>(i);
+  }
+  for (std::size_t i = n; i-- > 0;) {
+    const ObjectTreeNode& nd = tree.nodes[i];
+    RS_CHECK(nd.children == 0 || nd.first_child > i);
+    std::uint32_t size = 1 + nd.tris;
+    for (std::uint32_t c = 0; c < nd.children; ++c) size += t.sizes[nd.first_child + c];
+    t.sizes[i] = size;
+  }
+  t.roots = tree.roots;
+  t.triangles = tree.triangles;
+  return t;
+}
+
+std::vector<glm::vec4> Directions(std::uint32_t k) {
+  if (k == 1) return {{1, 0, 0, 0}};
+  if (k == 2) return {{1, 0, 0, 0}, {-1, 0, 0, 0}};
+  if (k == 6) return {{1, 0, 0, 0}, {-1, 0, 0, 0}, {0, 1, 0, 0}, {0, -1, 0, 0}, {0, 0, 1, 0}, {0, 0, -1, 0}};
+  std::vector<glm::vec4> d;
+  const float c = static_cast<float>(1.0 / std::sqrt(3.0));
+  for (std::uint32_t b = 0; b < 8; ++b) d.push_back({(b & 1) ? -c : c, (b & 2) ? -c : c, (b & 4) ? -c : c, 0.0f});
+  return d;
+}
+
+std::uint32_t SphereKey(glm::vec4 sphere, glm::vec3 axis, std::uint32_t order) {
+  const float p = Dot(Xyz(sphere), axis);
+  return Ordered(order == layout::kTlOrderEarliestFirst ? p - sphere.w : p + sphere.w);
+}
+
+// min and max by comparisons in a fixed order (GLSL's min/max leave NaN operands open).
+std::uint32_t TriangleKey(glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, glm::vec3 axis, std::uint32_t order) {
+  const float p1 = Dot(v1, axis), p2 = Dot(v2, axis);
+  float k = Dot(v0, axis);
+  if (order == layout::kTlOrderEarliestFirst) {
+    if (p1 < k) k = p1;
+    if (p2 < k) k = p2;
+  } else {
+    if (p1 > k) k = p1;
+    if (p2 > k) k = p2;
+  }
+  return Ordered(k);
+}
 
 bool ValidListCount(std::uint32_t k) { return k == 1 || k == 2 || k == 6 || k == 8; }
 
@@ -126,26 +121,24 @@ std::uint64_t Lists::Bytes() const {
          first.size() * sizeof(std::uint32_t);
 }
 
+Lists Assemble(const Tree& tree, std::uint32_t count, TlListArrays arrays) {
+  Lists out;
+  out.count = count;
+  for (const glm::vec4& d : Directions(count)) out.directions.push_back(Xyz(d));
+  const std::uint32_t e = static_cast<std::uint32_t>(tree.links.size() + tree.triangles.size());
+  for (std::uint32_t k = 0; k <= count; ++k) out.first.push_back(k * e);
+  out.escapes = std::move(arrays.escapes);
+  out.words = std::move(arrays.words);
+  out.vertices = tree.vertices;
+  return out;
+}
+
 Lists Build(std::span<const layout::Triangle> triangles, const Options& options) {
   RS_CHECK_MSG(ValidListCount(options.lists), "traversal lists: {} lists (1, 2, 6 or 8)", options.lists);
-  Lists out;
-  out.count = options.lists;
-  out.directions = Directions(options.lists);
-  const std::vector<Word> tri_words = ShareVertices(triangles, out.vertices);
-  ObjectTree tree;
-  if (!triangles.empty()) {
-    const glm::uvec4 all(0u, static_cast<std::uint32_t>(triangles.size()), 0u, 0u);
-    tree = BuildObjectTree(triangles, std::span<const glm::uvec4>(&all, 1), options.tree);
-  }
-  out.first.push_back(0);
-  for (const glm::vec3& d : out.directions) {
-    const std::size_t begin = out.words.size();
-    Flattener f{triangles, tree, tri_words, glm::dvec3(d), options.order, out};
-    for (const std::uint32_t root : tree.roots) f.Emit(root);
-    MarkEnds(out, begin);
-    out.first.push_back(static_cast<std::uint32_t>(out.words.size()));
-  }
-  return out;
+  const Tree tree = PrepareTree(triangles, options.tree);
+  const std::vector<glm::vec4> dirs = Directions(options.lists);
+  return Assemble(tree, options.lists,
+                  PassTlLists({.tree = tree.View(), .directions = dirs, .order = static_cast<std::uint32_t>(options.order)}));
 }
 
 std::uint32_t ListFor(std::uint32_t count, glm::vec3 dir) {
@@ -181,14 +174,17 @@ bool SphereMayHit(glm::vec3 org, glm::vec3 dir, float tmin, float tlimit, glm::v
 
 namespace {
 
+// The walk as tl_trace.comp runs it: in blocks of kTlLoopBlock steps (lavapipe's loop bound), each
+// step moving forward, so a list of at most kTlMaxElements elements always ends.
 struct Walker {
-  const Lists& lists;
+  const ListsView& lists;
   glm::vec3 org, dir;
   float tmin, tmax;
   std::uint32_t ignore;
   WatertightRay wr;
   std::uint64_t best = kMissPacked;
   Stats stats;
+  SphereTest test;
 
   bool Triangle(const Word& w) {
     ++stats.triangles;
@@ -203,30 +199,28 @@ struct Walker {
   // escape; following 0 or -1 ends the walk. A sphere is pruned beyond the best hit so far, not
   // strictly before it, so that a tie at the same t with a lower id is still found.
   void Walk(bool any) {
-    const std::uint32_t k = ListFor(lists.count, dir);
-    std::int64_t i = lists.first[k];
-    if (i == lists.first[k + 1]) return;
-    Escape next;
-    do {
-      next = lists.escapes[static_cast<std::size_t>(i)];
-      const Word& w = lists.words[static_cast<std::size_t>(i)];
-      if (IsTriangle(next)) {
-        if (Triangle(w) && any) return;
-      } else {
-        ++stats.spheres;
-        const float limit = best == kMissPacked ? tmax : HitT(best);
-        const glm::vec4 s(std::bit_cast<float>(w.x), std::bit_cast<float>(w.y), std::bit_cast<float>(w.z), std::bit_cast<float>(w.w));
-        if (SphereMayHit(org, dir, tmin, limit, s)) next = 1;
+    const std::uint32_t k = ListFor(static_cast<std::uint32_t>(lists.first.size() - 1), dir);
+    std::uint32_t i = lists.first[k];
+    const std::uint32_t end = lists.first[k + 1];
+    bool done = i == end;
+    for (std::uint32_t b = 0; !done && b <= end / layout::kTlLoopBlock; ++b) {
+      for (std::uint32_t j = 0; !done && j < layout::kTlLoopBlock; ++j) {
+        Escape next = static_cast<Escape>(lists.escapes[i]);
+        const Word& w = lists.words[i];
+        if (IsTriangle(next)) {
+          if (Triangle(w) && any) next = kEscapeLast;
+        } else {
+          ++stats.spheres;
+          const float limit = best == kMissPacked ? tmax : HitT(best);
+          const glm::vec4 s(std::bit_cast<float>(w.x), std::bit_cast<float>(w.y), std::bit_cast<float>(w.z), std::bit_cast<float>(w.w));
+          if (test(org, dir, tmin, limit, s)) next = 1;
+        }
+        done = next <= 0;
+        i += static_cast<std::uint32_t>(next);
       }
-      i += next;
-    } while (next > 0);
+    }
   }
 };
-
-Walker MakeWalker(const Lists& lists, const layout::Ray& ray) {
-  const glm::vec3 org = Xyz(ray.origin_tmin), dir = Xyz(ray.direction_tmax);
-  return Walker{lists, org, dir, ray.origin_tmin.w, ray.direction_tmax.w, ray.info.y, SetupWatertight(org, dir), kMissPacked, {}};
-}
 
 void AddStats(Stats* to, const Stats& s) {
   if (to == nullptr) return;
@@ -234,20 +228,162 @@ void AddStats(Stats* to, const Stats& s) {
   to->triangles += s.triangles;
 }
 
+ListsView ViewOf(const Lists& l) { return {l.first, l.escapes, l.words, l.vertices}; }
+
 }  // namespace
 
-std::uint64_t Closest(const Lists& lists, const layout::Ray& ray, Stats* stats) {
-  Walker w = MakeWalker(lists, ray);
-  w.Walk(false);
+std::string ListsError(const ListsView& l, std::size_t* bad) {
+  const std::size_t k = l.first.size() - (l.first.empty() ? 0 : 1);
+  if (!ValidListCount(static_cast<std::uint32_t>(k))) return fmt::format("{} lists (1, 2, 6 or 8)", k);
+  if (l.first.front() != 0 || l.first.back() != l.escapes.size() || l.words.size() != l.escapes.size())
+    return fmt::format("the list offsets must run from 0 to the {} escapes and {} words", l.escapes.size(), l.words.size());
+  for (std::size_t j = 0; j < k; ++j) {
+    const std::uint32_t b = l.first[j], e = l.first[j + 1];
+    if (e < b || e - b > layout::kTlMaxElements) return fmt::format("list {} runs from {} to {}", j, b, e);
+    for (std::uint32_t i = b; i < e; ++i) {
+      if (bad) *bad = i;
+      const Escape x = static_cast<Escape>(l.escapes[i]);
+      const bool last = i + 1 == e;
+      if (IsTriangle(x)) {
+        if ((x == kEscapeLast) != last) return fmt::format("element {} of list {}: escape {} {} the last element", i - b, j, x, last ? "at" : "before");
+        const Word w = l.words[i];
+        if (w.x >= l.vertices.size() || w.y >= l.vertices.size() || w.z >= l.vertices.size())
+          return fmt::format("element {} of list {}: a vertex index beyond the {} vertices", i - b, j, l.vertices.size());
+      } else if (last || (x != kEscapeNone && (x < 2 || std::uint64_t{i} + static_cast<std::uint64_t>(x) >= e))) {
+        return fmt::format("element {} of list {}: a sphere with escape {}{}", i - b, j, x, last ? " as the last element" : " outside its list");
+      }
+    }
+  }
+  return {};
+}
+
+std::uint64_t Walk(const ListsView& lists, const layout::Ray& ray, bool any, Stats* stats, SphereTest test) {
+  const glm::vec3 org = Xyz(ray.origin_tmin), dir = Xyz(ray.direction_tmax);
+  Walker w{lists, org, dir, ray.origin_tmin.w, ray.direction_tmax.w, ray.info.y, SetupWatertight(org, dir), kMissPacked, {},
+           test ? test : SphereMayHit};
+  w.Walk(any);
   AddStats(stats, w.stats);
   return w.best;
 }
 
-bool Any(const Lists& lists, const layout::Ray& ray, Stats* stats) {
-  Walker w = MakeWalker(lists, ray);
-  w.Walk(true);
-  AddStats(stats, w.stats);
-  return w.best != kMissPacked;
-}
+std::uint64_t Closest(const Lists& lists, const layout::Ray& ray, Stats* stats) { return Walk(ViewOf(lists), ray, false, stats); }
+
+bool Any(const Lists& lists, const layout::Ray& ray, Stats* stats) { return Walk(ViewOf(lists), ray, true, stats) != kMissPacked; }
 
 }  // namespace rayspace::emu::tl
+
+namespace rayspace::emu {
+namespace {
+
+// tl_lists.comp's invocation (list k, element e) in phase Rank: e's offset after its parent, 1 + the
+// subtrees of the siblings ordered before it (the roots: the subtrees of the roots before it).
+struct Ranker {
+  const call::TlLists& c;
+  std::uint32_t nodes;
+
+  std::uint32_t Key(glm::vec3 axis, std::uint32_t parent, std::uint32_t sibling) const {
+    const glm::uvec4 l = c.tree.tl_links[parent];
+    if (sibling >= l.w) return tl::SphereKey(c.tree.tl_spheres[l.x + sibling - l.w], axis, c.order);
+    const glm::uvec4 w = c.tree.tl_tri_words[c.tree.tl_triangles[l.z + sibling]];
+    const auto& v = c.tree.tl_vertices;
+    return tl::TriangleKey(Xyz(v[w.x]), Xyz(v[w.y]), Xyz(v[w.z]), axis, c.order);
+  }
+  std::uint32_t Size(std::uint32_t parent, std::uint32_t sibling) const {
+    const glm::uvec4 l = c.tree.tl_links[parent];
+    return sibling >= l.w ? c.tree.tl_sizes[l.x + sibling - l.w] : 1u;
+  }
+  std::uint32_t RootOffset(std::uint32_t n) const {
+    std::uint32_t rel = 0;
+    for (const std::uint32_t r : c.tree.tl_roots) {
+      if (r == n) break;
+      rel += c.tree.tl_sizes[r];
+    }
+    return rel;
+  }
+  std::uint32_t Rel(std::uint32_t k, std::uint32_t e) const {
+    const glm::vec3 axis = Xyz(c.directions[k]);
+    std::uint32_t parent, me;  // me: e's place among its parent's children (own triangles first)
+    if (e < nodes) {
+      parent = c.tree.tl_parents[e];
+      if (parent == layout::kTlNoParent) return RootOffset(e);
+      const glm::uvec4 l = c.tree.tl_links[parent];
+      me = l.w + (e - l.x);
+    } else {
+      parent = c.tree.tl_owners[e - nodes];
+      me = e - nodes - c.tree.tl_links[parent].z;
+    }
+    const glm::uvec4 l = c.tree.tl_links[parent];
+    const std::uint32_t siblings = l.w + l.y, key = Key(axis, parent, me);
+    std::uint32_t rel = 1;
+    for (std::uint32_t b = 0; b < siblings; b += layout::kTlLoopBlock)
+      for (std::uint32_t s = b; s < std::min(siblings, b + layout::kTlLoopBlock); ++s) {
+        const std::uint32_t ks = Key(axis, parent, s);
+        if (ks < key || (ks == key && s < me)) rel += Size(parent, s);
+      }
+    return rel;
+  }
+};
+
+}  // namespace
+
+TlListArrays PassTlLists(const call::TlLists& c) {
+  const std::uint32_t nodes = static_cast<std::uint32_t>(c.tree.Nodes()), E = static_cast<std::uint32_t>(c.tree.Elements());
+  const std::uint32_t K = static_cast<std::uint32_t>(c.directions.size());
+  const std::size_t total = std::size_t{K} * E;
+  std::vector<std::uint32_t> rel(total);
+  const Ranker ranker{c, nodes};
+  ParallelFor(total, [&](std::size_t g) { rel[g] = ranker.Rel(static_cast<std::uint32_t>(g / E), static_cast<std::uint32_t>(g % E)); });
+  // Phase Place: the position is the offsets summed up to the root.
+  TlListArrays out;
+  out.escapes.assign(total, 0);
+  out.words.assign(total, glm::uvec4(0));
+  ParallelFor(total, [&](std::size_t g) {
+    const std::uint32_t k = static_cast<std::uint32_t>(g / E), e = static_cast<std::uint32_t>(g % E);
+    const std::size_t base = std::size_t{k} * E;
+    std::uint32_t pos = rel[g];
+    std::uint32_t x = e < nodes ? c.tree.tl_parents[e] : c.tree.tl_owners[e - nodes];
+    for (std::uint32_t d = 0; d <= layout::kTlMaxDepth && x != layout::kTlNoParent; ++d, x = c.tree.tl_parents[x]) pos += rel[base + x];
+    std::uint32_t escape;
+    glm::uvec4 word;
+    if (e < nodes) {
+      const glm::vec4 s = c.tree.tl_spheres[e];
+      word = {std::bit_cast<std::uint32_t>(s.x), std::bit_cast<std::uint32_t>(s.y), std::bit_cast<std::uint32_t>(s.z),
+              std::bit_cast<std::uint32_t>(s.w)};
+      escape = c.tree.tl_sizes[e];
+      if (pos + escape >= E) escape = layout::kTlEscapeNone;
+    } else {
+      word = c.tree.tl_tri_words[c.tree.tl_triangles[e - nodes]];
+      escape = pos + 1 >= E ? layout::kTlEscapeLast : 1u;
+    }
+    out.escapes[base + pos] = escape;
+    out.words[base + pos] = word;
+  });
+  return out;
+}
+
+TlWalks PassTlTrace(const call::TlTrace& c) { return TlTraceWith(c, nullptr); }
+
+TlWalks TlTraceWith(const call::TlTrace& c, tl::SphereTest test) {
+  const tl::ListsView view{c.first, c.escapes, c.words, c.vertices};
+  const std::size_t n = c.rays.size();
+  TlWalks out;
+  if (c.shadow)
+    out.occluded.resize(n);
+  else
+    out.hits.resize(n);
+  out.spheres.assign(n, 0);
+  out.triangles.assign(n, 0);
+  ParallelForDynamic(n, 256, [&](std::size_t i) {
+    tl::Stats s;
+    const std::uint64_t hit = tl::Walk(view, c.rays[i], c.shadow != 0, &s, test);
+    if (c.shadow)
+      out.occluded[i] = hit != kMissPacked ? 1u : 0u;
+    else
+      out.hits[i] = hit;
+    out.spheres[i] = static_cast<std::uint32_t>(s.spheres);
+    out.triangles[i] = static_cast<std::uint32_t>(s.triangles);
+  });
+  return out;
+}
+
+}  // namespace rayspace::emu

@@ -208,4 +208,30 @@ bool ExactInPlane(const layout::Ray& ray, const layout::Triangle& tri) {
   return detail::Filtered([&](auto nt) { return InPlane<decltype(nt)>(ray, tri); });
 }
 
+namespace {
+
+// |o + t d - c|^2 - r^2 = A t^2 + 2 B t + E, A = d.d, B = d.(o - c), E = |o - c|^2 - r^2, least on
+// [t0, t1] at the vertex -B / A clamped to the ends; compared without division.
+template <typename NT>
+bool SegmentMeetsSphere(glm::vec3 o, glm::vec3 dir, float t0, float t1, glm::vec4 s) {
+  const V3<NT> d{NT(dir.x), NT(dir.y), NT(dir.z)};
+  const V3<NT> w = Rel<NT>(o, glm::vec3(s));
+  const NT A = Dot(d, d), B = Dot(d, w), E = Dot(w, w) - NT(s.w) * NT(s.w);
+  const NT lo(t0);
+  auto f = [&](const NT& t) { return (A * t + NT(2) * B) * t + E; };
+  if (Sign<NT>(-B - A * lo) < 0) return Sign<NT>(f(lo)) <= 0;
+  if (std::isfinite(t1)) {
+    const NT hi(t1);
+    if (Sign<NT>(-B - A * hi) > 0) return Sign<NT>(f(hi)) <= 0;
+  }
+  return Sign<NT>(A * E - B * B) <= 0;
+}
+
+}  // namespace
+
+bool ExactSegmentMeetsSphere(glm::vec3 o, glm::vec3 d, float t0, float t1, glm::vec4 sphere) {
+  if (!(t0 <= t1)) return false;
+  return detail::Filtered([&](auto nt) { return SegmentMeetsSphere<decltype(nt)>(o, d, t0, t1, sphere); });
+}
+
 }  // namespace rayspace::refs

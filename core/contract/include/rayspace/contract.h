@@ -412,6 +412,69 @@ struct IntersectTreePush {
   uint shadow;
 };
 
+// ---- tl.lists, tl.trace: Toczek et al.'s traversal lists (docs/traversal-lists.md) ----------------
+// The bounding-sphere tree is built on the host (the object tree's build, one for every consumer);
+// tl.lists orders and flattens it into K lists, tl.trace walks them. Every list holds the tree's
+// E = nodes + triangle references elements, list k at [k E, (k + 1) E). A tree element is a node
+// n < nodes, or the triangle reference nodes + j (the tree's j-th triangle).
+RS_CONST(uint, kTlListsBindLinks, 0u);      // per node: first_child, children, first_tri, tris
+RS_CONST(uint, kTlListsBindSpheres, 1u);    // per node: centre, radius
+RS_CONST(uint, kTlListsBindParents, 2u);    // per node: its parent, kTlNoParent for a root
+RS_CONST(uint, kTlListsBindSizes, 3u);      // per node: the elements of its subtree, itself included
+RS_CONST(uint, kTlListsBindRoots, 4u);      // the roots, in list order
+RS_CONST(uint, kTlListsBindTriangles, 5u);  // per triangle reference: the scene triangle
+RS_CONST(uint, kTlListsBindOwners, 6u);     // per triangle reference: the node holding it
+RS_CONST(uint, kTlListsBindTriWords, 7u);   // per scene triangle: its word (three vertex indices, id)
+RS_CONST(uint, kTlListsBindVertices, 8u);   // the shared vertex array
+RS_CONST(uint, kTlListsBindDirections, 9u); // per list: its ordering direction (xyz)
+RS_CONST(uint, kTlListsBindRel, 10u);       // per (list, element): its offset from its parent (scratch)
+RS_CONST(uint, kTlListsBindEscapes, 11u);   // per list element: the escape's bits
+RS_CONST(uint, kTlListsBindWords, 12u);     // per list element
+RS_CONST(uint, kTlListsBindings, 13u);
+RS_CONST(uint, kTlNoParent, 4294967295u);
+// A node's children (own triangles, then child nodes) are ordered by key: earliest first by the low
+// end of their projection on the list's direction, latest last by the high end.
+RS_CONST(uint, kTlOrderEarliestFirst, 0u);
+RS_CONST(uint, kTlOrderLatestLast, 1u);
+// Phase Rank: each (list, element) its offset after its parent (1 + the subtrees of the siblings
+// before it). Phase Place: its position (the offsets up to its root), escape and word.
+RS_CONST(uint, kTlListsPhaseRank, 0u);
+RS_CONST(uint, kTlListsPhasePlace, 1u);
+// Loops over siblings and walks over a list run in blocks of this many iterations (lavapipe ends a
+// loop after 65,535), so a list may hold up to kTlMaxElements elements.
+RS_CONST(uint, kTlLoopBlock, 4096u);
+RS_CONST(uint, kTlMaxElements, 268431360u);  // 65,535 blocks
+// The deepest node (a root at 0): the object tree's build stops splitting there.
+RS_CONST(uint, kTlMaxDepth, 64u);
+// The paper's special escapes, as the bits of a signed 32-bit offset: 0 ends the walk after the last
+// triangle, -1 after a sphere with no super-sibling.
+RS_CONST(uint, kTlEscapeLast, 0u);
+RS_CONST(uint, kTlEscapeNone, 4294967295u);
+struct TlListsPush {
+  uint nodes;
+  uint refs;    // triangle references
+  uint lists;   // K
+  uint roots;
+  uint order;   // kTlOrder*
+  uint phase;   // kTlListsPhase*
+};
+
+RS_CONST(uint, kTlTraceBindFirst, 0u);      // K + 1 offsets
+RS_CONST(uint, kTlTraceBindEscapes, 1u);
+RS_CONST(uint, kTlTraceBindWords, 2u);
+RS_CONST(uint, kTlTraceBindVertices, 3u);
+RS_CONST(uint, kTlTraceBindRays, 4u);
+RS_CONST(uint, kTlTraceBindHits, 5u);       // closest: packed hit per ray
+RS_CONST(uint, kTlTraceBindOccluded, 6u);   // shadow: 1 per occluded ray
+RS_CONST(uint, kTlTraceBindSpheres, 7u);    // per ray: the sphere elements it tested
+RS_CONST(uint, kTlTraceBindTriangles, 8u);  // per ray: the triangle elements it tested
+RS_CONST(uint, kTlTraceBindings, 9u);
+struct TlTracePush {
+  uint count;   // rays
+  uint lists;   // K
+  uint shadow;  // 1: any hit (occluded), 0: closest hit
+};
+
 // ---- shade: direct light at the shading points into the fixed-point accumulator ---------------
 RS_CONST(uint, kShadeBindSurfaces, 0u);
 RS_CONST(uint, kShadeBindShadowFlags, 1u);
@@ -467,7 +530,9 @@ static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && size
               sizeof(RaygenPush) == 8 && sizeof(TrimPush) == 12 && sizeof(HashPush) == 36 && sizeof(SortPush) == 24 &&
               sizeof(BuildPush) == 24 && sizeof(TraversePush) == 60 && sizeof(ReducePush) == 20 &&
               sizeof(IntersectPush) == 44 && sizeof(ShadePush) == 16 && sizeof(ElementwisePush) == 8 &&
-              sizeof(TraverseCompactPush) == 68 && sizeof(TreePush) == 40 && sizeof(IntersectTreePush) == 8);
+              sizeof(TraverseCompactPush) == 68 && sizeof(TreePush) == 40 && sizeof(IntersectTreePush) == 8 &&
+              sizeof(TlListsPush) == 24 && sizeof(TlTracePush) == 12);
+static_assert(kTlMaxElements == 65535u * kTlLoopBlock && kTlEscapeNone == ~0u && kTlNoParent == ~0u);
 static_assert(kTreeStepBlock % kMaxLocalSize == 0u);
 static_assert(offsetof(TraversePush, eps) == 40);
 }  // namespace rayspace::layout

@@ -38,6 +38,8 @@ enum class PassId : std::uint8_t {
   kTreeTest,
   kTreeStep,
   kIntersectTree,
+  kTlLists,
+  kTlTrace,
   kShade,
   kResolve,
   kCount
@@ -108,6 +110,7 @@ inline constexpr SV kIntersectIdx[] = {"tests"};
 inline constexpr SV kTreeSlotsIdx[] = {"flags", "cone", "item"};
 inline constexpr SV kTreeExpandIdx[] = {"counts"};
 inline constexpr SV kTreeStepIdx[] = {"next_cone", "next_item", "final_cone", "final_item"};
+inline constexpr SV kTlListsIdx[] = {"escapes", "words"};
 constexpr std::span<const SV> None() { return {}; }
 
 inline constexpr CallSpec kRasterCalls[] = {{"raster", kRasterIdx}};
@@ -132,6 +135,8 @@ inline constexpr CallSpec kTreeExpandCalls[] = {{"tree.expand", kTreeExpandIdx}}
 inline constexpr CallSpec kTreeTestCalls[] = {{"tree.test", kTreeSlotsIdx}};
 inline constexpr CallSpec kTreeStepCalls[] = {{"tree.step", kTreeStepIdx}};
 inline constexpr CallSpec kIntersectTreeCalls[] = {{"intersect.tree", kIntersectIdx}};
+inline constexpr CallSpec kTlListsCalls[] = {{"tl.lists", kTlListsIdx}};
+inline constexpr CallSpec kTlTraceCalls[] = {{"tl.trace", None()}};
 inline constexpr CallSpec kShadeCalls[] = {{"shade", None()}};
 inline constexpr CallSpec kResolveCalls[] = {{"resolve", None()}};
 
@@ -152,6 +157,7 @@ inline constexpr PhaseSpec kReducePhases[] = {RS_PHASE(Reduce, Local),    RS_PHA
                                               RS_PHASE(Reduce, Scatter)};
 inline constexpr PhaseSpec kTraverseCompactPhases[] = {RS_PHASE(TraverseCompact, Top), RS_PHASE(TraverseCompact, Level),
                                                       RS_PHASE(TraverseCompact, Scan), RS_PHASE(TraverseCompact, Scatter)};
+inline constexpr PhaseSpec kTlListsPhases[] = {RS_PHASE(TlLists, Rank), RS_PHASE(TlLists, Place)};
 inline constexpr PhaseSpec kTreeStepPhases[] = {RS_PHASE(TreeStep, Count), RS_PHASE(TreeStep, Scan), RS_PHASE(TreeStep, Scatter)};
 #undef RS_PHASE
 
@@ -252,6 +258,12 @@ inline constexpr FaultSpec kTreeStepFaults[] = {{1, "each block's survivors land
 inline constexpr FaultSpec kIntersectTreeFaults[] = {{1, "a level-1 node's rays after its first are skipped"},
                                                      {2, "tmin and tmax swapped in the range check"},
                                                      {3, "each pair reports one test"}};
+inline constexpr FaultSpec kTlListsFaults[] = {{1, "a sphere's escape is one element short (it lands on its subtree's last element)"},
+                                              {2, "a triangle is ordered by its first vertex only"},
+                                              {3, "every list is ordered along the first list's direction"}};
+inline constexpr FaultSpec kTlTraceFaults[] = {{1, "a missed sphere's escape is followed one element short"},
+                                              {2, "the sphere test's distance check is flipped"},
+                                              {3, "a ray walks the list of the opposite direction"}};
 inline constexpr FaultSpec kShadeFaults[] = {{1, "the quadratic attenuation uses the distance, not its square"},
                                              {2, "the light vector points from the light to the surface"},
                                              {3, "the blue channel is never accumulated"},
@@ -288,6 +300,8 @@ inline constexpr std::array<PassSpec, kPassCount> kPasses = {{
   {PassId::kTreeTest,         "tree.test",         "tree_test",         false, {},                                        layout::kTreeBindings,         RS_PUSH(TreePush),          pass_registry_detail::kTreeTestCalls,      "hierarchy_traversal",       pass_registry_detail::kTreeTestFaults},
   {PassId::kTreeStep,         "tree.step",         "tree_step",         false, pass_registry_detail::kTreeStepPhases,    layout::kTreeBindings,         RS_PUSH(TreePush),          pass_registry_detail::kTreeStepCalls,      "hierarchy_traversal",       pass_registry_detail::kTreeStepFaults},
   {PassId::kIntersectTree,    "intersect.tree",    "intersect_tree",    false, {},                                        layout::kIntersectTreeBindings, RS_PUSH(IntersectTreePush), pass_registry_detail::kIntersectTreeCalls, "final_intersection_tests",  pass_registry_detail::kIntersectTreeFaults},
+  {PassId::kTlLists,         "tl.lists",          "tl_lists",          false, pass_registry_detail::kTlListsPhases,     layout::kTlListsBindings,      RS_PUSH(TlListsPush),       pass_registry_detail::kTlListsCalls,       "hierarchy_creation",        pass_registry_detail::kTlListsFaults},
+  {PassId::kTlTrace,          "tl.trace",          "tl_trace",          false, {},                                        layout::kTlTraceBindings,      RS_PUSH(TlTracePush),       pass_registry_detail::kTlTraceCalls,       "hierarchy_traversal",       pass_registry_detail::kTlTraceFaults},
   {PassId::kShade,            "shade",             "shade",             false, {},                                        layout::kShadeBindings,        RS_PUSH(ShadePush),         pass_registry_detail::kShadeCalls,         "",                          pass_registry_detail::kShadeFaults},
   {PassId::kResolve,          "resolve",           "resolve",           false, {},                                        layout::kResolveBindings,      RS_PUSH(ElementwisePush),      pass_registry_detail::kResolveCalls,       "",                          pass_registry_detail::kResolveFaults},
 }};

@@ -18,6 +18,7 @@
 #include "rayspace/contract.h"
 #include "rayspace/emu/fields.h"
 #include "rayspace/emu/streams.h"
+#include "rayspace/emu/tl/streams.h"
 #include "rayspace/emu/tree_streams.h"
 #include "rayspace/layout.h"
 #include "rayspace/scene_buffers.h"
@@ -323,6 +324,32 @@ struct IntersectTree {
   RS_FIELDS(pair_cone, pair_item, first1, tree_triangles, order, rays, scene, hits, occluded)
 };
 
+// ---- --algo tl: Toczek et al.'s traversal lists (docs/traversal-lists.md) ---------------------------
+// The tree ordered and flattened into one list per direction (`directions`, xyz): a node's children
+// (own triangles, then child nodes) sorted by their projection's low end (kTlOrderEarliestFirst) or
+// high end (kTlOrderLatestLast), ties in that order; escapes relative, the paper's 0 and -1 at the end.
+struct TlLists {
+  static constexpr std::string_view kName = "tl.lists";
+  using Result = TlListArrays;
+  TlTreeView tree;
+  In<glm::vec4> directions{};
+  std::uint32_t order = layout::kTlOrderEarliestFirst;
+  RS_FIELDS(tree, directions, order)
+};
+
+// Every ray walks the list of its direction class (tl::ListFor over `first`'s K lists) without a
+// stack: the closest hit (shadow = 0) or whether any triangle but the ray's own is hit (shadow = 1).
+struct TlTrace {
+  static constexpr std::string_view kName = "tl.trace";
+  using Result = TlWalks;
+  In<std::uint32_t> first{}, escapes{};
+  In<glm::uvec4> words{};
+  In<glm::vec4> vertices{};
+  In<layout::Ray> rays{};
+  std::uint32_t shadow = 0;
+  RS_FIELDS(first, escapes, words, vertices, rays, shadow)
+};
+
 }  // namespace call
 
 // The calls of each backend group, for code generated per call (X-macros): X(Call).
@@ -330,7 +357,7 @@ struct IntersectTree {
 #define RS_HIERARCHY_CALLS(X)                                                                        \
   X(Hash) X(Compress) X(SortChunks) X(Decompress) X(BuildLeaves) X(BuildParents) X(ObjectMask) X(TraverseTop) \
   X(TraverseLevel) X(Reduce) X(TraverseTopCompacted) X(TraverseLevelCompacted) X(Intersect) X(TreeRoots) \
-  X(TreeExpand) X(TreeTest) X(TreeStep) X(IntersectTree)
+  X(TreeExpand) X(TreeTest) X(TreeStep) X(IntersectTree) X(TlLists) X(TlTrace)
 
 // Calls whose kernel runs one invocation per element over input arrays of one length, with no other
 // input (rayspace/contract.h, "element-wise passes"): the Vulkan backend launches them generically.

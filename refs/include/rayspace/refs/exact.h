@@ -46,6 +46,10 @@ struct Judgement {
   bool robust = false;
 };
 Judgement ExactJudge(const layout::Ray& ray, const layout::Triangle& tri, float rel);
+// Does some point o + t d with t0 <= t <= t1 (t1 = +inf: no upper end) lie in the closed ball
+// (sphere.xyz, sphere.w), exactly? The exact form of the traversal lists' sphere test
+// (docs/traversal-lists.md). Inputs must be finite but t1; t0 > t1 is an empty part (false).
+bool ExactSegmentMeetsSphere(glm::vec3 o, glm::vec3 d, float t0, float t1, glm::vec4 sphere);
 // Could rounding order the two triangles' distances either way: |t_a - t_b| |d| <= rel (L + |t| |d|)?
 bool ExactDistancesClose(const layout::Ray& ray, const layout::Triangle& a, const layout::Triangle& b, float rel);
 

@@ -1,0 +1,41 @@
+// `--algo tl`: a frame's rays traced through Toczek et al.'s traversal lists. The tree is built on
+// the host once per scene (tl::PrepareTree); the lists are the pass tl.lists, run once when the frame
+// prepares, and each batch is one tl.trace call, both on the backend the frame runs (the emulator or
+// the Vulkan kernels), so `diff` compares them as any other pass.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rayspace/emu/backend.h"
+#include "rayspace/emu/tl/tl.h"
+#include "rayspace/emu/tracer.h"
+
+namespace rayspace::emu {
+
+// One batch's walks: per ray kind, and per list the rays that walked it and what they tested.
+struct TlBatchStats {
+  std::string name;  // e.g. "shadow.b0"
+  std::uint32_t kind = 0;
+  std::uint64_t rays = 0, spheres = 0, triangles = 0;
+  std::vector<std::uint64_t> list_rays, list_spheres, list_triangles;  // per list
+};
+
+// The lists' shape: elements per list (the tree's nodes and triangle references), K, and the bytes
+// of every array (tl::Lists::Bytes).
+struct TlShape {
+  std::uint32_t lists = 0, nodes = 0, triangle_refs = 0;
+  std::uint64_t bytes = 0;
+};
+
+class TlTracer : public Tracer {
+ public:
+  virtual const std::vector<TlBatchStats>& Stats() const = 0;
+  virtual TlShape Shape() const = 0;
+};
+
+// `passes` null: the emulator's.
+std::unique_ptr<TlTracer> MakeTlTracer(const SceneBuffers& scene, const tl::Options& options, HierarchyPasses* passes = nullptr);
+
+}  // namespace rayspace::emu

@@ -1,0 +1,84 @@
+// The contract of the traversal-list passes' inputs (emu/calls.h, `--algo tl`), checked before a saved
+// or hand-made call runs: a call that passes runs on every backend without reading out of bounds and
+// every loop of its kernel ends within lavapipe's bounds.
+#include <vector>
+
+#include "rayspace/contract.h"
+#include "rayspace/emu/calls.h"
+#include "rayspace/emu/tl/tl.h"
+#include "rayspace/error.h"
+
+namespace rayspace::emu {
+namespace {
+
+// A forest: every node but the roots the child of exactly one node listed after it (so no cycle),
+// parents and owners agreeing with the links, sizes the subtrees', depth at most kTlMaxDepth.
+void CheckForest(std::string_view call, const TlTreeView& t) {
+  const std::size_t nodes = t.Nodes(), refs = t.tl_triangles.size();
+  if (t.tl_spheres.size() != nodes || t.tl_parents.size() != nodes || t.tl_sizes.size() != nodes || t.tl_owners.size() != refs)
+    ThrowInput("{}: the tree's arrays differ in length", call);
+  if (std::uint64_t{nodes} + refs > layout::kTlMaxElements)
+    ThrowInput("{}: {} elements exceed the {} a list may hold", call, nodes + refs, layout::kTlMaxElements);
+  std::vector<std::uint32_t> parent(nodes, layout::kTlNoParent), owner(refs, layout::kTlNoParent), depth(nodes, 0);
+  for (std::size_t i = 0; i < nodes; ++i) {
+    const glm::uvec4 l = t.tl_links[i];
+    if (std::uint64_t{l.x} + l.y > nodes || std::uint64_t{l.z} + l.w > refs || (l.y > 0 && l.x <= i))
+      ThrowInput("{}: input 'tl_links' element {} is out of range", call, i);
+    for (std::uint32_t c = l.x; c < l.x + l.y; ++c) {
+      if (parent[c] != layout::kTlNoParent) ThrowInput("{}: node {} has two parents", call, c);
+      parent[c] = static_cast<std::uint32_t>(i);
+      depth[c] = depth[i] + 1;
+      if (depth[c] > layout::kTlMaxDepth) ThrowInput("{}: node {} lies deeper than {}", call, c, layout::kTlMaxDepth);
+    }
+    for (std::uint32_t j = l.z; j < l.z + l.w; ++j) {
+      if (owner[j] != layout::kTlNoParent) ThrowInput("{}: triangle reference {} belongs to two nodes", call, j);
+      owner[j] = static_cast<std::uint32_t>(i);
+    }
+  }
+  if (parent != std::vector<std::uint32_t>(t.tl_parents.begin(), t.tl_parents.end()))
+    ThrowInput("{}: input 'tl_parents' disagrees with 'tl_links'", call);
+  if (owner != std::vector<std::uint32_t>(t.tl_owners.begin(), t.tl_owners.end()))
+    ThrowInput("{}: input 'tl_owners' disagrees with 'tl_links'", call);
+  std::vector<std::uint64_t> size(nodes, 0);
+  for (std::size_t i = nodes; i-- > 0;) {
+    const glm::uvec4 l = t.tl_links[i];
+    size[i] = 1 + l.w;
+    for (std::uint32_t c = l.x; c < l.x + l.y; ++c) size[i] += size[c];
+    if (size[i] != t.tl_sizes[i]) ThrowInput("{}: input 'tl_sizes' element {} is {}, its subtree holds {}", call, i, t.tl_sizes[i], size[i]);
+  }
+  std::uint64_t rooted = 0;
+  std::vector<bool> seen(nodes, false);
+  for (const std::uint32_t r : t.tl_roots) {
+    if (r >= nodes || parent[r] != layout::kTlNoParent || seen[r]) ThrowInput("{}: input 'tl_roots' names node {}, not a distinct root", call, r);
+    seen[r] = true;
+    rooted += size[r];
+  }
+  if (rooted != nodes + refs) ThrowInput("{}: the roots' subtrees hold {} of the {} elements", call, rooted, nodes + refs);
+}
+
+}  // namespace
+
+void CheckInputs(const call::TlLists& c) {
+  const TlTreeView& t = c.tree;
+  CheckForest(c.kName, t);
+  const std::size_t k = c.directions.size();
+  if (!tl::ValidListCount(static_cast<std::uint32_t>(k))) ThrowInput("{}: {} directions (1, 2, 6 or 8 lists)", c.kName, k);
+  if (c.order > layout::kTlOrderLatestLast) ThrowInput("{}: order {} is neither earliest-first (0) nor latest-last (1)", c.kName, c.order);
+  for (std::size_t j = 0; j < t.tl_triangles.size(); ++j)
+    if (t.tl_triangles[j] >= t.tl_tri_words.size()) ThrowInput("{}: input 'tl_triangles' element {} is out of range", c.kName, j);
+  for (std::size_t i = 0; i < t.tl_tri_words.size(); ++i) {
+    const glm::uvec4 w = t.tl_tri_words[i];
+    if (w.x >= t.tl_vertices.size() || w.y >= t.tl_vertices.size() || w.z >= t.tl_vertices.size())
+      ThrowInput("{}: input 'tl_tri_words' element {} names a vertex out of range", c.kName, i);
+  }
+}
+
+void CheckInputs(const call::TlTrace& c) {
+  if (c.first.empty()) ThrowInput("{}: input 'first' is empty", c.kName);
+  std::size_t bad = 0;
+  const std::string e = tl::ListsError({c.first, c.escapes, c.words, c.vertices}, &bad);
+  if (!e.empty()) ThrowInput("{}: the lists: {}", c.kName, e);
+  if (c.shadow > 1) ThrowInput("{}: shadow {} is neither 0 nor 1", c.kName, c.shadow);
+}
+
+}  // namespace rayspace::emu

@@ -1,0 +1,130 @@
+// The traversal lists as a frame's tracer (rayspace/emu/tl/tracer.h).
+#include "rayspace/emu/tl/tracer.h"
+
+#include <chrono>
+
+#include <nlohmann/json.hpp>
+
+#include "rayspace/emu/intersect.h"
+#include "rayspace/emu/output_checks.h"
+#include "rayspace/error.h"
+
+namespace rayspace::emu {
+namespace {
+
+class Tl final : public TlTracer {
+ public:
+  Tl(const SceneBuffers& scene, const tl::Options& options, HierarchyPasses& passes)
+      : scene_(scene),
+        options_(options),
+        checked_(&passes != &EmuHierarchyPasses() ? CheckedHierarchyPasses(passes) : nullptr),
+        passes_(checked_ ? *checked_ : passes) {
+    RS_CHECK_MSG(tl::ValidListCount(options.lists), "traversal lists: {} lists (1, 2, 6 or 8)", options.lists);
+  }
+
+  std::string Name() const override { return "tl"; }
+  void Describe(nlohmann::json& out) const override {
+    out["algorithm"] = "tl";
+    out["lists"] = options_.lists;
+    out["node_order"] = options_.order == tl::Order::kEarliestFirst ? "earliest-first" : "latest-last";
+    out["tree_big_fraction"] = options_.tree.big_fraction;
+    out["tree_leaf_triangles"] = options_.tree.leaf_triangles;
+    const TlShape s = Shape();
+    out["tree_nodes"] = s.nodes;
+    out["list_elements"] = s.nodes + s.triangle_refs;
+    out["list_bytes"] = s.bytes;
+    out["backend"] = passes_.Name();
+  }
+  void BeginBatch(const BatchContext& ctx) override { ctx_ = ctx; }
+  const std::vector<TlBatchStats>& Stats() const override { return stats_; }
+  TlShape Shape() const override {
+    return {options_.lists, static_cast<std::uint32_t>(tree_.links.size()), static_cast<std::uint32_t>(tree_.triangles.size()),
+            built_ ? lists_.Bytes() : 0};
+  }
+
+  void Closest(const std::vector<layout::Ray>& rays, std::vector<std::uint64_t>& hits) override {
+    TlWalks w = Trace(rays, 0);
+    hits = std::move(w.hits);
+  }
+  void Occluded(const std::vector<layout::Ray>& rays, std::vector<std::uint32_t>& occluded) override {
+    TlWalks w = Trace(rays, 1);
+    occluded = std::move(w.occluded);
+  }
+
+ private:
+  TlWalks Trace(const std::vector<layout::Ray>& rays, std::uint32_t shadow) {
+    if (!built_) BuildLists();
+    const std::string label = "tl.trace." + ctx_.name;
+    passes_.Label(label);
+    const auto t0 = std::chrono::steady_clock::now();
+    TlWalks w = passes_.TlTrace(
+        {.first = lists_.first, .escapes = lists_.escapes, .words = lists_.words, .vertices = lists_.vertices, .rays = rays, .shadow = shadow});
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (ctx_.subpasses) ctx_.subpasses->push_back({label, ms, rays.size()});
+    if (ctx_.digest) {
+      if (shadow)
+        ctx_.digest->Add(label, "occluded", w.occluded);
+      else
+        ctx_.digest->Add(label, "hits", w.hits);
+      ctx_.digest->Add(label, "spheres", w.spheres);
+      ctx_.digest->Add(label, "triangles", w.triangles);
+    }
+    Count(rays, w);
+    return w;
+  }
+  // The tree depends on the scene alone (built once, as the other tracers' hierarchies are); the
+  // lists are the frame's pass "tl.lists", run before the first batch that needs them, so a frame
+  // with nothing to trace builds none.
+  void BuildLists() {
+    if (tree_.links.empty() && tree_.tri_words.empty()) tree_ = tl::PrepareTree(scene_.triangles, options_.tree);
+    directions_ = tl::Directions(options_.lists);
+    passes_.Label("tl.lists");
+    const auto t0 = std::chrono::steady_clock::now();
+    TlListArrays a = passes_.TlLists({.tree = tree_.View(), .directions = directions_, .order = static_cast<std::uint32_t>(options_.order)});
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    lists_ = tl::Assemble(tree_, options_.lists, std::move(a));
+    built_ = true;
+    if (ctx_.subpasses) ctx_.subpasses->push_back({"tl.lists", ms, lists_.escapes.size()});
+    if (ctx_.digest) {
+      ctx_.digest->Add("tl.lists", "escapes", lists_.escapes);
+      ctx_.digest->Add("tl.lists", "words", lists_.words);
+    }
+  }
+  void Count(const std::vector<layout::Ray>& rays, const TlWalks& w) {
+    TlBatchStats s;
+    s.name = ctx_.name;
+    s.kind = ctx_.kind;
+    s.rays = rays.size();
+    s.list_rays.assign(options_.lists, 0);
+    s.list_spheres.assign(options_.lists, 0);
+    s.list_triangles.assign(options_.lists, 0);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      const std::uint32_t k = tl::ListFor(options_.lists, Xyz(rays[i].direction_tmax));
+      ++s.list_rays[k];
+      s.list_spheres[k] += w.spheres[i];
+      s.list_triangles[k] += w.triangles[i];
+      s.spheres += w.spheres[i];
+      s.triangles += w.triangles[i];
+    }
+    stats_.push_back(std::move(s));
+  }
+
+  const SceneBuffers& scene_;
+  tl::Options options_;
+  std::unique_ptr<HierarchyPasses> checked_;  // a backend's outputs checked (emu/output_checks.h)
+  HierarchyPasses& passes_;
+  tl::Tree tree_;
+  std::vector<glm::vec4> directions_;
+  tl::Lists lists_;
+  bool built_ = false;
+  BatchContext ctx_;
+  std::vector<TlBatchStats> stats_;
+};
+
+}  // namespace
+
+std::unique_ptr<TlTracer> MakeTlTracer(const SceneBuffers& scene, const tl::Options& options, HierarchyPasses* passes) {
+  return std::make_unique<Tl>(scene, options, passes ? *passes : EmuHierarchyPasses());
+}
+
+}  // namespace rayspace::emu

@@ -1,0 +1,61 @@
+// Shared by the traversal-list kernels (tl_lists.comp, tl_trace.comp): the keys that order a node's
+// children and the walk's sphere test and list choice, each mirroring its emulator function in
+// emu/src/tl.cpp operation for operation. Include after common.glsl.
+
+// A float as an unsigned integer of the same order (-0 before +0), a NaN after everything (emu Ordered).
+uint OrderedKey(float f) {
+  if (isnan(f)) return 0xFFFFFFFFu;
+  const uint b = floatBitsToUint(f);
+  return (b & 0x80000000u) != 0u ? ~b : (b | 0x80000000u);
+}
+
+uint TlSphereKey(vec4 s, vec3 axis, uint order) {
+  const float p = Dot3(s.xyz, axis);
+  precise const float k = order == kTlOrderEarliestFirst ? p - s.w : p + s.w;
+  return OrderedKey(k);
+}
+
+// min and max by comparisons in a fixed order (GLSL's min/max leave NaN operands open).
+uint TlTriangleKey(vec3 v0, vec3 v1, vec3 v2, vec3 axis, uint order) {
+  const float p1 = Dot3(v1, axis), p2 = Dot3(v2, axis);
+  float k = Dot3(v0, axis);
+  if (order == kTlOrderEarliestFirst) {
+    if (p1 < k) k = p1;
+    if (p2 < k) k = p2;
+  } else {
+    if (p1 > k) k = p1;
+    if (p2 > k) k = p2;
+  }
+  return OrderedKey(k);
+}
+
+// The list of a ray's direction class among K lists (emu tl::ListFor).
+uint TlListFor(uint K, vec3 d) {
+  if (K == 2u) return d.x < 0.0 ? 1u : 0u;
+  if (K == 6u) {
+    const vec3 a = abs(d);
+    int k = 0;
+    if (a.y > a[k]) k = 1;
+    if (a.z > a[k]) k = 2;
+    return uint(2 * k) + (d[k] < 0.0 ? 1u : 0u);
+  }
+  if (K == 8u) return (d.x < 0.0 ? 1u : 0u) | (d.y < 0.0 ? 2u : 0u) | (d.z < 0.0 ? 4u : 0u);
+  return 0u;
+}
+
+// May the ray's part [tmin, tlimit] meet the sphere, conservatively (emu tl::SphereMayHit)?
+// TL_FLIPPED_SPHERE_TEST plants the flipped distance test.
+bool TlSphereMayHit(vec3 org, vec3 dir, float tmin, float tlimit, vec4 s) {
+  const float len = Length3(dir);
+  precise const vec3 v = s.xyz - org;
+  const vec3 u = vec3(Div(dir.x, len), Div(dir.y, len), Div(dir.z, len));
+  const float a = Dot3(v, u), b = Length3(Cross3(v, u));
+  if (isnan(a) || isinf(a) || isnan(b) || isinf(b)) return true;
+  precise const float r = (s.w * kRadiusSlack + (abs(a) + b) * kTestSlack) + uintBitsToFloat(kRadiusFloorBits);
+  if (TL_FLIPPED_SPHERE_TEST ? b < r : b > r) return false;
+  precise const float t0 = tmin * len, t1 = tlimit * len;
+  precise const float lo = t0 - abs(t0) * kTestSlack, hi = t1 + abs(t1) * kTestSlack;
+  precise const float near = a + r, far = a - r;
+  if (near < lo) return false;
+  return !(far > hi);
+}

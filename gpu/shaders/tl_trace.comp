@@ -1,0 +1,72 @@
+#version 460
+// tl.trace: one invocation per ray walks the traversal list of its direction class without a stack
+// (Toczek et al.'s loop): a triangle is tested and the walk moves on by its escape; a sphere the ray
+// may meet before its best hit leads to its first child (the next element), a missed one to its
+// escape; 0 and -1 end the walk. Steps run in blocks of kTlLoopBlock (lavapipe ends a loop after
+// 65,535 iterations) and every step moves forward, so a walk ends within its list. Closest hits keep
+// the packed (t, id) minimum, so ties resolve as every other tracer's do. Mirrors emu PassTlTrace.
+#include "common.glsl"
+#define TL_FLIPPED_SPHERE_TEST (kFault == 2u)
+#include "tl.glsl"
+#define WATERTIGHT_SWAP_FAULT 0xFFFFFFFFu  // no range-swap fault here
+#include "watertight.glsl"
+
+layout(std430, binding = kTlTraceBindFirst) readonly buffer First { uint first[]; };
+layout(std430, binding = kTlTraceBindEscapes) readonly buffer Escapes { int escapes[]; };
+layout(std430, binding = kTlTraceBindWords) readonly buffer Words { uvec4 words[]; };
+layout(std430, binding = kTlTraceBindVertices) readonly buffer Vertices { vec4 vertices[]; };
+layout(std430, binding = kTlTraceBindRays) readonly buffer Rays { Ray rays[]; };
+layout(std430, binding = kTlTraceBindHits) writeonly buffer Hits { uint64_t hits[]; };
+layout(std430, binding = kTlTraceBindOccluded) writeonly buffer Occluded { uint occluded[]; };
+layout(std430, binding = kTlTraceBindSpheres) writeonly buffer SphereTests { uint sphere_tests[]; };
+layout(std430, binding = kTlTraceBindTriangles) writeonly buffer TriangleTests { uint triangle_tests[]; };
+layout(push_constant) uniform Block { TlTracePush pc; };
+
+const uint64_t kMiss = 0xFFFFFFFFFFFFFFFFul;
+
+void main() {
+  const uint ray = GlobalIndex();
+  if (ray >= pc.count) return;
+  const Ray r = rays[ray];
+  const vec3 org = r.origin_tmin.xyz, dir = r.direction_tmax.xyz;
+  const float tmin = r.origin_tmin.w, tmax = r.direction_tmax.w;
+  const uint K = pc.lists;
+  uint k = TlListFor(K, dir);
+  // Fault 3: the ray walks the list of the opposite direction (the other of each pair).
+  if (kFault == 3u && K > 1u) k = K == 8u ? 7u - k : k ^ 1u;
+  uint i = first[k];
+  const uint end = first[k + 1u];
+  uint64_t best = kMiss;
+  uint spheres = 0u, triangles = 0u;
+  bool done = i == end;
+  for (uint b = 0u; !done && b <= end / kTlLoopBlock; ++b) {
+    for (uint j = 0u; !done && j < kTlLoopBlock; ++j) {
+      int next = escapes[i];
+      const uvec4 w = words[i];
+      if (next == 1 || next == 0) {
+        ++triangles;
+        float t;
+        if (w.w != r.info.y &&
+            Watertight(org, dir, vertices[w.x].xyz, vertices[w.y].xyz, vertices[w.z].xyz, tmin, tmax, t)) {
+          const uint64_t packed = (uint64_t(floatBitsToUint(t)) << 32) | uint64_t(w.w);
+          if (packed < best) best = packed;
+          if (pc.shadow != 0u) next = 0;
+        }
+      } else {
+        ++spheres;
+        const float limit = best == kMiss ? tmax : uintBitsToFloat(uint(best >> 32));
+        if (TlSphereMayHit(org, dir, tmin, limit, uintBitsToFloat(w))) next = 1;
+        // Fault 1: a missed sphere's escape one element short.
+        else if (kFault == 1u && next > 2) next -= 1;
+      }
+      done = next <= 0;
+      i += uint(next);
+    }
+  }
+  if (pc.shadow != 0u)
+    occluded[ray] = best != kMiss ? 1u : 0u;
+  else
+    hits[ray] = best;
+  sphere_tests[ray] = spheres;
+  triangle_tests[ray] = triangles;
+}

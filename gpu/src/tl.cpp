@@ -1,0 +1,97 @@
+// Launches of the traversal-list kernels (`--algo tl`; gpu/shaders/tl_lists.comp, tl_trace.comp),
+// each array in one binding (a call whose array outgrows it fails naming the pass).
+#include "rayspace/gpu/passes.h"
+#include "kernel_util.h"
+
+namespace rayspace::gpu_backend {
+using namespace detail;
+
+namespace {
+
+// A zeroed output buffer of `words` 32-bit words at `binding`, copied back to dst (null: not read).
+template <std::uint32_t N>
+vk::Status Output(vk::Context& c, Keep& keep, Bindings<N>& b, std::uint32_t binding, std::size_t bytes, void* dst) {
+  const vk::Buffer* x = nullptr;
+  RS_TRY(keep.Output(c, bytes, x, dst));
+  RS_TRY(const_cast<vk::Buffer*>(x)->Zero());
+  b.Set(binding, x);
+  return vk::Status::Ok();
+}
+
+template <std::uint32_t N, typename T>
+vk::Status Input(vk::Context& c, Keep& keep, Bindings<N>& b, std::uint32_t binding, std::span<const T> v) {
+  const vk::Buffer* x = nullptr;
+  RS_TRY(keep.From(c, v, x));
+  b.Set(binding, x);
+  return vk::Status::Ok();
+}
+
+}  // namespace
+
+// Two dispatches in one submit: every offset (Rank) before any position (Place).
+vk::Status VulkanPasses::Run(const emu::call::TlLists& call, emu::TlListArrays& out) {
+  const emu::TlTreeView& t = call.tree;
+  const std::size_t E = t.Elements(), total = call.directions.size() * E;
+  Keep keep;
+  Bindings<layout::kTlListsBindings> b;
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlListsBindLinks, t.tl_links));
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlListsBindSpheres, t.tl_spheres));
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlListsBindParents, t.tl_parents));
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlListsBindSizes, t.tl_sizes));
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlListsBindRoots, t.tl_roots));
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlListsBindTriangles, t.tl_triangles));
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlListsBindOwners, t.tl_owners));
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlListsBindTriWords, t.tl_tri_words));
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlListsBindVertices, t.tl_vertices));
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlListsBindDirections, call.directions));
+  out.escapes.assign(total, 0);
+  out.words.assign(total, glm::uvec4(0));
+  RS_TRY(Output(*ctx_, keep, b, layout::kTlListsBindRel, total * 4, nullptr));
+  RS_TRY(Output(*ctx_, keep, b, layout::kTlListsBindEscapes, total * 4, out.escapes.data()));
+  RS_TRY(Output(*ctx_, keep, b, layout::kTlListsBindWords, total * 16, out.words.data()));
+  if (total == 0) return vk::Status::Ok();
+  layout::TlListsPush push{};
+  push.nodes = static_cast<std::uint32_t>(t.Nodes());
+  push.refs = static_cast<std::uint32_t>(t.tl_triangles.size());
+  push.lists = static_cast<std::uint32_t>(call.directions.size());
+  push.roots = static_cast<std::uint32_t>(t.tl_roots.size());
+  push.order = call.order;
+  vk::Recorder rec(*ctx_);
+  for (const std::uint32_t phase : {layout::kTlListsPhaseRank, layout::kTlListsPhasePlace}) {
+    push.phase = phase;
+    RS_TRY(rec.Dispatch(K(PassId::kTlLists), b.All(), &push, sizeof push, static_cast<std::uint32_t>(total)));
+  }
+  RS_TRY(rec.Submit());
+  return keep.CopyBack();
+}
+
+vk::Status VulkanPasses::Run(const emu::call::TlTrace& call, emu::TlWalks& out) {
+  const std::size_t n = call.rays.size();
+  Keep keep;
+  Bindings<layout::kTlTraceBindings> b;
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlTraceBindFirst, call.first));
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlTraceBindEscapes, call.escapes));
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlTraceBindWords, call.words));
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlTraceBindVertices, call.vertices));
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlTraceBindRays, call.rays));
+  out = {};
+  if (call.shadow)
+    out.occluded.assign(n, 0);
+  else
+    out.hits.assign(n, 0);
+  out.spheres.assign(n, 0);
+  out.triangles.assign(n, 0);
+  RS_TRY(Output(*ctx_, keep, b, layout::kTlTraceBindHits, call.shadow ? 0 : n * 8, call.shadow ? nullptr : out.hits.data()));
+  RS_TRY(Output(*ctx_, keep, b, layout::kTlTraceBindOccluded, call.shadow ? n * 4 : 0, call.shadow ? out.occluded.data() : nullptr));
+  RS_TRY(Output(*ctx_, keep, b, layout::kTlTraceBindSpheres, n * 4, out.spheres.data()));
+  RS_TRY(Output(*ctx_, keep, b, layout::kTlTraceBindTriangles, n * 4, out.triangles.data()));
+  if (n == 0) return vk::Status::Ok();
+  layout::TlTracePush push{};
+  push.count = static_cast<std::uint32_t>(n);
+  push.lists = static_cast<std::uint32_t>(call.first.size() - 1);
+  push.shadow = call.shadow;
+  RS_TRY(RunKernel(*ctx_, K(PassId::kTlTrace), b.All(), &push, sizeof push, push.count));
+  return keep.CopyBack();
+}
+
+}  // namespace rayspace::gpu_backend

@@ -1,0 +1,82 @@
+# `render --algo tl` on the bundled scenes at reduced sizes: exit 0, no oracle mismatch, the same PNG
+# bytes as --algo crsh, and statistics whose total is the walks' sphere and triangle tests. The
+# data-free scenes by default; -DPART=data the scenes that need the data root (skipped without it).
+# Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DDATA=<data root> -DWORK=<scratch> [-DPART=data] -P cli_tl.cmake
+include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)
+set(failures "")
+file(REMOVE_RECURSE "${WORK}")
+file(MAKE_DIRECTORY "${WORK}")
+
+function(render_png name scene size)
+  execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/${scene}.json" --data "${DATA}" --size ${size} ${ARGN}
+                          --out "${WORK}/${name}.png" --stats "${WORK}/${name}.json"
+                  RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    set(failures "${failures}\n${name}: exit ${rc}: ${err}" PARENT_SCOPE)
+  endif()
+endfunction()
+
+# The walks' tests per ray type add up to total_tests, and the lists have their shape.
+function(check_tl_stats name)
+  file(READ "${WORK}/${name}.json" j)
+  string(JSON mism GET "${j}" oracle mismatches)
+  string(JSON total GET "${j}" total_tests)
+  string(JSON lists GET "${j}" traversal_lists lists)
+  string(JSON bytes GET "${j}" traversal_lists bytes)
+  string(JSON ntypes LENGTH "${j}" traversal_lists per_type)
+  set(sum 0)
+  math(EXPR last "${ntypes} - 1")
+  foreach(i RANGE ${last})
+    string(JSON key MEMBER "${j}" traversal_lists per_type ${i})
+    string(JSON s GET "${j}" traversal_lists per_type ${key} sphere_tests)
+    string(JSON t GET "${j}" traversal_lists per_type ${key} triangle_tests)
+    math(EXPR sum "${sum} + ${s} + ${t}")
+  endforeach()
+  if(NOT mism EQUAL 0 OR NOT sum EQUAL total OR bytes LESS_EQUAL 0)
+    set(failures "${failures}\n${name}: ${mism} mismatches, total ${total} vs walks ${sum}, ${lists} lists of ${bytes} bytes"
+        PARENT_SCOPE)
+  endif()
+endfunction()
+
+function(same_as_crsh name scene size)
+  render_png(${name}.crsh ${scene} ${size} --algo crsh --no-oracle)
+  render_png(${name}.tl ${scene} ${size} --algo tl ${ARGN})
+  if(failures)
+    set(failures "${failures}" PARENT_SCOPE)
+    return()
+  endif()
+  check_tl_stats(${name}.tl)
+  file(SHA256 "${WORK}/${name}.crsh.png" a)
+  file(SHA256 "${WORK}/${name}.tl.png" b)
+  if(NOT a STREQUAL b)
+    set(failures "${failures}\n${name}: --algo tl's PNG differs from --algo crsh's" PARENT_SCOPE)
+  endif()
+  set(failures "${failures}" PARENT_SCOPE)
+endfunction()
+
+if(PART STREQUAL "data")
+  cli_require_data(cli.tl.data bunny/bun_zipper_res4.ply)
+  same_as_crsh(sponza sponza 96x96)
+  same_as_crsh(sponza-thesis sponza-thesis 64x64 --lists 8)
+  same_as_crsh(dragon dragon-closeup 64x64 --node-order latest-last)
+  same_as_crsh(bunny roger-bunny-res4 64x64 --lists 1)
+else()
+  same_as_crsh(cornell cornell-mirrors 96x96)
+  same_as_crsh(office office 96x96 --lists 2 --node-order latest-last)
+  # One row per list in the statistics.
+  file(READ "${WORK}/cornell.tl.json" j)
+  string(JSON n LENGTH "${j}" traversal_lists per_list)
+  if(NOT n EQUAL 6)
+    set(failures "${failures}\ncornell: ${n} lists in the statistics, expected 6")
+  endif()
+  # Bad values are refused with one line naming the option.
+  execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/cornell-mirrors.json" --algo tl --lists 3 --out "${WORK}/x.png"
+                  RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+  if(rc EQUAL 0 OR NOT err MATCHES "--lists")
+    set(failures "${failures}\n--lists 3: exit ${rc}, ${err}")
+  endif()
+endif()
+if(failures)
+  message(FATAL_ERROR "cli.tl:${failures}")
+endif()
+message(STATUS "cli.tl: every scene traced through the traversal lists as through the hierarchy")
