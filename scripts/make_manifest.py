@@ -69,6 +69,19 @@ def source_of(data, directory):
     repo, commit = field(text, "GitHub repo").split(" ")[0], field(text, "commit")
     # The path value may be quoted and may carry a parenthesised note after two spaces.
     src_path = re.split(r"\s{2,}|\s\(", field(text, "path"))[0].strip().strip('"')
+    licence = section(text, "Licence")
+    one_line = False
+    if not repo:
+        # The one-line form of a Sources entry: "FILE: GitHub repo OWNER/NAME, commit SHA, path P." The
+        # first entry is the directory's source; a data file it does not name is refused (file_url), so
+        # a file of another entry never gets this one's url. Its licence: the entry's parenthesis that
+        # speaks of one ("source: Blender; no licence given").
+        m = re.search(r"GitHub repo (\S+), commit ([0-9a-f]{40}),\s+paths? ([^\s,]+?)[.,]?(?:\s|$)", text)
+        if m:
+            repo, commit, src_path, one_line = m.group(1), m.group(2), m.group(3), True
+            entry = text[m.start():text.find("\n\n", m.start()) if "\n\n" in text[m.start():] else len(text)]
+            lic = re.search(r"\(([^)]*licen[cs]e[^)]*)\)", entry)
+            licence = licence or (lic.group(1).strip() if lic else "")
     # A path line may list several files of one directory: "dir/a.ply, b.ply, c.ply"; each file of
     # the data is then matched by name (file_url), and the source's own url is the first's.
     names = [n.strip() for n in src_path.split(",") if n.strip()]
@@ -84,7 +97,8 @@ def source_of(data, directory):
         "commit": commit,
         "path": src_path,
         "url": url,
-        "licence": section(text, "Licence"),
+        "licence": licence,
+        "one_line": one_line,
         "source_file": f"{directory}/SOURCE.txt",
         "files": src_files,
     }
@@ -95,6 +109,8 @@ def file_url(src, rel):
     for f in src.get("files", []):
         if os.path.basename(f) == os.path.basename(rel):
             return f"{src['repository']}/blob/{src['commit']}/{urllib.parse.quote(f)}"
+    if src.get("one_line"):
+        fail(f"{rel}: its directory's SOURCE.txt entry names {src['path']}, not this file")
     return src["url"]
 
 
@@ -126,7 +142,7 @@ def manifest(data, scenes_dir):
                         "source": rel.split("/")[0], "url": file_url(src, rel), "obtained": "copy" if copy else "converted",
                         "scenes": files[rel]})
     for src in sources.values():
-        del src["files"]  # only for the entries' urls
+        del src["files"], src["one_line"]  # only for the entries' urls
     return {"format": 1,
             "about": "Files under the data root the bundled scenes need; regenerate with scripts/make_manifest.py",
             "scenes": scenes, "files": entries, "sources": sources}

@@ -446,6 +446,15 @@ TEST_CASE("tl: calls whose inputs break the contract are refused, naming the cal
   bad = tree;
   bad.tri_words[0].y = static_cast<std::uint32_t>(bad.vertices.size());
   CHECK(lists_error(bad, dirs).find("'tl_tri_words' element 0") != std::string::npos);
+  bad = tree;
+  bad.tri_words[3].w = static_cast<std::uint32_t>(bad.tri_words.size());
+  CHECK(lists_error(bad, dirs).find("'tl_tri_words' element 3 names triangle") != std::string::npos);
+  // An empty node would be a sphere whose escape, 1, reads as a triangle's.
+  bad = tree;
+  const auto leaf = std::find_if(bad.links.begin(), bad.links.end(), [](const glm::uvec4& l) { return l.y == 0; });
+  REQUIRE(leaf != bad.links.end());
+  leaf->w = 0;
+  CHECK(lists_error(bad, dirs).find("no children and no triangles") != std::string::npos);
 
   const tl::Lists l = tl::Build(tris, {});
   const std::vector<Ray> rays{MakeRay({0, 0, 2}, {0, 0, -1})};

@@ -22,7 +22,7 @@ const std::vector<Target>& Targets() {
   static const std::vector<Target> targets = {
       {"thesis", "", "CRSH thesis (Reis 2015) tables 4.1-4.27: RAH and CRSH per level, totals, % of brute force, phase timings; Roger's quadtree beside them"},
       {"roger", "", "Roger et al. 2007 figures 9(a-c), 13(a-c): phase shares, work against the bunny's LOD, against cos(nx)cos(ny), tests per ray, against pixels; rah-quadtree and rah"},
-      {"toczek", "the algorithm is not built yet", "Toczek et al. tables 1-2"},
+      {"toczek", "", "Toczek et al. 2010 tables 1-2: traversed nodes per ray against the node order (table 1, bunny without ground) and against the triangle count (table 2: cubes, Suzanne, bunny, dragon); --algo tl"},
       {"hunt-mark", "the algorithm is not built yet", "Hunt and Mark tables 1 and 5"},
   };
   return targets;
@@ -41,7 +41,9 @@ const std::vector<std::pair<int, int>>& ThesisShapes() {
 
 std::string Config::Canonical() const {
   // The quadtree's subdivision is 4 and its depth log2 of the image size: both follow from the size.
-  const std::string shape = quadtree() ? "quadtree" : fmt::format("subdivision={} levels={}", subdivision, levels);
+  const std::string shape = quadtree() ? "quadtree"
+                            : tl()     ? fmt::format("lists={} order={}", lists, node_order)
+                                       : fmt::format("subdivision={} levels={}", subdivision, levels);
   // Faithful, object and path settings are appended only when set, so the keys of the other
   // configurations stay as they were. A preset is written as the switches it stands for: a preset
   // that gains a switch names other results.
@@ -57,15 +59,18 @@ std::string Config::Canonical() const {
 }
 
 std::string Config::Name() const {
-  const std::string name =
-      quadtree() ? fmt::format("{} {}", scene, algo) : fmt::format("{} {} s{} d{}", scene, algo, subdivision, levels);
+  const std::string name = quadtree() ? fmt::format("{} {}", scene, algo)
+                           : tl()     ? fmt::format("{} tl K{} {}", scene, lists, node_order)
+                                      : fmt::format("{} {} s{} d{}", scene, algo, subdivision, levels);
   // roger measures one scene at several sizes (figure 13(c)); the thesis's run has one size.
   const std::string sized = target == "thesis" ? name : fmt::format("{} {}x{}", name, width, height);
   return faithful.empty() ? sized : sized + " faithful";
 }
 
 std::string Config::RenderArgs() const {
-  const std::string shape = quadtree() ? "" : fmt::format(" --subdivision {} --levels {}", subdivision, levels);
+  const std::string shape = quadtree() ? ""
+                            : tl()     ? fmt::format(" --lists {} --node-order {}", lists, node_order)
+                                       : fmt::format(" --subdivision {} --levels {}", subdivision, levels);
   const std::string faithful_args =
       faithful.empty() ? "" : fmt::format(" --faithful {}{}", faithful, one_object ? " --one-object" : "");
   return fmt::format("scenes/{} --algo {}{} --bounces {} --objects flat --size {}x{}{}{} --no-oracle", scene_file, algo, shape,

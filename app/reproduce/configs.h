@@ -2,6 +2,7 @@
 // hierarchy shape, frame size), each with a canonical text that, with the scene's content and the
 // version, names its result.
 #pragma once
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -40,6 +41,10 @@ struct Config {
   // --path: empty for render's default (fused: each level tests and compacts in one pass); "passes"
   // runs the cone-sphere tests and the stream reduction as separate passes, timed apart (roger).
   std::string path;
+  // --algo tl: the lists and their order (toczek); 0 and empty for the hierarchy's tracers.
+  std::uint32_t lists = 0;
+  std::string node_order;
+  bool tl() const { return algo == "tl"; }
   bool quadtree() const { return algo == "rah-quadtree"; }
   // Every setting that changes the counts, as one line (part of the result's key).
   std::string Canonical() const;

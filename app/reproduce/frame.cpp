@@ -10,7 +10,10 @@ namespace {
 app::RenderArgs Args(const Config& c) {
   app::RenderArgs args;
   args.algo = c.algo;
-  if (!c.quadtree()) {
+  if (c.tl()) {
+    args.lists = c.lists;
+    args.node_order = c.node_order;
+  } else if (!c.quadtree()) {
     args.subdivision = c.subdivision;
     args.depth = c.levels;
     args.depth_given = true;

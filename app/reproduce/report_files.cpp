@@ -7,6 +7,7 @@
 #include "report.h"
 #include "rayspace/json_text.h"
 #include "roger.h"
+#include "toczek.h"
 
 namespace rayspace::reproduce {
 namespace {
@@ -55,15 +56,19 @@ std::vector<const Result*> TableOrder(std::vector<const Result*> sorted) {
       if (ThesisScenes()[i].paper == scene) return i;
     for (std::size_t i = 0; i < RogerScenes().size(); ++i)
       if (RogerScenes()[i].name == scene) return ThesisScenes().size() + i;
-    return ThesisScenes().size() + RogerScenes().size();
+    for (std::size_t i = 0; i < ToczekScenes().size(); ++i)
+      if (ToczekScenes()[i].name == scene) return ThesisScenes().size() + RogerScenes().size() + i;
+    return ThesisScenes().size() + RogerScenes().size() + ToczekScenes().size();
   };
   std::sort(sorted.begin(), sorted.end(), [&](const Result* a, const Result* b) {
     // Every field of the configuration, so that no two results tie and the order never falls back
     // to the order of their keys.
     return std::make_tuple(a->config.target, scene_rank(a->config.scene), a->config.quadtree(), a->config.subdivision, a->config.levels,
-                           a->config.algo, a->config.width, a->config.height, a->config.faithful, a->config.one_object, a->config.path) <
+                           a->config.algo, a->config.width, a->config.height, a->config.faithful, a->config.one_object, a->config.path,
+                           a->config.lists, a->config.node_order) <
            std::make_tuple(b->config.target, scene_rank(b->config.scene), b->config.quadtree(), b->config.subdivision, b->config.levels,
-                           b->config.algo, b->config.width, b->config.height, b->config.faithful, b->config.one_object, b->config.path);
+                           b->config.algo, b->config.width, b->config.height, b->config.faithful, b->config.one_object, b->config.path,
+                           b->config.lists, b->config.node_order);
   });
   return sorted;
 }
@@ -80,14 +85,17 @@ void WriteReport(const std::filesystem::path& out, const std::vector<Result>& re
   const Published& published = ThesisPublished();
   // Each target's sections from its own results: a run of roger alone has no thesis tables.
   std::vector<Result> thesis;
-  std::vector<const Result*> roger;
+  std::vector<const Result*> roger, toczek;
   for (const Result& r : results)
     if (r.config.target == "roger") roger.push_back(&r);
+    else if (r.config.target == "toczek") toczek.push_back(&r);
     else thesis.push_back(r);
   const std::vector<const Result*> sorted = TableOrder(results), roger_sorted = TableOrder(roger);
   Report report = thesis.empty() ? Report{} : BuildReport(thesis, published);
-  if (thesis.empty()) report.title = "Roger et al. 2007: its claims and ours";
+  if (thesis.empty())
+    report.title = roger.empty() ? "Toczek et al. 2010: its tables and ours" : "Roger et al. 2007: its claims and ours";
   AddRogerReport(report, roger_sorted);
+  AddToczekReport(report, TableOrder(toczek));
   for (Table& t : report.tables)
     if (const std::string plot = t.plot_x.empty() ? TablePlots(t, out) : SeriesPlot(t, out); !plot.empty()) t.notes.push_back(plot);
   std::filesystem::create_directories(out / "tables");
@@ -96,7 +104,7 @@ void WriteReport(const std::filesystem::path& out, const std::vector<Result>& re
   WriteText(out / "results.json", JsonText(ResultsJson(sorted)), "the results file");
   std::vector<const Result*> thesis_sorted;
   for (const Result* r : sorted)
-    if (r->config.target != "roger") thesis_sorted.push_back(r);
+    if (r->config.target == "thesis") thesis_sorted.push_back(r);
   Report timing_report;
   timing_report.preamble.push_back("Phase times vary run to run and from machine to machine: this file and timings.csv are "
                                    "not part of the reproducible report.");

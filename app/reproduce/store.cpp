@@ -43,6 +43,7 @@ nlohmann::json ConfigJson(const Config& c) {
   if (!c.path.empty()) j["path"] = c.path;
   if (!c.faithful.empty()) j["faithful"] = c.faithful;
   if (c.one_object) j["one_object"] = true;
+  if (c.tl()) j["lists"] = c.lists, j["node_order"] = c.node_order;
   return j;
 }
 
@@ -60,6 +61,8 @@ Config ConfigFromJson(const nlohmann::json& j) {
   c.faithful = j.value("faithful", std::string());
   c.one_object = j.value("one_object", false);
   c.path = j.value("path", std::string());
+  c.lists = j.value("lists", 0u);
+  c.node_order = j.value("node_order", std::string());
   return c;
 }
 

@@ -24,6 +24,8 @@ void CheckForest(std::string_view call, const TlTreeView& t) {
     const glm::uvec4 l = t.tl_links[i];
     if (std::uint64_t{l.x} + l.y > nodes || std::uint64_t{l.z} + l.w > refs || (l.y > 0 && l.x <= i))
       ThrowInput("{}: input 'tl_links' element {} is out of range", call, i);
+    // An empty node would be a sphere of escape 1, which reads as a triangle.
+    if (l.y == 0 && l.w == 0) ThrowInput("{}: input 'tl_links' element {} is a node with no children and no triangles", call, i);
     for (std::uint32_t c = l.x; c < l.x + l.y; ++c) {
       if (parent[c] != layout::kTlNoParent) ThrowInput("{}: node {} has two parents", call, c);
       parent[c] = static_cast<std::uint32_t>(i);
@@ -70,6 +72,8 @@ void CheckInputs(const call::TlLists& c) {
     const glm::uvec4 w = t.tl_tri_words[i];
     if (w.x >= t.tl_vertices.size() || w.y >= t.tl_vertices.size() || w.z >= t.tl_vertices.size())
       ThrowInput("{}: input 'tl_tri_words' element {} names a vertex out of range", c.kName, i);
+    if (w.w >= t.tl_tri_words.size())
+      ThrowInput("{}: input 'tl_tri_words' element {} names triangle {}, out of range [0, {})", c.kName, i, w.w, t.tl_tri_words.size());
   }
 }
 

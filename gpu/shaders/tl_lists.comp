@@ -37,9 +37,15 @@ uint Size(uint parent, uint s) {
   return s >= l.w ? sizes[l.x + s - l.w] : 1u;
 }
 
+// In blocks of kTlLoopBlock roots, as every loop here.
 uint RootOffset(uint n) {
   uint r = 0u;
-  for (uint i = 0u; i < pc.roots && roots[i] != n; ++i) r += sizes[roots[i]];
+  bool found = false;
+  for (uint b = 0u; !found && b < pc.roots; b += kTlLoopBlock)
+    for (uint i = b; !found && i < min(pc.roots, b + kTlLoopBlock); ++i) {
+      found = roots[i] == n;
+      if (!found) r += sizes[roots[i]];
+    }
   return r;
 }
 
