@@ -39,6 +39,9 @@ void NoteHierarchyOptions(std::vector<IgnoredOption>& out, const CLI::App& comma
       Note(out, command, name, flat);
     if (args.algo != "tl")
       for (const char* name : {"--tree-leaf", "--tree-big"}) Note(out, command, name, flat);
+    // A preset sets them as if given: only the user's own are noted.
+    if (args.faithful.preset == "none")
+      for (const char* name : {"--cone-test", "--leaf-test", "--child-merge"}) Note(out, command, name, flat);
     return;
   }
   if (args.algo != "crsh")

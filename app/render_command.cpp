@@ -119,6 +119,8 @@ void PrintSummary(const RenderArgs& args, const Outcome& o) {
   if (tracer.contains("subdivision"))
     how = fmt::format("subdivision {}, {} hierarchy levels, {} reduction", tracer["subdivision"].get<int>(), tracer["depth"].get<int>(),
                       tracer["reduction"].get<std::string>());
+  else if (tracer.contains("lists"))
+    how = fmt::format("{} lists, {}", tracer["lists"].get<std::uint32_t>(), tracer["node_order"].get<std::string>());
   else
     how = tracer.value("mode", tracer.value("isa", std::string()));
   std::printf("  backend     %s (%s%s)\n", backend.name.c_str(), backend.device.c_str(),

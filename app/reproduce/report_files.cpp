@@ -93,7 +93,9 @@ void WriteReport(const std::filesystem::path& out, const std::vector<Result>& re
   const std::vector<const Result*> sorted = TableOrder(results), roger_sorted = TableOrder(roger);
   Report report = thesis.empty() ? Report{} : BuildReport(thesis, published);
   if (thesis.empty())
-    report.title = roger.empty() ? "Toczek et al. 2010: its tables and ours" : "Roger et al. 2007: its claims and ours";
+    report.title = roger.empty()    ? "Toczek et al. 2010: its tables and ours"
+                   : toczek.empty() ? "Roger et al. 2007: its claims and ours"
+                                    : "Roger et al. 2007 and Toczek et al. 2010: the papers and ours";
   AddRogerReport(report, roger_sorted);
   AddToczekReport(report, TableOrder(toczek));
   for (Table& t : report.tables)
