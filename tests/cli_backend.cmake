@@ -21,7 +21,7 @@ if(PART STREQUAL "sponza")
 endif()
 
 set(cornell "${SRC}/scenes/cornell-mirrors.json")
-foreach(algo crsh rah rah-quadtree brute embree)
+foreach(algo crsh rah rah-quadtree tl brute embree)
   same_frame(cornell_${algo} "${cornell}" 96x80 --algo ${algo})
 endforeach()
 same_frame(cornell_scan "${cornell}" 96x80 --reduction scan)
