@@ -460,6 +460,7 @@ nlohmann::json MeasureDiffImpact(const DiffArgs& args, const Scene& scene, const
 }  // namespace
 
 ExitCode RunDiff(const DiffArgs& args) {
+  const bool one_sided = OneSided(args);
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height, args.bounces);
   fo.progress = args.progress || isatty(STDERR_FILENO);  // progress on stderr when someone watches
@@ -471,7 +472,8 @@ ExitCode RunDiff(const DiffArgs& args) {
   CheckFitsMachine(estimate, fo.width, fo.height, "--size", "the diff");
   const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, injection.kernel, args.Limits(), args.kernels);
   ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
-  const SceneBuffers buffers = FlattenForFrame(scene, args.faithful);
+  SceneBuffers buffers = FlattenForFrame(scene, args.faithful);
+  buffers.one_sided = one_sided;
   CheckFrameFits(gpu, fo.width, fo.height, scene.lights.size(), buffers.triangles.size());
   PrepareSaveDir(args.save_inputs);  // last: it creates the directory
   auto direct = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);

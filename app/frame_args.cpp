@@ -27,6 +27,30 @@ const Algorithm* FindAlgorithm(std::string_view name) {
   return nullptr;
 }
 
+namespace {
+
+// --algo tl's own switches.
+void AddTlOptions(CLI::App& command, FrameArgs& args) {
+  command.add_option("--lists", args.lists, "--algo tl: traversal lists, 1 (+x), 2 (+-x), 6 (+-x, +-y, +-z) or 8 (the diagonals)")
+      ->check(CLI::IsMember({1u, 2u, 6u, 8u}))
+      ->capture_default_str();
+  command
+      .add_option("--node-order", args.node_order,
+                  "--algo tl: a node's children along each list by the low end of their projection (earliest-first) "
+                  "or its high end (latest-last)")
+      ->check(CLI::IsMember({"earliest-first", "latest-last"}))
+      ->capture_default_str();
+  command
+      .add_option("--backface-cull", args.backface_cull,
+                  "--algo tl: one-sided triangles (a ray meets a triangle only from the side (v1 - v0) x (v2 - v0) points "
+                  "to; the oracle applies the same rule) and each list drops the triangles its rays can only meet from "
+                  "behind (Toczek et al.'s back-face culling)")
+      ->check(CLI::IsMember({"off", "on"}))
+      ->capture_default_str();
+}
+
+}  // namespace
+
 void AddFrameOptions(CLI::App& command, FrameArgs& args) {
   command
       .add_option("--algo", args.algo,
@@ -59,15 +83,7 @@ void AddFrameOptions(CLI::App& command, FrameArgs& args) {
                   "flat; flat on Vulkan)")
       ->check(CLI::IsMember({"flat", "tree", "auto"}))
       ->capture_default_str();
-  command.add_option("--lists", args.lists, "--algo tl: traversal lists, 1 (+x), 2 (+-x), 6 (+-x, +-y, +-z) or 8 (the diagonals)")
-      ->check(CLI::IsMember({1u, 2u, 6u, 8u}))
-      ->capture_default_str();
-  command
-      .add_option("--node-order", args.node_order,
-                  "--algo tl: a node's children along each list by the low end of their projection (earliest-first) "
-                  "or its high end (latest-last)")
-      ->check(CLI::IsMember({"earliest-first", "latest-last"}))
-      ->capture_default_str();
+  AddTlOptions(command, args);
   command.add_option("--tree-leaf", args.tree_leaf, "--objects tree, --algo tl: an object-tree node of at most this many triangles is a leaf")
       ->check(CLI::Range(1u, 1024u))
       ->capture_default_str();
@@ -213,7 +229,15 @@ emu::tl::Options MakeTlOptions(const FrameArgs& args) {
   o.order = args.node_order == "latest-last" ? emu::tl::Order::kLatestLast : emu::tl::Order::kEarliestFirst;
   o.tree.leaf_triangles = args.tree_leaf;
   if (args.tree_big_given) o.tree.big_fraction = args.tree_big;
+  o.cull = args.backface_cull == "on";
   return o;
+}
+
+bool OneSided(const FrameArgs& args) {
+  if (args.backface_cull != "on") return false;
+  if (args.algo != "tl")
+    ThrowInput("--backface-cull on: only --algo tl traces one-sided triangles (--algo {} meets both sides)", args.algo);
+  return true;
 }
 
 }  // namespace rayspace::app

@@ -46,6 +46,7 @@ struct FrameArgs {
   std::string objects = "auto";  // --objects flat|tree|auto
   std::uint32_t lists = emu::tl::Options{}.lists;  // --lists (--algo tl)
   std::string node_order = "earliest-first";      // --node-order (--algo tl)
+  std::string backface_cull = "off";              // --backface-cull (--algo tl)
   std::uint32_t tree_leaf = ObjectTreeOptions{}.leaf_triangles;  // --tree-leaf
   float tree_big = ObjectTreeOptions{}.big_fraction;             // --tree-big
   bool tree_big_given = false;  // --tree-big was given (--algo tl otherwise keeps its own default)
@@ -67,8 +68,12 @@ struct FrameArgs {
   }
 };
 
-// The traversal lists' options (--algo tl): --lists, --node-order, --tree-leaf and --tree-big.
+// The traversal lists' options (--algo tl): --lists, --node-order, --backface-cull, --tree-leaf and
+// --tree-big.
 emu::tl::Options MakeTlOptions(const FrameArgs& args);
+// Whether the frame's triangles are one-sided (SceneBuffers::one_sided): --backface-cull on, which
+// only --algo tl traces (InputError for another tracer, which would answer two-sided).
+bool OneSided(const FrameArgs& args);
 
 // Registers --algo, --lists, --node-order, --subdivision, --levels (alias --depth), --bounces, --objects, --tree-leaf, --tree-big, --reduction, --component-size, --pair-capacity, --size,
 // --data, --device, --split-bytes, --max-groups, --kernel, --schedule, --check-workgroups and the

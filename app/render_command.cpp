@@ -120,7 +120,8 @@ void PrintSummary(const RenderArgs& args, const Outcome& o) {
     how = fmt::format("subdivision {}, {} hierarchy levels, {} reduction", tracer["subdivision"].get<int>(), tracer["depth"].get<int>(),
                       tracer["reduction"].get<std::string>());
   else if (tracer.contains("lists"))
-    how = fmt::format("{} lists, {}", tracer["lists"].get<std::uint32_t>(), tracer["node_order"].get<std::string>());
+    how = fmt::format("{} lists, {}{}", tracer["lists"].get<std::uint32_t>(), tracer["node_order"].get<std::string>(),
+                      tracer.value("backface_culling", false) ? ", back-face culling: one-sided triangles" : "");
   else
     how = tracer.value("mode", tracer.value("isa", std::string()));
   std::printf("  backend     %s (%s%s)\n", backend.name.c_str(), backend.device.c_str(),
@@ -188,6 +189,7 @@ void PrintMismatchVerdict(const refs::Oracle& oracle) {
 
 ExitCode RunRender(const RenderArgs& args) {
   if (args.threads > 0) SetThreadCount(args.threads);
+  const bool one_sided = OneSided(args);  // before any work: a bad switch fails first
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height, args.bounces);
   fo.progress = args.progress || isatty(STDERR_FILENO);  // progress on stderr when someone watches
@@ -198,7 +200,8 @@ ExitCode RunRender(const RenderArgs& args) {
   CheckFitsMachine(estimate, fo.width, fo.height);
 
   const Backend backend = MakeRenderBackend(args);
-  const SceneBuffers buffers = FlattenForFrame(scene, args.faithful);
+  SceneBuffers buffers = FlattenForFrame(scene, args.faithful);
+  buffers.one_sided = one_sided;
   CheckFrameFits(backend, fo.width, fo.height, scene.lights.size(), buffers.triangles.size());
   const std::unique_ptr<RenderedFrame> f = RenderOnBackend(args, scene, buffers, fo, backend);
   const emu::FrameResult& r = f->result;

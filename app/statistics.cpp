@@ -149,13 +149,32 @@ nlohmann::json TlJson(const Statistics& s) {
                                      {"triangle_tests", t.final_tests},
                                      {"spheres_per_ray", PerRay(t.tl_sphere_tests, t.rays)},
                                      {"triangles_per_ray", PerRay(t.final_tests, t.rays)}};
-  for (const Statistics::TlList& l : s.tl_lists)
-    lists.push_back({{"rays", l.rays},
-                     {"sphere_tests", l.spheres},
-                     {"triangle_tests", l.triangles},
-                     {"elements_per_ray", PerRay(l.spheres + l.triangles, l.rays)}});
-  return {{"lists", sh.lists},         {"tree_nodes", sh.nodes},  {"triangle_references", sh.triangle_refs},
-          {"elements_per_list", sh.nodes + sh.triangle_refs}, {"bytes", sh.bytes}, {"per_type", types},
+  std::uint64_t held = 0;  // elements over all lists
+  for (std::size_t k = 0; k < s.tl_lists.size(); ++k) {
+    const Statistics::TlList& l = s.tl_lists[k];
+    nlohmann::json one = {{"rays", l.rays},
+                          {"sphere_tests", l.spheres},
+                          {"triangle_tests", l.triangles},
+                          {"elements_per_ray", PerRay(l.spheres + l.triangles, l.rays)}};
+    if (k < sh.list_elements.size()) {
+      held += sh.list_elements[k];
+      one["elements"] = sh.list_elements[k];
+      one["culled_triangles"] = sh.list_culled[k];
+      one["culled_fraction"] = PerRay(sh.list_culled[k], sh.triangle_refs);
+    }
+    lists.push_back(std::move(one));
+  }
+  const std::uint64_t tree = std::uint64_t{sh.nodes} + sh.triangle_refs;
+  // The paper's "redundancy": how many copies of the tree the K lists hold together.
+  return {{"lists", sh.lists},
+          {"backface_culling", sh.culled},
+          {"tree_nodes", sh.nodes},
+          {"triangle_references", sh.triangle_refs},
+          {"elements_per_list", tree},
+          {"elements_in_lists", held},
+          {"copies_of_tree", tree ? static_cast<double>(held) / static_cast<double>(tree) : 0.0},
+          {"bytes", sh.bytes},
+          {"per_type", types},
           {"per_list", lists}};
 }
 
@@ -272,9 +291,13 @@ void Statistics::Print(std::FILE* out) const {
     for (const auto& [kind, t] : types)
       std::fprintf(out, "  %-11s %10.1f spheres + %8.1f triangles per ray\n", emu::RayKindName(kind), PerRay(t.tl_sphere_tests, t.rays),
                    PerRay(t.final_tests, t.rays));
-    for (std::size_t k = 0; k < tl_lists.size(); ++k)
-      std::fprintf(out, "  list %zu: %llu rays, %.1f elements per ray\n", k, static_cast<unsigned long long>(tl_lists[k].rays),
+    for (std::size_t k = 0; k < tl_lists.size(); ++k) {
+      std::fprintf(out, "  list %zu: %llu rays, %.1f elements per ray", k, static_cast<unsigned long long>(tl_lists[k].rays),
                    PerRay(tl_lists[k].spheres + tl_lists[k].triangles, tl_lists[k].rays));
+      if (sh.culled && k < sh.list_elements.size())
+        std::fprintf(out, "; %u elements, %.1f%% of the triangles culled", sh.list_elements[k], 100.0 * PerRay(sh.list_culled[k], sh.triangle_refs));
+      std::fprintf(out, "\n");
+    }
   }
   // Each type's tests against its own brute force (rays of the type x triangles), then the frame's.
   for (const auto& [kind, t] : types)

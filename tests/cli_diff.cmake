@@ -431,6 +431,14 @@ foreach(f tl.lists:1 tl.lists:2 tl.lists:3 tl.trace:1 tl.trace:2 tl.trace:3)
   string(REGEX REPLACE ":.*" "" pass "${f}")
   diff_case(fault.tl.${f} cornell-mirrors 48x48 ${f} 4 ${pass} --algo tl)
 endforeach()
+# Back-face culling: the lists' four phases with triangles dropped per list, one-sided walks; the
+# culling faults (fronts dropped, backs kept) caught in their passes.
+diff_case(cornell.tl.cull cornell-mirrors 48x48 "" 0 "" --algo tl --backface-cull on)
+diff_case(glass.tl.cull-8 glass 64x64 "" 0 "" --algo tl --lists 8 --backface-cull on --local-size 32)
+foreach(f tl.lists:4 tl.trace:4)
+  string(REGEX REPLACE ":.*" "" pass "${f}")
+  diff_case(fault.tl.cull.${f} cornell-mirrors 48x48 ${f} 4 ${pass} --algo tl --backface-cull on)
+endforeach()
 # A traversal-list call saved by a diff replays as the call it was: with its fault reproduced, without
 # it equal; the lists' call replays equal.
 diff_case(replay.tl cornell-mirrors 48x48 tl.trace:2 4 tl.trace --algo tl --save-inputs "${case_work}/saved")

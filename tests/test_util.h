@@ -142,6 +142,21 @@ inline layout::Ray MakeRay(glm::vec3 o, glm::vec3 d, std::uint32_t ignore = layo
   return r;
 }
 
+// A triangle from three points (w = 1, as the scene buffers hold them).
+inline layout::Triangle MakeTriangle(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+  return {glm::vec4(a, 1.0f), glm::vec4(b, 1.0f), glm::vec4(c, 1.0f)};
+}
+
+// A ray from o along d over (tmin, tmax), ignoring primitive `ignore`.
+inline layout::Ray MakeSegment(glm::vec3 o, glm::vec3 d, float tmin = 0.0f, float tmax = std::numeric_limits<float>::infinity(),
+                               std::uint32_t ignore = layout::kNoPrim) {
+  layout::Ray r{};
+  r.origin_tmin = glm::vec4(o, tmin);
+  r.direction_tmax = glm::vec4(d, tmax);
+  r.info = glm::uvec4(0u, ignore, 0u, 0u);
+  return r;
+}
+
 // A closed unit sphere mesh at the origin as one object.
 inline Scene SphereScene(int segments, int rings) {
   Scene s;

@@ -20,6 +20,8 @@
 #include "test_util.h"
 
 namespace tl = rayspace::emu::tl;
+using rayspace::test::MakeSegment;
+using rayspace::test::MakeTriangle;
 using rayspace::emu::HitPrim;
 using rayspace::emu::HitT;
 using rayspace::emu::kMissPacked;
@@ -29,16 +31,6 @@ using rayspace::layout::Ray;
 using rayspace::layout::Triangle;
 
 namespace {
-
-Triangle Tri(glm::vec3 a, glm::vec3 b, glm::vec3 c) { return {glm::vec4(a, 1.0f), glm::vec4(b, 1.0f), glm::vec4(c, 1.0f)}; }
-
-Ray MakeRay(glm::vec3 o, glm::vec3 d, float tmin = 0.0f, float tmax = INFINITY, std::uint32_t ignore = kNoPrim) {
-  Ray r{};
-  r.origin_tmin = glm::vec4(o, tmin);
-  r.direction_tmax = glm::vec4(d, tmax);
-  r.info = glm::uvec4(0u, ignore, 0u, 0u);
-  return r;
-}
 
 // Every triangle, as the direct tracer's exhaustive mode tests them.
 std::uint64_t BruteClosest(const std::vector<Triangle>& tris, const Ray& ray) {
@@ -75,7 +67,7 @@ std::vector<tl::Escape> Escapes(const tl::Lists& l, std::uint32_t k) {
 // on -y: C, A, B; on +-z all equal: A, B, C. Each list is R, X, Tx, Y, Ty, Z, Tz with escapes
 //   R: -1 (its subtree is the list), X: 2, Tx: 1, Y: 2, Ty: 1, Z: -1 (no super-sibling), Tz: 0 (last).
 std::vector<Triangle> HandScene() {
-  return {Tri({0, 0, 0}, {1, 0, 0}, {0, 1, 0}), Tri({10, 0, 0}, {9, 0, 0}, {10, 1, 0}), Tri({0, 10, 0}, {1, 10, 0}, {0, 9, 0})};
+  return {MakeTriangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0}), MakeTriangle({10, 0, 0}, {9, 0, 0}, {10, 1, 0}), MakeTriangle({0, 10, 0}, {1, 10, 0}, {0, 9, 0})};
 }
 tl::Options HandOptions(std::uint32_t lists) {
   tl::Options o;
@@ -113,7 +105,7 @@ TEST_CASE("tl: the hand-worked scene's walks") {
   // Down onto T1 at (9.7, 0.2): list -z (R, A, T0, B, T1, C, T2). R hit, A missed (escape 2 to B), B hit, T1 hit at
   // t = 5, C missed and its escape -1 ends the walk: 4 spheres, 1 triangle.
   tl::Stats s;
-  const Ray down = MakeRay({9.7f, 0.2f, 5.0f}, {0, 0, -1});
+  const Ray down = MakeSegment({9.7f, 0.2f, 5.0f}, {0, 0, -1});
   CHECK(tl::ListFor(6, {0, 0, -1}) == 5);
   CHECK(tl::Closest(l, down, &s) == PackHit(5.0f, 1));
   CHECK(s.spheres == 4);
@@ -125,23 +117,23 @@ TEST_CASE("tl: the hand-worked scene's walks") {
   CHECK(s.triangles == 1);
   // Through the middle: R hit, A, B, C missed by escapes, no triangle tested.
   s = {};
-  CHECK(tl::Closest(l, MakeRay({5, 5, 5}, {0, 0, -1}), &s) == kMissPacked);
+  CHECK(tl::Closest(l, MakeSegment({5, 5, 5}, {0, 0, -1}), &s) == kMissPacked);
   CHECK(s.spheres == 4);
   CHECK(s.triangles == 0);
   // Outside the root: its escape -1 ends the walk at once.
   s = {};
-  CHECK_FALSE(tl::Any(l, MakeRay({20, 20, 5}, {0, 0, -1}), &s));
+  CHECK_FALSE(tl::Any(l, MakeSegment({20, 20, 5}, {0, 0, -1}), &s));
   CHECK(s.spheres == 1);
   // The interval is open: a hit at exactly tmax or tmin is not one.
-  CHECK(tl::Closest(l, MakeRay({9.7f, 0.2f, 5.0f}, {0, 0, -1}, 0.0f, 5.0f)) == kMissPacked);
-  CHECK(tl::Closest(l, MakeRay({9.7f, 0.2f, 5.0f}, {0, 0, -1}, 5.0f, INFINITY)) == kMissPacked);
-  CHECK(tl::Closest(l, MakeRay({9.7f, 0.2f, 5.0f}, {0, 0, -1}, 0.0f, 5.0f + 1e-5f)) == PackHit(5.0f, 1));
-  CHECK_FALSE(tl::Any(l, MakeRay({9.7f, 0.2f, 5.0f}, {0, 0, -1}, 0.0f, INFINITY, 1)));
+  CHECK(tl::Closest(l, MakeSegment({9.7f, 0.2f, 5.0f}, {0, 0, -1}, 0.0f, 5.0f)) == kMissPacked);
+  CHECK(tl::Closest(l, MakeSegment({9.7f, 0.2f, 5.0f}, {0, 0, -1}, 5.0f, INFINITY)) == kMissPacked);
+  CHECK(tl::Closest(l, MakeSegment({9.7f, 0.2f, 5.0f}, {0, 0, -1}, 0.0f, 5.0f + 1e-5f)) == PackHit(5.0f, 1));
+  CHECK_FALSE(tl::Any(l, MakeSegment({9.7f, 0.2f, 5.0f}, {0, 0, -1}, 0.0f, INFINITY, 1)));
 }
 
 TEST_CASE("tl: the two orders differ where the projections do") {
   // U0 spans x in [0, 4], U1 x in [1, 2]: earliest first (by lo) U0, U1; latest last (by hi) U1, U0.
-  const std::vector<Triangle> tris{Tri({0, 0, 0}, {4, 0, 0}, {0, 1, 0}), Tri({1, 0, 1}, {2, 0, 1}, {1, 1, 1})};
+  const std::vector<Triangle> tris{MakeTriangle({0, 0, 0}, {4, 0, 0}, {0, 1, 0}), MakeTriangle({1, 0, 1}, {2, 0, 1}, {1, 1, 1})};
   tl::Options o;
   o.lists = 1;
   tl::Lists l = tl::Build(tris, o);
@@ -174,7 +166,7 @@ std::vector<Triangle> Soup(std::uint32_t n, std::uint32_t seed) {
   for (std::uint32_t i = 0; i < n; ++i) {
     const glm::vec3 c(u(rng), u(rng), u(rng));
     const float s = i % 10 == 0 ? 0.6f : 0.06f;
-    t.push_back(Tri(c + s * glm::vec3(u(rng), u(rng), u(rng)), c + s * glm::vec3(u(rng), u(rng), u(rng)),
+    t.push_back(MakeTriangle(c + s * glm::vec3(u(rng), u(rng), u(rng)), c + s * glm::vec3(u(rng), u(rng), u(rng)),
                     c + s * glm::vec3(u(rng), u(rng), u(rng))));
   }
   return t;
@@ -195,12 +187,12 @@ std::vector<Ray> Rays(const std::vector<Triangle>& tris, std::uint32_t n, std::u
     const glm::vec3 p = glm::vec3(t.v0) + a * (glm::vec3(t.v1) - glm::vec3(t.v0)) + b * (glm::vec3(t.v2) - glm::vec3(t.v0));
     glm::vec3 d = i % 4 == 3 ? glm::vec3(u(rng), u(rng), u(rng)) : (p - o) * (0.5f + w(rng));
     if (i % 16 == 5) d = axes[(i / 16) % 5];
-    rays.push_back(MakeRay(o, d, i % 8 == 1 ? 0.3f : 0.0f, i % 8 == 2 ? 0.7f : INFINITY));
+    rays.push_back(MakeSegment(o, d, i % 8 == 1 ? 0.3f : 0.0f, i % 8 == 2 ? 0.7f : INFINITY));
     const std::uint64_t h = BruteClosest(tris, rays.back());
     if (h == kMissPacked) continue;
-    rays.push_back(MakeRay(o, d, 0.0f, HitT(h)));
-    rays.push_back(MakeRay(o, d, HitT(h), INFINITY));
-    rays.push_back(MakeRay(o, d, 0.0f, INFINITY, HitPrim(h)));
+    rays.push_back(MakeSegment(o, d, 0.0f, HitT(h)));
+    rays.push_back(MakeSegment(o, d, HitT(h), INFINITY));
+    rays.push_back(MakeSegment(o, d, 0.0f, INFINITY, HitPrim(h)));
   }
   return rays;
 }
@@ -281,7 +273,7 @@ TEST_CASE("tl: every list count and order gives brute force's hits on the bunny"
   const rayspace::MeshData mesh = rayspace::LoadPly(rayspace::test::DataRoot() / "bunny/bun_zipper_res4.ply");
   std::vector<Triangle> tris;
   for (const rayspace::SubMesh& m : mesh.submeshes)
-    for (std::size_t i = 0; i + 2 < m.positions.size(); i += 3) tris.push_back(Tri(m.positions[i], m.positions[i + 1], m.positions[i + 2]));
+    for (std::size_t i = 0; i + 2 < m.positions.size(); i += 3) tris.push_back(MakeTriangle(m.positions[i], m.positions[i + 1], m.positions[i + 2]));
   REQUIRE(tris.size() > 500);
   tl::Options o;
   CheckInvariants(tris, tl::Build(tris, o));
@@ -309,7 +301,7 @@ TEST_CASE("tl: the build is deterministic") {
 }
 
 TEST_CASE("tl: coincident centroids end the build, and an empty scene is an empty walk") {
-  std::vector<Triangle> tris(40, Tri({0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
+  std::vector<Triangle> tris(40, MakeTriangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0}));
   const std::vector<Triangle> more = Soup(40, 5);
   tris.insert(tris.end(), more.begin(), more.end());
   const tl::Lists l = tl::Build(tris, {});
@@ -317,8 +309,8 @@ TEST_CASE("tl: coincident centroids end the build, and an empty scene is an empt
   CheckAgainstBrute(tris, Rays(tris, 100, 17, 1.0f));
   const tl::Lists empty = tl::Build(std::vector<Triangle>{}, {});
   CHECK(empty.escapes.empty());
-  CHECK(tl::Closest(empty, MakeRay({0, 0, 1}, {0, 0, -1})) == kMissPacked);
-  CHECK_FALSE(tl::Any(empty, MakeRay({0, 0, 1}, {0, 0, -1})));
+  CHECK(tl::Closest(empty, MakeSegment({0, 0, 1}, {0, 0, -1})) == kMissPacked);
+  CHECK_FALSE(tl::Any(empty, MakeSegment({0, 0, 1}, {0, 0, -1})));
 }
 
 TEST_CASE("tl: the sphere test keeps every sphere the ray's part truly meets") {
@@ -459,7 +451,7 @@ TEST_CASE("tl: calls whose inputs break the contract are refused, naming the cal
   CHECK(lists_error(bad, dirs).find("no children and no triangles") != std::string::npos);
 
   const tl::Lists l = tl::Build(tris, {});
-  const std::vector<Ray> rays{MakeRay({0, 0, 2}, {0, 0, -1})};
+  const std::vector<Ray> rays{MakeSegment({0, 0, 2}, {0, 0, -1})};
   auto trace_error = [&](std::vector<std::uint32_t> escapes, std::vector<std::uint32_t> first) {
     return InputErrorOf([&] {
       rayspace::emu::CheckInputs(

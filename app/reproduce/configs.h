@@ -44,6 +44,7 @@ struct Config {
   // --algo tl: the lists and their order (toczek); 0 and empty for the hierarchy's tracers.
   std::uint32_t lists = 0;
   std::string node_order;
+  bool cull = false;  // --algo tl --backface-cull on
   bool tl() const { return algo == "tl"; }
   bool quadtree() const { return algo == "rah-quadtree"; }
   // Every setting that changes the counts, as one line (part of the result's key).

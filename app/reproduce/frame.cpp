@@ -13,6 +13,7 @@ app::RenderArgs Args(const Config& c) {
   if (c.tl()) {
     args.lists = c.lists;
     args.node_order = c.node_order;
+    args.backface_cull = c.cull ? "on" : "off";
   } else if (!c.quadtree()) {
     args.subdivision = c.subdivision;
     args.depth = c.levels;

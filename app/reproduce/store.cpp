@@ -44,6 +44,7 @@ nlohmann::json ConfigJson(const Config& c) {
   if (!c.faithful.empty()) j["faithful"] = c.faithful;
   if (c.one_object) j["one_object"] = true;
   if (c.tl()) j["lists"] = c.lists, j["node_order"] = c.node_order;
+  if (c.cull) j["cull"] = true;
   return j;
 }
 
@@ -63,6 +64,7 @@ Config ConfigFromJson(const nlohmann::json& j) {
   c.path = j.value("path", std::string());
   c.lists = j.value("lists", 0u);
   c.node_order = j.value("node_order", std::string());
+  c.cull = j.value("cull", false);
   return c;
 }
 

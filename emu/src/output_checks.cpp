@@ -391,14 +391,19 @@ void CheckOutputs(const call::TlLists& c, const TlListArrays* r, const OutputSou
   const std::size_t e = c.tree.Elements(), total = c.directions.size() * e;
   k.Size("escapes", r->escapes.size(), total);
   k.Size("words", r->words.size(), total);
-  std::vector<std::uint32_t> first;
-  for (std::size_t j = 0; j <= c.directions.size(); ++j) first.push_back(static_cast<std::uint32_t>(j * e));
+  k.Size("lengths", r->lengths.size(), c.directions.size());
+  k.Below("lengths", r->lengths, e + 1);
+  // Without culling every list holds every element.
+  if (c.cull == 0)
+    for (std::size_t j = 0; j < r->lengths.size(); ++j)
+      if (r->lengths[j] != e) k.Fail("lengths", j, "is {}, the tree has {} elements", r->lengths[j], e);
+  const tl::Packed p = tl::Pack(*r, e, c.kName);
   std::size_t bad = 0;
-  const std::string why = tl::ListsError({first, r->escapes, r->words, c.tree.tl_vertices}, &bad);
+  const std::string why = tl::ListsError({p.first, p.escapes, p.words, c.tree.tl_vertices}, &bad);
   if (!why.empty()) k.Fail("escapes", bad, "makes no list ({})", why);
-  for (std::size_t i = 0; i < total; ++i)
-    if (tl::IsTriangle(static_cast<tl::Escape>(r->escapes[i])) && r->words[i].w >= c.tree.tl_tri_words.size())
-      k.Fail("words", i, "names triangle {}, out of range [0, {})", r->words[i].w, c.tree.tl_tri_words.size());
+  for (std::size_t i = 0; i < p.words.size(); ++i)
+    if (tl::IsTriangle(static_cast<tl::Escape>(p.escapes[i])) && p.words[i].w >= c.tree.tl_tri_words.size())
+      k.Fail("words", i, "names triangle {}, out of range [0, {})", p.words[i].w, c.tree.tl_tri_words.size());
 }
 
 void CheckOutputs(const call::TlTrace& c, const TlWalks* r, const OutputSource& from) {

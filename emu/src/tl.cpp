@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <unordered_map>
@@ -121,16 +122,54 @@ std::uint64_t Lists::Bytes() const {
          first.size() * sizeof(std::uint32_t);
 }
 
-Lists Assemble(const Tree& tree, std::uint32_t count, TlListArrays arrays) {
+Packed Pack(const TlListArrays& a, std::size_t slot, std::string_view what) {
+  const std::size_t k = a.lengths.size();
+  if (a.escapes.size() < k * slot || a.words.size() < k * slot)
+    ThrowInput("{}: {} escapes and {} words for {} lists of up to {} elements", what, a.escapes.size(), a.words.size(), k, slot);
+  Packed p;
+  p.first.push_back(0);
+  for (std::size_t j = 0; j < k; ++j) {
+    const std::uint32_t n = a.lengths[j];
+    if (n > slot) ThrowInput("{}: list {} holds {} elements, beyond its {}", what, j, n, slot);
+    p.escapes.insert(p.escapes.end(), a.escapes.begin() + j * slot, a.escapes.begin() + j * slot + n);
+    p.words.insert(p.words.end(), a.words.begin() + j * slot, a.words.begin() + j * slot + n);
+    p.first.push_back(static_cast<std::uint32_t>(p.escapes.size()));
+  }
+  return p;
+}
+
+Lists Assemble(const Tree& tree, std::uint32_t count, TlListArrays arrays, bool one_sided) {
   Lists out;
   out.count = count;
   for (const glm::vec4& d : Directions(count)) out.directions.push_back(Xyz(d));
-  const std::uint32_t e = static_cast<std::uint32_t>(tree.links.size() + tree.triangles.size());
-  for (std::uint32_t k = 0; k <= count; ++k) out.first.push_back(k * e);
-  out.escapes = std::move(arrays.escapes);
-  out.words = std::move(arrays.words);
+  Packed p = Pack(arrays, tree.links.size() + tree.triangles.size(), "tl.lists");
+  RS_CHECK(p.first.size() == count + 1);
+  out.first = std::move(p.first);
+  out.escapes = std::move(p.escapes);
+  out.words = std::move(p.words);
   out.vertices = tree.vertices;
+  out.one_sided = one_sided;
   return out;
+}
+
+// The corners of a class: for 6 lists s e_a + (+-e_b) + (+-e_c), so g . n >= 0 at all four is
+// s n_a >= |n_b| + |n_c|; for 8 lists the axes s_x e_x, s_y e_y, s_z e_z. The margin scales with
+// |e1| |e2| and |g|_1: float n is within about 2^-20 |e1| |e2| per component (the edges' and the
+// products' rounding), so a culled triangle is one whose exact normal passes the exact test.
+bool Culled(glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, std::uint32_t count, std::uint32_t k) {
+  if (count != 6 && count != 8) return false;
+  const glm::vec3 e1 = v1 - v0, e2 = v2 - v0;
+  const glm::vec3 n = Cross(e1, e2);
+  const float m = layout::kTlCullMargin * (MaxAbs(e1, e1) * MaxAbs(e2, e2));
+  // Tiny or huge edges (a margin below the normal range, an overflow, a NaN) are never dropped.
+  if (!(m >= 0x1p-100f && m <= 0x1p100f)) return false;
+  if (count == 8) {
+    const float sx = (k & 1u) ? -n.x : n.x, sy = (k & 2u) ? -n.y : n.y, sz = (k & 4u) ? -n.z : n.z;
+    return sx > m && sy > m && sz > m;
+  }
+  const std::uint32_t a = k / 2u, b = a == 2u ? 0u : a + 1u, c = b == 2u ? 0u : b + 1u;
+  const float na = (k & 1u) ? -n[a] : n[a];
+  return na - (Abs(n[b]) + Abs(n[c])) > 3.0f * m;
 }
 
 Lists Build(std::span<const layout::Triangle> triangles, const Options& options) {
@@ -138,7 +177,11 @@ Lists Build(std::span<const layout::Triangle> triangles, const Options& options)
   const Tree tree = PrepareTree(triangles, options.tree);
   const std::vector<glm::vec4> dirs = Directions(options.lists);
   return Assemble(tree, options.lists,
-                  PassTlLists({.tree = tree.View(), .directions = dirs, .order = static_cast<std::uint32_t>(options.order)}));
+                  PassTlLists({.tree = tree.View(),
+                               .directions = dirs,
+                               .order = static_cast<std::uint32_t>(options.order),
+                               .cull = options.cull ? 1u : 0u}),
+                  options.cull);
 }
 
 std::uint32_t ListFor(std::uint32_t count, glm::vec3 dir) {
@@ -189,9 +232,10 @@ struct Walker {
   bool Triangle(const Word& w) {
     ++stats.triangles;
     if (w.w == ignore) return false;
-    float t;
-    if (!IntersectWatertight(wr, Xyz(lists.vertices[w.x]), Xyz(lists.vertices[w.y]), Xyz(lists.vertices[w.z]), tmin, tmax, t))
+    float t, det;
+    if (!IntersectWatertight(wr, Xyz(lists.vertices[w.x]), Xyz(lists.vertices[w.y]), Xyz(lists.vertices[w.z]), tmin, tmax, t, &det))
       return false;
+    if (lists.one_sided && !(det > 0.0f)) return false;  // met from behind
     best = std::min(best, PackHit(t, w.w));
     return true;
   }
@@ -228,7 +272,7 @@ void AddStats(Stats* to, const Stats& s) {
   to->triangles += s.triangles;
 }
 
-ListsView ViewOf(const Lists& l) { return {l.first, l.escapes, l.words, l.vertices}; }
+ListsView ViewOf(const Lists& l) { return {l.first, l.escapes, l.words, l.vertices, l.one_sided}; }
 
 }  // namespace
 
@@ -275,11 +319,38 @@ bool Any(const Lists& lists, const layout::Ray& ray, Stats* stats) { return Walk
 namespace rayspace::emu {
 namespace {
 
-// tl_lists.comp's invocation (list k, element e) in phase Rank: e's offset after its parent, 1 + the
-// subtrees of the siblings ordered before it (the roots: the subtrees of the roots before it).
-struct Ranker {
+// tl_lists.comp's invocations, one per (list k, element e), phase by phase. `kept` holds per (list,
+// node) the kept triangles and kept nodes of its subtree; a node's size in list k is their sum when
+// a triangle is kept below it, else 0 (it is dropped).
+struct ListsPass {
   const call::TlLists& c;
-  std::uint32_t nodes;
+  std::uint32_t nodes, K;
+  std::vector<glm::uvec2>& kept;
+  std::vector<std::uint32_t>& rel;
+
+  std::uint32_t E() const { return static_cast<std::uint32_t>(c.tree.Elements()); }
+  bool TriangleKept(std::uint32_t k, std::uint32_t ref) const {
+    if (c.cull == 0) return true;
+    const glm::uvec4 w = c.tree.tl_tri_words[c.tree.tl_triangles[ref]];
+    const auto& v = c.tree.tl_vertices;
+    return !tl::Culled(Xyz(v[w.x]), Xyz(v[w.y]), Xyz(v[w.z]), K, k);
+  }
+  std::uint32_t NodeSize(std::uint32_t k, std::uint32_t n) const {
+    const glm::uvec2 x = kept[std::size_t{k} * nodes + n];
+    return x.x == 0 ? 0u : x.x + x.y;
+  }
+  // Phase Triangles and phase Nodes: integer additions, the same sums in any order.
+  void AddUp(std::uint32_t k, std::uint32_t from, int component) {
+    std::uint32_t x = from;
+    for (std::uint32_t d = 0; d <= layout::kTlMaxDepth && x != layout::kTlNoParent; ++d, x = c.tree.tl_parents[x])
+      std::atomic_ref<std::uint32_t>(kept[std::size_t{k} * nodes + x][component]).fetch_add(1, std::memory_order_relaxed);
+  }
+  void Triangles(std::uint32_t k, std::uint32_t e) {
+    if (e >= nodes && TriangleKept(k, e - nodes)) AddUp(k, c.tree.tl_owners[e - nodes], 0);
+  }
+  void Nodes(std::uint32_t k, std::uint32_t e) {
+    if (e < nodes && kept[std::size_t{k} * nodes + e].x > 0) AddUp(k, e, 1);
+  }
 
   std::uint32_t Key(glm::vec3 axis, std::uint32_t parent, std::uint32_t sibling) const {
     const glm::uvec4 l = c.tree.tl_links[parent];
@@ -288,24 +359,30 @@ struct Ranker {
     const auto& v = c.tree.tl_vertices;
     return tl::TriangleKey(Xyz(v[w.x]), Xyz(v[w.y]), Xyz(v[w.z]), axis, c.order);
   }
-  std::uint32_t Size(std::uint32_t parent, std::uint32_t sibling) const {
+  // Sibling s of `parent`'s children (own triangles first, then child nodes) in list k: its kept
+  // elements.
+  std::uint32_t Size(std::uint32_t k, std::uint32_t parent, std::uint32_t sibling) const {
     const glm::uvec4 l = c.tree.tl_links[parent];
-    return sibling >= l.w ? c.tree.tl_sizes[l.x + sibling - l.w] : 1u;
+    return sibling >= l.w ? NodeSize(k, l.x + sibling - l.w) : (TriangleKept(k, l.z + sibling) ? 1u : 0u);
   }
-  std::uint32_t RootOffset(std::uint32_t n) const {
+  // The kept elements of the roots before `n` (n = kTlNoParent: of every root, the list's length).
+  std::uint32_t RootOffset(std::uint32_t k, std::uint32_t n) const {
     std::uint32_t rel = 0;
     for (const std::uint32_t r : c.tree.tl_roots) {
       if (r == n) break;
-      rel += c.tree.tl_sizes[r];
+      rel += NodeSize(k, r);
     }
     return rel;
   }
-  std::uint32_t Rel(std::uint32_t k, std::uint32_t e) const {
+  bool Kept(std::uint32_t k, std::uint32_t e) const { return e < nodes ? NodeSize(k, e) > 0 : TriangleKept(k, e - nodes); }
+  // Phase Rank: a kept element's offset after its parent.
+  std::uint32_t Rank(std::uint32_t k, std::uint32_t e) const {
+    if (!Kept(k, e)) return 0;
     const glm::vec3 axis = Xyz(c.directions[k]);
     std::uint32_t parent, me;  // me: e's place among its parent's children (own triangles first)
     if (e < nodes) {
       parent = c.tree.tl_parents[e];
-      if (parent == layout::kTlNoParent) return RootOffset(e);
+      if (parent == layout::kTlNoParent) return RootOffset(k, e);
       const glm::uvec4 l = c.tree.tl_links[parent];
       me = l.w + (e - l.x);
     } else {
@@ -314,33 +391,21 @@ struct Ranker {
     }
     const glm::uvec4 l = c.tree.tl_links[parent];
     const std::uint32_t siblings = l.w + l.y, key = Key(axis, parent, me);
-    std::uint32_t rel = 1;
+    std::uint32_t r = 1;
     for (std::uint32_t b = 0; b < siblings; b += layout::kTlLoopBlock)
       for (std::uint32_t s = b; s < std::min(siblings, b + layout::kTlLoopBlock); ++s) {
         const std::uint32_t ks = Key(axis, parent, s);
-        if (ks < key || (ks == key && s < me)) rel += Size(parent, s);
+        if (ks < key || (ks == key && s < me)) r += Size(k, parent, s);
       }
-    return rel;
+    return r;
   }
-};
-
-}  // namespace
-
-TlListArrays PassTlLists(const call::TlLists& c) {
-  const std::uint32_t nodes = static_cast<std::uint32_t>(c.tree.Nodes()), E = static_cast<std::uint32_t>(c.tree.Elements());
-  const std::uint32_t K = static_cast<std::uint32_t>(c.directions.size());
-  const std::size_t total = std::size_t{K} * E;
-  std::vector<std::uint32_t> rel(total);
-  const Ranker ranker{c, nodes};
-  ParallelFor(total, [&](std::size_t g) { rel[g] = ranker.Rel(static_cast<std::uint32_t>(g / E), static_cast<std::uint32_t>(g % E)); });
-  // Phase Place: the position is the offsets summed up to the root.
-  TlListArrays out;
-  out.escapes.assign(total, 0);
-  out.words.assign(total, glm::uvec4(0));
-  ParallelFor(total, [&](std::size_t g) {
-    const std::uint32_t k = static_cast<std::uint32_t>(g / E), e = static_cast<std::uint32_t>(g % E);
-    const std::size_t base = std::size_t{k} * E;
-    std::uint32_t pos = rel[g];
+  // Phase Place: a kept element's position is the offsets summed up to its root.
+  void Place(std::uint32_t k, std::uint32_t e, TlListArrays& out) const {
+    const std::uint32_t length = RootOffset(k, layout::kTlNoParent);
+    if (e == 0) out.lengths[k] = length;
+    if (!Kept(k, e)) return;
+    const std::size_t base = std::size_t{k} * E();
+    std::uint32_t pos = rel[base + e];
     std::uint32_t x = e < nodes ? c.tree.tl_parents[e] : c.tree.tl_owners[e - nodes];
     for (std::uint32_t d = 0; d <= layout::kTlMaxDepth && x != layout::kTlNoParent; ++d, x = c.tree.tl_parents[x]) pos += rel[base + x];
     std::uint32_t escape;
@@ -349,22 +414,46 @@ TlListArrays PassTlLists(const call::TlLists& c) {
       const glm::vec4 s = c.tree.tl_spheres[e];
       word = {std::bit_cast<std::uint32_t>(s.x), std::bit_cast<std::uint32_t>(s.y), std::bit_cast<std::uint32_t>(s.z),
               std::bit_cast<std::uint32_t>(s.w)};
-      escape = c.tree.tl_sizes[e];
-      if (pos + escape >= E) escape = layout::kTlEscapeNone;
+      escape = NodeSize(k, e);
+      if (pos + escape >= length) escape = layout::kTlEscapeNone;
     } else {
       word = c.tree.tl_tri_words[c.tree.tl_triangles[e - nodes]];
-      escape = pos + 1 >= E ? layout::kTlEscapeLast : 1u;
+      escape = pos + 1 >= length ? layout::kTlEscapeLast : 1u;
     }
     out.escapes[base + pos] = escape;
     out.words[base + pos] = word;
-  });
+  }
+};
+
+}  // namespace
+
+// Four phases, each a dispatch over every (list, element), each reading only what the phases before
+// wrote (the scratch arrays `kept` and `rel`).
+TlListArrays PassTlLists(const call::TlLists& c) {
+  const std::uint32_t nodes = static_cast<std::uint32_t>(c.tree.Nodes()), E = static_cast<std::uint32_t>(c.tree.Elements());
+  const std::uint32_t K = static_cast<std::uint32_t>(c.directions.size());
+  const std::size_t total = std::size_t{K} * E;
+  std::vector<glm::uvec2> kept(std::size_t{K} * nodes, glm::uvec2(0));
+  std::vector<std::uint32_t> rel(total, 0);
+  ListsPass pass{c, nodes, K, kept, rel};
+  auto k_of = [&](std::size_t g) { return static_cast<std::uint32_t>(g / E); };
+  auto e_of = [&](std::size_t g) { return static_cast<std::uint32_t>(g % E); };
+  ParallelFor(total, [&](std::size_t g) { pass.Triangles(k_of(g), e_of(g)); });
+  ParallelFor(total, [&](std::size_t g) { pass.Nodes(k_of(g), e_of(g)); });
+  ParallelFor(total, [&](std::size_t g) { rel[g] = pass.Rank(k_of(g), e_of(g)); });
+  TlListArrays out;
+  out.escapes.assign(total, 0);
+  out.words.assign(total, glm::uvec4(0));
+  out.lengths.assign(K, 0);
+  if (E == 0) return out;
+  ParallelFor(total, [&](std::size_t g) { pass.Place(k_of(g), e_of(g), out); });
   return out;
 }
 
 TlWalks PassTlTrace(const call::TlTrace& c) { return TlTraceWith(c, nullptr); }
 
 TlWalks TlTraceWith(const call::TlTrace& c, tl::SphereTest test) {
-  const tl::ListsView view{c.first, c.escapes, c.words, c.vertices};
+  const tl::ListsView view{c.first, c.escapes, c.words, c.vertices, c.cull != 0};
   const std::size_t n = c.rays.size();
   TlWalks out;
   if (c.shadow)

@@ -66,6 +66,7 @@ void CheckInputs(const call::TlLists& c) {
   const std::size_t k = c.directions.size();
   if (!tl::ValidListCount(static_cast<std::uint32_t>(k))) ThrowInput("{}: {} directions (1, 2, 6 or 8 lists)", c.kName, k);
   if (c.order > layout::kTlOrderLatestLast) ThrowInput("{}: order {} is neither earliest-first (0) nor latest-last (1)", c.kName, c.order);
+  if (c.cull > 1) ThrowInput("{}: cull {} is neither 0 nor 1", c.kName, c.cull);
   for (std::size_t j = 0; j < t.tl_triangles.size(); ++j)
     if (t.tl_triangles[j] >= t.tl_tri_words.size()) ThrowInput("{}: input 'tl_triangles' element {} is out of range", c.kName, j);
   for (std::size_t i = 0; i < t.tl_tri_words.size(); ++i) {
@@ -83,6 +84,7 @@ void CheckInputs(const call::TlTrace& c) {
   const std::string e = tl::ListsError({c.first, c.escapes, c.words, c.vertices}, &bad);
   if (!e.empty()) ThrowInput("{}: the lists: {}", c.kName, e);
   if (c.shadow > 1) ThrowInput("{}: shadow {} is neither 0 nor 1", c.kName, c.shadow);
+  if (c.cull > 1) ThrowInput("{}: cull {} is neither 0 nor 1", c.kName, c.cull);
 }
 
 }  // namespace rayspace::emu

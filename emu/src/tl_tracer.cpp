@@ -29,17 +29,29 @@ class Tl final : public TlTracer {
     out["node_order"] = options_.order == tl::Order::kEarliestFirst ? "earliest-first" : "latest-last";
     out["tree_big_fraction"] = options_.tree.big_fraction;
     out["tree_leaf_triangles"] = options_.tree.leaf_triangles;
+    out["backface_culling"] = options_.cull;
+    out["triangles"] = options_.cull ? "one-sided: met only from the front, (v1 - v0) x (v2 - v0)" : "two-sided";
     const TlShape s = Shape();
     out["tree_nodes"] = s.nodes;
-    out["list_elements"] = s.nodes + s.triangle_refs;
+    out["tree_elements"] = s.nodes + s.triangle_refs;
+    out["list_elements"] = s.list_elements;
+    out["list_culled_triangles"] = s.list_culled;
     out["list_bytes"] = s.bytes;
     out["backend"] = passes_.Name();
   }
   void BeginBatch(const BatchContext& ctx) override { ctx_ = ctx; }
   const std::vector<TlBatchStats>& Stats() const override { return stats_; }
   TlShape Shape() const override {
-    return {options_.lists, static_cast<std::uint32_t>(tree_.links.size()), static_cast<std::uint32_t>(tree_.triangles.size()),
-            built_ ? lists_.Bytes() : 0};
+    TlShape s{options_.lists, static_cast<std::uint32_t>(tree_.links.size()), static_cast<std::uint32_t>(tree_.triangles.size()),
+              built_ ? lists_.Bytes() : 0, options_.cull, {}, {}};
+    if (!built_) return s;
+    for (std::uint32_t k = 0; k < options_.lists; ++k) {
+      s.list_elements.push_back(lists_.first[k + 1] - lists_.first[k]);
+      std::uint32_t refs = 0;
+      for (std::uint32_t i = lists_.first[k]; i < lists_.first[k + 1]; ++i) refs += tl::IsTriangle(static_cast<tl::Escape>(lists_.escapes[i]));
+      s.list_culled.push_back(s.triangle_refs - refs);
+    }
+    return s;
   }
 
   void Closest(const std::vector<layout::Ray>& rays, std::vector<std::uint64_t>& hits) override {
@@ -58,7 +70,8 @@ class Tl final : public TlTracer {
     passes_.Label(label);
     const auto t0 = std::chrono::steady_clock::now();
     TlWalks w = passes_.TlTrace(
-        {.first = lists_.first, .escapes = lists_.escapes, .words = lists_.words, .vertices = lists_.vertices, .rays = rays, .shadow = shadow});
+        {.first = lists_.first, .escapes = lists_.escapes, .words = lists_.words, .vertices = lists_.vertices, .rays = rays, .shadow = shadow,
+         .cull = options_.cull ? 1u : 0u});
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (ctx_.subpasses) ctx_.subpasses->push_back({label, ms, rays.size()});
     if (ctx_.digest) {
@@ -80,14 +93,19 @@ class Tl final : public TlTracer {
     directions_ = tl::Directions(options_.lists);
     passes_.Label("tl.lists");
     const auto t0 = std::chrono::steady_clock::now();
-    TlListArrays a = passes_.TlLists({.tree = tree_.View(), .directions = directions_, .order = static_cast<std::uint32_t>(options_.order)});
+    TlListArrays a = passes_.TlLists({.tree = tree_.View(),
+                                      .directions = directions_,
+                                      .order = static_cast<std::uint32_t>(options_.order),
+                                      .cull = options_.cull ? 1u : 0u});
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    lists_ = tl::Assemble(tree_, options_.lists, std::move(a));
+    const std::vector<std::uint32_t> lengths = a.lengths;
+    lists_ = tl::Assemble(tree_, options_.lists, std::move(a), options_.cull);
     built_ = true;
     if (ctx_.subpasses) ctx_.subpasses->push_back({"tl.lists", ms, lists_.escapes.size()});
     if (ctx_.digest) {
       ctx_.digest->Add("tl.lists", "escapes", lists_.escapes);
       ctx_.digest->Add("tl.lists", "words", lists_.words);
+      ctx_.digest->Add("tl.lists", "lengths", lengths);
     }
   }
   void Count(const std::vector<layout::Ray>& rays, const TlWalks& w) {

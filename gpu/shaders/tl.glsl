@@ -59,3 +59,22 @@ bool TlSphereMayHit(vec3 org, vec3 dir, float tmin, float tlimit, vec4 s) {
   if (near < lo) return false;
   return !(far > hi);
 }
+
+// Back-face culling's test (emu tl::Culled): may list k of K drop the triangle, every direction of
+// its class meeting its back, with a margin for the float normal's rounding?
+bool TlCulled(vec3 v0, vec3 v1, vec3 v2, uint K, uint k) {
+  if (K != 6u && K != 8u) return false;
+  precise const vec3 e1 = v1 - v0, e2 = v2 - v0;
+  const vec3 n = Cross3(e1, e2);
+  precise const float m = kTlCullMargin * (MaxAbs(e1, e1) * MaxAbs(e2, e2));
+  if (!(m >= uintBitsToFloat(0x0D800000u) && m <= uintBitsToFloat(0x71800000u))) return false;  // 2^-100, 2^100
+  if (K == 8u) {
+    const float sx = (k & 1u) != 0u ? -n.x : n.x, sy = (k & 2u) != 0u ? -n.y : n.y, sz = (k & 4u) != 0u ? -n.z : n.z;
+    return sx > m && sy > m && sz > m;
+  }
+  const uint a = k / 2u, b = a == 2u ? 0u : a + 1u, c = b == 2u ? 0u : b + 1u;
+  const float na = (k & 1u) != 0u ? -n[a] : n[a];
+  precise const float side = na - (abs(n[b]) + abs(n[c]));
+  precise const float m3 = 3.0 * m;
+  return side > m3;
+}

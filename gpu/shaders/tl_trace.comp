@@ -2,7 +2,8 @@
 // tl.trace: one invocation per ray walks the traversal list of its direction class without a stack
 // (Toczek et al.'s loop): a triangle is tested and the walk moves on by its escape; a sphere the ray
 // may meet before its best hit leads to its first child (the next element), a missed one to its
-// escape; 0 and -1 end the walk. Steps run in blocks of kTlLoopBlock (lavapipe ends a loop after
+// escape; 0 and -1 end the walk. With cull, triangles are one-sided: only a front hit counts.
+// Steps run in blocks of kTlLoopBlock (lavapipe ends a loop after
 // 65,535 iterations) and every step moves forward, so a walk ends within its list. Closest hits keep
 // the packed (t, id) minimum, so ties resolve as every other tracer's do. Mirrors emu PassTlTrace.
 #include "common.glsl"
@@ -45,9 +46,11 @@ void main() {
       const uvec4 w = words[i];
       if (next == 1 || next == 0) {
         ++triangles;
-        float t;
+        float t, det;
+        // One-sided (cull): a triangle met from behind is no hit. Fault 4: the back is kept instead.
         if (w.w != r.info.y &&
-            Watertight(org, dir, vertices[w.x].xyz, vertices[w.y].xyz, vertices[w.z].xyz, tmin, tmax, t)) {
+            WatertightSided(org, dir, vertices[w.x].xyz, vertices[w.y].xyz, vertices[w.z].xyz, tmin, tmax, t, det) &&
+            (pc.cull == 0u || (kFault == 4u ? det < 0.0 : det > 0.0))) {
           const uint64_t packed = (uint64_t(floatBitsToUint(t)) << 32) | uint64_t(w.w);
           if (packed < best) best = packed;
           if (pc.shadow != 0u) next = 0;

@@ -1,7 +1,10 @@
 // The watertight ray-triangle test of the final intersection kernels (intersect, intersect_tree);
 // mirrors emu IntersectWatertight. Include after common.glsl; a kernel names the fault number that
 // swaps tmin and tmax in the range check as WATERTIGHT_SWAP_FAULT first.
-bool Watertight(vec3 org, vec3 dir, vec3 v0, vec3 v1, vec3 v2, float tmin, float tmax, out float t_out) {
+// det_out: the sheared triangle's signed area, positive when the ray meets the front (the side
+// (v1 - v0) x (v2 - v0) points to).
+bool WatertightSided(vec3 org, vec3 dir, vec3 v0, vec3 v1, vec3 v2, float tmin, float tmax, out float t_out, out float det_out) {
+  det_out = 0.0;
   const vec3 a = abs(dir);
   int kz = 0;
   if (a.y > a[kz]) kz = 1;
@@ -37,5 +40,11 @@ bool Watertight(vec3 org, vec3 dir, vec3 v0, vec3 v1, vec3 v2, float tmin, float
   // WATERTIGHT_SWAP_FAULT: tmin and tmax swapped in the range check (every hit rejected).
   if (kFault == WATERTIGHT_SWAP_FAULT ? !(t > tmax && t < tmin) : !(t > tmin && t < tmax)) return false;
   t_out = t;
+  det_out = det;
   return true;
+}
+
+bool Watertight(vec3 org, vec3 dir, vec3 v0, vec3 v1, vec3 v2, float tmin, float tmax, out float t_out) {
+  float det;
+  return WatertightSided(org, dir, v0, v1, v2, tmin, tmax, t_out, det);
 }

@@ -28,7 +28,8 @@ vk::Status Input(vk::Context& c, Keep& keep, Bindings<N>& b, std::uint32_t bindi
 
 }  // namespace
 
-// Two dispatches in one submit: every offset (Rank) before any position (Place).
+// Four dispatches in one submit, each phase after the writes of the one before (kept counts,
+// offsets, positions).
 vk::Status VulkanPasses::Run(const emu::call::TlLists& call, emu::TlListArrays& out) {
   const emu::TlTreeView& t = call.tree;
   const std::size_t E = t.Elements(), total = call.directions.size() * E;
@@ -46,7 +47,10 @@ vk::Status VulkanPasses::Run(const emu::call::TlLists& call, emu::TlListArrays& 
   RS_TRY(Input(*ctx_, keep, b, layout::kTlListsBindDirections, call.directions));
   out.escapes.assign(total, 0);
   out.words.assign(total, glm::uvec4(0));
+  out.lengths.assign(call.directions.size(), 0);
   RS_TRY(Output(*ctx_, keep, b, layout::kTlListsBindRel, total * 4, nullptr));
+  RS_TRY(Output(*ctx_, keep, b, layout::kTlListsBindKept, call.directions.size() * t.Nodes() * 8, nullptr));
+  RS_TRY(Output(*ctx_, keep, b, layout::kTlListsBindLengths, out.lengths.size() * 4, out.lengths.data()));
   RS_TRY(Output(*ctx_, keep, b, layout::kTlListsBindEscapes, total * 4, out.escapes.data()));
   RS_TRY(Output(*ctx_, keep, b, layout::kTlListsBindWords, total * 16, out.words.data()));
   if (total == 0) return vk::Status::Ok();
@@ -56,8 +60,10 @@ vk::Status VulkanPasses::Run(const emu::call::TlLists& call, emu::TlListArrays& 
   push.lists = static_cast<std::uint32_t>(call.directions.size());
   push.roots = static_cast<std::uint32_t>(t.tl_roots.size());
   push.order = call.order;
+  push.cull = call.cull;
   vk::Recorder rec(*ctx_);
-  for (const std::uint32_t phase : {layout::kTlListsPhaseRank, layout::kTlListsPhasePlace}) {
+  for (const std::uint32_t phase :
+       {layout::kTlListsPhaseTriangles, layout::kTlListsPhaseNodes, layout::kTlListsPhaseRank, layout::kTlListsPhasePlace}) {
     push.phase = phase;
     RS_TRY(rec.Dispatch(K(PassId::kTlLists), b.All(), &push, sizeof push, static_cast<std::uint32_t>(total)));
   }
@@ -90,6 +96,7 @@ vk::Status VulkanPasses::Run(const emu::call::TlTrace& call, emu::TlWalks& out) 
   push.count = static_cast<std::uint32_t>(n);
   push.lists = static_cast<std::uint32_t>(call.first.size() - 1);
   push.shadow = call.shadow;
+  push.cull = call.cull;
   RS_TRY(RunKernel(*ctx_, K(PassId::kTlTrace), b.All(), &push, sizeof push, push.count));
   return keep.CopyBack();
 }

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include <embree3/rtcore.h>
+#include <glm/geometric.hpp>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
@@ -23,7 +24,20 @@ struct Context {
   float tmin, tmax;
   float best_t;
   std::uint32_t best_prim;
+  glm::dvec3 dir;
+  const layout::Triangle* one_sided;  // the scene's triangles when one-sided, else null
 };
+
+// One-sided triangles (SceneBuffers::one_sided): a candidate met from behind, or along its plane, is
+// none. In double, where the edges and the normal of float vertices are all but exact; what it gets
+// wrong is a grazing ray, which the exact judge settles.
+bool Behind(const Context& ctx, std::uint32_t prim) {
+  if (ctx.one_sided == nullptr) return false;
+  const layout::Triangle& t = ctx.one_sided[prim];
+  const glm::dvec3 v0(emu::Xyz(t.v0));
+  const glm::dvec3 n = glm::cross(glm::dvec3(emu::Xyz(t.v1)) - v0, glm::dvec3(emu::Xyz(t.v2)) - v0);
+  return !(glm::dot(ctx.dir, n) < 0.0);
+}
 
 // tmin < t < tmax on the distance Embree reports (docs/numerics.md, "The hit convention"). Embree's
 // own bounds test t >= tnear and t <= tfar on the scaled numerator before it divides, so the ray is
@@ -40,7 +54,7 @@ void IntersectFilter(const RTCFilterFunctionNArguments* args) {
     if (args->valid[i] == 0) continue;
     const std::uint32_t prim = RTCHitN_primID(args->hit, args->N, i);
     const float t = RTCRayN_tfar(args->ray, args->N, i);
-    if (prim == ctx->ignore || Outside(*ctx, t) || (t == ctx->best_t && prim > ctx->best_prim)) {
+    if (prim == ctx->ignore || Outside(*ctx, t) || (t == ctx->best_t && prim > ctx->best_prim) || Behind(*ctx, prim)) {
       args->valid[i] = 0;
       continue;
     }
@@ -53,7 +67,8 @@ void OccludedFilter(const RTCFilterFunctionNArguments* args) {
   const auto* ctx = reinterpret_cast<const Context*>(args->context);
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] == 0) continue;
-    if (RTCHitN_primID(args->hit, args->N, i) == ctx->ignore || Outside(*ctx, RTCRayN_tfar(args->ray, args->N, i)))
+    const std::uint32_t prim = RTCHitN_primID(args->hit, args->N, i);
+    if (prim == ctx->ignore || Outside(*ctx, RTCRayN_tfar(args->ray, args->N, i)) || Behind(*ctx, prim))
       args->valid[i] = 0;
   }
 }
@@ -61,6 +76,7 @@ void OccludedFilter(const RTCFilterFunctionNArguments* args) {
 class EmbreeTracer final : public Tracer {
  public:
   EmbreeTracer(const SceneBuffers& scene, int threads) {
+    if (scene.one_sided) one_sided_ = scene.triangles;
     const std::string config = fmt::format("isa={},threads={}", kIsa, threads > 0 ? threads : 0);
     device_ = rtcNewDevice(config.c_str());
     if (!device_) throw std::runtime_error(fmt::format("rtcNewDevice(\"{}\") failed: error {}", config, static_cast<int>(rtcGetDeviceError(nullptr))));
@@ -107,6 +123,7 @@ class EmbreeTracer final : public Tracer {
     out["isa"] = kIsa;
     out["build_quality"] = "high";
     out["scene_flags"] = "robust";
+    out["triangles"] = one_sided_.empty() ? "two-sided" : "one-sided (a filter drops hits from behind)";
   }
 
   void Closest(const std::vector<layout::Ray>& rays, std::vector<std::uint64_t>& hits) override {
@@ -137,8 +154,10 @@ class EmbreeTracer final : public Tracer {
   }
 
  private:
-  static void Start(const layout::Ray& in, Context& ctx) {
+  void Start(const layout::Ray& in, Context& ctx) const {
     rtcInitIntersectContext(&ctx.base);
+    ctx.dir = glm::dvec3(emu::Xyz(in.direction_tmax));
+    ctx.one_sided = one_sided_.empty() ? nullptr : one_sided_.data();
     ctx.ignore = in.info.y;
     ctx.tmin = in.origin_tmin.w;
     ctx.tmax = in.direction_tmax.w;
@@ -163,6 +182,7 @@ class EmbreeTracer final : public Tracer {
 
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
+  std::vector<layout::Triangle> one_sided_;  // the triangles, kept for the side test when one-sided
 };
 
 }  // namespace

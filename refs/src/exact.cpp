@@ -70,9 +70,17 @@ bool InRange(const layout::Ray& r, const FT& t2) {
   return above && below;
 }
 
+// One-sided triangles: is the ray's direction against the normal (v1 - v0) x (v2 - v0), exactly?
+bool Front(const layout::Ray& r, const layout::Triangle& t) {
+  const K::Vector_3 d(r.direction_tmax.x, r.direction_tmax.y, r.direction_tmax.z);
+  const K::Vector_3 n = CGAL::cross_product(P(t.v1) - P(t.v0), P(t.v2) - P(t.v0));
+  return CGAL::is_negative(d * n);
+}
+
 }  // namespace
 
-Contact ExactContact(const layout::Ray& ray, const layout::Triangle& tri) {
+Contact ExactContact(const layout::Ray& ray, const layout::Triangle& tri, bool one_sided) {
+  if (one_sided && !Front(ray, tri)) return Contact::kMiss;
   FT t2;
   bool boundary = false;
   if (!NearestT2(ray, tri, t2, &boundary) || !InRange(ray, t2)) return Contact::kMiss;
@@ -82,7 +90,7 @@ Contact ExactContact(const layout::Ray& ray, const layout::Triangle& tri) {
 Contact ExactOccluded(const layout::Ray& ray, const SceneBuffers& scene) {
   Contact best = Contact::kMiss;
   for (std::uint32_t p = 0; p < scene.triangles.size() && best != Contact::kInterior; ++p)
-    if (p != ray.info.y && MaybeHits(ray, scene.triangles[p])) best = std::max(best, ExactContact(ray, scene.triangles[p]));
+    if (p != ray.info.y && MaybeHits(ray, scene.triangles[p])) best = std::max(best, ExactContact(ray, scene.triangles[p], scene.one_sided));
   return best;
 }
 
@@ -91,6 +99,7 @@ std::vector<std::uint32_t> ExactClosest(const layout::Ray& ray, const SceneBuffe
   FT best_t2;
   for (std::uint32_t p = 0; p < scene.triangles.size(); ++p) {
     if (p == ray.info.y || !MaybeHits(ray, scene.triangles[p])) continue;
+    if (scene.one_sided && !Front(ray, scene.triangles[p])) continue;
     FT t2;
     if (!NearestT2(ray, scene.triangles[p], t2) || !InRange(ray, t2)) continue;
     if (best.empty() || t2 < best_t2) {

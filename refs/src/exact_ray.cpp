@@ -51,8 +51,11 @@ bool RobustHit(glm::vec3 o, glm::vec3 dir, glm::vec3 v0, glm::vec3 v1, glm::vec3
 // 36 delta L (L + |e| |d|) (S by less than 24 |d| delta L), squared as 2592 delta^2 L^2 (L^2 + e^2 |d|^2).
 // A miss is robust when one reason for it is: an edge volume of the other sign beyond its bound, or
 // t beyond an end by more than its bound.
+// One-sided (ExactContact): S = d . ((b - a) x (c - a)) is negative from the front. Moving the vertices
+// by delta moves the normal by less than 24 delta L + 12 delta^2 <= 25 delta L (|e| <= 2 sqrt(3) L),
+// so the side is robust when S^2 > 625 delta^2 L^2 |d|^2; a back met robustly is a robust miss.
 template <typename NT>
-Judgement Judge(const layout::Ray& ray, const layout::Triangle& tri, float rel, float scale) {
+Judgement Judge(const layout::Ray& ray, const layout::Triangle& tri, float rel, float scale, bool one_sided) {
   const glm::vec3 o(ray.origin_tmin), dir(ray.direction_tmax);
   const V3<NT> d{NT(dir.x), NT(dir.y), NT(dir.z)};
   const V3<NT> a = Rel<NT>(glm::vec3(tri.v0), o), b = Rel<NT>(glm::vec3(tri.v1), o), c = Rel<NT>(glm::vec3(tri.v2), o);
@@ -89,20 +92,24 @@ Judgement Judge(const layout::Ray& ray, const layout::Triangle& tri, float rel, 
     robust_out = robust_out || (!before_max && c);
     clear_max = c;
   }
-  if (!hit) return {false, robust_out};
   const NT side_bound = NT(2048) * delta * delta * M * M * M * M;
-  return {true, robust_edges && clear_min && clear_max && Sign<NT>(T * T - side_bound) > 0};
+  const Judgement two = hit ? Judgement{true, robust_edges && clear_min && clear_max && Sign<NT>(T * T - side_bound) > 0}
+                            : Judgement{false, robust_out};
+  if (!one_sided) return two;
+  const bool front = s < 0, facing_clear = Sign<NT>(S * S - NT(625) * delta * delta * M * M * dd) > 0;
+  if (!facing_clear) return {false, two.robust && !two.hit};  // the side may come out either way
+  return front ? two : Judgement{false, true};
 }
 
 template <typename NT>
-bool HitDecision(const layout::Ray& ray, const layout::Triangle& tri) {
+bool HitDecision(const layout::Ray& ray, const layout::Triangle& tri, bool one_sided) {
   const glm::vec3 o(ray.origin_tmin), dir(ray.direction_tmax);
   const V3<NT> d{NT(dir.x), NT(dir.y), NT(dir.z)};
   const V3<NT> a = Rel<NT>(glm::vec3(tri.v0), o), b = Rel<NT>(glm::vec3(tri.v1), o), c = Rel<NT>(glm::vec3(tri.v2), o);
   const NT Va = Det(d, b, c), Vb = Det(d, c, a), Vc = Det(d, a, b);
   const NT S = Va + Vb + Vc;
   const int s = Sign<NT>(S);
-  if (s == 0) return false;
+  if (s == 0 || (one_sided && s > 0)) return false;
   // Closed triangle: no edge volume of the opposite sign.
   if (Sign<NT>(Va) == -s || Sign<NT>(Vb) == -s || Sign<NT>(Vc) == -s) return false;
   // t = T / S; tmin < t < tmax  <=>  s (T - tmin S) > 0 and s (tmax S - T) > 0.
@@ -175,11 +182,11 @@ bool ExactRobustInteriorHit(glm::vec3 o, glm::vec3 d, glm::vec3 v0, glm::vec3 v1
   return detail::Filtered([&](auto nt) { return RobustHit<decltype(nt)>(o, d, v0, v1, v2, rel, scale); });
 }
 
-Judgement ExactJudge(const layout::Ray& ray, const layout::Triangle& tri, float rel) {
+Judgement ExactJudge(const layout::Ray& ray, const layout::Triangle& tri, float rel, bool one_sided) {
   const float scale = RelativeScale(ray, tri);
   Judgement j;
   detail::Filtered([&](auto nt) {
-    j = Judge<decltype(nt)>(ray, tri, rel, scale);
+    j = Judge<decltype(nt)>(ray, tri, rel, scale, one_sided);
     return true;
   });
   return j;
@@ -190,9 +197,9 @@ bool ExactDistancesClose(const layout::Ray& ray, const layout::Triangle& a, cons
   return detail::Filtered([&](auto nt) { return Close<decltype(nt)>(ray, a, b, rel, scale); });
 }
 
-bool ExactHitDecision(const layout::Ray& ray, const layout::Triangle& tri, bool filtered) {
-  if (filtered) return detail::Filtered([&](auto nt) { return HitDecision<decltype(nt)>(ray, tri); });
-  return HitDecision<CGAL::Exact_rational>(ray, tri);
+bool ExactHitDecision(const layout::Ray& ray, const layout::Triangle& tri, bool filtered, bool one_sided) {
+  if (filtered) return detail::Filtered([&](auto nt) { return HitDecision<decltype(nt)>(ray, tri, one_sided); });
+  return HitDecision<CGAL::Exact_rational>(ray, tri, one_sided);
 }
 
 int ExactCompareHitDistance(const layout::Ray& ray, const layout::Triangle& a, const layout::Triangle& b) {

@@ -14,6 +14,14 @@
 namespace rayspace::refs {
 namespace {
 
+// The emulator's test under the scene's rule: two-sided, or with one-sided triangles only a front hit.
+bool EmuHits(const emu::WatertightRay& wr, const layout::Ray& ray, const layout::Triangle& t, bool one_sided, float& th) {
+  float det = 0.0f;
+  if (!emu::IntersectWatertight(wr, emu::Xyz(t.v0), emu::Xyz(t.v1), emu::Xyz(t.v2), ray.origin_tmin.w, ray.direction_tmax.w, th, &det))
+    return false;
+  return !one_sided || det > 0.0f;
+}
+
 // Nearest triangle the emulator's intersection test accepts for this ray (exhaustive; used only to
 // describe a disagreement, never on the hot path).
 std::uint64_t NearestByEmuTest(const layout::Ray& ray, const SceneBuffers& scene) {
@@ -23,9 +31,7 @@ std::uint64_t NearestByEmuTest(const layout::Ray& ray, const SceneBuffers& scene
     if (p == ray.info.y) continue;
     const layout::Triangle& t = scene.triangles[p];
     float th;
-    if (emu::IntersectWatertight(wr, emu::Xyz(t.v0), emu::Xyz(t.v1), emu::Xyz(t.v2), ray.origin_tmin.w,
-                                 ray.direction_tmax.w, th))
-      best = std::min(best, emu::PackHit(th, p));
+    if (EmuHits(wr, ray, t, scene.one_sided, th)) best = std::min(best, emu::PackHit(th, p));
   }
   return best;
 }
@@ -35,7 +41,7 @@ std::uint64_t NearestByEmuTest(const layout::Ray& ray, const SceneBuffers& scene
 bool LitDefensible(const layout::Ray& ray, const SceneBuffers& scene) {
   for (std::uint32_t p = 0; p < scene.triangles.size(); ++p) {
     if (p == ray.info.y) continue;
-    const Judgement j = ExactJudge(ray, scene.triangles[p], kRoundingRel);
+    const Judgement j = ExactJudge(ray, scene.triangles[p], kRoundingRel, scene.one_sided);
     if (j.hit && j.robust) return false;
   }
   return true;
@@ -49,9 +55,8 @@ bool OccludedDefensible(const layout::Ray& ray, const SceneBuffers& scene) {
     if (p == ray.info.y) continue;
     const layout::Triangle& t = scene.triangles[p];
     float th;
-    if (!emu::IntersectWatertight(wr, emu::Xyz(t.v0), emu::Xyz(t.v1), emu::Xyz(t.v2), ray.origin_tmin.w, ray.direction_tmax.w, th))
-      continue;
-    if (!ExactJudge(ray, t, kRoundingRel).robust) return true;
+    if (!EmuHits(wr, ray, t, scene.one_sided, th)) continue;
+    if (!ExactJudge(ray, t, kRoundingRel, scene.one_sided).robust) return true;
   }
   return false;
 }
@@ -61,13 +66,13 @@ bool OccludedDefensible(const layout::Ray& ray, const SceneBuffers& scene) {
 // close in distance that rounding may order the two either way.
 bool ClosestDefensible(const layout::Ray& ray, std::uint32_t prim, const SceneBuffers& scene) {
   if (prim != layout::kNoPrim) {
-    const Judgement j = ExactJudge(ray, scene.triangles[prim], kRoundingRel);
+    const Judgement j = ExactJudge(ray, scene.triangles[prim], kRoundingRel, scene.one_sided);
     if (!j.hit && j.robust) return false;
   }
   for (std::uint32_t p = 0; p < scene.triangles.size(); ++p) {
     if (p == ray.info.y || p == prim) continue;
     const layout::Triangle& q = scene.triangles[p];
-    const Judgement j = ExactJudge(ray, q, kRoundingRel);
+    const Judgement j = ExactJudge(ray, q, kRoundingRel, scene.one_sided);
     if (!j.hit || !j.robust) continue;
     if (prim == layout::kNoPrim) return false;
     const layout::Triangle& f = scene.triangles[prim];
@@ -223,6 +228,9 @@ void Oracle::Report(nlohmann::json& out, std::size_t max_listed) const {
   out["within_rounding"] = rounding_.size();
   out["rounding_rel"] = kRoundingRel;
   out["adjudication"] = "exact rational arithmetic (CGAL Epeck)";
+  // The hit rule the oracle and the exact judge applied: the frame's own (SceneBuffers::one_sided).
+  out["triangles"] = scene_.one_sided ? "one-sided (back-face culling): a hit only from the front, against (v1 - v0) x (v2 - v0)"
+                                      : "two-sided";
   auto list = [&](const std::vector<Disagreement>& v, std::size_t cap) {
     nlohmann::json a = nlohmann::json::array();
     for (std::size_t i = 0; i < v.size() && i < cap; ++i) {

@@ -414,8 +414,10 @@ struct IntersectTreePush {
 
 // ---- tl.lists, tl.trace: Toczek et al.'s traversal lists (docs/traversal-lists.md) ----------------
 // The bounding-sphere tree is built on the host (the object tree's build, one for every consumer);
-// tl.lists orders and flattens it into K lists, tl.trace walks them. Every list holds the tree's
-// E = nodes + triangle references elements, list k at [k E, (k + 1) E). A tree element is a node
+// tl.lists orders and flattens it into K lists, tl.trace walks them. tl.lists writes list k at
+// [k E, k E + lengths[k]) of its outputs, E = nodes + triangle references: every element, or with
+// back-face culling those left once the triangles no ray of the list's class can hit from the front
+// are dropped, and with them every node left with no triangle below it. A tree element is a node
 // n < nodes, or the triangle reference nodes + j (the tree's j-th triangle).
 RS_CONST(uint, kTlListsBindLinks, 0u);      // per node: first_child, children, first_tri, tris
 RS_CONST(uint, kTlListsBindSpheres, 1u);    // per node: centre, radius
@@ -430,16 +432,27 @@ RS_CONST(uint, kTlListsBindDirections, 9u); // per list: its ordering direction 
 RS_CONST(uint, kTlListsBindRel, 10u);       // per (list, element): its offset from its parent (scratch)
 RS_CONST(uint, kTlListsBindEscapes, 11u);   // per list element: the escape's bits
 RS_CONST(uint, kTlListsBindWords, 12u);     // per list element
-RS_CONST(uint, kTlListsBindings, 13u);
+RS_CONST(uint, kTlListsBindKept, 13u);      // per (list, node): kept triangles, kept nodes below it (uvec2, scratch)
+RS_CONST(uint, kTlListsBindLengths, 14u);   // per list: its elements
+RS_CONST(uint, kTlListsBindings, 15u);
 RS_CONST(uint, kTlNoParent, 4294967295u);
 // A node's children (own triangles, then child nodes) are ordered by key: earliest first by the low
 // end of their projection on the list's direction, latest last by the high end.
 RS_CONST(uint, kTlOrderEarliestFirst, 0u);
 RS_CONST(uint, kTlOrderLatestLast, 1u);
-// Phase Rank: each (list, element) its offset after its parent (1 + the subtrees of the siblings
-// before it). Phase Place: its position (the offsets up to its root), escape and word.
-RS_CONST(uint, kTlListsPhaseRank, 0u);
-RS_CONST(uint, kTlListsPhasePlace, 1u);
+// Phase Triangles: each (list, triangle reference) kept adds 1 to its owner's and every ancestor's
+// kept triangles. Phase Nodes: each (list, node) with a kept triangle below adds 1 to its own and
+// every ancestor's kept nodes. Phase Rank: each kept (list, element) its offset after its parent
+// (1 + the kept subtrees of the siblings before it). Phase Place: its position (the offsets up to
+// its root), escape and word.
+RS_CONST(uint, kTlListsPhaseTriangles, 0u);
+RS_CONST(uint, kTlListsPhaseNodes, 1u);
+RS_CONST(uint, kTlListsPhaseRank, 2u);
+RS_CONST(uint, kTlListsPhasePlace, 3u);
+// Back-face culling (cull = 1): a triangle is dropped from a list when, with n = (v1 - v0) x (v2 - v0)
+// in float, g . n > kTlCullMargin |e1| |e2| (max norms) for every corner g of the list's direction
+// class: every ray of the class then meets its back (docs/traversal-lists.md, "Back-face culling").
+RS_CONST(float, kTlCullMargin, 1.52587890625e-05);  // 2^-16
 // Loops over siblings and walks over a list run in blocks of this many iterations (lavapipe ends a
 // loop after 65,535), so a list may hold up to kTlMaxElements elements.
 RS_CONST(uint, kTlLoopBlock, 4096u);
@@ -457,6 +470,7 @@ struct TlListsPush {
   uint roots;
   uint order;   // kTlOrder*
   uint phase;   // kTlListsPhase*
+  uint cull;    // 1: drop the triangles every ray of a list's class meets from behind
 };
 
 RS_CONST(uint, kTlTraceBindFirst, 0u);      // K + 1 offsets
@@ -473,6 +487,7 @@ struct TlTracePush {
   uint count;   // rays
   uint lists;   // K
   uint shadow;  // 1: any hit (occluded), 0: closest hit
+  uint cull;    // 1: one-sided triangles, a hit only from the front (Woop's det > 0)
 };
 
 // ---- shade: direct light at the shading points into the fixed-point accumulator ---------------
@@ -531,7 +546,7 @@ static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && size
               sizeof(BuildPush) == 24 && sizeof(TraversePush) == 60 && sizeof(ReducePush) == 20 &&
               sizeof(IntersectPush) == 44 && sizeof(ShadePush) == 16 && sizeof(ElementwisePush) == 8 &&
               sizeof(TraverseCompactPush) == 68 && sizeof(TreePush) == 40 && sizeof(IntersectTreePush) == 8 &&
-              sizeof(TlListsPush) == 24 && sizeof(TlTracePush) == 12);
+              sizeof(TlListsPush) == 28 && sizeof(TlTracePush) == 16);
 static_assert(kTlMaxElements == 65535u * kTlLoopBlock && kTlEscapeNone == ~0u && kTlNoParent == ~0u);
 static_assert(kTreeStepBlock % kMaxLocalSize == 0u);
 static_assert(offsetof(TraversePush, eps) == 40);

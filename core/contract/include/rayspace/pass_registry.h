@@ -110,7 +110,7 @@ inline constexpr SV kIntersectIdx[] = {"tests"};
 inline constexpr SV kTreeSlotsIdx[] = {"flags", "cone", "item"};
 inline constexpr SV kTreeExpandIdx[] = {"counts"};
 inline constexpr SV kTreeStepIdx[] = {"next_cone", "next_item", "final_cone", "final_item"};
-inline constexpr SV kTlListsIdx[] = {"escapes", "words"};
+inline constexpr SV kTlListsIdx[] = {"escapes", "words", "lengths"};
 constexpr std::span<const SV> None() { return {}; }
 
 inline constexpr CallSpec kRasterCalls[] = {{"raster", kRasterIdx}};
@@ -157,7 +157,8 @@ inline constexpr PhaseSpec kReducePhases[] = {RS_PHASE(Reduce, Local),    RS_PHA
                                               RS_PHASE(Reduce, Scatter)};
 inline constexpr PhaseSpec kTraverseCompactPhases[] = {RS_PHASE(TraverseCompact, Top), RS_PHASE(TraverseCompact, Level),
                                                       RS_PHASE(TraverseCompact, Scan), RS_PHASE(TraverseCompact, Scatter)};
-inline constexpr PhaseSpec kTlListsPhases[] = {RS_PHASE(TlLists, Rank), RS_PHASE(TlLists, Place)};
+inline constexpr PhaseSpec kTlListsPhases[] = {RS_PHASE(TlLists, Triangles), RS_PHASE(TlLists, Nodes), RS_PHASE(TlLists, Rank),
+                                              RS_PHASE(TlLists, Place)};
 inline constexpr PhaseSpec kTreeStepPhases[] = {RS_PHASE(TreeStep, Count), RS_PHASE(TreeStep, Scan), RS_PHASE(TreeStep, Scatter)};
 #undef RS_PHASE
 
@@ -260,10 +261,12 @@ inline constexpr FaultSpec kIntersectTreeFaults[] = {{1, "a level-1 node's rays 
                                                      {3, "each pair reports one test"}};
 inline constexpr FaultSpec kTlListsFaults[] = {{1, "a sphere's escape is one element short (it lands on its subtree's last element)"},
                                               {2, "a triangle is ordered by its first vertex only"},
-                                              {3, "every list is ordered along the first list's direction"}};
+                                              {3, "every list is ordered along the first list's direction"},
+                                              {4, "back-face culling drops the triangles the list's rays meet from the front"}};
 inline constexpr FaultSpec kTlTraceFaults[] = {{1, "a missed sphere's escape is followed one element short"},
                                               {2, "the sphere test's distance check is flipped"},
-                                              {3, "a ray walks the list of the opposite direction"}};
+                                              {3, "a ray walks the list of the opposite direction"},
+                                              {4, "one-sided triangles count when met from behind, not from the front"}};
 inline constexpr FaultSpec kShadeFaults[] = {{1, "the quadratic attenuation uses the distance, not its square"},
                                              {2, "the light vector points from the light to the surface"},
                                              {3, "the blue channel is never accumulated"},

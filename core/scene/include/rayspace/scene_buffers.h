@@ -16,6 +16,11 @@ struct SceneBuffers {
   std::vector<layout::Light> lights;
   std::vector<glm::uvec4> objects;  // x first triangle, y triangle count
   glm::vec3 lo{0}, hi{0};           // bounding box of all vertices
+  // One-sided triangles (`--backface-cull on`): a ray meets a triangle only from its front, the side
+  // its normal (v1 - v0) x (v2 - v0) points to. The Embree oracle and the exact judge read it; of the
+  // frame's tracers only --algo tl traces it (its lists built with culling), and the command line
+  // refuses it with any other.
+  bool one_sided = false;
 };
 
 SceneBuffers FlattenScene(const Scene& scene);

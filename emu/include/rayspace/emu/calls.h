@@ -334,7 +334,8 @@ struct TlLists {
   TlTreeView tree;
   In<glm::vec4> directions{};
   std::uint32_t order = layout::kTlOrderEarliestFirst;
-  RS_FIELDS(tree, directions, order)
+  std::uint32_t cull = 0;  // 1: back-face culling (rayspace/contract.h, kTlCullMargin)
+  RS_FIELDS(tree, directions, order, cull)
 };
 
 // Every ray walks the list of its direction class (tl::ListFor over `first`'s K lists) without a
@@ -347,7 +348,8 @@ struct TlTrace {
   In<glm::vec4> vertices{};
   In<layout::Ray> rays{};
   std::uint32_t shadow = 0;
-  RS_FIELDS(first, escapes, words, vertices, rays, shadow)
+  std::uint32_t cull = 0;  // 1: one-sided triangles, met only from the front
+  RS_FIELDS(first, escapes, words, vertices, rays, shadow, cull)
 };
 
 }  // namespace call

@@ -153,8 +153,11 @@ Vec3<S> PlaneNormalOf(Vec3<S> v0, Vec3<S> v1, Vec3<S> v2) {
 
 // Two-sided, edges inclusive. Returns true and t when the ray meets the triangle with
 // tmin < t < tmax. The inside decision is Woop's (sheared edge functions); t = (v0 - o).n / d.n. Watertight: a ray through a shared edge hits at least one of its triangles.
+// det_out (if given) receives the sheared triangle's signed area: positive when the ray meets the
+// front, the side (v1 - v0) x (v2 - v0) points to (a one-sided test keeps det > 0 only).
 template <typename S>
-bool IntersectWatertight(const WatertightRayOf<S>& r, Vec3<S> v0, Vec3<S> v1, Vec3<S> v2, S tmin, S tmax, S& t_out) {
+bool IntersectWatertight(const WatertightRayOf<S>& r, Vec3<S> v0, Vec3<S> v1, Vec3<S> v2, S tmin, S tmax, S& t_out,
+                         S* det_out = nullptr) {
   // Vertices relative to the origin, scaled by a power of two (exact; the signs of the edge functions
   // and their ratios are unchanged) so the products below neither overflow nor underflow.
   const Vec3<S> A0 = v0 - r.org, B0 = v1 - r.org, C0 = v2 - r.org;
@@ -175,6 +178,7 @@ bool IntersectWatertight(const WatertightRayOf<S>& r, Vec3<S> v0, Vec3<S> v1, Ve
   const S t = Dot(A0, n) / Dot(r.dir, n);
   if (!(t > tmin && t < tmax)) return false;  // also rejects NaN
   t_out = t;
+  if (det_out) *det_out = det;
   return true;
 }
 

@@ -12,10 +12,13 @@ namespace rayspace::refs {
 // tracers may legitimately differ: Embree counts some edges out, the emulator counts all edges in).
 enum class Contact { kMiss, kBoundary, kInterior };
 
-// Does the ray meet the triangle at some t with tmin < t < tmax (exactly)?
-Contact ExactContact(const layout::Ray& ray, const layout::Triangle& tri);
+// Does the ray meet the triangle at some t with tmin < t < tmax (exactly)? `one_sided`: only from the
+// front, against the normal (v1 - v0) x (v2 - v0) (SceneBuffers::one_sided); a ray in the plane meets
+// no front.
+Contact ExactContact(const layout::Ray& ray, const layout::Triangle& tri, bool one_sided = false);
 inline bool ExactHits(const layout::Ray& ray, const layout::Triangle& tri) { return ExactContact(ray, tri) != Contact::kMiss; }
 
+// ExactOccluded and ExactClosest follow scene.one_sided.
 // Exact answer for a shadow ray over all triangles other than info.y: kInterior if some triangle is
 // met inside, else kBoundary if one is met only on an edge or vertex, else kMiss.
 Contact ExactOccluded(const layout::Ray& ray, const SceneBuffers& scene);
@@ -34,7 +37,7 @@ bool ExactRobustInteriorHit(glm::vec3 o, glm::vec3 d, glm::vec3 v0, glm::vec3 v1
 // Exact hit decision on the closed triangle with tmin < t < tmax from signs of triple products (no
 // constructions); a ray in the triangle's plane counts as a miss, as in float tests. `filtered`:
 // interval arithmetic first; else exact rationals throughout.
-bool ExactHitDecision(const layout::Ray& ray, const layout::Triangle& tri, bool filtered = true);
+bool ExactHitDecision(const layout::Ray& ray, const layout::Triangle& tri, bool filtered = true, bool one_sided = false);
 // What a float test may answer for a ray and a triangle: the exact decision with tmin < t < tmax,
 // and whether it is robust: it survives moving every vertex relative to the origin by rel x L per
 // coordinate, L the largest coordinate magnitude of those relative vertices, which covers what the
@@ -45,7 +48,9 @@ struct Judgement {
   bool hit = false;
   bool robust = false;
 };
-Judgement ExactJudge(const layout::Ray& ray, const layout::Triangle& tri, float rel);
+// `one_sided`: a hit only from the front (ExactContact); the side is robust when moving the vertices
+// cannot turn the triangle's normal across the ray's direction.
+Judgement ExactJudge(const layout::Ray& ray, const layout::Triangle& tri, float rel, bool one_sided = false);
 // Does some point o + t d with t0 <= t <= t1 (t1 = +inf: no upper end) lie in the closed ball
 // (sphere.xyz, sphere.w), exactly? The exact form of the traversal lists' sphere test
 // (docs/traversal-lists.md). Inputs must be finite but t1; t0 > t1 is an empty part (false).

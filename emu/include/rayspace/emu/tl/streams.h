@@ -28,12 +28,13 @@ struct TlTreeView {
   RS_FIELDS(tl_links, tl_spheres, tl_parents, tl_sizes, tl_roots, tl_triangles, tl_owners, tl_tri_words, tl_vertices)
 };
 
-// K lists of E elements each, list k at [k E, (k + 1) E): per element its escape (the bits of a
-// signed offset) and its 128-bit word.
+// K lists in slots of E elements, list k at [k E, k E + lengths[k]) (the rest of its slot zero):
+// per element its escape (the bits of a signed offset) and its 128-bit word.
 struct TlListArrays {
   std::vector<std::uint32_t> escapes;
   std::vector<glm::uvec4> words;
-  RS_FIELDS(escapes, words)
+  std::vector<std::uint32_t> lengths;
+  RS_FIELDS(escapes, words, lengths)
 };
 
 // Per ray: its closest hit (closest-hit batches) or whether it is occluded (shadow batches; the other

@@ -34,6 +34,10 @@ struct Options {
   // Sponza's large floor triangles inflate the octant spheres below them.
   ObjectTreeOptions tree{.big_fraction = kBigFraction};
   static constexpr float kBigFraction = 0.7f;
+  // Back-face culling: one-sided triangles (a ray meets a triangle only from the side its normal
+  // (v1 - v0) x (v2 - v0) points to), and each list drops the triangles every ray of its class meets
+  // from behind (Culled). Off by default: the scene's triangles are two-sided for every other tracer.
+  bool cull = false;
 };
 
 // The host's half: the tree (BuildObjectTree over the scene as one object), each node's parent and
@@ -61,6 +65,7 @@ struct Lists {
   std::vector<Word> words;                // per element
   std::vector<Vertex> vertices;           // shared: distinct positions in first-use order
   std::vector<glm::vec3> directions;      // per list: its unit ordering direction
+  bool one_sided = false;                 // built with back-face culling: walks meet fronts only
   std::uint64_t Bytes() const;            // escapes, words, vertices and offsets
 };
 
@@ -69,8 +74,22 @@ bool ValidListCount(std::uint32_t k);
 // Deterministic: the same triangles and options give the same bytes. The tree from PrepareTree, the
 // lists from the emulated tl.lists.
 Lists Build(std::span<const layout::Triangle> triangles, const Options& options = {});
-// The lists of a prepared tree from tl.lists' output (what Build does after the pass).
-Lists Assemble(const Tree& tree, std::uint32_t count, TlListArrays arrays);
+// The lists of a prepared tree from tl.lists' output (what Build does after the pass): each list's
+// elements moved together, list k after list k - 1.
+Lists Assemble(const Tree& tree, std::uint32_t count, TlListArrays arrays, bool one_sided);
+// tl.lists' slots of `slot` elements packed the same way: the K + 1 offsets, escapes and words.
+// Throws InputError naming `what` when a length exceeds its slot or the arrays are short.
+struct Packed {
+  std::vector<std::uint32_t> first, escapes;
+  std::vector<Word> words;
+};
+Packed Pack(const TlListArrays& arrays, std::size_t slot, std::string_view what);
+
+// Back-face culling's test (rayspace/contract.h, kTlCullMargin), as tl.lists computes it in float:
+// may list k of `count` drop the triangle, because every direction of its class sees the back
+// (g . n >= 0 at every corner g of the class, with a margin that covers n's rounding)? The classes
+// of 1 and 2 lists hold directions along the triangle's plane for every normal: nothing is dropped.
+bool Culled(glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, std::uint32_t count, std::uint32_t k);
 
 // The list a ray of direction `dir` walks: the one whose class holds it (sign of x; dominant axis
 // and its sign, ties to the lower axis; the signs of x, y, z). Zero components count as positive.
@@ -92,6 +111,7 @@ struct ListsView {
   std::span<const std::uint32_t> first, escapes;
   std::span<const Word> words;
   std::span<const Vertex> vertices;
+  bool one_sided = false;  // a triangle counts only when met from its front (IntersectWatertight's det > 0)
 };
 // Why the arrays are not lists a walk can follow safely, or "" (K in {1, 2, 6, 8}; each list's
 // escapes 1, 0 (the last element only), at least 2 or -1 (a sphere, never last) and within the list;

@@ -22,11 +22,14 @@ struct TlBatchStats {
   std::vector<std::uint64_t> list_rays, list_spheres, list_triangles;  // per list
 };
 
-// The lists' shape: elements per list (the tree's nodes and triangle references), K, and the bytes
-// of every array (tl::Lists::Bytes).
+// The lists' shape: the tree's nodes and triangle references, K, the bytes of every array
+// (tl::Lists::Bytes), and per list its elements and the triangle references culling dropped from
+// it (all zero until the lists are built).
 struct TlShape {
   std::uint32_t lists = 0, nodes = 0, triangle_refs = 0;
   std::uint64_t bytes = 0;
+  bool culled = false;
+  std::vector<std::uint32_t> list_elements, list_culled;
 };
 
 class TlTracer : public Tracer {
