@@ -47,6 +47,13 @@ void AddTlOptions(CLI::App& command, FrameArgs& args) {
                   "behind (Toczek et al.'s back-face culling)")
       ->check(CLI::IsMember({"off", "on"}))
       ->capture_default_str();
+  command
+      .add_option("--polygon-heads", args.polygon_heads,
+                  "--algo tl: per-polygon list heads for secondary rays (Toczek et al. section 3.1): a ray leaving or "
+                  "reaching a triangle walks only the part of its list not wholly behind the triangle's plane (simple), "
+                  "nor behind the list's facet planes through the triangle (regular)")
+      ->check(CLI::IsMember({"off", "simple", "regular"}))
+      ->capture_default_str();
 }
 
 }  // namespace
@@ -230,6 +237,9 @@ emu::tl::Options MakeTlOptions(const FrameArgs& args) {
   o.tree.leaf_triangles = args.tree_leaf;
   if (args.tree_big_given) o.tree.big_fraction = args.tree_big;
   o.cull = args.backface_cull == "on";
+  o.heads = args.polygon_heads == "regular" ? layout::kTlHeadsRegular
+            : args.polygon_heads == "simple" ? layout::kTlHeadsSimple
+                                             : layout::kTlHeadsOff;
   return o;
 }
 

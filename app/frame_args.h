@@ -47,6 +47,7 @@ struct FrameArgs {
   std::uint32_t lists = emu::tl::Options{}.lists;  // --lists (--algo tl)
   std::string node_order = "earliest-first";      // --node-order (--algo tl)
   std::string backface_cull = "off";              // --backface-cull (--algo tl)
+  std::string polygon_heads = "off";              // --polygon-heads (--algo tl)
   std::uint32_t tree_leaf = ObjectTreeOptions{}.leaf_triangles;  // --tree-leaf
   float tree_big = ObjectTreeOptions{}.big_fraction;             // --tree-big
   bool tree_big_given = false;  // --tree-big was given (--algo tl otherwise keeps its own default)
@@ -68,8 +69,8 @@ struct FrameArgs {
   }
 };
 
-// The traversal lists' options (--algo tl): --lists, --node-order, --backface-cull, --tree-leaf and
-// --tree-big.
+// The traversal lists' options (--algo tl): --lists, --node-order, --backface-cull, --polygon-heads,
+// --tree-leaf and --tree-big.
 emu::tl::Options MakeTlOptions(const FrameArgs& args);
 // Whether the frame's triangles are one-sided (SceneBuffers::one_sided): --backface-cull on, which
 // only --algo tl traces (InputError for another tracer, which would answer two-sided).

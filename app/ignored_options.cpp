@@ -32,7 +32,7 @@ void Note(std::vector<IgnoredOption>& out, const CLI::App& command, const std::s
 void NoteHierarchyOptions(std::vector<IgnoredOption>& out, const CLI::App& command, const FrameArgs& args, bool fused) {
   const std::string flat = "--algo " + args.algo + " traces without the hierarchy";
   if (args.algo != "tl")
-    for (const char* name : {"--lists", "--node-order"}) Note(out, command, name, "only --algo tl walks traversal lists");
+    for (const char* name : {"--lists", "--node-order", "--polygon-heads"}) Note(out, command, name, "only --algo tl walks traversal lists");
   if (!args.Hierarchy()) {
     for (const char* name : {"--subdivision", "--levels", "--reduction", "--component-size", "--pair-capacity", "--objects",
                              "--hash-order", "--hash-bits"})

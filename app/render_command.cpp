@@ -120,8 +120,11 @@ void PrintSummary(const RenderArgs& args, const Outcome& o) {
     how = fmt::format("subdivision {}, {} hierarchy levels, {} reduction", tracer["subdivision"].get<int>(), tracer["depth"].get<int>(),
                       tracer["reduction"].get<std::string>());
   else if (tracer.contains("lists"))
-    how = fmt::format("{} lists, {}{}", tracer["lists"].get<std::uint32_t>(), tracer["node_order"].get<std::string>(),
-                      tracer.value("backface_culling", false) ? ", back-face culling: one-sided triangles" : "");
+    how = fmt::format("{} lists, {}{}{}", tracer["lists"].get<std::uint32_t>(), tracer["node_order"].get<std::string>(),
+                      tracer.value("backface_culling", false) ? ", back-face culling: one-sided triangles" : "",
+                      tracer.value("polygon_heads", std::string("off")) != "off"
+                          ? ", " + tracer["polygon_heads"].get<std::string>() + " per-polygon heads"
+                          : std::string());
   else
     how = tracer.value("mode", tracer.value("isa", std::string()));
   std::printf("  backend     %s (%s%s)\n", backend.name.c_str(), backend.device.c_str(),

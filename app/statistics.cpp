@@ -168,6 +168,8 @@ nlohmann::json TlJson(const Statistics& s) {
   // The paper's "redundancy": how many copies of the tree the K lists hold together.
   return {{"lists", sh.lists},
           {"backface_culling", sh.culled},
+          {"polygon_heads", sh.heads == layout::kTlHeadsRegular ? "regular" : sh.heads == layout::kTlHeadsSimple ? "simple" : "off"},
+          {"window_bytes", sh.window_bytes},
           {"tree_nodes", sh.nodes},
           {"triangle_references", sh.triangle_refs},
           {"elements_per_list", tree},

@@ -25,6 +25,7 @@ foreach(algo crsh rah rah-quadtree tl brute embree)
   same_frame(cornell_${algo} "${cornell}" 96x80 --algo ${algo})
 endforeach()
 same_frame(cornell_tl_cull "${cornell}" 96x80 --algo tl --lists 8 --backface-cull on)
+same_frame(cornell_tl_heads "${cornell}" 96x80 --algo tl --polygon-heads regular)
 same_frame(cornell_scan "${cornell}" 96x80 --reduction scan)
 same_frame(cornell_sub4_d3 "${cornell}" 96x80 --subdivision 4 --depth 3)
 # Bindings far smaller than maxStorageBufferRange: per-pixel and per-ray buffers run in parts or

@@ -439,6 +439,16 @@ foreach(f tl.lists:4 tl.trace:4)
   string(REGEX REPLACE ":.*" "" pass "${f}")
   diff_case(fault.tl.cull.${f} cornell-mirrors 48x48 ${f} 4 ${pass} --algo tl --backface-cull on)
 endforeach()
+# Per-polygon heads: tl.heads' windows and the walks over them equal; each planted fault caught in
+# its pass (a flipped plane, the opposite class's facets, a head one element late; the walk taking
+# the window of the other side).
+diff_case(cornell.tl.heads cornell-mirrors 48x48 "" 0 "" --algo tl --polygon-heads regular)
+diff_case(glass.tl.heads-simple-8 glass 64x64 "" 0 "" --algo tl --lists 8 --polygon-heads simple --local-size 32)
+diff_case(cornell.tl.heads-cull cornell-mirrors 48x48 "" 0 "" --algo tl --polygon-heads regular --backface-cull on)
+foreach(f tl.heads:1 tl.heads:2 tl.heads:3 tl.trace:5)
+  string(REGEX REPLACE ":.*" "" pass "${f}")
+  diff_case(fault.tl.heads.${f} cornell-mirrors 48x48 ${f} 4 ${pass} --algo tl --polygon-heads regular)
+endforeach()
 # A traversal-list call saved by a diff replays as the call it was: with its fault reproduced, without
 # it equal; the lists' call replays equal.
 diff_case(replay.tl cornell-mirrors 48x48 tl.trace:2 4 tl.trace --algo tl --save-inputs "${case_work}/saved")

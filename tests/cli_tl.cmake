@@ -110,6 +110,26 @@ else()
       endif()
     endif()
   endforeach()
+  # Per-polygon heads: the same image as without them (and as crsh), 0 mismatches, the mode in the
+  # statistics, and walks that test fewer elements: regular < simple < off (same rays in each).
+  set(tests_off "")
+  foreach(heads off simple regular)
+    render_png(cornell.heads-${heads} cornell-mirrors 96x96 --algo tl --polygon-heads ${heads})
+    if(NOT failures)
+      check_tl_stats(cornell.heads-${heads} 6 earliest-first)
+      file(READ "${WORK}/cornell.heads-${heads}.json" j)
+      string(JSON mode GET "${j}" traversal_lists polygon_heads)
+      string(JSON tests_${heads} GET "${j}" total_tests)
+      file(SHA256 "${WORK}/cornell.heads-${heads}.png" png_${heads})
+      file(SHA256 "${WORK}/cornell.crsh.png" png_crsh)
+      if(NOT mode STREQUAL heads OR NOT png_${heads} STREQUAL png_crsh)
+        set(failures "${failures}\ncornell.heads-${heads}: statistics say '${mode}', PNG equal to crsh's: ${png_${heads}} vs ${png_crsh}")
+      endif()
+    endif()
+  endforeach()
+  if(NOT failures AND NOT (tests_regular LESS tests_simple AND tests_simple LESS tests_off))
+    set(failures "${failures}\ncornell heads: total tests off ${tests_off}, simple ${tests_simple}, regular ${tests_regular}: not falling")
+  endif()
   # The cornell boxes are closed, so one-sided triangles stop the same rays; refraction inside glass
   # meets backs: there the image must change, and the oracle still agree.
   file(READ "${SRC}/scenes/cornell-mirrors.json" cornell)
@@ -143,6 +163,12 @@ else()
     set(failures "${failures}\n--backface-cull on --algo crsh: exit ${rc}, ${err}")
   endif()
   # Bad values are refused with one line naming the option.
+  execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/cornell-mirrors.json" --algo tl --polygon-heads fancy --out "${WORK}/x.png"
+                  RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+  if(rc EQUAL 0 OR NOT err MATCHES "--polygon-heads")
+    set(failures "${failures}\n--polygon-heads fancy: exit ${rc}, ${err}")
+  endif()
+
   execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/cornell-mirrors.json" --algo tl --lists 3 --out "${WORK}/x.png"
                   RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
   if(rc EQUAL 0 OR NOT err MATCHES "--lists")

@@ -45,6 +45,7 @@ struct Config {
   std::uint32_t lists = 0;
   std::string node_order;
   bool cull = false;  // --algo tl --backface-cull on
+  std::string heads;  // --algo tl --polygon-heads: empty for off
   bool tl() const { return algo == "tl"; }
   bool quadtree() const { return algo == "rah-quadtree"; }
   // Every setting that changes the counts, as one line (part of the result's key).

@@ -14,6 +14,7 @@ app::RenderArgs Args(const Config& c) {
     args.lists = c.lists;
     args.node_order = c.node_order;
     args.backface_cull = c.cull ? "on" : "off";
+    args.polygon_heads = c.heads.empty() ? "off" : c.heads;
   } else if (!c.quadtree()) {
     args.subdivision = c.subdivision;
     args.depth = c.levels;

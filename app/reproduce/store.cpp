@@ -45,6 +45,7 @@ nlohmann::json ConfigJson(const Config& c) {
   if (c.one_object) j["one_object"] = true;
   if (c.tl()) j["lists"] = c.lists, j["node_order"] = c.node_order;
   if (c.cull) j["cull"] = true;
+  if (!c.heads.empty()) j["heads"] = c.heads;
   return j;
 }
 
@@ -65,6 +66,7 @@ Config ConfigFromJson(const nlohmann::json& j) {
   c.lists = j.value("lists", 0u);
   c.node_order = j.value("node_order", std::string());
   c.cull = j.value("cull", false);
+  c.heads = j.value("heads", std::string());
   return c;
 }
 

@@ -3,6 +3,7 @@
 
 #include "rayspace/emu/object_tree_traverse.h"
 #include "rayspace/emu/output_checks.h"
+#include "rayspace/emu/tl/heads.h"
 #include "rayspace/emu/tl/tl.h"
 
 namespace rayspace::emu {

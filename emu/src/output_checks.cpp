@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "rayspace/contract.h"
+#include "rayspace/emu/tl/heads.h"
 #include "rayspace/emu/tl/tl.h"
 
 namespace rayspace::emu {
@@ -404,6 +405,15 @@ void CheckOutputs(const call::TlLists& c, const TlListArrays* r, const OutputSou
   for (std::size_t i = 0; i < p.words.size(); ++i)
     if (tl::IsTriangle(static_cast<tl::Escape>(p.escapes[i])) && p.words[i].w >= c.tree.tl_tri_words.size())
       k.Fail("words", i, "names triangle {}, out of range [0, {})", p.words[i].w, c.tree.tl_tri_words.size());
+}
+
+// The windows are what tl.trace walks: each inside its list.
+void CheckOutputs(const call::TlHeads& c, const TlWindows* r, const OutputSource& from) {
+  const Check k(c.kName, from);
+  k.Size("windows", r->windows.size(), 2 * c.tri_words.size() * layout::kTlCases * (c.first.size() - 1));
+  std::size_t bad = 0;
+  const std::string why = WindowsError(c.first, r->windows, c.tri_words.size(), &bad);
+  if (!why.empty()) k.Fail("windows", bad, "{}", why);
 }
 
 void CheckOutputs(const call::TlTrace& c, const TlWalks* r, const OutputSource& from) {

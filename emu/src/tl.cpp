@@ -14,6 +14,7 @@
 
 #include "rayspace/contract.h"
 #include "rayspace/emu/intersect.h"
+#include "rayspace/emu/tl/heads.h"
 #include "rayspace/error.h"
 #include "rayspace/parallel.h"
 
@@ -242,11 +243,17 @@ struct Walker {
   // The paper's loop: a hit sphere leads to its first child (next element), a missed one to its
   // escape; following 0 or -1 ends the walk. A sphere is pruned beyond the best hit so far, not
   // strictly before it, so that a tie at the same t with a lower id is still found.
-  void Walk(bool any) {
-    const std::uint32_t k = ListFor(static_cast<std::uint32_t>(lists.first.size() - 1), dir);
-    std::uint32_t i = lists.first[k];
-    const std::uint32_t end = lists.first[k + 1];
-    bool done = i == end;
+  void Walk(const layout::Ray& ray, bool any) {
+    const std::uint32_t K = static_cast<std::uint32_t>(lists.first.size() - 1), k = ListFor(K, dir);
+    std::uint32_t i = lists.first[k], end = lists.first[k + 1];
+    // A ray on a triangle walks that triangle's window (tl.heads) for its case.
+    const std::uint32_t cs = lists.heads != 0 ? RayCase(lists, lists.tri_words, ray, any) : kNoCase;
+    if (cs != kNoCase) {
+      const std::size_t w = 2 * ((std::size_t{ray.info.y} * layout::kTlCases + cs) * K + k);
+      i = lists.windows[w];
+      end = lists.windows[w + 1];
+    }
+    bool done = i >= end;
     for (std::uint32_t b = 0; !done && b <= end / layout::kTlLoopBlock; ++b) {
       for (std::uint32_t j = 0; !done && j < layout::kTlLoopBlock; ++j) {
         Escape next = static_cast<Escape>(lists.escapes[i]);
@@ -259,8 +266,8 @@ struct Walker {
           const glm::vec4 s(std::bit_cast<float>(w.x), std::bit_cast<float>(w.y), std::bit_cast<float>(w.z), std::bit_cast<float>(w.w));
           if (test(org, dir, tmin, limit, s)) next = 1;
         }
-        done = next <= 0;
         i += static_cast<std::uint32_t>(next);
+        done = next <= 0 || i >= end;
       }
     }
   }
@@ -305,7 +312,7 @@ std::uint64_t Walk(const ListsView& lists, const layout::Ray& ray, bool any, Sta
   const glm::vec3 org = Xyz(ray.origin_tmin), dir = Xyz(ray.direction_tmax);
   Walker w{lists, org, dir, ray.origin_tmin.w, ray.direction_tmax.w, ray.info.y, SetupWatertight(org, dir), kMissPacked, {},
            test ? test : SphereMayHit};
-  w.Walk(any);
+  w.Walk(ray, any);
   AddStats(stats, w.stats);
   return w.best;
 }
@@ -450,10 +457,99 @@ TlListArrays PassTlLists(const call::TlLists& c) {
   return out;
 }
 
+namespace {
+
+// One invocation of tl_heads.comp: the window of (triangle, case, list).
+struct HeadsInvocation {
+  const call::TlHeads& c;
+  std::uint32_t K;
+
+  bool Triangle(std::uint32_t i) const { return tl::IsTriangle(static_cast<tl::Escape>(c.escapes[i])); }
+  bool Rejected(const tl::HeadPlanes& p, std::uint32_t i) const {
+    const glm::uvec4 w = c.words[i];
+    if (!Triangle(i))
+      return tl::SphereRejected(p, glm::vec4(std::bit_cast<float>(w.x), std::bit_cast<float>(w.y), std::bit_cast<float>(w.z),
+                                             std::bit_cast<float>(w.w)));
+    return tl::TriangleRejected(p, Xyz(c.vertices[w.x]), Xyz(c.vertices[w.y]), Xyz(c.vertices[w.z]));
+  }
+  // The element after i's subtree (a sphere's escape -1: the list's end).
+  std::uint32_t Next(std::uint32_t i, std::uint32_t end) const {
+    const tl::Escape e = static_cast<tl::Escape>(c.escapes[i]);
+    return Triangle(i) ? i + 1u : e == tl::kEscapeNone ? end : i + static_cast<std::uint32_t>(e);
+  }
+  // Head: in list order, skip a subtree that lies beyond a plane and enter a sphere that does not,
+  // up to the first triangle not beyond one; the head is the element right after the last subtree
+  // skipped (begin if none). Every triangle before it lies beyond a plane. A walk may start at any
+  // element (escapes are relative: it walks the rest of the list as if every ancestor's sphere were
+  // hit), so the spheres entered before the last skip are not tested; those after it are, so that
+  // the walk keeps every sphere test that prunes nothing the head skips.
+  // Tail: from the head, along the chain of subtrees to the list's end, the last one not beyond,
+  // then the same inside it, one level at a time, until a triangle or a sphere none of whose
+  // children is kept (every element after the tail lies beyond a plane).
+  glm::uvec2 Window(std::uint32_t t, std::uint32_t cs, std::uint32_t k) const {
+    const std::uint32_t begin = c.first[k], end = c.first[k + 1];
+    const glm::uvec4 w = c.tri_words[t];
+    const tl::HeadPlanes p =
+        tl::MakePlanes(Xyz(c.vertices[w.x]), Xyz(c.vertices[w.y]), Xyz(c.vertices[w.z]), cs, K, k, c.mode, c.margin);
+    if (!p.valid) return {begin, end};
+    std::uint32_t head = begin, i = begin;
+    bool found = false;
+    for (std::uint32_t b = 0; !found && i < end && b <= end / layout::kTlLoopBlock; ++b)
+      for (std::uint32_t j = 0; !found && i < end && j < layout::kTlLoopBlock; ++j) {
+        if (Rejected(p, i))
+          head = i = Next(i, end);  // skipped: the walk starts after it at the earliest
+        else if (Triangle(i))
+          found = true;
+        else
+          i += 1;  // into the sphere
+      }
+    if (!found) return {end, end};
+    std::uint32_t lo = head, hi = end, tail = end;
+    for (std::uint32_t level = 0; level <= layout::kTlMaxDepth + 1; ++level) {
+      std::uint32_t last = hi, i = lo;  // last: the last subtree of [lo, hi) not beyond, hi for none
+      for (std::uint32_t b = 0; i < hi && b <= end / layout::kTlLoopBlock; ++b)
+        for (std::uint32_t j = 0; i < hi && j < layout::kTlLoopBlock; ++j) {
+          if (!Rejected(p, i)) last = i;
+          i = Next(i, end);
+        }
+      if (last == hi) {  // none kept below the sphere before [lo, hi): it ends the window
+        tail = lo;
+        break;
+      }
+      if (Triangle(last)) {
+        tail = last + 1;
+        break;
+      }
+      lo = last + 1;
+      hi = Next(last, end);
+      tail = hi;  // if the levels run out: the whole sphere's subtree
+    }
+    return {head, tail};
+  }
+};
+
+}  // namespace
+
+TlWindows PassTlHeads(const call::TlHeads& c) {
+  const std::uint32_t K = static_cast<std::uint32_t>(c.first.size() - 1), T = static_cast<std::uint32_t>(c.tri_words.size());
+  const std::size_t total = std::size_t{T} * layout::kTlCases * K;
+  TlWindows out;
+  out.windows.assign(2 * total, 0u);
+  const HeadsInvocation inv{c, K};
+  ParallelForDynamic(total, 64, [&](std::size_t g) {
+    const std::uint32_t k = static_cast<std::uint32_t>(g % K), cs = static_cast<std::uint32_t>(g / K % layout::kTlCases),
+                        t = static_cast<std::uint32_t>(g / K / layout::kTlCases);
+    const glm::uvec2 w = inv.Window(t, cs, k);
+    out.windows[2 * g] = w.x;
+    out.windows[2 * g + 1] = w.y;
+  });
+  return out;
+}
+
 TlWalks PassTlTrace(const call::TlTrace& c) { return TlTraceWith(c, nullptr); }
 
 TlWalks TlTraceWith(const call::TlTrace& c, tl::SphereTest test) {
-  const tl::ListsView view{c.first, c.escapes, c.words, c.vertices, c.cull != 0};
+  const tl::ListsView view{c.first, c.escapes, c.words, c.vertices, c.cull != 0, c.heads, c.tri_words, c.windows};
   const std::size_t n = c.rays.size();
   TlWalks out;
   if (c.shadow)

@@ -1,10 +1,14 @@
 // The contract of the traversal-list passes' inputs (emu/calls.h, `--algo tl`), checked before a saved
 // or hand-made call runs: a call that passes runs on every backend without reading out of bounds and
 // every loop of its kernel ends within lavapipe's bounds.
+#include <cmath>
 #include <vector>
+
+#include <fmt/format.h>
 
 #include "rayspace/contract.h"
 #include "rayspace/emu/calls.h"
+#include "rayspace/emu/tl/heads.h"
 #include "rayspace/emu/tl/tl.h"
 #include "rayspace/error.h"
 
@@ -78,13 +82,61 @@ void CheckInputs(const call::TlLists& c) {
   }
 }
 
-void CheckInputs(const call::TlTrace& c) {
-  if (c.first.empty()) ThrowInput("{}: input 'first' is empty", c.kName);
+namespace {
+
+void CheckLists(std::string_view call, std::span<const std::uint32_t> first, std::span<const std::uint32_t> escapes,
+                std::span<const glm::uvec4> words, std::span<const glm::vec4> vertices) {
+  if (first.empty()) ThrowInput("{}: input 'first' is empty", call);
   std::size_t bad = 0;
-  const std::string e = tl::ListsError({c.first, c.escapes, c.words, c.vertices}, &bad);
-  if (!e.empty()) ThrowInput("{}: the lists: {}", c.kName, e);
+  const std::string e = tl::ListsError({first, escapes, words, vertices}, &bad);
+  if (!e.empty()) ThrowInput("{}: the lists: {}", call, e);
+}
+
+void CheckTriWords(std::string_view call, std::span<const glm::uvec4> tri_words, std::size_t vertices) {
+  for (std::size_t i = 0; i < tri_words.size(); ++i) {
+    const glm::uvec4 w = tri_words[i];
+    if (w.x >= vertices || w.y >= vertices || w.z >= vertices)
+      ThrowInput("{}: input 'tri_words' element {} names a vertex out of range", call, i);
+  }
+}
+
+}  // namespace
+
+std::string WindowsError(std::span<const std::uint32_t> first, std::span<const std::uint32_t> windows, std::size_t triangles,
+                         std::size_t* bad) {
+  const std::size_t K = first.size() - 1;
+  if (windows.size() != 2 * triangles * layout::kTlCases * K)
+    return fmt::format("{} words for {} triangles x {} cases x {} lists (2 each)", windows.size(), triangles, layout::kTlCases, K);
+  for (std::size_t g = 0; g < windows.size() / 2; ++g) {
+    const std::size_t k = g % K;
+    if (windows[2 * g] > windows[2 * g + 1] || windows[2 * g] < first[k] || windows[2 * g + 1] > first[k + 1]) {
+      if (bad) *bad = 2 * g;
+      return fmt::format("window {} [{}, {}) is not inside its list [{}, {})", g, windows[2 * g], windows[2 * g + 1], first[k],
+                         first[k + 1]);
+    }
+  }
+  return {};
+}
+
+void CheckInputs(const call::TlHeads& c) {
+  CheckLists(c.kName, c.first, c.escapes, c.words, c.vertices);
+  CheckTriWords(c.kName, c.tri_words, c.vertices.size());
+  if (c.mode != layout::kTlHeadsSimple && c.mode != layout::kTlHeadsRegular)
+    ThrowInput("{}: mode {} is neither simple (1) nor regular (2)", c.kName, c.mode);
+  if (!(c.margin >= 0.0f) || !std::isfinite(c.margin)) ThrowInput("{}: margin {} is not a finite number >= 0", c.kName, c.margin);
+  if (std::uint64_t{c.tri_words.size()} * layout::kTlCases * (c.first.size() - 1) > std::uint64_t{1} << 31)
+    ThrowInput("{}: {} triangles x {} lists make too many windows", c.kName, c.tri_words.size(), c.first.size() - 1);
+}
+
+void CheckInputs(const call::TlTrace& c) {
+  CheckLists(c.kName, c.first, c.escapes, c.words, c.vertices);
   if (c.shadow > 1) ThrowInput("{}: shadow {} is neither 0 nor 1", c.kName, c.shadow);
   if (c.cull > 1) ThrowInput("{}: cull {} is neither 0 nor 1", c.kName, c.cull);
+  if (c.heads > layout::kTlHeadsRegular) ThrowInput("{}: heads {} is not off (0), simple (1) or regular (2)", c.kName, c.heads);
+  if (c.heads == layout::kTlHeadsOff) return;
+  CheckTriWords(c.kName, c.tri_words, c.vertices.size());
+  const std::string e = WindowsError(c.first, c.windows, c.tri_words.size());
+  if (!e.empty()) ThrowInput("{}: input 'windows': {}", c.kName, e);
 }
 
 }  // namespace rayspace::emu

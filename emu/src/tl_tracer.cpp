@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rayspace/emu/intersect.h"
+#include "rayspace/emu/tl/heads.h"
 #include "rayspace/emu/output_checks.h"
 #include "rayspace/error.h"
 
@@ -30,6 +31,7 @@ class Tl final : public TlTracer {
     out["tree_big_fraction"] = options_.tree.big_fraction;
     out["tree_leaf_triangles"] = options_.tree.leaf_triangles;
     out["backface_culling"] = options_.cull;
+    out["polygon_heads"] = options_.heads == layout::kTlHeadsRegular ? "regular" : options_.heads == layout::kTlHeadsSimple ? "simple" : "off";
     out["triangles"] = options_.cull ? "one-sided: met only from the front, (v1 - v0) x (v2 - v0)" : "two-sided";
     const TlShape s = Shape();
     out["tree_nodes"] = s.nodes;
@@ -43,7 +45,7 @@ class Tl final : public TlTracer {
   const std::vector<TlBatchStats>& Stats() const override { return stats_; }
   TlShape Shape() const override {
     TlShape s{options_.lists, static_cast<std::uint32_t>(tree_.links.size()), static_cast<std::uint32_t>(tree_.triangles.size()),
-              built_ ? lists_.Bytes() : 0, options_.cull, {}, {}};
+              built_ ? lists_.Bytes() : 0, options_.cull, options_.heads, windows_.windows.size() * sizeof(std::uint32_t), {}, {}};
     if (!built_) return s;
     for (std::uint32_t k = 0; k < options_.lists; ++k) {
       s.list_elements.push_back(lists_.first[k + 1] - lists_.first[k]);
@@ -71,7 +73,7 @@ class Tl final : public TlTracer {
     const auto t0 = std::chrono::steady_clock::now();
     TlWalks w = passes_.TlTrace(
         {.first = lists_.first, .escapes = lists_.escapes, .words = lists_.words, .vertices = lists_.vertices, .rays = rays, .shadow = shadow,
-         .cull = options_.cull ? 1u : 0u});
+         .cull = options_.cull ? 1u : 0u, .heads = options_.heads, .tri_words = tree_.tri_words, .windows = windows_.windows});
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (ctx_.subpasses) ctx_.subpasses->push_back({label, ms, rays.size()});
     if (ctx_.digest) {
@@ -107,6 +109,24 @@ class Tl final : public TlTracer {
       ctx_.digest->Add("tl.lists", "words", lists_.words);
       ctx_.digest->Add("tl.lists", "lengths", lengths);
     }
+    if (options_.heads != layout::kTlHeadsOff) BuildWindows();
+  }
+  // Per-polygon heads: the pass "tl.heads" right after the lists.
+  void BuildWindows() {
+    std::vector<glm::vec3> lights;
+    for (const layout::Light& l : scene_.lights) lights.push_back(Xyz(l.position));
+    passes_.Label("tl.heads");
+    const auto t0 = std::chrono::steady_clock::now();
+    windows_ = passes_.TlHeads({.first = lists_.first,
+                                .escapes = lists_.escapes,
+                                .words = lists_.words,
+                                .vertices = lists_.vertices,
+                                .tri_words = tree_.tri_words,
+                                .mode = options_.heads,
+                                .margin = tl::HeadsMargin(scene_.lo, scene_.hi, lights)});
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (ctx_.subpasses) ctx_.subpasses->push_back({"tl.heads", ms, windows_.windows.size() / 2});
+    if (ctx_.digest) ctx_.digest->Add("tl.heads", "windows", windows_.windows);
   }
   void Count(const std::vector<layout::Ray>& rays, const TlWalks& w) {
     TlBatchStats s;
@@ -134,6 +154,7 @@ class Tl final : public TlTracer {
   tl::Tree tree_;
   std::vector<glm::vec4> directions_;
   tl::Lists lists_;
+  TlWindows windows_;  // per-polygon heads (empty when off)
   bool built_ = false;
   BatchContext ctx_;
   std::vector<TlBatchStats> stats_;

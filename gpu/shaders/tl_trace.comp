@@ -21,9 +21,32 @@ layout(std430, binding = kTlTraceBindHits) writeonly buffer Hits { uint64_t hits
 layout(std430, binding = kTlTraceBindOccluded) writeonly buffer Occluded { uint occluded[]; };
 layout(std430, binding = kTlTraceBindSpheres) writeonly buffer SphereTests { uint sphere_tests[]; };
 layout(std430, binding = kTlTraceBindTriangles) writeonly buffer TriangleTests { uint triangle_tests[]; };
+layout(std430, binding = kTlTraceBindTriWords) readonly buffer TriWords { uvec4 tri_words[]; };
+layout(std430, binding = kTlTraceBindWindows) readonly buffer Windows { uint windows[]; };
 layout(push_constant) uniform Block { TlTracePush pc; };
 
 const uint64_t kMiss = 0xFFFFFFFFFFFFFFFFul;
+const uint kNoCase = 0xFFFFFFFFu;
+
+// The ray's case on its triangle (emu tl::RayCase): 2 * ends + behind, or kNoCase (no triangle, a
+// sliver, or a direction within kTlSideRatio of the plane).
+uint RayCase(const Ray r, bool ends) {
+  const uint prim = r.info.y;
+  if (prim >= pc.triangles) return kNoCase;
+  const uvec4 w = tri_words[prim];
+  const vec3 v0 = vertices[w.x].xyz;
+  precise const vec3 e1 = vertices[w.y].xyz - v0, e2 = vertices[w.z].xyz - v0;
+  const vec3 n = Cross3(e1, e2);
+  precise const float na = MaxAbs(n, n) * 32.0, nb = MaxAbs(e1, e1) * MaxAbs(e2, e2);
+  if (!(na >= nb)) return kNoCase;
+  const vec3 d = r.direction_tmax.xyz;
+  const float dn = Dot3(d, n);
+  precise const float lim = kTlSideRatio * (Length3(d) * Length3(n));
+  if (!(abs(dn) > lim)) return kNoCase;
+  const bool behind = ends ? dn > 0.0 : dn < 0.0;
+  // Fault 5: the window of the other side.
+  return (ends ? 2u : 0u) + ((behind != (kFault == 5u)) ? 1u : 0u);
+}
 
 void main() {
   const uint ray = GlobalIndex();
@@ -36,10 +59,17 @@ void main() {
   // Fault 3: the ray walks the list of the opposite direction (the other of each pair).
   if (kFault == 3u && K > 1u) k = K == 8u ? 7u - k : k ^ 1u;
   uint i = first[k];
-  const uint end = first[k + 1u];
+  uint end = first[k + 1u];
+  // A ray on a triangle walks that triangle's window (tl.heads) for its case.
+  const uint cs = pc.heads != kTlHeadsOff ? RayCase(r, pc.shadow != 0u) : kNoCase;
+  if (cs != kNoCase) {
+    const uint w = 2u * ((r.info.y * kTlCases + cs) * K + k);
+    i = windows[w];
+    end = windows[w + 1u];
+  }
   uint64_t best = kMiss;
   uint spheres = 0u, triangles = 0u;
-  bool done = i == end;
+  bool done = i >= end;
   for (uint b = 0u; !done && b <= end / kTlLoopBlock; ++b) {
     for (uint j = 0u; !done && j < kTlLoopBlock; ++j) {
       int next = escapes[i];
@@ -62,8 +92,8 @@ void main() {
         // Fault 1: a missed sphere's escape one element short.
         else if (kFault == 1u && next > 2) next -= 1;
       }
-      done = next <= 0;
       i += uint(next);
+      done = next <= 0 || i >= end;
     }
   }
   if (pc.shadow != 0u)

@@ -71,6 +71,28 @@ vk::Status VulkanPasses::Run(const emu::call::TlLists& call, emu::TlListArrays& 
   return keep.CopyBack();
 }
 
+// One invocation per (triangle, case, list) window.
+vk::Status VulkanPasses::Run(const emu::call::TlHeads& call, emu::TlWindows& out) {
+  const std::size_t lists = call.first.empty() ? 0 : call.first.size() - 1, total = call.tri_words.size() * layout::kTlCases * lists;
+  Keep keep;
+  Bindings<layout::kTlHeadsBindings> b;
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlHeadsBindFirst, call.first));
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlHeadsBindEscapes, call.escapes));
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlHeadsBindWords, call.words));
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlHeadsBindVertices, call.vertices));
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlHeadsBindTriWords, call.tri_words));
+  out.windows.assign(2 * total, 0u);
+  RS_TRY(Output(*ctx_, keep, b, layout::kTlHeadsBindWindows, total * 8, out.windows.data()));
+  if (total == 0) return vk::Status::Ok();
+  layout::TlHeadsPush push{};
+  push.lists = static_cast<std::uint32_t>(lists);
+  push.triangles = static_cast<std::uint32_t>(call.tri_words.size());
+  push.mode = call.mode;
+  push.margin = call.margin;
+  RS_TRY(RunKernel(*ctx_, K(PassId::kTlHeads), b.All(), &push, sizeof push, static_cast<std::uint32_t>(total)));
+  return keep.CopyBack();
+}
+
 vk::Status VulkanPasses::Run(const emu::call::TlTrace& call, emu::TlWalks& out) {
   const std::size_t n = call.rays.size();
   Keep keep;
@@ -91,12 +113,16 @@ vk::Status VulkanPasses::Run(const emu::call::TlTrace& call, emu::TlWalks& out) 
   RS_TRY(Output(*ctx_, keep, b, layout::kTlTraceBindOccluded, call.shadow ? n * 4 : 0, call.shadow ? out.occluded.data() : nullptr));
   RS_TRY(Output(*ctx_, keep, b, layout::kTlTraceBindSpheres, n * 4, out.spheres.data()));
   RS_TRY(Output(*ctx_, keep, b, layout::kTlTraceBindTriangles, n * 4, out.triangles.data()));
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlTraceBindTriWords, call.tri_words));
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlTraceBindWindows, call.windows));
   if (n == 0) return vk::Status::Ok();
   layout::TlTracePush push{};
   push.count = static_cast<std::uint32_t>(n);
   push.lists = static_cast<std::uint32_t>(call.first.size() - 1);
   push.shadow = call.shadow;
   push.cull = call.cull;
+  push.heads = call.heads;
+  push.triangles = static_cast<std::uint32_t>(call.tri_words.size());
   RS_TRY(RunKernel(*ctx_, K(PassId::kTlTrace), b.All(), &push, sizeof push, push.count));
   return keep.CopyBack();
 }

@@ -482,12 +482,44 @@ RS_CONST(uint, kTlTraceBindHits, 5u);       // closest: packed hit per ray
 RS_CONST(uint, kTlTraceBindOccluded, 6u);   // shadow: 1 per occluded ray
 RS_CONST(uint, kTlTraceBindSpheres, 7u);    // per ray: the sphere elements it tested
 RS_CONST(uint, kTlTraceBindTriangles, 8u);  // per ray: the triangle elements it tested
-RS_CONST(uint, kTlTraceBindings, 9u);
+RS_CONST(uint, kTlTraceBindTriWords, 9u);   // per scene triangle: its vertex indices (heads only)
+RS_CONST(uint, kTlTraceBindWindows, 10u);   // tl.heads' windows (heads only)
+RS_CONST(uint, kTlTraceBindings, 11u);
 struct TlTracePush {
   uint count;   // rays
   uint lists;   // K
   uint shadow;  // 1: any hit (occluded), 0: closest hit
   uint cull;    // 1: one-sided triangles, a hit only from the front (Woop's det > 0)
+  uint heads;      // kTlHeads*: walk each ray's window of tl.heads (not kTlHeadsOff)
+  uint triangles;  // scene triangles (the words and windows held), with heads
+};
+
+// ---- tl.heads: per-polygon windows of the traversal lists (Toczek et al. section 3.1) ------------
+// A ray that starts on a triangle (reflection, refraction) or ends on it (a shadow ray, which starts
+// at the light) reaches only points on one side of the triangle's plane, and, within its list's
+// direction class, only points past (or before) the triangle along the class's facet planes. Per
+// (triangle, case, list) tl.heads writes the window [head, tail) of the packed list outside which
+// every triangle lies beyond one of those planes by more than the margin: the walk need not visit
+// it. Case = 2 * ends_on_triangle + (points behind the plane ? 1 : 0); window index
+// (triangle * kTlCases + case) * K + list, each a uvec2 of absolute element indices.
+RS_CONST(uint, kTlHeadsBindFirst, 0u);
+RS_CONST(uint, kTlHeadsBindEscapes, 1u);
+RS_CONST(uint, kTlHeadsBindWords, 2u);
+RS_CONST(uint, kTlHeadsBindVertices, 3u);
+RS_CONST(uint, kTlHeadsBindTriWords, 4u);   // per scene triangle: its vertex indices and id
+RS_CONST(uint, kTlHeadsBindWindows, 5u);    // per (triangle, case, list): head, tail
+RS_CONST(uint, kTlHeadsBindings, 6u);
+RS_CONST(uint, kTlHeadsOff, 0u);
+RS_CONST(uint, kTlHeadsSimple, 1u);   // the triangle's plane only
+RS_CONST(uint, kTlHeadsRegular, 2u);  // and the facet planes of the list's class
+RS_CONST(uint, kTlCases, 4u);
+// A ray takes a window only when its direction is clearly off the plane: |d . n| > this x |d| |n|.
+RS_CONST(float, kTlSideRatio, 9.765625e-04);  // 2^-10
+struct TlHeadsPush {
+  uint lists;      // K
+  uint triangles;  // scene triangles
+  uint mode;       // kTlHeadsSimple or kTlHeadsRegular
+  float margin;    // how far beyond a plane an element must lie to be skipped (scene units)
 };
 
 // ---- shade: direct light at the shading points into the fixed-point accumulator ---------------
@@ -546,7 +578,7 @@ static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && size
               sizeof(BuildPush) == 24 && sizeof(TraversePush) == 60 && sizeof(ReducePush) == 20 &&
               sizeof(IntersectPush) == 44 && sizeof(ShadePush) == 16 && sizeof(ElementwisePush) == 8 &&
               sizeof(TraverseCompactPush) == 68 && sizeof(TreePush) == 40 && sizeof(IntersectTreePush) == 8 &&
-              sizeof(TlListsPush) == 28 && sizeof(TlTracePush) == 16);
+              sizeof(TlListsPush) == 28 && sizeof(TlTracePush) == 24 && sizeof(TlHeadsPush) == 16);
 static_assert(kTlMaxElements == 65535u * kTlLoopBlock && kTlEscapeNone == ~0u && kTlNoParent == ~0u);
 static_assert(kTreeStepBlock % kMaxLocalSize == 0u);
 static_assert(offsetof(TraversePush, eps) == 40);

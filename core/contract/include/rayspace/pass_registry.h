@@ -39,6 +39,7 @@ enum class PassId : std::uint8_t {
   kTreeStep,
   kIntersectTree,
   kTlLists,
+  kTlHeads,
   kTlTrace,
   kShade,
   kResolve,
@@ -111,6 +112,7 @@ inline constexpr SV kTreeSlotsIdx[] = {"flags", "cone", "item"};
 inline constexpr SV kTreeExpandIdx[] = {"counts"};
 inline constexpr SV kTreeStepIdx[] = {"next_cone", "next_item", "final_cone", "final_item"};
 inline constexpr SV kTlListsIdx[] = {"escapes", "words", "lengths"};
+inline constexpr SV kTlHeadsIdx[] = {"windows"};
 constexpr std::span<const SV> None() { return {}; }
 
 inline constexpr CallSpec kRasterCalls[] = {{"raster", kRasterIdx}};
@@ -136,6 +138,7 @@ inline constexpr CallSpec kTreeTestCalls[] = {{"tree.test", kTreeSlotsIdx}};
 inline constexpr CallSpec kTreeStepCalls[] = {{"tree.step", kTreeStepIdx}};
 inline constexpr CallSpec kIntersectTreeCalls[] = {{"intersect.tree", kIntersectIdx}};
 inline constexpr CallSpec kTlListsCalls[] = {{"tl.lists", kTlListsIdx}};
+inline constexpr CallSpec kTlHeadsCalls[] = {{"tl.heads", kTlHeadsIdx}};
 inline constexpr CallSpec kTlTraceCalls[] = {{"tl.trace", None()}};
 inline constexpr CallSpec kShadeCalls[] = {{"shade", None()}};
 inline constexpr CallSpec kResolveCalls[] = {{"resolve", None()}};
@@ -263,10 +266,14 @@ inline constexpr FaultSpec kTlListsFaults[] = {{1, "a sphere's escape is one ele
                                               {2, "a triangle is ordered by its first vertex only"},
                                               {3, "every list is ordered along the first list's direction"},
                                               {4, "back-face culling drops the triangles the list's rays meet from the front"}};
+inline constexpr FaultSpec kTlHeadsFaults[] = {{1, "the triangle's plane faces the other way (the side the rays reach is skipped)"},
+                                              {2, "the facet planes of the opposite class"},
+                                              {3, "a window's head one element past the first element kept"}};
 inline constexpr FaultSpec kTlTraceFaults[] = {{1, "a missed sphere's escape is followed one element short"},
                                               {2, "the sphere test's distance check is flipped"},
                                               {3, "a ray walks the list of the opposite direction"},
-                                              {4, "one-sided triangles count when met from behind, not from the front"}};
+                                              {4, "one-sided triangles count when met from behind, not from the front"},
+                                              {5, "a ray walks the window of the other side of its triangle"}};
 inline constexpr FaultSpec kShadeFaults[] = {{1, "the quadratic attenuation uses the distance, not its square"},
                                              {2, "the light vector points from the light to the surface"},
                                              {3, "the blue channel is never accumulated"},
@@ -304,6 +311,7 @@ inline constexpr std::array<PassSpec, kPassCount> kPasses = {{
   {PassId::kTreeStep,         "tree.step",         "tree_step",         false, pass_registry_detail::kTreeStepPhases,    layout::kTreeBindings,         RS_PUSH(TreePush),          pass_registry_detail::kTreeStepCalls,      "hierarchy_traversal",       pass_registry_detail::kTreeStepFaults},
   {PassId::kIntersectTree,    "intersect.tree",    "intersect_tree",    false, {},                                        layout::kIntersectTreeBindings, RS_PUSH(IntersectTreePush), pass_registry_detail::kIntersectTreeCalls, "final_intersection_tests",  pass_registry_detail::kIntersectTreeFaults},
   {PassId::kTlLists,         "tl.lists",          "tl_lists",          false, pass_registry_detail::kTlListsPhases,     layout::kTlListsBindings,      RS_PUSH(TlListsPush),       pass_registry_detail::kTlListsCalls,       "hierarchy_creation",        pass_registry_detail::kTlListsFaults},
+  {PassId::kTlHeads,          "tl.heads",          "tl_heads",          false, {},                                        layout::kTlHeadsBindings,      RS_PUSH(TlHeadsPush),       pass_registry_detail::kTlHeadsCalls,       "hierarchy_creation",        pass_registry_detail::kTlHeadsFaults},
   {PassId::kTlTrace,          "tl.trace",          "tl_trace",          false, {},                                        layout::kTlTraceBindings,      RS_PUSH(TlTracePush),       pass_registry_detail::kTlTraceCalls,       "hierarchy_traversal",       pass_registry_detail::kTlTraceFaults},
   {PassId::kShade,            "shade",             "shade",             false, {},                                        layout::kShadeBindings,        RS_PUSH(ShadePush),         pass_registry_detail::kShadeCalls,         "",                          pass_registry_detail::kShadeFaults},
   {PassId::kResolve,          "resolve",           "resolve",           false, {},                                        layout::kResolveBindings,      RS_PUSH(ElementwisePush),      pass_registry_detail::kResolveCalls,       "",                          pass_registry_detail::kResolveFaults},

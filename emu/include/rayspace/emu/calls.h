@@ -338,6 +338,21 @@ struct TlLists {
   RS_FIELDS(tree, directions, order, cull)
 };
 
+// Per (scene triangle, case, list) the window of the packed lists a ray on that triangle walks
+// (rayspace/contract.h, kTlHeads*): every triangle element outside it lies beyond one of the case's
+// planes by more than `margin`.
+struct TlHeads {
+  static constexpr std::string_view kName = "tl.heads";
+  using Result = TlWindows;
+  In<std::uint32_t> first{}, escapes{};
+  In<glm::uvec4> words{};
+  In<glm::vec4> vertices{};
+  In<glm::uvec4> tri_words{};
+  std::uint32_t mode = layout::kTlHeadsRegular;
+  float margin = 0.0f;
+  RS_FIELDS(first, escapes, words, vertices, tri_words, mode, margin)
+};
+
 // Every ray walks the list of its direction class (tl::ListFor over `first`'s K lists) without a
 // stack: the closest hit (shadow = 0) or whether any triangle but the ray's own is hit (shadow = 1).
 struct TlTrace {
@@ -349,7 +364,12 @@ struct TlTrace {
   In<layout::Ray> rays{};
   std::uint32_t shadow = 0;
   std::uint32_t cull = 0;  // 1: one-sided triangles, met only from the front
-  RS_FIELDS(first, escapes, words, vertices, rays, shadow, cull)
+  // heads != kTlHeadsOff: a ray whose info.y names a triangle walks that triangle's window
+  // (tl.heads): a closest-hit ray starts on it, a shadow ray ends on it.
+  std::uint32_t heads = layout::kTlHeadsOff;
+  In<glm::uvec4> tri_words{};
+  In<std::uint32_t> windows{};  // tl.heads' windows: head, tail per (triangle, case, list)
+  RS_FIELDS(first, escapes, words, vertices, rays, shadow, cull, heads, tri_words, windows)
 };
 
 }  // namespace call
@@ -359,7 +379,7 @@ struct TlTrace {
 #define RS_HIERARCHY_CALLS(X)                                                                        \
   X(Hash) X(Compress) X(SortChunks) X(Decompress) X(BuildLeaves) X(BuildParents) X(ObjectMask) X(TraverseTop) \
   X(TraverseLevel) X(Reduce) X(TraverseTopCompacted) X(TraverseLevelCompacted) X(Intersect) X(TreeRoots) \
-  X(TreeExpand) X(TreeTest) X(TreeStep) X(IntersectTree) X(TlLists) X(TlTrace)
+  X(TreeExpand) X(TreeTest) X(TreeStep) X(IntersectTree) X(TlLists) X(TlHeads) X(TlTrace)
 
 // Calls whose kernel runs one invocation per element over input arrays of one length, with no other
 // input (rayspace/contract.h, "element-wise passes"): the Vulkan backend launches them generically.

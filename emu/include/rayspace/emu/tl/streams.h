@@ -37,6 +37,13 @@ struct TlListArrays {
   RS_FIELDS(escapes, words, lengths)
 };
 
+// Per (scene triangle, case, list): the window [head, tail) of the packed lists its rays walk, as two
+// words at 2 ((triangle kTlCases + case) K + list).
+struct TlWindows {
+  std::vector<std::uint32_t> windows;
+  RS_FIELDS(windows)
+};
+
 // Per ray: its closest hit (closest-hit batches) or whether it is occluded (shadow batches; the other
 // array is empty), and the sphere and triangle elements its walk tested.
 struct TlWalks {

@@ -38,6 +38,9 @@ struct Options {
   // (v1 - v0) x (v2 - v0) points to), and each list drops the triangles every ray of its class meets
   // from behind (Culled). Off by default: the scene's triangles are two-sided for every other tracer.
   bool cull = false;
+  // Per-polygon heads (layout::kTlHeads*): off, simple (the triangle's plane) or regular (and the
+  // facet planes of the list's class). Off by default.
+  std::uint32_t heads = 0;
 };
 
 // The host's half: the tree (BuildObjectTree over the scene as one object), each node's parent and
@@ -112,6 +115,10 @@ struct ListsView {
   std::span<const Word> words;
   std::span<const Vertex> vertices;
   bool one_sided = false;  // a triangle counts only when met from its front (IntersectWatertight's det > 0)
+  // Per-polygon windows (heads != kTlHeadsOff): tl.heads' windows and the scene triangles' words.
+  std::uint32_t heads = 0;
+  std::span<const Word> tri_words{};
+  std::span<const std::uint32_t> windows{};
 };
 // Why the arrays are not lists a walk can follow safely, or "" (K in {1, 2, 6, 8}; each list's
 // escapes 1, 0 (the last element only), at least 2 or -1 (a sphere, never last) and within the list;

@@ -29,6 +29,8 @@ struct TlShape {
   std::uint32_t lists = 0, nodes = 0, triangle_refs = 0;
   std::uint64_t bytes = 0;
   bool culled = false;
+  std::uint32_t heads = 0;  // layout::kTlHeads*: per-polygon windows of the lists
+  std::uint64_t window_bytes = 0;  // tl.heads' windows (0 without heads)
   std::vector<std::uint32_t> list_elements, list_culled;
 };
 

@@ -1,0 +1,66 @@
+// Per-polygon windows of the traversal lists (Toczek et al. section 3.1; docs/traversal-lists.md,
+// "Per-polygon heads"). A ray that starts on a triangle (reflection, refraction) reaches only the
+// side of the triangle's plane its direction points to, and, its direction lying in its list's
+// class, only points past the triangle along every facet plane of the class (m . x >= the
+// triangle's least m . v); a ray that ends on a triangle (a shadow ray, which starts at the light)
+// only points on the side it comes from and before it. tl.heads writes per (triangle, case, list)
+// the window [head, tail) of the list outside which every element lies beyond one of those planes
+// by more than a margin, and tl.trace walks only the window.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include <glm/vec3.hpp>
+
+#include "rayspace/emu/tl/tl.h"
+
+namespace rayspace::emu::tl {
+
+// The planes of one (triangle, case, list): the triangle's plane n . (x - v0) (n = (v1 - v0) x
+// (v2 - v0) in float), on the side behind (case & 1) or in front, and `facets` facet planes m . x
+// against `bound` (starting rays: at least the triangle's least projection; ending rays, case & 2:
+// at most its greatest). An element is beyond a plane when it lies farther than `margin` (scaled by
+// |n| or |m|) on the far side. A sliver (|n| small against |e1| |e2|, where the float normal's
+// direction is uncertain) has no planes: valid = false, the whole list.
+struct HeadPlanes {
+  glm::vec3 n{0.0f}, v0{0.0f};
+  bool valid = false, behind = false, ends = false;
+  float reach = 0.0f, margin = 0.0f;
+  std::uint32_t facets = 0;
+  glm::vec3 m[4];
+  float bound[4] = {}, len[4] = {};
+};
+
+// Is |n| too small against |e1| |e2| (max norms, |n| < |e1| |e2| / 32) for the float normal's
+// direction to be trusted?
+bool Sliver(glm::vec3 e1, glm::vec3 e2, glm::vec3 n);
+// The facet normals of list k's direction class (K = 2: 1; 6: 4, s e_a +- e_b and s e_a +- e_c;
+// 8: the 3 signed axes; 1: none); returns how many.
+std::uint32_t Facets(std::uint32_t count, std::uint32_t k, glm::vec3 m[4]);
+HeadPlanes MakePlanes(glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, std::uint32_t c, std::uint32_t count, std::uint32_t k,
+                      std::uint32_t mode, float margin);
+bool SphereRejected(const HeadPlanes& p, glm::vec4 sphere);
+bool TriangleRejected(const HeadPlanes& p, glm::vec3 a, glm::vec3 b, glm::vec3 c);
+
+// The case of a ray on its triangle (ray.info.y), as tl.trace computes it: 2 * ends + behind, or
+// kNoCase when it has no triangle, the triangle is a sliver, or its direction lies within
+// kTlSideRatio of the plane (no window: the whole list).
+inline constexpr std::uint32_t kNoCase = ~0u;
+std::uint32_t RayCase(const ListsView& lists, std::span<const Word> tri_words, const layout::Ray& ray, bool ends);
+
+// The margin of a scene: 2^-10 of the largest coordinate magnitude M of its bounds and lights. A
+// ray's origin lies within a few ulps of M of its triangle, and the float plane of a non-sliver
+// triangle turns by at most 2^-14.2 from the exact one, which moves it by 2^-12.4 M across the
+// scene: the margin covers both four times over.
+float HeadsMargin(glm::vec3 lo, glm::vec3 hi, std::span<const glm::vec3> lights);
+
+}  // namespace rayspace::emu::tl
+
+namespace rayspace::emu {
+TlWindows PassTlHeads(const call::TlHeads& c);
+// Why tl.heads' windows do not fit the lists, or "": 2 words per (triangle, case, list), each window
+// [head, tail) inside its list. `bad` receives the first bad word.
+std::string WindowsError(std::span<const std::uint32_t> first, std::span<const std::uint32_t> windows, std::size_t triangles,
+                         std::size_t* bad = nullptr);
+}  // namespace rayspace::emu

@@ -1,0 +1,125 @@
+// Per-polygon windows of the traversal lists (Toczek et al. section 3.1; rayspace/contract.h,
+// kTlHeads*): the planes and rejection tests of tl.heads, mirroring gpu/shaders/tl_heads.comp
+// operation for operation (the pass itself, PassTlHeads, is in tl.cpp beside the other two), and the
+// case a ray's walk takes (tl::RayCase, as tl_trace.comp computes it).
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+#include "rayspace/contract.h"
+#include "rayspace/emu/intersect.h"
+#include "rayspace/emu/tl/heads.h"
+#include "rayspace/parallel.h"
+
+namespace rayspace::emu::tl {
+namespace {
+
+// An upper bound of sqrt(2), the length of a sextant facet's normal e_a +- e_b.
+constexpr float kSqrt2Up = 1.41421366f;
+
+}  // namespace
+
+bool Sliver(glm::vec3 e1, glm::vec3 e2, glm::vec3 n) { return !(MaxAbs(n, n) * 32.0f >= MaxAbs(e1, e1) * MaxAbs(e2, e2)); }
+
+std::uint32_t Facets(std::uint32_t count, std::uint32_t k, glm::vec3 m[4]) {
+  if (count == 2) {
+    m[0] = glm::vec3(k == 1 ? -1.0f : 1.0f, 0.0f, 0.0f);
+    return 1;
+  }
+  if (count == 8) {
+    m[0] = glm::vec3((k & 1u) ? -1.0f : 1.0f, 0.0f, 0.0f);
+    m[1] = glm::vec3(0.0f, (k & 2u) ? -1.0f : 1.0f, 0.0f);
+    m[2] = glm::vec3(0.0f, 0.0f, (k & 4u) ? -1.0f : 1.0f);
+    return 3;
+  }
+  if (count != 6) return 0;
+  const std::uint32_t a = k / 2u, b = a == 2u ? 0u : a + 1u, c = b == 2u ? 0u : b + 1u;
+  const float s = (k & 1u) ? -1.0f : 1.0f;
+  for (std::uint32_t j = 0; j < 4; ++j) {
+    glm::vec3 v(0.0f);
+    v[a] = s;
+    v[j < 2 ? b : c] = (j & 1u) ? -1.0f : 1.0f;
+    m[j] = v;
+  }
+  return 4;
+}
+
+HeadPlanes MakePlanes(glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, std::uint32_t c, std::uint32_t count, std::uint32_t k,
+                      std::uint32_t mode, float margin) {
+  HeadPlanes p;
+  const glm::vec3 e1 = v1 - v0, e2 = v2 - v0;
+  p.n = Cross(e1, e2);
+  p.valid = !Sliver(e1, e2, p.n);
+  p.v0 = v0;
+  p.behind = (c & 1u) != 0;
+  p.ends = (c & 2u) != 0;
+  p.reach = margin * Length(p.n);
+  p.margin = margin;
+  p.facets = mode == layout::kTlHeadsRegular ? Facets(count, k, p.m) : 0u;
+  for (std::uint32_t j = 0; j < p.facets; ++j) {
+    // Where the triangle lies along the facet's normal: its least (starting rays) or greatest
+    // (ending rays) projection, min and max by comparisons in a fixed order.
+    const float a = Dot(p.m[j], v0), b = Dot(p.m[j], v1), d = Dot(p.m[j], v2);
+    float x = a;
+    if (p.ends ? b > x : b < x) x = b;
+    if (p.ends ? d > x : d < x) x = d;
+    p.bound[j] = x;
+    p.len[j] = count == 6 ? kSqrt2Up : 1.0f;
+  }
+  return p;
+}
+
+// Beyond the triangle's plane: the side the rays reach is h >= 0 (h the signed, scaled distance),
+// up to the margin; beyond a facet: below the bound (starting rays) or above it (ending rays).
+bool SphereRejected(const HeadPlanes& p, glm::vec4 s) {
+  const glm::vec3 c = Xyz(s);
+  const float h0 = Dot(p.n, c - p.v0), h = p.behind ? -h0 : h0;
+  if (h + s.w * Length(p.n) < -p.reach) return true;
+  for (std::uint32_t j = 0; j < p.facets; ++j) {
+    const float x = Dot(p.m[j], c), r = s.w * p.len[j], g = p.margin * p.len[j];
+    if (p.ends ? x - r > p.bound[j] + g : x + r < p.bound[j] - g) return true;
+  }
+  return false;
+}
+
+bool TriangleRejected(const HeadPlanes& p, glm::vec3 a, glm::vec3 b, glm::vec3 d) {
+  const glm::vec3 v[3] = {a, b, d};
+  bool all = true;
+  for (const glm::vec3& x : v) {
+    const float h0 = Dot(p.n, x - p.v0), h = p.behind ? -h0 : h0;
+    all = all && h < -p.reach;
+  }
+  if (all) return true;
+  for (std::uint32_t j = 0; j < p.facets; ++j) {
+    bool beyond = true;
+    for (const glm::vec3& x : v) {
+      const float y = Dot(p.m[j], x), g = p.margin * p.len[j];
+      beyond = beyond && (p.ends ? y > p.bound[j] + g : y < p.bound[j] - g);
+    }
+    if (beyond) return true;
+  }
+  return false;
+}
+
+float HeadsMargin(glm::vec3 lo, glm::vec3 hi, std::span<const glm::vec3> lights) {
+  float m = std::max(MaxAbs(lo, lo), MaxAbs(hi, hi));
+  for (const glm::vec3& l : lights) m = std::max(m, MaxAbs(l, l));
+  return m * 0x1p-10f;
+}
+
+std::uint32_t RayCase(const ListsView& lists, std::span<const Word> tri_words, const layout::Ray& ray, bool ends) {
+  const std::uint32_t prim = ray.info.y;
+  if (prim >= tri_words.size()) return kNoCase;
+  const Word w = tri_words[prim];
+  const glm::vec3 v0 = Xyz(lists.vertices[w.x]), v1 = Xyz(lists.vertices[w.y]), v2 = Xyz(lists.vertices[w.z]);
+  const glm::vec3 e1 = v1 - v0, e2 = v2 - v0, n = Cross(e1, e2);
+  if (Sliver(e1, e2, n)) return kNoCase;
+  const glm::vec3 d = Xyz(ray.direction_tmax);
+  const float dn = Dot(d, n), lim = layout::kTlSideRatio * (Length(d) * Length(n));
+  if (!(std::fabs(dn) > lim)) return kNoCase;  // along the plane, or NaN
+  // A starting ray reaches the side d points to; an ending one comes from the other.
+  const bool behind = ends ? dn > 0.0f : dn < 0.0f;
+  return (ends ? 2u : 0u) + (behind ? 1u : 0u);
+}
+
+}  // namespace rayspace::emu::tl
