@@ -20,6 +20,7 @@
 #include "rayspace/error.h"
 #include "rayspace/parallel.h"
 #include "test_util.h"
+#include "tl_util.h"
 
 namespace tl = rayspace::emu::tl;
 namespace layout = rayspace::layout;
@@ -36,15 +37,7 @@ namespace {
 // Small triangles in [-1, 1]^3 with a few large ones, plus a floor: rays leaving one triangle have
 // others on both sides and along every axis.
 std::vector<Triangle> Soup(std::uint32_t n, std::uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  std::vector<Triangle> t;
-  for (std::uint32_t i = 0; i < n; ++i) {
-    const glm::vec3 c(u(rng), u(rng), u(rng));
-    const float s = i % 13 == 0 ? 0.5f : 0.08f;
-    t.push_back(MakeTriangle(c + s * glm::vec3(u(rng), u(rng), u(rng)), c + s * glm::vec3(u(rng), u(rng), u(rng)),
-                             c + s * glm::vec3(u(rng), u(rng), u(rng))));
-  }
+  std::vector<Triangle> t = rayspace::test::TlSoup(n, seed, 13, 0.5f, 0.08f);
   t.push_back(MakeTriangle({-2, -1.2f, -2}, {2, -1.2f, -2}, {0, -1.2f, 3}));
   return t;
 }
@@ -125,18 +118,7 @@ Ray Reaching(const std::vector<Triangle>& tris, std::uint32_t t, std::mt19937& r
   return MakeSegment(light, p - light, 0.0f, 0.999f, t);
 }
 
-std::uint64_t Brute(const std::vector<Triangle>& tris, const Ray& ray) {
-  const glm::vec3 o(ray.origin_tmin), d(ray.direction_tmax);
-  const rayspace::emu::WatertightRay wr = rayspace::emu::SetupWatertight(o, d);
-  std::uint64_t best = kMissPacked;
-  for (std::uint32_t i = 0; i < tris.size(); ++i) {
-    float t;
-    if (i != ray.info.y && rayspace::emu::IntersectWatertight(wr, glm::vec3(tris[i].v0), glm::vec3(tris[i].v1), glm::vec3(tris[i].v2),
-                                                              ray.origin_tmin.w, ray.direction_tmax.w, t))
-      best = std::min(best, PackHit(t, i));
-  }
-  return best;
-}
+std::uint64_t Brute(const std::vector<Triangle>& tris, const Ray& ray) { return rayspace::test::BruteClosest(tris, ray); }
 
 struct WalkCheck {
   std::size_t rays = 0, wrong = 0, windowed = 0;
@@ -278,16 +260,7 @@ TEST_CASE("tl.heads: the same bits on every schedule (threads, chunk sizes)") {
   }
 }
 
-namespace {
-std::string InputErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const rayspace::InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-}  // namespace
+using rayspace::test::InputErrorOf;
 
 TEST_CASE("tl.heads: calls whose inputs break the contract are refused, naming the call") {
   const std::vector<Triangle> tris = Soup(60, 3);

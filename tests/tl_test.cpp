@@ -18,8 +18,10 @@
 #include "rayspace/parallel.h"
 #include "rayspace/scene.h"
 #include "test_util.h"
+#include "tl_util.h"
 
 namespace tl = rayspace::emu::tl;
+using rayspace::test::BruteClosest;
 using rayspace::test::MakeSegment;
 using rayspace::test::MakeTriangle;
 using rayspace::emu::HitPrim;
@@ -31,20 +33,6 @@ using rayspace::layout::Ray;
 using rayspace::layout::Triangle;
 
 namespace {
-
-// Every triangle, as the direct tracer's exhaustive mode tests them.
-std::uint64_t BruteClosest(const std::vector<Triangle>& tris, const Ray& ray) {
-  const glm::vec3 o = rayspace::emu::Xyz(ray.origin_tmin), d = rayspace::emu::Xyz(ray.direction_tmax);
-  const rayspace::emu::WatertightRay wr = rayspace::emu::SetupWatertight(o, d);
-  std::uint64_t best = kMissPacked;
-  for (std::uint32_t i = 0; i < tris.size(); ++i) {
-    float t;
-    if (i != ray.info.y && rayspace::emu::IntersectWatertight(wr, rayspace::emu::Xyz(tris[i].v0), rayspace::emu::Xyz(tris[i].v1),
-                                                               rayspace::emu::Xyz(tris[i].v2), ray.origin_tmin.w, ray.direction_tmax.w, t))
-      best = std::min(best, PackHit(t, i));
-  }
-  return best;
-}
 
 std::vector<std::uint32_t> Prims(const tl::Lists& l, std::uint32_t k) {
   std::vector<std::uint32_t> p;
@@ -159,18 +147,7 @@ TEST_CASE("tl: a ray's list") {
 namespace {
 
 // A soup of small and large triangles in [-1, 1]^3 (the large ones are kept high as big triangles).
-std::vector<Triangle> Soup(std::uint32_t n, std::uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  std::vector<Triangle> t;
-  for (std::uint32_t i = 0; i < n; ++i) {
-    const glm::vec3 c(u(rng), u(rng), u(rng));
-    const float s = i % 10 == 0 ? 0.6f : 0.06f;
-    t.push_back(MakeTriangle(c + s * glm::vec3(u(rng), u(rng), u(rng)), c + s * glm::vec3(u(rng), u(rng), u(rng)),
-                    c + s * glm::vec3(u(rng), u(rng), u(rng))));
-  }
-  return t;
-}
+std::vector<Triangle> Soup(std::uint32_t n, std::uint32_t seed) { return rayspace::test::TlSoup(n, seed); }
 
 // Rays at random triangles' interiors (so that many hit), random rays, axis-aligned ones (zero
 // components, ties between axes) and, for each hit, the rays that end or start exactly at it or
@@ -357,16 +334,9 @@ rayspace::emu::TlListArrays ListsOn(const tl::Tree& tree, std::uint32_t k, int t
   return a;
 }
 
-std::string InputErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const rayspace::InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 }  // namespace
+
+using rayspace::test::InputErrorOf;
 
 TEST_CASE("tl.lists: the same bits on every schedule (threads, chunk sizes)") {
   const std::vector<Triangle> tris = Soup(500, 11);
