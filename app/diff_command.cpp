@@ -465,6 +465,7 @@ ExitCode RunDiff(const DiffArgs& args) {
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height, args.bounces);
   fo.progress = args.progress || isatty(STDERR_FILENO);  // progress on stderr when someone watches
   ApplyFaithful(args.faithful, fo);
+  ApplyPrimary(args, fo);
   const Injection injection = ParseInject(args.inject);
   OutputFile report = OpenOutput(args.report, "the report", &scene);  // before the frame, as --save-inputs
   const MemoryEstimate estimate =

@@ -54,6 +54,18 @@ void AddTlOptions(CLI::App& command, FrameArgs& args) {
                   "nor behind the list's facet planes through the triangle (regular)")
       ->check(CLI::IsMember({"off", "simple", "regular"}))
       ->capture_default_str();
+  command
+      .add_option("--primary", args.primary,
+                  "primary visibility: the raster's G-buffer (raster), or also an eye ray per pixel traced through the "
+                  "traversal lists beside it (tl, --algo tl: checked by the oracle and counted; the G-buffer still shades)")
+      ->check(CLI::IsMember({"raster", "tl"}))
+      ->capture_default_str();
+  command
+      .add_option("--frustum-cull", args.frustum_cull,
+                  "--primary tl: per screen cell of 16x16 pixels, the part of each list its eye rays can reach (Toczek et "
+                  "al.'s frustum culling, the pass tl.cells)")
+      ->check(CLI::IsMember({"off", "on"}))
+      ->capture_default_str();
 }
 
 }  // namespace
@@ -237,10 +249,18 @@ emu::tl::Options MakeTlOptions(const FrameArgs& args) {
   o.tree.leaf_triangles = args.tree_leaf;
   if (args.tree_big_given) o.tree.big_fraction = args.tree_big;
   o.cull = args.backface_cull == "on";
+  o.cells = args.frustum_cull == "on";
   o.heads = args.polygon_heads == "regular" ? layout::kTlHeadsRegular
             : args.polygon_heads == "simple" ? layout::kTlHeadsSimple
                                              : layout::kTlHeadsOff;
   return o;
+}
+
+void ApplyPrimary(const FrameArgs& args, emu::FrameOptions& fo) {
+  if (args.primary == "tl" && args.algo != "tl")
+    ThrowInput("--primary tl: only --algo tl traces eye rays (--algo {} traces secondary rays only)", args.algo);
+  if (args.frustum_cull == "on" && args.primary != "tl") ThrowInput("--frustum-cull on: needs --primary tl (the eye rays it culls for)");
+  fo.trace_primary = args.primary == "tl";
 }
 
 bool OneSided(const FrameArgs& args) {

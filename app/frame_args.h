@@ -10,6 +10,7 @@
 #include "backend_setup.h"
 #include "faithful_args.h"
 #include "kernel_model.h"
+#include "rayspace/emu/frame.h"
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/tl/tl.h"
 
@@ -48,6 +49,8 @@ struct FrameArgs {
   std::string node_order = "earliest-first";      // --node-order (--algo tl)
   std::string backface_cull = "off";              // --backface-cull (--algo tl)
   std::string polygon_heads = "off";              // --polygon-heads (--algo tl)
+  std::string primary = "raster";                 // --primary raster|tl
+  std::string frustum_cull = "off";               // --frustum-cull (--primary tl)
   std::uint32_t tree_leaf = ObjectTreeOptions{}.leaf_triangles;  // --tree-leaf
   float tree_big = ObjectTreeOptions{}.big_fraction;             // --tree-big
   bool tree_big_given = false;  // --tree-big was given (--algo tl otherwise keeps its own default)
@@ -75,6 +78,9 @@ emu::tl::Options MakeTlOptions(const FrameArgs& args);
 // Whether the frame's triangles are one-sided (SceneBuffers::one_sided): --backface-cull on, which
 // only --algo tl traces (InputError for another tracer, which would answer two-sided).
 bool OneSided(const FrameArgs& args);
+// --primary tl (eye rays traced beside the raster, --algo tl only) and --frustum-cull on (their
+// per-cell heads, --primary tl only) into the frame's options; InputError otherwise.
+void ApplyPrimary(const FrameArgs& args, emu::FrameOptions& fo);
 
 // Registers --algo, --lists, --node-order, --subdivision, --levels (alias --depth), --bounces, --objects, --tree-leaf, --tree-big, --reduction, --component-size, --pair-capacity, --size,
 // --data, --device, --split-bytes, --max-groups, --kernel, --schedule, --check-workgroups and the

@@ -79,6 +79,10 @@ nlohmann::json StatsJson(const RenderArgs& args, const Outcome& o) {
   j["rays"] = {{"shadow", RaysJson(r.rays[layout::kRayShadow], false)},
                {"reflection", RaysJson(r.rays[layout::kRayReflection], true)},
                {"refraction", RaysJson(r.rays[layout::kRayRefraction], true)}};
+  if (r.primary_rays > 0)
+    j["primary"] = {{"rays", r.primary_rays},
+                    {"pixels_differing_from_raster", r.primary_differing},
+                    {"frustum_culling", o.tracer.value("frustum_culling", false)}};
   o.stats.ToJson(j);
   PhasesToJson(j, o.phases);
   j["oracle"] = o.oracle_json;
@@ -138,6 +142,10 @@ void PrintSummary(const RenderArgs& args, const Outcome& o) {
       per += fmt::format("{}b{}={}", per.empty() ? "" : " ", b, r.rays[k][b]);
     std::printf("  %-11s %s\n", emu::RayKindName(k), per.empty() ? "-" : per.c_str());
   }
+  if (r.primary_rays > 0)
+    std::printf("  primary     %llu eye rays traced beside the raster%s; %llu pixels differ from the raster's primitive\n",
+                static_cast<unsigned long long>(r.primary_rays), tracer.value("frustum_culling", false) ? " (frustum culling)" : "",
+                static_cast<unsigned long long>(r.primary_differing));
   for (const emu::PassRecord& p : r.passes)
     if (!p.ran && p.name.rfind("trace.", 0) == 0) std::printf("  skipped     %s: %s\n", p.name.c_str(), p.reason.c_str());
   o.stats.Print(stdout);
@@ -197,6 +205,7 @@ ExitCode RunRender(const RenderArgs& args) {
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height, args.bounces);
   fo.progress = args.progress || isatty(STDERR_FILENO);  // progress on stderr when someone watches
   ApplyFaithful(args.faithful, fo);
+  ApplyPrimary(args, fo);
   RenderOutputs outputs = OpenRenderOutputs(args, scene);
 
   const MemoryEstimate estimate = EstimateFrameMemory(fo.width, fo.height, scene.lights.size(), scene.TriangleCount(), args.pair_capacity, 1);

@@ -232,7 +232,7 @@ void Statistics::ToJson(nlohmann::json& j) const {
 
 namespace {
 
-const char* const kShort[3] = {"SH", "RE", "RF"};
+const char* const kShort[4] = {"SH", "RE", "RF", "PR"};
 
 void PrintRow(std::FILE* out, std::uint32_t kind, const char* name) { std::fprintf(out, "  # %s %-17s", kShort[kind], name); }
 

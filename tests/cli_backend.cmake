@@ -26,6 +26,7 @@ foreach(algo crsh rah rah-quadtree tl brute embree)
 endforeach()
 same_frame(cornell_tl_cull "${cornell}" 96x80 --algo tl --lists 8 --backface-cull on)
 same_frame(cornell_tl_heads "${cornell}" 96x80 --algo tl --polygon-heads regular)
+same_frame(cornell_tl_frustum "${cornell}" 96x80 --algo tl --primary tl --frustum-cull on)
 same_frame(cornell_scan "${cornell}" 96x80 --reduction scan)
 same_frame(cornell_sub4_d3 "${cornell}" 96x80 --subdivision 4 --depth 3)
 # Bindings far smaller than maxStorageBufferRange: per-pixel and per-ray buffers run in parts or

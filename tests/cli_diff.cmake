@@ -449,6 +449,15 @@ foreach(f tl.heads:1 tl.heads:2 tl.heads:3 tl.trace:5)
   string(REGEX REPLACE ":.*" "" pass "${f}")
   diff_case(fault.tl.heads.${f} cornell-mirrors 48x48 ${f} 4 ${pass} --algo tl --polygon-heads regular)
 endforeach()
+# Eye rays traced beside the raster, with and without their cells' windows (partial cells: 40x36);
+# each frustum-culling fault caught in its pass (a plane flipped, the next cell's planes, a tail one
+# short; an eye ray walking the next cell's window).
+diff_case(cornell.tl.primary cornell-mirrors 40x36 "" 0 "" --algo tl --primary tl)
+diff_case(cornell.tl.frustum cornell-mirrors 40x36 "" 0 "" --algo tl --primary tl --frustum-cull on --lists 8 --local-size 32)
+foreach(f tl.cells:1 tl.cells:2 tl.cells:3 tl.trace:6)
+  string(REGEX REPLACE ":.*" "" pass "${f}")
+  diff_case(fault.tl.frustum.${f} cornell-mirrors 48x48 ${f} 4 ${pass} --algo tl --primary tl --frustum-cull on)
+endforeach()
 # A traversal-list call saved by a diff replays as the call it was: with its fault reproduced, without
 # it equal; the lists' call replays equal.
 diff_case(replay.tl cornell-mirrors 48x48 tl.trace:2 4 tl.trace --algo tl --save-inputs "${case_work}/saved")

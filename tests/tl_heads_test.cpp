@@ -152,7 +152,7 @@ TEST_CASE("tl.heads: every element outside a window lies beyond one of its plane
     for (const std::uint32_t mode : {layout::kTlHeadsSimple, layout::kTlHeadsRegular}) {
       const Prepared p = Prepare(tris, K);
       const TlWindows w = Windows(p, mode);
-      REQUIRE(rayspace::emu::WindowsError(p.lists.first, w.windows, tris.size()).empty());
+      REQUIRE(rayspace::emu::WindowsError(p.lists.first, w.windows, tris.size() * layout::kTlCases).empty());
       std::size_t outside = 0, unsafe = 0;
       for (std::uint32_t t = 0; t < tris.size(); ++t)
         for (std::uint32_t cs = 0; cs < layout::kTlCases; ++cs)
@@ -297,4 +297,124 @@ TEST_CASE("tl.heads: calls whose inputs break the contract are refused, naming t
   bw = w.windows;
   bw[1] = p.lists.first[1] + 1;  // window 0 (list 0) reaching into list 1
   CHECK(trace_error(layout::kTlHeadsRegular, bw).find("not inside its list") != std::string::npos);
+}
+
+// ---- tl.cells: per-cell heads of eye rays (--frustum-cull on) ----------------------------------
+
+namespace {
+
+// A 40 x 24 image (cells of 16: 3 x 2, the last column and row partial) from an eye at z = -3 looking
+// along +z, a horizontal field of view of about 60 degrees.
+layout::FrameConstants Camera(std::uint32_t w = 40, std::uint32_t h = 24) {
+  layout::FrameConstants fc{};
+  const float tx = 0.57735f, ty = tx * static_cast<float>(h) / static_cast<float>(w);
+  fc.eye = glm::vec4(0.1f, -0.05f, -3.0f, 1.0f);
+  fc.pixel_dx = glm::vec4(2.0f * tx / static_cast<float>(w), 0.0f, 0.0f, 0.0f);
+  fc.pixel_dy = glm::vec4(0.0f, -2.0f * ty / static_cast<float>(h), 0.0f, 0.0f);
+  fc.pixel_origin = glm::vec4(-tx + 0.5f * fc.pixel_dx.x, ty + 0.5f * fc.pixel_dy.y, 1.0f, 0.0f);
+  fc.dims = glm::uvec4(w, h, 0u, 0u);
+  return fc;
+}
+
+TlWindows Cells(const Prepared& p, const layout::FrameConstants& fc) {
+  return rayspace::emu::PassTlCells(
+      {.first = p.lists.first, .escapes = p.lists.escapes, .words = p.lists.words, .vertices = p.lists.vertices, .frame = fc, .margin = p.margin});
+}
+
+}  // namespace
+
+TEST_CASE("tl.cells: eye rays over their cells' windows give brute force's hits, and nothing outside is hit") {
+  const std::vector<Triangle> tris = Soup(250, 31);
+  const layout::FrameConstants fc = Camera();
+  const std::vector<Ray> rays = tl::EyeRays(fc);
+  REQUIRE(rays.size() == 40u * 24u);
+  CHECK(tl::CellCount(fc) == 6u);
+  CHECK(rays[39].info.w == 2u);        // pixel (39, 0): the third cell of the first row
+  CHECK(rays[16 * 40 + 17].info.w == 4u);  // pixel (17, 16): the second cell of the second row
+  for (const std::uint32_t K : {1u, 6u, 8u}) {
+    const Prepared p = Prepare(tris, K);
+    const TlWindows w = Cells(p, fc);
+    REQUIRE(rayspace::emu::WindowsError(p.lists.first, w.windows, tl::CellCount(fc)).empty());
+    const tl::ListsView cells{p.lists.first, p.lists.escapes, p.lists.words, p.lists.vertices, false, layout::kTlHeadsCells, {}, w.windows};
+    const tl::ListsView whole{p.lists.first, p.lists.escapes, p.lists.words, p.lists.vertices};
+    std::size_t wrong = 0, hits = 0, outside_hit = 0, outside = 0;
+    std::uint64_t with = 0, without = 0;
+    for (const Ray& r : rays) {
+      tl::Stats a, b;
+      const std::uint64_t got = tl::Walk(cells, r, false, &a), want = Brute(tris, r);
+      tl::Walk(whole, r, false, &b);
+      wrong += got != want;
+      hits += want != kMissPacked;
+      with += a.spheres + a.triangles;
+      without += b.spheres + b.triangles;
+      // Every triangle of the ray's list outside its cell's window: the ray does not meet it.
+      const std::uint32_t k = tl::ListFor(K, glm::vec3(r.direction_tmax));
+      const std::size_t g = 2 * (std::size_t{r.info.w} * K + k);
+      const rayspace::emu::WatertightRay wr = rayspace::emu::SetupWatertight(glm::vec3(r.origin_tmin), glm::vec3(r.direction_tmax));
+      for (std::uint32_t i = p.lists.first[k]; i < p.lists.first[k + 1]; ++i) {
+        if ((i >= w.windows[g] && i < w.windows[g + 1]) || !tl::IsTriangle(static_cast<tl::Escape>(p.lists.escapes[i]))) continue;
+        const tl::Word& e = p.lists.words[i];
+        float t;
+        ++outside;
+        outside_hit += rayspace::emu::IntersectWatertight(wr, glm::vec3(p.lists.vertices[e.x]), glm::vec3(p.lists.vertices[e.y]),
+                                                          glm::vec3(p.lists.vertices[e.z]), 0.0f, INFINITY, t);
+      }
+    }
+    CAPTURE(K);
+    CHECK(wrong == 0);
+    CHECK(outside_hit == 0);
+    CHECK(hits > rays.size() / 4);     // most pixels see a triangle: agreeing on misses proves little
+    CHECK(outside > rays.size() * 10);  // the windows leave triangles out
+    CHECK(with < without);
+  }
+}
+
+TEST_CASE("tl.cells: a cell's planes face its own rays; flipped, they lose hits") {
+  const std::vector<Triangle> tris = Soup(250, 31);
+  const layout::FrameConstants fc = Camera();
+  const Prepared p = Prepare(tris, 6);
+  // Every eye ray lies inside its cell's four planes (n . d >= 0 up to rounding)...
+  for (const Ray& r : tl::EyeRays(fc)) {
+    const tl::CellPlanes c = tl::MakeCellPlanes(fc, r.info.w, p.margin);
+    for (std::uint32_t j = 0; j < 4; ++j)
+      REQUIRE(glm::dot(glm::dvec3(c.n[j]), glm::dvec3(glm::vec3(r.direction_tmax))) >= -1e-6 * glm::length(glm::dvec3(c.n[j])));
+  }
+  // ... and the windows of another cell (each ray walking the next cell's: the kernel's tl.trace
+  // fault 6) lose hits.
+  const TlWindows w = Cells(p, fc);
+  std::vector<std::uint32_t> shifted(w.windows.begin() + 2 * 6, w.windows.end());
+  shifted.insert(shifted.end(), w.windows.begin(), w.windows.begin() + 2 * 6);
+  const tl::ListsView view{p.lists.first, p.lists.escapes, p.lists.words, p.lists.vertices, false, layout::kTlHeadsCells, {}, shifted};
+  std::size_t wrong = 0;
+  for (const Ray& r : tl::EyeRays(fc)) wrong += tl::Walk(view, r, false) != Brute(tris, r);
+  CHECK(wrong > 0);
+}
+
+TEST_CASE("tl.cells: the same bits on every schedule, and calls that break the contract are refused") {
+  const std::vector<Triangle> tris = Soup(200, 8);
+  const layout::FrameConstants fc = Camera(70, 33);
+  const Prepared p = Prepare(tris, 8);
+  const TlWindows ref = Cells(p, fc);
+  for (const auto& [threads, chunk] : {std::pair{2, std::size_t{1}}, {3, std::size_t{5}}}) {
+    rayspace::SetThreadCount(threads);
+    rayspace::SetChunkSize(chunk);
+    const TlWindows w = Cells(p, fc);
+    rayspace::SetThreadCount(0);
+    rayspace::SetChunkSize(0);
+    CHECK(w.windows == ref.windows);
+  }
+  auto error = [&](layout::FrameConstants f, float margin) {
+    return InputErrorOf([&] {
+      rayspace::emu::CheckInputs(rayspace::emu::call::TlCells{.first = p.lists.first, .escapes = p.lists.escapes, .words = p.lists.words,
+                                                              .vertices = p.lists.vertices, .frame = f, .margin = margin});
+    });
+  };
+  CHECK(error(fc, p.margin).empty());
+  CHECK(error(fc, NAN).find("tl.cells: margin") != std::string::npos);
+  layout::FrameConstants bad = fc;
+  bad.dims.x = 0;
+  CHECK(error(bad, p.margin).find("tl.cells: frame size 0x33") != std::string::npos);
+  bad = fc;
+  bad.pixel_dx.y = INFINITY;
+  CHECK(error(bad, p.margin).find("not finite") != std::string::npos);
 }

@@ -8,7 +8,9 @@
 
 #include <fmt/format.h>
 
+#include "rayspace/emu/intersect.h"
 #include "rayspace/emu/output_checks.h"
+#include "rayspace/emu/tl/heads.h"
 #include "rayspace/error.h"
 
 namespace rayspace::emu {
@@ -18,6 +20,7 @@ const char* RayKindName(std::uint32_t kind) {
     case layout::kRayShadow: return "shadow";
     case layout::kRayReflection: return "reflection";
     case layout::kRayRefraction: return "refraction";
+    case layout::kRayPrimary: return "primary";
   }
   return "unknown";
 }
@@ -116,6 +119,7 @@ class Runner {
       r_.digest.Add("surfaces.b0", "surfaces", surfaces);
       return surfaces.size();
     });
+    if (opt_.trace_primary) TracePrimary();
 
     for (const MaterialDesc& m : scene_.materials) {
       reflective_ |= m.reflectivity > 0.0f;
@@ -169,7 +173,7 @@ class Runner {
     const std::size_t shadow = b_.lights.empty() ? 0 : 3;  // raygen, trim and trace of one bounce
     const std::size_t shadow_bounces = opt_.shadow_first_bounce_only ? 1 : last + 1;
     const std::size_t per_generation = 4 * (static_cast<std::size_t>(reflective) + static_cast<std::size_t>(transparent));
-    return 3 + shadow_bounces * shadow + (last + 1) + last * per_generation + 1;
+    return 3 + (opt_.trace_primary ? 1 : 0) + shadow_bounces * shadow + (last + 1) + last * per_generation + 1;
   }
 
   // Bounding spheres of the triangles and objects, the tracer's preparation, and the G-buffer.
@@ -193,6 +197,25 @@ class Runner {
       r_.digest.Add("raster", "depth", g.depth);
       return g.prim.size();
     });
+  }
+
+  // --primary tl: an eye ray per pixel (tl::EyeRays, on the host: PixelDirection, as the raster's
+  // surfaces use it) traced beside the G-buffer; the pixels whose traced primitive differs from the
+  // raster's are counted (coverage at edges and depth ties decide them differently).
+  void TracePrimary() {
+    std::vector<layout::Ray> rays;
+    std::vector<std::uint64_t> hits;
+    Pass("trace.primary.b0", [&] {
+      rays = tl::EyeRays(fc_);
+      Begin("primary.b0", layout::kRayPrimary, 0);
+      tracer_.Closest(rays, hits);
+      r_.digest.Add("trace.primary.b0", "hits", hits);
+      return rays.size();
+    });
+    if (observer_) observer_({"primary.b0", layout::kRayPrimary, 0, &rays, &hits, nullptr});
+    r_.primary_rays = rays.size();
+    for (std::size_t i = 0; i < rays.size() && i < r_.gbuffer.prim.size(); ++i)
+      r_.primary_differing += (hits[i] == kMissPacked ? layout::kNoPrim : HitPrim(hits[i])) != r_.gbuffer.prim[i];
   }
 
   // Shadow rays of this generation's surfaces, then shading into `accum`.
@@ -301,7 +324,7 @@ class Runner {
 
   void Begin(const std::string& batch, std::uint32_t kind, int bounce) {
     subpasses_.clear();
-    tracer_.BeginBatch({batch, kind, bounce, &r_.digest, &subpasses_});
+    tracer_.BeginBatch({batch, kind, bounce, &r_.digest, &subpasses_, &fc_});
   }
 
   template <typename F>

@@ -412,7 +412,15 @@ void CheckOutputs(const call::TlHeads& c, const TlWindows* r, const OutputSource
   const Check k(c.kName, from);
   k.Size("windows", r->windows.size(), 2 * c.tri_words.size() * layout::kTlCases * (c.first.size() - 1));
   std::size_t bad = 0;
-  const std::string why = WindowsError(c.first, r->windows, c.tri_words.size(), &bad);
+  const std::string why = WindowsError(c.first, r->windows, c.tri_words.size() * layout::kTlCases, &bad);
+  if (!why.empty()) k.Fail("windows", bad, "{}", why);
+}
+
+void CheckOutputs(const call::TlCells& c, const TlWindows* r, const OutputSource& from) {
+  const Check k(c.kName, from);
+  k.Size("windows", r->windows.size(), 2 * std::size_t{tl::CellCount(c.frame)} * (c.first.size() - 1));
+  std::size_t bad = 0;
+  const std::string why = WindowsError(c.first, r->windows, tl::CellCount(c.frame), &bad);
   if (!why.empty()) k.Fail("windows", bad, "{}", why);
 }
 

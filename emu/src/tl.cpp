@@ -246,12 +246,18 @@ struct Walker {
   void Walk(const layout::Ray& ray, bool any) {
     const std::uint32_t K = static_cast<std::uint32_t>(lists.first.size() - 1), k = ListFor(K, dir);
     std::uint32_t i = lists.first[k], end = lists.first[k + 1];
-    // A ray on a triangle walks that triangle's window (tl.heads) for its case.
-    const std::uint32_t cs = lists.heads != 0 ? RayCase(lists, lists.tri_words, ray, any) : kNoCase;
-    if (cs != kNoCase) {
-      const std::size_t w = 2 * ((std::size_t{ray.info.y} * layout::kTlCases + cs) * K + k);
-      i = lists.windows[w];
-      end = lists.windows[w + 1];
+    // A ray on a triangle walks that triangle's window (tl.heads) for its case; an eye ray its
+    // cell's (tl.cells; a cell beyond the windows: the whole list).
+    if (lists.heads == layout::kTlHeadsCells) {
+      const std::size_t w = 2 * (std::size_t{ray.info.w} * K + k);
+      if (w + 1 < lists.windows.size()) i = lists.windows[w], end = lists.windows[w + 1];
+    } else {
+      const std::uint32_t cs = lists.heads != 0 ? RayCase(lists, lists.tri_words, ray, any) : kNoCase;
+      if (cs != kNoCase) {
+        const std::size_t w = 2 * ((std::size_t{ray.info.y} * layout::kTlCases + cs) * K + k);
+        i = lists.windows[w];
+        end = lists.windows[w + 1];
+      }
     }
     bool done = i >= end;
     for (std::uint32_t b = 0; !done && b <= end / layout::kTlLoopBlock; ++b) {
@@ -460,73 +466,91 @@ TlListArrays PassTlLists(const call::TlLists& c) {
 namespace {
 
 // One invocation of tl_heads.comp: the window of (triangle, case, list).
-struct HeadsInvocation {
-  const call::TlHeads& c;
-  std::uint32_t K;
-
-  bool Triangle(std::uint32_t i) const { return tl::IsTriangle(static_cast<tl::Escape>(c.escapes[i])); }
-  bool Rejected(const tl::HeadPlanes& p, std::uint32_t i) const {
-    const glm::uvec4 w = c.words[i];
-    if (!Triangle(i))
-      return tl::SphereRejected(p, glm::vec4(std::bit_cast<float>(w.x), std::bit_cast<float>(w.y), std::bit_cast<float>(w.z),
-                                             std::bit_cast<float>(w.w)));
-    return tl::TriangleRejected(p, Xyz(c.vertices[w.x]), Xyz(c.vertices[w.y]), Xyz(c.vertices[w.z]));
-  }
-  // The element after i's subtree (a sphere's escape -1: the list's end).
-  std::uint32_t Next(std::uint32_t i, std::uint32_t end) const {
-    const tl::Escape e = static_cast<tl::Escape>(c.escapes[i]);
-    return Triangle(i) ? i + 1u : e == tl::kEscapeNone ? end : i + static_cast<std::uint32_t>(e);
-  }
-  // Head: in list order, skip a subtree that lies beyond a plane and enter a sphere that does not,
-  // up to the first triangle not beyond one; the head is the element right after the last subtree
-  // skipped (begin if none). Every triangle before it lies beyond a plane. A walk may start at any
-  // element (escapes are relative: it walks the rest of the list as if every ancestor's sphere were
-  // hit), so the spheres entered before the last skip are not tested; those after it are, so that
-  // the walk keeps every sphere test that prunes nothing the head skips.
-  // Tail: from the head, along the chain of subtrees to the list's end, the last one not beyond,
-  // then the same inside it, one level at a time, until a triangle or a sphere none of whose
-  // children is kept (every element after the tail lies beyond a plane).
-  glm::uvec2 Window(std::uint32_t t, std::uint32_t cs, std::uint32_t k) const {
-    const std::uint32_t begin = c.first[k], end = c.first[k + 1];
-    const glm::uvec4 w = c.tri_words[t];
-    const tl::HeadPlanes p =
-        tl::MakePlanes(Xyz(c.vertices[w.x]), Xyz(c.vertices[w.y]), Xyz(c.vertices[w.z]), cs, K, k, c.mode, c.margin);
-    if (!p.valid) return {begin, end};
-    std::uint32_t head = begin, i = begin;
-    bool found = false;
-    for (std::uint32_t b = 0; !found && i < end && b <= end / layout::kTlLoopBlock; ++b)
-      for (std::uint32_t j = 0; !found && i < end && j < layout::kTlLoopBlock; ++j) {
-        if (Rejected(p, i))
-          head = i = Next(i, end);  // skipped: the walk starts after it at the earliest
-        else if (Triangle(i))
-          found = true;
-        else
-          i += 1;  // into the sphere
-      }
-    if (!found) return {end, end};
-    std::uint32_t lo = head, hi = end, tail = end;
-    for (std::uint32_t level = 0; level <= layout::kTlMaxDepth + 1; ++level) {
-      std::uint32_t last = hi, i = lo;  // last: the last subtree of [lo, hi) not beyond, hi for none
-      for (std::uint32_t b = 0; i < hi && b <= end / layout::kTlLoopBlock; ++b)
-        for (std::uint32_t j = 0; i < hi && j < layout::kTlLoopBlock; ++j) {
-          if (!Rejected(p, i)) last = i;
-          i = Next(i, end);
-        }
-      if (last == hi) {  // none kept below the sphere before [lo, hi): it ends the window
-        tail = lo;
-        break;
-      }
-      if (Triangle(last)) {
-        tail = last + 1;
-        break;
-      }
-      lo = last + 1;
-      hi = Next(last, end);
-      tail = hi;  // if the levels run out: the whole sphere's subtree
+// The window of one list (tl_window.glsl): the part [head, tail) of [begin, end) outside which every
+// triangle is `rejected` (lies beyond a plane; a rejected sphere holds only rejected triangles).
+// Head: in list order, skip a subtree that is rejected and enter a sphere that is not, up to the first
+// triangle not rejected; the head is the element right after the last subtree skipped (begin if
+// none). A walk may start at any element (escapes are relative: it walks the rest of the list as if
+// every ancestor's sphere were hit), so the spheres entered before the last skip are not tested;
+// those after it are, so the walk keeps every sphere test that prunes nothing the head skips.
+// Tail: from the head, along the chain of subtrees to the list's end, the last one not rejected,
+// then the same inside it, one level at a time, until a triangle or a sphere none of whose children
+// is kept (every element after the tail is rejected).
+template <typename Rejected>
+glm::uvec2 ListWindow(std::span<const std::uint32_t> escapes, std::uint32_t begin, std::uint32_t end, Rejected&& rejected) {
+  auto triangle = [&](std::uint32_t i) { return tl::IsTriangle(static_cast<tl::Escape>(escapes[i])); };
+  auto next = [&](std::uint32_t i) {  // the element after i's subtree (a sphere's escape -1: the end)
+    const tl::Escape e = static_cast<tl::Escape>(escapes[i]);
+    return triangle(i) ? i + 1u : e == tl::kEscapeNone ? end : i + static_cast<std::uint32_t>(e);
+  };
+  std::uint32_t head = begin, i = begin;
+  bool found = false;
+  for (std::uint32_t b = 0; !found && i < end && b <= end / layout::kTlLoopBlock; ++b)
+    for (std::uint32_t j = 0; !found && i < end && j < layout::kTlLoopBlock; ++j) {
+      if (rejected(i))
+        head = i = next(i);  // skipped: the walk starts after it at the earliest
+      else if (triangle(i))
+        found = true;
+      else
+        i += 1;  // into the sphere
     }
-    return {head, tail};
+  if (!found) return {end, end};
+  std::uint32_t lo = head, hi = end, tail = end;
+  for (std::uint32_t level = 0; level <= layout::kTlMaxDepth + 1; ++level) {
+    std::uint32_t last = hi, x = lo;  // last: the last subtree of [lo, hi) not rejected, hi for none
+    for (std::uint32_t b = 0; x < hi && b <= end / layout::kTlLoopBlock; ++b)
+      for (std::uint32_t j = 0; x < hi && j < layout::kTlLoopBlock; ++j) {
+        if (!rejected(x)) last = x;
+        x = next(x);
+      }
+    if (last == hi) {  // none kept below the sphere before [lo, hi): it ends the window
+      tail = lo;
+      break;
+    }
+    if (triangle(last)) {
+      tail = last + 1;
+      break;
+    }
+    lo = last + 1;
+    hi = next(last);
+    tail = hi;  // if the levels run out: the whole sphere's subtree
   }
-};
+  return {head, tail};
+}
+
+// An element's sphere (a sphere element) or vertices (a triangle element), for a rejection test.
+template <typename Call, typename SphereTest, typename TriangleTest>
+bool ElementRejected(const Call& c, std::uint32_t i, SphereTest&& sphere, TriangleTest&& triangle) {
+  const glm::uvec4 w = c.words[i];
+  if (!tl::IsTriangle(static_cast<tl::Escape>(c.escapes[i])))
+    return sphere(glm::vec4(std::bit_cast<float>(w.x), std::bit_cast<float>(w.y), std::bit_cast<float>(w.z), std::bit_cast<float>(w.w)));
+  return triangle(Xyz(c.vertices[w.x]), Xyz(c.vertices[w.y]), Xyz(c.vertices[w.z]));
+}
+
+// One invocation of tl_heads.comp: the window of (triangle, case, list).
+glm::uvec2 HeadsWindow(const call::TlHeads& c, std::uint32_t K, std::uint32_t t, std::uint32_t cs, std::uint32_t k) {
+  const std::uint32_t begin = c.first[k], end = c.first[k + 1];
+  const glm::uvec4 w = c.tri_words[t];
+  const tl::HeadPlanes p = tl::MakePlanes(Xyz(c.vertices[w.x]), Xyz(c.vertices[w.y]), Xyz(c.vertices[w.z]), cs, K, k, c.mode, c.margin);
+  if (!p.valid) return {begin, end};
+  return ListWindow(c.escapes, begin, end, [&](std::uint32_t i) {
+    return ElementRejected(
+        c, i, [&](glm::vec4 s) { return tl::SphereRejected(p, s); },
+        [&](glm::vec3 a, glm::vec3 b, glm::vec3 d) { return tl::TriangleRejected(p, a, b, d); });
+  });
+}
+
+// One invocation of tl_cells.comp: the window of (cell, list).
+glm::uvec2 CellsWindow(const call::TlCells& c, std::uint32_t k, std::uint32_t cell) {
+  const tl::CellPlanes p = tl::MakeCellPlanes(c.frame, cell, c.margin);
+  return ListWindow(
+      c.escapes, c.first[k], c.first[k + 1],
+      [&](std::uint32_t i) {
+        return ElementRejected(
+            c, i, [&](glm::vec4 s) { return tl::CellSphereRejected(p, s); },
+            [&](glm::vec3 a, glm::vec3 b, glm::vec3 d) { return tl::CellTriangleRejected(p, a, b, d); });
+      });
+}
 
 }  // namespace
 
@@ -535,11 +559,23 @@ TlWindows PassTlHeads(const call::TlHeads& c) {
   const std::size_t total = std::size_t{T} * layout::kTlCases * K;
   TlWindows out;
   out.windows.assign(2 * total, 0u);
-  const HeadsInvocation inv{c, K};
   ParallelForDynamic(total, 64, [&](std::size_t g) {
     const std::uint32_t k = static_cast<std::uint32_t>(g % K), cs = static_cast<std::uint32_t>(g / K % layout::kTlCases),
                         t = static_cast<std::uint32_t>(g / K / layout::kTlCases);
-    const glm::uvec2 w = inv.Window(t, cs, k);
+    const glm::uvec2 w = HeadsWindow(c, K, t, cs, k);
+    out.windows[2 * g] = w.x;
+    out.windows[2 * g + 1] = w.y;
+  });
+  return out;
+}
+
+TlWindows PassTlCells(const call::TlCells& c) {
+  const std::uint32_t K = static_cast<std::uint32_t>(c.first.size() - 1);
+  const std::size_t total = std::size_t{tl::CellCount(c.frame)} * K;
+  TlWindows out;
+  out.windows.assign(2 * total, 0u);
+  ParallelForDynamic(total, 16, [&](std::size_t g) {
+    const glm::uvec2 w = CellsWindow(c, static_cast<std::uint32_t>(g % K), static_cast<std::uint32_t>(g / K));
     out.windows[2 * g] = w.x;
     out.windows[2 * g + 1] = w.y;
   });

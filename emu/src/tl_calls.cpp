@@ -102,11 +102,11 @@ void CheckTriWords(std::string_view call, std::span<const glm::uvec4> tri_words,
 
 }  // namespace
 
-std::string WindowsError(std::span<const std::uint32_t> first, std::span<const std::uint32_t> windows, std::size_t triangles,
+std::string WindowsError(std::span<const std::uint32_t> first, std::span<const std::uint32_t> windows, std::size_t groups,
                          std::size_t* bad) {
   const std::size_t K = first.size() - 1;
-  if (windows.size() != 2 * triangles * layout::kTlCases * K)
-    return fmt::format("{} words for {} triangles x {} cases x {} lists (2 each)", windows.size(), triangles, layout::kTlCases, K);
+  if (windows.size() != 2 * groups * K)
+    return fmt::format("{} words for {} groups (triangle cases or cells) x {} lists (2 each)", windows.size(), groups, K);
   for (std::size_t g = 0; g < windows.size() / 2; ++g) {
     const std::size_t k = g % K;
     if (windows[2 * g] > windows[2 * g + 1] || windows[2 * g] < first[k] || windows[2 * g + 1] > first[k + 1]) {
@@ -132,11 +132,31 @@ void CheckInputs(const call::TlTrace& c) {
   CheckLists(c.kName, c.first, c.escapes, c.words, c.vertices);
   if (c.shadow > 1) ThrowInput("{}: shadow {} is neither 0 nor 1", c.kName, c.shadow);
   if (c.cull > 1) ThrowInput("{}: cull {} is neither 0 nor 1", c.kName, c.cull);
-  if (c.heads > layout::kTlHeadsRegular) ThrowInput("{}: heads {} is not off (0), simple (1) or regular (2)", c.kName, c.heads);
+  if (c.heads > layout::kTlHeadsCells)
+    ThrowInput("{}: heads {} is not off (0), simple (1), regular (2) or cells (3)", c.kName, c.heads);
   if (c.heads == layout::kTlHeadsOff) return;
+  if (c.heads == layout::kTlHeadsCells) {
+    // Per cell K windows; an eye ray naming a cell beyond them walks its whole list.
+    const std::size_t K = c.first.size() - 1;
+    const std::string e = c.windows.size() % (2 * K) ? fmt::format("{} words are not 2 per list of whole cells", c.windows.size())
+                                                      : WindowsError(c.first, c.windows, c.windows.size() / (2 * K));
+    if (!e.empty()) ThrowInput("{}: input 'windows': {}", c.kName, e);
+    return;
+  }
   CheckTriWords(c.kName, c.tri_words, c.vertices.size());
-  const std::string e = WindowsError(c.first, c.windows, c.tri_words.size());
+  const std::string e = WindowsError(c.first, c.windows, c.tri_words.size() * layout::kTlCases);
   if (!e.empty()) ThrowInput("{}: input 'windows': {}", c.kName, e);
+}
+
+void CheckInputs(const call::TlCells& c) {
+  CheckLists(c.kName, c.first, c.escapes, c.words, c.vertices);
+  if (!(c.margin >= 0.0f) || !std::isfinite(c.margin)) ThrowInput("{}: margin {} is not a finite number >= 0", c.kName, c.margin);
+  if (c.frame.dims.x == 0 || c.frame.dims.y == 0 || c.frame.dims.x > 65536u || c.frame.dims.y > 65536u)
+    ThrowInput("{}: frame size {}x{} is out of range [1, 65536]", c.kName, c.frame.dims.x, c.frame.dims.y);
+  for (int k = 0; k < 3; ++k)
+    if (!std::isfinite(c.frame.eye[k]) || !std::isfinite(c.frame.pixel_origin[k]) || !std::isfinite(c.frame.pixel_dx[k]) ||
+        !std::isfinite(c.frame.pixel_dy[k]))
+      ThrowInput("{}: the frame's eye or pixel directions are not finite", c.kName);
 }
 
 }  // namespace rayspace::emu

@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 
 #include "rayspace/contract.h"
+#include "rayspace/kernel_functions.h"
 #include "rayspace/emu/intersect.h"
 #include "rayspace/emu/tl/heads.h"
 #include "rayspace/parallel.h"
@@ -105,6 +107,63 @@ float HeadsMargin(glm::vec3 lo, glm::vec3 hi, std::span<const glm::vec3> lights)
   float m = std::max(MaxAbs(lo, lo), MaxAbs(hi, hi));
   for (const glm::vec3& l : lights) m = std::max(m, MaxAbs(l, l));
   return m * 0x1p-10f;
+}
+
+std::uint32_t CellsX(const layout::FrameConstants& fc) { return (fc.dims.x + layout::kTlCellPixels - 1) / layout::kTlCellPixels; }
+
+std::uint32_t CellCount(const layout::FrameConstants& fc) {
+  return CellsX(fc) * ((fc.dims.y + layout::kTlCellPixels - 1) / layout::kTlCellPixels);
+}
+
+std::uint32_t CellOf(const layout::FrameConstants& fc, std::uint32_t px, std::uint32_t py) {
+  return py / layout::kTlCellPixels * CellsX(fc) + px / layout::kTlCellPixels;
+}
+
+CellPlanes MakeCellPlanes(const layout::FrameConstants& fc, std::uint32_t cell, float margin) {
+  const std::uint32_t cx = cell % CellsX(fc), cy = cell / CellsX(fc);
+  const std::uint32_t x0 = cx * layout::kTlCellPixels, y0 = cy * layout::kTlCellPixels;
+  const std::uint32_t x1 = std::min(x0 + layout::kTlCellPixels, fc.dims.x) - 1, y1 = std::min(y0 + layout::kTlCellPixels, fc.dims.y) - 1;
+  const glm::vec3 c[4] = {layout::PixelDirection(fc, x0, y0), layout::PixelDirection(fc, x1, y0), layout::PixelDirection(fc, x1, y1),
+                          layout::PixelDirection(fc, x0, y1)};
+  const glm::vec3 mid = ((c[0] + c[1]) + c[2]) + c[3];
+  CellPlanes p;
+  p.eye = Xyz(fc.eye);
+  p.margin = margin;
+  for (std::uint32_t j = 0; j < 4; ++j) {
+    glm::vec3 n = Cross(c[j], c[(j + 1) & 3u]);
+    if (Dot(n, mid) < 0.0f) n = -n;
+    p.n[j] = n;
+    p.len[j] = Length(n);
+  }
+  return p;
+}
+
+bool CellSphereRejected(const CellPlanes& p, glm::vec4 s) {
+  const glm::vec3 v = Xyz(s) - p.eye;
+  for (std::uint32_t j = 0; j < 4; ++j)
+    if (Dot(p.n[j], v) + s.w * p.len[j] < -(p.margin * p.len[j])) return true;
+  return false;
+}
+
+bool CellTriangleRejected(const CellPlanes& p, glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+  for (std::uint32_t j = 0; j < 4; ++j) {
+    const float g = -(p.margin * p.len[j]);
+    if (Dot(p.n[j], a - p.eye) < g && Dot(p.n[j], b - p.eye) < g && Dot(p.n[j], c - p.eye) < g) return true;
+  }
+  return false;
+}
+
+std::vector<layout::Ray> EyeRays(const layout::FrameConstants& fc) {
+  std::vector<layout::Ray> rays(std::size_t{fc.dims.x} * fc.dims.y);
+  for (std::uint32_t py = 0; py < fc.dims.y; ++py)
+    for (std::uint32_t px = 0; px < fc.dims.x; ++px) {
+      layout::Ray& r = rays[std::size_t{py} * fc.dims.x + px];
+      r.origin_tmin = glm::vec4(Xyz(fc.eye), 0.0f);
+      r.direction_tmax = glm::vec4(layout::PixelDirection(fc, px, py), std::numeric_limits<float>::infinity());
+      r.info = glm::uvec4(py * fc.dims.x + px, layout::kNoPrim, layout::kRayPrimary, CellOf(fc, px, py));
+      r.weight = glm::vec4(1.0f, 1.0f, 1.0f, 0.0f);
+    }
+  return rays;
 }
 
 std::uint32_t RayCase(const ListsView& lists, std::span<const Word> tri_words, const layout::Ray& ray, bool ends) {

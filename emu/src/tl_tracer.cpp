@@ -31,6 +31,7 @@ class Tl final : public TlTracer {
     out["tree_big_fraction"] = options_.tree.big_fraction;
     out["tree_leaf_triangles"] = options_.tree.leaf_triangles;
     out["backface_culling"] = options_.cull;
+    out["frustum_culling"] = options_.cells;
     out["polygon_heads"] = options_.heads == layout::kTlHeadsRegular ? "regular" : options_.heads == layout::kTlHeadsSimple ? "simple" : "off";
     out["triangles"] = options_.cull ? "one-sided: met only from the front, (v1 - v0) x (v2 - v0)" : "two-sided";
     const TlShape s = Shape();
@@ -70,10 +71,21 @@ class Tl final : public TlTracer {
     if (!built_) BuildLists();
     const std::string label = "tl.trace." + ctx_.name;
     passes_.Label(label);
+    // Eye rays walk their cell's window (tl.cells, once per frame), the others their triangle's.
+    const bool cells = options_.cells && ctx_.kind == layout::kRayPrimary && ctx_.frame;
+    if (cells && cells_.windows.empty()) BuildCells(*ctx_.frame);
+    passes_.Label(label);
     const auto t0 = std::chrono::steady_clock::now();
-    TlWalks w = passes_.TlTrace(
-        {.first = lists_.first, .escapes = lists_.escapes, .words = lists_.words, .vertices = lists_.vertices, .rays = rays, .shadow = shadow,
-         .cull = options_.cull ? 1u : 0u, .heads = options_.heads, .tri_words = tree_.tri_words, .windows = windows_.windows});
+    TlWalks w = passes_.TlTrace({.first = lists_.first,
+                                 .escapes = lists_.escapes,
+                                 .words = lists_.words,
+                                 .vertices = lists_.vertices,
+                                 .rays = rays,
+                                 .shadow = shadow,
+                                 .cull = options_.cull ? 1u : 0u,
+                                 .heads = cells ? layout::kTlHeadsCells : options_.heads,
+                                 .tri_words = tree_.tri_words,
+                                 .windows = cells ? cells_.windows : windows_.windows});
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (ctx_.subpasses) ctx_.subpasses->push_back({label, ms, rays.size()});
     if (ctx_.digest) {
@@ -110,6 +122,22 @@ class Tl final : public TlTracer {
       ctx_.digest->Add("tl.lists", "lengths", lengths);
     }
     if (options_.heads != layout::kTlHeadsOff) BuildWindows();
+  }
+  // Per-cell heads of the eye rays: the pass "tl.cells", before the first primary batch.
+  void BuildCells(const layout::FrameConstants& fc) {
+    std::vector<glm::vec3> points{Xyz(fc.eye)};
+    for (const layout::Light& l : scene_.lights) points.push_back(Xyz(l.position));
+    passes_.Label("tl.cells");
+    const auto t0 = std::chrono::steady_clock::now();
+    cells_ = passes_.TlCells({.first = lists_.first,
+                              .escapes = lists_.escapes,
+                              .words = lists_.words,
+                              .vertices = lists_.vertices,
+                              .frame = fc,
+                              .margin = tl::HeadsMargin(scene_.lo, scene_.hi, points)});
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (ctx_.subpasses) ctx_.subpasses->push_back({"tl.cells", ms, cells_.windows.size() / 2});
+    if (ctx_.digest) ctx_.digest->Add("tl.cells", "windows", cells_.windows);
   }
   // Per-polygon heads: the pass "tl.heads" right after the lists.
   void BuildWindows() {
@@ -155,6 +183,7 @@ class Tl final : public TlTracer {
   std::vector<glm::vec4> directions_;
   tl::Lists lists_;
   TlWindows windows_;  // per-polygon heads (empty when off)
+  TlWindows cells_;    // per-cell heads of the eye rays (empty until the first primary batch)
   bool built_ = false;
   BatchContext ctx_;
   std::vector<TlBatchStats> stats_;

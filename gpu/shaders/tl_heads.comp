@@ -113,58 +113,16 @@ bool TriangleRejected(vec3 a, vec3 b, vec3 c) {
   return false;
 }
 
-bool IsTri(uint i) { return escapes[i] == 1 || escapes[i] == 0; }
-bool Rejected(uint i) {
-  const uvec4 w = words[i];
-  if (!IsTri(i)) return SphereRejected(uintBitsToFloat(w));
-  return TriangleRejected(vertices[w.x].xyz, vertices[w.y].xyz, vertices[w.z].xyz);
-}
-uint Next(uint i, uint end) {
-  const int e = escapes[i];
-  return IsTri(i) ? i + 1u : e == -1 ? end : i + uint(e);
-}
+#include "tl_window.glsl"
 
 uvec2 Window(uint t, uint cs, uint k) {
   const uint begin = first[k], end = first[k + 1u];
   if (Sliver(t)) return uvec2(begin, end);
   MakePlanes(t, cs, k);
-  uint head = begin, i = begin;
-  bool found = false;
-  for (uint b = 0u; !found && i < end && b <= end / kTlLoopBlock; ++b)
-    for (uint j = 0u; !found && i < end && j < kTlLoopBlock; ++j) {
-      if (Rejected(i)) {
-        i = Next(i, end);
-        head = i;
-      } else if (IsTri(i)) {
-        found = true;
-      } else {
-        i += 1u;
-      }
-    }
-  if (!found) return uvec2(end, end);
-  uint lo = head, hi = end, tail = end;
-  for (uint level = 0u; level <= kTlMaxDepth + 1u; ++level) {
-    uint last = hi, i = lo;
-    for (uint b = 0u; i < hi && b <= end / kTlLoopBlock; ++b)
-      for (uint j = 0u; i < hi && j < kTlLoopBlock; ++j) {
-        if (!Rejected(i)) last = i;
-        i = Next(i, end);
-      }
-    if (last == hi) {
-      tail = lo;
-      break;
-    }
-    if (IsTri(last)) {
-      tail = last + 1u;
-      break;
-    }
-    lo = last + 1u;
-    hi = Next(last, end);
-    tail = hi;
-  }
+  uvec2 w = ListWindow(begin, end);
   // Fault 3: the head one element past the first element kept.
-  if (kFault == 3u && head + 1u < tail) head += 1u;
-  return uvec2(head, tail);
+  if (kFault == 3u && w.x + 1u < w.y) w.x += 1u;
+  return w;
 }
 
 void main() {

@@ -60,12 +60,22 @@ void main() {
   if (kFault == 3u && K > 1u) k = K == 8u ? 7u - k : k ^ 1u;
   uint i = first[k];
   uint end = first[k + 1u];
-  // A ray on a triangle walks that triangle's window (tl.heads) for its case.
-  const uint cs = pc.heads != kTlHeadsOff ? RayCase(r, pc.shadow != 0u) : kNoCase;
-  if (cs != kNoCase) {
-    const uint w = 2u * ((r.info.y * kTlCases + cs) * K + k);
-    i = windows[w];
-    end = windows[w + 1u];
+  // A ray on a triangle walks that triangle's window (tl.heads) for its case; an eye ray its
+  // cell's (tl.cells; a cell beyond the windows: the whole list).
+  if (pc.heads == kTlHeadsCells) {
+    // Fault 6: an eye ray walks the window of the next cell.
+    const uint w = 2u * ((r.info.w + (kFault == 6u ? 1u : 0u)) * K + k);
+    if (w + 1u < windows.length()) {
+      i = windows[w];
+      end = windows[w + 1u];
+    }
+  } else {
+    const uint cs = pc.heads != kTlHeadsOff ? RayCase(r, pc.shadow != 0u) : kNoCase;
+    if (cs != kNoCase) {
+      const uint w = 2u * ((r.info.y * kTlCases + cs) * K + k);
+      i = windows[w];
+      end = windows[w + 1u];
+    }
   }
   uint64_t best = kMiss;
   uint spheres = 0u, triangles = 0u;

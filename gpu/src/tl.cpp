@@ -2,6 +2,7 @@
 // each array in one binding (a call whose array outgrows it fails naming the pass).
 #include "rayspace/gpu/passes.h"
 #include "kernel_util.h"
+#include "rayspace/emu/tl/heads.h"
 
 namespace rayspace::gpu_backend {
 using namespace detail;
@@ -90,6 +91,29 @@ vk::Status VulkanPasses::Run(const emu::call::TlHeads& call, emu::TlWindows& out
   push.mode = call.mode;
   push.margin = call.margin;
   RS_TRY(RunKernel(*ctx_, K(PassId::kTlHeads), b.All(), &push, sizeof push, static_cast<std::uint32_t>(total)));
+  return keep.CopyBack();
+}
+
+// One invocation per (cell, list) window.
+vk::Status VulkanPasses::Run(const emu::call::TlCells& call, emu::TlWindows& out) {
+  const std::size_t lists = call.first.empty() ? 0 : call.first.size() - 1, cells = emu::tl::CellCount(call.frame),
+                    total = cells * lists;
+  Keep keep;
+  Bindings<layout::kTlCellsBindings> b;
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlCellsBindFirst, call.first));
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlCellsBindEscapes, call.escapes));
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlCellsBindWords, call.words));
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlCellsBindVertices, call.vertices));
+  RS_TRY(Input(*ctx_, keep, b, layout::kTlCellsBindFrame, std::span<const layout::FrameConstants>(&call.frame, 1)));
+  out.windows.assign(2 * total, 0u);
+  RS_TRY(Output(*ctx_, keep, b, layout::kTlCellsBindWindows, total * 8, out.windows.data()));
+  if (total == 0) return vk::Status::Ok();
+  layout::TlCellsPush push{};
+  push.lists = static_cast<std::uint32_t>(lists);
+  push.cells_x = emu::tl::CellsX(call.frame);
+  push.cells = static_cast<std::uint32_t>(cells);
+  push.margin = call.margin;
+  RS_TRY(RunKernel(*ctx_, K(PassId::kTlCells), b.All(), &push, sizeof push, static_cast<std::uint32_t>(total)));
   return keep.CopyBack();
 }
 

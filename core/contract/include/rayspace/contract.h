@@ -512,6 +512,7 @@ RS_CONST(uint, kTlHeadsBindings, 6u);
 RS_CONST(uint, kTlHeadsOff, 0u);
 RS_CONST(uint, kTlHeadsSimple, 1u);   // the triangle's plane only
 RS_CONST(uint, kTlHeadsRegular, 2u);  // and the facet planes of the list's class
+RS_CONST(uint, kTlHeadsCells, 3u);    // tl.trace only: eye rays walk their screen cell's window (tl.cells)
 RS_CONST(uint, kTlCases, 4u);
 // A ray takes a window only when its direction is clearly off the plane: |d . n| > this x |d| |n|.
 RS_CONST(float, kTlSideRatio, 9.765625e-04);  // 2^-10
@@ -520,6 +521,26 @@ struct TlHeadsPush {
   uint triangles;  // scene triangles
   uint mode;       // kTlHeadsSimple or kTlHeadsRegular
   float margin;    // how far beyond a plane an element must lie to be skipped (scene units)
+};
+
+// ---- tl.cells: per screen cell the window of each list its eye rays walk (section 3.2) -----------
+// The eye rays of a cell of kTlCellPixels x kTlCellPixels pixels leave the eye inside the pyramid
+// spanned by the directions through its corner pixels' centres (PixelDirection is affine in the
+// pixel); an element wholly outside one of its four side planes by more than the margin is beyond.
+// Window index cell * K + list, cell = cy * cells_x + cx; an eye ray names its cell in info.w.
+RS_CONST(uint, kTlCellsBindFirst, 0u);
+RS_CONST(uint, kTlCellsBindEscapes, 1u);
+RS_CONST(uint, kTlCellsBindWords, 2u);
+RS_CONST(uint, kTlCellsBindVertices, 3u);
+RS_CONST(uint, kTlCellsBindFrame, 4u);     // FrameConstants: the eye and the pixel directions
+RS_CONST(uint, kTlCellsBindWindows, 5u);   // per (cell, list): head, tail
+RS_CONST(uint, kTlCellsBindings, 6u);
+RS_CONST(uint, kTlCellPixels, 16u);
+struct TlCellsPush {
+  uint lists;    // K
+  uint cells_x;  // cells per row: ceil(width / kTlCellPixels)
+  uint cells;    // cells_x * ceil(height / kTlCellPixels)
+  float margin;  // as tl.heads'
 };
 
 // ---- shade: direct light at the shading points into the fixed-point accumulator ---------------
@@ -578,7 +599,8 @@ static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && size
               sizeof(BuildPush) == 24 && sizeof(TraversePush) == 60 && sizeof(ReducePush) == 20 &&
               sizeof(IntersectPush) == 44 && sizeof(ShadePush) == 16 && sizeof(ElementwisePush) == 8 &&
               sizeof(TraverseCompactPush) == 68 && sizeof(TreePush) == 40 && sizeof(IntersectTreePush) == 8 &&
-              sizeof(TlListsPush) == 28 && sizeof(TlTracePush) == 24 && sizeof(TlHeadsPush) == 16);
+              sizeof(TlListsPush) == 28 && sizeof(TlTracePush) == 24 && sizeof(TlHeadsPush) == 16 &&
+              sizeof(TlCellsPush) == 16);
 static_assert(kTlMaxElements == 65535u * kTlLoopBlock && kTlEscapeNone == ~0u && kTlNoParent == ~0u);
 static_assert(kTreeStepBlock % kMaxLocalSize == 0u);
 static_assert(offsetof(TraversePush, eps) == 40);

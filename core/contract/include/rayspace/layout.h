@@ -23,6 +23,7 @@ RS_CONST(uint, kNoPrim, 0xFFFFFFFFu);
 RS_CONST(uint, kRayShadow, 0u);
 RS_CONST(uint, kRayReflection, 1u);
 RS_CONST(uint, kRayRefraction, 2u);
+RS_CONST(uint, kRayPrimary, 3u);  // eye rays, traced beside the raster (--primary tl)
 // Fixed-point scale of the colour accumulator: integer adds make the sum independent of the order in
 // which contributions arrive (GPU atomics), so the image is deterministic.
 RS_CONST(float, kAccumScale, 4294967296.0);  // 2^32

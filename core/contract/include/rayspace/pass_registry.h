@@ -40,6 +40,7 @@ enum class PassId : std::uint8_t {
   kIntersectTree,
   kTlLists,
   kTlHeads,
+  kTlCells,
   kTlTrace,
   kShade,
   kResolve,
@@ -113,6 +114,7 @@ inline constexpr SV kTreeExpandIdx[] = {"counts"};
 inline constexpr SV kTreeStepIdx[] = {"next_cone", "next_item", "final_cone", "final_item"};
 inline constexpr SV kTlListsIdx[] = {"escapes", "words", "lengths"};
 inline constexpr SV kTlHeadsIdx[] = {"windows"};
+inline constexpr SV kTlCellsIdx[] = {"windows"};
 constexpr std::span<const SV> None() { return {}; }
 
 inline constexpr CallSpec kRasterCalls[] = {{"raster", kRasterIdx}};
@@ -139,6 +141,7 @@ inline constexpr CallSpec kTreeStepCalls[] = {{"tree.step", kTreeStepIdx}};
 inline constexpr CallSpec kIntersectTreeCalls[] = {{"intersect.tree", kIntersectIdx}};
 inline constexpr CallSpec kTlListsCalls[] = {{"tl.lists", kTlListsIdx}};
 inline constexpr CallSpec kTlHeadsCalls[] = {{"tl.heads", kTlHeadsIdx}};
+inline constexpr CallSpec kTlCellsCalls[] = {{"tl.cells", kTlCellsIdx}};
 inline constexpr CallSpec kTlTraceCalls[] = {{"tl.trace", None()}};
 inline constexpr CallSpec kShadeCalls[] = {{"shade", None()}};
 inline constexpr CallSpec kResolveCalls[] = {{"resolve", None()}};
@@ -269,11 +272,15 @@ inline constexpr FaultSpec kTlListsFaults[] = {{1, "a sphere's escape is one ele
 inline constexpr FaultSpec kTlHeadsFaults[] = {{1, "the triangle's plane faces the other way (the side the rays reach is skipped)"},
                                               {2, "the facet planes of the opposite class"},
                                               {3, "a window's head one element past the first element kept"}};
+inline constexpr FaultSpec kTlCellsFaults[] = {{1, "a cell's first side plane faces the other way"},
+                                              {2, "each cell takes the planes of the next cell in x"},
+                                              {3, "a window's tail one element short"}};
 inline constexpr FaultSpec kTlTraceFaults[] = {{1, "a missed sphere's escape is followed one element short"},
                                               {2, "the sphere test's distance check is flipped"},
                                               {3, "a ray walks the list of the opposite direction"},
                                               {4, "one-sided triangles count when met from behind, not from the front"},
-                                              {5, "a ray walks the window of the other side of its triangle"}};
+                                              {5, "a ray walks the window of the other side of its triangle"},
+                                              {6, "an eye ray walks the window of the next cell"}};
 inline constexpr FaultSpec kShadeFaults[] = {{1, "the quadratic attenuation uses the distance, not its square"},
                                              {2, "the light vector points from the light to the surface"},
                                              {3, "the blue channel is never accumulated"},
@@ -312,6 +319,7 @@ inline constexpr std::array<PassSpec, kPassCount> kPasses = {{
   {PassId::kIntersectTree,    "intersect.tree",    "intersect_tree",    false, {},                                        layout::kIntersectTreeBindings, RS_PUSH(IntersectTreePush), pass_registry_detail::kIntersectTreeCalls, "final_intersection_tests",  pass_registry_detail::kIntersectTreeFaults},
   {PassId::kTlLists,         "tl.lists",          "tl_lists",          false, pass_registry_detail::kTlListsPhases,     layout::kTlListsBindings,      RS_PUSH(TlListsPush),       pass_registry_detail::kTlListsCalls,       "hierarchy_creation",        pass_registry_detail::kTlListsFaults},
   {PassId::kTlHeads,          "tl.heads",          "tl_heads",          false, {},                                        layout::kTlHeadsBindings,      RS_PUSH(TlHeadsPush),       pass_registry_detail::kTlHeadsCalls,       "hierarchy_creation",        pass_registry_detail::kTlHeadsFaults},
+  {PassId::kTlCells,          "tl.cells",          "tl_cells",          false, {},                                        layout::kTlCellsBindings,      RS_PUSH(TlCellsPush),       pass_registry_detail::kTlCellsCalls,       "hierarchy_creation",        pass_registry_detail::kTlCellsFaults},
   {PassId::kTlTrace,          "tl.trace",          "tl_trace",          false, {},                                        layout::kTlTraceBindings,      RS_PUSH(TlTracePush),       pass_registry_detail::kTlTraceCalls,       "hierarchy_traversal",       pass_registry_detail::kTlTraceFaults},
   {PassId::kShade,            "shade",             "shade",             false, {},                                        layout::kShadeBindings,        RS_PUSH(ShadePush),         pass_registry_detail::kShadeCalls,         "",                          pass_registry_detail::kShadeFaults},
   {PassId::kResolve,          "resolve",           "resolve",           false, {},                                        layout::kResolveBindings,      RS_PUSH(ElementwisePush),      pass_registry_detail::kResolveCalls,       "",                          pass_registry_detail::kResolveFaults},

@@ -353,6 +353,20 @@ struct TlHeads {
   RS_FIELDS(first, escapes, words, vertices, tri_words, mode, margin)
 };
 
+// Per (screen cell, list) the window of the packed lists the cell's eye rays walk (rayspace/contract.h,
+// kTlCells*): every triangle element outside it lies wholly outside one of the cell's four side planes
+// by more than `margin`. The cells are those of `frame`'s image, kTlCellPixels on a side.
+struct TlCells {
+  static constexpr std::string_view kName = "tl.cells";
+  using Result = TlWindows;
+  In<std::uint32_t> first{}, escapes{};
+  In<glm::uvec4> words{};
+  In<glm::vec4> vertices{};
+  layout::FrameConstants frame{};
+  float margin = 0.0f;
+  RS_FIELDS(first, escapes, words, vertices, frame, margin)
+};
+
 // Every ray walks the list of its direction class (tl::ListFor over `first`'s K lists) without a
 // stack: the closest hit (shadow = 0) or whether any triangle but the ray's own is hit (shadow = 1).
 struct TlTrace {
@@ -364,11 +378,12 @@ struct TlTrace {
   In<layout::Ray> rays{};
   std::uint32_t shadow = 0;
   std::uint32_t cull = 0;  // 1: one-sided triangles, met only from the front
-  // heads != kTlHeadsOff: a ray whose info.y names a triangle walks that triangle's window
-  // (tl.heads): a closest-hit ray starts on it, a shadow ray ends on it.
+  // heads kTlHeadsSimple or kTlHeadsRegular: a ray whose info.y names a triangle walks that
+  // triangle's window (tl.heads): a closest-hit ray starts on it, a shadow ray ends on it.
+  // kTlHeadsCells: an eye ray walks the window of the screen cell its info.w names (tl.cells).
   std::uint32_t heads = layout::kTlHeadsOff;
   In<glm::uvec4> tri_words{};
-  In<std::uint32_t> windows{};  // tl.heads' windows: head, tail per (triangle, case, list)
+  In<std::uint32_t> windows{};  // tl.heads' windows per (triangle, case, list), or tl.cells' per (cell, list)
   RS_FIELDS(first, escapes, words, vertices, rays, shadow, cull, heads, tri_words, windows)
 };
 
@@ -379,7 +394,7 @@ struct TlTrace {
 #define RS_HIERARCHY_CALLS(X)                                                                        \
   X(Hash) X(Compress) X(SortChunks) X(Decompress) X(BuildLeaves) X(BuildParents) X(ObjectMask) X(TraverseTop) \
   X(TraverseLevel) X(Reduce) X(TraverseTopCompacted) X(TraverseLevelCompacted) X(Intersect) X(TreeRoots) \
-  X(TreeExpand) X(TreeTest) X(TreeStep) X(IntersectTree) X(TlLists) X(TlHeads) X(TlTrace)
+  X(TreeExpand) X(TreeTest) X(TreeStep) X(IntersectTree) X(TlLists) X(TlHeads) X(TlCells) X(TlTrace)
 
 // Calls whose kernel runs one invocation per element over input arrays of one length, with no other
 // input (rayspace/contract.h, "element-wise passes"): the Vulkan backend launches them generically.

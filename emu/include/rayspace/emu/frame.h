@@ -45,6 +45,9 @@ struct FrameResult {
   std::vector<PassRecord> passes;
   // rays[kind][bounce]: shadow bounces 0..max_depth, reflection/refraction 1..max_depth (index 0 unused).
   std::vector<std::uint64_t> rays[3];
+  // --primary tl: the eye rays traced, and the pixels whose hit (primitive, or none) differs from the
+  // raster's primitive.
+  std::uint64_t primary_rays = 0, primary_differing = 0;
   DigestLog digest;
   std::vector<std::uint64_t> accum;  // fixed-point colour before resolve
   std::vector<std::uint8_t> rgb;
@@ -67,6 +70,11 @@ struct FrameOptions {
   // --shadow-bounces first: shadow rays at bounce 0 only (the thesis's one shadow batch); later
   // bounces shade with every light unoccluded.
   bool shadow_first_bounce_only = false;
+  // --primary tl: after the raster, trace an eye ray per pixel with the frame's tracer (a batch of
+  // kind kRayPrimary, "primary.b0", checked by the observer like any other) beside the G-buffer,
+  // which still drives the shading; FrameResult counts the pixels whose traced primitive differs
+  // from the raster's.
+  bool trace_primary = false;
 };
 
 FrameResult RenderFrame(const Scene& scene, const SceneBuffers& buffers, Tracer& tracer,

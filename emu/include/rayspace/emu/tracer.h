@@ -31,6 +31,7 @@ struct BatchContext {
   int bounce = 0;
   DigestLog* digest = nullptr;
   std::vector<SubPass>* subpasses = nullptr;
+  const layout::FrameConstants* frame = nullptr;  // the frame's constants (eye rays' cells)
 };
 
 class Tracer {

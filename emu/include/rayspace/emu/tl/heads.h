@@ -11,6 +11,8 @@
 #include <span>
 #include <string>
 
+#include <vector>
+
 #include <glm/vec3.hpp>
 
 #include "rayspace/emu/tl/tl.h"
@@ -55,12 +57,35 @@ std::uint32_t RayCase(const ListsView& lists, std::span<const Word> tri_words, c
 // scene: the margin covers both four times over.
 float HeadsMargin(glm::vec3 lo, glm::vec3 hi, std::span<const glm::vec3> lights);
 
+// Per-cell heads of eye rays (Toczek et al. section 3.2; rayspace/contract.h, kTlCells*): the four
+// side planes through the eye of the pyramid spanned by the directions through the cell's corner
+// pixels' centres (PixelDirection, affine in the pixel, so every eye ray of the cell lies inside),
+// normals n = (corner) x (next corner) turned towards the sum of the corners. A cell one pixel wide
+// has a zero normal (a plane that rejects nothing) and two opposite ones.
+struct CellPlanes {
+  glm::vec3 eye{0.0f};
+  glm::vec3 n[4];
+  float len[4] = {}, margin = 0.0f;
+};
+std::uint32_t CellsX(const layout::FrameConstants& fc);
+std::uint32_t CellCount(const layout::FrameConstants& fc);
+// The cell of pixel (px, py).
+std::uint32_t CellOf(const layout::FrameConstants& fc, std::uint32_t px, std::uint32_t py);
+CellPlanes MakeCellPlanes(const layout::FrameConstants& fc, std::uint32_t cell, float margin);
+bool CellSphereRejected(const CellPlanes& p, glm::vec4 sphere);
+bool CellTriangleRejected(const CellPlanes& p, glm::vec3 a, glm::vec3 b, glm::vec3 c);
+// The eye rays of a frame, one per pixel in pixel order: from the eye through the pixel's centre
+// (PixelDirection), t in [0, inf), info (pixel, kNoPrim, kRayPrimary, cell), weight 1.
+std::vector<layout::Ray> EyeRays(const layout::FrameConstants& fc);
+
 }  // namespace rayspace::emu::tl
 
 namespace rayspace::emu {
 TlWindows PassTlHeads(const call::TlHeads& c);
-// Why tl.heads' windows do not fit the lists, or "": 2 words per (triangle, case, list), each window
-// [head, tail) inside its list. `bad` receives the first bad word.
-std::string WindowsError(std::span<const std::uint32_t> first, std::span<const std::uint32_t> windows, std::size_t triangles,
+TlWindows PassTlCells(const call::TlCells& c);
+// Why windows do not fit the lists, or "": 2 words per (group, list), a group a (triangle, case) of
+// tl.heads or a cell of tl.cells, each window [head, tail) inside its list. `bad` receives the first
+// bad word.
+std::string WindowsError(std::span<const std::uint32_t> first, std::span<const std::uint32_t> windows, std::size_t groups,
                          std::size_t* bad = nullptr);
 }  // namespace rayspace::emu

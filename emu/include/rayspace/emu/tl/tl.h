@@ -41,6 +41,9 @@ struct Options {
   // Per-polygon heads (layout::kTlHeads*): off, simple (the triangle's plane) or regular (and the
   // facet planes of the list's class). Off by default.
   std::uint32_t heads = 0;
+  // Per-cell heads of eye rays (--frustum-cull on, with --primary tl): the pass tl.cells, and eye
+  // rays walking their cell's window.
+  bool cells = false;
 };
 
 // The host's half: the tree (BuildObjectTree over the scene as one object), each node's parent and
