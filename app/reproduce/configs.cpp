@@ -42,7 +42,8 @@ const std::vector<std::pair<int, int>>& ThesisShapes() {
 std::string Config::Canonical() const {
   // The quadtree's subdivision is 4 and its depth log2 of the image size: both follow from the size.
   const std::string shape = quadtree() ? "quadtree"
-                            : tl()     ? fmt::format("lists={} order={}{}{}", lists, node_order, cull ? " cull=on" : "", heads.empty() ? "" : " heads=" + heads)
+                            : tl()     ? fmt::format("lists={} order={}{}{}{}{}", lists, node_order, cull ? " cull=on" : "", heads.empty() ? "" : " heads=" + heads,
+                                                   primary ? " primary=tl" : "", frustum ? " frustum=on" : "")
                                        : fmt::format("subdivision={} levels={}", subdivision, levels);
   // Faithful, object and path settings are appended only when set, so the keys of the other
   // configurations stay as they were. A preset is written as the switches it stands for: a preset
@@ -60,7 +61,8 @@ std::string Config::Canonical() const {
 
 std::string Config::Name() const {
   const std::string name = quadtree() ? fmt::format("{} {}", scene, algo)
-                           : tl()     ? fmt::format("{} tl K{} {}{}{}", scene, lists, node_order, cull ? " culled" : "", heads.empty() ? "" : " heads " + heads)
+                           : tl()     ? fmt::format("{} tl K{} {}{}{}{}{}", scene, lists, node_order, cull ? " culled" : "", heads.empty() ? "" : " heads " + heads,
+                                                  primary ? " primary" : "", frustum ? " frustum" : "")
                                       : fmt::format("{} {} s{} d{}", scene, algo, subdivision, levels);
   // roger measures one scene at several sizes (figure 13(c)); the thesis's run has one size.
   const std::string sized = target == "thesis" ? name : fmt::format("{} {}x{}", name, width, height);
@@ -69,8 +71,9 @@ std::string Config::Name() const {
 
 std::string Config::RenderArgs() const {
   const std::string shape = quadtree() ? ""
-                            : tl()     ? fmt::format(" --lists {} --node-order {}{}{}", lists, node_order, cull ? " --backface-cull on" : "",
-                                                   heads.empty() ? "" : " --polygon-heads " + heads)
+                            : tl()     ? fmt::format(" --lists {} --node-order {}{}{}{}{}", lists, node_order, cull ? " --backface-cull on" : "",
+                                                   heads.empty() ? "" : " --polygon-heads " + heads, primary ? " --primary tl" : "",
+                                                   frustum ? " --frustum-cull on" : "")
                                        : fmt::format(" --subdivision {} --levels {}", subdivision, levels);
   const std::string faithful_args =
       faithful.empty() ? "" : fmt::format(" --faithful {}{}", faithful, one_object ? " --one-object" : "");

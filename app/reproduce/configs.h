@@ -46,6 +46,8 @@ struct Config {
   std::string node_order;
   bool cull = false;  // --algo tl --backface-cull on
   std::string heads;  // --algo tl --polygon-heads: empty for off
+  // --primary tl (eye rays traced through the lists beside the raster) and --frustum-cull on.
+  bool primary = false, frustum = false;
   bool tl() const { return algo == "tl"; }
   bool quadtree() const { return algo == "rah-quadtree"; }
   // Every setting that changes the counts, as one line (part of the result's key).

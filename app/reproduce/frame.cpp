@@ -15,6 +15,8 @@ app::RenderArgs Args(const Config& c) {
     args.node_order = c.node_order;
     args.backface_cull = c.cull ? "on" : "off";
     args.polygon_heads = c.heads.empty() ? "off" : c.heads;
+    args.primary = c.primary ? "tl" : "raster";
+    args.frustum_cull = c.frustum ? "on" : "off";
   } else if (!c.quadtree()) {
     args.subdivision = c.subdivision;
     args.depth = c.levels;
@@ -67,6 +69,7 @@ FrameOutput RenderConfig(const Config& c, const Scene& scene, const SceneBuffers
   fo.width = c.width;
   fo.height = c.height;
   app::ApplyFaithful(args.faithful, fo);
+  app::ApplyPrimary(args, fo);
   std::unique_ptr<app::Backend> backend;
   {
     std::lock_guard<std::mutex> lock(g_backend_mutex);

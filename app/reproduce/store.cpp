@@ -46,6 +46,8 @@ nlohmann::json ConfigJson(const Config& c) {
   if (c.tl()) j["lists"] = c.lists, j["node_order"] = c.node_order;
   if (c.cull) j["cull"] = true;
   if (!c.heads.empty()) j["heads"] = c.heads;
+  if (c.primary) j["primary"] = true;
+  if (c.frustum) j["frustum"] = true;
   return j;
 }
 
@@ -67,6 +69,8 @@ Config ConfigFromJson(const nlohmann::json& j) {
   c.node_order = j.value("node_order", std::string());
   c.cull = j.value("cull", false);
   c.heads = j.value("heads", std::string());
+  c.primary = j.value("primary", false);
+  c.frustum = j.value("frustum", false);
   return c;
 }
 

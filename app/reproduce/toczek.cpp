@@ -42,18 +42,23 @@ std::vector<Config> ToczekConfigs(int width, int height) {
     for (const char* order : {"earliest-first", "latest-last"}) {
       if (s.table == 2 && std::string(order) != "earliest-first") continue;
       c.node_order = order;
-      // Table 1 with back-face culling off and on (one-sided triangles when on), each without and
-      // with the regular per-polygon heads.
+      // Table 1: its 16 combinations, eye rays traced through the lists as the paper's are: back-face
+      // culling off and on (one-sided triangles when on), the regular per-polygon heads off and on,
+      // frustum culling of the eye rays off and on.
       for (const bool cull : {false, true})
-        for (const char* heads : {"", "regular"}) {
-          if (s.table == 2 && (cull || *heads)) continue;
-          c.cull = cull;
-          c.heads = heads;
-          configs.push_back(c);
-        }
+        for (const char* heads : {"", "regular"})
+          for (const bool frustum : {false, true}) {
+            if (s.table == 2 && (cull || *heads || frustum)) continue;
+            c.cull = cull;
+            c.heads = heads;
+            c.primary = s.table == 1;
+            c.frustum = frustum;
+            configs.push_back(c);
+          }
     }
     c.cull = false;
     c.heads.clear();
+    c.primary = c.frustum = false;
   }
   return configs;
 }
@@ -121,9 +126,10 @@ Walks WalksOf(const Result& r) {
 }
 
 const Result* Find(const std::vector<const Result*>& results, const std::string& scene, const std::string& order, bool cull = false,
-                   bool heads = false) {
+                   bool heads = false, bool frustum = false) {
   for (const Result* r : results)
-    if (r->config.scene == scene && r->config.node_order == order && r->config.cull == cull && r->config.heads.empty() != heads)
+    if (r->config.scene == scene && r->config.node_order == order && r->config.cull == cull && r->config.heads.empty() != heads &&
+        r->config.frustum == frustum)
       return r;
   return nullptr;
 }
@@ -138,6 +144,14 @@ std::string CulledShares(const Result& r) {
 }
 
 std::string Fixed(double v) { return fmt::format("{:.1f}", v); }
+
+// One ray type's elements per ray (traversal_lists.per_type), 0 when the type did not run.
+double TypePerRay(const Result& r, const std::string& type) {
+  const nlohmann::json t =
+      r.statistics.value("traversal_lists", nlohmann::json::object()).value("per_type", nlohmann::json::object()).value(type, nlohmann::json::object());
+  const double rays = t.value("rays", 0.0);
+  return rays > 0 ? (t.value("sphere_tests", 0.0) + t.value("triangle_tests", 0.0)) / rays : 0.0;
+}
 std::string YesNo(bool b) { return b ? "enabled" : "disabled"; }
 
 struct Verdicts {
@@ -149,33 +163,34 @@ struct Verdicts {
   }
 };
 
-// Table 1: every published combination; ours where rayspace has the switches (the node order,
-// back-face culling and per-polygon heads; the traced primary pass with frustum culling is not built
-// yet).
+// Table 1: every published combination, each measured with its switches (the node order, back-face
+// culling, per-polygon heads, the eye rays' frustum culling).
 Table Table1(const std::vector<const Result*>& results, Verdicts& v) {
   Table t{"toczek-1", "Toczek et al. table 1: the bunny without ground, traversed nodes per ray by optimisation",
           {"node order", "back-face culling", "per-polygon heads", "frustum culling", "published nodes/ray", "ours nodes/ray",
-           "ours spheres/ray", "ours triangles/ray", "ours culled per list"},
+           "ours spheres/ray", "ours triangles/ray", "ours eye ray nodes/ray", "ours shadow ray nodes/ray", "ours culled per list"},
           {}, {}};
   for (const ToczekTable1Row& p : ToczekTable1()) {
-    const Result* r = !p.frustum ? Find(results, "BUNNY", p.order, p.culling, p.heads) : nullptr;
+    const Result* r = Find(results, "BUNNY", p.order, p.culling, p.heads, p.frustum);
     const Walks w = r ? WalksOf(*r) : Walks{};
     t.rows.push_back({p.order, YesNo(p.culling), p.heads ? "regular" : "disabled", YesNo(p.frustum), Fixed(p.NodesPerRay()),
-                      r ? Fixed(w.NodesPerRay()) : "not built", r ? Fixed(w.SpheresPerRay()) : "", r ? Fixed(w.TrianglesPerRay()) : "",
+                      r ? Fixed(w.NodesPerRay()) : "not measured", r ? Fixed(w.SpheresPerRay()) : "", r ? Fixed(w.TrianglesPerRay()) : "",
+                      r ? Fixed(TypePerRay(*r, "primary")) : "", r ? Fixed(TypePerRay(*r, "shadow")) : "",
                       r && p.culling ? CulledShares(*r) : ""});
   }
   t.notes.push_back("Published nodes/ray: the table's traversed nodes per second over its rays per second (primary and shadow rays "
-                    "traced on the GPU). Ours: the sphere and triangle elements the shadow rays' walks tested, per ray (primary "
-                    "visibility is rasterised), 6 lists. With back-face culling the triangles are one-sided (a shadow ray meets "
+                    "traced on the GPU). Ours: the sphere and triangle elements the walks of the eye rays (traced through the lists "
+                    "beside the raster, `--primary tl`) and the shadow rays tested, per ray, 6 lists; each kind's own count beside. "
+                    "With back-face culling the triangles are one-sided (a shadow ray meets "
                     "an occluder only from its front) and each list drops those its rays can only meet from behind; the culled "
                     "share is per list, +x -x +y -y +z -z (10.8% of uniformly oriented triangles per sextant, not the paper's 16.7%: "
                     "docs/traversal-lists.md). Culling drops triangles and the nodes left empty, not the spheres above "
                     "the rest (the tree is built once over every triangle), and a shadow ray's walk tests about 11 "
                     "triangles against about 97 spheres: what it can save is small. With the regular per-polygon heads a shadow ray "
                     "walks only the window of its list that is not wholly behind the plane of the triangle it ends on, nor past "
-                    "that triangle along the four facet planes of its sextant (docs/traversal-lists.md). The rows with "
-                    "frustum-culled primary rays are not measured: primary visibility is rasterised, and the traced primary "
-                    "pass is not built yet.");
+                    "that triangle along the four facet planes of its sextant (docs/traversal-lists.md). With frustum culling an eye "
+                    "ray walks only the window of its list outside which every element lies beyond one of the four side planes "
+                    "of its 16x16-pixel screen cell's pyramid; it changes only the eye rays' count.");
   const Result* ef = Find(results, "BUNNY", "earliest-first");
   const Result* ll = Find(results, "BUNNY", "latest-last");
   if (ef && ll) {
@@ -190,6 +205,16 @@ Table Table1(const std::vector<const Result*>& results, Verdicts& v) {
     const Result* on = Find(results, "BUNNY", order, true);
     if (!off || !on) continue;
     v.Add(t, kToczekCulling, fmt::format("bunny, {}, heads and frustum culling disabled", order),
+          Lowers(WalksOf(*off).NodesPerRay(), WalksOf(*on).NodesPerRay()),
+          Lowers(ToczekTable1()[static_cast<std::size_t>(off_row)].NodesPerRay(), ToczekTable1()[static_cast<std::size_t>(on_row)].NodesPerRay()));
+  }
+  // Frustum culling alone, per order: the rows (order, disabled, disabled, disabled) and (order,
+  // disabled, disabled, enabled).
+  for (const auto& [order, off_row, on_row] : {std::tuple{"earliest-first", 9, 8}, std::tuple{"latest-last", 1, 0}}) {
+    const Result* off = Find(results, "BUNNY", order);
+    const Result* on = Find(results, "BUNNY", order, false, false, true);
+    if (!off || !on) continue;
+    v.Add(t, kToczekFrustum, fmt::format("bunny, {}, back-face culling and heads disabled", order),
           Lowers(WalksOf(*off).NodesPerRay(), WalksOf(*on).NodesPerRay()),
           Lowers(ToczekTable1()[static_cast<std::size_t>(off_row)].NodesPerRay(), ToczekTable1()[static_cast<std::size_t>(on_row)].NodesPerRay()));
   }

@@ -52,6 +52,7 @@ const std::vector<ToczekTable2Row>& ToczekTable2();
 
 inline constexpr const char* kToczekOrder = "the node order changes nodes per ray by at most 20% (table 1)";
 inline constexpr const char* kToczekCulling = "back-face culling lowers nodes per ray (table 1)";
+inline constexpr const char* kToczekFrustum = "frustum culling lowers nodes per ray (table 1)";
 inline constexpr const char* kToczekHeads = "regular per-polygon heads lower nodes per ray (table 1)";
 inline constexpr const char* kToczekFlat = "nodes per ray within 3x from the smallest scene to the largest (table 2)";
 

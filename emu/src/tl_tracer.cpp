@@ -127,34 +127,39 @@ class Tl final : public TlTracer {
   void BuildCells(const layout::FrameConstants& fc) {
     std::vector<glm::vec3> points{Xyz(fc.eye)};
     for (const layout::Light& l : scene_.lights) points.push_back(Xyz(l.position));
-    passes_.Label("tl.cells");
-    const auto t0 = std::chrono::steady_clock::now();
-    cells_ = passes_.TlCells({.first = lists_.first,
+    cells_ = WindowsPass("tl.cells", [&] {
+      return passes_.TlCells({.first = lists_.first,
                               .escapes = lists_.escapes,
                               .words = lists_.words,
                               .vertices = lists_.vertices,
                               .frame = fc,
                               .margin = tl::HeadsMargin(scene_.lo, scene_.hi, points)});
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    if (ctx_.subpasses) ctx_.subpasses->push_back({"tl.cells", ms, cells_.windows.size() / 2});
-    if (ctx_.digest) ctx_.digest->Add("tl.cells", "windows", cells_.windows);
+    });
   }
   // Per-polygon heads: the pass "tl.heads" right after the lists.
   void BuildWindows() {
     std::vector<glm::vec3> lights;
     for (const layout::Light& l : scene_.lights) lights.push_back(Xyz(l.position));
-    passes_.Label("tl.heads");
+    windows_ = WindowsPass("tl.heads", [&] {
+      return passes_.TlHeads({.first = lists_.first,
+                              .escapes = lists_.escapes,
+                              .words = lists_.words,
+                              .vertices = lists_.vertices,
+                              .tri_words = tree_.tri_words,
+                              .mode = options_.heads,
+                              .margin = tl::HeadsMargin(scene_.lo, scene_.hi, lights)});
+    });
+  }
+  // A pass that writes windows, labelled, timed among the batch's subpasses and digested.
+  template <typename F>
+  TlWindows WindowsPass(const char* name, F&& run) {
+    passes_.Label(name);
     const auto t0 = std::chrono::steady_clock::now();
-    windows_ = passes_.TlHeads({.first = lists_.first,
-                                .escapes = lists_.escapes,
-                                .words = lists_.words,
-                                .vertices = lists_.vertices,
-                                .tri_words = tree_.tri_words,
-                                .mode = options_.heads,
-                                .margin = tl::HeadsMargin(scene_.lo, scene_.hi, lights)});
+    TlWindows w = run();
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    if (ctx_.subpasses) ctx_.subpasses->push_back({"tl.heads", ms, windows_.windows.size() / 2});
-    if (ctx_.digest) ctx_.digest->Add("tl.heads", "windows", windows_.windows);
+    if (ctx_.subpasses) ctx_.subpasses->push_back({name, ms, w.windows.size() / 2});
+    if (ctx_.digest) ctx_.digest->Add(name, "windows", w.windows);
+    return w;
   }
   void Count(const std::vector<layout::Ray>& rays, const TlWalks& w) {
     TlBatchStats s;
