@@ -250,7 +250,7 @@ struct Walker {
     // cell's (tl.cells; a cell beyond the windows: the whole list).
     if (lists.heads == layout::kTlHeadsCells) {
       const std::size_t w = 2 * (std::size_t{ray.info.w} * K + k);
-      if (w + 1 < lists.windows.size()) i = lists.windows[w], end = lists.windows[w + 1];
+      if (ray.info.w < lists.windows.size() / (2 * K)) i = lists.windows[w], end = lists.windows[w + 1];
     } else {
       const std::uint32_t cs = lists.heads != 0 ? RayCase(lists, lists.tri_words, ray, any) : kNoCase;
       if (cs != kNoCase) {

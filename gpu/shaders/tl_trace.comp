@@ -64,10 +64,10 @@ void main() {
   // cell's (tl.cells; a cell beyond the windows: the whole list).
   if (pc.heads == kTlHeadsCells) {
     // Fault 6: an eye ray walks the window of the next cell.
-    const uint w = 2u * ((r.info.w + (kFault == 6u ? 1u : 0u)) * K + k);
-    if (w + 1u < windows.length()) {
-      i = windows[w];
-      end = windows[w + 1u];
+    const uint cell = r.info.w + (kFault == 6u ? 1u : 0u);
+    if (cell < pc.triangles) {
+      i = windows[2u * (cell * K + k)];
+      end = windows[2u * (cell * K + k) + 1u];
     }
   } else {
     const uint cs = pc.heads != kTlHeadsOff ? RayCase(r, pc.shadow != 0u) : kNoCase;

@@ -146,7 +146,8 @@ vk::Status VulkanPasses::Run(const emu::call::TlTrace& call, emu::TlWalks& out) 
   push.shadow = call.shadow;
   push.cull = call.cull;
   push.heads = call.heads;
-  push.triangles = static_cast<std::uint32_t>(call.tri_words.size());
+  push.triangles = static_cast<std::uint32_t>(call.heads == layout::kTlHeadsCells ? call.windows.size() / (2 * push.lists)
+                                                                                  : call.tri_words.size());
   RS_TRY(RunKernel(*ctx_, K(PassId::kTlTrace), b.All(), &push, sizeof push, push.count));
   return keep.CopyBack();
 }

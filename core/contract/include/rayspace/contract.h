@@ -491,7 +491,7 @@ struct TlTracePush {
   uint shadow;  // 1: any hit (occluded), 0: closest hit
   uint cull;    // 1: one-sided triangles, a hit only from the front (Woop's det > 0)
   uint heads;      // kTlHeads*: walk each ray's window of tl.heads (not kTlHeadsOff)
-  uint triangles;  // scene triangles (the words and windows held), with heads
+  uint triangles;  // with triangle heads: the scene triangles (words, windows); with kTlHeadsCells: the cells
 };
 
 // ---- tl.heads: per-polygon windows of the traversal lists (Toczek et al. section 3.1) ------------
