@@ -68,6 +68,11 @@ std::string TablePlots(const Table& table, const std::filesystem::path& out) {
     pub = ColumnIndex(table, "published"), ours = ColumnIndex(table, "ours");
     quantity = "tests";
   }
+  // Switch tables (Toczek et al.'s table 1): each row over the row with every switch off.
+  if (!pub || !ours) {
+    pub = ColumnIndex(table, "published x all off"), ours = ColumnIndex(table, "ours x all off");
+    quantity = "nodes per ray over every switch off";
+  }
   if (!pub || !ours) return {};
   double lo = 1e300, hi = 0;
   std::vector<plot::Series> series = RowSeries(table, *pub, *ours, lo, hi);

@@ -168,15 +168,21 @@ struct Verdicts {
 Table Table1(const std::vector<const Result*>& results, Verdicts& v) {
   Table t{"toczek-1", "Toczek et al. table 1: the bunny without ground, traversed nodes per ray by optimisation",
           {"node order", "back-face culling", "per-polygon heads", "frustum culling", "published nodes/ray", "ours nodes/ray",
-           "ours spheres/ray", "ours triangles/ray", "ours eye ray nodes/ray", "ours shadow ray nodes/ray", "ours culled per list"},
+           "ours spheres/ray", "ours triangles/ray", "ours eye ray nodes/ray", "ours shadow ray nodes/ray", "ours culled per list",
+           "published x all off", "ours x all off"},
           {}, {}};
   for (const ToczekTable1Row& p : ToczekTable1()) {
     const Result* r = Find(results, "BUNNY", p.order, p.culling, p.heads, p.frustum);
     const Walks w = r ? WalksOf(*r) : Walks{};
+    // Each row against its order's row with every switch off: the relations the two sides share.
+    const double pub_base = ToczekTable1()[p.order == "earliest-first" ? 9 : 1].NodesPerRay();
+    const Result* base = Find(results, "BUNNY", p.order);
+    const double ours_base = base ? WalksOf(*base).NodesPerRay() : 0.0;
     t.rows.push_back({p.order, YesNo(p.culling), p.heads ? "regular" : "disabled", YesNo(p.frustum), Fixed(p.NodesPerRay()),
                       r ? Fixed(w.NodesPerRay()) : "not measured", r ? Fixed(w.SpheresPerRay()) : "", r ? Fixed(w.TrianglesPerRay()) : "",
                       r ? Fixed(TypePerRay(*r, "primary")) : "", r ? Fixed(TypePerRay(*r, "shadow")) : "",
-                      r && p.culling ? CulledShares(*r) : ""});
+                      r && p.culling ? CulledShares(*r) : "", fmt::format("{:.3f}", p.NodesPerRay() / pub_base),
+                      r && ours_base > 0 ? fmt::format("{:.3f}", w.NodesPerRay() / ours_base) : ""});
   }
   t.notes.push_back("Published nodes/ray: the table's traversed nodes per second over its rays per second (primary and shadow rays "
                     "traced on the GPU). Ours: the sphere and triangle elements the walks of the eye rays (traced through the lists "
@@ -190,7 +196,8 @@ Table Table1(const std::vector<const Result*>& results, Verdicts& v) {
                     "walks only the window of its list that is not wholly behind the plane of the triangle it ends on, nor past "
                     "that triangle along the four facet planes of its sextant (docs/traversal-lists.md). With frustum culling an eye "
                     "ray walks only the window of its list outside which every element lies beyond one of the four side planes "
-                    "of its 16x16-pixel screen cell's pyramid; it changes only the eye rays' count.");
+                    "of its 16x16-pixel screen cell's pyramid; it changes only the eye rays' count. The last two columns divide "
+                    "each row by its node order's row with every switch off; the plot sets them against each other.");
   const Result* ef = Find(results, "BUNNY", "earliest-first");
   const Result* ll = Find(results, "BUNNY", "latest-last");
   if (ef && ll) {
