@@ -137,7 +137,7 @@ WalkCheck CheckWalks(const std::vector<Triangle>& tris, const Prepared& p, std::
         const std::uint64_t got = tl::Walk(view, r, any, &s), want = Brute(tris, r);
         c.wrong += any ? (got != kMissPacked) != (want != kMissPacked) : got != want;
         c.elements += s.spheres + s.triangles;
-        c.windowed += mode != layout::kTlHeadsOff && tl::RayCase(view, p.tree.tri_words, r, any) != tl::kNoCase;
+        c.windowed += mode != layout::kTlHeadsOff && tl::RayCase(view, p.tree.tri_words, r, any, tl::ListFor(p.lists.count, glm::vec3(r.direction_tmax))) != tl::kNoCase;
         ++c.rays;
       }
     }
@@ -203,6 +203,51 @@ TEST_CASE("tl.heads: walks over the windows give brute force's hits, and a windo
         }
     CHECK(CheckWalks(tris, p, layout::kTlHeadsRegular, swapped, 77).wrong > 0);
   }
+}
+
+TEST_CASE("tl.heads: every facet plane of a class holds every direction of the class") {
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  for (int i = 0; i < 20000; ++i) {
+    glm::vec3 d(u(rng), u(rng), u(rng));
+    if (i % 7 == 0) d[i % 3] = 0.0f;  // zero components count as positive
+    if (i % 11 == 0) d[(i + 1) % 3] = d[i % 3];  // ties between axes
+    for (const std::uint32_t K : {1u, 2u, 6u, 8u}) {
+      glm::vec3 m[4];
+      const std::uint32_t n = tl::Facets(K, tl::ListFor(K, d), m);
+      CHECK(n == (K == 1 ? 0u : K == 2 ? 1u : K == 6 ? 4u : 3u));
+      for (std::uint32_t j = 0; j < n; ++j) REQUIRE(glm::dot(glm::dvec3(m[j]), glm::dvec3(d)) >= 0.0);
+    }
+  }
+}
+
+TEST_CASE("tl.heads: a ray whose point lies outside its triangle walks the whole list under regular heads") {
+  // T0 in z = 0 facing +z; X beyond T0's facet x + z >= 0 of the +x sextant (x + z = -0.2 on X) but
+  // reachable from (-0.5, 0.5, 0), a point of T0's plane just outside T0 (a G-buffer point may be).
+  const std::vector<Triangle> tris = {MakeTriangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0}),
+                                      MakeTriangle({-0.3f, 0.4f, 0.05f}, {-0.3f, 0.6f, 0.05f}, {-0.35f, 0.5f, 0.15f}),
+                                      MakeTriangle({3, 0, 2}, {4, 0, 2}, {3, 1, 2})};
+  Prepared p;
+  tl::Options o;
+  o.lists = 6;
+  o.tree.leaf_triangles = 1;
+  p.tree = tl::PrepareTree(tris, o.tree);
+  p.lists = tl::Build(tris, o);
+  p.margin = 0.01f;
+  const TlWindows w = Windows(p, layout::kTlHeadsRegular);
+  const Ray outside = MakeSegment({-0.5f, 0.5f, 0.0f}, {0.2f, 0.0f, 0.1f}, 1e-4f, INFINITY, 0);
+  const Ray inside = MakeSegment({0.2f, 0.2f, 0.0f}, {0.2f, 0.0f, 0.1f}, 1e-4f, INFINITY, 0);
+  const tl::ListsView view = View(p, layout::kTlHeadsRegular, w);
+  CHECK(tl::RayCase(view, p.tree.tri_words, outside, false, 0) == tl::kNoCase);
+  CHECK(tl::RayCase(view, p.tree.tri_words, inside, false, 0) == 0u);
+  CHECK(tl::Walk(view, outside, false) == Brute(tris, outside));
+  CHECK(rayspace::emu::HitPrim(Brute(tris, outside)) == 1u);
+  // The window itself leaves X out: taken from the outside point it would lose the hit.
+  const std::size_t g = 2 * ((0 * layout::kTlCases + 0) * 6 + 0);
+  bool held = false;
+  for (std::uint32_t i = w.windows[g]; i < w.windows[g + 1]; ++i)
+    held |= tl::IsTriangle(static_cast<tl::Escape>(p.lists.escapes[i])) && p.lists.words[i].w == 1u;
+  CHECK_FALSE(held);
 }
 
 TEST_CASE("tl.heads: a hand-worked window") {
@@ -290,13 +335,20 @@ TEST_CASE("tl.heads: calls whose inputs break the contract are refused, naming t
     });
   };
   CHECK(trace_error(layout::kTlHeadsRegular, w.windows).empty());
-  CHECK(trace_error(5, w.windows).find("tl.trace: heads 5") != std::string::npos);
   std::vector<std::uint32_t> bw = w.windows;
   bw.pop_back();
   CHECK(trace_error(layout::kTlHeadsRegular, bw).find("input 'windows'") != std::string::npos);
   bw = w.windows;
   bw[1] = p.lists.first[1] + 1;  // window 0 (list 0) reaching into list 1
   CHECK(trace_error(layout::kTlHeadsRegular, bw).find("not inside its list") != std::string::npos);
+  // Cells: whole cells of K windows each.
+  const std::vector<std::uint32_t> cells = {p.lists.first[0], p.lists.first[1], p.lists.first[1], p.lists.first[2], p.lists.first[2],
+                                            p.lists.first[3], p.lists.first[3], p.lists.first[4], p.lists.first[4], p.lists.first[5],
+                                            p.lists.first[5], p.lists.first[6]};
+  CHECK(trace_error(layout::kTlHeadsCells, cells).empty());
+  CHECK(trace_error(layout::kTlHeadsCells, std::vector<std::uint32_t>(cells.begin(), cells.end() - 2)).find("whole cells") !=
+        std::string::npos);
+  CHECK(trace_error(4, cells).find("tl.trace: heads 4") != std::string::npos);
 }
 
 // ---- tl.cells: per-cell heads of eye rays (--frustum-cull on) ----------------------------------

@@ -252,7 +252,7 @@ struct Walker {
       const std::size_t w = 2 * (std::size_t{ray.info.w} * K + k);
       if (ray.info.w < lists.windows.size() / (2 * K)) i = lists.windows[w], end = lists.windows[w + 1];
     } else {
-      const std::uint32_t cs = lists.heads != 0 ? RayCase(lists, lists.tri_words, ray, any) : kNoCase;
+      const std::uint32_t cs = lists.heads != 0 ? RayCase(lists, lists.tri_words, ray, any, k) : kNoCase;
       if (cs != kNoCase) {
         const std::size_t w = 2 * ((std::size_t{ray.info.y} * layout::kTlCases + cs) * K + k);
         i = lists.windows[w];

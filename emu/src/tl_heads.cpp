@@ -21,6 +21,14 @@ constexpr float kSqrt2Up = 1.41421366f;
 
 }  // namespace
 
+float FacetBound(glm::vec3 m, glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, bool ends) {
+  const float a = Dot(m, v0), b = Dot(m, v1), d = Dot(m, v2);
+  float x = a;
+  if (ends ? b > x : b < x) x = b;
+  if (ends ? d > x : d < x) x = d;
+  return x;
+}
+
 bool Sliver(glm::vec3 e1, glm::vec3 e2, glm::vec3 n) { return !(MaxAbs(n, n) * 32.0f >= MaxAbs(e1, e1) * MaxAbs(e2, e2)); }
 
 std::uint32_t Facets(std::uint32_t count, std::uint32_t k, glm::vec3 m[4]) {
@@ -59,13 +67,7 @@ HeadPlanes MakePlanes(glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, std::uint32_t c,
   p.margin = margin;
   p.facets = mode == layout::kTlHeadsRegular ? Facets(count, k, p.m) : 0u;
   for (std::uint32_t j = 0; j < p.facets; ++j) {
-    // Where the triangle lies along the facet's normal: its least (starting rays) or greatest
-    // (ending rays) projection, min and max by comparisons in a fixed order.
-    const float a = Dot(p.m[j], v0), b = Dot(p.m[j], v1), d = Dot(p.m[j], v2);
-    float x = a;
-    if (p.ends ? b > x : b < x) x = b;
-    if (p.ends ? d > x : d < x) x = d;
-    p.bound[j] = x;
+    p.bound[j] = FacetBound(p.m[j], v0, v1, v2, p.ends);
     p.len[j] = count == 6 ? kSqrt2Up : 1.0f;
   }
   return p;
@@ -166,7 +168,7 @@ std::vector<layout::Ray> EyeRays(const layout::FrameConstants& fc) {
   return rays;
 }
 
-std::uint32_t RayCase(const ListsView& lists, std::span<const Word> tri_words, const layout::Ray& ray, bool ends) {
+std::uint32_t RayCase(const ListsView& lists, std::span<const Word> tri_words, const layout::Ray& ray, bool ends, std::uint32_t k) {
   const std::uint32_t prim = ray.info.y;
   if (prim >= tri_words.size()) return kNoCase;
   const Word w = tri_words[prim];
@@ -178,6 +180,15 @@ std::uint32_t RayCase(const ListsView& lists, std::span<const Word> tri_words, c
   if (!(std::fabs(dn) > lim)) return kNoCase;  // along the plane, or NaN
   // A starting ray reaches the side d points to; an ending one comes from the other.
   const bool behind = ends ? dn > 0.0f : dn < 0.0f;
+  if (lists.heads == layout::kTlHeadsRegular) {
+    const glm::vec3 p = ends ? Xyz(ray.origin_tmin) + d * ray.direction_tmax.w : Xyz(ray.origin_tmin);
+    glm::vec3 m[4];
+    const std::uint32_t facets = Facets(static_cast<std::uint32_t>(lists.first.size() - 1), k, m);
+    for (std::uint32_t j = 0; j < facets; ++j) {
+      const float bound = FacetBound(m[j], v0, v1, v2, ends), x = Dot(m[j], p);
+      if (ends ? !(x <= bound) : !(x >= bound)) return kNoCase;
+    }
+  }
   return (ends ? 2u : 0u) + (behind ? 1u : 0u);
 }
 

@@ -2,6 +2,7 @@
 #include "rayspace/emu/tl/tracer.h"
 
 #include <chrono>
+#include <cstring>
 
 #include <nlohmann/json.hpp>
 
@@ -70,10 +71,13 @@ class Tl final : public TlTracer {
   TlWalks Trace(const std::vector<layout::Ray>& rays, std::uint32_t shadow) {
     if (!built_) BuildLists();
     const std::string label = "tl.trace." + ctx_.name;
-    passes_.Label(label);
-    // Eye rays walk their cell's window (tl.cells, once per frame), the others their triangle's.
+    // Eye rays walk their cell's window (tl.cells, again whenever the frame's camera or size
+    // changes), the others their triangle's.
     const bool cells = options_.cells && ctx_.kind == layout::kRayPrimary && ctx_.frame;
-    if (cells && cells_.windows.empty()) BuildCells(*ctx_.frame);
+    if (cells && (cells_.windows.empty() || std::memcmp(&cells_frame_, ctx_.frame, sizeof cells_frame_) != 0)) {
+      cells_frame_ = *ctx_.frame;
+      BuildCells(cells_frame_);
+    }
     passes_.Label(label);
     const auto t0 = std::chrono::steady_clock::now();
     TlWalks w = passes_.TlTrace({.first = lists_.first,
@@ -189,6 +193,7 @@ class Tl final : public TlTracer {
   tl::Lists lists_;
   TlWindows windows_;  // per-polygon heads (empty when off)
   TlWindows cells_;    // per-cell heads of the eye rays (empty until the first primary batch)
+  layout::FrameConstants cells_frame_{};  // the frame cells_ was built for
   bool built_ = false;
   BatchContext ctx_;
   std::vector<TlBatchStats> stats_;

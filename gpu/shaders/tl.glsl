@@ -78,3 +78,38 @@ bool TlCulled(vec3 v0, vec3 v1, vec3 v2, uint K, uint k) {
   precise const float m3 = 3.0 * m;
   return side > m3;
 }
+
+// The facet normals of list k's direction class (emu tl::Facets): 2 lists: the signed x axis; 8: the
+// three signed axes; 6: s e_a +- e_b and s e_a +- e_c; 1: none. Returns how many.
+uint TlFacets(uint count, uint k, out vec3 m[4]) {
+  if (count == 2u) {
+    m[0] = vec3(k == 1u ? -1.0 : 1.0, 0.0, 0.0);
+    return 1u;
+  }
+  if (count == 8u) {
+    m[0] = vec3((k & 1u) != 0u ? -1.0 : 1.0, 0.0, 0.0);
+    m[1] = vec3(0.0, (k & 2u) != 0u ? -1.0 : 1.0, 0.0);
+    m[2] = vec3(0.0, 0.0, (k & 4u) != 0u ? -1.0 : 1.0);
+    return 3u;
+  }
+  if (count != 6u) return 0u;
+  const uint a = k / 2u, b = a == 2u ? 0u : a + 1u, c = b == 2u ? 0u : b + 1u;
+  const float s = (k & 1u) != 0u ? -1.0 : 1.0;
+  for (uint j = 0u; j < 4u; ++j) {
+    vec3 v = vec3(0.0);
+    v[a] = s;
+    v[j < 2u ? b : c] = (j & 1u) != 0u ? -1.0 : 1.0;
+    m[j] = v;
+  }
+  return 4u;
+}
+
+// The least (starting rays) or greatest (ending rays) of the triangle's projections on m, by
+// comparisons in vertex order (emu tl::FacetBound).
+float TlFacetBound(vec3 m, vec3 v0, vec3 v1, vec3 v2, bool ends) {
+  const float a = Dot3(m, v0), b = Dot3(m, v1), d = Dot3(m, v2);
+  float x = a;
+  if (ends ? b > x : b < x) x = b;
+  if (ends ? d > x : d < x) x = d;
+  return x;
+}

@@ -47,32 +47,10 @@ void MakePlanes(uint t, uint cs, uint k) {
   if (pc.mode == kTlHeadsRegular) {
     // Fault 2: the facets of the opposite class.
     const uint kk = kFault == 2u ? (pc.lists == 8u ? 7u - k : k ^ 1u) : k;
-    if (pc.lists == 2u) {
-      m[0] = vec3(kk == 1u ? -1.0 : 1.0, 0.0, 0.0);
-      facets = 1u;
-    } else if (pc.lists == 8u) {
-      m[0] = vec3((kk & 1u) != 0u ? -1.0 : 1.0, 0.0, 0.0);
-      m[1] = vec3(0.0, (kk & 2u) != 0u ? -1.0 : 1.0, 0.0);
-      m[2] = vec3(0.0, 0.0, (kk & 4u) != 0u ? -1.0 : 1.0);
-      facets = 3u;
-    } else if (pc.lists == 6u) {
-      const uint a = kk / 2u, b = a == 2u ? 0u : a + 1u, c = b == 2u ? 0u : b + 1u;
-      const float s = (kk & 1u) != 0u ? -1.0 : 1.0;
-      for (uint j = 0u; j < 4u; ++j) {
-        vec3 v = vec3(0.0);
-        v[a] = s;
-        v[j < 2u ? b : c] = (j & 1u) != 0u ? -1.0 : 1.0;
-        m[j] = v;
-      }
-      facets = 4u;
-    }
+    facets = TlFacets(pc.lists, kk, m);
   }
   for (uint j = 0u; j < facets; ++j) {
-    const float a = Dot3(m[j], v0), b = Dot3(m[j], v1), d = Dot3(m[j], v2);
-    float x = a;
-    if (ends ? b > x : b < x) x = b;
-    if (ends ? d > x : d < x) x = d;
-    bound[j] = x;
+    bound[j] = TlFacetBound(m[j], v0, v1, v2, ends);
     len[j] = pc.lists == 6u ? kSqrt2Up : 1.0;
   }
 }

@@ -30,7 +30,7 @@ const uint kNoCase = 0xFFFFFFFFu;
 
 // The ray's case on its triangle (emu tl::RayCase): 2 * ends + behind, or kNoCase (no triangle, a
 // sliver, or a direction within kTlSideRatio of the plane).
-uint RayCase(const Ray r, bool ends) {
+uint RayCase(const Ray r, bool ends, uint K, uint k) {
   const uint prim = r.info.y;
   if (prim >= pc.triangles) return kNoCase;
   const uvec4 w = tri_words[prim];
@@ -44,6 +44,19 @@ uint RayCase(const Ray r, bool ends) {
   precise const float lim = kTlSideRatio * (Length3(d) * Length3(n));
   if (!(abs(dn) > lim)) return kNoCase;
   const bool behind = ends ? dn > 0.0 : dn < 0.0;
+  // Regular windows hold what lies past the triangle along the class's facets: only for a ray whose
+  // own point (its origin, or its end for an ending ray) lies within the triangle's bounds there
+  // (a G-buffer point may lie just outside its triangle, in its plane).
+  if (pc.heads == kTlHeadsRegular) {
+    precise const vec3 p = ends ? r.origin_tmin.xyz + d * r.direction_tmax.w : r.origin_tmin.xyz;
+    vec3 m[4];
+    const uint facets = TlFacets(K, k, m);
+    for (uint j = 0u; j < facets; ++j) {
+      const float bound = TlFacetBound(m[j], v0, vertices[w.y].xyz, vertices[w.z].xyz, ends);
+      const float x = Dot3(m[j], p);
+      if (ends ? !(x <= bound) : !(x >= bound)) return kNoCase;
+    }
+  }
   // Fault 5: the window of the other side.
   return (ends ? 2u : 0u) + ((behind != (kFault == 5u)) ? 1u : 0u);
 }
@@ -70,7 +83,7 @@ void main() {
       end = windows[2u * (cell * K + k) + 1u];
     }
   } else {
-    const uint cs = pc.heads != kTlHeadsOff ? RayCase(r, pc.shadow != 0u) : kNoCase;
+    const uint cs = pc.heads != kTlHeadsOff ? RayCase(r, pc.shadow != 0u, K, k) : kNoCase;
     if (cs != kNoCase) {
       const uint w = 2u * ((r.info.y * kTlCases + cs) * K + k);
       i = windows[w];

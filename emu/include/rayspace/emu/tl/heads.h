@@ -49,7 +49,13 @@ bool TriangleRejected(const HeadPlanes& p, glm::vec3 a, glm::vec3 b, glm::vec3 c
 // kNoCase when it has no triangle, the triangle is a sliver, or its direction lies within
 // kTlSideRatio of the plane (no window: the whole list).
 inline constexpr std::uint32_t kNoCase = ~0u;
-std::uint32_t RayCase(const ListsView& lists, std::span<const Word> tri_words, const layout::Ray& ray, bool ends);
+// With regular heads also kNoCase when the ray's own point (its origin; for an ending ray o + tmax d)
+// lies outside the triangle's bound along a facet of list k (a G-buffer point may lie just outside
+// its triangle, in its plane, where the regular window does not hold what the ray can reach).
+std::uint32_t RayCase(const ListsView& lists, std::span<const Word> tri_words, const layout::Ray& ray, bool ends, std::uint32_t k);
+// The least (starting rays) or greatest (ending rays) projection of the triangle on m, by comparisons
+// in vertex order.
+float FacetBound(glm::vec3 m, glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, bool ends);
 
 // The margin of a scene: 2^-10 of the largest coordinate magnitude M of its bounds and lights. A
 // ray's origin lies within a few ulps of M of its triangle, and the float plane of a non-sliver
@@ -61,7 +67,8 @@ float HeadsMargin(glm::vec3 lo, glm::vec3 hi, std::span<const glm::vec3> lights)
 // side planes through the eye of the pyramid spanned by the directions through the cell's corner
 // pixels' centres (PixelDirection, affine in the pixel, so every eye ray of the cell lies inside),
 // normals n = (corner) x (next corner) turned towards the sum of the corners. A cell one pixel wide
-// has a zero normal (a plane that rejects nothing) and two opposite ones.
+// has a zero normal (a plane that rejects nothing) and two normals of its plane, which the sum of
+// the corners (in that plane) may turn either way: each then keeps a half-space holding the rays.
 struct CellPlanes {
   glm::vec3 eye{0.0f};
   glm::vec3 n[4];
