@@ -61,6 +61,18 @@ Prepared Prepare(const std::vector<Triangle>& tris, std::uint32_t k) {
   return p;
 }
 
+// Six lists over a hand-made scene, one leaf per triangle, a margin of 0.01.
+Prepared HandPrepared(const std::vector<Triangle>& tris) {
+  Prepared p;
+  tl::Options o;
+  o.lists = 6;
+  o.tree.leaf_triangles = 1;
+  p.tree = tl::PrepareTree(tris, o.tree);
+  p.lists = tl::Build(tris, o);
+  p.margin = 0.01f;
+  return p;
+}
+
 TlWindows Windows(const Prepared& p, std::uint32_t mode) {
   return rayspace::emu::PassTlHeads({.first = p.lists.first,
                                      .escapes = p.lists.escapes,
@@ -227,13 +239,7 @@ TEST_CASE("tl.heads: a ray whose point lies outside its triangle walks the whole
   const std::vector<Triangle> tris = {MakeTriangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0}),
                                       MakeTriangle({-0.3f, 0.4f, 0.05f}, {-0.3f, 0.6f, 0.05f}, {-0.35f, 0.5f, 0.15f}),
                                       MakeTriangle({3, 0, 2}, {4, 0, 2}, {3, 1, 2})};
-  Prepared p;
-  tl::Options o;
-  o.lists = 6;
-  o.tree.leaf_triangles = 1;
-  p.tree = tl::PrepareTree(tris, o.tree);
-  p.lists = tl::Build(tris, o);
-  p.margin = 0.01f;
+  const Prepared p = HandPrepared(tris);
   const TlWindows w = Windows(p, layout::kTlHeadsRegular);
   const Ray outside = MakeSegment({-0.5f, 0.5f, 0.0f}, {0.2f, 0.0f, 0.1f}, 1e-4f, INFINITY, 0);
   const Ray inside = MakeSegment({0.2f, 0.2f, 0.0f}, {0.2f, 0.0f, 0.1f}, 1e-4f, INFINITY, 0);
@@ -255,13 +261,7 @@ TEST_CASE("tl.heads: a hand-worked window") {
   // z = 0.5 but far in -x. One leaf per triangle (leaf_triangles = 1).
   const std::vector<Triangle> tris = {MakeTriangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0}), MakeTriangle({0, 0, -4}, {1, 0, -4}, {0, 1, -4}),
                                       MakeTriangle({0, 0, 4}, {1, 0, 4}, {0, 1, 4}), MakeTriangle({-6, 0, 0.5f}, {-5, 0, 0.5f}, {-6, 1, 0.5f})};
-  Prepared p;
-  tl::Options o;
-  o.lists = 6;
-  o.tree.leaf_triangles = 1;
-  p.tree = tl::PrepareTree(tris, o.tree);
-  p.lists = tl::Build(tris, o);
-  p.margin = 0.01f;
+  const Prepared p = HandPrepared(tris);
   auto held = [&](const TlWindows& w, std::uint32_t cs, std::uint32_t k) {
     std::vector<std::uint32_t> prims;
     const std::size_t g = 2 * ((0 * layout::kTlCases + cs) * 6 + k);
