@@ -88,7 +88,9 @@ class Tl final : public TlTracer {
                                  .shadow = shadow,
                                  .cull = options_.cull ? 1u : 0u,
                                  .heads = cells ? layout::kTlHeadsCells : options_.heads,
-                                 .tri_words = tree_.tri_words,
+                                 // read only by the per-polygon heads' case of a ray
+                                 .tri_words = !cells && options_.heads != layout::kTlHeadsOff ? std::span<const tl::Word>(tree_.tri_words)
+                                                                                               : std::span<const tl::Word>(),
                                  .windows = cells ? cells_.windows : windows_.windows});
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (ctx_.subpasses) ctx_.subpasses->push_back({label, ms, rays.size()});

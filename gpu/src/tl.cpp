@@ -27,6 +27,21 @@ vk::Status Input(vk::Context& c, Keep& keep, Bindings<N>& b, std::uint32_t bindi
   return vk::Status::Ok();
 }
 
+// The packed lists a walk or a window pass reads, bound at the four consecutive bindings from `first`
+// (first, escapes, words, vertices: the same in tl.heads, tl.cells and tl.trace).
+template <std::uint32_t N, typename Call>
+vk::Status InputLists(vk::Context& c, Keep& keep, Bindings<N>& b, std::uint32_t first, const Call& call) {
+  RS_TRY(Input(c, keep, b, first, call.first));
+  RS_TRY(Input(c, keep, b, first + 1, call.escapes));
+  RS_TRY(Input(c, keep, b, first + 2, call.words));
+  return Input(c, keep, b, first + 3, call.vertices);
+}
+static_assert(layout::kTlHeadsBindEscapes == layout::kTlHeadsBindFirst + 1 && layout::kTlHeadsBindVertices == layout::kTlHeadsBindFirst + 3 &&
+              layout::kTlCellsBindEscapes == layout::kTlCellsBindFirst + 1 && layout::kTlCellsBindVertices == layout::kTlCellsBindFirst + 3 &&
+              layout::kTlTraceBindEscapes == layout::kTlTraceBindFirst + 1 && layout::kTlTraceBindVertices == layout::kTlTraceBindFirst + 3 &&
+              layout::kTlHeadsBindWords == layout::kTlHeadsBindFirst + 2 && layout::kTlCellsBindWords == layout::kTlCellsBindFirst + 2 &&
+              layout::kTlTraceBindWords == layout::kTlTraceBindFirst + 2);
+
 }  // namespace
 
 // Four dispatches in one submit, each phase after the writes of the one before (kept counts,
@@ -77,10 +92,7 @@ vk::Status VulkanPasses::Run(const emu::call::TlHeads& call, emu::TlWindows& out
   const std::size_t lists = call.first.empty() ? 0 : call.first.size() - 1, total = call.tri_words.size() * layout::kTlCases * lists;
   Keep keep;
   Bindings<layout::kTlHeadsBindings> b;
-  RS_TRY(Input(*ctx_, keep, b, layout::kTlHeadsBindFirst, call.first));
-  RS_TRY(Input(*ctx_, keep, b, layout::kTlHeadsBindEscapes, call.escapes));
-  RS_TRY(Input(*ctx_, keep, b, layout::kTlHeadsBindWords, call.words));
-  RS_TRY(Input(*ctx_, keep, b, layout::kTlHeadsBindVertices, call.vertices));
+  RS_TRY(InputLists(*ctx_, keep, b, layout::kTlHeadsBindFirst, call));
   RS_TRY(Input(*ctx_, keep, b, layout::kTlHeadsBindTriWords, call.tri_words));
   out.windows.assign(2 * total, 0u);
   RS_TRY(Output(*ctx_, keep, b, layout::kTlHeadsBindWindows, total * 8, out.windows.data()));
@@ -100,10 +112,7 @@ vk::Status VulkanPasses::Run(const emu::call::TlCells& call, emu::TlWindows& out
                     total = cells * lists;
   Keep keep;
   Bindings<layout::kTlCellsBindings> b;
-  RS_TRY(Input(*ctx_, keep, b, layout::kTlCellsBindFirst, call.first));
-  RS_TRY(Input(*ctx_, keep, b, layout::kTlCellsBindEscapes, call.escapes));
-  RS_TRY(Input(*ctx_, keep, b, layout::kTlCellsBindWords, call.words));
-  RS_TRY(Input(*ctx_, keep, b, layout::kTlCellsBindVertices, call.vertices));
+  RS_TRY(InputLists(*ctx_, keep, b, layout::kTlCellsBindFirst, call));
   RS_TRY(Input(*ctx_, keep, b, layout::kTlCellsBindFrame, std::span<const layout::FrameConstants>(&call.frame, 1)));
   out.windows.assign(2 * total, 0u);
   RS_TRY(Output(*ctx_, keep, b, layout::kTlCellsBindWindows, total * 8, out.windows.data()));
@@ -121,10 +130,7 @@ vk::Status VulkanPasses::Run(const emu::call::TlTrace& call, emu::TlWalks& out) 
   const std::size_t n = call.rays.size();
   Keep keep;
   Bindings<layout::kTlTraceBindings> b;
-  RS_TRY(Input(*ctx_, keep, b, layout::kTlTraceBindFirst, call.first));
-  RS_TRY(Input(*ctx_, keep, b, layout::kTlTraceBindEscapes, call.escapes));
-  RS_TRY(Input(*ctx_, keep, b, layout::kTlTraceBindWords, call.words));
-  RS_TRY(Input(*ctx_, keep, b, layout::kTlTraceBindVertices, call.vertices));
+  RS_TRY(InputLists(*ctx_, keep, b, layout::kTlTraceBindFirst, call));
   RS_TRY(Input(*ctx_, keep, b, layout::kTlTraceBindRays, call.rays));
   out = {};
   if (call.shadow)
