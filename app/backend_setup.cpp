@@ -45,27 +45,27 @@ gpu_backend::KernelOverrides LoadKernels(const KernelFiles& specs) {
 }  // namespace
 #endif
 
-void CheckFrameFits(const Backend& backend, int width, int height, std::size_t lights, std::size_t triangles) {
+void CheckFrameFits(const Backend& backend, int width, int height, std::size_t slots, std::size_t triangles) {
   const std::size_t limit = backend.max_buffer_bytes;
   if (limit == 0) return;
   const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-  const std::size_t rays = pixels * std::max<std::size_t>(lights, 1);  // the largest batch: shadow rays
+  const std::size_t rays = pixels * std::max<std::size_t>(slots, 1);  // the largest batch: shadow rays
   const std::size_t pages = layout::kBufferPages;
   // Scene arrays are bound whole (the raster reads them too).
   if (triangles * sizeof(layout::Triangle) > limit)
     ThrowInput("scene: {} triangles take {} bytes per triangle array, more than one binding of '{}' holds ({} bytes)",
                triangles, triangles * sizeof(layout::Triangle), backend.device, limit);
-  if (lights * sizeof(layout::Ray) > limit)
-    ThrowInput("scene: {} lights need {} bytes of shadow-ray slots per pixel, more than one binding of '{}' holds ({} bytes)",
-               lights, lights * sizeof(layout::Ray), backend.device, limit);
+  if (slots * sizeof(layout::Ray) > limit)
+    ThrowInput("scene: {} light samples need {} bytes of shadow-ray slots per pixel, more than one binding of '{}' holds ({} bytes)",
+               slots, slots * sizeof(layout::Ray), backend.device, limit);
   // Everything per pixel or per ray is split into parts or paged over kBufferPages bindings; the
   // paged ray array is the first to run out. The sort's scratch (about 8 bytes per ray) is bound
   // whole, and fits whenever the rays do, as long as kBufferPages < 8.
   static_assert(layout::kBufferPages * 8 < sizeof(layout::Ray));
   const std::size_t max_rays = pages * (limit / sizeof(layout::Ray));
   if (rays > max_rays)
-    ThrowInput("--size {}x{}: {} rays per batch ({} light(s)) exceed the {} that {} bindings of {} bytes hold on '{}'; at most {} pixels fit",
-               width, height, rays, lights, max_rays, pages, limit, backend.device, max_rays / std::max<std::size_t>(lights, 1));
+    ThrowInput("--size {}x{}: {} rays per batch ({} light sample(s)) exceed the {} that {} bindings of {} bytes hold on '{}'; at most {} pixels fit",
+               width, height, rays, slots, max_rays, pages, limit, backend.device, max_rays / std::max<std::size_t>(slots, 1));
 }
 
 Backend MakeBackend(const std::string& name, int device, int local_size, const std::map<std::string, std::uint32_t>& faults,

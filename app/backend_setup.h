@@ -28,7 +28,7 @@ struct Backend {
 // The Vulkan backend splits or pages every buffer that grows with the frame, over at most
 // layout::kBufferPages bindings per array: refuses, as bad input, a frame or scene beyond that, naming
 // the size that would fit.
-void CheckFrameFits(const Backend& backend, int width, int height, std::size_t lights, std::size_t triangles);
+void CheckFrameFits(const Backend& backend, int width, int height, std::size_t shadow_slots, std::size_t triangles);
 
 // Test hooks: make the Vulkan device look smaller, so that the splitting, paging and launch-folding
 // paths run on small frames (0 keeps the device's own limit).

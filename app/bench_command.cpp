@@ -59,7 +59,7 @@ void CheckBenchMemory(const BenchArgs& args, const std::vector<std::pair<int, in
   for (const std::string& path : args.scenes) {
     const Scene scene = LoadScene(path, lo);
     for (const auto& [w, h] : sizes)
-      CheckFitsMachine(EstimateFrameMemory(w, h, scene.lights.size(), scene.TriangleCount(), base.pair_capacity, 1), w, h,
+      CheckFitsMachine(EstimateFrameMemory(w, h, ShadowSlotsPerSurface(scene.lights), scene.TriangleCount(), base.pair_capacity, 1), w, h,
                        "--sizes", fmt::format("a frame of {}", path).c_str());
   }
 }

@@ -25,7 +25,7 @@ std::unique_ptr<Backend> TryBackend(const RenderArgs& args, const Scene& scene, 
                                     int height, std::string& why) {
   try {
     auto backend = std::make_unique<Backend>(MakeRenderBackend(args));
-    CheckFrameFits(*backend, width, height, scene.lights.size(), buffers.triangles.size());
+    CheckFrameFits(*backend, width, height, ShadowSlotsPerSurface(scene.lights), buffers.triangles.size());
     return backend;
   } catch (const std::exception& e) {
     why = e.what();

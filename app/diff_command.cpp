@@ -469,13 +469,13 @@ ExitCode RunDiff(const DiffArgs& args) {
   const Injection injection = ParseInject(args.inject);
   OutputFile report = OpenOutput(args.report, "the report", &scene);  // before the frame, as --save-inputs
   const MemoryEstimate estimate =
-      EstimateFrameMemory(fo.width, fo.height, scene.lights.size(), scene.TriangleCount(), args.pair_capacity, kDiffCopies);
+      EstimateFrameMemory(fo.width, fo.height, ShadowSlotsPerSurface(scene.lights), scene.TriangleCount(), args.pair_capacity, kDiffCopies);
   CheckFitsMachine(estimate, fo.width, fo.height, "--size", "the diff");
   const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, injection.kernel, args.Limits(), args.kernels);
   ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
   SceneBuffers buffers = FlattenForFrame(scene, args.faithful);
   buffers.one_sided = one_sided;
-  CheckFrameFits(gpu, fo.width, fo.height, scene.lights.size(), buffers.triangles.size());
+  CheckFrameFits(gpu, fo.width, fo.height, ShadowSlotsPerSurface(scene.lights), buffers.triangles.size());
   PrepareSaveDir(args.save_inputs);  // last: it creates the directory
   auto direct = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);
 

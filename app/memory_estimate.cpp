@@ -15,11 +15,11 @@ namespace rayspace::app {
 // (8). Per pixel besides: the surface (80) and the raster targets and depth (32). Rays per pixel:
 // the largest batch is the shadow rays (one per light), and reflection and refraction batches of
 // the same bounce live beside it. Measured peaks stay below this (docs/performance.md, "Memory").
-MemoryEstimate EstimateFrameMemory(int width, int height, std::size_t lights, std::size_t triangles, std::size_t pair_capacity,
+MemoryEstimate EstimateFrameMemory(int width, int height, std::size_t shadow_slots, std::size_t triangles, std::size_t pair_capacity,
                                    int copies) {
   MemoryEstimate e;
   e.pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-  e.rays_per_pixel = std::max<std::size_t>(lights, 1) + 2;
+  e.rays_per_pixel = std::max<std::size_t>(shadow_slots, 1) + 2;
   constexpr std::size_t kPerRay = sizeof(layout::Ray) + 52 + 16 + 8;
   constexpr std::size_t kPerPixel = sizeof(layout::Surface) + 32;
   e.per_pixel = static_cast<std::size_t>(copies) * (kPerPixel + e.rays_per_pixel * kPerRay);

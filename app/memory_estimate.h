@@ -19,7 +19,7 @@ struct MemoryEstimate {
 
 // copies: how many copies of the frame's buffers live at once: 1 for render and bench, kDiffCopies
 // for diff.
-MemoryEstimate EstimateFrameMemory(int width, int height, std::size_t lights, std::size_t triangles, std::size_t pair_capacity,
+MemoryEstimate EstimateFrameMemory(int width, int height, std::size_t shadow_slots, std::size_t triangles, std::size_t pair_capacity,
                                    int copies);
 // diff holds the frame on both backends, and the differ holds each call's encoded inputs and the
 // expected side's outputs beside them; the impact of a divergence keeps every batch's rays and hits

@@ -71,6 +71,7 @@ nlohmann::json StatsJson(const RenderArgs& args, const Outcome& o) {
   j["bounces"] = scene.max_depth;
   if (o.tracer.contains("depth")) j["hierarchy_levels"] = o.tracer["depth"];  // "levels" holds the per-level counts
   j["lights"] = scene.lights.size();
+  j["shadow_rays_per_point"] = ShadowSlotsPerSurface(scene.lights);  // the lights' samples
   j["algorithm"] = args.algo;
   if (args.Hierarchy()) j["path"] = UsesFusedPath(args) ? "fused" : "passes";
   j["backend"] = {{"name", backend.name}, {"device", backend.device}};
@@ -83,6 +84,10 @@ nlohmann::json StatsJson(const RenderArgs& args, const Outcome& o) {
     j["primary"] = {{"rays", r.primary_rays},
                     {"pixels_differing_from_raster", r.primary_differing},
                     {"frustum_culling", o.tracer.value("frustum_culling", false)}};
+  if (scene.HasAreaLight())
+    j["soft_shadows"] = {{"shadow_rays_per_point", ShadowSlotsPerSurface(scene.lights)},
+                         {"penumbra_points", r.penumbra_points},
+                         {"umbra_points", r.umbra_points}};
   o.stats.ToJson(j);
   PhasesToJson(j, o.phases);
   j["oracle"] = o.oracle_json;
@@ -115,10 +120,14 @@ void PrintSummary(const RenderArgs& args, const Outcome& o) {
   const Backend& backend = o.backend;
   const emu::FrameResult& r = o.r;
   const nlohmann::json& tracer = o.tracer;
-  std::printf("rayspace render: %s (%zu triangles in %zu objects, %dx%d, bounces %d from %s, %zu light%s)\n",
+  // Soft shadows are named where they run: an area light's samples are shadow rays per point.
+  const std::string soft = scene.HasAreaLight()
+                               ? fmt::format(", area: {} shadow rays per shading point, soft shadows", ShadowSlotsPerSurface(scene.lights))
+                               : "";
+  std::printf("rayspace render: %s (%zu triangles in %zu objects, %dx%d, bounces %d from %s, %zu light%s%s)\n",
               scene.name.c_str(), r.triangles, scene.objects.size(), r.width, r.height, scene.max_depth,
               args.bounces >= 0 ? "--bounces" : "the scene's max_depth",
-              scene.lights.size(), scene.lights.size() == 1 ? "" : "s");
+              scene.lights.size(), scene.lights.size() == 1 ? "" : "s", soft.c_str());
   std::string how;
   if (tracer.contains("subdivision"))
     how = fmt::format("subdivision {}, {} hierarchy levels, {} reduction", tracer["subdivision"].get<int>(), tracer["depth"].get<int>(),
@@ -146,6 +155,13 @@ void PrintSummary(const RenderArgs& args, const Outcome& o) {
     std::printf("  primary     %llu eye rays traced beside the raster%s; %llu pixels differ from the raster's primitive\n",
                 static_cast<unsigned long long>(r.primary_rays), tracer.value("frustum_culling", false) ? " (frustum culling)" : "",
                 static_cast<unsigned long long>(r.primary_differing));
+  if (scene.HasAreaLight()) {
+    std::string per;
+    for (std::size_t b = 0; b < r.penumbra_points.size(); ++b)
+      per += fmt::format("{}b{}={}/{}", per.empty() ? "" : " ", b, r.penumbra_points[b], r.umbra_points[b]);
+    std::printf("  soft        %zu shadow rays per shading point; points in penumbra/umbra of an area light: %s\n",
+                ShadowSlotsPerSurface(scene.lights), per.empty() ? "-" : per.c_str());
+  }
   for (const emu::PassRecord& p : r.passes)
     if (!p.ran && p.name.rfind("trace.", 0) == 0) std::printf("  skipped     %s: %s\n", p.name.c_str(), p.reason.c_str());
   o.stats.Print(stdout);
@@ -208,13 +224,13 @@ ExitCode RunRender(const RenderArgs& args) {
   ApplyPrimary(args, fo);
   RenderOutputs outputs = OpenRenderOutputs(args, scene);
 
-  const MemoryEstimate estimate = EstimateFrameMemory(fo.width, fo.height, scene.lights.size(), scene.TriangleCount(), args.pair_capacity, 1);
+  const MemoryEstimate estimate = EstimateFrameMemory(fo.width, fo.height, ShadowSlotsPerSurface(scene.lights), scene.TriangleCount(), args.pair_capacity, 1);
   CheckFitsMachine(estimate, fo.width, fo.height);
 
   const Backend backend = MakeRenderBackend(args);
   SceneBuffers buffers = FlattenForFrame(scene, args.faithful);
   buffers.one_sided = one_sided;
-  CheckFrameFits(backend, fo.width, fo.height, scene.lights.size(), buffers.triangles.size());
+  CheckFrameFits(backend, fo.width, fo.height, ShadowSlotsPerSurface(scene.lights), buffers.triangles.size());
   const std::unique_ptr<RenderedFrame> f = RenderOnBackend(args, scene, buffers, fo, backend);
   const emu::FrameResult& r = f->result;
 

@@ -39,7 +39,17 @@ endmacro()
 function(scene_path scene out)
   set(path "${SRC}/scenes/${scene}.json")
   file(READ "${SRC}/scenes/cornell-mirrors.json" cornell)
-  if(scene STREQUAL "glass")
+  if(scene STREQUAL "area-shapes")
+    # One light of each area shape beside a point light: every branch of the sampler
+    # (rayspace/kernel_functions.h, light_sample.glsl) and the slot layout of several lights.
+    file(READ "${SRC}/scenes/cornell-soft.json" soft)
+    string(JSON soft SET "${soft}" lights 1 "{\"shape\": \"disk\", \"radius\": 40, \"normal\": [0.3, -1, 0.2], \"samples\": 6, \"position\": [150, 500, 300], \"intensity\": 0.5, \"attenuation\": [1, 0, 1e-6]}")
+    string(JSON soft SET "${soft}" lights 2 "{\"shape\": \"sphere\", \"radius\": 25, \"samples\": 5, \"position\": [420, 420, 200], \"intensity\": 0.5, \"attenuation\": [1, 0, 1e-6]}")
+    string(JSON soft SET "${soft}" lights 3 "{\"position\": [300, 300, 100], \"intensity\": 0.2, \"attenuation\": [1, 0, 1e-6]}")
+    string(JSON soft SET "${soft}" max_depth 2)
+    set(path "${case_work}/area-shapes.json")
+    file(WRITE "${path}" "${soft}")
+  elseif(scene STREQUAL "glass")
     # A transparent object brings the refraction kernels in.
     string(JSON glass SET "${cornell}" materials clay transparency 0.5)
     string(JSON glass SET "${glass}" materials clay reflectivity 0.2)
@@ -293,6 +303,15 @@ foreach(f raster:3 surfaces:2 surfaces:3 surfaces.hits:2 surfaces.hits:3 raygen.
           surfaces:4 build:4)
   string(REGEX REPLACE ":.*" "" pass "${f}")
   diff_case(fault.${f} cornell-mirrors 64x64 ${f} 4 ${pass})
+endforeach()
+# Area lights (docs/area-lights.md): each shape's samples equal on both sides, the relaxed device
+# model bounding a sample a device's square root moves, and the sampler's faults, which a scene of
+# point lights cannot see, caught in their passes.
+diff_case(area.shapes area-shapes 48x48 "" 0 "")
+diff_case(area.shapes.relaxed area-shapes 48x48 raygen.shadow:approx-sqrt 0 "" --compare relaxed)
+foreach(f raygen.shadow:4 raygen.shadow:5 raygen.shadow:6 shade:4 shade:5)
+  string(REGEX REPLACE ":.*" "" pass "${f}")
+  diff_case(fault.${f} area-shapes 48x48 ${f} 4 ${pass})
 endforeach()
 foreach(f raygen.refraction:2 raygen.refraction:3)  # refraction rays need a transparent object
   diff_case(fault.${f} glass 96x96 ${f} 4 raygen.refraction)

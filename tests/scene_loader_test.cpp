@@ -24,15 +24,21 @@
 #include "rayspace/error.h"
 #include "rayspace/procedural.h"
 #include "rayspace/scene.h"
+#include "rayspace/scene_buffers.h"
 #include "test_util.h"
 
 namespace {
 
 namespace fs = std::filesystem;
+using rayspace::FlattenScene;
 using rayspace::InputError;
+using rayspace::LightShape;
 using rayspace::LoadOptions;
 using rayspace::LoadScene;
 using rayspace::Scene;
+using rayspace::SceneBuffers;
+using rayspace::ShadowSlotsPerSurface;
+namespace layout = rayspace::layout;
 
 using rayspace::test::TempDir;
 
@@ -816,3 +822,99 @@ TEST_CASE("scene: a placement inside 2^62 loads, one beyond it is an error") {
 }
 
 }  // TEST_SUITE
+
+// ---------------------------------------------------------------------------------------------
+// Area lights (docs/scene-format.md, "lights").
+
+namespace {
+glm::vec3 Xyz4(glm::vec4 v) { return {v.x, v.y, v.z}; }
+std::string SceneWithLights(const std::string& lights) {
+  return fmt::format(R"({{{}, {}, "lights": [{}], "objects": [{{"generator": "box"}}]}})", kCamera, kImage, lights);
+}
+}  // namespace
+
+TEST_CASE("scene: area lights: shapes, sizes, normals and the default of 8 samples") {
+  TempDir dir;
+  const fs::path scene = dir.Write("area.json", SceneWithLights(R"({"position": [0, 4, 0], "shape": "rect", "size": [2, 1]},
+    {"position": [1, 4, 0], "shape": "disk", "radius": 0.5, "normal": [0, -2, 0], "samples": 16},
+    {"position": [2, 4, 0], "shape": "sphere", "radius": 0.25, "samples": 1},
+    {"position": [3, 4, 0], "shape": "point"})"));
+  const Scene s = LoadScene(scene, LoadOptions{});
+  REQUIRE(s.lights.size() == 4);
+  CHECK(s.lights[0].shape == LightShape::kRect);
+  CHECK(s.lights[0].samples == 8);
+  CheckVec({s.lights[0].size, 0}, {2, 1, 0});
+  CheckVec(s.lights[0].normal, {0, -1, 0});  // the default: facing down
+  CHECK(s.lights[1].shape == LightShape::kDisk);
+  CHECK(s.lights[1].samples == 16);
+  CheckVec(s.lights[1].normal, {0, -1, 0});  // normalised
+  CHECK(s.lights[2].shape == LightShape::kSphere);
+  CHECK(s.lights[2].samples == 1);
+  CHECK(s.lights[3].shape == LightShape::kPoint);
+  CHECK(s.lights[3].samples == 1);
+  CHECK(s.HasAreaLight());
+  CHECK(ShadowSlotsPerSurface(s.lights) == 8 + 16 + 1 + 1);
+  // The kernels' lights: half-axes of the rect's size, strata, the first slot of each light.
+  const SceneBuffers b = FlattenScene(s);
+  CHECK(glm::length(Xyz4(b.lights[0].axis_u)) == doctest::Approx(1.0));
+  CHECK(glm::length(Xyz4(b.lights[0].axis_v)) == doctest::Approx(0.5));
+  CHECK(glm::dot(Xyz4(b.lights[0].axis_u), Xyz4(b.lights[0].axis_v)) == doctest::Approx(0.0));
+  CHECK(b.lights[0].sampling == glm::uvec4(layout::kLightRect, 8, 0, 4));
+  CHECK(b.lights[1].sampling == glm::uvec4(layout::kLightDisk, 16, 8, 4));
+  CHECK(b.lights[2].sampling == glm::uvec4(layout::kLightSphere, 1, 24, 1));
+  CHECK(b.lights[3].sampling == glm::uvec4(layout::kLightPoint, 1, 25, 1));
+  CHECK(b.lights[2].position.w == 0.25f);
+  CHECK(b.lights[0].attenuation.w == 0.125f);
+}
+
+TEST_CASE("scene: a scene of point lights has no area light") {
+  TempDir dir;
+  const Scene s = LoadScene(dir.Write("points.json", SceneWithLights(R"({"position": [0, 4, 0]})")), LoadOptions{});
+  CHECK_FALSE(s.HasAreaLight());
+  CHECK(ShadowSlotsPerSurface(s.lights) == 1);
+}
+
+TEST_CASE("scene: bad area lights are refused naming the field") {
+  SUBCASE("unknown shape") {
+    ExpectSceneError(SceneWithLights(R"({"position": [0, 4, 0], "shape": "tube"})"), {"lights[0].shape", "unknown shape 'tube'"});
+  }
+  SUBCASE("rect without a size") {
+    ExpectSceneError(SceneWithLights(R"({"position": [0, 4, 0], "shape": "rect"})"), {"lights[0].size", "missing"});
+  }
+  SUBCASE("rect of zero width") {
+    ExpectSceneError(SceneWithLights(R"({"position": [0, 4, 0], "shape": "rect", "size": [0, 1]})"), {"lights[0].size[0]", "out of range"});
+  }
+  SUBCASE("size of three numbers") {
+    ExpectSceneError(SceneWithLights(R"({"position": [0, 4, 0], "shape": "rect", "size": [1, 1, 1]})"), {"lights[0].size", "[width, height]"});
+  }
+  SUBCASE("disk without a radius") {
+    ExpectSceneError(SceneWithLights(R"({"position": [0, 4, 0], "shape": "disk"})"), {"lights[0].radius", "missing"});
+  }
+  SUBCASE("negative radius") {
+    ExpectSceneError(SceneWithLights(R"({"position": [0, 4, 0], "shape": "sphere", "radius": -1})"), {"lights[0].radius", "out of range"});
+  }
+  SUBCASE("zero normal") {
+    ExpectSceneError(SceneWithLights(R"({"position": [0, 4, 0], "shape": "disk", "radius": 1, "normal": [0, 0, 0]})"), {"lights[0].normal", "zero"});
+  }
+  SUBCASE("a point light's samples") {
+    ExpectSceneError(SceneWithLights(R"({"position": [0, 4, 0], "samples": 8})"), {"lights[0].samples", "only a rect, disk or sphere light"});
+  }
+  SUBCASE("a sphere's normal") {
+    ExpectSceneError(SceneWithLights(R"({"position": [0, 4, 0], "shape": "sphere", "radius": 1, "normal": [0, 1, 0]})"),
+                     {"lights[0].normal", "only a rect or disk light"});
+  }
+  SUBCASE("a point light's radius") {
+    ExpectSceneError(SceneWithLights(R"({"position": [0, 4, 0], "radius": 1})"), {"lights[0].radius", "only a disk or sphere light"});
+  }
+  SUBCASE("zero samples") {
+    ExpectSceneError(SceneWithLights(R"({"position": [0, 4, 0], "shape": "sphere", "radius": 1, "samples": 0})"), {"lights[0].samples", "out of range"});
+  }
+  SUBCASE("more than 256 samples") {
+    ExpectSceneError(SceneWithLights(R"({"position": [0, 4, 0], "shape": "sphere", "radius": 1, "samples": 257})"), {"lights[0].samples", "out of range"});
+  }
+  SUBCASE("more than 1024 samples in all") {
+    std::string lights;
+    for (int i = 0; i < 5; ++i) lights += std::string(i ? ", " : "") + R"({"position": [0, 4, 0], "shape": "sphere", "radius": 1, "samples": 256})";
+    ExpectSceneError(SceneWithLights(lights), {"lights", "1280 samples in all", "at most 1024"});
+  }
+}

@@ -74,7 +74,7 @@ FrameOutput RenderConfig(const Config& c, const Scene& scene, const SceneBuffers
   {
     std::lock_guard<std::mutex> lock(g_backend_mutex);
     backend = std::make_unique<app::Backend>(app::MakeRenderBackend(args));
-    app::CheckFrameFits(*backend, c.width, c.height, scene.lights.size(), buffers.triangles.size());
+    app::CheckFrameFits(*backend, c.width, c.height, ShadowSlotsPerSurface(scene.lights), buffers.triangles.size());
   }
   const std::unique_ptr<app::RenderedFrame> f = app::RenderOnBackend(args, scene, buffers, fo, *backend);
   FrameOutput out;

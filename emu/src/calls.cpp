@@ -119,10 +119,10 @@ void CheckInputs(const call::Shade& c) {
   CheckScene(c.kName, c.scene);
   if (!c.accum || c.accum->size() != static_cast<std::size_t>(c.frame.dims.x) * c.frame.dims.y * 3)
     ThrowInput("{}: input 'accum' does not hold 3 words per pixel of the frame", c.kName);
-  const std::size_t lights = c.scene->lights.size();
-  if (lights) {
-    if (c.shadow_flags.size() != c.surfaces.size() * lights || c.shadow_offsets.size() != c.shadow_flags.size())
-      ThrowInput("{}: inputs 'shadow_flags'/'shadow_offsets' do not hold surfaces x lights slots", c.kName);
+  const std::size_t slots = ShadowSlots(c.scene->lights);
+  if (slots) {
+    if (c.shadow_flags.size() != c.surfaces.size() * slots || c.shadow_offsets.size() != c.shadow_flags.size())
+      ThrowInput("{}: inputs 'shadow_flags'/'shadow_offsets' do not hold surfaces x light samples slots", c.kName);
     for (std::size_t i = 0; i < c.shadow_flags.size(); ++i)
       if (c.shadow_flags[i] && c.shadow_offsets[i] >= c.occluded.size())
         ThrowInput("{}: input 'shadow_offsets' element {} is out of range", c.kName, i);

@@ -237,6 +237,7 @@ class Runner {
         return shadow_trim.rays.size();
       });
       if (observer_) observer_({"shadow." + bs, layout::kRayShadow, bounce, &shadow_trim.rays, nullptr, &occluded});
+      CountSoftShadows(bounce, surfaces.size(), shadow.flags, shadow_trim.offsets, occluded);
     } else {
       Skip("raygen.shadow." + bs, "the scene has no lights");
       Skip("trim.shadow." + bs, "the scene has no lights");
@@ -250,11 +251,37 @@ class Runner {
     });
   }
 
+  // Penumbra and umbra points of this generation (FrameResult): per surface and area light, how many of
+  // the light's cast samples arrive.
+  void CountSoftShadows(int bounce, std::size_t surfaces, const std::vector<std::uint32_t>& flags,
+                        const std::vector<std::uint32_t>& offsets, const std::vector<std::uint32_t>& occluded) {
+    const std::size_t per = ShadowSlots(b_.lights);
+    r_.penumbra_points.resize(std::max<std::size_t>(r_.penumbra_points.size(), bounce + 1), 0);
+    r_.umbra_points.resize(r_.penumbra_points.size(), 0);
+    for (std::size_t s = 0; s < surfaces; ++s) {
+      bool penumbra = false, umbra = false;
+      for (const layout::Light& l : b_.lights) {
+        if (l.sampling.x == layout::kLightPoint) continue;
+        std::uint32_t cast = 0, lit = 0;
+        for (std::uint32_t k = 0; k < l.sampling.y; ++k) {
+          const std::size_t slot = s * per + l.sampling.z + k;
+          if (!flags[slot]) continue;
+          ++cast;
+          lit += occluded[offsets[slot]] == 0u;
+        }
+        penumbra |= lit > 0 && lit < cast;
+        umbra |= cast > 0 && lit == 0;
+      }
+      r_.penumbra_points[bounce] += penumbra;
+      r_.umbra_points[bounce] += umbra;
+    }
+  }
+
   // The shade pass's shadow inputs when no shadow ray was traced (--shadow-bounces first after bounce
   // 0): every slot flagged, each its own dense ray, none occluded, so every light reaches every point
   // it faces.
   void Unoccluded(std::size_t surfaces, SparseRays& shadow, Trimmed& trim, std::vector<std::uint32_t>& occluded) const {
-    const std::size_t slots = surfaces * b_.lights.size();
+    const std::size_t slots = surfaces * ShadowSlots(b_.lights);
     shadow.flags.assign(slots, 1u);
     trim.offsets.resize(slots);
     for (std::size_t i = 0; i < slots; ++i) trim.offsets[i] = static_cast<std::uint32_t>(i);

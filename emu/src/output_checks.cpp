@@ -175,7 +175,7 @@ void CheckOutputs(const call::SurfacesFromHits& c, const std::vector<layout::Sur
 
 void CheckOutputs(const call::Raygen& c, const SparseRays* r, const OutputSource& from) {
   const Check k(c.kName, from);
-  const std::size_t slots = c.surfaces.size() * (c.kind == layout::kRayShadow ? c.scene->lights.size() : 1);
+  const std::size_t slots = c.surfaces.size() * (c.kind == layout::kRayShadow ? ShadowSlots(c.scene->lights) : 1);
   k.Size("rays", r->rays.size(), slots);
   k.Size("flags", r->flags.size(), slots);
   k.Below("flags", r->flags, 2);

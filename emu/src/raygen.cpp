@@ -1,6 +1,7 @@
 // Ray generation (thesis eqs. 3.1-3.7). Slots are sparse; trim compacts them in slot order.
 #include <limits>
 
+#include "rayspace/emu/light_sample.h"
 #include "rayspace/emu/passes.h"
 #include "rayspace/emu/raygen_math.h"
 #include "rayspace/error.h"
@@ -12,29 +13,35 @@ SparseRays PassRaygenShadow(const call::Raygen& c) {
   const layout::FrameConstants& fc = c.frame;
   const In<layout::Surface> surfaces = c.surfaces;
   const SceneBuffers& scene = *c.scene;
-  const std::size_t lights = scene.lights.size();
+  const std::size_t lights = scene.lights.size(), slots = ShadowSlots(scene.lights);
   const bool lit_only = c.shadow_rule == layout::kShadowRuleLit;
   SparseRays out;
-  out.rays.assign(surfaces.size() * lights, layout::Ray{});
-  out.flags.assign(surfaces.size() * lights, 0u);
+  out.rays.assign(surfaces.size() * slots, layout::Ray{});
+  out.flags.assign(surfaces.size() * slots, 0u);
   ParallelFor(surfaces.size(), [&](std::size_t s) {
     const layout::Surface& sf = surfaces[s];
     if (sf.position.w == 0.0f) return;
     const glm::vec3 p = Xyz(sf.position);
+    const std::uint32_t key = layout::SamplerKey(sf.info.y, sf.info.x);
     for (std::size_t l = 0; l < lights; ++l) {
-      const glm::vec3 o = Xyz(scene.lights[l].position);  // eq. 3.1: the ray starts at the light
-      glm::vec3 d;
-      float dist;
-      if (!ShadowDirection(p, o, d, dist)) continue;
-      // --shadow-rule lit: no ray where the shade pass would not light the point anyway.
-      if (lit_only && !LightInFront(d, Xyz(sf.normal), Xyz(sf.incoming))) continue;
-      layout::Ray r;
-      r.origin_tmin = glm::vec4(o, fc.params.x);
-      r.direction_tmax = glm::vec4(d, dist * fc.params.z);
-      r.info = glm::uvec4(sf.info.y, sf.info.x, layout::kRayShadow, static_cast<std::uint32_t>(l));
-      r.weight = sf.weight;
-      out.rays[s * lights + l] = r;
-      out.flags[s * lights + l] = 1u;
+      const layout::Light& light = scene.lights[l];
+      for (std::uint32_t k = 0; k < LightSamples(light); ++k) {
+        // eq. 3.1: the ray starts at the light (at one of an area light's sample points)
+        const glm::vec3 o = LightSamplePoint<float>(light, static_cast<std::uint32_t>(l), key, k);
+        glm::vec3 d;
+        float dist;
+        if (!ShadowDirection(p, o, d, dist)) continue;
+        // --shadow-rule lit: no ray where the shade pass would not light the point anyway.
+        if (lit_only && !LightInFront(d, Xyz(sf.normal), Xyz(sf.incoming))) continue;
+        layout::Ray r;
+        r.origin_tmin = glm::vec4(o, fc.params.x);
+        r.direction_tmax = glm::vec4(d, dist * fc.params.z);
+        r.info = glm::uvec4(sf.info.y, sf.info.x, layout::kRayShadow, static_cast<std::uint32_t>(l));
+        r.weight = sf.weight;
+        const std::size_t slot = s * slots + light.sampling.z + k;
+        out.rays[slot] = r;
+        out.flags[slot] = 1u;
+      }
     }
   });
   return out;

@@ -22,12 +22,12 @@ void PassShade(const call::Shade& c) {
   const In<layout::Surface> surfaces = c.surfaces;
   const In<std::uint32_t> shadow_flags = c.shadow_flags, shadow_offsets = c.shadow_offsets, occluded = c.occluded;
   std::vector<std::uint64_t>& accum = *c.accum;
-  const std::size_t lights = scene.lights.size();
+  const std::size_t slots = ShadowSlots(scene.lights);
   ParallelFor(surfaces.size(), [&](std::size_t s) {
     const layout::Surface& sf = surfaces[s];
     if (sf.position.w == 0.0f) return;
-    const glm::vec3 color = ShadeColorOf<float>(scene, sf, [&](std::size_t l) {
-      const std::size_t slot = s * lights + l;
+    const glm::vec3 color = ShadeColorOf<float>(scene, sf, [&](std::size_t j) {
+      const std::size_t slot = s * slots + j;
       return shadow_flags[slot] && !occluded[shadow_offsets[slot]];
     });
     const std::uint32_t pixel = sf.info.y;

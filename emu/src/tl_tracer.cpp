@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rayspace/emu/intersect.h"
+#include "rayspace/emu/light_sample.h"
 #include "rayspace/emu/tl/heads.h"
 #include "rayspace/emu/output_checks.h"
 #include "rayspace/error.h"
@@ -129,10 +130,19 @@ class Tl final : public TlTracer {
     }
     if (options_.heads != layout::kTlHeadsOff) BuildWindows();
   }
+  // Where shadow rays may start: the corners of every light's samples.
+  void AddLightCorners(std::vector<glm::vec3>& points) const {
+    for (const layout::Light& l : scene_.lights) {
+      glm::vec3 lo, hi;
+      LightCorners(l, lo, hi);
+      points.push_back(lo);
+      points.push_back(hi);
+    }
+  }
   // Per-cell heads of the eye rays: the pass "tl.cells", before the first primary batch.
   void BuildCells(const layout::FrameConstants& fc) {
     std::vector<glm::vec3> points{Xyz(fc.eye)};
-    for (const layout::Light& l : scene_.lights) points.push_back(Xyz(l.position));
+    AddLightCorners(points);
     cells_ = WindowsPass("tl.cells", [&] {
       return passes_.TlCells({.first = lists_.first,
                               .escapes = lists_.escapes,
@@ -145,7 +155,7 @@ class Tl final : public TlTracer {
   // Per-polygon heads: the pass "tl.heads" right after the lists.
   void BuildWindows() {
     std::vector<glm::vec3> lights;
-    for (const layout::Light& l : scene_.lights) lights.push_back(Xyz(l.position));
+    AddLightCorners(lights);
     windows_ = WindowsPass("tl.heads", [&] {
       return passes_.TlHeads({.first = lists_.first,
                               .escapes = lists_.escapes,

@@ -2,6 +2,7 @@
 // Shading (thesis eq. 3.19) into the 64-bit fixed-point accumulator; mirrors emu PassShade.
 #include "common.glsl"
 #include "paged.glsl"
+#include "light_sample.glsl"
 #extension GL_EXT_shader_atomic_int64 : require
 
 layout(std430, binding = kShadeBindSurfaces) readonly buffer Surfaces { Surface surfaces[]; };
@@ -32,30 +33,37 @@ void main() {
   vec3 n = sf.normal.xyz;
   if (Dot3(n, view) > 0.0) n = -n;
   const uint shininess = uint(m.specular_shininess.w);
+  const uint key = SamplerKey(sf.info.y, sf.info.x);
   precise vec3 color = vec3(0.0);
   for (uint l = 0u; l < pc.light_count; ++l) {
-    const uint slot = s * pc.light_count + l;
-    if (shadow_flags[slot] == 0u || LoadOccluded(shadow_offsets[slot], pc.occluded_page) != 0u) continue;
     const Light light = lights[l];
-    // Fault 2: the light vector points from the light to the surface (swapped operands).
-    precise const vec3 lv = kFault == 2u ? p - light.position.xyz : light.position.xyz - p;
-    const float dist = Length3(lv);
-    precise const vec3 ldir = vec3(Div(lv.x, dist), Div(lv.y, dist), Div(lv.z, dist));
-    // Fault 1: the quadratic attenuation term uses the distance instead of its square.
-    precise const float dd = kFault == 1u ? dist : dist * dist;
-    precise const float att = Div(1.0, (light.attenuation.x + dist * light.attenuation.y) + dd * light.attenuation.z);
-    const float ndl = Dot3(ldir, n);
-    if (!(ndl > 0.0)) continue;
-    const float diffuse = max(0.0, min(1.0, ndl));
-    precise const vec3 hv = ldir - view;
-    const vec3 h = Normalize3(hv);
-    const float specular = max(0.0, min(1.0, IntPow(max(0.0, Dot3(h, n)), shininess)));
-    for (int k = 0; k < 3; ++k) {
-      const float li = light.color_intensity[k];
-      precise float a = (((m.diffuse_reflectivity[k] * li) * diffuse) * light.color_intensity.w) * att;
-      color[k] = color[k] + a;
-      precise float b = (((m.specular_shininess[k] * li) * specular) * light.color_intensity.w) * att;
-      color[k] = color[k] + b;
+    for (uint k = 0u; k < light.sampling.y; ++k) {
+      const uint slot = s * pc.slots + light.sampling.z + k;
+      if (shadow_flags[slot] == 0u || LoadOccluded(shadow_offsets[slot], pc.occluded_page) != 0u) continue;
+      // The light, or one of an area light's samples. Fault 4: lit from the next sample's point.
+      const vec3 q = LightSamplePoint(light, l, key, kFault == 4u ? k + 1u : k);
+      // Fault 2: the light vector points from the light to the surface (swapped operands).
+      precise const vec3 lv = kFault == 2u ? p - q : q - p;
+      const float dist = Length3(lv);
+      precise const vec3 ldir = vec3(Div(lv.x, dist), Div(lv.y, dist), Div(lv.z, dist));
+      // Fault 1: the quadratic attenuation term uses the distance instead of its square.
+      precise const float dd = kFault == 1u ? dist : dist * dist;
+      precise const float att = Div(1.0, (light.attenuation.x + dist * light.attenuation.y) + dd * light.attenuation.z);
+      const float ndl = Dot3(ldir, n);
+      if (!(ndl > 0.0)) continue;
+      const float diffuse = max(0.0, min(1.0, ndl));
+      precise const vec3 hv = ldir - view;
+      const vec3 h = Normalize3(hv);
+      const float specular = max(0.0, min(1.0, IntPow(max(0.0, Dot3(h, n)), shininess)));
+      // 1 / samples. Fault 5: an area light's samples are not divided by their count.
+      const float share = kFault == 5u ? 1.0 : light.attenuation.w;
+      for (int c = 0; c < 3; ++c) {
+        const float li = light.color_intensity[c];
+        precise float a = ((((m.diffuse_reflectivity[c] * li) * diffuse) * light.color_intensity.w) * att) * share;
+        color[c] = color[c] + a;
+        precise float b = ((((m.specular_shininess[c] * li) * specular) * light.color_intensity.w) * att) * share;
+        color[c] = color[c] + b;
+      }
     }
   }
   const uint pixel = sf.info.y;

@@ -12,10 +12,10 @@ vk::Status VulkanPasses::RaygenShadow(const emu::call::Raygen& call, emu::Sparse
   const std::span<const layout::Surface> surfaces = call.surfaces;
   const SceneBuffers& scene = *call.scene;
   vk::Context& c = *ctx_;
-  const std::size_t lights = scene.lights.size(), slots = surfaces.size() * lights;
-  if (lights * sizeof(layout::Ray) > SplitBytes())
-    return vk::Status::Fail(fmt::format("{} lights: one surface's {} bytes of shadow-ray slots exceed one binding of {} bytes",
-                                        lights, lights * sizeof(layout::Ray), SplitBytes()));
+  const std::size_t lights = scene.lights.size(), per = ShadowSlots(scene.lights), slots = surfaces.size() * per;
+  if (per * sizeof(layout::Ray) > SplitBytes())
+    return vk::Status::Fail(fmt::format("{} light samples: one surface's {} bytes of shadow-ray slots exceed one binding of {} bytes",
+                                        per, per * sizeof(layout::Ray), SplitBytes()));
   out.rays.assign(slots, layout::Ray{});
   out.flags.assign(slots, 0);
   Keep keep;
@@ -23,13 +23,14 @@ vk::Status VulkanPasses::RaygenShadow(const emu::call::Raygen& call, emu::Sparse
   RS_TRY(keep.From(c, std::span<const layout::Light>(scene.lights), bl));
   RS_TRY(keep.From(c, std::span<const layout::FrameConstants>(&fc, 1), bf));
   vk::Recorder rec(c);
-  RS_TRY(ForParts(surfaces.size(), PerPart(std::max(sizeof(layout::Surface), lights * sizeof(layout::Ray))), extra_dispatches_,
+  RS_TRY(ForParts(surfaces.size(), PerPart(std::max(sizeof(layout::Surface), per * sizeof(layout::Ray))), extra_dispatches_,
                   [&](std::size_t i0, std::size_t i1) -> vk::Status {
                     const vk::Buffer *bs = nullptr, *br = nullptr, *bflags = nullptr;
                     RS_TRY(keep.From(c, Slice(surfaces, i0, i1), bs));
-                    RS_TRY(keep.Output(c, (i1 - i0) * lights * sizeof(layout::Ray), br, out.rays.data() + i0 * lights));
-                    RS_TRY(keep.Output(c, (i1 - i0) * lights * 4, bflags, out.flags.data() + i0 * lights));
-                    const layout::RaygenShadowPush push{static_cast<std::uint32_t>(i1 - i0), static_cast<std::uint32_t>(lights), call.shadow_rule};
+                    RS_TRY(keep.Output(c, (i1 - i0) * per * sizeof(layout::Ray), br, out.rays.data() + i0 * per));
+                    RS_TRY(keep.Output(c, (i1 - i0) * per * 4, bflags, out.flags.data() + i0 * per));
+                    const layout::RaygenShadowPush push{static_cast<std::uint32_t>(i1 - i0), static_cast<std::uint32_t>(lights), call.shadow_rule,
+                                                           static_cast<std::uint32_t>(per)};
                     Bindings<layout::kRaygenBindings> b;
                     b.Set(layout::kRaygenBindSurfaces, bs).Set(layout::kRaygenBindLightsOrMaterials, bl).Set(layout::kRaygenBindFrame, bf);
                     b.Set(layout::kRaygenBindRays, br).Set(layout::kRaygenBindFlags, bflags);

@@ -12,7 +12,7 @@ vk::Status VulkanPasses::Run(const emu::call::Shade& call, std::monostate&) {
   const SceneBuffers& scene = *call.scene;
   std::vector<std::uint64_t>& accum = *call.accum;
   vk::Context& c = *ctx_;
-  const std::size_t lights = scene.lights.size();
+  const std::size_t lights = scene.lights.size(), slots = ShadowSlots(scene.lights);
   Keep keep;
   const vk::Buffer *bm = nullptr, *bl = nullptr;
   RS_TRY(keep.From(c, std::span<const layout::Material>(scene.materials), bm));
@@ -22,14 +22,14 @@ vk::Status VulkanPasses::Run(const emu::call::Shade& call, std::monostate&) {
   RS_TRY(MakePaged(c, std::span<const std::uint32_t>(occluded), "shade: occlusion flags", occ, paged_arrays_));
   RS_TRY(MakePaged(c, std::span<const std::uint64_t>(accum), "shade: colour accumulator", acc, paged_arrays_));
   vk::Recorder rec(c);
-  RS_TRY(ForParts(surfaces.size(), PerPart(std::max(sizeof(layout::Surface), lights * 4)), extra_dispatches_,
+  RS_TRY(ForParts(surfaces.size(), PerPart(std::max(sizeof(layout::Surface), slots * 4)), extra_dispatches_,
                   [&](std::size_t i0, std::size_t i1) -> vk::Status {
                     const vk::Buffer *bs = nullptr, *bfl = nullptr, *boff = nullptr;
                     RS_TRY(keep.From(c, Slice(surfaces, i0, i1), bs));
-                    RS_TRY(keep.From(c, Slice(shadow_flags, i0 * lights, i1 * lights), bfl));
-                    RS_TRY(keep.From(c, Slice(shadow_offsets, i0 * lights, i1 * lights), boff));
+                    RS_TRY(keep.From(c, Slice(shadow_flags, i0 * slots, i1 * slots), bfl));
+                    RS_TRY(keep.From(c, Slice(shadow_offsets, i0 * slots, i1 * slots), boff));
                     const layout::ShadePush push{static_cast<std::uint32_t>(i1 - i0), static_cast<std::uint32_t>(lights), occ.page,
-                                              acc.page};
+                                              acc.page, static_cast<std::uint32_t>(slots)};
                     Bindings<layout::kShadeBindings> b;
                     b.Set(layout::kShadeBindSurfaces, bs).Set(layout::kShadeBindShadowFlags, bfl).Set(layout::kShadeBindShadowOffsets, boff);
                     b.Set(layout::kShadeBindMaterials, bm).Set(layout::kShadeBindLights, bl);

@@ -17,7 +17,7 @@ constexpr ElemInfo kInfos[] = {
     {"material", 48, 0xFFF}, {"light", 48, 0xFFF},
     {"frame_constants", 192, 0}};  // 48 words: more than the mask holds; inputs only, never compared
 static_assert(sizeof(layout::Ray) == 64 && sizeof(layout::Surface) == 80 && sizeof(layout::ConeNode) == 48);
-static_assert(sizeof(layout::FrameConstants) == 192 && sizeof(layout::Material) == 48 && sizeof(layout::Light) == 48);
+static_assert(sizeof(layout::FrameConstants) == 192 && sizeof(layout::Material) == 48 && sizeof(layout::Light) == 96);
 
 std::vector<std::uint32_t> Words(const Blob& b) {
   if (Info(b.type).bytes == 1) return {b.bytes.begin(), b.bytes.end()};

@@ -87,21 +87,28 @@ struct RayModel {
 // The words of a ray that no rounding decides (origin, tmin, info and, for shadow rays, the weight)
 // are exact; the direction and tmax stay unbounded until the model computes them, and are set back to
 // unbounded when a decision on the way could have gone the other way.
+// A modelled word: exact when no rounding choice reaches it (a point light's position, a rect's
+// sample), else the range a device may produce (the square root of a disk's or sphere's sample).
+Word Modelled(R x) { return (!x.any && x.lo == x.hi) ? Exact(x.lo) : Range(x); }
+
 RayModel ModelShadowRay(const emu::call::Raygen& c, std::size_t slot) {
   RayModel m;
-  const std::size_t lights = c.scene->lights.size();
-  const layout::Surface& sf = c.surfaces[slot / lights];
-  const std::uint32_t l = static_cast<std::uint32_t>(slot % lights);
+  const std::size_t per = ShadowSlots(c.scene->lights);
+  const layout::Surface& sf = c.surfaces[slot / per];
+  const std::uint32_t j = static_cast<std::uint32_t>(slot % per);
+  std::uint32_t l = 0;
+  while (j >= c.scene->lights[l].sampling.z + c.scene->lights[l].sampling.y) ++l;
+  const layout::Light& light = c.scene->lights[l];
   if (sf.position.w == 0.0f) return m;
-  const glm::vec3 o = emu::Xyz(c.scene->lights[l].position);
+  const V o = emu::LightSamplePoint<R>(light, l, layout::SamplerKey(sf.info.y, sf.info.x), j - light.sampling.z);
   const Word any = Range(SpecReal::Unbounded(0.0f));
-  m.words = {Exact(o.x),         Exact(o.y),         Exact(o.z),                   Exact(c.frame.params.x),
+  m.words = {Modelled(o.x),      Modelled(o.y),      Modelled(o.z),                Exact(c.frame.params.x),
              any,                any,                any,                          any,
              ExactU(sf.info.y),  ExactU(sf.info.x),  ExactU(layout::kRayShadow),   ExactU(l),
              Exact(sf.weight.x), Exact(sf.weight.y), Exact(sf.weight.z),           Exact(sf.weight.w)};
   V d;
   R dist;
-  m.spawn = emu::ShadowDirection(Spec3(emu::Xyz(sf.position)), Spec3(o), d, dist);
+  m.spawn = emu::ShadowDirection(Spec3(emu::Xyz(sf.position)), o, d, dist);
   if (m.spawn && c.shadow_rule == layout::kShadowRuleLit)
     m.spawn = emu::LightInFront(d, Spec3(emu::Xyz(sf.normal)), Spec3(emu::Xyz(sf.incoming)));
   if (m.spawn) {
@@ -653,7 +660,7 @@ SpecVerdict Shade(const BufferSet& in, const BufferSet& e, const BufferSet& a, b
   for (std::size_t s = 0; s < c.surfaces.size(); ++s)
     if (c.surfaces[s].position.w != 0.0f)
       if (auto it = by_pixel.find(c.surfaces[s].info.y); it != by_pixel.end()) it->second.push_back(s);
-  const std::size_t lights = c.scene->lights.size();
+  const std::size_t slots = ShadowSlots(c.scene->lights);
   for (std::size_t i = 0; i < ea.size(); ++i) {
     if (ea[i] == aa[i]) continue;
     std::uint64_t lo = before[i], hi = before[i];
@@ -661,8 +668,8 @@ SpecVerdict Shade(const BufferSet& in, const BufferSet& e, const BufferSet& a, b
     for (std::size_t s : by_pixel[static_cast<std::uint32_t>(i / 3)]) {
       ScopedSpecTrace trace(flush);
       const layout::Surface& sf = c.surfaces[s];
-      const V color = emu::ShadeColorOf<SpecReal>(*c.scene, sf, [&](std::size_t l) {
-        const std::size_t slot = s * lights + l;
+      const V color = emu::ShadeColorOf<SpecReal>(*c.scene, sf, [&](std::size_t j) {
+        const std::size_t slot = s * slots + j;
         return c.shadow_flags[slot] && !c.occluded[c.shadow_offsets[slot]];
       });
       std::uint64_t qlo, qhi;

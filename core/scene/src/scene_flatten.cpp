@@ -5,6 +5,44 @@
 #include "rayspace/scene_buffers.h"
 
 namespace rayspace {
+namespace {
+
+// The strata grid of n samples: cols x rows with cols the smallest divisor of n at least sqrt(n);
+// the angle of a disk or sphere gets the larger count.
+glm::uvec2 StrataGrid(std::uint32_t n, LightShape shape) {
+  std::uint32_t big = 1;
+  while (big * big < n || n % big != 0) ++big;
+  const std::uint32_t small = n / big;
+  return shape == LightShape::kRect ? glm::uvec2(big, small) : glm::uvec2(small, big);
+}
+
+// The light as the kernels read it (rayspace/layout.h). The shape's half-axes are computed in double
+// and rounded once; a rect's width runs along normal x (0, 0, 1) (x for a light facing down), or
+// normal x (1, 0, 0) when the normal is nearly z.
+layout::Light MakeLight(const LightDesc& l, std::uint32_t first_slot) {
+  layout::Light g{};
+  g.position = glm::vec4(l.position, l.shape == LightShape::kSphere ? l.radius : (l.shape == LightShape::kPoint ? 1.0f : 0.0f));
+  g.color_intensity = glm::vec4(l.color, l.intensity);
+  const auto n = static_cast<std::uint32_t>(l.samples);
+  g.attenuation = glm::vec4(l.attenuation, static_cast<float>(1.0 / n));
+  const glm::uvec2 grid = StrataGrid(n, l.shape);
+  const glm::dvec3 nn(l.normal);
+  const glm::dvec3 e1 = glm::normalize(glm::cross(nn, std::abs(nn.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0)));
+  const glm::dvec3 e2 = glm::cross(nn, e1);
+  glm::dvec3 u(0), v(0);
+  if (l.shape == LightShape::kRect) u = e1 * (0.5 * l.size.x), v = e2 * (0.5 * l.size.y);
+  if (l.shape == LightShape::kDisk) u = e1 * double(l.radius), v = e2 * double(l.radius);
+  g.axis_u = glm::vec4(glm::vec3(u), static_cast<float>(1.0 / grid.x));
+  g.axis_v = glm::vec4(glm::vec3(v), static_cast<float>(1.0 / grid.y));
+  const std::uint32_t shape = l.shape == LightShape::kRect     ? layout::kLightRect
+                              : l.shape == LightShape::kDisk   ? layout::kLightDisk
+                              : l.shape == LightShape::kSphere ? layout::kLightSphere
+                                                               : layout::kLightPoint;
+  g.sampling = glm::uvec4(shape, n, first_slot, grid.x);
+  return g;
+}
+
+}  // namespace
 
 SceneBuffers FlattenScene(const Scene& scene) {
   SceneBuffers b;
@@ -41,12 +79,10 @@ SceneBuffers FlattenScene(const Scene& scene) {
     g.transparency_ior = glm::vec4(m.transparency, m.ior, 0, 0);
     b.materials.push_back(g);
   }
+  std::uint32_t first_slot = 0;
   for (const LightDesc& l : scene.lights) {
-    layout::Light g;
-    g.position = glm::vec4(l.position, 1.0f);
-    g.color_intensity = glm::vec4(l.color, l.intensity);
-    g.attenuation = glm::vec4(l.attenuation, 0.0f);
-    b.lights.push_back(g);
+    b.lights.push_back(MakeLight(l, first_slot));
+    first_slot += static_cast<std::uint32_t>(l.samples);
   }
   return b;
 }

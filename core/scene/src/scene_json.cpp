@@ -12,6 +12,7 @@
 #include "json_checks.h"
 #include "rayspace/error.h"
 #include "rayspace/input_file.h"
+#include "rayspace/layout.h"
 #include "rayspace/procedural.h"
 #include "rayspace/scene.h"
 
@@ -68,8 +69,44 @@ MaterialDesc ParseMaterial(const Ctx& c, const std::string& name, const json& j)
   return m;
 }
 
+// The shape keys of a light: rect needs `size`, disk and sphere `radius`; rect and disk may turn by
+// `normal`; an area light draws `samples` points (default 8, as Hunt and Mark's soft shadows).
+void ParseLightShape(const Ctx& c, const json& j, const std::string& f, LightDesc& l) {
+  static const std::map<std::string, LightShape> kShapes = {
+      {"point", LightShape::kPoint}, {"rect", LightShape::kRect}, {"disk", LightShape::kDisk}, {"sphere", LightShape::kSphere}};
+  if (j.contains("shape")) {
+    const std::string name = String(c, j["shape"], f + ".shape");
+    const auto it = kShapes.find(name);
+    if (it == kShapes.end()) c.Fail(f + ".shape", fmt::format("unknown shape '{}' (known: point, rect, disk, sphere)", name));
+    l.shape = it->second;
+  }
+  const auto only_for = [&](const char* key, bool allowed, const char* shapes) {
+    if (j.contains(key) && !allowed) c.Fail(f + "." + key, fmt::format("only a {} light has one", shapes));
+  };
+  only_for("size", l.shape == LightShape::kRect, "rect");
+  only_for("radius", l.shape == LightShape::kDisk || l.shape == LightShape::kSphere, "disk or sphere");
+  only_for("normal", l.shape == LightShape::kRect || l.shape == LightShape::kDisk, "rect or disk");
+  only_for("samples", l.IsArea(), "rect, disk or sphere");
+  if (l.shape == LightShape::kRect) {
+    const json& sj = Required(c, j, "size", f);
+    if (!sj.is_array() || sj.size() != 2) c.Fail(f + ".size", fmt::format("expected [width, height], got {}", json_checks::Shown(sj)));
+    for (int k = 0; k < 2; ++k)
+      l.size[k] = static_cast<float>(Number(c, sj[k], fmt::format("{}.size[{}]", f, k), 0.0, kMaxCoordinate, true));
+  }
+  if (l.shape == LightShape::kDisk || l.shape == LightShape::kSphere)
+    l.radius = static_cast<float>(Number(c, Required(c, j, "radius", f), f + ".radius", 0.0, kMaxCoordinate, true));
+  if (j.contains("normal")) {
+    const glm::dvec3 n(Vec3(c, j["normal"], f + ".normal"));
+    if (!(glm::length(n) > 0.0)) c.Fail(f + ".normal", "is zero");
+    l.normal = glm::vec3(glm::normalize(n));
+  }
+  if (l.IsArea()) l.samples = 8;
+  if (j.contains("samples"))
+    l.samples = Integer(c, j["samples"], f + ".samples", 1, static_cast<long long>(layout::kMaxLightSamples));
+}
+
 LightDesc ParseLight(const Ctx& c, const json& j, const std::string& f) {
-  CheckKeys(c, j, f, {"position", "color", "intensity", "attenuation"});
+  CheckKeys(c, j, f, {"position", "color", "intensity", "attenuation", "shape", "size", "radius", "normal", "samples"});
   LightDesc l;
   l.position = Vec3(c, Required(c, j, "position", f), f + ".position");
   if (!InDomain(l.position)) c.Fail(f + ".position", "is outside the coordinate domain |x| <= 2^62");
@@ -78,6 +115,7 @@ LightDesc ParseLight(const Ctx& c, const json& j, const std::string& f) {
   if (j.contains("attenuation")) l.attenuation = Vec3(c, j["attenuation"], f + ".attenuation", 0.0, 1e12);
   if (l.attenuation.x == 0 && l.attenuation.y == 0 && l.attenuation.z == 0)
     c.Fail(f + ".attenuation", "all zero (the light's attenuation would divide by zero)");
+  ParseLightShape(c, j, f, l);
   return l;
 }
 
@@ -202,6 +240,9 @@ void ParseLightsAndMaterials(const Ctx& c, const json& root, Scene& s, std::map<
     if (lights.size() > 255) c.Fail("lights", "more than 255 lights");
     for (std::size_t i = 0; i < lights.size(); ++i)
       s.lights.push_back(ParseLight(c, lights[i], fmt::format("lights[{}]", i)));
+    if (ShadowSlotsPerSurface(s.lights) > layout::kMaxShadowSlots)
+      c.Fail("lights", fmt::format("{} samples in all (at most {} shadow rays per shading point)",
+                                   ShadowSlotsPerSurface(s.lights), layout::kMaxShadowSlots));
   }
   if (root.contains("materials")) {
     const json& mats = root["materials"];
@@ -304,6 +345,18 @@ void AddObject(const Ctx& c, const json& oj, std::size_t i, const std::filesyste
 std::size_t Scene::TriangleCount() const {
   std::size_t n = 0;
   for (const Object& o : objects) n += o.TriangleCount();
+  return n;
+}
+
+bool Scene::HasAreaLight() const {
+  for (const LightDesc& l : lights)
+    if (l.IsArea()) return true;
+  return false;
+}
+
+std::size_t ShadowSlotsPerSurface(const std::vector<LightDesc>& lights) {
+  std::size_t n = 0;
+  for (const LightDesc& l : lights) n += static_cast<std::size_t>(l.samples);
   return n;
 }
 

@@ -100,7 +100,8 @@ RS_CONST(uint, kShadowRuleLit, 1u);
 struct RaygenShadowPush {
   uint surface_count;
   uint light_count;
-  uint rule;  // kShadowRuleAll or kShadowRuleLit
+  uint rule;   // kShadowRuleAll or kShadowRuleLit
+  uint slots;  // shadow slots per surface: the lights' samples (Light.sampling)
 };
 struct RaygenPush {  // reflection, refraction
   uint surface_count;
@@ -557,6 +558,7 @@ struct ShadePush {
   uint light_count;
   uint occluded_page;
   uint accum_page;
+  uint slots;  // shadow slots per surface, as raygen.shadow's
 };
 
 // ---- element-wise passes: one invocation per element -----------------------------------------------
@@ -594,10 +596,10 @@ static_assert(kMaxLocalSize * kCompactRun < 65536u && kCompactBlock % kCompactRu
 static_assert(kMaxLocalSize * kCompactCols < 65536u && kCompactRows <= 8u && kCompactCols <= 32u);
 // Push-constant blocks: scalars only (same offsets in std430 and C++), within the 128 bytes every
 // Vulkan device guarantees.
-static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && sizeof(RaygenShadowPush) == 12 &&
+static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && sizeof(RaygenShadowPush) == 16 &&
               sizeof(RaygenPush) == 8 && sizeof(TrimPush) == 12 && sizeof(HashPush) == 36 && sizeof(SortPush) == 24 &&
               sizeof(BuildPush) == 24 && sizeof(TraversePush) == 60 && sizeof(ReducePush) == 20 &&
-              sizeof(IntersectPush) == 44 && sizeof(ShadePush) == 16 && sizeof(ElementwisePush) == 8 &&
+              sizeof(IntersectPush) == 44 && sizeof(ShadePush) == 20 && sizeof(ElementwisePush) == 8 &&
               sizeof(TraverseCompactPush) == 68 && sizeof(TreePush) == 40 && sizeof(IntersectTreePush) == 8 &&
               sizeof(TlListsPush) == 28 && sizeof(TlTracePush) == 24 && sizeof(TlHeadsPush) == 16 &&
               sizeof(TlCellsPush) == 16);

@@ -59,10 +59,24 @@ struct Material {
   vec4 transparency_ior;       // x transparency in [0,1], y index of refraction
 };
 
+// Light shapes (Light.sampling.x). A point light has one sample, its position; an area light has
+// `samples` points per shading point, drawn by the stratified sampler of rayspace/kernel_functions.h
+// (docs/area-lights.md).
+RS_CONST(uint, kLightPoint, 0u);
+RS_CONST(uint, kLightRect, 1u);    // centre + x axis_u + y axis_v, x, y in [-1, 1)
+RS_CONST(uint, kLightDisk, 2u);    // centre + r cos(phi) axis_u + r sin(phi) axis_v, r <= 1
+RS_CONST(uint, kLightSphere, 3u);  // centre + radius (x, y, z), a point of the unit sphere
+// The most samples of one light and of all lights together (shadow slots per shading point).
+RS_CONST(uint, kMaxLightSamples, 256u);
+RS_CONST(uint, kMaxShadowSlots, 1024u);
+
 struct Light {
-  vec4 position;               // xyz
+  vec4 position;               // xyz centre, w sphere radius
   vec4 color_intensity;        // rgb colour, a intensity
-  vec4 attenuation;            // x constant, y linear, z quadratic
+  vec4 attenuation;            // x constant, y linear, z quadratic, w 1 / samples
+  vec4 axis_u;                 // xyz first half-axis (rect, disk), w 1 / strata columns
+  vec4 axis_v;                 // xyz second half-axis (rect, disk), w 1 / strata rows
+  uvec4 sampling;              // x shape, y samples, z first shadow slot, w strata columns
 };
 
 // A secondary ray. Shadow rays start at the light (thesis eq. 3.1) and end just before the surface.
@@ -70,7 +84,8 @@ struct Ray {
   vec4 origin_tmin;            // xyz origin, w smallest accepted t
   vec4 direction_tmax;         // xyz direction, w largest accepted t
   uvec4 info;                  // x pixel, y primitive to ignore (the surface it leaves), z kind,
-                               // w light index (shadow) or surface slot (reflection, refraction)
+                               // w light index (shadow; an area light's samples share it) or
+                               // surface slot (reflection, refraction)
   vec4 weight;                 // rgb path weight (product of reflectivity / transparency), a unused
 };
 
@@ -109,7 +124,7 @@ static_assert(sizeof(Triangle) == 48);
 static_assert(sizeof(TriangleNormals) == 48);
 static_assert(sizeof(TriangleInfo) == 16);
 static_assert(sizeof(Material) == 48);
-static_assert(sizeof(Light) == 48);
+static_assert(sizeof(Light) == 96);
 static_assert(sizeof(Ray) == 64);
 static_assert(sizeof(Surface) == 80);
 static_assert(sizeof(ConeNode) == 48);

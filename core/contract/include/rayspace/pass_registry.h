@@ -186,6 +186,9 @@ inline constexpr FaultSpec kSurfacesHitsFaults[] = {{1, "the hit point is taken 
 inline constexpr FaultSpec kRaygenShadowFaults[] = {{1, "the shadow ray runs all the way to the surface"},
                                                     {2, "the ray is credited to the next pixel"},
                                                     {3, "the last light of every surface is skipped"},
+                                                    {4, "an area light's sample drawn at the next sample's point"},
+                                                    {5, "a disk's or sphere's sample radius not square-rooted"},
+                                                    {6, "the sampler's key ignores the primitive"},
                                                     RS_APPROX_DIV, RS_APPROX_SQRT};
 inline constexpr FaultSpec kRaygenReflectionFaults[] = {{1, "the factor 2 of the mirror formula is lost"},
                                                         {2, "the normal term is added, not subtracted"},
@@ -284,6 +287,8 @@ inline constexpr FaultSpec kTlTraceFaults[] = {{1, "a missed sphere's escape is 
 inline constexpr FaultSpec kShadeFaults[] = {{1, "the quadratic attenuation uses the distance, not its square"},
                                              {2, "the light vector points from the light to the surface"},
                                              {3, "the blue channel is never accumulated"},
+                                             {4, "an area light's sample lit from the next sample's point"},
+                                             {5, "an area light's samples not divided by their count"},
                                              RS_APPROX_DIV, RS_APPROX_SQRT};
 inline constexpr FaultSpec kResolveFaults[] = {{1, "the gamma step is skipped"},
                                                {2, "the value is truncated, not rounded"},

@@ -15,12 +15,24 @@ struct CameraDesc {
   float fov_y_deg = 60.0f;
 };
 
+enum class LightShape { kPoint, kRect, kDisk, kSphere };
+
+// A light: a point, or an area light of `samples` shadow rays per shading point (docs/area-lights.md).
 struct LightDesc {
-  glm::vec3 position{0};
+  glm::vec3 position{0};           // the centre of an area light
   glm::vec3 color{1};
   float intensity = 1.0f;
   glm::vec3 attenuation{1, 0, 0};  // constant, linear, quadratic
+  LightShape shape = LightShape::kPoint;
+  glm::vec3 normal{0, -1, 0};      // rect and disk: the side the shape faces (unit)
+  glm::vec2 size{0};               // rect: width, height
+  float radius = 0.0f;             // disk, sphere
+  int samples = 1;                 // 1 for a point light; default 8 for an area light
+  bool IsArea() const { return shape != LightShape::kPoint; }
 };
+
+// Shadow rays per shading point: the sum of the lights' samples.
+std::size_t ShadowSlotsPerSurface(const std::vector<LightDesc>& lights);
 
 struct MaterialDesc {
   std::string name;
@@ -64,6 +76,7 @@ struct Scene {
   int height = 512;
   std::vector<LightDesc> lights;
   std::vector<MaterialDesc> materials;
+  bool HasAreaLight() const;
   std::vector<Object> objects;
   int max_depth = 1;
   std::size_t TriangleCount() const;

@@ -25,6 +25,14 @@ struct SceneBuffers {
 
 SceneBuffers FlattenScene(const Scene& scene);
 
+// Shadow rays per shading point: every light's samples (a point light has one), in light order;
+// light l's first is lights[l].sampling.z. Slot s * ShadowSlots + j holds surface s's ray j.
+inline std::size_t ShadowSlots(const std::vector<layout::Light>& lights) {
+  std::size_t n = 0;
+  for (const layout::Light& l : lights) n += l.sampling.y;
+  return n;
+}
+
 // Relative shadow-ray shortening: a shadow ray stops at (1 - 2^-12) of the light-surface distance so
 // the surface it ends on, and coplanar neighbours within rounding, never shadow it.
 inline constexpr float kShadowTmaxFactor = 1.0f - 1.0f / 4096.0f;

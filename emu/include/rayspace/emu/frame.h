@@ -48,6 +48,9 @@ struct FrameResult {
   // --primary tl: the eye rays traced, and the pixels whose hit (primitive, or none) differs from the
   // raster's primitive.
   std::uint64_t primary_rays = 0, primary_differing = 0;
+  // Area lights: shading points per bounce that see some of an area light's samples but not all (a
+  // penumbra), and those that see none of them though they face them (an umbra).
+  std::vector<std::uint64_t> penumbra_points, umbra_points;
   DigestLog digest;
   std::vector<std::uint64_t> accum;  // fixed-point colour before resolve
   std::vector<std::uint8_t> rgb;
