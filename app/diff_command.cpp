@@ -23,6 +23,7 @@
 
 #include "rayspace/emu/frame.h"
 #include "rayspace/emu/hierarchy.h"
+#include "rayspace/emu/grid/tracer.h"
 #include "rayspace/emu/tl/tracer.h"
 #include "rayspace/emu/output_checks.h"
 #include "rayspace/emu/workgroup_ops.h"
@@ -283,6 +284,7 @@ nlohmann::json DiffReport(const DiffArgs& args, const Scene& scene, const emu::F
           {"host_only", {"prep (bounding spheres: per-scene preprocessing)", "rah ray order (a stable partition by light)",
                          args.algo == "brute" || args.algo == "embree" ? "trace (host tracer)"
                          : args.algo == "tl"                            ? "tl tree (the bounding-sphere tree and shared vertices)"
+                         : args.algo == "grid"                          ? "grid build (the perspective and regular grids)"
                                                                         : "hierarchy groups (CSR offsets)"}},
           {"equal", equal},
           {"stopped", run.stopped.empty() ? nlohmann::json(nullptr) : nlohmann::json(run.stopped)},
@@ -353,8 +355,14 @@ void PrepareSaveDir(const std::string& dir) {
 struct DiffTracer {
   std::unique_ptr<Tracer> host;
   std::unique_ptr<emu::HierarchyTracer> hierarchy;
-  std::unique_ptr<emu::TlTracer> tl;  // --algo tl: its passes go through the Differ too
-  Tracer& get() { return hierarchy ? static_cast<Tracer&>(*hierarchy) : tl ? static_cast<Tracer&>(*tl) : *host; }
+  std::unique_ptr<emu::TlTracer> tl;      // --algo tl: its passes go through the Differ too
+  std::unique_ptr<emu::GridTracer> grid;  // --algo grid: likewise
+  Tracer& get() {
+    if (hierarchy) return *hierarchy;
+    if (tl) return *tl;
+    if (grid) return *grid;
+    return *host;
+  }
 };
 
 DiffTracer MakeDiffTracer(const DiffArgs& args, const SceneBuffers& buffers, const emu::FrameOptions& fo, emu::HierarchyPasses& passes) {
@@ -365,6 +373,8 @@ DiffTracer MakeDiffTracer(const DiffArgs& args, const SceneBuffers& buffers, con
     t.host = refs::MakeEmbreeTracer(buffers, 0);
   } else if (args.algo == "tl") {
     t.tl = emu::MakeTlTracer(buffers, MakeTlOptions(args), &passes);
+  } else if (args.algo == "grid") {
+    t.grid = emu::MakeGridTracer(buffers, MakeGridOptions(args), &passes);
   } else {
     emu::HierarchyConfig cfg = MakeHierarchyConfig(args, fo.width, fo.height, &passes);
     cfg.fused = args.path == "fused";
@@ -449,6 +459,7 @@ nlohmann::json MeasureDiffImpact(const DiffArgs& args, const Scene& scene, const
     DiffTracer t = MakeDiffTracer(args, buffers, fo, passes);
     if (t.hierarchy) return std::move(t.hierarchy);
     if (t.tl) return std::move(t.tl);
+    if (t.grid) return std::move(t.grid);
     return std::move(t.host);
   };
   const DiffImpact impact = MeasureImpact(scene, buffers, fo, make, {&emu::EmuFramePasses(), &emu::EmuHierarchyPasses()},

@@ -68,6 +68,22 @@ void AddTlOptions(CLI::App& command, FrameArgs& args) {
       ->capture_default_str();
 }
 
+// --algo grid's own switches.
+void AddGridOptions(CLI::App& command, FrameArgs& args) {
+  command
+      .add_option("--grid-cells", args.grid_cells,
+                  "--algo grid: cells per side of each face of a point light's perspective grid (Hunt and Mark's 200; six "
+                  "faces about the light)")
+      ->check(CLI::Range(1u, 1024u))
+      ->capture_default_str();
+  command
+      .add_option("--grid-regular", args.grid_regular,
+                  "--algo grid: cells of the regular grid along the scene box's longest side (the others in proportion), "
+                  "for every ray that is not a point light's shadow ray")
+      ->check(CLI::Range(1u, 1024u))
+      ->capture_default_str();
+}
+
 }  // namespace
 
 void AddFrameOptions(CLI::App& command, FrameArgs& args) {
@@ -75,7 +91,7 @@ void AddFrameOptions(CLI::App& command, FrameArgs& args) {
       .add_option("--algo", args.algo,
                   "Tracer for secondary rays: crsh (ray hashing + sorting, object spheres), rah (same hierarchy "
                   "over unsorted rays), rah-quadtree (Roger et al.'s screen quadtree), tl (Toczek et al.'s "
-                  "traversal lists), brute (emulated direct tracer), embree")
+                  "traversal lists), grid (Hunt and Mark's perspective grids), brute (emulated direct tracer), embree")
       ->check(CLI::IsMember(AlgorithmNames()))
       ->capture_default_str();
   command.add_option("--subdivision", args.subdivision, "Children per hierarchy node (rah-quadtree: always 4)")
@@ -103,6 +119,7 @@ void AddFrameOptions(CLI::App& command, FrameArgs& args) {
       ->check(CLI::IsMember({"flat", "tree", "auto"}))
       ->capture_default_str();
   AddTlOptions(command, args);
+  AddGridOptions(command, args);
   command.add_option("--tree-leaf", args.tree_leaf, "--objects tree, --algo tl: an object-tree node of at most this many triangles is a leaf")
       ->check(CLI::Range(1u, 1024u))
       ->capture_default_str();
@@ -241,6 +258,8 @@ emu::HierarchyConfig MakeHierarchyConfig(const FrameArgs& args, int width, int h
   ApplyFaithful(args.faithful, hc);
   return hc;
 }
+
+emu::grid::Options MakeGridOptions(const FrameArgs& args) { return {args.grid_cells, args.grid_regular}; }
 
 emu::tl::Options MakeTlOptions(const FrameArgs& args) {
   emu::tl::Options o;

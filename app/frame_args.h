@@ -12,6 +12,7 @@
 #include "kernel_model.h"
 #include "rayspace/emu/frame.h"
 #include "rayspace/emu/hierarchy.h"
+#include "rayspace/emu/grid/grid.h"
 #include "rayspace/emu/tl/tl.h"
 
 namespace CLI {
@@ -31,7 +32,7 @@ struct Algorithm {
   bool hierarchy;  // traces with the ray-space hierarchy (MakeHierarchyConfig knows it)
 };
 inline constexpr Algorithm kAlgorithms[] = {
-    {"crsh", true}, {"rah", true}, {"rah-quadtree", true}, {"tl", false}, {"brute", false}, {"embree", false},
+    {"crsh", true}, {"rah", true}, {"rah-quadtree", true}, {"tl", false}, {"grid", false}, {"brute", false}, {"embree", false},
 };
 // kAlgorithms' names, in order.
 std::vector<std::string> AlgorithmNames();
@@ -51,6 +52,8 @@ struct FrameArgs {
   std::string polygon_heads = "off";              // --polygon-heads (--algo tl)
   std::string primary = "raster";                 // --primary raster|tl
   std::string frustum_cull = "off";               // --frustum-cull (--primary tl)
+  std::uint32_t grid_cells = emu::grid::Options{}.cells;      // --grid-cells (--algo grid)
+  std::uint32_t grid_regular = emu::grid::Options{}.regular;  // --grid-regular (--algo grid)
   std::uint32_t tree_leaf = ObjectTreeOptions{}.leaf_triangles;  // --tree-leaf
   float tree_big = ObjectTreeOptions{}.big_fraction;             // --tree-big
   bool tree_big_given = false;  // --tree-big was given (--algo tl otherwise keeps its own default)
@@ -75,6 +78,8 @@ struct FrameArgs {
 // The traversal lists' options (--algo tl): --lists, --node-order, --backface-cull, --polygon-heads,
 // --tree-leaf and --tree-big.
 emu::tl::Options MakeTlOptions(const FrameArgs& args);
+// The grids' options (--algo grid): --grid-cells and --grid-regular.
+emu::grid::Options MakeGridOptions(const FrameArgs& args);
 // Whether the frame's triangles are one-sided (SceneBuffers::one_sided): --backface-cull on, which
 // only --algo tl traces (InputError for another tracer, which would answer two-sided).
 bool OneSided(const FrameArgs& args);

@@ -138,6 +138,12 @@ void PrintSummary(const RenderArgs& args, const Outcome& o) {
                       tracer.value("polygon_heads", std::string("off")) != "off"
                           ? ", " + tracer["polygon_heads"].get<std::string>() + " per-polygon heads"
                           : std::string());
+  else if (tracer.contains("perspective_cells_per_face"))
+    how = fmt::format("perspective grids of 6 x {}^2 cells per point light, regular grid {}", tracer["perspective_cells_per_face"].get<std::uint32_t>(),
+                      tracer.contains("regular_dims") ? fmt::format("{}x{}x{}", tracer["regular_dims"][0].get<std::uint32_t>(),
+                                                                    tracer["regular_dims"][1].get<std::uint32_t>(),
+                                                                    tracer["regular_dims"][2].get<std::uint32_t>())
+                                                      : std::string("unbuilt"));
   else
     how = tracer.value("mode", tracer.value("isa", std::string()));
   std::printf("  backend     %s (%s%s)\n", backend.name.c_str(), backend.device.c_str(),

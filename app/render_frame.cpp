@@ -25,7 +25,12 @@ Tracers MakeTracers(const RenderArgs& args, const SceneBuffers& buffers, const e
     t.hierarchy = emu::MakeHierarchyTracer(buffers, cfg);
   }
   if (args.algo == "tl") t.tl = emu::MakeTlTracer(buffers, MakeTlOptions(args), backend.hierarchy);
-  t.frame = t.hierarchy ? t.hierarchy.get() : t.tl ? t.tl.get() : embree_frames ? t.embree.get() : t.direct.get();
+  if (args.algo == "grid") t.grid = emu::MakeGridTracer(buffers, MakeGridOptions(args), backend.hierarchy);
+  t.frame = t.hierarchy ? t.hierarchy.get()
+            : t.tl      ? t.tl.get()
+            : t.grid    ? t.grid.get()
+            : embree_frames ? t.embree.get()
+                            : t.direct.get();
   t.oracle = embree_frames ? t.direct.get() : t.embree.get();
   return t;
 }
@@ -70,6 +75,7 @@ std::unique_ptr<RenderedFrame> RenderOnBackend(const RenderArgs& args, const Sce
   f->tracers.frame->Describe(f->tracer);
   f->stats = f->tracers.hierarchy ? CollectStatistics(f->tracers.hierarchy->Stats())
              : f->tracers.tl      ? TlStatistics(*f->tracers.tl, buffers.triangles.size())
+             : f->tracers.grid    ? GridStatistics(*f->tracers.grid, buffers.triangles.size())
                                   : BruteStatistics(f->result, buffers.triangles.size());
   f->phases = Phases(f->result.passes);
   return f;

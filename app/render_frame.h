@@ -10,6 +10,7 @@
 #include "backend_setup.h"
 #include "rayspace/emu/frame.h"
 #include "rayspace/emu/hierarchy.h"
+#include "rayspace/emu/grid/tracer.h"
 #include "rayspace/emu/tl/tracer.h"
 #include "rayspace/refs/oracle.h"
 #include "rayspace/scene.h"
@@ -24,6 +25,7 @@ struct Tracers {
   std::unique_ptr<Tracer> direct, embree;
   std::unique_ptr<emu::HierarchyTracer> hierarchy;
   std::unique_ptr<emu::TlTracer> tl;
+  std::unique_ptr<emu::GridTracer> grid;
   Tracer* frame = nullptr;
   Tracer* oracle = nullptr;
 };

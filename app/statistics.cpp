@@ -83,6 +83,27 @@ Statistics TlStatistics(const emu::TlTracer& tracer, std::size_t triangles) {
   return s;
 }
 
+Statistics GridStatistics(const emu::GridTracer& tracer, std::size_t triangles) {
+  Statistics s;
+  s.grid = true;
+  s.grid_build_ms = tracer.BuildMs();
+  for (const emu::GridBatchStats& b : tracer.Stats()) {
+    Statistics::PerType& t = s.types[b.kind];
+    t.rays += b.rays;
+    t.brute_force += b.rays * triangles;
+    t.final_tests += b.tests;
+    t.grid_steps += b.steps;
+    t.grid_perspective_rays += b.perspective_rays;
+    t.grid_unoccluded_perspective_rays += b.unoccluded_perspective_rays;
+    t.grid_skipped_rays += b.skipped_rays;
+  }
+  for (const auto& [kind, t] : s.types) {
+    s.total += t.Total();
+    s.brute_force += t.brute_force;
+  }
+  return s;
+}
+
 Statistics BruteStatistics(const emu::FrameResult& frame, std::size_t triangles) {
   Statistics s;
   for (std::uint32_t k = 0; k < 3; ++k) {
@@ -138,6 +159,28 @@ nlohmann::json TreeJson(const emu::LevelStats& rays, const std::vector<emu::Leve
 namespace {
 
 double PerRay(std::uint64_t n, std::uint64_t rays) { return rays ? static_cast<double>(n) / static_cast<double>(rays) : 0.0; }
+
+// Per ray type: cells visited and triangles tested per ray; for point-light shadow rays the share that
+// went through a perspective grid and, of those not occluded, the share the cells' least distance
+// spared every test (Hunt and Mark: up to 90 %).
+nlohmann::json GridJson(const Statistics& s) {
+  nlohmann::json types = nlohmann::json::object();
+  for (const auto& [kind, t] : s.types) {
+    nlohmann::json one = {{"rays", t.rays},
+                          {"steps", t.grid_steps},
+                          {"triangle_tests", t.final_tests},
+                          {"steps_per_ray", PerRay(t.grid_steps, t.rays)},
+                          {"tests_per_ray", PerRay(t.final_tests, t.rays)}};
+    if (t.grid_perspective_rays) {
+      one["perspective_rays"] = t.grid_perspective_rays;
+      one["unoccluded_perspective_rays"] = t.grid_unoccluded_perspective_rays;
+      one["rays_without_tests"] = t.grid_skipped_rays;
+      one["unoccluded_without_tests_fraction"] = PerRay(t.grid_skipped_rays, t.grid_unoccluded_perspective_rays);
+    }
+    types[emu::RayKindName(kind)] = one;
+  }
+  return {{"build_ms", s.grid_build_ms}, {"per_type", types}};
+}
 
 // The lists' shape and memory, then per ray type and per list the elements tested per ray.
 nlohmann::json TlJson(const Statistics& s) {
@@ -228,6 +271,7 @@ void Statistics::ToJson(nlohmann::json& j) const {
   }
   j["batches"] = batch_list;
   if (tl) j["traversal_lists"] = TlJson(*this);
+  if (grid) j["grids"] = GridJson(*this);
 }
 
 namespace {
@@ -301,6 +345,15 @@ void Statistics::Print(std::FILE* out) const {
       std::fprintf(out, "\n");
     }
   }
+  if (grid)
+    for (const auto& [kind, t] : types) {
+      std::fprintf(out, "  %-11s %10.2f cells + %8.1f triangles per ray", emu::RayKindName(kind), PerRay(t.grid_steps, t.rays),
+                   PerRay(t.final_tests, t.rays));
+      if (t.grid_perspective_rays)
+        std::fprintf(out, "; %llu through a light's perspective grid, %.1f%% of the unoccluded ones without a test",
+                     static_cast<unsigned long long>(t.grid_perspective_rays), 100.0 * PerRay(t.grid_skipped_rays, t.grid_unoccluded_perspective_rays));
+      std::fprintf(out, "\n");
+    }
   // Each type's tests against its own brute force (rays of the type x triangles), then the frame's.
   for (const auto& [kind, t] : types)
     std::fprintf(out, "  %-11s tests %llu (%.2f%% of its brute force %llu = %llu rays x %llu triangles)\n", emu::RayKindName(kind),

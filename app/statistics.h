@@ -14,6 +14,7 @@
 
 #include "rayspace/emu/frame.h"
 #include "rayspace/emu/hierarchy.h"
+#include "rayspace/emu/grid/tracer.h"
 #include "rayspace/emu/tl/tracer.h"
 
 namespace rayspace::app {
@@ -27,6 +28,9 @@ struct Statistics {
     std::uint64_t final_tests = 0, rays = 0, brute_force = 0, object_sphere_tests = 0;
     std::uint64_t leaf_sphere_tests = 0;  // --leaf-test ray-sphere
     std::uint64_t tl_sphere_tests = 0;    // --algo tl (final_tests: its triangle tests)
+    // --algo grid (final_tests: its triangle tests): cells visited; point-light shadow rays through a
+    // perspective grid, those of them not occluded, and those no triangle test was needed for.
+    std::uint64_t grid_steps = 0, grid_perspective_rays = 0, grid_unoccluded_perspective_rays = 0, grid_skipped_rays = 0;
     emu::LevelStats ray_level;  // --objects tree
     // Every test of this ray type: its levels, its rays' own (--objects tree) and its final tests.
     std::uint64_t Total() const;
@@ -46,6 +50,9 @@ struct Statistics {
   bool tl = false;
   emu::TlShape tl_shape;
   std::vector<TlList> tl_lists;
+  // --algo grid: the grids' host build time.
+  bool grid = false;
+  double grid_build_ms = 0.0;
 
   void ToJson(nlohmann::json& j) const;
   void Print(std::FILE* out) const;
@@ -54,6 +61,8 @@ struct Statistics {
 Statistics CollectStatistics(const std::vector<emu::BatchStats>& batches);
 // --algo tl: per ray type the sphere and triangle elements its walks tested (each a test).
 Statistics TlStatistics(const emu::TlTracer& tracer, std::size_t triangles);
+// --algo grid: per ray type the triangles its walks tested, and the cells they visited.
+Statistics GridStatistics(const emu::GridTracer& tracer, std::size_t triangles);
 // Brute force: every ray against every triangle, no levels.
 Statistics BruteStatistics(const emu::FrameResult& frame, std::size_t triangles);
 

@@ -69,10 +69,10 @@ function(refused name pattern)
     set(failures "${failures}\n${name}: exit ${rc}, stderr '${err}'" PARENT_SCOPE)
   endif()
 endfunction()
-refused(oversized_frame "--size 3000x3000: 9000000 rays per batch \\(1 light\\(s\\)\\) exceed the [0-9]+ that 4 bindings"
+refused(oversized_frame "--size 3000x3000: 9000000 rays per batch \\(1 light sample\\(s\\)\\) exceed the [0-9]+ that 4 bindings"
         --size 3000x3000)
 refused(frame_beyond_lowered_limit
-        "--size 128x128: 16384 rays per batch \\(1 light\\(s\\)\\) exceed the 4096 that 4 bindings of 65536 bytes hold on .*; at most 4096 pixels fit"
+        "--size 128x128: 16384 rays per batch \\(1 light sample\\(s\\)\\) exceed the 4096 that 4 bindings of 65536 bytes hold on .*; at most 4096 pixels fit"
         --size 128x128 --split-bytes 65536)
 refused(scene_beyond_lowered_limit
         "scene: 828 triangles take 39744 bytes per triangle array, more than one binding of .* holds \\(16384 bytes\\)"

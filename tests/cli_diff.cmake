@@ -491,6 +491,18 @@ if("${CASE}" STREQUAL "replay.tl" AND NOT FAILURES)
     replay_check("${lists_dir}" 0 "tl.lists/escapes: [0-9]+ elements equal")
   endif()
 endif()
+
+# --algo grid (docs/grids.md): grid.trace equal on the mirrors' point light and many bounces, on
+# refraction, on the office's two lights, on an area light (its shadow rays through the regular grid)
+# and with coarse and fine grids; each planted fault caught in grid.trace.
+diff_case(cornell.grid cornell-mirrors 48x48 "" 0 "" --algo grid)
+diff_case(glass.grid glass 64x64 "" 0 "" --algo grid --grid-cells 64 --grid-regular 16 --local-size 32)
+diff_case(office.grid office 64x64 "" 0 "" --algo grid)
+diff_case(area.grid area-shapes 48x48 "" 0 "" --algo grid --grid-regular 100)
+foreach(f grid.trace:1 grid.trace:2 grid.trace:3 grid.trace:4)
+  string(REGEX REPLACE ":.*" "" pass "${f}")
+  diff_case(fault.grid.${f} cornell-mirrors 48x48 ${f} 4 ${pass} --algo grid)
+endforeach()
 # The emulator runs traverse.compact on its workgroup mirror when the run asks for the workgroup
 # model (the checker, on by default in diff; a schedule other than forward; an @emu fault) and on
 # SIMD lanes otherwise: both must equal the kernel, and the report says which ran.

@@ -1,5 +1,6 @@
 // The emulator as a backend: each call runs the pass function that mirrors its kernel.
 #include "rayspace/emu/backend.h"
+#include "rayspace/emu/grid/grid.h"
 
 #include "rayspace/emu/object_tree_traverse.h"
 #include "rayspace/emu/output_checks.h"

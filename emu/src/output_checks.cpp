@@ -438,4 +438,15 @@ void CheckOutputs(const call::TlTrace& c, const TlWalks* r, const OutputSource& 
   k.Below("triangles", r->triangles, longest);
 }
 
+void CheckOutputs(const call::GridTrace& c, const GridWalks* r, const OutputSource& from) {
+  const Check k(c.kName, from);
+  k.Records(c.shadow ? nullptr : &r->hits, c.shadow ? &r->occluded : nullptr, c.rays.size(), c.triangles.size());
+  k.Size(c.shadow ? "hits" : "occluded", c.shadow ? r->hits.size() : r->occluded.size(), 0);
+  k.Size("steps", r->steps.size(), c.rays.size());
+  k.Size("tests", r->tests.size(), c.rays.size());
+  const glm::uvec4 d = c.volume_dims.empty() ? glm::uvec4(0) : c.volume_dims[0];
+  k.Below("steps", r->steps, std::uint64_t{d.x} + d.y + d.z + 1);
+  k.Below("tests", r->tests, std::uint64_t{c.cell_triangles.size()} + 1);
+}
+
 }  // namespace rayspace::emu

@@ -148,6 +148,34 @@ void CheckInputs(const call::TlTrace& c) {
   if (!e.empty()) ThrowInput("{}: input 'windows': {}", c.kName, e);
 }
 
+void CheckInputs(const call::GridTrace& c) {
+  if (c.shadow > 1) ThrowInput("{}: shadow {} is neither 0 nor 1", c.kName, c.shadow);
+  if (c.first.empty()) ThrowInput("{}: input 'first' is empty (it ends with the total)", c.kName);
+  const std::size_t cells = c.first.size() - 1;
+  for (std::size_t i = 0; i < cells; ++i)
+    if (c.first[i] > c.first[i + 1]) ThrowInput("{}: input 'first' element {} is {}, above the next, {}", c.kName, i, c.first[i], c.first[i + 1]);
+  if (c.first[cells] != c.cell_triangles.size())
+    ThrowInput("{}: input 'first' ends at {}, not at the {} cell triangles", c.kName, c.first[cells], c.cell_triangles.size());
+  for (std::size_t i = 0; i < c.cell_triangles.size(); ++i)
+    if (c.cell_triangles[i] >= c.triangles.size())
+      ThrowInput("{}: input 'cell_triangles' element {} names triangle {}, out of range [0, {})", c.kName, i, c.cell_triangles[i], c.triangles.size());
+  if (c.volume.size() != 4 || c.volume_dims.size() != 1) ThrowInput("{}: inputs 'volume'/'volume_dims' do not hold 4 and 1 entries", c.kName);
+  const glm::uvec4 d = c.volume_dims[0];
+  if (d.x == 0 || d.y == 0 || d.z == 0 || std::uint64_t{d.x} * d.y * d.z + d.w != cells || d.w > c.min_dist.size())
+    ThrowInput("{}: input 'volume_dims' ({}, {}, {} from cell {}) does not end at the {} cells", c.kName, d.x, d.y, d.z, d.w, cells);
+  for (int k = 0; k < 3; ++k)
+    if (!std::isfinite(c.volume[0][k]) || !(c.volume[1][k] > 0.0f) || !std::isfinite(c.volume[1][k]) || !std::isfinite(c.volume[3][k]))
+      ThrowInput("{}: input 'volume' is not a finite box of positive cells", c.kName);
+  if (c.light_grids.size() != c.origins.size()) ThrowInput("{}: inputs 'light_grids' and 'origins' differ in length", c.kName);
+  for (std::size_t l = 0; l < c.light_grids.size(); ++l) {
+    const glm::uvec4 g = c.light_grids[l];
+    if (g.x == layout::kGridNoLight) continue;
+    if (g.y == 0 || g.y > 4096u || std::uint64_t{g.x} + std::uint64_t{layout::kGridFaces} * g.y * g.y > c.min_dist.size())
+      ThrowInput("{}: input 'light_grids' element {} (first cell {}, {} per side) runs past the {} perspective cells", c.kName, l, g.x, g.y,
+                 c.min_dist.size());
+  }
+}
+
 void CheckInputs(const call::TlCells& c) {
   CheckLists(c.kName, c.first, c.escapes, c.words, c.vertices);
   if (!(c.margin >= 0.0f) || !std::isfinite(c.margin)) ThrowInput("{}: margin {} is not a finite number >= 0", c.kName, c.margin);

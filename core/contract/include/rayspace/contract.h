@@ -544,6 +544,50 @@ struct TlCellsPush {
   float margin;  // as tl.heads'
 };
 
+// ---- grid.trace: rays through Hunt and Mark's perspective grids and a regular grid --------------
+// (docs/grids.md) A point light's shadow rays go through that light's perspective grid: six faces of
+// kGridCells x kGridCells cells about the light (a cube map), per cell the triangles whose projection
+// from the light meets it and the least distance from the light to any of them, so each ray visits
+// exactly one cell. Every other ray steps through the regular grid over the scene's box (3D DDA).
+// Cells are numbered face-major (face * n * n + row * n + column) after each light's base, the regular
+// grid's cells x-fastest after its base; `first` holds every cell's CSR offset into `cell_triangles`.
+RS_CONST(uint, kGridFaces, 6u);
+RS_CONST(uint, kGridNoLight, 4294967295u);  // light_grids[l].x of a light without a grid
+// A triangle's projection is binned over a face widened by this fraction (rays on a cube edge may
+// pick either face) and its cell range widened by this many cells (the ray's rounded (u, v)).
+RS_CONST(float, kGridFaceSlack, 1.52587890625e-05);  // 2^-16
+RS_CONST(float, kGridCellSlack, 0.0009765625);       // 2^-10 of a cell
+// A cell's least distance is rounded down by this factor: a shadow ray ending before it skips the
+// cell's tests (the watertight t carries a few ULP of its own).
+RS_CONST(float, kGridDistanceSlack, 0.999755859375);  // 1 - 2^-12
+RS_CONST(uint, kGridTraceBindFirst, 0u);      // CSR offsets of every cell, then the total
+RS_CONST(uint, kGridTraceBindTriangles, 1u);  // cell_triangles
+RS_CONST(uint, kGridTraceBindMinDist, 2u);    // per perspective cell: its least distance
+RS_CONST(uint, kGridTraceBindLights, 3u);     // per light: uvec4 (first cell, n, 0, 0)
+RS_CONST(uint, kGridTraceBindOrigins, 4u);    // per light: vec4 (its position, 1)
+RS_CONST(uint, kGridTraceBindVolume, 5u);     // GridVolume
+RS_CONST(uint, kGridTraceBindSceneTris, 6u);  // the scene's triangles
+RS_CONST(uint, kGridTraceBindRays, 7u);
+RS_CONST(uint, kGridTraceBindHits, 8u);       // closest: packed hit per ray
+RS_CONST(uint, kGridTraceBindOccluded, 9u);   // shadow: 1 per occluded ray
+RS_CONST(uint, kGridTraceBindSteps, 10u);     // per ray: cells visited
+RS_CONST(uint, kGridTraceBindTests, 11u);     // per ray: triangles tested
+RS_CONST(uint, kGridTraceBindings, 12u);
+// The regular grid over the scene: cells of size `cell` from `lo` to `hi`, dims.xyz of them, the
+// first at cell index dims.w.
+struct GridVolume {
+  vec4 lo;
+  vec4 cell;
+  vec4 inv_cell;  // 1 / cell, rounded once on the host
+  vec4 hi;        // lo + dims * cell
+  uvec4 dims;
+};
+struct GridTracePush {
+  uint count;   // rays
+  uint shadow;  // 1: any hit (occluded), 0: closest hit
+  uint lights;  // entries of light_grids
+};
+
 // ---- shade: direct light at the shading points into the fixed-point accumulator ---------------
 RS_CONST(uint, kShadeBindSurfaces, 0u);
 RS_CONST(uint, kShadeBindShadowFlags, 1u);
@@ -602,7 +646,7 @@ static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && size
               sizeof(IntersectPush) == 44 && sizeof(ShadePush) == 20 && sizeof(ElementwisePush) == 8 &&
               sizeof(TraverseCompactPush) == 68 && sizeof(TreePush) == 40 && sizeof(IntersectTreePush) == 8 &&
               sizeof(TlListsPush) == 28 && sizeof(TlTracePush) == 24 && sizeof(TlHeadsPush) == 16 &&
-              sizeof(TlCellsPush) == 16);
+              sizeof(TlCellsPush) == 16 && sizeof(GridTracePush) == 12 && sizeof(GridVolume) == 80);
 static_assert(kTlMaxElements == 65535u * kTlLoopBlock && kTlEscapeNone == ~0u && kTlNoParent == ~0u);
 static_assert(kTreeStepBlock % kMaxLocalSize == 0u);
 static_assert(offsetof(TraversePush, eps) == 40);

@@ -42,6 +42,7 @@ enum class PassId : std::uint8_t {
   kTlHeads,
   kTlCells,
   kTlTrace,
+  kGridTrace,
   kShade,
   kResolve,
   kCount
@@ -143,6 +144,7 @@ inline constexpr CallSpec kTlListsCalls[] = {{"tl.lists", kTlListsIdx}};
 inline constexpr CallSpec kTlHeadsCalls[] = {{"tl.heads", kTlHeadsIdx}};
 inline constexpr CallSpec kTlCellsCalls[] = {{"tl.cells", kTlCellsIdx}};
 inline constexpr CallSpec kTlTraceCalls[] = {{"tl.trace", None()}};
+inline constexpr CallSpec kGridTraceCalls[] = {{"grid.trace", None()}};
 inline constexpr CallSpec kShadeCalls[] = {{"shade", None()}};
 inline constexpr CallSpec kResolveCalls[] = {{"resolve", None()}};
 
@@ -284,6 +286,10 @@ inline constexpr FaultSpec kTlTraceFaults[] = {{1, "a missed sphere's escape is 
                                               {4, "one-sided triangles count when met from behind, not from the front"},
                                               {5, "a ray walks the window of the other side of its triangle"},
                                               {6, "an eye ray walks the window of the next cell"}};
+inline constexpr FaultSpec kGridTraceFaults[] = {{1, "a shadow ray's perspective cell is one column off"},
+                                                {2, "a cell's least distance is taken 1/64 too far (rays skip tests they need)"},
+                                                {3, "the 3D walk skips the next slice whenever it steps along z"},
+                                                {4, "the last triangle of every cell is never tested"}};
 inline constexpr FaultSpec kShadeFaults[] = {{1, "the quadratic attenuation uses the distance, not its square"},
                                              {2, "the light vector points from the light to the surface"},
                                              {3, "the blue channel is never accumulated"},
@@ -326,6 +332,7 @@ inline constexpr std::array<PassSpec, kPassCount> kPasses = {{
   {PassId::kTlHeads,          "tl.heads",          "tl_heads",          false, {},                                        layout::kTlHeadsBindings,      RS_PUSH(TlHeadsPush),       pass_registry_detail::kTlHeadsCalls,       "hierarchy_creation",        pass_registry_detail::kTlHeadsFaults},
   {PassId::kTlCells,          "tl.cells",          "tl_cells",          false, {},                                        layout::kTlCellsBindings,      RS_PUSH(TlCellsPush),       pass_registry_detail::kTlCellsCalls,       "hierarchy_creation",        pass_registry_detail::kTlCellsFaults},
   {PassId::kTlTrace,          "tl.trace",          "tl_trace",          false, {},                                        layout::kTlTraceBindings,      RS_PUSH(TlTracePush),       pass_registry_detail::kTlTraceCalls,       "hierarchy_traversal",       pass_registry_detail::kTlTraceFaults},
+  {PassId::kGridTrace,        "grid.trace",        "grid_trace",        false, {},                                        layout::kGridTraceBindings,    RS_PUSH(GridTracePush),     pass_registry_detail::kGridTraceCalls,     "hierarchy_traversal",       pass_registry_detail::kGridTraceFaults},
   {PassId::kShade,            "shade",             "shade",             false, {},                                        layout::kShadeBindings,        RS_PUSH(ShadePush),         pass_registry_detail::kShadeCalls,         "",                          pass_registry_detail::kShadeFaults},
   {PassId::kResolve,          "resolve",           "resolve",           false, {},                                        layout::kResolveBindings,      RS_PUSH(ElementwisePush),      pass_registry_detail::kResolveCalls,       "",                          pass_registry_detail::kResolveFaults},
 }};

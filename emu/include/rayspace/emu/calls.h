@@ -17,6 +17,7 @@
 
 #include "rayspace/contract.h"
 #include "rayspace/emu/fields.h"
+#include "rayspace/emu/grid/grid.h"
 #include "rayspace/emu/streams.h"
 #include "rayspace/emu/tl/streams.h"
 #include "rayspace/emu/tree_streams.h"
@@ -387,6 +388,24 @@ struct TlTrace {
   RS_FIELDS(first, escapes, words, vertices, rays, shadow, cull, heads, tri_words, windows)
 };
 
+// Rays through the grids of `--algo grid` (rayspace/contract.h, kGridTrace*; docs/grids.md): a point
+// light's shadow ray tests its one perspective cell unless it ends before the cell's least distance;
+// every other ray steps through the regular grid. Closest hit (shadow = 0) or any hit (shadow = 1).
+struct GridTrace {
+  static constexpr std::string_view kName = "grid.trace";
+  using Result = GridWalks;
+  In<std::uint32_t> first{}, cell_triangles{};
+  In<float> min_dist{};
+  In<glm::uvec4> light_grids{};
+  In<glm::vec4> origins{};
+  In<glm::vec4> volume{};        // lo, cell, inv_cell, hi
+  In<glm::uvec4> volume_dims{};  // one entry: cells along x, y, z, the first cell
+  In<layout::Triangle> triangles{};
+  In<layout::Ray> rays{};
+  std::uint32_t shadow = 0;
+  RS_FIELDS(first, cell_triangles, min_dist, light_grids, origins, volume, volume_dims, triangles, rays, shadow)
+};
+
 }  // namespace call
 
 // The calls of each backend group, for code generated per call (X-macros): X(Call).
@@ -394,7 +413,7 @@ struct TlTrace {
 #define RS_HIERARCHY_CALLS(X)                                                                        \
   X(Hash) X(Compress) X(SortChunks) X(Decompress) X(BuildLeaves) X(BuildParents) X(ObjectMask) X(TraverseTop) \
   X(TraverseLevel) X(Reduce) X(TraverseTopCompacted) X(TraverseLevelCompacted) X(Intersect) X(TreeRoots) \
-  X(TreeExpand) X(TreeTest) X(TreeStep) X(IntersectTree) X(TlLists) X(TlHeads) X(TlCells) X(TlTrace)
+  X(TreeExpand) X(TreeTest) X(TreeStep) X(IntersectTree) X(TlLists) X(TlHeads) X(TlCells) X(TlTrace) X(GridTrace)
 
 // Calls whose kernel runs one invocation per element over input arrays of one length, with no other
 // input (rayspace/contract.h, "element-wise passes"): the Vulkan backend launches them generically.

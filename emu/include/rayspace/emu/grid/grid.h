@@ -1,0 +1,68 @@
+// Hunt and Mark's perspective grids (docs/grids.md): per point light a grid of cells about the light,
+// so that each of its shadow rays visits one cell; a regular grid over the scene for every other ray.
+// The grids are built on the host (grid::Build, deterministic, in double); each batch is one
+// grid.trace call on the frame's backend, so `diff` compares it as any other pass.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "rayspace/contract.h"
+#include "rayspace/emu/fields.h"
+#include "rayspace/scene_buffers.h"
+
+namespace rayspace::emu {
+
+// What grid.trace reads (rayspace/contract.h, kGridTrace*).
+struct GridArrays {
+  std::vector<std::uint32_t> first;      // every cell's CSR offset into `triangles`, then the total
+  std::vector<std::uint32_t> triangles;  // per cell, ascending scene triangle ids
+  std::vector<float> min_dist;           // per perspective cell: least distance from its light
+  std::vector<glm::uvec4> light_grids;   // per light: first cell (kGridNoLight: none), n
+  std::vector<glm::vec4> origins;        // per light: its position, 1
+  std::vector<glm::vec4> volume;         // the regular grid: lo, cell, inv_cell, hi
+  std::vector<glm::uvec4> volume_dims;   // one entry: cells along x, y, z, the first cell
+  std::uint64_t perspective_cells = 0, regular_cells = 0, perspective_refs = 0, regular_refs = 0;
+};
+
+// Per ray: the closest hit (closest-hit batches) or whether it is occluded (shadow batches; the other
+// array is empty), the cells it visited and the triangles it tested.
+struct GridWalks {
+  std::vector<std::uint64_t> hits;
+  std::vector<std::uint32_t> occluded, steps, tests;
+  RS_FIELDS(hits, occluded, steps, tests)
+};
+
+namespace grid {
+
+struct Options {
+  std::uint32_t cells = 200;   // a perspective grid's cells per face side (--grid-cells)
+  std::uint32_t regular = 54;  // the regular grid's cells along the scene box's longest side (--grid-regular)
+};
+
+// The face (0..5: +x, -x, +y, -y, +z, -z) and the (u, v) in [-1, 1] of a direction seen from a light;
+// u, v are the direction's two other components over the major one (kernels: grid_trace.comp).
+struct FaceUv {
+  std::uint32_t face = 0;
+  float u = 0.0f, v = 0.0f;
+};
+FaceUv DirectionFace(glm::vec3 d);
+// The cell (row-major within the face) of (u, v) on a face of n x n cells.
+std::uint32_t FaceCell(FaceUv f, std::uint32_t n);
+
+// The least distance from p to the triangle (a, b, c), in double (Ericson's closest point).
+double PointTriangleDistance(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c);
+
+// Builds every point light's perspective grid and the regular grid.
+GridArrays Build(const SceneBuffers& scene, const Options& options);
+
+}  // namespace grid
+
+namespace call {
+struct GridTrace;
+}
+// The emulated grid.trace (mirrors gpu/shaders/grid_trace.comp).
+GridWalks PassGridTrace(const call::GridTrace& c);
+
+}  // namespace rayspace::emu

@@ -1,0 +1,36 @@
+// `--algo grid`: a frame's rays through Hunt and Mark's perspective grids (docs/grids.md). The grids
+// are built on the host once per scene (grid::Build); each batch is one grid.trace call on the backend
+// the frame runs (the emulator or the Vulkan kernel), so `diff` compares it as any other pass.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rayspace/emu/backend.h"
+#include "rayspace/emu/grid/grid.h"
+#include "rayspace/emu/tracer.h"
+
+namespace rayspace::emu {
+
+// One batch through the grids: its rays, those that went through a perspective grid (point-light
+// shadow rays) and those of them whose cell's least distance spared every test, the cells visited and
+// the triangles tested.
+struct GridBatchStats {
+  std::string name;  // e.g. "shadow.b0"
+  std::uint32_t kind = 0;
+  std::uint64_t rays = 0, perspective_rays = 0, skipped_rays = 0, unoccluded_perspective_rays = 0, steps = 0, tests = 0;
+};
+
+class GridTracer : public Tracer {
+ public:
+  virtual const std::vector<GridBatchStats>& Stats() const = 0;
+  // The grids' sizes (zero until built) and the host build's time.
+  virtual const GridArrays& Grids() const = 0;
+  virtual double BuildMs() const = 0;
+};
+
+// `passes` null: the emulator's.
+std::unique_ptr<GridTracer> MakeGridTracer(const SceneBuffers& scene, const grid::Options& options, HierarchyPasses* passes = nullptr);
+
+}  // namespace rayspace::emu

@@ -1,0 +1,214 @@
+// The grids of `--algo grid`, built on the host in double (rayspace/emu/grid/grid.h, docs/grids.md).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "rayspace/emu/grid/grid.h"
+#include "rayspace/emu/intersect.h"
+#include "rayspace/error.h"
+
+namespace rayspace::emu::grid {
+namespace {
+
+// The face's axes: the major one, and the two that become u and v.
+struct FaceAxes {
+  int major, a, b;
+  double sign;
+};
+FaceAxes AxesOf(std::uint32_t face) {
+  const int major = static_cast<int>(face / 2);
+  return {major, (major + 1) % 3, (major + 2) % 3, face % 2 == 0 ? 1.0 : -1.0};
+}
+
+// Sutherland-Hodgman: the part of `poly` where dot(plane, p) >= 0 (plane through the light).
+std::vector<glm::dvec3> ClipHalfSpace(const std::vector<glm::dvec3>& poly, glm::dvec3 plane) {
+  std::vector<glm::dvec3> out;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const glm::dvec3 p = poly[i], q = poly[(i + 1) % poly.size()];
+    const double dp = glm::dot(plane, p), dq = glm::dot(plane, q);
+    if (dp >= 0) out.push_back(p);
+    if ((dp >= 0) != (dq >= 0)) out.push_back(p + (q - p) * (dp / (dp - dq)));
+  }
+  return out;
+}
+
+// The cells [i0, i1] x [j0, j1] of face `face` that the triangle (relative to the light) may be seen
+// through; false when it is not seen through the face at all.
+bool FaceCellRange(const glm::dvec3 tri[3], std::uint32_t face, std::uint32_t n, glm::uvec4& range) {
+  const FaceAxes ax = AxesOf(face);
+  const double w = 1.0 + static_cast<double>(layout::kGridFaceSlack);
+  std::vector<glm::dvec3> poly(tri, tri + 3);
+  for (int side = 0; side < 4; ++side) {
+    glm::dvec3 plane(0.0);
+    plane[ax.major] = ax.sign * w;
+    plane[side < 2 ? ax.a : ax.b] = side % 2 == 0 ? -1.0 : 1.0;  // w m - a >= 0, w m + a >= 0, ...
+    poly = ClipHalfSpace(poly, plane);
+    if (poly.empty()) return false;
+  }
+  double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+  for (const glm::dvec3& p : poly) {
+    const double m = ax.sign * p[ax.major];
+    if (!(m > 0.0)) {  // the triangle passes through the light: every cell of the face
+      lo[0] = lo[1] = -INFINITY;
+      hi[0] = hi[1] = INFINITY;
+      break;
+    }
+    const double uv[2] = {p[ax.a] / m, p[ax.b] / m};
+    for (int k = 0; k < 2; ++k) lo[k] = std::min(lo[k], uv[k]), hi[k] = std::max(hi[k], uv[k]);
+  }
+  const double half = 0.5 * n, slack = static_cast<double>(layout::kGridCellSlack);
+  std::uint32_t c[4];
+  for (int k = 0; k < 2; ++k) {
+    const double a = std::floor((lo[k] + 1.0) * half - slack), b = std::floor((hi[k] + 1.0) * half + slack);
+    c[2 * k] = static_cast<std::uint32_t>(std::clamp(a, 0.0, n - 1.0));
+    c[2 * k + 1] = static_cast<std::uint32_t>(std::clamp(b, 0.0, n - 1.0));
+  }
+  range = glm::uvec4(c[0], c[1], c[2], c[3]);  // u columns, v rows
+  return true;
+}
+
+// Cell lists in CSR from (cell, triangle) pairs gathered per cell in triangle order.
+void AppendCsr(std::vector<std::vector<std::uint32_t>>& cells, GridArrays& g) {
+  for (auto& c : cells) {
+    g.first.push_back(static_cast<std::uint32_t>(g.triangles.size()));
+    g.triangles.insert(g.triangles.end(), c.begin(), c.end());
+    std::vector<std::uint32_t>().swap(c);
+  }
+}
+
+glm::dvec3 Vertex(const glm::vec4& v) { return {v.x, v.y, v.z}; }
+
+// One point light's grid: n x n cells on each of the six faces of a cube about the light.
+void BuildPerspective(const SceneBuffers& scene, glm::vec3 light, std::uint32_t n, GridArrays& g) {
+  const std::size_t cells = layout::kGridFaces * std::size_t{n} * n;
+  std::vector<std::vector<std::uint32_t>> lists(cells);
+  std::vector<float> dist(cells, INFINITY);
+  const glm::dvec3 o(light);
+  for (std::uint32_t t = 0; t < scene.triangles.size(); ++t) {
+    const layout::Triangle& tr = scene.triangles[t];
+    const glm::dvec3 rel[3] = {Vertex(tr.v0) - o, Vertex(tr.v1) - o, Vertex(tr.v2) - o};
+    // Rounded down, then by the slack: no hit of a ray of this cell is closer (docs/grids.md).
+    const double d = PointTriangleDistance(o, Vertex(tr.v0), Vertex(tr.v1), Vertex(tr.v2));
+    float df = static_cast<float>(d);
+    if (static_cast<double>(df) > d) df = std::nextafter(df, 0.0f);
+    df *= layout::kGridDistanceSlack;
+    for (std::uint32_t f = 0; f < layout::kGridFaces; ++f) {
+      glm::uvec4 r;
+      if (!FaceCellRange(rel, f, n, r)) continue;
+      for (std::uint32_t j = r.z; j <= r.w; ++j)
+        for (std::uint32_t i = r.x; i <= r.y; ++i) {
+          const std::size_t c = (std::size_t{f} * n + j) * n + i;
+          lists[c].push_back(t);
+          dist[c] = std::min(dist[c], df);
+        }
+    }
+  }
+  for (const auto& l : lists) g.perspective_refs += l.size();
+  AppendCsr(lists, g);
+  g.min_dist.insert(g.min_dist.end(), dist.begin(), dist.end());
+}
+
+// The regular grid over the scene's box, widened by 2^-10 of its size on each side; `cells` along
+// the longest side, the others in proportion (at least 1).
+void BuildRegular(const SceneBuffers& scene, std::uint32_t longest, GridArrays& g) {
+  glm::dvec3 lo(scene.lo), hi(scene.hi);
+  const glm::dvec3 pad = glm::max(hi - lo, glm::dvec3(std::max({(hi - lo).x, (hi - lo).y, (hi - lo).z}))) * (1.0 / 1024.0) + 1e-30;
+  lo -= pad;
+  hi += pad;
+  const glm::dvec3 size = hi - lo;
+  const double side = std::max({size.x, size.y, size.z});
+  glm::uvec3 dims;
+  for (int k = 0; k < 3; ++k) dims[k] = std::max(1u, static_cast<std::uint32_t>(std::ceil(longest * size[k] / side)));
+  const glm::vec3 cell = glm::vec3(size / glm::dvec3(dims));
+  const glm::vec3 flo(lo);
+  const glm::vec3 inv = glm::vec3(1.0 / glm::dvec3(cell));
+  const glm::vec3 fhi = flo + glm::vec3(dims) * cell;
+  g.volume = {glm::vec4(flo, 0.0f), glm::vec4(cell, 0.0f), glm::vec4(inv, 0.0f), glm::vec4(fhi, 0.0f)};
+  g.volume_dims = {glm::uvec4(dims, static_cast<std::uint32_t>(g.first.size()))};
+  const std::size_t cells = std::size_t{dims.x} * dims.y * dims.z;
+  std::vector<std::vector<std::uint32_t>> lists(cells);
+  const double slack = static_cast<double>(layout::kGridCellSlack);
+  for (std::uint32_t t = 0; t < scene.triangles.size(); ++t) {
+    const layout::Triangle& tr = scene.triangles[t];
+    const glm::dvec3 a = Vertex(tr.v0), b = Vertex(tr.v1), c = Vertex(tr.v2);
+    const glm::dvec3 tlo = glm::min(a, glm::min(b, c)), thi = glm::max(a, glm::max(b, c));
+    glm::uvec3 c0, c1;
+    for (int k = 0; k < 3; ++k) {
+      const double x0 = std::floor((tlo[k] - double(flo[k])) / double(cell[k]) - slack);
+      const double x1 = std::floor((thi[k] - double(flo[k])) / double(cell[k]) + slack);
+      c0[k] = static_cast<std::uint32_t>(std::clamp(x0, 0.0, dims[k] - 1.0));
+      c1[k] = static_cast<std::uint32_t>(std::clamp(x1, 0.0, dims[k] - 1.0));
+    }
+    for (std::uint32_t z = c0.z; z <= c1.z; ++z)
+      for (std::uint32_t y = c0.y; y <= c1.y; ++y)
+        for (std::uint32_t x = c0.x; x <= c1.x; ++x) lists[(std::size_t{z} * dims.y + y) * dims.x + x].push_back(t);
+  }
+  for (const auto& l : lists) g.regular_refs += l.size();
+  g.regular_cells = cells;
+  AppendCsr(lists, g);
+}
+
+}  // namespace
+
+FaceUv DirectionFace(glm::vec3 d) {
+  const glm::vec3 a(Abs(d.x), Abs(d.y), Abs(d.z));
+  const std::uint32_t major = a.x >= a.y && a.x >= a.z ? 0u : (a.y >= a.z ? 1u : 2u);
+  const float m = a[major];
+  FaceUv f;
+  f.face = 2u * major + (d[major] < 0.0f ? 1u : 0u);
+  f.u = d[(major + 1) % 3] / m;
+  f.v = d[(major + 2) % 3] / m;
+  return f;
+}
+
+std::uint32_t FaceCell(FaceUv f, std::uint32_t n) {
+  const float half = static_cast<float>(n) * 0.5f;
+  const float x = (f.u + 1.0f) * half, y = (f.v + 1.0f) * half;
+  const std::uint32_t i = std::min(static_cast<std::uint32_t>(Max(x, 0.0f)), n - 1u);
+  const std::uint32_t j = std::min(static_cast<std::uint32_t>(Max(y, 0.0f)), n - 1u);
+  return (f.face * n + j) * n + i;
+}
+
+double PointTriangleDistance(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
+  const glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return glm::length(p - a);
+  const glm::dvec3 bp = p - b;
+  const double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return glm::length(p - b);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return glm::length(p - (a + ab * (d1 / (d1 - d3))));
+  const glm::dvec3 cp = p - c;
+  const double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return glm::length(p - c);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return glm::length(p - (a + ac * (d2 / (d2 - d6))));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return glm::length(p - (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)))));
+  const double denom = va + vb + vc;
+  if (!(denom != 0.0)) return std::min({glm::length(p - a), glm::length(p - b), glm::length(p - c)});  // degenerate
+  const double v = vb / denom, w = vc / denom;
+  return glm::length(p - (a + ab * v + ac * w));
+}
+
+GridArrays Build(const SceneBuffers& scene, const Options& options) {
+  RS_CHECK_MSG(options.cells >= 1 && options.regular >= 1, "grid: {} cells per face, {} along the box", options.cells, options.regular);
+  GridArrays g;
+  for (const layout::Light& l : scene.lights) {
+    g.origins.emplace_back(l.position.x, l.position.y, l.position.z, 1.0f);
+    if (l.sampling.x != layout::kLightPoint) {
+      g.light_grids.emplace_back(layout::kGridNoLight, 0u, 0u, 0u);
+      continue;
+    }
+    g.light_grids.emplace_back(static_cast<std::uint32_t>(g.first.size()), options.cells, 0u, 0u);
+    BuildPerspective(scene, Xyz(l.position), options.cells, g);
+  }
+  g.perspective_cells = g.first.size();
+  BuildRegular(scene, options.regular, g);
+  g.first.push_back(static_cast<std::uint32_t>(g.triangles.size()));
+  RS_CHECK_MSG(g.triangles.size() < (std::size_t{1} << 32), "grid: {} cell references", g.triangles.size());
+  return g;
+}
+
+}  // namespace rayspace::emu::grid

@@ -1,0 +1,131 @@
+// The perspective grids as a frame's tracer (rayspace/emu/grid/tracer.h).
+#include "rayspace/emu/grid/tracer.h"
+
+#include <chrono>
+
+#include <nlohmann/json.hpp>
+
+#include "rayspace/emu/intersect.h"
+#include "rayspace/emu/output_checks.h"
+
+namespace rayspace::emu {
+namespace {
+
+class Grid final : public GridTracer {
+ public:
+  Grid(const SceneBuffers& scene, const grid::Options& options, HierarchyPasses& passes)
+      : scene_(scene),
+        options_(options),
+        checked_(&passes != &EmuHierarchyPasses() ? CheckedHierarchyPasses(passes) : nullptr),
+        passes_(checked_ ? *checked_ : passes) {}
+
+  std::string Name() const override { return "grid"; }
+  void Describe(nlohmann::json& out) const override {
+    out["algorithm"] = "grid";
+    out["perspective_cells_per_face"] = options_.cells;
+    out["regular_cells_longest_side"] = options_.regular;
+    if (built_) {
+      const glm::uvec4 d = grids_.volume_dims[0];
+      out["regular_dims"] = {d.x, d.y, d.z};
+      out["perspective_cells"] = grids_.perspective_cells;
+      out["perspective_triangle_refs"] = grids_.perspective_refs;
+      out["regular_cells"] = grids_.regular_cells;
+      out["regular_triangle_refs"] = grids_.regular_refs;
+      out["build_ms"] = build_ms_;
+    }
+    out["backend"] = passes_.Name();
+  }
+  void BeginBatch(const BatchContext& ctx) override { ctx_ = ctx; }
+  const std::vector<GridBatchStats>& Stats() const override { return stats_; }
+  const GridArrays& Grids() const override { return grids_; }
+  double BuildMs() const override { return build_ms_; }
+
+  void Closest(const std::vector<layout::Ray>& rays, std::vector<std::uint64_t>& hits) override {
+    GridWalks w = Trace(rays, 0);
+    hits = std::move(w.hits);
+  }
+  void Occluded(const std::vector<layout::Ray>& rays, std::vector<std::uint32_t>& occluded) override {
+    GridWalks w = Trace(rays, 1);
+    occluded = std::move(w.occluded);
+  }
+
+ private:
+  // The grids depend on the scene and its lights alone: built on the host before the first batch
+  // (a frame with nothing to trace builds none), timed as the sub-pass "grid.build".
+  void Build() {
+    const auto t0 = std::chrono::steady_clock::now();
+    grids_ = grid::Build(scene_, options_);
+    build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    built_ = true;
+    if (ctx_.subpasses) ctx_.subpasses->push_back({"grid.build", build_ms_, grids_.first.size() - 1});
+  }
+  GridWalks Trace(const std::vector<layout::Ray>& rays, std::uint32_t shadow) {
+    if (!built_) Build();
+    const std::string label = "grid.trace." + ctx_.name;
+    passes_.Label(label);
+    const auto t0 = std::chrono::steady_clock::now();
+    GridWalks w = passes_.GridTrace({.first = grids_.first,
+                                     .cell_triangles = grids_.triangles,
+                                     .min_dist = grids_.min_dist,
+                                     .light_grids = grids_.light_grids,
+                                     .origins = grids_.origins,
+                                     .volume = grids_.volume,
+                                     .volume_dims = grids_.volume_dims,
+                                     .triangles = scene_.triangles,
+                                     .rays = rays,
+                                     .shadow = shadow});
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (ctx_.subpasses) ctx_.subpasses->push_back({label, ms, rays.size()});
+    if (ctx_.digest) {
+      if (shadow)
+        ctx_.digest->Add(label, "occluded", w.occluded);
+      else
+        ctx_.digest->Add(label, "hits", w.hits);
+      ctx_.digest->Add(label, "steps", w.steps);
+      ctx_.digest->Add(label, "tests", w.tests);
+    }
+    Count(rays, shadow, w);
+    return w;
+  }
+  // A ray went through a perspective grid when it is a shadow ray from its light's position and the
+  // light has a grid (what grid.trace decides, counted here from the same inputs).
+  bool Perspective(const layout::Ray& r, std::uint32_t shadow) const {
+    if (!shadow || r.info.z != layout::kRayShadow || r.info.w >= grids_.light_grids.size()) return false;
+    const glm::vec4 o = grids_.origins[r.info.w];
+    return grids_.light_grids[r.info.w].x != layout::kGridNoLight && o.x == r.origin_tmin.x && o.y == r.origin_tmin.y &&
+           o.z == r.origin_tmin.z;
+  }
+  void Count(const std::vector<layout::Ray>& rays, std::uint32_t shadow, const GridWalks& w) {
+    GridBatchStats s;
+    s.name = ctx_.name;
+    s.kind = ctx_.kind;
+    s.rays = rays.size();
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      s.steps += w.steps[i];
+      s.tests += w.tests[i];
+      if (!Perspective(rays[i], shadow)) continue;
+      ++s.perspective_rays;
+      s.unoccluded_perspective_rays += w.occluded[i] == 0u;
+      s.skipped_rays += w.tests[i] == 0u;
+    }
+    stats_.push_back(std::move(s));
+  }
+
+  const SceneBuffers& scene_;
+  grid::Options options_;
+  std::unique_ptr<HierarchyPasses> checked_;  // a backend's outputs checked (emu/output_checks.h)
+  HierarchyPasses& passes_;
+  GridArrays grids_;
+  double build_ms_ = 0.0;
+  bool built_ = false;
+  BatchContext ctx_;
+  std::vector<GridBatchStats> stats_;
+};
+
+}  // namespace
+
+std::unique_ptr<GridTracer> MakeGridTracer(const SceneBuffers& scene, const grid::Options& options, HierarchyPasses* passes) {
+  return std::make_unique<Grid>(scene, options, passes ? *passes : EmuHierarchyPasses());
+}
+
+}  // namespace rayspace::emu

@@ -1,0 +1,152 @@
+#version 460
+// grid.trace (Hunt and Mark's perspective grids, docs/grids.md): one invocation per ray. A point
+// light's shadow ray finds its one cell of the light's grid from its direction (cube face, then
+// (u, v)) and tests that cell's triangles, unless it ends before the cell's least distance. Every
+// other ray clips itself to the regular grid's box and steps through it cell by cell (3D DDA),
+// stopping at the first hit (shadow) or once its best hit lies before the cell's exit (closest).
+// Closest hits keep the packed (t, id) minimum, so ties resolve as every other tracer's do. Loops run
+// in blocks (lavapipe ends a loop after 65,535 iterations). Mirrors emu PassGridTrace.
+#include "common.glsl"
+#define WATERTIGHT_SWAP_FAULT 0xFFFFFFFFu  // no range-swap fault here
+#include "watertight.glsl"
+
+layout(std430, binding = kGridTraceBindFirst) readonly buffer First { uint first[]; };
+layout(std430, binding = kGridTraceBindTriangles) readonly buffer CellTriangles { uint cell_triangles[]; };
+layout(std430, binding = kGridTraceBindMinDist) readonly buffer MinDist { float min_dist[]; };
+layout(std430, binding = kGridTraceBindLights) readonly buffer LightGrids { uvec4 light_grids[]; };
+layout(std430, binding = kGridTraceBindOrigins) readonly buffer Origins { vec4 origins[]; };
+layout(std430, binding = kGridTraceBindVolume) readonly buffer Volume { GridVolume vol; };
+layout(std430, binding = kGridTraceBindSceneTris) readonly buffer Triangles { Triangle triangles[]; };
+layout(std430, binding = kGridTraceBindRays) readonly buffer Rays { Ray rays[]; };
+layout(std430, binding = kGridTraceBindHits) writeonly buffer Hits { uint64_t hits[]; };
+layout(std430, binding = kGridTraceBindOccluded) writeonly buffer Occluded { uint occluded[]; };
+layout(std430, binding = kGridTraceBindSteps) writeonly buffer Steps { uint steps_out[]; };
+layout(std430, binding = kGridTraceBindTests) writeonly buffer Tests { uint tests_out[]; };
+layout(push_constant) uniform Block { GridTracePush pc; };
+
+const uint64_t kMiss = 0xFFFFFFFFFFFFFFFFul;
+const uint kNone = 0xFFFFFFFFu;
+const uint kBlock = 4096u;
+float Inf() { return uintBitsToFloat(0x7F800000u); }
+
+Ray r;
+uint64_t best = kMiss;
+uint tests = 0u, steps = 0u;
+
+bool Done() { return pc.shadow != 0u && best != kMiss; }
+
+// The triangles of one cell, in ascending ids, against the whole range (tmin, tmax).
+void TestCell(uint cell) {
+  const uint b = first[cell];
+  uint e = first[cell + 1u];
+  // Fault 4: the last triangle of every cell is never tested.
+  if (kFault == 4u && e > b) e -= 1u;
+  const vec3 org = r.origin_tmin.xyz, dir = r.direction_tmax.xyz;
+  for (uint i0 = b; i0 < e && !Done(); i0 += kBlock) {
+    for (uint i = i0; i < min(e, i0 + kBlock) && !Done(); ++i) {
+      const uint t = cell_triangles[i];
+      if (t == r.info.y) continue;
+      ++tests;
+      const Triangle tr = triangles[t];
+      float th, det;
+      if (WatertightSided(org, dir, tr.v0.xyz, tr.v1.xyz, tr.v2.xyz, r.origin_tmin.w, r.direction_tmax.w, th, det)) {
+        const uint64_t packed = (uint64_t(floatBitsToUint(th)) << 32) | uint64_t(t);
+        if (packed < best) best = packed;
+      }
+    }
+  }
+}
+
+// A point light's shadow ray: the cell of its direction in its light's grid (emu grid::DirectionFace
+// and grid::FaceCell), or kNone.
+uint PerspectiveCell() {
+  if (pc.shadow == 0u || r.info.z != kRayShadow || r.info.w >= pc.lights) return kNone;
+  const uvec4 g = light_grids[r.info.w];
+  const vec4 o = origins[r.info.w];
+  if (g.x == kGridNoLight || o.x != r.origin_tmin.x || o.y != r.origin_tmin.y || o.z != r.origin_tmin.z) return kNone;
+  const vec3 d = r.direction_tmax.xyz;
+  const vec3 a = abs(d);
+  if (!(max(max(a.x, a.y), a.z) > 0.0)) return kNone;
+  const uint major = a.x >= a.y && a.x >= a.z ? 0u : (a.y >= a.z ? 1u : 2u);
+  const float m = a[major];
+  const uint face = 2u * major + (d[major] < 0.0 ? 1u : 0u);
+  const float u = Div(d[(major + 1u) % 3u], m), v = Div(d[(major + 2u) % 3u], m);
+  const uint n = g.y;
+  precise const float half_n = float(n) * 0.5;
+  precise const float x = (u + 1.0) * half_n, y = (v + 1.0) * half_n;
+  uint i = min(uint(max(x, 0.0)), n - 1u);
+  const uint j = min(uint(max(y, 0.0)), n - 1u);
+  // Fault 1: the cell one column off.
+  if (kFault == 1u) i = min(i + 1u, n - 1u);
+  return g.x + (face * n + j) * n + i;
+}
+
+// 3D DDA through the regular grid over (tmin, tmax) clipped to its box (emu StepRegular).
+void StepRegular() {
+  const vec3 org = r.origin_tmin.xyz, dir = r.direction_tmax.xyz;
+  vec3 inv;
+  float t0 = r.origin_tmin.w, t1 = r.direction_tmax.w;
+  for (int a = 0; a < 3; ++a) {
+    inv[a] = Div(1.0, dir[a]);
+    precise float ta = (vol.lo[a] - org[a]) * inv[a];
+    precise float tb = (vol.hi[a] - org[a]) * inv[a];
+    if (inv[a] < 0.0) {
+      const float s = ta;
+      ta = tb;
+      tb = s;
+    }
+    t0 = max(t0, ta);
+    t1 = min(t1, tb);
+  }
+  if (!(t0 <= t1)) return;
+  ivec3 at, stp;
+  vec3 next;
+  for (int a = 0; a < 3; ++a) {
+    precise const float p = org[a] + dir[a] * t0;
+    precise const float x = (p - vol.lo[a]) * vol.inv_cell[a];
+    at[a] = int(uint(min(max(x, 0.0), float(vol.dims[a] - 1u))));
+    stp[a] = dir[a] > 0.0 ? 1 : (dir[a] < 0.0 ? -1 : 0);
+    precise const float boundary = vol.lo[a] + float(at[a] + (stp[a] > 0 ? 1 : 0)) * vol.cell[a];
+    precise const float tn = (boundary - org[a]) * inv[a];
+    next[a] = stp[a] == 0 ? Inf() : tn;
+  }
+  const uint guard_end = vol.dims.x + vol.dims.y + vol.dims.z;
+  for (uint guard = 0u; guard < guard_end; ++guard) {
+    ++steps;
+    TestCell(vol.dims.w + (uint(at.z) * vol.dims.y + uint(at.y)) * vol.dims.x + uint(at.x));
+    if (Done()) return;
+    int a = 0;
+    if (next.y < next[a]) a = 1;
+    if (next.z < next[a]) a = 2;
+    const float exit_t = next[a];
+    if (best != kMiss && uintBitsToFloat(uint(best >> 32)) < exit_t) return;
+    if (!(exit_t <= t1)) return;
+    // Fault 3: a step along z skips the next slice.
+    at[a] += (kFault == 3u && a == 2) ? 2 * stp[a] : stp[a];
+    if (at[a] < 0 || at[a] >= int(vol.dims[a])) return;
+    precise const float boundary = vol.lo[a] + float(at[a] + (stp[a] > 0 ? 1 : 0)) * vol.cell[a];
+    precise const float tn = (boundary - org[a]) * inv[a];
+    next[a] = tn;
+  }
+}
+
+void main() {
+  const uint ray = GlobalIndex();
+  if (ray >= pc.count) return;
+  r = rays[ray];
+  const uint cell = PerspectiveCell();
+  if (cell != kNone) {
+    steps = 1u;
+    // Fault 2: the cell's least distance taken 1/64 too far.
+    precise const float dmin = kFault == 2u ? min_dist[cell] * 1.015625 : min_dist[cell];
+    if (r.direction_tmax.w > dmin) TestCell(cell);
+  } else {
+    StepRegular();
+  }
+  if (pc.shadow != 0u)
+    occluded[ray] = best != kMiss ? 1u : 0u;
+  else
+    hits[ray] = best;
+  steps_out[ray] = steps;
+  tests_out[ray] = tests;
+}

@@ -1,0 +1,153 @@
+// Hunt and Mark's perspective grids (docs/grids.md): the cube-face mapping and the least distance by
+// known answers, the binning's soundness point by point, and grid.trace against brute force.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <random>
+
+#include "rayspace/emu/calls.h"
+#include "rayspace/emu/grid/grid.h"
+#include "rayspace/emu/grid/tracer.h"
+#include "rayspace/emu/intersect.h"
+#include "tl_util.h"
+
+using namespace rayspace;
+using namespace rayspace::emu;
+
+namespace {
+
+SceneBuffers SoupScene(std::vector<layout::Triangle> tris, std::vector<glm::vec3> lights) {
+  SceneBuffers b;
+  b.triangles = std::move(tris);
+  b.lo = glm::vec3(INFINITY);
+  b.hi = -b.lo;
+  for (const layout::Triangle& t : b.triangles)
+    for (const glm::vec4& v : {t.v0, t.v1, t.v2}) {
+      b.lo = glm::min(b.lo, Xyz(v));
+      b.hi = glm::max(b.hi, Xyz(v));
+    }
+  std::uint32_t first = 0;
+  for (glm::vec3 p : lights) {
+    layout::Light l{};
+    l.position = glm::vec4(p, 1.0f);
+    l.attenuation = glm::vec4(1, 0, 0, 1);
+    l.sampling = glm::uvec4(layout::kLightPoint, 1, first++, 1);
+    b.lights.push_back(l);
+  }
+  return b;
+}
+
+// A point of triangle t at barycentric (a, b).
+glm::dvec3 PointOn(const layout::Triangle& t, double a, double b) {
+  const glm::dvec3 v0(Xyz(t.v0)), v1(Xyz(t.v1)), v2(Xyz(t.v2));
+  return v0 + (v1 - v0) * a + (v2 - v0) * b;
+}
+
+bool Lists(const GridArrays& g, std::uint32_t cell, std::uint32_t tri) {
+  for (std::uint32_t i = g.first[cell]; i < g.first[cell + 1]; ++i)
+    if (g.triangles[i] == tri) return true;
+  return false;
+}
+
+}  // namespace
+
+TEST_CASE("grid: a direction's cube face and cell") {
+  const grid::FaceUv px = grid::DirectionFace({2, 0.5f, -1});
+  CHECK(px.face == 0u);
+  CHECK(px.u == 0.25f);   // y / x
+  CHECK(px.v == -0.5f);   // z / x
+  CHECK(grid::DirectionFace({0, -3, 0}).face == 3u);
+  CHECK(grid::DirectionFace({0.1f, 0.2f, -1}).face == 5u);
+  CHECK(grid::DirectionFace({1, 1, 0}).face == 0u);  // ties go to the lower axis
+  // 4 cells a side: u = 0.25 lies in column 2, v = -0.5 in row 1.
+  CHECK(grid::FaceCell(px, 4) == (0u * 4 + 1) * 4 + 2);
+  // The face's edges stay in range.
+  CHECK(grid::FaceCell(grid::DirectionFace({1, 1, 1}), 4) == 15u);
+  CHECK(grid::FaceCell(grid::DirectionFace({1, -1, -1}), 4) == 0u);
+}
+
+TEST_CASE("grid: the least distance from a point to a triangle") {
+  const glm::dvec3 a(0, 0, 0), b(2, 0, 0), c(0, 2, 0);
+  CHECK(grid::PointTriangleDistance({0.5, 0.5, 3}, a, b, c) == doctest::Approx(3.0));          // above the inside
+  CHECK(grid::PointTriangleDistance({-3, -4, 0}, a, b, c) == doctest::Approx(5.0));            // nearest a vertex
+  CHECK(grid::PointTriangleDistance({1, -2, 0}, a, b, c) == doctest::Approx(2.0));             // nearest an edge
+  CHECK(grid::PointTriangleDistance({2, 2, 0}, a, b, c) == doctest::Approx(std::sqrt(2.0)));  // beyond the long edge
+}
+
+TEST_CASE("grid: every point of every triangle lies in a cell that lists it, no closer than its least distance") {
+  const std::vector<glm::vec3> lights{{0.1f, 0.2f, -0.3f}, {3, 2, 1}};
+  const SceneBuffers b = SoupScene(test::TlSoup(300, 11), lights);
+  const GridArrays g = grid::Build(b, {16, 8});
+  REQUIRE(g.light_grids.size() == 2);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::size_t checked = 0;
+  for (std::uint32_t t = 0; t < b.triangles.size(); ++t)
+    for (int k = 0; k < 20; ++k) {
+      double s = u(rng), r = u(rng);
+      if (s + r > 1) s = 1 - s, r = 1 - r;
+      const glm::dvec3 p = PointOn(b.triangles[t], s, r);
+      for (std::uint32_t l = 0; l < lights.size(); ++l) {
+        const glm::dvec3 d = p - glm::dvec3(lights[l]);
+        const glm::vec3 df = glm::vec3(d / glm::length(d));  // a shadow ray's rounded direction
+        const std::uint32_t cell = g.light_grids[l].x + grid::FaceCell(grid::DirectionFace(df), g.light_grids[l].y);
+        INFO("triangle " << t << " light " << l << " cell " << cell);
+        CHECK(Lists(g, cell, t));
+        CHECK(static_cast<double>(g.min_dist[cell]) <= glm::length(d));
+        ++checked;
+      }
+      // The regular grid's cell of the point.
+      const glm::uvec4 dims = g.volume_dims[0];
+      glm::uvec3 c;
+      for (int a = 0; a < 3; ++a)
+        c[a] = static_cast<std::uint32_t>(std::clamp(std::floor((p[a] - g.volume[0][a]) / g.volume[1][a]), 0.0, dims[a] - 1.0));
+      CHECK(Lists(g, dims.w + (c.z * dims.y + c.y) * dims.x + c.x, t));
+    }
+  CHECK(checked == 300 * 20 * 2);
+}
+
+TEST_CASE("grid: grid.trace gives brute force's closest hits and occlusion, shadow rays from the lights included") {
+  for (std::uint32_t seed : {1u, 2u, 3u}) {
+    const std::vector<glm::vec3> lights{{0.05f, 1.5f, 0.0f}, {-0.4f, 0.3f, 0.2f}};
+    const SceneBuffers b = SoupScene(test::TlSoup(400, seed), lights);
+    for (const grid::Options o : {grid::Options{200, 54}, grid::Options{3, 2}, grid::Options{32, 1}}) {
+      const GridArrays g = grid::Build(b, o);
+      std::mt19937 rng(seed * 7);
+      std::uniform_real_distribution<float> u(-1.2f, 1.2f);
+      std::vector<layout::Ray> closest, shadow;
+      for (int i = 0; i < 1500; ++i) {
+        const glm::vec3 org(u(rng), u(rng), u(rng)), to(u(rng), u(rng), u(rng));
+        layout::Ray r = test::MakeSegment(org, to - org, 0.0f, i % 3 == 0 ? 1.0f : INFINITY, i % 5 == 0 ? static_cast<std::uint32_t>(i % 400) : layout::kNoPrim);
+        r.info.z = layout::kRayReflection;
+        closest.push_back(r);
+        // A shadow ray from a light to a point, as raygen.shadow makes it.
+        const std::uint32_t l = static_cast<std::uint32_t>(i % 2);
+        const glm::vec3 v = to - lights[l];
+        const float dist = Length(v);
+        layout::Ray s = test::MakeSegment(lights[l], v / dist, 1e-6f, dist * kShadowTmaxFactor);
+        s.info = glm::uvec4(0, layout::kNoPrim, layout::kRayShadow, l);
+        shadow.push_back(s);
+      }
+      const auto call = [&](const std::vector<layout::Ray>& rays, std::uint32_t sh) {
+        return PassGridTrace({.first = g.first, .cell_triangles = g.triangles, .min_dist = g.min_dist, .light_grids = g.light_grids,
+                              .origins = g.origins, .volume = g.volume, .volume_dims = g.volume_dims, .triangles = b.triangles,
+                              .rays = rays, .shadow = sh});
+      };
+      const GridWalks wc = call(closest, 0), ws = call(shadow, 1);
+      std::size_t hits = 0, occluded = 0, skipped = 0;
+      for (std::size_t i = 0; i < closest.size(); ++i) {
+        INFO("seed " << seed << " cells " << o.cells << " regular " << o.regular << " ray " << i);
+        CHECK(wc.hits[i] == test::BruteClosest(b.triangles, closest[i]));
+        CHECK(ws.occluded[i] == (test::BruteClosest(b.triangles, shadow[i]) != kMissPacked ? 1u : 0u));
+        CHECK(ws.steps[i] == 1u);  // one perspective cell each
+        hits += wc.hits[i] != kMissPacked;
+        occluded += ws.occluded[i];
+        skipped += ws.tests[i] == 0 && !ws.occluded[i];
+      }
+      // The rays are not trivial: many hit, many are shadowed, and some unoccluded ones skip every test.
+      CHECK(hits > 300);
+      CHECK(occluded > 300);
+      if (o.cells == 200) CHECK(skipped > 50);
+    }
+  }
+}
