@@ -1,0 +1,87 @@
+# `render --algo grid` (docs/grids.md) on the bundled scenes at reduced sizes: exit 0, no oracle
+# mismatch, the same PNG bytes as --algo crsh; statistics in which every point-light shadow ray visits
+# one perspective cell and an area light's go through the regular grid; the Vulkan kernel's digest and
+# PNG equal to the emulator's. The data-free scenes by default; -DPART=data those that need the data
+# root (skipped without it).
+# Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DDATA=<data root> -DWORK=<scratch> [-DPART=data] -P cli_grid.cmake
+include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)
+include(${CMAKE_CURRENT_LIST_DIR}/cli_same_frame.cmake)
+set(failures "")
+file(REMOVE_RECURSE "${WORK}")
+file(MAKE_DIRECTORY "${WORK}")
+
+# same_as_crsh(NAME SCENE SIZE [grid options...]): --algo grid with the oracle, then --algo crsh.
+function(same_as_crsh name scene size)
+  foreach(algo grid crsh)
+    set(extra "")
+    if(algo STREQUAL "grid")
+      set(extra ${ARGN})
+    endif()
+    execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/${scene}.json" --data "${DATA}" --size ${size} --algo ${algo} ${extra}
+                            --out "${WORK}/${name}.${algo}.png" --stats "${WORK}/${name}.${algo}.json"
+                    RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0)
+      set(failures "${failures}\n${name} (${algo}): exit ${rc}: ${err}" PARENT_SCOPE)
+      return()
+    endif()
+  endforeach()
+  file(READ "${WORK}/${name}.grid.json" j)
+  string(JSON mism GET "${j}" oracle mismatches)
+  file(SHA256 "${WORK}/${name}.grid.png" a)
+  file(SHA256 "${WORK}/${name}.crsh.png" b)
+  if(NOT mism EQUAL 0 OR NOT a STREQUAL b)
+    set(failures "${failures}\n${name}: ${mism} oracle mismatches, PNG equal to crsh's: ${a} vs ${b}" PARENT_SCOPE)
+  endif()
+endfunction()
+
+if(PART STREQUAL "data")
+  cli_require_data(cli.grid.data bunny/bun_zipper_res4.ply dragon/dragon.obj)
+  same_as_crsh(sponza sponza 96x96)
+  same_as_crsh(dragon dragon-closeup 64x64 --grid-regular 128)
+  same_as_crsh(bunny roger-bunny-res4 64x64)
+  same_as_crsh(suzanne toczek-suzanne 64x64 --grid-cells 50)
+else()
+  same_as_crsh(cornell cornell-mirrors 96x96)
+  same_as_crsh(soft cornell-soft 64x64)
+  same_as_crsh(office office 96x96 --grid-cells 100)
+  same_as_crsh(wavy roger-wavy-n8 64x64 --grid-regular 8)
+  same_as_crsh(cubes toczek-cubes 64x64)
+  if(NOT failures)
+    # The mirrors' point light: one perspective cell per shadow ray, every shadow ray through it;
+    # reflections step through several regular cells.
+    file(READ "${WORK}/cornell.grid.json" j)
+    string(JSON steps GET "${j}" grids per_type shadow steps_per_ray)
+    string(JSON rays GET "${j}" grids per_type shadow rays)
+    string(JSON persp GET "${j}" grids per_type shadow perspective_rays)
+    string(JSON skipped GET "${j}" grids per_type shadow rays_without_tests)
+    string(JSON refl GET "${j}" grids per_type reflection steps_per_ray)
+    if(NOT steps EQUAL 1 OR NOT persp EQUAL rays OR skipped EQUAL 0 OR NOT refl GREATER 1)
+      set(failures "${failures}\ncornell: shadow ${steps} cells per ray, ${persp} of ${rays} through the light's grid, "
+                   "${skipped} without a test; reflection ${refl} cells per ray")
+    endif()
+    # An area light has no perspective grid here: its shadow rays step through the regular grid.
+    file(READ "${WORK}/soft.grid.json" j)
+    string(JSON persp ERROR_VARIABLE none GET "${j}" grids per_type shadow perspective_rays)
+    string(JSON steps GET "${j}" grids per_type shadow steps_per_ray)
+    if(none STREQUAL "NOTFOUND" OR NOT steps GREATER 1)
+      set(failures "${failures}\nsoft: area-light shadow rays through a perspective grid (${persp}), ${steps} cells per ray")
+    endif()
+  endif()
+  # The Vulkan kernel: the emulator's digest and PNG.
+  set(DATA "")
+  same_frame(vulkan-cornell "${SRC}/scenes/cornell-mirrors.json" 64x64 --algo grid)
+  same_frame(vulkan-soft "${SRC}/scenes/cornell-soft.json" 48x48 --algo grid --grid-cells 40)
+  # Bad grid sizes are refused naming the option.
+  foreach(bad "--grid-cells;0" "--grid-regular;2000")
+    execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/cornell-mirrors.json" --algo grid ${bad} --out "${WORK}/x.png"
+                    RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+    list(GET bad 0 flag)
+    if(rc EQUAL 0 OR NOT err MATCHES "${flag}")
+      set(failures "${failures}\n${bad}: exit ${rc}, ${err}")
+    endif()
+  endforeach()
+endif()
+if(failures)
+  message(FATAL_ERROR "cli.grid:${failures}")
+endif()
+message(STATUS "cli.grid: every scene traced through the grids as through the hierarchy")
