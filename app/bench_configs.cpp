@@ -18,6 +18,7 @@ const BenchConfig kVariants[] = {
     {"vulkan-passes", "crsh", "passes", "vulkan", "crsh with the GLSL kernels pass by pass (render --backend vulkan --path passes)"},
     {"vulkan-tree", "crsh", "fused", "vulkan", "crsh-tree with the GLSL kernels (render --backend vulkan --objects tree)", "tree"},
     {"vulkan-tl", "tl", "auto", "vulkan", "tl with the GLSL kernels (render --backend vulkan --algo tl)"},
+    {"vulkan-grid", "grid", "auto", "vulkan", "grid with the GLSL kernel (render --backend vulkan --algo grid)"},
 };
 
 std::vector<BenchConfig> MakeConfigs() {

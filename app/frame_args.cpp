@@ -82,6 +82,10 @@ void AddGridOptions(CLI::App& command, FrameArgs& args) {
                   "for every ray that is not a point light's shadow ray")
       ->check(CLI::Range(1u, 1024u))
       ->capture_default_str();
+  command.add_flag("--closed-models", args.closed_models,
+                   "--algo grid: Hunt and Mark's front-face culling: a light's grid holds only the triangles facing away "
+                   "from it and a surface facing away is in shadow untraced; right for closed meshes only (an open one "
+                   "is warned of, and the shadow results it changes are counted against the oracle)");
 }
 
 }  // namespace
@@ -259,7 +263,7 @@ emu::HierarchyConfig MakeHierarchyConfig(const FrameArgs& args, int width, int h
   return hc;
 }
 
-emu::grid::Options MakeGridOptions(const FrameArgs& args) { return {args.grid_cells, args.grid_regular}; }
+emu::grid::Options MakeGridOptions(const FrameArgs& args) { return {args.grid_cells, args.grid_regular, args.closed_models}; }
 
 emu::tl::Options MakeTlOptions(const FrameArgs& args) {
   emu::tl::Options o;

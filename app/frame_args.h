@@ -54,6 +54,7 @@ struct FrameArgs {
   std::string frustum_cull = "off";               // --frustum-cull (--primary tl)
   std::uint32_t grid_cells = emu::grid::Options{}.cells;      // --grid-cells (--algo grid)
   std::uint32_t grid_regular = emu::grid::Options{}.regular;  // --grid-regular (--algo grid)
+  bool closed_models = false;                                  // --closed-models (--algo grid)
   std::uint32_t tree_leaf = ObjectTreeOptions{}.leaf_triangles;  // --tree-leaf
   float tree_big = ObjectTreeOptions{}.big_fraction;             // --tree-big
   bool tree_big_given = false;  // --tree-big was given (--algo tl otherwise keeps its own default)

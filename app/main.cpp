@@ -13,6 +13,7 @@
 #include "rayspace/workgroup.h"
 #include "accuracy_command.h"
 #include "bench_command.h"
+#include "shadow_bench.h"
 #include "bench_configs.h"
 #include "data_command.h"
 #include "exit_codes.h"
@@ -34,6 +35,8 @@ struct Commands {
   rayspace::app::RenderArgs render;
   rayspace::app::AccuracyArgs accuracy;
   rayspace::app::BenchArgs bench;
+  rayspace::app::ShadowBenchArgs shadow_bench;
+  CLI::App* shadow_bench_cmd = nullptr;
   rayspace::reproduce::ReproduceArgs reproduce;
   std::pair<CLI::App*, CLI::App*> reproduce_cmds{};
   rayspace::app::DataCheckArgs data_check;
@@ -100,6 +103,21 @@ void AddBench(CLI::App& app, Commands& cmds) {
   rayspace::app::AddDeviceOption(*bc, b.device);
   rayspace::app::AddFaithfulOptions(*bc, b.faithful);
   bc->add_flag("--progress", b.progress, "Print each frame's time on stderr (default when stderr is a terminal)");
+}
+
+void AddShadowBench(CLI::App& app, Commands& cmds) {
+  CLI::App* sc = cmds.shadow_bench_cmd = app.add_subcommand(
+      "shadow-bench", "Time hard shadows through a point light's perspective grid (--algo grid) against Embree's occlusion "
+                      "query on the same shadow rays, in one run: medians, rays/s and their ratio per scene");
+  rayspace::app::ShadowBenchArgs& s = cmds.shadow_bench;
+  sc->add_option("scenes", s.scenes, "Scene JSON files, each with a point light")->required();
+  sc->add_option("--data", s.data, "Data root for mesh paths (default: $RAYSPACE_DATA)");
+  sc->add_option("--size", s.size, "Image size WxH whose first shadow rays are traced (default 512x512)");
+  sc->add_option("--repetitions", s.repetitions, "Timings per scene; the table shows the median (default 5)")->check(CLI::Range(1, 1000));
+  sc->add_option("--threads", s.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
+  sc->add_option("--grid-cells", s.grid_cells, "Cells per side of each face of the light's grid (default 200)")->check(CLI::Range(1u, 1024u));
+  sc->add_flag("--closed-models", s.closed_models, "Front-face culling, as render --algo grid --closed-models");
+  sc->add_option("--json", s.json, "Write the measurements as JSON to this file");
 }
 
 void AddData(CLI::App& app, Commands& cmds) {
@@ -208,6 +226,7 @@ rayspace::app::ExitCode Run(const Commands& cmds) {
   if (cmds.render_cmd->parsed()) return rayspace::app::RunRender(cmds.render);
   if (cmds.accuracy_cmd->parsed()) return rayspace::app::RunAccuracy(cmds.accuracy);
   if (cmds.bench_cmd->parsed()) return rayspace::app::RunBench(cmds.bench);
+  if (cmds.shadow_bench_cmd->parsed()) return rayspace::app::RunShadowBench(cmds.shadow_bench);
   if (cmds.reproduce_cmds.second->parsed()) return rayspace::reproduce::RunMerge(cmds.reproduce);
   if (cmds.reproduce_cmds.first->parsed()) return rayspace::reproduce::RunReproduce(cmds.reproduce, rayspace::reproduce::RenderConfig);
   if (cmds.data_check_cmd->parsed()) return rayspace::app::RunDataCheck(cmds.data_check);
@@ -239,6 +258,7 @@ int main(int argc, char** argv) {
   AddRender(app, cmds);
   AddAccuracy(app, cmds);
   AddBench(app, cmds);
+  AddShadowBench(app, cmds);
   cmds.reproduce_cmds = rayspace::reproduce::AddReproduceCommand(app, cmds.reproduce);
   AddData(app, cmds);
 #ifdef RAYSPACE_HAVE_VULKAN

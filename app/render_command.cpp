@@ -178,6 +178,9 @@ void PrintSummary(const RenderArgs& args, const Outcome& o) {
     std::printf("  oracle      %s: %zu rays checked, %zu mismatches; exact arithmetic found the oracle wrong on %zu, %zu exact ties (shared edges, grazed edges), %zu within rounding\n",
                 o.oracle_json["name"].get<std::string>().c_str(), o.oracle->rays_checked(), o.oracle->mismatches().size(),
                 o.oracle->oracle_wrong().size(), o.oracle->ties().size(), o.oracle->within_rounding().size());
+    if (o.tracer.value("closed_models", false))
+      std::printf("  culling     --closed-models changed %zu shadow results against the oracle (front-face culling assumes closed meshes)\n",
+                  o.oracle->shadow_changes().size());
   }
   std::printf("  frame       %.1f ms (oracle %.1f ms)\n", r.total_ms, o.oracle_ms);
   if (o.peak_rss)

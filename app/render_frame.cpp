@@ -8,9 +8,20 @@
 #include "rayspace/refs/embree_tracer.h"
 
 namespace rayspace::app {
+
+void WarnOpenModels(const Scene& scene, const SceneBuffers& buffers) {
+  std::vector<std::size_t> open_edges;
+  const std::vector<bool> closed = emu::grid::ClosedObjects(buffers, &open_edges);
+  for (std::size_t i = 0; i < closed.size() && i < scene.objects.size(); ++i)
+    if (!closed[i])
+      std::fprintf(stderr, "rayspace: warning: --closed-models: object %zu '%s' is not closed (its surfaces have %zu edges not shared by exactly two triangles); its shadows may be wrong\n",
+                   i, scene.objects[i].name.c_str(), open_edges[i]);
+}
+
 namespace {
 
-Tracers MakeTracers(const RenderArgs& args, const SceneBuffers& buffers, const emu::FrameOptions& fo, const Backend& backend) {
+Tracers MakeTracers(const RenderArgs& args, const Scene& scene, const SceneBuffers& buffers, const emu::FrameOptions& fo,
+                    const Backend& backend) {
   const emu::DirectMode mode = args.direct == "exhaustive" ? emu::DirectMode::kExhaustive
                                : args.direct == "bvh"      ? emu::DirectMode::kBvh
                                                            : emu::DirectMode::kAuto;
@@ -26,6 +37,7 @@ Tracers MakeTracers(const RenderArgs& args, const SceneBuffers& buffers, const e
   }
   if (args.algo == "tl") t.tl = emu::MakeTlTracer(buffers, MakeTlOptions(args), backend.hierarchy);
   if (args.algo == "grid") t.grid = emu::MakeGridTracer(buffers, MakeGridOptions(args), backend.hierarchy);
+  if (args.algo == "grid" && args.closed_models) WarnOpenModels(scene, buffers);
   t.frame = t.hierarchy ? t.hierarchy.get()
             : t.tl      ? t.tl.get()
             : t.grid    ? t.grid.get()
@@ -69,8 +81,9 @@ std::unique_ptr<RenderedFrame> RenderOnBackend(const RenderArgs& args, const Sce
                                                emu::FrameOptions fo, const Backend& backend) {
   fo.passes = backend.frame;
   auto f = std::make_unique<RenderedFrame>();
-  f->tracers = MakeTracers(args, buffers, fo, backend);
+  f->tracers = MakeTracers(args, scene, buffers, fo, backend);
   if (!args.no_oracle) f->oracle.emplace(*f->tracers.oracle, buffers);
+  if (f->oracle && args.algo == "grid" && args.closed_models) f->oracle->ExpectShadowChanges("--closed-models");
   f->result = RenderChecked(scene, buffers, *f->tracers.frame, fo, f->oracle ? &*f->oracle : nullptr, f->oracle_ms);
   f->tracers.frame->Describe(f->tracer);
   f->stats = f->tracers.hierarchy ? CollectStatistics(f->tracers.hierarchy->Stats())

@@ -42,6 +42,9 @@ struct RenderedFrame {
   std::vector<Phase> phases;
 };
 
+// --closed-models: a warning on stderr for every object of the scene that is not closed.
+void WarnOpenModels(const Scene& scene, const SceneBuffers& buffers);
+
 // Whether a hierarchy frame traverses fused (--path, resolving auto).
 bool UsesFusedPath(const RenderArgs& args);
 

@@ -67,10 +67,34 @@ else()
       set(failures "${failures}\nsoft: area-light shadow rays through a perspective grid (${persp}), ${steps} cells per ray")
     endif()
   endif()
+  # --closed-models: the mirrors' box and ball are closed (no warning); most unoccluded shadow rays
+  # need no test; the shadow results culling changes are counted, not failed. The cubes scene's
+  # floor and walls are open, and each is named.
+  execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/cornell-mirrors.json" --size 64x64 --algo grid --closed-models
+                          --out "${WORK}/closed.png" --stats "${WORK}/closed.json"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0 OR err MATCHES "warning" OR NOT out MATCHES "culling     --closed-models changed [0-9]+ shadow results")
+    set(failures "${failures}\nclosed: exit ${rc}, ${out}${err}")
+  else()
+    file(READ "${WORK}/closed.json" j)
+    string(JSON changes GET "${j}" oracle shadow_changes)
+    string(JSON spared GET "${j}" grids per_type shadow unoccluded_without_tests_fraction)
+    string(JSON closed_flag GET "${j}" tracer closed_models)
+    if(NOT closed_flag OR changes GREATER 50 OR spared LESS 0.9)
+      set(failures "${failures}\nclosed: closed_models ${closed_flag}, ${changes} shadow results changed, ${spared} of the unoccluded spared")
+    endif()
+  endif()
+  execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/toczek-cubes.json" --size 32x32 --algo grid --closed-models --no-oracle
+                          --out "${WORK}/cubes-closed.png" RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0 OR NOT err MATCHES "warning: --closed-models: object 18 'floor' is not closed"
+     OR err MATCHES "object 0 ")
+    set(failures "${failures}\ncubes-closed: exit ${rc}, ${err}")
+  endif()
   # The Vulkan kernel: the emulator's digest and PNG.
   set(DATA "")
   same_frame(vulkan-cornell "${SRC}/scenes/cornell-mirrors.json" 64x64 --algo grid)
   same_frame(vulkan-soft "${SRC}/scenes/cornell-soft.json" 48x48 --algo grid --grid-cells 40)
+  same_frame(vulkan-closed "${SRC}/scenes/cornell-mirrors.json" 48x48 --algo grid --closed-models)
   # Bad grid sizes are refused naming the option.
   foreach(bad "--grid-cells;0" "--grid-regular;2000")
     execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/cornell-mirrors.json" --algo grid ${bad} --out "${WORK}/x.png"

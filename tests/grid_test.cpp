@@ -151,3 +151,69 @@ TEST_CASE("grid: grid.trace gives brute force's closest hits and occlusion, shad
     }
   }
 }
+
+namespace {
+// The unit cube's 12 triangles, wound outwards, as two objects of 6 (the first three faces, the rest).
+SceneBuffers Cube() {
+  const glm::vec3 p[8] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  const int quads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {1, 2, 6, 5}, {0, 4, 7, 3}};
+  std::vector<layout::Triangle> tris;
+  for (const auto& q : quads) {
+    tris.push_back(test::MakeTriangle(p[q[0]], p[q[1]], p[q[2]]));
+    tris.push_back(test::MakeTriangle(p[q[0]], p[q[2]], p[q[3]]));
+  }
+  SceneBuffers b = SoupScene(tris, {{0.5f, 3.0f, 0.5f}});
+  b.objects = {glm::uvec4(0, 6, 0, 0), glm::uvec4(6, 6, 0, 0)};
+  return b;
+}
+}  // namespace
+
+TEST_CASE("grid: closedness is decided per surface, across objects") {
+  SceneBuffers b = Cube();
+  std::vector<std::size_t> open;
+  CHECK(grid::ClosedObjects(b, &open) == std::vector<bool>{true, true});  // neither half alone is closed
+  CHECK(open == std::vector<std::size_t>{0, 0});
+  // Without its last triangle the cube has a hole of three edges, and both objects touch it.
+  b.triangles.pop_back();
+  b.objects[1].y = 5;
+  CHECK(grid::ClosedObjects(b, &open) == std::vector<bool>{false, false});
+  CHECK(open == std::vector<std::size_t>{3, 3});
+  // A lone triangle beside a closed cube: only its object is open.
+  SceneBuffers c = Cube();
+  c.triangles.push_back(test::MakeTriangle({5, 5, 5}, {6, 5, 5}, {5, 6, 5}));
+  c.objects.push_back(glm::uvec4(12, 1, 0, 0));
+  CHECK(grid::ClosedObjects(c) == std::vector<bool>{true, true, false});
+}
+
+TEST_CASE("grid: --closed-models keeps the faces turned from the light and shadows the surfaces facing away untraced") {
+  const SceneBuffers b = Cube();  // light above the cube, at y = 3
+  // The top face (y = 1, normal +y) faces the light; the bottom face (normal -y) faces away.
+  CHECK_FALSE(grid::FacesAway({0, 1, 0}, {0, 1, 1}, {1, 1, 1}, {0.5f, 3, 0.5f}));
+  CHECK(grid::FacesAway({0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0.5f, 3, 0.5f}));  // normal (0, -1, 0): the light is behind
+  const GridArrays open = grid::Build(b, {8, 4, false}), closed = grid::Build(b, {8, 4, true});
+  CHECK(closed.perspective_refs < open.perspective_refs);
+  // The light at (0.5, 3, 0.5) sees the top face from the front; it lies behind the bottom's plane and
+  // on the inner side of every side's plane (x = 0, 1 and z = 0, 1 with outward normals): ten of the
+  // twelve triangles face away.
+  std::size_t away = 0;
+  for (const layout::Triangle& t : b.triangles) away += grid::FacesAway(Xyz(t.v0), Xyz(t.v1), Xyz(t.v2), {0.5f, 3, 0.5f});
+  CHECK(away == 10);
+  // Shadow rays from the light to the middle of the top face (lit) and of the bottom face (facing away).
+  std::vector<layout::Ray> rays;
+  for (const auto& [point, tri] : {std::pair{glm::vec3(0.4f, 1, 0.6f), 6u}, std::pair{glm::vec3(0.6f, 0, 0.3f), 0u}}) {
+    const glm::vec3 v = point - glm::vec3(0.5f, 3, 0.5f);
+    layout::Ray r = test::MakeSegment({0.5f, 3, 0.5f}, v / Length(v), 1e-6f, Length(v) * kShadowTmaxFactor);
+    r.info = glm::uvec4(0, tri, layout::kRayShadow, 0);
+    rays.push_back(r);
+  }
+  for (const bool c : {false, true}) {
+    const GridArrays& g = c ? closed : open;
+    const GridWalks w = PassGridTrace({.first = g.first, .cell_triangles = g.triangles, .min_dist = g.min_dist, .light_grids = g.light_grids,
+                                       .origins = g.origins, .volume = g.volume, .volume_dims = g.volume_dims, .triangles = b.triangles,
+                                       .rays = rays, .shadow = 1, .closed = c ? 1u : 0u});
+    INFO("closed " << c);
+    CHECK(w.occluded == std::vector<std::uint32_t>{0u, 1u});  // the same answers
+    if (c) CHECK(w.tests[1] == 0u);                          // the bottom is in shadow untraced
+    if (c) CHECK(w.tests[0] == 0u);                          // the top's cell holds only faces farther away
+  }
+}

@@ -113,7 +113,11 @@ GridWalks PassGridTrace(const call::GridTrace& c) {
     const layout::Ray& r = c.rays[i];
     Walk k{c, r, SetupWatertight(Xyz(r.origin_tmin), Xyz(r.direction_tmax)), r.origin_tmin.w, r.direction_tmax.w};
     const std::uint32_t cell = PerspectiveCell(c, r);
-    if (cell != kMissWord) {
+    const layout::Triangle* own = r.info.y < c.triangles.size() ? &c.triangles[r.info.y] : nullptr;
+    if (cell != kMissWord && c.closed && own &&
+        grid::FacesAway(Xyz(own->v0), Xyz(own->v1), Xyz(own->v2), Xyz(c.origins[r.info.w]))) {
+      k.best = 0;  // --closed-models: the surface faces away from its light, in shadow untraced
+    } else if (cell != kMissWord) {
       k.steps = 1;
       // The ray ends before the cell's nearest triangle: nothing to test.
       if (k.tmax > c.min_dist[cell]) k.Cell(cell);

@@ -1,7 +1,9 @@
 // The grids of `--algo grid`, built on the host in double (rayspace/emu/grid/grid.h, docs/grids.md).
 #include <algorithm>
 #include <cmath>
+#include <array>
 #include <limits>
+#include <map>
 
 #include "rayspace/emu/grid/grid.h"
 #include "rayspace/emu/intersect.h"
@@ -79,13 +81,15 @@ void AppendCsr(std::vector<std::vector<std::uint32_t>>& cells, GridArrays& g) {
 glm::dvec3 Vertex(const glm::vec4& v) { return {v.x, v.y, v.z}; }
 
 // One point light's grid: n x n cells on each of the six faces of a cube about the light.
-void BuildPerspective(const SceneBuffers& scene, glm::vec3 light, std::uint32_t n, GridArrays& g) {
+void BuildPerspective(const SceneBuffers& scene, glm::vec3 light, std::uint32_t n, bool closed, GridArrays& g) {
   const std::size_t cells = layout::kGridFaces * std::size_t{n} * n;
   std::vector<std::vector<std::uint32_t>> lists(cells);
   std::vector<float> dist(cells, INFINITY);
   const glm::dvec3 o(light);
   for (std::uint32_t t = 0; t < scene.triangles.size(); ++t) {
     const layout::Triangle& tr = scene.triangles[t];
+    // Front-face culling: a closed mesh's shadow is cast by the faces turned away from the light.
+    if (closed && !FacesAway(Xyz(tr.v0), Xyz(tr.v1), Xyz(tr.v2), light)) continue;
     const glm::dvec3 rel[3] = {Vertex(tr.v0) - o, Vertex(tr.v1) - o, Vertex(tr.v2) - o};
     // Rounded down, then by the slack: no hit of a ray of this cell is closer (docs/grids.md).
     const double d = PointTriangleDistance(o, Vertex(tr.v0), Vertex(tr.v1), Vertex(tr.v2));
@@ -192,6 +196,51 @@ double PointTriangleDistance(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec
   return glm::length(p - (a + ab * v + ac * w));
 }
 
+bool FacesAway(glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, glm::vec3 o) {
+  const glm::vec3 n = PlaneNormalOf(v0, v1, v2);
+  return Dot(n, o - v0) < 0.0f;
+}
+
+std::vector<bool> ClosedObjects(const SceneBuffers& scene, std::vector<std::size_t>* open_edges) {
+  const std::size_t n = scene.triangles.size();
+  // Vertex ids by exact coordinates; each undirected edge's triangles.
+  std::map<std::array<std::uint32_t, 3>, std::uint32_t> ids;
+  const auto id = [&](const glm::vec4& v) {
+    const std::array<std::uint32_t, 3> key{FloatBits(v.x), FloatBits(v.y), FloatBits(v.z)};
+    return ids.emplace(key, static_cast<std::uint32_t>(ids.size())).first->second;
+  };
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::uint32_t>> edges;
+  for (std::uint32_t t = 0; t < n; ++t) {
+    const layout::Triangle& tr = scene.triangles[t];
+    const std::uint32_t v[3] = {id(tr.v0), id(tr.v1), id(tr.v2)};
+    for (int e = 0; e < 3; ++e) edges[std::minmax(v[e], v[(e + 1) % 3])].push_back(t);
+  }
+  // Surfaces: union-find over triangles sharing an edge.
+  std::vector<std::uint32_t> parent(n);
+  for (std::uint32_t t = 0; t < n; ++t) parent[t] = t;
+  const auto find = [&](std::uint32_t t) {
+    while (parent[t] != t) t = parent[t] = parent[parent[t]];
+    return t;
+  };
+  for (const auto& [edge, tris] : edges)
+    for (std::size_t i = 1; i < tris.size(); ++i) parent[find(tris[i])] = find(tris[0]);
+  std::map<std::uint32_t, std::size_t> open_of_surface;
+  for (const auto& [edge, tris] : edges)
+    if (tris.size() != 2) ++open_of_surface[find(tris[0])];
+  std::vector<bool> closed;
+  if (open_edges) open_edges->clear();
+  for (const glm::uvec4& obj : scene.objects) {
+    std::map<std::uint32_t, std::size_t> surfaces;  // the open surfaces this object has triangles in
+    for (std::uint32_t t = obj.x; t < obj.x + obj.y; ++t)
+      if (const auto it = open_of_surface.find(find(t)); it != open_of_surface.end()) surfaces[it->first] = it->second;
+    std::size_t open = 0;
+    for (const auto& [s, count] : surfaces) open += count;
+    closed.push_back(obj.y > 0 && open == 0);
+    if (open_edges) open_edges->push_back(open);
+  }
+  return closed;
+}
+
 GridArrays Build(const SceneBuffers& scene, const Options& options) {
   RS_CHECK_MSG(options.cells >= 1 && options.regular >= 1, "grid: {} cells per face, {} along the box", options.cells, options.regular);
   GridArrays g;
@@ -202,7 +251,7 @@ GridArrays Build(const SceneBuffers& scene, const Options& options) {
       continue;
     }
     g.light_grids.emplace_back(static_cast<std::uint32_t>(g.first.size()), options.cells, 0u, 0u);
-    BuildPerspective(scene, Xyz(l.position), options.cells, g);
+    BuildPerspective(scene, Xyz(l.position), options.cells, options.closed, g);
   }
   g.perspective_cells = g.first.size();
   BuildRegular(scene, options.regular, g);

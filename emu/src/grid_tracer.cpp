@@ -24,6 +24,7 @@ class Grid final : public GridTracer {
     out["algorithm"] = "grid";
     out["perspective_cells_per_face"] = options_.cells;
     out["regular_cells_longest_side"] = options_.regular;
+    out["closed_models"] = options_.closed;
     if (built_) {
       const glm::uvec4 d = grids_.volume_dims[0];
       out["regular_dims"] = {d.x, d.y, d.z};
@@ -73,7 +74,8 @@ class Grid final : public GridTracer {
                                      .volume_dims = grids_.volume_dims,
                                      .triangles = scene_.triangles,
                                      .rays = rays,
-                                     .shadow = shadow});
+                                     .shadow = shadow,
+                                     .closed = options_.closed ? 1u : 0u});
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (ctx_.subpasses) ctx_.subpasses->push_back({label, ms, rays.size()});
     if (ctx_.digest) {
@@ -105,7 +107,8 @@ class Grid final : public GridTracer {
       s.tests += w.tests[i];
       if (!Perspective(rays[i], shadow)) continue;
       ++s.perspective_rays;
-      s.unoccluded_perspective_rays += w.occluded[i] == 0u;
+      if (w.occluded[i]) continue;
+      ++s.unoccluded_perspective_rays;
       s.skipped_rays += w.tests[i] == 0u;
     }
     stats_.push_back(std::move(s));

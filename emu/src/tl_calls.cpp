@@ -150,6 +150,7 @@ void CheckInputs(const call::TlTrace& c) {
 
 void CheckInputs(const call::GridTrace& c) {
   if (c.shadow > 1) ThrowInput("{}: shadow {} is neither 0 nor 1", c.kName, c.shadow);
+  if (c.closed > 1) ThrowInput("{}: closed {} is neither 0 nor 1", c.kName, c.closed);
   if (c.first.empty()) ThrowInput("{}: input 'first' is empty (it ends with the total)", c.kName);
   const std::size_t cells = c.first.size() - 1;
   for (std::size_t i = 0; i < cells; ++i)

@@ -81,6 +81,18 @@ uint PerspectiveCell() {
   return g.x + (face * n + j) * n + i;
 }
 
+// --closed-models: whether the triangle faces away from the point o (emu grid::FacesAway: the
+// watertight test's scaled plane normal, o behind the plane).
+bool FacesAway(vec3 v0, vec3 v1, vec3 v2, vec3 o) {
+  precise const vec3 e1 = v1 - v0, e2 = v2 - v0;
+  const float ke = InversePowerOfTwo(MaxAbs(e1, e2));
+  const vec3 n0 = Cross3(e1 * ke, e2 * ke);
+  const float kn = InversePowerOfTwo(MaxAbs(n0, n0));
+  precise const vec3 n = n0 * kn;
+  precise const vec3 w = o - v0;
+  return Dot3(n, w) < 0.0;
+}
+
 // 3D DDA through the regular grid over (tmin, tmax) clipped to its box (emu StepRegular).
 void StepRegular() {
   const vec3 org = r.origin_tmin.xyz, dir = r.direction_tmax.xyz;
@@ -135,7 +147,14 @@ void main() {
   if (ray >= pc.count) return;
   r = rays[ray];
   const uint cell = PerspectiveCell();
-  if (cell != kNone) {
+  bool away = false;
+  if (cell != kNone && pc.closed != 0u && r.info.y < uint(triangles.length())) {
+    const Triangle own = triangles[r.info.y];
+    away = FacesAway(own.v0.xyz, own.v1.xyz, own.v2.xyz, origins[r.info.w].xyz);
+  }
+  if (away) {
+    best = 0ul;  // --closed-models: the surface faces away from its light, in shadow untraced
+  } else if (cell != kNone) {
     steps = 1u;
     // Fault 2: the cell's least distance taken 1/64 too far.
     precise const float dmin = kFault == 2u ? min_dist[cell] * 1.015625 : min_dist[cell];

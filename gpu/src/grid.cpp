@@ -53,7 +53,8 @@ vk::Status VulkanPasses::Run(const emu::call::GridTrace& call, emu::GridWalks& o
   RS_TRY(GridOutput(*ctx_, keep, b, layout::kGridTraceBindSteps, n * 4, out.steps.data()));
   RS_TRY(GridOutput(*ctx_, keep, b, layout::kGridTraceBindTests, n * 4, out.tests.data()));
   if (n == 0) return vk::Status::Ok();
-  const layout::GridTracePush push{static_cast<std::uint32_t>(n), call.shadow, static_cast<std::uint32_t>(call.light_grids.size())};
+  const layout::GridTracePush push{static_cast<std::uint32_t>(n), call.shadow, static_cast<std::uint32_t>(call.light_grids.size()),
+                                   call.closed};
   RS_TRY(RunKernel(*ctx_, K(PassId::kGridTrace), b.All(), &push, sizeof push, push.count));
   return keep.CopyBack();
 }

@@ -166,6 +166,9 @@ void Oracle::CheckOccluded(const emu::Batch& batch) {
     } else if (frame_occluded ? OccludedDefensible(rays[i], scene_) : LitDefensible(rays[i], scene_)) {
       d.note += "; within rounding (every deciding triangle is grazed, or met near an edge or an interval end)";
       rounding_.push_back(d);
+    } else if (!shadow_changes_why_.empty()) {
+      d.note += "; changed by " + shadow_changes_why_;
+      shadow_changes_.push_back(d);
     } else {
       mismatches_.push_back(d);
     }
@@ -226,6 +229,10 @@ void Oracle::Report(nlohmann::json& out, std::size_t max_listed) const {
   out["oracle_wrong"] = oracle_wrong_.size();
   out["ties"] = ties_.size();
   out["within_rounding"] = rounding_.size();
+  if (!shadow_changes_why_.empty()) {
+    out["shadow_changes"] = shadow_changes_.size();  // shadow answers the frame departs from on purpose
+    out["shadow_changes_by"] = shadow_changes_why_;
+  }
   out["rounding_rel"] = kRoundingRel;
   out["adjudication"] = "exact rational arithmetic (CGAL Epeck)";
   // The hit rule the oracle and the exact judge applied: the frame's own (SceneBuffers::one_sided).

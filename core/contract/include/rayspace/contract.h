@@ -586,6 +586,8 @@ struct GridTracePush {
   uint count;   // rays
   uint shadow;  // 1: any hit (occluded), 0: closest hit
   uint lights;  // entries of light_grids
+  uint closed;  // 1 (--closed-models): a shadow ray ending on a triangle that faces away from its
+                // light is occluded untraced (the grids then hold only such triangles)
 };
 
 // ---- shade: direct light at the shading points into the fixed-point accumulator ---------------
@@ -646,7 +648,7 @@ static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && size
               sizeof(IntersectPush) == 44 && sizeof(ShadePush) == 20 && sizeof(ElementwisePush) == 8 &&
               sizeof(TraverseCompactPush) == 68 && sizeof(TreePush) == 40 && sizeof(IntersectTreePush) == 8 &&
               sizeof(TlListsPush) == 28 && sizeof(TlTracePush) == 24 && sizeof(TlHeadsPush) == 16 &&
-              sizeof(TlCellsPush) == 16 && sizeof(GridTracePush) == 12 && sizeof(GridVolume) == 80);
+              sizeof(TlCellsPush) == 16 && sizeof(GridTracePush) == 16 && sizeof(GridVolume) == 80);
 static_assert(kTlMaxElements == 65535u * kTlLoopBlock && kTlEscapeNone == ~0u && kTlNoParent == ~0u);
 static_assert(kTreeStepBlock % kMaxLocalSize == 0u);
 static_assert(offsetof(TraversePush, eps) == 40);

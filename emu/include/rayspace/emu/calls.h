@@ -403,7 +403,8 @@ struct GridTrace {
   In<layout::Triangle> triangles{};
   In<layout::Ray> rays{};
   std::uint32_t shadow = 0;
-  RS_FIELDS(first, cell_triangles, min_dist, light_grids, origins, volume, volume_dims, triangles, rays, shadow)
+  std::uint32_t closed = 0;  // --closed-models (grid::Options::closed)
+  RS_FIELDS(first, cell_triangles, min_dist, light_grids, origins, volume, volume_dims, triangles, rays, shadow, closed)
 };
 
 }  // namespace call

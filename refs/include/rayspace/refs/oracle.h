@@ -49,6 +49,10 @@ class Oracle {
   const std::vector<Disagreement>& oracle_wrong() const { return oracle_wrong_; }
   const std::vector<Disagreement>& ties() const { return ties_; }
   const std::vector<Disagreement>& within_rounding() const { return rounding_; }
+  // A frame that departs from exact shadows on purpose (`why`: --closed-models' front-face culling):
+  // a shadow ray the frame answers wrongly is counted as changed by it, not as a mismatch.
+  void ExpectShadowChanges(const std::string& why) { shadow_changes_why_ = why; }
+  const std::vector<Disagreement>& shadow_changes() const { return shadow_changes_; }
   // Lists every mismatch and every oracle error; ties and answers within rounding up to max_listed.
   void Report(nlohmann::json& out, std::size_t max_listed) const;
 
@@ -60,7 +64,8 @@ class Oracle {
   Tracer& tracer_;
   const SceneBuffers& scene_;
   std::size_t rays_checked_ = 0;
-  std::vector<Disagreement> mismatches_, oracle_wrong_, ties_, rounding_;
+  std::vector<Disagreement> mismatches_, oracle_wrong_, ties_, rounding_, shadow_changes_;
+  std::string shadow_changes_why_;
 };
 
 }  // namespace rayspace::refs

@@ -39,6 +39,9 @@ namespace grid {
 struct Options {
   std::uint32_t cells = 200;   // a perspective grid's cells per face side (--grid-cells)
   std::uint32_t regular = 54;  // the regular grid's cells along the scene box's longest side (--grid-regular)
+  // --closed-models (Hunt and Mark's front-face culling, valid for closed meshes only): a light's grid
+  // holds only the triangles facing away from it, and a shadow ray ending on one is occluded untraced.
+  bool closed = false;
 };
 
 // The face (0..5: +x, -x, +y, -y, +z, -z) and the (u, v) in [-1, 1] of a direction seen from a light;
@@ -53,6 +56,18 @@ std::uint32_t FaceCell(FaceUv f, std::uint32_t n);
 
 // The least distance from p to the triangle (a, b, c), in double (Ericson's closest point).
 double PointTriangleDistance(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c);
+
+// Whether the triangle (v0, v1, v2) faces away from the point o: o lies behind its plane,
+// dot((v1 - v0) x (v2 - v0), o - v0) < 0, with the normal scaled by powers of two as the watertight
+// test's (PlaneNormalOf). The kernels compute it in the same order (grid_trace.comp).
+bool FacesAway(glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, glm::vec3 o);
+
+// Closedness of the scene's surfaces. Triangles sharing an edge (vertices matched by their exact
+// coordinates) form one surface, whatever objects they belong to (a room's walls are one closed box);
+// a surface is closed when each of its edges is shared by exactly two triangles. Per object
+// (SceneBuffers::objects): whether every surface it has triangles in is closed; `open_edges` (if
+// given) receives per object the open edges of those surfaces.
+std::vector<bool> ClosedObjects(const SceneBuffers& scene, std::vector<std::size_t>* open_edges = nullptr);
 
 // Builds every point light's perspective grid and the regular grid.
 GridArrays Build(const SceneBuffers& scene, const Options& options);

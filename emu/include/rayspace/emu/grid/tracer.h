@@ -14,8 +14,8 @@
 namespace rayspace::emu {
 
 // One batch through the grids: its rays, those that went through a perspective grid (point-light
-// shadow rays) and those of them whose cell's least distance spared every test, the cells visited and
-// the triangles tested.
+// shadow rays), those of them not occluded and of these the ones whose cell's least distance spared
+// every test, the cells visited and the triangles tested.
 struct GridBatchStats {
   std::string name;  // e.g. "shadow.b0"
   std::uint32_t kind = 0;

@@ -1,0 +1,137 @@
+#include "shadow_bench.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "cli_util.h"
+#include "rayspace/emu/calls.h"
+#include "rayspace/emu/frame.h"
+#include "rayspace/emu/grid/grid.h"
+#include "rayspace/error.h"
+#include "rayspace/json_text.h"
+#include "rayspace/output_file.h"
+#include "rayspace/parallel.h"
+#include "rayspace/refs/embree_tracer.h"
+#include "rayspace/scene.h"
+
+namespace rayspace::app {
+namespace {
+
+double Median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+template <typename F>
+double TimeMs(F&& f) {
+  const auto t0 = std::chrono::steady_clock::now();
+  f();
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The shadow rays of bounce 0 (every light's), as the frame makes them; traced once by Embree.
+std::vector<layout::Ray> FirstShadowRays(const Scene& scene, const SceneBuffers& buffers, int width, int height, Tracer& embree) {
+  std::vector<layout::Ray> rays;
+  emu::FrameOptions fo;
+  fo.width = width;
+  fo.height = height;
+  Scene one = scene;
+  one.max_depth = 0;  // primary hits only: their shadow rays are the batch measured
+  emu::RenderFrame(one, buffers, embree, fo, [&](const emu::Batch& b) {
+    if (b.kind == layout::kRayShadow && b.bounce == 0) rays = *b.rays;
+  });
+  return rays;
+}
+
+struct Row {
+  std::string scene;
+  std::size_t triangles = 0, rays = 0, differing = 0, skipped = 0, unoccluded = 0;
+  double build_ms = 0, grid_ms = 0, embree_ms = 0, tests_per_ray = 0;
+  double GridRate() const { return grid_ms > 0 ? rays / grid_ms / 1e3 : 0; }
+  double EmbreeRate() const { return embree_ms > 0 ? rays / embree_ms / 1e3 : 0; }
+};
+
+Row Measure(const ShadowBenchArgs& args, const std::string& path, int width, int height) {
+  LoadOptions lo;
+  lo.data_root = args.data;
+  const Scene scene = LoadScene(path, lo);
+  bool point = false;
+  for (const LightDesc& l : scene.lights) point |= !l.IsArea();
+  if (!point) ThrowInput("{}: no point light (hard shadows need one)", path);
+  const SceneBuffers buffers = FlattenScene(scene);
+  const std::unique_ptr<Tracer> embree = refs::MakeEmbreeTracer(buffers, ThreadCount());
+  const std::vector<layout::Ray> rays = FirstShadowRays(scene, buffers, width, height, *embree);
+  Row row;
+  row.scene = scene.name;
+  row.triangles = buffers.triangles.size();
+  row.rays = rays.size();
+  std::vector<double> build, grid, emb;
+  emu::GridWalks w;
+  std::vector<std::uint32_t> occ;
+  for (int rep = 0; rep < args.repetitions; ++rep) {
+    emu::GridArrays g;
+    build.push_back(TimeMs([&] { g = emu::grid::Build(buffers, {args.grid_cells, 1, args.closed_models}); }));
+    grid.push_back(TimeMs([&] {
+      w = emu::PassGridTrace({.first = g.first, .cell_triangles = g.triangles, .min_dist = g.min_dist, .light_grids = g.light_grids,
+                              .origins = g.origins, .volume = g.volume, .volume_dims = g.volume_dims, .triangles = buffers.triangles,
+                              .rays = rays, .shadow = 1, .closed = args.closed_models ? 1u : 0u});
+    }));
+    emb.push_back(TimeMs([&] { embree->Occluded(rays, occ); }));
+  }
+  row.build_ms = Median(build);
+  row.grid_ms = Median(grid);
+  row.embree_ms = Median(emb);
+  std::uint64_t tests = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    row.differing += w.occluded[i] != occ[i];
+    tests += w.tests[i];
+    if (!w.occluded[i]) {
+      ++row.unoccluded;
+      row.skipped += w.tests[i] == 0;
+    }
+  }
+  row.tests_per_ray = rays.empty() ? 0 : static_cast<double>(tests) / rays.size();
+  return row;
+}
+
+}  // namespace
+
+ExitCode RunShadowBench(const ShadowBenchArgs& args) {
+  int width = 0, height = 0;
+  ParseSize(args.size, width, height, "--size");
+  OutputFile json = args.json.empty() ? OutputFile() : OutputFile(args.json, OutputOptions{"the JSON file", true, true, {}});
+  if (args.threads > 0) SetThreadCount(args.threads);
+  std::vector<Row> rows;
+  for (const std::string& s : args.scenes) rows.push_back(Measure(args, s, width, height));
+  std::printf("rayspace shadow-bench: hard shadows, %s, %d threads, median of %d; grid %ux%u cells per face%s\n", args.size.c_str(),
+              ThreadCount(), args.repetitions, args.grid_cells, args.grid_cells, args.closed_models ? ", --closed-models" : "");
+  std::printf("  %-14s %9s %9s %10s %10s %11s %10s %11s %9s %9s %9s\n", "scene", "triangles", "rays", "build ms", "grid ms",
+              "grid Mray/s", "embree ms", "embree Mr/s", "ratio", "tests/ray", "no test");
+  nlohmann::json j = nlohmann::json::array();
+  for (const Row& r : rows) {
+    const double ratio = r.EmbreeRate() > 0 ? r.GridRate() / r.EmbreeRate() : 0;
+    std::printf("  %-14s %9zu %9zu %10.1f %10.1f %11.2f %10.1f %11.2f %8.2fx %9.2f %8.1f%%\n", r.scene.c_str(), r.triangles, r.rays,
+                r.build_ms, r.grid_ms, r.GridRate(), r.embree_ms, r.EmbreeRate(), ratio, r.tests_per_ray,
+                r.unoccluded ? 100.0 * r.skipped / r.unoccluded : 0.0);
+    if (r.differing)
+      std::printf("  %-14s %zu of %zu shadow answers differ from Embree's%s\n", "", r.differing, r.rays,
+                  args.closed_models ? " (--closed-models changes shadows on purpose)" : "");
+    j.push_back({{"scene", r.scene}, {"triangles", r.triangles}, {"rays", r.rays}, {"build_ms", r.build_ms}, {"grid_ms", r.grid_ms},
+                 {"embree_ms", r.embree_ms}, {"grid_rays_per_s", r.GridRate() * 1e6}, {"embree_rays_per_s", r.EmbreeRate() * 1e6},
+                 {"ratio", ratio}, {"tests_per_ray", r.tests_per_ray}, {"differing", r.differing},
+                 {"unoccluded_without_tests", r.unoccluded ? static_cast<double>(r.skipped) / r.unoccluded : 0.0}});
+  }
+  std::printf("  ratio: the grid's rays/s over Embree's, tracing alone (the build is its own column); no test: the share of the\n"
+              "  unoccluded rays that needed no triangle test (the cell's least distance)\n");
+  if (!json.empty())
+    json.Commit(JsonText({{"size", args.size}, {"threads", ThreadCount()}, {"repetitions", args.repetitions}, {"grid_cells", args.grid_cells},
+                          {"closed_models", args.closed_models}, {"scenes", j}}));
+  return ExitCode::kOk;
+}
+
+}  // namespace rayspace::app
