@@ -95,6 +95,27 @@ else()
   same_frame(vulkan-cornell "${SRC}/scenes/cornell-mirrors.json" 64x64 --algo grid)
   same_frame(vulkan-soft "${SRC}/scenes/cornell-soft.json" 48x48 --algo grid --grid-cells 40)
   same_frame(vulkan-closed "${SRC}/scenes/cornell-mirrors.json" 48x48 --algo grid --closed-models)
+  # shadow-bench: one table row per scene and the same numbers as JSON; a scene without a point light
+  # is refused naming it.
+  execute_process(COMMAND "${RAYSPACE}" shadow-bench "${SRC}/scenes/cornell-mirrors.json" "${SRC}/scenes/office.json" --size 32x32
+                          --repetitions 1 --json "${WORK}/shadow-bench.json"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0 OR NOT out MATCHES "cornell-mirrors +828 +[0-9]+" OR NOT out MATCHES "office +36312 +2048")
+    set(failures "${failures}\nshadow-bench: exit ${rc}: ${out}${err}")
+  else()
+    file(READ "${WORK}/shadow-bench.json" j)
+    string(JSON rays GET "${j}" scenes 1 rays)
+    string(JSON grid_rate GET "${j}" scenes 1 grid_rays_per_s)
+    string(JSON differing GET "${j}" scenes 0 differing)
+    if(NOT rays EQUAL 2048 OR NOT grid_rate GREATER 0 OR NOT differing EQUAL 0)
+      set(failures "${failures}\nshadow-bench JSON: ${rays} rays, ${grid_rate} rays/s, ${differing} differing")
+    endif()
+  endif()
+  execute_process(COMMAND "${RAYSPACE}" shadow-bench "${SRC}/scenes/cornell-soft.json" --size 16x16 --repetitions 1
+                  RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+  if(NOT rc EQUAL 2 OR NOT err MATCHES "cornell-soft.json: no point light")
+    set(failures "${failures}\nshadow-bench on area lights only: exit ${rc}, ${err}")
+  endif()
   # Bad grid sizes are refused naming the option.
   foreach(bad "--grid-cells;0" "--grid-regular;2000")
     execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/cornell-mirrors.json" --algo grid ${bad} --out "${WORK}/x.png"
