@@ -163,19 +163,6 @@ TEST_CASE("area lights: shadow rays of a surface fill its slots light by light, 
   CHECK(Xyz(rays.rays[0].origin_tmin) != Xyz(rays.rays[12].origin_tmin));
 }
 
-namespace {
-// The colour one surface gets from a light whose slots are occluded as `occluded` says.
-glm::vec3 ShadeSlots(const Fixture& f, const layout::Surface& s, const std::vector<std::uint32_t>& occluded) {
-  std::vector<std::uint64_t> accum(3 * 64, 0);
-  const std::vector<layout::Surface> surfaces{s};
-  const std::vector<std::uint32_t> flags(occluded.size(), 1u);
-  std::vector<std::uint32_t> offsets(occluded.size());
-  for (std::size_t i = 0; i < offsets.size(); ++i) offsets[i] = static_cast<std::uint32_t>(i);
-  PassShade({.frame = f.fc, .surfaces = surfaces, .shadow_flags = flags, .shadow_offsets = offsets, .occluded = occluded,
-             .accum = &accum, .scene = &f.b});
-  return glm::vec3(accum[0], accum[1], accum[2]) / layout::kAccumScale;
-}
-}  // namespace
 
 TEST_CASE("area lights: a small light shades as the point at its centre, and each sample carries 1/N") {
   LightDesc point;
@@ -184,11 +171,11 @@ TEST_CASE("area lights: a small light shades as the point at its centre, and eac
   small.radius = 1e-3f;
   const Fixture fp(test::Diffuse("m", glm::vec3(0.5f)), point), fa(test::Diffuse("m", glm::vec3(0.5f)), small);
   const layout::Surface s = fp.Surface({0, 0, 0}, {0, 1, 0}, glm::normalize(glm::vec3(0, -1, -1)));
-  const glm::vec3 cp = ShadeSlots(fp, s, {0u});
-  const glm::vec3 ca = ShadeSlots(fa, s, std::vector<std::uint32_t>(8, 0u));
+  const glm::vec3 cp = fp.Shade(s, {0u});
+  const glm::vec3 ca = fa.Shade(s, std::vector<std::uint32_t>(8, 0u));
   CHECK(cp.x > 0.0f);
   CHECK(ca.x == doctest::Approx(cp.x).epsilon(1e-5));
   // Three samples in shadow: five eighths of the light.
-  const glm::vec3 partial = ShadeSlots(fa, s, {0u, 1u, 0u, 1u, 0u, 0u, 1u, 0u});
+  const glm::vec3 partial = fa.Shade(s, {0u, 1u, 0u, 1u, 0u, 0u, 1u, 0u});
   CHECK(partial.x == doctest::Approx(cp.x * 5.0 / 8.0).epsilon(1e-5));
 }

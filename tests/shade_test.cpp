@@ -24,15 +24,8 @@ TEST_CASE("IntPow is exact repeated squaring") {
 
 namespace {
 
-// Shades one surface with one light and returns the pixel's colour from the fixed-point accumulator.
-glm::vec3 ShadeOne(const Fixture& f, const layout::Surface& s, bool occluded) {
-  std::vector<std::uint64_t> accum(3 * 64, 0);
-  const std::vector<layout::Surface> surfaces{s};
-  const std::vector<std::uint32_t> flags{1u}, offsets{0u}, occ{occluded ? 1u : 0u};
-  PassShade({.frame = f.fc, .surfaces = surfaces, .shadow_flags = flags, .shadow_offsets = offsets, .occluded = occ,
-             .accum = &accum, .scene = &f.b});
-  return glm::vec3(accum[0], accum[1], accum[2]) / layout::kAccumScale;
-}
+// Shades one surface with one light and returns the pixel's colour.
+glm::vec3 ShadeOne(const Fixture& f, const layout::Surface& s, bool occluded) { return f.Shade(s, {occluded ? 1u : 0u}); }
 
 }  // namespace
 

@@ -16,6 +16,7 @@
 
 #include "rayspace/emu/frame.h"
 #include "rayspace/emu/hierarchy.h"
+#include "rayspace/emu/passes.h"
 #include "rayspace/emu/workgroup_ops.h"
 #include "rayspace/procedural.h"
 #include "rayspace/scene.h"
@@ -121,6 +122,18 @@ struct ShadingFixture {
     AddQuad(scene, "floor", {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}, {-1, 0, -1});
     b = FlattenScene(scene);
     fc = MakeFrameConstants(scene, b, 8, 8);
+  }
+  // The colour one shading point gets through the shade pass, its shadow slots (one per light sample)
+  // each cast and occluded as `occluded` says; read back from the fixed-point accumulator.
+  glm::vec3 Shade(const layout::Surface& s, const std::vector<std::uint32_t>& occluded) const {
+    std::vector<std::uint64_t> accum(3 * 64, 0);
+    const std::vector<layout::Surface> surfaces{s};
+    const std::vector<std::uint32_t> flags(occluded.size(), 1u);
+    std::vector<std::uint32_t> offsets(occluded.size());
+    for (std::size_t i = 0; i < offsets.size(); ++i) offsets[i] = static_cast<std::uint32_t>(i);
+    emu::PassShade({.frame = fc, .surfaces = surfaces, .shadow_flags = flags, .shadow_offsets = offsets, .occluded = occluded,
+                    .accum = &accum, .scene = &b});
+    return glm::vec3(accum[0], accum[1], accum[2]) / layout::kAccumScale;
   }
   layout::Surface Surface(glm::vec3 p, glm::vec3 n, glm::vec3 incoming) const {
     layout::Surface s{};

@@ -148,4 +148,23 @@ std::span<const T> Slice(const std::vector<T>& v, std::size_t i0, std::size_t i1
   return Slice(std::span<const T>(v), i0, i1);
 }
 
+// A zeroed output buffer of `bytes` at `binding`, kept by `keep` and copied back to dst (null: not read).
+template <std::uint32_t N>
+vk::Status Output(vk::Context& c, Keep& keep, Bindings<N>& b, std::uint32_t binding, std::size_t bytes, void* dst) {
+  const vk::Buffer* x = nullptr;
+  RS_TRY(keep.Output(c, bytes, x, dst));
+  RS_TRY(const_cast<vk::Buffer*>(x)->Zero());
+  b.Set(binding, x);
+  return vk::Status::Ok();
+}
+
+// An input array at `binding`, kept by `keep`.
+template <std::uint32_t N, typename T>
+vk::Status Input(vk::Context& c, Keep& keep, Bindings<N>& b, std::uint32_t binding, std::span<const T> v) {
+  const vk::Buffer* x = nullptr;
+  RS_TRY(keep.From(c, v, x));
+  b.Set(binding, x);
+  return vk::Status::Ok();
+}
+
 }  // namespace rayspace::gpu_backend::detail

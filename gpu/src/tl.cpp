@@ -9,24 +9,6 @@ using namespace detail;
 
 namespace {
 
-// A zeroed output buffer of `words` 32-bit words at `binding`, copied back to dst (null: not read).
-template <std::uint32_t N>
-vk::Status Output(vk::Context& c, Keep& keep, Bindings<N>& b, std::uint32_t binding, std::size_t bytes, void* dst) {
-  const vk::Buffer* x = nullptr;
-  RS_TRY(keep.Output(c, bytes, x, dst));
-  RS_TRY(const_cast<vk::Buffer*>(x)->Zero());
-  b.Set(binding, x);
-  return vk::Status::Ok();
-}
-
-template <std::uint32_t N, typename T>
-vk::Status Input(vk::Context& c, Keep& keep, Bindings<N>& b, std::uint32_t binding, std::span<const T> v) {
-  const vk::Buffer* x = nullptr;
-  RS_TRY(keep.From(c, v, x));
-  b.Set(binding, x);
-  return vk::Status::Ok();
-}
-
 // The packed lists a walk or a window pass reads, bound at the four consecutive bindings from `first`
 // (first, escapes, words, vertices: the same in tl.heads, tl.cells and tl.trace).
 template <std::uint32_t N, typename Call>
