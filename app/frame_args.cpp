@@ -56,9 +56,11 @@ void AddTlOptions(CLI::App& command, FrameArgs& args) {
       ->capture_default_str();
   command
       .add_option("--primary", args.primary,
-                  "primary visibility: the raster's G-buffer (raster), or also an eye ray per pixel traced through the "
-                  "traversal lists beside it (tl, --algo tl: checked by the oracle and counted; the G-buffer still shades)")
-      ->check(CLI::IsMember({"raster", "tl"}))
+                  "primary visibility: the raster's G-buffer (raster), or also an eye ray per pixel traced beside it "
+                  "through the traversal lists (tl, --algo tl) or the eye's perspective grid (grid, --algo grid: one "
+                  "cell of about 100x100 pixels per ray, Hunt and Mark's eye rays); checked by the oracle and counted, "
+                  "the G-buffer still shades")
+      ->check(CLI::IsMember({"raster", "tl", "grid"}))
       ->capture_default_str();
   command
       .add_option("--frustum-cull", args.frustum_cull,
@@ -280,10 +282,10 @@ emu::tl::Options MakeTlOptions(const FrameArgs& args) {
 }
 
 void ApplyPrimary(const FrameArgs& args, emu::FrameOptions& fo) {
-  if (args.primary == "tl" && args.algo != "tl")
-    ThrowInput("--primary tl: only --algo tl traces eye rays (--algo {} traces secondary rays only)", args.algo);
+  if (args.primary != "raster" && args.algo != args.primary)
+    ThrowInput("--primary {0}: only --algo {0} traces eye rays this way (--algo {1} traces secondary rays only)", args.primary, args.algo);
   if (args.frustum_cull == "on" && args.primary != "tl") ThrowInput("--frustum-cull on: needs --primary tl (the eye rays it culls for)");
-  fo.trace_primary = args.primary == "tl";
+  fo.trace_primary = args.primary != "raster";
 }
 
 bool OneSided(const FrameArgs& args) {

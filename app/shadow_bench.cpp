@@ -77,7 +77,7 @@ Row Measure(const ShadowBenchArgs& args, const std::string& path, int width, int
     emu::GridArrays g;
     build.push_back(TimeMs([&] { g = emu::grid::Build(buffers, {args.grid_cells, 1, args.closed_models}); }));
     grid.push_back(TimeMs([&] {
-      w = emu::PassGridTrace({.first = g.first, .cell_triangles = g.triangles, .min_dist = g.min_dist, .light_grids = g.light_grids,
+      w = emu::PassGridTrace({.first = g.first, .cell_triangles = g.triangles, .min_dist = g.min_dist, .boxes = g.boxes, .light_grids = g.light_grids,
                               .origins = g.origins, .volume = g.volume, .volume_dims = g.volume_dims, .triangles = buffers.triangles,
                               .rays = rays, .shadow = 1, .closed = args.closed_models ? 1u : 0u});
     }));

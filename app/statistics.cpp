@@ -171,8 +171,8 @@ nlohmann::json GridJson(const Statistics& s) {
                           {"triangle_tests", t.final_tests},
                           {"steps_per_ray", PerRay(t.grid_steps, t.rays)},
                           {"tests_per_ray", PerRay(t.final_tests, t.rays)}};
-    if (t.grid_perspective_rays) {
-      one["perspective_rays"] = t.grid_perspective_rays;
+    if (t.grid_perspective_rays) one["perspective_rays"] = t.grid_perspective_rays;
+    if (t.grid_perspective_rays && kind == layout::kRayShadow) {
       one["unoccluded_perspective_rays"] = t.grid_unoccluded_perspective_rays;
       one["rays_without_tests"] = t.grid_skipped_rays;
       one["unoccluded_without_tests_fraction"] = PerRay(t.grid_skipped_rays, t.grid_unoccluded_perspective_rays);
@@ -349,7 +349,9 @@ void Statistics::Print(std::FILE* out) const {
     for (const auto& [kind, t] : types) {
       std::fprintf(out, "  %-11s %10.2f cells + %8.1f triangles per ray", emu::RayKindName(kind), PerRay(t.grid_steps, t.rays),
                    PerRay(t.final_tests, t.rays));
-      if (t.grid_perspective_rays)
+      if (t.grid_perspective_rays && kind == layout::kRayPrimary)
+        std::fprintf(out, "; %llu through the eye's perspective grid", static_cast<unsigned long long>(t.grid_perspective_rays));
+      else if (t.grid_perspective_rays)
         std::fprintf(out, "; %llu through a light's perspective grid, %.1f%% of the unoccluded ones without a test",
                      static_cast<unsigned long long>(t.grid_perspective_rays), 100.0 * PerRay(t.grid_skipped_rays, t.grid_unoccluded_perspective_rays));
       std::fprintf(out, "\n");

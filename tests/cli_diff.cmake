@@ -500,6 +500,7 @@ diff_case(glass.grid glass 64x64 "" 0 "" --algo grid --grid-cells 64 --grid-regu
 diff_case(office.grid office 64x64 "" 0 "" --algo grid)
 diff_case(area.grid area-shapes 48x48 "" 0 "" --algo grid --grid-regular 100)
 diff_case(cornell.grid.closed cornell-mirrors 48x48 "" 0 "" --algo grid --closed-models)
+diff_case(cornell.grid.primary cornell-mirrors 40x36 "" 0 "" --algo grid --primary grid)
 foreach(f grid.trace:1 grid.trace:2 grid.trace:3 grid.trace:4)
   string(REGEX REPLACE ":.*" "" pass "${f}")
   diff_case(fault.grid.${f} cornell-mirrors 48x48 ${f} 4 ${pass} --algo grid)

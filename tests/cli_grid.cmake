@@ -90,11 +90,34 @@ else()
      OR err MATCHES "object 0 ")
     set(failures "${failures}\ncubes-closed: exit ${rc}, ${err}")
   endif()
+  # --primary grid: an eye ray per pixel through the eye's grid, one cell each, checked by the oracle
+  # (0 mismatches above all) and compared with the raster's primitives; refused with another tracer.
+  execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/cornell-mirrors.json" --size 64x64 --algo grid --primary grid
+                          --out "${WORK}/primary.png" --stats "${WORK}/primary.json"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    set(failures "${failures}\nprimary: exit ${rc}, ${out}${err}")
+  else()
+    file(READ "${WORK}/primary.json" j)
+    string(JSON mism GET "${j}" oracle mismatches)
+    string(JSON rays GET "${j}" primary rays)
+    string(JSON steps GET "${j}" grids per_type primary steps_per_ray)
+    string(JSON persp GET "${j}" grids per_type primary perspective_rays)
+    if(NOT mism EQUAL 0 OR NOT rays EQUAL 4096 OR NOT steps EQUAL 1 OR NOT persp EQUAL 4096)
+      set(failures "${failures}\nprimary: ${mism} mismatches, ${rays} eye rays, ${steps} cells per eye ray, ${persp} through the eye's grid")
+    endif()
+  endif()
+  execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --primary grid --out "${WORK}/x.png"
+                  RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+  if(NOT rc EQUAL 2 OR NOT err MATCHES "--primary grid: only --algo grid")
+    set(failures "${failures}\n--primary grid with crsh: exit ${rc}, ${err}")
+  endif()
   # The Vulkan kernel: the emulator's digest and PNG.
   set(DATA "")
   same_frame(vulkan-cornell "${SRC}/scenes/cornell-mirrors.json" 64x64 --algo grid)
   same_frame(vulkan-soft "${SRC}/scenes/cornell-soft.json" 48x48 --algo grid --grid-cells 40)
   same_frame(vulkan-closed "${SRC}/scenes/cornell-mirrors.json" 48x48 --algo grid --closed-models)
+  same_frame(vulkan-primary "${SRC}/scenes/office.json" 48x40 --algo grid --primary grid)
   # shadow-bench: one table row per scene and the same numbers as JSON; a scene without a point light
   # is refused naming it.
   execute_process(COMMAND "${RAYSPACE}" shadow-bench "${SRC}/scenes/cornell-mirrors.json" "${SRC}/scenes/office.json" --size 32x32

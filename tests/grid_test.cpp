@@ -129,7 +129,7 @@ TEST_CASE("grid: grid.trace gives brute force's closest hits and occlusion, shad
         shadow.push_back(s);
       }
       const auto call = [&](const std::vector<layout::Ray>& rays, std::uint32_t sh) {
-        return PassGridTrace({.first = g.first, .cell_triangles = g.triangles, .min_dist = g.min_dist, .light_grids = g.light_grids,
+        return PassGridTrace({.first = g.first, .cell_triangles = g.triangles, .min_dist = g.min_dist, .boxes = g.boxes, .light_grids = g.light_grids,
                               .origins = g.origins, .volume = g.volume, .volume_dims = g.volume_dims, .triangles = b.triangles,
                               .rays = rays, .shadow = sh});
       };
@@ -208,7 +208,7 @@ TEST_CASE("grid: --closed-models keeps the faces turned from the light and shado
   }
   for (const bool c : {false, true}) {
     const GridArrays& g = c ? closed : open;
-    const GridWalks w = PassGridTrace({.first = g.first, .cell_triangles = g.triangles, .min_dist = g.min_dist, .light_grids = g.light_grids,
+    const GridWalks w = PassGridTrace({.first = g.first, .cell_triangles = g.triangles, .min_dist = g.min_dist, .boxes = g.boxes, .light_grids = g.light_grids,
                                        .origins = g.origins, .volume = g.volume, .volume_dims = g.volume_dims, .triangles = b.triangles,
                                        .rays = rays, .shadow = 1, .closed = c ? 1u : 0u});
     INFO("closed " << c);
@@ -216,4 +216,37 @@ TEST_CASE("grid: --closed-models keeps the faces turned from the light and shado
     if (c) CHECK(w.tests[1] == 0u);                          // the bottom is in shadow untraced
     if (c) CHECK(w.tests[0] == 0u);                          // the top's cell holds only faces farther away
   }
+}
+
+TEST_CASE("grid: eye rays through the eye's grid give brute force's closest hits") {
+  const SceneBuffers b = SoupScene(test::TlSoup(500, 21), {{0, 2, 0}});
+  const glm::vec3 eye(0.2f, -0.1f, -2.5f);
+  CHECK(grid::EyeCells(512, std::tan(0.5 * 55.0 * 3.14159265358979 / 180.0)) == 10u);  // 983 pixels a face, 100 a cell
+  const GridArrays g = grid::Build(b, {200, 54}, &eye, 6);
+  REQUIRE(g.eye == 1u);
+  CHECK(g.light_grids[1].y == 6u);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<layout::Ray> rays;
+  for (int i = 0; i < 3000; ++i) {
+    // Eye rays all around the eye, most towards the soup.
+    const glm::vec3 d = i % 4 == 0 ? glm::vec3(u(rng), u(rng), u(rng)) : glm::vec3(u(rng), u(rng), 2.5f + u(rng)) * 0.7f;
+    layout::Ray r = test::MakeSegment(eye, d, 0.0f, INFINITY);
+    r.info = glm::uvec4(static_cast<std::uint32_t>(i), layout::kNoPrim, layout::kRayPrimary, 0);
+    rays.push_back(r);
+  }
+  const GridWalks w = PassGridTrace({.first = g.first, .cell_triangles = g.triangles, .min_dist = g.min_dist, .boxes = g.boxes,
+                                     .light_grids = g.light_grids, .origins = g.origins, .volume = g.volume, .volume_dims = g.volume_dims,
+                                     .triangles = b.triangles, .rays = rays, .shadow = 0, .eye = g.eye});
+  std::size_t hits = 0, tests = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    INFO("ray " << i);
+    CHECK(w.hits[i] == test::BruteClosest(b.triangles, rays[i]));
+    CHECK(w.steps[i] == 1u);
+    hits += w.hits[i] != kMissPacked;
+    tests += w.tests[i];
+  }
+  CHECK(hits > 1000);
+  // The rectangles of the projections spare most of a cell's triangles.
+  CHECK(tests < rays.size() * 40);
 }

@@ -23,12 +23,18 @@ struct Walk {
   std::uint64_t best = kMissPacked;
   std::uint32_t tests = 0, steps = 0;
   bool Done() const { return c.shadow != 0u && best != kMissPacked; }
-  // Tests the triangles of cell `cell` (ascending ids).
-  void Cell(std::uint32_t cell) {
+  // Tests the triangles of cell `cell` (ascending ids); in a perspective cell (`uv` given) only those
+  // whose projection's rectangle holds the ray's (u, v), as a z-buffer tests the pixels of a
+  // triangle's box.
+  void Cell(std::uint32_t cell, const grid::FaceUv* uv = nullptr) {
     const std::uint32_t b = c.first[cell], e = c.first[cell + 1];
     for (std::uint32_t i = b; i < e && !Done(); ++i) {
       const std::uint32_t t = c.cell_triangles[i];
       if (t == r.info.y) continue;
+      if (uv) {
+        const glm::vec4 box = c.boxes[i];
+        if (!(uv->u >= box.x && uv->v >= box.y && uv->u <= box.z && uv->v <= box.w)) continue;
+      }
       ++tests;
       const layout::Triangle& tr = c.triangles[t];
       // The whole range, not the best hit's t: a hit at the same t with a lower id must still win.
@@ -41,16 +47,20 @@ struct Walk {
   }
 };
 
-// A point light's shadow ray: its light's grid, or kMissWord when it has none or the ray does not
-// start at the light.
-std::uint32_t PerspectiveCell(const call::GridTrace& c, const layout::Ray& r) {
-  if (c.shadow == 0u || r.info.z != layout::kRayShadow || r.info.w >= c.light_grids.size()) return kMissWord;
-  const glm::uvec4 g = c.light_grids[r.info.w];
-  const glm::vec4 o = c.origins[r.info.w];
+// A point light's shadow ray: its light's grid; an eye ray: the eye's (--primary grid); kMissWord
+// when there is none or the ray does not start at the grid's origin. `uv`: the ray's face and (u, v).
+std::uint32_t PerspectiveCell(const call::GridTrace& c, const layout::Ray& r, grid::FaceUv& uv) {
+  std::uint32_t index = kMissWord;
+  if (c.shadow != 0u && r.info.z == layout::kRayShadow) index = r.info.w;
+  if (c.shadow == 0u && r.info.z == layout::kRayPrimary) index = c.eye;
+  if (index >= c.light_grids.size()) return kMissWord;
+  const glm::uvec4 g = c.light_grids[index];
+  const glm::vec4 o = c.origins[index];
   if (g.x == layout::kGridNoLight || o.x != r.origin_tmin.x || o.y != r.origin_tmin.y || o.z != r.origin_tmin.z) return kMissWord;
   const glm::vec3 d = Xyz(r.direction_tmax);
   if (!(Max(Max(Abs(d.x), Abs(d.y)), Abs(d.z)) > 0.0f)) return kMissWord;
-  return g.x + grid::FaceCell(grid::DirectionFace(d), g.y);
+  uv = grid::DirectionFace(d);
+  return g.x + grid::FaceCell(uv, g.y);
 }
 
 // 3D DDA through the regular grid over (tmin, tmax) clipped to its box.
@@ -112,15 +122,16 @@ GridWalks PassGridTrace(const call::GridTrace& c) {
   ParallelFor(n, [&](std::size_t i) {
     const layout::Ray& r = c.rays[i];
     Walk k{c, r, SetupWatertight(Xyz(r.origin_tmin), Xyz(r.direction_tmax)), r.origin_tmin.w, r.direction_tmax.w};
-    const std::uint32_t cell = PerspectiveCell(c, r);
+    grid::FaceUv uv;
+    const std::uint32_t cell = PerspectiveCell(c, r, uv);
     const layout::Triangle* own = r.info.y < c.triangles.size() ? &c.triangles[r.info.y] : nullptr;
-    if (cell != kMissWord && c.closed && own &&
+    if (cell != kMissWord && c.shadow != 0u && c.closed && own &&
         grid::FacesAway(Xyz(own->v0), Xyz(own->v1), Xyz(own->v2), Xyz(c.origins[r.info.w]))) {
       k.best = 0;  // --closed-models: the surface faces away from its light, in shadow untraced
     } else if (cell != kMissWord) {
       k.steps = 1;
       // The ray ends before the cell's nearest triangle: nothing to test.
-      if (k.tmax > c.min_dist[cell]) k.Cell(cell);
+      if (k.tmax > c.min_dist[cell]) k.Cell(cell, &uv);
     } else {
       StepRegular(k);
     }

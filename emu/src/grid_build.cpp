@@ -36,7 +36,7 @@ std::vector<glm::dvec3> ClipHalfSpace(const std::vector<glm::dvec3>& poly, glm::
 
 // The cells [i0, i1] x [j0, j1] of face `face` that the triangle (relative to the light) may be seen
 // through; false when it is not seen through the face at all.
-bool FaceCellRange(const glm::dvec3 tri[3], std::uint32_t face, std::uint32_t n, glm::uvec4& range) {
+bool FaceCellRange(const glm::dvec3 tri[3], std::uint32_t face, std::uint32_t n, glm::uvec4& range, glm::vec4& box) {
   const FaceAxes ax = AxesOf(face);
   const double w = 1.0 + static_cast<double>(layout::kGridFaceSlack);
   std::vector<glm::dvec3> poly(tri, tri + 3);
@@ -66,15 +66,25 @@ bool FaceCellRange(const glm::dvec3 tri[3], std::uint32_t face, std::uint32_t n,
     c[2 * k + 1] = static_cast<std::uint32_t>(std::clamp(b, 0.0, n - 1.0));
   }
   range = glm::uvec4(c[0], c[1], c[2], c[3]);  // u columns, v rows
+  // The (u, v) rectangle of the projection, rounded outwards to float and widened by the face's slack
+  // (a ray's rounded u, v); a triangle through the light: the whole face.
+  const double uv_slack = static_cast<double>(layout::kGridFaceSlack);
+  const auto down = [&](double x) { return static_cast<float>(std::max(-2.0, x - uv_slack) - 1e-12); };
+  const auto up = [&](double x) { return static_cast<float>(std::min(2.0, x + uv_slack) + 1e-12); };
+  box = glm::vec4(down(lo[0]), down(lo[1]), up(hi[0]), up(hi[1]));
   return true;
 }
 
 // Cell lists in CSR from (cell, triangle) pairs gathered per cell in triangle order.
-void AppendCsr(std::vector<std::vector<std::uint32_t>>& cells, GridArrays& g) {
-  for (auto& c : cells) {
+// With `boxes` (perspective grids), each reference's (u, v) rectangle beside it.
+void AppendCsr(std::vector<std::vector<std::uint32_t>>& cells, GridArrays& g, std::vector<std::vector<glm::vec4>>* boxes = nullptr) {
+  for (std::size_t i = 0; i < cells.size(); ++i) {
     g.first.push_back(static_cast<std::uint32_t>(g.triangles.size()));
-    g.triangles.insert(g.triangles.end(), c.begin(), c.end());
-    std::vector<std::uint32_t>().swap(c);
+    g.triangles.insert(g.triangles.end(), cells[i].begin(), cells[i].end());
+    std::vector<std::uint32_t>().swap(cells[i]);
+    if (!boxes) continue;
+    g.boxes.insert(g.boxes.end(), (*boxes)[i].begin(), (*boxes)[i].end());
+    std::vector<glm::vec4>().swap((*boxes)[i]);
   }
 }
 
@@ -84,6 +94,7 @@ glm::dvec3 Vertex(const glm::vec4& v) { return {v.x, v.y, v.z}; }
 void BuildPerspective(const SceneBuffers& scene, glm::vec3 light, std::uint32_t n, bool closed, GridArrays& g) {
   const std::size_t cells = layout::kGridFaces * std::size_t{n} * n;
   std::vector<std::vector<std::uint32_t>> lists(cells);
+  std::vector<std::vector<glm::vec4>> boxes(cells);
   std::vector<float> dist(cells, INFINITY);
   const glm::dvec3 o(light);
   for (std::uint32_t t = 0; t < scene.triangles.size(); ++t) {
@@ -98,17 +109,19 @@ void BuildPerspective(const SceneBuffers& scene, glm::vec3 light, std::uint32_t 
     df *= layout::kGridDistanceSlack;
     for (std::uint32_t f = 0; f < layout::kGridFaces; ++f) {
       glm::uvec4 r;
-      if (!FaceCellRange(rel, f, n, r)) continue;
+      glm::vec4 box;
+      if (!FaceCellRange(rel, f, n, r, box)) continue;
       for (std::uint32_t j = r.z; j <= r.w; ++j)
         for (std::uint32_t i = r.x; i <= r.y; ++i) {
           const std::size_t c = (std::size_t{f} * n + j) * n + i;
           lists[c].push_back(t);
+          boxes[c].push_back(box);
           dist[c] = std::min(dist[c], df);
         }
     }
   }
   for (const auto& l : lists) g.perspective_refs += l.size();
-  AppendCsr(lists, g);
+  AppendCsr(lists, g, &boxes);
   g.min_dist.insert(g.min_dist.end(), dist.begin(), dist.end());
 }
 
@@ -241,7 +254,12 @@ std::vector<bool> ClosedObjects(const SceneBuffers& scene, std::vector<std::size
   return closed;
 }
 
-GridArrays Build(const SceneBuffers& scene, const Options& options) {
+std::uint32_t EyeCells(std::uint32_t height, double tan_half_fov) {
+  const double face_pixels = tan_half_fov > 0 ? height / tan_half_fov : 100.0;
+  return static_cast<std::uint32_t>(std::clamp(std::round(face_pixels / 100.0), 1.0, 1024.0));
+}
+
+GridArrays Build(const SceneBuffers& scene, const Options& options, const glm::vec3* eye, std::uint32_t eye_cells) {
   RS_CHECK_MSG(options.cells >= 1 && options.regular >= 1, "grid: {} cells per face, {} along the box", options.cells, options.regular);
   GridArrays g;
   for (const layout::Light& l : scene.lights) {
@@ -252,6 +270,12 @@ GridArrays Build(const SceneBuffers& scene, const Options& options) {
     }
     g.light_grids.emplace_back(static_cast<std::uint32_t>(g.first.size()), options.cells, 0u, 0u);
     BuildPerspective(scene, Xyz(l.position), options.cells, options.closed, g);
+  }
+  if (eye) {
+    g.eye = static_cast<std::uint32_t>(g.light_grids.size());
+    g.origins.emplace_back(*eye, 1.0f);
+    g.light_grids.emplace_back(static_cast<std::uint32_t>(g.first.size()), eye_cells, 0u, 0u);
+    BuildPerspective(scene, *eye, eye_cells, false, g);
   }
   g.perspective_cells = g.first.size();
   BuildRegular(scene, options.regular, g);

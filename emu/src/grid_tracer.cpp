@@ -2,6 +2,7 @@
 #include "rayspace/emu/grid/tracer.h"
 
 #include <chrono>
+#include <cstring>
 
 #include <nlohmann/json.hpp>
 
@@ -53,14 +54,29 @@ class Grid final : public GridTracer {
  private:
   // The grids depend on the scene and its lights alone: built on the host before the first batch
   // (a frame with nothing to trace builds none), timed as the sub-pass "grid.build".
-  void Build() {
+  void Build(const layout::FrameConstants* eye_frame = nullptr) {
     const auto t0 = std::chrono::steady_clock::now();
-    grids_ = grid::Build(scene_, options_);
+    if (eye_frame) {
+      // The eye's grid: cells of about 100 x 100 pixels (grid::EyeCells) from the frame's pixel steps.
+      const layout::FrameConstants& f = *eye_frame;
+      const glm::dvec3 centre = glm::dvec3(Xyz(f.pixel_origin)) + glm::dvec3(Xyz(f.pixel_dx)) * (0.5 * f.dims.x) +
+                                glm::dvec3(Xyz(f.pixel_dy)) * (0.5 * f.dims.y);
+      const double tan_half = glm::length(glm::dvec3(Xyz(f.pixel_dy))) * 0.5 * f.dims.y / glm::length(centre);
+      const glm::vec3 eye = Xyz(f.eye);
+      eye_frame_ = f;
+      grids_ = grid::Build(scene_, options_, &eye, grid::EyeCells(f.dims.y, tan_half));
+    } else {
+      grids_ = grid::Build(scene_, options_);
+    }
     build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     built_ = true;
     if (ctx_.subpasses) ctx_.subpasses->push_back({"grid.build", build_ms_, grids_.first.size() - 1});
   }
   GridWalks Trace(const std::vector<layout::Ray>& rays, std::uint32_t shadow) {
+    // Eye rays (--primary grid) go through the eye's grid, built again whenever the camera changes.
+    const bool primary = ctx_.kind == layout::kRayPrimary && ctx_.frame;
+    if (primary && (grids_.eye == layout::kGridNoLight || std::memcmp(&eye_frame_, ctx_.frame, sizeof eye_frame_) != 0))
+      Build(ctx_.frame);
     if (!built_) Build();
     const std::string label = "grid.trace." + ctx_.name;
     passes_.Label(label);
@@ -68,6 +84,7 @@ class Grid final : public GridTracer {
     GridWalks w = passes_.GridTrace({.first = grids_.first,
                                      .cell_triangles = grids_.triangles,
                                      .min_dist = grids_.min_dist,
+                                     .boxes = grids_.boxes,
                                      .light_grids = grids_.light_grids,
                                      .origins = grids_.origins,
                                      .volume = grids_.volume,
@@ -75,7 +92,8 @@ class Grid final : public GridTracer {
                                      .triangles = scene_.triangles,
                                      .rays = rays,
                                      .shadow = shadow,
-                                     .closed = options_.closed ? 1u : 0u});
+                                     .closed = options_.closed ? 1u : 0u,
+                                     .eye = grids_.eye});
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (ctx_.subpasses) ctx_.subpasses->push_back({label, ms, rays.size()});
     if (ctx_.digest) {
@@ -92,9 +110,12 @@ class Grid final : public GridTracer {
   // A ray went through a perspective grid when it is a shadow ray from its light's position and the
   // light has a grid (what grid.trace decides, counted here from the same inputs).
   bool Perspective(const layout::Ray& r, std::uint32_t shadow) const {
-    if (!shadow || r.info.z != layout::kRayShadow || r.info.w >= grids_.light_grids.size()) return false;
-    const glm::vec4 o = grids_.origins[r.info.w];
-    return grids_.light_grids[r.info.w].x != layout::kGridNoLight && o.x == r.origin_tmin.x && o.y == r.origin_tmin.y &&
+    const std::uint32_t index = shadow && r.info.z == layout::kRayShadow    ? r.info.w
+                                : !shadow && r.info.z == layout::kRayPrimary ? grids_.eye
+                                                                             : layout::kGridNoLight;
+    if (index >= grids_.light_grids.size()) return false;
+    const glm::vec4 o = grids_.origins[index];
+    return grids_.light_grids[index].x != layout::kGridNoLight && o.x == r.origin_tmin.x && o.y == r.origin_tmin.y &&
            o.z == r.origin_tmin.z;
   }
   void Count(const std::vector<layout::Ray>& rays, std::uint32_t shadow, const GridWalks& w) {
@@ -107,7 +128,7 @@ class Grid final : public GridTracer {
       s.tests += w.tests[i];
       if (!Perspective(rays[i], shadow)) continue;
       ++s.perspective_rays;
-      if (w.occluded[i]) continue;
+      if (!shadow || w.occluded[i]) continue;
       ++s.unoccluded_perspective_rays;
       s.skipped_rays += w.tests[i] == 0u;
     }
@@ -119,6 +140,7 @@ class Grid final : public GridTracer {
   std::unique_ptr<HierarchyPasses> checked_;  // a backend's outputs checked (emu/output_checks.h)
   HierarchyPasses& passes_;
   GridArrays grids_;
+  layout::FrameConstants eye_frame_{};  // the frame the eye's grid was built for
   double build_ms_ = 0.0;
   bool built_ = false;
   BatchContext ctx_;

@@ -160,6 +160,10 @@ void CheckInputs(const call::GridTrace& c) {
   for (std::size_t i = 0; i < c.cell_triangles.size(); ++i)
     if (c.cell_triangles[i] >= c.triangles.size())
       ThrowInput("{}: input 'cell_triangles' element {} names triangle {}, out of range [0, {})", c.kName, i, c.cell_triangles[i], c.triangles.size());
+  if (c.min_dist.size() > cells) ThrowInput("{}: input 'min_dist' holds {} cells, more than the {} cells", c.kName, c.min_dist.size(), cells);
+  if (c.boxes.size() != c.first[c.min_dist.size()])
+    ThrowInput("{}: input 'boxes' holds {} rectangles, not one per reference of the {} perspective cells ({})", c.kName, c.boxes.size(),
+               c.min_dist.size(), c.first[c.min_dist.size()]);
   if (c.volume.size() != 4 || c.volume_dims.size() != 1) ThrowInput("{}: inputs 'volume'/'volume_dims' do not hold 4 and 1 entries", c.kName);
   const glm::uvec4 d = c.volume_dims[0];
   if (d.x == 0 || d.y == 0 || d.z == 0 || std::uint64_t{d.x} * d.y * d.z + d.w != cells || d.w > c.min_dist.size())
@@ -168,6 +172,8 @@ void CheckInputs(const call::GridTrace& c) {
     if (!std::isfinite(c.volume[0][k]) || !(c.volume[1][k] > 0.0f) || !std::isfinite(c.volume[1][k]) || !std::isfinite(c.volume[3][k]))
       ThrowInput("{}: input 'volume' is not a finite box of positive cells", c.kName);
   if (c.light_grids.size() != c.origins.size()) ThrowInput("{}: inputs 'light_grids' and 'origins' differ in length", c.kName);
+  if (c.eye != layout::kGridNoLight && c.eye >= c.light_grids.size())
+    ThrowInput("{}: eye {} names no entry of the {} in 'light_grids'", c.kName, c.eye, c.light_grids.size());
   for (std::size_t l = 0; l < c.light_grids.size(); ++l) {
     const glm::uvec4 g = c.light_grids[l];
     if (g.x == layout::kGridNoLight) continue;

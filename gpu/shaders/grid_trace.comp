@@ -22,6 +22,7 @@ layout(std430, binding = kGridTraceBindHits) writeonly buffer Hits { uint64_t hi
 layout(std430, binding = kGridTraceBindOccluded) writeonly buffer Occluded { uint occluded[]; };
 layout(std430, binding = kGridTraceBindSteps) writeonly buffer Steps { uint steps_out[]; };
 layout(std430, binding = kGridTraceBindTests) writeonly buffer Tests { uint tests_out[]; };
+layout(std430, binding = kGridTraceBindBoxes) readonly buffer Boxes { vec4 boxes[]; };
 layout(push_constant) uniform Block { GridTracePush pc; };
 
 const uint64_t kMiss = 0xFFFFFFFFFFFFFFFFul;
@@ -30,13 +31,15 @@ const uint kBlock = 4096u;
 float Inf() { return uintBitsToFloat(0x7F800000u); }
 
 Ray r;
+float ray_u = 0.0, ray_v = 0.0;  // a perspective ray's (u, v) on its face
 uint64_t best = kMiss;
 uint tests = 0u, steps = 0u;
 
 bool Done() { return pc.shadow != 0u && best != kMiss; }
 
-// The triangles of one cell, in ascending ids, against the whole range (tmin, tmax).
-void TestCell(uint cell) {
+// The triangles of one cell, in ascending ids, against the whole range (tmin, tmax); in a perspective
+// cell (`boxed`) only those whose projection's (u, v) rectangle holds the ray's.
+void TestCell(uint cell, bool boxed) {
   const uint b = first[cell];
   uint e = first[cell + 1u];
   // Fault 4: the last triangle of every cell is never tested.
@@ -46,6 +49,10 @@ void TestCell(uint cell) {
     for (uint i = i0; i < min(e, i0 + kBlock) && !Done(); ++i) {
       const uint t = cell_triangles[i];
       if (t == r.info.y) continue;
+      if (boxed) {
+        const vec4 box = boxes[i];
+        if (!(ray_u >= box.x && ray_v >= box.y && ray_u <= box.z && ray_v <= box.w)) continue;
+      }
       ++tests;
       const Triangle tr = triangles[t];
       float th, det;
@@ -57,12 +64,16 @@ void TestCell(uint cell) {
   }
 }
 
-// A point light's shadow ray: the cell of its direction in its light's grid (emu grid::DirectionFace
-// and grid::FaceCell), or kNone.
+// A point light's shadow ray: the cell of its direction in its light's grid; an eye ray: in the eye's
+// (--primary grid) (emu grid::DirectionFace and grid::FaceCell); kNone when there is none or the ray
+// does not start at the grid's origin.
 uint PerspectiveCell() {
-  if (pc.shadow == 0u || r.info.z != kRayShadow || r.info.w >= pc.lights) return kNone;
-  const uvec4 g = light_grids[r.info.w];
-  const vec4 o = origins[r.info.w];
+  uint index = kNone;
+  if (pc.shadow != 0u && r.info.z == kRayShadow) index = r.info.w;
+  if (pc.shadow == 0u && r.info.z == kRayPrimary) index = pc.eye;
+  if (index >= pc.lights) return kNone;
+  const uvec4 g = light_grids[index];
+  const vec4 o = origins[index];
   if (g.x == kGridNoLight || o.x != r.origin_tmin.x || o.y != r.origin_tmin.y || o.z != r.origin_tmin.z) return kNone;
   const vec3 d = r.direction_tmax.xyz;
   const vec3 a = abs(d);
@@ -71,6 +82,8 @@ uint PerspectiveCell() {
   const float m = a[major];
   const uint face = 2u * major + (d[major] < 0.0 ? 1u : 0u);
   const float u = Div(d[(major + 1u) % 3u], m), v = Div(d[(major + 2u) % 3u], m);
+  ray_u = u;
+  ray_v = v;
   const uint n = g.y;
   precise const float half_n = float(n) * 0.5;
   precise const float x = (u + 1.0) * half_n, y = (v + 1.0) * half_n;
@@ -125,7 +138,7 @@ void StepRegular() {
   const uint guard_end = vol.dims.x + vol.dims.y + vol.dims.z;
   for (uint guard = 0u; guard < guard_end; ++guard) {
     ++steps;
-    TestCell(vol.dims.w + (uint(at.z) * vol.dims.y + uint(at.y)) * vol.dims.x + uint(at.x));
+    TestCell(vol.dims.w + (uint(at.z) * vol.dims.y + uint(at.y)) * vol.dims.x + uint(at.x), false);
     if (Done()) return;
     int a = 0;
     if (next.y < next[a]) a = 1;
@@ -148,9 +161,9 @@ void main() {
   r = rays[ray];
   const uint cell = PerspectiveCell();
   bool away = false;
-  if (cell != kNone && pc.closed != 0u && r.info.y < uint(triangles.length())) {
+  if (cell != kNone && pc.shadow != 0u && pc.closed != 0u && r.info.y < uint(triangles.length())) {
     const Triangle own = triangles[r.info.y];
-    away = FacesAway(own.v0.xyz, own.v1.xyz, own.v2.xyz, origins[r.info.w].xyz);
+    away = FacesAway(own.v0.xyz, own.v1.xyz, own.v2.xyz, origins[r.info.w].xyz);  // a shadow ray's index
   }
   if (away) {
     best = 0ul;  // --closed-models: the surface faces away from its light, in shadow untraced
@@ -158,7 +171,7 @@ void main() {
     steps = 1u;
     // Fault 2: the cell's least distance taken 1/64 too far.
     precise const float dmin = kFault == 2u ? min_dist[cell] * 1.015625 : min_dist[cell];
-    if (r.direction_tmax.w > dmin) TestCell(cell);
+    if (r.direction_tmax.w > dmin) TestCell(cell, true);
   } else {
     StepRegular();
   }

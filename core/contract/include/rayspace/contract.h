@@ -563,8 +563,8 @@ RS_CONST(float, kGridDistanceSlack, 0.999755859375);  // 1 - 2^-12
 RS_CONST(uint, kGridTraceBindFirst, 0u);      // CSR offsets of every cell, then the total
 RS_CONST(uint, kGridTraceBindTriangles, 1u);  // cell_triangles
 RS_CONST(uint, kGridTraceBindMinDist, 2u);    // per perspective cell: its least distance
-RS_CONST(uint, kGridTraceBindLights, 3u);     // per light: uvec4 (first cell, n, 0, 0)
-RS_CONST(uint, kGridTraceBindOrigins, 4u);    // per light: vec4 (its position, 1)
+RS_CONST(uint, kGridTraceBindLights, 3u);     // per light (then the eye's): uvec4 (first cell, n, 0, 0)
+RS_CONST(uint, kGridTraceBindOrigins, 4u);    // per light (then the eye): vec4 (its position, 1)
 RS_CONST(uint, kGridTraceBindVolume, 5u);     // GridVolume
 RS_CONST(uint, kGridTraceBindSceneTris, 6u);  // the scene's triangles
 RS_CONST(uint, kGridTraceBindRays, 7u);
@@ -572,7 +572,8 @@ RS_CONST(uint, kGridTraceBindHits, 8u);       // closest: packed hit per ray
 RS_CONST(uint, kGridTraceBindOccluded, 9u);   // shadow: 1 per occluded ray
 RS_CONST(uint, kGridTraceBindSteps, 10u);     // per ray: cells visited
 RS_CONST(uint, kGridTraceBindTests, 11u);     // per ray: triangles tested
-RS_CONST(uint, kGridTraceBindings, 12u);
+RS_CONST(uint, kGridTraceBindBoxes, 12u);     // per perspective reference: its (u, v) rectangle
+RS_CONST(uint, kGridTraceBindings, 13u);
 // The regular grid over the scene: cells of size `cell` from `lo` to `hi`, dims.xyz of them, the
 // first at cell index dims.w.
 struct GridVolume {
@@ -588,6 +589,8 @@ struct GridTracePush {
   uint lights;  // entries of light_grids
   uint closed;  // 1 (--closed-models): a shadow ray ending on a triangle that faces away from its
                 // light is occluded untraced (the grids then hold only such triangles)
+  uint eye;     // --primary grid: the entry of light_grids/origins holding the eye's grid, which
+                // eye rays (kRayPrimary) from the eye go through; kGridNoLight: none
 };
 
 // ---- shade: direct light at the shading points into the fixed-point accumulator ---------------
@@ -648,7 +651,7 @@ static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && size
               sizeof(IntersectPush) == 44 && sizeof(ShadePush) == 20 && sizeof(ElementwisePush) == 8 &&
               sizeof(TraverseCompactPush) == 68 && sizeof(TreePush) == 40 && sizeof(IntersectTreePush) == 8 &&
               sizeof(TlListsPush) == 28 && sizeof(TlTracePush) == 24 && sizeof(TlHeadsPush) == 16 &&
-              sizeof(TlCellsPush) == 16 && sizeof(GridTracePush) == 16 && sizeof(GridVolume) == 80);
+              sizeof(TlCellsPush) == 16 && sizeof(GridTracePush) == 20 && sizeof(GridVolume) == 80);
 static_assert(kTlMaxElements == 65535u * kTlLoopBlock && kTlEscapeNone == ~0u && kTlNoParent == ~0u);
 static_assert(kTreeStepBlock % kMaxLocalSize == 0u);
 static_assert(offsetof(TraversePush, eps) == 40);

@@ -396,6 +396,7 @@ struct GridTrace {
   using Result = GridWalks;
   In<std::uint32_t> first{}, cell_triangles{};
   In<float> min_dist{};
+  In<glm::vec4> boxes{};  // per perspective reference: the (u, v) rectangle a ray must fall in to test it
   In<glm::uvec4> light_grids{};
   In<glm::vec4> origins{};
   In<glm::vec4> volume{};        // lo, cell, inv_cell, hi
@@ -403,8 +404,9 @@ struct GridTrace {
   In<layout::Triangle> triangles{};
   In<layout::Ray> rays{};
   std::uint32_t shadow = 0;
-  std::uint32_t closed = 0;  // --closed-models (grid::Options::closed)
-  RS_FIELDS(first, cell_triangles, min_dist, light_grids, origins, volume, volume_dims, triangles, rays, shadow, closed)
+  std::uint32_t closed = 0;                   // --closed-models (grid::Options::closed)
+  std::uint32_t eye = layout::kGridNoLight;   // --primary grid: the eye's entry of light_grids/origins
+  RS_FIELDS(first, cell_triangles, min_dist, boxes, light_grids, origins, volume, volume_dims, triangles, rays, shadow, closed, eye)
 };
 
 }  // namespace call

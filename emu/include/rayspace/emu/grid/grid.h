@@ -19,8 +19,10 @@ struct GridArrays {
   std::vector<std::uint32_t> first;      // every cell's CSR offset into `triangles`, then the total
   std::vector<std::uint32_t> triangles;  // per cell, ascending scene triangle ids
   std::vector<float> min_dist;           // per perspective cell: least distance from its light
-  std::vector<glm::uvec4> light_grids;   // per light: first cell (kGridNoLight: none), n
-  std::vector<glm::vec4> origins;        // per light: its position, 1
+  std::vector<glm::vec4> boxes;          // per reference of a perspective cell: its (u, v) rectangle, umin, vmin, umax, vmax
+  std::vector<glm::uvec4> light_grids;   // per light, then the eye's (--primary grid): first cell (kGridNoLight: none), n
+  std::vector<glm::vec4> origins;        // per light, then the eye: its position, 1
+  std::uint32_t eye = layout::kGridNoLight;  // the eye's entry in light_grids/origins, or none
   std::vector<glm::vec4> volume;         // the regular grid: lo, cell, inv_cell, hi
   std::vector<glm::uvec4> volume_dims;   // one entry: cells along x, y, z, the first cell
   std::uint64_t perspective_cells = 0, regular_cells = 0, perspective_refs = 0, regular_refs = 0;
@@ -69,8 +71,13 @@ bool FacesAway(glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, glm::vec3 o);
 // given) receives per object the open edges of those surfaces.
 std::vector<bool> ClosedObjects(const SceneBuffers& scene, std::vector<std::size_t>* open_edges = nullptr);
 
-// Builds every point light's perspective grid and the regular grid.
-GridArrays Build(const SceneBuffers& scene, const Options& options);
+// An eye grid's cells per face side: Hunt and Mark's cells of about 100 x 100 pixels, for an image of
+// `height` pixels whose vertical half-angle has tangent `tan_half_fov` (a face spans tangents -1..1).
+std::uint32_t EyeCells(std::uint32_t height, double tan_half_fov);
+
+// Builds every point light's perspective grid, the eye's when `eye` is given (every triangle, no
+// culling: eye rays want the closest hit), and the regular grid.
+GridArrays Build(const SceneBuffers& scene, const Options& options, const glm::vec3* eye = nullptr, std::uint32_t eye_cells = 0);
 
 }  // namespace grid
 
