@@ -12,12 +12,6 @@
 namespace rayspace::app {
 namespace {
 
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 // The backend for one repetition, checked to hold the frame; nullptr (and `why`) when it cannot be
 // made here.
@@ -42,6 +36,13 @@ void Record(BenchRow& row, const RenderedFrame& f) {
 }
 
 }  // namespace
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
 
 double BenchRow::MedianMs() const { return Median(frame_ms); }
 double BenchRow::MedianSearchMs() const { return Median(search_ms); }

@@ -11,6 +11,9 @@
 
 namespace rayspace::app {
 
+// The median of timings (0 for none): the middle one, or the mean of the two middle ones.
+double Median(std::vector<double> v);
+
 // One row of the bench table.
 struct BenchRow {
   std::string scene;

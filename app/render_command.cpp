@@ -85,8 +85,7 @@ nlohmann::json StatsJson(const RenderArgs& args, const Outcome& o) {
                     {"pixels_differing_from_raster", r.primary_differing},
                     {"frustum_culling", o.tracer.value("frustum_culling", false)}};
   if (scene.HasAreaLight())
-    j["soft_shadows"] = {{"shadow_rays_per_point", ShadowSlotsPerSurface(scene.lights)},
-                         {"penumbra_points", r.penumbra_points},
+    j["soft_shadows"] = {{"penumbra_points", r.penumbra_points},
                          {"umbra_points", r.umbra_points}};
   o.stats.ToJson(j);
   PhasesToJson(j, o.phases);

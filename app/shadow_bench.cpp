@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "bench_run.h"
 #include "cli_util.h"
 #include "rayspace/emu/calls.h"
 #include "rayspace/emu/frame.h"
@@ -20,12 +21,6 @@
 
 namespace rayspace::app {
 namespace {
-
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 template <typename F>
 double TimeMs(F&& f) {

@@ -41,7 +41,7 @@ endforeach()
 # Soft: shading points in a penumbra, 8 shadow rays per point; the same scene with a point light at
 # the rect's centre has hard shadows only and another image.
 file(READ "${WORK}/crsh.json" j)
-string(JSON per GET "${j}" soft_shadows shadow_rays_per_point)
+string(JSON per GET "${j}" shadow_rays_per_point)
 string(JSON penumbra GET "${j}" soft_shadows penumbra_points 0)
 string(JSON umbra GET "${j}" soft_shadows umbra_points 0)
 if(NOT per EQUAL 8 OR penumbra LESS 20 OR umbra LESS 20)

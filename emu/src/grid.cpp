@@ -50,13 +50,9 @@ struct Walk {
 // A point light's shadow ray: its light's grid; an eye ray: the eye's (--primary grid); kMissWord
 // when there is none or the ray does not start at the grid's origin. `uv`: the ray's face and (u, v).
 std::uint32_t PerspectiveCell(const call::GridTrace& c, const layout::Ray& r, grid::FaceUv& uv) {
-  std::uint32_t index = kMissWord;
-  if (c.shadow != 0u && r.info.z == layout::kRayShadow) index = r.info.w;
-  if (c.shadow == 0u && r.info.z == layout::kRayPrimary) index = c.eye;
-  if (index >= c.light_grids.size()) return kMissWord;
+  const std::uint32_t index = grid::PerspectiveGridOf(r, c.shadow != 0u, c.light_grids, c.origins, c.eye);
+  if (index == layout::kGridNoLight) return kMissWord;
   const glm::uvec4 g = c.light_grids[index];
-  const glm::vec4 o = c.origins[index];
-  if (g.x == layout::kGridNoLight || o.x != r.origin_tmin.x || o.y != r.origin_tmin.y || o.z != r.origin_tmin.z) return kMissWord;
   const glm::vec3 d = Xyz(r.direction_tmax);
   if (!(Max(Max(Abs(d.x), Abs(d.y)), Abs(d.z)) > 0.0f)) return kMissWord;
   uv = grid::DirectionFace(d);

@@ -178,6 +178,16 @@ FaceUv DirectionFace(glm::vec3 d) {
   return f;
 }
 
+std::uint32_t PerspectiveGridOf(const layout::Ray& r, bool shadow, std::span<const glm::uvec4> light_grids,
+                                std::span<const glm::vec4> origins, std::uint32_t eye) {
+  std::uint32_t index = layout::kGridNoLight;
+  if (shadow && r.info.z == layout::kRayShadow) index = r.info.w;
+  if (!shadow && r.info.z == layout::kRayPrimary) index = eye;
+  if (index >= light_grids.size() || light_grids[index].x == layout::kGridNoLight) return layout::kGridNoLight;
+  const glm::vec4 o = origins[index];
+  return o.x == r.origin_tmin.x && o.y == r.origin_tmin.y && o.z == r.origin_tmin.z ? index : layout::kGridNoLight;
+}
+
 std::uint32_t FaceCell(FaceUv f, std::uint32_t n) {
   const float half = static_cast<float>(n) * 0.5f;
   const float x = (f.u + 1.0f) * half, y = (f.v + 1.0f) * half;

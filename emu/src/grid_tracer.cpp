@@ -107,17 +107,6 @@ class Grid final : public GridTracer {
     Count(rays, shadow, w);
     return w;
   }
-  // A ray went through a perspective grid when it is a shadow ray from its light's position and the
-  // light has a grid (what grid.trace decides, counted here from the same inputs).
-  bool Perspective(const layout::Ray& r, std::uint32_t shadow) const {
-    const std::uint32_t index = shadow && r.info.z == layout::kRayShadow    ? r.info.w
-                                : !shadow && r.info.z == layout::kRayPrimary ? grids_.eye
-                                                                             : layout::kGridNoLight;
-    if (index >= grids_.light_grids.size()) return false;
-    const glm::vec4 o = grids_.origins[index];
-    return grids_.light_grids[index].x != layout::kGridNoLight && o.x == r.origin_tmin.x && o.y == r.origin_tmin.y &&
-           o.z == r.origin_tmin.z;
-  }
   void Count(const std::vector<layout::Ray>& rays, std::uint32_t shadow, const GridWalks& w) {
     GridBatchStats s;
     s.name = ctx_.name;
@@ -126,7 +115,7 @@ class Grid final : public GridTracer {
     for (std::size_t i = 0; i < rays.size(); ++i) {
       s.steps += w.steps[i];
       s.tests += w.tests[i];
-      if (!Perspective(rays[i], shadow)) continue;
+      if (grid::PerspectiveGridOf(rays[i], shadow != 0u, grids_.light_grids, grids_.origins, grids_.eye) == layout::kGridNoLight) continue;
       ++s.perspective_rays;
       if (!shadow || w.occluded[i]) continue;
       ++s.unoccluded_perspective_rays;

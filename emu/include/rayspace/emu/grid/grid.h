@@ -4,6 +4,7 @@
 // grid.trace call on the frame's backend, so `diff` compares it as any other pass.
 #pragma once
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -55,6 +56,13 @@ struct FaceUv {
 FaceUv DirectionFace(glm::vec3 d);
 // The cell (row-major within the face) of (u, v) on a face of n x n cells.
 std::uint32_t FaceCell(FaceUv f, std::uint32_t n);
+
+// Which perspective grid a ray goes through: a point light's shadow ray (in a shadow batch) its
+// light's, an eye ray (in a closest-hit batch) the eye's, when that entry has a grid and the ray
+// starts exactly at its origin; kGridNoLight otherwise (the regular grid). grid.trace decides so
+// (gpu/shaders/grid_trace.comp PerspectiveCell), and the statistics count with it.
+std::uint32_t PerspectiveGridOf(const layout::Ray& r, bool shadow, std::span<const glm::uvec4> light_grids,
+                                std::span<const glm::vec4> origins, std::uint32_t eye);
 
 // The least distance from p to the triangle (a, b, c), in double (Ericson's closest point).
 double PointTriangleDistance(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c);
