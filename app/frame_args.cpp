@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -83,6 +84,30 @@ void AddGridOptions(CLI::App& command, FrameArgs& args) {
                   "--algo grid: cells of the regular grid along the scene box's longest side (the others in proportion), "
                   "for every ray that is not a point light's shadow ray")
       ->check(CLI::Range(1u, 1024u))
+      ->capture_default_str();
+  command
+      .add_option("--grid-area", args.grid_area,
+                  "--algo grid: each area light's 3D perspective grid about its centre, NxNxD (cells per face side, "
+                  "twice, then depth slices; Hunt and Mark's 200x200x4), or 'regular': its shadow rays step through the "
+                  "regular grid instead (their Table 5 compares the two)")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            emu::grid::Options o;
+            return ParseGridArea(text, o);
+          },
+          "NxNxD|regular"))
+      ->capture_default_str();
+  command
+      .add_option("--grid-area-near", args.grid_area_near,
+                  "--algo grid: an area light's 3D grid begins this many times the light's reach from its centre; "
+                  "closer in, its rays walk the regular grid")
+      ->check(CLI::Range(1u, 1024u))
+      ->capture_default_str();
+  command
+      .add_option("--grid-secondary", args.grid_secondary,
+                  "--algo grid: what reflection and refraction rays walk: the regular grid, or a 3D perspective grid about "
+                  "the eye (--grid-area's cells; docs/grids.md measures both)")
+      ->check(CLI::IsMember({"regular", "perspective"}))
       ->capture_default_str();
   command.add_flag("--closed-models", args.closed_models,
                    "--algo grid: Hunt and Mark's front-face culling: a light's grid holds only the triangles facing away "
@@ -265,7 +290,35 @@ emu::HierarchyConfig MakeHierarchyConfig(const FrameArgs& args, int width, int h
   return hc;
 }
 
-emu::grid::Options MakeGridOptions(const FrameArgs& args) { return {args.grid_cells, args.grid_regular, args.closed_models}; }
+std::string ParseGridArea(const std::string& text, emu::grid::Options& o) {
+  if (text == "regular") {
+    o.area_perspective = false;
+    return {};
+  }
+  unsigned a = 0, b = 0, d = 0;
+  char tail = 0;
+  if (std::sscanf(text.c_str(), "%ux%ux%u%c", &a, &b, &d, &tail) != 3)
+    return fmt::format("'{}' is neither NxNxD (cells per face side, twice, then depth slices) nor 'regular'", text);
+  if (a != b) return fmt::format("'{}': a face's cells must be square ({} x {})", text, a, b);
+  if (a < 1 || a > 1024 || d < 1 || d > layout::kGridMaxSlices)
+    return fmt::format("'{}': cells per side must lie in [1, 1024] and slices in [1, {}]", text, layout::kGridMaxSlices);
+  // A grid's cell lists cost about 28 bytes a cell before any reference: 2^24 cells (~0.5 GB) at most.
+  if (std::uint64_t{layout::kGridFaces} * a * a * d > (std::uint64_t{1} << 24))
+    return fmt::format("'{}': {} cells in six faces, more than 2^24", text, std::uint64_t{layout::kGridFaces} * a * a * d);
+  o.area_perspective = true;
+  o.area_cells = a;
+  o.area_depth = d;
+  return {};
+}
+
+emu::grid::Options MakeGridOptions(const FrameArgs& args) {
+  emu::grid::Options o{args.grid_cells, args.grid_regular, args.closed_models};
+  o.area_near = args.grid_area_near;
+  o.secondary_perspective = args.grid_secondary == "perspective";
+  const std::string e = ParseGridArea(args.grid_area, o);
+  RS_CHECK_MSG(e.empty(), "--grid-area: {}", e);  // the option's validator has already refused it
+  return o;
+}
 
 emu::tl::Options MakeTlOptions(const FrameArgs& args) {
   emu::tl::Options o;

@@ -55,6 +55,9 @@ struct FrameArgs {
   std::uint32_t grid_cells = emu::grid::Options{}.cells;      // --grid-cells (--algo grid)
   std::uint32_t grid_regular = emu::grid::Options{}.regular;  // --grid-regular (--algo grid)
   bool closed_models = false;                                  // --closed-models (--algo grid)
+  std::string grid_area = "200x200x4";                         // --grid-area NxNxD|regular (--algo grid)
+  std::uint32_t grid_area_near = emu::grid::Options{}.area_near;  // --grid-area-near (--algo grid)
+  std::string grid_secondary = "regular";                           // --grid-secondary (--algo grid)
   std::uint32_t tree_leaf = ObjectTreeOptions{}.leaf_triangles;  // --tree-leaf
   float tree_big = ObjectTreeOptions{}.big_fraction;             // --tree-big
   bool tree_big_given = false;  // --tree-big was given (--algo tl otherwise keeps its own default)
@@ -79,6 +82,8 @@ struct FrameArgs {
 // The traversal lists' options (--algo tl): --lists, --node-order, --backface-cull, --polygon-heads,
 // --tree-leaf and --tree-big.
 emu::tl::Options MakeTlOptions(const FrameArgs& args);
+// --grid-area's value into `o`; an error naming the value, or empty.
+std::string ParseGridArea(const std::string& text, emu::grid::Options& o);
 // The grids' options (--algo grid): --grid-cells and --grid-regular.
 emu::grid::Options MakeGridOptions(const FrameArgs& args);
 // Whether the frame's triangles are one-sided (SceneBuffers::one_sided): --backface-cull on, which

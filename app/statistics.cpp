@@ -96,6 +96,10 @@ Statistics GridStatistics(const emu::GridTracer& tracer, std::size_t triangles) 
     t.grid_perspective_rays += b.perspective_rays;
     t.grid_unoccluded_perspective_rays += b.unoccluded_perspective_rays;
     t.grid_skipped_rays += b.skipped_rays;
+    t.grid_area_rays += b.area_rays;
+    t.grid_area_steps += b.area_steps;
+    t.grid_area_tests += b.area_tests;
+    t.grid_volume_rays += b.volume_rays;
   }
   for (const auto& [kind, t] : s.types) {
     s.total += t.Total();
@@ -177,6 +181,14 @@ nlohmann::json GridJson(const Statistics& s) {
       one["rays_without_tests"] = t.grid_skipped_rays;
       one["unoccluded_without_tests_fraction"] = PerRay(t.grid_skipped_rays, t.grid_unoccluded_perspective_rays);
     }
+    // Area-light shadow rays (Hunt and Mark's Table 5: cells per soft-shadow ray, 3D perspective
+    // grid against a regular grid).
+    if (t.grid_volume_rays && !t.grid_area_rays) one["through_3d_perspective_grid"] = t.grid_volume_rays;  // --grid-secondary perspective
+    if (t.grid_area_rays)
+      one["area_light_rays"] = {{"rays", t.grid_area_rays},
+                                {"through_3d_perspective_grid", t.grid_volume_rays},
+                                {"steps_per_ray", PerRay(t.grid_area_steps, t.grid_area_rays)},
+                                {"tests_per_ray", PerRay(t.grid_area_tests, t.grid_area_rays)}};
     types[emu::RayKindName(kind)] = one;
   }
   return {{"build_ms", s.grid_build_ms}, {"per_type", types}};
@@ -354,6 +366,11 @@ void Statistics::Print(std::FILE* out) const {
       else if (t.grid_perspective_rays)
         std::fprintf(out, "; %llu through a light's perspective grid, %.1f%% of the unoccluded ones without a test",
                      static_cast<unsigned long long>(t.grid_perspective_rays), 100.0 * PerRay(t.grid_skipped_rays, t.grid_unoccluded_perspective_rays));
+      if (t.grid_volume_rays && !t.grid_area_rays)
+        std::fprintf(out, "; %llu through the eye's 3D perspective grid", static_cast<unsigned long long>(t.grid_volume_rays));
+      if (t.grid_area_rays)
+        std::fprintf(out, "; area lights: %.2f cells + %.1f triangles per ray (%s)", PerRay(t.grid_area_steps, t.grid_area_rays),
+                     PerRay(t.grid_area_tests, t.grid_area_rays), t.grid_volume_rays ? "3D perspective grid" : "regular grid");
       std::fprintf(out, "\n");
     }
   // Each type's tests against its own brute force (rays of the type x triangles), then the frame's.

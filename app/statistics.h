@@ -31,6 +31,7 @@ struct Statistics {
     // --algo grid (final_tests: its triangle tests): cells visited; point-light shadow rays through a
     // perspective grid, those of them not occluded, and those no triangle test was needed for.
     std::uint64_t grid_steps = 0, grid_perspective_rays = 0, grid_unoccluded_perspective_rays = 0, grid_skipped_rays = 0;
+    std::uint64_t grid_area_rays = 0, grid_area_steps = 0, grid_area_tests = 0, grid_volume_rays = 0;
     emu::LevelStats ray_level;  // --objects tree
     // Every test of this ray type: its levels, its rays' own (--objects tree) and its final tests.
     std::uint64_t Total() const;

@@ -493,12 +493,22 @@ if("${CASE}" STREQUAL "replay.tl" AND NOT FAILURES)
 endif()
 
 # --algo grid (docs/grids.md): grid.trace equal on the mirrors' point light and many bounces, on
-# refraction, on the office's two lights, on an area light (its shadow rays through the regular grid)
-# and with coarse and fine grids; each planted fault caught in grid.trace.
+# refraction, on the office's two lights, on area lights (their shadow rays through the lights' 3D
+# perspective grids) and with coarse and fine grids; each planted fault caught in grid.trace.
 diff_case(cornell.grid cornell-mirrors 48x48 "" 0 "" --algo grid)
 diff_case(glass.grid glass 64x64 "" 0 "" --algo grid --grid-cells 64 --grid-regular 16 --local-size 32)
 diff_case(office.grid office 64x64 "" 0 "" --algo grid)
 diff_case(area.grid area-shapes 48x48 "" 0 "" --algo grid --grid-regular 100)
+# The area lights' 3D perspective grids coarse and close to the lights (many faces and slices per
+# ray), with front-face culling, and their shadow rays through the regular grid instead.
+diff_case(area.grid.coarse area-shapes 48x48 "" 0 "" --algo grid --grid-area 16x16x3 --grid-area-near 1)
+diff_case(area.grid.closed area-shapes 40x40 "" 0 "" --algo grid --grid-area 50x50x6 --closed-models)
+diff_case(area.grid.regular area-shapes 40x40 "" 0 "" --algo grid --grid-area regular)
+# Reflection and refraction rays through the 3D perspective grid about the eye (closest hits).
+diff_case(cornell.grid.secondary cornell-mirrors 48x48 "" 0 "" --algo grid --grid-secondary perspective --grid-area 24x24x5)
+diff_case(glass.grid.secondary glass 48x48 "" 0 "" --algo grid --grid-secondary perspective)
+diff_case(fault.grid.grid.trace:6 cornell-mirrors 48x48 grid.trace:6 4 grid.trace --algo grid --grid-secondary perspective --grid-area 24x24x5)
+diff_case(fault.grid.grid.trace:5 area-shapes 48x48 grid.trace:5 4 grid.trace --algo grid --grid-area 16x16x3 --grid-area-near 1)
 diff_case(cornell.grid.closed cornell-mirrors 48x48 "" 0 "" --algo grid --closed-models)
 diff_case(cornell.grid.primary cornell-mirrors 40x36 "" 0 "" --algo grid --primary grid)
 # A grid call saved by a diff replays as the call it was: with its fault reproduced, without it equal.

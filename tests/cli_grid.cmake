@@ -1,6 +1,6 @@
 # `render --algo grid` (docs/grids.md) on the bundled scenes at reduced sizes: exit 0, no oracle
 # mismatch, the same PNG bytes as --algo crsh; statistics in which every point-light shadow ray visits
-# one perspective cell and an area light's go through the regular grid; the Vulkan kernel's digest and
+# one perspective cell and an area light's walk its 3D perspective grid; the Vulkan kernel's digest and
 # PNG equal to the emulator's. The data-free scenes by default; -DPART=data those that need the data
 # root (skipped without it).
 # Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DDATA=<data root> -DWORK=<scratch> [-DPART=data] -P cli_grid.cmake
@@ -40,13 +40,33 @@ if(PART STREQUAL "data")
   same_as_crsh(dragon dragon-closeup 64x64 --grid-regular 128)
   same_as_crsh(bunny roger-bunny-res4 64x64)
   same_as_crsh(suzanne toczek-suzanne 64x64 --grid-cells 50)
+  same_as_crsh(sponza-soft sponza-soft 48x48)
 else()
   same_as_crsh(cornell cornell-mirrors 96x96)
   same_as_crsh(soft cornell-soft 64x64)
+  same_as_crsh(soft-coarse cornell-soft 48x48 --grid-area 8x8x3 --grid-area-near 1)
+  same_as_crsh(soft-regular cornell-soft 48x48 --grid-area regular)
+  same_as_crsh(secondary cornell-mirrors 64x64 --grid-secondary perspective)
   same_as_crsh(office office 96x96 --grid-cells 100)
   same_as_crsh(wavy roger-wavy-n8 64x64 --grid-regular 8)
   same_as_crsh(cubes toczek-cubes 64x64)
   if(NOT failures)
+    # The area light's shadow rays all walk its 3D grid, or none (--grid-area regular); with
+    # --grid-secondary perspective every reflection ray walks the eye's.
+    foreach(c soft soft-regular)
+      file(READ "${WORK}/${c}.grid.json" j)
+      string(JSON rays GET "${j}" grids per_type shadow area_light_rays rays)
+      string(JSON through GET "${j}" grids per_type shadow area_light_rays through_3d_perspective_grid)
+      if(rays EQUAL 0 OR (c STREQUAL "soft" AND NOT through EQUAL rays) OR (c STREQUAL "soft-regular" AND NOT through EQUAL 0))
+        set(failures "${failures}\n${c}: ${through} of ${rays} area-light shadow rays through a 3D perspective grid")
+      endif()
+    endforeach()
+    file(READ "${WORK}/secondary.grid.json" j)
+    string(JSON rays GET "${j}" grids per_type reflection rays)
+    string(JSON through GET "${j}" grids per_type reflection through_3d_perspective_grid)
+    if(rays EQUAL 0 OR NOT through EQUAL rays)
+      set(failures "${failures}\nsecondary: ${through} of ${rays} reflection rays through the eye's 3D perspective grid")
+    endif()
     # The mirrors' point light: one perspective cell per shadow ray, every shadow ray through it;
     # reflections step through several regular cells.
     file(READ "${WORK}/cornell.grid.json" j)
@@ -140,7 +160,8 @@ else()
     set(failures "${failures}\nshadow-bench on area lights only: exit ${rc}, ${err}")
   endif()
   # Bad grid sizes are refused naming the option.
-  foreach(bad "--grid-cells;0" "--grid-regular;2000")
+  foreach(bad "--grid-cells;0" "--grid-regular;2000" "--grid-area;200x100x4" "--grid-area;abc" "--grid-area;1024x1024x64"
+              "--grid-area-near;0" "--grid-secondary;bvh")
     execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/cornell-mirrors.json" --algo grid ${bad} --out "${WORK}/x.png"
                     RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
     list(GET bad 0 flag)

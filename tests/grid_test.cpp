@@ -9,6 +9,7 @@
 #include "rayspace/emu/grid/grid.h"
 #include "rayspace/emu/grid/tracer.h"
 #include "rayspace/emu/intersect.h"
+#include "rayspace/emu/light_sample.h"
 #include "tl_util.h"
 
 using namespace rayspace;
@@ -249,4 +250,144 @@ TEST_CASE("grid: eye rays through the eye's grid give brute force's closest hits
   CHECK(hits > 1000);
   // The rectangles of the projections spare most of a cell's triangles.
   CHECK(tests < rays.size() * 40);
+}
+
+namespace {
+// A soup with a sphere light and a rect light among its triangles.
+SceneBuffers AreaSoup(std::uint32_t seed) {
+  SceneBuffers b = SoupScene(test::TlSoup(400, seed), {});
+  layout::Light sphere{};
+  sphere.position = glm::vec4(0.05f, 1.1f, 0.0f, 0.08f);  // w: the radius
+  sphere.attenuation = glm::vec4(1, 0, 0, 0.125f);
+  sphere.sampling = glm::uvec4(layout::kLightSphere, 8, 0, 4);
+  layout::Light rect{};
+  rect.position = glm::vec4(-0.4f, 0.3f, 0.2f, 1.0f);
+  rect.axis_u = glm::vec4(0.06f, 0.0f, 0.0f, 4.0f);
+  rect.axis_v = glm::vec4(0.0f, 0.01f, 0.05f, 2.0f);
+  rect.attenuation = glm::vec4(1, 0, 0, 0.125f);
+  rect.sampling = glm::uvec4(layout::kLightRect, 8, 8, 4);
+  b.lights = {sphere, rect};
+  return b;
+}
+
+GridWalks Trace(const GridArrays& g, const SceneBuffers& b, const std::vector<layout::Ray>& rays, std::uint32_t shadow) {
+  return PassGridTrace({.first = g.first, .cell_triangles = g.triangles, .min_dist = g.min_dist, .boxes = g.boxes, .light_grids = g.light_grids,
+                        .origins = g.origins, .volume = g.volume, .volume_dims = g.volume_dims, .slices = g.slices, .triangles = b.triangles,
+                        .rays = rays, .shadow = shadow, .secondary = g.secondary});
+}
+}  // namespace
+
+TEST_CASE("grid: every point of every triangle beyond an area light's core lies in a 3D cell that lists it") {
+  const SceneBuffers b = AreaSoup(4);
+  grid::Options o;
+  o.area_cells = 12;
+  o.area_depth = 5;
+  o.area_near = 2;
+  const GridArrays g = grid::Build(b, o);
+  REQUIRE(g.light_grids.size() == 2);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::size_t checked = 0;
+  for (std::uint32_t l = 0; l < 2; ++l) {
+    const glm::uvec4 e = g.light_grids[l];
+    REQUIRE(e.z == 5u);
+    const glm::dvec3 c(Xyz(g.origins[l]));
+    const double near = static_cast<double>(g.origins[l].w * layout::kGridNearShrink);
+    for (std::uint32_t t = 0; t < b.triangles.size(); ++t)
+      for (int k = 0; k < 10; ++k) {
+        double s = u(rng), r = u(rng);
+        if (s + r > 1) s = 1 - s, r = 1 - r;
+        const glm::dvec3 q = PointOn(b.triangles[t], s, r) - c;
+        for (std::uint32_t f = 0; f < layout::kGridFaces; ++f) {
+          const int major = static_cast<int>(f / 2), a = (major + 1) % 3, bb = (major + 2) % 3;
+          const double m = (f % 2 == 0 ? 1.0 : -1.0) * q[major];
+          if (!(m >= near) || std::abs(q[a]) > m || std::abs(q[bb]) > m) continue;
+          // The cell in exact arithmetic: columns of (u + 1) n / 2, the slice of 1 / m among the face's bounds.
+          const std::uint32_t i = std::min(static_cast<std::uint32_t>((q[a] / m + 1.0) * 6.0), 11u);
+          const std::uint32_t j = std::min(static_cast<std::uint32_t>((q[bb] / m + 1.0) * 6.0), 11u);
+          std::uint32_t slice = 0;
+          for (std::uint32_t x = 1; x < 5; ++x) slice += 1.0 / m <= static_cast<double>(g.slices[e.w + f * 6 + x]) ? 1u : 0u;
+          const std::uint32_t cell = e.x + f * 12 * 12 * 5 + (slice * 12 + j) * 12 + i;
+          INFO("light " << l << " triangle " << t << " face " << f << " cell " << cell);
+          CHECK(Lists(g, cell, t));
+          ++checked;
+        }
+      }
+  }
+  CHECK(checked > 2000);
+}
+
+TEST_CASE("grid: area lights' shadow rays through their 3D grids give brute force's occlusion") {
+  for (std::uint32_t seed : {1u, 2u}) {
+    const SceneBuffers b = AreaSoup(seed);
+    grid::Options fine, coarse;
+    coarse.area_cells = 3;
+    coarse.area_depth = 2;
+    coarse.area_near = 1;
+    fine.area_near = 2;
+    grid::Options mid = fine;
+    mid.area_cells = 16;
+    mid.area_depth = 8;
+    for (const grid::Options& o : {fine, coarse, mid}) {
+      const GridArrays g = grid::Build(b, o);
+      std::mt19937 rng(seed * 13);
+      std::uniform_real_distribution<float> u(-1.2f, 1.2f), s(-1.0f, 1.0f);
+      std::vector<layout::Ray> rays;
+      for (int i = 0; i < 2000; ++i) {
+        // From a point of the light's box (a sample) to a point of the soup.
+        const std::uint32_t l = static_cast<std::uint32_t>(i % 2);
+        glm::vec3 lo, hi;
+        LightCorners(b.lights[l], lo, hi);
+        const glm::vec3 from = (lo + hi) * 0.5f + (hi - lo) * 0.5f * glm::vec3(s(rng), s(rng), s(rng));
+        const glm::vec3 v = glm::vec3(u(rng), u(rng), u(rng)) - from;
+        const float dist = Length(v);
+        layout::Ray r = test::MakeSegment(from, v / dist, 1e-6f, dist * kShadowTmaxFactor);
+        r.info = glm::uvec4(0, i % 7 == 0 ? static_cast<std::uint32_t>(i % 400) : layout::kNoPrim, layout::kRayShadow, l);
+        rays.push_back(r);
+      }
+      const GridWalks w = Trace(g, b, rays, 1);
+      std::size_t occluded = 0, walked = 0;
+      for (std::size_t i = 0; i < rays.size(); ++i) {
+        INFO("seed " << seed << " cells " << o.area_cells << "x" << o.area_depth << " ray " << i);
+        CHECK(grid::VolumeGridOf(rays[i], true, g.light_grids, g.secondary) == rays[i].info.w);
+        CHECK(w.occluded[i] == (test::BruteClosest(b.triangles, rays[i]) != kMissPacked ? 1u : 0u));
+        occluded += w.occluded[i];
+        walked += w.steps[i] > 3;
+      }
+      CHECK(occluded > 400);
+      CHECK(occluded < 1600);
+      CHECK(walked > 200);  // the walks cross cells
+    }
+  }
+}
+
+TEST_CASE("grid: reflection rays through the 3D grid about the eye give brute force's closest hits") {
+  const SceneBuffers b = SoupScene(test::TlSoup(500, 31), {{0, 2, 0}});
+  const glm::vec3 eye(0.3f, -0.2f, -2.5f);
+  for (const std::uint32_t cells : {200u, 5u}) {
+    grid::Options o;
+    o.secondary_perspective = true;
+    o.area_cells = cells;
+    o.area_depth = cells == 5u ? 3u : 4u;
+    const GridArrays g = grid::Build(b, o, nullptr, 0, &eye);
+    REQUIRE(g.secondary == 1u);
+    std::mt19937 rng(cells);
+    std::uniform_real_distribution<float> u(-1.3f, 1.3f);
+    std::vector<layout::Ray> rays;
+    for (int i = 0; i < 2500; ++i) {
+      const glm::vec3 org(u(rng), u(rng), u(rng)), to(u(rng), u(rng), u(rng));
+      layout::Ray r = test::MakeSegment(org, to - org, 0.0f, i % 3 == 0 ? 1.0f : INFINITY, i % 5 == 0 ? static_cast<std::uint32_t>(i % 500) : layout::kNoPrim);
+      r.info.z = i % 2 ? layout::kRayReflection : layout::kRayRefraction;
+      rays.push_back(r);
+    }
+    const GridWalks w = Trace(g, b, rays, 0);
+    std::size_t hits = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      INFO("cells " << cells << " ray " << i);
+      CHECK(grid::VolumeGridOf(rays[i], false, g.light_grids, g.secondary) == 1u);
+      CHECK(w.hits[i] == test::BruteClosest(b.triangles, rays[i]));
+      hits += w.hits[i] != kMissPacked;
+    }
+    CHECK(hits > 800);
+  }
 }

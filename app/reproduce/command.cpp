@@ -19,6 +19,7 @@
 #include "plot.h"
 #include "report.h"
 #include "roger.h"
+#include "hunt.h"
 #include "toczek.h"
 
 namespace rayspace::reproduce {
@@ -39,6 +40,7 @@ void FrameSize(const ReproduceArgs& args, int& w, int& h) {
 // twice the side; --full runs every level of detail of the bunny, --quick the two lowest).
 std::vector<Config> TargetConfigs(const std::string& target, const ReproduceArgs& args, int w, int h) {
   if (target == "roger") return RogerConfigs(w, h, args.full);
+  if (target == "hunt-mark") return HuntConfigs(w, h);
   // The paper's frames are 1024x1024: --full measures at that size unless --size says otherwise.
   if (target == "toczek") {
     const bool paper = args.full && args.size.empty();

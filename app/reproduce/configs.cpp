@@ -23,7 +23,7 @@ const std::vector<Target>& Targets() {
       {"thesis", "", "CRSH thesis (Reis 2015) tables 4.1-4.27: RAH and CRSH per level, totals, % of brute force, phase timings; Roger's quadtree beside them"},
       {"roger", "", "Roger et al. 2007 figures 9(a-c), 13(a-c): phase shares, work against the bunny's LOD, against cos(nx)cos(ny), tests per ray, against pixels; rah-quadtree and rah"},
       {"toczek", "", "Toczek et al. 2010 tables 1-2: traversed nodes per ray against the node order (table 1, bunny without ground) and against the triangle count (table 2: cubes, Suzanne, bunny, dragon); --algo tl"},
-      {"hunt-mark", "the algorithm is not built yet", "Hunt and Mark tables 1 and 5"},
+      {"hunt-mark", "", "Hunt and Mark 2008 tables 1 and 5: eye-ray and hard-shadow rates and build share against the triangle count (bunny LODs, conference), grid cells per soft-shadow ray, regular against 3D perspective grid (Sponza, conference); --algo grid"},
   };
   return targets;
 }
@@ -42,6 +42,7 @@ const std::vector<std::pair<int, int>>& ThesisShapes() {
 std::string Config::Canonical() const {
   // The quadtree's subdivision is 4 and its depth log2 of the image size: both follow from the size.
   const std::string shape = quadtree() ? "quadtree"
+                            : grid()   ? fmt::format("grid{}{}", grid_area.empty() ? "" : " area=" + grid_area, primary ? " primary=grid" : "")
                             : tl()     ? fmt::format("lists={} order={}{}{}{}{}", lists, node_order, cull ? " cull=on" : "", heads.empty() ? "" : " heads=" + heads,
                                                    primary ? " primary=tl" : "", frustum ? " frustum=on" : "")
                                        : fmt::format("subdivision={} levels={}", subdivision, levels);
@@ -61,6 +62,7 @@ std::string Config::Canonical() const {
 
 std::string Config::Name() const {
   const std::string name = quadtree() ? fmt::format("{} {}", scene, algo)
+                           : grid()   ? fmt::format("{} grid{}{}", scene, grid_area.empty() ? "" : " " + grid_area, primary ? " primary" : "")
                            : tl()     ? fmt::format("{} tl K{} {}{}{}{}{}", scene, lists, node_order, cull ? " culled" : "", heads.empty() ? "" : " heads " + heads,
                                                   primary ? " primary" : "", frustum ? " frustum" : "")
                                       : fmt::format("{} {} s{} d{}", scene, algo, subdivision, levels);
@@ -71,6 +73,7 @@ std::string Config::Name() const {
 
 std::string Config::RenderArgs() const {
   const std::string shape = quadtree() ? ""
+                            : grid()   ? fmt::format("{}{}", grid_area.empty() ? "" : " --grid-area " + grid_area, primary ? " --primary grid" : "")
                             : tl()     ? fmt::format(" --lists {} --node-order {}{}{}{}{}", lists, node_order, cull ? " --backface-cull on" : "",
                                                    heads.empty() ? "" : " --polygon-heads " + heads, primary ? " --primary tl" : "",
                                                    frustum ? " --frustum-cull on" : "")

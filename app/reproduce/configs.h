@@ -48,6 +48,9 @@ struct Config {
   std::string heads;  // --algo tl --polygon-heads: empty for off
   // --primary tl (eye rays traced through the lists beside the raster) and --frustum-cull on.
   bool primary = false, frustum = false;
+  // --algo grid (hunt-mark): --grid-area (empty: the default), and `primary` is --primary grid.
+  std::string grid_area;
+  bool grid() const { return algo == "grid"; }
   bool tl() const { return algo == "tl"; }
   bool quadtree() const { return algo == "rah-quadtree"; }
   // Every setting that changes the counts, as one line (part of the result's key).

@@ -47,7 +47,8 @@ void AddRogerReport(Report& report, const std::vector<const Result*>& results);
 // and time against cone-sphere tests (figures 13(b) and 13(c)). Not byte-identical.
 std::vector<Table> RogerTimings(const std::vector<const Result*>& results);
 // A table's series plot (plot_x against plot_y) into out/plots/table-<id>.svg, and its markdown line.
-std::string SeriesPlot(const Table& table, const std::filesystem::path& out);
+// `dir`: the folder under `out` (a plot of times goes apart from the reproducible ones).
+std::string SeriesPlot(const Table& table, const std::filesystem::path& out, const std::string& dir = "plots");
 std::string ReportMarkdown(const Report& report);
 std::string TableCsv(const Table& table);
 // The summary: per relation, how many of its checks hold, ours and published.

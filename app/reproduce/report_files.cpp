@@ -7,6 +7,7 @@
 #include "report.h"
 #include "rayspace/json_text.h"
 #include "roger.h"
+#include "hunt.h"
 #include "toczek.h"
 
 namespace rayspace::reproduce {
@@ -87,19 +88,26 @@ void WriteReport(const std::filesystem::path& out, const std::vector<Result>& re
   const Published& published = ThesisPublished();
   // Each target's sections from its own results: a run of roger alone has no thesis tables.
   std::vector<Result> thesis;
-  std::vector<const Result*> roger, toczek;
+  std::vector<const Result*> roger, toczek, hunt;
   for (const Result& r : results)
     if (r.config.target == "roger") roger.push_back(&r);
     else if (r.config.target == "toczek") toczek.push_back(&r);
+    else if (r.config.target == "hunt-mark") hunt.push_back(&r);
     else thesis.push_back(r);
   const std::vector<const Result*> sorted = TableOrder(results), roger_sorted = TableOrder(roger);
   Report report = thesis.empty() ? Report{} : BuildReport(thesis, published);
-  if (thesis.empty())
-    report.title = roger.empty()    ? "Toczek et al. 2010: its tables and ours"
-                   : toczek.empty() ? "Roger et al. 2007: its claims and ours"
-                                    : "Roger et al. 2007 and Toczek et al. 2010: the papers and ours";
+  if (thesis.empty()) {
+    const int targets = !roger.empty() + !toczek.empty() + !hunt.empty();
+    report.title = targets > 1 && hunt.empty() ? "Roger et al. 2007 and Toczek et al. 2010: the papers and ours"
+                   : targets > 1              ? "The papers and ours"
+                   : !hunt.empty()            ? "Hunt and Mark 2008: its tables and ours"
+                   : !roger.empty()           ? "Roger et al. 2007: its claims and ours"
+                                              : "Toczek et al. 2010: its tables and ours";
+  }
   AddRogerReport(report, roger_sorted);
   AddToczekReport(report, TableOrder(toczek));
+  Report hunt_timings;
+  AddHuntReport(report, hunt_timings, TableOrder(hunt));
   for (Table& t : report.tables)
     if (const std::string plot = t.plot_x.empty() ? TablePlots(t, out) : SeriesPlot(t, out); !plot.empty()) t.notes.push_back(plot);
   std::filesystem::create_directories(out / "tables");
@@ -114,6 +122,10 @@ void WriteReport(const std::filesystem::path& out, const std::vector<Result>& re
                                    "not part of the reproducible report.");
   if (!thesis_sorted.empty()) timing_report.tables.push_back(TimingsTable(thesis_sorted, published));
   for (Table& t : RogerTimings(roger_sorted)) timing_report.tables.push_back(std::move(t));
+  for (Table& t : hunt_timings.tables) {
+    if (const std::string plot = SeriesPlot(t, out, "timing-plots"); !plot.empty()) t.notes.push_back(plot);
+    timing_report.tables.push_back(std::move(t));
+  }
   std::string csv;
   for (const Table& t : timing_report.tables) csv += (csv.empty() ? "" : "\n") + TableCsv(t);
   WriteText(out / "timings.csv", csv, "the timings file");

@@ -209,7 +209,7 @@ void AddRogerReport(Report& report, const std::vector<const Result*>& results) {
   for (Table& t : figures) report.tables.push_back(std::move(t));
 }
 
-std::string SeriesPlot(const Table& table, const std::filesystem::path& out) {
+std::string SeriesPlot(const Table& table, const std::filesystem::path& out, const std::string& dir) {
   const auto col = [&](const std::string& name) {
     return static_cast<std::size_t>(std::find(table.columns.begin(), table.columns.end(), name) - table.columns.begin());
   };
@@ -239,9 +239,9 @@ std::string SeriesPlot(const Table& table, const std::filesystem::path& out) {
     std::sort(s.points.begin(), s.points.end(), [](const plot::Point& a, const plot::Point& b) { return a.x < b.x; });
   const std::vector<std::uint8_t> svg = plot::Render(p, plot::Format::kSvg);
   const std::string name = "table-" + table.id + ".svg";
-  std::filesystem::create_directories(out / "plots");
-  WriteText(out / "plots" / name, std::string(svg.begin(), svg.end()), "a report plot");
-  return fmt::format("Plot: [plots/{}](plots/{}) ({} against {}, log axes, a line per {}).", name, name, table.plot_y,
+  std::filesystem::create_directories(out / dir);
+  WriteText(out / dir / name, std::string(svg.begin(), svg.end()), "a report plot");
+  return fmt::format("Plot: [{}/{}]({}/{}) ({} against {}, log axes, a line per {}).", dir, name, dir, name, table.plot_y,
                      table.plot_x, table.plot_group);
 }
 

@@ -48,6 +48,7 @@ nlohmann::json ConfigJson(const Config& c) {
   if (!c.heads.empty()) j["heads"] = c.heads;
   if (c.primary) j["primary"] = true;
   if (c.frustum) j["frustum"] = true;
+  if (!c.grid_area.empty()) j["grid_area"] = c.grid_area;
   return j;
 }
 
@@ -71,6 +72,7 @@ Config ConfigFromJson(const nlohmann::json& j) {
   c.heads = j.value("heads", std::string());
   c.primary = j.value("primary", false);
   c.frustum = j.value("frustum", false);
+  c.grid_area = j.value("grid_area", std::string());
   return c;
 }
 

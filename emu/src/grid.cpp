@@ -60,13 +60,13 @@ std::uint32_t PerspectiveCell(const call::GridTrace& c, const layout::Ray& r, gr
 }
 
 // 3D DDA through the regular grid over (tmin, tmax) clipped to its box.
-void StepRegular(Walk& k) {
+void StepRegular(Walk& k, float tmin, float tmax) {
   const call::GridTrace& c = k.c;
   const glm::vec3 lo = Xyz(c.volume[0]), cell = Xyz(c.volume[1]), inv_cell = Xyz(c.volume[2]), hi = Xyz(c.volume[3]);
   const glm::uvec4 dims = c.volume_dims[0];
   const glm::vec3 org = Xyz(k.r.origin_tmin), dir = Xyz(k.r.direction_tmax);
   glm::vec3 inv;
-  float t0 = k.tmin, t1 = k.tmax;
+  float t0 = tmin, t1 = tmax;
   for (int a = 0; a < 3; ++a) {
     inv[a] = 1.0f / dir[a];
     float ta = (lo[a] - org[a]) * inv[a], tb = (hi[a] - org[a]) * inv[a];
@@ -106,6 +106,130 @@ void StepRegular(Walk& k) {
   }
 }
 
+// Clips [t0, t1] to the half-line where g0 + g1 t >= 0.
+void ClipLinear(float g0, float g1, float& t0, float& t1) {
+  if (g1 > 0.0f) t0 = Max(t0, -g0 / g1);
+  else if (g1 < 0.0f) t1 = Min(t1, -g0 / g1);
+  else if (g0 < 0.0f) t1 = -INFINITY;
+}
+
+// The ray's box-clipped range [t0, t1] within region `region` of a 3D grid about `c` (core half-side
+// zn): 0..5 a face's frustum beyond the near plane (sides widened by kGridFaceSlack), 6 the core.
+void RegionRange(glm::vec3 oq, glm::vec3 dir, float zn, std::uint32_t region, float& t0, float& t1) {
+  if (region == layout::kGridFaces) {
+    const float h = zn * layout::kGridCoreWiden;
+    for (int a = 0; a < 3; ++a) {
+      ClipLinear(h - oq[a], -dir[a], t0, t1);  // oq + dir t <= h
+      ClipLinear(h + oq[a], dir[a], t0, t1);   // oq + dir t >= -h
+    }
+    return;
+  }
+  const std::uint32_t major = region / 2u, ua = (major + 1u) % 3u, vb = (major + 2u) % 3u;
+  const float sgn = region % 2u == 0u ? 1.0f : -1.0f;
+  const float m0 = sgn * oq[major], dm = sgn * dir[major];
+  const float wide = 1.0f + layout::kGridFaceSlack;
+  ClipLinear(m0 - zn * layout::kGridNearShrink, dm, t0, t1);
+  const float wm0 = wide * m0, wdm = wide * dm;
+  ClipLinear(wm0 - oq[ua], wdm - dir[ua], t0, t1);
+  ClipLinear(wm0 + oq[ua], wdm + dir[ua], t0, t1);
+  ClipLinear(wm0 - oq[vb], wdm - dir[vb], t0, t1);
+  ClipLinear(wm0 + oq[vb], wdm + dir[vb], t0, t1);
+}
+
+// A point of face `f` in perspective space: (u, v) as cell coordinates x = (u + 1) n / 2, and r = 1 / m;
+// m is kept at or beyond the near plane. Returns m.
+float Perspective(glm::vec3 q, std::uint32_t f, float half_n, float near, glm::vec3& p) {
+  const std::uint32_t major = f / 2u, ua = (major + 1u) % 3u, vb = (major + 2u) % 3u;
+  const float sgn = f % 2u == 0u ? 1.0f : -1.0f;
+  const float m = Max(sgn * q[major], near);
+  p = glm::vec3((q[ua] / m + 1.0f) * half_n, (q[vb] / m + 1.0f) * half_n, 1.0f / m);
+  return m;
+}
+
+// An area light's shadow ray through its 3D perspective grid: the part in the core through the
+// regular grid, the part in each face's frustum through the face's cells, in order of entry, each each a 3D DDA along the straight line the ray is in perspective
+// space (Hunt and Mark 5.3). Returns early on a hit (shadow) or once the best hit lies before where
+// the walk is (closest).
+void StepVolume(Walk& k, std::uint32_t index) {
+  const call::GridTrace& c = k.c;
+  const glm::uvec4 g = c.light_grids[index];
+  const glm::vec4 o = c.origins[index];
+  const std::uint32_t n = g.y, depth = g.z;
+  const float zn = o.w, near = zn * layout::kGridNearShrink, half_n = static_cast<float>(n) * 0.5f;
+  const glm::vec3 org = Xyz(k.r.origin_tmin), dir = Xyz(k.r.direction_tmax);
+  const glm::vec3 oq = org - Xyz(o);
+  // The ray within the regular grid's box (every triangle lies inside it).
+  float T0 = k.tmin, T1 = k.tmax;
+  for (int a = 0; a < 3; ++a) {
+    ClipLinear(org[a] - c.volume[0][a], dir[a], T0, T1);
+    ClipLinear(c.volume[3][a] - org[a], -dir[a], T0, T1);
+  }
+  if (!(T0 <= T1)) return;
+  constexpr std::uint32_t kRegions = layout::kGridFaces + 1u;
+  float r0[kRegions], r1[kRegions];
+  for (std::uint32_t s = 0; s < kRegions; ++s) {
+    r0[s] = T0;
+    r1[s] = T1;
+    RegionRange(oq, dir, zn, s, r0[s], r1[s]);
+  }
+  std::uint32_t done = 0u;  // regions walked, one bit each
+  const std::uint32_t cells_per_face = n * n * depth;
+  for (std::uint32_t round = 0; round < kRegions; ++round) {
+    // The next region in order of entry (ties: the lower region), skipping empty ones.
+    std::uint32_t s = kRegions;
+    for (std::uint32_t x = 0; x < kRegions; ++x)
+      if (!(done & (1u << x)) && r0[x] <= r1[x] && (s == kRegions || r0[x] < r0[s])) s = x;
+    if (s == kRegions) return;
+    done |= 1u << s;
+    const float t0 = r0[s], t1 = r1[s];
+    if (k.best != kMissPacked && HitT(k.best) < t0) return;
+    if (s == layout::kGridFaces) {  // the core: the regular grid's cells
+      StepRegular(k, t0, t1);
+      if (k.Done()) return;
+      continue;
+    }
+    const float* bounds = &c.slices[g.w + s * (depth + 1u)];
+    glm::vec3 p0, p1;
+    const float ma = Perspective(oq + dir * t0, s, half_n, near, p0);
+    const float mb = Perspective(oq + dir * t1, s, half_n, near, p1);
+    const glm::vec3 delta = p1 - p0;
+    glm::ivec3 at;
+    glm::ivec3 step;
+    glm::vec3 next;
+    for (int a = 0; a < 2; ++a) {
+      at[a] = static_cast<int>(Min(static_cast<std::uint32_t>(Max(p0[a], 0.0f)), n - 1u));
+      step[a] = delta[a] > 0.0f ? 1 : (delta[a] < 0.0f ? -1 : 0);
+      next[a] = step[a] == 0 ? INFINITY : (static_cast<float>(at[a] + (step[a] > 0 ? 1 : 0)) - p0[a]) / delta[a];
+    }
+    std::uint32_t slice = 0;
+    for (std::uint32_t j = 1; j < depth; ++j) slice += p0.z <= bounds[j] ? 1u : 0u;
+    at.z = static_cast<int>(slice);
+    // Away from the light, r falls: the far boundary is slice + 1's.
+    step.z = delta.z < 0.0f ? 1 : (delta.z > 0.0f ? -1 : 0);
+    next.z = step.z == 0 ? INFINITY : (bounds[at.z + (step.z > 0 ? 1 : 0)] - p0.z) / delta.z;
+    for (std::uint32_t guard = 0; guard < 2u * n + depth; ++guard) {
+      ++k.steps;
+      k.Cell(g.x + s * cells_per_face + (static_cast<std::uint32_t>(at.z) * n + static_cast<std::uint32_t>(at.y)) * n +
+             static_cast<std::uint32_t>(at.x));
+      if (k.Done()) return;
+      int a = 0;
+      if (next.y < next[a]) a = 1;
+      if (next.z < next[a]) a = 2;
+      const float exit = next[a];
+      if (!(exit <= 1.0f)) break;
+      // The exit's t (perspective-correct: the fraction of the way in perspective space is not t's).
+      if (k.best != kMissPacked) {
+        const float te = t0 + (t1 - t0) * ((exit * ma) / ((1.0f - exit) * mb + exit * ma));
+        if (HitT(k.best) < te) return;
+      }
+      at[a] += step[a];
+      if (at[a] < 0 || at[a] >= static_cast<int>(a == 2 ? depth : n)) break;
+      next[a] = a == 2 ? (bounds[at.z + (step.z > 0 ? 1 : 0)] - p0.z) / delta.z
+                       : (static_cast<float>(at[a] + (step[a] > 0 ? 1 : 0)) - p0[a]) / delta[a];
+    }
+  }
+}
+
 }  // namespace
 
 GridWalks PassGridTrace(const call::GridTrace& c) {
@@ -120,16 +244,21 @@ GridWalks PassGridTrace(const call::GridTrace& c) {
     Walk k{c, r, SetupWatertight(Xyz(r.origin_tmin), Xyz(r.direction_tmax)), r.origin_tmin.w, r.direction_tmax.w};
     grid::FaceUv uv;
     const std::uint32_t cell = PerspectiveCell(c, r, uv);
+    const std::uint32_t volume = grid::VolumeGridOf(r, c.shadow != 0u, c.light_grids, c.secondary);
     const layout::Triangle* own = r.info.y < c.triangles.size() ? &c.triangles[r.info.y] : nullptr;
-    if (cell != kMissWord && c.shadow != 0u && c.closed && own &&
-        grid::FacesAway(Xyz(own->v0), Xyz(own->v1), Xyz(own->v2), Xyz(c.origins[r.info.w]))) {
-      k.best = 0;  // --closed-models: the surface faces away from its light, in shadow untraced
+    // --closed-models: a surface facing away from the light (an area light's sample: the ray's
+    // origin) is in shadow untraced.
+    const bool culled = (cell != kMissWord || volume != layout::kGridNoLight) && c.shadow != 0u && c.closed && own;
+    if (culled && grid::FacesAway(Xyz(own->v0), Xyz(own->v1), Xyz(own->v2), Xyz(volume != layout::kGridNoLight ? r.origin_tmin : c.origins[r.info.w]))) {
+      k.best = 0;
+    } else if (volume != layout::kGridNoLight) {
+      StepVolume(k, volume);
     } else if (cell != kMissWord) {
       k.steps = 1;
       // The ray ends before the cell's nearest triangle: nothing to test.
       if (k.tmax > c.min_dist[cell]) k.Cell(cell, &uv);
     } else {
-      StepRegular(k);
+      StepRegular(k, k.tmin, k.tmax);
     }
     if (c.shadow) out.occluded[i] = k.best != kMissPacked ? 1u : 0u;
     else out.hits[i] = k.best;

@@ -7,6 +7,7 @@
 
 #include "rayspace/emu/grid/grid.h"
 #include "rayspace/emu/intersect.h"
+#include "rayspace/emu/light_sample.h"
 #include "rayspace/error.h"
 
 namespace rayspace::emu::grid {
@@ -125,6 +126,114 @@ void BuildPerspective(const SceneBuffers& scene, glm::vec3 light, std::uint32_t 
   g.min_dist.insert(g.min_dist.end(), dist.begin(), dist.end());
 }
 
+// Whether every point of the box [lo, hi] lies strictly in front of the triangle's plane: the
+// triangle is front-facing from every point of a light inside the box (Hunt and Mark's soft-shadow
+// culling, valid for closed meshes).
+bool FrontFromBox(const layout::Triangle& tr, glm::dvec3 lo, glm::dvec3 hi) {
+  const glm::dvec3 a = Vertex(tr.v0), n = glm::cross(Vertex(tr.v1) - a, Vertex(tr.v2) - a);
+  for (int k = 0; k < 8; ++k) {
+    const glm::dvec3 p((k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z);
+    if (!(glm::dot(n, p - a) > 0.0)) return false;
+  }
+  return true;
+}
+
+// The depth slice (0..D-1) of r = 1 / depth on a face whose boundaries are `b` (D + 1 of them,
+// decreasing): how many inner boundaries lie at or beyond r (grid_trace.comp SliceOf).
+std::uint32_t SliceOf(double r, const float* b, std::uint32_t depth) {
+  std::uint32_t k = 0;
+  for (std::uint32_t j = 1; j < depth; ++j) k += r <= static_cast<double>(b[j]) ? 1u : 0u;
+  return k;
+}
+
+// An area light's 3D perspective grid about its centre (rayspace/contract.h, kGridNearShrink): per
+// face n x n x D cells in (u, v, r = 1 / depth), depth slices spaced geometrically from the core's
+// half-side zn (Options::area_near times the light's reach) to the farthest corner of the scene's
+// box. Each triangle goes into the cells of the perspective box of its part in the face's frustum
+// beyond the near plane, widened by kGridCellSlack in u, v and 2^-10 in r. Within the core, rays
+// walk the regular grid.
+// `light`: an area light (its box culls under --closed-models), or null: the eye's grid at `centre`.
+void BuildVolume(const SceneBuffers& scene, const layout::Light* light, glm::vec3 centre, const Options& options, GridArrays& g,
+                 std::uint32_t index) {
+  const std::uint32_t n = options.area_cells, depth = options.area_depth;
+  const float extent = std::max({scene.hi.x - scene.lo.x, scene.hi.y - scene.lo.y, scene.hi.z - scene.lo.z, 1e-30f});
+  glm::vec3 llo = centre, lhi = centre;
+  float zn = extent * 0.015625f;  // the eye's: 2^-6 of the scene
+  if (light) {
+    LightCorners(*light, llo, lhi);
+    const glm::vec3 reach = glm::max(lhi - centre, centre - llo);
+    // The core holds every sample point; never thinner than 2^-20 of the scene's size.
+    zn = static_cast<float>(options.area_near) * std::max({reach.x, reach.y, reach.z, extent * 9.5367431640625e-07f});
+  }
+  g.light_grids[index] = glm::uvec4(static_cast<std::uint32_t>(g.first.size()), n, depth, static_cast<std::uint32_t>(g.slices.size()));
+  g.origins[index] = glm::vec4(centre, zn);
+  const glm::dvec3 o(centre);
+  const double near = static_cast<double>(zn * layout::kGridNearShrink) * (1.0 - 1.0 / 1024.0);
+  // Per face the slices' boundaries in r: 1 / near, then geometric in depth, then 0 (infinitely far).
+  std::array<const float*, layout::kGridFaces> bounds{};
+  const std::size_t slice_base = g.slices.size();
+  for (std::uint32_t f = 0; f < layout::kGridFaces; ++f) {
+    const FaceAxes ax = AxesOf(f);
+    double far = 0.0;
+    for (int k = 0; k < 8; ++k) {
+      const glm::dvec3 p((k & 1) ? scene.hi.x : scene.lo.x, (k & 2) ? scene.hi.y : scene.lo.y, (k & 4) ? scene.hi.z : scene.lo.z);
+      far = std::max(far, ax.sign * (p[ax.major] - o[ax.major]));
+    }
+    far = std::max(far, 2.0 * zn);
+    g.slices.push_back(static_cast<float>(1.0 / (zn * layout::kGridNearShrink)));
+    for (std::uint32_t j = 1; j < depth; ++j) g.slices.push_back(static_cast<float>(1.0 / (zn * std::pow(far / zn, double(j) / depth))));
+    g.slices.push_back(0.0f);
+  }
+  for (std::uint32_t f = 0; f < layout::kGridFaces; ++f) bounds[f] = g.slices.data() + slice_base + std::size_t{f} * (depth + 1);
+  const std::size_t face_cells = std::size_t{n} * n * depth, cells = layout::kGridFaces * face_cells;
+  std::vector<std::vector<std::uint32_t>> lists(cells);
+  const double half = 0.5 * n, slack = static_cast<double>(layout::kGridCellSlack), w = 1.0 + static_cast<double>(layout::kGridFaceSlack);
+  for (std::uint32_t t = 0; t < scene.triangles.size(); ++t) {
+    const layout::Triangle& tr = scene.triangles[t];
+    if (light && options.closed && FrontFromBox(tr, glm::dvec3(llo), glm::dvec3(lhi))) continue;
+    const glm::dvec3 rel[3] = {Vertex(tr.v0) - o, Vertex(tr.v1) - o, Vertex(tr.v2) - o};
+    for (std::uint32_t f = 0; f < layout::kGridFaces; ++f) {
+      const FaceAxes ax = AxesOf(f);
+      std::vector<glm::dvec3> poly(rel, rel + 3);
+      glm::dvec3 plane(0.0);
+      plane[ax.major] = ax.sign;
+      for (int side = 0; side < 5 && !poly.empty(); ++side) {
+        if (side == 4) {  // beyond the near plane: sign * p[major] - near >= 0, as a plane through p - near * axis
+          std::vector<glm::dvec3> shifted;
+          for (glm::dvec3 p : poly) shifted.push_back(p - plane * near);
+          poly = ClipHalfSpace(shifted, plane);
+          for (glm::dvec3& p : poly) p += plane * near;
+          continue;
+        }
+        glm::dvec3 s(0.0);
+        s[ax.major] = ax.sign * w;
+        s[side < 2 ? ax.a : ax.b] = side % 2 == 0 ? -1.0 : 1.0;
+        poly = ClipHalfSpace(poly, s);
+      }
+      if (poly.empty()) continue;
+      double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+      for (const glm::dvec3& p : poly) {
+        const double m = std::max(ax.sign * p[ax.major], near);
+        const double c3[3] = {p[ax.a] / m, p[ax.b] / m, 1.0 / m};
+        for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], c3[k]), hi[k] = std::max(hi[k], c3[k]);
+      }
+      std::uint32_t c[4];
+      for (int k = 0; k < 2; ++k) {
+        const double x0 = std::floor((lo[k] + 1.0) * half - slack), x1 = std::floor((hi[k] + 1.0) * half + slack);
+        c[2 * k] = static_cast<std::uint32_t>(std::clamp(x0, 0.0, n - 1.0));
+        c[2 * k + 1] = static_cast<std::uint32_t>(std::clamp(x1, 0.0, n - 1.0));
+      }
+      const std::uint32_t k0 = SliceOf(hi[2] * (1.0 + 1.0 / 1024.0), bounds[f], depth), k1 = SliceOf(lo[2] * (1.0 - 1.0 / 1024.0), bounds[f], depth);
+      for (std::uint32_t k = k0; k <= k1; ++k)
+        for (std::uint32_t j = c[2]; j <= c[3]; ++j)
+          for (std::uint32_t i = c[0]; i <= c[1]; ++i) lists[f * face_cells + (std::size_t{k} * n + j) * n + i].push_back(t);
+    }
+  }
+  for (const auto& l : lists) g.volume_refs += l.size();
+  g.volume_cells += cells;
+  AppendCsr(lists, g);
+}
+
 // The regular grid over the scene's box, widened by 2^-10 of its size on each side; `cells` along
 // the longest side, the others in proportion (at least 1).
 void BuildRegular(const SceneBuffers& scene, std::uint32_t longest, GridArrays& g) {
@@ -183,9 +292,18 @@ std::uint32_t PerspectiveGridOf(const layout::Ray& r, bool shadow, std::span<con
   std::uint32_t index = layout::kGridNoLight;
   if (shadow && r.info.z == layout::kRayShadow) index = r.info.w;
   if (!shadow && r.info.z == layout::kRayPrimary) index = eye;
-  if (index >= light_grids.size() || light_grids[index].x == layout::kGridNoLight) return layout::kGridNoLight;
+  if (index >= light_grids.size() || light_grids[index].x == layout::kGridNoLight || light_grids[index].z != 0u) return layout::kGridNoLight;
   const glm::vec4 o = origins[index];
   return o.x == r.origin_tmin.x && o.y == r.origin_tmin.y && o.z == r.origin_tmin.z ? index : layout::kGridNoLight;
+}
+
+std::uint32_t VolumeGridOf(const layout::Ray& r, bool shadow, std::span<const glm::uvec4> light_grids, std::uint32_t secondary) {
+  std::uint32_t index = layout::kGridNoLight;
+  if (shadow && r.info.z == layout::kRayShadow) index = r.info.w;
+  if (!shadow && r.info.z != layout::kRayPrimary) index = secondary;
+  if (index >= light_grids.size()) return layout::kGridNoLight;
+  const glm::uvec4 g = light_grids[index];
+  return g.x != layout::kGridNoLight && g.z != 0u ? index : layout::kGridNoLight;
 }
 
 std::uint32_t FaceCell(FaceUv f, std::uint32_t n) {
@@ -269,8 +387,10 @@ std::uint32_t EyeCells(std::uint32_t height, double tan_half_fov) {
   return static_cast<std::uint32_t>(std::clamp(std::round(face_pixels / 100.0), 1.0, 1024.0));
 }
 
-GridArrays Build(const SceneBuffers& scene, const Options& options, const glm::vec3* eye, std::uint32_t eye_cells) {
+GridArrays Build(const SceneBuffers& scene, const Options& options, const glm::vec3* eye, std::uint32_t eye_cells, const glm::vec3* secondary_eye) {
   RS_CHECK_MSG(options.cells >= 1 && options.regular >= 1, "grid: {} cells per face, {} along the box", options.cells, options.regular);
+  RS_CHECK_MSG(options.area_cells >= 1 && options.area_depth >= 1 && options.area_depth <= layout::kGridMaxSlices, "grid: {}x{}x{} area cells",
+               options.area_cells, options.area_cells, options.area_depth);
   GridArrays g;
   for (const layout::Light& l : scene.lights) {
     g.origins.emplace_back(l.position.x, l.position.y, l.position.z, 1.0f);
@@ -289,6 +409,17 @@ GridArrays Build(const SceneBuffers& scene, const Options& options, const glm::v
   }
   g.perspective_cells = g.first.size();
   BuildRegular(scene, options.regular, g);
+  // The 3D grids come last: only the 2D grids' references carry (u, v) rectangles.
+  if (options.area_perspective)
+    for (std::size_t l = 0; l < scene.lights.size(); ++l)
+      if (scene.lights[l].sampling.x != layout::kLightPoint)
+        BuildVolume(scene, &scene.lights[l], Xyz(scene.lights[l].position), options, g, static_cast<std::uint32_t>(l));
+  if (options.secondary_perspective && secondary_eye) {
+    g.secondary = static_cast<std::uint32_t>(g.light_grids.size());
+    g.light_grids.emplace_back(layout::kGridNoLight, 0u, 0u, 0u);
+    g.origins.emplace_back(*secondary_eye, 1.0f);
+    BuildVolume(scene, nullptr, *secondary_eye, options, g, g.secondary);
+  }
   g.first.push_back(static_cast<std::uint32_t>(g.triangles.size()));
   RS_CHECK_MSG(g.triangles.size() < (std::size_t{1} << 32), "grid: {} cell references", g.triangles.size());
   return g;

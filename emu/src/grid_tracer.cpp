@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstring>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "rayspace/emu/intersect.h"
@@ -26,6 +27,8 @@ class Grid final : public GridTracer {
     out["perspective_cells_per_face"] = options_.cells;
     out["regular_cells_longest_side"] = options_.regular;
     out["closed_models"] = options_.closed;
+    out["secondary_grid"] = options_.secondary_perspective ? "perspective" : "regular";
+    out["area_grid"] = options_.area_perspective ? fmt::format("{0}x{0}x{1}", options_.area_cells, options_.area_depth) : "regular";
     if (built_) {
       const glm::uvec4 d = grids_.volume_dims[0];
       out["regular_dims"] = {d.x, d.y, d.z};
@@ -33,6 +36,10 @@ class Grid final : public GridTracer {
       out["perspective_triangle_refs"] = grids_.perspective_refs;
       out["regular_cells"] = grids_.regular_cells;
       out["regular_triangle_refs"] = grids_.regular_refs;
+      if (grids_.volume_cells) {
+        out["area_grid_cells"] = grids_.volume_cells;
+        out["area_grid_triangle_refs"] = grids_.volume_refs;
+      }
       out["build_ms"] = build_ms_;
     }
     out["backend"] = passes_.Name();
@@ -56,6 +63,10 @@ class Grid final : public GridTracer {
   // (a frame with nothing to trace builds none), timed as the sub-pass "grid.build".
   void Build(const layout::FrameConstants* eye_frame = nullptr) {
     const auto t0 = std::chrono::steady_clock::now();
+    // --grid-secondary perspective: the 3D grid about the frame's eye.
+    const glm::vec3 secondary_eye = ctx_.frame ? Xyz(ctx_.frame->eye) : glm::vec3(0.0f);
+    const glm::vec3* secondary = options_.secondary_perspective && ctx_.frame ? &secondary_eye : nullptr;
+    secondary_eye_ = secondary_eye;
     if (eye_frame) {
       // The eye's grid: cells of about 100 x 100 pixels (grid::EyeCells) from the frame's pixel steps.
       const layout::FrameConstants& f = *eye_frame;
@@ -64,9 +75,9 @@ class Grid final : public GridTracer {
       const double tan_half = glm::length(glm::dvec3(Xyz(f.pixel_dy))) * 0.5 * f.dims.y / glm::length(centre);
       const glm::vec3 eye = Xyz(f.eye);
       eye_frame_ = f;
-      grids_ = grid::Build(scene_, options_, &eye, grid::EyeCells(f.dims.y, tan_half));
+      grids_ = grid::Build(scene_, options_, &eye, grid::EyeCells(f.dims.y, tan_half), secondary);
     } else {
-      grids_ = grid::Build(scene_, options_);
+      grids_ = grid::Build(scene_, options_, nullptr, 0, secondary);
     }
     build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     built_ = true;
@@ -77,7 +88,10 @@ class Grid final : public GridTracer {
     const bool primary = ctx_.kind == layout::kRayPrimary && ctx_.frame;
     if (primary && (grids_.eye == layout::kGridNoLight || std::memcmp(&eye_frame_, ctx_.frame, sizeof eye_frame_) != 0))
       Build(ctx_.frame);
-    if (!built_) Build();
+    // The eye's 3D grid, once a frame's eye is known, again whenever it moves.
+    const bool stale = options_.secondary_perspective && ctx_.frame &&
+                       (grids_.secondary == layout::kGridNoLight || Xyz(ctx_.frame->eye) != secondary_eye_);
+    if (!built_ || stale) Build(grids_.eye != layout::kGridNoLight ? &eye_frame_ : nullptr);
     const std::string label = "grid.trace." + ctx_.name;
     passes_.Label(label);
     const auto t0 = std::chrono::steady_clock::now();
@@ -89,11 +103,13 @@ class Grid final : public GridTracer {
                                      .origins = grids_.origins,
                                      .volume = grids_.volume,
                                      .volume_dims = grids_.volume_dims,
+                                     .slices = grids_.slices,
                                      .triangles = scene_.triangles,
                                      .rays = rays,
                                      .shadow = shadow,
                                      .closed = options_.closed ? 1u : 0u,
-                                     .eye = grids_.eye});
+                                     .eye = grids_.eye,
+                                     .secondary = grids_.secondary});
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (ctx_.subpasses) ctx_.subpasses->push_back({label, ms, rays.size()});
     if (ctx_.digest) {
@@ -115,6 +131,18 @@ class Grid final : public GridTracer {
     for (std::size_t i = 0; i < rays.size(); ++i) {
       s.steps += w.steps[i];
       s.tests += w.tests[i];
+      if (shadow && rays[i].info.z == layout::kRayShadow && rays[i].info.w < scene_.lights.size() &&
+          scene_.lights[rays[i].info.w].sampling.x != layout::kLightPoint) {
+        ++s.area_rays;
+        s.area_steps += w.steps[i];
+        s.area_tests += w.tests[i];
+        s.volume_rays += grid::VolumeGridOf(rays[i], true, grids_.light_grids, grids_.secondary) != layout::kGridNoLight;
+        continue;
+      }
+      if (!shadow && grid::VolumeGridOf(rays[i], false, grids_.light_grids, grids_.secondary) != layout::kGridNoLight) {
+        ++s.volume_rays;
+        continue;
+      }
       if (grid::PerspectiveGridOf(rays[i], shadow != 0u, grids_.light_grids, grids_.origins, grids_.eye) == layout::kGridNoLight) continue;
       ++s.perspective_rays;
       if (!shadow || w.occluded[i]) continue;
@@ -130,6 +158,7 @@ class Grid final : public GridTracer {
   HierarchyPasses& passes_;
   GridArrays grids_;
   layout::FrameConstants eye_frame_{};  // the frame the eye's grid was built for
+  glm::vec3 secondary_eye_{0.0f};       // the eye the 3D grid for reflection and refraction rays is about
   double build_ms_ = 0.0;
   bool built_ = false;
   BatchContext ctx_;

@@ -445,7 +445,10 @@ void CheckOutputs(const call::GridTrace& c, const GridWalks* r, const OutputSour
   k.Size("steps", r->steps.size(), c.rays.size());
   k.Size("tests", r->tests.size(), c.rays.size());
   const glm::uvec4 d = c.volume_dims.empty() ? glm::uvec4(0) : c.volume_dims[0];
-  k.Below("steps", r->steps, std::uint64_t{d.x} + d.y + d.z + 1);
+  std::uint64_t most_steps = std::uint64_t{d.x} + d.y + d.z + 1;  // the regular grid's walk
+  for (const glm::uvec4& g : c.light_grids)  // a 3D grid's: the core, then each face's
+    if (g.x != layout::kGridNoLight && g.z != 0) most_steps = std::max(most_steps, std::uint64_t{d.x} + d.y + d.z + layout::kGridFaces * (2 * std::uint64_t{g.y} + g.z));
+  k.Below("steps", r->steps, most_steps);
   k.Below("tests", r->tests, std::uint64_t{c.cell_triangles.size()} + 1);
 }
 

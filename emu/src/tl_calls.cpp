@@ -166,17 +166,31 @@ void CheckInputs(const call::GridTrace& c) {
                c.min_dist.size(), c.first[c.min_dist.size()]);
   if (c.volume.size() != 4 || c.volume_dims.size() != 1) ThrowInput("{}: inputs 'volume'/'volume_dims' do not hold 4 and 1 entries", c.kName);
   const glm::uvec4 d = c.volume_dims[0];
-  if (d.x == 0 || d.y == 0 || d.z == 0 || std::uint64_t{d.x} * d.y * d.z + d.w != cells || d.w > c.min_dist.size())
-    ThrowInput("{}: input 'volume_dims' ({}, {}, {} from cell {}) does not end at the {} cells", c.kName, d.x, d.y, d.z, d.w, cells);
+  const std::uint64_t regular_end = std::uint64_t{d.x} * d.y * d.z + d.w;
+  if (d.x == 0 || d.y == 0 || d.z == 0 || regular_end > cells || d.w > c.min_dist.size())
+    ThrowInput("{}: input 'volume_dims' ({}, {}, {} from cell {}) runs past the {} cells", c.kName, d.x, d.y, d.z, d.w, cells);
   for (int k = 0; k < 3; ++k)
     if (!std::isfinite(c.volume[0][k]) || !(c.volume[1][k] > 0.0f) || !std::isfinite(c.volume[1][k]) || !std::isfinite(c.volume[3][k]))
       ThrowInput("{}: input 'volume' is not a finite box of positive cells", c.kName);
   if (c.light_grids.size() != c.origins.size()) ThrowInput("{}: inputs 'light_grids' and 'origins' differ in length", c.kName);
   if (c.eye != layout::kGridNoLight && c.eye >= c.light_grids.size())
     ThrowInput("{}: eye {} names no entry of the {} in 'light_grids'", c.kName, c.eye, c.light_grids.size());
+  if (c.secondary != layout::kGridNoLight && c.secondary >= c.light_grids.size())
+    ThrowInput("{}: secondary {} names no entry of the {} in 'light_grids'", c.kName, c.secondary, c.light_grids.size());
   for (std::size_t l = 0; l < c.light_grids.size(); ++l) {
     const glm::uvec4 g = c.light_grids[l];
     if (g.x == layout::kGridNoLight) continue;
+    if (g.z != 0) {  // an area light's 3D grid, after the regular grid
+      const std::uint64_t need = std::uint64_t{layout::kGridFaces} * g.y * g.y * g.z;
+      if (g.y == 0 || g.y > 4096u || g.z > layout::kGridMaxSlices || g.x < regular_end || g.x + need > cells)
+        ThrowInput("{}: input 'light_grids' element {} (3D grid: first cell {}, {}x{}x{}) lies outside cells [{}, {})", c.kName, l, g.x, g.y,
+                   g.y, g.z, regular_end, cells);
+      if (std::uint64_t{g.w} + std::uint64_t{layout::kGridFaces} * (g.z + 1) > c.slices.size())
+        ThrowInput("{}: input 'light_grids' element {} reads slices past the {} in 'slices'", c.kName, l, c.slices.size());
+      if (!(c.origins[l].w > 0.0f) || !std::isfinite(c.origins[l].w))
+        ThrowInput("{}: input 'origins' element {}: core half-side {} is not a finite number > 0", c.kName, l, c.origins[l].w);
+      continue;
+    }
     if (g.y == 0 || g.y > 4096u || std::uint64_t{g.x} + std::uint64_t{layout::kGridFaces} * g.y * g.y > c.min_dist.size())
       ThrowInput("{}: input 'light_grids' element {} (first cell {}, {} per side) runs past the {} perspective cells", c.kName, l, g.x, g.y,
                  c.min_dist.size());

@@ -17,6 +17,7 @@ vk::Status VulkanPasses::Run(const emu::call::GridTrace& call, emu::GridWalks& o
   RS_TRY(Input(*ctx_, keep, b, layout::kGridTraceBindTriangles, call.cell_triangles));
   RS_TRY(Input(*ctx_, keep, b, layout::kGridTraceBindMinDist, call.min_dist));
   RS_TRY(Input(*ctx_, keep, b, layout::kGridTraceBindBoxes, call.boxes));
+  RS_TRY(Input(*ctx_, keep, b, layout::kGridTraceBindSlices, call.slices));
   RS_TRY(Input(*ctx_, keep, b, layout::kGridTraceBindLights, call.light_grids));
   RS_TRY(Input(*ctx_, keep, b, layout::kGridTraceBindOrigins, call.origins));
   RS_TRY(Input(*ctx_, keep, b, layout::kGridTraceBindVolume, std::span<const layout::GridVolume>(&volume, 1)));
@@ -35,7 +36,7 @@ vk::Status VulkanPasses::Run(const emu::call::GridTrace& call, emu::GridWalks& o
   RS_TRY(Output(*ctx_, keep, b, layout::kGridTraceBindTests, n * 4, out.tests.data()));
   if (n == 0) return vk::Status::Ok();
   const layout::GridTracePush push{static_cast<std::uint32_t>(n), call.shadow, static_cast<std::uint32_t>(call.light_grids.size()),
-                                   call.closed, call.eye};
+                                   call.closed, call.eye, call.secondary};
   RS_TRY(RunKernel(*ctx_, K(PassId::kGridTrace), b.All(), &push, sizeof push, push.count));
   return keep.CopyBack();
 }

@@ -548,9 +548,11 @@ struct TlCellsPush {
 // (docs/grids.md) A point light's shadow rays go through that light's perspective grid: six faces of
 // kGridCells x kGridCells cells about the light (a cube map), per cell the triangles whose projection
 // from the light meets it and the least distance from the light to any of them, so each ray visits
-// exactly one cell. Every other ray steps through the regular grid over the scene's box (3D DDA).
-// Cells are numbered face-major (face * n * n + row * n + column) after each light's base, the regular
-// grid's cells x-fastest after its base; `first` holds every cell's CSR offset into `cell_triangles`.
+// exactly one cell. An area light's shadow rays go through its 3D perspective grid (below). Every
+// other ray steps through the regular grid over the scene's box (3D DDA). Cells are numbered
+// face-major (face * n * n + row * n + column) after each point light's base, the regular grid's
+// cells x-fastest after its base, then each 3D grid's ((face * D + slice) * n + row) * n + column;
+// `first` holds every cell's CSR offset into `cell_triangles`.
 RS_CONST(uint, kGridFaces, 6u);
 RS_CONST(uint, kGridNoLight, 4294967295u);  // light_grids[l].x of a light without a grid
 // A triangle's projection is binned over a face widened by this fraction (rays on a cube edge may
@@ -560,11 +562,21 @@ RS_CONST(float, kGridCellSlack, 0.0009765625);       // 2^-10 of a cell
 // A cell's least distance is rounded down by this factor: a shadow ray ending before it skips the
 // cell's tests (the watertight t carries a few ULP of its own).
 RS_CONST(float, kGridDistanceSlack, 0.999755859375);  // 1 - 2^-12
+// An area light's 3D perspective grid (Hunt and Mark 5.3; docs/grids.md) about the light's centre:
+// a core cube of half-side zn (origins[l].w) holding every sample point, and outside it, per face,
+// n x n x D cells in perspective space (u, v, r = 1 / depth), the depth slices' r boundaries from
+// `slices`. A ray walks its part in the core through the regular grid, then each face's part in a
+// 3D DDA along the straight line the ray becomes in perspective space. Faces start at zn shrunk by
+// this factor and the core reaches zn widened by it, so rounding leaves no gap between them.
+RS_CONST(float, kGridNearShrink, 0.9990234375);  // 1 - 2^-10
+RS_CONST(float, kGridCoreWiden, 1.0009765625);   // 1 + 2^-10
+RS_CONST(uint, kGridMaxSlices, 64u);             // D at most
 RS_CONST(uint, kGridTraceBindFirst, 0u);      // CSR offsets of every cell, then the total
 RS_CONST(uint, kGridTraceBindTriangles, 1u);  // cell_triangles
 RS_CONST(uint, kGridTraceBindMinDist, 2u);    // per perspective cell: its least distance
-RS_CONST(uint, kGridTraceBindLights, 3u);     // per light (then the eye's): uvec4 (first cell, n, 0, 0)
-RS_CONST(uint, kGridTraceBindOrigins, 4u);    // per light (then the eye): vec4 (its position, 1)
+RS_CONST(uint, kGridTraceBindLights, 3u);     // per light (then the eye's): uvec4 (first cell, n, D, first slice);
+                                              // D = 0: a point light's (or the eye's) 2D grid
+RS_CONST(uint, kGridTraceBindOrigins, 4u);    // per light (then the eye): vec4 (its position, 1; 3D: zn)
 RS_CONST(uint, kGridTraceBindVolume, 5u);     // GridVolume
 RS_CONST(uint, kGridTraceBindSceneTris, 6u);  // the scene's triangles
 RS_CONST(uint, kGridTraceBindRays, 7u);
@@ -573,7 +585,8 @@ RS_CONST(uint, kGridTraceBindOccluded, 9u);   // shadow: 1 per occluded ray
 RS_CONST(uint, kGridTraceBindSteps, 10u);     // per ray: cells visited
 RS_CONST(uint, kGridTraceBindTests, 11u);     // per ray: triangles tested
 RS_CONST(uint, kGridTraceBindBoxes, 12u);     // per perspective reference: its (u, v) rectangle
-RS_CONST(uint, kGridTraceBindings, 13u);
+RS_CONST(uint, kGridTraceBindSlices, 13u);    // per 3D grid, per face: D + 1 depth boundaries in r, near to far
+RS_CONST(uint, kGridTraceBindings, 14u);
 // The regular grid over the scene: cells of size `cell` from `lo` to `hi`, dims.xyz of them, the
 // first at cell index dims.w.
 struct GridVolume {
@@ -591,6 +604,8 @@ struct GridTracePush {
                 // light is occluded untraced (the grids then hold only such triangles)
   uint eye;     // --primary grid: the entry of light_grids/origins holding the eye's grid, which
                 // eye rays (kRayPrimary) from the eye go through; kGridNoLight: none
+  uint secondary;  // --grid-secondary perspective: the entry of light_grids/origins holding the 3D
+                   // perspective grid about the eye that every other closest-hit ray walks; kGridNoLight: none
 };
 
 // ---- shade: direct light at the shading points into the fixed-point accumulator ---------------
@@ -651,7 +666,7 @@ static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && size
               sizeof(IntersectPush) == 44 && sizeof(ShadePush) == 20 && sizeof(ElementwisePush) == 8 &&
               sizeof(TraverseCompactPush) == 68 && sizeof(TreePush) == 40 && sizeof(IntersectTreePush) == 8 &&
               sizeof(TlListsPush) == 28 && sizeof(TlTracePush) == 24 && sizeof(TlHeadsPush) == 16 &&
-              sizeof(TlCellsPush) == 16 && sizeof(GridTracePush) == 20 && sizeof(GridVolume) == 80);
+              sizeof(TlCellsPush) == 16 && sizeof(GridTracePush) == 24 && sizeof(GridVolume) == 80);
 static_assert(kTlMaxElements == 65535u * kTlLoopBlock && kTlEscapeNone == ~0u && kTlNoParent == ~0u);
 static_assert(kTreeStepBlock % kMaxLocalSize == 0u);
 static_assert(offsetof(TraversePush, eps) == 40);

@@ -289,7 +289,9 @@ inline constexpr FaultSpec kTlTraceFaults[] = {{1, "a missed sphere's escape is 
 inline constexpr FaultSpec kGridTraceFaults[] = {{1, "a shadow ray's perspective cell is one column off"},
                                                 {2, "a cell's least distance is taken 1/64 too far (rays skip tests they need)"},
                                                 {3, "the 3D walk skips the next slice whenever it steps along z"},
-                                                {4, "the last triangle of every cell is never tested"}};
+                                                {4, "the last triangle of every cell is never tested"},
+                                                {5, "a 3D perspective walk skips the next depth slice when it steps away from the centre"},
+                                                {6, "a 3D perspective walk's early exit takes t linear in the perspective fraction"}};
 inline constexpr FaultSpec kShadeFaults[] = {{1, "the quadratic attenuation uses the distance, not its square"},
                                              {2, "the light vector points from the light to the surface"},
                                              {3, "the blue channel is never accumulated"},

@@ -390,7 +390,7 @@ struct TlTrace {
 
 // Rays through the grids of `--algo grid` (rayspace/contract.h, kGridTrace*; docs/grids.md): a point
 // light's shadow ray tests its one perspective cell unless it ends before the cell's least distance;
-// every other ray steps through the regular grid. Closest hit (shadow = 0) or any hit (shadow = 1).
+// an area light's walks its 3D perspective grid; every other ray steps through the regular grid. Closest hit (shadow = 0) or any hit (shadow = 1).
 struct GridTrace {
   static constexpr std::string_view kName = "grid.trace";
   using Result = GridWalks;
@@ -401,12 +401,15 @@ struct GridTrace {
   In<glm::vec4> origins{};
   In<glm::vec4> volume{};        // lo, cell, inv_cell, hi
   In<glm::uvec4> volume_dims{};  // one entry: cells along x, y, z, the first cell
+  In<float> slices{};            // per 3D grid, per face: D + 1 depth boundaries (r = 1 / depth)
   In<layout::Triangle> triangles{};
   In<layout::Ray> rays{};
   std::uint32_t shadow = 0;
   std::uint32_t closed = 0;                   // --closed-models (grid::Options::closed)
   std::uint32_t eye = layout::kGridNoLight;   // --primary grid: the eye's entry of light_grids/origins
-  RS_FIELDS(first, cell_triangles, min_dist, boxes, light_grids, origins, volume, volume_dims, triangles, rays, shadow, closed, eye)
+  std::uint32_t secondary = layout::kGridNoLight;  // --grid-secondary perspective: the eye's 3D grid's entry
+  RS_FIELDS(first, cell_triangles, min_dist, boxes, light_grids, origins, volume, volume_dims, slices, triangles, rays, shadow, closed, eye,
+            secondary)
 };
 
 }  // namespace call

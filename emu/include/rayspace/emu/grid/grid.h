@@ -24,9 +24,12 @@ struct GridArrays {
   std::vector<glm::uvec4> light_grids;   // per light, then the eye's (--primary grid): first cell (kGridNoLight: none), n
   std::vector<glm::vec4> origins;        // per light, then the eye: its position, 1
   std::uint32_t eye = layout::kGridNoLight;  // the eye's entry in light_grids/origins, or none
+  std::uint32_t secondary = layout::kGridNoLight;  // the 3D grid about the eye for reflection and refraction rays, or none
   std::vector<glm::vec4> volume;         // the regular grid: lo, cell, inv_cell, hi
   std::vector<glm::uvec4> volume_dims;   // one entry: cells along x, y, z, the first cell
+  std::vector<float> slices;             // per area light's 3D grid, per face: D + 1 depth boundaries in r = 1 / depth
   std::uint64_t perspective_cells = 0, regular_cells = 0, perspective_refs = 0, regular_refs = 0;
+  std::uint64_t volume_cells = 0, volume_refs = 0;  // the area lights' 3D perspective grids
 };
 
 // Per ray: the closest hit (closest-hit batches) or whether it is occluded (shadow batches; the other
@@ -45,6 +48,19 @@ struct Options {
   // --closed-models (Hunt and Mark's front-face culling, valid for closed meshes only): a light's grid
   // holds only the triangles facing away from it, and a shadow ray ending on one is occluded untraced.
   bool closed = false;
+  // An area light's 3D perspective grid (Hunt and Mark's 200 x 200 x 4): cells per face side and
+  // depth slices; `area_perspective` false sends area-light shadow rays through the regular grid
+  // instead (their Table 5 compares the two).
+  std::uint32_t area_cells = 200, area_depth = 4;
+  // The core cube about an area light (walked through the regular grid: rays from points off the
+  // centre sweep many perspective columns close to it) has this many times the light's reach as its
+  // half-side; the faces' cells begin beyond it.
+  std::uint32_t area_near = 8;
+  // --grid-secondary perspective: reflection and refraction rays walk a 3D perspective grid about the
+  // eye (area_cells x area_cells x area_depth a face, beginning 2^-6 of the scene's size from the
+  // eye) instead of the regular grid.
+  bool secondary_perspective = false;
+  bool area_perspective = true;
 };
 
 // The face (0..5: +x, -x, +y, -y, +z, -z) and the (u, v) in [-1, 1] of a direction seen from a light;
@@ -63,6 +79,11 @@ std::uint32_t FaceCell(FaceUv f, std::uint32_t n);
 // (gpu/shaders/grid_trace.comp PerspectiveCell), and the statistics count with it.
 std::uint32_t PerspectiveGridOf(const layout::Ray& r, bool shadow, std::span<const glm::uvec4> light_grids,
                                 std::span<const glm::vec4> origins, std::uint32_t eye);
+
+// Which 3D perspective grid a ray goes through: an area light's shadow ray (in a shadow batch) its
+// light's, when the light has one; a closest-hit ray other than an eye ray the one about the eye
+// (`secondary`), when there is one; kGridNoLight otherwise (grid_trace.comp VolumeOf).
+std::uint32_t VolumeGridOf(const layout::Ray& r, bool shadow, std::span<const glm::uvec4> light_grids, std::uint32_t secondary);
 
 // The least distance from p to the triangle (a, b, c), in double (Ericson's closest point).
 double PointTriangleDistance(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c);
@@ -84,8 +105,10 @@ std::vector<bool> ClosedObjects(const SceneBuffers& scene, std::vector<std::size
 std::uint32_t EyeCells(std::uint32_t height, double tan_half_fov);
 
 // Builds every point light's perspective grid, the eye's when `eye` is given (every triangle, no
-// culling: eye rays want the closest hit), and the regular grid.
-GridArrays Build(const SceneBuffers& scene, const Options& options, const glm::vec3* eye = nullptr, std::uint32_t eye_cells = 0);
+// culling: eye rays want the closest hit), the regular grid, every area light's 3D grid and, with
+// Options::secondary_perspective and `secondary_eye` given, the 3D grid about that eye.
+GridArrays Build(const SceneBuffers& scene, const Options& options, const glm::vec3* eye = nullptr, std::uint32_t eye_cells = 0,
+                 const glm::vec3* secondary_eye = nullptr);
 
 }  // namespace grid
 

@@ -14,12 +14,15 @@
 namespace rayspace::emu {
 
 // One batch through the grids: its rays, those that went through a perspective grid (point-light
-// shadow rays), those of them not occluded and of these the ones whose cell's least distance spared
+// shadow rays, eye rays) and a 3D perspective grid (area-light shadow rays), those of them not occluded and of these the ones whose cell's least distance spared
 // every test, the cells visited and the triangles tested.
 struct GridBatchStats {
   std::string name;  // e.g. "shadow.b0"
   std::uint32_t kind = 0;
   std::uint64_t rays = 0, perspective_rays = 0, skipped_rays = 0, unoccluded_perspective_rays = 0, steps = 0, tests = 0;
+  // Area-light shadow rays, their cells and tests, and how many of them went through a 3D
+  // perspective grid (all, unless --grid-area regular).
+  std::uint64_t area_rays = 0, area_steps = 0, area_tests = 0, volume_rays = 0;
 };
 
 class GridTracer : public Tracer {
