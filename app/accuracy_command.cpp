@@ -7,6 +7,7 @@
 #include "accuracy_measure.h"
 #include "accuracy_report.h"
 #include "accuracy_sampler.h"
+#include "accuracy_grid.h"
 #include "accuracy_tl.h"
 #include "plot.h"
 #include "rayspace/error.h"
@@ -43,6 +44,7 @@ ExitCode RunAccuracy(const AccuracyArgs& args) {
     report.cone_e2e = accuracy::ConeEndToEnd(scene, b, fo);
     report.tri_e2e = accuracy::TriEndToEnd(scene, b, fo);
     report.sphere_e2e = accuracy::SphereEndToEnd(scene, b, fo);
+    report.grid_e2e = accuracy::GridEndToEnd(scene, b, fo);
   }
   // 5. Report: markdown, CSV, plot.
   accuracy::WriteReport(files, report);

@@ -99,6 +99,12 @@ void AppendEndToEnd(const Report& rep, std::string& md, std::string& csv) {
                       "End to end, the `--algo tl` frame with each ray-sphere mode in its walks, against the walks with "
                       "the exact test (a changed ray: another hit, or another occlusion):",
                       "sphere and triangle tests", md, csv);
+  AppendEndToEndTable(rep.grid_e2e, rep, "grid-binning",
+                      "End to end, the `--algo grid` frame with the binning's rounding margins and without them (each "
+                      "triangle in the cells of its exact extent, least distances rounded to nearest), against the direct "
+                      "tracer's frame (the same watertight test over every triangle; a changed ray: another hit, or another "
+                      "occlusion):",
+                      "triangle tests", md, csv);
 }
 
 }  // namespace

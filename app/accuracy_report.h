@@ -18,7 +18,7 @@ struct Report {
   const Workload* workload = nullptr;
   std::vector<Row> rows;
   const SphereWorkload* spheres = nullptr;      // the traversal lists' sphere tests
-  std::vector<EndToEnd> cone_e2e, tri_e2e, sphere_e2e;  // empty: not measured
+  std::vector<EndToEnd> cone_e2e, tri_e2e, sphere_e2e, grid_e2e;  // empty: not measured
 };
 
 // DIR/<scene>-accuracy.{md,csv,svg,png}, opened (and so checked) before the measurements.

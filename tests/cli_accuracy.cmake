@@ -1,5 +1,6 @@
 # `rayspace accuracy`: writes the table, CSV and plot; the CSV holds the end-to-end tables in their own
-# columns; the conservative cone-sphere test and the traversal lists' sphere test have no false negatives; the exact modes agree with the
+# columns; the conservative cone-sphere test and the traversal lists' sphere test have no false negatives, the grids with their
+# binning margins change no ray against the direct tracer; the exact modes agree with the
 # exact answer; bad arguments exit 2.
 # Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DWORK=<scratch> -P cli_accuracy.cmake
 set(failures "")
@@ -28,14 +29,23 @@ set(rows 0)
 set(e2e_rows 0)
 set(sphere_rows 0)
 set(sphere_witness "")
+set(grid_rows 0)
 foreach(line ${lines})
   if(line MATCHES "^cornell-mirrors,([a-z-]+),end-to-end,\"([^\"]+)\",,,,,,([0-9.]+),([0-9]+),([0-9]+)$")
     math(EXPR e2e_rows "${e2e_rows} + 1")
+    set(kind "${CMAKE_MATCH_1}")
     set(mode "${CMAKE_MATCH_2}")
     set(changed "${CMAKE_MATCH_5}")
     # The conservative traversal changes no ray's result.
     if(mode MATCHES "conservative" AND NOT changed EQUAL 0)
       set(failures "${failures}\nend to end: the conservative traversal changed ${changed} rays")
+    endif()
+    # The grids' binning with its margins changes no ray against the direct tracer.
+    if(kind STREQUAL "grid-binning")
+      math(EXPR grid_rows "${grid_rows} + 1")
+      if(mode MATCHES "with margins" AND NOT changed EQUAL 0)
+        set(failures "${failures}\nend to end: the grids with margins changed ${changed} rays")
+      endif()
     endif()
   elseif(line MATCHES "^cornell-mirrors,([a-z-]+),([a-z-]+),\"([^\"]+)\",([0-9]+),([0-9.]+),([0-9]+),([0-9]*)")
     math(EXPR rows "${rows} + 1")
@@ -62,6 +72,9 @@ foreach(line ${lines})
 endforeach()
 if(NOT sphere_rows EQUAL 6 OR NOT sphere_witness GREATER 0)
   set(failures "${failures}\n${sphere_rows} ray-sphere rows (expected 6); the margin-free test's near-boundary FN '${sphere_witness}' (expected > 0)")
+endif()
+if(NOT grid_rows EQUAL 3)
+  set(failures "${failures}\n${grid_rows} grid-binning end-to-end rows (expected 3)")
 endif()
 if(rows LESS 30)
   set(failures "${failures}\nonly ${rows} result rows in the CSV")

@@ -391,3 +391,41 @@ TEST_CASE("grid: reflection rays through the 3D grid about the eye give brute fo
     CHECK(hits > 800);
   }
 }
+
+TEST_CASE("grid: the binning's margins keep shadow rays aimed at vertices and edges; without them some are lost") {
+  const std::vector<glm::vec3> lights{{0.05f, 1.5f, 0.0f}, {-0.4f, 0.3f, 0.2f}};
+  std::size_t lost_without = 0;
+  for (std::uint32_t seed : {1u, 2u, 3u, 4u}) {
+    const SceneBuffers b = SoupScene(test::TlSoup(400, seed), lights);
+    std::vector<layout::Ray> rays;
+    // To every vertex and edge midpoint: points on the rim of a triangle's projection, where a ray's
+    // rounded (u, v) falls on a cell's or a rectangle's edge.
+    for (std::uint32_t t = 0; t < b.triangles.size(); ++t)
+      for (int k = 0; k < 6; ++k) {
+        const layout::Triangle& tr = b.triangles[t];
+        const glm::vec3 v[3] = {Xyz(tr.v0), Xyz(tr.v1), Xyz(tr.v2)};
+        const glm::vec3 to = k < 3 ? v[k] : (v[k - 3] + v[(k - 2) % 3]) * 0.5f;
+        const std::uint32_t l = static_cast<std::uint32_t>((t + k) % 2);
+        const glm::vec3 d = to - lights[l];
+        const float dist = Length(d);
+        layout::Ray r = test::MakeSegment(lights[l], d / dist, 1e-6f, dist * 1.001f);
+        r.info = glm::uvec4(0, layout::kNoPrim, layout::kRayShadow, l);
+        rays.push_back(r);
+      }
+    for (const bool margins : {true, false}) {
+      grid::Options o{64, 8};
+      o.margins = margins;
+      const GridArrays g = grid::Build(b, o);
+      const GridWalks w = PassGridTrace({.first = g.first, .cell_triangles = g.triangles, .min_dist = g.min_dist, .boxes = g.boxes,
+                                         .light_grids = g.light_grids, .origins = g.origins, .volume = g.volume, .volume_dims = g.volume_dims,
+                                         .triangles = b.triangles, .rays = rays, .shadow = 1});
+      std::size_t lost = 0;
+      for (std::size_t i = 0; i < rays.size(); ++i) lost += w.occluded[i] != (test::BruteClosest(b.triangles, rays[i]) != kMissPacked ? 1u : 0u);
+      INFO("seed " << seed << " margins " << margins);
+      if (margins) CHECK(lost == 0u);
+      else lost_without += lost;
+    }
+  }
+  MESSAGE("rays lost without the margins: " << lost_without);
+  CHECK(lost_without > 0u);
+}

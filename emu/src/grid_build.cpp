@@ -37,9 +37,9 @@ std::vector<glm::dvec3> ClipHalfSpace(const std::vector<glm::dvec3>& poly, glm::
 
 // The cells [i0, i1] x [j0, j1] of face `face` that the triangle (relative to the light) may be seen
 // through; false when it is not seen through the face at all.
-bool FaceCellRange(const glm::dvec3 tri[3], std::uint32_t face, std::uint32_t n, glm::uvec4& range, glm::vec4& box) {
+bool FaceCellRange(const glm::dvec3 tri[3], std::uint32_t face, std::uint32_t n, bool margins, glm::uvec4& range, glm::vec4& box) {
   const FaceAxes ax = AxesOf(face);
-  const double w = 1.0 + static_cast<double>(layout::kGridFaceSlack);
+  const double w = 1.0 + (margins ? static_cast<double>(layout::kGridFaceSlack) : 0.0);
   std::vector<glm::dvec3> poly(tri, tri + 3);
   for (int side = 0; side < 4; ++side) {
     glm::dvec3 plane(0.0);
@@ -59,7 +59,7 @@ bool FaceCellRange(const glm::dvec3 tri[3], std::uint32_t face, std::uint32_t n,
     const double uv[2] = {p[ax.a] / m, p[ax.b] / m};
     for (int k = 0; k < 2; ++k) lo[k] = std::min(lo[k], uv[k]), hi[k] = std::max(hi[k], uv[k]);
   }
-  const double half = 0.5 * n, slack = static_cast<double>(layout::kGridCellSlack);
+  const double half = 0.5 * n, slack = margins ? static_cast<double>(layout::kGridCellSlack) : 0.0;
   std::uint32_t c[4];
   for (int k = 0; k < 2; ++k) {
     const double a = std::floor((lo[k] + 1.0) * half - slack), b = std::floor((hi[k] + 1.0) * half + slack);
@@ -69,9 +69,9 @@ bool FaceCellRange(const glm::dvec3 tri[3], std::uint32_t face, std::uint32_t n,
   range = glm::uvec4(c[0], c[1], c[2], c[3]);  // u columns, v rows
   // The (u, v) rectangle of the projection, rounded outwards to float and widened by the face's slack
   // (a ray's rounded u, v); a triangle through the light: the whole face.
-  const double uv_slack = static_cast<double>(layout::kGridFaceSlack);
-  const auto down = [&](double x) { return static_cast<float>(std::max(-2.0, x - uv_slack) - 1e-12); };
-  const auto up = [&](double x) { return static_cast<float>(std::min(2.0, x + uv_slack) + 1e-12); };
+  const double uv_slack = margins ? static_cast<double>(layout::kGridFaceSlack) : 0.0, ulp = margins ? 1e-12 : 0.0;
+  const auto down = [&](double x) { return static_cast<float>(std::max(-2.0, x - uv_slack) - ulp); };
+  const auto up = [&](double x) { return static_cast<float>(std::min(2.0, x + uv_slack) + ulp); };
   box = glm::vec4(down(lo[0]), down(lo[1]), up(hi[0]), up(hi[1]));
   return true;
 }
@@ -92,7 +92,7 @@ void AppendCsr(std::vector<std::vector<std::uint32_t>>& cells, GridArrays& g, st
 glm::dvec3 Vertex(const glm::vec4& v) { return {v.x, v.y, v.z}; }
 
 // One point light's grid: n x n cells on each of the six faces of a cube about the light.
-void BuildPerspective(const SceneBuffers& scene, glm::vec3 light, std::uint32_t n, bool closed, GridArrays& g) {
+void BuildPerspective(const SceneBuffers& scene, glm::vec3 light, std::uint32_t n, bool closed, bool margins, GridArrays& g) {
   const std::size_t cells = layout::kGridFaces * std::size_t{n} * n;
   std::vector<std::vector<std::uint32_t>> lists(cells);
   std::vector<std::vector<glm::vec4>> boxes(cells);
@@ -106,12 +106,12 @@ void BuildPerspective(const SceneBuffers& scene, glm::vec3 light, std::uint32_t 
     // Rounded down, then by the slack: no hit of a ray of this cell is closer (docs/grids.md).
     const double d = PointTriangleDistance(o, Vertex(tr.v0), Vertex(tr.v1), Vertex(tr.v2));
     float df = static_cast<float>(d);
-    if (static_cast<double>(df) > d) df = std::nextafter(df, 0.0f);
-    df *= layout::kGridDistanceSlack;
+    if (margins && static_cast<double>(df) > d) df = std::nextafter(df, 0.0f);
+    if (margins) df *= layout::kGridDistanceSlack;
     for (std::uint32_t f = 0; f < layout::kGridFaces; ++f) {
       glm::uvec4 r;
       glm::vec4 box;
-      if (!FaceCellRange(rel, f, n, r, box)) continue;
+      if (!FaceCellRange(rel, f, n, margins, r, box)) continue;
       for (std::uint32_t j = r.z; j <= r.w; ++j)
         for (std::uint32_t i = r.x; i <= r.y; ++i) {
           const std::size_t c = (std::size_t{f} * n + j) * n + i;
@@ -146,6 +146,29 @@ std::uint32_t SliceOf(double r, const float* b, std::uint32_t depth) {
   return k;
 }
 
+// Per face of a 3D grid about `o` with core half-side zn, the depth slices' boundaries in r = 1 / m:
+// 1 / near, then geometric in depth out to the scene box's farthest corner, then 0 (infinitely far);
+// appended to g.slices. Returns each face's first boundary.
+std::array<const float*, layout::kGridFaces> AppendSlices(const SceneBuffers& scene, glm::dvec3 o, float zn, std::uint32_t depth,
+                                                          GridArrays& g) {
+  const std::size_t slice_base = g.slices.size();
+  for (std::uint32_t f = 0; f < layout::kGridFaces; ++f) {
+    const FaceAxes ax = AxesOf(f);
+    double far = 0.0;
+    for (int k = 0; k < 8; ++k) {
+      const glm::dvec3 p((k & 1) ? scene.hi.x : scene.lo.x, (k & 2) ? scene.hi.y : scene.lo.y, (k & 4) ? scene.hi.z : scene.lo.z);
+      far = std::max(far, ax.sign * (p[ax.major] - o[ax.major]));
+    }
+    far = std::max(far, 2.0 * zn);
+    g.slices.push_back(static_cast<float>(1.0 / (zn * layout::kGridNearShrink)));
+    for (std::uint32_t j = 1; j < depth; ++j) g.slices.push_back(static_cast<float>(1.0 / (zn * std::pow(far / zn, double(j) / depth))));
+    g.slices.push_back(0.0f);
+  }
+  std::array<const float*, layout::kGridFaces> bounds{};
+  for (std::uint32_t f = 0; f < layout::kGridFaces; ++f) bounds[f] = g.slices.data() + slice_base + std::size_t{f} * (depth + 1);
+  return bounds;
+}
+
 // An area light's 3D perspective grid about its centre (rayspace/contract.h, kGridNearShrink): per
 // face n x n x D cells in (u, v, r = 1 / depth), depth slices spaced geometrically from the core's
 // half-side zn (Options::area_near times the light's reach) to the farthest corner of the scene's
@@ -168,26 +191,13 @@ void BuildVolume(const SceneBuffers& scene, const layout::Light* light, glm::vec
   g.light_grids[index] = glm::uvec4(static_cast<std::uint32_t>(g.first.size()), n, depth, static_cast<std::uint32_t>(g.slices.size()));
   g.origins[index] = glm::vec4(centre, zn);
   const glm::dvec3 o(centre);
-  const double near = static_cast<double>(zn * layout::kGridNearShrink) * (1.0 - 1.0 / 1024.0);
-  // Per face the slices' boundaries in r: 1 / near, then geometric in depth, then 0 (infinitely far).
-  std::array<const float*, layout::kGridFaces> bounds{};
-  const std::size_t slice_base = g.slices.size();
-  for (std::uint32_t f = 0; f < layout::kGridFaces; ++f) {
-    const FaceAxes ax = AxesOf(f);
-    double far = 0.0;
-    for (int k = 0; k < 8; ++k) {
-      const glm::dvec3 p((k & 1) ? scene.hi.x : scene.lo.x, (k & 2) ? scene.hi.y : scene.lo.y, (k & 4) ? scene.hi.z : scene.lo.z);
-      far = std::max(far, ax.sign * (p[ax.major] - o[ax.major]));
-    }
-    far = std::max(far, 2.0 * zn);
-    g.slices.push_back(static_cast<float>(1.0 / (zn * layout::kGridNearShrink)));
-    for (std::uint32_t j = 1; j < depth; ++j) g.slices.push_back(static_cast<float>(1.0 / (zn * std::pow(far / zn, double(j) / depth))));
-    g.slices.push_back(0.0f);
-  }
-  for (std::uint32_t f = 0; f < layout::kGridFaces; ++f) bounds[f] = g.slices.data() + slice_base + std::size_t{f} * (depth + 1);
+  const double depth_slack = options.margins ? 1.0 / 1024.0 : 0.0;
+  const double near = static_cast<double>(zn * layout::kGridNearShrink) * (1.0 - depth_slack);
+  const std::array<const float*, layout::kGridFaces> bounds = AppendSlices(scene, o, zn, depth, g);
   const std::size_t face_cells = std::size_t{n} * n * depth, cells = layout::kGridFaces * face_cells;
   std::vector<std::vector<std::uint32_t>> lists(cells);
-  const double half = 0.5 * n, slack = static_cast<double>(layout::kGridCellSlack), w = 1.0 + static_cast<double>(layout::kGridFaceSlack);
+  const double half = 0.5 * n, slack = options.margins ? static_cast<double>(layout::kGridCellSlack) : 0.0,
+               w = 1.0 + (options.margins ? static_cast<double>(layout::kGridFaceSlack) : 0.0);
   for (std::uint32_t t = 0; t < scene.triangles.size(); ++t) {
     const layout::Triangle& tr = scene.triangles[t];
     if (light && options.closed && FrontFromBox(tr, glm::dvec3(llo), glm::dvec3(lhi))) continue;
@@ -223,7 +233,7 @@ void BuildVolume(const SceneBuffers& scene, const layout::Light* light, glm::vec
         c[2 * k] = static_cast<std::uint32_t>(std::clamp(x0, 0.0, n - 1.0));
         c[2 * k + 1] = static_cast<std::uint32_t>(std::clamp(x1, 0.0, n - 1.0));
       }
-      const std::uint32_t k0 = SliceOf(hi[2] * (1.0 + 1.0 / 1024.0), bounds[f], depth), k1 = SliceOf(lo[2] * (1.0 - 1.0 / 1024.0), bounds[f], depth);
+      const std::uint32_t k0 = SliceOf(hi[2] * (1.0 + depth_slack), bounds[f], depth), k1 = SliceOf(lo[2] * (1.0 - depth_slack), bounds[f], depth);
       for (std::uint32_t k = k0; k <= k1; ++k)
         for (std::uint32_t j = c[2]; j <= c[3]; ++j)
           for (std::uint32_t i = c[0]; i <= c[1]; ++i) lists[f * face_cells + (std::size_t{k} * n + j) * n + i].push_back(t);
@@ -236,7 +246,7 @@ void BuildVolume(const SceneBuffers& scene, const layout::Light* light, glm::vec
 
 // The regular grid over the scene's box, widened by 2^-10 of its size on each side; `cells` along
 // the longest side, the others in proportion (at least 1).
-void BuildRegular(const SceneBuffers& scene, std::uint32_t longest, GridArrays& g) {
+void BuildRegular(const SceneBuffers& scene, std::uint32_t longest, bool margins, GridArrays& g) {
   glm::dvec3 lo(scene.lo), hi(scene.hi);
   const glm::dvec3 pad = glm::max(hi - lo, glm::dvec3(std::max({(hi - lo).x, (hi - lo).y, (hi - lo).z}))) * (1.0 / 1024.0) + 1e-30;
   lo -= pad;
@@ -253,7 +263,7 @@ void BuildRegular(const SceneBuffers& scene, std::uint32_t longest, GridArrays& 
   g.volume_dims = {glm::uvec4(dims, static_cast<std::uint32_t>(g.first.size()))};
   const std::size_t cells = std::size_t{dims.x} * dims.y * dims.z;
   std::vector<std::vector<std::uint32_t>> lists(cells);
-  const double slack = static_cast<double>(layout::kGridCellSlack);
+  const double slack = margins ? static_cast<double>(layout::kGridCellSlack) : 0.0;
   for (std::uint32_t t = 0; t < scene.triangles.size(); ++t) {
     const layout::Triangle& tr = scene.triangles[t];
     const glm::dvec3 a = Vertex(tr.v0), b = Vertex(tr.v1), c = Vertex(tr.v2);
@@ -399,16 +409,16 @@ GridArrays Build(const SceneBuffers& scene, const Options& options, const glm::v
       continue;
     }
     g.light_grids.emplace_back(static_cast<std::uint32_t>(g.first.size()), options.cells, 0u, 0u);
-    BuildPerspective(scene, Xyz(l.position), options.cells, options.closed, g);
+    BuildPerspective(scene, Xyz(l.position), options.cells, options.closed, options.margins, g);
   }
   if (eye) {
     g.eye = static_cast<std::uint32_t>(g.light_grids.size());
     g.origins.emplace_back(*eye, 1.0f);
     g.light_grids.emplace_back(static_cast<std::uint32_t>(g.first.size()), eye_cells, 0u, 0u);
-    BuildPerspective(scene, *eye, eye_cells, false, g);
+    BuildPerspective(scene, *eye, eye_cells, false, options.margins, g);
   }
   g.perspective_cells = g.first.size();
-  BuildRegular(scene, options.regular, g);
+  BuildRegular(scene, options.regular, options.margins, g);
   // The 3D grids come last: only the 2D grids' references carry (u, v) rectangles.
   if (options.area_perspective)
     for (std::size_t l = 0; l < scene.lights.size(); ++l)

@@ -61,6 +61,10 @@ struct Options {
   // eye) instead of the regular grid.
   bool secondary_perspective = false;
   bool area_perspective = true;
+  // The binning's rounding margins (kGridFaceSlack, kGridCellSlack, kGridDistanceSlack and 2^-10 in
+  // depth, docs/grids.md). false: none, each triangle binned by its exact extent and its least
+  // distance rounded to nearest: what `rayspace accuracy` compares them with (rays then miss hits).
+  bool margins = true;
 };
 
 // The face (0..5: +x, -x, +y, -y, +z, -z) and the (u, v) in [-1, 1] of a direction seen from a light;
