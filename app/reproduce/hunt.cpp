@@ -69,20 +69,12 @@ const Result* Find(const std::vector<const Result*>& results, const std::string&
   return nullptr;
 }
 
-// The area-light shadow rays' cells per ray (render --stats: grids.per_type.shadow.area_light_rays).
-double AreaSteps(const Result& r) {
-  return r.statistics.value("grids", nlohmann::json::object())
-      .value("per_type", nlohmann::json::object())
-      .value("shadow", nlohmann::json::object())
-      .value("area_light_rays", nlohmann::json::object())
-      .value("steps_per_ray", 0.0);
+// One ray type's block of the frame's grid statistics (render --stats: grids.per_type.<type>), and
+// its area-light shadow rays' (area_light_rays); empty when absent.
+nlohmann::json GridType(const Result& r, const char* type) {
+  return r.statistics.value("grids", nlohmann::json::object()).value("per_type", nlohmann::json::object()).value(type, nlohmann::json::object());
 }
-double TestsPerRay(const Result& r, const char* type) {
-  return r.statistics.value("grids", nlohmann::json::object())
-      .value("per_type", nlohmann::json::object())
-      .value(type, nlohmann::json::object())
-      .value("tests_per_ray", 0.0);
-}
+nlohmann::json AreaRays(const Result& r) { return GridType(r, "shadow").value("area_light_rays", nlohmann::json::object()); }
 // The scene's triangles: a ray type's brute force over its rays.
 std::uint64_t Triangles(const Result& r) {
   for (const auto& [type, c] : r.counts.types)
@@ -97,12 +89,6 @@ double PassMs(const Result& r, const std::string& prefix) {
   for (const nlohmann::json& p : r.timings.value("passes", nlohmann::json::array()))
     if (p.value("pass", std::string()).rfind(prefix, 0) == 0) ms += p.value("ms", 0.0);
   return ms;
-}
-std::uint64_t Rays(const Result& r, const char* type) {
-  return r.statistics.value("grids", nlohmann::json::object())
-      .value("per_type", nlohmann::json::object())
-      .value(type, nlohmann::json::object())
-      .value("rays", std::uint64_t{0});
 }
 
 void AddRelation(Table& t, std::vector<std::vector<std::string>>& rows, const std::string& relation, const std::string& where,
@@ -135,10 +121,8 @@ Table Table5(const std::vector<const Result*>& results, std::vector<std::vector<
     const Result* reg = Find(results, s.name, "regular");
     const Result* per = Find(results, s.name, "200x200x4");
     if (!reg || !per) continue;
-    const double a = AreaSteps(*reg), b = AreaSteps(*per);
-    const auto area_tests = [](const Result& r) {
-      return r.statistics["grids"]["per_type"]["shadow"]["area_light_rays"].value("tests_per_ray", 0.0);
-    };
+    const double a = AreaRays(*reg).value("steps_per_ray", 0.0), b = AreaRays(*per).value("steps_per_ray", 0.0);
+    const auto area_tests = [](const Result& r) { return AreaRays(r).value("tests_per_ray", 0.0); };
     t5.rows.push_back({s.name, "ours", "54 along the longest side", fmt::format("{:.1f}", a), "200x200x4", fmt::format("{:.1f}", b),
                        fmt::format("{:.2f}", a > 0 ? b / a : 0.0), fmt::format("{:.1f}", area_tests(*reg)), fmt::format("{:.1f}", area_tests(*per)),
                        s.note});
@@ -170,11 +154,11 @@ Table Table1(const std::vector<const Result*>& results) {
     // The grids are built once a frame, for eye rays and shadows together: the build's share is of
     // build + both traces, and each rate counts its own trace.
     const double build = PassMs(*r, "grid.build"), eye = PassMs(*r, "grid.trace.primary"), shadow = PassMs(*r, "grid.trace.shadow");
-    const double eye_rate = eye > 0 ? Rays(*r, "primary") / eye / 1e3 : 0.0, shadow_rate = shadow > 0 ? Rays(*r, "shadow") / shadow / 1e3 : 0.0;
+    const double eye_rate = eye > 0 ? GridType(*r, "primary").value("rays", 0.0) / eye / 1e3 : 0.0, shadow_rate = shadow > 0 ? GridType(*r, "shadow").value("rays", 0.0) / shadow / 1e3 : 0.0;
     const double share = build + eye + shadow > 0 ? build / (build + eye + shadow) : 0.0;
     t1.rows.push_back({s.name, "ours", Thousands(Triangles(*r)), fmt::format("{:.2f}", eye_rate), fmt::format("{:.0f}%", 100 * share),
-                       fmt::format("{:.2f}", shadow_rate), fmt::format("{:.0f}%", 100 * share), fmt::format("{:.1f}", TestsPerRay(*r, "primary")),
-                       fmt::format("{:.1f}", TestsPerRay(*r, "shadow")), s.note});
+                       fmt::format("{:.2f}", shadow_rate), fmt::format("{:.0f}%", 100 * share), fmt::format("{:.1f}", GridType(*r, "primary").value("tests_per_ray", 0.0)),
+                       fmt::format("{:.1f}", GridType(*r, "shadow").value("tests_per_ray", 0.0)), s.note});
     if (s.name.rfind("BUNNY", 0) == 0) rates.push_back(eye_rate + shadow_rate), shares.push_back(share);
   }
   t1.plot_x = "triangles";
