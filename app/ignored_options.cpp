@@ -78,7 +78,8 @@ std::vector<IgnoredOption> IgnoredRenderOptions(const CLI::App& command, const R
     Note(out, command, "--direct",
          args.algo == "embree" ? "the direct tracer is embree's oracle, and --no-oracle skips it"
                                : "--algo " + args.algo + " runs no direct tracer (its oracle is embree)");
-  if (!args.Hierarchy()) Note(out, command, "--path", "--algo " + args.algo + " traces without the hierarchy");
+  // --algo grid: --path passes runs grid.trace's per-ray pass, the others its lanes (grid.h).
+  if (!args.Hierarchy() && args.algo != "grid") Note(out, command, "--path", "--algo " + args.algo + " traces without the hierarchy");
   if (args.backend == "emu")
     for (const char* name : {"--device", "--split-bytes", "--max-groups"})
       Note(out, command, name, "--backend emu runs on the host, without a Vulkan device");

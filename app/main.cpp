@@ -68,7 +68,8 @@ void AddRender(CLI::App& app, Commands& cmds) {
   rc->add_option("--path", cmds.render.path,
                  "Hierarchy traversal: fused (each level tests and compacts in one pass, traverse.compact; the same "
                  "pairs, statistics and digest) or passes (traverse then reduce); auto: fused unless "
-                 "--check-workgroups or --schedule asks for the passes' emulated workgroups")
+                 "--check-workgroups or --schedule asks for the passes' emulated workgroups. --algo grid: passes runs "
+                 "grid.trace ray by ray, fused and auto its cells' triangles in SIMD lanes (the same walks)")
       ->check(CLI::IsMember({"auto", "fused", "passes"}));
   rc->add_flag("--no-oracle", cmds.render.no_oracle, "Skip the oracle re-trace");
   rc->add_flag("--timings", cmds.render.timings, "Print time per phase (the thesis's phases) and tests per second");

@@ -36,7 +36,11 @@ Tracers MakeTracers(const RenderArgs& args, const Scene& scene, const SceneBuffe
     t.hierarchy = emu::MakeHierarchyTracer(buffers, cfg);
   }
   if (args.algo == "tl") t.tl = emu::MakeTlTracer(buffers, MakeTlOptions(args), backend.hierarchy);
-  if (args.algo == "grid") t.grid = emu::MakeGridTracer(buffers, MakeGridOptions(args), backend.hierarchy);
+  if (args.algo == "grid") {
+    emu::grid::Options go = MakeGridOptions(args);
+    go.lanes = UsesFusedPath(args);
+    t.grid = emu::MakeGridTracer(buffers, go, backend.hierarchy);
+  }
   if (args.algo == "grid" && args.closed_models) WarnOpenModels(scene, buffers);
   t.frame = t.hierarchy ? t.hierarchy.get()
             : t.tl      ? t.tl.get()

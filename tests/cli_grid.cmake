@@ -132,8 +132,14 @@ else()
   if(NOT rc EQUAL 2 OR NOT err MATCHES "--primary grid: only --algo grid")
     set(failures "${failures}\n--primary grid with crsh: exit ${rc}, ${err}")
   endif()
-  # The Vulkan kernel: the emulator's digest and PNG.
+  # The Vulkan kernel: the emulator's digest and PNG (the emulator's render path tests cells' triangles
+  # in SIMD lanes; --path passes runs grid.trace ray by ray, as diff does: the same digest).
   set(DATA "")
+  render_digest(d_lanes lanes "${SRC}/scenes/cornell-soft.json" 40x40 emu --algo grid --primary grid --grid-cells 30)
+  render_digest(d_pass pass "${SRC}/scenes/cornell-soft.json" 40x40 emu --algo grid --primary grid --grid-cells 30 --path passes)
+  if(d_lanes STREQUAL "" OR NOT d_lanes STREQUAL d_pass)
+    set(failures "${failures}\nlanes vs --path passes: digest '${d_lanes}' vs '${d_pass}'")
+  endif()
   same_frame(vulkan-cornell "${SRC}/scenes/cornell-mirrors.json" 64x64 --algo grid)
   same_frame(vulkan-soft "${SRC}/scenes/cornell-soft.json" 48x48 --algo grid --grid-cells 40)
   same_frame(vulkan-closed "${SRC}/scenes/cornell-mirrors.json" 48x48 --algo grid --closed-models)

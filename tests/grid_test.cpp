@@ -10,6 +10,7 @@
 #include "rayspace/emu/grid/tracer.h"
 #include "rayspace/emu/intersect.h"
 #include "rayspace/emu/light_sample.h"
+#include "rayspace/parallel.h"
 #include "tl_util.h"
 
 using namespace rayspace;
@@ -428,4 +429,42 @@ TEST_CASE("grid: the binning's margins keep shadow rays aimed at vertices and ed
   }
   MESSAGE("rays lost without the margins: " << lost_without);
   CHECK(lost_without > 0u);
+}
+
+TEST_CASE("grid: the build's arrays are the same for every thread count and schedule, each cell's list ascending") {
+  // Over 2,048 triangles: the build bins them in several runs of 1,024.
+  SceneBuffers with_point = SoupScene(test::TlSoup(2600, 31), {});
+  with_point.lights = AreaSoup(31).lights;
+  with_point.lights.push_back(SoupScene({}, {{0.3f, 0.9f, -0.2f}}).lights[0]);
+  with_point.lights.back().sampling.z = 16;  // its shadow slots after the area lights'
+  const glm::vec3 eye(0.1f, 0.2f, -2.0f);
+  grid::Options o;
+  o.cells = 40;
+  o.area_cells = 24;
+  o.secondary_perspective = true;
+  const auto build = [&](int threads, std::size_t chunk) {
+    SetThreadCount(threads);
+    SetChunkSize(chunk);
+    GridArrays g = grid::Build(with_point, o, &eye, 5, &eye);
+    SetThreadCount(0);
+    SetChunkSize(0);
+    return g;
+  };
+  const GridArrays a = build(1, 0);
+  REQUIRE(a.perspective_refs > 0);
+  REQUIRE(a.volume_refs > 0);
+  std::size_t descending = 0;
+  for (std::size_t c = 0; c + 1 < a.first.size(); ++c)
+    for (std::uint32_t i = a.first[c] + 1; i < a.first[c + 1]; ++i) descending += a.triangles[i] <= a.triangles[i - 1];
+  CHECK(descending == 0);
+  for (const auto& [threads, chunk] : std::vector<std::pair<int, std::size_t>>{{2, 0}, {2, 1}, {2, 7}}) {
+    CAPTURE(threads);
+    CAPTURE(chunk);
+    const GridArrays x = build(threads, chunk);
+    CHECK(x.first == a.first);
+    CHECK(x.triangles == a.triangles);
+    CHECK(x.min_dist == a.min_dist);
+    CHECK(x.boxes == a.boxes);
+    CHECK(x.slices == a.slices);
+  }
 }

@@ -165,14 +165,13 @@ Table Table1(const std::vector<const Result*>& results) {
   t1.plot_y = "eye Mrays/s";
   t1.plot_group = "series";
   t1.notes.push_back(
-      "Ours: the emulated grid.trace on this machine's threads at the run's frame size, one eye ray and one hard-shadow ray per "
-      "pixel, 200 cells a face for the light, about 100x100-pixel cells for the eye; the build (in double, on the host, every "
-      "point light's and the eye's grids) counted once per frame. The paper's rates are a 2008 core's on 1920x1200 frames; only "
-      "the trends compare. Times vary run to run. Two differences shape ours: the kernel runs one invocation per ray, so "
-      "an eye ray scans every reference of its cell against its (u, v) rectangle (the tests per ray count only those that "
-      "pass), where the paper walks, per cell and triangle, the rays of the triangle's box: small frames have few, full "
-      "cells; and a point light's grid has six faces of 200 x 200 cells (the paper's one face of a light at the scene's "
-      "side), a fixed build cost that dominates the small bunnies' frames.");
+      "Ours: the emulated grid.trace (render's path: eye rays per cell and triangle in SIMD lanes, Hunt and Mark's tiled "
+      "order; shadow rays' cell triangles in lanes) on this machine's threads at the run's frame size, one eye ray and one "
+      "hard-shadow ray per pixel, 200 cells a face for the light, about 100x100-pixel cells for the eye; the build (in "
+      "double, on the host, every point light's and the eye's grids) counted once per frame. The paper's rates are a 2008 "
+      "core's on 1920x1200 frames; only the trends compare. Times vary run to run. A point light's grid has six faces of "
+      "200 x 200 cells (the paper's one face of a light at the scene's side), a fixed build cost that dominates the small "
+      "bunnies' frames.");
   if (rates.size() >= 2) {
     const Outcome falls{rates.back() < rates.front(), fmt::format("{:.2f} to {:.2f} Mrays/s", rates.front(), rates.back())};
     const Outcome rises{shares.back() > shares.front(), fmt::format("{:.0f}% to {:.0f}%", 100 * shares.front(), 100 * shares.back())};

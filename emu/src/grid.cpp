@@ -8,11 +8,16 @@
 #include "rayspace/emu/grid/grid.h"
 #include "rayspace/emu/intersect.h"
 #include "rayspace/parallel.h"
+#include "rayspace/error.h"
+#include "grid_eye_tiles.h"
+#include "simd/intersect_lanes.h"
 
 namespace rayspace::emu {
 namespace {
 
 constexpr std::uint32_t kMissWord = 0xFFFFFFFFu;
+
+bool g_lanes_fault = false;
 
 // The ray and its best answer so far; Test() runs the watertight test on one triangle.
 struct Walk {
@@ -20,21 +25,27 @@ struct Walk {
   const layout::Ray& r;
   WatertightRay w;
   float tmin, tmax;
+  const GridLanes* lanes = nullptr;  // PassGridTraceLanes: each cell's triangles W at a time
   std::uint64_t best = kMissPacked;
   std::uint32_t tests = 0, steps = 0;
   bool Done() const { return c.shadow != 0u && best != kMissPacked; }
+  // Whether the ray tests reference i of the cell list (own surface, and in a perspective cell, the
+  // reference's (u, v) rectangle).
+  bool Tests(std::uint32_t i, std::uint32_t t, const grid::FaceUv* uv) const {
+    if (t == r.info.y) return false;
+    if (!uv) return true;
+    const glm::vec4 box = c.boxes[i];
+    return uv->u >= box.x && uv->v >= box.y && uv->u <= box.z && uv->v <= box.w;
+  }
   // Tests the triangles of cell `cell` (ascending ids); in a perspective cell (`uv` given) only those
   // whose projection's rectangle holds the ray's (u, v), as a z-buffer tests the pixels of a
   // triangle's box.
   void Cell(std::uint32_t cell, const grid::FaceUv* uv = nullptr) {
+    if (lanes && lanes->isa != cone::Isa::kScalar) return CellLanes(cell, uv);
     const std::uint32_t b = c.first[cell], e = c.first[cell + 1];
     for (std::uint32_t i = b; i < e && !Done(); ++i) {
       const std::uint32_t t = c.cell_triangles[i];
-      if (t == r.info.y) continue;
-      if (uv) {
-        const glm::vec4 box = c.boxes[i];
-        if (!(uv->u >= box.x && uv->v >= box.y && uv->u <= box.z && uv->v <= box.w)) continue;
-      }
+      if (!Tests(i, t, uv)) continue;
       ++tests;
       const layout::Triangle& tr = c.triangles[t];
       // The whole range, not the best hit's t: a hit at the same t with a lower id must still win.
@@ -42,6 +53,42 @@ struct Walk {
       if (IntersectWatertight(w, Xyz(tr.v0), Xyz(tr.v1), Xyz(tr.v2), tmin, tmax, th)) {
         const std::uint64_t packed = PackHit(th, t);
         if (packed < best) best = packed;
+      }
+    }
+  }
+
+  // Cell() W triangles at a time: the tested references gathered in list order into the lanes; the
+  // hits recorded as the scalar scan records them (a shadow ray stops at its first).
+  void CellLanes(std::uint32_t cell, const grid::FaceUv* uv) {
+    const bool wide = lanes->isa == cone::Isa::kAvx512;
+    const std::uint32_t W = wide ? 16u : 8u;
+    const intersect_lanes::OneRay one{{w.org.x, w.org.y, w.org.z}, {w.dir.x, w.dir.y, w.dir.z}, w.sx, w.sy, tmin, tmax, w.kx, w.ky, w.kz};
+    intersect_lanes::TriangleLanes group{};
+    std::uint32_t ids[16];
+    float t[16];
+    const std::uint32_t e = c.first[cell + 1];
+    for (std::uint32_t i = c.first[cell]; i < e && !Done();) {
+      std::uint32_t m = 0;
+      for (; i < e && m < W; ++i) {
+        const std::uint32_t tri = c.cell_triangles[i];
+        if (!Tests(i, tri, uv)) continue;
+        const float* src = &lanes->triangles[std::size_t{tri} * 12];
+        for (int f = 0; f < 12; ++f) group.v[f][m] = src[f];
+        ids[m++] = tri;
+      }
+      if (g_lanes_fault && m == W) --m;
+      std::uint32_t bits = (wide ? intersect_lanes::TrianglesAvx512(one, group, t) : intersect_lanes::TrianglesAvx2(one, group, t)) &
+                           ((1u << m) - 1u);
+      if (c.shadow != 0u && bits) {
+        const std::uint32_t k = static_cast<std::uint32_t>(__builtin_ctz(bits));
+        tests += k + 1;
+        best = PackHit(t[k], ids[k]);
+        return;
+      }
+      tests += m;
+      for (; bits; bits &= bits - 1) {
+        const std::uint32_t k = static_cast<std::uint32_t>(__builtin_ctz(bits));
+        best = std::min(best, PackHit(t[k], ids[k]));
       }
     }
   }
@@ -232,16 +279,21 @@ void StepVolume(Walk& k, std::uint32_t index) {
 
 }  // namespace
 
-GridWalks PassGridTrace(const call::GridTrace& c) {
+namespace {
+
+GridWalks Trace(const call::GridTrace& c, const GridLanes* lanes) {
   const std::size_t n = c.rays.size();
   GridWalks out;
   if (c.shadow) out.occluded.assign(n, 0u);
   else out.hits.assign(n, kMissPacked);
   out.steps.assign(n, 0u);
   out.tests.assign(n, 0u);
+  // The render path takes eye rays per cell and triangle (Hunt and Mark's tiled order).
+  const std::vector<std::uint8_t> tiled = lanes ? TraceEyeTiles(c, *lanes, out) : std::vector<std::uint8_t>(n, 0);
   ParallelFor(n, [&](std::size_t i) {
+    if (tiled[i]) return;
     const layout::Ray& r = c.rays[i];
-    Walk k{c, r, SetupWatertight(Xyz(r.origin_tmin), Xyz(r.direction_tmax)), r.origin_tmin.w, r.direction_tmax.w};
+    Walk k{c, r, SetupWatertight(Xyz(r.origin_tmin), Xyz(r.direction_tmax)), r.origin_tmin.w, r.direction_tmax.w, lanes};
     grid::FaceUv uv;
     const std::uint32_t cell = PerspectiveCell(c, r, uv);
     const std::uint32_t volume = grid::VolumeGridOf(r, c.shadow != 0u, c.light_grids, c.secondary);
@@ -267,5 +319,32 @@ GridWalks PassGridTrace(const call::GridTrace& c) {
   });
   return out;
 }
+
+}  // namespace
+
+GridWalks PassGridTrace(const call::GridTrace& c) { return Trace(c, nullptr); }
+
+GridLanes PrepareGridLanes(std::span<const layout::Triangle> triangles, cone::Isa isa) {
+  GridLanes l;
+  l.isa = cone::Runs(isa) ? isa : cone::BestIsa();
+  if (l.isa == cone::Isa::kScalar) return l;
+  l.triangles.resize(triangles.size() * 12);
+  ParallelFor(triangles.size(), [&](std::size_t i) {
+    const layout::Triangle& tr = triangles[i];
+    const glm::vec3 v[4] = {Xyz(tr.v0), Xyz(tr.v1), Xyz(tr.v2), PlaneNormalOf(Xyz(tr.v0), Xyz(tr.v1), Xyz(tr.v2))};
+    for (int k = 0; k < 4; ++k)
+      for (int a = 0; a < 3; ++a) l.triangles[i * 12 + 3 * k + a] = v[k][a];
+  });
+  return l;
+}
+
+GridWalks PassGridTraceLanes(const call::GridTrace& c, const GridLanes& lanes) {
+  RS_CHECK_MSG(lanes.isa == cone::Isa::kScalar || lanes.triangles.size() == c.triangles.size() * 12,
+               "grid.trace lanes set up for {} triangles, called with {}", lanes.triangles.size() / 12, c.triangles.size());
+  return Trace(c, &lanes);
+}
+
+void SetGridLanesFaultForTesting(bool on) { g_lanes_fault = on; }
+bool GridLanesFault() { return g_lanes_fault; }
 
 }  // namespace rayspace::emu

@@ -4,11 +4,13 @@
 #include <array>
 #include <limits>
 #include <map>
+#include <utility>
 
 #include "rayspace/emu/grid/grid.h"
 #include "rayspace/emu/intersect.h"
 #include "rayspace/emu/light_sample.h"
 #include "rayspace/error.h"
+#include "rayspace/parallel.h"
 
 namespace rayspace::emu::grid {
 namespace {
@@ -76,54 +78,92 @@ bool FaceCellRange(const glm::dvec3 tri[3], std::uint32_t face, std::uint32_t n,
   return true;
 }
 
-// Cell lists in CSR from (cell, triangle) pairs gathered per cell in triangle order.
-// With `boxes` (perspective grids), each reference's (u, v) rectangle beside it.
-void AppendCsr(std::vector<std::vector<std::uint32_t>>& cells, GridArrays& g, std::vector<std::vector<glm::vec4>>* boxes = nullptr) {
-  for (std::size_t i = 0; i < cells.size(); ++i) {
-    g.first.push_back(static_cast<std::uint32_t>(g.triangles.size()));
-    g.triangles.insert(g.triangles.end(), cells[i].begin(), cells[i].end());
-    std::vector<std::uint32_t>().swap(cells[i]);
-    if (!boxes) continue;
-    g.boxes.insert(g.boxes.end(), (*boxes)[i].begin(), (*boxes)[i].end());
-    std::vector<glm::vec4>().swap((*boxes)[i]);
+// A run of triangles' cell references, in the order they were binned.
+struct Refs {
+  std::vector<std::uint32_t> cells, triangles;
+  std::vector<glm::vec4> boxes;  // perspective grids: each reference's (u, v) rectangle
+  void Add(std::uint32_t cell, std::uint32_t t) {
+    cells.push_back(cell);
+    triangles.push_back(t);
   }
+};
+
+// Appends to g the CSR lists of `cells` cells from every triangle's references (bin(t, refs) adds
+// triangle t's, with their rectangles when `boxes`), each list in ascending triangle order. The
+// triangles are binned in parallel in fixed runs; the lists are then laid out by a counting sort of
+// the runs in order (count, exclusive scan, scatter): the same arrays for every thread count.
+template <typename Bin>
+std::uint64_t BinCsr(std::size_t triangles, std::size_t cells, bool boxes, const Bin& bin, GridArrays& g) {
+  constexpr std::size_t kRun = 1024;
+  std::vector<Refs> runs((triangles + kRun - 1) / kRun);
+  ParallelForDynamic(runs.size(), 1, [&](std::size_t k) {
+    for (std::size_t t = k * kRun; t < std::min(triangles, (k + 1) * kRun); ++t) bin(static_cast<std::uint32_t>(t), runs[k]);
+  });
+  std::vector<std::size_t> at(cells, 0);
+  for (const Refs& r : runs)
+    for (const std::uint32_t c : r.cells) ++at[c];
+  std::size_t next = g.triangles.size();
+  const std::size_t base = next;
+  for (std::size_t c = 0; c < cells; ++c) {
+    g.first.push_back(static_cast<std::uint32_t>(next));
+    next += std::exchange(at[c], next);
+  }
+  RS_CHECK_MSG(next < (std::size_t{1} << 32), "grid: {} cell references", next);
+  RS_CHECK(!boxes || g.boxes.size() == base);  // rectangles share the references' indices
+  g.triangles.resize(next);
+  if (boxes) g.boxes.resize(next);
+  for (Refs& r : runs) {
+    for (std::size_t i = 0; i < r.cells.size(); ++i) {
+      const std::size_t pos = at[r.cells[i]]++;
+      g.triangles[pos] = r.triangles[i];
+      if (boxes) g.boxes[pos] = r.boxes[i];
+    }
+    r = Refs();
+  }
+  return next - base;
 }
 
 glm::dvec3 Vertex(const glm::vec4& v) { return {v.x, v.y, v.z}; }
 
 // One point light's grid: n x n cells on each of the six faces of a cube about the light.
 void BuildPerspective(const SceneBuffers& scene, glm::vec3 light, std::uint32_t n, bool closed, bool margins, GridArrays& g) {
-  const std::size_t cells = layout::kGridFaces * std::size_t{n} * n;
-  std::vector<std::vector<std::uint32_t>> lists(cells);
-  std::vector<std::vector<glm::vec4>> boxes(cells);
-  std::vector<float> dist(cells, INFINITY);
+  const std::size_t cells = layout::kGridFaces * std::size_t{n} * n, first_cell = g.first.size();
   const glm::dvec3 o(light);
-  for (std::uint32_t t = 0; t < scene.triangles.size(); ++t) {
+  // Rounded down, then by the slack: no hit of a ray of a cell listing the triangle is closer
+  // (docs/grids.md).
+  std::vector<float> dist(scene.triangles.size());
+  ParallelFor(dist.size(), [&](std::size_t t) {
     const layout::Triangle& tr = scene.triangles[t];
-    // Front-face culling: a closed mesh's shadow is cast by the faces turned away from the light.
-    if (closed && !FacesAway(Xyz(tr.v0), Xyz(tr.v1), Xyz(tr.v2), light)) continue;
-    const glm::dvec3 rel[3] = {Vertex(tr.v0) - o, Vertex(tr.v1) - o, Vertex(tr.v2) - o};
-    // Rounded down, then by the slack: no hit of a ray of this cell is closer (docs/grids.md).
     const double d = PointTriangleDistance(o, Vertex(tr.v0), Vertex(tr.v1), Vertex(tr.v2));
     float df = static_cast<float>(d);
     if (margins && static_cast<double>(df) > d) df = std::nextafter(df, 0.0f);
-    if (margins) df *= layout::kGridDistanceSlack;
+    dist[t] = margins ? df * layout::kGridDistanceSlack : df;
+  });
+  g.perspective_refs += BinCsr(scene.triangles.size(), cells, true, [&](std::uint32_t t, Refs& refs) {
+    const layout::Triangle& tr = scene.triangles[t];
+    // Front-face culling: a closed mesh's shadow is cast by the faces turned away from the light.
+    if (closed && !FacesAway(Xyz(tr.v0), Xyz(tr.v1), Xyz(tr.v2), light)) return;
+    const glm::dvec3 rel[3] = {Vertex(tr.v0) - o, Vertex(tr.v1) - o, Vertex(tr.v2) - o};
     for (std::uint32_t f = 0; f < layout::kGridFaces; ++f) {
       glm::uvec4 r;
       glm::vec4 box;
       if (!FaceCellRange(rel, f, n, margins, r, box)) continue;
       for (std::uint32_t j = r.z; j <= r.w; ++j)
         for (std::uint32_t i = r.x; i <= r.y; ++i) {
-          const std::size_t c = (std::size_t{f} * n + j) * n + i;
-          lists[c].push_back(t);
-          boxes[c].push_back(box);
-          dist[c] = std::min(dist[c], df);
+          refs.Add(static_cast<std::uint32_t>((std::size_t{f} * n + j) * n + i), t);
+          refs.boxes.push_back(box);
         }
     }
-  }
-  for (const auto& l : lists) g.perspective_refs += l.size();
-  AppendCsr(lists, g, &boxes);
-  g.min_dist.insert(g.min_dist.end(), dist.begin(), dist.end());
+  }, g);
+  // Per cell, the least distance of the triangles it lists.
+  const std::size_t base = g.min_dist.size();
+  g.min_dist.resize(base + cells, INFINITY);
+  ParallelFor(cells, [&](std::size_t c) {
+    float m = INFINITY;
+    const std::size_t end = c + 1 < cells ? g.first[first_cell + c + 1] : g.triangles.size();
+    for (std::size_t i = g.first[first_cell + c]; i < end; ++i) m = std::min(m, dist[g.triangles[i]]);
+    g.min_dist[base + c] = m;
+  });
 }
 
 // Whether every point of the box [lo, hi] lies strictly in front of the triangle's plane: the
@@ -195,12 +235,11 @@ void BuildVolume(const SceneBuffers& scene, const layout::Light* light, glm::vec
   const double near = static_cast<double>(zn * layout::kGridNearShrink) * (1.0 - depth_slack);
   const std::array<const float*, layout::kGridFaces> bounds = AppendSlices(scene, o, zn, depth, g);
   const std::size_t face_cells = std::size_t{n} * n * depth, cells = layout::kGridFaces * face_cells;
-  std::vector<std::vector<std::uint32_t>> lists(cells);
   const double half = 0.5 * n, slack = options.margins ? static_cast<double>(layout::kGridCellSlack) : 0.0,
                w = 1.0 + (options.margins ? static_cast<double>(layout::kGridFaceSlack) : 0.0);
-  for (std::uint32_t t = 0; t < scene.triangles.size(); ++t) {
+  g.volume_refs += BinCsr(scene.triangles.size(), cells, false, [&](std::uint32_t t, Refs& refs) {
     const layout::Triangle& tr = scene.triangles[t];
-    if (light && options.closed && FrontFromBox(tr, glm::dvec3(llo), glm::dvec3(lhi))) continue;
+    if (light && options.closed && FrontFromBox(tr, glm::dvec3(llo), glm::dvec3(lhi))) return;
     const glm::dvec3 rel[3] = {Vertex(tr.v0) - o, Vertex(tr.v1) - o, Vertex(tr.v2) - o};
     for (std::uint32_t f = 0; f < layout::kGridFaces; ++f) {
       const FaceAxes ax = AxesOf(f);
@@ -236,12 +275,10 @@ void BuildVolume(const SceneBuffers& scene, const layout::Light* light, glm::vec
       const std::uint32_t k0 = SliceOf(hi[2] * (1.0 + depth_slack), bounds[f], depth), k1 = SliceOf(lo[2] * (1.0 - depth_slack), bounds[f], depth);
       for (std::uint32_t k = k0; k <= k1; ++k)
         for (std::uint32_t j = c[2]; j <= c[3]; ++j)
-          for (std::uint32_t i = c[0]; i <= c[1]; ++i) lists[f * face_cells + (std::size_t{k} * n + j) * n + i].push_back(t);
+          for (std::uint32_t i = c[0]; i <= c[1]; ++i) refs.Add(static_cast<std::uint32_t>(f * face_cells + (std::size_t{k} * n + j) * n + i), t);
     }
-  }
-  for (const auto& l : lists) g.volume_refs += l.size();
+  }, g);
   g.volume_cells += cells;
-  AppendCsr(lists, g);
 }
 
 // The regular grid over the scene's box, widened by 2^-10 of its size on each side; `cells` along
@@ -262,9 +299,8 @@ void BuildRegular(const SceneBuffers& scene, std::uint32_t longest, bool margins
   g.volume = {glm::vec4(flo, 0.0f), glm::vec4(cell, 0.0f), glm::vec4(inv, 0.0f), glm::vec4(fhi, 0.0f)};
   g.volume_dims = {glm::uvec4(dims, static_cast<std::uint32_t>(g.first.size()))};
   const std::size_t cells = std::size_t{dims.x} * dims.y * dims.z;
-  std::vector<std::vector<std::uint32_t>> lists(cells);
   const double slack = margins ? static_cast<double>(layout::kGridCellSlack) : 0.0;
-  for (std::uint32_t t = 0; t < scene.triangles.size(); ++t) {
+  g.regular_refs += BinCsr(scene.triangles.size(), cells, false, [&](std::uint32_t t, Refs& refs) {
     const layout::Triangle& tr = scene.triangles[t];
     const glm::dvec3 a = Vertex(tr.v0), b = Vertex(tr.v1), c = Vertex(tr.v2);
     const glm::dvec3 tlo = glm::min(a, glm::min(b, c)), thi = glm::max(a, glm::max(b, c));
@@ -277,11 +313,9 @@ void BuildRegular(const SceneBuffers& scene, std::uint32_t longest, bool margins
     }
     for (std::uint32_t z = c0.z; z <= c1.z; ++z)
       for (std::uint32_t y = c0.y; y <= c1.y; ++y)
-        for (std::uint32_t x = c0.x; x <= c1.x; ++x) lists[(std::size_t{z} * dims.y + y) * dims.x + x].push_back(t);
-  }
-  for (const auto& l : lists) g.regular_refs += l.size();
+        for (std::uint32_t x = c0.x; x <= c1.x; ++x) refs.Add(static_cast<std::uint32_t>((std::size_t{z} * dims.y + y) * dims.x + x), t);
+  }, g);
   g.regular_cells = cells;
-  AppendCsr(lists, g);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <cstring>
+#include <optional>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -19,7 +20,11 @@ class Grid final : public GridTracer {
       : scene_(scene),
         options_(options),
         checked_(&passes != &EmuHierarchyPasses() ? CheckedHierarchyPasses(passes) : nullptr),
-        passes_(checked_ ? *checked_ : passes) {}
+        passes_(checked_ ? *checked_ : passes) {
+    // The render path on the emulator: cells' triangles in lanes (PassGridTraceLanes), the same
+    // walks as the pass; a backend, or the pass wrapped (checks, planted faults), gets the pass.
+    if (options_.lanes && &passes == &EmuHierarchyPasses()) lanes_ = PrepareGridLanes(scene.triangles);
+  }
 
   std::string Name() const override { return "grid"; }
   void Describe(nlohmann::json& out) const override {
@@ -95,7 +100,7 @@ class Grid final : public GridTracer {
     const std::string label = "grid.trace." + ctx_.name;
     passes_.Label(label);
     const auto t0 = std::chrono::steady_clock::now();
-    GridWalks w = passes_.GridTrace({.first = grids_.first,
+    const call::GridTrace call{.first = grids_.first,
                                      .cell_triangles = grids_.triangles,
                                      .min_dist = grids_.min_dist,
                                      .boxes = grids_.boxes,
@@ -109,7 +114,8 @@ class Grid final : public GridTracer {
                                      .shadow = shadow,
                                      .closed = options_.closed ? 1u : 0u,
                                      .eye = grids_.eye,
-                                     .secondary = grids_.secondary});
+                                     .secondary = grids_.secondary};
+    GridWalks w = lanes_ ? PassGridTraceLanes(call, *lanes_) : passes_.GridTrace(call);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (ctx_.subpasses) ctx_.subpasses->push_back({label, ms, rays.size()});
     if (ctx_.digest) {
@@ -156,6 +162,7 @@ class Grid final : public GridTracer {
   grid::Options options_;
   std::unique_ptr<HierarchyPasses> checked_;  // a backend's outputs checked (emu/output_checks.h)
   HierarchyPasses& passes_;
+  std::optional<GridLanes> lanes_;
   GridArrays grids_;
   layout::FrameConstants eye_frame_{};  // the frame the eye's grid was built for
   glm::vec3 secondary_eye_{0.0f};       // the eye the 3D grid for reflection and refraction rays is about

@@ -77,3 +77,34 @@ inline std::uint32_t RaysLanes(const RayArrays& r, const Triangle& tri, std::uin
   L::Store(t_out, t);
   return L::Bits(L::And(Inside(u, v, w), in_range));
 }
+
+// One ray against W triangles (grid.trace's cell lists): the same operations per lane as RaysLanes,
+// with the ray's axis permutation fixed, so the component picks need no selects.
+inline std::uint32_t TrianglesLanes(const intersect_lanes::OneRay& r, const intersect_lanes::TriangleLanes& tris, float* t_out) {
+  using V = typename L::V;
+  const auto load = [&](int f) { return L::Load(tris.v[f]); };
+  const auto minus = [&](int f) { return V3{L::Sub(load(f), L::Set(r.org[0])), L::Sub(load(f + 1), L::Set(r.org[1])), L::Sub(load(f + 2), L::Set(r.org[2]))}; };
+  const V3 A0 = minus(0), B0 = minus(3), C0 = minus(6);
+  const V ka = L::InversePowerOfTwo(Largest(A0, B0, C0));
+  const V3 A = Scaled(A0, ka), B = Scaled(B0, ka), C = Scaled(C0, ka);
+  const auto pick = [](const V3& p, std::int32_t k) { return k == 0 ? p.x : (k == 1 ? p.y : p.z); };
+  const V sx = L::Set(r.sx), sy = L::Set(r.sy);
+  const auto shear = [&](const V3& P, V& px, V& py) {
+    const V pz = pick(P, r.kz);
+    px = L::Sub(pick(P, r.kx), L::Mul(sx, pz));
+    py = L::Sub(pick(P, r.ky), L::Mul(sy, pz));
+  };
+  V ax, ay, bx, by, cx, cy;
+  shear(A, ax, ay);
+  shear(B, bx, by);
+  shear(C, cx, cy);
+  const V u = L::Sub(L::Mul(cx, by), L::Mul(cy, bx)), v = L::Sub(L::Mul(ax, cy), L::Mul(ay, cx)),
+          w = L::Sub(L::Mul(bx, ay), L::Mul(by, ax));
+  const V nx = load(9), ny = load(10), nz = load(11);
+  const V num = L::Add(L::Add(L::Mul(A0.x, nx), L::Mul(A0.y, ny)), L::Mul(A0.z, nz));
+  const V den = L::Add(L::Add(L::Mul(L::Set(r.dir[0]), nx), L::Mul(L::Set(r.dir[1]), ny)), L::Mul(L::Set(r.dir[2]), nz));
+  const V t = L::Div(num, den);
+  const typename L::M in_range = L::And(L::template Cmp<_CMP_GT_OQ>(t, L::Set(r.tmin)), L::template Cmp<_CMP_LT_OQ>(t, L::Set(r.tmax)));
+  L::Store(t_out, t);
+  return L::Bits(L::And(Inside(u, v, w), in_range));
+}

@@ -23,4 +23,6 @@ namespace rayspace::emu::intersect_lanes {
 
 std::uint32_t RS_ISA(Rays)(const RayArrays& r, const Triangle& tri, std::uint32_t j, float* t) { return cone::lanes::RaysLanes(r, tri, j, t); }
 
+std::uint32_t RS_ISA(Triangles)(const OneRay& r, const TriangleLanes& tris, float* t) { return cone::lanes::TrianglesLanes(r, tris, t); }
+
 }  // namespace rayspace::emu::intersect_lanes

@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "rayspace/contract.h"
+#include "rayspace/emu/cone_simd.h"
 #include "rayspace/emu/fields.h"
 #include "rayspace/scene_buffers.h"
 
@@ -65,6 +66,9 @@ struct Options {
   // depth, docs/grids.md). false: none, each triangle binned by its exact extent and its least
   // distance rounded to nearest: what `rayspace accuracy` compares them with (rays then miss hits).
   bool margins = true;
+  // The render path (--path auto/fused on the emulator): grid.trace with each cell's triangles in
+  // lanes (PassGridTraceLanes), the pass's walks bit for bit; `diff` and a backend run the pass.
+  bool lanes = false;
 };
 
 // The face (0..5: +x, -x, +y, -y, +z, -z) and the (u, v) in [-1, 1] of a direction seen from a light;
@@ -121,5 +125,22 @@ struct GridTrace;
 }
 // The emulated grid.trace (mirrors gpu/shaders/grid_trace.comp).
 GridWalks PassGridTrace(const call::GridTrace& c);
+
+// The render path's grid.trace: the same walks, answers and counts as PassGridTrace, with each
+// cell's triangles (those a ray tests: its own surface and, in a perspective cell, references whose
+// rectangle misses the ray's (u, v) left out) gathered into lanes and tested 8 (AVX2) or 16
+// (AVX-512F) at a time, each lane the scalar watertight test bit for bit. A shadow ray's tests are
+// counted up to its first hit in list order, as the scalar scan stops there.
+struct GridLanes {
+  std::vector<float> triangles;  // per scene triangle: v0, v1, v2 and its plane normal (PlaneNormalOf), 12 floats
+  cone::Isa isa = cone::Isa::kScalar;  // kScalar: PassGridTrace itself
+};
+// Set up once per scene (the triangles do not change over a frame); an ISA the CPU lacks means the
+// best it has.
+GridLanes PrepareGridLanes(std::span<const layout::Triangle> triangles, cone::Isa isa = cone::BestIsa());
+GridWalks PassGridTraceLanes(const call::GridTrace& c, const GridLanes& lanes);
+// Tests only: the lanes drop the last triangle of every full lane group (a difference the
+// equality test must see).
+void SetGridLanesFaultForTesting(bool on);
 
 }  // namespace rayspace::emu
