@@ -25,6 +25,7 @@
 #include "devices_command.h"
 #include "diff_command.h"
 #include "export_command.h"
+#include "mutate/mutate_command.h"
 #include "rayspace/gpu/validation.h"
 #endif
 
@@ -49,6 +50,8 @@ struct Commands {
   rayspace::app::DiffArgs diff;
   rayspace::app::ReplayArgs replay;
   rayspace::app::ExportArgs export_args;
+  rayspace::app::MutateArgs mutate;
+  CLI::App* mutate_cmd = nullptr;
 #endif
 };
 
@@ -201,6 +204,30 @@ void AddExport(CLI::App& app, Commands& cmds) {
 #endif
 
 #ifdef RAYSPACE_HAVE_VULKAN
+void AddMutate(CLI::App& app, Commands& cmds) {
+  CLI::App* mc = cmds.mutate_cmd = app.add_subcommand(
+      "mutate", "Mutants of every GLSL kernel (comparisons, operators, constants, barriers, bindings, components, loop "
+                "bounds), each run through the pass-by-pass diff on a small frame, and spirv-opt variants that must diff "
+                "equal (docs/verification.md)");
+  rayspace::app::MutateArgs& m = cmds.mutate;
+  mc->add_option("scene", m.scene, "Scene JSON file (default scenes/cornell-mirrors.json)");
+  mc->add_option("--pass", m.passes, "Only these passes' kernels (repeatable; default every kernel the scene runs, and their include files)");
+  mc->add_option("--config", m.configs, "Only these diff configurations (repeatable; default all: docs/verification.md lists them)");
+  mc->add_option("--limit", m.limit, "Mutants to run, taken in turn from each file's seeded shuffle; 0: every one (default 30)");
+  mc->add_option("--seed", m.seed, "Seed of the choice: a number, a word, or 'commit' (this binary's commit) (default 1)");
+  mc->add_option("--report", m.report, "Write every mutant, verdict and variant as JSON to this file");
+  mc->add_option("--data", m.data, "Data root for mesh paths (default: $RAYSPACE_DATA)");
+  mc->add_option("--size", m.size, "Frame size WxH of each diff (default 32x32)");
+  mc->add_option("--variants", m.variants, "spirv-opt variants to run (kernel x recipe, seeded): a count or 'all' (default 2)");
+  mc->add_option("--timeout", m.timeout, "Seconds per diff before a mutant counts as hung (default 60)")->check(CLI::Range(1, 3600));
+  mc->add_option("--jobs", m.jobs, "Diffs run at once (default 1)")->check(CLI::Range(1, 64));
+  mc->add_option("--survivors", m.survivors, "JSON of explained survivors ({\"mutants\": {ID: {\"class\", \"why\"}}}), as "
+                                             "docs/mutation-survivors.json");
+  mc->add_option("--only", m.only, "Only mutants whose id contains this text (file:line:column:operator:replacement)");
+  mc->add_option("--work", m.work, "Keep each mutant's files, diff log and report in this directory (default: a temporary one, removed)");
+  mc->add_flag("--list", m.list, "Print the chosen mutants and exit");
+}
+
 // The replay options the command line gives; the rest come from the saved call's recording.
 void NoteGivenReplayOptions(Commands& cmds) {
   if (!cmds.replay_cmd->parsed()) return;
@@ -236,6 +263,7 @@ rayspace::app::ExitCode Run(const Commands& cmds) {
   if (cmds.replay_cmd->parsed()) return rayspace::app::RunReplay(cmds.replay);
   if (cmds.devices_cmd->parsed()) return rayspace::app::RunDevices();
   if (cmds.export_cmd->parsed()) return rayspace::app::RunExport(cmds.export_args);
+  if (cmds.mutate_cmd->parsed()) return rayspace::app::RunMutate(cmds.mutate);
 #endif
   return ExitCode::kOk;
 }
@@ -265,6 +293,7 @@ int main(int argc, char** argv) {
 #ifdef RAYSPACE_HAVE_VULKAN
   AddDiffAndReplay(app, cmds);
   AddExport(app, cmds);
+  AddMutate(app, cmds);
   cmds.devices_cmd = app.add_subcommand("devices", "List the Vulkan devices, each requirement of rayspace met or not, the "
                                                    "device used without --device and how diff compares on it");
   rayspace::app::AddDeviceLacksOption(*cmds.devices_cmd);

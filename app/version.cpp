@@ -59,4 +59,6 @@ std::string VersionText() {
   return s;
 }
 
+std::string BuildCommit() { return RAYSPACE_COMMIT; }
+
 }  // namespace rayspace::app

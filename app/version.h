@@ -8,6 +8,8 @@
 namespace rayspace::app {
 
 std::string VersionText();
+// The commit this binary was built from (as --version prints it).
+std::string BuildCommit();
 
 // The command line as given (main sets it once), for the JSON files a run writes.
 void SetArguments(int argc, char** argv);

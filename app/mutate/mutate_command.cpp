@@ -1,0 +1,359 @@
+#include "mutate_command.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <set>
+#include <thread>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "rayspace/json_text.h"
+#include "mutants.h"
+#include "mutate_runs.h"
+#include "rayspace/error.h"
+#include "rayspace/output_file.h"
+#include "rayspace/pass_registry.h"
+#include "version.h"
+
+namespace rayspace::app {
+namespace fs = std::filesystem;
+using mutate_runs::DiffConfig;
+using nlohmann::json;
+
+namespace {
+
+// A kernel file and the passes that run it (sort.comp: compress, sort, decompress).
+struct Kernel {
+  std::vector<std::string> passes;
+  std::set<std::string> includes;  // every file of the shader directory it includes, transitively
+};
+
+std::map<std::string, Kernel> Kernels() {
+  std::map<std::string, Kernel> out;
+  for (const PassSpec& p : kPasses)
+    if (!p.graphics) out[std::string(p.kernel) + ".comp"].passes.emplace_back(p.name);
+  for (auto& [file, k] : out) {
+    std::vector<std::string> todo = mutate::Includes(mutate_runs::ReadFile(mutate_runs::ShaderDir() / file));
+    while (!todo.empty()) {
+      const std::string inc = todo.back();
+      todo.pop_back();
+      if (!fs::exists(mutate_runs::ShaderDir() / inc) || !k.includes.insert(inc).second) continue;
+      for (const std::string& more : mutate::Includes(mutate_runs::ReadFile(mutate_runs::ShaderDir() / inc))) todo.push_back(more);
+    }
+  }
+  return out;
+}
+
+// A file to mutate, the configurations whose diffs run it (in order: a mutant runs in the first,
+// and in the next ones only while it survives), and per configuration the kernels to replace.
+struct Target {
+  std::string file;
+  std::vector<std::size_t> configs;
+  std::vector<std::vector<std::string>> kernels;  // per entry of configs: kernel files compiled from the mutant's directory
+  std::vector<std::string> passes;                // the passes those kernels serve
+};
+
+struct Baseline {
+  std::vector<std::set<std::string>> passes;  // per configuration: the passes its diff ran (none: skipped)
+  std::vector<std::string> scenes;            // per configuration: the scene it renders
+  json configs = json::array();
+};
+
+Baseline RunBaseline(const mutate_runs::Frame& frame, const std::vector<std::string>& only, const fs::path& work) {
+  Baseline b;
+  const auto& configs = mutate_runs::Configs();
+  bool own_checked = false;  // the first wanted configuration on the command's scene has run
+  for (std::size_t c = 0; c < configs.size(); ++c) {
+    const bool wanted = only.empty() || std::find(only.begin(), only.end(), configs[c].name) != only.end();
+    const std::string scene = wanted ? mutate_runs::SceneFor(configs[c], frame.scene, work / "baseline") : "";
+    json j = {{"name", configs[c].name}, {"flags", configs[c].flags}, {"scene", scene}};
+    std::set<std::string> ran;
+    if (!wanted) {
+      j["skipped"] = "not asked for (--config)";
+    } else if (scene.empty()) {
+      j["skipped"] = "the scene has no material to make glass";
+    } else {
+      const mutate_runs::DiffRun run = mutate_runs::RunDiff(frame, configs[c], {}, work / "baseline" / configs[c].name, scene);
+      // The first configuration on the command's own scene must diff equal (else mutants mean
+      // nothing); a later one may not fit the scene (limits), a derived scene may not suit it: left out.
+      if (run.code != 0 && configs[c].scene.empty() && !own_checked)
+        ThrowInput("{}: the unmutated kernels do not diff equal (exit {}: {}); mutants would mean nothing", frame.scene, run.code, run.last_line);
+      own_checked = own_checked || configs[c].scene.empty();
+      if (run.code != 0) {
+        j["skipped"] = fmt::format("the unmutated kernels do not diff equal here (exit {}: {})", run.code, run.last_line);
+        std::fprintf(stderr, "rayspace mutate: warning: configuration %s left out: %s\n", configs[c].name.c_str(),
+                     j["skipped"].get<std::string>().c_str());
+      } else {
+        for (const json& p : run.report.value("passes", json::array())) ran.insert(p.value("pass", std::string()));
+        j["seconds"] = run.seconds;
+      }
+    }
+    j["passes"] = std::vector<std::string>(ran.begin(), ran.end());
+    b.passes.push_back(ran);
+    b.scenes.push_back(scene);
+    b.configs.push_back(j);
+  }
+  return b;
+}
+
+bool Runs(const Kernel& k, const std::set<std::string>& ran) {
+  return std::any_of(k.passes.begin(), k.passes.end(), [&](const std::string& p) { return ran.count(p) > 0; });
+}
+
+// The configurations that run `file` (a kernel, or an include file through the kernels that read
+// it), with the kernels to replace in each.
+Target TargetOf(const std::string& file, const std::map<std::string, Kernel>& kernels, const Baseline& b) {
+  Target t{file, {}, {}, {}};
+  std::set<std::string> passes;
+  for (std::size_t c = 0; c < b.passes.size(); ++c) {
+    std::vector<std::string> replaced;
+    for (const auto& [k, kernel] : kernels)
+      if ((k == file || kernel.includes.count(file)) && Runs(kernel, b.passes[c])) {
+        replaced.push_back(k);
+        passes.insert(kernel.passes.begin(), kernel.passes.end());
+      }
+    if (replaced.empty()) continue;
+    t.configs.push_back(c);
+    t.kernels.push_back(replaced);
+  }
+  t.passes.assign(passes.begin(), passes.end());
+  return t;
+}
+
+// Every kernel some configuration runs, and every include file of the shader directory such a kernel
+// reads; with --pass, only those passes' kernels.
+std::vector<Target> Targets(const MutateArgs& args, const std::map<std::string, Kernel>& kernels, const Baseline& b) {
+  std::set<std::string> wanted;
+  for (const std::string& p : args.passes) {
+    const auto id = FindPass(p);
+    if (!id || Pass(*id).graphics) ThrowInput("--pass '{}': not a compute pass (rayspace/pass_registry.h lists them)", p);
+    wanted.insert(std::string(Pass(*id).kernel) + ".comp");
+  }
+  std::set<std::string> files;
+  for (const auto& [file, k] : kernels) {
+    if (!wanted.empty() && !wanted.count(file)) continue;
+    files.insert(file);
+    if (wanted.empty()) files.insert(k.includes.begin(), k.includes.end());
+  }
+  std::vector<Target> out;
+  for (const std::string& f : files)
+    if (Target t = TargetOf(f, kernels, b); !t.configs.empty()) out.push_back(std::move(t));
+  return out;
+}
+
+struct Mutant {
+  mutate::Mutation m;
+  const Target* target = nullptr;
+};
+
+// --limit mutants: each file's mutations shuffled by the seed, then taken one file at a time in turn,
+// so that every kernel gets its share; --only narrows by id first.
+std::vector<Mutant> Choose(const MutateArgs& args, const std::vector<Target>& targets, std::uint64_t seed, std::size_t& total) {
+  std::vector<std::vector<Mutant>> per_file;
+  total = 0;
+  for (const Target& t : targets) {
+    std::vector<mutate::Mutation> all = mutate::Enumerate(t.file, mutate_runs::ReadFile(mutate_runs::ShaderDir() / t.file));
+    if (!args.only.empty())
+      all.erase(std::remove_if(all.begin(), all.end(), [&](const mutate::Mutation& m) { return m.Id().find(args.only) == std::string::npos; }),
+                all.end());
+    total += all.size();
+    std::vector<Mutant> v;
+    for (const std::size_t i : mutate::Shuffled(all.size(), seed ^ mutate::SeedOf(t.file))) v.push_back({all[i], &t});
+    per_file.push_back(std::move(v));
+  }
+  std::vector<Mutant> out;
+  const std::size_t limit = args.limit == 0 ? total : std::min(args.limit, total);
+  for (std::size_t round = 0; out.size() < limit; ++round)
+    for (auto& v : per_file)
+      if (round < v.size() && out.size() < limit) out.push_back(v[round]);
+  return out;
+}
+
+// The mutant's directory: the mutated file and the kernels that read it (an include's); the
+// overrides of configuration entry `e` of its target.
+std::vector<std::pair<std::string, std::string>> Prepare(const Mutant& mu, std::size_t e, const fs::path& dir) {
+  fs::create_directories(dir);
+  const std::string source = mutate_runs::ReadFile(mutate_runs::ShaderDir() / mu.m.file);
+  mutate_runs::WriteFile(dir / mu.m.file, mutate::Apply(source, mu.m));
+  std::vector<std::pair<std::string, std::string>> kernels;
+  const std::map<std::string, Kernel> all = Kernels();
+  for (const std::string& k : mu.target->kernels[e]) {
+    if (k != mu.m.file) fs::copy_file(mutate_runs::ShaderDir() / k, dir / k, fs::copy_options::overwrite_existing);
+    for (const std::string& p : all.at(k).passes) kernels.emplace_back(p, (dir / k).string());
+  }
+  return kernels;
+}
+
+// A survivor the optimiser proves equal: every kernel it touches compiles, with the specialization
+// constants at their defaults (no planted fault), after spirv-opt -O and with ids renumbered, to
+// the same SPIR-V as the original, up to the order of global declarations (mutate_runs::Canonical).
+bool ProvablyEquivalent(const Mutant& mu, const fs::path& dir) {
+  std::set<std::string> touched;
+  for (const auto& ks : mu.target->kernels) touched.insert(ks.begin(), ks.end());
+  const std::vector<std::string> recipe = {"--freeze-spec-const", "--fold-spec-const-op-composite", "-O", "--compact-ids"};
+  for (const std::string& k : touched) {
+    std::string err;
+    const fs::path a = dir / (k + ".orig.spv"), b = dir / (k + ".mut.spv");
+    if (!fs::exists(dir / k)) fs::copy_file(mutate_runs::ShaderDir() / k, dir / k, fs::copy_options::overwrite_existing);
+    if (!mutate_runs::Compile(mutate_runs::ShaderDir() / k, a, err) || !mutate_runs::Compile(dir / k, b, err)) return false;
+    if (!mutate_runs::Optimize(a, a.string() + ".O", recipe, err) || !mutate_runs::Optimize(b, b.string() + ".O", recipe, err)) return false;
+    const std::string ca = mutate_runs::Canonical(a.string() + ".O");
+    if (ca.empty() || ca != mutate_runs::Canonical(b.string() + ".O")) return false;
+  }
+  return true;
+}
+
+json Explanations(const std::string& path) {
+  if (path.empty() || !fs::exists(path)) return json::object();
+  try {
+    return json::parse(mutate_runs::ReadFile(path)).value("mutants", json::object());
+  } catch (const json::exception& e) {
+    ThrowInput("--survivors '{}': not JSON ({})", path, e.what());
+  }
+}
+
+json MutantJson(const Mutant& mu) {
+  return {{"id", mu.m.Id()},
+          {"file", mu.m.file},
+          {"line", mu.m.line},
+          {"column", mu.m.column},
+          {"operator", mu.m.op},
+          {"before", mu.m.before},
+          {"after", mu.m.after},
+          {"source", mutate::LineText(mutate_runs::ReadFile(mutate_runs::ShaderDir() / mu.m.file), mu.m.line)},
+          {"passes", mu.target->passes}};
+}
+
+// The mutant through its configurations until one kills it (or it cannot run); a survivor of all is
+// checked for provable equivalence, then looked up among the explained survivors.
+json RunMutant(const Mutant& mu, const mutate_runs::Frame& frame, const Baseline& base, const fs::path& dir, const json& explained) {
+  json j = MutantJson(mu);
+  mutate_runs::Verdict v;
+  json tried = json::array();
+  for (std::size_t e = 0; e < mu.target->configs.size(); ++e) {
+    const mutate_runs::DiffConfig& config = mutate_runs::Configs()[mu.target->configs[e]];
+    const auto kernels = Prepare(mu, e, dir);
+    v = mutate_runs::Classify(mutate_runs::RunDiff(frame, config, kernels, dir / config.name, base.scenes[mu.target->configs[e]]));
+    tried.push_back(config.name);
+    if (v.status != "survived") break;
+  }
+  j["configs"] = tried;
+  j["status"] = v.status;
+  if (!v.reason.empty()) j["reason"] = v.reason;
+  if (!v.caught.empty()) j["caught"] = v.caught;
+  if (v.status != "survived") return j;
+  if (ProvablyEquivalent(mu, dir)) {
+    j["status"] = "equivalent";
+    j["why"] = "proved by the optimiser: the same SPIR-V as the original with no fault planted, after spirv-opt -O";
+  } else if (explained.contains(mu.m.Id())) {
+    j["class"] = explained[mu.m.Id()].value("class", std::string());
+    j["why"] = explained[mu.m.Id()].value("why", std::string());
+    if (j["class"] == "equivalent") j["status"] = "equivalent";
+  }
+  return j;
+}
+
+std::string Describe(const json& j) {
+  std::string s = fmt::format("{}:{} {} '{}' -> '{}': {}", j["file"].get<std::string>(), j["line"].get<int>(), j["operator"].get<std::string>(),
+                              j["before"].get<std::string>(), j["after"].get<std::string>(), j["status"].get<std::string>());
+  if (j.contains("caught") && j["caught"].contains("pass") && j["caught"]["pass"].is_string())
+    s += " by " + j["caught"]["pass"].get<std::string>() + (j["caught"].contains("buffer") ? " (" + j["caught"]["buffer"].value("buffer", std::string()) + ")" : "");
+  else if (j.contains("reason") && j["status"] != "survived")
+    s += " (" + j["reason"].get<std::string>() + ")";
+  return s;
+}
+
+// Runs the mutants `jobs` at a time; results in the mutants' order.
+std::vector<json> RunAll(const std::vector<Mutant>& mutants, const mutate_runs::Frame& frame, const Baseline& base, const fs::path& work,
+                         const json& explained, int jobs) {
+  std::vector<json> out(mutants.size());
+  std::atomic<std::size_t> next{0};
+  std::mutex print;
+  const auto worker = [&] {
+    for (std::size_t i; (i = next++) < mutants.size();) {
+      try {
+        out[i] = RunMutant(mutants[i], frame, base, work / "mutants" / fmt::format("{:04}", i), explained);
+      } catch (const std::exception& e) {
+        // A mutant that breaks the tool, not the kernel: reported, never counted as killed.
+        out[i] = {{"id", mutants[i].m.Id()}, {"file", mutants[i].m.file}, {"line", mutants[i].m.line}, {"operator", mutants[i].m.op},
+                  {"before", mutants[i].m.before}, {"after", mutants[i].m.after}, {"passes", mutants[i].target->passes},
+                  {"status", "error"}, {"reason", e.what()}};
+      }
+      const std::lock_guard<std::mutex> lock(print);
+      std::printf("  [%zu/%zu] %s\n", i + 1, mutants.size(), Describe(out[i]).c_str());
+      std::fflush(stdout);
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int t = 0; t < std::max(1, jobs); ++t) threads.emplace_back(worker);
+  for (std::thread& t : threads) t.join();
+  return out;
+}
+
+}  // namespace
+
+json RunVariants(const MutateArgs& args, const std::vector<std::string>& kernels,
+                 const std::map<std::string, std::pair<const DiffConfig*, std::string>>& config_of, const mutate_runs::Frame& frame,
+                 const fs::path& work, std::uint64_t seed);
+json Summaries(const std::vector<json>& mutants);
+void PrintSummary(const json& summary, const json& variants);
+
+// The arguments checked before the first diff runs.
+void CheckArgs(const MutateArgs& args) {
+  if (args.timeout < 1) ThrowInput("--timeout {}: at least 1 second", args.timeout);
+  if (args.variants != "all" && (args.variants.empty() || args.variants.find_first_not_of("0123456789") != std::string::npos))
+    ThrowInput("--variants '{}': a count or 'all'", args.variants);
+  for (const std::string& p : args.passes) {
+    const auto id = FindPass(p);
+    if (!id || Pass(*id).graphics) ThrowInput("--pass '{}': not a compute pass (rayspace/pass_registry.h lists them)", p);
+  }
+  for (const std::string& c : args.configs)
+    if (std::none_of(mutate_runs::Configs().begin(), mutate_runs::Configs().end(), [&](const auto& k) { return k.name == c; }))
+      ThrowInput("--config '{}': not a configuration (docs/verification.md lists them)", c);
+  std::error_code ec;
+  if (!fs::is_regular_file(args.scene, ec)) ThrowInput("'{}': scene file not found", args.scene);
+}
+
+ExitCode RunMutate(const MutateArgs& args) {
+  CheckArgs(args);
+  const std::string seed_text = args.seed == "commit" ? BuildCommit() : args.seed;
+  const std::uint64_t seed = mutate::SeedOf(seed_text);
+  OutputFile report = args.report.empty() ? OutputFile() : OutputFile(args.report, OutputOptions{"the report", true, true, {}});
+  const fs::path work = args.work.empty() ? fs::temp_directory_path() / fmt::format("rayspace-mutate-{}", ::getpid()) : fs::path(args.work);
+  fs::create_directories(work);
+  const mutate_runs::Frame frame{fs::absolute(args.scene).string(), args.data, args.size, args.timeout};
+  std::printf("rayspace mutate: %s at %s, seed %s (%016llx)\n", args.scene.c_str(), args.size.c_str(), seed_text.c_str(),
+              static_cast<unsigned long long>(seed));
+  const std::map<std::string, Kernel> kernels = Kernels();
+  const Baseline base = RunBaseline(frame, args.configs, work);
+  const std::vector<Target> targets = Targets(args, kernels, base);
+  std::size_t total = 0;
+  const std::vector<Mutant> chosen = Choose(args, targets, seed, total);
+  std::printf("  %zu files, %zu mutants in all; running %zu\n", targets.size(), total, chosen.size());
+  if (args.list) {
+    for (const Mutant& m : chosen) std::printf("  %s  (%s)\n", m.m.Id().c_str(), mutate_runs::Configs()[m.target->configs[0]].name.c_str());
+    return ExitCode::kOk;
+  }
+  const std::vector<json> results = RunAll(chosen, frame, base, work, Explanations(args.survivors), args.jobs);
+  std::vector<std::string> kernel_files;
+  std::map<std::string, std::pair<const DiffConfig*, std::string>> config_of;  // the first configuration, its scene
+  for (const Target& t : targets)
+    if (t.file.size() > 5 && t.file.substr(t.file.size() - 5) == ".comp")
+      kernel_files.push_back(t.file), config_of[t.file] = {&mutate_runs::Configs()[t.configs[0]], base.scenes[t.configs[0]]};
+  const json variants = RunVariants(args, kernel_files, config_of, frame, work, seed);
+  const json summary = Summaries(results);
+  PrintSummary(summary, variants);
+  json j = {{"scene", args.scene}, {"size", args.size}, {"seed", seed_text}, {"limit", args.limit}, {"timeout", args.timeout},
+            {"mutants_in_all", total}, {"configs", base.configs}, {"mutants", results}, {"summary", summary}, {"variants", variants}};
+  AddProvenance(j);
+  if (args.work.empty()) fs::remove_all(work);
+  report.Commit(JsonText(j));
+  return ExitCode::kOk;
+}
+
+}  // namespace rayspace::app

@@ -1,0 +1,28 @@
+// `rayspace mutate` (docs/verification.md): mutants of every GLSL kernel, each run through the
+// pass-by-pass diff on a small frame (killed: the pass, buffer and element that caught it; survived),
+// and equivalent variants of the kernels through spirv-opt recipes, which must diff equal.
+#pragma once
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "exit_codes.h"
+
+namespace rayspace::app {
+
+struct MutateArgs {
+  std::string scene = "scenes/cornell-mirrors.json";
+  std::vector<std::string> passes;  // only these passes' kernels (and no include files)
+  std::vector<std::string> configs;  // only these diff configurations (mutate_runs::Configs)
+  std::size_t limit = 30;           // mutants run (0: every one)
+  std::string seed = "1";           // a number, a word, or "commit": the binary's commit
+  std::string report, data, size = "32x32", work, survivors, only;
+  std::string variants = "2";  // spirv-opt variants run: a count, or "all"
+  int timeout = 60;            // seconds per diff before a mutant counts as hung
+  int jobs = 1;
+  bool list = false;
+};
+
+ExitCode RunMutate(const MutateArgs& args);
+
+}  // namespace rayspace::app

@@ -1,0 +1,258 @@
+#include "mutate_runs.h"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "rayspace/error.h"
+
+namespace rayspace::app::mutate_runs {
+namespace fs = std::filesystem;
+namespace {
+
+std::string Quote(const std::string& s) {
+  std::string q = "'";
+  for (const char ch : s) q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+  return q + "'";
+}
+
+std::string SelfExe() {
+  std::error_code ec;
+  const fs::path p = fs::read_symlink("/proc/self/exe", ec);
+  RS_CHECK_MSG(!ec, "mutate: cannot find its own executable: {}", ec.message());
+  return p.string();
+}
+
+// The exit status of a std::system command (128 + signal when a signal ended it).
+int ExitOf(int status) {
+  if (status == -1) return 127;
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+  return 127;
+}
+
+std::string LastLine(const std::string& text) {
+  std::istringstream in(text);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  return last;
+}
+
+std::string FirstLine(const std::string& text) {
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line))
+    if (!line.empty()) return line;
+  return {};
+}
+
+}  // namespace
+
+const std::vector<DiffConfig>& Configs() {
+  static const std::vector<DiffConfig> configs = {
+      {"crsh", {"--path", "passes"}, ""},
+      {"crsh-fused", {"--path", "fused"}, ""},
+      {"tree", {"--objects", "tree", "--path", "passes"}, ""},
+      {"tree-fused", {"--objects", "tree", "--path", "fused"}, ""},
+      {"tl", {"--algo", "tl"}, ""},
+      {"grid", {"--algo", "grid", "--primary", "grid"}, ""},
+      // Dispatches split into parts and folded into rows of workgroups, arrays paged over bindings.
+      {"limits", {"--path", "passes", "--max-groups", "3", "--split-bytes", "65536"}, ""},
+      {"pairwise", {"--path", "passes", "--algo", "rah-quadtree", "--child-merge", "pairwise"}, ""},
+      {"scan", {"--path", "passes", "--reduction", "scan"}, ""},
+      {"thesis", {"--path", "passes", "--faithful", "thesis"}, ""},
+      {"roger", {"--path", "passes", "--faithful", "roger"}, ""},
+      {"tl-cull", {"--algo", "tl", "--backface-cull", "on"}, ""},
+      {"tl-heads", {"--algo", "tl", "--polygon-heads", "regular", "--frustum-cull", "on", "--primary", "tl", "--lists", "6"}, ""},
+      {"glass", {"--path", "passes"}, "glass"},
+      {"area", {"--path", "fused"}, "cornell-soft.json"},
+      {"area-grid", {"--algo", "grid", "--grid-area", "8x8x3", "--grid-area-near", "1"}, "cornell-soft.json"},
+      // cornell-soft's rect light beside a sphere and a disk light of the same power.
+      {"shapes", {"--path", "passes"}, "shapes"},
+  };
+  return configs;
+}
+
+std::string ReadFile(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void WriteFile(const fs::path& p, const std::string& text) {
+  std::ofstream out(p, std::ios::binary);
+  out << text;
+  RS_CHECK_MSG(out.good(), "mutate: cannot write {}", p.string());
+}
+
+// cornell-soft with a sphere and a disk light added (every light shape's sampler runs).
+std::string ShapesScene(const fs::path& work) {
+  nlohmann::json j = nlohmann::json::parse(ReadFile(fs::path(RAYSPACE_MUTATE_SOURCE_DIR) / "scenes" / "cornell-soft.json"));
+  nlohmann::json sphere = j["lights"][0], disk = j["lights"][0];
+  for (nlohmann::json* l : {&sphere, &disk}) {
+    l->erase("size");
+    (*l)["radius"] = 40;
+    (*l)["intensity"] = 0.6;
+  }
+  sphere.erase("normal");
+  sphere["shape"] = "sphere";
+  sphere["position"] = {150, 400, 200};
+  disk["shape"] = "disk";
+  disk["position"] = {400, 500, 350};
+  j["lights"].push_back(sphere);
+  j["lights"].push_back(disk);
+  fs::create_directories(work);
+  WriteFile(work / "shapes-scene.json", j.dump(2));
+  return (work / "shapes-scene.json").string();
+}
+
+std::string SceneFor(const DiffConfig& config, const std::string& scene, const fs::path& work) {
+  if (config.scene.empty()) return scene;
+  if (config.scene == "shapes") return ShapesScene(work);
+  if (config.scene != "glass") return (fs::path(RAYSPACE_MUTATE_SOURCE_DIR) / "scenes" / config.scene).string();
+  // The command's scene with its first material transparent and refractive (mesh paths are
+  // resolved against the data root, so the copy may live anywhere).
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(ReadFile(scene));
+  } catch (const nlohmann::json::exception&) {
+    return "";
+  }
+  if (!j.contains("materials") || !j["materials"].is_object() || j["materials"].empty()) return "";
+  nlohmann::json& m = j["materials"].begin().value();
+  m["transparency"] = 0.5;
+  m["ior"] = 1.5;
+  m["reflectivity"] = 0.2;
+  fs::create_directories(work);
+  const fs::path out = work / "glass-scene.json";
+  WriteFile(out, j.dump(2));
+  return out.string();
+}
+
+DiffRun RunDiff(const Frame& frame, const DiffConfig& config, const std::vector<std::pair<std::string, std::string>>& kernels,
+                const fs::path& dir, const std::string& scene) {
+  fs::create_directories(dir);
+  const fs::path report = dir / "report.json", log = dir / "diff.log";
+  std::error_code ec;
+  fs::remove(report, ec);
+  std::string cmd = fmt::format("timeout -s KILL {} {} diff {} --size {} --report {}", frame.timeout, Quote(SelfExe()),
+                                Quote(scene.empty() ? frame.scene : scene), frame.size, Quote(report.string()));
+  if (!frame.data.empty()) cmd += " --data " + Quote(frame.data);
+  for (const std::string& f : config.flags) cmd += " " + Quote(f);
+  for (const auto& [pass, file] : kernels) cmd += " --kernel " + Quote(pass + "=" + file);
+  cmd += " > " + Quote(log.string()) + " 2>&1";
+  const auto t0 = std::chrono::steady_clock::now();
+  DiffRun r;
+  r.code = ExitOf(std::system(cmd.c_str()));
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.log = ReadFile(log);
+  r.last_line = LastLine(r.log);
+  if (fs::exists(report, ec)) {
+    try {
+      r.report = nlohmann::json::parse(ReadFile(report));
+    } catch (const nlohmann::json::exception&) {
+      r.report = nullptr;
+    }
+  }
+  return r;
+}
+
+namespace {
+
+// The first divergent call's pass, label and first unequal buffer, from a diff report.
+nlohmann::json Caught(const nlohmann::json& report) {
+  nlohmann::json c = nlohmann::json::object();
+  if (report.is_null()) return c;
+  c["pass"] = report.value("first_divergent_pass", nlohmann::json());
+  for (const nlohmann::json& call : report.value("calls", nlohmann::json::array())) {
+    if (call.value("equal", true)) continue;
+    c["pass"] = call.value("pass", std::string());
+    c["call"] = call.value("label", std::string());
+    if (call.contains("error")) c["error"] = call["error"];
+    for (const nlohmann::json& b : call.value("buffers", nlohmann::json::array()))
+      if (b.value("mismatches", 0) > 0) {
+        c["buffer"] = b;
+        break;
+      }
+    break;
+  }
+  if (report.contains("stopped") && report["stopped"].is_string() && !report["stopped"].get<std::string>().empty()) c["stopped"] = report["stopped"];
+  return c;
+}
+
+}  // namespace
+
+Verdict Classify(const DiffRun& run) {
+  Verdict v;
+  if (run.code == 0) {
+    v.status = "survived";
+    return v;
+  }
+  if (run.code == 124 || run.code == 137) {
+    v.status = "killed";
+    v.reason = "hang: the diff did not finish within the time limit";
+    return v;
+  }
+  if (run.code == 2) {
+    const bool compile = run.log.find("does not compile") != std::string::npos;
+    v.status = compile ? "stillborn" : "invalid";
+    v.reason = run.last_line;
+    return v;
+  }
+  v.status = "killed";
+  v.caught = Caught(run.report);
+  v.reason = run.code == 4 ? "diff: a pass diverged" : fmt::format("exit {}: {}", run.code, run.last_line);
+  return v;
+}
+
+fs::path ShaderDir() { return RAYSPACE_MUTATE_SHADER_DIR; }
+
+bool Compile(const fs::path& comp, const fs::path& spv, std::string& error) {
+  const fs::path log = spv.string() + ".log";
+  const std::string cmd = fmt::format("{} -O0 --target-env=vulkan1.2 -fshader-stage=compute -I {} -I {} -I {} {} -o {} > {} 2>&1",
+                                      RAYSPACE_MUTATE_GLSLC, Quote(comp.parent_path().string()), Quote(ShaderDir().string()),
+                                      Quote(RAYSPACE_MUTATE_CORE_INCLUDE), Quote(comp.string()), Quote(spv.string()), Quote(log.string()));
+  const int code = ExitOf(std::system(cmd.c_str()));
+  error = code == 0 ? "" : FirstLine(ReadFile(log));
+  return code == 0;
+}
+
+std::string Canonical(const fs::path& spv) {
+  const fs::path txt = spv.string() + ".txt";
+  const std::string cmd = fmt::format("{} --no-header {} -o {} > /dev/null 2>&1", RAYSPACE_MUTATE_SPIRV_DIS, Quote(spv.string()), Quote(txt.string()));
+  if (ExitOf(std::system(cmd.c_str())) != 0) return {};
+  std::istringstream in(ReadFile(txt));
+  std::vector<std::string> globals;
+  std::string line, body;
+  bool in_functions = false;
+  while (std::getline(in, line)) {
+    in_functions = in_functions || line.find(" OpFunction ") != std::string::npos;
+    if (in_functions) body += line + "\n";
+    else globals.push_back(line);
+  }
+  std::sort(globals.begin(), globals.end());
+  std::string out;
+  for (const std::string& g : globals) out += g + "\n";
+  return out + body;
+}
+
+bool Optimize(const fs::path& in, const fs::path& out, const std::vector<std::string>& recipe, std::string& error) {
+  const fs::path log = out.string() + ".log";
+  std::string cmd = std::string(RAYSPACE_MUTATE_SPIRV_OPT);
+  for (const std::string& a : recipe) cmd += " " + Quote(a);
+  cmd += fmt::format(" {} -o {} > {} 2>&1", Quote(in.string()), Quote(out.string()), Quote(log.string()));
+  const int code = ExitOf(std::system(cmd.c_str()));
+  error = code == 0 ? "" : FirstLine(ReadFile(log));
+  return code == 0;
+}
+
+}  // namespace rayspace::app::mutate_runs

@@ -1,0 +1,121 @@
+// The mutants `rayspace mutate` makes of the GLSL kernels (app/mutate/mutants.h): each operator on a
+// hand-written kernel with known sites, what the tokenizer must leave alone (comments, directives,
+// layout qualifiers, the planted faults' numbers), the two-site binding swap, and the seeded choice.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "mutants.h"
+#include "test_util.h"
+
+using namespace rayspace;
+
+namespace {
+
+const char* const kKernel = R"(#version 460
+#include "common.glsl"
+// a < b in a comment, 1u + 2u
+#define STEP(x) ((x) + 1u)
+layout(local_size_x_id = 1) in;
+layout(std430, binding = kBindIn) readonly buffer In { uint a[]; };
+layout(std430, binding = kBindOut) writeonly buffer Out { uint b[]; };
+void main() {
+  const uint i = gl_GlobalInvocationID.x;
+  for (uint k = 0u; k < pc.n; ++k) b[i] = a[k] * 3u - STEP(i);
+  if (kFault == 2u) return;
+  barrier();
+  const float f = -0.5;
+}
+)";
+
+std::vector<mutate::Mutation> Of(std::string_view op, const std::vector<mutate::Mutation>& all) {
+  std::vector<mutate::Mutation> out;
+  for (const auto& m : all)
+    if (m.op == op) out.push_back(m);
+  return out;
+}
+
+std::string Texts(const std::vector<mutate::Mutation>& ms) {
+  std::string s;
+  for (const auto& m : ms) s += m.before + ">" + m.after + " ";
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("mutants: every operator at its known sites, nothing in comments, directives or layouts") {
+  const auto all = mutate::Enumerate("k.comp", kKernel);
+  // Comparisons: k < pc.n, kFault == 2u.
+  CHECK(Texts(Of(mutate::kComparison, all)) == "<><= ==>!= ");
+  // Arithmetic: *, - (binary), + inside the macro body; the unary minus of -0.5 is left alone.
+  CHECK(Texts(Of(mutate::kArithmetic, all)) == "+>- *>/ ->+ ");
+  // Integer literals +1 and -1 (not below zero); the macro's 1u, the loop's 0u, 3u; kFault's 2u is
+  // the planted fault's number, not the kernel's work; #version 460 and local_size_x_id = 1 are not code.
+  CHECK(Texts(Of(mutate::kConstant, all)) == "1u>2u 1u>0u 0u>1u 3u>4u 3u>2u ");
+  CHECK(Texts(Of(mutate::kFloatUlp, all)) == "0.5>0.50000006 ");
+  CHECK(Texts(Of(mutate::kBarrier, all)) == "barrier()> ");
+  CHECK(Texts(Of(mutate::kComponent, all)) == "x>y ");
+  CHECK(Texts(Of(mutate::kLoopBound, all)) == "pc.n>(pc.n) + 1 pc.n>(pc.n) - 1 ");
+  // Sites in source order, with their lines.
+  CHECK(std::is_sorted(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.offset < b.offset; }));
+  const auto cmp = Of(mutate::kComparison, all);
+  CHECK(cmp[0].line == 10);
+  CHECK(mutate::LineText(kKernel, cmp[0].line).rfind("for (uint k = 0u;", 0) == 0);
+}
+
+TEST_CASE("mutants: applied alone, each changes only its site; a binding swap changes both declarations") {
+  const auto all = mutate::Enumerate("k.comp", kKernel);
+  const auto swaps = Of(mutate::kBinding, all);
+  REQUIRE(swaps.size() == 1);
+  const std::string swapped = mutate::Apply(kKernel, swaps[0]);
+  CHECK(swapped.find("binding = kBindOut) readonly buffer In") != std::string::npos);
+  CHECK(swapped.find("binding = kBindIn) writeonly buffer Out") != std::string::npos);
+  std::set<std::string> ids;
+  for (const auto& m : all) {
+    const std::string s = mutate::Apply(kKernel, m);
+    CHECK(s != kKernel);
+    CHECK(s.substr(0, m.offset) == std::string(kKernel).substr(0, m.offset));
+    ids.insert(m.Id());
+  }
+  CHECK(ids.size() == all.size());  // ids name one mutant each
+}
+
+TEST_CASE("mutants: a float literal one ulp up reads back as that float") {
+  const auto all = mutate::Enumerate("f.glsl", "float f() { return 1.0 + 3.4e38 + 0.1f; }\n");
+  const auto ulps = Of(mutate::kFloatUlp, all);
+  REQUIRE(ulps.size() == 3);
+  for (const auto& m : ulps) {
+    std::string before = m.before, after = m.after;
+    if (before.back() == 'f') before.pop_back(), after.pop_back();
+    CHECK(std::strtof(after.c_str(), nullptr) == std::nextafter(std::strtof(before.c_str(), nullptr), INFINITY));
+  }
+}
+
+TEST_CASE("mutants: every kernel's mutants apply, and the choice is a seeded permutation") {
+  std::size_t total = 0;
+  for (const auto& e : std::filesystem::directory_iterator(test::SourceDir() / "gpu" / "shaders")) {
+    if (e.path().extension() != ".comp" && e.path().extension() != ".glsl") continue;
+    std::ifstream in(e.path());
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::string src = ss.str();
+    const auto all = mutate::Enumerate(e.path().filename().string(), src);
+    total += all.size();
+    for (const auto& m : all) CHECK(mutate::Apply(src, m) != src);
+  }
+  CHECK(total > 2000);
+  const auto a = mutate::Shuffled(1000, 7), b = mutate::Shuffled(1000, 7), c = mutate::Shuffled(1000, 8);
+  CHECK(a == b);
+  CHECK(a != c);
+  auto sorted = a;
+  std::sort(sorted.begin(), sorted.end());
+  for (std::size_t i = 0; i < sorted.size(); ++i) CHECK(sorted[i] == i);
+  CHECK(mutate::SeedOf("12345") == 12345u);
+  CHECK(mutate::SeedOf("a") == 0xAF63DC4C8601EC8Cull);  // FNV-1a's published value for "a"
+}
