@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <regex>
 #include <set>
 #include <thread>
 
@@ -154,12 +155,18 @@ struct Mutant {
 // --limit mutants: each file's mutations shuffled by the seed, then taken one file at a time in turn,
 // so that every kernel gets its share; --only narrows by id first.
 std::vector<Mutant> Choose(const MutateArgs& args, const std::vector<Target>& targets, std::uint64_t seed, std::size_t& total) {
+  std::regex only;
+  try {
+    only = std::regex(args.only);
+  } catch (const std::regex_error& e) {
+    ThrowInput("--only '{}': not a regular expression ({})", args.only, e.what());
+  }
   std::vector<std::vector<Mutant>> per_file;
   total = 0;
   for (const Target& t : targets) {
     std::vector<mutate::Mutation> all = mutate::Enumerate(t.file, mutate_runs::ReadFile(mutate_runs::ShaderDir() / t.file));
     if (!args.only.empty())
-      all.erase(std::remove_if(all.begin(), all.end(), [&](const mutate::Mutation& m) { return m.Id().find(args.only) == std::string::npos; }),
+      all.erase(std::remove_if(all.begin(), all.end(), [&](const mutate::Mutation& m) { return !std::regex_search(m.Id(), only); }),
                 all.end());
     total += all.size();
     std::vector<Mutant> v;

@@ -54,6 +54,15 @@ std::string FirstLine(const std::string& text) {
   return {};
 }
 
+// The first line that reports an error, else the last line.
+std::string ErrorLine(const std::string& text) {
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.find("error") != std::string::npos || line.find("stopped:") != std::string::npos) return line;
+  return LastLine(text);
+}
+
 }  // namespace
 
 const std::vector<DiffConfig>& Configs() {
@@ -75,8 +84,16 @@ const std::vector<DiffConfig>& Configs() {
       {"glass", {"--path", "passes"}, "glass"},
       {"area", {"--path", "fused"}, "cornell-soft.json"},
       {"area-grid", {"--algo", "grid", "--grid-area", "8x8x3", "--grid-area-near", "1"}, "cornell-soft.json"},
-      // cornell-soft's rect light beside a sphere and a disk light of the same power.
+      // cornell-soft's rect light tilted, beside a sphere and a disk light.
       {"shapes", {"--path", "passes"}, "shapes"},
+      // A scene with sky: eye and reflection rays that hit nothing.
+      {"open", {"--path", "passes"}, "toczek-cubes.json"},
+      // Per-ray arrays paged over several bindings (a larger frame than the others: paging needs one).
+      {"paged", {"--path", "passes", "--split-bytes", "163840"}, "", "96x96"},
+      {"tl-8", {"--algo", "tl", "--lists", "8", "--polygon-heads", "regular"}, ""},
+      // Workgroups of one invocation, and of 33 (one past a 32-wide subgroup multiple).
+      {"local-1", {"--path", "passes", "--local-size", "1"}, ""},
+      {"local-33", {"--path", "fused", "--local-size", "33"}, ""},
   };
   return configs;
 }
@@ -94,7 +111,8 @@ void WriteFile(const fs::path& p, const std::string& text) {
   RS_CHECK_MSG(out.good(), "mutate: cannot write {}", p.string());
 }
 
-// cornell-soft with a sphere and a disk light added (every light shape's sampler runs).
+// cornell-soft with its rect light tilted (its axes have three non-zero components) and a sphere and
+// a disk light added: every light shape's sampler runs.
 std::string ShapesScene(const fs::path& work) {
   nlohmann::json j = nlohmann::json::parse(ReadFile(fs::path(RAYSPACE_MUTATE_SOURCE_DIR) / "scenes" / "cornell-soft.json"));
   nlohmann::json sphere = j["lights"][0], disk = j["lights"][0];
@@ -108,6 +126,7 @@ std::string ShapesScene(const fs::path& work) {
   sphere["position"] = {150, 400, 200};
   disk["shape"] = "disk";
   disk["position"] = {400, 500, 350};
+  j["lights"][0]["normal"] = {0.4, -1, 0.3};
   j["lights"].push_back(sphere);
   j["lights"].push_back(disk);
   fs::create_directories(work);
@@ -145,10 +164,10 @@ DiffRun RunDiff(const Frame& frame, const DiffConfig& config, const std::vector<
   std::error_code ec;
   fs::remove(report, ec);
   std::string cmd = fmt::format("timeout -s KILL {} {} diff {} --size {} --report {}", frame.timeout, Quote(SelfExe()),
-                                Quote(scene.empty() ? frame.scene : scene), frame.size, Quote(report.string()));
-  if (!frame.data.empty()) cmd += " --data " + Quote(frame.data);
-  for (const std::string& f : config.flags) cmd += " " + Quote(f);
-  for (const auto& [pass, file] : kernels) cmd += " --kernel " + Quote(pass + "=" + file);
+                                Quote(scene.empty() ? frame.scene : scene), config.size.empty() ? frame.size : config.size, Quote(report.string()));
+  if (!frame.data.empty()) cmd += fmt::format(" --data {}", Quote(frame.data));
+  for (const std::string& f : config.flags) cmd += fmt::format(" {}", Quote(f));
+  for (const auto& [pass, file] : kernels) cmd += fmt::format(" --kernel {}", Quote(fmt::format("{}={}", pass, file)));
   cmd += " > " + Quote(log.string()) + " 2>&1";
   const auto t0 = std::chrono::steady_clock::now();
   DiffRun r;
@@ -202,15 +221,17 @@ Verdict Classify(const DiffRun& run) {
     v.reason = "hang: the diff did not finish within the time limit";
     return v;
   }
-  if (run.code == 2) {
-    const bool compile = run.log.find("does not compile") != std::string::npos;
+  // Exit 2 is the kernel refused before it ran (it does not compile, or the contract check fails);
+  // any other exit 2 is the host refusing what the mutant wrote (a later pass's input check): a kill.
+  const bool compile = run.log.find("does not compile") != std::string::npos;
+  if (run.code == 2 && (compile || run.log.find("kernel for pass") != std::string::npos)) {
     v.status = compile ? "stillborn" : "invalid";
     v.reason = run.last_line;
     return v;
   }
   v.status = "killed";
   v.caught = Caught(run.report);
-  v.reason = run.code == 4 ? "diff: a pass diverged" : fmt::format("exit {}: {}", run.code, run.last_line);
+  v.reason = run.code == 4 ? "diff: a pass diverged" : fmt::format("exit {}: {}", run.code, ErrorLine(run.log));
   return v;
 }
 
@@ -248,7 +269,7 @@ std::string Canonical(const fs::path& spv) {
 bool Optimize(const fs::path& in, const fs::path& out, const std::vector<std::string>& recipe, std::string& error) {
   const fs::path log = out.string() + ".log";
   std::string cmd = std::string(RAYSPACE_MUTATE_SPIRV_OPT);
-  for (const std::string& a : recipe) cmd += " " + Quote(a);
+  for (const std::string& a : recipe) cmd += fmt::format(" {}", Quote(a));
   cmd += fmt::format(" {} -o {} > {} 2>&1", Quote(in.string()), Quote(out.string()), Quote(log.string()));
   const int code = ExitOf(std::system(cmd.c_str()));
   error = code == 0 ? "" : FirstLine(ReadFile(log));

@@ -19,6 +19,7 @@ struct DiffConfig {
   // The frame's scene: "" the command's; "glass" the command's with its first material made glass;
   // else a bundled scene (scenes/NAME).
   std::string scene;
+  std::string size = "";  // "" the command's --size
 };
 const std::vector<DiffConfig>& Configs();
 
