@@ -62,6 +62,7 @@ struct Target {
 struct Baseline {
   std::vector<std::set<std::string>> passes;  // per configuration: the passes its diff ran (none: skipped)
   std::vector<std::string> scenes;            // per configuration: the scene it renders
+  std::map<std::string, Kernel> kernels;      // every kernel file, read once
   json configs = json::array();
 };
 
@@ -183,12 +184,12 @@ std::vector<Mutant> Choose(const MutateArgs& args, const std::vector<Target>& ta
 
 // The mutant's directory: the mutated file and the kernels that read it (an include's); the
 // overrides of configuration entry `e` of its target.
-std::vector<std::pair<std::string, std::string>> Prepare(const Mutant& mu, std::size_t e, const fs::path& dir) {
+std::vector<std::pair<std::string, std::string>> Prepare(const Mutant& mu, std::size_t e, const std::map<std::string, Kernel>& all,
+                                                        const fs::path& dir) {
   fs::create_directories(dir);
   const std::string source = mutate_runs::ReadFile(mutate_runs::ShaderDir() / mu.m.file);
   mutate_runs::WriteFile(dir / mu.m.file, mutate::Apply(source, mu.m));
   std::vector<std::pair<std::string, std::string>> kernels;
-  const std::map<std::string, Kernel> all = Kernels();
   for (const std::string& k : mu.target->kernels[e]) {
     if (k != mu.m.file) fs::copy_file(mutate_runs::ShaderDir() / k, dir / k, fs::copy_options::overwrite_existing);
     for (const std::string& p : all.at(k).passes) kernels.emplace_back(p, (dir / k).string());
@@ -244,7 +245,7 @@ json RunMutant(const Mutant& mu, const mutate_runs::Frame& frame, const Baseline
   json tried = json::array();
   for (std::size_t e = 0; e < mu.target->configs.size(); ++e) {
     const mutate_runs::DiffConfig& config = mutate_runs::Configs()[mu.target->configs[e]];
-    const auto kernels = Prepare(mu, e, dir);
+    const auto kernels = Prepare(mu, e, base.kernels, dir);
     v = mutate_runs::Classify(mutate_runs::RunDiff(frame, config, kernels, dir / config.name, base.scenes[mu.target->configs[e]]));
     tried.push_back(config.name);
     if (v.status != "survived") break;
@@ -337,7 +338,8 @@ ExitCode RunMutate(const MutateArgs& args) {
   std::printf("rayspace mutate: %s at %s, seed %s (%016llx)\n", args.scene.c_str(), args.size.c_str(), seed_text.c_str(),
               static_cast<unsigned long long>(seed));
   const std::map<std::string, Kernel> kernels = Kernels();
-  const Baseline base = RunBaseline(frame, args.configs, work);
+  Baseline base = RunBaseline(frame, args.configs, work);
+  base.kernels = kernels;
   const std::vector<Target> targets = Targets(args, kernels, base);
   std::size_t total = 0;
   const std::vector<Mutant> chosen = Choose(args, targets, seed, total);

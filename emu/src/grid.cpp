@@ -7,6 +7,7 @@
 #include "rayspace/emu/calls.h"
 #include "rayspace/emu/grid/grid.h"
 #include "rayspace/emu/intersect.h"
+#include "rayspace/emu/intersect_simd.h"
 #include "rayspace/parallel.h"
 #include "rayspace/error.h"
 #include "grid_eye_tiles.h"
@@ -329,11 +330,11 @@ GridLanes PrepareGridLanes(std::span<const layout::Triangle> triangles, cone::Is
   l.isa = cone::Runs(isa) ? isa : cone::BestIsa();
   if (l.isa == cone::Isa::kScalar) return l;
   l.triangles.resize(triangles.size() * 12);
+  // The final tests' own set-up (vertices, then PlaneNormalOf), 12 floats a triangle.
+  static_assert(sizeof(LanesTriangle) == 12 * sizeof(float));
   ParallelFor(triangles.size(), [&](std::size_t i) {
-    const layout::Triangle& tr = triangles[i];
-    const glm::vec3 v[4] = {Xyz(tr.v0), Xyz(tr.v1), Xyz(tr.v2), PlaneNormalOf(Xyz(tr.v0), Xyz(tr.v1), Xyz(tr.v2))};
-    for (int k = 0; k < 4; ++k)
-      for (int a = 0; a < 3; ++a) l.triangles[i * 12 + 3 * k + a] = v[k][a];
+    const LanesTriangle t = PrepareLanesTriangle(triangles[i]);
+    std::copy(t.v, t.v + 12, l.triangles.begin() + static_cast<std::ptrdiff_t>(i * 12));
   });
   return l;
 }
