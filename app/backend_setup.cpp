@@ -68,6 +68,13 @@ void CheckFrameFits(const Backend& backend, int width, int height, std::size_t s
                width, height, rays, slots, max_rays, pages, limit, backend.device, max_rays / std::max<std::size_t>(slots, 1));
 }
 
+void CheckGridBuild(const Backend& backend) {
+  if (!backend.float64)
+    ThrowInput("--algo grid: the Vulkan device '{}' lacks shaderFloat64 or shaderSignedZeroInfNanPreserveFloat64, which the grids' "
+               "build kernels need (rayspace devices); use --backend emu",
+               backend.device);
+}
+
 Backend MakeBackend(const std::string& name, int device, int local_size, const std::map<std::string, std::uint32_t>& faults,
                     const TestLimits& limits, const KernelFiles& kernels) {
   Backend b;
@@ -94,6 +101,7 @@ Backend MakeBackend(const std::string& name, int device, int local_size, const s
   b.max_buffer_bytes = owner->gpu->SplitBytes();
   b.subgroup_size = owner->gpu->context().subgroup_size();
   b.correctly_rounded = owner->gpu->context().correctly_rounded_floats();
+  b.float64 = owner->gpu->context().float64();
   b.frame = owner->frame.get();
   b.hierarchy = owner->hierarchy.get();
   b.owner = owner;

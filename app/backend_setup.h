@@ -15,6 +15,7 @@ struct Backend {
   std::size_t max_buffer_bytes = 0;              // bytes one binding holds (0: no limit)
   std::uint32_t subgroup_size = 0;               // the Vulkan device's subgroup size (0: the emulator)
   bool correctly_rounded = true;                 // the device rounds every float operation as the emulator
+  bool float64 = true;                           // the grids' build kernels run (shaderFloat64)
   std::shared_ptr<void> owner;                   // keeps the Vulkan device alive
   emu::FramePasses* frame = nullptr;             // nullptr: the emulator
   emu::HierarchyPasses* hierarchy = nullptr;     // nullptr: the emulator
@@ -24,6 +25,10 @@ struct Backend {
   std::size_t (*folded_launches)(const Backend&) = nullptr;   // launches folded into rows of workgroups (vulkan)
   emu::HierarchyPasses& Hierarchy() const { return hierarchy ? *hierarchy : emu::EmuHierarchyPasses(); }
 };
+
+// --algo grid on a Vulkan device without 64-bit floats (the grids' build bins in double): refused as
+// an option this device cannot honour, naming what it lacks.
+void CheckGridBuild(const Backend& backend);
 
 // The Vulkan backend splits or pages every buffer that grows with the frame, over at most
 // layout::kBufferPages bindings per array: refuses, as bad input, a frame or scene beyond that, naming

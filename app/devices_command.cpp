@@ -36,7 +36,7 @@ ExitCode RunDevices() {
     std::printf("\n  --device %d  %s  (%s; %s)%s\n", d.index, d.name.c_str(), d.type.c_str(), d.driver.c_str(),
                 d.index == preferred ? "  <- used without --device" : "");
     for (const vk::Requirement& r : d.requirements)
-      std::printf("    %-7s %-37s need %-10s have %-13s %s\n", r.met ? "met" : "NOT MET", r.name.c_str(), r.need.c_str(),
+      std::printf("    %-7s %-37s need %-10s have %-13s %s\n", r.met ? "met" : (r.optional ? "absent" : "NOT MET"), r.name.c_str(), r.need.c_str(),
                   r.have.c_str(), r.why.c_str());
     std::printf("    float controls (32-bit): DenormPreserve %s, DenormFlushToZero %s, RoundingModeRTE %s\n",
                 d.denorm_preserve ? "yes" : "no", d.denorm_flush ? "yes" : "no", d.round_to_nearest ? "yes" : "no");

@@ -487,6 +487,7 @@ ExitCode RunDiff(const DiffArgs& args) {
   SceneBuffers buffers = FlattenForFrame(scene, args.faithful);
   buffers.one_sided = one_sided;
   CheckFrameFits(gpu, fo.width, fo.height, ShadowSlotsPerSurface(scene.lights), buffers.triangles.size());
+  if (args.algo == "grid") CheckGridBuild(gpu);
   PrepareSaveDir(args.save_inputs);  // last: it creates the directory
   auto direct = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);
 

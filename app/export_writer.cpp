@@ -179,9 +179,10 @@ and the expected and actual words in hexadecimal and as floats. Exit codes: 0 ev
 1 a read-back differs, 2 bad arguments or files, 3 no usable device or a failed Vulkan call, 4 the
 validation layer reported a message.
 
-The device needs Vulkan 1.2, and for some kernels `shaderInt64`, `shaderBufferInt64Atomics`, subgroup
-arithmetic, ballot and shuffle in compute, and `shaderSignedZeroInfNanPreserveFloat32` (the kernels
-declare SignedZeroInfNanPreserve). On devices whose division and square root are not correctly
+The device needs Vulkan 1.2, and for some kernels `shaderInt64`, `shaderBufferInt64Atomics`,
+`shaderFloat64` (the grid build), subgroup arithmetic, ballot and shuffle in compute, and
+`shaderSignedZeroInfNanPreserveFloat32` (and `Float64` for the grid build; the kernels declare
+SignedZeroInfNanPreserve). On devices whose division and square root are not correctly
 rounded, export with `rayspace --strict-math export ...` for bits that hold on any conformant device.
 
 ## Files

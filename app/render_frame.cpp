@@ -37,6 +37,7 @@ Tracers MakeTracers(const RenderArgs& args, const Scene& scene, const SceneBuffe
   }
   if (args.algo == "tl") t.tl = emu::MakeTlTracer(buffers, MakeTlOptions(args), backend.hierarchy);
   if (args.algo == "grid") {
+    CheckGridBuild(backend);
     emu::grid::Options go = MakeGridOptions(args);
     go.lanes = UsesFusedPath(args);
     t.grid = emu::MakeGridTracer(buffers, go, backend.hierarchy);

@@ -522,10 +522,16 @@ if("${CASE}" STREQUAL "replay.grid" AND NOT FAILURES)
     replay_check("${trace_dir}" 5 "NOT reproduced, now equal" --inject none)
   endif()
 endif()
-foreach(f grid.trace:1 grid.trace:2 grid.trace:3 grid.trace:4)
+# The grids' build as kernels (grid.count, grid.emit, the sort, grid.cells): each planted fault is
+# caught in its own pass, before grid.trace reads the grids.
+foreach(f grid.trace:1 grid.trace:2 grid.trace:3 grid.trace:4 grid.count:1 grid.count:2 grid.count:3 grid.emit:1 grid.emit:2 grid.emit:3
+          grid.cells:1 grid.cells:2 grid.cells:3)
   string(REGEX REPLACE ":.*" "" pass "${f}")
   diff_case(fault.grid.${f} cornell-mirrors 48x48 ${f} 4 ${pass} --algo grid)
 endforeach()
+# The same on a scene of area lights only (the regular grid binned first) and with the eye's grid.
+diff_case(fault.grid.volume.grid.count:1 area-shapes 40x40 grid.count:1 4 grid.count --algo grid --grid-area 16x16x3 --grid-area-near 1 --grid-regular 8)
+diff_case(fault.grid.primary.grid.emit:2 cornell-mirrors 40x36 grid.emit:2 4 grid.emit --algo grid --primary grid)
 # The emulator runs traverse.compact on its workgroup mirror when the run asks for the workgroup
 # model (the checker, on by default in diff; a schedule other than forward; an @emu fault) and on
 # SIMD lanes otherwise: both must equal the kernel, and the report says which ran.

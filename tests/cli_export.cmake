@@ -189,6 +189,7 @@ clean_case(clean.passes ".")
 clean_case(clean.fused "^traverse[.]compact" --path fused)
 clean_case(clean.tree "^(tree[.]|intersect[.]tree)" --objects tree)
 clean_case(clean.quadtree-scan "^(hash|reduce|traverse[.])" --algo rah-quadtree --reduction scan)
+clean_case(clean.grid "^grid[.](count|emit|cells)" --algo grid)
 # Binding limits that split, page and fold into rows: the export records with the same limits.
 clean_case(clean.paged "." --split-bytes 65536 --max-groups 2)
 

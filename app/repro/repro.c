@@ -316,8 +316,10 @@ static void CreateDevice(Repro* r) {
   VkPhysicalDeviceFeatures want;
   memset(&want, 0, sizeof want);
   want.shaderInt64 = has.features.shaderInt64;
+  want.shaderFloat64 = has.features.shaderFloat64;  /* the grids' build bins in double */
   if (!want.shaderInt64 || !want12.shaderBufferInt64Atomics)
     printf("note: the device lacks shaderInt64 or shaderBufferInt64Atomics; kernels that use them will fail\n");
+  if (!want.shaderFloat64) printf("note: the device lacks shaderFloat64; the grid build kernels will fail\n");
   const float priority = 1.0f;
   VkDeviceQueueCreateInfo qci = {.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
   qci.queueFamilyIndex = r->family;

@@ -10,7 +10,10 @@
 #include "rayspace/emu/intersect_simd.h"
 #include "rayspace/parallel.h"
 #include "rayspace/error.h"
+#include "grid_bin.h"
 #include "grid_eye_tiles.h"
+#include "rayspace/emu/passes.h"
+#include "rayspace/emu/workgroup_ops.h"
 #include "simd/intersect_lanes.h"
 
 namespace rayspace::emu {
@@ -347,5 +350,113 @@ GridWalks PassGridTraceLanes(const call::GridTrace& c, const GridLanes& lanes) {
 
 void SetGridLanesFaultForTesting(bool on) { g_lanes_fault = on; }
 bool GridLanesFault() { return g_lanes_fault; }
+
+// ---- the grids' build as passes (gpu/shaders/grid_build.comp): grid.count, grid.emit and grid.cells
+// around the sort pass, one grid a call; the host build (grid_build.cpp) bins with the same
+// functions (grid_bin.h), so both give the same lists (tests/grid_build_test.cpp).
+
+namespace grid {
+GridDescriptor Describe(const layout::GridBuildGrid& g) { return {{g.centre, g.cell, g.light_lo, g.light_hi}, {g.shape, g.flags}}; }
+
+layout::GridBuildGrid FromDescriptor(std::span<const glm::vec4> params, std::span<const glm::uvec4> shape) {
+  RS_CHECK(params.size() == 4 && shape.size() == 2);
+  layout::GridBuildGrid g{};
+  g.centre = params[0], g.cell = params[1], g.light_lo = params[2], g.light_hi = params[3];
+  g.shape = shape[0], g.flags = shape[1];
+  return g;
+}
+}  // namespace grid
+
+namespace {
+
+// The first sorted reference whose cell is not below `cell` (grid_build.comp LowerBound).
+std::uint32_t LowerBound(const std::vector<std::uint32_t>& sorted, std::uint32_t cell) {
+  return static_cast<std::uint32_t>(std::lower_bound(sorted.begin(), sorted.end(), cell) - sorted.begin());
+}
+
+}  // namespace
+
+GridCounts PassGridCount(const call::GridCount& c) {
+  const layout::GridBuildGrid g = grid::FromDescriptor(c.grid, c.shape);
+  const std::size_t n = c.triangles.size();
+  const bool perspective = g.shape.x == layout::kGridKindPerspective;
+  GridCounts out;
+  out.counts.assign(n, 0);
+  out.spans.assign(n * layout::kGridFaces, glm::uvec4(0u));
+  if (perspective) out.dist.assign(n, 0.0f), out.span_boxes.assign(n * layout::kGridFaces, glm::vec4(0.0f));
+  // One invocation per triangle.
+  ParallelFor(n, [&](std::size_t t) {
+    const grid::bin::Spans spans = grid::bin::SpansOf(g, c.slices, c.triangles[t]);
+    std::uint64_t count = 0;
+    for (std::uint32_t f = 0; f < layout::kGridFaces; ++f) {
+      out.spans[t * layout::kGridFaces + f] = grid::bin::Pack(spans[f]);
+      if (perspective) out.span_boxes[t * layout::kGridFaces + f] = spans[f].valid ? spans[f].box : glm::vec4(0.0f);
+      count += spans[f].Size();
+    }
+    out.counts[t] = static_cast<std::uint32_t>(count);
+    if (perspective) out.dist[t] = grid::bin::LeastDistance(g, c.triangles[t]);
+  });
+  return out;
+}
+
+GridRefs PassGridEmit(const call::GridEmit& c) {
+  const layout::GridBuildGrid g = grid::FromDescriptor(c.grid, c.shape);
+  GridRefs out;
+  std::uint32_t total = 0;
+  // The kernel's reduce-then-scan over blocks of triangles, then one invocation per reference.
+  out.offsets = ExclusiveScan(c.counts, &total, KernelSite::Of(call::GridEmit::kName));
+  const bool boxes = g.shape.x == layout::kGridKindPerspective;
+  out.cells.assign(total, 0);
+  out.triangles.assign(total, 0);
+  if (boxes) out.boxes.assign(total, glm::vec4(0.0f));
+  ParallelFor(total, [&](std::size_t r) {
+    // Its triangle: the last whose offset is not past r (a load-balancing search, grid_build.comp).
+    const std::size_t t = static_cast<std::size_t>(std::upper_bound(out.offsets.begin(), out.offsets.end(), r) - out.offsets.begin()) - 1;
+    std::uint64_t q = r - out.offsets[t];
+    for (std::uint32_t f = 0; f < layout::kGridFaces; ++f) {
+      const grid::bin::Span s = grid::bin::Unpack(c.spans[t * layout::kGridFaces + f]);
+      if (q >= s.Size()) {
+        q -= s.Size();
+        continue;
+      }
+      const std::uint64_t w = s.i1 - s.i0 + 1, h = s.j1 - s.j0 + 1;
+      const auto i = static_cast<std::uint32_t>(s.i0 + q % w), j = static_cast<std::uint32_t>(s.j0 + q / w % h),
+                 k = static_cast<std::uint32_t>(s.k0 + q / (w * h));
+      out.cells[r] = grid::bin::CellOf(g, f, i, j, k);
+      out.triangles[r] = static_cast<std::uint32_t>(t);
+      if (boxes) out.boxes[r] = c.span_boxes[t * layout::kGridFaces + f];
+      return;
+    }
+  });
+  return out;
+}
+
+GridLists PassGridCells(const call::GridCells& c) {
+  const std::size_t refs = c.cells.size();
+  GridLists out;
+  // Gather: one invocation per sorted reference.
+  std::vector<std::uint32_t> sorted(refs);
+  out.triangles.resize(refs);
+  if (!c.boxes.empty()) out.boxes.resize(refs);
+  ParallelFor(refs, [&](std::size_t i) {
+    const std::uint32_t r = c.order[i];
+    sorted[i] = c.cells[r];
+    out.triangles[i] = c.triangles[r];
+    if (!c.boxes.empty()) out.boxes[i] = c.boxes[r];
+  });
+  // Cells: one invocation per cell, its offset a lower bound in the sorted cells; the last one the total.
+  out.first.resize(std::size_t{c.cell_count} + 1);
+  ParallelFor(std::size_t{c.cell_count} + 1, [&](std::size_t cell) { out.first[cell] = LowerBound(sorted, static_cast<std::uint32_t>(cell)); });
+  if (c.dist.empty()) return out;
+  // Min: per cell the least distance of its references (the kernel's atomicMin on the bits of
+  // non-negative floats, which order as the floats do; the minimum does not depend on the order).
+  out.min_dist.assign(c.cell_count, INFINITY);
+  for (std::size_t i = 0; i < refs; ++i) {
+    float& m = out.min_dist[sorted[i]];
+    const float d = c.dist[out.triangles[i]];
+    m = d < m ? d : m;
+  }
+  return out;
+}
 
 }  // namespace rayspace::emu

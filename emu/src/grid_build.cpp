@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "rayspace/emu/grid/grid.h"
+#include "grid_bin.h"
 #include "rayspace/emu/intersect.h"
 #include "rayspace/emu/light_sample.h"
 #include "rayspace/error.h"
@@ -15,185 +16,71 @@
 namespace rayspace::emu::grid {
 namespace {
 
-// The face's axes: the major one, and the two that become u and v.
-struct FaceAxes {
-  int major, a, b;
-  double sign;
-};
-FaceAxes AxesOf(std::uint32_t face) {
-  const int major = static_cast<int>(face / 2);
-  return {major, (major + 1) % 3, (major + 2) % 3, face % 2 == 0 ? 1.0 : -1.0};
-}
-
-// Sutherland-Hodgman: the part of `poly` where dot(plane, p) >= 0 (plane through the light).
-std::vector<glm::dvec3> ClipHalfSpace(const std::vector<glm::dvec3>& poly, glm::dvec3 plane) {
-  std::vector<glm::dvec3> out;
-  for (std::size_t i = 0; i < poly.size(); ++i) {
-    const glm::dvec3 p = poly[i], q = poly[(i + 1) % poly.size()];
-    const double dp = glm::dot(plane, p), dq = glm::dot(plane, q);
-    if (dp >= 0) out.push_back(p);
-    if ((dp >= 0) != (dq >= 0)) out.push_back(p + (q - p) * (dp / (dp - dq)));
-  }
-  return out;
-}
-
-// The cells [i0, i1] x [j0, j1] of face `face` that the triangle (relative to the light) may be seen
-// through; false when it is not seen through the face at all.
-bool FaceCellRange(const glm::dvec3 tri[3], std::uint32_t face, std::uint32_t n, bool margins, glm::uvec4& range, glm::vec4& box) {
-  const FaceAxes ax = AxesOf(face);
-  const double w = 1.0 + (margins ? static_cast<double>(layout::kGridFaceSlack) : 0.0);
-  std::vector<glm::dvec3> poly(tri, tri + 3);
-  for (int side = 0; side < 4; ++side) {
-    glm::dvec3 plane(0.0);
-    plane[ax.major] = ax.sign * w;
-    plane[side < 2 ? ax.a : ax.b] = side % 2 == 0 ? -1.0 : 1.0;  // w m - a >= 0, w m + a >= 0, ...
-    poly = ClipHalfSpace(poly, plane);
-    if (poly.empty()) return false;
-  }
-  double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
-  for (const glm::dvec3& p : poly) {
-    const double m = ax.sign * p[ax.major];
-    if (!(m > 0.0)) {  // the triangle passes through the light: every cell of the face
-      lo[0] = lo[1] = -INFINITY;
-      hi[0] = hi[1] = INFINITY;
-      break;
-    }
-    const double uv[2] = {p[ax.a] / m, p[ax.b] / m};
-    for (int k = 0; k < 2; ++k) lo[k] = std::min(lo[k], uv[k]), hi[k] = std::max(hi[k], uv[k]);
-  }
-  const double half = 0.5 * n, slack = margins ? static_cast<double>(layout::kGridCellSlack) : 0.0;
-  std::uint32_t c[4];
-  for (int k = 0; k < 2; ++k) {
-    const double a = std::floor((lo[k] + 1.0) * half - slack), b = std::floor((hi[k] + 1.0) * half + slack);
-    c[2 * k] = static_cast<std::uint32_t>(std::clamp(a, 0.0, n - 1.0));
-    c[2 * k + 1] = static_cast<std::uint32_t>(std::clamp(b, 0.0, n - 1.0));
-  }
-  range = glm::uvec4(c[0], c[1], c[2], c[3]);  // u columns, v rows
-  // The (u, v) rectangle of the projection, rounded outwards to float and widened by the face's slack
-  // (a ray's rounded u, v); a triangle through the light: the whole face.
-  const double uv_slack = margins ? static_cast<double>(layout::kGridFaceSlack) : 0.0, ulp = margins ? 1e-12 : 0.0;
-  const auto down = [&](double x) { return static_cast<float>(std::max(-2.0, x - uv_slack) - ulp); };
-  const auto up = [&](double x) { return static_cast<float>(std::min(2.0, x + uv_slack) + ulp); };
-  box = glm::vec4(down(lo[0]), down(lo[1]), up(hi[0]), up(hi[1]));
-  return true;
-}
-
 // A run of triangles' cell references, in the order they were binned.
 struct Refs {
   std::vector<std::uint32_t> cells, triangles;
-  std::vector<glm::vec4> boxes;  // perspective grids: each reference's (u, v) rectangle
-  void Add(std::uint32_t cell, std::uint32_t t) {
-    cells.push_back(cell);
-    triangles.push_back(t);
-  }
+  std::vector<glm::vec4> boxes;  // 2D grids: each reference's (u, v) rectangle
 };
 
-// Appends to g the CSR lists of `cells` cells from every triangle's references (bin(t, refs) adds
-// triangle t's, with their rectangles when `boxes`), each list in ascending triangle order. The
-// triangles are binned in parallel in fixed runs; the lists are then laid out by a counting sort of
-// the runs in order (count, exclusive scan, scatter): the same arrays for every thread count.
-template <typename Bin>
-std::uint64_t BinCsr(std::size_t triangles, std::size_t cells, bool boxes, const Bin& bin, GridArrays& g) {
+// One grid's lists from every triangle's references, each list in ascending triangle order: the
+// triangles are binned in parallel in fixed runs, then laid out by a counting sort of the runs in
+// order (count, exclusive scan, scatter): the same arrays for every thread count, and the ones the
+// kernels' count, scan, emit, stable sort and gather give (BuildWithPasses).
+GridLists BinHost(const SceneBuffers& scene, const layout::GridBuildGrid& grid, std::span<const float> slices, std::size_t cells) {
   constexpr std::size_t kRun = 1024;
+  const std::size_t triangles = scene.triangles.size();
+  const bool boxes = grid.shape.x == layout::kGridKindPerspective;
   std::vector<Refs> runs((triangles + kRun - 1) / kRun);
   ParallelForDynamic(runs.size(), 1, [&](std::size_t k) {
-    for (std::size_t t = k * kRun; t < std::min(triangles, (k + 1) * kRun); ++t) bin(static_cast<std::uint32_t>(t), runs[k]);
+    Refs& refs = runs[k];
+    for (std::size_t t = k * kRun; t < std::min(triangles, (k + 1) * kRun); ++t)
+      bin::BinTriangle(grid, slices, scene.triangles[t], [&](std::uint32_t cell, const glm::vec4& box) {
+        refs.cells.push_back(cell);
+        refs.triangles.push_back(static_cast<std::uint32_t>(t));
+        if (boxes) refs.boxes.push_back(box);
+      });
   });
+  GridLists out;
   std::vector<std::size_t> at(cells, 0);
   for (const Refs& r : runs)
     for (const std::uint32_t c : r.cells) ++at[c];
-  std::size_t next = g.triangles.size();
-  const std::size_t base = next;
+  std::size_t next = 0;
+  out.first.reserve(cells + 1);
   for (std::size_t c = 0; c < cells; ++c) {
-    g.first.push_back(static_cast<std::uint32_t>(next));
+    out.first.push_back(static_cast<std::uint32_t>(next));
     next += std::exchange(at[c], next);
   }
   RS_CHECK_MSG(next < (std::size_t{1} << 32), "grid: {} cell references", next);
-  RS_CHECK(!boxes || g.boxes.size() == base);  // rectangles share the references' indices
-  g.triangles.resize(next);
-  if (boxes) g.boxes.resize(next);
+  out.first.push_back(static_cast<std::uint32_t>(next));
+  out.triangles.resize(next);
+  if (boxes) out.boxes.resize(next);
   for (Refs& r : runs) {
     for (std::size_t i = 0; i < r.cells.size(); ++i) {
       const std::size_t pos = at[r.cells[i]]++;
-      g.triangles[pos] = r.triangles[i];
-      if (boxes) g.boxes[pos] = r.boxes[i];
+      out.triangles[pos] = r.triangles[i];
+      if (boxes) out.boxes[pos] = r.boxes[i];
     }
     r = Refs();
   }
-  return next - base;
-}
-
-glm::dvec3 Vertex(const glm::vec4& v) { return {v.x, v.y, v.z}; }
-
-// One point light's grid: n x n cells on each of the six faces of a cube about the light.
-void BuildPerspective(const SceneBuffers& scene, glm::vec3 light, std::uint32_t n, bool closed, bool margins, GridArrays& g) {
-  const std::size_t cells = layout::kGridFaces * std::size_t{n} * n, first_cell = g.first.size();
-  const glm::dvec3 o(light);
-  // Rounded down, then by the slack: no hit of a ray of a cell listing the triangle is closer
-  // (docs/grids.md).
-  std::vector<float> dist(scene.triangles.size());
-  ParallelFor(dist.size(), [&](std::size_t t) {
-    const layout::Triangle& tr = scene.triangles[t];
-    const double d = PointTriangleDistance(o, Vertex(tr.v0), Vertex(tr.v1), Vertex(tr.v2));
-    float df = static_cast<float>(d);
-    if (margins && static_cast<double>(df) > d) df = std::nextafter(df, 0.0f);
-    dist[t] = margins ? df * layout::kGridDistanceSlack : df;
-  });
-  g.perspective_refs += BinCsr(scene.triangles.size(), cells, true, [&](std::uint32_t t, Refs& refs) {
-    const layout::Triangle& tr = scene.triangles[t];
-    // Front-face culling: a closed mesh's shadow is cast by the faces turned away from the light.
-    if (closed && !FacesAway(Xyz(tr.v0), Xyz(tr.v1), Xyz(tr.v2), light)) return;
-    const glm::dvec3 rel[3] = {Vertex(tr.v0) - o, Vertex(tr.v1) - o, Vertex(tr.v2) - o};
-    for (std::uint32_t f = 0; f < layout::kGridFaces; ++f) {
-      glm::uvec4 r;
-      glm::vec4 box;
-      if (!FaceCellRange(rel, f, n, margins, r, box)) continue;
-      for (std::uint32_t j = r.z; j <= r.w; ++j)
-        for (std::uint32_t i = r.x; i <= r.y; ++i) {
-          refs.Add(static_cast<std::uint32_t>((std::size_t{f} * n + j) * n + i), t);
-          refs.boxes.push_back(box);
-        }
-    }
-  }, g);
+  if (!boxes) return out;
   // Per cell, the least distance of the triangles it lists.
-  const std::size_t base = g.min_dist.size();
-  g.min_dist.resize(base + cells, INFINITY);
+  std::vector<float> dist(triangles);
+  ParallelFor(triangles, [&](std::size_t t) { dist[t] = bin::LeastDistance(grid, scene.triangles[t]); });
+  out.min_dist.assign(cells, INFINITY);
   ParallelFor(cells, [&](std::size_t c) {
     float m = INFINITY;
-    const std::size_t end = c + 1 < cells ? g.first[first_cell + c + 1] : g.triangles.size();
-    for (std::size_t i = g.first[first_cell + c]; i < end; ++i) m = std::min(m, dist[g.triangles[i]]);
-    g.min_dist[base + c] = m;
+    for (std::size_t i = out.first[c]; i < out.first[c + 1]; ++i) m = std::min(m, dist[out.triangles[i]]);
+    out.min_dist[c] = m;
   });
-}
-
-// Whether every point of the box [lo, hi] lies strictly in front of the triangle's plane: the
-// triangle is front-facing from every point of a light inside the box (Hunt and Mark's soft-shadow
-// culling, valid for closed meshes).
-bool FrontFromBox(const layout::Triangle& tr, glm::dvec3 lo, glm::dvec3 hi) {
-  const glm::dvec3 a = Vertex(tr.v0), n = glm::cross(Vertex(tr.v1) - a, Vertex(tr.v2) - a);
-  for (int k = 0; k < 8; ++k) {
-    const glm::dvec3 p((k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z);
-    if (!(glm::dot(n, p - a) > 0.0)) return false;
-  }
-  return true;
-}
-
-// The depth slice (0..D-1) of r = 1 / depth on a face whose boundaries are `b` (D + 1 of them,
-// decreasing): how many inner boundaries lie at or beyond r (grid_trace.comp SliceOf).
-std::uint32_t SliceOf(double r, const float* b, std::uint32_t depth) {
-  std::uint32_t k = 0;
-  for (std::uint32_t j = 1; j < depth; ++j) k += r <= static_cast<double>(b[j]) ? 1u : 0u;
-  return k;
+  return out;
 }
 
 // Per face of a 3D grid about `o` with core half-side zn, the depth slices' boundaries in r = 1 / m:
 // 1 / near, then geometric in depth out to the scene box's farthest corner, then 0 (infinitely far);
-// appended to g.slices. Returns each face's first boundary.
-std::array<const float*, layout::kGridFaces> AppendSlices(const SceneBuffers& scene, glm::dvec3 o, float zn, std::uint32_t depth,
-                                                          GridArrays& g) {
-  const std::size_t slice_base = g.slices.size();
+// appended to g.slices.
+void AppendSlices(const SceneBuffers& scene, glm::dvec3 o, float zn, std::uint32_t depth, GridArrays& g) {
   for (std::uint32_t f = 0; f < layout::kGridFaces; ++f) {
-    const FaceAxes ax = AxesOf(f);
+    const bin::FaceAxes ax = bin::AxesOf(f);
     double far = 0.0;
     for (int k = 0; k < 8; ++k) {
       const glm::dvec3 p((k & 1) ? scene.hi.x : scene.lo.x, (k & 2) ? scene.hi.y : scene.lo.y, (k & 4) ? scene.hi.z : scene.lo.z);
@@ -204,20 +91,39 @@ std::array<const float*, layout::kGridFaces> AppendSlices(const SceneBuffers& sc
     for (std::uint32_t j = 1; j < depth; ++j) g.slices.push_back(static_cast<float>(1.0 / (zn * std::pow(far / zn, double(j) / depth))));
     g.slices.push_back(0.0f);
   }
-  std::array<const float*, layout::kGridFaces> bounds{};
-  for (std::uint32_t f = 0; f < layout::kGridFaces; ++f) bounds[f] = g.slices.data() + slice_base + std::size_t{f} * (depth + 1);
-  return bounds;
+}
+
+std::uint32_t Flags(const Options& options, bool cull) {
+  return (options.margins ? layout::kGridBuildMargins : 0u) | (cull ? layout::kGridBuildCull : 0u);
+}
+
+// The plan's grids are laid out one after another: each the next cells.
+void AddGrid(GridPlan& p, const layout::GridBuildGrid& grid, std::uint64_t cells) {
+  p.grids.push_back(grid);
+  p.cells.push_back(cells);
+  RS_CHECK_MSG(p.total_cells + cells < (std::uint64_t{1} << 32), "grid: {} cells", p.total_cells + cells);
+  p.total_cells += cells;
+}
+
+// One point light's (or the eye's) grid: n x n cells on each of the six faces of a cube about it.
+void PlanPerspective(GridPlan& p, glm::vec3 centre, std::uint32_t n, bool cull, const Options& options) {
+  layout::GridBuildGrid grid{};
+  grid.centre = glm::vec4(centre, 1.0f);
+  grid.shape = glm::uvec4(layout::kGridKindPerspective, n, 0u, 0u);
+  grid.flags = glm::uvec4(Flags(options, cull), 0u, 0u, 0u);
+  AddGrid(p, grid, layout::kGridFaces * std::uint64_t{n} * n);
 }
 
 // An area light's 3D perspective grid about its centre (rayspace/contract.h, kGridNearShrink): per
 // face n x n x D cells in (u, v, r = 1 / depth), depth slices spaced geometrically from the core's
 // half-side zn (Options::area_near times the light's reach) to the farthest corner of the scene's
 // box. Each triangle goes into the cells of the perspective box of its part in the face's frustum
-// beyond the near plane, widened by kGridCellSlack in u, v and 2^-10 in r. Within the core, rays
-// walk the regular grid.
+// beyond the near plane, widened by kGridCellSlack in u, v and 2^-10 in r (bin::BinVolume). Within
+// the core, rays walk the regular grid.
 // `light`: an area light (its box culls under --closed-models), or null: the eye's grid at `centre`.
-void BuildVolume(const SceneBuffers& scene, const layout::Light* light, glm::vec3 centre, const Options& options, GridArrays& g,
-                 std::uint32_t index) {
+void PlanVolume(GridPlan& p, const SceneBuffers& scene, const layout::Light* light, glm::vec3 centre, const Options& options,
+                std::uint32_t index) {
+  GridArrays& g = p.arrays;
   const std::uint32_t n = options.area_cells, depth = options.area_depth;
   const float extent = std::max({scene.hi.x - scene.lo.x, scene.hi.y - scene.lo.y, scene.hi.z - scene.lo.z, 1e-30f});
   glm::vec3 llo = centre, lhi = centre;
@@ -228,62 +134,22 @@ void BuildVolume(const SceneBuffers& scene, const layout::Light* light, glm::vec
     // The core holds every sample point; never thinner than 2^-20 of the scene's size.
     zn = static_cast<float>(options.area_near) * std::max({reach.x, reach.y, reach.z, extent * 9.5367431640625e-07f});
   }
-  g.light_grids[index] = glm::uvec4(static_cast<std::uint32_t>(g.first.size()), n, depth, static_cast<std::uint32_t>(g.slices.size()));
+  g.light_grids[index] = glm::uvec4(static_cast<std::uint32_t>(p.total_cells), n, depth, static_cast<std::uint32_t>(g.slices.size()));
   g.origins[index] = glm::vec4(centre, zn);
-  const glm::dvec3 o(centre);
-  const double depth_slack = options.margins ? 1.0 / 1024.0 : 0.0;
-  const double near = static_cast<double>(zn * layout::kGridNearShrink) * (1.0 - depth_slack);
-  const std::array<const float*, layout::kGridFaces> bounds = AppendSlices(scene, o, zn, depth, g);
-  const std::size_t face_cells = std::size_t{n} * n * depth, cells = layout::kGridFaces * face_cells;
-  const double half = 0.5 * n, slack = options.margins ? static_cast<double>(layout::kGridCellSlack) : 0.0,
-               w = 1.0 + (options.margins ? static_cast<double>(layout::kGridFaceSlack) : 0.0);
-  g.volume_refs += BinCsr(scene.triangles.size(), cells, false, [&](std::uint32_t t, Refs& refs) {
-    const layout::Triangle& tr = scene.triangles[t];
-    if (light && options.closed && FrontFromBox(tr, glm::dvec3(llo), glm::dvec3(lhi))) return;
-    const glm::dvec3 rel[3] = {Vertex(tr.v0) - o, Vertex(tr.v1) - o, Vertex(tr.v2) - o};
-    for (std::uint32_t f = 0; f < layout::kGridFaces; ++f) {
-      const FaceAxes ax = AxesOf(f);
-      std::vector<glm::dvec3> poly(rel, rel + 3);
-      glm::dvec3 plane(0.0);
-      plane[ax.major] = ax.sign;
-      for (int side = 0; side < 5 && !poly.empty(); ++side) {
-        if (side == 4) {  // beyond the near plane: sign * p[major] - near >= 0, as a plane through p - near * axis
-          std::vector<glm::dvec3> shifted;
-          for (glm::dvec3 p : poly) shifted.push_back(p - plane * near);
-          poly = ClipHalfSpace(shifted, plane);
-          for (glm::dvec3& p : poly) p += plane * near;
-          continue;
-        }
-        glm::dvec3 s(0.0);
-        s[ax.major] = ax.sign * w;
-        s[side < 2 ? ax.a : ax.b] = side % 2 == 0 ? -1.0 : 1.0;
-        poly = ClipHalfSpace(poly, s);
-      }
-      if (poly.empty()) continue;
-      double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-      for (const glm::dvec3& p : poly) {
-        const double m = std::max(ax.sign * p[ax.major], near);
-        const double c3[3] = {p[ax.a] / m, p[ax.b] / m, 1.0 / m};
-        for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], c3[k]), hi[k] = std::max(hi[k], c3[k]);
-      }
-      std::uint32_t c[4];
-      for (int k = 0; k < 2; ++k) {
-        const double x0 = std::floor((lo[k] + 1.0) * half - slack), x1 = std::floor((hi[k] + 1.0) * half + slack);
-        c[2 * k] = static_cast<std::uint32_t>(std::clamp(x0, 0.0, n - 1.0));
-        c[2 * k + 1] = static_cast<std::uint32_t>(std::clamp(x1, 0.0, n - 1.0));
-      }
-      const std::uint32_t k0 = SliceOf(hi[2] * (1.0 + depth_slack), bounds[f], depth), k1 = SliceOf(lo[2] * (1.0 - depth_slack), bounds[f], depth);
-      for (std::uint32_t k = k0; k <= k1; ++k)
-        for (std::uint32_t j = c[2]; j <= c[3]; ++j)
-          for (std::uint32_t i = c[0]; i <= c[1]; ++i) refs.Add(static_cast<std::uint32_t>(f * face_cells + (std::size_t{k} * n + j) * n + i), t);
-    }
-  }, g);
-  g.volume_cells += cells;
+  layout::GridBuildGrid grid{};
+  grid.centre = glm::vec4(centre, zn);
+  grid.light_lo = glm::vec4(llo, 0.0f);
+  grid.light_hi = glm::vec4(lhi, 0.0f);
+  grid.shape = glm::uvec4(layout::kGridKindVolume, n, depth, 0u);
+  grid.flags = glm::uvec4(Flags(options, light && options.closed), static_cast<std::uint32_t>(g.slices.size()), 0u, 0u);
+  AppendSlices(scene, glm::dvec3(centre), zn, depth, g);
+  AddGrid(p, grid, layout::kGridFaces * std::uint64_t{n} * n * depth);
 }
 
 // The regular grid over the scene's box, widened by 2^-10 of its size on each side; `cells` along
 // the longest side, the others in proportion (at least 1).
-void BuildRegular(const SceneBuffers& scene, std::uint32_t longest, bool margins, GridArrays& g) {
+void PlanRegular(GridPlan& p, const SceneBuffers& scene, std::uint32_t longest, const Options& options) {
+  GridArrays& g = p.arrays;
   glm::dvec3 lo(scene.lo), hi(scene.hi);
   const glm::dvec3 pad = glm::max(hi - lo, glm::dvec3(std::max({(hi - lo).x, (hi - lo).y, (hi - lo).z}))) * (1.0 / 1024.0) + 1e-30;
   lo -= pad;
@@ -297,25 +163,13 @@ void BuildRegular(const SceneBuffers& scene, std::uint32_t longest, bool margins
   const glm::vec3 inv = glm::vec3(1.0 / glm::dvec3(cell));
   const glm::vec3 fhi = flo + glm::vec3(dims) * cell;
   g.volume = {glm::vec4(flo, 0.0f), glm::vec4(cell, 0.0f), glm::vec4(inv, 0.0f), glm::vec4(fhi, 0.0f)};
-  g.volume_dims = {glm::uvec4(dims, static_cast<std::uint32_t>(g.first.size()))};
-  const std::size_t cells = std::size_t{dims.x} * dims.y * dims.z;
-  const double slack = margins ? static_cast<double>(layout::kGridCellSlack) : 0.0;
-  g.regular_refs += BinCsr(scene.triangles.size(), cells, false, [&](std::uint32_t t, Refs& refs) {
-    const layout::Triangle& tr = scene.triangles[t];
-    const glm::dvec3 a = Vertex(tr.v0), b = Vertex(tr.v1), c = Vertex(tr.v2);
-    const glm::dvec3 tlo = glm::min(a, glm::min(b, c)), thi = glm::max(a, glm::max(b, c));
-    glm::uvec3 c0, c1;
-    for (int k = 0; k < 3; ++k) {
-      const double x0 = std::floor((tlo[k] - double(flo[k])) / double(cell[k]) - slack);
-      const double x1 = std::floor((thi[k] - double(flo[k])) / double(cell[k]) + slack);
-      c0[k] = static_cast<std::uint32_t>(std::clamp(x0, 0.0, dims[k] - 1.0));
-      c1[k] = static_cast<std::uint32_t>(std::clamp(x1, 0.0, dims[k] - 1.0));
-    }
-    for (std::uint32_t z = c0.z; z <= c1.z; ++z)
-      for (std::uint32_t y = c0.y; y <= c1.y; ++y)
-        for (std::uint32_t x = c0.x; x <= c1.x; ++x) refs.Add(static_cast<std::uint32_t>((std::size_t{z} * dims.y + y) * dims.x + x), t);
-  }, g);
-  g.regular_cells = cells;
+  g.volume_dims = {glm::uvec4(dims, static_cast<std::uint32_t>(p.total_cells))};
+  layout::GridBuildGrid grid{};
+  grid.centre = glm::vec4(flo, 0.0f);
+  grid.cell = glm::vec4(cell, 0.0f);
+  grid.shape = glm::uvec4(layout::kGridKindRegular, dims.x, dims.y, dims.z);
+  grid.flags = glm::uvec4(Flags(options, false), 0u, 0u, 0u);
+  AddGrid(p, grid, std::uint64_t{dims.x} * dims.y * dims.z);
 }
 
 }  // namespace
@@ -431,42 +285,76 @@ std::uint32_t EyeCells(std::uint32_t height, double tan_half_fov) {
   return static_cast<std::uint32_t>(std::clamp(std::round(face_pixels / 100.0), 1.0, 1024.0));
 }
 
-GridArrays Build(const SceneBuffers& scene, const Options& options, const glm::vec3* eye, std::uint32_t eye_cells, const glm::vec3* secondary_eye) {
+GridPlan Plan(const SceneBuffers& scene, const Options& options, const glm::vec3* eye, std::uint32_t eye_cells, const glm::vec3* secondary_eye) {
   RS_CHECK_MSG(options.cells >= 1 && options.regular >= 1, "grid: {} cells per face, {} along the box", options.cells, options.regular);
   RS_CHECK_MSG(options.area_cells >= 1 && options.area_depth >= 1 && options.area_depth <= layout::kGridMaxSlices, "grid: {}x{}x{} area cells",
                options.area_cells, options.area_cells, options.area_depth);
-  GridArrays g;
+  GridPlan p;
+  GridArrays& g = p.arrays;
   for (const layout::Light& l : scene.lights) {
     g.origins.emplace_back(l.position.x, l.position.y, l.position.z, 1.0f);
     if (l.sampling.x != layout::kLightPoint) {
       g.light_grids.emplace_back(layout::kGridNoLight, 0u, 0u, 0u);
       continue;
     }
-    g.light_grids.emplace_back(static_cast<std::uint32_t>(g.first.size()), options.cells, 0u, 0u);
-    BuildPerspective(scene, Xyz(l.position), options.cells, options.closed, options.margins, g);
+    g.light_grids.emplace_back(static_cast<std::uint32_t>(p.total_cells), options.cells, 0u, 0u);
+    PlanPerspective(p, Xyz(l.position), options.cells, options.closed, options);
   }
   if (eye) {
     g.eye = static_cast<std::uint32_t>(g.light_grids.size());
     g.origins.emplace_back(*eye, 1.0f);
-    g.light_grids.emplace_back(static_cast<std::uint32_t>(g.first.size()), eye_cells, 0u, 0u);
-    BuildPerspective(scene, *eye, eye_cells, false, options.margins, g);
+    g.light_grids.emplace_back(static_cast<std::uint32_t>(p.total_cells), eye_cells, 0u, 0u);
+    PlanPerspective(p, *eye, eye_cells, false, options);  // every triangle: eye rays want the closest hit
   }
-  g.perspective_cells = g.first.size();
-  BuildRegular(scene, options.regular, options.margins, g);
+  g.perspective_cells = p.total_cells;
+  PlanRegular(p, scene, options.regular, options);
   // The 3D grids come last: only the 2D grids' references carry (u, v) rectangles.
   if (options.area_perspective)
     for (std::size_t l = 0; l < scene.lights.size(); ++l)
       if (scene.lights[l].sampling.x != layout::kLightPoint)
-        BuildVolume(scene, &scene.lights[l], Xyz(scene.lights[l].position), options, g, static_cast<std::uint32_t>(l));
+        PlanVolume(p, scene, &scene.lights[l], Xyz(scene.lights[l].position), options, static_cast<std::uint32_t>(l));
   if (options.secondary_perspective && secondary_eye) {
     g.secondary = static_cast<std::uint32_t>(g.light_grids.size());
     g.light_grids.emplace_back(layout::kGridNoLight, 0u, 0u, 0u);
     g.origins.emplace_back(*secondary_eye, 1.0f);
-    BuildVolume(scene, nullptr, *secondary_eye, options, g, g.secondary);
+    PlanVolume(p, scene, nullptr, *secondary_eye, options, g.secondary);
   }
+  return p;
+}
+
+void AppendLists(GridArrays& g, const layout::GridBuildGrid& grid, std::uint64_t cells, const GridLists& lists) {
+  RS_CHECK(lists.first.size() == cells + 1 && lists.first.back() == lists.triangles.size());
+  const std::size_t base = g.triangles.size(), refs = lists.triangles.size();
+  RS_CHECK_MSG(base + refs < (std::size_t{1} << 32), "grid: {} cell references", base + refs);
+  for (std::size_t c = 0; c < cells; ++c) g.first.push_back(static_cast<std::uint32_t>(base + lists.first[c]));
+  g.triangles.insert(g.triangles.end(), lists.triangles.begin(), lists.triangles.end());
+  if (grid.shape.x == layout::kGridKindPerspective) {
+    RS_CHECK(g.boxes.size() == base && lists.boxes.size() == refs && lists.min_dist.size() == cells);  // rectangles share the references' indices
+    g.boxes.insert(g.boxes.end(), lists.boxes.begin(), lists.boxes.end());
+    g.min_dist.insert(g.min_dist.end(), lists.min_dist.begin(), lists.min_dist.end());
+    g.perspective_refs += refs;
+  } else if (grid.shape.x == layout::kGridKindRegular) {
+    g.regular_refs += refs;
+    g.regular_cells = cells;
+  } else {
+    g.volume_refs += refs;
+    g.volume_cells += cells;
+  }
+}
+
+void FinishLists(GridArrays& g) {
   g.first.push_back(static_cast<std::uint32_t>(g.triangles.size()));
-  RS_CHECK_MSG(g.triangles.size() < (std::size_t{1} << 32), "grid: {} cell references", g.triangles.size());
-  return g;
+}
+
+GridArrays Build(const SceneBuffers& scene, const Options& options, const glm::vec3* eye, std::uint32_t eye_cells, const glm::vec3* secondary_eye) {
+  return Build(scene, Plan(scene, options, eye, eye_cells, secondary_eye));
+}
+
+GridArrays Build(const SceneBuffers& scene, GridPlan p) {
+  for (std::size_t k = 0; k < p.grids.size(); ++k)
+    AppendLists(p.arrays, p.grids[k], p.cells[k], BinHost(scene, p.grids[k], p.arrays.slices, p.cells[k]));
+  FinishLists(p.arrays);
+  return std::move(p.arrays);
 }
 
 }  // namespace rayspace::emu::grid

@@ -80,13 +80,20 @@ class Grid final : public GridTracer {
       const double tan_half = glm::length(glm::dvec3(Xyz(f.pixel_dy))) * 0.5 * f.dims.y / glm::length(centre);
       const glm::vec3 eye = Xyz(f.eye);
       eye_frame_ = f;
-      grids_ = grid::Build(scene_, options_, &eye, grid::EyeCells(f.dims.y, tan_half), secondary);
+      grids_ = BuildGrids(grid::Plan(scene_, options_, &eye, grid::EyeCells(f.dims.y, tan_half), secondary));
     } else {
-      grids_ = grid::Build(scene_, options_, nullptr, 0, secondary);
+      grids_ = BuildGrids(grid::Plan(scene_, options_, nullptr, 0, secondary));
     }
     build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     built_ = true;
     if (ctx_.subpasses) ctx_.subpasses->push_back({"grid.build", build_ms_, grids_.first.size() - 1});
+  }
+  // The render path on the emulator bins on the host (grid::Build's functions, in parallel runs);
+  // a backend, `diff` and --path passes run the build's passes, grid by grid: grid.count, grid.emit,
+  // the sort by cell, grid.cells. Both give the same arrays (tests/grid_build_test.cpp).
+  GridArrays BuildGrids(grid::GridPlan plan) {
+    if (lanes_) return grid::Build(scene_, std::move(plan));
+    return BuildWithPasses(scene_, std::move(plan), passes_);
   }
   GridWalks Trace(const std::vector<layout::Ray>& rays, std::uint32_t shadow) {
     // Eye rays (--primary grid) go through the eye's grid, built again whenever the camera changes.
@@ -173,6 +180,29 @@ class Grid final : public GridTracer {
 };
 
 }  // namespace
+
+GridArrays BuildWithPasses(const SceneBuffers& scene, grid::GridPlan plan, HierarchyPasses& passes) {
+  for (std::size_t k = 0; k < plan.grids.size(); ++k) {
+    const grid::GridDescriptor d = grid::Describe(plan.grids[k]);
+    passes.Label("grid.count");
+    const GridCounts counts = passes.GridCount({.triangles = scene.triangles, .grid = d.params, .shape = d.shape, .slices = plan.arrays.slices});
+    passes.Label("grid.emit");
+    const GridRefs refs =
+        passes.GridEmit({.grid = d.params, .shape = d.shape, .counts = counts.counts, .spans = counts.spans, .span_boxes = counts.span_boxes});
+    passes.Label("grid.sort");
+    const std::vector<std::uint32_t> order = passes.SortChunks({.chunk_key = refs.cells});
+    passes.Label("grid.cells");
+    const GridLists lists = passes.GridCells({.cells = refs.cells,
+                                              .triangles = refs.triangles,
+                                              .boxes = refs.boxes,
+                                              .order = order,
+                                              .dist = counts.dist,
+                                              .cell_count = static_cast<std::uint32_t>(plan.cells[k])});
+    grid::AppendLists(plan.arrays, plan.grids[k], plan.cells[k], lists);
+  }
+  grid::FinishLists(plan.arrays);
+  return std::move(plan.arrays);
+}
 
 std::unique_ptr<GridTracer> MakeGridTracer(const SceneBuffers& scene, const grid::Options& options, HierarchyPasses* passes) {
   return std::make_unique<Grid>(scene, options, passes ? *passes : EmuHierarchyPasses());

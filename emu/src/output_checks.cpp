@@ -1,6 +1,7 @@
 // The bounds of every call's outputs (emu/output_checks.h): each index a later pass or the host reads
 // with, and each count the host adds up, against the call's own inputs.
 #include "rayspace/emu/output_checks.h"
+#include "grid_bin.h"
 
 #include <algorithm>
 #include <limits>
@@ -436,6 +437,56 @@ void CheckOutputs(const call::TlTrace& c, const TlWalks* r, const OutputSource& 
   const std::uint64_t longest = c.escapes.size() + 1;
   k.Below("spheres", r->spheres, longest);
   k.Below("triangles", r->triangles, longest);
+}
+
+// The grids' build: counts, spans and references that let the next pass run in bounds.
+void CheckOutputs(const call::GridCount& c, const GridCounts* r, const OutputSource& from) {
+  const Check k(c.kName, from);
+  const std::size_t n = c.triangles.size();
+  const bool perspective = c.shape.size() == 2 && c.shape[0].x == layout::kGridKindPerspective;
+  k.Size("counts", r->counts.size(), n);
+  k.Size("dist", r->dist.size(), perspective ? n : 0);
+  k.Size("spans", r->spans.size(), n * layout::kGridFaces);
+  k.Size("span_boxes", r->span_boxes.size(), perspective ? n * layout::kGridFaces : 0);
+  std::uint64_t total = 0;
+  for (std::size_t t = 0; t < n; ++t) {
+    std::uint64_t size = 0;
+    for (std::uint32_t f = 0; f < layout::kGridFaces; ++f) {
+      const grid::bin::Span s = grid::bin::Unpack(r->spans[t * layout::kGridFaces + f]);
+      if (s.valid && (s.i0 > s.i1 || s.j0 > s.j1 || s.k0 > s.k1)) k.Fail("spans", t * layout::kGridFaces + f, "is an empty range");
+      size += s.Size();
+    }
+    if (size != r->counts[t]) k.Fail("counts", t, "is {}, its spans hold {}", r->counts[t], size);
+    if ((total += size) >= (std::uint64_t{1} << 31)) k.Fail("counts", t, "brings the references to {}", total);
+  }
+}
+
+void CheckOutputs(const call::GridEmit& c, const GridRefs* r, const OutputSource& from) {
+  const Check k(c.kName, from);
+  std::uint64_t total = 0;
+  for (const std::uint32_t n : c.counts) total += n;
+  k.Size("offsets", r->offsets.size(), c.counts.size());
+  k.Size("cells", r->cells.size(), total);
+  k.Size("triangles", r->triangles.size(), total);
+  const layout::GridBuildGrid g = grid::FromDescriptor(c.grid, c.shape);
+  k.Size("boxes", r->boxes.size(), g.shape.x == layout::kGridKindPerspective ? total : 0);
+  k.Below("cells", r->cells, grid::bin::CellCount(g));
+  k.Below("triangles", r->triangles, c.counts.size());
+}
+
+void CheckOutputs(const call::GridCells& c, const GridLists* r, const OutputSource& from) {
+  const Check k(c.kName, from);
+  const std::size_t refs = c.cells.size();
+  k.Size("first", r->first.size(), std::size_t{c.cell_count} + 1);
+  k.Size("triangles", r->triangles.size(), refs);
+  k.Size("boxes", r->boxes.size(), c.boxes.empty() ? 0 : refs);
+  k.Size("min_dist", r->min_dist.size(), c.dist.empty() ? 0 : c.cell_count);
+  for (std::size_t i = 0; i < r->first.size(); ++i)
+    if (r->first[i] > refs || (i > 0 && r->first[i] < r->first[i - 1]) || (i + 1 == r->first.size() && r->first[i] != refs))
+      k.Fail("first", i, "is {}: the offsets do not rise from 0 to the {} references", r->first[i], refs);
+  std::uint64_t bound = 0;
+  for (const std::uint32_t t : c.triangles) bound = std::max<std::uint64_t>(bound, std::uint64_t{t} + 1);
+  k.Below("triangles", r->triangles, bound);
 }
 
 void CheckOutputs(const call::GridTrace& c, const GridWalks* r, const OutputSource& from) {

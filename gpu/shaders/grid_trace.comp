@@ -9,6 +9,7 @@
 // Closest hits keep the packed (t, id) minimum, so ties resolve as every other tracer's do. Loops run
 // in blocks (lavapipe ends a loop after 65,535 iterations). Mirrors emu PassGridTrace.
 #include "common.glsl"
+#include "grid.glsl"
 #define WATERTIGHT_SWAP_FAULT 0xFFFFFFFFu  // no range-swap fault here
 #include "watertight.glsl"
 
@@ -95,18 +96,6 @@ uint PerspectiveCell() {
   // Fault 1: the cell one column off.
   if (kFault == 1u) i = min(i + 1u, n - 1u);
   return g.x + (face * n + j) * n + i;
-}
-
-// --closed-models: whether the triangle faces away from the point o (emu grid::FacesAway: the
-// watertight test's scaled plane normal, o behind the plane).
-bool FacesAway(vec3 v0, vec3 v1, vec3 v2, vec3 o) {
-  precise const vec3 e1 = v1 - v0, e2 = v2 - v0;
-  const float ke = InversePowerOfTwo(MaxAbs(e1, e2));
-  const vec3 n0 = Cross3(e1 * ke, e2 * ke);
-  const float kn = InversePowerOfTwo(MaxAbs(n0, n0));
-  precise const vec3 n = n0 * kn;
-  precise const vec3 w = o - v0;
-  return Dot3(n, w) < 0.0;
 }
 
 // 3D DDA through the regular grid over (tmin, tmax) clipped to its box (emu StepRegular).

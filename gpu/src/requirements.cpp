@@ -50,9 +50,9 @@ const char* YesNo(bool b) { return b ? "supported" : "not supported"; }
 class Checker {
  public:
   explicit Checker(const Lacks& lacking) : lacking_(lacking) {}
-  void Feature(const std::string& name, const std::string& why, bool have) {
+  void Feature(const std::string& name, const std::string& why, bool have, bool optional = false) {
     have = have && !lacking_.count(name);
-    out_.push_back({name, why, "supported", YesNo(have), have});
+    out_.push_back({name, why, "supported", YesNo(have), have, optional});
   }
   void Version(const std::string& name, const std::string& why, std::uint32_t need, std::uint32_t have) {
     if (auto it = lacking_.find(name); it != lacking_.end()) have = static_cast<std::uint32_t>(it->second);
@@ -143,6 +143,9 @@ std::vector<Requirement> CheckRequirements(VkPhysicalDevice d, const Lacks& lack
   Checker c(lacking);
   c.Version("apiVersion", "every pass (Vulkan 1.2 features and properties)", VK_API_VERSION_1_2, props.apiVersion);
   c.Feature("shaderInt64", "intersect, shade (64-bit hit records and sums)", info.features.shaderInt64);
+  c.Feature("shaderFloat64", "grid.count, grid.emit only (the grids' binning in double, as the host's)", info.features.shaderFloat64, true);
+  c.Feature("shaderSignedZeroInfNanPreserveFloat64", "grid.count, grid.emit only (no (a - b) + b -> a folding in double)",
+            fc.shaderSignedZeroInfNanPreserveFloat64, true);
   c.Feature("shaderBufferInt64Atomics", "intersect, shade (atomicMin / atomicAdd on 64-bit words)", f12.shaderBufferInt64Atomics);
   c.Feature("shaderSignedZeroInfNanPreserveFloat32", "every kernel (SignedZeroInfNanPreserve: no a - a -> 0 folding)",
             fc.shaderSignedZeroInfNanPreserveFloat32);
@@ -216,8 +219,15 @@ std::vector<DeviceReport> DescribeDevices(int& preferred) {
 std::string Unmet(const std::vector<Requirement>& reqs) {
   std::string s;
   for (const Requirement& r : reqs)
-    if (!r.met) s += fmt::format("{}{} (needed by {}: {}; the device: {})", s.empty() ? "" : "; ", r.name, r.why, r.need, r.have);
+    if (!r.met && !r.optional) s += fmt::format("{}{} (needed by {}: {}; the device: {})", s.empty() ? "" : "; ", r.name, r.why, r.need, r.have);
   return s;
+}
+
+bool HasFloat64(VkPhysicalDevice device) {
+  bool has = true;
+  for (const Requirement& r : CheckRequirements(device, DeviceLacks()))
+    if (r.name == "shaderFloat64" || r.name == "shaderSignedZeroInfNanPreserveFloat64") has = has && r.met;
+  return has;
 }
 
 }  // namespace rayspace::vk

@@ -218,6 +218,9 @@ Status Context::CreateDevice() {
 
   VkPhysicalDeviceFeatures features{};
   features.shaderInt64 = VK_TRUE;
+  // The grids' build bins in double (grid_build.comp); a device without it runs every other pass.
+  float64_ = HasFloat64(physical_);
+  features.shaderFloat64 = float64_ ? VK_TRUE : VK_FALSE;
   const float priority = 1.0f;
   VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
   qci.queueFamilyIndex = family_;

@@ -608,6 +608,68 @@ struct GridTracePush {
                    // perspective grid about the eye that every other closest-hit ray walks; kGridNoLight: none
 };
 
+// ---- grid.count, grid.emit, grid.cells: the grids built as kernels --------------------------------
+// (docs/grids.md, "The build as kernels") One grid at a time, described by a GridBuildGrid. grid.count:
+// per triangle and face the span of cells it is binned into (columns, rows, slices: x = first | last
+// << 16 and likewise y, z; w = 1 when the face holds any; the regular grid uses face 0 for x, y, z),
+// in a 2D grid its (u, v) rectangle, the triangle's references in all and a 2D grid's least distance.
+// grid.emit: the counts' exclusive scan, then one invocation per reference, which finds its triangle
+// by a binary search over the offsets and its cell from the spans (faces, slices, rows, columns in
+// order), so no invocation loops over cells. The sort pass orders the references stably by cell;
+// grid.cells gathers them into per-cell lists, each cell's CSR offset a lower bound over the sorted
+// cells, and a 2D grid's least distance per cell by atomicMin over the bits of non-negative floats.
+// The binning computes in double, as the host build does: the kernels need shaderFloat64 and
+// correctly rounded double + - * / and sqrt (lavapipe's; tests/grid_build_test.cpp).
+RS_CONST(uint, kGridKindPerspective, 0u);  // a point light's or the eye's 2D grid: n x n cells a face
+RS_CONST(uint, kGridKindRegular, 1u);      // the regular grid over the scene's box
+RS_CONST(uint, kGridKindVolume, 2u);       // an area light's or the eye's 3D perspective grid
+RS_CONST(uint, kGridBuildBindTriangles, 0u);  // the scene's triangles
+RS_CONST(uint, kGridBuildBindGrid, 1u);       // one GridBuildGrid
+RS_CONST(uint, kGridBuildBindSlices, 2u);     // a 3D grid's per-face D + 1 depth boundaries
+RS_CONST(uint, kGridBuildBindCounts, 3u);     // per triangle: its references
+RS_CONST(uint, kGridBuildBindDist, 4u);       // per triangle (2D grids): least distance from the centre, rounded down
+RS_CONST(uint, kGridBuildBindSpans, 5u);      // per (triangle, face): its span of cells
+RS_CONST(uint, kGridBuildBindSpanBoxes, 6u);  // per (triangle, face) of a 2D grid: its (u, v) rectangle
+RS_CONST(uint, kGridBuildBindSums, 7u);       // per block of kScanBlock triangles, then the total
+RS_CONST(uint, kGridBuildBindOffsets, 8u);    // per triangle: its first reference
+RS_CONST(uint, kGridBuildBindCells, 9u);      // per reference in triangle order: its cell
+RS_CONST(uint, kGridBuildBindRefTris, 10u);   // per reference: its triangle
+RS_CONST(uint, kGridBuildBindBoxes, 11u);     // per reference of a 2D grid: its (u, v) rectangle
+RS_CONST(uint, kGridBuildBindOrder, 12u);     // the sort's stable order of the references by cell
+RS_CONST(uint, kGridBuildBindFirst, 13u);     // per cell: CSR offset, then the total
+RS_CONST(uint, kGridBuildBindListTris, 14u);  // the cells' lists (sorted references' triangles)
+RS_CONST(uint, kGridBuildBindListBoxes, 15u); // and their rectangles
+RS_CONST(uint, kGridBuildBindMinDist, 16u);   // per cell of a 2D grid: least distance of its triangles
+RS_CONST(uint, kGridBuildBindings, 17u);
+RS_CONST(uint, kGridBuildPhaseCount, 0u);      // grid.count: one invocation per triangle
+RS_CONST(uint, kGridBuildPhaseBlockSums, 1u);  // grid.emit: sums of the counts per block
+RS_CONST(uint, kGridBuildPhaseScanSums, 2u);   // one workgroup scans the block sums
+RS_CONST(uint, kGridBuildPhaseOffsets, 3u);    // per block: each triangle's first reference
+RS_CONST(uint, kGridBuildPhaseEmit, 4u);       // one invocation per reference
+RS_CONST(uint, kGridBuildPhaseGather, 5u);     // grid.cells: one invocation per sorted reference
+RS_CONST(uint, kGridBuildPhaseCells, 6u);      // one invocation per cell: its offset (and +inf as its least distance)
+RS_CONST(uint, kGridBuildPhaseMin, 7u);        // one invocation per sorted reference: atomicMin into its cell
+// What the kernels bin: centre and cell are the light's (or eye's) position and, for a 3D grid, the
+// core's half-side zn in centre.w; the regular grid's lo and cell size. light_lo/hi: an area light's
+// box (front-face culling). shape: kind, then n, D, 0 (2D: D = 0), or the regular grid's dims.
+// flags: culling (1) and margins (2), the grid's first slice in `slices`, its cells.
+struct GridBuildGrid {
+  vec4 centre;
+  vec4 cell;
+  vec4 light_lo;
+  vec4 light_hi;
+  uvec4 shape;
+  uvec4 flags;
+};
+RS_CONST(uint, kGridBuildCull, 1u);
+RS_CONST(uint, kGridBuildMargins, 2u);
+struct GridBuildPush {
+  uint phase;
+  uint count;   // triangles (count, emit), references (gather, min) or cells (cells)
+  uint blocks;  // emit: blocks of kScanBlock triangles; gather (rectangles), cells (least distances): 1 in a 2D grid
+  uint refs;    // the references in all
+};
+
 // ---- shade: direct light at the shading points into the fixed-point accumulator ---------------
 RS_CONST(uint, kShadeBindSurfaces, 0u);
 RS_CONST(uint, kShadeBindShadowFlags, 1u);
@@ -666,7 +728,8 @@ static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && size
               sizeof(IntersectPush) == 44 && sizeof(ShadePush) == 20 && sizeof(ElementwisePush) == 8 &&
               sizeof(TraverseCompactPush) == 68 && sizeof(TreePush) == 40 && sizeof(IntersectTreePush) == 8 &&
               sizeof(TlListsPush) == 28 && sizeof(TlTracePush) == 24 && sizeof(TlHeadsPush) == 16 &&
-              sizeof(TlCellsPush) == 16 && sizeof(GridTracePush) == 24 && sizeof(GridVolume) == 80);
+              sizeof(TlCellsPush) == 16 && sizeof(GridTracePush) == 24 && sizeof(GridVolume) == 80 &&
+              sizeof(GridBuildGrid) == 96 && sizeof(GridBuildPush) == 16);
 static_assert(kTlMaxElements == 65535u * kTlLoopBlock && kTlEscapeNone == ~0u && kTlNoParent == ~0u);
 static_assert(kTreeStepBlock % kMaxLocalSize == 0u);
 static_assert(offsetof(TraversePush, eps) == 40);

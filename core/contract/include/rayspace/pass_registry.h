@@ -42,6 +42,9 @@ enum class PassId : std::uint8_t {
   kTlHeads,
   kTlCells,
   kTlTrace,
+  kGridCount,
+  kGridEmit,
+  kGridCells,
   kGridTrace,
   kShade,
   kResolve,
@@ -116,6 +119,9 @@ inline constexpr SV kTreeStepIdx[] = {"next_cone", "next_item", "final_cone", "f
 inline constexpr SV kTlListsIdx[] = {"escapes", "words", "lengths"};
 inline constexpr SV kTlHeadsIdx[] = {"windows"};
 inline constexpr SV kTlCellsIdx[] = {"windows"};
+inline constexpr SV kGridCountIdx[] = {"counts", "spans"};
+inline constexpr SV kGridEmitIdx[] = {"cells"};
+inline constexpr SV kGridCellsIdx[] = {"first", "triangles"};
 constexpr std::span<const SV> None() { return {}; }
 
 inline constexpr CallSpec kRasterCalls[] = {{"raster", kRasterIdx}};
@@ -144,6 +150,9 @@ inline constexpr CallSpec kTlListsCalls[] = {{"tl.lists", kTlListsIdx}};
 inline constexpr CallSpec kTlHeadsCalls[] = {{"tl.heads", kTlHeadsIdx}};
 inline constexpr CallSpec kTlCellsCalls[] = {{"tl.cells", kTlCellsIdx}};
 inline constexpr CallSpec kTlTraceCalls[] = {{"tl.trace", None()}};
+inline constexpr CallSpec kGridCountCalls[] = {{"grid.count", kGridCountIdx}};
+inline constexpr CallSpec kGridEmitCalls[] = {{"grid.emit", kGridEmitIdx}};
+inline constexpr CallSpec kGridCellsCalls[] = {{"grid.cells", kGridCellsIdx}};
 inline constexpr CallSpec kGridTraceCalls[] = {{"grid.trace", None()}};
 inline constexpr CallSpec kShadeCalls[] = {{"shade", None()}};
 inline constexpr CallSpec kResolveCalls[] = {{"resolve", None()}};
@@ -167,6 +176,10 @@ inline constexpr PhaseSpec kTraverseCompactPhases[] = {RS_PHASE(TraverseCompact,
                                                       RS_PHASE(TraverseCompact, Scan), RS_PHASE(TraverseCompact, Scatter)};
 inline constexpr PhaseSpec kTlListsPhases[] = {RS_PHASE(TlLists, Triangles), RS_PHASE(TlLists, Nodes), RS_PHASE(TlLists, Rank),
                                               RS_PHASE(TlLists, Place)};
+inline constexpr PhaseSpec kGridCountPhases[] = {RS_PHASE(GridBuild, Count)};
+inline constexpr PhaseSpec kGridEmitPhases[] = {RS_PHASE(GridBuild, BlockSums), RS_PHASE(GridBuild, ScanSums), RS_PHASE(GridBuild, Offsets),
+                                                RS_PHASE(GridBuild, Emit)};
+inline constexpr PhaseSpec kGridCellsPhases[] = {RS_PHASE(GridBuild, Gather), RS_PHASE(GridBuild, Cells), RS_PHASE(GridBuild, Min)};
 inline constexpr PhaseSpec kTreeStepPhases[] = {RS_PHASE(TreeStep, Count), RS_PHASE(TreeStep, Scan), RS_PHASE(TreeStep, Scatter)};
 #undef RS_PHASE
 
@@ -286,6 +299,15 @@ inline constexpr FaultSpec kTlTraceFaults[] = {{1, "a missed sphere's escape is 
                                               {4, "one-sided triangles count when met from behind, not from the front"},
                                               {5, "a ray walks the window of the other side of its triangle"},
                                               {6, "an eye ray walks the window of the next cell"}};
+inline constexpr FaultSpec kGridCountFaults[] = {{1, "a triangle's rectangle of cells loses its last column"},
+                                                {2, "the least distance is taken to the triangle's first vertex, not its closest point"},
+                                                {3, "the regular grid's cells stop one layer short along z"}};
+inline constexpr FaultSpec kGridEmitFaults[] = {{1, "an inclusive scan where an exclusive one belongs (a triangle writes at the next one's offset)"},
+                                                {2, "a reference's cell is the next one (one column off)"},
+                                                {3, "a reference's rectangle has its u and v swapped"}};
+inline constexpr FaultSpec kGridCellsFaults[] = {{1, "a cell's offset is its upper bound (every list starts one cell late)"},
+                                                 {2, "a cell's least distance leaves out its last triangle"},
+                                                 {3, "the references are gathered in emit order, not the sorted order"}};
 inline constexpr FaultSpec kGridTraceFaults[] = {{1, "a shadow ray's perspective cell is one column off"},
                                                 {2, "a cell's least distance is taken 1/64 too far (rays skip tests they need)"},
                                                 {3, "the 3D walk skips the next slice whenever it steps along z"},
@@ -334,6 +356,9 @@ inline constexpr std::array<PassSpec, kPassCount> kPasses = {{
   {PassId::kTlHeads,          "tl.heads",          "tl_heads",          false, {},                                        layout::kTlHeadsBindings,      RS_PUSH(TlHeadsPush),       pass_registry_detail::kTlHeadsCalls,       "hierarchy_creation",        pass_registry_detail::kTlHeadsFaults},
   {PassId::kTlCells,          "tl.cells",          "tl_cells",          false, {},                                        layout::kTlCellsBindings,      RS_PUSH(TlCellsPush),       pass_registry_detail::kTlCellsCalls,       "hierarchy_creation",        pass_registry_detail::kTlCellsFaults},
   {PassId::kTlTrace,          "tl.trace",          "tl_trace",          false, {},                                        layout::kTlTraceBindings,      RS_PUSH(TlTracePush),       pass_registry_detail::kTlTraceCalls,       "hierarchy_traversal",       pass_registry_detail::kTlTraceFaults},
+  {PassId::kGridCount,        "grid.count",        "grid_build",        false, pass_registry_detail::kGridCountPhases,   layout::kGridBuildBindings,    RS_PUSH(GridBuildPush),     pass_registry_detail::kGridCountCalls,     "hierarchy_creation",        pass_registry_detail::kGridCountFaults},
+  {PassId::kGridEmit,         "grid.emit",         "grid_build",        false, pass_registry_detail::kGridEmitPhases,    layout::kGridBuildBindings,    RS_PUSH(GridBuildPush),     pass_registry_detail::kGridEmitCalls,      "hierarchy_creation",        pass_registry_detail::kGridEmitFaults},
+  {PassId::kGridCells,        "grid.cells",        "grid_build",        false, pass_registry_detail::kGridCellsPhases,   layout::kGridBuildBindings,    RS_PUSH(GridBuildPush),     pass_registry_detail::kGridCellsCalls,     "hierarchy_creation",        pass_registry_detail::kGridCellsFaults},
   {PassId::kGridTrace,        "grid.trace",        "grid_trace",        false, {},                                        layout::kGridTraceBindings,    RS_PUSH(GridTracePush),     pass_registry_detail::kGridTraceCalls,     "hierarchy_traversal",       pass_registry_detail::kGridTraceFaults},
   {PassId::kShade,            "shade",             "shade",             false, {},                                        layout::kShadeBindings,        RS_PUSH(ShadePush),         pass_registry_detail::kShadeCalls,         "",                          pass_registry_detail::kShadeFaults},
   {PassId::kResolve,          "resolve",           "resolve",           false, {},                                        layout::kResolveBindings,      RS_PUSH(ElementwisePush),      pass_registry_detail::kResolveCalls,       "",                          pass_registry_detail::kResolveFaults},

@@ -412,6 +412,44 @@ struct GridTrace {
             secondary)
 };
 
+// The grids' build, one grid a call (rayspace/contract.h, kGridBuild*; docs/grids.md). `grid` and
+// `shape` are the grid's layout::GridBuildGrid (grid::Describe): centre, cell, light_lo, light_hi;
+// shape, flags. grid.count: per triangle its references, spans and a 2D grid's least distance.
+struct GridCount {
+  static constexpr std::string_view kName = "grid.count";
+  using Result = GridCounts;
+  In<layout::Triangle> triangles{};
+  In<glm::vec4> grid{};
+  In<glm::uvec4> shape{};
+  In<float> slices{};
+  RS_FIELDS(triangles, grid, shape, slices)
+};
+
+// grid.emit: the counts' exclusive scan, and every reference expanded from its triangle's spans.
+struct GridEmit {
+  static constexpr std::string_view kName = "grid.emit";
+  using Result = GridRefs;
+  In<glm::vec4> grid{};
+  In<glm::uvec4> shape{};
+  In<std::uint32_t> counts{};
+  In<glm::uvec4> spans{};
+  In<glm::vec4> span_boxes{};
+  RS_FIELDS(grid, shape, counts, spans, span_boxes)
+};
+
+// grid.cells: the references gathered in `order` (the sort's stable order by cell) into per-cell
+// lists, each cell's CSR offset, and in a 2D grid (`dist` per triangle non-empty) its least distance.
+struct GridCells {
+  static constexpr std::string_view kName = "grid.cells";
+  using Result = GridLists;
+  In<std::uint32_t> cells{}, triangles{};
+  In<glm::vec4> boxes{};
+  In<std::uint32_t> order{};
+  In<float> dist{};
+  std::uint32_t cell_count = 0;
+  RS_FIELDS(cells, triangles, boxes, order, dist, cell_count)
+};
+
 }  // namespace call
 
 // The calls of each backend group, for code generated per call (X-macros): X(Call).
@@ -419,7 +457,8 @@ struct GridTrace {
 #define RS_HIERARCHY_CALLS(X)                                                                        \
   X(Hash) X(Compress) X(SortChunks) X(Decompress) X(BuildLeaves) X(BuildParents) X(ObjectMask) X(TraverseTop) \
   X(TraverseLevel) X(Reduce) X(TraverseTopCompacted) X(TraverseLevelCompacted) X(Intersect) X(TreeRoots) \
-  X(TreeExpand) X(TreeTest) X(TreeStep) X(IntersectTree) X(TlLists) X(TlHeads) X(TlCells) X(TlTrace) X(GridTrace)
+  X(TreeExpand) X(TreeTest) X(TreeStep) X(IntersectTree) X(TlLists) X(TlHeads) X(TlCells) X(TlTrace) X(GridCount) X(GridEmit) \
+  X(GridCells) X(GridTrace)
 
 // Calls whose kernel runs one invocation per element over input arrays of one length, with no other
 // input (rayspace/contract.h, "element-wise passes"): the Vulkan backend launches them generically.

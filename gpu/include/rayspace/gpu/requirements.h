@@ -30,6 +30,9 @@ struct Requirement {
   std::string need;  // e.g. "supported", ">= 23"
   std::string have;  // what the device reports
   bool met = false;
+  // Needed by some passes only (`why` names them): a device without it runs every other pass, and
+  // those passes fail naming it.
+  bool optional = false;
 };
 
 // Test use (`--device-lacks NAME[=VALUE]`): requirement names a device is to look as if it lacked, a
@@ -72,7 +75,10 @@ struct DeviceReport {
 std::vector<DeviceReport> DescribeDevices(int& preferred);
 
 // "shaderInt64 (needed by intersect and shade: supported; the device: not supported); ..." for the
-// unmet ones, or "" when every requirement is met.
+// unmet ones that are not optional, or "" when every such requirement is met.
 std::string Unmet(const std::vector<Requirement>& reqs);
+// Whether the device (as DeviceLacks() makes it look) has what the grids' build kernels need:
+// shaderFloat64 and shaderSignedZeroInfNanPreserveFloat64 (optional requirements).
+bool HasFloat64(VkPhysicalDevice device);
 
 }  // namespace rayspace::vk

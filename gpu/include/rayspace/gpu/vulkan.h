@@ -279,6 +279,8 @@ class Context {
   // lavapipe: its float operations are correctly rounded (docs/gpu.md), so its kernels give the
   // emulator's bits; on other devices Vulkan's looser division and square root may not.
   bool correctly_rounded_floats() const { return driver_id_ == VK_DRIVER_ID_MESA_LLVMPIPE; }
+  // shaderFloat64 enabled (with 64-bit SignedZeroInfNanPreserve): the grids' build kernels exist.
+  bool float64() const { return float64_; }
   // The most bytes one storage binding may hold: maxStorageBufferRange unless lowered for tests.
   VkDeviceSize storage_limit() const { return storage_limit_; }
   // Test hook: behave like a device with smaller limits (0 leaves a limit as it is), so that the
@@ -321,6 +323,7 @@ class Context {
   std::string device_name_, driver_;
   VkDeviceSize max_storage_range_ = 0, storage_limit_ = 0;
   std::uint32_t max_groups_[2] = {65535, 65535};
+  bool float64_ = false;
   std::uint32_t max_stage_storage_buffers_ = 0, max_image_side_ = 0, subgroup_size_ = 1;
   std::uint32_t max_invocations_ = 0, max_size_x_ = 0;  // maxComputeWorkGroupInvocations, ...Size[0]
   std::size_t descriptor_pools_ = 0;

@@ -3,6 +3,7 @@
 // The grids are built on the host (grid::Build, deterministic, in double); each batch is one
 // grid.trace call on the frame's backend, so `diff` compares it as any other pass.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -31,6 +32,36 @@ struct GridArrays {
   std::vector<float> slices;             // per area light's 3D grid, per face: D + 1 depth boundaries in r = 1 / depth
   std::uint64_t perspective_cells = 0, regular_cells = 0, perspective_refs = 0, regular_refs = 0;
   std::uint64_t volume_cells = 0, volume_refs = 0;  // the area lights' 3D perspective grids
+};
+
+// One grid's lists (grid.cells, the host's BinHost): per cell its CSR offset into `triangles`, then
+// the total; per cell its triangles in ascending order; in a 2D grid each reference's (u, v)
+// rectangle and per cell the least distance of its triangles from the grid's centre.
+struct GridLists {
+  std::vector<std::uint32_t> first, triangles;
+  std::vector<glm::vec4> boxes;
+  std::vector<float> min_dist;
+  RS_FIELDS(first, triangles, boxes, min_dist)
+};
+
+// grid.count: per triangle its references in one grid, and per (triangle, face) its span of cells
+// (rayspace/contract.h kGridBuild*: columns, rows and slices packed two to a word, w = 1 when the
+// face holds any) and, in a 2D grid, its (u, v) rectangle; a 2D grid's least distance per triangle
+// from the grid's centre, rounded down. Unused arrays are empty.
+struct GridCounts {
+  std::vector<std::uint32_t> counts;
+  std::vector<float> dist;
+  std::vector<glm::uvec4> spans;
+  std::vector<glm::vec4> span_boxes;
+  RS_FIELDS(counts, dist, spans, span_boxes)
+};
+
+// grid.emit: per triangle its first reference; per reference, in triangle order, its cell within the
+// grid, its triangle and (2D grids; else empty) its (u, v) rectangle.
+struct GridRefs {
+  std::vector<std::uint32_t> offsets, cells, triangles;
+  std::vector<glm::vec4> boxes;
+  RS_FIELDS(offsets, cells, triangles, boxes)
 };
 
 // Per ray: the closest hit (closest-hit batches) or whether it is occluded (shadow batches; the other
@@ -112,19 +143,52 @@ std::vector<bool> ClosedObjects(const SceneBuffers& scene, std::vector<std::size
 // `height` pixels whose vertical half-angle has tangent `tan_half_fov` (a face spans tangents -1..1).
 std::uint32_t EyeCells(std::uint32_t height, double tan_half_fov);
 
+// The grids a frame builds, in cell order, each described as the build kernels read it
+// (layout::GridBuildGrid), with everything of GridArrays that does not depend on binning: lights'
+// and the eye's entries, the regular grid's box, the 3D grids' depth slices.
+struct GridPlan {
+  GridArrays arrays;
+  std::vector<layout::GridBuildGrid> grids;
+  std::vector<std::uint64_t> cells;  // per grid
+  std::uint64_t total_cells = 0;
+};
+GridPlan Plan(const SceneBuffers& scene, const Options& options, const glm::vec3* eye = nullptr, std::uint32_t eye_cells = 0,
+              const glm::vec3* secondary_eye = nullptr);
+// Appends a planned grid's lists (its cells in plan order) to g; FinishLists closes `first` with the
+// total once every grid is in.
+void AppendLists(GridArrays& g, const layout::GridBuildGrid& grid, std::uint64_t cells, const GridLists& lists);
+void FinishLists(GridArrays& g);
+// The build kernels' descriptor as call inputs: centre, cell, light_lo, light_hi; shape, flags.
+struct GridDescriptor {
+  std::array<glm::vec4, 4> params;
+  std::array<glm::uvec4, 2> shape;
+};
+GridDescriptor Describe(const layout::GridBuildGrid& g);
+layout::GridBuildGrid FromDescriptor(std::span<const glm::vec4> params, std::span<const glm::uvec4> shape);
+
 // Builds every point light's perspective grid, the eye's when `eye` is given (every triangle, no
 // culling: eye rays want the closest hit), the regular grid, every area light's 3D grid and, with
 // Options::secondary_perspective and `secondary_eye` given, the 3D grid about that eye.
 GridArrays Build(const SceneBuffers& scene, const Options& options, const glm::vec3* eye = nullptr, std::uint32_t eye_cells = 0,
                  const glm::vec3* secondary_eye = nullptr);
+// The grids of a plan binned on the host.
+GridArrays Build(const SceneBuffers& scene, GridPlan plan);
 
 }  // namespace grid
 
 namespace call {
 struct GridTrace;
+struct GridCount;
+struct GridEmit;
+struct GridCells;
 }
 // The emulated grid.trace (mirrors gpu/shaders/grid_trace.comp).
 GridWalks PassGridTrace(const call::GridTrace& c);
+
+// The emulated build passes (mirror gpu/shaders/grid_build.comp; rayspace/contract.h kGridBuild*).
+GridCounts PassGridCount(const call::GridCount& c);
+GridRefs PassGridEmit(const call::GridEmit& c);
+GridLists PassGridCells(const call::GridCells& c);
 
 // The render path's grid.trace: the same walks, answers and counts as PassGridTrace, with each
 // cell's triangles (those a ray tests: its own surface and, in a perspective cell, references whose
