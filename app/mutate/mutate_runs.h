@@ -34,6 +34,7 @@ struct DiffRun {
   int code = 0;
   nlohmann::json report;
   std::string last_line, log;
+  bool TimedOut() const { return code == 124 || code == 137; }
   double seconds = 0;
 };
 // `rayspace diff` of the frame under `config`, each (pass, file) replacing the pass's kernel; files

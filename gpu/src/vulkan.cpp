@@ -92,6 +92,7 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
   std::swap(pool_, o.pool_);
   std::swap(range_, o.range_);
   std::swap(size_, o.size_);
+  std::swap(guard_, o.guard_);
   std::swap(mapped_, o.mapped_);
   std::swap(observed_, o.observed_);
   return *this;
@@ -128,6 +129,19 @@ Status Buffer::Read(void* dst, std::size_t bytes) const {
   }
   if (observed_ && ctx_->observer()) ctx_->observer()->BufferRead(*this, dst, bytes);
   return Status::Ok();
+}
+
+bool Buffer::GuardChanged(std::size_t& word, std::uint32_t& value) const {
+  if (!guard_ || !mapped_) return false;
+  const auto* bytes = static_cast<const std::uint8_t*>(mapped_) + size_;
+  for (std::size_t k = 0; k < guard_ / 4; ++k) {
+    std::memcpy(&value, bytes + 4 * k, 4);
+    if (value != kGuardWord) {
+      word = k;
+      return true;
+    }
+  }
+  return false;
 }
 
 Buffer::~Buffer() {
@@ -396,8 +410,10 @@ Status Context::CreateBuffer(std::size_t bytes, Buffer& out, bool storage) {
   Buffer b;
   b.device_ = device_;
   b.size_ = bytes;
+  // Guard words after a storage buffer, where a binding of the whole still fits the device.
+  const std::size_t guard = storage && bytes + Buffer::kGuardBytes <= max_storage_range_ ? Buffer::kGuardBytes : 0;
   VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
-  bci.size = std::max<std::size_t>(bytes, 16);
+  bci.size = std::max<std::size_t>(bytes + guard, 16);
   bci.usage = (storage ? VK_BUFFER_USAGE_STORAGE_BUFFER_BIT : 0) | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
               VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
   RS_VK(vkCreateBuffer(device_, &bci, nullptr, &b.buffer_));
@@ -431,6 +447,11 @@ Status Context::CreateBuffer(std::size_t bytes, Buffer& out, bool storage) {
   RS_TRY(pool_->Allocate(req, type, mappable, /*image=*/false, b.range_));
   RS_VK(vkBindBufferMemory(device_, b.buffer_, b.range_.memory, b.range_.offset));
   b.mapped_ = b.range_.mapped;
+  if (guard && b.mapped_) {  // staged memory keeps no guard: the host cannot watch it
+    b.guard_ = guard;
+    auto* words = reinterpret_cast<std::uint32_t*>(static_cast<std::uint8_t*>(b.mapped_) + bytes);
+    for (std::size_t k = 0; k < guard / 4; ++k) std::memcpy(words + k, &Buffer::kGuardWord, 4);
+  }
   b.observed_ = storage && observer_;
   out = std::move(b);
   if (out.observed_) observer_->BufferCreated(out);
@@ -741,6 +762,7 @@ Status Recorder::DispatchGroups(const Kernel& k, std::span<const Buffer* const> 
     if (!s) return s;
   }
   if (buffers.size() != k.bindings_) return Status::Fail(fmt::format("kernel {} takes {} buffers, got {}", k.name_, k.bindings_, buffers.size()));
+  bound_.emplace_back(k.name_, std::vector<const Buffer*>(buffers.begin(), buffers.end()));
   VkDescriptorSet set;
   if (Status st = BindSet("kernel", k.name_, k.set_layout_, buffers, set); !st) return st;
   vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.pipeline_);
@@ -836,6 +858,16 @@ Status Recorder::Submit() {
   recording_ = false;
   if (Status st = ctx_.SubmitAndWait(cmd_); !st) return st;
   if (ctx_.observer_ && dispatched_) ctx_.observer_->Submitted(*this);
+  const std::vector<std::pair<std::string, std::vector<const Buffer*>>> bound = std::move(bound_);
+  bound_.clear();
+  for (const auto& [kernel, buffers] : bound)
+    for (std::size_t i = 0; i < buffers.size(); ++i) {
+      std::size_t word = 0;
+      std::uint32_t value = 0;
+      if (buffers[i]->GuardChanged(word, value))
+        return Status::Fail(fmt::format("kernel {} wrote past the end of binding {} ({} bytes): guard word {} after it is 0x{:08x}",
+                                        kernel, i, buffers[i]->size(), word, value));
+    }
   dispatched_ = false;
   for (VkDescriptorPool p : pools_) RS_VK(vkResetDescriptorPool(ctx_.device_, p, 0));
   current_ = static_cast<std::size_t>(-1);

@@ -75,6 +75,14 @@ class Buffer {
     out.resize(count);
     return Read(out.data(), count * sizeof(T));
   }
+  // Guard words: a storage buffer the host can map is made kGuardBytes longer than asked, the excess
+  // filled with kGuardWord and bound with the rest, so that a kernel writing past an array's end
+  // changes it (Recorder::Submit checks every bound buffer) and one reading past it reads kGuardWord
+  // rather than robust access's zero, which a comparison then sees.
+  static constexpr std::size_t kGuardBytes = 256;
+  static constexpr std::uint32_t kGuardWord = 0xA5C3E187u;
+  // The first changed guard word and its value, or false (no guard, or intact).
+  bool GuardChanged(std::size_t& word, std::uint32_t& value) const;
 
  private:
   friend class Context;
@@ -83,7 +91,7 @@ class Buffer {
   VkBuffer buffer_ = VK_NULL_HANDLE;
   MemoryPool* pool_ = nullptr;  // the context's; the range goes back to it
   MemoryRange range_{};
-  std::size_t size_ = 0;
+  std::size_t size_ = 0, guard_ = 0;
   void* mapped_ = nullptr;
   bool observed_ = false;  // a storage buffer made while an Observer watched (below)
 };
@@ -239,6 +247,8 @@ class Recorder {
   std::uint32_t sets_left_ = 0, descriptors_left_ = 0;  // room left in pools_[current_]
   bool recording_ = false;
   bool dispatched_ = false;  // a dispatch since the last submit (what an Observer is told of)
+  // Each dispatch's kernel and buffers since the last submit, whose guard words Submit checks.
+  std::vector<std::pair<std::string, std::vector<const Buffer*>>> bound_;
 };
 
 // The instance rayspace uses: Vulkan 1.2, portability enumeration where the loader offers it, and,
