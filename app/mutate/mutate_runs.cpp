@@ -84,6 +84,9 @@ const std::vector<DiffConfig>& Configs() {
       {"glass", {"--path", "passes"}, "glass"},
       {"area", {"--path", "fused"}, "cornell-soft.json"},
       {"area-grid", {"--algo", "grid", "--grid-area", "8x8x3", "--grid-area-near", "1"}, "cornell-soft.json"},
+      // Front-face culling (grid.count keeps the faces turned away, grid.trace shadows them untraced)
+      // and reflection rays through the 3D grid about the eye.
+      {"grid-closed", {"--algo", "grid", "--closed-models", "--grid-secondary", "perspective", "--grid-area", "12x12x3"}, ""},
       // cornell-soft's rect light tilted, beside a sphere and a disk light.
       {"shapes", {"--path", "passes"}, "shapes"},
       // A scene with sky: eye and reflection rays that hit nothing.
