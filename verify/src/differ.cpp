@@ -1,5 +1,6 @@
 #include "rayspace/verify/differ.h"
 
+#include <algorithm>
 #include <bit>
 #include <cstring>
 #include <chrono>
@@ -174,7 +175,17 @@ void Differ::Save(CallRecord& r, const BufferSet& in, const std::string& method_
 BufferSet Differ::Call(const std::string& method_name, const BufferSet& in) {
   const PassMethod& method = FindPassMethod(method_name);
   BufferSet actual_out;
-  CallRecord r = RunAndCompare(method, in, expected_, actual_, actual_out, options_.hit_tracer, options_.relaxed);
+  CallRecord r;
+  try {
+    r = RunAndCompare(method, in, expected_, actual_, actual_out, options_.hit_tracer, options_.relaxed);
+  } catch (const InputError& e) {
+    // After a divergence, what a later pass gets may break its contract (a ray gathered from past the
+    // end, an id out of range): a consequence of the divergence already recorded, where the diff stops.
+    const bool diverged = std::any_of(calls_.begin(), calls_.end(), [](const CallRecord& c) { return !c.equal && !c.within_spec; });
+    if (!diverged) throw;
+    throw DiffStop(fmt::format("{}: its inputs, from a pass that diverged, break its contract: {}", label_.empty() ? method_name : label_,
+                               e.what()));
+  }
   r.seq = calls_.size();
   r.label = label_.empty() ? method_name : label_;
   if (!options_.save_dir.empty()) Save(r, in, method_name);
