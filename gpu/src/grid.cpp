@@ -63,9 +63,10 @@ vk::Status BindGrid(vk::Context& c, GridBuildBindings& g, std::span<const glm::v
   return Input(c, g.keep, g.b, layout::kGridBuildBindGrid, std::span<const layout::GridBuildGrid>(&g.grid, 1));
 }
 
-// Placeholders for the bindings a call does not use.
-vk::Status Unused(vk::Context& c, GridBuildBindings& g, std::initializer_list<std::uint32_t> bindings) {
-  for (const std::uint32_t b : bindings) RS_TRY(Output(c, g.keep, g.b, b, 4, nullptr));
+// Placeholders for every binding the call did not set (the kernel declares all of them).
+vk::Status Unused(vk::Context& c, GridBuildBindings& g) {
+  for (std::uint32_t b = 0; b < layout::kGridBuildBindings; ++b)
+    if (!g.b.Has(b)) RS_TRY(Output(c, g.keep, g.b, b, 4, nullptr));
   return vk::Status::Ok();
 }
 
@@ -91,10 +92,7 @@ vk::Status VulkanPasses::Run(const emu::call::GridCount& call, emu::GridCounts& 
   RS_TRY(Out(*ctx_, g, layout::kGridBuildBindDist, out.dist));
   RS_TRY(Out(*ctx_, g, layout::kGridBuildBindSpans, out.spans));
   RS_TRY(Out(*ctx_, g, layout::kGridBuildBindSpanBoxes, out.span_boxes));
-  RS_TRY(Unused(*ctx_, g,
-                {layout::kGridBuildBindSums, layout::kGridBuildBindOffsets, layout::kGridBuildBindCells, layout::kGridBuildBindRefTris,
-                 layout::kGridBuildBindBoxes, layout::kGridBuildBindOrder, layout::kGridBuildBindFirst, layout::kGridBuildBindListTris,
-                 layout::kGridBuildBindListBoxes, layout::kGridBuildBindMinDist}));
+  RS_TRY(Unused(*ctx_, g));
   if (n == 0) return vk::Status::Ok();
   const layout::GridBuildPush push{layout::kGridBuildPhaseCount, static_cast<std::uint32_t>(n), 0u, 0u};
   RS_TRY(RunKernel(*ctx_, K(PassId::kGridCount), g.b.All(), &push, sizeof push, push.count));
@@ -120,9 +118,7 @@ vk::Status VulkanPasses::Run(const emu::call::GridEmit& call, emu::GridRefs& out
   RS_TRY(Out(*ctx_, g, layout::kGridBuildBindCells, out.cells));
   RS_TRY(Out(*ctx_, g, layout::kGridBuildBindRefTris, out.triangles));
   RS_TRY(Out(*ctx_, g, layout::kGridBuildBindBoxes, out.boxes));
-  RS_TRY(Unused(*ctx_, g,
-                {layout::kGridBuildBindTriangles, layout::kGridBuildBindSlices, layout::kGridBuildBindDist, layout::kGridBuildBindOrder,
-                 layout::kGridBuildBindFirst, layout::kGridBuildBindListTris, layout::kGridBuildBindListBoxes, layout::kGridBuildBindMinDist}));
+  RS_TRY(Unused(*ctx_, g));
   if (n == 0) return vk::Status::Ok();
   vk::Recorder rec(*ctx_);
   // One submit: block sums, their scan (one workgroup), the offsets (one workgroup per block), then
@@ -156,9 +152,7 @@ vk::Status VulkanPasses::Run(const emu::call::GridCells& call, emu::GridLists& o
   RS_TRY(Out(*ctx_, g, layout::kGridBuildBindListTris, out.triangles));
   RS_TRY(Out(*ctx_, g, layout::kGridBuildBindListBoxes, out.boxes));
   RS_TRY(Out(*ctx_, g, layout::kGridBuildBindMinDist, out.min_dist));
-  RS_TRY(Unused(*ctx_, g,
-                {layout::kGridBuildBindTriangles, layout::kGridBuildBindSlices, layout::kGridBuildBindCounts, layout::kGridBuildBindSpans,
-                 layout::kGridBuildBindSpanBoxes, layout::kGridBuildBindSums, layout::kGridBuildBindOffsets}));
+  RS_TRY(Unused(*ctx_, g));
   vk::Recorder rec(*ctx_);
   // One submit: the gather (one invocation per reference), the cells (one per cell and the total),
   // then the least distances (one per reference).

@@ -60,6 +60,7 @@ class Bindings {
     for (std::uint32_t k = 0; k < layout::kBufferPages; ++k) Set(first + k, &p.pages[k]);
     return *this;
   }
+  bool Has(std::uint32_t binding) const { return binding < N && bufs_[binding] != nullptr; }
   // Every binding must have been set.
   std::span<const vk::Buffer* const> All() const {
     for (const vk::Buffer* b : bufs_) RS_CHECK(b != nullptr);
