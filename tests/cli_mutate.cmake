@@ -2,8 +2,8 @@
 # chosen by this build's commit, on cornell-mirrors at 32x32. Every mutant gets a verdict; a killed
 # one names the pass that caught it (or why the frame failed); every variant diffs equal (a
 # divergence is a compiler or driver finding to report, not to pass). Then a mutant the diff must
-# kill (a comparison flipped in trim's scatter), the report's survivors against the explained list,
-# and bad arguments refused with one line.
+# kill (a comparison flipped in trim's scatter), one only a hand-made kernel case kills (the cone
+# union's sign test), and bad arguments refused with one line.
 # Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DWORK=<scratch> -P cli_mutate.cmake
 cmake_minimum_required(VERSION 3.19)
 file(REMOVE_RECURSE "${WORK}")
@@ -75,8 +75,27 @@ else()
   endif()
 endif()
 
+# A mutant only a kernel case kills: the cone union's sign test moved one ulp (0.0 -> the smallest
+# subnormal, written as its bits) changes the answer only where the union's sine is exactly 0, which
+# no frame's build meets and the case build-parents-boundaries holds. The built-in kernels must
+# replay every case equal first (the command fails otherwise).
+execute_process(COMMAND "${RAYSPACE}" mutate "${SRC}/scenes/cornell-mirrors.json" --config crsh --only "^cone.glsl:118:12:float-ulp:"
+                        --limit 0 --variants 0 --timeout 30 --report "${WORK}/case.json"
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 1200)
+if(NOT rc EQUAL 0)
+  string(APPEND FAILURES "\nthe kernel case: exit ${rc}\n${out}${err}")
+else()
+  file(READ "${WORK}/case.json" j)
+  string(JSON status GET "${j}" mutants 0 status)
+  string(JSON by ERROR_VARIABLE no_case GET "${j}" mutants 0 caught case)
+  string(JSON ncases LENGTH "${j}" kernel_cases)
+  if(NOT status STREQUAL "killed" OR NOT by STREQUAL "build-parents-boundaries" OR ncases LESS 4)
+    string(APPEND FAILURES "\ncone.glsl:118's sign test: ${status}, caught by case '${by}', ${ncases} kernel cases\n${out}")
+  endif()
+endif()
+
 # Bad arguments: one line naming the option, exit 2.
-foreach(bad "--pass;nosuch" "--variants;x" "--pass;raster" "--config;nosuch")
+foreach(bad "--pass;nosuch" "--variants;x" "--pass;raster" "--config;nosuch" "--survivors;${WORK}/none.json")
   execute_process(COMMAND "${RAYSPACE}" mutate "${SRC}/scenes/cornell-mirrors.json" ${bad} --limit 1 RESULT_VARIABLE rc OUTPUT_QUIET
                   ERROR_VARIABLE err TIMEOUT 300)
   list(GET bad 0 flag)
@@ -92,4 +111,4 @@ endif()
 if(FAILURES)
   message(FATAL_ERROR "cli.mutate:${FAILURES}")
 endif()
-message(STATUS "cli.mutate: ${killed} of 20 sampled mutants killed, both variants equal, trim's comparisons killed")
+message(STATUS "cli.mutate: ${killed} of 20 sampled mutants killed, both variants equal, trim's comparisons killed, the cone union's sign test killed by a kernel case")

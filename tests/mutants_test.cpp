@@ -97,6 +97,13 @@ TEST_CASE("mutants: a float literal one ulp up reads back as that float") {
   }
 }
 
+TEST_CASE("mutants: zero one ulp up is the smallest subnormal, written as its bits") {
+  const auto ulps = Of(mutate::kFloatUlp, mutate::Enumerate("f.glsl", "bool f(float x) { return x < 0.0 || x > -0.0; }\n"));
+  REQUIRE(ulps.size() == 2);
+  CHECK(ulps[0].after == "uintBitsToFloat(0x00000001u)");
+  CHECK(ulps[1].after == "uintBitsToFloat(0x00000001u)");  // a unary minus is not part of the literal
+}
+
 TEST_CASE("mutants: every kernel's mutants apply, and the choice is a seeded permutation") {
   std::size_t total = 0;
   for (const auto& e : std::filesystem::directory_iterator(test::SourceDir() / "gpu" / "shaders")) {

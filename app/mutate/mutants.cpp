@@ -1,5 +1,8 @@
 #include "mutants.h"
 
+#include <bit>
+#include <limits>
+
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -153,7 +156,9 @@ std::string IntegerPlus(const std::string& text, long delta, bool& ok) {
   return (hex ? fmt::format("0x{:X}", w) : std::to_string(w)) + suffix;
 }
 
-// One float ulp up, printed so that it reads back as that float.
+// One float ulp up, printed so that it reads back as that float. A subnormal is written as its bit
+// pattern: lavapipe compares with a subnormal literal as with 0 (0.0 one ulp up, spelled
+// 1.40129846e-45, changed nothing where uintBitsToFloat(1u) did), which would make the mutant a no-op.
 std::string FloatUlpUp(const std::string& text, bool& ok) {
   std::string body = text;
   const bool f_suffix = !body.empty() && (body.back() == 'f' || body.back() == 'F');
@@ -162,6 +167,8 @@ std::string FloatUlpUp(const std::string& text, bool& ok) {
   ok = std::isfinite(v);
   if (!ok) return {};
   const float w = std::nextafter(v, INFINITY);
+  if (w != 0.0f && std::fabs(w) < std::numeric_limits<float>::min())
+    return fmt::format("uintBitsToFloat(0x{:08X}u)", std::bit_cast<std::uint32_t>(w));
   std::string out = fmt::format("{:.9g}", w);
   if (out.find_first_of(".eE") == std::string::npos) out += ".0";
   return out + (f_suffix ? "f" : "");

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rayspace/json_text.h"
+#include "kernel_cases.h"
 #include "mutants.h"
 #include "mutate_runs.h"
 #include "rayspace/error.h"
@@ -59,12 +60,34 @@ struct Target {
   std::vector<std::string> passes;                // the passes those kernels serve
 };
 
+// A kernel case (kernel_cases.h) saved for replay.
+struct SavedCase {
+  std::string name, pass;
+  fs::path dir;
+};
+
 struct Baseline {
   std::vector<std::set<std::string>> passes;  // per configuration: the passes its diff ran (none: skipped)
   std::vector<std::string> scenes;            // per configuration: the scene it renders
   std::map<std::string, Kernel> kernels;      // every kernel file, read once
-  json configs = json::array();
+  std::vector<SavedCase> cases;
+  json configs = json::array(), case_runs = json::array();
 };
+
+// Saves every kernel case and replays it with the built-in kernels: each must be equal, or the
+// emulator and the driver disagree at a boundary, a finding that no mutant's verdict may hide.
+void RunBaselineCases(Baseline& b, const fs::path& work, int timeout) {
+  for (const mutate::KernelCase& k : mutate::KernelCases()) {
+    const fs::path dir = work / "cases" / k.name;
+    k.call.Save(dir.string(), k.method);
+    const mutate_runs::DiffRun run = mutate_runs::RunReplay(dir, {}, work / "baseline" / ("case-" + k.name), timeout);
+    if (run.code != 0)
+      ThrowInput("kernel case {} ({}): the built-in kernels do not replay it equal (exit {}: {}); the emulator and the driver "
+                 "disagree at a boundary", k.name, k.method, run.code, run.last_line);
+    b.cases.push_back({k.name, k.pass, dir});
+    b.case_runs.push_back({{"name", k.name}, {"pass", k.pass}, {"method", k.method}, {"why", k.why}, {"seconds", run.seconds}});
+  }
+}
 
 Baseline RunBaseline(const mutate_runs::Frame& frame, const std::vector<std::string>& only, const fs::path& work) {
   Baseline b;
@@ -197,6 +220,21 @@ std::vector<std::pair<std::string, std::string>> Prepare(const Mutant& mu, std::
   return kernels;
 }
 
+// The overrides for a kernel case of `pass`: the kernel that runs the pass, from the mutant's
+// directory (Prepare wrote the mutated file there); none when the mutation does not reach that kernel.
+std::vector<std::pair<std::string, std::string>> PrepareCase(const Mutant& mu, const std::string& pass,
+                                                            const std::map<std::string, Kernel>& all, const fs::path& dir) {
+  const auto id = FindPass(pass);
+  RS_CHECK_MSG(id.has_value(), "mutate: kernel case for an unknown pass {}", pass);
+  const std::string k = std::string(Pass(*id).kernel) + ".comp";
+  const auto it = all.find(k);
+  if (it == all.end() || (k != mu.m.file && !it->second.includes.count(mu.m.file))) return {};
+  if (k != mu.m.file) fs::copy_file(mutate_runs::ShaderDir() / k, dir / k, fs::copy_options::overwrite_existing);
+  std::vector<std::pair<std::string, std::string>> kernels;
+  for (const std::string& p : it->second.passes) kernels.emplace_back(p, (dir / k).string());
+  return kernels;
+}
+
 // A survivor the optimiser proves equal: every kernel it touches compiles, with the specialization
 // constants at their defaults (no planted fault), after spirv-opt -O and with ids renumbered, to
 // the same SPIR-V as the original, up to the order of global declarations (mutate_runs::Canonical).
@@ -216,8 +254,14 @@ bool ProvablyEquivalent(const Mutant& mu, const fs::path& dir) {
   return true;
 }
 
-json Explanations(const std::string& path) {
-  if (path.empty() || !fs::exists(path)) return json::object();
+// --survivors: "none" reads no classifications; unset, the source tree's own list.
+json Explanations(const std::string& given) {
+  if (given == "none") return json::object();
+  const std::string path = given.empty() ? (mutate_runs::SourceDir() / "docs" / "mutation-survivors.json").string() : given;
+  if (!fs::exists(path)) {
+    if (given.empty()) return json::object();
+    ThrowInput("--survivors '{}': file not found", given);
+  }
   try {
     return json::parse(mutate_runs::ReadFile(path)).value("mutants", json::object());
   } catch (const json::exception& e) {
@@ -256,6 +300,15 @@ json RunMutant(const Mutant& mu, const mutate_runs::Frame& frame, const Baseline
     v = mutate_runs::Classify(run);
     tried.push_back(config.name);
     if (v.status != "survived") break;
+  }
+  // The frames left it alive: the hand-made calls of its passes, at the boundaries no frame reaches.
+  for (const SavedCase& c : base.cases) {
+    if (v.status != "survived") break;
+    const auto kernels = PrepareCase(mu, c.pass, base.kernels, dir);
+    if (kernels.empty()) continue;
+    v = mutate_runs::Classify(mutate_runs::RunReplay(c.dir, kernels, dir / ("case-" + c.name), frame.timeout));
+    tried.push_back("case:" + c.name);
+    if (v.status == "killed") v.caught["case"] = c.name;
   }
   j["configs"] = tried;
   j["status"] = v.status;
@@ -336,6 +389,7 @@ void CheckArgs(const MutateArgs& args) {
 
 ExitCode RunMutate(const MutateArgs& args) {
   CheckArgs(args);
+  const json explained = Explanations(args.survivors);
   const std::string seed_text = args.seed == "commit" ? BuildCommit() : args.seed;
   const std::uint64_t seed = mutate::SeedOf(seed_text);
   OutputFile report = args.report.empty() ? OutputFile() : OutputFile(args.report, OutputOptions{"the report", true, true, {}});
@@ -347,6 +401,7 @@ ExitCode RunMutate(const MutateArgs& args) {
   const std::map<std::string, Kernel> kernels = Kernels();
   Baseline base = RunBaseline(frame, args.configs, work);
   base.kernels = kernels;
+  RunBaselineCases(base, work, args.timeout);
   const std::vector<Target> targets = Targets(args, kernels, base);
   std::size_t total = 0;
   const std::vector<Mutant> chosen = Choose(args, targets, seed, total);
@@ -355,7 +410,7 @@ ExitCode RunMutate(const MutateArgs& args) {
     for (const Mutant& m : chosen) std::printf("  %s  (%s)\n", m.m.Id().c_str(), mutate_runs::Configs()[m.target->configs[0]].name.c_str());
     return ExitCode::kOk;
   }
-  const std::vector<json> results = RunAll(chosen, frame, base, work, Explanations(args.survivors), args.jobs);
+  const std::vector<json> results = RunAll(chosen, frame, base, work, explained, args.jobs);
   std::vector<std::string> kernel_files;
   std::map<std::string, std::pair<const DiffConfig*, std::string>> config_of;  // the first configuration, its scene
   for (const Target& t : targets)
@@ -365,7 +420,7 @@ ExitCode RunMutate(const MutateArgs& args) {
   const json summary = Summaries(results);
   PrintSummary(summary, variants);
   json j = {{"scene", args.scene}, {"size", args.size}, {"seed", seed_text}, {"limit", args.limit}, {"timeout", args.timeout},
-            {"mutants_in_all", total}, {"configs", base.configs}, {"mutants", results}, {"summary", summary}, {"variants", variants}};
+            {"mutants_in_all", total}, {"configs", base.configs}, {"kernel_cases", base.case_runs}, {"mutants", results}, {"summary", summary}, {"variants", variants}};
   AddProvenance(j);
   if (args.work.empty()) fs::remove_all(work);
   report.Commit(JsonText(j));

@@ -160,17 +160,13 @@ std::string SceneFor(const DiffConfig& config, const std::string& scene, const f
   return out.string();
 }
 
-DiffRun RunDiff(const Frame& frame, const DiffConfig& config, const std::vector<std::pair<std::string, std::string>>& kernels,
-                const fs::path& dir, const std::string& scene) {
-  fs::create_directories(dir);
+namespace {
+
+// Runs `cmd` (a rayspace command line writing its report to dir/report.json) with its output in
+// dir/diff.log.
+DiffRun RunReporting(std::string cmd, const fs::path& dir) {
   const fs::path report = dir / "report.json", log = dir / "diff.log";
   std::error_code ec;
-  fs::remove(report, ec);
-  std::string cmd = fmt::format("timeout -s KILL {} {} diff {} --size {} --report {}", frame.timeout, Quote(SelfExe()),
-                                Quote(scene.empty() ? frame.scene : scene), config.size.empty() ? frame.size : config.size, Quote(report.string()));
-  if (!frame.data.empty()) cmd += fmt::format(" --data {}", Quote(frame.data));
-  for (const std::string& f : config.flags) cmd += fmt::format(" {}", Quote(f));
-  for (const auto& [pass, file] : kernels) cmd += fmt::format(" --kernel {}", Quote(fmt::format("{}={}", pass, file)));
   cmd += " > " + Quote(log.string()) + " 2>&1";
   const auto t0 = std::chrono::steady_clock::now();
   DiffRun r;
@@ -188,6 +184,37 @@ DiffRun RunDiff(const Frame& frame, const DiffConfig& config, const std::vector<
   return r;
 }
 
+std::string KernelFlags(const std::vector<std::pair<std::string, std::string>>& kernels) {
+  std::string flags;
+  for (const auto& [pass, file] : kernels) flags += fmt::format(" --kernel {}", Quote(fmt::format("{}={}", pass, file)));
+  return flags;
+}
+
+}  // namespace
+
+DiffRun RunDiff(const Frame& frame, const DiffConfig& config, const std::vector<std::pair<std::string, std::string>>& kernels,
+                const fs::path& dir, const std::string& scene) {
+  fs::create_directories(dir);
+  std::error_code ec;
+  fs::remove(dir / "report.json", ec);
+  std::string cmd = fmt::format("timeout -s KILL {} {} diff {} --size {} --report {}", frame.timeout, Quote(SelfExe()),
+                                Quote(scene.empty() ? frame.scene : scene), config.size.empty() ? frame.size : config.size,
+                                Quote((dir / "report.json").string()));
+  if (!frame.data.empty()) cmd += fmt::format(" --data {}", Quote(frame.data));
+  for (const std::string& f : config.flags) cmd += fmt::format(" {}", Quote(f));
+  return RunReporting(cmd + KernelFlags(kernels), dir);
+}
+
+DiffRun RunReplay(const fs::path& call, const std::vector<std::pair<std::string, std::string>>& kernels, const fs::path& dir,
+                  int timeout) {
+  fs::create_directories(dir);
+  std::error_code ec;
+  fs::remove(dir / "report.json", ec);
+  const std::string cmd = fmt::format("timeout -s KILL {} {} replay {} --report {}", timeout, Quote(SelfExe()), Quote(call.string()),
+                                      Quote((dir / "report.json").string()));
+  return RunReporting(cmd + KernelFlags(kernels), dir);
+}
+
 namespace {
 
 // The first divergent call's pass, label and first unequal buffer, from a diff report.
@@ -195,7 +222,9 @@ nlohmann::json Caught(const nlohmann::json& report) {
   nlohmann::json c = nlohmann::json::object();
   if (report.is_null()) return c;
   c["pass"] = report.value("first_divergent_pass", nlohmann::json());
-  for (const nlohmann::json& call : report.value("calls", nlohmann::json::array())) {
+  // A replay's report is the one call itself.
+  const nlohmann::json calls = report.contains("calls") ? report["calls"] : nlohmann::json::array({report});
+  for (const nlohmann::json& call : calls) {
     if (call.value("equal", true)) continue;
     c["pass"] = call.value("pass", std::string());
     c["call"] = call.value("label", std::string());
@@ -239,6 +268,7 @@ Verdict Classify(const DiffRun& run) {
 }
 
 fs::path ShaderDir() { return RAYSPACE_MUTATE_SHADER_DIR; }
+fs::path SourceDir() { return RAYSPACE_MUTATE_SOURCE_DIR; }
 
 bool Compile(const fs::path& comp, const fs::path& spv, std::string& error) {
   const fs::path log = spv.string() + ".log";

@@ -42,6 +42,10 @@ struct DiffRun {
 // `scene` replaces the frame's when not empty.
 DiffRun RunDiff(const Frame& frame, const DiffConfig& config, const std::vector<std::pair<std::string, std::string>>& kernels,
                 const std::filesystem::path& dir, const std::string& scene = "");
+// `rayspace replay` of a saved call (a kernel case) with the same kernel overrides, under the time
+// limit; files and logs in `dir`.
+DiffRun RunReplay(const std::filesystem::path& call, const std::vector<std::pair<std::string, std::string>>& kernels,
+                  const std::filesystem::path& dir, int timeout);
 // The scene a configuration renders, written into `work` when it is derived ("glass"); "" when the
 // command's scene has no material to make glass.
 std::string SceneFor(const DiffConfig& config, const std::string& scene, const std::filesystem::path& work);
@@ -56,6 +60,8 @@ Verdict Classify(const DiffRun& run);
 
 // The shader directory, glslc and spirv-opt this binary was built with.
 std::filesystem::path ShaderDir();
+// The source tree this binary was built from (its bundled scenes and docs/mutation-survivors.json).
+std::filesystem::path SourceDir();
 // Compiles a kernel as the built-in kernels are compiled (glslc -O0, Vulkan 1.2, the file's folder
 // first on the include path); false with the first error line in `error`.
 bool Compile(const std::filesystem::path& comp, const std::filesystem::path& spv, std::string& error);
