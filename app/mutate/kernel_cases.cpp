@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "rayspace/emu/calls.h"
+#include "rayspace/emu/intersect.h"
 #include "rayspace/verify/call_codec.h"
 
 namespace rayspace::mutate {
@@ -104,6 +105,101 @@ verify::BufferSet ResolveCall() {
   return verify::EncodeCall(c);
 }
 
+// Four unit triangles side by side in z = 0, whose vertex normals are zero, tiny (1.5 x 2^-75: their
+// squared length rounds to 2^-149), huge (a squared length past 3e38) and unit; one glass material
+// of index 1 and one of 1.5; a point light above them and one 3e38 away along y.
+SceneBuffers CaseScene() {
+  SceneBuffers s;
+  const float tiny = std::ldexp(1.5f, -75);
+  const glm::vec3 normals[4] = {{0, 0, 0}, {0, 0, tiny}, {1e20f, 1e20f, 1e20f}, {0, 0, 1}};
+  for (int t = 0; t < 4; ++t) {
+    const float x = 2.0f * static_cast<float>(t);
+    s.triangles.push_back({vec4(x, 0, 0, 1), vec4(x + 1, 0, 0, 1), vec4(x, 1, 0, 1)});
+    const vec4 n(normals[t], 0.0f);
+    s.normals.push_back({n, n, n});
+    s.info.push_back({glm::uvec4(t == 3 ? 1u : 0u, 0u, 0u, 0u)});
+  }
+  s.materials = {{vec4(0.5f, 0.5f, 0.5f, 0.0f), vec4(0.2f, 0.2f, 0.2f, 8.0f), vec4(1.0f, 1.0f, 0.0f, 0.0f)},
+                 {vec4(0.5f, 0.5f, 0.5f, 0.0f), vec4(0.2f, 0.2f, 0.2f, 8.0f), vec4(0.8f, 1.5f, 0.0f, 0.0f)}};
+  for (const glm::vec3 at : {glm::vec3(0, 0, 5), glm::vec3(0, 3e38f, 0)}) {
+    layout::Light l{};
+    l.position = vec4(at, 0.0f);
+    l.color_intensity = vec4(1, 1, 1, 1);
+    l.attenuation = vec4(1, 0, 0, 1);
+    l.sampling = glm::uvec4(layout::kLightPoint, 1u, static_cast<std::uint32_t>(s.lights.size()), 1u);
+    s.lights.push_back(l);
+  }
+  s.objects = {glm::uvec4(0, 4, 0, 0)};
+  s.lo = glm::vec3(0, 0, 0);
+  s.hi = glm::vec3(7, 1, 0);
+  return s;
+}
+
+layout::FrameConstants CaseFrame(const SceneBuffers& s) {
+  layout::FrameConstants f{};
+  f.view_proj = glm::mat4(1.0f);
+  f.eye = vec4(0, 0, 10, 1);
+  f.pixel_origin = vec4(0, 0, -1, 0);
+  f.pixel_dx = vec4(0.01f, 0, 0, 0);
+  f.pixel_dy = vec4(0, 0.01f, 0, 0);
+  f.scene_lo = vec4(s.lo, 0);
+  f.scene_hi = vec4(s.hi, 0);
+  f.params = vec4(1e-3f, 0.01f, 1.0f - std::ldexp(1.0f, -12), 0.0f);
+  f.dims = glm::uvec4(4, 1, s.triangles.size(), s.lights.size());
+  return f;
+}
+
+// One ray down onto each triangle (its interpolated normal zero, tiny, huge, unit) and one miss.
+verify::BufferSet SurfacesHitsCall() {
+  const SceneBuffers scene = CaseScene();
+  std::vector<layout::Ray> rays;
+  std::vector<std::uint64_t> hits;
+  for (std::uint32_t t = 0; t < 4; ++t) {
+    rays.push_back(RayAt({2.0f * static_cast<float>(t) + 0.25f, 0.25f, 1.0f}, {0, 0, -1}));
+    rays.back().info.x = t;
+    hits.push_back(emu::PackHit(1.0f, t));
+  }
+  rays.push_back(RayAt({0, 0, 1}, {0, 0, 1}));
+  hits.push_back(emu::kMissPacked);
+  emu::call::SurfacesFromHits c;
+  c.rays = rays;
+  c.hits = hits;
+  c.scene = &scene;
+  return verify::EncodeCall(c);
+}
+
+layout::Surface SurfaceAt(glm::vec3 p, glm::vec3 n, glm::vec3 incoming, std::uint32_t prim, std::uint32_t pixel) {
+  layout::Surface s{};
+  s.position = vec4(p, 1.0f);
+  s.normal = vec4(n, 0.0f);
+  s.incoming = vec4(incoming, 0.0f);
+  s.weight = vec4(1, 1, 1, 0);
+  s.info = glm::uvec4(prim, pixel, 0u, 0u);
+  return s;
+}
+
+// Refraction: a ray grazing the surface of an index-1 glass (Snell's k is exactly 0), one straight
+// through, one leaving an index-1.5 glass, an empty slot. Shadow: the same surfaces and two more
+// 3e38 from the origin, whose vectors to the far light overflow to infinity in one component.
+verify::BufferSet RaygenCall(std::uint32_t kind) {
+  const SceneBuffers scene = CaseScene();
+  const glm::vec3 up(0, 0, 1);
+  std::vector<layout::Surface> surfaces = {SurfaceAt({0.25f, 0.25f, 0}, up, {1, 0, 0}, 0, 0),
+                                           SurfaceAt({0.25f, 0.5f, 0}, up, {0, 0, -1}, 0, 1),
+                                           SurfaceAt({6.25f, 0.25f, 0}, up, {0.6f, 0, 0.8f}, 3, 2), layout::Surface{}};
+  surfaces[2].info.z = 1;
+  if (kind == layout::kRayShadow) {
+    surfaces.push_back(SurfaceAt({0, -3e38f, 0}, up, {0, 0, -1}, 0, 3));
+    surfaces.push_back(SurfaceAt({3e38f, 0, 0}, up, {0, 0, -1}, 0, 3));
+  }
+  emu::call::Raygen c;
+  c.kind = kind;
+  c.frame = CaseFrame(scene);
+  c.surfaces = surfaces;
+  c.scene = &scene;
+  return verify::EncodeCall(c);
+}
+
 }  // namespace
 
 std::vector<KernelCase> KernelCases() {
@@ -118,6 +214,15 @@ std::vector<KernelCase> KernelCases() {
        LeavesCall()},
       {"resolve-rounding", "resolve", "resolve", "accumulator values about every step of the 8-bit rounding",
        ResolveCall()},
+      {"surfaces-hits-normals", "surfaces.hits", "surfaces.hits",
+       "hits on triangles whose vertex normals are zero, of squared length 2^-149, past 3e38, and unit; a miss",
+       SurfacesHitsCall()},
+      {"raygen-refraction-grazing", "raygen.refraction", "raygen",
+       "a ray grazing an index-1 glass (Snell's k exactly 0), one straight through, one leaving index 1.5, an empty slot",
+       RaygenCall(layout::kRayRefraction)},
+      {"raygen-shadow-far", "raygen.shadow", "raygen",
+       "shadow rays from a light 3e38 away to surfaces 3e38 away: light vectors with one infinite component",
+       RaygenCall(layout::kRayShadow)},
   };
 }
 
