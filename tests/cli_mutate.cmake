@@ -3,7 +3,8 @@
 # one names the pass that caught it (or why the frame failed); every variant diffs equal (a
 # divergence is a compiler or driver finding to report, not to pass). Then a mutant the diff must
 # kill (a comparison flipped in trim's scatter), one only a hand-made kernel case kills (the cone
-# union's sign test), and bad arguments refused with one line.
+# union's sign test), one only the clamping device kills (a private array read one past its end),
+# and bad arguments refused with one line.
 # Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DWORK=<scratch> -P cli_mutate.cmake
 cmake_minimum_required(VERSION 3.19)
 file(REMOVE_RECURSE "${WORK}")
@@ -94,6 +95,24 @@ else()
   endif()
 endif()
 
+# A mutant only the clamping device kills: a loop one past the window's four corners reads and writes
+# private arrays out of bounds, which lavapipe lets pass unseen; clamped, the fifth side plane
+# overwrites the fourth.
+execute_process(COMMAND "${RAYSPACE}" mutate "${SRC}/scenes/cornell-mirrors.json" --config tl-heads --only "^tl_cells.comp:32:23:comparison:<=$"
+                        --limit 0 --variants 0 --timeout 30 --report "${WORK}/clamped.json"
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 1200)
+if(NOT rc EQUAL 0)
+  string(APPEND FAILURES "\nthe clamping device: exit ${rc}\n${out}${err}")
+else()
+  file(READ "${WORK}/clamped.json" j)
+  string(JSON status GET "${j}" mutants 0 status)
+  string(JSON device ERROR_VARIABLE no_device GET "${j}" mutants 0 caught device)
+  string(JSON base ERROR_VARIABLE no_base GET "${j}" clamped_baseline tl-heads)
+  if(NOT status STREQUAL "killed" OR NOT device STREQUAL "clamped" OR NOT base STREQUAL "equal")
+    string(APPEND FAILURES "\ntl_cells.comp:32's corner loop: ${status}, device '${device}', clamped baseline '${base}'\n${out}")
+  endif()
+endif()
+
 # Bad arguments: one line naming the option, exit 2.
 foreach(bad "--pass;nosuch" "--variants;x" "--pass;raster" "--config;nosuch" "--survivors;${WORK}/none.json")
   execute_process(COMMAND "${RAYSPACE}" mutate "${SRC}/scenes/cornell-mirrors.json" ${bad} --limit 1 RESULT_VARIABLE rc OUTPUT_QUIET
@@ -111,4 +130,4 @@ endif()
 if(FAILURES)
   message(FATAL_ERROR "cli.mutate:${FAILURES}")
 endif()
-message(STATUS "cli.mutate: ${killed} of 20 sampled mutants killed, both variants equal, trim's comparisons killed, the cone union's sign test killed by a kernel case")
+message(STATUS "cli.mutate: ${killed} of 20 sampled mutants killed, both variants equal, trim's comparisons killed, the cone union's sign test killed by a kernel case, a private-array overrun by the clamping device")

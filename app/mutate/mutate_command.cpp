@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <regex>
 #include <set>
@@ -16,6 +17,7 @@
 #include "rayspace/json_text.h"
 #include "kernel_cases.h"
 #include "mutants.h"
+#include "clamped_device.h"
 #include "mutate_runs.h"
 #include "rayspace/error.h"
 #include "rayspace/output_file.h"
@@ -71,6 +73,7 @@ struct Baseline {
   std::vector<std::string> scenes;            // per configuration: the scene it renders
   std::map<std::string, Kernel> kernels;      // every kernel file, read once
   std::vector<SavedCase> cases;
+  std::unique_ptr<mutate_runs::ClampedBaseline> clamped;  // checked lazily, from the mutants' threads
   json configs = json::array(), case_runs = json::array();
 };
 
@@ -281,23 +284,59 @@ json MutantJson(const Mutant& mu) {
           {"passes", mu.target->passes}};
 }
 
-// The mutant through its configurations until one kills it (or it cannot run); a survivor of all is
-// checked for provable equivalence, then looked up among the explained survivors.
+// A diff of the mutant; a loaded machine slows a diff too, so a hang counts once it also outlasts
+// four times the limit.
+mutate_runs::Verdict DiffMutant(const mutate_runs::Frame& frame, const mutate_runs::DiffConfig& config, const mutate_runs::Overrides& kernels,
+                                const fs::path& dir, const std::string& scene) {
+  mutate_runs::DiffRun run = mutate_runs::RunDiff(frame, config, kernels, dir, scene);
+  if (run.TimedOut()) {
+    mutate_runs::Frame longer = frame;
+    longer.timeout = 4 * frame.timeout;
+    run = mutate_runs::RunDiff(longer, config, kernels, dir, scene);
+  }
+  return mutate_runs::Classify(run);
+}
+
+// Every built-in kernel configuration `c` runs, as overrides from the shader directory.
+mutate_runs::Overrides Builtins(const Baseline& base, std::size_t c) {
+  mutate_runs::Overrides out;
+  for (const auto& [k, kernel] : base.kernels)
+    if (Runs(kernel, base.passes[c]))
+      for (const std::string& p : kernel.passes) out.emplace_back(p, (mutate_runs::ShaderDir() / k).string());
+  return out;
+}
+
+// The mutant on the clamping device (clamped_device.h), in each configuration that runs its code and
+// where the clamped built-in kernels diff equal, until one kills it.
+mutate_runs::Verdict RunClamped(const Mutant& mu, const mutate_runs::Frame& frame, const Baseline& base, const fs::path& dir, json& tried) {
+  mutate_runs::Verdict v{"survived", "", {}};
+  for (std::size_t e = 0; e < mu.target->configs.size() && v.status == "survived"; ++e) {
+    const std::size_t c = mu.target->configs[e];
+    if (!base.clamped->Usable(c, Builtins(base, c), base.scenes[c])) continue;
+    const mutate_runs::DiffConfig& config = mutate_runs::Configs()[c];
+    mutate_runs::Overrides clamped;
+    std::string error;
+    if (!mutate_runs::Clamp(Prepare(mu, e, base.kernels, dir), dir / ("clamped-" + config.name), clamped, error)) continue;
+    v = DiffMutant(frame, config, clamped, dir / ("clamped-" + config.name), base.scenes[c]);
+    tried.push_back("clamped:" + config.name);
+    if (v.status == "killed") {
+      v.caught["device"] = "clamped";
+      v.reason = "on a device that clamps out-of-bounds indices (spirv-opt --graphics-robust-access): " + v.reason;
+    }
+  }
+  return v;
+}
+
+// The mutant through its configurations until one kills it (or it cannot run), then through the
+// kernel cases of its passes, then on the clamping device; a survivor of all is checked for
+// provable equivalence, then looked up among the explained survivors.
 json RunMutant(const Mutant& mu, const mutate_runs::Frame& frame, const Baseline& base, const fs::path& dir, const json& explained) {
   json j = MutantJson(mu);
   mutate_runs::Verdict v;
   json tried = json::array();
   for (std::size_t e = 0; e < mu.target->configs.size(); ++e) {
     const mutate_runs::DiffConfig& config = mutate_runs::Configs()[mu.target->configs[e]];
-    const auto kernels = Prepare(mu, e, base.kernels, dir);
-    mutate_runs::DiffRun run = mutate_runs::RunDiff(frame, config, kernels, dir / config.name, base.scenes[mu.target->configs[e]]);
-    if (run.TimedOut()) {
-      // A loaded machine slows a diff too: a hang counts once it also outlasts four times the limit.
-      mutate_runs::Frame longer = frame;
-      longer.timeout = 4 * frame.timeout;
-      run = mutate_runs::RunDiff(longer, config, kernels, dir / config.name, base.scenes[mu.target->configs[e]]);
-    }
-    v = mutate_runs::Classify(run);
+    v = DiffMutant(frame, config, Prepare(mu, e, base.kernels, dir), dir / config.name, base.scenes[mu.target->configs[e]]);
     tried.push_back(config.name);
     if (v.status != "survived") break;
   }
@@ -310,6 +349,7 @@ json RunMutant(const Mutant& mu, const mutate_runs::Frame& frame, const Baseline
     tried.push_back("case:" + c.name);
     if (v.status == "killed") v.caught["case"] = c.name;
   }
+  if (v.status == "survived") v = RunClamped(mu, frame, base, dir, tried);
   j["configs"] = tried;
   j["status"] = v.status;
   if (!v.reason.empty()) j["reason"] = v.reason;
@@ -402,6 +442,7 @@ ExitCode RunMutate(const MutateArgs& args) {
   Baseline base = RunBaseline(frame, args.configs, work);
   base.kernels = kernels;
   RunBaselineCases(base, work, args.timeout);
+  base.clamped = std::make_unique<mutate_runs::ClampedBaseline>(frame, work);
   const std::vector<Target> targets = Targets(args, kernels, base);
   std::size_t total = 0;
   const std::vector<Mutant> chosen = Choose(args, targets, seed, total);
@@ -420,7 +461,7 @@ ExitCode RunMutate(const MutateArgs& args) {
   const json summary = Summaries(results);
   PrintSummary(summary, variants);
   json j = {{"scene", args.scene}, {"size", args.size}, {"seed", seed_text}, {"limit", args.limit}, {"timeout", args.timeout},
-            {"mutants_in_all", total}, {"configs", base.configs}, {"kernel_cases", base.case_runs}, {"mutants", results}, {"summary", summary}, {"variants", variants}};
+            {"mutants_in_all", total}, {"configs", base.configs}, {"kernel_cases", base.case_runs}, {"clamped_baseline", base.clamped->Results()}, {"mutants", results}, {"summary", summary}, {"variants", variants}};
   AddProvenance(j);
   if (args.work.empty()) fs::remove_all(work);
   report.Commit(JsonText(j));
