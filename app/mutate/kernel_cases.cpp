@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "rayspace/contract.h"
 #include "rayspace/emu/calls.h"
 #include "rayspace/emu/intersect.h"
 #include "rayspace/verify/call_codec.h"
@@ -63,10 +64,34 @@ glm::vec3 LongUnit() {
   return glm::vec3(0, 0, 1);  // not reached with IEEE float (the search finds one within a few steps)
 }
 
-// Leaves over parallel, antiparallel and lone rays, directions with tied largest components, and a
-// direction slightly longer than 1.
+// v / |v| as the kernels normalise (dot left to right, sqrt, three divisions).
+glm::vec3 NormalizeAsKernels(glm::vec3 v) {
+  const float l = std::sqrt((v.x * v.x + v.y * v.y) + v.z * v.z);
+  return {v.x / l, v.y / l, v.z / l};
+}
+
+// Two ray directions that the kernels normalise to unit vectors whose float dot product is above 1
+// while they are 1e-5 apart, more than a leaf's loosened cone of one ray (kAngleSlack): the second
+// does not grow the leaf's cone (its cosine test passes), and enclosing it clamps a cosine above 1.
+std::pair<glm::vec3, glm::vec3> LongPair() {
+  for (int i = 1; i < 2000; ++i)
+    for (int j = 1; j < 400; ++j) {
+      const glm::vec3 v(1.0f, static_cast<float>(i) * 1.0e-3f, 0.5f);
+      const glm::vec3 w(1.0f, static_cast<float>(i) * 1.0e-3f + static_cast<float>(j) * 1.0e-6f, 0.5f);
+      const glm::vec3 a = NormalizeAsKernels(v), b = NormalizeAsKernels(w);
+      const glm::vec3 x(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+      const float sr = std::sqrt((x.x * x.x + x.y * x.y) + x.z * x.z);
+      if ((a.x * b.x + a.y * b.y) + a.z * b.z > 1.0f && sr > 2.0f * layout::kAngleSlack) return {v, w};
+    }
+  return {glm::vec3(0, 0, 1), glm::vec3(0, 0, 1)};  // not reached with IEEE float (i = 1, j = 12 is such a pair)
+}
+
+// Leaves over parallel, antiparallel and lone rays, directions with tied largest components, a
+// direction slightly longer than 1, and two different directions whose dot is above 1 (and, one
+// turned round, below -1).
 verify::BufferSet LeavesCall() {
   const glm::vec3 z(0, 0, 1), u = LongUnit();
+  const std::pair<glm::vec3, glm::vec3> p = LongPair();
   const float h = 0.70710677f;
   const glm::vec3 d = glm::vec3(1, 2, 3) / std::sqrt(14.0f);
   const std::vector<layout::Ray> rays = {RayAt({0, 0, 0}, z),  RayAt({1, 0, 0}, z),       // parallel
@@ -74,8 +99,10 @@ verify::BufferSet LeavesCall() {
           RayAt({2, 2, 2}, z),                             // alone
           RayAt({0, 0, 0}, u),  RayAt({0, 0, 1}, u),       // |u| above 1 in float
           RayAt({0, 0, 0}, d),  RayAt({1, 1, 1}, -d),      // antiparallel off the axes
-          RayAt({0, 0, 0}, {h, 0, h}), RayAt({0, 0, 0}, {0, h, h}), RayAt({0, 0, 0}, {h, h, 0})};  // ties
-  const std::vector<std::uint32_t> first = {0, 2, 4, 5, 7, 9, 12};
+          RayAt({0, 0, 0}, {h, 0, h}), RayAt({0, 0, 0}, {0, h, h}), RayAt({0, 0, 0}, {h, h, 0}),  // ties
+          RayAt({0, 0, 0}, p.first), RayAt({0, 0, 0}, p.second),                                   // dot above 1
+          RayAt({0, 0, 0}, p.first), RayAt({0, 0, 0}, -p.second)};                                 // dot below -1
+  const std::vector<std::uint32_t> first = {0, 2, 4, 5, 7, 9, 12, 14, 16};
   std::vector<std::uint32_t> order;
   for (std::uint32_t i = 0; i < rays.size(); ++i) order.push_back(i);
   emu::call::BuildLeaves c;
@@ -210,7 +237,8 @@ std::vector<KernelCase> KernelCases() {
       {"build-parents-boundaries-pairwise", "build", "build.parents", "the same children merged pairwise",
        ParentsCall(layout::kChildMergePairwise)},
       {"build-leaves-boundaries", "build", "build.leaves",
-       "parallel, antiparallel and lone rays, tied direction components, a direction whose float length exceeds 1",
+       "parallel, antiparallel and lone rays, tied direction components, a direction whose float length exceeds 1, "
+       "two different directions whose float dot exceeds 1 (and one turned round)",
        LeavesCall()},
       {"resolve-rounding", "resolve", "resolve", "accumulator values about every step of the 8-bit rounding",
        ResolveCall()},
