@@ -327,9 +327,9 @@ mutate_runs::Verdict RunClamped(const Mutant& mu, const mutate_runs::Frame& fram
   return v;
 }
 
-// The mutant through its configurations until one kills it (or it cannot run), then through the
-// kernel cases of its passes, then on the clamping device; a survivor of all is checked for
-// provable equivalence, then looked up among the explained survivors.
+// The mutant through its configurations until one kills it (or it cannot run); a survivor is checked
+// for provable equivalence, else run through the kernel cases of its passes and on the clamping
+// device, and a survivor of all is looked up among the explained survivors.
 json RunMutant(const Mutant& mu, const mutate_runs::Frame& frame, const Baseline& base, const fs::path& dir, const json& explained) {
   json j = MutantJson(mu);
   mutate_runs::Verdict v;
@@ -340,22 +340,25 @@ json RunMutant(const Mutant& mu, const mutate_runs::Frame& frame, const Baseline
     tried.push_back(config.name);
     if (v.status != "survived") break;
   }
-  // The frames left it alive: the hand-made calls of its passes, at the boundaries no frame reaches.
+  // The frames left it alive. The optimiser's proof first: a proved-equivalent module computes what
+  // the original does on every input and every device, so no case or clamping can kill it.
+  const bool proved = v.status == "survived" && ProvablyEquivalent(mu, dir);
+  // Then the hand-made calls of its passes, at the boundaries no frame reaches.
   for (const SavedCase& c : base.cases) {
-    if (v.status != "survived") break;
+    if (proved || v.status != "survived") break;
     const auto kernels = PrepareCase(mu, c.pass, base.kernels, dir);
     if (kernels.empty()) continue;
     v = mutate_runs::Classify(mutate_runs::RunReplay(c.dir, kernels, dir / ("case-" + c.name), frame.timeout));
     tried.push_back("case:" + c.name);
     if (v.status == "killed") v.caught["case"] = c.name;
   }
-  if (v.status == "survived") v = RunClamped(mu, frame, base, dir, tried);
+  if (v.status == "survived" && !proved) v = RunClamped(mu, frame, base, dir, tried);
   j["configs"] = tried;
   j["status"] = v.status;
   if (!v.reason.empty()) j["reason"] = v.reason;
   if (!v.caught.empty()) j["caught"] = v.caught;
   if (v.status != "survived") return j;
-  if (ProvablyEquivalent(mu, dir)) {
+  if (proved) {
     j["status"] = "equivalent";
     j["why"] = "proved by the optimiser: the same SPIR-V as the original with no fault planted, after spirv-opt -O";
   } else if (explained.contains(mu.m.Id())) {
