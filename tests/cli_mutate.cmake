@@ -61,18 +61,29 @@ else()
   endforeach()
 endif()
 
+# One targeted run (every mutant of --only in one configuration, no variants) into WORK/NAME.json:
+# sets `json` (empty when the command failed, which is recorded) and `log` in the caller.
+function(mutate_one name config only)
+  execute_process(COMMAND "${RAYSPACE}" mutate "${SRC}/scenes/cornell-mirrors.json" --config ${config} --only "${only}"
+                          --limit 0 --variants 0 --timeout 30 --report "${WORK}/${name}.json" ${ARGN}
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 1200)
+  set(json "" PARENT_SCOPE)
+  set(log "${out}" PARENT_SCOPE)
+  if(NOT rc EQUAL 0)
+    set(FAILURES "${FAILURES}\n${name}: exit ${rc}\n${out}${err}" PARENT_SCOPE)
+  else()
+    file(READ "${WORK}/${name}.json" j)
+    set(json "${j}" PARENT_SCOPE)
+  endif()
+endfunction()
+
 # A mutant the diff must kill: trim's scatter keeps the flagged slots; flipping that test loses rays.
-execute_process(COMMAND "${RAYSPACE}" mutate "${SRC}/scenes/cornell-mirrors.json" --pass trim --config crsh --only ":comparison:"
-                        --limit 0 --variants 0 --timeout 30 --report "${WORK}/trim.json"
-                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 1200)
-if(NOT rc EQUAL 0)
-  string(APPEND FAILURES "\ntrim's comparisons: exit ${rc}\n${out}${err}")
-else()
-  file(READ "${WORK}/trim.json" j)
-  string(JSON k GET "${j}" summary killed)
-  string(JSON by GET "${j}" summary per_file trim.comp passes 0)
+mutate_one(trim crsh ":comparison:" --pass trim)
+if(json)
+  string(JSON k GET "${json}" summary killed)
+  string(JSON by GET "${json}" summary per_file trim.comp passes 0)
   if(k LESS 3 OR NOT by STREQUAL "trim")
-    string(APPEND FAILURES "\ntrim's comparisons: ${k} killed (expected at least 3), passes '${by}'\n${out}")
+    string(APPEND FAILURES "\ntrim's comparisons: ${k} killed (expected at least 3), passes '${by}'\n${log}")
   endif()
 endif()
 
@@ -80,36 +91,26 @@ endif()
 # subnormal, written as its bits) changes the answer only where the union's sine is exactly 0, which
 # no frame's build meets and the case build-parents-boundaries holds. The built-in kernels must
 # replay every case equal first (the command fails otherwise).
-execute_process(COMMAND "${RAYSPACE}" mutate "${SRC}/scenes/cornell-mirrors.json" --config crsh --only "^cone.glsl:118:12:float-ulp:"
-                        --limit 0 --variants 0 --timeout 30 --report "${WORK}/case.json"
-                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 1200)
-if(NOT rc EQUAL 0)
-  string(APPEND FAILURES "\nthe kernel case: exit ${rc}\n${out}${err}")
-else()
-  file(READ "${WORK}/case.json" j)
-  string(JSON status GET "${j}" mutants 0 status)
-  string(JSON by ERROR_VARIABLE no_case GET "${j}" mutants 0 caught case)
-  string(JSON ncases LENGTH "${j}" kernel_cases)
+mutate_one(case crsh "^cone.glsl:118:12:float-ulp:")
+if(json)
+  string(JSON status GET "${json}" mutants 0 status)
+  string(JSON by ERROR_VARIABLE no_case GET "${json}" mutants 0 caught case)
+  string(JSON ncases LENGTH "${json}" kernel_cases)
   if(NOT status STREQUAL "killed" OR NOT by STREQUAL "build-parents-boundaries" OR ncases LESS 4)
-    string(APPEND FAILURES "\ncone.glsl:118's sign test: ${status}, caught by case '${by}', ${ncases} kernel cases\n${out}")
+    string(APPEND FAILURES "\ncone.glsl:118's sign test: ${status}, caught by case '${by}', ${ncases} kernel cases\n${log}")
   endif()
 endif()
 
 # A mutant only the clamping device kills: a loop one past the window's four corners reads and writes
 # private arrays out of bounds, which lavapipe lets pass unseen; clamped, the fifth side plane
 # overwrites the fourth.
-execute_process(COMMAND "${RAYSPACE}" mutate "${SRC}/scenes/cornell-mirrors.json" --config tl-heads --only "^tl_cells.comp:32:23:comparison:<=$"
-                        --limit 0 --variants 0 --timeout 30 --report "${WORK}/clamped.json"
-                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 1200)
-if(NOT rc EQUAL 0)
-  string(APPEND FAILURES "\nthe clamping device: exit ${rc}\n${out}${err}")
-else()
-  file(READ "${WORK}/clamped.json" j)
-  string(JSON status GET "${j}" mutants 0 status)
-  string(JSON device ERROR_VARIABLE no_device GET "${j}" mutants 0 caught device)
-  string(JSON base ERROR_VARIABLE no_base GET "${j}" clamped_baseline tl-heads)
+mutate_one(clamped tl-heads "^tl_cells.comp:32:23:comparison:<=$")
+if(json)
+  string(JSON status GET "${json}" mutants 0 status)
+  string(JSON device ERROR_VARIABLE no_device GET "${json}" mutants 0 caught device)
+  string(JSON base ERROR_VARIABLE no_base GET "${json}" clamped_baseline tl-heads)
   if(NOT status STREQUAL "killed" OR NOT device STREQUAL "clamped" OR NOT base STREQUAL "equal")
-    string(APPEND FAILURES "\ntl_cells.comp:32's corner loop: ${status}, device '${device}', clamped baseline '${base}'\n${out}")
+    string(APPEND FAILURES "\ntl_cells.comp:32's corner loop: ${status}, device '${device}', clamped baseline '${base}'\n${log}")
   endif()
 endif()
 
