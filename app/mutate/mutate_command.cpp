@@ -14,11 +14,11 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "rayspace/json_text.h"
+#include "clamped_device.h"
 #include "kernel_cases.h"
 #include "mutants.h"
-#include "clamped_device.h"
 #include "mutate_runs.h"
+#include "rayspace/json_text.h"
 #include "rayspace/error.h"
 #include "rayspace/output_file.h"
 #include "rayspace/pass_registry.h"
@@ -284,17 +284,23 @@ json MutantJson(const Mutant& mu) {
           {"passes", mu.target->passes}};
 }
 
-// A diff of the mutant; a loaded machine slows a diff too, so a hang counts once it also outlasts
-// four times the limit.
+// A run of the mutant (`run(timeout)`: a diff or a replay) classified; a loaded machine slows a run
+// too, so a hang counts once it also outlasts four times the limit.
+template <typename Run>
+mutate_runs::Verdict Judge(int timeout, Run&& run) {
+  mutate_runs::DiffRun r = run(timeout);
+  if (r.TimedOut()) r = run(4 * timeout);
+  return mutate_runs::Classify(r);
+}
+
+// A diff of the mutant in one configuration.
 mutate_runs::Verdict DiffMutant(const mutate_runs::Frame& frame, const mutate_runs::DiffConfig& config, const mutate_runs::Overrides& kernels,
                                 const fs::path& dir, const std::string& scene) {
-  mutate_runs::DiffRun run = mutate_runs::RunDiff(frame, config, kernels, dir, scene);
-  if (run.TimedOut()) {
-    mutate_runs::Frame longer = frame;
-    longer.timeout = 4 * frame.timeout;
-    run = mutate_runs::RunDiff(longer, config, kernels, dir, scene);
-  }
-  return mutate_runs::Classify(run);
+  return Judge(frame.timeout, [&](int timeout) {
+    mutate_runs::Frame f = frame;
+    f.timeout = timeout;
+    return mutate_runs::RunDiff(f, config, kernels, dir, scene);
+  });
 }
 
 // Every built-in kernel configuration `c` runs, as overrides from the shader directory.
@@ -348,7 +354,7 @@ json RunMutant(const Mutant& mu, const mutate_runs::Frame& frame, const Baseline
     if (proved || v.status != "survived") break;
     const auto kernels = PrepareCase(mu, c.pass, base.kernels, dir);
     if (kernels.empty()) continue;
-    v = mutate_runs::Classify(mutate_runs::RunReplay(c.dir, kernels, dir / ("case-" + c.name), frame.timeout));
+    v = Judge(frame.timeout, [&](int timeout) { return mutate_runs::RunReplay(c.dir, kernels, dir / ("case-" + c.name), timeout); });
     tried.push_back("case:" + c.name);
     if (v.status == "killed") v.caught["case"] = c.name;
   }

@@ -117,7 +117,7 @@ void WriteFile(const fs::path& p, const std::string& text) {
 // cornell-soft with its rect light tilted (its axes have three non-zero components) and a sphere and
 // a disk light added: every light shape's sampler runs.
 std::string ShapesScene(const fs::path& work) {
-  nlohmann::json j = nlohmann::json::parse(ReadFile(fs::path(RAYSPACE_MUTATE_SOURCE_DIR) / "scenes" / "cornell-soft.json"));
+  nlohmann::json j = nlohmann::json::parse(ReadFile(SourceDir() / "scenes" / "cornell-soft.json"));
   nlohmann::json sphere = j["lights"][0], disk = j["lights"][0];
   for (nlohmann::json* l : {&sphere, &disk}) {
     l->erase("size");
@@ -140,7 +140,7 @@ std::string ShapesScene(const fs::path& work) {
 std::string SceneFor(const DiffConfig& config, const std::string& scene, const fs::path& work) {
   if (config.scene.empty()) return scene;
   if (config.scene == "shapes") return ShapesScene(work);
-  if (config.scene != "glass") return (fs::path(RAYSPACE_MUTATE_SOURCE_DIR) / "scenes" / config.scene).string();
+  if (config.scene != "glass") return (SourceDir() / "scenes" / config.scene).string();
   // The command's scene with its first material transparent and refractive (mesh paths are
   // resolved against the data root, so the copy may live anywhere).
   nlohmann::json j;
@@ -162,12 +162,15 @@ std::string SceneFor(const DiffConfig& config, const std::string& scene, const f
 
 namespace {
 
-// Runs `cmd` (a rayspace command line writing its report to dir/report.json) with its output in
-// dir/diff.log.
-DiffRun RunReporting(std::string cmd, const fs::path& dir) {
+// Runs `args` (a rayspace command and its arguments, without --report) under the time limit, its
+// report in dir/report.json and its output in dir/diff.log.
+DiffRun RunReporting(int timeout, const std::string& args, const fs::path& dir) {
+  fs::create_directories(dir);
   const fs::path report = dir / "report.json", log = dir / "diff.log";
   std::error_code ec;
-  cmd += " > " + Quote(log.string()) + " 2>&1";
+  fs::remove(report, ec);
+  const std::string cmd = fmt::format("timeout -s KILL {} {} {} --report {} > {} 2>&1", timeout, Quote(SelfExe()), args,
+                                      Quote(report.string()), Quote(log.string()));
   const auto t0 = std::chrono::steady_clock::now();
   DiffRun r;
   r.code = ExitOf(std::system(cmd.c_str()));
@@ -194,25 +197,15 @@ std::string KernelFlags(const std::vector<std::pair<std::string, std::string>>& 
 
 DiffRun RunDiff(const Frame& frame, const DiffConfig& config, const std::vector<std::pair<std::string, std::string>>& kernels,
                 const fs::path& dir, const std::string& scene) {
-  fs::create_directories(dir);
-  std::error_code ec;
-  fs::remove(dir / "report.json", ec);
-  std::string cmd = fmt::format("timeout -s KILL {} {} diff {} --size {} --report {}", frame.timeout, Quote(SelfExe()),
-                                Quote(scene.empty() ? frame.scene : scene), config.size.empty() ? frame.size : config.size,
-                                Quote((dir / "report.json").string()));
-  if (!frame.data.empty()) cmd += fmt::format(" --data {}", Quote(frame.data));
-  for (const std::string& f : config.flags) cmd += fmt::format(" {}", Quote(f));
-  return RunReporting(cmd + KernelFlags(kernels), dir);
+  std::string args = fmt::format("diff {} --size {}", Quote(scene.empty() ? frame.scene : scene), config.size.empty() ? frame.size : config.size);
+  if (!frame.data.empty()) args += fmt::format(" --data {}", Quote(frame.data));
+  for (const std::string& f : config.flags) args += fmt::format(" {}", Quote(f));
+  return RunReporting(frame.timeout, args + KernelFlags(kernels), dir);
 }
 
 DiffRun RunReplay(const fs::path& call, const std::vector<std::pair<std::string, std::string>>& kernels, const fs::path& dir,
                   int timeout) {
-  fs::create_directories(dir);
-  std::error_code ec;
-  fs::remove(dir / "report.json", ec);
-  const std::string cmd = fmt::format("timeout -s KILL {} {} replay {} --report {}", timeout, Quote(SelfExe()), Quote(call.string()),
-                                      Quote((dir / "report.json").string()));
-  return RunReporting(cmd + KernelFlags(kernels), dir);
+  return RunReporting(timeout, "replay " + Quote(call.string()) + KernelFlags(kernels), dir);
 }
 
 namespace {
