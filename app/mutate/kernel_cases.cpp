@@ -7,6 +7,7 @@
 #include "rayspace/contract.h"
 #include "rayspace/emu/calls.h"
 #include "rayspace/emu/intersect.h"
+#include "rayspace/emu/tl/tl.h"
 #include "rayspace/verify/call_codec.h"
 
 namespace rayspace::mutate {
@@ -227,6 +228,85 @@ verify::BufferSet RaygenCall(std::uint32_t kind) {
   return verify::EncodeCall(c);
 }
 
+// Three unit triangles, one in each coordinate plane through the origin (x = 0, y = 0, z = 0), as
+// the scene of the intersect case.
+SceneBuffers AxisPlanesScene() {
+  SceneBuffers s;
+  s.triangles = {{vec4(0, 0, 0, 1), vec4(0, 1, 0, 1), vec4(0, 0, 1, 1)},
+                 {vec4(0, 0, 0, 1), vec4(1, 0, 0, 1), vec4(0, 0, 1, 1)},
+                 {vec4(0, 0, 0, 1), vec4(1, 0, 0, 1), vec4(0, 1, 0, 1)}};
+  for (int axis = 0; axis < 3; ++axis) {
+    vec4 n(0.0f);
+    n[axis] = 1.0f;
+    s.normals.push_back({n, n, n});
+    s.info.push_back({glm::uvec4(0u)});
+  }
+  s.materials = CaseScene().materials;
+  s.objects = {glm::uvec4(0, 3, 0, 0)};
+  s.hi = glm::vec3(1, 1, 1);
+  return s;
+}
+
+// Rays exactly along each axis, both ways, through each plane's triangle (a hit) and through its
+// plane beside the triangle (a miss): the two components across the ray are exactly zero, so Woop's
+// test must take the ray's own axis as its z (dividing by a zero component gives infinities and NaNs
+// that pass the edge tests); all rays of one node against all three triangles.
+verify::BufferSet IntersectAxisCall() {
+  const SceneBuffers scene = AxisPlanesScene();
+  std::vector<layout::Ray> rays;
+  for (int axis = 0; axis < 3; ++axis)
+    for (const float side : {1.0f, -1.0f})
+      for (const float off : {0.25f, 3.0f}) {
+        glm::vec3 o(off), d(0.0f);
+        o[axis] = side;
+        d[axis] = -side;
+        rays.push_back(RayAt(o, d));
+      }
+  std::vector<std::uint32_t> order;
+  for (std::uint32_t i = 0; i < rays.size(); ++i) order.push_back(i);
+  const std::vector<std::uint32_t> pairs = {0, 1, 2}, first1 = {0, static_cast<std::uint32_t>(rays.size())};
+  std::vector<std::uint64_t> hits(rays.size(), emu::kMissPacked);
+  emu::call::Intersect c;
+  c.pairs = pairs;
+  c.first1 = first1;
+  c.order = order;
+  c.rays = rays;
+  c.scene = &scene;
+  c.hits = &hits;
+  return verify::EncodeCall(c);
+}
+
+// Traversal lists (6, one per signed axis) over a 3 x 3 x 3 lattice of small triangles, walked by
+// shadow rays whose largest direction components tie (|z| = |x|, |z| = |y|, all three): the class of
+// a tie goes to the lower axis. An any-hit walk stops at its first hit, and each list orders the
+// lattice differently, so another list shows in the count of spheres tested before it.
+verify::BufferSet TlTraceTiesCall() {
+  std::vector<layout::Triangle> triangles;
+  for (int i = 0; i < 27; ++i) {
+    const glm::vec3 p(static_cast<float>(i % 3), static_cast<float>(i / 3 % 3), static_cast<float>(i / 9));
+    triangles.push_back({vec4(p, 1), vec4(p + glm::vec3(0.3f, 0.1f, 0), 1), vec4(p + glm::vec3(0, 0.3f, 0.2f), 1)});
+  }
+  emu::tl::Options options;
+  options.lists = 6;
+  const emu::tl::Lists lists = emu::tl::Build(triangles, options);
+  std::vector<layout::Ray> rays;
+  const float h = 0.70710677f, t = 0.57735026f;
+  for (const glm::vec3 d : {glm::vec3(h, 0, h), glm::vec3(-h, 0, -h), glm::vec3(0, h, h), glm::vec3(0, -h, h),
+                            glm::vec3(t, t, t), glm::vec3(-t, t, -t)})
+    for (const glm::vec3 o : {glm::vec3(-1, 0.05f, -1), glm::vec3(-1, 1.05f, -1), glm::vec3(3, 2.05f, 3),
+                              glm::vec3(1.05f, -1, -1), glm::vec3(-1, -1, -1)})
+      rays.push_back(RayAt(o, d));
+  for (layout::Ray& r : rays) r.info.y = layout::kNoPrim;
+  emu::call::TlTrace c;
+  c.first = lists.first;
+  c.escapes = lists.escapes;
+  c.words = lists.words;
+  c.vertices = lists.vertices;
+  c.rays = rays;
+  c.shadow = 1;
+  return verify::EncodeCall(c);
+}
+
 }  // namespace
 
 std::vector<KernelCase> KernelCases() {
@@ -251,6 +331,12 @@ std::vector<KernelCase> KernelCases() {
       {"raygen-shadow-far", "raygen.shadow", "raygen",
        "shadow rays from a light 3e38 away to surfaces 3e38 away: light vectors with one infinite component",
        RaygenCall(layout::kRayShadow)},
+      {"intersect-axis-rays", "intersect", "intersect",
+       "rays exactly along each axis through triangles in the planes across them, inside and beside each triangle",
+       IntersectAxisCall()},
+      {"tl-trace-ties", "tl.trace", "tl.trace",
+       "shadow rays whose largest direction components tie (|z| = |x|, |z| = |y|, all three) walking 6 lists over a lattice",
+       TlTraceTiesCall()},
   };
 }
 
