@@ -7,6 +7,7 @@
 #include "rayspace/contract.h"
 #include "rayspace/emu/calls.h"
 #include "rayspace/emu/intersect.h"
+#include "rayspace/emu/tl/heads.h"
 #include "rayspace/emu/tl/tl.h"
 #include "rayspace/verify/call_codec.h"
 
@@ -276,16 +277,22 @@ verify::BufferSet IntersectAxisCall() {
   return verify::EncodeCall(c);
 }
 
-// Traversal lists (6, one per signed axis) over a 3 x 3 x 3 lattice of small triangles, walked by
-// shadow rays whose largest direction components tie (|z| = |x|, |z| = |y|, all three): the class of
-// a tie goes to the lower axis. An any-hit walk stops at its first hit, and each list orders the
-// lattice differently, so another list shows in the count of spheres tested before it.
-verify::BufferSet TlTraceTiesCall() {
+// A 3 x 3 x 3 lattice of small triangles, one at each integer point of [0, 2]^3.
+std::vector<layout::Triangle> LatticeTriangles() {
   std::vector<layout::Triangle> triangles;
   for (int i = 0; i < 27; ++i) {
     const glm::vec3 p(static_cast<float>(i % 3), static_cast<float>(i / 3 % 3), static_cast<float>(i / 9));
     triangles.push_back({vec4(p, 1), vec4(p + glm::vec3(0.3f, 0.1f, 0), 1), vec4(p + glm::vec3(0, 0.3f, 0.2f), 1)});
   }
+  return triangles;
+}
+
+// Traversal lists (6, one per signed axis) over the lattice of small triangles, walked by
+// shadow rays whose largest direction components tie (|z| = |x|, |z| = |y|, all three): the class of
+// a tie goes to the lower axis. An any-hit walk stops at its first hit, and each list orders the
+// lattice differently, so another list shows in the count of spheres tested before it.
+verify::BufferSet TlTraceTiesCall() {
+  const std::vector<layout::Triangle> triangles = LatticeTriangles();
   emu::tl::Options options;
   options.lists = 6;
   const emu::tl::Lists lists = emu::tl::Build(triangles, options);
@@ -304,6 +311,30 @@ verify::BufferSet TlTraceTiesCall() {
   c.vertices = lists.vertices;
   c.rays = rays;
   c.shadow = 1;
+  return verify::EncodeCall(c);
+}
+
+// Per-polygon heads over the lattice and three slivers (triangles whose normal is short against their
+// edges: their float plane cannot bound a window, so they walk whole lists) lying across it.
+verify::BufferSet TlHeadsSliversCall() {
+  std::vector<layout::Triangle> triangles = LatticeTriangles();
+  for (const float y : {0.5f, 1.5f})
+    triangles.push_back({vec4(-0.5f, y, -0.5f, 1), vec4(2.5f, y, 2.5f, 1), vec4(1.0f, y + 1e-3f, 1.0f, 1)});
+  triangles.push_back({vec4(0, 0, 2.5f, 1), vec4(2.5f, 2.5f, 2.5f, 1), vec4(1.25f, 1.25f, 2.5f + 1e-3f, 1)});
+  const emu::tl::Options options;
+  const emu::tl::Tree tree = emu::tl::PrepareTree(triangles, options.tree);
+  const std::vector<vec4> directions = emu::tl::Directions(6);
+  emu::tl::Lists lists = emu::tl::Assemble(
+      tree, 6, emu::PassTlLists({.tree = tree.View(), .directions = directions, .order = layout::kTlOrderEarliestFirst}), false);
+  const std::vector<glm::vec3> lights = {glm::vec3(1, 5, 1)};
+  emu::call::TlHeads c;
+  c.first = lists.first;
+  c.escapes = lists.escapes;
+  c.words = lists.words;
+  c.vertices = lists.vertices;
+  c.tri_words = tree.tri_words;
+  c.mode = layout::kTlHeadsRegular;
+  c.margin = emu::tl::HeadsMargin(glm::vec3(-0.5f), glm::vec3(2.5f, 3.0f, 2.6f), lights);
   return verify::EncodeCall(c);
 }
 
@@ -337,6 +368,9 @@ std::vector<KernelCase> KernelCases() {
       {"tl-trace-ties", "tl.trace", "tl.trace",
        "shadow rays whose largest direction components tie (|z| = |x|, |z| = |y|, all three) walking 6 lists over a lattice",
        TlTraceTiesCall()},
+      {"tl-heads-slivers", "tl.heads", "tl.heads",
+       "per-polygon heads of sliver triangles (normal short against the edges: whole lists) across a lattice",
+       TlHeadsSliversCall()},
   };
 }
 
