@@ -139,17 +139,14 @@ if(json AND NOT seen STREQUAL want)
   string(APPEND FAILURES "\nkernel cases intersect-axis-rays and tl-trace-ties: got '${seen}', want '${want}'\n${log}")
 endif()
 
-# A mutant only a scene with a one-child object node kills (the configuration tree-one-child): the
-# node counts of such a node's pair put under its one triangle candidate's counters.
-# Its scene's mesh comes from the data root (tests/CMakeLists.txt registers the data tests only with one).
-if(EXISTS "${DATA}/suzanne/suzanne.obj")
-  mutate_one(onechild tree-one-child "^tree_test.comp:30:54:constant:1u$" --data "${DATA}")
-  verdicts("${json}")
-  if(json AND NOT seen STREQUAL "tree_test.comp:30:54:constant:1u=killed::")
-    string(APPEND FAILURES "\ntree_test.comp:30:54 on tree-one-child: got '${seen}'\n${log}")
-  endif()
-else()
-  message(STATUS "no data root at '${DATA}': tree-one-child not checked")
+# Two mutants only the procedural roger-wavy-n32 kills: the node counts of a one-child object node's
+# pair put under its one triangle candidate's counters (tree-one-child), and the grid build's block
+# sums over a block range that is right only while every triangle fits one scan block (grid-blocks).
+mutate_one(wavy "tree-one-child;--config;grid-blocks" "^(tree_test.comp:30:54:constant:1u|grid_build.comp:397:60:arithmetic:-)$")
+verdicts("${json}")
+set(want "grid_build.comp:397:60:arithmetic:-=killed::;tree_test.comp:30:54:constant:1u=killed::")
+if(json AND NOT seen STREQUAL want)
+  string(APPEND FAILURES "\nroger-wavy-n32's configurations: got '${seen}', want '${want}'\n${log}")
 endif()
 
 # A mutant only the clamping device kills: a loop one past the window's four corners reads and writes

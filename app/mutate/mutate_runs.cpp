@@ -97,8 +97,10 @@ const std::vector<DiffConfig>& Configs() {
       // Workgroups of one invocation, and of 33 (one past a 32-wide subgroup multiple).
       {"local-1", {"--path", "passes", "--local-size", "1"}, ""},
       {"local-33", {"--path", "fused", "--local-size", "33"}, ""},
-      // An object tree with nodes of exactly one child node (Suzanne's; the Cornell boxes have none).
-      {"tree-one-child", {"--objects", "tree", "--path", "passes"}, "toczek-suzanne.json"},
+      // A procedural scene of 9,032 triangles: an object tree with nodes of exactly one child node (the
+      // Cornell boxes' have none), and a grid build over more than one scan block (kScanBlock).
+      {"tree-one-child", {"--objects", "tree", "--path", "passes"}, "roger-wavy-n32.json"},
+      {"grid-blocks", {"--algo", "grid", "--primary", "grid"}, "roger-wavy-n32.json"},
   };
   return configs;
 }
