@@ -3,9 +3,10 @@
 
 Prints the per-file score table (equivalent mutants split into those the optimiser proved and those
 argued in the survivors list) and every mutant that survived or was argued equivalent, by class, with
-its source line and reason.
+its source line and reason. With --rerun, the verdicts of later targeted runs (`--only ID...`) replace
+the full run's for the same mutant ids.
 
-    python3 scripts/mutation_table.py docs/verification/full-run.json
+    python3 scripts/mutation_table.py docs/verification/full-run.json [--rerun RERUN.json ...]
 """
 import argparse
 import json
@@ -17,16 +18,26 @@ def passes_cell(passes):
     return ", ".join(passes[:3]) + (", ..." if len(passes) > 3 else "")
 
 
+def load(path):
+    try:
+        with open(path) as f:
+            return json.load(f)["mutants"]
+    except (OSError, ValueError, KeyError, TypeError) as e:
+        sys.exit(f"mutation_table.py: {path}: not a mutate report ({e})")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("report", help="the JSON file `rayspace mutate --report` wrote")
+    ap.add_argument("--rerun", action="append", default=[], help="a later report whose mutants replace the same ids")
     args = ap.parse_args()
-    try:
-        with open(args.report) as f:
-            report = json.load(f)
-        mutants = report["mutants"]
-    except (OSError, ValueError, KeyError) as e:
-        sys.exit(f"mutation_table.py: {args.report}: not a mutate report ({e})")
+    mutants = load(args.report)
+    by_id = {m["id"]: i for i, m in enumerate(mutants)}
+    for path in args.rerun:
+        for m in load(path):
+            if m["id"] not in by_id:
+                sys.exit(f"mutation_table.py: {path}: mutant {m['id']} is not in {args.report}")
+            mutants[by_id[m["id"]]] = m
 
     rows = defaultdict(lambda: defaultdict(int))
     passes = {}

@@ -24,6 +24,23 @@ execute_process(COMMAND "${PYTHON}" "${SRC}/scripts/mutation_table.py" "${SRC}/t
 if(rc EQUAL 0 OR NOT err MATCHES "no-such-report.json")
   string(APPEND FAILURES "\na missing report: exit ${rc}, ${err}")
 endif()
+# A rerun's verdict replaces the full run's: a.comp's survivor killed later makes a.comp 100 % and all
+# 3 / 3; a rerun naming a mutant the report lacks is refused.
+execute_process(COMMAND "${PYTHON}" "${SRC}/scripts/mutation_table.py" "${SRC}/tests/scripts/mutate_report_sample.json"
+                        --rerun "${SRC}/tests/scripts/mutate_rerun_sample.json"
+                RESULT_VARIABLE rc OUTPUT_VARIABLE rerun ERROR_VARIABLE err)
+foreach(line "| `a.comp` | p1, p2, p3, ... | 3 | 2 | 0 | 1 + 0 | 100 % |" "| **all** | | **6** | **3** | **0** | **1 + 1** | **100.0 %** |")
+  string(FIND "${rerun}" "${line}" at)
+  if(at EQUAL -1 OR NOT rc EQUAL 0)
+    string(APPEND FAILURES "\nwith --rerun, missing: ${line} (exit ${rc})")
+  endif()
+endforeach()
+execute_process(COMMAND "${PYTHON}" "${SRC}/scripts/mutation_table.py" "${SRC}/tests/scripts/mutate_rerun_sample.json"
+                        --rerun "${SRC}/tests/scripts/mutate_report_sample.json"
+                RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+if(rc EQUAL 0 OR NOT err MATCHES "is not in")
+  string(APPEND FAILURES "\na rerun of unknown ids: exit ${rc}, ${err}")
+endif()
 if(FAILURES)
   message(FATAL_ERROR "scripts.mutation_table:${FAILURES}\n${out}")
 endif()
