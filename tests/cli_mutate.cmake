@@ -139,14 +139,18 @@ if(json AND NOT seen STREQUAL want)
   string(APPEND FAILURES "\nkernel cases intersect-axis-rays and tl-trace-ties: got '${seen}', want '${want}'\n${log}")
 endif()
 
-# Two mutants only the procedural roger-wavy-n32 kills: the node counts of a one-child object node's
-# pair put under its one triangle candidate's counters (tree-one-child), and the grid build's block
-# sums over a block range that is right only while every triangle fits one scan block (grid-blocks).
-mutate_one(wavy "tree-one-child;--config;grid-blocks" "^(tree_test.comp:30:54:constant:1u|grid_build.comp:397:60:arithmetic:-)$")
+# Mutants only the added scenes kill: on the procedural roger-wavy-n32, the node counts of a one-child
+# object node's pair put under its one triangle candidate's counters (tree-one-child), and the grid
+# build's block sums over a block range that is right only while every triangle fits one scan block
+# (grid-blocks); with the light in the ceiling's plane, front-face culling's side test moved off 0
+# (grid-coplanar).
+mutate_one(scenes "tree-one-child;--config;grid-blocks;--config;grid-coplanar"
+           "^(tree_test.comp:30:54:constant:1u|grid_build.comp:397:60:arithmetic:-|grid.glsl:14:.*)$")
 verdicts("${json}")
-set(want "grid_build.comp:397:60:arithmetic:-=killed::;tree_test.comp:30:54:constant:1u=killed::")
+set(want "grid.glsl:14:21:comparison:<==killed::" "grid.glsl:14:23:float-ulp:uintBitsToFloat(0x00000001u)=killed::"
+         "grid_build.comp:397:60:arithmetic:-=killed::" "tree_test.comp:30:54:constant:1u=killed::")
 if(json AND NOT seen STREQUAL want)
-  string(APPEND FAILURES "\nroger-wavy-n32's configurations: got '${seen}', want '${want}'\n${log}")
+  string(APPEND FAILURES "\nthe added scenes' configurations: got '${seen}', want '${want}'\n${log}")
 endif()
 
 # A mutant only the clamping device kills: a loop one past the window's four corners reads and writes

@@ -101,6 +101,8 @@ const std::vector<DiffConfig>& Configs() {
       // Cornell boxes' have none), and a grid build over more than one scan block (kScanBlock).
       {"tree-one-child", {"--objects", "tree", "--path", "passes"}, "roger-wavy-n32.json"},
       {"grid-blocks", {"--algo", "grid", "--primary", "grid"}, "roger-wavy-n32.json"},
+      // Front-face culling with the light exactly in the plane of the ceiling's triangles.
+      {"grid-coplanar", {"--algo", "grid", "--closed-models"}, "light-in-ceiling"},
   };
   return configs;
 }
@@ -141,9 +143,21 @@ std::string ShapesScene(const fs::path& work) {
   return (work / "shapes-scene.json").string();
 }
 
+// cornell-mirrors with its light moved up into the ceiling's plane (y = 548.8, the room generator's
+// height): the light lies exactly in the plane of every ceiling triangle, where front-face culling's
+// side test (grid.glsl, FacesAway) meets a dot product of exactly 0.
+std::string LightInCeilingScene(const fs::path& work) {
+  nlohmann::json j = nlohmann::json::parse(ReadFile(SourceDir() / "scenes" / "cornell-mirrors.json"));
+  j["lights"][0]["position"][1] = 548.8;
+  fs::create_directories(work);
+  WriteFile(work / "light-in-ceiling-scene.json", j.dump(2));
+  return (work / "light-in-ceiling-scene.json").string();
+}
+
 std::string SceneFor(const DiffConfig& config, const std::string& scene, const fs::path& work) {
   if (config.scene.empty()) return scene;
   if (config.scene == "shapes") return ShapesScene(work);
+  if (config.scene == "light-in-ceiling") return LightInCeilingScene(work);
   if (config.scene != "glass") return (SourceDir() / "scenes" / config.scene).string();
   // The command's scene with its first material transparent and refractive (mesh paths are
   // resolved against the data root, so the copy may live anywhere).
