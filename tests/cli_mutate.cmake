@@ -13,7 +13,7 @@ set(FAILURES "")
 
 execute_process(COMMAND "${RAYSPACE}" mutate "${SRC}/scenes/cornell-mirrors.json" --limit 20 --variants 2 --seed commit --timeout 30
                         --jobs 2 --report "${WORK}/sample.json" --survivors "${SRC}/docs/mutation-survivors.json"
-                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 1200)
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 2400)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "cli.mutate: the sample: exit ${rc}\n${out}${err}")
 endif()
