@@ -7,6 +7,7 @@
 #include <array>
 #include <random>
 
+#include "rayspace/emu/cone_cull.h"
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/parallel.h"
 #include "test_util.h"
@@ -56,6 +57,7 @@ TEST_CASE("fused path: the same pairs, statistics and digest as the passes, on r
   std::vector<std::pair<std::string, int>> scenes = {{"cornell-mirrors.json", 48}, {"office.json", 32}};
   if (test::HaveData()) scenes.push_back({"sponza.json", 32});
   std::mt19937 rng(2026);
+  emu::ResetFusedCulledSlots();
   for (const auto& [file, size] : scenes) {
     const Scene s = test::LoadBundled(file);
     for (int run = 0; run < 5; ++run) {
@@ -79,6 +81,9 @@ TEST_CASE("fused path: the same pairs, statistics and digest as the passes, on r
       CHECK(Compare(passes, fused) == "");
     }
   }
+  // The top level's group culling ran in these runs, so the equality covers it.
+  MESSAGE("top-level slots culled by group: " << emu::FusedCulledSlots());
+  CHECK(emu::FusedCulledSlots() > 0);
 }
 
 // The passes and the fused path on a bundled scene at 32x32, with `toggle(true)` set around the fused run.
@@ -96,6 +101,15 @@ static std::string CompareToggled(const std::string& file, void (*toggle)(bool),
 
 TEST_CASE("fused path: a planted difference (the last survivor of every block dropped) is seen") {
   CHECK(CompareToggled("cornell-mirrors.json", emu::SetFusedFaultForTesting, true).rfind("the pairs of compacted level", 0) == 0);
+}
+
+TEST_CASE("fused path: a planted unsound group cull (a negative margin) is seen") {
+  static double saved = emu::cone::kCullMargin;
+  const auto toggle = [](bool on) {
+    if (on) saved = emu::cone::SetCullMarginForTesting(-0.25);
+    else emu::cone::SetCullMarginForTesting(saved);
+  };
+  CHECK(CompareToggled("cornell-mirrors.json", toggle, true).rfind("the pairs of compacted level", 0) == 0);
 }
 
 TEST_CASE("fused path: every instruction set of the lanes (scalar, AVX2, AVX-512F) gives the passes' pairs") {

@@ -1,10 +1,13 @@
 // The fused traversal's levels with the multi-lane cone-sphere test (cone_simd.h): each block tests
 // its slots in slot order, a top node against runs of its batch's triangle spheres, a pair's parent
 // against its children; survivors are written in lane order, so the pairs are the scalar fused
-// loops' (TraverseTopCompactedWith, TraverseLevelCompactedWith), and those are the passes'.
+// loops' (TraverseTopCompactedWith, TraverseLevelCompactedWith), and those are the passes'. The top
+// level skips the groups of spheres a node provably misses (cone_cull.h): no test would pass there.
 #include <algorithm>
+#include <atomic>
 
 #include "rayspace/emu/cone.h"
+#include "rayspace/emu/cone_cull.h"
 #include "rayspace/emu/cone_simd.h"
 #include "rayspace/emu/hierarchy.h"
 
@@ -12,6 +15,7 @@ namespace rayspace::emu {
 namespace {
 
 cone::Isa g_isa = cone::BestIsa();
+std::atomic<std::uint64_t> g_culled{0};
 
 // Triangles [t0, t1) of a batch (batch-local) that share an object. A scene's objects own contiguous
 // triangles, so a batch has few runs; without an object mask the batch is one run, always tested.
@@ -37,20 +41,62 @@ bool RunTested(const call::TraverseTop& c, std::uint32_t node, const ObjectRun& 
   return c.object_mask.empty() || c.object_mask[static_cast<std::size_t>(node) * c.scene->objects.size() + run.object];
 }
 
+// The top level's spheres of one batch: their lanes and their groups.
+struct TopSpheres {
+  cone::SphereArrays lanes;
+  cone::SphereGroups coarse, fine;
+};
+
+// Spheres [lo, hi) of one node, less the groups the node provably misses (cone_cull.h); what is
+// left is tested in runs as long as possible, in order.
+std::size_t TestCulled(const call::TraverseTop& c, const TopSpheres& s, const cone::CullNode& cull, std::uint32_t node,
+                       std::uint32_t lo, std::uint32_t hi, std::uint32_t* out) {
+  const layout::ConeNode& n = c.top[node];
+  const std::uint32_t first = (node - c.t0) << kPairTriangleBits;
+  std::size_t count = 0;
+  std::uint32_t from = lo;
+  std::uint64_t culled = 0;
+  auto skip = [&](std::uint32_t gl, std::uint32_t gh) {
+    if (from < gl) count += cone::TestSpheres(g_isa, n, s.lanes, from, gl, c.eps, first, 0, out + count);
+    culled += gh - gl;
+    from = gh;
+  };
+  constexpr std::uint32_t F = cone::kCullGroup, C = cone::kCullCoarse;
+  for (std::uint32_t g = lo / F; g * F < hi;) {
+    if (g % (C / F) == 0 || g == lo / F) {
+      const std::uint32_t cg = g / (C / F);
+      if (cone::GroupMisses(cull, s.coarse, cg)) {
+        skip(std::max(lo, cg * C), std::min(hi, (cg + 1) * C));
+        g = (cg + 1) * (C / F);
+        continue;
+      }
+    }
+    if (cone::GroupMisses(cull, s.fine, g)) skip(std::max(lo, g * F), std::min(hi, (g + 1) * F));
+    ++g;
+  }
+  if (from < hi) count += cone::TestSpheres(g_isa, n, s.lanes, from, hi, c.eps, first, 0, out + count);
+  if (culled) g_culled.fetch_add(culled, std::memory_order_relaxed);
+  return count;
+}
+
 // The batch-local triangles [ta, tb) of one top node: the object runs the node's mask keeps.
-void TestNodeRow(const call::TraverseTop& c, const cone::SphereArrays& spheres, const std::vector<ObjectRun>& runs,
+void TestNodeRow(const call::TraverseTop& c, const TopSpheres& spheres, const std::vector<ObjectRun>& runs,
                  std::uint32_t node, std::uint32_t ta, std::uint32_t tb, std::vector<std::uint32_t>& buf, std::size_t& n,
                  std::uint64_t& tested) {
+  const cone::CullNode cull = cone::CullNodeOf(c.top[node], c.eps);
   auto run = std::upper_bound(runs.begin(), runs.end(), ta, [](std::uint32_t t, const ObjectRun& r) { return t < r.t1; });
   for (; run != runs.end() && run->t0 < tb; ++run) {
     if (!RunTested(c, node, *run)) continue;
     const std::uint32_t lo = std::max(ta, run->t0), hi = std::min(tb, run->t1);
     tested += hi - lo;
-    n += cone::TestSpheres(g_isa, c.top[node], spheres, lo, hi, c.eps, (node - c.t0) << kPairTriangleBits, 0, buf.data() + n);
+    n += TestCulled(c, spheres, cull, node, lo, hi, buf.data() + n);
   }
 }
 
 }  // namespace
+
+std::uint64_t FusedCulledSlots() { return g_culled.load(); }
+void ResetFusedCulledSlots() { g_culled = 0; }
 
 void SetFusedIsa(cone::Isa isa) { g_isa = cone::Runs(isa) ? isa : cone::BestIsa(); }
 cone::Isa FusedIsa() { return g_isa; }
@@ -62,7 +108,8 @@ Compacted PassTraverseTopCompacted(const call::TraverseTop& c) {
   if (c.cone_test == layout::kConeTestPrinted) return TraverseTopCompactedWith(kPrintedTest, c);
   const std::uint32_t T = c.b1 - c.b0;
   const std::size_t grid = static_cast<std::size_t>(c.t1 - c.t0) * T;
-  const cone::SphereArrays spheres = cone::ToArrays(c.tri_spheres.subspan(c.b0, T));
+  const TopSpheres spheres{cone::ToArrays(c.tri_spheres.subspan(c.b0, T)), cone::GroupsOf(c.tri_spheres.subspan(c.b0, T), cone::kCullCoarse),
+                           cone::GroupsOf(c.tri_spheres.subspan(c.b0, T), cone::kCullGroup)};
   const std::vector<ObjectRun> runs = ObjectRuns(c);
   return CompactInBlocks(grid, kFusedBlock, [&](std::size_t e0, std::size_t e1, std::vector<std::uint32_t>& out, std::uint64_t& tested) {
     std::vector<std::uint32_t> buf(e1 - e0 + cone::kLanePad);

@@ -172,6 +172,11 @@ inline constexpr std::size_t kFusedBlock = 8192;
 void SetFusedFaultForTesting(bool on);
 bool FusedFaultForTesting();
 
+// Top-level slots the fused path skipped because their group provably misses (cone_cull.h), since
+// the last reset: a diagnostic, so tests can see that the culling ran; the statistics count every slot.
+std::uint64_t FusedCulledSlots();
+void ResetFusedCulledSlots();
+
 // Concatenates per-block survivors in block order.
 Compacted ConcatenateBlocks(std::vector<std::vector<std::uint32_t>>& parts, const std::vector<std::uint64_t>& tested);
 
