@@ -77,9 +77,14 @@ void RunScene(const BenchArgs& args, const std::string& path, const std::vector<
   base.device = args.device;
   base.faithful = args.faithful;
   const bool progress = args.progress || isatty(STDERR_FILENO);
-  for (const auto& [w, h] : sizes)
-    for (const BenchConfig* c : configs)
-      rows.push_back(RunBenchConfig(base, *c, scene, buffers, w, h, args.repetitions, progress));
+  // Repetitions in rounds: each round runs every configuration once, so a machine whose speed drifts
+  // (a shared one) shifts every configuration's frames alike and the ratios of one run hold.
+  for (const auto& [w, h] : sizes) {
+    const std::size_t first = rows.size();
+    for (const BenchConfig* c : configs) rows.push_back(StartBenchRow(base, *c, scene, w, h));
+    for (int rep = 0; rep < args.repetitions; ++rep)
+      for (std::size_t i = first; i < rows.size(); ++i) RunBenchRepetition(rows[i], scene, buffers, args.repetitions, progress);
+  }
 }
 
 }  // namespace

@@ -59,7 +59,8 @@ bool AllPeaksReset(const std::vector<BenchRow>& rows) {
 
 void PrintNotes(std::FILE* out, const std::vector<BenchRow>& rows, int repetitions) {
   std::fprintf(out,
-               "\nms: the frame's own time (render's `frame`), oracle off; median and range of %d repetition%s.\n"
+               "\nms: the frame's own time (render's `frame`), oracle off; median and range of %d repetition%s, run in\n"
+               "  rounds (each round runs every configuration of a scene and size once).\n"
                "x %s: the median over %s's median for the same scene and size.\n"
                "M tests/s: total tests / (traversal + final tests time), as render --timings; n/a: brute and embree\n"
                "  report brute force (rays x triangles), not tests they perform.\n",
@@ -67,8 +68,8 @@ void PrintNotes(std::FILE* out, const std::vector<BenchRow>& rows, int repetitio
                std::string(kBaselineConfig).c_str());
   if (AllPeaksReset(rows))
     std::fprintf(out, "peak MB: the process's peak resident memory over the configuration's repetitions (the peak is\n"
-                      "  reset before each configuration; the loaded scene counts); MB added: that peak above what was\n"
-                      "  resident when the configuration started.\n");
+                      "  reset before each repetition; the loaded scene counts); MB added: that peak above what was\n"
+                      "  resident when its repetition started.\n");
   else
     std::fprintf(out, "peak MB (process): the process's peak resident memory so far, not per configuration (the peak\n"
                       "  could not be reset: /proc/self/clear_refs is not writable here).\n");

@@ -47,32 +47,42 @@ double Median(std::vector<double> v) {
 double BenchRow::MedianMs() const { return Median(frame_ms); }
 double BenchRow::MedianSearchMs() const { return Median(search_ms); }
 
-BenchRow RunBenchConfig(const RenderArgs& base, const BenchConfig& config, const Scene& scene, const SceneBuffers& buffers,
-                        int width, int height, int repetitions, bool progress) {
+BenchRow StartBenchRow(const RenderArgs& base, const BenchConfig& config, const Scene& scene, int width, int height) {
   BenchRow row;
   row.scene = scene.name;
   row.width = width;
   row.height = height;
   row.config = &config;
-  RenderArgs args = base;
-  ApplyBenchConfig(config, args);
-  args.no_oracle = true;
-  emu::FrameOptions fo;
-  fo.width = width;
-  fo.height = height;
-  ApplyFaithful(args.faithful, fo);
-  row.peak_reset = ResetPeakRss();
-  row.start_rss = CurrentRssBytes();
-  for (int rep = 0; rep < repetitions; ++rep) {
-    const std::unique_ptr<Backend> backend = TryBackend(args, scene, buffers, width, height, row.skipped);
-    if (!backend) break;
-    Record(row, *RenderOnBackend(args, scene, buffers, fo, *backend));
-    if (progress)
-      std::fprintf(stderr, "bench: %s %s %s %d/%d: %.1f ms\n", row.scene.c_str(), row.Size().c_str(), config.name.c_str(),
-                   rep + 1, repetitions, row.frame_ms.back());
-  }
-  row.peak_rss = PeakRssBytes();
+  row.args = base;
+  ApplyBenchConfig(config, row.args);
+  row.args.no_oracle = true;
+  row.peak_reset = true;
   return row;
+}
+
+bool RunBenchRepetition(BenchRow& row, const Scene& scene, const SceneBuffers& buffers, int repetitions, bool progress) {
+  if (!row.skipped.empty()) return false;
+  emu::FrameOptions fo;
+  fo.width = row.width;
+  fo.height = row.height;
+  ApplyFaithful(row.args.faithful, fo);
+  // The high-water mark is reset before each repetition, so the row's peak is its own repetitions'
+  // even when the rows' repetitions alternate.
+  const bool reset = ResetPeakRss();
+  const std::size_t start = CurrentRssBytes();
+  const std::unique_ptr<Backend> backend = TryBackend(row.args, scene, buffers, row.width, row.height, row.skipped);
+  if (!backend) return false;
+  Record(row, *RenderOnBackend(row.args, scene, buffers, fo, *backend));
+  const std::size_t peak = PeakRssBytes();
+  row.peak_reset = row.peak_reset && reset;
+  if (row.frame_ms.size() == 1 || peak > row.peak_rss) {
+    row.peak_rss = peak;
+    row.start_rss = start;
+  }
+  if (progress)
+    std::fprintf(stderr, "bench: %s %s %s %zu/%d: %.1f ms\n", row.scene.c_str(), row.Size().c_str(), row.config->name.c_str(),
+                 row.frame_ms.size(), repetitions, row.frame_ms.back());
+  return true;
 }
 
 }  // namespace rayspace::app

@@ -28,6 +28,7 @@ struct BenchRow {
   std::size_t peak_rss = 0;            // bytes, over the configuration's repetitions
   std::size_t start_rss = 0;           // bytes resident when the configuration started
   bool peak_reset = false;             // false: peak_rss is the whole process's so far
+  RenderArgs args;                     // render's arguments for the configuration
 
   double MedianMs() const;
   double MedianSearchMs() const;
@@ -35,12 +36,14 @@ struct BenchRow {
   std::string Size() const { return std::to_string(width) + "x" + std::to_string(height); }
 };
 
-// Runs `config` `repetitions` times on the loaded scene at width x height, each frame as render makes
-// it from `base` (oracle off), with the configuration's tracer, path and backend. A backend that
-// cannot be made or cannot hold the frame (no Vulkan device, a build without Vulkan) skips the row.
-// The peak memory is the process's over these repetitions (the counter reset before the first), or
-// the process's so far when the counter cannot be reset.
-BenchRow RunBenchConfig(const RenderArgs& base, const BenchConfig& config, const Scene& scene, const SceneBuffers& buffers,
-                        int width, int height, int repetitions, bool progress);
+// The row of `config` on a loaded scene at width x height, before any repetition: render's arguments
+// from `base` with the configuration's tracer, path and backend, and the oracle off.
+BenchRow StartBenchRow(const RenderArgs& base, const BenchConfig& config, const Scene& scene, int width, int height);
+
+// One more frame of the row, timed; false when the row is skipped: a backend that cannot be made or
+// cannot hold the frame (no Vulkan device, a build without Vulkan) skips it, with the reason in
+// `skipped`. The peak memory is the highest over the row's repetitions, the counter reset before
+// each (the process's so far where it cannot be reset), with what was resident when that one started.
+bool RunBenchRepetition(BenchRow& row, const Scene& scene, const SceneBuffers& buffers, int repetitions, bool progress);
 
 }  // namespace rayspace::app

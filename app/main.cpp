@@ -99,7 +99,7 @@ void AddBench(CLI::App& app, Commands& cmds) {
   bc->add_option("--sizes", b.sizes, "Image sizes WxH[,WxH...] (default 512x512); with several, how time grows with pixels");
   bc->add_option("--configs", b.configs,
                  "Configurations to run, comma-separated (default: all, in this order): " + rayspace::app::BenchConfigsHelp());
-  bc->add_option("--repetitions", b.repetitions, "Frames per configuration, scene and size; the table shows the median "
+  bc->add_option("--repetitions", b.repetitions, "Frames per configuration, scene and size, run in rounds of one frame per configuration; the table shows the median "
                  "(default 3)")->check(CLI::Range(1, 1000));
   bc->add_option("--threads", b.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
   bc->add_option("--json", b.json, "Write every measurement as JSON to this file (-: to standard output, in place of "
