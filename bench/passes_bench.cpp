@@ -2,9 +2,14 @@
 // Run: build/bench/rayspace_bench [--benchmark_filter=...]; times are medians of repetitions.
 #include <benchmark/benchmark.h>
 
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <map>
 
+#include "rayspace/emu/cone_cull.h"
 #include "rayspace/emu/frame.h"
+#include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/passes.h"
 #include "rayspace/parallel.h"
 #include "rayspace/workgroup.h"
@@ -28,7 +33,9 @@ const Loaded& Get(const std::string& name) {
   auto it = cache.find(name);
   if (it == cache.end()) {
     Loaded l;
-    l.scene = LoadScene(std::string(RAYSPACE_SOURCE_DIR) + "/scenes/" + name, {});
+    LoadOptions lo;
+    if (const char* data = std::getenv("RAYSPACE_DATA")) lo.data_root = data;
+    l.scene = LoadScene(std::string(RAYSPACE_SOURCE_DIR) + "/scenes/" + name, lo);
     l.buffers = FlattenScene(l.scene);
     l.fc = MakeFrameConstants(l.scene, l.buffers, 512, 512);
     it = cache.emplace(name, std::move(l)).first;
@@ -59,6 +66,26 @@ void BM_Frame(benchmark::State& state, const char* scene) {
   auto tracer = emu::MakeDirectTracer(l.buffers, emu::DirectMode::kAuto);
   emu::FrameOptions fo;
   for (auto _ : state) benchmark::DoNotOptimize(emu::RenderFrame(l.scene, l.buffers, *tracer, fo));
+}
+
+// The fused crsh frame (flat, 512x512) with the top level's group culling (emu/cone_cull.h) and
+// without it (a margin no group clears). Run with --benchmark_enable_random_interleaving=true and
+// repetitions so both see the same machine. Sponza needs RAYSPACE_DATA.
+void BM_FusedFrameCull(benchmark::State& state, const char* scene, bool cull) {
+  if (std::string(scene) == "sponza.json" && !std::getenv("RAYSPACE_DATA")) {
+    state.SkipWithError("RAYSPACE_DATA is not set");
+    return;
+  }
+  const Loaded& l = Get(scene);
+  emu::HierarchyConfig cfg;
+  cfg.fused = true;
+  auto tracer = emu::MakeHierarchyTracer(l.buffers, cfg);
+  emu::FrameOptions fo;
+  const double saved = emu::cone::SetCullMarginForTesting(cull ? emu::cone::kCullMargin : INFINITY);
+  emu::ResetFusedCulledSlots();
+  for (auto _ : state) benchmark::DoNotOptimize(emu::RenderFrame(l.scene, l.buffers, *tracer, fo));
+  state.counters["culled/frame"] = benchmark::Counter(static_cast<double>(emu::FusedCulledSlots()), benchmark::Counter::kAvgIterations);
+  emu::cone::SetCullMarginForTesting(saved);
 }
 
 // The workgroup model's cost (docs/workgroups.md): a 1M-element inclusive scan of blocks of 256, as
@@ -140,6 +167,10 @@ BENCHMARK_CAPTURE(BM_ShadowTrace, cornell_bvh, "cornell-mirrors.json", emu::Dire
 BENCHMARK_CAPTURE(BM_ShadowTrace, cornell_exhaustive, "cornell-mirrors.json", emu::DirectMode::kExhaustive)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK_CAPTURE(BM_ShadowTrace, office_bvh, "office.json", emu::DirectMode::kBvh)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Frame, cornell, "cornell-mirrors.json")->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK_CAPTURE(BM_FusedFrameCull, office_cull, "office.json", true)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_FusedFrameCull, office_no_cull, "office.json", false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_FusedFrameCull, sponza_cull, "sponza.json", true)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_FusedFrameCull, sponza_no_cull, "sponza.json", false)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_ScanHillisSteele, checked, true)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly();
 BENCHMARK_CAPTURE(BM_ScanHillisSteele, unchecked, false)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly();
 BENCHMARK_CAPTURE(BM_ScanSubgroup, checked, true)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly();
