@@ -14,6 +14,7 @@ const BenchConfig kVariants[] = {
     {"crsh-passes", "crsh", "passes", "emu", "crsh with the kernels' passes on the emulator (render --path passes)"},
     {"crsh-tree", "crsh", "auto", "emu", "crsh descending each object's bounding-sphere tree with the cone hierarchy (render --objects tree)", "tree"},
     {"crsh-auto", "crsh", "auto", "emu", "crsh with flat or tree chosen per ray batch, render's default (render --objects auto)", "auto"},
+    {"crsh-levels-auto", "crsh", "auto", "emu", "crsh with its levels from the image's pixels (render --levels auto)", "flat", "auto"},
     {"vulkan", "crsh", "fused", "vulkan", "crsh with the GLSL kernels, levels fused (render --backend vulkan; skipped without a device)"},
     {"vulkan-passes", "crsh", "passes", "vulkan", "crsh with the GLSL kernels pass by pass (render --backend vulkan --path passes)"},
     {"vulkan-tree", "crsh", "fused", "vulkan", "crsh-tree with the GLSL kernels (render --backend vulkan --objects tree)", "tree"},
@@ -75,6 +76,7 @@ void ApplyBenchConfig(const BenchConfig& config, RenderArgs& args) {
   args.path = config.path;
   args.backend = config.backend;
   args.objects = config.objects;
+  if (config.levels == "auto") args.depth_auto = args.depth_given = true;
 }
 
 }  // namespace rayspace::app

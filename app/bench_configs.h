@@ -17,6 +17,7 @@ struct BenchConfig {
   std::string backend = "emu";   // render --backend
   std::string what;              // one line for --help
   std::string objects = "flat";  // render --objects
+  std::string levels;            // render --levels (empty: render's default)
 };
 
 // The configuration every ratio is taken against.

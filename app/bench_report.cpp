@@ -157,11 +157,12 @@ void PrintGrowthTable(std::FILE* out, const std::vector<BenchRow>& rows) {
 
 bool CheckDigests(std::FILE* out, std::FILE* err, const std::vector<BenchRow>& rows) {
   bool ok = true;
-  std::map<std::tuple<std::string, int, int, std::string>, const BenchRow*> first;  // per scene, size and --algo
-  std::vector<std::vector<std::string>> agreed;  // per --algo, its configurations that gave the same digests
+  // Per scene, size, --algo and --levels (the levels change the statistics, which the digest holds).
+  std::map<std::tuple<std::string, int, int, std::string, std::string>, const BenchRow*> first;
+  std::vector<std::vector<std::string>> agreed;  // per --algo and --levels, its configurations that gave the same digests
   for (const BenchRow& r : rows) {
     if (!r.skipped.empty() || r.digests.empty()) continue;
-    const BenchRow*& ref = first[{r.scene, r.width, r.height, r.config->algo}];
+    const BenchRow*& ref = first[{r.scene, r.width, r.height, r.config->algo, r.config->levels}];
     if (!ref) ref = &r;
     for (std::size_t k = 0; k < r.digests.size(); ++k) {
       if (r.digests[k] == ref->digests.front()) continue;

@@ -130,12 +130,31 @@ void AddFrameOptions(CLI::App& command, FrameArgs& args) {
       ->capture_default_str();
   // Levels of the ray hierarchy, not bounces (--bounces): --depth is its older name, kept working.
   command
-      .add_option("--levels,--depth", args.depth,
-                  "Hierarchy levels (rah-quadtree: log2 of the image size unless given); --depth is the same option. "
-                  "Not the bounces: see --bounces")
-      ->check(CLI::Range(1, 12))
-      ->capture_default_str()
-      ->each([&args](const std::string&) { args.depth_given = true; });
+      .add_option_function<std::string>(
+          "--levels,--depth",
+          [&args](const std::string& v) {
+            args.depth_given = true;
+            args.depth_auto = v == "auto";
+            if (!args.depth_auto) args.depth = std::stoi(v);
+          },
+          fmt::format("Hierarchy levels, or auto: the fewest (at least 2) that leave at most {} top nodes for the "
+                      "image's pixels (rah-quadtree: log2 of the image size unless given); --depth is the same "
+                      "option. Not the bounces: see --bounces",
+                      emu::kAutoTopNodes))
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            if (v == "auto") return {};
+            int n = 0;
+            std::size_t used = 0;
+            try {
+              n = std::stoi(v, &used);
+            } catch (const std::exception&) {
+              used = 0;
+            }
+            return used == v.size() && n >= 1 && n <= 12 ? "" : "'" + v + "' is not auto or an integer in [1 - 12]";
+          },
+          "INT in [1 - 12] or auto"))
+      ->default_str(std::to_string(args.depth));
   command
       .add_option("--bounces", args.bounces,
                   fmt::format("Reflection and refraction bounces, in place of the scene's max_depth (0 to {})", kMaxDepth))
@@ -264,11 +283,12 @@ emu::HierarchyConfig MakeHierarchyConfig(const FrameArgs& args, int width, int h
                  : args.algo == "rah" ? emu::Algorithm::kRah
                                       : emu::Algorithm::kRahQuadtree;
   hc.subdivision = args.subdivision;
-  hc.depth = args.depth;
+  hc.depth = args.depth_auto ? emu::AutoLevels(static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height), hc.subdivision)
+                             : args.depth;
   if (hc.algorithm == emu::Algorithm::kRahQuadtree) {
     // Roger et al.: 2x2 tiles up to the whole image, depth log2 of the image size.
     hc.subdivision = 4;
-    if (!args.depth_given) hc.depth = static_cast<int>(std::ceil(std::log2(std::max(width, height))));
+    if (!args.depth_given || args.depth_auto) hc.depth = static_cast<int>(std::ceil(std::log2(std::max(width, height))));
     hc.depth = std::max(hc.depth, 1);
   }
   CheckPairCapacity(args.pair_capacity, hc.subdivision, hc.depth);

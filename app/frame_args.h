@@ -43,6 +43,7 @@ struct FrameArgs {
   std::string algo = "crsh";
   int subdivision = kHierarchyDefaults.subdivision, depth = kHierarchyDefaults.depth;
   bool depth_given = false;  // --levels was given (rah-quadtree otherwise derives it from the image size)
+  bool depth_auto = false;   // --levels auto: from the image's pixels (emu::AutoLevels)
   int bounces = -1;          // --bounces: the scene's max_depth unless given
   std::string reduction = "hierarchical";
   std::string objects = "auto";  // --objects flat|tree|auto

@@ -48,6 +48,19 @@ string(JSON levels_n ERROR_VARIABLE jerr GET "${levels_stats}" hierarchy_levels)
 if(NOT levels_digest STREQUAL depth_digest OR NOT levels_n EQUAL 3)
   set(FAILURES "${FAILURES}\n  [--depth alias] --levels 3 digest ${levels_digest} (levels ${levels_n}), --depth 3 ${depth_digest}")
 endif()
+# --levels auto: the fewest levels (at least 2) that leave at most 512 top nodes for the pixels:
+# 24x24 = 576 pixels need 2 at subdivision 8; 128x128 = 16,384 at subdivision 4 leave 1,024 top nodes
+# with 2 levels and 256 with 3.
+render(levels_auto_small --levels auto)
+execute_process(COMMAND "${RAYSPACE}" render "${cornell}" --size 128x128 --no-oracle --out "${WORK}/x.png" --subdivision 4
+                        --levels auto --stats "${WORK}/levels_auto.json" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+math(EXPR CASES "${CASES} + 1")
+file(READ "${WORK}/levels_auto.json" levels_auto_stats)
+string(JSON auto_small_n ERROR_VARIABLE jerr GET "${levels_auto_small_stats}" hierarchy_levels)
+string(JSON auto_n ERROR_VARIABLE jerr GET "${levels_auto_stats}" hierarchy_levels)
+if(NOT rc EQUAL 0 OR NOT auto_small_n EQUAL 2 OR NOT auto_n EQUAL 3)
+  set(FAILURES "${FAILURES}\n  [--levels auto] 24x24: ${auto_small_n} levels (expected 2); 128x128, subdivision 4: ${auto_n} (expected 3), exit ${rc} ${err}")
+endif()
 string(JSON refl0 ERROR_VARIABLE jerr GET "${bounces0_stats}" rays reflection total)
 string(JSON refl1 ERROR_VARIABLE jerr GET "${plain_stats}" rays reflection total)
 string(JSON b0 ERROR_VARIABLE jerr GET "${bounces0_stats}" bounces)
@@ -58,7 +71,7 @@ endif()
 # --- --help shows the defaults ------------------------------------------------------------------
 execute_process(COMMAND "${RAYSPACE}" render --help RESULT_VARIABLE rc OUTPUT_VARIABLE help)
 math(EXPR CASES "${CASES} + 1")
-foreach(line "--algo TEXT:{[^}]*}=crsh" "--subdivision INT:{4,8,16}=8" "--levels,--depth INT:INT in \\[1 - 12\\]=2"
+foreach(line "--algo TEXT:{[^}]*}=crsh" "--subdivision INT:{4,8,16}=8" "--levels,--depth TEXT:INT in \\[1 - 12\\] or auto=2"
              "--reduction TEXT:{hierarchical,scan}=hierarchical" "--depth is the same option" "--component-size [^\n]*=64"
              "--pair-capacity UINT:UINT in \\[subdivision\\^\\(levels-1\\) - 2\\^30\\]=16777216" "--bounces INT")
   expect_match("render --help" "${help}" "${line}")

@@ -129,3 +129,16 @@ TEST_CASE("leaf test: ray-sphere cuts the ray-triangle tests per ray on cornell-
     CHECK(Results(lanes.frame) == Results(node.frame));
   }
 }
+
+TEST_CASE("hierarchy: --levels auto, known answers (the fewest levels, at least 2, leaving at most 512 top nodes)") {
+  CHECK(emu::AutoLevels(0, 8) == 2);
+  CHECK(emu::AutoLevels(24 * 24, 8) == 2);
+  CHECK(emu::AutoLevels(512 * 64, 8) == 2);        // 32,768 rays / 8^2 = 512 top nodes
+  CHECK(emu::AutoLevels(512 * 64 + 1, 8) == 3);
+  CHECK(emu::AutoLevels(256 * 256, 8) == 3);       // 128 top nodes
+  CHECK(emu::AutoLevels(512 * 512, 8) == 3);       // 512
+  CHECK(emu::AutoLevels(512 * 512 + 1, 8) == 4);
+  CHECK(emu::AutoLevels(1024 * 1024, 8) == 4);     // 256
+  CHECK(emu::AutoLevels(128 * 128, 4) == 3);       // 256; with 2 levels 1,024
+  CHECK(emu::AutoLevels(std::uint64_t{1} << 40, 4) == 12);  // capped at --levels' maximum
+}

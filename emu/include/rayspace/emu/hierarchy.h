@@ -27,6 +27,21 @@ inline constexpr float kAutoTreeSpread = 0.1f;
 inline constexpr std::uint32_t kAutoTreeTriangles = 16384;
 class HierarchyPasses;
 
+// --levels auto: the fewest levels, at least 2, for which `rays` rays leave at most kAutoTopNodes top
+// nodes (rays / subdivision^levels). With a fixed number of levels the top level's nodes, and so its
+// tests, grow with the rays; a bounded top keeps the search's growth below linear
+// (docs/performance.md, "Levels from the pixels").
+inline constexpr std::uint64_t kAutoTopNodes = 512;
+inline int AutoLevels(std::uint64_t rays, int subdivision) {
+  int levels = 2;
+  std::uint64_t per_top = static_cast<std::uint64_t>(subdivision) * static_cast<std::uint64_t>(subdivision);
+  while (levels < 12 && rays > kAutoTopNodes * per_top) {
+    per_top *= static_cast<std::uint64_t>(subdivision);
+    ++levels;
+  }
+  return levels;
+}
+
 struct HierarchyConfig {
   Algorithm algorithm = Algorithm::kCrsh;
   int subdivision = 8;                    // children per node (4, 8, 16)
