@@ -67,6 +67,29 @@ for s in spheres:
     write("cone_sphere", f"half_space-{s}", nodes["half_space"] + spheres[s])
     write("cone_sphere", f"tiny_angle-{s}", nodes["tiny_angle"] + spheres[s])
 
+# cone_cull: node, eps, then up to 32 spheres (one group); the harness also slides the group to the
+# edge of culling, so a seed needs only a shape and a direction.
+def cluster(centre, spread, radius, n):
+    out = []
+    for i in range(n):
+        a, b = 2.399963 * i, (i + 0.5) / n  # a deterministic spiral
+        out += [centre[0] + spread * math.cos(a) * b, centre[1] + spread * math.sin(a) * b,
+                centre[2] + spread * (2 * b - 1), radius * (1 + i % 3) / 3]
+    return out
+
+
+for name, node, eps, group in [
+        ("narrow-offaxis", nodes["tiny_angle"], 0, cluster([50, -20, 5], 1, 0.1, 32)),
+        ("unit-behind", nodes["unit"], 0, cluster([0, 0, -10], 2, 0.5, 16)),
+        ("half_space-side", nodes["half_space"], 1e-3, cluster([0, 10, -3], 0.5, 0, 8)),
+        ("near_half-below", nodes["near_half"], 0, cluster([1, -1, -5], 3, 1, 32)),
+        ("wide-one", nodes["wide"], 0, cluster([0, 0, 20], 0, 1, 1)),
+        ("full", nodes["full"], 0, cluster([9, 9, 9], 1, 1, 4)),
+        ("huge", nodes["huge"], 2.0 ** 40, cluster([-HUGE, HUGE, 0], 2.0 ** 50, 2.0 ** 40, 12)),
+        ("tiny", nodes["tiny"], 0, cluster([-TINY, TINY, 3 * TINY], TINY / 4, 0, 7)),
+        ("point_ray-flat", nodes["point_ray"], 0, cluster([1, 2, 3], 5, 0, 32))]:
+    write("cone_cull", name, node + [eps] + group)
+
 tri = [0, 0, 0, 1, 0, 0, 0, 1, 0]
 write("ray_triangle", "interior", [0.25, 0.25, 1, 0, 0, -1] + tri)
 write("ray_triangle", "edge", [0.5, 0, 1, 0, 0, -1] + tri)
