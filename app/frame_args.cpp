@@ -115,20 +115,8 @@ void AddGridOptions(CLI::App& command, FrameArgs& args) {
                    "is warned of, and the shadow results it changes are counted against the oracle)");
 }
 
-}  // namespace
-
-void AddFrameOptions(CLI::App& command, FrameArgs& args) {
-  command
-      .add_option("--algo", args.algo,
-                  "Tracer for secondary rays: crsh (ray hashing + sorting, object spheres), rah (same hierarchy "
-                  "over unsorted rays), rah-quadtree (Roger et al.'s screen quadtree), tl (Toczek et al.'s "
-                  "traversal lists), grid (Hunt and Mark's perspective grids), brute (emulated direct tracer), embree")
-      ->check(CLI::IsMember(AlgorithmNames()))
-      ->capture_default_str();
-  command.add_option("--subdivision", args.subdivision, "Children per hierarchy node (rah-quadtree: always 4)")
-      ->check(CLI::IsMember({4, 8, 16}))
-      ->capture_default_str();
-  // Levels of the ray hierarchy, not bounces (--bounces): --depth is its older name, kept working.
+// --levels (alias --depth): a number of levels, or auto (emu::AutoLevels from the image's pixels).
+void AddLevelsOption(CLI::App& command, FrameArgs& args) {
   command
       .add_option_function<std::string>(
           "--levels,--depth",
@@ -155,6 +143,23 @@ void AddFrameOptions(CLI::App& command, FrameArgs& args) {
           },
           "INT in [1 - 12] or auto"))
       ->default_str(std::to_string(args.depth));
+}
+
+}  // namespace
+
+void AddFrameOptions(CLI::App& command, FrameArgs& args) {
+  command
+      .add_option("--algo", args.algo,
+                  "Tracer for secondary rays: crsh (ray hashing + sorting, object spheres), rah (same hierarchy "
+                  "over unsorted rays), rah-quadtree (Roger et al.'s screen quadtree), tl (Toczek et al.'s "
+                  "traversal lists), grid (Hunt and Mark's perspective grids), brute (emulated direct tracer), embree")
+      ->check(CLI::IsMember(AlgorithmNames()))
+      ->capture_default_str();
+  command.add_option("--subdivision", args.subdivision, "Children per hierarchy node (rah-quadtree: always 4)")
+      ->check(CLI::IsMember({4, 8, 16}))
+      ->capture_default_str();
+  // Levels of the ray hierarchy, not bounces (--bounces): --depth is its older name, kept working.
+  AddLevelsOption(command, args);
   command
       .add_option("--bounces", args.bounces,
                   fmt::format("Reflection and refraction bounces, in place of the scene's max_depth (0 to {})", kMaxDepth))
