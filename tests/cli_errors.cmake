@@ -56,6 +56,12 @@ expect_error(NAME "--size 99999x10"
 expect_error(NAME "--size abc"
              NEEDLES "--size" "abc"
              ARGS render "${WORK}/good.json" --size abc --out "${WORK}/x.png")
+expect_error(NAME "--levels autox"
+             NEEDLES "--levels" "autox" "not auto or an integer in [1 - 12]"
+             ARGS render "${WORK}/good.json" --levels autox --out "${WORK}/x.png")
+expect_error(NAME "--levels 13"
+             NEEDLES "--levels" "'13'"
+             ARGS render "${WORK}/good.json" --levels 13 --out "${WORK}/x.png")
 expect_error(NAME "--threads 0"
              NEEDLES "--threads"
              ARGS render "${WORK}/good.json" --threads 0 --out "${WORK}/x.png")

@@ -21,7 +21,7 @@ bool Bounded(double v) { return std::isfinite(v) && std::abs(v) < kCullLimit; }
 
 SphereGroups GroupsOf(std::span<const glm::vec4> spheres, std::uint32_t group_size) {
   const std::size_t n = (spheres.size() + group_size - 1) / group_size;
-  SphereGroups g{group_size, std::vector<double>(n), std::vector<double>(n), std::vector<double>(n), std::vector<double>(n),
+  SphereGroups g{std::vector<double>(n), std::vector<double>(n), std::vector<double>(n), std::vector<double>(n),
                  std::vector<std::uint8_t>(n, 0)};
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t b = i * group_size, e = std::min(spheres.size(), b + group_size);

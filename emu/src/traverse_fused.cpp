@@ -108,8 +108,8 @@ Compacted PassTraverseTopCompacted(const call::TraverseTop& c) {
   if (c.cone_test == layout::kConeTestPrinted) return TraverseTopCompactedWith(kPrintedTest, c);
   const std::uint32_t T = c.b1 - c.b0;
   const std::size_t grid = static_cast<std::size_t>(c.t1 - c.t0) * T;
-  const TopSpheres spheres{cone::ToArrays(c.tri_spheres.subspan(c.b0, T)), cone::GroupsOf(c.tri_spheres.subspan(c.b0, T), cone::kCullCoarse),
-                           cone::GroupsOf(c.tri_spheres.subspan(c.b0, T), cone::kCullGroup)};
+  const std::span<const glm::vec4> batch = c.tri_spheres.subspan(c.b0, T);
+  const TopSpheres spheres{cone::ToArrays(batch), cone::GroupsOf(batch, cone::kCullCoarse), cone::GroupsOf(batch, cone::kCullGroup)};
   const std::vector<ObjectRun> runs = ObjectRuns(c);
   return CompactInBlocks(grid, kFusedBlock, [&](std::size_t e0, std::size_t e1, std::vector<std::uint32_t>& out, std::uint64_t& tested) {
     std::vector<std::uint32_t> buf(e1 - e0 + cone::kLanePad);

@@ -20,10 +20,8 @@ inline constexpr std::uint32_t kCullGroup = 32, kCullCoarse = 256;
 // Per group, in double: a centre, a radius containing every sphere of the group, and whether the
 // bound may be used (every sphere finite, radius >= 0, magnitudes below kCullLimit).
 struct SphereGroups {
-  std::uint32_t group_size;
   std::vector<double> x, y, z, r;
   std::vector<std::uint8_t> usable;
-  std::size_t size() const { return usable.size(); }
 };
 inline constexpr double kCullLimit = 0x1p100;
 SphereGroups GroupsOf(std::span<const glm::vec4> spheres, std::uint32_t group_size);
