@@ -1,6 +1,7 @@
 #version 460
-// Hierarchy traversal of one block: phase Top tests top nodes x triangles, Level tests the children
-// of each surviving pair's node, Objects tests top nodes x object spheres (CRSH's culling mask, the
+// Hierarchy traversal of one block: phase Top tests top nodes x triangles (a run of consecutive
+// triangles of one top node per invocation), Level tests the children of each surviving pair's
+// node, Objects tests top nodes x object spheres (CRSH's culling mask, the
 // spheres bound at kTraverseBindTriSpheres); mirrors emu PassTraverseTop / PassTraverseLevel / PassObjectMask.
 #include "common.glsl"
 #include "cone.glsl"
@@ -28,14 +29,21 @@ void main() {
   const uint e = GlobalIndex();
   if (e >= pc.count) return;
   if (pc.phase == kTraversePhaseTop) {
-    const uint node = pc.t0 + e / pc.tris, tri = pc.b0 + e % pc.tris;
-    const bool test = pc.use_mask == 0u || object_mask[(node - pc.t0) * pc.objects + info[tri].ids.y] != 0u;
-    tested[e] = test ? 1u : 0u;
-    // Fault 1: the top level ignores the triangle sphere's radius (a too-small bound).
-    vec4 sphere = tri_spheres[tri];
-    if (kFault == 1u) sphere.w = 0.0;
-    flags[e] = (test && ConeTestBy(pc.cone_test, NodeAt(node), sphere, pc.eps)) ? 1u : 0u;
-    values[e] = ((node - pc.id_base) << kPairTriangleBits) | (tri - pc.b0);
+    // Invocation e: run e % runs of row e / runs, kTraverseTopRun slots (rayspace/contract.h).
+    const uint runs = (pc.tris + kTraverseTopRun - 1u) / kTraverseTopRun, row = e / runs;
+    if (row >= pc.count / pc.tris) return;  // the rows' runs are fewer than the slots
+    const uint node = pc.t0 + row, col0 = (e - row * runs) * kTraverseTopRun;
+    const ConeNode n = NodeAt(node);
+    for (uint col = col0; col < min(col0 + kTraverseTopRun, pc.tris); ++col) {
+      const uint s = row * pc.tris + col, tri = pc.b0 + col;
+      const bool test = pc.use_mask == 0u || object_mask[row * pc.objects + info[tri].ids.y] != 0u;
+      tested[s] = test ? 1u : 0u;
+      // Fault 1: the top level ignores the triangle sphere's radius (a too-small bound).
+      vec4 sphere = tri_spheres[tri];
+      if (kFault == 1u) sphere.w = 0.0;
+      flags[s] = (test && ConeTestBy(pc.cone_test, n, sphere, pc.eps)) ? 1u : 0u;
+      values[s] = ((node - pc.id_base) << kPairTriangleBits) | col;
+    }
   } else if (pc.phase == kTraversePhaseObjects) {
     // Fault 2 (seen only when the mask is computed in parts, --split-bytes): the part's start is dropped.
     const uint g = (kFault == 2u ? 0u : pc.t0) + e;  // element of the whole mask; this dispatch writes a part of it

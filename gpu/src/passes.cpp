@@ -47,6 +47,10 @@ std::size_t VulkanPasses::PerPart(std::size_t bytes_per_element) const {
   return std::max<std::size_t>(1, SplitBytes() / std::max<std::size_t>(bytes_per_element, 1));
 }
 
+std::size_t VulkanPasses::StreamPerPart(std::size_t bytes_per_element) const {
+  return std::max<std::size_t>(1, std::min(SplitBytes(), kStreamPartBytes) / std::max<std::size_t>(bytes_per_element, 1));
+}
+
 std::size_t VulkanPasses::SplitBytes() const { return static_cast<std::size_t>(ctx_->storage_limit()); }
 
 }  // namespace rayspace::gpu_backend

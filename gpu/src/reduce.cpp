@@ -56,8 +56,7 @@ vk::Status RunReduce(vk::Context& c, const vk::Kernel& k, std::span<const std::u
 vk::Status VulkanPasses::ReduceInParts(std::span<const std::uint32_t> flags, std::span<const std::uint32_t> values,
                                        std::uint32_t s, bool scan, std::vector<std::uint32_t>& out) {
   out.clear();
-  const std::size_t n = flags.size(), per = scan ? std::max<std::size_t>(1, SplitBytes() / 4)
-                                                 : std::max<std::size_t>(1, SplitBytes() / 4 / s) * s;
+  const std::size_t n = flags.size(), per = scan ? StreamPerPart(4) : std::max<std::size_t>(1, StreamPerPart(4) / s) * s;
   std::size_t p0 = 0;
   do {
     const std::size_t len = std::min(n - p0, per);

@@ -25,9 +25,10 @@ class Traverser {
   }
   // One part, in a submit of its own (its output buffers are freed before the next part): `mask`
   // and `pairs` are this part's; flags and values (`slots` words) and tested (`tested` words) go to
-  // the given pointers (null: not read back).
+  // the given pointers (null: not read back). `invocations`: push.count unless the phase says otherwise.
   vk::Status Part(layout::TraversePush push, std::span<const std::uint32_t> mask, std::span<const std::uint32_t> pairs, std::size_t slots,
-                  std::size_t tested, std::uint32_t* flags_out, std::uint32_t* values_out, std::uint32_t* tested_out) const {
+                  std::size_t tested, std::uint32_t* flags_out, std::uint32_t* values_out, std::uint32_t* tested_out,
+                  std::uint32_t invocations) const {
     Keep keep;
     const vk::Buffer *bm = nullptr, *bp = nullptr, *bfl = nullptr, *bv = nullptr, *bt = nullptr;
     RS_TRY(keep.From(c_, mask, bm));
@@ -41,7 +42,7 @@ class Traverser {
     b.Set(layout::kTraverseBindTriSpheres, &spheres_).Set(layout::kTraverseBindInfo, &info_).Set(layout::kTraverseBindMask, bm);
     b.Set(layout::kTraverseBindPairs, bp).Set(layout::kTraverseBindFlags, bfl).Set(layout::kTraverseBindValues, bv);
     b.Set(layout::kTraverseBindTested, bt).Set(layout::kTraverseBindNodes, nodes_).Set(layout::kTraverseBindFirst, first_);
-    RS_TRY(RunKernel(c_, k_, b.All(), &push, sizeof push, push.count));
+    RS_TRY(RunKernel(c_, k_, b.All(), &push, sizeof push, invocations));
     RS_TRY(keep.CopyBack());
     return vk::Status::Ok();
   }
@@ -145,14 +146,17 @@ vk::Status VulkanPasses::Run(const emu::call::TraverseTop& call, emu::PairSlots&
   // Parts are rows of top nodes, so that the flags/values/tested bindings and the object mask's rows
   // for those nodes stay within one binding.
   const std::size_t objects = scene.objects.size(), row_words = std::max<std::size_t>({T, object_mask.empty() ? 1 : objects, 1});
-  RS_TRY(ForParts(t1 - t0, PerPart(4 * row_words), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
+  RS_TRY(ForParts(t1 - t0, StreamPerPart(4 * row_words), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
     const std::uint32_t r0 = t0 + static_cast<std::uint32_t>(i0), r1 = t0 + static_cast<std::uint32_t>(i1);
     const std::size_t at = i0 * T, n = (i1 - i0) * T;
     const layout::TraversePush push{layout::kTraversePhaseTop, static_cast<std::uint32_t>(n), r0, b0, static_cast<std::uint32_t>(T),
                                  static_cast<std::uint32_t>(objects), object_mask.empty() ? 0u : 1u, 0, 0, 0, call.eps, t0, 0, 0, call.cone_test};
     const std::span<const std::uint32_t> mask_rows =
         object_mask.empty() ? std::span<const std::uint32_t>() : std::span(object_mask).subspan(r0 * objects, (r1 - r0) * objects);
-    return tr.Part(push, mask_rows, {}, n, n, flags.data() + at, values.data() + at, tested.data() + at);
+    // A run of kTraverseTopRun slots of one row per invocation (rayspace/contract.h).
+    const std::size_t runs = (i1 - i0) * ((T + layout::kTraverseTopRun - 1) / layout::kTraverseTopRun);
+    return tr.Part(push, mask_rows, {}, n, n, flags.data() + at, values.data() + at, tested.data() + at,
+                   static_cast<std::uint32_t>(runs));
   }));
   return ToSlots("traverse.top", flags, std::move(values), tested, out);
 }
@@ -164,12 +168,12 @@ vk::Status VulkanPasses::Run(const emu::call::TraverseLevel& call, emu::PairSlot
   std::vector<std::uint32_t> flags(count * children_max, 0), values(count * children_max, 0), tested(count, 0);
   Traverser tr(*ctx_, K(PassId::kTraverse));
   RS_TRY(tr.Upload(call.nodes, call.first, call.tri_spheres, {}, paged_arrays_));
-  RS_TRY(ForParts(count, PerPart(4 * std::size_t{children_max}), extra_dispatches_, [&](std::size_t p0, std::size_t p1) -> vk::Status {
+  RS_TRY(ForParts(count, StreamPerPart(4 * std::size_t{children_max}), extra_dispatches_, [&](std::size_t p0, std::size_t p1) -> vk::Status {
     const std::uint32_t n = static_cast<std::uint32_t>(p1 - p0);
     const layout::TraversePush push{layout::kTraversePhaseLevel, n, 0, call.b0, 0, 0, 0, call.base_up, call.base, children_max,
                                  call.eps, 0, 0, 0, call.cone_test};
     return tr.Part(push, {}, Slice(call.pairs, p0, p1), std::size_t{n} * children_max, n, flags.data() + p0 * children_max,
-                   values.data() + p0 * children_max, tested.data() + p0);
+                   values.data() + p0 * children_max, tested.data() + p0, n);
   }));
   return ToSlots("traverse.level", flags, std::move(values), tested, out);
 }
@@ -188,7 +192,7 @@ vk::Status VulkanPasses::Run(const emu::call::ObjectMask& call, std::vector<std:
     const std::uint32_t n = static_cast<std::uint32_t>(i1 - i0);
     const layout::TraversePush push{layout::kTraversePhaseObjects, n, static_cast<std::uint32_t>(i0), 0, 0, objects, 0, 0, 0, 0, call.eps,
                                  0, 0, 0, call.cone_test};
-    return tr.Part(push, {}, {}, n, 0, mask.data() + i0, nullptr, nullptr);
+    return tr.Part(push, {}, {}, n, 0, mask.data() + i0, nullptr, nullptr, n);
   }));
   return Narrow("traverse.objects", mask, out);
 }
@@ -206,7 +210,7 @@ vk::Status VulkanPasses::Run(const emu::call::TraverseTopCompacted& call, emu::C
   // A row also holds a survivor count and a test count (one word each, in bindings of their own): at
   // least two words a row keeps those within one binding too.
   const std::size_t row_words = std::max<std::size_t>({T, object_mask.empty() ? 1 : objects, 2});
-  return ForParts(call.t1 - t0, PerPart(4 * row_words), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
+  return ForParts(call.t1 - t0, StreamPerPart(4 * row_words), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
     const std::uint32_t r0 = t0 + static_cast<std::uint32_t>(i0), n = static_cast<std::uint32_t>((i1 - i0) * T);
     const layout::TraverseCompactPush push{layout::kTraverseCompactPhaseTop, n, 0, 0, r0, b0, T, objects, object_mask.empty() ? 0u : 1u,
                                         0, 0, 0, call.eps, t0, 0, 0, call.cone_test};
@@ -222,7 +226,7 @@ vk::Status VulkanPasses::Run(const emu::call::TraverseLevelCompacted& call, emu:
   const std::uint32_t children_max = call.children_max;
   Traverser tr(*ctx_, K(PassId::kTraverseCompact));
   RS_TRY(tr.Upload(call.nodes, call.first, call.tri_spheres, {}, paged_arrays_));
-  const std::size_t per = PerPart(4 * std::size_t{std::max(children_max, 1u)});
+  const std::size_t per = StreamPerPart(4 * std::size_t{std::max(children_max, 1u)});
   return ForParts(call.pairs.size(), per, extra_dispatches_, [&](std::size_t p0, std::size_t p1) -> vk::Status {
     const std::uint32_t n = static_cast<std::uint32_t>((p1 - p0) * children_max);
     const layout::TraverseCompactPush push{layout::kTraverseCompactPhaseLevel, n, 0, 0, 0, call.b0, 0, 0, 0, call.base_up, call.base,

@@ -225,6 +225,11 @@ RS_CONST(uint, kTraverseBindings, 15u);
 RS_CONST(uint, kTraversePhaseTop, 0u);        // top nodes x triangles
 RS_CONST(uint, kTraversePhaseLevel, 1u);      // children of each surviving pair's node
 RS_CONST(uint, kTraversePhaseObjects, 2u);    // top nodes x object spheres (CRSH's culling mask)
+// The top phase runs one invocation per run of kTraverseTopRun consecutive slots of one row (one top
+// node against kTraverseTopRun consecutive triangles): rows x ceil(tris / kTraverseTopRun)
+// invocations for `count` = rows x tris slots. The row's node, a paged load of three vec4 that costs
+// lavapipe more than the cone test, is loaded once per run rather than once per slot.
+RS_CONST(uint, kTraverseTopRun, 8u);
 // Which cone-sphere test the traversal runs (--cone-test; docs/hierarchy.md, "Faithful to the
 // thesis"): the conservative one (cone.glsl ConeTest, emu cone::Test) or eq. 3.16 as the thesis prints
 // it (PrintedConeTest, emu cone::PrintedTest), which can lose hits. A push field, not a specialization

@@ -168,12 +168,19 @@ PairSlots TraverseTopWith(TestFn&& test, const call::TraverseTop& c) {
   s.flags.resize(grid);
   s.values.resize(grid);
   s.tested.resize(grid);
-  ParallelFor(grid, [&](std::size_t e) {
-    const std::uint32_t node = c.t0 + static_cast<std::uint32_t>(e / T), tri = c.b0 + static_cast<std::uint32_t>(e % T);
-    const bool tested = TopSlotTested(c, node, tri);
-    s.tested[e] = tested;
-    s.flags[e] = tested && test(c.top[node], c.tri_spheres[tri], c.eps);
-    s.values[e] = ((node - c.t0) << kPairTriangleBits) | (tri - c.b0);
+  // As traverse.comp: one invocation per run of kTraverseTopRun slots of one row, its node read once.
+  const std::size_t runs = (T + layout::kTraverseTopRun - 1) / layout::kTraverseTopRun;
+  ParallelFor(static_cast<std::size_t>(c.t1 - c.t0) * runs, [&](std::size_t r) {
+    const std::uint32_t row = static_cast<std::uint32_t>(r / runs), node = c.t0 + row;
+    const std::uint32_t col0 = static_cast<std::uint32_t>(r % runs) * layout::kTraverseTopRun;
+    const layout::ConeNode& n = c.top[node];
+    for (std::uint32_t col = col0; col < std::min(col0 + layout::kTraverseTopRun, T); ++col) {
+      const std::size_t e = static_cast<std::size_t>(row) * T + col;
+      const bool tested = TopSlotTested(c, node, c.b0 + col);
+      s.tested[e] = tested;
+      s.flags[e] = tested && test(n, c.tri_spheres[c.b0 + col], c.eps);
+      s.values[e] = (row << kPairTriangleBits) | col;
+    }
   });
   return s;
 }

@@ -66,6 +66,12 @@ class VulkanPasses {
                    std::vector<layout::ConeNode>& nodes, std::uint32_t child_merge = layout::kChildMergeSequential);
   // Elements per part when each element takes `bytes_per_element` in the largest per-part binding.
   std::size_t PerPart(std::size_t bytes_per_element) const;
+  // The same for the hierarchy's slot streams (traverse, reduce, traverse.compact), whose parts are
+  // also kept to kStreamPartBytes a binding: on lavapipe a part's outputs are written by the kernel
+  // and then read by the host, and parts of 128 MiB took 1.7 times as long per slot as parts of
+  // 64 MiB or less (Sponza 512x512, docs/performance.md). Such parts count as split dispatches.
+  static constexpr std::size_t kStreamPartBytes = std::size_t{64} << 20;
+  std::size_t StreamPerPart(std::size_t bytes_per_element) const;
   vk::Status RaygenShadow(const emu::call::Raygen& c, emu::SparseRays& out);
   // The launch of an element-wise pass (gpu/src/elementwise.cpp).
   template <typename C>
