@@ -316,6 +316,8 @@ int main(int argc, char** argv) {
   NoteGivenReplayOptions(cmds);
   if (cmds.validate) rayspace::vk::SetValidation(true);
   rayspace::vk::Context::SetStrictMath(cmds.strict_math);
+  // The timed frames leave new buffers as the pool hands them out; diff and replay poison them.
+  if (cmds.render_cmd->parsed() || cmds.bench_cmd->parsed()) rayspace::vk::Context::SetPoisonNewBuffers(false);
 #endif
   WarnIgnoredOptions(cmds);
   ExitCode code = ExitCode::kOk;

@@ -6,12 +6,21 @@
 #include "rayspace/emu/output_checks.h"
 #include "rayspace/emu/tl/heads.h"
 #include "rayspace/emu/tl/tl.h"
+#include "rayspace/emu/workgroup_ops.h"
 
 namespace rayspace::emu {
 namespace {
 
-// Every call C runs the emulator's Pass<C> (emu/passes.h, emu/hierarchy.h).
-#define RS_EMU_CALL(C) call::C::Result C(const call::C& c) override { return Pass##C(c); }
+// Every call C runs the emulator's Pass<C> (emu/passes.h, emu/hierarchy.h). With an @emu fault
+// planted, an emulated kernel's outputs may be garbage, and the passes after it would index with
+// them: each call then checks its inputs against its contract first (emu/calls.h, CheckInputs), so
+// the run stops with an InputError naming the call and the element instead of reading out of bounds.
+// A render without faults skips the checks (its inputs come from passes that keep their contracts).
+#define RS_EMU_CALL(C)                          \
+  call::C::Result C(const call::C& c) override { \
+    if (AnyEmuFault()) CheckInputs(c);          \
+    return Pass##C(c);                          \
+  }
 
 class EmuFrame final : public FramePasses {
  public:

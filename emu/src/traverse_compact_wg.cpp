@@ -67,10 +67,12 @@ class CompactKernel {
  public:
   CompactKernel(const layout::TraverseCompactPush& pc, In<glm::vec4> tri_spheres)
       : site_(KernelSite::Of("traverse.compact")), pc_(pc), tri_spheres_(tri_spheres) {
-    scratch_.assign(pc.count, 0u);
-    counts_.assign(std::size_t{pc.blocks} + 1, 0u);
-    tested_.assign(std::size_t{pc.blocks} + 1, 0u);
-    out_.assign(pc.count, 0u);
+    // The host's new buffers hold the poison word; a planted fault that leaves words unwritten
+    // leaves the same words here.
+    scratch_.assign(pc.count, layout::kPoisonWord);
+    counts_.assign(std::size_t{pc.blocks} + 1, layout::kPoisonWord);
+    tested_.assign(std::size_t{pc.blocks} + 1, layout::kPoisonWord);
+    out_.assign(pc.count, layout::kPoisonWord);
   }
   void BindTop(In<layout::ConeNode> top, In<layout::TriangleInfo> info, In<std::uint8_t> mask_rows) {
     nodes_ = top, info_ = info, mask_ = mask_rows;

@@ -17,6 +17,8 @@ bool g_workgroup_model = false;
 
 void SetEmuFaults(std::map<std::string, std::uint32_t> faults) { g_faults = {faults.begin(), faults.end()}; }
 
+bool AnyEmuFault() { return !g_faults.empty(); }
+
 std::uint32_t EmuFault(std::string_view pass) {
   auto it = g_faults.find(pass);
   return it == g_faults.end() ? 0u : it->second;

@@ -34,7 +34,9 @@ void main() {
     if (row >= pc.count / pc.tris) return;  // the rows' runs are fewer than the slots
     const uint node = pc.t0 + row, col0 = (e - row * runs) * kTraverseTopRun;
     const ConeNode n = NodeAt(node);
-    for (uint col = col0; col < min(col0 + kTraverseTopRun, pc.tris); ++col) {
+    // Fault 4: each run stops one slot short, leaving its last slot unwritten (its buffers' poison).
+    const uint col1 = min(col0 + kTraverseTopRun - (kFault == 4u ? 1u : 0u), pc.tris);
+    for (uint col = col0; col < col1; ++col) {
       const uint s = row * pc.tris + col, tri = pc.b0 + col;
       const bool test = pc.use_mask == 0u || object_mask[row * pc.objects + info[tri].ids.y] != 0u;
       tested[s] = test ? 1u : 0u;

@@ -20,7 +20,7 @@ namespace rayspace::gpu_backend::detail {
 // A buffer holding `v` (at least one element: an empty input still needs something to bind).
 template <typename T>
 vk::Status MakeFrom(vk::Context& c, std::span<const T> v, vk::Buffer& b) {
-  RS_TRY(c.CreateBuffer(std::max<std::size_t>(v.size(), 1) * sizeof(T), b));
+  RS_TRY(c.CreateBuffer(std::max<std::size_t>(v.size(), 1) * sizeof(T), b, /*storage=*/true, /*poison=*/false));  // written whole below
   if (v.empty()) return b.Zero();
   return b.Write(v.data(), v.size_bytes());
 }

@@ -43,12 +43,17 @@ vk::Status VulkanPasses::Create(int device, const Faults& faults, std::unique_pt
   return vk::Status::Ok();
 }
 
-std::size_t VulkanPasses::PerPart(std::size_t bytes_per_element) const {
-  return std::max<std::size_t>(1, SplitBytes() / std::max<std::size_t>(bytes_per_element, 1));
+namespace {
+// Whole elements in a part of `bytes`, at least one.
+std::size_t ElementsIn(std::size_t bytes, std::size_t bytes_per_element) {
+  return std::max<std::size_t>(1, bytes / std::max<std::size_t>(bytes_per_element, 1));
 }
+}  // namespace
+
+std::size_t VulkanPasses::PerPart(std::size_t bytes_per_element) const { return ElementsIn(SplitBytes(), bytes_per_element); }
 
 std::size_t VulkanPasses::StreamPerPart(std::size_t bytes_per_element) const {
-  return std::max<std::size_t>(1, std::min(SplitBytes(), kStreamPartBytes) / std::max<std::size_t>(bytes_per_element, 1));
+  return ElementsIn(std::min(SplitBytes(), kStreamPartBytes), bytes_per_element);
 }
 
 std::size_t VulkanPasses::SplitBytes() const { return static_cast<std::size_t>(ctx_->storage_limit()); }

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "rayspace/contract.h"
 #include "rayspace/gpu/memory.h"
 #include "rayspace/gpu/requirements.h"
 #include "rayspace/gpu/validation.h"
@@ -399,7 +400,11 @@ void Context::LimitForTesting(VkDeviceSize storage_bytes, std::uint32_t groups_x
   if (groups_x) max_groups_[0] = std::min(max_groups_[0], groups_x);
 }
 
-Status Context::CreateBuffer(std::size_t bytes, Buffer& out, bool storage) {
+namespace {
+bool g_poison = true;
+}  // namespace
+
+Status Context::CreateBuffer(std::size_t bytes, Buffer& out, bool storage, bool poison) {
   if (storage && bytes > storage_limit_)
     return Status::Fail(fmt::format("a storage buffer of {} bytes exceeds {} of '{}'", bytes,
                                     storage_limit_ == max_storage_range_
@@ -447,6 +452,10 @@ Status Context::CreateBuffer(std::size_t bytes, Buffer& out, bool storage) {
   RS_TRY(pool_->Allocate(req, type, mappable, /*image=*/false, b.range_));
   RS_VK(vkBindBufferMemory(device_, b.buffer_, b.range_.memory, b.range_.offset));
   b.mapped_ = b.range_.mapped;
+  if (poison && g_poison && storage && b.mapped_) {  // staged memory is not poisoned: the host cannot fill it cheaply
+    std::fill_n(static_cast<std::uint32_t*>(b.mapped_), bytes / 4, Buffer::kPoisonWord);  // mapped ranges are aligned
+    std::memset(static_cast<std::uint8_t*>(b.mapped_) + bytes / 4 * 4, 0x5E, bytes % 4);
+  }
   if (guard && b.mapped_) {  // staged memory keeps no guard: the host cannot watch it
     b.guard_ = guard;
     auto* words = reinterpret_cast<std::uint32_t*>(static_cast<std::uint8_t*>(b.mapped_) + bytes);
@@ -458,10 +467,13 @@ Status Context::CreateBuffer(std::size_t bytes, Buffer& out, bool storage) {
   return Status::Ok();
 }
 
+static_assert(Buffer::kPoisonWord == layout::kPoisonWord, "the host's poison is the contract's");
+
 namespace {
 bool g_strict_math = false;
 }  // namespace
 void Context::SetStrictMath(bool on) { g_strict_math = on; }
+void Context::SetPoisonNewBuffers(bool on) { g_poison = on; }
 bool Context::StrictMath() { return g_strict_math; }
 
 Status Context::CreateKernel(const std::string& name, std::span<const std::uint32_t> spirv, std::uint32_t bindings,

@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cstring>
 #include <memory>
 #include <numeric>
 #include <string>
@@ -49,6 +50,26 @@ TEST_CASE("memory: a thousand buffers share a block, keep their own bytes, and g
   vk::Buffer again;
   REQUIRE(ctx->CreateBuffer(4096, again));
   CHECK(ctx->memory_allocations() <= before + 1);
+}
+
+TEST_CASE("memory: a new storage buffer reads as poison, even in a range another buffer just filled") {
+  auto ctx = MakeContext();
+  const std::vector<std::uint32_t> right(1000, 1u);  // a flag a forgetful kernel would get right by luck
+  {
+    vk::Buffer first;
+    REQUIRE(ctx->CreateBuffer(right.size() * 4, first));
+    REQUIRE(first.Upload(right));
+  }
+  vk::Buffer reused;  // the pool hands the freed range out again
+  REQUIRE(ctx->CreateBuffer(right.size() * 4 + 2, reused));
+  REQUIRE(reused.mapped());
+  std::vector<std::uint32_t> v;
+  REQUIRE(reused.Download(right.size(), v));
+  CHECK(std::count(v.begin(), v.end(), vk::Buffer::kPoisonWord) == static_cast<std::ptrdiff_t>(v.size()));
+  // As a float the poison is a NaN, which no bitwise or ULP comparison takes for a computed value.
+  float f;
+  std::memcpy(&f, &vk::Buffer::kPoisonWord, 4);
+  CHECK(f != f);
 }
 
 TEST_CASE("memory: a buffer larger than half a block has a block of its own, freed with it") {

@@ -25,6 +25,10 @@ RS_CONST(uint, kScanBlock, 4096u);
 // The most invocations a workgroup may have (--local-size 1..kMaxLocalSize); the workgroup building
 // blocks (workgroup.glsl) keep one shared word per subgroup in an array of this size.
 RS_CONST(uint, kMaxLocalSize, 1024u);
+// What an output word no invocation wrote holds: the host fills every new storage buffer it can map
+// with it (a NaN as a float; never a flag, count, index or pair), and the emulated kernels' buffers
+// start with it too, so that a kernel which leaves a word unwritten is compared bit for bit.
+RS_CONST(uint, kPoisonWord, 0x7FA11A5Eu);
 // Planted faults of the workgroup building blocks (gpu/shaders/workgroup.glsl and their emulator
 // mirror, emu/workgroup_ops.h), the mistakes GPU developers make: every pass whose kernel uses the
 // blocks lists them under these numbers (rayspace/pass_registry.h), `--inject PASS:NAME[@emu]`.

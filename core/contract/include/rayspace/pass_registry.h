@@ -249,6 +249,7 @@ inline constexpr FaultSpec kBuildFaults[] = {{1, "the float containment checks o
 inline constexpr FaultSpec kTraverseFaults[] = {{1, "the top level ignores the triangle sphere's radius"},
                                                 {2, "a mask part's start is dropped (--split-bytes)", {}, false, FaultNeeds::kSplit},
                                                 {3, "a level skips every parent's first child"},
+                                                {4, "each top-level run leaves its last slot unwritten"},
                                                 {layout::kFaultSqrtHigh, "every sqrt two ULP high, as a GPU may", "sqrt-high"}};
 inline constexpr FaultSpec kReduceFaults[] = {{1, "the last element of every segment is dropped"},
                                               {2, "each scan block starts at the previous block's offset (--reduction scan)", {}, false,

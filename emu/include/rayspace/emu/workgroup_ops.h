@@ -17,6 +17,7 @@ namespace rayspace::emu {
 // kernel side's). Process-wide, like the schedule; empty by default.
 void SetEmuFaults(std::map<std::string, std::uint32_t> faults);
 std::uint32_t EmuFault(std::string_view pass);
+bool AnyEmuFault();
 
 // Whether the run asks for the emulated kernels' workgroups: the commands set it when the checker is
 // on, the schedule is not forward or a fault is planted with @emu (app/kernel_model.cpp). A pass

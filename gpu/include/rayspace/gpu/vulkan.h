@@ -83,6 +83,11 @@ class Buffer {
   static constexpr std::uint32_t kGuardWord = 0xA5C3E187u;
   // The first changed guard word and its value, or false (no guard, or intact).
   bool GuardChanged(std::size_t& word, std::uint32_t& value) const;
+  // Poison: a new storage buffer the host can map starts filled with kPoisonWord (rayspace/contract.h),
+  // not with whatever the memory pool's block last held, so that an element a kernel forgets to write
+  // reads back as a value no pass computes and a comparison sees it, rather than passing when reused
+  // memory happens to hold the right value.
+  static constexpr std::uint32_t kPoisonWord = 0x7FA11A5Eu;  // layout::kPoisonWord (asserted in vulkan.cpp)
 
  private:
   friend class Context;
@@ -263,7 +268,9 @@ class Context {
   ~Context();
   // A storage buffer is refused beyond storage_limit() (one binding must not exceed it); transfer-only
   // buffers (storage = false, raster read-back) are limited by memory alone.
-  Status CreateBuffer(std::size_t bytes, Buffer& out, bool storage = true);
+  // `poison`: fill a mappable storage buffer with Buffer::kPoisonWord; false only for a buffer the
+  // caller overwrites whole at once (an upload).
+  Status CreateBuffer(std::size_t bytes, Buffer& out, bool storage = true, bool poison = true);
   Status CreateKernel(const std::string& name, std::span<const std::uint32_t> spirv, std::uint32_t bindings,
                       std::uint32_t fault, Kernel& out, std::uint32_t local_size = 64);
   // A width x height 2D image of `format` for `usage` (a copy source as well) with a view of `aspect`;
@@ -283,6 +290,11 @@ class Context {
   // emulator's bits on any conformant device.
   static void SetStrictMath(bool on);
   static bool StrictMath();
+  // Whether new storage buffers are poisoned (Buffer::kPoisonWord), process-wide; on by default, so
+  // that diff, replay and the tests see unwritten words. render and bench, the timed frames, turn it
+  // off: filling every new buffer cost their Vulkan frame a sixth of its time and a third more
+  // resident memory (docs/gpu.md, "Poison").
+  static void SetPoisonNewBuffers(bool on);
   // Contexts created afterwards tell `observer` what they do (null: none); it must outlive them.
   static void SetObserver(Observer* observer);
   Observer* observer() const { return observer_; }
