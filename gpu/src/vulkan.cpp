@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 
@@ -402,6 +403,14 @@ void Context::LimitForTesting(VkDeviceSize storage_bytes, std::uint32_t groups_x
 
 namespace {
 bool g_poison = true;
+
+// `bytes` from p filled with copies of `word`, its low bytes first in a tail shorter than a word.
+void FillWords(void* p, std::size_t bytes, std::uint32_t word) {
+  auto* b = static_cast<std::uint8_t*>(p);
+  const std::size_t whole = bytes / 4 * 4;
+  for (std::size_t k = 0; k < whole; k += 4) std::memcpy(b + k, &word, 4);  // a fixed size: vector stores
+  std::memcpy(b + whole, &word, bytes - whole);
+}
 }  // namespace
 
 Status Context::CreateBuffer(std::size_t bytes, Buffer& out, bool storage, bool poison) {
@@ -452,14 +461,10 @@ Status Context::CreateBuffer(std::size_t bytes, Buffer& out, bool storage, bool 
   RS_TRY(pool_->Allocate(req, type, mappable, /*image=*/false, b.range_));
   RS_VK(vkBindBufferMemory(device_, b.buffer_, b.range_.memory, b.range_.offset));
   b.mapped_ = b.range_.mapped;
-  if (poison && g_poison && storage && b.mapped_) {  // staged memory is not poisoned: the host cannot fill it cheaply
-    std::fill_n(static_cast<std::uint32_t*>(b.mapped_), bytes / 4, Buffer::kPoisonWord);  // mapped ranges are aligned
-    std::memset(static_cast<std::uint8_t*>(b.mapped_) + bytes / 4 * 4, 0x5E, bytes % 4);
-  }
+  if (poison && g_poison && storage && b.mapped_) FillWords(b.mapped_, bytes, Buffer::kPoisonWord);  // staged memory is not poisoned
   if (guard && b.mapped_) {  // staged memory keeps no guard: the host cannot watch it
     b.guard_ = guard;
-    auto* words = reinterpret_cast<std::uint32_t*>(static_cast<std::uint8_t*>(b.mapped_) + bytes);
-    for (std::size_t k = 0; k < guard / 4; ++k) std::memcpy(words + k, &Buffer::kGuardWord, 4);
+    FillWords(static_cast<std::uint8_t*>(b.mapped_) + bytes, guard, Buffer::kGuardWord);
   }
   b.observed_ = storage && observer_;
   out = std::move(b);
