@@ -1,7 +1,8 @@
-// A node, an eps and up to 32 spheres -> the fused top level's group reject (emu/cone_cull.h): where
-// it culls the group, the float cone test must reject every sphere of it. Besides the group as
+// A node, an eps and up to 32 spheres -> the fused top level's group rejects (emu/cone_cull.h), the
+// emulator's in double and the kernel's in float (DeviceGroupMisses): where either culls the group, the float cone test must reject every sphere of it. Besides the group as
 // given, the group is slid along the line from the apex through its first sphere to the nearest
 // position the bound still culls (bisection), where the bound is tightest.
+#include <optional>
 #include <vector>
 
 #include "input.h"
@@ -12,12 +13,19 @@ namespace {
 using rayspace::layout::ConeNode;
 namespace cone = rayspace::emu::cone;
 
-void Check(const ConeNode& node, float eps, const std::vector<glm::vec4>& spheres, const char* where) {
-  if (!cone::GroupMisses(cone::CullNodeOf(node, eps), cone::GroupsOf(spheres, cone::kCullGroup), 0)) return;
+bool Culls(bool device, const ConeNode& node, float eps, const std::vector<glm::vec4>& spheres) {
+  if (!device) return cone::GroupMisses(cone::CullNodeOf(node, eps), cone::GroupsOf(spheres, cone::kCullGroup), 0);
+  const std::optional<glm::vec4> g = cone::DeviceGroupOf(spheres);
+  return g && cone::DeviceGroupMisses(node, *g, eps);
+}
+
+void Check(bool device, const ConeNode& node, float eps, const std::vector<glm::vec4>& spheres, const char* where) {
+  if (!Culls(device, node, eps, spheres)) return;
   for (const glm::vec4& s : spheres) {
     if (!cone::Test(node, s, eps)) continue;
     rayspace::fuzz::PrintNode("node", node);
-    std::fprintf(stderr, "eps %a, %s; sphere (%a, %a, %a; %a)\n", eps, where, s.x, s.y, s.z, s.w);
+    std::fprintf(stderr, "eps %a, %s, %s bound; sphere (%a, %a, %a; %a)\n", eps, where, device ? "device" : "host", s.x, s.y,
+                 s.z, s.w);
     rayspace::fuzz::Finding("cone_cull: a culled group holds a sphere the cone test keeps");
   }
 }
@@ -41,17 +49,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   glm::vec4 s;
   while (spheres.size() < cone::kCullGroup && fuzz::ReadSphere(in, s)) spheres.push_back(s);
   if (spheres.empty()) return 0;
-  Check(node, eps, spheres, "as given");
-  // Slide: the group moved by t (first sphere - apex), t in [-1, 64], to the edge of culling.
-  const glm::dvec3 dir = glm::dvec3(spheres[0]) - glm::dvec3(node.sphere);
-  double lo = -1.0, hi = 64.0;
-  const cone::CullNode cull = cone::CullNodeOf(node, eps);
-  auto culled = [&](double t) { return cone::GroupMisses(cull, cone::GroupsOf(Shifted(spheres, dir * t), cone::kCullGroup), 0); };
-  if (culled(lo) || !culled(hi)) return 0;
-  for (int i = 0; i < 60; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (culled(mid) ? hi : lo) = mid;
+  for (const bool device : {false, true}) {
+    Check(device, node, eps, spheres, "as given");
+    // Slide: the group moved by t (first sphere - apex), t in [-1, 64], to the edge of culling.
+    const glm::dvec3 dir = glm::dvec3(spheres[0]) - glm::dvec3(node.sphere);
+    double lo = -1.0, hi = 64.0;
+    auto culled = [&](double t) { return Culls(device, node, eps, Shifted(spheres, dir * t)); };
+    if (culled(lo) || !culled(hi)) continue;
+    for (int i = 0; i < 60; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (culled(mid) ? hi : lo) = mid;
+    }
+    Check(device, node, eps, Shifted(spheres, dir * hi), "at the edge of culling");
   }
-  Check(node, eps, Shifted(spheres, dir * hi), "at the edge of culling");
   return 0;
 }

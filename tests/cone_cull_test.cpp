@@ -1,11 +1,13 @@
-// The group reject of the fused top level (emu/cone_cull.h): whenever it says a group misses, the
-// float cone test rejects every sphere of the group. Groups are slid towards each cone until they sit
+// The group rejects of the fused top level (emu/cone_cull.h), the emulator's in double and the
+// kernel's in float (cone::DeviceGroupMisses, twin of gpu/shaders/cone_cull.glsl): whenever one says
+// a group misses, the float cone test rejects every sphere of the group. Groups are slid towards each cone until they sit
 // at the edge of being culled, where the test is tightest; a planted negative margin must be caught
 // there, and groups the bound may not judge (non-finite, full cones, axes off unit length) never are.
 #include <doctest/doctest.h>
 
 #include <array>
 #include <cmath>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -51,6 +53,19 @@ struct Group {
   std::vector<glm::vec4> spheres;
 };
 
+// Which reject: the emulator's (double, aligned groups) or the kernel's (float, a subgroup's group);
+// `margin` is the device bound's (the host's is set by SetCullMarginForTesting).
+enum class Bound { kHost, kDevice };
+struct Reject {
+  Bound bound = Bound::kHost;
+  float margin = layout::kDeviceCullMargin;
+  bool Misses(const layout::ConeNode& n, float eps, const std::vector<glm::vec4>& m) const {
+    if (bound == Bound::kHost) return cone::GroupMisses(cone::CullNodeOf(n, eps), cone::GroupsOf(m, cone::kCullGroup), 0);
+    const std::optional<glm::vec4> g = cone::DeviceGroupOf(m);
+    return g && cone::DeviceGroupMisses(n, *g, eps, margin);
+  }
+};
+
 // Members about the point `centre`: two extreme spheres along `dir` (they define the group's bound)
 // and, unless tight, random smaller ones inside it.
 Group MakeGroup(std::mt19937& rng, D3 centre, D3 dir, double extent, double radius, bool tight) {
@@ -66,19 +81,17 @@ Group MakeGroup(std::mt19937& rng, D3 centre, D3 dir, double extent, double radi
 
 // Slides the group along a ray from the apex out of the cone and returns the members at the nearest
 // position where the bound culls them (bisection), or nothing if it never does.
-std::vector<glm::vec4> AtCullingEdge(std::mt19937& rng, const layout::ConeNode& n, float eps, double scale, bool tight) {
+std::vector<glm::vec4> AtCullingEdge(std::mt19937& rng, const layout::ConeNode& n, float eps, double scale, bool tight,
+                                     const Reject& reject) {
   const D3 A = Axis(n);
   D3 out = glm::normalize(glm::cross(A, D3(0.3, -0.5, 0.8)));  // perpendicular to the axis, then tilted backwards
   out = glm::normalize(out - A * (std::uniform_real_distribution<double>(0.0, 1.0)(rng)));
   const double extent = scale * std::array{1e-6, 1e-3, 0.05, 0.3}[rng() % 4], radius = extent * std::array{0.0, 0.01, 0.5}[rng() % 3];
-  const cone::CullNode cull = cone::CullNodeOf(n, eps);
   auto members = [&](double t) {
     const D3 c = Apex(n) + out * t;
     return MakeGroup(rng, c, TowardCone(n, c), extent, radius, tight).spheres;
   };
-  auto culled = [&](const std::vector<glm::vec4>& m) {
-    return cone::GroupMisses(cull, cone::GroupsOf(m, cone::kCullGroup), 0);
-  };
+  auto culled = [&](const std::vector<glm::vec4>& m) { return reject.Misses(n, eps, m); };
   double lo = 0.0, hi = scale * 64.0;
   const unsigned seed = rng();
   auto at = [&](double t) {
@@ -98,14 +111,14 @@ struct Tally {
   int culled = 0, accepted = 0;
 };
 
-Tally Run(std::uint32_t seed, int cases, bool tight) {
+Tally Run(std::uint32_t seed, int cases, bool tight, const Reject& reject = {}) {
   std::mt19937 rng(seed);
   Tally t;
   for (int i = 0; i < cases; ++i) {
     const double scale = std::array{1e-3, 1.0, 1e3, 1e7}[rng() % 4];
     const layout::ConeNode n = RandomNode(rng, scale);
     const float eps = rng() % 3 ? 0.0f : float(scale * 1e-4);
-    const std::vector<glm::vec4> m = AtCullingEdge(rng, n, eps, scale, tight);
+    const std::vector<glm::vec4> m = AtCullingEdge(rng, n, eps, scale, tight, reject);
     if (m.empty()) continue;
     ++t.culled;
     for (const glm::vec4& s : m) t.accepted += cone::Test(n, s, eps) ? 1 : 0;
@@ -136,6 +149,58 @@ TEST_CASE("cone cull: a planted margin of 0 or below culls groups the test hits"
     CHECK(t.culled > 400);
     CHECK(t.accepted > 0);
   }
+}
+
+TEST_CASE("cone cull, device: a culled group's every sphere is rejected by the float test, at the edge of culling") {
+  for (const bool tight : {true, false}) {
+    const Tally t = Run(tight ? 13u : 17u, 4000, tight, {Bound::kDevice});
+    CAPTURE(tight);
+    CHECK(t.culled > 3000);
+    CHECK(t.accepted == 0);
+  }
+}
+
+// The device bound's margins cover its own float rounding besides the test's slack: at 0 or below
+// it must be caught the same way.
+TEST_CASE("cone cull, device: a planted margin of 0 or below culls groups the test hits") {
+  for (const float planted : {-0x1p-8f, 0.0f}) {
+    const Tally t = Run(13u, 500, true, {Bound::kDevice, planted});
+    CAPTURE(planted);
+    CHECK(t.culled > 400);
+    CHECK(t.accepted > 0);
+  }
+}
+
+TEST_CASE("cone cull, device: what the bound may not judge is never culled") {
+  const glm::vec4 far(1e3f, 0.0f, 0.0f, 1.0f);
+  layout::ConeNode n{};
+  n.sphere = glm::vec4(0, 0, 0, 0);
+  n.cone = glm::vec4(0, 0, 1, std::cos(0.01f));
+  n.extra = glm::vec4(std::sin(0.01f), 1, 0, 0);
+  const std::vector<glm::vec4> good(32, far);
+  const glm::vec4 group = cone::DeviceGroupOf(good).value();
+  REQUIRE(cone::DeviceGroupMisses(n, group, 0.0f));
+  for (const float bad : {NAN, INFINITY, -1.0f, 0x1p61f}) {
+    std::vector<glm::vec4> m = good;
+    m[5].w = bad;
+    CAPTURE(bad);
+    CHECK_FALSE(cone::DeviceGroupOf(m).has_value());
+    m = good;
+    m[7].y = bad == -1.0f ? -0x1p61f : bad;
+    CHECK_FALSE(cone::DeviceGroupOf(m).has_value());
+  }
+  auto misses_with = [&](auto edit) {
+    layout::ConeNode m = n;
+    edit(m);
+    return cone::DeviceGroupMisses(m, group, 0.0f);
+  };
+  CHECK_FALSE(misses_with([](layout::ConeNode& m) { m.cone.w = -1.0f; }));    // full
+  CHECK_FALSE(misses_with([](layout::ConeNode& m) { m.cone.z = 1.001f; }));   // axis off unit
+  CHECK_FALSE(misses_with([](layout::ConeNode& m) { m.extra.x = 0.1f; }));    // cos^2 + sin^2 off 1
+  CHECK_FALSE(misses_with([](layout::ConeNode& m) { m.sphere.x = NAN; }));
+  CHECK_FALSE(misses_with([](layout::ConeNode& m) { m.sphere.w = -1.0f; }));
+  CHECK_FALSE(misses_with([](layout::ConeNode& m) { m.sphere.z = 0x1p61f; }));
+  CHECK_FALSE(cone::DeviceGroupMisses(n, group, INFINITY));
 }
 
 TEST_CASE("cone cull: what the bound may not judge is never culled") {

@@ -2,6 +2,8 @@
 // operations against std::inclusive_scan under every schedule, and the checker's reports on planted
 // faults (dropped barrier, divergent barrier, off-by-one, atomic against plain write).
 #include <doctest/doctest.h>
+
+#include <algorithm>
 #include <malloc.h>
 
 #include <numeric>
@@ -267,6 +269,23 @@ TEST_CASE("workgroup: subgroup operations on a known input give the hand-compute
   CHECK(elect == V{1, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0});
   // local ids 0, 3, 6 -> lanes 0, 3, 6; local ids 9, 12, 15 -> lanes 1, 4, 7.
   CHECK(ballot == V{0x49, 0x49, 0x49, 0x49, 0x49, 0x49, 0x49, 0x49, 0x92, 0x92, 0x92, 0x92, 0x92, 0x92, 0x92, 0x92});
+}
+
+TEST_CASE("workgroup: subgroup min and max over a partial last subgroup") {
+  const std::uint32_t L = 13;  // subgroups of 8 and 5
+  std::vector<float> lo(L), hi(L);
+  const CheckResult r = Dispatch("subgroup.reduce", 1, L, [&](Workgroup& w) {
+    auto x = w.Private<float>();
+    w.Phase([&](Inv& i) { x[i] = static_cast<float>((i.local_id * 5u) % 13u) - 6.0f; });  // a permutation of -6 .. 6
+    const auto mn = w.SubgroupReduce(x, [](float a, float b) { return std::min(a, b); });
+    const auto mx = w.SubgroupReduce(x, [](float a, float b) { return std::max(a, b); });
+    w.Phase([&](Inv& i) { lo[i.local_id] = mn[i], hi[i.local_id] = mx[i]; });
+  }, {.subgroup_size = 8, .check = true});
+  CHECK(r.ok());
+  // Local ids 0..7 hold -6, -1, 4, -4, 1, 6, -2, 3; ids 8..12 hold -5, 0, 5, -3, 2.
+  using V = std::vector<float>;
+  CHECK(lo == V{-6, -6, -6, -6, -6, -6, -6, -6, -5, -5, -5, -5, -5});
+  CHECK(hi == V{6, 6, 6, 6, 6, 6, 6, 6, 5, 5, 5, 5, 5});
 }
 
 TEST_CASE("workgroup: ballot bit order is lane k in bit k % 32 of component k / 32") {

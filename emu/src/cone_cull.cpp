@@ -71,4 +71,47 @@ bool GroupMisses(const CullNode& n, const SphereGroups& groups, std::size_t g) {
 
 double SetCullMarginForTesting(double margin) { return std::exchange(g_margin, margin); }
 
+bool DeviceCullable(glm::vec4 s) {
+  const float lim = layout::kDeviceCullLimit;
+  return std::abs(s.x) < lim && std::abs(s.y) < lim && std::abs(s.z) < lim && s.w >= 0.0f && s.w < lim;
+}
+
+float DeviceReach(glm::vec4 s, glm::vec3 c) {
+  const float dx = s.x - c.x, dy = s.y - c.y, dz = s.z - c.z;
+  return std::sqrt(dx * dx + dy * dy + dz * dz) + s.w;
+}
+
+bool DeviceCullableNode(const layout::ConeNode& n) {
+  const float unit = layout::kDeviceCullUnit;
+  const float axis2 = n.cone.x * n.cone.x + n.cone.y * n.cone.y + n.cone.z * n.cone.z;
+  const float angle2 = n.cone.w * n.cone.w + n.extra.x * n.extra.x;
+  return DeviceCullable(n.sphere) && n.cone.w > -1.0f && std::abs(axis2 - 1.0f) <= unit && std::abs(angle2 - 1.0f) <= unit;
+}
+
+bool DeviceGroupMisses(const layout::ConeNode& n, glm::vec4 group, float eps, float margin) {
+  if (!DeviceCullableNode(n) || !DeviceCullable(group) || !(std::abs(eps) < layout::kDeviceCullLimit)) return false;
+  const float vx = group.x - n.sphere.x, vy = group.y - n.sphere.y, vz = group.z - n.sphere.z;
+  const float ax = n.cone.x, ay = n.cone.y, az = n.cone.z;
+  const float a = vx * ax + vy * ay + vz * az;
+  const float cx = vy * az - vz * ay, cy = vz * ax - vx * az, cz = vx * ay - vy * ax;
+  const float b = std::sqrt(cx * cx + cy * cy + cz * cz);
+  const float f = b * n.cone.w - a * n.extra.x;
+  const float len = std::sqrt(vx * vx + vy * vy + vz * vz);
+  const float bound = (group.w + n.sphere.w + std::abs(eps)) * (1.0f + margin) + margin * len + layout::kDeviceCullFloor;
+  return f > bound;
+}
+
+std::optional<glm::vec4> DeviceGroupOf(std::span<const glm::vec4> spheres) {
+  const float lim = layout::kDeviceCullLimit;
+  glm::vec3 lo(lim), hi(-lim);
+  for (const glm::vec4& s : spheres) {
+    if (!DeviceCullable(s)) return std::nullopt;
+    lo = glm::min(lo, glm::vec3(s)), hi = glm::max(hi, glm::vec3(s));
+  }
+  const glm::vec3 c = (lo + hi) * 0.5f;
+  float reach = 0.0f;
+  for (const glm::vec4& s : spheres) reach = std::max(reach, DeviceReach(s, c));
+  return glm::vec4(c, reach * layout::kDeviceCullRadiusUp);
+}
+
 }  // namespace rayspace::emu::cone

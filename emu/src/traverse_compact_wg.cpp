@@ -1,16 +1,18 @@
 // traverse.compact on the workgroup model: mirrors gpu/shaders/traverse_compact.comp dispatch for
-// dispatch (Test, Scan, Scatter) and phase for phase, with its push constants, tiles, rounds, shuffles, packing,
-// scratch and count buffers and its planted faults 1..4, so that --check-workgroups, --schedule and
-// `--inject traverse.compact:N@emu` reach the kernel's structure and not only its result. The
-// cone-sphere test is the pass-by-pass traversal's scalar cone::Test, bit for bit the kernel's
-// ConeTest. The host's parts (bindings of limited size) are not mirrored: one part covers the call,
-// and parts only concatenate in slot order.
+// dispatch (Groups, Test, Scan, Scatter) and phase for phase, with its push constants, tiles, rounds,
+// shuffles, group spheres and row culling, packing, scratch and count buffers and its planted faults
+// 1..5, so that --check-workgroups, --schedule and `--inject traverse.compact:N@emu` reach the
+// kernel's structure and not only its result. The cone-sphere test is the pass-by-pass traversal's
+// scalar cone::Test, bit for bit the kernel's ConeTest, and the group test cone::DeviceGroupMisses,
+// the kernel's cone_cull.glsl. The host's parts (bindings of limited size) are not mirrored: one part
+// covers the call, and parts only concatenate in slot order.
 #include <algorithm>
 #include <array>
 #include <bit>
 
 #include "rayspace/contract.h"
 #include "rayspace/emu/cone.h"
+#include "rayspace/emu/cone_cull.h"
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/workgroup_ops.h"
 #include "rayspace/error.h"
@@ -84,10 +86,14 @@ class CompactKernel {
   // The host's submit (phase A, Scan, Scatter) and read-back: the total after the scanned counts,
   // the tests after the block tests.
   Compacted Run() {
-    if (pc_.phase == layout::kTraverseCompactPhaseTop)
+    if (pc_.phase == layout::kTraverseCompactPhaseTop) {
+      const std::uint32_t round = wg::LocalSize() * kCompactCols, rounds = static_cast<std::uint32_t>((std::uint64_t{pc_.tris} + round - 1) / round);
+      groups_.assign(std::max<std::size_t>(1, std::size_t{rounds} * wg::LocalSize()), glm::vec4(std::bit_cast<float>(layout::kPoisonWord)));
+      DispatchKernel(site_, "Groups", rounds, [&](wg::Workgroup& w) { GroupsOfRound(w); });
       DispatchKernel(site_, "Test", (pc_.blocks + kCompactRows - 1) / kCompactRows, [&](wg::Workgroup& w) { TestTopTile(w); });
-    else
+    } else {
       DispatchKernel(site_, "Test", pc_.blocks, [&](wg::Workgroup& w) { TestBlock(w); });
+    }
     DispatchKernel(site_, "Scan", 1, [&](wg::Workgroup& w) { ScanBlocks(w); });
     DispatchKernel(site_, "Scatter", pc_.blocks, [&](wg::Workgroup& w) { ScatterBlock(w); });
     const std::uint32_t total = counts_[pc_.blocks];
@@ -116,13 +122,14 @@ class CompactKernel {
   // Each invocation's row nodes: RowNode's subgroupShuffle of lane r's node when lanes 0 ..
   // kCompactRows - 1 of its subgroup are there (SharedRows' ballot), else a load. The shuffles run
   // once per tile here, once per round in the kernel: the same values (mine does not change).
-  RowNodes NodesOfRows(wg::Workgroup& w, std::uint32_t row0, std::uint32_t rows) {
+  RowNodes NodesOfRows(wg::Workgroup& w, std::uint32_t row0, std::uint32_t rows, wg::Private<bool>& shared_rows) {
     wg::Private<layout::ConeNode> mine = w.Private<layout::ConeNode>();
     w.Phase([&](wg::Inv& i) { mine[i] = nodes_[pc_.t0 + row0 + std::min(i.lane, rows - 1u)]; });
     const wg::Private<glm::uvec4> ballot = w.SubgroupBallot(w.Private<bool>(true));
     constexpr std::uint32_t kLow = (1u << kCompactRows) - 1u;
     const auto full = [&](const wg::Inv& i) { return w.subgroup_size() >= kCompactRows && (ballot[i].x & kLow) == kLow; };
     RowNodes out = w.Private<std::array<layout::ConeNode, kCompactRows>>();
+    w.Phase([&](wg::Inv& i) { shared_rows[i] = full(i); });
     for (std::uint32_t r = 0; r < rows; ++r) {
       wg::Private<std::uint32_t> src = w.Private<std::uint32_t>();
       w.Phase([&](wg::Inv& i) { src[i] = full(i) ? r : i.lane; });  // a short subgroup reads memory instead
@@ -132,30 +139,96 @@ class CompactKernel {
     return out;
   }
 
-  // One invocation's round of TestTopTile: its kCompactCols triangles from col0 against the rows;
-  // hit[r] bit k: column col0 + k survives in row r. Returns the rows' survivor counts, 16 bits each.
-  glm::uvec4 TestTopRound(const std::array<layout::ConeNode, kCompactRows>& node, std::uint32_t row0, std::uint32_t rows,
-                          std::uint32_t col0, std::array<std::uint32_t, kCompactRows>& hit, std::uint32_t& tests) const {
+  // An invocation's triangles of a round: kCompactCols spheres from col0 and, per triangle, bit r
+  // set when row r tests it (the object mask).
+  struct Round {
     std::array<glm::vec4, kCompactCols> sphere{};
     std::array<std::uint32_t, kCompactCols> may{};
+  };
+  Round LoadRound(std::uint32_t row0, std::uint32_t rows, std::uint32_t col0) const {
+    Round in;
     std::uint32_t object = 0xFFFFFFFFu, object_bits = 0;
     for (std::uint32_t k = 0; k < kCompactCols && col0 + k < pc_.tris; ++k) {
-      sphere[k] = tri_spheres_[pc_.b0 + col0 + k];
+      in.sphere[k] = tri_spheres_[pc_.b0 + col0 + k];
       const std::uint32_t o = info_[pc_.b0 + col0 + k].ids.y;
       if (o != object) object_bits = RowBits(o, row0, rows);
       object = o;
-      may[k] = object_bits;
+      in.may[k] = object_bits;
+    }
+    return in;
+  }
+
+  // Phase Groups for round w.id() of the top phase: each subgroup's group sphere of its lanes'
+  // triangles by subgroup min/max (the box of the centres, its centre, the largest reach widened),
+  // written by the subgroup's first lane; a negative radius where the bound may not judge a member.
+  void GroupsOfRound(wg::Workgroup& w) {
+    const std::uint32_t c0 = w.id() * w.local_size() * kCompactCols;
+    const auto valid = [&](const wg::Inv& i, std::uint32_t k) { return c0 + i.local_id * kCompactCols + k < pc_.tris; };
+    const auto sphere = [&](const wg::Inv& i, std::uint32_t k) { return tri_spheres_[pc_.b0 + c0 + i.local_id * kCompactCols + k]; };
+    wg::Private<glm::vec3> lo = w.Private<glm::vec3>(), hi = lo;
+    wg::Private<std::uint32_t> ok = w.Private<std::uint32_t>();
+    w.Phase([&](wg::Inv& i) {
+      glm::vec3 l(layout::kDeviceCullLimit), h(-layout::kDeviceCullLimit);
+      bool good = true;
+      for (std::uint32_t k = 0; k < kCompactCols; ++k) {
+        if (!valid(i, k)) continue;
+        good = good && cone::DeviceCullable(sphere(i, k));
+        l = glm::min(l, glm::vec3(sphere(i, k))), h = glm::max(h, glm::vec3(sphere(i, k)));
+      }
+      lo[i] = l, hi[i] = h, ok[i] = good ? 1u : 0u;
+    });
+    lo = w.SubgroupReduce(lo, [](glm::vec3 a, glm::vec3 b) { return glm::min(a, b); });
+    hi = w.SubgroupReduce(hi, [](glm::vec3 a, glm::vec3 b) { return glm::max(a, b); });
+    ok = w.SubgroupReduce(ok, [](std::uint32_t a, std::uint32_t b) { return std::min(a, b); });
+    wg::Private<float> reach = w.Private<float>();
+    w.Phase([&](wg::Inv& i) {
+      const glm::vec3 c = (lo[i] + hi[i]) * 0.5f;
+      float r = 0.0f;
+      for (std::uint32_t k = 0; k < kCompactCols; ++k)
+        if (valid(i, k)) r = std::max(r, cone::DeviceReach(sphere(i, k), c));
+      reach[i] = r;
+    });
+    reach = w.SubgroupReduce(reach, [](float a, float b) { return std::max(a, b); });
+    const wg::Private<bool> elect = w.SubgroupElect();
+    w.Phase([&](wg::Inv& i) {
+      if (!elect[i]) return;
+      const float radius = reach[i] * layout::kDeviceCullRadiusUp;
+      groups_[std::size_t{w.id()} * w.num_subgroups() + i.subgroup_id] = glm::vec4((lo[i] + hi[i]) * 0.5f, ok[i] ? radius : -1.0f);
+    });
+  }
+
+  // The kernel's LiveRows: per subgroup, the rows less those whose node provably misses the group
+  // Groups wrote for the subgroup and round (cone::DeviceGroupMisses, lane r for row r); all rows
+  // under the printed test or where the rows' nodes are not shared.
+  wg::Private<std::uint32_t> LiveRows(wg::Workgroup& w, const RowNodes& node, const wg::Private<bool>& shared_rows,
+                                      std::uint32_t round, std::uint32_t rows) const {
+    const std::uint32_t all_rows = (1u << rows) - 1u;
+    wg::Private<std::uint32_t> live = w.Private<std::uint32_t>(all_rows);
+    if (pc_.cone_test != layout::kConeTestConservative) return live;
+    // Fault 5: the margin planted at -1/2, which culls groups the test hits.
+    const float margin = site_.fault == 5u ? -0.5f : layout::kDeviceCullMargin;
+    wg::Private<bool> miss = w.Private<bool>();
+    w.Phase([&](wg::Inv& i) {
+      const glm::vec4 group = groups_[std::size_t{round} * w.num_subgroups() + i.subgroup_id];
+      miss[i] = i.lane < rows && cone::DeviceGroupMisses(node[i][i.lane], group, pc_.eps, margin);
+    });
+    const wg::Private<glm::uvec4> ballot = w.SubgroupBallot(miss);
+    w.Phase([&](wg::Inv& i) { live[i] = shared_rows[i] ? all_rows & ~ballot[i].x : all_rows; });
+    return live;
+  }
+
+  // One invocation's round of TestTopTile: its triangles against the live rows; hit[r] bit k: column
+  // col0 + k survives in row r. Returns the rows' survivor counts, 16 bits each.
+  glm::uvec4 TestTopRound(const std::array<layout::ConeNode, kCompactRows>& node, const Round& in, std::uint32_t live,
+                          std::uint32_t rows, std::array<std::uint32_t, kCompactRows>& hit) const {
+    hit.fill(0u);
+    for (std::uint32_t bits = live; bits != 0u; bits &= bits - 1u) {
+      const auto r = static_cast<std::uint32_t>(std::countr_zero(bits));
+      for (std::uint32_t k = 0; k < kCompactCols; ++k)
+        if ((in.may[k] >> r & 1u) != 0u && cone::TestBy(pc_.cone_test, node[r], in.sphere[k], pc_.eps)) hit[r] |= 1u << k;
     }
     glm::uvec4 n(0u);
-    hit.fill(0u);
-    for (std::uint32_t r = 0; r < rows; ++r) {
-      for (std::uint32_t k = 0; k < kCompactCols; ++k) {
-        if ((may[k] >> r & 1u) == 0u) continue;
-        ++tests;
-        if (cone::TestBy(pc_.cone_test, node[r], sphere[k], pc_.eps)) hit[r] |= 1u << k;
-      }
-      n[r >> 1] += static_cast<std::uint32_t>(std::popcount(hit[r])) << ((r & 1u) * 16u);
-    }
+    for (std::uint32_t r = 0; r < rows; ++r) n[r >> 1] += static_cast<std::uint32_t>(std::popcount(hit[r])) << ((r & 1u) * 16u);
     return n;
   }
 
@@ -168,12 +241,19 @@ class CompactKernel {
     RS_CHECK_MSG(w.num_subgroups() <= layout::kMaxLocalSize / 4u, "traverse.compact: {} subgroups of {} exceed wg_tile4",
                  w.num_subgroups(), w.subgroup_size());
     const std::uint32_t row0 = w.id() * kCompactRows, rows = std::min(kCompactRows, pc_.blocks - row0);
-    const RowNodes node = NodesOfRows(w, row0, rows);
+    wg::Private<bool> shared_rows = w.Private<bool>();
+    const RowNodes node = NodesOfRows(w, row0, rows, shared_rows);
     wg::Private<std::array<std::uint32_t, kCompactRows>> run = w.Private<std::array<std::uint32_t, kCompactRows>>(), hit = run;
     wg::Private<glm::uvec4> n = w.Private<glm::uvec4>(), sums = n;
     wg::Private<std::uint32_t> tests = w.Private<std::uint32_t>(), all_tests = tests;
     for (std::uint32_t c0 = 0; c0 < pc_.tris; c0 += w.local_size() * kCompactCols) {
-      w.Phase([&](wg::Inv& i) { n[i] = TestTopRound(node[i], row0, rows, c0 + i.local_id * kCompactCols, hit[i], tests[i]); });
+      wg::Private<Round> in = w.Private<Round>();
+      w.Phase([&](wg::Inv& i) {
+        in[i] = LoadRound(row0, rows, c0 + i.local_id * kCompactCols);
+        for (const std::uint32_t may : in[i].may) tests[i] += static_cast<std::uint32_t>(std::popcount(may));  // culled or not
+      });
+      const wg::Private<std::uint32_t> live = LiveRows(w, node, shared_rows, c0 / (w.local_size() * kCompactCols), rows);
+      w.Phase([&](wg::Inv& i) { n[i] = TestTopRound(node[i], in[i], live[i], rows, hit[i]); });
       const wg::Private<glm::uvec4> inclusive = WorkgroupInclusiveAdd4(w, tile4, n, sums);
       w.Phase([&](wg::Inv& i) {
         const glm::uvec4 before = inclusive[i] - n[i];  // fieldwise: no field borrows
@@ -290,6 +370,7 @@ class CompactKernel {
   In<std::uint32_t> pairs_, first_;
   In<layout::ConeNode> nodes_;
   std::vector<std::uint32_t> scratch_, counts_, tested_, out_;
+  std::vector<glm::vec4> groups_;  // top: per round and subgroup, Groups' group sphere
 };
 
 // The push constants of a part of `count` slots. The rounds' slot arithmetic is 32-bit, as in the

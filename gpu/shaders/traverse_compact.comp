@@ -1,8 +1,10 @@
 #version 460
 // The traversal fused with its stream reduction (mirrors emu PassTraverseTopCompacted /
 // PassTraverseLevelCompacted): the survivors of traverse.comp's slots, in slot order, without the
-// flag and value arrays and the separate reduce pass. Three dispatches (rayspace/contract.h), over
+// flag and value arrays and the separate reduce pass. Three dispatches (four at the top: Groups first; rayspace/contract.h), over
 // blocks: a block is a top node's row of slots at the top level, kCompactBlock slots below.
+//   kTraverseCompactPhaseGroups one workgroup per round of the top phase: each subgroup's group sphere
+//       of its triangles, which the top phase's subgroups cull rows by (cone_cull.glsl)
 //   kTraverseCompactPhaseTop    one workgroup per tile of kCompactRows rows: every invocation holds
 //       kCompactCols consecutive triangles of a round and tests them against each row's node, which
 //       the subgroup's lanes load once and pass around by shuffle (a node per test from memory costs
@@ -17,6 +19,7 @@
 #extension GL_KHR_shader_subgroup_shuffle : require
 #include "common.glsl"
 #include "cone.glsl"
+#include "cone_cull.glsl"
 #include "paged.glsl"
 #include "workgroup.glsl"
 
@@ -28,6 +31,7 @@ layout(std430, binding = kTraverseCompactBindScratch) buffer Scratch { uint scra
 layout(std430, binding = kTraverseCompactBindCounts) buffer Counts { uint counts[]; };  // blocks + 1
 layout(std430, binding = kTraverseCompactBindTested) buffer Tested { uint tested[]; };  // blocks + 1
 layout(std430, binding = kTraverseCompactBindOut) writeonly buffer Out { uint out_pairs[]; };
+layout(std430, binding = kTraverseCompactBindGroups) buffer Groups { vec4 groups[]; };  // per round, per subgroup
 PAGED_BUFFER(readonly, Nodes, ConeNode, kTraverseCompactBindNodes)
 PAGED_LOAD(Nodes, ConeNode)
 PAGED_BUFFER(readonly, First, uint, kTraverseCompactBindFirst)
@@ -81,6 +85,46 @@ ConeNode RowNode(ConeNode mine, uint row0, uint r, bool shared_rows) {
   return n;
 }
 
+// Phase Groups for round `round` of the top phase (its columns, lanes and subgroups): each subgroup
+// bounds its lanes' triangles, kCompactCols each, by subgroup min/max: the box of the centres, the
+// box's centre, the largest reach from it (cone_cull.glsl). A negative radius marks a group the
+// bound may not judge. Computed once per call rather than once per tile of rows.
+void GroupsOfRound(uint round) {
+  const uint col0 = round * kLocalSize * kCompactCols + gl_LocalInvocationID.x * kCompactCols;
+  vec4 sphere[kCompactCols];
+  vec3 lo = vec3(kDeviceCullLimit), hi = vec3(-kDeviceCullLimit);
+  bool ok = true;
+  for (uint i = 0u; i < kCompactCols; ++i) {
+    if (col0 + i >= pc.tris) continue;
+    sphere[i] = tri_spheres[pc.b0 + col0 + i];
+    ok = ok && DeviceCullable(sphere[i]);
+    lo = min(lo, sphere[i].xyz);
+    hi = max(hi, sphere[i].xyz);
+  }
+  lo = subgroupMin(lo);
+  hi = subgroupMax(hi);
+  ok = subgroupMin(ok ? 1u : 0u) != 0u;
+  precise const vec3 c = (lo + hi) * 0.5;
+  float reach = 0.0;
+  for (uint i = 0u; i < kCompactCols; ++i)
+    if (col0 + i < pc.tris) reach = max(reach, DeviceReach(sphere[i], c));
+  precise const float radius = subgroupMax(reach) * kDeviceCullRadiusUp;
+  if (subgroupElect()) groups[round * NumSubgroups() + gl_SubgroupID] = vec4(c, ok ? radius : -1.0);
+}
+
+// The rows of the tile that may keep any of the subgroup's triangles this round: all of them, less
+// those whose node provably misses the subgroup's group (Groups): lane r tests row r's node (`mine`),
+// one test per row for the subgroup's gl_SubgroupSize x kCompactCols slots, and a ballot gathers
+// them. Uniform in the subgroup. Only the conservative cone test culls, and only where the rows'
+// nodes are shared (SharedRows).
+uint LiveRows(ConeNode mine, uint round, uint rows, bool shared_rows) {
+  const uint all_rows = (1u << rows) - 1u;
+  if (!shared_rows || pc.cone_test != kConeTestConservative) return all_rows;
+  const vec4 group = groups[round * NumSubgroups() + gl_SubgroupID];
+  const bool miss = gl_SubgroupInvocationID < rows && DeviceGroupMisses(mine, group, pc.eps);
+  return all_rows & ~subgroupBallot(miss).x;
+}
+
 // Phase A at the top level for the tile of rows [row0, row0 + rows) of this dispatch's part: slot
 // (row, col) is top node t0 + row against triangle b0 + col, with traverse.comp's packing and
 // object-mask rule; row r's survivors go to its slots' region, scratch[(row0 + r) * tris ..].
@@ -105,18 +149,20 @@ void TestTopTile(uint g) {
       object = o;
       may[i] = object_bits;
     }
+    for (uint i = 0u; i < kCompactCols; ++i) tests += bitCount(may[i]);  // culled or not, every slot counts
+    const uint live = LiveRows(mine, c0 / (kLocalSize * kCompactCols), rows, shared_rows);
     uint hit[kCompactRows];  // bit i: column col0 + i survives in row r
-    uvec4 n = uvec4(0u);
-    for (uint r = 0u; r < rows; ++r) {
+    for (uint r = 0u; r < kCompactRows; ++r) hit[r] = 0u;
+    // A loop over the live rows, not a branch per row: the set is the same on every lane of the
+    // subgroup, so a culled row costs nothing (a SIMD device runs a masked-off branch all the same).
+    for (uint bits = live; bits != 0u; bits &= bits - 1u) {
+      const uint r = findLSB(bits);
       const ConeNode node = RowNode(mine, row0, r, shared_rows);
-      hit[r] = 0u;
-      for (uint i = 0u; i < kCompactCols; ++i) {
-        if ((may[i] >> r & 1u) == 0u) continue;
-        ++tests;
-        if (ConeTestBy(pc.cone_test, node, sphere[i], pc.eps)) hit[r] |= 1u << i;
-      }
-      n[r >> 1u] += bitCount(hit[r]) << ((r & 1u) * 16u);
+      for (uint i = 0u; i < kCompactCols; ++i)
+        if ((may[i] >> r & 1u) != 0u && ConeTestBy(pc.cone_test, node, sphere[i], pc.eps)) hit[r] |= 1u << i;
     }
+    uvec4 n = uvec4(0u);
+    for (uint r = 0u; r < rows; ++r) n[r >> 1u] += bitCount(hit[r]) << ((r & 1u) * 16u);
     uvec4 sums;
     const uvec4 before = WorkgroupInclusiveAdd4(n, sums) - n;  // fieldwise: no field borrows
     for (uint r = 0u; r < rows; ++r) {
@@ -200,6 +246,8 @@ void main() {
     if (gl_LocalInvocationID.x == 0u) counts[pc.blocks] = total;
     WORKGROUP_SUM(tested, 0u, pc.blocks, total);
     if (gl_LocalInvocationID.x == 0u) tested[pc.blocks] = total;
+  } else if (pc.phase == kTraverseCompactPhaseGroups) {
+    if (g < (pc.tris + kLocalSize * kCompactCols - 1u) / (kLocalSize * kCompactCols)) GroupsOfRound(g);  // uniform
   } else if (g < pc.blocks) {  // uniform: the whole workgroup leaves
     if (pc.phase == kTraverseCompactPhaseScatter)
       ScatterBlock(g);

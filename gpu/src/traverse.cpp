@@ -1,6 +1,9 @@
 // Launches of the traverse kernel (gpu/shaders/traverse.comp): CRSH's object mask, the top level of a
 // block and one level down. The kernel writes 32-bit flags; the calls' results hold bytes. Also the
 // fused traverse.compact kernel (gpu/shaders/traverse_compact.comp), which reads the same inputs.
+#include <algorithm>
+#include <vector>
+
 #include "rayspace/gpu/passes.h"
 #include "kernel_util.h"
 
@@ -68,17 +71,29 @@ class Traverser {
     RS_TRY(keep.Output(c_, (std::size_t{push.blocks} + 1) * 4, bc));
     RS_TRY(keep.Output(c_, (std::size_t{push.blocks} + 1) * 4, bt));
     RS_TRY(keep.Output(c_, std::size_t{push.count} * 4, bo));
+    // Top: a group sphere per round and subgroup (at most one subgroup per invocation).
+    constexpr std::uint32_t kRound = layout::kCompactCols;  // triangles per invocation and round
+    const std::uint32_t rounds = top ? static_cast<std::uint32_t>((std::uint64_t{push.tris} + k_.local_size() * kRound - 1) /
+                                                                  (std::uint64_t{k_.local_size()} * kRound))
+                                     : 0u;
+    const vk::Buffer* bg = nullptr;
+    RS_TRY(keep.Output(c_, std::max<std::size_t>(1, std::size_t{rounds} * k_.local_size()) * 16, bg));
     Bindings<layout::kTraverseCompactBindings> b;
     b.Set(layout::kTraverseCompactBindTriSpheres, &spheres_).Set(layout::kTraverseCompactBindInfo, &info_);
     b.Set(layout::kTraverseCompactBindMask, bm).Set(layout::kTraverseCompactBindPairs, bp).Set(layout::kTraverseCompactBindScratch, bs);
     b.Set(layout::kTraverseCompactBindCounts, bc).Set(layout::kTraverseCompactBindTested, bt).Set(layout::kTraverseCompactBindOut, bo);
     b.Set(layout::kTraverseCompactBindNodes, nodes_).Set(layout::kTraverseCompactBindFirst, first_);
+    b.Set(layout::kTraverseCompactBindGroups, bg);
     vk::Recorder rec(c_);
-    for (const std::uint32_t phase : {push.phase, layout::kTraverseCompactPhaseScan, layout::kTraverseCompactPhaseScatter}) {
+    std::vector<std::uint32_t> phases{push.phase, layout::kTraverseCompactPhaseScan, layout::kTraverseCompactPhaseScatter};
+    if (top) phases.insert(phases.begin(), layout::kTraverseCompactPhaseGroups);
+    for (const std::uint32_t phase : phases) {
       layout::TraverseCompactPush p = push;
       p.phase = phase;
-      // A workgroup per block of slots, or per tile of rows; the scan of the block counts is one workgroup.
-      const std::uint32_t groups = phase == layout::kTraverseCompactPhaseScan ? 1
+      // A workgroup per round (Groups), per block of slots or per tile of rows; the scan of the block
+      // counts is one workgroup.
+      const std::uint32_t groups = phase == layout::kTraverseCompactPhaseScan     ? 1
+                                   : phase == layout::kTraverseCompactPhaseGroups ? rounds
                                    : phase == layout::kTraverseCompactPhaseTop ? (push.blocks + layout::kCompactRows - 1) / layout::kCompactRows
                                                                                 : push.blocks;
       RS_TRY(rec.DispatchGroups(k_, b.All(), &p, sizeof p, groups));

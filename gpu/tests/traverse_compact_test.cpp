@@ -211,7 +211,8 @@ TEST_CASE("traverse.compact: every planted fault of the kernel is seen, and is t
     auto gpu = MakeGpu({{"traverse.compact", f.number}});
     emu::Compacted faulty = OnGpu(*gpu, top), faulty_level = OnGpu(*gpu, lc.Call());
     CHECK(Difference(expected, faulty) != "");
-    CHECK(Difference(Emulated(lc.Call()), faulty_level) != "");
+    // Fault 5 is in the top level's group cull; the levels below do not cull.
+    if (f.number != 5u) CHECK(Difference(Emulated(lc.Call()), faulty_level) != "");
     // The same fault planted in the emulator's mirror (@emu) is the same mistake, bit for bit, the
     // words it leaves unwritten included (the poison word on both sides).
     emu::SetEmuFaults({{"traverse.compact", f.number}});

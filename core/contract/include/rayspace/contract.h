@@ -62,6 +62,14 @@ RS_CONST(float, kRadiusSlack, 1.000003814697265625);  // 1 + 2^-18
 RS_CONST(uint, kRadiusFloorBits, 0x02800000u);         // 2^-122
 RS_CONST(float, kAngleSlack, 3.814697265625e-06);      // 2^-18
 RS_CONST(float, kTestSlack, 7.62939453125e-06);        // 2^-17
+// The fused top level's group cull on the device (cone_cull.glsl, emu cone::DeviceGroupMisses): in
+// float, with margins 2^-11 (docs/performance.md, "Group culling on the device"); values at or above
+// 2^60 in magnitude are not judged (no float overflow in the squares).
+RS_CONST(float, kDeviceCullMargin, 4.8828125e-04);              // 2^-11
+RS_CONST(float, kDeviceCullFloor, 9.094947017729282379150390625e-13);  // 2^-40, absolute
+RS_CONST(float, kDeviceCullLimit, 1152921504606846976.0);        // 2^60
+RS_CONST(float, kDeviceCullRadiusUp, 1.00000095367431640625);    // 1 + 2^-20
+RS_CONST(float, kDeviceCullUnit, 1.9073486328125e-06);           // 2^-19
 
 // ---- surfaces: G-buffer pixels -> shading points ----------------------------------------------
 RS_CONST(uint, kSurfacesBindPosition, 0u);
@@ -268,7 +276,9 @@ struct TraversePush {
 // kLocalSize x kCompactRun slots, kCompactRun consecutive ones per invocation. A workgroup scan places
 // each round's survivors after the round before, in slot order. Phase Scan: one workgroup scans the
 // block counts (exclusive offsets, the total last) and sums the block tests. Phase Scatter: one
-// workgroup per block copies its survivors to its offset.
+// workgroup per block copies its survivors to its offset. Phase Groups, before Top: one workgroup per
+// round of Top's triangles; each subgroup writes the group sphere of its lanes' triangles (centre and
+// radius, a negative radius where the group may not be judged), which Top's subgroups cull rows by.
 RS_CONST(uint, kCompactBlock, 4096u);
 RS_CONST(uint, kCompactRun, 32u);
 RS_CONST(uint, kCompactRows, 8u);  // a subgroup of at least this many lanes passes the rows' nodes around
@@ -283,11 +293,13 @@ RS_CONST(uint, kTraverseCompactBindTested, 6u);   // tests per block; their sum 
 RS_CONST(uint, kTraverseCompactBindOut, 7u);      // the survivors in slot order
 RS_CONST(uint, kTraverseCompactBindNodes, 8u);    // paged
 RS_CONST(uint, kTraverseCompactBindFirst, 12u);   // paged
-RS_CONST(uint, kTraverseCompactBindings, 16u);
+RS_CONST(uint, kTraverseCompactBindGroups, 16u);  // top: per round and subgroup, its triangles' group sphere (Groups)
+RS_CONST(uint, kTraverseCompactBindings, 17u);
 RS_CONST(uint, kTraverseCompactPhaseTop, 0u);      // phase A over top nodes x triangles
 RS_CONST(uint, kTraverseCompactPhaseLevel, 1u);    // phase A over the children of each pair's node
 RS_CONST(uint, kTraverseCompactPhaseScan, 2u);     // phase B
 RS_CONST(uint, kTraverseCompactPhaseScatter, 3u);  // phase C
+RS_CONST(uint, kTraverseCompactPhaseGroups, 4u);   // before Top: the group spheres its subgroups cull by
 struct TraverseCompactPush {
   uint phase;
   uint count;   // slots of this dispatch's part
@@ -724,7 +736,8 @@ static_assert(kIntersectBindOrder == kIntersectBindFirst + kBufferPages && kInte
               kIntersectBindTriSpheres == kIntersectBindOccluded + kBufferPages && kIntersectBindings == kIntersectBindTriSpheres + 1u);
 static_assert(kShadeBindAccum == kShadeBindOccluded + kBufferPages && kShadeBindings == kShadeBindAccum + kBufferPages);
 static_assert(kTraverseCompactBindFirst == kTraverseCompactBindNodes + kBufferPages &&
-              kTraverseCompactBindings == kTraverseCompactBindFirst + kBufferPages);
+              kTraverseCompactBindGroups == kTraverseCompactBindFirst + kBufferPages &&
+              kTraverseCompactBindings == kTraverseCompactBindGroups + 1u);
 // traverse.compact scans a round's survivors and tests as one word, 16 bits each.
 static_assert(kMaxLocalSize * kCompactRun < 65536u && kCompactBlock % kCompactRun == 0u);
 // The top phase scans the rows' survivors as a uvec4 of 16-bit fields.

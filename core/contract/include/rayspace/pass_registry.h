@@ -173,7 +173,8 @@ inline constexpr PhaseSpec kReducePhases[] = {RS_PHASE(Reduce, Local),    RS_PHA
                                               RS_PHASE(Reduce, Offsets),  RS_PHASE(Reduce, Concat),    RS_PHASE(Reduce, FlagSums),
                                               RS_PHASE(Reduce, Scatter)};
 inline constexpr PhaseSpec kTraverseCompactPhases[] = {RS_PHASE(TraverseCompact, Top), RS_PHASE(TraverseCompact, Level),
-                                                      RS_PHASE(TraverseCompact, Scan), RS_PHASE(TraverseCompact, Scatter)};
+                                                      RS_PHASE(TraverseCompact, Scan), RS_PHASE(TraverseCompact, Scatter),
+                                                      RS_PHASE(TraverseCompact, Groups)};
 inline constexpr PhaseSpec kTlListsPhases[] = {RS_PHASE(TlLists, Triangles), RS_PHASE(TlLists, Nodes), RS_PHASE(TlLists, Rank),
                                               RS_PHASE(TlLists, Place)};
 inline constexpr PhaseSpec kGridCountPhases[] = {RS_PHASE(GridBuild, Count)};
@@ -262,7 +263,8 @@ inline constexpr FaultSpec kTraverseCompactFaults[] = {
     {1, "each block's survivors land at the next block's offset (the block scan read as inclusive)", {}, true},
     {2, "the last survivor of every block is dropped", {}, true},
     {3, "every round of a block starts at the block's start (the carry between rounds is dropped)", {}, true},
-    {4, "each block reports its survivors as its tests", {}, true}};
+    {4, "each block reports its survivors as its tests", {}, true},
+    {5, "the top level's group cull with its margin at -1/2 (culls groups the cone test hits)", {}, true}};
 inline constexpr FaultSpec kIntersectFaults[] = {{1, "tmin and tmax swapped in the range check"},
                                                  {2, "every paged load reads the first page (--split-bytes)", {}, false, FaultNeeds::kSplit},
                                                  {3, "a node's last ray is never tested"},

@@ -19,6 +19,7 @@
 // Shared-memory accesses are checked for races, reads of never-written words, out-of-bounds indices
 // and divergent barriers; the reports come back in the CheckResult (or as an exception, on request).
 #pragma once
+#include <algorithm>
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
@@ -298,6 +299,10 @@ class Workgroup {
   wg::Private<T> SubgroupBroadcastFirst(const wg::Private<T>& x) { return SubgroupBroadcast(x, 0); }
   template <typename T>
   wg::Private<T> SubgroupShuffle(const wg::Private<T>& x, const wg::Private<std::uint32_t>& src_lane);
+  // subgroupMin, subgroupMax and the like: every lane receives op folded over its subgroup's lanes in
+  // lane order (op should be associative and commutative, as the GLSL operations are).
+  template <typename T, typename Op>
+  wg::Private<T> SubgroupReduce(const wg::Private<T>& x, Op op);
 
   // Checker internals used by Shared.
   bool checking() const { return check_; }
@@ -355,6 +360,19 @@ wg::Private<T> Workgroup::SubgroupShuffle(const wg::Private<T>& x, const wg::Pri
     } else {
       AddReport(ReportKind::kInvalidLane, "", src, l, kNoInvocation, "shuffle from a missing lane");
     }
+  }
+  return out;
+}
+
+template <typename T, typename Op>
+wg::Private<T> Workgroup::SubgroupReduce(const wg::Private<T>& x, Op op) {
+  SubgroupBoundary();
+  wg::Private<T> out(local_size_);
+  for (std::uint32_t base = 0; base < local_size_; base += subgroup_size_) {
+    const std::uint32_t end = std::min(local_size_, base + subgroup_size_);
+    T acc = x[base];
+    for (std::uint32_t l = base + 1; l < end; ++l) acc = op(acc, x[l]);
+    for (std::uint32_t l = base; l < end; ++l) out[l] = acc;
   }
   return out;
 }

@@ -6,9 +6,11 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
+#include "rayspace/contract.h"
 #include "rayspace/layout.h"
 
 namespace rayspace::emu::cone {
@@ -41,5 +43,25 @@ bool GroupMisses(const CullNode& n, const SphereGroups& groups, std::size_t g);
 // culled group that the test would have hit. Returns the previous margin.
 inline constexpr double kCullMargin = 0x1p-12;
 double SetCullMarginForTesting(double margin);
+
+// ---- The same reject as a device computes it (gpu/shaders/cone_cull.glsl, its twin) ---------------
+// The fused top-level kernel bounds each subgroup's triangles of a round in float, by subgroup
+// min/max, and tests the bound against the subgroup's rows: lane r against row r's node. Margins
+// 2^-11 (contract.h) cover float evaluation on any conformant device (docs/performance.md, "Group
+// culling on the device"). Only for --cone-test conservative, as GroupMisses.
+
+// A sphere the bound may include: finite, |x|, |y|, |z| and r below kDeviceCullLimit, r >= 0.
+bool DeviceCullable(glm::vec4 s);
+// |s - c| + r in float, one member's reach from the centre c.
+float DeviceReach(glm::vec4 s, glm::vec3 c);
+// A node the bound may judge: finite and below kDeviceCullLimit, radius >= 0, cos > -1, |A|^2 and
+// cos^2 + sin^2 within kDeviceCullUnit of 1 as computed in float.
+bool DeviceCullableNode(const layout::ConeNode& n);
+// True only if cone::Test(n, s, eps) is false for every sphere s with |s - group.xyz| + s.w <= group.w
+// (group.w already widened by kDeviceCullRadiusUp). `margin`: tests plant smaller ones.
+bool DeviceGroupMisses(const layout::ConeNode& n, glm::vec4 group, float eps, float margin = layout::kDeviceCullMargin);
+// The kernel's group of `spheres` (all members cullable, else nullopt), reduced as the subgroup does:
+// the box by min/max, its centre, the largest reach widened by kDeviceCullRadiusUp.
+std::optional<glm::vec4> DeviceGroupOf(std::span<const glm::vec4> spheres);
 
 }  // namespace rayspace::emu::cone
