@@ -1,7 +1,8 @@
 // A node, an eps and up to 32 spheres -> the fused top level's group rejects (emu/cone_cull.h), the
-// emulator's in double and the kernel's in float (DeviceGroupMisses): where either culls the group, the float cone test must reject every sphere of it. Besides the group as
-// given, the group is slid along the line from the apex through its first sphere to the nearest
-// position the bound still culls (bisection), where the bound is tightest.
+// emulator's in double and the kernel's in float (DeviceGroupMisses): where either culls the group,
+// the float cone test must reject every sphere of it. Besides the group as given, the group is slid
+// along the line from the apex through its first sphere to the nearest position the bound still
+// culls (bisection), where the bound is tightest.
 #include <optional>
 #include <vector>
 

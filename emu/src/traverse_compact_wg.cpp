@@ -87,8 +87,10 @@ class CompactKernel {
   // the tests after the block tests.
   Compacted Run() {
     if (pc_.phase == layout::kTraverseCompactPhaseTop) {
-      const std::uint32_t round = wg::LocalSize() * kCompactCols, rounds = static_cast<std::uint32_t>((std::uint64_t{pc_.tris} + round - 1) / round);
-      groups_.assign(std::max<std::size_t>(1, std::size_t{rounds} * wg::LocalSize()), glm::vec4(std::bit_cast<float>(layout::kPoisonWord)));
+      const std::uint64_t round = std::uint64_t{wg::LocalSize()} * kCompactCols;
+      const auto rounds = static_cast<std::uint32_t>((pc_.tris + round - 1) / round);
+      const glm::vec4 poison(std::bit_cast<float>(layout::kPoisonWord));
+      groups_.assign(std::max<std::size_t>(1, std::size_t{rounds} * wg::LocalSize()), poison);
       DispatchKernel(site_, "Groups", rounds, [&](wg::Workgroup& w) { GroupsOfRound(w); });
       DispatchKernel(site_, "Test", (pc_.blocks + kCompactRows - 1) / kCompactRows, [&](wg::Workgroup& w) { TestTopTile(w); });
     } else {
@@ -164,7 +166,9 @@ class CompactKernel {
   void GroupsOfRound(wg::Workgroup& w) {
     const std::uint32_t c0 = w.id() * w.local_size() * kCompactCols;
     const auto valid = [&](const wg::Inv& i, std::uint32_t k) { return c0 + i.local_id * kCompactCols + k < pc_.tris; };
-    const auto sphere = [&](const wg::Inv& i, std::uint32_t k) { return tri_spheres_[pc_.b0 + c0 + i.local_id * kCompactCols + k]; };
+    const auto sphere = [&](const wg::Inv& i, std::uint32_t k) {
+      return tri_spheres_[pc_.b0 + c0 + i.local_id * kCompactCols + k];
+    };
     wg::Private<glm::vec3> lo = w.Private<glm::vec3>(), hi = lo;
     wg::Private<std::uint32_t> ok = w.Private<std::uint32_t>();
     w.Phase([&](wg::Inv& i) {
@@ -193,7 +197,8 @@ class CompactKernel {
     w.Phase([&](wg::Inv& i) {
       if (!elect[i]) return;
       const float radius = reach[i] * layout::kDeviceCullRadiusUp;
-      groups_[std::size_t{w.id()} * w.num_subgroups() + i.subgroup_id] = glm::vec4((lo[i] + hi[i]) * 0.5f, ok[i] ? radius : -1.0f);
+      const glm::vec3 c = (lo[i] + hi[i]) * 0.5f;
+      groups_[std::size_t{w.id()} * w.num_subgroups() + i.subgroup_id] = glm::vec4(c, ok[i] ? radius : -1.0f);
     });
   }
 
