@@ -107,12 +107,8 @@ class CompactKernel {
   }
 
  private:
-  // traverse.comp's object-mask rule: a slot whose triangle's object the node misses runs no test.
-  bool Tested(std::uint32_t row, std::uint32_t tri) const {
-    return pc_.use_mask == 0u || mask_[std::size_t{row} * pc_.objects + info_[tri].ids.y] != 0u;
-  }
-
-  // RowBits: bit r set when row0 + r's node may meet triangles of `object`.
+  // RowBits: bit r set when row0 + r's node may meet triangles of `object` (traverse.comp's
+  // object-mask rule: a slot whose triangle's object the node misses runs no test).
   std::uint32_t RowBits(std::uint32_t object, std::uint32_t row0, std::uint32_t rows) const {
     if (pc_.use_mask == 0u) return (1u << rows) - 1u;
     std::uint32_t bits = 0;
