@@ -33,8 +33,27 @@ bool MemoryPool::TakeFrom(Block& b, const VkMemoryRequirements& req, VkDeviceSiz
   return false;
 }
 
+bool MemoryPool::TakeKept(VkDeviceSize size, std::uint32_t type, bool host_visible, bool image, std::uint32_t& index) {
+  for (std::uint32_t i = 0; i < blocks_.size(); ++i) {
+    const Block& b = blocks_[i];
+    if (Kept(b) && b.type == type && b.image == image && (b.mapped != nullptr) == host_visible && size <= b.size && b.size / 2 <= size) {
+      kept_bytes_ -= b.size;
+      index = i;
+      return true;
+    }
+  }
+  return false;
+}
+
+void MemoryPool::FreeKept() {
+  for (std::uint32_t i = 0; i < blocks_.size(); ++i)
+    if (Kept(blocks_[i])) FreeBlock(i);
+  kept_bytes_ = 0;
+}
+
 Status MemoryPool::NewBlock(VkDeviceSize size, std::uint32_t type, bool host_visible, bool image, bool dedicated,
                             std::uint32_t& index) {
+  if (allocations() >= max_allocations_) FreeKept();
   if (allocations() >= max_allocations_)
     return Status::Fail(fmt::format("vkAllocateMemory: {} blocks of device memory are alive, maxMemoryAllocationCount is {}",
                                     allocations(), max_allocations_));
@@ -83,6 +102,10 @@ Status MemoryPool::Allocate(const VkMemoryRequirements& req, std::uint32_t type,
         TakeFrom(b, req, offset))
       index = i, found = true;
   }
+  if (dedicated) {
+    found = TakeKept(req.size, type, host_visible, image, index) && TakeFrom(blocks_[index], req, offset);
+    if (!found) FreeKept();
+  }
   if (!found) {
     if (Status s = NewBlock(dedicated ? req.size : kBlockBytes, type, host_visible, image, dedicated, index); !s) return s;
     if (!TakeFrom(blocks_[index], req, offset)) return Status::Fail("memory pool: a new block does not hold its request");
@@ -113,12 +136,19 @@ void MemoryPool::Release(const Range& r) {
   }
   b.free[at] = len;
   if (--b.ranges > 0) return;
+  if (b.dedicated) {
+    if (kept_bytes_ + b.size <= kRetainBytes)
+      kept_bytes_ += b.size;
+    else
+      FreeBlock(r.block);
+    return;
+  }
   // An empty block: keep one per type and kind for the next pass, free the rest.
   const bool other_empty = std::any_of(blocks_.begin(), blocks_.end(), [&](const Block& x) {
     return &x != &b && x.memory && !x.dedicated && x.type == b.type && x.image == b.image &&
            (x.mapped != nullptr) == (b.mapped != nullptr) && x.ranges == 0;
   });
-  if (b.dedicated || other_empty) FreeBlock(r.block);
+  if (other_empty) FreeBlock(r.block);
 }
 
 }  // namespace rayspace::vk

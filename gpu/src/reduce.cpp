@@ -53,16 +53,17 @@ vk::Status RunReduce(vk::Context& c, const vk::Kernel& k, std::span<const std::u
 // Order-preserving compaction composes: reducing consecutive parts and concatenating their outputs
 // gives the whole stream's result, so big streams are reduced in parts that fit the split size
 // (hierarchical parts end on component boundaries).
-vk::Status VulkanPasses::ReduceInParts(std::span<const std::uint32_t> flags, std::span<const std::uint32_t> values,
+vk::Status VulkanPasses::ReduceInParts(std::span<const std::uint8_t> flags, std::span<const std::uint32_t> values,
                                        std::uint32_t s, bool scan, std::vector<std::uint32_t>& out) {
   out.clear();
+  std::vector<std::uint32_t> wide, part;  // reused by the parts: the kernel reads 32-bit flags
   const std::size_t n = flags.size(), per = scan ? StreamPerPart(4) : std::max<std::size_t>(1, StreamPerPart(4) / s) * s;
   std::size_t p0 = 0;
   do {
     const std::size_t len = std::min(n - p0, per);
-    std::vector<std::uint32_t> part;
     if (p0 != 0) ++extra_dispatches_;
-    RS_TRY(RunReduce(*ctx_, K(PassId::kReduce), flags.subspan(p0, len), values.subspan(p0, len), s, scan, part));
+    wide.assign(flags.begin() + static_cast<std::ptrdiff_t>(p0), flags.begin() + static_cast<std::ptrdiff_t>(p0 + len));
+    RS_TRY(RunReduce(*ctx_, K(PassId::kReduce), wide, values.subspan(p0, len), s, scan, part));
     out.insert(out.end(), part.begin(), part.end());
     p0 += len;
   } while (p0 < n);
@@ -70,7 +71,7 @@ vk::Status VulkanPasses::ReduceInParts(std::span<const std::uint32_t> flags, std
 }
 
 vk::Status VulkanPasses::Run(const emu::call::Reduce& call, std::vector<std::uint32_t>& out) {
-  const std::vector<std::uint32_t> flags(call.flags.begin(), call.flags.end());  // the kernel reads 32-bit flags
+  const std::span<const std::uint8_t> flags = call.flags;
   if (call.reduction == emu::Reduction::kHierarchical)
     return ReduceInParts(flags, call.values, static_cast<std::uint32_t>(call.component), false, out);
   return ReduceInParts(flags, call.values, 1, true, out);

@@ -27,18 +27,20 @@ class Traverser {
     return vk::Status::Ok();
   }
   // One part, in a submit of its own (its output buffers are freed before the next part): `mask`
-  // and `pairs` are this part's; flags and values (`slots` words) and tested (`tested` words) go to
-  // the given pointers (null: not read back). `invocations`: push.count unless the phase says otherwise.
+  // and `pairs` are this part's. The kernel's 32-bit flags (`slots` words) and tested counts (`tested`
+  // words) are narrowed to bytes at the given pointers as they are read back (`what` and `at`, the
+  // part's first element in the call, name an element that is neither); values go to `values_out` (null: not read back).
+  // `invocations`: push.count unless the phase says otherwise.
   vk::Status Part(layout::TraversePush push, std::span<const std::uint32_t> mask, std::span<const std::uint32_t> pairs, std::size_t slots,
-                  std::size_t tested, std::uint32_t* flags_out, std::uint32_t* values_out, std::uint32_t* tested_out,
+                  std::size_t tested, const char* what, std::size_t at, std::uint8_t* flags_out, std::uint32_t* values_out, std::uint8_t* tested_out,
                   std::uint32_t invocations) const {
     Keep keep;
     const vk::Buffer *bm = nullptr, *bp = nullptr, *bfl = nullptr, *bv = nullptr, *bt = nullptr;
     RS_TRY(keep.From(c_, mask, bm));
     RS_TRY(keep.From(c_, pairs, bp));
-    RS_TRY(keep.Output(c_, slots * 4, bfl, flags_out));
+    RS_TRY(keep.Output(c_, slots * 4, bfl));
     RS_TRY(keep.Output(c_, slots * 4, bv, values_out));
-    RS_TRY(keep.Output(c_, tested * 4, bt, tested_out));
+    RS_TRY(keep.Output(c_, tested * 4, bt));
     push.node_page = nodes_.page;
     push.first_page = first_.page;
     Bindings<layout::kTraverseBindings> b;
@@ -47,6 +49,8 @@ class Traverser {
     b.Set(layout::kTraverseBindTested, bt).Set(layout::kTraverseBindNodes, nodes_).Set(layout::kTraverseBindFirst, first_);
     RS_TRY(RunKernel(c_, k_, b.All(), &push, sizeof push, invocations));
     RS_TRY(keep.CopyBack());
+    if (flags_out) RS_TRY(NarrowBack(*bfl, slots, what, at, flags_out));
+    if (tested_out) RS_TRY(NarrowBack(*bt, tested, what, at, tested_out));
     return vk::Status::Ok();
   }
   // One part of traverse.compact (`push.count` slots; `mask` and `pairs` are this part's): phases A, B
@@ -120,33 +124,25 @@ class Traverser {
     return vk::Status::Ok();
   }
 
+  // The kernel's 32-bit flags or counts (0/1, or a child count of at most 255) as the call's bytes,
+  // through a part-sized scratch that the parts reuse (no call-sized 32-bit copy).
+  vk::Status NarrowBack(const vk::Buffer& b, std::size_t n, const char* what, std::size_t at, std::uint8_t* out) const {
+    scratch_.resize(n);
+    RS_TRY(b.Read(scratch_.data(), n * 4));
+    for (std::size_t i = 0; i < n; ++i) {
+      if (scratch_[i] > 0xFFu)
+        return vk::Status::Fail(fmt::format("{}: element {} is {}, not a flag or count", what, at + i, scratch_[i]));
+      out[i] = static_cast<std::uint8_t>(scratch_[i]);
+    }
+    return vk::Status::Ok();
+  }
+
   vk::Context& c_;
   const vk::Kernel& k_;
+  mutable std::vector<std::uint32_t> scratch_;
   Paged nodes_, first_;
   vk::Buffer spheres_, info_;
 };
-
-}  // namespace
-
-namespace {
-
-// The kernel's 32-bit flags as the call's bytes (0/1, or a child count of at most 255).
-vk::Status Narrow(const char* what, const std::vector<std::uint32_t>& v, std::vector<std::uint8_t>& out) {
-  out.resize(v.size());
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    if (v[i] > 0xFFu) return vk::Status::Fail(fmt::format("{}: element {} is {}, not a flag or count", what, i, v[i]));
-    out[i] = static_cast<std::uint8_t>(v[i]);
-  }
-  return vk::Status::Ok();
-}
-
-vk::Status ToSlots(const char* what, const std::vector<std::uint32_t>& flags, std::vector<std::uint32_t>&& values,
-                   const std::vector<std::uint32_t>& tested, emu::PairSlots& out) {
-  RS_TRY(Narrow(what, flags, out.flags));
-  RS_TRY(Narrow(what, tested, out.tested));
-  out.values = std::move(values);
-  return vk::Status::Ok();
-}
 
 }  // namespace
 
@@ -155,7 +151,9 @@ vk::Status VulkanPasses::Run(const emu::call::TraverseTop& call, emu::PairSlots&
   const SceneBuffers& scene = *call.scene;
   const std::vector<std::uint32_t> object_mask(call.object_mask.begin(), call.object_mask.end());  // 32-bit words
   const std::size_t T = b1 - b0, count = static_cast<std::size_t>(t1 - t0) * T;
-  std::vector<std::uint32_t> flags(count, 0), values(count, 0), tested(count, 0);
+  out.flags.resize(count);
+  out.values.resize(count);
+  out.tested.resize(count);
   Traverser tr(*ctx_, K(PassId::kTraverse));
   RS_TRY(tr.Upload(call.top, {}, call.tri_spheres, scene.info, paged_arrays_));
   // Parts are rows of top nodes, so that the flags/values/tested bindings and the object mask's rows
@@ -170,27 +168,29 @@ vk::Status VulkanPasses::Run(const emu::call::TraverseTop& call, emu::PairSlots&
         object_mask.empty() ? std::span<const std::uint32_t>() : std::span(object_mask).subspan(r0 * objects, (r1 - r0) * objects);
     // A run of kTraverseTopRun slots of one row per invocation (rayspace/contract.h).
     const std::size_t runs = (i1 - i0) * ((T + layout::kTraverseTopRun - 1) / layout::kTraverseTopRun);
-    return tr.Part(push, mask_rows, {}, n, n, flags.data() + at, values.data() + at, tested.data() + at,
+    return tr.Part(push, mask_rows, {}, n, n, "traverse.top", at, out.flags.data() + at, out.values.data() + at, out.tested.data() + at,
                    static_cast<std::uint32_t>(runs));
   }));
-  return ToSlots("traverse.top", flags, std::move(values), tested, out);
+  return vk::Status::Ok();
 }
 
 // Parts are ranges of pairs, so that the slot bindings (pairs x children) stay within one binding.
 vk::Status VulkanPasses::Run(const emu::call::TraverseLevel& call, emu::PairSlots& out) {
   const std::uint32_t children_max = call.children_max;
   const std::size_t count = call.pairs.size();
-  std::vector<std::uint32_t> flags(count * children_max, 0), values(count * children_max, 0), tested(count, 0);
+  out.flags.resize(count * children_max);
+  out.values.resize(count * children_max);
+  out.tested.resize(count);
   Traverser tr(*ctx_, K(PassId::kTraverse));
   RS_TRY(tr.Upload(call.nodes, call.first, call.tri_spheres, {}, paged_arrays_));
   RS_TRY(ForParts(count, StreamPerPart(4 * std::size_t{children_max}), extra_dispatches_, [&](std::size_t p0, std::size_t p1) -> vk::Status {
     const std::uint32_t n = static_cast<std::uint32_t>(p1 - p0);
     const layout::TraversePush push{layout::kTraversePhaseLevel, n, 0, call.b0, 0, 0, 0, call.base_up, call.base, children_max,
                                  call.eps, 0, 0, 0, call.cone_test};
-    return tr.Part(push, {}, Slice(call.pairs, p0, p1), std::size_t{n} * children_max, n, flags.data() + p0 * children_max,
-                   values.data() + p0 * children_max, tested.data() + p0, n);
+    return tr.Part(push, {}, Slice(call.pairs, p0, p1), std::size_t{n} * children_max, n, "traverse.level", p0 * children_max,
+                   out.flags.data() + p0 * children_max, out.values.data() + p0 * children_max, out.tested.data() + p0, n);
   }));
-  return ToSlots("traverse.level", flags, std::move(values), tested, out);
+  return vk::Status::Ok();
 }
 
 // Parts of the mask (top nodes x objects), each within one binding; t0 carries the part's first
@@ -200,16 +200,16 @@ vk::Status VulkanPasses::Run(const emu::call::ObjectMask& call, std::vector<std:
   const std::size_t count = call.top.size() * objects;
   if (count > 0xFFFFFFFFu)
     return vk::Status::Fail(fmt::format("object mask: {} top nodes x {} objects exceed 2^32", call.top.size(), objects));
-  std::vector<std::uint32_t> mask(count, 0);
+  out.resize(count);
   Traverser tr(*ctx_, K(PassId::kTraverse));
   RS_TRY(tr.Upload(call.top, {}, call.object_spheres, {}, paged_arrays_));
   RS_TRY(ForParts(count, PerPart(4), extra_dispatches_, [&](std::size_t i0, std::size_t i1) -> vk::Status {
     const std::uint32_t n = static_cast<std::uint32_t>(i1 - i0);
     const layout::TraversePush push{layout::kTraversePhaseObjects, n, static_cast<std::uint32_t>(i0), 0, 0, objects, 0, 0, 0, 0, call.eps,
                                  0, 0, 0, call.cone_test};
-    return tr.Part(push, {}, {}, n, 0, mask.data() + i0, nullptr, nullptr, n);
+    return tr.Part(push, {}, {}, n, 0, "traverse.objects", i0, out.data() + i0, nullptr, nullptr, n);
   }));
-  return Narrow("traverse.objects", mask, out);
+  return vk::Status::Ok();
 }
 
 // traverse.compact at the top level: parts are rows of top nodes, as for traverse.top, so that the

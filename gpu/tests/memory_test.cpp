@@ -1,6 +1,6 @@
 // Buffers and images take ranges of pooled blocks of device memory (gpu/include/rayspace/gpu/memory.h):
 // a frame's thousands of buffers stay far below maxMemoryAllocationCount, ranges never overlap,
-// freed ranges are reused, and a device allowing fewer blocks is refused by name.
+// freed ranges and large blocks are reused, and a device allowing fewer blocks is refused by name.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -72,15 +72,35 @@ TEST_CASE("memory: a new storage buffer reads as poison, even in a range another
   CHECK(f != f);
 }
 
-TEST_CASE("memory: a buffer larger than half a block has a block of its own, freed with it") {
+TEST_CASE("memory: a buffer larger than half a block has a block of its own, kept for the next of its size") {
   auto ctx = MakeContext();
-  const std::size_t before = ctx->memory_allocations();
+  const std::size_t before = ctx->memory_allocations(), peak_before = ctx->peak_memory_allocations();
+  const std::size_t big = vk::MemoryPool::kBlockBytes / 2 + 4096;
+  const std::vector<std::uint32_t> right(big / 4, 1u);
   {
-    vk::Buffer big;
-    REQUIRE(ctx->CreateBuffer(vk::MemoryPool::kBlockBytes / 2 + 4096, big, /*storage=*/false));
+    vk::Buffer b;
+    REQUIRE(ctx->CreateBuffer(big, b));
+    CHECK(ctx->memory_allocations() == before + 1);
+    REQUIRE(b.Upload(right));
+  }
+  // Kept, as the parts of a split pass ask for the same buffers again.
+  CHECK(ctx->memory_allocations() == before + 1);
+  {
+    vk::Buffer again;  // a part's last, smaller buffer still fits the kept block
+    REQUIRE(ctx->CreateBuffer(big - 2048, again));
+    CHECK(ctx->memory_allocations() == before + 1);
+    // The kept block's old contents do not show through: a new storage buffer reads as poison.
+    std::vector<std::uint32_t> v;
+    REQUIRE(again.Download(1000, v));
+    CHECK(std::count(v.begin(), v.end(), vk::Buffer::kPoisonWord) == 1000);
+  }
+  {
+    // A request the kept block cannot hold frees it first: keeping never adds to the most held at once.
+    vk::Buffer larger;
+    REQUIRE(ctx->CreateBuffer(3 * big, larger, /*storage=*/false));
     CHECK(ctx->memory_allocations() == before + 1);
   }
-  CHECK(ctx->memory_allocations() == before);
+  CHECK(ctx->peak_memory_allocations() <= std::max(peak_before, before + 1));
 }
 
 TEST_CASE("memory: a device allowing one block refuses the second, naming maxMemoryAllocationCount") {

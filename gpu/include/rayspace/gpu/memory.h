@@ -3,8 +3,12 @@
 // thousands of buffers; so memory comes in blocks of kBlockBytes per memory type and kind (buffers and
 // optimal-tiling images never share a block: bufferImageGranularity), host-visible blocks mapped
 // once, and buffers and images take aligned ranges of them (first fit, freed ranges merged). A
-// request larger than half a block gets a block of its own, freed with it. One empty block per
-// memory type and kind is kept for the next pass; the others are freed.
+// request larger than half a block gets a block of its own. One empty block per memory type and kind
+// is kept for the next pass; the others are freed. Released blocks of their own are kept too, up to
+// kRetainBytes in all, and reused by a request of at least half their size: a pass split in parts
+// asks for the same large buffers part after part, and memory a driver has to fault in and clear
+// again for every part costs more than the kernels on a CPU device (lavapipe). A request no kept
+// block fits frees them all first, so keeping never adds to the most memory held at once.
 #pragma once
 #include <cstdint>
 #include <map>
@@ -19,6 +23,7 @@ namespace rayspace::vk {
 class MemoryPool {
  public:
   static constexpr VkDeviceSize kBlockBytes = VkDeviceSize{64} << 20;
+  static constexpr VkDeviceSize kRetainBytes = VkDeviceSize{512} << 20;
 
   using Range = MemoryRange;  // what a buffer or image binds and, in host-visible memory, maps
 
@@ -54,11 +59,16 @@ class MemoryPool {
   bool TakeFrom(Block& b, const VkMemoryRequirements& req, VkDeviceSize& offset);
   Status NewBlock(VkDeviceSize size, std::uint32_t type, bool host_visible, bool image, bool dedicated, std::uint32_t& index);
   void FreeBlock(std::uint32_t index);
+  bool Kept(const Block& b) const { return b.memory && b.dedicated && b.ranges == 0; }
+  // A kept block of type and kind that holds `size` and is at most twice it, or false.
+  bool TakeKept(VkDeviceSize size, std::uint32_t type, bool host_visible, bool image, std::uint32_t& index);
+  void FreeKept();
 
   VkDevice device_ = VK_NULL_HANDLE;
   std::uint32_t max_allocations_ = 4096;
   std::vector<Block> blocks_;  // freed blocks stay as empty slots (memory null), so indices hold
   std::size_t peak_ = 0;
+  VkDeviceSize kept_bytes_ = 0;  // in released blocks of their own
 };
 
 }  // namespace rayspace::vk

@@ -59,7 +59,7 @@ class VulkanPasses {
   std::size_t paged_arrays() const { return paged_arrays_; }
 
  private:
-  vk::Status ReduceInParts(std::span<const std::uint32_t> flags, std::span<const std::uint32_t> values, std::uint32_t s,
+  vk::Status ReduceInParts(std::span<const std::uint8_t> flags, std::span<const std::uint32_t> values, std::uint32_t s,
                            bool scan, std::vector<std::uint32_t>& out);
   vk::Status Build(std::uint32_t phase, std::span<const layout::Ray> rays, std::span<const std::uint32_t> order,
                    std::span<const layout::ConeNode> below, std::span<const std::uint32_t> first,
