@@ -109,6 +109,7 @@ nlohmann::json RowJson(const std::vector<BenchRow>& rows, const BenchRow& r) {
   j["total_tests"] = r.total_tests;
   j["tests_performed"] = r.tests_performed;
   j["search_ms"] = r.search_ms;
+  j["traversal_ms"] = r.traversal_ms;
   j["mtests_per_s"] = rate ? nlohmann::json(*rate) : nlohmann::json();
   j["peak_rss_bytes"] = r.peak_rss;
   j["start_rss_bytes"] = r.start_rss;
@@ -117,10 +118,11 @@ nlohmann::json RowJson(const std::vector<BenchRow>& rows, const BenchRow& r) {
   return j;
 }
 
-// The growth of traversal + final tests time; "-" for tracers without that split (brute, embree).
-std::string SearchGrowth(const BenchRow& from, const BenchRow& to) {
-  if (!from.tests_performed || from.MedianSearchMs() <= 0.0) return "-";
-  return fmt::format("x{:.2f}", to.MedianSearchMs() / from.MedianSearchMs());
+// The growth of a median time from one size to the next; "-" for tracers without that split (brute,
+// embree) or without that phase.
+std::string Growth(const BenchRow& from, const BenchRow& to, double (BenchRow::*median)() const) {
+  if (!from.tests_performed || (from.*median)() <= 0.0) return "-";
+  return fmt::format("x{:.2f}", (to.*median)() / (from.*median)());
 }
 
 }  // namespace
@@ -146,13 +148,17 @@ void PrintGrowthTable(std::FILE* out, const std::vector<BenchRow>& rows) {
       if (from.skipped.empty())
         cells.push_back({to.scene, to.config->name, from.Size() + " -> " + to.Size(),
                          fmt::format("x{:.3g}", static_cast<double>(to.Pixels()) / from.Pixels()),
-                         fmt::format("x{:.2f}", to.MedianMs() / from.MedianMs()), SearchGrowth(from, to)});
+                         fmt::format("x{:.2f}", to.MedianMs() / from.MedianMs()),
+                         Growth(from, to, &BenchRow::MedianSearchMs), Growth(from, to, &BenchRow::MedianTraversalMs)});
       break;
     }
   }
   if (cells.empty()) return;
-  std::fprintf(out, "\nTime growth with pixels (medians, from each size to the next; search: traversal + final tests):\n");
-  PrintColumns(out, {"scene", "config", "sizes", "pixels", "frame", "search"}, cells, {false, false, false, true, true, true});
+  std::fprintf(out,
+               "\nTime growth with pixels (medians, from each size to the next; search: traversal + final tests; "
+               "traversal: the hierarchy's levels alone):\n");
+  PrintColumns(out, {"scene", "config", "sizes", "pixels", "frame", "search", "traversal"}, cells,
+               {false, false, false, true, true, true, true});
 }
 
 bool CheckDigests(std::FILE* out, std::FILE* err, const std::vector<BenchRow>& rows) {

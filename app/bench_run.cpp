@@ -30,6 +30,7 @@ std::unique_ptr<Backend> TryBackend(const RenderArgs& args, const Scene& scene, 
 void Record(BenchRow& row, const RenderedFrame& f) {
   row.frame_ms.push_back(f.result.total_ms);
   row.search_ms.push_back(SearchMs(f.phases));
+  row.traversal_ms.push_back(TraversalMs(f.phases));
   row.digests.push_back(HexDigest(f.result.digest.Frame()));
   row.total_tests = f.stats.total;
   row.tests_performed = f.stats.hierarchy || f.stats.tl || f.stats.grid;  // brute and embree report brute force
@@ -46,6 +47,7 @@ double Median(std::vector<double> v) {
 
 double BenchRow::MedianMs() const { return Median(frame_ms); }
 double BenchRow::MedianSearchMs() const { return Median(search_ms); }
+double BenchRow::MedianTraversalMs() const { return Median(traversal_ms); }
 
 BenchRow StartBenchRow(const RenderArgs& base, const BenchConfig& config, const Scene& scene, int width, int height) {
   BenchRow row;

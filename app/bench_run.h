@@ -22,6 +22,7 @@ struct BenchRow {
   std::string skipped;                 // why the configuration did not run (empty: it ran)
   std::vector<double> frame_ms;        // the frame's own time, per repetition
   std::vector<double> search_ms;       // traversal + final tests, per repetition
+  std::vector<double> traversal_ms;    // the hierarchy traversal alone, per repetition
   std::vector<std::string> digests;    // per repetition
   std::uint64_t total_tests = 0;
   bool tests_performed = false;        // false: brute force counted (rays x triangles), not performed
@@ -32,6 +33,7 @@ struct BenchRow {
 
   double MedianMs() const;
   double MedianSearchMs() const;
+  double MedianTraversalMs() const;
   std::size_t Pixels() const { return static_cast<std::size_t>(width) * static_cast<std::size_t>(height); }
   std::string Size() const { return std::to_string(width) + "x" + std::to_string(height); }
 };

@@ -43,6 +43,7 @@ std::vector<Phase> Phases(const std::vector<emu::PassRecord>& passes) {
 }
 
 double SearchMs(const std::vector<Phase>& phases) { return phases[5].ms + phases[6].ms; }
+double TraversalMs(const std::vector<Phase>& phases) { return phases[5].ms; }
 
 void PrintPhases(std::FILE* out, const std::vector<Phase>& phases, double frame_ms, std::uint64_t total_tests) {
   std::fprintf(out, "  %-26s %10s %7s\n", "phase", "ms", "share");

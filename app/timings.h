@@ -20,6 +20,9 @@ struct Phase {
 std::vector<Phase> Phases(const std::vector<emu::PassRecord>& passes);
 // Traversal + final tests: the time render --timings divides the total tests by for its throughput.
 double SearchMs(const std::vector<Phase>& phases);
+// The hierarchy traversal alone (0 for a tracer that does not split it off, brute and embree): the
+// part Roger et al. claim grows below linearly with the rays; the final tests grow with them.
+double TraversalMs(const std::vector<Phase>& phases);
 void PrintPhases(std::FILE* out, const std::vector<Phase>& phases, double frame_ms, std::uint64_t total_tests);
 void PhasesToJson(nlohmann::json& j, const std::vector<Phase>& phases);
 

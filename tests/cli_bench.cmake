@@ -48,6 +48,30 @@ else()
   endif()
 endif()
 
+# Two sizes: the growth table, with the search and the traversal alone for crsh, "-" for embree
+# (which does not split its tracing into traversal and final tests).
+execute_process(COMMAND "${RAYSPACE}" bench "${cornell}" --sizes 32x32,64x64 --repetitions 1 --configs embree,crsh
+                --json "${WORK}/growth.json"
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out2 ERROR_VARIABLE err TIMEOUT 300)
+if(NOT rc EQUAL 0)
+  set(failures "${failures}\nbench at two sizes: exit ${rc}, expected 0:\n${out2}${err}")
+endif()
+if(NOT out2 MATCHES "\nscene +config +sizes +pixels +frame +search +traversal\n")
+  set(failures "${failures}\nno growth table header:\n${out2}")
+endif()
+if(NOT out2 MATCHES "\ncornell-mirrors +crsh +32x32 -> 64x64 +x4 +x[0-9.]+ +x[0-9.]+ +x[0-9.]+\n")
+  set(failures "${failures}\nno growth row for crsh with its search and traversal:\n${out2}")
+endif()
+if(NOT out2 MATCHES "\ncornell-mirrors +embree +32x32 -> 64x64 +x4 +x[0-9.]+ +- +-\n")
+  set(failures "${failures}\nembree's growth row does not leave search and traversal out:\n${out2}")
+endif()
+file(READ "${WORK}/growth.json" j2)
+string(JSON trav ERROR_VARIABLE jerr GET "${j2}" results 3 traversal_ms 0)
+string(JSON search ERROR_VARIABLE jerr2 GET "${j2}" results 3 search_ms 0)
+if(jerr OR jerr2 OR NOT trav GREATER 0 OR trav GREATER search)
+  set(failures "${failures}\nJSON: crsh at 64x64 traversal_ms ${trav} (${jerr}), search_ms ${search}: expected 0 < traversal <= search")
+endif()
+
 # The Vulkan configuration on a device that lacks a requirement (or a build without Vulkan): skipped.
 set(lacks "")
 if(VULKAN)
