@@ -272,13 +272,15 @@ TEST_CASE("traverse.compact mirror: empty calls, calls shorter than a round and 
 
 TEST_CASE("traverse.compact mirror: each planted fault changes the result, and the backend runs the mirror when asked") {
   ModelGuard guard;
-  const RandomTop tc(11, 150, 700, 6);
+  // Rows of two rounds and a part at the default local size (64 x kCompactCols triangles a round).
+  constexpr std::uint32_t kRowTris = 2u * 64u * layout::kCompactCols + 100u;
+  const RandomTop tc(11, 150, kRowTris, 6);
   const RandomLevel lc(12, 400, 3000, 8);
-  const call::TraverseTopCompacted top{tc.Call(0, 150, 0, 700, true)};
+  const call::TraverseTopCompacted top{tc.Call(0, 150, 0, kRowTris, true)};
   const call::TraverseLevelCompacted level{lc.Call()};
   const Compacted top_lanes = Lanes(top), level_lanes = Lanes(level);
   CHECK_FALSE(RunsWorkgroupMirror("traverse.compact"));
-  // Local size 64: rounds of 512 triangles, two a top-level row and a lower-level block, which fault 3 needs.
+  // Local size 64: more than one round a top-level row and a lower-level block, which fault 3 needs.
   for (std::uint32_t fault : {1u, 2u, 3u, 4u}) {
     INFO("traverse.compact:" << fault << "@emu");
     SetEmuFaults({{"traverse.compact", fault}});
