@@ -20,6 +20,7 @@
 #include "rayspace/input_file.h"
 #include "rayspace/json_text.h"
 #include "rayspace/parallel.h"
+#include "render_frame.h"
 
 namespace rayspace::app {
 namespace {
@@ -51,16 +52,25 @@ OutputFile CheckInputsAndOutput(const BenchArgs& args) {
 
 // Every size of every scene must fit the machine before the first frame runs, so that a size too large
 // for one scene is refused at once rather than after the frames before it. Each scene is loaded here
-// only for its counts, then let go.
-void CheckBenchMemory(const BenchArgs& args, const std::vector<std::pair<int, int>>& sizes) {
+// only for its counts, then let go. A frame is estimated as the configuration that holds the most
+// (a Vulkan or pass-by-pass one holds more: RenderMemoryUse).
+void CheckBenchMemory(const BenchArgs& args, const std::vector<std::pair<int, int>>& sizes,
+                      const std::vector<const BenchConfig*>& configs) {
   LoadOptions lo;
   lo.data_root = args.data;
-  const RenderArgs base;
   for (const std::string& path : args.scenes) {
     const Scene scene = LoadScene(path, lo);
-    for (const auto& [w, h] : sizes)
-      CheckFitsMachine(EstimateFrameMemory(w, h, ShadowSlotsPerSurface(scene.lights), scene.TriangleCount(), base.pair_capacity, 1), w, h,
-                       "--sizes", fmt::format("a frame of {}", path).c_str());
+    for (const auto& [w, h] : sizes) {
+      MemoryEstimate most;
+      for (const BenchConfig* c : configs) {
+        RenderArgs a;
+        ApplyBenchConfig(*c, a);
+        const MemoryEstimate e = EstimateFrameMemory(w, h, ShadowSlotsPerSurface(scene.lights), scene.TriangleCount(),
+                                                     a.pair_capacity, RenderMemoryUse(a));
+        if (e.total > most.total) most = e;
+      }
+      CheckFitsMachine(most, w, h, "--sizes", fmt::format("a frame of {}", path).c_str());
+    }
   }
 }
 
@@ -103,7 +113,7 @@ ExitCode RunBench(const BenchArgs& args) {
   }
   OutputFile json = CheckInputsAndOutput(args);
   if (args.threads > 0) SetThreadCount(args.threads);
-  CheckBenchMemory(args, sizes);
+  CheckBenchMemory(args, sizes, configs);
 
   std::vector<BenchRow> rows;
   for (const std::string& path : args.scenes) RunScene(args, path, sizes, configs, rows);

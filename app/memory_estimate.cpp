@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rayspace/error.h"
+#include "rayspace/emu/hierarchy.h"
 #include "rayspace/layout.h"
 
 namespace rayspace::app {
@@ -14,19 +15,30 @@ namespace rayspace::app {
 // Per ray: the ray (64), its watertight setup (52), hash key, order and sort scratch (16), its hit
 // (8). Per pixel besides: the surface (80) and the raster targets and depth (32). Rays per pixel:
 // the largest batch is the shadow rays (one per light), and reflection and refraction batches of
-// the same bounce live beside it. Measured peaks stay below this (docs/performance.md, "Memory").
+// the same bounce live beside it. The pass-by-pass path holds one traversal call's slots: at the top
+// level at most kMaxTopGrid, and no more than a batch's rays (the most top nodes) times its triangles;
+// below, the pairs above (at most the pair capacity) times the children of each. Measured peaks stay
+// below this (docs/performance.md, "Memory").
 MemoryEstimate EstimateFrameMemory(int width, int height, std::size_t shadow_slots, std::size_t triangles, std::size_t pair_capacity,
-                                   int copies) {
+                                   const MemoryUse& use) {
   MemoryEstimate e;
+  const std::size_t copies = static_cast<std::size_t>(std::max(use.copies, 1));
   e.pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   e.rays_per_pixel = std::max<std::size_t>(shadow_slots, 1) + 2;
   constexpr std::size_t kPerRay = sizeof(layout::Ray) + 52 + 16 + 8;
   constexpr std::size_t kPerPixel = sizeof(layout::Surface) + 32;
-  e.per_pixel = static_cast<std::size_t>(copies) * (kPerPixel + e.rays_per_pixel * kPerRay);
+  e.per_pixel = copies * (kPerPixel + e.rays_per_pixel * kPerRay);
   // Triangles, normals, info, spheres, object tree, and the loaded scene's positions and normals.
   e.scene = triangles * (sizeof(layout::Triangle) + sizeof(layout::TriangleNormals) + 16 + 16 + 32 + 72);
-  e.pairs = static_cast<std::size_t>(copies) * pair_capacity * 16;
-  e.total = e.pixels * e.per_pixel + e.scene + e.pairs;
+  e.pairs = copies * pair_capacity * 16;
+  if (use.slot_copies > 0) {
+    const std::size_t batch_rays = e.pixels * std::max<std::size_t>(shadow_slots, 1);
+    const std::size_t batch_tris = std::min<std::size_t>(std::max<std::size_t>(triangles, 1), std::size_t{1} << layout::kPairTriangleBits);
+    const std::size_t top = batch_rays > emu::kMaxTopGrid / batch_tris ? emu::kMaxTopGrid : batch_rays * batch_tris;
+    const std::size_t below = pair_capacity * static_cast<std::size_t>(std::max(use.subdivision, 1));
+    e.slots = static_cast<std::size_t>(use.slot_copies) * std::max(top, below) * kSlotBytes;
+  }
+  e.total = e.pixels * e.per_pixel + e.scene + e.pairs + e.slots;
   return e;
 }
 
@@ -46,7 +58,8 @@ void CheckFitsMachine(const MemoryEstimate& e, int width, int height, const char
 
 nlohmann::json MemoryEstimateJson(const MemoryEstimate& e) {
   return {{"total_bytes", e.total},     {"bytes_per_pixel", e.per_pixel}, {"rays_per_pixel", e.rays_per_pixel},
-          {"scene_bytes", e.scene},     {"pair_bytes", e.pairs},          {"machine_bytes", MachineMemoryBytes()}};
+          {"scene_bytes", e.scene},     {"pair_bytes", e.pairs},          {"slot_bytes", e.slots},
+          {"machine_bytes", MachineMemoryBytes()}};
 }
 
 }  // namespace rayspace::app

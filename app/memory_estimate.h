@@ -14,17 +14,29 @@ struct MemoryEstimate {
   std::size_t per_pixel = 0;  // bytes per pixel, over every buffer that grows with the image
   std::size_t scene = 0;      // the triangles and their derived arrays
   std::size_t pairs = 0;      // one traversal level's pairs at the pair capacity
+  std::size_t slots = 0;      // the pass-by-pass path's slot streams of one traversal call
   std::size_t total = 0;
 };
 
-// copies: how many copies of the frame's buffers live at once: 1 for render and bench, kDiffCopies
-// for diff.
+// What a run holds at once.
+struct MemoryUse {
+  int copies = 1;       // of the frame's buffers and pairs
+  int slot_copies = 0;  // of one traversal call's slot streams: 0 on the fused path, which has none
+  int subdivision = 8;  // children per node: a lower level's slots are its parents' pairs times these
+};
+// A Vulkan frame: the host's buffers and the device's (lavapipe's device memory is the host's).
+inline constexpr int kVulkanCopies = 2;
+// diff holds the frame on the emulator and on the device (host and device buffers), and the differ
+// holds each call's encoded inputs and the expected side's outputs beside them; the impact of a
+// divergence keeps every batch's rays and hits of two further frames, one per side. Of a traversal
+// call's slots: the emulator's, the device's as read back, and the reduction's encoded inputs.
+inline constexpr int kDiffCopies = 5;
+inline constexpr int kDiffSlotCopies = 3;
+// Bytes a pass-by-pass slot costs the host: its flag and tested count (a byte each) and its value.
+inline constexpr std::size_t kSlotBytes = 6;
+
 MemoryEstimate EstimateFrameMemory(int width, int height, std::size_t shadow_slots, std::size_t triangles, std::size_t pair_capacity,
-                                   int copies);
-// diff holds the frame on both backends, and the differ holds each call's encoded inputs and the
-// expected side's outputs beside them; the impact of a divergence keeps every batch's rays and hits
-// of two further frames, one per side.
-inline constexpr int kDiffCopies = 4;
+                                   const MemoryUse& use);
 // The machine's physical memory in bytes (0 when unknown).
 std::size_t MachineMemoryBytes();
 // Refuses (InputError naming `flag` and the size) a frame whose estimate exceeds the machine's memory;

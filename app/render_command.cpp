@@ -232,7 +232,8 @@ ExitCode RunRender(const RenderArgs& args) {
   ApplyPrimary(args, fo);
   RenderOutputs outputs = OpenRenderOutputs(args, scene);
 
-  const MemoryEstimate estimate = EstimateFrameMemory(fo.width, fo.height, ShadowSlotsPerSurface(scene.lights), scene.TriangleCount(), args.pair_capacity, 1);
+  const MemoryEstimate estimate = EstimateFrameMemory(fo.width, fo.height, ShadowSlotsPerSurface(scene.lights), scene.TriangleCount(), args.pair_capacity,
+                                                      RenderMemoryUse(args));
   CheckFitsMachine(estimate, fo.width, fo.height);
 
   const Backend backend = MakeRenderBackend(args);

@@ -76,6 +76,12 @@ bool UsesFusedPath(const RenderArgs& args) {
   return args.path == "fused" || (args.path == "auto" && !RequestsWorkgroupModel(args.model));
 }
 
+MemoryUse RenderMemoryUse(const RenderArgs& args) {
+  return {.copies = args.backend == "vulkan" ? kVulkanCopies : 1,
+          .slot_copies = args.Hierarchy() && !UsesFusedPath(args) ? 1 : 0,
+          .subdivision = args.subdivision};
+}
+
 Backend MakeRenderBackend(const RenderArgs& args) {
   Backend backend = MakeBackend(args.backend, args.device, 64, {}, args.Limits(), args.kernels);
   ConfigureEmulatedKernels(args.model, 64, backend.subgroup_size, {});

@@ -14,6 +14,7 @@
 #include "rayspace/emu/tl/tracer.h"
 #include "rayspace/refs/oracle.h"
 #include "rayspace/scene.h"
+#include "memory_estimate.h"
 #include "render_command.h"
 #include "statistics.h"
 #include "timings.h"
@@ -47,6 +48,10 @@ void WarnOpenModels(const Scene& scene, const SceneBuffers& buffers);
 
 // Whether a hierarchy frame traverses fused (--path, resolving auto).
 bool UsesFusedPath(const RenderArgs& args);
+
+// What a render frame holds at once, for its memory estimate: the device's copy of the frame on
+// Vulkan, one traversal call's slot streams on the pass-by-pass path.
+MemoryUse RenderMemoryUse(const RenderArgs& args);
 
 // The backend --backend names, with the emulated kernels configured for it.
 Backend MakeRenderBackend(const RenderArgs& args);

@@ -65,6 +65,35 @@ else()
   endif()
 endif()
 
+# The estimate bounds the measured peak on every path that holds more than the fused emulator's
+# frame: the pass-by-pass slot streams, and on Vulkan the device's copy (lavapipe's device memory is
+# the host's) and the driver. Each must also be above the fused emulator's estimate.
+set(paths "emu;passes")
+if(VULKAN)
+  list(APPEND paths vulkan fused vulkan passes)
+endif()
+set(i 0)
+list(LENGTH paths n)
+while(i LESS n)
+  list(GET paths ${i} backend)
+  math(EXPR j "${i} + 1")
+  list(GET paths ${j} path)
+  math(EXPR i "${i} + 2")
+  execute_process(COMMAND "${RAYSPACE}" render box.json --size 512x512 --backend ${backend} --path ${path} --no-oracle
+                          --out ${backend}-${path}.png --stats ${backend}-${path}.json
+                  WORKING_DIRECTORY "${WORK}" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    set(failures "${failures}\nthe 512x512 box frame on ${backend}, ${path}: exit ${rc}: ${err}")
+    continue()
+  endif()
+  file(READ "${WORK}/${backend}-${path}.json" stats)
+  string(JSON est ERROR_VARIABLE jerr GET "${stats}" memory_estimate total_bytes)
+  string(JSON peak ERROR_VARIABLE jerr2 GET "${stats}" peak_rss_bytes)
+  if(jerr OR jerr2 OR NOT est GREATER "${peak}" OR NOT est GREATER "${total}")
+    set(failures "${failures}\n${backend}, ${path}: estimate ${est} bytes, measured peak ${peak} (${jerr}${jerr2}), the fused emulator's 16x16 estimate ${total}: expected the estimate above both")
+  endif()
+endwhile()
+
 # diff's estimate (two backends and the differ's copies) is in its report, above render's.
 if(VULKAN)
   execute_process(COMMAND "${RAYSPACE}" diff box.json --report diff.json WORKING_DIRECTORY "${WORK}"

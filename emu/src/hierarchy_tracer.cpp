@@ -31,8 +31,6 @@ namespace {
 constexpr std::uint32_t kTriBits = layout::kPairTriangleBits;
 constexpr std::uint32_t kTriMask = layout::kPairTriangleMask;
 constexpr std::uint32_t kMaxLevelNodes = 1u << (32 - kTriBits);  // the node ids left in a packed pair
-// Largest top-level test grid (nodes x triangles) held at once; bigger grids take several node groups.
-constexpr std::size_t kMaxTopGrid = std::size_t{1} << 26;
 // --objects tree: rays below one group of top nodes descended together.
 constexpr std::uint32_t kTreeGroupRays = 1u << 17;
 

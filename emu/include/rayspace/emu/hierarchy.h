@@ -32,6 +32,10 @@ class HierarchyPasses;
 // tests, grow with the rays; a bounded top keeps the search's growth below linear
 // (docs/performance.md, "Levels from the pixels").
 inline constexpr std::uint64_t kAutoTopNodes = 512;
+// Largest top-level test grid (nodes x triangles) of one traversal call; bigger grids take several
+// node groups. The pass-by-pass path holds a call's slots at once, so a frame's memory estimate
+// bounds them by it.
+inline constexpr std::size_t kMaxTopGrid = std::size_t{1} << 26;
 inline int AutoLevels(std::uint64_t rays, int subdivision) {
   int levels = 2;
   std::uint64_t per_top = static_cast<std::uint64_t>(subdivision) * static_cast<std::uint64_t>(subdivision);
