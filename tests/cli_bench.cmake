@@ -8,27 +8,28 @@ file(REMOVE_RECURSE "${WORK}")
 file(MAKE_DIRECTORY "${WORK}")
 set(cornell "${SRC}/scenes/cornell-mirrors.json")
 
+# Adds `why` to the failures when `text` does not match `regex`.
+function(expect_match text regex why)
+  if(NOT text MATCHES "${regex}")
+    set(failures "${failures}\n${why}" PARENT_SCOPE)
+  endif()
+endfunction()
+
 execute_process(COMMAND "${RAYSPACE}" bench "${cornell}" --sizes 64x64 --repetitions 1 --configs embree,crsh-passes,crsh
                         --json "${WORK}/bench.json"
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "bench: exit ${rc}, expected 0:\n${out}${err}")
 endif()
-if(NOT out MATCHES "\nscene +size +config +median ms +min-max ms +x embree +total tests +M tests/s +peak MB +MB added +digest\n")
-  set(failures "${failures}\nno table header")
-endif()
+expect_match("${out}" "\nscene +size +config +median ms +min-max ms +x embree +total tests +M tests/s +peak MB +MB added +digest\n"
+             "no table header")
 foreach(config embree crsh-passes crsh)
   # scene, size, config, median, min-max, ratio, tests, tests/s (n/a for embree), peak, added, digest
-  if(NOT out MATCHES "\ncornell-mirrors +64x64 +${config} +[0-9.]+ +[0-9.]+-[0-9.]+ +[0-9.]+ +[0-9,]+ +([0-9.]+|n/a) +[0-9.]+ +[-+][0-9.]+ +[0-9a-f]+\n")
-    set(failures "${failures}\nno table row for ${config}")
-  endif()
+  expect_match("${out}" "\ncornell-mirrors +64x64 +${config} +[0-9.]+ +[0-9.]+-[0-9.]+ +[0-9.]+ +[0-9,]+ +([0-9.]+|n/a) +[0-9.]+ +[-+][0-9.]+ +[0-9a-f]+\n"
+               "no table row for ${config}")
 endforeach()
-if(NOT out MATCHES "\ncornell-mirrors +64x64 +embree +[0-9.]+ +[0-9.-]+ +1.00 ")
-  set(failures "${failures}\nembree's ratio to itself is not 1.00")
-endif()
-if(NOT out MATCHES "\ncrsh-passes and crsh: one digest per scene and size")
-  set(failures "${failures}\nno line saying crsh-passes and crsh agree")
-endif()
+expect_match("${out}" "\ncornell-mirrors +64x64 +embree +[0-9.]+ +[0-9.-]+ +1.00 " "embree's ratio to itself is not 1.00")
+expect_match("${out}" "\ncrsh-passes and crsh: one digest per scene and size" "no line saying crsh-passes and crsh agree")
 
 file(READ "${WORK}/bench.json" j)
 string(JSON n LENGTH "${j}" results)
@@ -56,15 +57,11 @@ execute_process(COMMAND "${RAYSPACE}" bench "${cornell}" --sizes 32x32,64x64 --r
 if(NOT rc EQUAL 0)
   set(failures "${failures}\nbench at two sizes: exit ${rc}, expected 0:\n${out2}${err}")
 endif()
-if(NOT out2 MATCHES "\nscene +config +sizes +pixels +frame +search +traversal\n")
-  set(failures "${failures}\nno growth table header:\n${out2}")
-endif()
-if(NOT out2 MATCHES "\ncornell-mirrors +crsh +32x32 -> 64x64 +x4 +x[0-9.]+ +x[0-9.]+ +x[0-9.]+\n")
-  set(failures "${failures}\nno growth row for crsh with its search and traversal:\n${out2}")
-endif()
-if(NOT out2 MATCHES "\ncornell-mirrors +embree +32x32 -> 64x64 +x4 +x[0-9.]+ +- +-\n")
-  set(failures "${failures}\nembree's growth row does not leave search and traversal out:\n${out2}")
-endif()
+expect_match("${out2}" "\nscene +config +sizes +pixels +frame +search +traversal\n" "no growth table header:\n${out2}")
+expect_match("${out2}" "\ncornell-mirrors +crsh +32x32 -> 64x64 +x4 +x[0-9.]+ +x[0-9.]+ +x[0-9.]+\n"
+             "no growth row for crsh with its search and traversal")
+expect_match("${out2}" "\ncornell-mirrors +embree +32x32 -> 64x64 +x4 +x[0-9.]+ +- +-\n"
+             "embree's growth row does not leave search and traversal out")
 file(READ "${WORK}/growth.json" j2)
 string(JSON trav ERROR_VARIABLE jerr GET "${j2}" results 3 traversal_ms 0)
 string(JSON search ERROR_VARIABLE jerr2 GET "${j2}" results 3 search_ms 0)
