@@ -9,7 +9,9 @@
 #include "accuracy_sampler.h"
 #include "accuracy_grid.h"
 #include "accuracy_tl.h"
+#include "memory_estimate.h"
 #include "plot.h"
+#include "rayspace/emu/hierarchy.h"
 #include "rayspace/error.h"
 #include "rayspace/scene.h"
 
@@ -18,6 +20,10 @@ namespace rayspace::app {
 ExitCode RunAccuracy(const AccuracyArgs& args) {
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
+  // Its end-to-end frames run one after another, each beside the exact one it is compared with.
+  CheckFitsMachine(EstimateFrameMemory(fo.width, fo.height, ShadowSlotsPerSurface(scene.lights), scene.TriangleCount(),
+                                       emu::HierarchyConfig{}.pair_capacity, {.copies = 2}),
+                   fo.width, fo.height, "--size", "the accuracy run");
   if (args.samples < 100 || args.samples > 10000000) ThrowInput("--samples {}: expected 100 to 10000000", args.samples);
   plot::CheckTool();  // before the measurements, not after them
   std::error_code ec;

@@ -3,8 +3,8 @@
 # A frame whose estimated peak exceeds the machine's memory names --size, the estimate and the
 # machine's memory; a scene whose instances would pass the triangle limit is refused by count
 # before the copies are made; a frame that fits reports its estimate in --stats. diff (both backends
-# and the differ's copies) and bench (every size of every scene, before the first frame) are refused
-# the same way, and diff's --report carries its estimate.
+# and the differ's copies), bench (every size of every scene, before the first frame), accuracy and
+# shadow-bench are refused the same way, and diff's --report carries its estimate.
 file(REMOVE_RECURSE "${WORK}")
 file(MAKE_DIRECTORY "${WORK}")
 set(failures "")
@@ -43,7 +43,13 @@ endif()
 # The large size comes last: no frame of the small one may run before the refusal.
 expect_refused("bench with a 16384x16384 size" "--sizes 16384x16384;box.json;estimated;GB;machine"
                bench box.json --sizes 16x16,16384x16384 --repetitions 1 --configs crsh --json big-bench.json --progress)
-foreach(f big.png i.png big-diff.json big-bench.json)
+# accuracy and shadow-bench take --size as render does, and are refused the same way (before
+# accuracy makes its output directory).
+expect_refused("16384x16384 accuracy" "--size 16384x16384;the accuracy run;estimated;GB;machine"
+               accuracy box.json --size 16384x16384 --out big-accuracy)
+expect_refused("16384x16384 shadow bench" "--size 16384x16384;the shadow bench of box.json;estimated;GB;machine"
+               shadow-bench box.json --size 16384x16384)
+foreach(f big.png i.png big-diff.json big-bench.json big-accuracy)
   if(EXISTS "${WORK}/${f}")
     set(failures "${failures}\n${f} was left behind by a refused run")
   endif()
