@@ -11,7 +11,6 @@
 #include "accuracy_tl.h"
 #include "memory_estimate.h"
 #include "plot.h"
-#include "rayspace/emu/hierarchy.h"
 #include "rayspace/error.h"
 #include "rayspace/scene.h"
 
@@ -21,9 +20,8 @@ ExitCode RunAccuracy(const AccuracyArgs& args) {
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height);
   // Its end-to-end frames run one after another, each beside the exact one it is compared with.
-  CheckFitsMachine(EstimateFrameMemory(fo.width, fo.height, ShadowSlotsPerSurface(scene.lights), scene.TriangleCount(),
-                                       emu::HierarchyConfig{}.pair_capacity, {.copies = 2}),
-                   fo.width, fo.height, "--size", "the accuracy run");
+  CheckFitsMachine(EstimateFrameMemory(scene, fo.width, fo.height, {.copies = 2}), fo.width, fo.height, "--size",
+                   "the accuracy run");
   if (args.samples < 100 || args.samples > 10000000) ThrowInput("--samples {}: expected 100 to 10000000", args.samples);
   plot::CheckTool();  // before the measurements, not after them
   std::error_code ec;

@@ -65,8 +65,7 @@ void CheckBenchMemory(const BenchArgs& args, const std::vector<std::pair<int, in
       for (const BenchConfig* c : configs) {
         RenderArgs a;
         ApplyBenchConfig(*c, a);
-        const MemoryEstimate e = EstimateFrameMemory(w, h, ShadowSlotsPerSurface(scene.lights), scene.TriangleCount(),
-                                                     a.pair_capacity, RenderMemoryUse(a));
+        const MemoryEstimate e = EstimateFrameMemory(scene, w, h, RenderMemoryUse(a));
         if (e.total > most.total) most = e;
       }
       CheckFitsMachine(most, w, h, "--sizes", fmt::format("a frame of {}", path).c_str());

@@ -481,9 +481,9 @@ ExitCode RunDiff(const DiffArgs& args) {
   OutputFile report = OpenOutput(args.report, "the report", &scene);  // before the frame, as --save-inputs
   const MemoryUse use{.copies = kDiffCopies,
                       .slot_copies = args.Hierarchy() && args.path == "passes" ? kDiffSlotCopies : 0,
-                      .subdivision = args.subdivision};
-  const MemoryEstimate estimate =
-      EstimateFrameMemory(fo.width, fo.height, ShadowSlotsPerSurface(scene.lights), scene.TriangleCount(), args.pair_capacity, use);
+                      .subdivision = args.subdivision,
+                      .pair_capacity = args.pair_capacity};
+  const MemoryEstimate estimate = EstimateFrameMemory(scene, fo.width, fo.height, use);
   CheckFitsMachine(estimate, fo.width, fo.height, "--size", "the diff");
   const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, injection.kernel, args.Limits(), args.kernels);
   ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);

@@ -7,7 +7,6 @@
 #include <nlohmann/json.hpp>
 
 #include "rayspace/error.h"
-#include "rayspace/emu/hierarchy.h"
 #include "rayspace/layout.h"
 
 namespace rayspace::app {
@@ -19,8 +18,9 @@ namespace rayspace::app {
 // level at most kMaxTopGrid, and no more than a batch's rays (the most top nodes) times its triangles;
 // below, the pairs above (at most the pair capacity) times the children of each. Measured peaks stay
 // below this (docs/performance.md, "Memory").
-MemoryEstimate EstimateFrameMemory(int width, int height, std::size_t shadow_slots, std::size_t triangles, std::size_t pair_capacity,
-                                   const MemoryUse& use) {
+MemoryEstimate EstimateFrameMemory(const Scene& scene, int width, int height, const MemoryUse& use) {
+  const std::size_t shadow_slots = ShadowSlotsPerSurface(scene.lights), triangles = scene.TriangleCount();
+  const std::size_t pair_capacity = use.pair_capacity;
   MemoryEstimate e;
   const std::size_t copies = static_cast<std::size_t>(std::max(use.copies, 1));
   e.pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);

@@ -7,6 +7,9 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "rayspace/emu/hierarchy.h"
+#include "rayspace/scene.h"
+
 namespace rayspace::app {
 
 struct MemoryEstimate {
@@ -22,7 +25,8 @@ struct MemoryEstimate {
 struct MemoryUse {
   int copies = 1;       // of the frame's buffers and pairs
   int slot_copies = 0;  // of one traversal call's slot streams: 0 on the fused path, which has none
-  int subdivision = 8;  // children per node: a lower level's slots are its parents' pairs times these
+  int subdivision = emu::HierarchyConfig{}.subdivision;  // a lower level's slots: its parents' pairs times these
+  std::size_t pair_capacity = emu::HierarchyConfig{}.pair_capacity;  // pairs a level holds
 };
 // A Vulkan frame: the host's buffers and the device's (lavapipe's device memory is the host's).
 inline constexpr int kVulkanCopies = 2;
@@ -35,8 +39,8 @@ inline constexpr int kDiffSlotCopies = 3;
 // Bytes a pass-by-pass slot costs the host: its flag and tested count (a byte each) and its value.
 inline constexpr std::size_t kSlotBytes = 6;
 
-MemoryEstimate EstimateFrameMemory(int width, int height, std::size_t shadow_slots, std::size_t triangles, std::size_t pair_capacity,
-                                   const MemoryUse& use);
+// A frame of `scene` at width x height: its lights' shadow rays, its triangles.
+MemoryEstimate EstimateFrameMemory(const Scene& scene, int width, int height, const MemoryUse& use);
 // The machine's physical memory in bytes (0 when unknown).
 std::size_t MachineMemoryBytes();
 // Refuses (InputError naming `flag` and the size) a frame whose estimate exceeds the machine's memory;

@@ -232,8 +232,7 @@ ExitCode RunRender(const RenderArgs& args) {
   ApplyPrimary(args, fo);
   RenderOutputs outputs = OpenRenderOutputs(args, scene);
 
-  const MemoryEstimate estimate = EstimateFrameMemory(fo.width, fo.height, ShadowSlotsPerSurface(scene.lights), scene.TriangleCount(), args.pair_capacity,
-                                                      RenderMemoryUse(args));
+  const MemoryEstimate estimate = EstimateFrameMemory(scene, fo.width, fo.height, RenderMemoryUse(args));
   CheckFitsMachine(estimate, fo.width, fo.height);
 
   const Backend backend = MakeRenderBackend(args);

@@ -79,7 +79,8 @@ bool UsesFusedPath(const RenderArgs& args) {
 MemoryUse RenderMemoryUse(const RenderArgs& args) {
   return {.copies = args.backend == "vulkan" ? kVulkanCopies : 1,
           .slot_copies = args.Hierarchy() && !UsesFusedPath(args) ? 1 : 0,
-          .subdivision = args.subdivision};
+          .subdivision = args.subdivision,
+          .pair_capacity = args.pair_capacity};
 }
 
 Backend MakeRenderBackend(const RenderArgs& args) {

@@ -8,12 +8,11 @@
 #include <nlohmann/json.hpp>
 
 #include "bench_run.h"
-#include "memory_estimate.h"
 #include "cli_util.h"
+#include "memory_estimate.h"
 #include "rayspace/emu/calls.h"
 #include "rayspace/emu/frame.h"
 #include "rayspace/emu/grid/grid.h"
-#include "rayspace/emu/hierarchy.h"
 #include "rayspace/error.h"
 #include "rayspace/json_text.h"
 #include "rayspace/output_file.h"
@@ -59,9 +58,8 @@ Row Measure(const ShadowBenchArgs& args, const std::string& path, int width, int
   lo.data_root = args.data;
   const Scene scene = LoadScene(path, lo);
   // The shadow rays of one frame and its grids; estimated as a render of that frame.
-  CheckFitsMachine(EstimateFrameMemory(width, height, ShadowSlotsPerSurface(scene.lights), scene.TriangleCount(),
-                                       emu::HierarchyConfig{}.pair_capacity, {}),
-                   width, height, "--size", fmt::format("the shadow bench of {}", path).c_str());
+  CheckFitsMachine(EstimateFrameMemory(scene, width, height, {}), width, height, "--size",
+                   fmt::format("the shadow bench of {}", path).c_str());
   bool point = false;
   for (const LightDesc& l : scene.lights) point |= !l.IsArea();
   if (!point) ThrowInput("{}: no point light (hard shadows need one)", path);
