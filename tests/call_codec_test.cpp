@@ -3,6 +3,7 @@
 // missing a buffer or scalar is refused naming it. Also: CheckInputs refuses out-of-range inputs.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cstring>
 #include <deque>
@@ -181,8 +182,8 @@ void CheckSameField(std::string_view name, const F& a, const F& b) {
 
 template <typename T>
 void CopyAs(BufferSet& out, const std::string& name, const verify::Blob& b) {
-  std::vector<T> v(b.bytes.size() / sizeof(T));
-  std::memcpy(v.data(), b.bytes.data(), b.bytes.size());
+  std::vector<T> v(b.bytes().size() / sizeof(T));
+  if (!v.empty()) std::memcpy(v.data(), b.bytes().data(), b.bytes().size());
   out.Put(name, v);
 }
 
@@ -222,7 +223,7 @@ void CheckSameSet(const BufferSet& a, const BufferSet& b) {
     REQUIRE(b.Has(name));
     const verify::Blob& other = b.blobs().at(name);
     CHECK(blob.type == other.type);
-    CHECK(blob.bytes == other.bytes);
+    CHECK(std::ranges::equal(blob.bytes(), other.bytes()));
   }
 }
 
@@ -256,7 +257,7 @@ void RoundTrip() {
   std::set<std::string> blobs, scalars;
   for (const auto& [name, b] : first.blobs()) {
     blobs.insert(name);
-    CHECK(!b.bytes.empty());
+    CHECK(!b.bytes().empty());
   }
   for (const auto& [name, v] : first.scalars.items()) scalars.insert(name);
   CHECK(blobs == l.blobs);
@@ -372,12 +373,26 @@ void CheckOutputRanges() {
     ranges.insert(name);
     REQUIRE(out.Has(name));
     const verify::Blob& b = out.blobs().at(name);
-    CHECK(b.bytes.size() == bytes);
-    CHECK((bytes == 0 || std::memcmp(b.bytes.data(), first, bytes) == 0));
+    CHECK(b.bytes().size() == bytes);
+    CHECK((bytes == 0 || std::memcmp(b.bytes().data(), first, bytes) == 0));
     CHECK(verify::Info(b.type).bytes == elem);
   });
   for (const auto& [name, blob] : out.blobs()) blobs.insert(name);
   CHECK(ranges == blobs);
+
+  // The diff's copy-free path gives the same set, and decoding the set given up gives what decoding
+  // a kept one does.
+  BufferSet moved;
+  if constexpr (std::is_void_v<typename C::Result>) moved = verify::MoveOutputs(c, nullptr);
+  else moved = verify::MoveOutputs(c, &r);
+  CheckSameSet(out, moved);
+  if constexpr (!std::is_void_v<typename C::Result>) {
+    const R kept = verify::DecodeOutputs(out, c);
+    const BufferSet from_kept = verify::EncodeOutputs(c, &kept);
+    R taken = verify::DecodeOutputs(std::move(moved), c);
+    CheckSameSet(from_kept, verify::EncodeOutputs(c, &taken));
+    CheckSameSet(out, from_kept);
+  }
 }
 
 }  // namespace
@@ -387,6 +402,49 @@ TEST_CASE("call codec: every call's output ranges are its encoded outputs, in pl
   RS_FRAME_CALLS(RS_RANGES)
   RS_HIERARCHY_CALLS(RS_RANGES)
 #undef RS_RANGES
+}
+
+TEST_CASE("buffer set: adopted arrays move out without a copy, viewed ones stay the caller's, a held view forces a copy") {
+  std::vector<std::uint32_t> v = {1, 2, 3, 4};
+  const std::uint32_t* first = v.data();
+  BufferSet s;
+  s.Put("a", std::move(v));
+  CHECK(s.View<std::uint32_t>("a").data() == first);
+  std::vector<std::uint32_t> back = s.Take<std::uint32_t>("a");
+  CHECK(back.data() == first);  // moved, not copied
+  CHECK(back == std::vector<std::uint32_t>{1, 2, 3, 4});
+  CHECK(s.View<std::uint32_t>("a").empty());
+
+  s.Put("b", std::vector<std::uint32_t>{5, 6});
+  const std::shared_ptr<const void> held = s.Owner("b");  // a decoded call still views it
+  const std::vector<std::uint32_t> copy = s.Take<std::uint32_t>("b");
+  CHECK(copy.data() != s.View<std::uint32_t>("b").data());
+  CHECK(s.Get<std::uint32_t>("b") == copy);
+
+  const std::vector<float> caller = {0.5f, -1.0f};
+  s.PutView("c", std::span<const float>(caller));
+  CHECK(s.View<float>("c").data() == caller.data());
+  CHECK(s.Owner("c") == nullptr);
+  CHECK(s.Take<float>("c").data() != caller.data());  // never moved out of the caller's array
+
+  const std::string wrong = InputErrorOf([&] { s.View<std::uint8_t>("c"); });
+  CHECK(wrong.find("buffer 'c' holds f32, expected u8") != std::string::npos);
+}
+
+TEST_CASE("call codec: a viewed call decodes to views of the caller's arrays, a copied one to its own copies") {
+  call::Reduce c;
+  const std::vector<std::uint8_t> flags = {1, 0, 1};
+  const std::vector<std::uint32_t> values = {7, 8, 9};
+  c.flags = flags;
+  c.values = values;
+  const BufferSet viewed = verify::ViewCall(c), copied = verify::EncodeCall(c);
+  CheckSameSet(viewed, copied);
+  const auto dv = verify::DecodeCall<call::Reduce>(viewed);
+  const auto dc = verify::DecodeCall<call::Reduce>(copied);
+  CHECK(dv.call.values.data() == values.data());
+  CHECK(dc.call.values.data() != values.data());
+  CHECK(std::ranges::equal(dc.call.values, values));
+  CHECK(std::ranges::equal(dc.call.flags, flags));
 }
 
 // ---- CheckInputs ----------------------------------------------------------------------------------

@@ -19,16 +19,18 @@ constexpr ElemInfo kInfos[] = {
 static_assert(sizeof(layout::Ray) == 64 && sizeof(layout::Surface) == 80 && sizeof(layout::ConeNode) == 48);
 static_assert(sizeof(layout::FrameConstants) == 192 && sizeof(layout::Material) == 48 && sizeof(layout::Light) == 96);
 
-std::vector<std::uint32_t> Words(const Blob& b) {
-  if (Info(b.type).bytes == 1) return {b.bytes.begin(), b.bytes.end()};
-  std::vector<std::uint32_t> w(b.bytes.size() / 4);
-  if (!w.empty()) std::memcpy(w.data(), b.bytes.data(), w.size() * 4);
-  return w;
-}
-
 }  // namespace
 
 const ElemInfo& Info(ElemType t) { return kInfos[static_cast<int>(t)]; }
+
+Blob Blob::FromBytes(ElemType type, std::vector<std::uint8_t>&& bytes) {
+  // operator new's alignment (16 bytes) is every element type's.
+  auto p = std::make_shared<std::vector<std::uint8_t>>(std::move(bytes));
+  Blob b(type, p->data(), p->size());
+  b.vector_ = type == ElemType::kU8;
+  b.owner_ = std::move(p);
+  return b;
+}
 
 const Blob& BufferSet::Find(const std::string& name, ElemType type) const {
   auto it = blobs_.find(name);
@@ -50,13 +52,18 @@ std::uint32_t BufferSet::U32(const std::string& name) const {
   return static_cast<std::uint32_t>(v);
 }
 
-void BufferSet::PutScene(const SceneBuffers& s) {
-  Put("scene.triangles", s.triangles);
-  Put("scene.normals", s.normals);
-  Put("scene.info", s.info);
-  Put("scene.materials", s.materials);
-  Put("scene.lights", s.lights);
-  Put("scene.objects", s.objects);
+void BufferSet::PutScene(const SceneBuffers& s, bool view) {
+  const auto put = [&](const std::string& name, const auto& v) {
+    using T = typename std::decay_t<decltype(v)>::value_type;
+    if (view) PutView(name, std::span<const T>(v));
+    else Put(name, std::span<const T>(v));
+  };
+  put("scene.triangles", s.triangles);
+  put("scene.normals", s.normals);
+  put("scene.info", s.info);
+  put("scene.materials", s.materials);
+  put("scene.lights", s.lights);
+  put("scene.objects", s.objects);
   Put("scene.box", std::vector<glm::vec4>{glm::vec4(s.lo, 0.0f), glm::vec4(s.hi, 0.0f)});
 }
 
@@ -92,7 +99,7 @@ void BufferSet::Save(const std::string& dir, const std::string& method) const {
   OutputOptions o{"a saved input", false, false, {}};
   for (const auto& [name, b] : blobs_) {
     j["buffers"][name] = {{"type", Info(b.type).name}, {"count", b.count()}};
-    OutputFile(dir + "/" + name + ".bin", o).Commit(std::string_view(reinterpret_cast<const char*>(b.bytes.data()), b.bytes.size()));
+    OutputFile(dir + "/" + name + ".bin", o).Commit(std::string_view(reinterpret_cast<const char*>(b.bytes().data()), b.bytes().size()));
   }
   OutputFile(dir + "/pass.json", o).Commit(JsonText(j));
 }
@@ -128,17 +135,15 @@ BufferSet BufferSet::Load(const std::string& dir, std::string& method) {
     for (int t = 0; t < static_cast<int>(std::size(kInfos)); ++t)
       if (desc["type"].get<std::string>() == kInfos[t].name) type = t;
     if (type < 0) ThrowInput("{}: buffer '{}' has unknown type '{}'", meta.string(), name, desc["type"].get<std::string>());
-    Blob b;
-    b.type = static_cast<ElemType>(type);
+    const ElemType elem = static_cast<ElemType>(type);
     const std::uint64_t count = desc["count"].get<std::uint64_t>();
     const fs::path bin = fs::path(dir) / (name + ".bin");
     const std::string bytes = ReadInputFile(bin, {"buffer file", kMaxDataFileBytes});
     const std::uint64_t size = bytes.size();
     // Compared by division: count times the element size may overflow.
-    if (size % Info(b.type).bytes != 0 || size / Info(b.type).bytes != count)
-      ThrowInput("{}: {} bytes, expected {} elements of {} bytes", bin.string(), size, count, Info(b.type).bytes);
-    b.bytes.assign(bytes.begin(), bytes.end());
-    s.blobs_[name] = std::move(b);
+    if (size % Info(elem).bytes != 0 || size / Info(elem).bytes != count)
+      ThrowInput("{}: {} bytes, expected {} elements of {} bytes", bin.string(), size, count, Info(elem).bytes);
+    s.blobs_[name] = Blob::FromBytes(elem, std::vector<std::uint8_t>(bytes.begin(), bytes.end()));
   }
   return s;
 }
@@ -146,9 +151,11 @@ BufferSet BufferSet::Load(const std::string& dir, std::string& method) {
 BufferComparison CompareBlobs(const std::string& pass, const std::string& name, const Blob& expected, const Blob& actual) {
   RS_CHECK(expected.type == actual.type);
   const ElemInfo& info = Info(expected.type);
-  const std::size_t words = info.bytes == 1 ? 1 : info.bytes / 4;
-  const std::vector<std::uint32_t> e = Words(expected), a = Words(actual);
-  BufferComparison c = CompareWords(pass, name, e, a, words, info.float_mask);
+  const auto words = [](const Blob& b) {
+    return std::span(reinterpret_cast<const std::uint32_t*>(b.bytes().data()), b.bytes().size() / 4);
+  };
+  BufferComparison c = info.bytes == 1 ? CompareBytes(pass, name, expected.bytes(), actual.bytes())
+                                       : CompareWords(pass, name, words(expected), words(actual), info.bytes / 4, info.float_mask);
   c.expected_name = "emu";
   c.actual_name = "vulkan";
   return c;

@@ -66,12 +66,13 @@ std::string DirName(std::size_t seq, const std::string& label) {
   return s;
 }
 
-// A call through the Differ: encoded, run on both backends and compared, the actual backend's
-// outputs decoded back into its result and in-place arrays.
+// A call through the Differ: run on both backends and compared, the actual backend's outputs moved
+// back into its result and in-place arrays. The inputs are viewed, not copied: the frame's arrays
+// outlive the call and nothing writes them while it runs (each backend decodes its own copy of an
+// in-place array).
 template <typename C>
 typename C::Result Through(Differ& d, const C& c) {
-  const BufferSet out = d.Call(std::string(C::kName), EncodeCall(c));
-  return DecodeOutputs(out, c);
+  return DecodeOutputs(d.Call(std::string(C::kName), ViewCall(c)), c);
 }
 
 #define RS_DIFF_CALL(C) emu::call::C::Result C(const emu::call::C& c) override { return Through(d_, c); }

@@ -36,17 +36,17 @@ std::function<std::string(const BufferSet&)> PassOf(std::string_view call, std::
 }
 
 // A call run from a buffer set: decoded, checked against its contract, run on the backend group
-// that has it, its outputs encoded.
+// that has it, its outputs moved into the set it returns.
 template <typename C>
 BufferSet RunFromSet(const BufferSet& in, Backends& b) {
   DecodedCall<C> d = DecodeCall<C>(in);
   emu::CheckInputs(d.call);
   if constexpr (std::is_void_v<typename C::Result>) {
     emu::RunCall(b.frame, b.hierarchy, d.call);
-    return EncodeOutputs(d.call, nullptr);
+    return MoveOutputs(d.call, nullptr);
   } else {
-    const typename C::Result r = emu::RunCall(b.frame, b.hierarchy, d.call);
-    return EncodeOutputs(d.call, &r);
+    typename C::Result r = emu::RunCall(b.frame, b.hierarchy, d.call);
+    return MoveOutputs(d.call, &r);
   }
 }
 

@@ -30,8 +30,13 @@ std::uint64_t UlpDistance(std::uint32_t a, std::uint32_t b) {
   return static_cast<std::uint64_t>(d < 0 ? -d : d);
 }
 
-BufferComparison CompareWords(const std::string& pass, const std::string& buffer, std::span<const std::uint32_t> expected,
-                              std::span<const std::uint32_t> actual, std::size_t words, std::uint32_t float_mask) {
+namespace {
+
+// Word is std::uint32_t for word buffers and std::uint8_t for byte buffers (one word per element,
+// no floats): bytes are compared as the words they widen to, without widening a copy.
+template <typename Word>
+BufferComparison CompareImpl(const std::string& pass, const std::string& buffer, std::span<const Word> expected,
+                             std::span<const Word> actual, std::size_t words, std::uint32_t float_mask) {
   BufferComparison c;
   c.pass = pass;
   c.buffer = buffer;
@@ -39,6 +44,10 @@ BufferComparison CompareWords(const std::string& pass, const std::string& buffer
   c.expected_elements = expected.size() / words;
   c.actual_elements = actual.size() / words;
   c.elements = std::min(c.expected_elements, c.actual_elements);
+  // Equal buffers, the usual case, in one memcmp: the loop below would find nothing to record.
+  if (expected.size() == actual.size() &&
+      (expected.empty() || std::memcmp(expected.data(), actual.data(), expected.size_bytes()) == 0))
+    return c;
   for (std::size_t e = 0; e < c.elements; ++e) {
     bool differs = false;
     for (std::size_t w = 0; w < words; ++w) {
@@ -62,6 +71,18 @@ BufferComparison CompareWords(const std::string& pass, const std::string& buffer
     c.mismatches += differs;
   }
   return c;
+}
+
+}  // namespace
+
+BufferComparison CompareWords(const std::string& pass, const std::string& buffer, std::span<const std::uint32_t> expected,
+                              std::span<const std::uint32_t> actual, std::size_t words, std::uint32_t float_mask) {
+  return CompareImpl(pass, buffer, expected, actual, words, float_mask);
+}
+
+BufferComparison CompareBytes(const std::string& pass, const std::string& buffer, std::span<const std::uint8_t> expected,
+                              std::span<const std::uint8_t> actual) {
+  return CompareImpl(pass, buffer, expected, actual, 1, 0);
 }
 
 std::string BufferComparison::Summary() const {

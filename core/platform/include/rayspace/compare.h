@@ -36,6 +36,9 @@ std::uint64_t UlpDistance(std::uint32_t a, std::uint32_t b);
 // Compares word by word. `words` per element; bit k of `float_mask` set when word k is a float.
 BufferComparison CompareWords(const std::string& pass, const std::string& buffer, std::span<const std::uint32_t> expected,
                               std::span<const std::uint32_t> actual, std::size_t words, std::uint32_t float_mask);
+// Compares a byte buffer element by element (each byte reported as the word it widens to).
+BufferComparison CompareBytes(const std::string& pass, const std::string& buffer, std::span<const std::uint8_t> expected,
+                              std::span<const std::uint8_t> actual);
 
 template <typename T>
 BufferComparison CompareBuffers(const std::string& pass, const std::string& buffer, const std::vector<T>& expected,

@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cstring>
 #include <map>
+#include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -46,36 +48,105 @@ template <> struct TypeOf<layout::Material> { static constexpr ElemType kType = 
 template <> struct TypeOf<layout::Light> { static constexpr ElemType kType = ElemType::kLight; };
 template <> struct TypeOf<layout::FrameConstants> { static constexpr ElemType kType = ElemType::kFrame; };
 
-struct Blob {
+// A buffer's bytes, immutable once made and shared between the sets and decoded calls that read
+// them: a diff call copies each array at most once on its way in (none when the set only views the
+// caller's arrays for the call's duration), and its outputs are adopted, not copied, on their way out.
+class Blob {
+ public:
   ElemType type = ElemType::kU32;
-  std::vector<std::uint8_t> bytes;
-  std::size_t count() const { return bytes.size() / Info(type).bytes; }
+
+  Blob() = default;
+  // Adopts the vector: no copy.
+  template <typename T>
+  static Blob Own(std::vector<T>&& v) {
+    auto p = std::make_shared<std::vector<T>>(std::move(v));
+    Blob b(TypeOf<T>::kType, reinterpret_cast<const std::uint8_t*>(p->data()), p->size() * sizeof(T));
+    b.vector_ = true;
+    b.owner_ = std::move(p);
+    return b;
+  }
+  template <typename T>
+  static Blob Copy(std::span<const T> v) { return Own(std::vector<T>(v.begin(), v.end())); }
+  // Views v without owning it: the blob, and every set and decoded call reading it, must not outlive
+  // v's storage or see it change.
+  template <typename T>
+  static Blob Borrow(std::span<const T> v) {
+    return Blob(TypeOf<T>::kType, reinterpret_cast<const std::uint8_t*>(v.data()), v.size() * sizeof(T));
+  }
+  static Blob FromBytes(ElemType type, std::vector<std::uint8_t>&& bytes);
+
+  std::span<const std::uint8_t> bytes() const { return {data_, size_}; }
+  std::size_t count() const { return size_ / Info(type).bytes; }
+  // The elements in place (the blob's type must be T's); keep owner() while the view is used.
+  template <typename T>
+  std::span<const T> View() const {
+    RS_CHECK(type == TypeOf<T>::kType && reinterpret_cast<std::uintptr_t>(data_) % alignof(T) == 0);
+    return {reinterpret_cast<const T*>(data_), size_ / sizeof(T)};
+  }
+  const std::shared_ptr<const void>& owner() const { return owner_; }
+  // The elements as a vector: moved out when this blob alone owns a vector of them (it is left
+  // empty), copied otherwise.
+  template <typename T>
+  std::vector<T> Take() {
+    const std::span<const T> v = View<T>();
+    if (vector_ && owner_.use_count() == 1) {
+      std::vector<T> out = std::move(*std::const_pointer_cast<std::vector<T>>(std::static_pointer_cast<const std::vector<T>>(owner_)));
+      *this = Blob(type, nullptr, 0);
+      return out;
+    }
+    return {v.begin(), v.end()};
+  }
+
+ private:
+  Blob(ElemType t, const std::uint8_t* data, std::size_t size) : type(t), data_(data), size_(size) {}
+  std::shared_ptr<const void> owner_;  // null for a borrowed or empty blob
+  const std::uint8_t* data_ = nullptr;
+  std::size_t size_ = 0;
+  bool vector_ = false;  // owner_ holds a std::vector of the type's element
 };
 
 class BufferSet {
  public:
   template <typename T>
-  void Put(const std::string& name, const std::vector<T>& v) {
+  void Put(const std::string& name, std::span<const T> v) {
     static_assert(sizeof(T) == 1 || sizeof(T) % 4 == 0);
-    Blob& b = blobs_[name];
-    b.type = TypeOf<T>::kType;
-    const auto* p = reinterpret_cast<const std::uint8_t*>(v.data());
-    b.bytes.assign(p, p + v.size() * sizeof(T));
+    blobs_[name] = Blob::Copy(v);
+  }
+  template <typename T>
+  void Put(const std::string& name, const std::vector<T>& v) { Put(name, std::span<const T>(v)); }
+  template <typename T>
+  void Put(const std::string& name, std::vector<T>&& v) {
+    static_assert(sizeof(T) == 1 || sizeof(T) % 4 == 0);
+    blobs_[name] = Blob::Own(std::move(v));
+  }
+  // The set views v (see Blob::Borrow): for a set that lives only while v does.
+  template <typename T>
+  void PutView(const std::string& name, std::span<const T> v) {
+    static_assert(sizeof(T) == 1 || sizeof(T) % 4 == 0);
+    blobs_[name] = Blob::Borrow(v);
   }
   template <typename T>
   void PutOne(const std::string& name, const T& v) { Put(name, std::vector<T>{v}); }
-  // Throws InputError when the buffer is missing or has another type (a hand-edited or foreign set).
+  // Get, View and Take throw InputError when the buffer is missing or has another type (a
+  // hand-edited or foreign set).
   template <typename T>
   std::vector<T> Get(const std::string& name) const {
-    const Blob& b = Find(name, TypeOf<T>::kType);
-    std::vector<T> v(b.bytes.size() / sizeof(T));
-    std::copy(b.bytes.begin(), b.bytes.begin() + static_cast<std::ptrdiff_t>(v.size() * sizeof(T)),
-              reinterpret_cast<std::uint8_t*>(v.data()));
-    return v;
+    const std::span<const T> v = Find(name, TypeOf<T>::kType).template View<T>();
+    return {v.begin(), v.end()};
+  }
+  // In place; the span lives as long as the blob's owner (Owner(name)) or the set.
+  template <typename T>
+  std::span<const T> View(const std::string& name) const { return Find(name, TypeOf<T>::kType).template View<T>(); }
+  const std::shared_ptr<const void>& Owner(const std::string& name) const { return blobs_.at(name).owner(); }
+  // Moves the buffer out when the set alone owns it (see Blob::Take).
+  template <typename T>
+  std::vector<T> Take(const std::string& name) {
+    Find(name, TypeOf<T>::kType);
+    return blobs_.at(name).template Take<T>();
   }
   template <typename T>
   T GetOne(const std::string& name) const {
-    const std::vector<T> v = Get<T>(name);
+    const std::span<const T> v = View<T>(name);
     if (v.size() != 1) ThrowInput("{}: buffer '{}' holds {} elements, expected 1", origin_, name, v.size());
     return v[0];
   }
@@ -88,7 +159,8 @@ class BufferSet {
   std::uint32_t U32(const std::string& name) const;
 
   // The scene buffers a pass reads (all of them: a saved set is self-contained).
-  void PutScene(const SceneBuffers& scene);
+  // `view`: the set views the scene's arrays (see PutView).
+  void PutScene(const SceneBuffers& scene, bool view = false);
   SceneBuffers GetScene() const;
 
   void Save(const std::string& dir, const std::string& method) const;

@@ -1,7 +1,8 @@
 // A call (emu/calls.h) to and from a BufferSet, field by field through its RS_FIELDS: what lets the
 // diff save, compare and replay every pass without restating its signature.
 //
-//   In<T>              <->  buffer NAME (a copy; DecodedCall owns the decoded copy)
+//   In<T>              <->  buffer NAME (decoded as a view into the set's blob, which DecodedCall
+//                           keeps alive)
 //   std::vector<T>*    <->  buffer NAME when non-null; after the call it is an output too
 //   const SceneBuffers* <-> the scene.* buffers
 //   layout::FrameConstants <-> a one-element buffer NAME
@@ -33,7 +34,7 @@ template <typename T> struct IsVectorPtr<std::vector<T>*> : std::true_type { usi
 template <typename T>
 constexpr bool kScalar = std::is_integral_v<T> || std::is_enum_v<T>;
 
-// Copies of decoded buffers a call's views point into.
+// The decoded buffers and blobs a call's views point into.
 class Store {
  public:
   template <typename T>
@@ -43,42 +44,65 @@ class Store {
     kept_.push_back(std::move(p));
     return r;
   }
+  void Hold(const std::shared_ptr<const void>& owner) {
+    if (owner) kept_.push_back(owner);
+  }
 
  private:
-  std::deque<std::shared_ptr<void>> kept_;
+  std::deque<std::shared_ptr<const void>> kept_;
 };
 
-template <typename S>
-void Encode(BufferSet& out, const S& s);
+// How an encoding holds a struct's arrays: copies them (a set that outlives the struct), views them
+// (a set used only while the struct's arrays live unchanged), or adopts them (the struct's vectors
+// and in-place arrays are moved out and left empty).
+enum class Hold { kCopy, kView, kMove };
+
+template <Hold H, typename S>
+void Encode(BufferSet& out, S& s);
+
+template <typename T, typename Set>
+std::vector<T> TakeOrGet(Set& in, const std::string& name) {
+  if constexpr (std::is_const_v<Set>) return in.template Get<T>(name);
+  else return in.template Take<T>(name);
+}
 template <typename S>
 void Decode(const BufferSet& in, S& s, Store& store);
 
-template <typename F>
-void EncodeField(BufferSet& out, std::string_view name_view, const F& f) {
+template <Hold H, typename T>
+void PutArray(BufferSet& out, const std::string& name, std::conditional_t<H == Hold::kMove, std::vector<T>&, const std::vector<T>&> v) {
+  if constexpr (H == Hold::kMove) out.Put(name, std::move(v));
+  else if constexpr (H == Hold::kView) out.PutView(name, std::span<const T>(v));
+  else out.Put(name, std::span<const T>(v));
+}
+
+template <Hold H, typename F>
+void EncodeField(BufferSet& out, std::string_view name_view, F& f) {
+  using V = std::remove_const_t<F>;
   const std::string name(name_view);
-  if constexpr (IsSpan<F>::value) {
-    out.Put(name, std::vector<typename IsSpan<F>::Elem>(f.begin(), f.end()));
-  } else if constexpr (IsVector<F>::value) {
-    out.Put(name, f);
-  } else if constexpr (IsVectorPtr<F>::value) {
-    if (f) out.Put(name, *f);
-  } else if constexpr (std::is_same_v<F, const SceneBuffers*>) {
-    if (f) out.PutScene(*f);
-  } else if constexpr (std::is_same_v<F, layout::FrameConstants>) {
+  if constexpr (IsSpan<V>::value) {
+    if constexpr (H == Hold::kView) out.PutView(name, f);
+    else out.Put(name, f);
+  } else if constexpr (IsVector<V>::value) {
+    PutArray<H, typename IsVector<V>::Elem>(out, name, f);
+  } else if constexpr (IsVectorPtr<V>::value) {
+    if (f) PutArray<H, typename IsVectorPtr<V>::Elem>(out, name, *f);
+  } else if constexpr (std::is_same_v<V, const SceneBuffers*>) {
+    if (f) out.PutScene(*f, H == Hold::kView);
+  } else if constexpr (std::is_same_v<V, layout::FrameConstants>) {
     out.PutOne(name, f);
-  } else if constexpr (std::is_same_v<F, float>) {
+  } else if constexpr (std::is_same_v<V, float>) {
     out.scalars[name + "_bits"] = std::bit_cast<std::uint32_t>(f);
-  } else if constexpr (std::is_same_v<F, bool>) {
+  } else if constexpr (std::is_same_v<V, bool>) {
     out.scalars[name] = f ? 1 : 0;
-  } else if constexpr (std::is_same_v<F, std::uint64_t>) {
+  } else if constexpr (std::is_same_v<V, std::uint64_t>) {
     out.PutOne(name, f);
-  } else if constexpr (std::is_enum_v<F>) {
-    out.scalars[name] = static_cast<std::underlying_type_t<F>>(f);
-  } else if constexpr (kScalar<F>) {
+  } else if constexpr (std::is_enum_v<V>) {
+    out.scalars[name] = static_cast<std::underlying_type_t<V>>(f);
+  } else if constexpr (kScalar<V>) {
     out.scalars[name] = f;
   } else {
-    static_assert(emu::HasFields<F>, "a call field the codec does not know");
-    Encode(out, f);
+    static_assert(emu::HasFields<V>, "a call field the codec does not know");
+    Encode<H>(out, f);
   }
 }
 
@@ -86,7 +110,8 @@ template <typename F>
 void DecodeField(const BufferSet& in, std::string_view name_view, F& f, Store& store) {
   const std::string name(name_view);
   if constexpr (IsSpan<F>::value) {
-    f = store.Keep(in.Get<typename IsSpan<F>::Elem>(name));
+    f = in.View<typename IsSpan<F>::Elem>(name);
+    store.Hold(in.Owner(name));
   } else if constexpr (IsVector<F>::value) {
     f = in.Get<typename IsVector<F>::Elem>(name);
   } else if constexpr (IsVectorPtr<F>::value) {
@@ -116,9 +141,9 @@ void DecodeField(const BufferSet& in, std::string_view name_view, F& f, Store& s
   }
 }
 
-template <typename S>
-void Encode(BufferSet& out, const S& s) {
-  emu::ForEachField(s, [&](std::string_view name, const auto& f) { EncodeField(out, name, f); });
+template <Hold H, typename S>
+void Encode(BufferSet& out, S& s) {
+  emu::ForEachField(s, [&](std::string_view name, auto& f) { EncodeField<H>(out, name, f); });
 }
 
 template <typename S>
@@ -127,18 +152,19 @@ void Decode(const BufferSet& in, S& s, Store& store) {
 }
 
 // The in-place arrays (std::vector<T>*) of a call, as outputs.
-template <typename C>
+template <Hold H, typename C>
 void EncodeInOut(BufferSet& out, const C& c) {
   emu::ForEachField(c, [&](std::string_view name, const auto& f) {
-    if constexpr (IsVectorPtr<std::decay_t<decltype(f)>>::value) EncodeField(out, name, f);
+    if constexpr (IsVectorPtr<std::decay_t<decltype(f)>>::value) EncodeField<H>(out, name, f);
   });
 }
-template <typename C>
-void DecodeInOut(const BufferSet& in, const C& c) {
+// Set is const BufferSet (the arrays are copied) or BufferSet (moved out where the set owns them).
+template <typename Set, typename C>
+void DecodeInOut(Set& in, const C& c) {
   emu::ForEachField(c, [&](std::string_view name, const auto& f) {
     using F = std::decay_t<decltype(f)>;
     if constexpr (IsVectorPtr<F>::value)
-      if (f) *f = in.Get<typename IsVectorPtr<F>::Elem>(std::string(name));
+      if (f) *f = TakeOrGet<typename IsVectorPtr<F>::Elem>(in, std::string(name));
   });
 }
 
@@ -169,7 +195,16 @@ struct DecodedCall {
 template <typename C>
 BufferSet EncodeCall(const C& c) {
   BufferSet out;
-  codec_detail::Encode(out, c);
+  codec_detail::Encode<codec_detail::Hold::kCopy>(out, c);
+  return out;
+}
+
+// The call's inputs as a set that views the call's arrays (and scene) instead of copying them: for a
+// set used, and decoded calls run, only while those arrays live unchanged (the diff's calls).
+template <typename C>
+BufferSet ViewCall(const C& c) {
+  BufferSet out;
+  codec_detail::Encode<codec_detail::Hold::kView>(out, c);
   return out;
 }
 
@@ -185,8 +220,19 @@ template <typename C>
 BufferSet EncodeOutputs(const C& c, const typename C::Result* result) {
   BufferSet out;
   if constexpr (codec_detail::IsVector<typename C::Result>::value) out.Put(std::string(C::kResult), *result);
-  else if constexpr (!std::is_void_v<typename C::Result>) codec_detail::Encode(out, *result);
-  codec_detail::EncodeInOut(out, c);
+  else if constexpr (!std::is_void_v<typename C::Result>) codec_detail::Encode<codec_detail::Hold::kCopy>(out, *result);
+  codec_detail::EncodeInOut<codec_detail::Hold::kCopy>(out, c);
+  return out;
+}
+
+// EncodeOutputs without copies: the result's arrays and the call's in-place arrays are moved into
+// the set and left empty.
+template <typename C>
+BufferSet MoveOutputs(const C& c, typename C::Result* result) {
+  BufferSet out;
+  if constexpr (codec_detail::IsVector<typename C::Result>::value) out.Put(std::string(C::kResult), std::move(*result));
+  else if constexpr (!std::is_void_v<typename C::Result>) codec_detail::Encode<codec_detail::Hold::kMove>(out, *result);
+  codec_detail::EncodeInOut<codec_detail::Hold::kMove>(out, c);
   return out;
 }
 
@@ -209,19 +255,49 @@ void ForEachOutputRange(const C& c, const R* result, F&& f) {
   });
 }
 
-// Reads a call's result from its outputs and updates its in-place arrays.
-template <typename C>
-typename C::Result DecodeOutputs(const BufferSet& out, const C& c) {
-  codec_detail::DecodeInOut(out, c);
+namespace codec_detail {
+
+// A result struct's fields (arrays, 64-bit counts, nested structs) from a set, copied or moved out.
+template <typename Set, typename R>
+void DecodeResult(Set& in, R& r) {
+  emu::ForEachField(r, [&](std::string_view name_view, auto& f) {
+    using F = std::decay_t<decltype(f)>;
+    const std::string name(name_view);
+    if constexpr (IsVector<F>::value) {
+      f = TakeOrGet<typename IsVector<F>::Elem>(in, name);
+    } else if constexpr (emu::HasFields<F>) {
+      DecodeResult(in, f);
+    } else {
+      Store unused;
+      DecodeField(in, name, f, unused);
+    }
+  });
+}
+
+template <typename Set, typename C>
+typename C::Result DecodeOutputsFrom(Set& out, const C& c) {
+  DecodeInOut(out, c);
   using R = typename C::Result;
-  if constexpr (codec_detail::IsVector<R>::value) {
-    return out.Get<typename codec_detail::IsVector<R>::Elem>(std::string(C::kResult));
+  if constexpr (IsVector<R>::value) {
+    return TakeOrGet<typename IsVector<R>::Elem>(out, std::string(C::kResult));
   } else if constexpr (!std::is_void_v<R>) {
     R r;
-    codec_detail::Store unused;
-    codec_detail::Decode(out, r, unused);
+    DecodeResult(out, r);
     return r;
   }
+}
+
+}  // namespace codec_detail
+
+// Reads a call's result from its outputs and updates its in-place arrays: copied from a set that
+// stays, moved out of one given up (where the set alone owns them).
+template <typename C>
+typename C::Result DecodeOutputs(const BufferSet& out, const C& c) {
+  return codec_detail::DecodeOutputsFrom(out, c);
+}
+template <typename C>
+typename C::Result DecodeOutputs(BufferSet&& out, const C& c) {
+  return codec_detail::DecodeOutputsFrom(out, c);
 }
 
 }  // namespace rayspace::verify
