@@ -31,9 +31,10 @@ struct MemoryUse {
 // A Vulkan frame: the host's buffers and the device's (lavapipe's device memory is the host's).
 inline constexpr int kVulkanCopies = 2;
 // diff holds the frame on the emulator and on the device (host and device buffers), and the differ
-// holds each call's encoded inputs and the expected side's outputs beside them; the impact of a
-// divergence keeps every batch's rays and hits of two further frames, one per side. Of a traversal
-// call's slots: the emulator's, the device's as read back, and the reduction's encoded inputs.
+// holds both sides' outputs of a call (it views the call's inputs; the count is an upper bound kept
+// from when it copied them); the impact of a divergence keeps every batch's rays and hits of two
+// further frames, one per side. Of a traversal call's slots: the emulator's, the device's as read
+// back, and the reduction's decoded inputs (a bound: they are views now).
 inline constexpr int kDiffCopies = 5;
 inline constexpr int kDiffSlotCopies = 3;
 // Bytes a pass-by-pass slot costs the host: its flag and tested count (a byte each) and its value.

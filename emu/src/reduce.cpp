@@ -31,7 +31,7 @@ class SubgroupPerComponent {
   SubgroupPerComponent(const KernelSite& site, std::uint32_t n, std::uint32_t s)
       : site_(site), n_(n), s_(s), comps_((n + s - 1) / s) {
     const std::uint32_t per_group = (wg::LocalSize() + wg::SubgroupSize() - 1) / wg::SubgroupSize();
-    groups_ = (comps_ + per_group - 1) / per_group;
+    groups_ = std::min(layout::kReduceStrideGroups, (comps_ + per_group - 1) / per_group);  // as the host launches it
   }
   std::uint32_t comps() const { return comps_; }
 

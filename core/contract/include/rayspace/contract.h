@@ -334,6 +334,10 @@ RS_CONST(uint, kReducePhaseBlockSums, 1u);
 RS_CONST(uint, kReducePhaseScanSums, 2u);  // also the scan-based reduction's middle phase
 RS_CONST(uint, kReducePhaseOffsets, 3u);
 RS_CONST(uint, kReducePhaseConcat, 4u);
+// Local and Concat run a subgroup per component over a grid of at most kReduceStrideGroups
+// workgroups, each subgroup striding from component to component: lavapipe pays for every
+// workgroup it starts (docs/performance.md, "Workgroups that stride").
+RS_CONST(uint, kReduceStrideGroups, 256u);
 // scan-based
 RS_CONST(uint, kReducePhaseFlagSums, 10u);
 RS_CONST(uint, kReducePhaseScatter, 11u);
