@@ -38,9 +38,7 @@ bool RayMayMeetSphere(Ray r, vec4 sphere) {
   return ConeTest(Finish(n), sphere, pc.eps);
 }
 
-void main() {
-  const uint p = GlobalIndex();
-  if (p >= pc.count) return;
+void Pair(uint p) {
   const uint node = pc.base1 + (pairs[p] >> kPairTriangleBits), prim = pc.b0 + (pairs[p] & kPairTriangleMask);
   const Triangle tri = triangles[prim];
   const uint f0 = LoadFirst(node, pc.first_page), f1 = LoadFirst(node + 1u, pc.first_page);
@@ -68,4 +66,11 @@ void main() {
   }
   // Fault 3 counts the lost ray as tested, as the node's ray count (only the hits show the fault).
   tests[p] = sphere_first ? performed : f1 - f0;
+}
+
+// A grid of at most kIntersectGroups workgroups (gpu/src/intersect.cpp) strides over the pairs:
+// lavapipe pays for every workgroup it starts.
+void main() {
+  const uint stride = gl_NumWorkGroups.x * gl_NumWorkGroups.y * kLocalSize;
+  for (uint p = GlobalIndex(); p < pc.count; p += stride) Pair(p);
 }

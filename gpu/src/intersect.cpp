@@ -6,6 +6,11 @@
 #include <algorithm>
 
 namespace rayspace::gpu_backend {
+
+// intersect.comp strides over its pairs from a grid of at most this many workgroups. lavapipe pays
+// for every workgroup it starts: Sponza 512x512's final tests took 1,895-2,025 ms with a workgroup
+// per 64 pairs and 1,274-1,368 ms with 256 (docs/performance.md, "Workgroups that stride").
+constexpr std::uint32_t kIntersectGroups = 256;
 using namespace detail;
 
 vk::Status VulkanPasses::Run(const emu::call::Intersect& call, std::vector<std::uint32_t>& tests) {
@@ -52,7 +57,9 @@ vk::Status VulkanPasses::Run(const emu::call::Intersect& call, std::vector<std::
     b.Set(layout::kIntersectBindPairs, bp).Set(layout::kIntersectBindTriangles, bt).Set(layout::kIntersectBindTests, btests);
     b.Set(layout::kIntersectBindFirst, pf).Set(layout::kIntersectBindOrder, po).Set(layout::kIntersectBindRays, pr);
     b.Set(layout::kIntersectBindHits, ph).Set(layout::kIntersectBindOccluded, pocc).Set(layout::kIntersectBindTriSpheres, bs);
-    return rec.Dispatch(K(PassId::kIntersect), b.All(), &push, sizeof push, push.count);
+    // The kernel strides over the pairs: a grid of at most kIntersectGroups workgroups.
+    const std::size_t invocations = std::min<std::size_t>(push.count, std::size_t{kIntersectGroups} * K(PassId::kIntersect).local_size());
+    return rec.Dispatch(K(PassId::kIntersect), b.All(), &push, sizeof push, invocations);
   }));
   RS_TRY(rec.Submit());
   RS_TRY(keep.CopyBack());

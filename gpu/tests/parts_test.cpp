@@ -86,5 +86,31 @@ TEST_CASE("final test in more parts than one descriptor pool holds equals the em
   }
 }
 
+// intersect.comp's grid holds at most 256 workgroups of 64 (gpu/src/intersect.cpp): 96,000 pairs in
+// one part make every invocation stride over several.
+TEST_CASE("final test of more pairs than the grid's invocations equals the emulator") {
+  const IntersectCase c(30);
+  REQUIRE(c.pairs.size() > 256u * 64u * 4u);
+  auto gpu = MakeGpu(std::size_t{1} << 26);
+  for (const bool shadow : {false, true}) {
+    CAPTURE(shadow);
+    std::vector<std::uint64_t> eh(c.rays.size(), ~std::uint64_t{0}), gh = eh;
+    std::vector<std::uint32_t> eo(c.rays.size(), 0), go = eo, gt;
+    emu::call::Intersect call{.pairs = c.pairs, .first1 = c.first1, .order = c.order, .rays = c.rays, .scene = &c.scene,
+                              .hits = shadow ? nullptr : &eh, .occluded = shadow ? &eo : nullptr};
+    const std::vector<std::uint32_t> et = emu::PassIntersect(call);
+    call.hits = shadow ? nullptr : &gh;
+    call.occluded = shadow ? &go : nullptr;
+    const std::size_t extra_before = gpu->extra_dispatches();
+    const vk::Status st = gpu->Run(call, gt);
+    INFO(st.message);
+    REQUIRE(st);
+    CHECK(gpu->extra_dispatches() == extra_before);  // one part
+    CHECK(gt == et);
+    CHECK(go == eo);
+    CHECK(gh == eh);
+  }
+}
+
 }  // namespace
 }  // namespace rayspace
