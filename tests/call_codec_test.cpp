@@ -398,10 +398,14 @@ void CheckOutputRanges() {
 }  // namespace
 
 TEST_CASE("call codec: every call's output ranges are its encoded outputs, in place in memory") {
-#define RS_RANGES(C) CheckOutputRanges<call::C>();
+  std::set<std::string_view> names;
+#define RS_RANGES(C)             \
+  CheckOutputRanges<call::C>();  \
+  CHECK(names.insert(call::C::kName).second);
   RS_FRAME_CALLS(RS_RANGES)
   RS_HIERARCHY_CALLS(RS_RANGES)
 #undef RS_RANGES
+  CHECK(names.size() >= 18);  // every call of the registry, none twice
 }
 
 TEST_CASE("buffer set: adopted arrays move out without a copy, viewed ones stay the caller's, a held view forces a copy") {

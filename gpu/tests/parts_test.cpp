@@ -3,6 +3,7 @@
 // 1,024 descriptors) with a lowered binding limit and demand the emulator's bits.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <memory>
 #include <vector>
 
@@ -50,39 +51,54 @@ std::unique_ptr<gpu_backend::VulkanPasses> MakeGpu(std::size_t binding_bytes) {
   return gpu;
 }
 
+// One final-test call's results: tests per pair, and the hits or the occlusion flags of the rays.
+struct Outcome {
+  std::vector<std::uint32_t> tests;
+  std::vector<std::uint64_t> hits;
+  std::vector<std::uint32_t> occluded;
+};
+
+// The call on the emulator (gpu null) or on the device.
+Outcome RunIntersect(const IntersectCase& c, bool shadow, gpu_backend::VulkanPasses* gpu) {
+  Outcome o;
+  o.hits.assign(c.rays.size(), ~std::uint64_t{0});
+  o.occluded.assign(c.rays.size(), 0);
+  const emu::call::Intersect call{.pairs = c.pairs, .first1 = c.first1, .order = c.order, .rays = c.rays, .scene = &c.scene,
+                                  .hits = shadow ? nullptr : &o.hits, .occluded = shadow ? &o.occluded : nullptr};
+  if (!gpu) {
+    o.tests = emu::PassIntersect(call);
+    return o;
+  }
+  const vk::Status st = gpu->Run(call, o.tests);
+  INFO(st.message);
+  REQUIRE(st);
+  return o;
+}
+
+void CheckEqual(const Outcome& emulated, const Outcome& device) {
+  CHECK(device.tests == emulated.tests);
+  CHECK(device.hits == emulated.hits);
+  CHECK(device.occluded == emulated.occluded);
+}
+
 TEST_CASE("final test in more parts than one descriptor pool holds equals the emulator") {
   const IntersectCase c(20);  // 64,000 pairs: 63 parts of 1,024 at a 4 KiB binding, 23 bindings each
   auto gpu = MakeGpu(4096);
   for (const bool shadow : {false, true}) {
     CAPTURE(shadow);
-    std::vector<std::uint64_t> eh(c.rays.size(), ~std::uint64_t{0});
-    std::vector<std::uint32_t> eo(c.rays.size(), 0);
-    const emu::call::Intersect call{.pairs = c.pairs, .first1 = c.first1, .order = c.order, .rays = c.rays, .scene = &c.scene,
-                                    .hits = shadow ? nullptr : &eh, .occluded = shadow ? &eo : nullptr};
-    const std::vector<std::uint32_t> et = emu::PassIntersect(call);
-    std::vector<std::uint64_t> gh(c.rays.size(), ~std::uint64_t{0});
-    std::vector<std::uint32_t> go(c.rays.size(), 0), gt;
-    emu::call::Intersect gcall = call;
-    gcall.hits = shadow ? nullptr : &gh;
-    gcall.occluded = shadow ? &go : nullptr;
+    const Outcome e = RunIntersect(c, shadow, nullptr);
     const std::size_t extra_before = gpu->extra_dispatches(), paged_before = gpu->paged_arrays();
     const std::size_t pools_before = gpu->context().descriptor_pools_created();
-    const vk::Status st = gpu->Run(gcall, gt);
-    INFO(st.message);
-    REQUIRE(st);
+    const Outcome g = RunIntersect(c, shadow, gpu.get());
     CHECK(gpu->extra_dispatches() - extra_before == 62);
     CHECK(gpu->paged_arrays() - paged_before >= 1);  // the 200 rays span four pages
     // 63 sets of 23 descriptors need two pools of 1,024; lavapipe would not refuse a third set too
     // many from one pool, so the count is what shows that the recorder stays within the spec.
     CHECK(gpu->context().descriptor_pools_created() - pools_before >= 2);
-    CHECK(gt == et);
-    if (shadow) {
-      CHECK(go == eo);
-      CHECK(std::count(eo.begin(), eo.end(), 1u) > 100);  // most rays are blocked: the test can tell
-    } else {
-      CHECK(gh == eh);
-      CHECK(std::count(eh.begin(), eh.end(), ~std::uint64_t{0}) < 100);
-    }
+    CheckEqual(e, g);
+    // Most rays are blocked or hit: the test can tell.
+    if (shadow) CHECK(std::count(e.occluded.begin(), e.occluded.end(), 1u) > 100);
+    else CHECK(std::count(e.hits.begin(), e.hits.end(), ~std::uint64_t{0}) < 100);
   }
 }
 
@@ -94,21 +110,11 @@ TEST_CASE("final test of more pairs than the grid's invocations equals the emula
   auto gpu = MakeGpu(std::size_t{1} << 26);
   for (const bool shadow : {false, true}) {
     CAPTURE(shadow);
-    std::vector<std::uint64_t> eh(c.rays.size(), ~std::uint64_t{0}), gh = eh;
-    std::vector<std::uint32_t> eo(c.rays.size(), 0), go = eo, gt;
-    emu::call::Intersect call{.pairs = c.pairs, .first1 = c.first1, .order = c.order, .rays = c.rays, .scene = &c.scene,
-                              .hits = shadow ? nullptr : &eh, .occluded = shadow ? &eo : nullptr};
-    const std::vector<std::uint32_t> et = emu::PassIntersect(call);
-    call.hits = shadow ? nullptr : &gh;
-    call.occluded = shadow ? &go : nullptr;
+    const Outcome e = RunIntersect(c, shadow, nullptr);
     const std::size_t extra_before = gpu->extra_dispatches();
-    const vk::Status st = gpu->Run(call, gt);
-    INFO(st.message);
-    REQUIRE(st);
+    const Outcome g = RunIntersect(c, shadow, gpu.get());
     CHECK(gpu->extra_dispatches() == extra_before);  // one part
-    CHECK(gt == et);
-    CHECK(go == eo);
-    CHECK(gh == eh);
+    CheckEqual(e, g);
   }
 }
 

@@ -44,7 +44,7 @@ class Store {
     kept_.push_back(std::move(p));
     return r;
   }
-  void Hold(const std::shared_ptr<const void>& owner) {
+  void KeepAlive(const std::shared_ptr<const void>& owner) {
     if (owner) kept_.push_back(owner);
   }
 
@@ -59,14 +59,15 @@ enum class Hold { kCopy, kView, kMove };
 
 template <Hold H, typename S>
 void Encode(BufferSet& out, S& s);
+template <typename S>
+void Decode(const BufferSet& in, S& s, Store& store);
 
+// From a const set a copy; from one given up, moved out where the set alone owns it.
 template <typename T, typename Set>
 std::vector<T> TakeOrGet(Set& in, const std::string& name) {
   if constexpr (std::is_const_v<Set>) return in.template Get<T>(name);
   else return in.template Take<T>(name);
 }
-template <typename S>
-void Decode(const BufferSet& in, S& s, Store& store);
 
 template <Hold H, typename T>
 void PutArray(BufferSet& out, const std::string& name, std::conditional_t<H == Hold::kMove, std::vector<T>&, const std::vector<T>&> v) {
@@ -111,7 +112,7 @@ void DecodeField(const BufferSet& in, std::string_view name_view, F& f, Store& s
   const std::string name(name_view);
   if constexpr (IsSpan<F>::value) {
     f = in.View<typename IsSpan<F>::Elem>(name);
-    store.Hold(in.Owner(name));
+    store.KeepAlive(in.Owner(name));
   } else if constexpr (IsVector<F>::value) {
     f = in.Get<typename IsVector<F>::Elem>(name);
   } else if constexpr (IsVectorPtr<F>::value) {
