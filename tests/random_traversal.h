@@ -81,15 +81,20 @@ struct LevelCase {
   std::vector<std::uint32_t> first{0}, pairs;
   std::vector<glm::vec4> spheres;
   std::uint32_t base_up = 3, children_max;
-  LevelCase(std::uint32_t seed, std::uint32_t parents, std::size_t pair_count, std::uint32_t children_max_, bool far = false)
+  // `run` > 1: the pairs come in runs of 1 .. run pairs with one parent, as a level's survivors do
+  // (a node's triangles together); 1: every pair's parent drawn on its own.
+  LevelCase(std::uint32_t seed, std::uint32_t parents, std::size_t pair_count, std::uint32_t children_max_, bool far = false,
+            std::uint32_t run = 1)
       : children_max(children_max_) {
     Rng rng(seed);
     for (std::uint32_t p = 0; p < parents; ++p) first.push_back(first.back() + (children_max ? rng() % (children_max + 1) : 0));
     nodes = RandomNodes(rng, first.back(), far);
     nodes.resize(first.back());
     spheres = RandomSpheres(rng, 200, far);
-    for (std::size_t i = 0; i < pair_count; ++i)
-      pairs.push_back(((rng() % (parents - base_up)) << layout::kPairTriangleBits) | (rng() % 150));
+    while (pairs.size() < pair_count) {
+      const std::uint32_t parent = rng() % (parents - base_up), n = run > 1 ? 1 + rng() % run : 1;
+      for (std::uint32_t i = 0; i < n && pairs.size() < pair_count; ++i) pairs.push_back((parent << layout::kPairTriangleBits) | (rng() % 150));
+    }
   }
   emu::call::TraverseLevel Level(float eps = 0.0f) const {
     return {.pairs = pairs, .nodes = nodes, .first = first, .base_up = base_up, .base = first[base_up],

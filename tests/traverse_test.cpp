@@ -288,6 +288,12 @@ TEST_CASE("traverse.compact mirror: each planted fault changes the result, and t
     CHECK_FALSE(Same(EmuHierarchyPasses().TraverseTopCompacted(top), top_lanes));
     CHECK_FALSE(Same(EmuHierarchyPasses().TraverseLevelCompacted(level), level_lanes));
   }
+  // Fault 6 is in the levels' shared children: pairs in runs of one parent, some subgroups straddling two.
+  const RandomLevel runs(14, 300, 2000, 8, false, 12);
+  SetEmuFaults({});
+  const Compacted runs_lanes = Lanes(call::TraverseLevelCompacted{runs.Call()});
+  SetEmuFaults({{"traverse.compact", 6u}});
+  CHECK_FALSE(Same(EmuHierarchyPasses().TraverseLevelCompacted(call::TraverseLevelCompacted{runs.Call()}), runs_lanes));
   SetEmuFaults({});
   CHECK_FALSE(RunsWorkgroupMirror("traverse.compact"));
   SetWorkgroupModel(true);
@@ -295,6 +301,7 @@ TEST_CASE("traverse.compact mirror: each planted fault changes the result, and t
   // The mirror without a fault: the lanes' result.
   CHECK(Same(EmuHierarchyPasses().TraverseTopCompacted(top), top_lanes));
   CHECK(Same(EmuHierarchyPasses().TraverseLevelCompacted(level), level_lanes));
+  CHECK(Same(EmuHierarchyPasses().TraverseLevelCompacted(call::TraverseLevelCompacted{runs.Call()}), runs_lanes));
 }
 
 TEST_CASE("traverse.compact mirror: a dropped barrier in its workgroup scan is named by the checker") {

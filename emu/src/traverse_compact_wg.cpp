@@ -21,9 +21,7 @@ namespace rayspace::emu {
 namespace {
 
 using layout::kCompactBlock;
-using layout::kCompactRun;
-// uint kept[kCompactRun]: the survivors of an invocation's slots in the current round.
-using Kept = std::array<std::uint32_t, kCompactRun>;
+using layout::kCompactChunk;
 
 using layout::kCompactCols;
 using layout::kCompactRows;
@@ -279,50 +277,115 @@ class CompactKernel {
     });
   }
 
-  // TestLevelSlots: slots [s0, s1) as (pair, child), visiting only the slots that hold a child.
-  std::uint32_t TestLevelSlots(std::uint32_t s0, std::uint32_t s1, std::uint32_t& tests, Kept& kept) const {
-    std::uint32_t n = 0;
-    tests = 0;
-    for (std::uint32_t p = s0 / pc_.children_max; p * pc_.children_max < s1; ++p) {
-      const std::uint32_t parent = pc_.base_up + (pairs_[p] >> kPairTriangleBits), tri_local = pairs_[p] & kPairTriangleMask;
-      const std::uint32_t c0 = first_[parent], c1 = first_[parent + 1u];
-      const std::uint32_t row0 = p * pc_.children_max, k1 = std::min(std::min(s1, row0 + pc_.children_max) - row0, c1 - c0);
-      const glm::vec4 sphere = tri_spheres_[pc_.b0 + tri_local];
-      for (std::uint32_t k = std::max(s0, row0) - row0; k < k1; ++k) {
-        ++tests;
-        if (cone::TestBy(pc_.cone_test, nodes_[c0 + k], sphere, pc_.eps)) kept[n++] = ((c0 + k - pc_.base) << kPairTriangleBits) | tri_local;
-      }
-    }
-    return n;
+  // An invocation's (pair, chunk) of TestBlock: the pair's triangle and children from c0, the chunk's
+  // first child kc, the children [a, b) it tests, and the survivors' bits (bit i: child kc + i).
+  struct LevelChunk {
+    bool valid = false;
+    std::uint32_t parent = 0xFFFFFFFFu, tri_local = 0, c0 = 0, children = 0, kc = 0, a = 0, b = 0, hit = 0;
+    glm::vec4 sphere{0.0f};
+  };
+  LevelChunk LoadChunk(std::uint32_t v, std::uint32_t chunks, std::uint32_t first, std::uint32_t end) const {
+    const std::uint32_t cm = pc_.children_max, p = v / chunks;
+    LevelChunk q;
+    q.kc = (v - p * chunks) * kCompactChunk;
+    q.valid = p * cm < end;
+    if (!q.valid) return q;
+    q.parent = pc_.base_up + (pairs_[p] >> kPairTriangleBits);
+    q.tri_local = pairs_[p] & kPairTriangleMask;
+    q.sphere = tri_spheres_[pc_.b0 + q.tri_local];
+    q.c0 = first_[q.parent];
+    q.children = first_[q.parent + 1u] - q.c0;
+    // The chunk's children that the block holds (a block may begin or end inside a pair) and exist.
+    q.a = std::max(std::max(first, p * cm) - p * cm, q.kc);
+    q.b = std::max(q.a, std::min(std::min(end - p * cm, q.children), q.kc + kCompactChunk));
+    return q;
   }
 
-  // Phase A one level down for block w.id(): every invocation runs every round (the scan's barriers are uniform).
-  // The kernel's `run` and `tests` are locals of each invocation, equal in all of them.
+  // The subgroup's verdict on sharing its pairs' children: the kernel's full && subgroupAll(!valid ||
+  // parent == subgroupMin(parent)), here by a reduction over its lanes.
+  wg::Private<bool> SharedChildren(wg::Workgroup& w, const wg::Private<LevelChunk>& q, const wg::Private<bool>& full) {
+    // Fault 6: pairs whose parents have as many children are taken to share them (children ==
+    // subgroupMax(children) in place of parent == subgroupMin(parent)).
+    const bool fault = site_.fault == 6u;
+    wg::Private<std::uint32_t> key = w.Private<std::uint32_t>(), odd = key;
+    w.Phase([&](wg::Inv& i) { key[i] = fault ? q[i].children : q[i].parent; });
+    const wg::Private<std::uint32_t> lead =
+        w.SubgroupReduce(key, [fault](std::uint32_t x, std::uint32_t y) { return fault ? std::max(x, y) : std::min(x, y); });
+    w.Phase([&](wg::Inv& i) { odd[i] = q[i].valid && key[i] != lead[i] ? 1u : 0u; });
+    odd = w.SubgroupReduce(odd, [](std::uint32_t x, std::uint32_t y) { return std::max(x, y); });
+    wg::Private<bool> shared = w.Private<bool>();
+    w.Phase([&](wg::Inv& i) { shared[i] = full[i] && odd[i] == 0u; });
+    return shared;
+  }
+
+  // The kernel's shared path: per step of subgroup_size children from the subgroup's lowest, lane j
+  // loads child sc0 + k0 + j and every lane tests the shuffled nodes of its range [a, b). The steps
+  // run to the workgroup's longest subgroup; a subgroup past its own end idles.
+  void TestShared(wg::Workgroup& w, wg::Private<LevelChunk>& q, const wg::Private<bool>& shared) {
+    wg::Private<std::uint32_t> c0 = w.Private<std::uint32_t>(), sa = c0, sb = c0;
+    w.Phase([&](wg::Inv& i) { c0[i] = q[i].c0, sa[i] = q[i].a < q[i].b ? q[i].a : 0xFFFFFFFFu, sb[i] = q[i].b; });
+    const wg::Private<std::uint32_t> sc0 = w.SubgroupReduce(c0, [](std::uint32_t x, std::uint32_t y) { return std::max(x, y); });
+    sa = w.SubgroupReduce(sa, [](std::uint32_t x, std::uint32_t y) { return std::min(x, y); });
+    sb = w.SubgroupReduce(sb, [](std::uint32_t x, std::uint32_t y) { return std::max(x, y); });
+    std::uint32_t steps = 0;
+    w.Phase([&](wg::Inv& i) {
+      if (shared[i] && sa[i] < sb[i]) steps = std::max(steps, (sb[i] - sa[i] + w.subgroup_size() - 1) / w.subgroup_size());
+    });
+    for (std::uint32_t step = 0; step < steps; ++step) {
+      wg::Private<layout::ConeNode> mine = w.Private<layout::ConeNode>();
+      w.Phase([&](wg::Inv& i) {
+        const std::uint32_t k = sa[i] + step * w.subgroup_size() + i.lane;
+        if (shared[i] && sa[i] < sb[i] && k < sb[i]) mine[i] = nodes_[sc0[i] + k];
+      });
+      for (std::uint32_t j = 0; j < w.subgroup_size(); ++j) {
+        const wg::Private<layout::ConeNode> node = w.SubgroupShuffle(mine, w.Private<std::uint32_t>(j));
+        w.Phase([&](wg::Inv& i) {
+          const std::uint32_t k = sa[i] + step * w.subgroup_size() + j;
+          if (!shared[i] || sa[i] >= sb[i] || k >= sb[i]) return;
+          if (k >= q[i].a && k < q[i].b && cone::TestBy(pc_.cone_test, node[i], q[i].sphere, pc_.eps)) q[i].hit |= 1u << (k - q[i].kc);
+        });
+      }
+    }
+  }
+
+  // Phase A one level down for block w.id(): the block's (pair, chunk)s in rounds of local_size, one
+  // an invocation, one WorkgroupInclusiveAdd of (survivors, tests) a round. Every invocation runs
+  // every round (the scan's barriers are uniform); the kernel's `run` and `tests` are locals of each
+  // invocation, equal in all of them.
   void TestBlock(wg::Workgroup& w) {
     auto& tile = WorkgroupTile(w);
     const std::uint32_t g = w.id(), first = g * kCompactBlock, end = std::min(pc_.count, first + kCompactBlock);
-    const std::uint32_t round = w.local_size() * kCompactRun;
-    wg::Private<Kept> kept = w.Private<Kept>();
-    wg::Private<std::uint32_t> n = w.Private<std::uint32_t>(), packed = w.Private<std::uint32_t>();
-    wg::Private<std::uint32_t> sums = w.Private<std::uint32_t>(), run = w.Private<std::uint32_t>(), tests = w.Private<std::uint32_t>();
-    for (std::uint32_t r0 = first; r0 < end; r0 += round) {
+    const std::uint32_t cm = pc_.children_max, chunks = (cm + kCompactChunk - 1) / kCompactChunk;
+    const wg::Private<glm::uvec4> ballot = w.SubgroupBallot(w.Private<bool>(true));
+    wg::Private<bool> full = w.Private<bool>();
+    w.Phase([&](wg::Inv& i) { full[i] = static_cast<std::uint32_t>(std::popcount(ballot[i].x)) == w.subgroup_size(); });
+    wg::Private<std::uint32_t> run = w.Private<std::uint32_t>(), tests = run, sums = run;
+    for (std::uint32_t v0 = first / cm * chunks; v0 / chunks * cm < end; v0 += w.local_size()) {
+      wg::Private<LevelChunk> q = w.Private<LevelChunk>();
+      w.Phase([&](wg::Inv& i) { q[i] = LoadChunk(v0 + i.local_id, chunks, first, end); });
+      const wg::Private<bool> shared = SharedChildren(w, q, full);
       w.Phase([&](wg::Inv& i) {
-        const std::uint32_t s0 = std::min(r0 + i.local_id * kCompactRun, end), s1 = std::min(s0 + kCompactRun, end);
-        std::uint32_t t = 0;
-        n[i] = 0;
-        if (s0 < s1)
-          n[i] = TestLevelSlots(s0, s1, t, kept[i]);
-        packed[i] = n[i] | (t << 16);  // survivors and tests in one scan, 16 bits each
+        if (shared[i]) return;
+        for (std::uint32_t k = q[i].a; k < q[i].b; ++k)
+          if (cone::TestBy(pc_.cone_test, nodes_[q[i].c0 + k], q[i].sphere, pc_.eps)) q[i].hit |= 1u << (k - q[i].kc);
+      });
+      TestShared(w, q, shared);
+      wg::Private<std::uint32_t> n = w.Private<std::uint32_t>(), packed = n;
+      w.Phase([&](wg::Inv& i) {
+        n[i] = static_cast<std::uint32_t>(std::popcount(q[i].hit));
+        packed[i] = n[i] | ((q[i].b - q[i].a) << 16);  // survivors and tests in one scan, 16 bits each
       });
       const wg::Private<std::uint32_t> inclusive = WorkgroupInclusiveAdd(w, tile, packed, sums, site_.fault);
       w.Phase([&](wg::Inv& i) {
         const std::uint32_t before = (inclusive[i] & 0xFFFFu) - n[i];
         // Fault 3: every round starts at the block's start (the carry between rounds is dropped).
-        const std::uint32_t at = first + (site_.fault == 3u ? 0u : run[i]) + before;
+        std::uint32_t at = first + (site_.fault == 3u ? 0u : run[i]) + before;
         // A store past the buffer (only a planted fault makes one) is dropped, as robust buffer
         // access drops the kernel's.
-        for (std::uint32_t j = 0; j < n[i]; ++j)
-          if (at + j < pc_.count) scratch_[at + j] = kept[i][j];
+        for (std::uint32_t bits = q[i].hit; bits != 0u; bits &= bits - 1u, ++at)
+          if (at < pc_.count)
+            scratch_[at] = ((q[i].c0 + q[i].kc + static_cast<std::uint32_t>(std::countr_zero(bits)) - pc_.base) << kPairTriangleBits) |
+                           q[i].tri_local;
         run[i] += sums[i] & 0xFFFFu;
         tests[i] += sums[i] >> 16;
       });
@@ -377,7 +440,8 @@ class CompactKernel {
 // The push constants of a part of `count` slots. The rounds' slot arithmetic is 32-bit, as in the
 // kernel: the last round must not wrap.
 layout::TraverseCompactPush Push(std::uint32_t phase, std::size_t count, float eps, std::uint32_t cone_test) {
-  RS_CHECK_MSG(count <= 0xffffffffu - layout::kMaxLocalSize * kCompactRun, "traverse.compact: {} slots exceed 32-bit slot numbers",
+  // A round's last pair's p * children_max (children_max <= 255, emu/src/calls.cpp) must not wrap either.
+  RS_CHECK_MSG(count <= 0xffffffffu - layout::kMaxLocalSize * 256u, "traverse.compact: {} slots exceed 32-bit slot numbers",
                count);
   layout::TraverseCompactPush pc{};
   pc.phase = phase;

@@ -10,13 +10,15 @@
 //       the subgroup's lanes load once and pass around by shuffle (a node per test from memory costs
 //       a CPU device more than the test); one workgroup scan of the rows' packed counts places each
 //       round's survivors after the rounds before, in the row's region of the scratch buffer
-//   kTraverseCompactPhaseLevel  one workgroup per block, in rounds of kLocalSize x kCompactRun slots:
-//       each invocation tests kCompactRun consecutive slots, one workgroup scan places them
+//   kTraverseCompactPhaseLevel  one workgroup per block, in rounds of kLocalSize (pair, chunk)s: each
+//       invocation tests a pair's chunk of children (shared in the subgroup when the pairs share a
+//       parent), one workgroup scan places them
 //   kTraverseCompactPhaseScan   one workgroup: exclusive scan of the block counts, sum of the tests
 //   kTraverseCompactPhaseScatter one workgroup per block copies its survivors to its offset
 // Reduce-then-scan, no decoupled look-back: look-back needs forward progress between workgroups,
 // which lavapipe does not promise.
 #extension GL_KHR_shader_subgroup_shuffle : require
+#extension GL_KHR_shader_subgroup_vote : require
 #include "common.glsl"
 #include "cone.glsl"
 #include "cone_cull.glsl"
@@ -37,9 +39,6 @@ PAGED_LOAD(Nodes, ConeNode)
 PAGED_BUFFER(readonly, First, uint, kTraverseCompactBindFirst)
 PAGED_LOAD(First, uint)
 layout(push_constant) uniform Block { TraverseCompactPush pc; };
-
-// The survivors of the invocation's slots in the current round, in slot order (private memory).
-uint kept[kCompactRun];
 
 // kTraverseCompactPhaseTop's counts, kCompactRows per invocation and round, two 16-bit fields a
 // word (a round has at most kMaxLocalSize x kCompactCols < 2^16 survivors per row), scanned at once.
@@ -184,40 +183,66 @@ void TestTopTile(uint g) {
   }
 }
 
-// Phase A's tests of lower-level slots [s0, s1): slot (p, k) is child k of the node of pair p,
-// p * children_max + k as in traverse.comp. Only slots that hold a child are visited: a pair's node
-// has fewer children than children_max, and the lanes of a SIMD device would otherwise idle through
-// the empty slots. Returns the survivors (in kept); `tests` receives the tests run.
-uint TestLevelSlots(uint s0, uint s1, out uint tests) {
-  uint n = 0u;
-  tests = 0u;
-  for (uint p = s0 / pc.children_max; p * pc.children_max < s1; ++p) {
-    const uint parent = pc.base_up + (pairs[p] >> kPairTriangleBits), tri_local = pairs[p] & kPairTriangleMask;
-    const uint c0 = LoadFirst(parent, pc.first_page), c1 = LoadFirst(parent + 1u, pc.first_page);
-    const uint row0 = p * pc.children_max, k1 = min(min(s1, row0 + pc.children_max) - row0, c1 - c0);
-    const vec4 sphere = tri_spheres[pc.b0 + tri_local];
-    for (uint k = max(s0, row0) - row0; k < k1; ++k) {
-      ++tests;
-      if (ConeTestBy(pc.cone_test, LoadNodes(c0 + k, pc.node_page), sphere, pc.eps)) kept[n++] = ((c0 + k - pc.base) << kPairTriangleBits) | tri_local;
-    }
-  }
-  return n;
-}
-
-// Phase A one level down for block g (uniform control flow: every invocation runs every round).
+// Phase A one level down for block g, slots [first, end) (slot (p, k) is child k of the node of pair
+// p, p * children_max + k as in traverse.comp). A pair's children come in chunks of kCompactChunk, a
+// word of bits each (one chunk unless children_max > kCompactChunk); the block's (pair, chunk)s in
+// slot order are walked in rounds of kLocalSize, one per invocation, one workgroup scan of
+// (survivors, tests) a round. Only slots that hold a child are tested. When a subgroup's pairs share
+// their parent (consecutive pairs mostly do: the level above keeps a node's triangles together),
+// lane j loads child j once and the subgroup's lanes pass the nodes around by shuffle: lavapipe
+// runs every buffer load lane by lane, so a node loaded per test cost more than the test. Uniform
+// control flow: every invocation runs every round.
 void TestBlock(uint g) {
+  const uint cm = pc.children_max, chunks = (cm + kCompactChunk - 1u) / kCompactChunk;
   const uint first = g * kCompactBlock, end = min(pc.count, first + kCompactBlock), l = gl_LocalInvocationID.x;
+  const bool full = subgroupBallotBitCount(subgroupBallot(true)) == gl_SubgroupSize;  // every lane there to shuffle from
   uint run = 0u, tests = 0u;  // survivors and tests of the rounds before
-  for (uint r0 = first; r0 < end; r0 += kLocalSize * kCompactRun) {
-    const uint s0 = min(r0 + l * kCompactRun, end), s1 = min(s0 + kCompactRun, end);
-    uint t = 0u, n = 0u;
-    if (s0 < s1) n = TestLevelSlots(s0, s1, t);
-    // One scan for both counts, 16 bits each: a round has at most kMaxLocalSize x kCompactRun < 2^16.
+  for (uint v0 = first / cm * chunks; v0 / chunks * cm < end; v0 += kLocalSize) {
+    const uint v = v0 + l, p = v / chunks, kc = (v - p * chunks) * kCompactChunk;
+    const bool valid = p * cm < end;
+    uint parent = 0xFFFFFFFFu, tri_local = 0u, c0 = 0u, children = 0u, a = 0u, b = 0u;
+    vec4 sphere = vec4(0.0);
+    if (valid) {
+      const uint pair = pairs[p];
+      parent = pc.base_up + (pair >> kPairTriangleBits);
+      tri_local = pair & kPairTriangleMask;
+      sphere = tri_spheres[pc.b0 + tri_local];
+      c0 = LoadFirst(parent, pc.first_page);
+      children = LoadFirst(parent + 1u, pc.first_page) - c0;
+      // The chunk's children that the block holds (a block may begin or end inside a pair) and exist.
+      a = max(max(first, p * cm) - p * cm, kc);
+      b = max(a, min(min(end - p * cm, children), kc + kCompactChunk));
+    }
+    // Fault 6: pairs whose parents have as many children are taken to share them.
+    const bool shared_nodes = full && (kFault == 6u ? subgroupAll(!valid || children == subgroupMax(children))
+                                                    : subgroupAll(!valid || parent == subgroupMin(parent)));
+    uint hit = 0u;  // bit i: child kc + i survives
+    if (shared_nodes) {
+      const uint sc0 = subgroupMax(c0), sa = subgroupMin(a < b ? a : 0xFFFFFFFFu), sb = subgroupMax(b);
+      for (uint k0 = sa; k0 < sb; k0 += gl_SubgroupSize) {
+        ConeNode mine;
+        if (k0 + gl_SubgroupInvocationID < sb) mine = LoadNodes(sc0 + k0 + gl_SubgroupInvocationID, pc.node_page);
+        for (uint j = 0u; j < gl_SubgroupSize && k0 + j < sb; ++j) {
+          ConeNode node;
+          node.sphere = subgroupShuffle(mine.sphere, j);
+          node.cone = subgroupShuffle(mine.cone, j);
+          node.extra = subgroupShuffle(mine.extra, j);
+          const uint k = k0 + j;
+          if (k >= a && k < b && ConeTestBy(pc.cone_test, node, sphere, pc.eps)) hit |= 1u << (k - kc);
+        }
+      }
+    } else {
+      for (uint k = a; k < b; ++k)
+        if (ConeTestBy(pc.cone_test, LoadNodes(c0 + k, pc.node_page), sphere, pc.eps)) hit |= 1u << (k - kc);
+    }
+    const uint n = bitCount(hit);
+    // One scan for both counts, 16 bits each: a round has at most kMaxLocalSize x kCompactChunk < 2^16.
     uint sums;
-    const uint before = (WorkgroupInclusiveAdd(n | (t << 16), sums) & 0xFFFFu) - n;
+    const uint before = (WorkgroupInclusiveAdd(n | ((b - a) << 16), sums) & 0xFFFFu) - n;
     // Fault 3: every round starts at the block's start (the carry between rounds is dropped).
-    const uint at = first + (kFault == 3u ? 0u : run) + before;
-    for (uint j = 0u; j < n; ++j) scratch[at + j] = kept[j];
+    uint at = first + (kFault == 3u ? 0u : run) + before;
+    for (uint bits = hit; bits != 0u; bits &= bits - 1u)
+      scratch[at++] = ((c0 + kc + uint(findLSB(bits)) - pc.base) << kPairTriangleBits) | tri_local;
     run += sums & 0xFFFFu;
     tests += sums >> 16;
   }

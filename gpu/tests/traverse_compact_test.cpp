@@ -161,6 +161,24 @@ TEST_CASE("traverse.compact: random lower-level calls equal the emulator and tra
   CheckCall(*gpu7, LevelCase(99, 300, 2000, 8).Call());
 }
 
+TEST_CASE("traverse.compact: lower-level pairs in runs of one parent (the subgroup's shared children), any children_max") {
+  // Runs of up to 40 pairs with one parent: most subgroups share their children, some straddle two
+  // parents. children_max 12, 40 and 100 do not divide a block (pairs split across blocks); 40 and
+  // 100 need chunks of kCompactChunk children. Local size 7: short subgroups, never shared.
+  for (const std::uint32_t local_size : {64u, 7u}) {
+    CAPTURE(local_size);
+    auto gpu = MakeGpu({}, local_size);
+    const LocalSizeGuard mirror_local_size(local_size);
+    for (const std::uint32_t children_max : {8u, 16u, 12u, 40u, 100u}) {
+      CAPTURE(children_max);
+      const LevelCase lc(children_max + 30, 300, 2500, children_max, false, 40);
+      const emu::Compacted r = CheckCall(*gpu, lc.Call());
+      CHECK(r.pairs.size() > 0u);
+      CHECK(r.pairs.size() < r.tested);
+    }
+  }
+}
+
 TEST_CASE("traverse.compact: empty calls and calls without survivors") {
   auto gpu = MakeGpu();
   const TopCase tc(3, 40, 50, 2, true), far(4, 200, 100, 2, false, true);
@@ -203,21 +221,31 @@ TEST_CASE("traverse.compact: calls split into parts by a small binding limit con
 TEST_CASE("traverse.compact: every planted fault of the kernel is seen, and is the mirror's fault of that number") {
   // Rows of 1,200 triangles: several rounds of the top phase at the default local size (fault 3).
   const TopCase tc(21, 300, 1200, 3, false);
-  const LevelCase lc(22, 400, 3000, 8);
+  // Pairs in runs of one parent, as a level's survivors come (fault 6 is in the subgroups that share them).
+  const LevelCase lc(22, 400, 3000, 8, false, 12);
   const TraverseTopCompacted top = tc.Call(0, 300, 0, 1200);
   const emu::Compacted expected = Emulated(top);
   for (const FaultSpec& f : Pass(PassId::kTraverseCompact).faults) {
     CAPTURE(f.effect);
     auto gpu = MakeGpu({{"traverse.compact", f.number}});
     emu::Compacted faulty = OnGpu(*gpu, top), faulty_level = OnGpu(*gpu, lc.Call());
-    CHECK(Difference(expected, faulty) != "");
-    // Fault 5 is in the top level's group cull; the levels below do not cull.
+    // Fault 5 is in the top level's group cull (the levels below do not cull), fault 6 in the levels'
+    // shared children (the top level shares rows, not children).
+    if (f.number != 6u) CHECK(Difference(expected, faulty) != "");
     if (f.number != 5u) CHECK(Difference(Emulated(lc.Call()), faulty_level) != "");
     // The same fault planted in the emulator's mirror (@emu) is the same mistake, bit for bit, the
     // words it leaves unwritten included (the poison word on both sides).
     emu::SetEmuFaults({{"traverse.compact", f.number}});
     const emu::Compacted mirrored = Mirrored(top), mirrored_level = Mirrored(lc.Call());
     emu::SetEmuFaults({});
+    if (f.number == 1u) {
+      // Fault 1's blocks overlap: block g writes over the start of block g + 1, and which of the two
+      // writes a word last depends on the order the device runs their workgroups in (the mirror runs
+      // them in order). The counts do not.
+      CHECK((mirrored.pairs.size() == faulty.pairs.size() && mirrored.tested == faulty.tested));
+      CHECK((mirrored_level.pairs.size() == faulty_level.pairs.size() && mirrored_level.tested == faulty_level.tested));
+      continue;
+    }
     CHECK(Difference(mirrored, faulty) == "");
     CHECK(Difference(mirrored_level, faulty_level) == "");
   }

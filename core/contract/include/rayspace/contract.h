@@ -273,14 +273,14 @@ struct TraversePush {
 // row of `tris` slots, below it kCompactBlock consecutive slots. Phase A, Top: one workgroup per tile
 // of kCompactRows rows, in rounds of kLocalSize x kCompactCols triangles, kCompactCols consecutive ones
 // per invocation tested against every row's node; Level: one workgroup per block, in rounds of
-// kLocalSize x kCompactRun slots, kCompactRun consecutive ones per invocation. A workgroup scan places
-// each round's survivors after the round before, in slot order. Phase Scan: one workgroup scans the
+// kLocalSize (pair, chunk)s, one per invocation, a chunk kCompactChunk children (one bit mask word). A
+// workgroup scan places each round's survivors after the round before, in slot order. Phase Scan: one workgroup scans the
 // block counts (exclusive offsets, the total last) and sums the block tests. Phase Scatter: one
 // workgroup per block copies its survivors to its offset. Phase Groups, before Top: one workgroup per
 // round of Top's triangles; each subgroup writes the group sphere of its lanes' triangles (centre and
 // radius, a negative radius where the group may not be judged), which Top's subgroups cull rows by.
 RS_CONST(uint, kCompactBlock, 4096u);
-RS_CONST(uint, kCompactRun, 32u);
+RS_CONST(uint, kCompactChunk, 32u);
 RS_CONST(uint, kCompactRows, 8u);  // a subgroup of at least this many lanes passes the rows' nodes around
 RS_CONST(uint, kCompactCols, 8u);
 RS_CONST(uint, kTraverseCompactBindTriSpheres, 0u);
@@ -742,8 +742,9 @@ static_assert(kShadeBindAccum == kShadeBindOccluded + kBufferPages && kShadeBind
 static_assert(kTraverseCompactBindFirst == kTraverseCompactBindNodes + kBufferPages &&
               kTraverseCompactBindGroups == kTraverseCompactBindFirst + kBufferPages &&
               kTraverseCompactBindings == kTraverseCompactBindGroups + 1u);
-// traverse.compact scans a round's survivors and tests as one word, 16 bits each.
-static_assert(kMaxLocalSize * kCompactRun < 65536u && kCompactBlock % kCompactRun == 0u);
+// traverse.compact below the top: a chunk is a word of bits, and a round's survivors and tests are
+// scanned as one word, 16 bits each.
+static_assert(kCompactChunk == 32u && kMaxLocalSize * kCompactChunk < 65536u);
 // The top phase scans the rows' survivors as a uvec4 of 16-bit fields.
 static_assert(kMaxLocalSize * kCompactCols < 65536u && kCompactRows <= 8u && kCompactCols <= 32u);
 // Push-constant blocks: scalars only (same offsets in std430 and C++), within the 128 bytes every
