@@ -135,8 +135,9 @@ class CompactKernel {
     return out;
   }
 
-  // An invocation's triangles of a round: kCompactCols spheres from col0 and, per triangle, bit r
-  // set when row r tests it (the object mask).
+  // An invocation's triangles of a round: kCompactCols spheres from col0 (loaded after the row cull,
+  // only for a subgroup with a live row) and, per triangle, bit r set when row r tests it (the object
+  // mask).
   struct Round {
     std::array<glm::vec4, kCompactCols> sphere{};
     std::array<std::uint32_t, kCompactCols> may{};
@@ -145,7 +146,6 @@ class CompactKernel {
     Round in;
     std::uint32_t object = 0xFFFFFFFFu, object_bits = 0;
     for (std::uint32_t k = 0; k < kCompactCols && col0 + k < pc_.tris; ++k) {
-      in.sphere[k] = tri_spheres_[pc_.b0 + col0 + k];
       const std::uint32_t o = info_[pc_.b0 + col0 + k].ids.y;
       if (o != object) object_bits = RowBits(o, row0, rows);
       object = o;
@@ -252,7 +252,13 @@ class CompactKernel {
         for (const std::uint32_t may : in[i].may) tests[i] += static_cast<std::uint32_t>(std::popcount(may));  // culled or not
       });
       const wg::Private<std::uint32_t> live = LiveRows(w, node, shared_rows, c0 / (w.local_size() * kCompactCols), rows);
-      w.Phase([&](wg::Inv& i) { n[i] = TestTopRound(node[i], in[i], live[i], rows, hit[i]); });
+      w.Phase([&](wg::Inv& i) {
+        // The spheres only for a subgroup with a live row, as the kernel loads them.
+        if (live[i] != 0u)
+          for (std::uint32_t k = 0; k < kCompactCols && c0 + i.local_id * kCompactCols + k < pc_.tris; ++k)
+            in[i].sphere[k] = tri_spheres_[pc_.b0 + c0 + i.local_id * kCompactCols + k];
+        n[i] = TestTopRound(node[i], in[i], live[i], rows, hit[i]);
+      });
       const wg::Private<glm::uvec4> inclusive = WorkgroupInclusiveAdd4(w, tile4, n, sums);
       w.Phase([&](wg::Inv& i) {
         const glm::uvec4 before = inclusive[i] - n[i];  // fieldwise: no field borrows

@@ -142,7 +142,6 @@ void TestTopTile(uint g) {
     for (uint i = 0u; i < kCompactCols; ++i) {
       may[i] = 0u;
       if (col0 + i >= pc.tris) continue;
-      sphere[i] = tri_spheres[pc.b0 + col0 + i];
       const uint o = info[pc.b0 + col0 + i].ids.y;
       if (o != object) object_bits = RowBits(o, row0, rows);  // a lane's triangles mostly share an object
       object = o;
@@ -150,6 +149,11 @@ void TestTopTile(uint g) {
     }
     for (uint i = 0u; i < kCompactCols; ++i) tests += bitCount(may[i]);  // culled or not, every slot counts
     const uint live = LiveRows(mine, c0 / (kLocalSize * kCompactCols), rows, shared_rows);
+    // The spheres only for a subgroup with a live row (uniform in the subgroup): lavapipe loads lane
+    // by lane, and a culled subgroup would load them for nothing.
+    if (live != 0u)
+      for (uint i = 0u; i < kCompactCols; ++i)
+        if (col0 + i < pc.tris) sphere[i] = tri_spheres[pc.b0 + col0 + i];
     uint hit[kCompactRows];  // bit i: column col0 + i survives in row r
     for (uint r = 0u; r < kCompactRows; ++r) hit[r] = 0u;
     // A loop over the live rows, not a branch per row: the set is the same on every lane of the
