@@ -232,7 +232,9 @@ TEST_CASE("traverse.compact mirror: random calls give the lanes' and traverse + 
   // rounds of the top phase up to local size 128, the rows' nodes shuffled between rounds.
   const RandomTop tc(3, 150, 170, 6), tc_wide(4, 40, 1300, 5);
   const RandomLevel lc(5, 300, 2000, 8), lc_wide(6, 120, 600, 16);
-  for (std::uint32_t local : {32u, 64u, 128u, 256u})
+  // Pairs in runs of one parent: subgroups that share their children (several chunks at 40 children).
+  const RandomLevel lc_runs(7, 200, 1500, 8, false, 30), lc_runs_wide(8, 100, 400, 40, false, 30);
+  for (std::uint32_t local : {32u, 64u, 128u, 256u, 12u})
     for (std::uint32_t sg : {8u, 32u})
       for (wg::Schedule s : {wg::Schedule{wg::Order::kForward, 0}, wg::Schedule{wg::Order::kReverse, 0},
                              wg::Schedule{wg::Order::kRandom, 17}}) {
@@ -252,6 +254,8 @@ TEST_CASE("traverse.compact mirror: random calls give the lanes' and traverse + 
         const Compacted level = CheckMirror(lc.Call());
         CHECK(level.pairs.size() > 0u);
         CheckMirror(lc_wide.Call(0.05f));
+        CheckMirror(lc_runs.Call());  // at local size 12: a full subgroup of 8 beside a partial one
+        CheckMirror(lc_runs_wide.Call(0.05f));
       }
 }
 

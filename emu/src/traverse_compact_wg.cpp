@@ -1,7 +1,7 @@
 // traverse.compact on the workgroup model: mirrors gpu/shaders/traverse_compact.comp dispatch for
 // dispatch (Groups, Test, Scan, Scatter) and phase for phase, with its push constants, tiles, rounds,
 // shuffles, group spheres and row culling, packing, scratch and count buffers and its planted faults
-// 1..5, so that --check-workgroups, --schedule and `--inject traverse.compact:N@emu` reach the
+// 1..6, so that --check-workgroups, --schedule and `--inject traverse.compact:N@emu` reach the
 // kernel's structure and not only its result. The cone-sphere test is the pass-by-pass traversal's
 // scalar cone::Test, bit for bit the kernel's ConeTest, and the group test cone::DeviceGroupMisses,
 // the kernel's cone_cull.glsl. The host's parts (bindings of limited size) are not mirrored: one part
@@ -329,7 +329,10 @@ class CompactKernel {
   // run to the workgroup's longest subgroup; a subgroup past its own end idles.
   void TestShared(wg::Workgroup& w, wg::Private<LevelChunk>& q, const wg::Private<bool>& shared) {
     wg::Private<std::uint32_t> c0 = w.Private<std::uint32_t>(), sa = c0, sb = c0;
-    w.Phase([&](wg::Inv& i) { c0[i] = q[i].c0, sa[i] = q[i].a < q[i].b ? q[i].a : 0xFFFFFFFFu, sb[i] = q[i].b; });
+    w.Phase([&](wg::Inv& i) {
+      const bool chunk = q[i].a < q[i].b;
+      c0[i] = q[i].c0, sa[i] = chunk ? q[i].a : 0xFFFFFFFFu, sb[i] = chunk ? q[i].b : 0u;
+    });
     const wg::Private<std::uint32_t> sc0 = w.SubgroupReduce(c0, [](std::uint32_t x, std::uint32_t y) { return std::max(x, y); });
     sa = w.SubgroupReduce(sa, [](std::uint32_t x, std::uint32_t y) { return std::min(x, y); });
     sb = w.SubgroupReduce(sb, [](std::uint32_t x, std::uint32_t y) { return std::max(x, y); });
@@ -344,7 +347,10 @@ class CompactKernel {
         if (shared[i] && sa[i] < sb[i] && k < sb[i]) mine[i] = nodes_[sc0[i] + k];
       });
       for (std::uint32_t j = 0; j < w.subgroup_size(); ++j) {
-        const wg::Private<layout::ConeNode> node = w.SubgroupShuffle(mine, w.Private<std::uint32_t>(j));
+        // Only sharing subgroups shuffle (the kernel's are full); the others read their own lane.
+        wg::Private<std::uint32_t> src = w.Private<std::uint32_t>();
+        w.Phase([&](wg::Inv& i) { src[i] = shared[i] ? j : i.lane; });
+        const wg::Private<layout::ConeNode> node = w.SubgroupShuffle(mine, src);
         w.Phase([&](wg::Inv& i) {
           const std::uint32_t k = sa[i] + step * w.subgroup_size() + j;
           if (!shared[i] || sa[i] >= sb[i] || k >= sb[i]) return;
@@ -364,7 +370,11 @@ class CompactKernel {
     const std::uint32_t cm = pc_.children_max, chunks = (cm + kCompactChunk - 1) / kCompactChunk;
     const wg::Private<glm::uvec4> ballot = w.SubgroupBallot(w.Private<bool>(true));
     wg::Private<bool> full = w.Private<bool>();
-    w.Phase([&](wg::Inv& i) { full[i] = static_cast<std::uint32_t>(std::popcount(ballot[i].x)) == w.subgroup_size(); });
+    w.Phase([&](wg::Inv& i) {  // subgroupBallotBitCount: all four words (subgroups of up to 128 lanes)
+      const glm::uvec4 b = ballot[i];
+      full[i] = static_cast<std::uint32_t>(std::popcount(b.x) + std::popcount(b.y) + std::popcount(b.z) + std::popcount(b.w)) ==
+                w.subgroup_size();
+    });
     wg::Private<std::uint32_t> run = w.Private<std::uint32_t>(), tests = run, sums = run;
     for (std::uint32_t v0 = first / cm * chunks; v0 / chunks * cm < end; v0 += w.local_size()) {
       wg::Private<LevelChunk> q = w.Private<LevelChunk>();

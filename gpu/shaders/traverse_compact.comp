@@ -217,12 +217,15 @@ void TestBlock(uint g) {
       a = max(max(first, p * cm) - p * cm, kc);
       b = max(a, min(min(end - p * cm, children), kc + kCompactChunk));
     }
-    // Fault 6: pairs whose parents have as many children are taken to share them.
-    const bool shared_nodes = full && (kFault == 6u ? subgroupAll(!valid || children == subgroupMax(children))
-                                                    : subgroupAll(!valid || parent == subgroupMin(parent)));
+    // Fault 6: pairs whose parents have as many children are taken to share them. The subgroup
+    // operations run on every lane, before the comparison that differs between lanes.
+    const uint lead = kFault == 6u ? subgroupMax(children) : subgroupMin(parent);
+    const bool shared_nodes = full && subgroupAll(!valid || (kFault == 6u ? children : parent) == lead);
     uint hit = 0u;  // bit i: child kc + i survives
     if (shared_nodes) {
-      const uint sc0 = subgroupMax(c0), sa = subgroupMin(a < b ? a : 0xFFFFFFFFu), sb = subgroupMax(b);
+      // The children the subgroup's non-empty chunks test, and no more (an empty chunk's a may lie
+      // past its parent's children).
+      const uint sc0 = subgroupMax(c0), sa = subgroupMin(a < b ? a : 0xFFFFFFFFu), sb = subgroupMax(a < b ? b : 0u);
       for (uint k0 = sa; k0 < sb; k0 += gl_SubgroupSize) {
         ConeNode mine;
         if (k0 + gl_SubgroupInvocationID < sb) mine = LoadNodes(sc0 + k0 + gl_SubgroupInvocationID, pc.node_page);

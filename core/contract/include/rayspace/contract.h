@@ -270,15 +270,16 @@ struct TraversePush {
 // ---- traverse.compact: the traversal fused with its stream reduction ------------------------------
 // Blocks of slots (traverse.comp's numbering), each with its region of the scratch buffer (slot-
 // indexed: a block never has more survivors than slots): at the top level a block is one top node's
-// row of `tris` slots, below it kCompactBlock consecutive slots. Phase A, Top: one workgroup per tile
-// of kCompactRows rows, in rounds of kLocalSize x kCompactCols triangles, kCompactCols consecutive ones
-// per invocation tested against every row's node; Level: one workgroup per block, in rounds of
-// kLocalSize (pair, chunk)s, one per invocation, a chunk kCompactChunk children (one bit mask word). A
-// workgroup scan places each round's survivors after the round before, in slot order. Phase Scan: one workgroup scans the
-// block counts (exclusive offsets, the total last) and sums the block tests. Phase Scatter: one
-// workgroup per block copies its survivors to its offset. Phase Groups, before Top: one workgroup per
-// round of Top's triangles; each subgroup writes the group sphere of its lanes' triangles (centre and
-// radius, a negative radius where the group may not be judged), which Top's subgroups cull rows by.
+// row of `tris` slots, below it kCompactBlock consecutive slots. Phase A, Top: one workgroup per
+// tile of kCompactRows rows, in rounds of kLocalSize x kCompactCols triangles, kCompactCols
+// consecutive ones per invocation tested against every row's node; Level: one workgroup per block,
+// in rounds of kLocalSize (pair, chunk)s, one per invocation, a chunk kCompactChunk children (one
+// bit mask word). A workgroup scan places each round's survivors after the round before, in slot
+// order. Phase Scan: one workgroup scans the block counts (exclusive offsets, the total last) and
+// sums the block tests. Phase Scatter: one workgroup per block copies its survivors to its offset.
+// Phase Groups, before Top: one workgroup per round of Top's triangles; each subgroup writes the
+// group sphere of its lanes' triangles (centre and radius, a negative radius where the group may
+// not be judged), which Top's subgroups cull rows by.
 RS_CONST(uint, kCompactBlock, 4096u);
 RS_CONST(uint, kCompactChunk, 32u);
 RS_CONST(uint, kCompactRows, 8u);  // a subgroup of at least this many lanes passes the rows' nodes around
