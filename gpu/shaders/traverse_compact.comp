@@ -69,6 +69,15 @@ uint RowBits(uint object, uint row0, uint rows) {
   return bits;
 }
 
+// Lane `lane`'s node, to every lane of the subgroup (both phases pass nodes around this way).
+ConeNode ShuffleNode(ConeNode mine, uint lane) {
+  ConeNode n;
+  n.sphere = subgroupShuffle(mine.sphere, lane);
+  n.cone = subgroupShuffle(mine.cone, lane);
+  n.extra = subgroupShuffle(mine.extra, lane);
+  return n;
+}
+
 // Row r's node: lane r of the subgroup loaded it, when lanes 0 .. kCompactRows - 1 are all there (a
 // subgroup is not promised full: the last one of a workgroup whose size is not a multiple of
 // gl_SubgroupSize is not, e.g. at local size 7); else memory. `shared_rows`: SharedRows(), uniform.
@@ -77,11 +86,7 @@ bool SharedRows() {
 }
 ConeNode RowNode(ConeNode mine, uint row0, uint r, bool shared_rows) {
   if (!shared_rows) return LoadNodes(pc.t0 + row0 + r, pc.node_page);
-  ConeNode n;
-  n.sphere = subgroupShuffle(mine.sphere, r);
-  n.cone = subgroupShuffle(mine.cone, r);
-  n.extra = subgroupShuffle(mine.extra, r);
-  return n;
+  return ShuffleNode(mine, r);
 }
 
 // Phase Groups for round `round` of the top phase (its columns, lanes and subgroups): each subgroup
@@ -230,10 +235,7 @@ void TestBlock(uint g) {
         ConeNode mine;
         if (k0 + gl_SubgroupInvocationID < sb) mine = LoadNodes(sc0 + k0 + gl_SubgroupInvocationID, pc.node_page);
         for (uint j = 0u; j < gl_SubgroupSize && k0 + j < sb; ++j) {
-          ConeNode node;
-          node.sphere = subgroupShuffle(mine.sphere, j);
-          node.cone = subgroupShuffle(mine.cone, j);
-          node.extra = subgroupShuffle(mine.extra, j);
+          const ConeNode node = ShuffleNode(mine, j);
           const uint k = k0 + j;
           if (k >= a && k < b && ConeTestBy(pc.cone_test, node, sphere, pc.eps)) hit |= 1u << (k - kc);
         }
