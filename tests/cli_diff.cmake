@@ -379,7 +379,8 @@ diff_case(cornell.crsh.polar-first cornell-mirrors 64x64 "" 0 "" --hash-order po
 diff_case(glass.crsh.polar-first glass 64x64 "" 0 "" --hash-order polar-first --hash-bits 8 --path fused)
 diff_case(office.rah.fused office 64x64 "" 0 "" --path fused --algo rah)
 diff_case(cornell.rah-quadtree.fused cornell-mirrors 64x64 "" 0 "" --path fused --algo rah-quadtree)
-foreach(f traverse.compact:1 traverse.compact:2 traverse.compact:3 traverse.compact:4 traverse.compact:5 traverse.compact:6)
+foreach(f traverse.compact:1 traverse.compact:2 traverse.compact:3 traverse.compact:4 traverse.compact:5 traverse.compact:6
+          traverse.compact:7)
   diff_case(fault.fused.${f} cornell-mirrors 64x64 ${f} 4 traverse.compact --path fused)
   # The same fault in the emulator's workgroup mirror of the kernel: in global memory, which the
   # checker does not watch, so the diff must catch it in traverse.compact.
@@ -652,6 +653,7 @@ foreach(f traverse.compact:1 traverse.compact:2 traverse.compact:3 traverse.comp
   compact_case(fault.level.${f} "*-traverse.L1.shadow.b0" traverse.compact.level ${f} 4)
 endforeach()
 compact_case(fault.level.traverse.compact:6 "*-traverse.L1.shadow.b0" traverse.compact.level traverse.compact:6 4)
+compact_case(fault.top.traverse.compact:7 "*-traverse.L2.shadow.b0" traverse.compact.top traverse.compact:7 4)
 
 case_selected(replay.missing run)
 if(run)

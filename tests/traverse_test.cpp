@@ -274,6 +274,16 @@ TEST_CASE("traverse.compact mirror: empty calls, calls shorter than a round and 
   }
 }
 
+TEST_CASE("traverse.compact mirror: more blocks than its grid of kCompactStrideGroups workgroups, which stride over them") {
+  ModelGuard guard;
+  // The top level's blocks are its rows (Scatter strides over them); a level's are kCompactBlock
+  // slots (Test and Scatter stride).
+  constexpr std::uint32_t kRows = layout::kCompactStrideGroups + 20u;
+  const RandomTop tc(15, kRows, 40, 3);
+  CheckMirror(tc.Call(0, kRows, 0, 40, true));
+  CheckMirror(RandomLevel(16, 300, (layout::kCompactStrideGroups + 3u) * layout::kCompactBlock / 8u, 8).Call());
+}
+
 TEST_CASE("traverse.compact mirror: each planted fault changes the result, and the backend runs the mirror when asked") {
   ModelGuard guard;
   // Rows of two rounds and a part at the default local size (64 x kCompactCols triangles a round).
@@ -298,6 +308,10 @@ TEST_CASE("traverse.compact mirror: each planted fault changes the result, and t
   const Compacted runs_lanes = Lanes(call::TraverseLevelCompacted{runs.Call()});
   SetEmuFaults({{"traverse.compact", 6u}});
   CHECK_FALSE(Same(EmuHierarchyPasses().TraverseLevelCompacted(call::TraverseLevelCompacted{runs.Call()}), runs_lanes));
+  // Fault 7 is in the top level's object words: 6 objects over rows of 1,124 triangles, so some
+  // invocations' 8 triangles straddle two objects.
+  SetEmuFaults({{"traverse.compact", 7u}});
+  CHECK_FALSE(Same(EmuHierarchyPasses().TraverseTopCompacted(top), top_lanes));
   SetEmuFaults({});
   CHECK_FALSE(RunsWorkgroupMirror("traverse.compact"));
   SetWorkgroupModel(true);

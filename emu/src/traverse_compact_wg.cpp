@@ -84,18 +84,25 @@ class CompactKernel {
   // The host's submit (phase A, Scan, Scatter) and read-back: the total after the scanned counts,
   // the tests after the block tests.
   Compacted Run() {
+    // Level and Scatter on the kernel's grid of at most kCompactStrideGroups, striding over the blocks.
+    const std::uint32_t grid = std::min(pc_.blocks, layout::kCompactStrideGroups);
     if (pc_.phase == layout::kTraverseCompactPhaseTop) {
       const std::uint64_t round = std::uint64_t{wg::LocalSize()} * kCompactCols;
       const auto rounds = static_cast<std::uint32_t>((pc_.tris + round - 1) / round);
       const glm::vec4 poison(std::bit_cast<float>(layout::kPoisonWord));
       groups_.assign(std::max<std::size_t>(1, std::size_t{rounds} * wg::LocalSize()), poison);
+      objects_.assign(std::max<std::size_t>(1, std::size_t{rounds} * wg::LocalSize()), layout::kPoisonWord);
       DispatchKernel(site_, "Groups", rounds, [&](wg::Workgroup& w) { GroupsOfRound(w); });
       DispatchKernel(site_, "Test", (pc_.blocks + kCompactRows - 1) / kCompactRows, [&](wg::Workgroup& w) { TestTopTile(w); });
     } else {
-      DispatchKernel(site_, "Test", pc_.blocks, [&](wg::Workgroup& w) { TestBlock(w); });
+      DispatchKernel(site_, "Test", grid, [&](wg::Workgroup& w) {
+        for (std::uint32_t g = w.id(); g < pc_.blocks; g += grid) TestBlock(w, g);
+      });
     }
     DispatchKernel(site_, "Scan", 1, [&](wg::Workgroup& w) { ScanBlocks(w); });
-    DispatchKernel(site_, "Scatter", pc_.blocks, [&](wg::Workgroup& w) { ScatterBlock(w); });
+    DispatchKernel(site_, "Scatter", grid, [&](wg::Workgroup& w) {
+      for (std::uint32_t g = w.id(); g < pc_.blocks; g += grid) ScatterBlock(w, g);
+    });
     const std::uint32_t total = counts_[pc_.blocks];
     RS_CHECK_MSG(total <= pc_.count, "traverse.compact: {} survivors of {} slots", total, pc_.count);
     Compacted r;
@@ -142,14 +149,20 @@ class CompactKernel {
     std::array<glm::vec4, kCompactCols> sphere{};
     std::array<std::uint32_t, kCompactCols> may{};
   };
-  Round LoadRound(std::uint32_t row0, std::uint32_t rows, std::uint32_t col0) const {
+  // The last object's row bits, kept across an invocation's rounds as the kernel keeps them.
+  struct ObjectBits {
+    std::uint32_t object = layout::kCompactMixedObjects, bits = 0;
+  };
+  // `shared_object`: the invocation's object word from Groups (its triangles' one object, or
+  // kCompactMixedObjects: then each triangle's own).
+  Round LoadRound(std::uint32_t row0, std::uint32_t rows, std::uint32_t col0, std::uint32_t shared_object,
+                  ObjectBits& last) const {
     Round in;
-    std::uint32_t object = 0xFFFFFFFFu, object_bits = 0;
     for (std::uint32_t k = 0; k < kCompactCols && col0 + k < pc_.tris; ++k) {
-      const std::uint32_t o = info_[pc_.b0 + col0 + k].ids.y;
-      if (o != object) object_bits = RowBits(o, row0, rows);
-      object = o;
-      in.may[k] = object_bits;
+      const std::uint32_t o = shared_object != layout::kCompactMixedObjects ? shared_object : info_[pc_.b0 + col0 + k].ids.y;
+      if (o != last.object) last.bits = RowBits(o, row0, rows);
+      last.object = o;
+      in.may[k] = last.bits;
     }
     return in;
   }
@@ -157,6 +170,7 @@ class CompactKernel {
   // Phase Groups for round w.id() of the top phase: each subgroup's group sphere of its lanes'
   // triangles by subgroup min/max (the box of the centres, its centre, the largest reach widened),
   // written by the subgroup's first lane; a negative radius where the bound may not judge a member.
+  // Each invocation writes its triangles' one object, or kCompactMixedObjects.
   void GroupsOfRound(wg::Workgroup& w) {
     const std::uint32_t c0 = w.id() * w.local_size() * kCompactCols;
     const auto valid = [&](const wg::Inv& i, std::uint32_t k) { return c0 + i.local_id * kCompactCols + k < pc_.tris; };
@@ -174,6 +188,16 @@ class CompactKernel {
         l = glm::min(l, glm::vec3(sphere(i, k))), h = glm::max(h, glm::vec3(sphere(i, k)));
       }
       lo[i] = l, hi[i] = h, ok[i] = good ? 1u : 0u;
+      std::uint32_t object = layout::kCompactMixedObjects;
+      for (std::uint32_t k = 0; k < kCompactCols && valid(i, k); ++k) {
+        // Fault 7: the first triangle's object taken for all of the invocation's triangles.
+        const std::uint32_t o = info_[pc_.b0 + c0 + i.local_id * kCompactCols + k].ids.y;
+        if (k == 0)
+          object = o;
+        else if (o != object && site_.fault != 7u)
+          object = layout::kCompactMixedObjects;
+      }
+      objects_[std::size_t{w.id()} * w.local_size() + i.local_id] = object;
     });
     lo = w.SubgroupReduce(lo, [](glm::vec3 a, glm::vec3 b) { return glm::min(a, b); });
     hi = w.SubgroupReduce(hi, [](glm::vec3 a, glm::vec3 b) { return glm::max(a, b); });
@@ -245,10 +269,15 @@ class CompactKernel {
     wg::Private<std::array<std::uint32_t, kCompactRows>> run = w.Private<std::array<std::uint32_t, kCompactRows>>(), hit = run;
     wg::Private<glm::uvec4> n = w.Private<glm::uvec4>(), sums = n;
     wg::Private<std::uint32_t> tests = w.Private<std::uint32_t>(), all_tests = tests;
+    wg::Private<ObjectBits> last = w.Private<ObjectBits>();
     for (std::uint32_t c0 = 0; c0 < pc_.tris; c0 += w.local_size() * kCompactCols) {
       wg::Private<Round> in = w.Private<Round>();
+      const std::uint32_t round = c0 / (w.local_size() * kCompactCols);
       w.Phase([&](wg::Inv& i) {
-        in[i] = LoadRound(row0, rows, c0 + i.local_id * kCompactCols);
+        // Without a mask every row tests every triangle: no object is read.
+        const std::uint32_t shared_object =
+            pc_.use_mask == 0u ? 0u : objects_[std::size_t{round} * w.local_size() + i.local_id];
+        in[i] = LoadRound(row0, rows, c0 + i.local_id * kCompactCols, shared_object, last[i]);
         for (const std::uint32_t may : in[i].may) tests[i] += static_cast<std::uint32_t>(std::popcount(may));  // culled or not
       });
       const wg::Private<std::uint32_t> live = LiveRows(w, node, shared_rows, c0 / (w.local_size() * kCompactCols), rows);
@@ -360,13 +389,13 @@ class CompactKernel {
     }
   }
 
-  // Phase A one level down for block w.id(): the block's (pair, chunk)s in rounds of local_size, one
+  // Phase A one level down for block g: the block's (pair, chunk)s in rounds of local_size, one
   // an invocation, one WorkgroupInclusiveAdd of (survivors, tests) a round. Every invocation runs
   // every round (the scan's barriers are uniform); the kernel's `run` and `tests` are locals of each
   // invocation, equal in all of them.
-  void TestBlock(wg::Workgroup& w) {
+  void TestBlock(wg::Workgroup& w, std::uint32_t g) {
     auto& tile = WorkgroupTile(w);
-    const std::uint32_t g = w.id(), first = g * kCompactBlock, end = std::min(pc_.count, first + kCompactBlock);
+    const std::uint32_t first = g * kCompactBlock, end = std::min(pc_.count, first + kCompactBlock);
     const std::uint32_t cm = pc_.children_max, chunks = (cm + kCompactChunk - 1) / kCompactChunk;
     const wg::Private<glm::uvec4> ballot = w.SubgroupBallot(w.Private<bool>(true));
     wg::Private<bool> full = w.Private<bool>();
@@ -430,9 +459,9 @@ class CompactKernel {
     });
   }
 
-  // Phase Scatter for block w.id(): its survivors from its scratch region to its offset.
-  void ScatterBlock(wg::Workgroup& w) {
-    const std::uint32_t g = w.id(), at = counts_[g], n = counts_[g + 1u] - at;
+  // Phase Scatter for block g: its survivors from its scratch region to its offset.
+  void ScatterBlock(wg::Workgroup& w, std::uint32_t g) {
+    const std::uint32_t at = counts_[g], n = counts_[g + 1u] - at;
     // Fault 1: the block lands at the next block's offset (the scan read as inclusive).
     const std::uint32_t dst = site_.fault == 1u ? counts_[g + 1u] : at;
     w.Phase([&](wg::Inv& i) {
@@ -450,7 +479,8 @@ class CompactKernel {
   In<std::uint32_t> pairs_, first_;
   In<layout::ConeNode> nodes_;
   std::vector<std::uint32_t> scratch_, counts_, tested_, out_;
-  std::vector<glm::vec4> groups_;  // top: per round and subgroup, Groups' group sphere
+  std::vector<glm::vec4> groups_;        // top: per round and subgroup, Groups' group sphere
+  std::vector<std::uint32_t> objects_;  // top: per round and invocation, Groups' object word
 };
 
 // The push constants of a part of `count` slots. The rounds' slot arithmetic is 32-bit, as in the

@@ -4,7 +4,8 @@
 // flag and value arrays and the separate reduce pass. Three dispatches (four at the top: Groups first; rayspace/contract.h), over
 // blocks: a block is a top node's row of slots at the top level, kCompactBlock slots below.
 //   kTraverseCompactPhaseGroups one workgroup per round of the top phase: each subgroup's group sphere
-//       of its triangles, which the top phase's subgroups cull rows by (cone_cull.glsl)
+//       of its triangles, which the top phase's subgroups cull rows by (cone_cull.glsl), and each
+//       invocation's object word (the one object of its triangles, or kCompactMixedObjects)
 //   kTraverseCompactPhaseTop    one workgroup per tile of kCompactRows rows: every invocation holds
 //       kCompactCols consecutive triangles of a round and tests them against each row's node, which
 //       the subgroup's lanes load once and pass around by shuffle (a node per test from memory costs
@@ -33,7 +34,9 @@ layout(std430, binding = kTraverseCompactBindScratch) buffer Scratch { uint scra
 layout(std430, binding = kTraverseCompactBindCounts) buffer Counts { uint counts[]; };  // blocks + 1
 layout(std430, binding = kTraverseCompactBindTested) buffer Tested { uint tested[]; };  // blocks + 1
 layout(std430, binding = kTraverseCompactBindOut) writeonly buffer Out { uint out_pairs[]; };
-layout(std430, binding = kTraverseCompactBindGroups) buffer Groups { vec4 groups[]; };  // per round, per subgroup
+// Per round, kCompactGroupWords words: a group sphere per subgroup (4 words each, room for
+// kLocalSize subgroups), then an object word per invocation.
+layout(std430, binding = kTraverseCompactBindGroups) buffer Groups { uint group_words[]; };
 PAGED_BUFFER(readonly, Nodes, ConeNode, kTraverseCompactBindNodes)
 PAGED_LOAD(Nodes, ConeNode)
 PAGED_BUFFER(readonly, First, uint, kTraverseCompactBindFirst)
@@ -89,17 +92,34 @@ ConeNode RowNode(ConeNode mine, uint row0, uint r, bool shared_rows) {
   return ShuffleNode(mine, r);
 }
 
+uint GroupWords() { return kLocalSize * 5u; }
+uint SphereWord(uint round) { return round * GroupWords() + gl_SubgroupID * 4u; }
+uint ObjectWord(uint round) { return round * GroupWords() + kLocalSize * 4u + gl_LocalInvocationID.x; }
+vec4 GroupSphere(uint round) {
+  const uint w = SphereWord(round);
+  return uintBitsToFloat(uvec4(group_words[w], group_words[w + 1u], group_words[w + 2u], group_words[w + 3u]));
+}
+
 // Phase Groups for round `round` of the top phase (its columns, lanes and subgroups): each subgroup
 // bounds its lanes' triangles, kCompactCols each, by subgroup min/max: the box of the centres, the
 // box's centre, the largest reach from it (cone_cull.glsl). A negative radius marks a group the
-// bound may not judge. Computed once per call rather than once per tile of rows.
+// bound may not judge. Each invocation also writes the object its triangles share, or
+// kCompactMixedObjects: the top phase then loads one word a round, not an object id per triangle
+// (lavapipe loads lane by lane). Computed once per call rather than once per tile of rows.
 void GroupsOfRound(uint round) {
   const uint col0 = round * kLocalSize * kCompactCols + gl_LocalInvocationID.x * kCompactCols;
   vec4 sphere[kCompactCols];
   vec3 lo = vec3(kDeviceCullLimit), hi = vec3(-kDeviceCullLimit);
   bool ok = true;
+  uint object = kCompactMixedObjects;
   for (uint i = 0u; i < kCompactCols; ++i) {
     if (col0 + i >= pc.tris) continue;
+    // Fault 7: the first triangle's object taken for all of the invocation's triangles.
+    const uint o = info[pc.b0 + col0 + i].ids.y;
+    if (i == 0u)
+      object = o;
+    else if (o != object && kFault != 7u)
+      object = kCompactMixedObjects;  // no object id is kCompactMixedObjects (the host checks)
     sphere[i] = tri_spheres[pc.b0 + col0 + i];
     ok = ok && DeviceCullable(sphere[i]);
     lo = min(lo, sphere[i].xyz);
@@ -113,7 +133,12 @@ void GroupsOfRound(uint round) {
   for (uint i = 0u; i < kCompactCols; ++i)
     if (col0 + i < pc.tris) reach = max(reach, DeviceReach(sphere[i], c));
   precise const float radius = subgroupMax(reach) * kDeviceCullRadiusUp;
-  if (subgroupElect()) groups[round * NumSubgroups() + gl_SubgroupID] = vec4(c, ok ? radius : -1.0);
+  group_words[ObjectWord(round)] = object;
+  if (subgroupElect()) {
+    const uvec4 v = floatBitsToUint(vec4(c, ok ? radius : -1.0));
+    const uint w = SphereWord(round);
+    group_words[w] = v.x, group_words[w + 1u] = v.y, group_words[w + 2u] = v.z, group_words[w + 3u] = v.w;
+  }
 }
 
 // The rows of the tile that may keep any of the subgroup's triangles this round: all of them, less
@@ -124,7 +149,7 @@ void GroupsOfRound(uint round) {
 uint LiveRows(ConeNode mine, uint round, uint rows, bool shared_rows) {
   const uint all_rows = (1u << rows) - 1u;
   if (!shared_rows || pc.cone_test != kConeTestConservative) return all_rows;
-  const vec4 group = groups[round * NumSubgroups() + gl_SubgroupID];
+  const vec4 group = GroupSphere(round);
   const bool miss = gl_SubgroupInvocationID < rows && DeviceGroupMisses(mine, group, pc.eps);
   return all_rows & ~subgroupBallot(miss).x;
 }
@@ -139,16 +164,20 @@ void TestTopTile(uint g) {
   uint run[kCompactRows];  // survivors of the rounds before, per row
   for (uint r = 0u; r < kCompactRows; ++r) run[r] = 0u;
   uint tests = 0u;
+  // The last object's row bits, kept across rounds: an invocation's triangles mostly share an object,
+  // and its rounds mostly keep it.
+  uint object = kCompactMixedObjects, object_bits = 0u;
   for (uint c0 = 0u; c0 < pc.tris; c0 += kLocalSize * kCompactCols) {
     const uint col0 = c0 + l * kCompactCols;
     vec4 sphere[kCompactCols];
     uint may[kCompactCols];  // bit r: row r tests this triangle
-    uint object = 0xFFFFFFFFu, object_bits = 0u;
+    // Without a mask every row tests every triangle: no object is needed.
+    const uint shared_object = pc.use_mask == 0u ? 0u : group_words[ObjectWord(c0 / (kLocalSize * kCompactCols))];
     for (uint i = 0u; i < kCompactCols; ++i) {
       may[i] = 0u;
       if (col0 + i >= pc.tris) continue;
-      const uint o = info[pc.b0 + col0 + i].ids.y;
-      if (o != object) object_bits = RowBits(o, row0, rows);  // a lane's triangles mostly share an object
+      const uint o = shared_object != kCompactMixedObjects ? shared_object : info[pc.b0 + col0 + i].ids.y;
+      if (o != object) object_bits = RowBits(o, row0, rows);
       object = o;
       may[i] = object_bits;
     }
@@ -283,10 +312,12 @@ void main() {
   } else if (pc.phase == kTraverseCompactPhaseGroups) {
     if (g < (pc.tris + kLocalSize * kCompactCols - 1u) / (kLocalSize * kCompactCols)) GroupsOfRound(g);  // uniform
   } else if (g < pc.blocks) {  // uniform: the whole workgroup leaves
+    // Level and Scatter: a grid of at most kCompactStrideGroups strides over the blocks (uniform).
+    const uint grid = gl_NumWorkGroups.x * gl_NumWorkGroups.y;
     if (pc.phase == kTraverseCompactPhaseScatter)
-      ScatterBlock(g);
+      for (uint b = g; b < pc.blocks; b += grid) ScatterBlock(b);
     else if (pc.phase == kTraverseCompactPhaseLevel)
-      TestBlock(g);
+      for (uint b = g; b < pc.blocks; b += grid) TestBlock(b);
     else if (g * kCompactRows < pc.blocks)
       TestTopTile(g);
   }

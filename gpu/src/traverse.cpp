@@ -75,13 +75,14 @@ class Traverser {
     RS_TRY(keep.Output(c_, (std::size_t{push.blocks} + 1) * 4, bc));
     RS_TRY(keep.Output(c_, (std::size_t{push.blocks} + 1) * 4, bt));
     RS_TRY(keep.Output(c_, std::size_t{push.count} * 4, bo));
-    // Top: a group sphere per round and subgroup (at most one subgroup per invocation).
+    // Top: per round, a group sphere per subgroup (at most one subgroup per invocation) and an object
+    // word per invocation, 5 words an invocation (rayspace/contract.h).
     constexpr std::uint32_t kRound = layout::kCompactCols;  // triangles per invocation and round
     const std::uint32_t rounds = top ? static_cast<std::uint32_t>((std::uint64_t{push.tris} + k_.local_size() * kRound - 1) /
                                                                   (std::uint64_t{k_.local_size()} * kRound))
                                      : 0u;
     const vk::Buffer* bg = nullptr;
-    RS_TRY(keep.Output(c_, std::max<std::size_t>(1, std::size_t{rounds} * k_.local_size()) * 16, bg));
+    RS_TRY(keep.Output(c_, std::max<std::size_t>(1, std::size_t{rounds} * k_.local_size()) * 20, bg));
     Bindings<layout::kTraverseCompactBindings> b;
     b.Set(layout::kTraverseCompactBindTriSpheres, &spheres_).Set(layout::kTraverseCompactBindInfo, &info_);
     b.Set(layout::kTraverseCompactBindMask, bm).Set(layout::kTraverseCompactBindPairs, bp).Set(layout::kTraverseCompactBindScratch, bs);
@@ -94,12 +95,13 @@ class Traverser {
     for (const std::uint32_t phase : phases) {
       layout::TraverseCompactPush p = push;
       p.phase = phase;
-      // A workgroup per round (Groups), per block of slots or per tile of rows; the scan of the block
-      // counts is one workgroup.
+      // A workgroup per round (Groups) or per tile of rows (Top); Level and Scatter at most
+      // kCompactStrideGroups, which stride over the blocks (lavapipe pays for every workgroup it
+      // starts); the scan of the block counts is one workgroup.
       const std::uint32_t groups = phase == layout::kTraverseCompactPhaseScan     ? 1
                                    : phase == layout::kTraverseCompactPhaseGroups ? rounds
                                    : phase == layout::kTraverseCompactPhaseTop ? (push.blocks + layout::kCompactRows - 1) / layout::kCompactRows
-                                                                                : push.blocks;
+                                                                                : std::min(push.blocks, layout::kCompactStrideGroups);
       RS_TRY(rec.DispatchGroups(k_, b.All(), &p, sizeof p, groups));
     }
     RS_TRY(rec.Submit());

@@ -222,22 +222,26 @@ TEST_CASE("traverse.compact: calls split into parts by a small binding limit con
 TEST_CASE("traverse.compact: every planted fault of the kernel is seen, and is the mirror's fault of that number") {
   // Rows of 1,200 triangles: several rounds of the top phase at the default local size (fault 3).
   const TopCase tc(21, 300, 1200, 3, false);
+  // With the object mask, 7 objects over 1,200 triangles: some invocations' 8 triangles straddle two
+  // objects (fault 7 is in the object word of such an invocation).
+  const TopCase objects(23, 300, 1200, 7, true);
   // Pairs in runs of one parent, as a level's survivors come (fault 6 is in the subgroups that share them).
   const LevelCase lc(22, 400, 3000, 8, false, 12);
-  const TraverseTopCompacted top = tc.Call(0, 300, 0, 1200);
-  const emu::Compacted expected = Emulated(top);
+  const TraverseTopCompacted top = tc.Call(0, 300, 0, 1200), masked = objects.Call(0, 300, 0, 1200);
+  const emu::Compacted expected = Emulated(top), expected_masked = Emulated(masked);
   for (const FaultSpec& f : Pass(PassId::kTraverseCompact).faults) {
     CAPTURE(f.effect);
     auto gpu = MakeGpu({{"traverse.compact", f.number}});
-    emu::Compacted faulty = OnGpu(*gpu, top), faulty_level = OnGpu(*gpu, lc.Call());
+    emu::Compacted faulty = OnGpu(*gpu, top), faulty_level = OnGpu(*gpu, lc.Call()), faulty_masked = OnGpu(*gpu, masked);
     // Fault 5 is in the top level's group cull (the levels below do not cull), fault 6 in the levels'
-    // shared children (the top level shares rows, not children).
-    if (f.number != 6u) CHECK(Difference(expected, faulty) != "");
-    if (f.number != 5u) CHECK(Difference(Emulated(lc.Call()), faulty_level) != "");
+    // shared children (the top level shares rows, not children), fault 7 in the top level's object
+    // words (seen only with the object mask).
+    if (f.number != 6u) CHECK(Difference(f.number == 7u ? expected_masked : expected, f.number == 7u ? faulty_masked : faulty) != "");
+    if (f.number != 5u && f.number != 7u) CHECK(Difference(Emulated(lc.Call()), faulty_level) != "");
     // The same fault planted in the emulator's mirror (@emu) is the same mistake, bit for bit, the
     // words it leaves unwritten included (the poison word on both sides).
     emu::SetEmuFaults({{"traverse.compact", f.number}});
-    const emu::Compacted mirrored = Mirrored(top), mirrored_level = Mirrored(lc.Call());
+    const emu::Compacted mirrored = Mirrored(top), mirrored_level = Mirrored(lc.Call()), mirrored_masked = Mirrored(masked);
     emu::SetEmuFaults({});
     if (f.number == 1u) {
       // Fault 1's blocks overlap: block g writes over the start of block g + 1, and which of the two
@@ -252,6 +256,7 @@ TEST_CASE("traverse.compact: every planted fault of the kernel is seen, and is t
     }
     CHECK(Difference(mirrored, faulty) == "");
     CHECK(Difference(mirrored_level, faulty_level) == "");
+    CHECK(Difference(mirrored_masked, faulty_masked) == "");
   }
 }
 

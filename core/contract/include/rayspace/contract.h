@@ -279,11 +279,18 @@ struct TraversePush {
 // sums the block tests. Phase Scatter: one workgroup per block copies its survivors to its offset.
 // Phase Groups, before Top: one workgroup per round of Top's triangles; each subgroup writes the
 // group sphere of its lanes' triangles (centre and radius, a negative radius where the group may
-// not be judged), which Top's subgroups cull rows by.
+// not be judged), which Top's subgroups cull rows by, and each invocation the object its
+// kCompactCols triangles share (kCompactMixedObjects where they do not), which Top reads instead of
+// each triangle's. The Groups buffer holds, per round, 5 x local size words: 4 words (the sphere's
+// float bits) for each possible subgroup, then one object word per invocation.
 RS_CONST(uint, kCompactBlock, 4096u);
 RS_CONST(uint, kCompactChunk, 32u);
 RS_CONST(uint, kCompactRows, 8u);  // a subgroup of at least this many lanes passes the rows' nodes around
 RS_CONST(uint, kCompactCols, 8u);
+RS_CONST(uint, kCompactMixedObjects, 0xFFFFFFFFu);  // no object id: ids are below the object count
+// Level and Scatter run on a grid of at most kCompactStrideGroups workgroups, each taking blocks g,
+// g + grid, ...: lavapipe pays for every workgroup it starts, whatever its work.
+RS_CONST(uint, kCompactStrideGroups, 256u);
 RS_CONST(uint, kTraverseCompactBindTriSpheres, 0u);
 RS_CONST(uint, kTraverseCompactBindInfo, 1u);
 RS_CONST(uint, kTraverseCompactBindMask, 2u);     // the object mask's rows of this dispatch's top nodes
@@ -294,7 +301,7 @@ RS_CONST(uint, kTraverseCompactBindTested, 6u);   // tests per block; their sum 
 RS_CONST(uint, kTraverseCompactBindOut, 7u);      // the survivors in slot order
 RS_CONST(uint, kTraverseCompactBindNodes, 8u);    // paged
 RS_CONST(uint, kTraverseCompactBindFirst, 12u);   // paged
-RS_CONST(uint, kTraverseCompactBindGroups, 16u);  // top: per round and subgroup, its triangles' group sphere (Groups)
+RS_CONST(uint, kTraverseCompactBindGroups, 16u);  // top: per round, group spheres and object words (Groups)
 RS_CONST(uint, kTraverseCompactBindings, 17u);
 RS_CONST(uint, kTraverseCompactPhaseTop, 0u);      // phase A over top nodes x triangles
 RS_CONST(uint, kTraverseCompactPhaseLevel, 1u);    // phase A over the children of each pair's node

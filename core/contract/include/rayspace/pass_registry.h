@@ -265,7 +265,8 @@ inline constexpr FaultSpec kTraverseCompactFaults[] = {
     {3, "every round of a block starts at the block's start (the carry between rounds is dropped)", {}, true},
     {4, "each block reports its survivors as its tests", {}, true},
     {5, "the top level's group cull with its margin at -1/2 (culls groups the cone test hits)", {}, true},
-    {6, "below the top, a subgroup's pairs whose parents have as many children are taken to share them", {}, true}};
+    {6, "below the top, a subgroup's pairs whose parents have as many children are taken to share them", {}, true},
+    {7, "at the top, an invocation's triangles all taken to be of its first triangle's object (the Groups object word)", {}, true}};
 inline constexpr FaultSpec kIntersectFaults[] = {{1, "tmin and tmax swapped in the range check"},
                                                  {2, "every paged load reads the first page (--split-bytes)", {}, false, FaultNeeds::kSplit},
                                                  {3, "a node's last ray is never tested"},
