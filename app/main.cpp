@@ -221,7 +221,7 @@ void AddMutate(CLI::App& app, Commands& cmds) {
   mc->add_option("--variants", m.variants, "spirv-opt variants to run (kernel x recipe, seeded): a count or 'all' (default 2)");
   mc->add_option("--timeout", m.timeout, "Seconds per diff before a mutant counts as hung (default 60)")->check(CLI::Range(1, 3600));
   mc->add_option("--jobs", m.jobs, "Diffs run at once (default 1)")->check(CLI::Range(1, 64));
-  mc->add_option("--survivors", m.survivors, "JSON of explained survivors ({\"mutants\": {ID: {\"class\", \"why\"}}}); default the "
+  mc->add_option("--survivors", m.survivors, "JSON of explained survivors ({\"mutants\": {ID: {\"class\", \"why\", \"source\"}}}; an entry applies only while its mutant's line reads as its source); default the "
                                              "source tree's docs/mutation-survivors.json, 'none' for no classifications");
   mc->add_option("--only", m.only, "Only mutants whose id (file:line:column:operator:replacement) matches this regular expression");
   mc->add_option("--work", m.work, "Keep each mutant's files, diff log and report in this directory (default: a temporary one, removed)");

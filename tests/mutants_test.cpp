@@ -11,6 +11,8 @@
 #include <set>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "mutants.h"
 #include "test_util.h"
 
@@ -125,4 +127,30 @@ TEST_CASE("mutants: every kernel's mutants apply, and the choice is a seeded per
   for (std::size_t i = 0; i < sorted.size(); ++i) CHECK(sorted[i] == i);
   CHECK(mutate::SeedOf("12345") == 12345u);
   CHECK(mutate::SeedOf("a") == 0xAF63DC4C8601EC8Cull);  // FNV-1a's published value for "a"
+}
+
+// docs/mutation-survivors.json classifies survivors by id (file:line:column:op:after), which an edit
+// elsewhere in the file moves; each entry records its line's text, and `rayspace mutate` applies it
+// only while the line still reads so. This test keeps the list current: every entry names a mutant
+// the kernels have today, on a line that reads as recorded.
+TEST_CASE("mutants: every classified survivor is a mutant of today's kernels, on the line it was classified on") {
+  std::ifstream in(test::SourceDir() / "docs" / "mutation-survivors.json");
+  REQUIRE(in.good());
+  const nlohmann::json list = nlohmann::json::parse(in).at("mutants");
+  CHECK(list.size() > 20);
+  for (const auto& [id, entry] : list.items()) {
+    CAPTURE(id);
+    const std::string file = id.substr(0, id.find(':'));
+    std::ifstream s(test::SourceDir() / "gpu" / "shaders" / file);
+    REQUIRE(s.good());
+    std::stringstream ss;
+    ss << s.rdbuf();
+    const auto all = mutate::Enumerate(file, ss.str());
+    const auto it = std::find_if(all.begin(), all.end(), [&](const mutate::Mutation& m) { return m.Id() == id; });
+    REQUIRE(it != all.end());
+    CHECK(mutate::ClassificationApplies(entry.value("source", std::string()), mutate::LineText(ss.str(), it->line)));
+  }
+  CHECK(mutate::ClassificationApplies("if (p >= pc.count) return;", "if (p >= pc.count) return;"));
+  CHECK_FALSE(mutate::ClassificationApplies("if (p >= pc.count) return;", "const uint p = GlobalIndex();"));
+  CHECK_FALSE(mutate::ClassificationApplies("", ""));  // an entry without its line applies nowhere
 }

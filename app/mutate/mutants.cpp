@@ -328,6 +328,10 @@ std::vector<std::string> Includes(std::string_view source) {
   return out;
 }
 
+bool ClassificationApplies(std::string_view recorded_source, std::string_view current_source) {
+  return !recorded_source.empty() && recorded_source == current_source;
+}
+
 std::string LineText(std::string_view source, int line) {
   std::size_t start = 0;
   for (int l = 1; l < line && start != std::string_view::npos; ++l) {

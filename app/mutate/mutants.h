@@ -40,6 +40,11 @@ std::string Apply(std::string_view source, const Mutation& m);
 std::vector<std::string> Includes(std::string_view source);
 // The text of line `line` (1-based) of `source`, without its newline or leading blanks.
 std::string LineText(std::string_view source, int line);
+// Whether a survivor's recorded classification (docs/mutation-survivors.json) still applies to the
+// mutant of its id: only while the mutant's line reads as it did when it was classified (LineText).
+// An id names a line and a column, which edits elsewhere in the file move: a stale entry would
+// otherwise label whatever mutant now has its id, e.g. call a real survivor equivalent.
+bool ClassificationApplies(std::string_view recorded_source, std::string_view current_source);
 
 // A deterministic order of `count` items for a seed: a Fisher-Yates shuffle driven by SplitMix64
 // (specified here, not by the standard library, so every platform picks the same mutants).

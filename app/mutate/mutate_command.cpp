@@ -368,9 +368,14 @@ json RunMutant(const Mutant& mu, const mutate_runs::Frame& frame, const Baseline
     j["status"] = "equivalent";
     j["why"] = "proved by the optimiser: the same SPIR-V as the original with no fault planted, after spirv-opt -O";
   } else if (explained.contains(mu.m.Id())) {
-    j["class"] = explained[mu.m.Id()].value("class", std::string());
-    j["why"] = explained[mu.m.Id()].value("why", std::string());
-    if (j["class"] == "equivalent") j["status"] = "equivalent";
+    const json& e = explained[mu.m.Id()];
+    if (mutate::ClassificationApplies(e.value("source", std::string()), j["source"].get<std::string>())) {
+      j["class"] = e.value("class", std::string());
+      j["why"] = e.value("why", std::string());
+      if (j["class"] == "equivalent") j["status"] = "equivalent";
+    } else {
+      j["stale_classification"] = e;  // made for another text of the line: an unexplained survivor
+    }
   }
   return j;
 }
