@@ -75,7 +75,8 @@ class CompactKernel {
     out_.assign(pc.count, layout::kPoisonWord);
   }
   void BindTop(In<layout::ConeNode> top, In<layout::TriangleInfo> info, In<std::uint8_t> mask_rows) {
-    nodes_ = top, info_ = info, mask_ = mask_rows;
+    nodes_ = top, info_ = info;
+    if (pc_.use_mask != 0u) mask_tiles_ = PackMaskTiles(mask_rows, pc_.blocks, pc_.objects);
   }
   void BindLevel(In<std::uint32_t> pairs, In<layout::ConeNode> nodes, In<std::uint32_t> first) {
     pairs_ = pairs, nodes_ = nodes, first_ = first;
@@ -113,13 +114,11 @@ class CompactKernel {
 
  private:
   // RowBits: bit r set when row0 + r's node may meet triangles of `object` (traverse.comp's
-  // object-mask rule: a slot whose triangle's object the node misses runs no test).
+  // object-mask rule: a slot whose triangle's object the node misses runs no test); one word of the
+  // packed mask per tile and object.
   std::uint32_t RowBits(std::uint32_t object, std::uint32_t row0, std::uint32_t rows) const {
     if (pc_.use_mask == 0u) return (1u << rows) - 1u;
-    std::uint32_t bits = 0;
-    for (std::uint32_t r = 0; r < rows; ++r)
-      if (mask_[std::size_t{row0 + r} * pc_.objects + object] != 0u) bits |= 1u << r;
-    return bits;
+    return mask_tiles_[std::size_t{row0 / kCompactRows} * pc_.objects + object];
   }
 
   // Each invocation's row nodes: RowNode's subgroupShuffle of lane r's node when lanes 0 ..
@@ -475,7 +474,7 @@ class CompactKernel {
   layout::TraverseCompactPush pc_;
   In<glm::vec4> tri_spheres_;
   In<layout::TriangleInfo> info_;
-  In<std::uint8_t> mask_;  // the object mask's rows from top node t0
+  std::vector<std::uint32_t> mask_tiles_;  // the object mask from top node t0, packed (PackMaskTiles)
   In<std::uint32_t> pairs_, first_;
   In<layout::ConeNode> nodes_;
   std::vector<std::uint32_t> scratch_, counts_, tested_, out_;
@@ -500,6 +499,16 @@ layout::TraverseCompactPush Push(std::uint32_t phase, std::size_t count, float e
 }
 
 }  // namespace
+
+std::vector<std::uint32_t> PackMaskTiles(std::span<const std::uint8_t> mask, std::size_t rows, std::uint32_t objects) {
+  RS_CHECK_MSG(mask.size() >= rows * objects, "traverse.compact: a mask of {} bytes for {} rows x {} objects", mask.size(), rows,
+               objects);
+  std::vector<std::uint32_t> tiles((rows + kCompactRows - 1) / kCompactRows * objects, 0u);
+  for (std::size_t row = 0; row < rows; ++row)
+    for (std::uint32_t o = 0; o < objects; ++o)
+      if (mask[row * objects + o] != 0u) tiles[row / kCompactRows * objects + o] |= 1u << (row % kCompactRows);
+  return tiles;
+}
 
 Compacted TraverseTopCompactedWorkgroups(const call::TraverseTop& c) {
   const std::uint32_t T = c.b1 - c.b0, objects = static_cast<std::uint32_t>(c.scene->objects.size());

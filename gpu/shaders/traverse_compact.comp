@@ -28,7 +28,7 @@
 
 layout(std430, binding = kTraverseCompactBindTriSpheres) readonly buffer TriSpheres { vec4 tri_spheres[]; };
 layout(std430, binding = kTraverseCompactBindInfo) readonly buffer Info { TriangleInfo info[]; };
-layout(std430, binding = kTraverseCompactBindMask) readonly buffer Mask { uint object_mask[]; };
+layout(std430, binding = kTraverseCompactBindMask) readonly buffer Mask { uint object_mask[]; };  // per tile and object
 layout(std430, binding = kTraverseCompactBindPairs) readonly buffer Pairs { uint pairs[]; };
 layout(std430, binding = kTraverseCompactBindScratch) buffer Scratch { uint scratch[]; };
 layout(std430, binding = kTraverseCompactBindCounts) buffer Counts { uint counts[]; };  // blocks + 1
@@ -64,12 +64,11 @@ uvec4 WorkgroupInclusiveAdd4(uvec4 v, out uvec4 total) {
 uint Field(uvec4 v, uint r) { return (v[r >> 1u] >> ((r & 1u) * 16u)) & 0xFFFFu; }
 
 // Bit r: may row0 + r's node meet triangles of `object` (the object mask; all rows without one)?
+// The host packs the mask a word per tile and object (bit r: the tile's row r), so one load answers
+// for the tile's rows (lavapipe loads lane by lane).
 uint RowBits(uint object, uint row0, uint rows) {
   if (pc.use_mask == 0u) return (1u << rows) - 1u;
-  uint bits = 0u;
-  for (uint r = 0u; r < rows; ++r)
-    if (object_mask[(row0 + r) * pc.objects + object] != 0u) bits |= 1u << r;
-  return bits;
+  return object_mask[(row0 / kCompactRows) * pc.objects + object];
 }
 
 // Lane `lane`'s node, to every lane of the subgroup (both phases pass nodes around this way).

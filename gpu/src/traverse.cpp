@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "rayspace/emu/hierarchy.h"
 #include "rayspace/gpu/passes.h"
 #include "kernel_util.h"
 
@@ -220,7 +221,7 @@ vk::Status VulkanPasses::Run(const emu::call::ObjectMask& call, std::vector<std:
 vk::Status VulkanPasses::Run(const emu::call::TraverseTopCompacted& call, emu::Compacted& out) {
   out = {};
   const std::uint32_t t0 = call.t0, b0 = call.b0, T = call.b1 - call.b0;
-  const std::vector<std::uint32_t> object_mask(call.object_mask.begin(), call.object_mask.end());  // 32-bit words
+  const std::span<const std::uint8_t> object_mask = call.object_mask;
   const std::uint32_t objects = static_cast<std::uint32_t>(call.scene->objects.size());
   Traverser tr(*ctx_, K(PassId::kTraverseCompact));
   RS_TRY(tr.Upload(call.top, {}, call.tri_spheres, call.scene->info, paged_arrays_));
@@ -231,9 +232,10 @@ vk::Status VulkanPasses::Run(const emu::call::TraverseTopCompacted& call, emu::C
     const std::uint32_t r0 = t0 + static_cast<std::uint32_t>(i0), n = static_cast<std::uint32_t>((i1 - i0) * T);
     const layout::TraverseCompactPush push{layout::kTraverseCompactPhaseTop, n, 0, 0, r0, b0, T, objects, object_mask.empty() ? 0u : 1u,
                                         0, 0, 0, call.eps, t0, 0, 0, call.cone_test};
-    const std::span<const std::uint32_t> mask_rows =
-        object_mask.empty() ? std::span<const std::uint32_t>() : std::span(object_mask).subspan(std::size_t{r0} * objects, (i1 - i0) * objects);
-    return tr.CompactPart(push, mask_rows, {}, out);
+    // The part's rows packed a word per tile of kCompactRows rows and object (the kernel's RowBits).
+    const std::vector<std::uint32_t> mask_tiles =
+        object_mask.empty() ? std::vector<std::uint32_t>() : emu::PackMaskTiles(object_mask.subspan(std::size_t{r0} * objects), i1 - i0, objects);
+    return tr.CompactPart(push, mask_tiles, {}, out);
   });
 }
 

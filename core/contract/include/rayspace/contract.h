@@ -293,7 +293,9 @@ RS_CONST(uint, kCompactMixedObjects, 0xFFFFFFFFu);  // no object id: ids are bel
 RS_CONST(uint, kCompactStrideGroups, 256u);
 RS_CONST(uint, kTraverseCompactBindTriSpheres, 0u);
 RS_CONST(uint, kTraverseCompactBindInfo, 1u);
-RS_CONST(uint, kTraverseCompactBindMask, 2u);     // the object mask's rows of this dispatch's top nodes
+// top: the object mask of this dispatch's top nodes, a word per tile of kCompactRows rows (from the
+// dispatch's first) and object, bit r set when the tile's row r may meet the object (emu::PackMaskTiles)
+RS_CONST(uint, kTraverseCompactBindMask, 2u);
 RS_CONST(uint, kTraverseCompactBindPairs, 3u);
 RS_CONST(uint, kTraverseCompactBindScratch, 4u);  // one word per slot: each block's survivors from its first slot
 RS_CONST(uint, kTraverseCompactBindCounts, 5u);   // survivors per block, then exclusive offsets; the total last

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -259,6 +260,11 @@ Compacted PassTraverseLevelCompacted(const call::TraverseLevel& c);
 // the same result as the two above, from the kernel's workgroups, rounds and scans, with its planted
 // faults (`--inject traverse.compact:N@emu`).
 Compacted TraverseTopCompactedWorkgroups(const call::TraverseTop& c);
+// traverse_compact.comp's object-mask binding for `rows` top nodes from the mask's first row
+// (`mask`: rows x objects bytes): a word per tile of kCompactRows rows and object, bit r set when row
+// r may meet the object (rayspace/contract.h, kTraverseCompactBindMask). The host packs it for the
+// kernel and the mirror for itself: one load answers for a tile's rows.
+std::vector<std::uint32_t> PackMaskTiles(std::span<const std::uint8_t> mask, std::size_t rows, std::uint32_t objects);
 Compacted TraverseLevelCompactedWorkgroups(const call::TraverseLevel& c);
 // The traverse.compact calls (emu/calls.h), as the emulator's backend runs them: the workgroup mirror
 // when the run asks for the workgroup model or an emulator-side fault is planted in the pass
