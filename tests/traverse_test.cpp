@@ -280,8 +280,13 @@ TEST_CASE("traverse.compact mirror: more blocks than its grid of kCompactStrideG
   // slots (Test and Scatter stride).
   constexpr std::uint32_t kRows = layout::kCompactStrideGroups + 20u;
   const RandomTop tc(15, kRows, 40, 3);
-  CheckMirror(tc.Call(0, kRows, 0, 40, true));
-  CheckMirror(RandomLevel(16, 300, (layout::kCompactStrideGroups + 3u) * layout::kCompactBlock / 8u, 8).Call());
+  const Compacted top = CheckMirror(tc.Call(0, kRows, 0, 40, true));
+  CHECK(top.pairs.size() > kRows);  // survivors in rows past the grid's first pass
+  CHECK((top.pairs.back() >> layout::kPairTriangleBits) >= layout::kCompactStrideGroups);
+  const RandomLevel lc(16, 300, (layout::kCompactStrideGroups + 3u) * layout::kCompactBlock / 8u, 8);
+  const Compacted level = CheckMirror(lc.Call());
+  CHECK(std::uint64_t{lc.Call().pairs.size()} * 8u > std::uint64_t{layout::kCompactStrideGroups} * layout::kCompactBlock);
+  CHECK(level.pairs.size() > 0u);
 }
 
 TEST_CASE("traverse.compact mirror: each planted fault changes the result, and the backend runs the mirror when asked") {

@@ -190,7 +190,7 @@ class CompactKernel {
       std::uint32_t object = layout::kCompactMixedObjects;
       for (std::uint32_t k = 0; k < kCompactCols && valid(i, k); ++k) {
         // Fault 7: the first triangle's object taken for all of the invocation's triangles.
-        const std::uint32_t o = info_[pc_.b0 + c0 + i.local_id * kCompactCols + k].ids.y;
+        const std::uint32_t o = pc_.use_mask == 0u ? 0u : info_[pc_.b0 + c0 + i.local_id * kCompactCols + k].ids.y;
         if (k == 0)
           object = o;
         else if (o != object && site_.fault != 7u)
@@ -279,7 +279,7 @@ class CompactKernel {
         in[i] = LoadRound(row0, rows, c0 + i.local_id * kCompactCols, shared_object, last[i]);
         for (const std::uint32_t may : in[i].may) tests[i] += static_cast<std::uint32_t>(std::popcount(may));  // culled or not
       });
-      const wg::Private<std::uint32_t> live = LiveRows(w, node, shared_rows, c0 / (w.local_size() * kCompactCols), rows);
+      const wg::Private<std::uint32_t> live = LiveRows(w, node, shared_rows, round, rows);
       w.Phase([&](wg::Inv& i) {
         // The spheres only for a subgroup with a live row, as the kernel loads them.
         if (live[i] != 0u)

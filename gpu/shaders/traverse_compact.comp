@@ -34,8 +34,8 @@ layout(std430, binding = kTraverseCompactBindScratch) buffer Scratch { uint scra
 layout(std430, binding = kTraverseCompactBindCounts) buffer Counts { uint counts[]; };  // blocks + 1
 layout(std430, binding = kTraverseCompactBindTested) buffer Tested { uint tested[]; };  // blocks + 1
 layout(std430, binding = kTraverseCompactBindOut) writeonly buffer Out { uint out_pairs[]; };
-// Per round, kCompactGroupWords words: a group sphere per subgroup (4 words each, room for
-// kLocalSize subgroups), then an object word per invocation.
+// Per round, kCompactGroupWords words an invocation: a group sphere per subgroup (4 words each, room
+// for kLocalSize subgroups), then an object word per invocation.
 layout(std430, binding = kTraverseCompactBindGroups) buffer Groups { uint group_words[]; };
 PAGED_BUFFER(readonly, Nodes, ConeNode, kTraverseCompactBindNodes)
 PAGED_LOAD(Nodes, ConeNode)
@@ -91,7 +91,7 @@ ConeNode RowNode(ConeNode mine, uint row0, uint r, bool shared_rows) {
   return ShuffleNode(mine, r);
 }
 
-uint GroupWords() { return kLocalSize * 5u; }
+uint GroupWords() { return kLocalSize * kCompactGroupWords; }
 uint SphereWord(uint round) { return round * GroupWords() + gl_SubgroupID * 4u; }
 uint ObjectWord(uint round) { return round * GroupWords() + kLocalSize * 4u + gl_LocalInvocationID.x; }
 vec4 GroupSphere(uint round) {
@@ -113,8 +113,9 @@ void GroupsOfRound(uint round) {
   uint object = kCompactMixedObjects;
   for (uint i = 0u; i < kCompactCols; ++i) {
     if (col0 + i >= pc.tris) continue;
-    // Fault 7: the first triangle's object taken for all of the invocation's triangles.
-    const uint o = info[pc.b0 + col0 + i].ids.y;
+    // Fault 7: the first triangle's object taken for all of the invocation's triangles. Without a
+    // mask the top phase reads no object (uniform).
+    const uint o = pc.use_mask == 0u ? 0u : info[pc.b0 + col0 + i].ids.y;
     if (i == 0u)
       object = o;
     else if (o != object && kFault != 7u)
@@ -170,8 +171,9 @@ void TestTopTile(uint g) {
     const uint col0 = c0 + l * kCompactCols;
     vec4 sphere[kCompactCols];
     uint may[kCompactCols];  // bit r: row r tests this triangle
+    const uint round = c0 / (kLocalSize * kCompactCols);
     // Without a mask every row tests every triangle: no object is needed.
-    const uint shared_object = pc.use_mask == 0u ? 0u : group_words[ObjectWord(c0 / (kLocalSize * kCompactCols))];
+    const uint shared_object = pc.use_mask == 0u ? 0u : group_words[ObjectWord(round)];
     for (uint i = 0u; i < kCompactCols; ++i) {
       may[i] = 0u;
       if (col0 + i >= pc.tris) continue;
@@ -181,7 +183,7 @@ void TestTopTile(uint g) {
       may[i] = object_bits;
     }
     for (uint i = 0u; i < kCompactCols; ++i) tests += bitCount(may[i]);  // culled or not, every slot counts
-    const uint live = LiveRows(mine, c0 / (kLocalSize * kCompactCols), rows, shared_rows);
+    const uint live = LiveRows(mine, round, rows, shared_rows);
     // The spheres only for a subgroup with a live row (uniform in the subgroup): lavapipe loads lane
     // by lane, and a culled subgroup would load them for nothing.
     if (live != 0u)

@@ -77,13 +77,13 @@ class Traverser {
     RS_TRY(keep.Output(c_, (std::size_t{push.blocks} + 1) * 4, bt));
     RS_TRY(keep.Output(c_, std::size_t{push.count} * 4, bo));
     // Top: per round, a group sphere per subgroup (at most one subgroup per invocation) and an object
-    // word per invocation, 5 words an invocation (rayspace/contract.h).
+    // word per invocation, kCompactGroupWords words an invocation.
     constexpr std::uint32_t kRound = layout::kCompactCols;  // triangles per invocation and round
     const std::uint32_t rounds = top ? static_cast<std::uint32_t>((std::uint64_t{push.tris} + k_.local_size() * kRound - 1) /
                                                                   (std::uint64_t{k_.local_size()} * kRound))
                                      : 0u;
     const vk::Buffer* bg = nullptr;
-    RS_TRY(keep.Output(c_, std::max<std::size_t>(1, std::size_t{rounds} * k_.local_size()) * 20, bg));
+    RS_TRY(keep.Output(c_, std::max<std::size_t>(1, std::size_t{rounds} * k_.local_size()) * layout::kCompactGroupWords * 4, bg));
     Bindings<layout::kTraverseCompactBindings> b;
     b.Set(layout::kTraverseCompactBindTriSpheres, &spheres_).Set(layout::kTraverseCompactBindInfo, &info_);
     b.Set(layout::kTraverseCompactBindMask, bm).Set(layout::kTraverseCompactBindPairs, bp).Set(layout::kTraverseCompactBindScratch, bs);

@@ -288,6 +288,8 @@ RS_CONST(uint, kCompactChunk, 32u);
 RS_CONST(uint, kCompactRows, 8u);  // a subgroup of at least this many lanes passes the rows' nodes around
 RS_CONST(uint, kCompactCols, 8u);
 RS_CONST(uint, kCompactMixedObjects, 0xFFFFFFFFu);  // no object id: ids are below the object count
+// Groups' words per invocation and round: a group sphere (4) per possible subgroup, an object word.
+RS_CONST(uint, kCompactGroupWords, 5u);
 // Level and Scatter run on a grid of at most kCompactStrideGroups workgroups, each taking blocks g,
 // g + grid, ...: lavapipe pays for every workgroup it starts, whatever its work.
 RS_CONST(uint, kCompactStrideGroups, 256u);
