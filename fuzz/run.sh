@@ -54,8 +54,15 @@ else
 fi
 
 build=${RAYSPACE_FUZZ_BUILD:-$root/build-fuzz}
+# The sanitizer build compiles the exact oracles (CGAL) from scratch: minutes on a cold compiler cache,
+# so its progress lines are shown as they come (the whole log stays in build.log).
+echo "fuzz/run.sh: building ${harnesses[*]} with clang in $build (log: $build/build.log)"
 CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DRAYSPACE_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo > /dev/null
-cmake --build "$build" -j "$(nproc)" --target "${harnesses[@]}" > "$build/build.log" 2>&1 || { tail -30 "$build/build.log"; exit 1; }
+if ! cmake --build "$build" -j "$(nproc)" --target "${harnesses[@]}" 2>&1 | tee "$build/build.log" |
+    { grep --line-buffered -E '^\[ *[0-9]+%\] (Building|Linking)' || true; } | sed -u 's/^/  /'; then
+  tail -30 "$build/build.log"
+  exit 1
+fi
 
 failed=0
 printf '%-13s %11s %12s %10s  %s\n' harness seed executions exec/s result

@@ -10,7 +10,7 @@ PACKAGES=(
   doctest-dev libcli11-dev nlohmann-json3-dev libfmt-dev libtinyobjloader-dev libxxhash-dev zlib1g-dev
   libbenchmark-dev
   mesa-vulkan-drivers libvulkan-dev glslc libspirv-cross-c-shared-dev spirv-tools vulkan-validationlayers
-  clang libclang-rt-14-dev fonts-dejavu-core python3-clang
+  clang libclang-rt-14-dev fonts-dejavu-core universal-ctags
   libssl-dev gnuplot-nox
 )
 

@@ -1,9 +1,15 @@
 #!/usr/bin/env bash
-# The main job: bootstrap, build, render the demo scene, print its statistics, write the image.
+# The first image: bootstrap, build the `rayspace` command alone, render the demo scene, print its
+# statistics, write the image. Each step says what it does; the build prints its progress.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+start=$SECONDS
+step() { echo "demo: [$((SECONDS - start)) s] $*"; }
+step "installing the Debian packages the build needs (scripts/bootstrap.sh)"
 scripts/bootstrap.sh
-scripts/build.sh
+step "building the rayspace command (build/app/rayspace)"
+scripts/build.sh rayspace
+step "rendering scenes/cornell-mirrors.json"
 mkdir -p out
 ./build/app/rayspace render scenes/cornell-mirrors.json --out out/cornell-mirrors.png --stats out/cornell-mirrors.json
-echo "image written to out/cornell-mirrors.png, statistics to out/cornell-mirrors.json"
+step "image written to out/cornell-mirrors.png, statistics to out/cornell-mirrors.json"

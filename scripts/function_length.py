@@ -8,127 +8,145 @@ cannot carry the comment may be named in an allowlist (scripts/long_functions.tx
 function, `path<TAB or spaces>qualified name<spaces>-- reason`. An allowlisted function that is no
 longer long, or no longer exists, is an error too, so the list stays small and true.
 
-Functions are found with libclang (Debian: python3-clang), parsing each translation unit with its
-flags from the build's compile_commands.json; definitions in headers count once, where they are.
-A function's length runs from its first line (the template line, for templates) to its closing
-brace; lambdas count as part of the function that holds them.
+Functions are found with Universal Ctags (Debian: universal-ctags), which gives each definition's
+first and last line without compiling, so the whole tree takes a fraction of a second and needs no
+build. Every C++ source and header (.cpp .cc .cxx .h .hh .hpp .inl) under the directories is read
+once; C files are not. A function's length runs from its first line (the template line, for templates,
+and a return type or attributes on the lines above its name) to its closing brace. Lambdas and local
+classes count as part of the function that holds them; a lambda outside any function is not a
+function. Definitions without a body (`= default`, `= delete`, declarations) are not counted, and
+neither are functions that only a macro expansion defines, which ctags cannot see.
 
-Usage: function_length.py --build BUILD [--source SRC] [--max 80] [--allow FILE] [DIR ...]
-       function_length.py --files FILE.cpp ... (no compile database: plain -std=c++20 parse; for the
-       self-test fixture and quick checks)
-Exit: 0 when every long function has a reason, 1 otherwise, 2 on a usage or environment error.
+Usage: function_length.py [--source SRC] [--max 80] [--allow FILE] [DIR ...]
+         (DIRs relative to SRC; default app core emu gpu/src verify refs)
+       function_length.py --files FILE ... (just these files; for the self-test fixture and quick checks)
+--build and --jobs are accepted and ignored: nothing needs a build, and one ctags process reads every file.
+Exit: 0 when every long function has a reason, 1 otherwise, 2 on a usage or environment error
+(e.g. Universal Ctags missing).
 """
 import argparse
-import json
 import os
-import shlex
+import re
+import shutil
+import subprocess
 import sys
-from concurrent.futures import ThreadPoolExecutor
+
+SOURCE_SUFFIXES = (".cpp", ".cc", ".cxx", ".h", ".hh", ".hpp", ".inl")
+DEFAULT_DIRS = ["app", "core", "emu", "gpu/src", "verify", "refs"]
 
 
-def import_clang():
-    try:
-        import clang.cindex as ci  # noqa: F401
-    except ImportError:
-        # A python3 that is not the system's (pyenv, venv) lacks Debian's dist-packages; the bindings
-        # are pure Python over ctypes, so the system copy works from any 3.x.
-        for p in ("/usr/lib/python3/dist-packages",):
-            if os.path.isdir(os.path.join(p, "clang")) and p not in sys.path:
-                sys.path.append(p)
+def find_ctags():
+    """The Universal Ctags executable; other ctags (Exuberant, Emacs) give no end lines."""
+    for name in ("ctags", "universal-ctags", "ctags-universal"):
+        exe = shutil.which(name)
+        if not exe:
+            continue
         try:
-            import clang.cindex as ci  # noqa: F401
-        except ImportError:
-            sys.stderr.write("function_length: the libclang Python bindings are missing (Debian: apt-get install "
-                             "python3-clang; scripts/bootstrap.sh installs it)\n")
-            sys.exit(2)
-    import clang.cindex as ci
-    return ci
-
-
-ci = import_clang()
-
-FUNCTION_KINDS = {
-    ci.CursorKind.FUNCTION_DECL,
-    ci.CursorKind.CXX_METHOD,
-    ci.CursorKind.CONSTRUCTOR,
-    ci.CursorKind.DESTRUCTOR,
-    ci.CursorKind.CONVERSION_FUNCTION,
-    ci.CursorKind.FUNCTION_TEMPLATE,
-}
-# Where definitions may sit (namespaces, classes, templates); function bodies are not searched.
-CONTAINER_KINDS = {
-    ci.CursorKind.TRANSLATION_UNIT,
-    ci.CursorKind.NAMESPACE,
-    ci.CursorKind.CLASS_DECL,
-    ci.CursorKind.STRUCT_DECL,
-    ci.CursorKind.UNION_DECL,
-    ci.CursorKind.CLASS_TEMPLATE,
-    ci.CursorKind.CLASS_TEMPLATE_PARTIAL_SPECIALIZATION,
-    ci.CursorKind.UNEXPOSED_DECL,  # extern "C" { ... }
-    ci.CursorKind.LINKAGE_SPEC,
-}
-
-
-def qualified_name(c):
-    parts = [c.spelling]
-    p = c.semantic_parent
-    while p is not None and p.kind != ci.CursorKind.TRANSLATION_UNIT:
-        if p.spelling:
-            parts.append(p.spelling)
-        elif p.kind == ci.CursorKind.NAMESPACE:
-            parts.append("(anonymous)")
-        p = p.semantic_parent
-    return "::".join(reversed(parts))
-
-
-def is_body_definition(c):
-    if not c.is_definition():
-        return False
-    # `= default` / `= delete` and declarations without a body have no compound statement.
-    return any(ch.kind == ci.CursorKind.COMPOUND_STMT for ch in c.get_children())
-
-
-def walk(cursor, wanted, found):
-    for c in cursor.get_children():
-        loc = c.location
-        if loc.file is None:
+            out = subprocess.run([exe, "--version"], capture_output=True, text=True, timeout=30).stdout
+        except (OSError, subprocess.SubprocessError):
             continue
-        path = os.path.realpath(loc.file.name)
-        if c.kind in FUNCTION_KINDS:
-            if wanted(path) and is_body_definition(c):
-                start, end = c.extent.start.line, c.extent.end.line
-                found[(path, start)] = (qualified_name(c), start, end)
+        if "Universal Ctags" in out:
+            return exe
+    sys.stderr.write("function_length: Universal Ctags is missing (Debian: apt-get install universal-ctags; "
+                     "scripts/bootstrap.sh installs it)\n")
+    sys.exit(2)
+
+
+def run_ctags(exe, files):
+    """Tags of functions and of the scopes that may hold them, one dict per tag."""
+    # --options=NONE: a user's ~/.ctags.d must not change kinds, fields or extras; --quiet before it
+    # silences the notice that it prints. --excmd=number leaves no search pattern (which may hold tabs)
+    # in the output, so each line splits cleanly on tabs.
+    cmd = [exe, "--quiet", "--options=NONE", "-f", "-", "--language-force=C++", "--kinds-C++=fncsu",
+           "--fields=+neKZ", "--excmd=number", "--sort=no", "-L", "-"]
+    proc = subprocess.run(cmd, input="\n".join(files) + "\n", capture_output=True, encoding="utf-8",
+                          errors="replace")
+    if proc.returncode != 0:
+        sys.stderr.write(f"function_length: ctags failed (exit {proc.returncode}):\n{proc.stderr}")
+        sys.exit(2)
+    sys.stderr.write(proc.stderr)
+    tags = []
+    for line in proc.stdout.splitlines():
+        cols = line.split("\t")
+        if len(cols) < 4 or line.startswith("!_"):
             continue
-        # Namespaces and classes reopened in a project file are cursors located in that file, so
-        # system headers need no visit.
-        if c.kind in CONTAINER_KINDS and wanted(path):
-            walk(c, wanted, found)
+        # Extension fields go in by their own keys: a `file:` field (file scope) must not clobber the path.
+        tag = dict(field.partition(":")[::2] for field in cols[4:])
+        tag.update(name=cols[0], path=cols[1], kind=cols[3])
+        tags.append(tag)
+    return tags
 
 
-def compile_args(entry, path):
-    """The entry's flags without the compiler, the output and the source itself."""
-    args = entry["arguments"] if "arguments" in entry else shlex.split(entry["command"])
-    out, i = [], 1
-    while i < len(args):
-        a = args[i]
-        i += 1
-        if a == "-o":
-            i += 1
-        elif a != "-c" and os.path.realpath(os.path.join(entry.get("directory", ""), a)) != path:
-            out.append(a)
-    return out
+def is_lambda(tag):
+    return tag["kind"] == "function" and tag["name"].startswith("__anon")
 
 
-def parse(path, args, wanted):
-    index = ci.Index.create()
-    try:
-        tu = index.parse(path, args=args)  # with bodies: a definition's extent ends at its brace
-    except ci.TranslationUnitLoadError:
-        return path, {}, [f"cannot parse (missing or unreadable; reconfigure the build if it was removed)"]
-    errors = [d for d in tu.diagnostics if d.severity >= ci.Diagnostic.Error]
-    found = {}
-    walk(tu.cursor, wanted, found)
-    return path, found, errors
+def qualified_name(tag, kinds):
+    """ns::Class::name, with `(anonymous)` for unnamed namespaces and unnamed classes left out."""
+    parts = []
+    scope = tag.get("scope", "").partition(":")[2]
+    prefix = ""
+    for p in scope.split("::") if scope else []:
+        prefix = f"{prefix}::{p}" if prefix else p
+        if p.startswith("__anon"):
+            if kinds.get((tag["path"], prefix)) == "namespace":
+                parts.append("(anonymous)")
+            continue
+        parts.append(p)
+    # ctags writes `operator ==`; the allowlist spells operators as C++ does (`operator==`, `operator bool`).
+    name = re.sub(r"^operator\s+(?=[^\w\s])", "operator", tag["name"])
+    parts.append(name)
+    return "::".join(parts)
+
+
+def first_line(lines, line):
+    """The line where a definition starts: ctags points at its name, and the template line, a return
+    type or attributes may sit on the lines above it. Those lines end in none of ; { } : and are not
+    blank, comments or preprocessor lines; a line that does belongs to whatever comes before."""
+    i = line - 1  # 0-based index of the line ctags gave
+    while i > 0:
+        prev = lines[i - 1]
+        s = prev.strip()
+        if i > 1 and lines[i - 2].rstrip().endswith("\\"):
+            break  # the last line of a multi-line macro definition
+        if "//" in s:
+            s = s[:s.index("//")].rstrip()
+        if not s or s.startswith(("#", "/*", "*")) or s.endswith(("*/", ";", "{", "}")):
+            break
+        if s.endswith(":") and not s.endswith("::"):
+            break  # an access specifier
+        i -= 1
+        if s.startswith("template"):
+            break  # a member template of a class template starts at its own (last) template line
+    return i + 1
+
+
+MACRO_NAME = re.compile(r"[A-Z][A-Z0-9_]*\Z")
+DECLARED_NAME = re.compile(r"[^{};()]*?(~?[A-Za-z_]\w*(?:\s*::\s*~?[A-Za-z_]\w*)*)\s*\(")
+
+
+def after_macro(lines, line, end, name):
+    """A macro invocation that needs no semicolon (`RS_FIELDS(a, b)` in a struct) and the function
+    after it read as one declaration: ctags names the function after the macro and starts it at the
+    macro. Returns the function's own (name, first line), or None when the tag is no such pair (a
+    function whose name a macro writes, `void RS_ISA(Spheres)(...)`, keeps its tag)."""
+    if not MACRO_NAME.match(name):
+        return None
+    text = "\n".join(lines[line - 1:end])
+    m = re.search(r"\b" + name + r"\s*\(", text)
+    if not m:
+        return None
+    depth, i = 0, m.end() - 1
+    for i in range(m.end() - 1, len(text)):
+        depth += {"(": 1, ")": -1}.get(text[i], 0)
+        if depth == 0:
+            break
+    rest = text[i + 1:]
+    d = DECLARED_NAME.match(rest)
+    if not d:
+        return None
+    first = i + 1 + len(rest) - len(rest.lstrip())
+    return re.sub(r"\s+", "", d.group(1)), line + text.count("\n", 0, first)
 
 
 def reason_for(lines, start):
@@ -168,56 +186,84 @@ def read_allowlist(path, source):
     return allowed
 
 
+def list_sources(source, dirs):
+    files = []
+    for d in dirs:
+        root = os.path.join(source, d)
+        if not os.path.isdir(root):
+            sys.stderr.write(f"function_length: {root}: not a directory\n")
+            sys.exit(2)
+        for dp, dns, names in os.walk(root):
+            dns.sort()
+            files += [os.path.join(dp, n) for n in sorted(names) if n.endswith(SOURCE_SUFFIXES)]
+    return files
+
+
+def find_functions(files):
+    """{(real path, first line): (qualified name, first line, last line)} of every definition with a
+    body, outermost only; and the problems met."""
+    exe = find_ctags()
+    tags = run_ctags(exe, files)
+    kinds = {}
+    for t in tags:
+        scope = t.get("scope", "").partition(":")[2]
+        kinds[(t["path"], f"{scope}::{t['name']}" if scope else t["name"])] = t["kind"]
+    by_file, problems = {}, []
+    for t in tags:
+        if t["kind"] != "function":
+            continue
+        if "end" not in t:
+            problems.append(f"{t['path']}:{t['line']}: {t['name']}: ctags found no end line")
+            continue
+        by_file.setdefault(t["path"], []).append(t)
+    found = {}
+    for file, ts in by_file.items():
+        # A tag inside another function's lines (lambda, local class method) is part of that function.
+        ranges = [(int(t["line"]), int(t["end"])) for t in ts]
+        with open(file, encoding="utf-8", errors="replace") as fh:
+            lines = fh.read().split("\n")
+        path = os.path.realpath(file)
+        for t, (line, end) in zip(ts, ranges):
+            if is_lambda(t) or any(s <= line and end <= e and (s, e) != (line, end) for s, e in ranges):
+                continue
+            own = after_macro(lines, line, end, t["name"])
+            if own:
+                t = dict(t, name=own[0])
+                start = own[1]
+            else:
+                start = first_line(lines, line)
+            found[(path, start)] = (qualified_name(t, kinds), start, end)
+    return found, problems
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--build", help="build directory holding compile_commands.json")
+    ap.add_argument("--build", help="ignored (no build or compile database is needed)")
     ap.add_argument("--source", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
     ap.add_argument("--max", type=int, default=80, help="longest function allowed without a reason (lines)")
     ap.add_argument("--allow", help="allowlist file (path name -- reason per line)")
-    ap.add_argument("--files", nargs="+", help="parse these files alone (no compile database)")
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
-    ap.add_argument("dirs", nargs="*", default=["app", "core", "emu", "gpu/src", "verify", "refs"])
+    ap.add_argument("--files", nargs="+", help="check these files alone")
+    ap.add_argument("--jobs", type=int, help="ignored (one ctags process reads every file)")
+    # Every function with its first and last line, to check what ctags made of a construct by hand.
+    ap.add_argument("--dump", metavar="FILE", help=argparse.SUPPRESS)
+    ap.add_argument("dirs", nargs="*", default=DEFAULT_DIRS)
     a = ap.parse_args()
     source = os.path.realpath(a.source)
 
     if a.files:
-        files = [(os.path.realpath(f), ["-x", "c++", "-std=c++20"]) for f in a.files]
-        roots = [os.path.dirname(f) + os.sep for f, _ in files]
+        for f in a.files:
+            if not os.path.isfile(f):
+                sys.stderr.write(f"function_length: {f}: no such file\n")
+                return 2
+        files = [os.path.abspath(f) for f in a.files]
     else:
-        if not a.build:
-            ap.error("give --build (for compile_commands.json) or --files")
-        db = os.path.join(a.build, "compile_commands.json")
-        if not os.path.isfile(db):
-            sys.stderr.write(f"function_length: {db}: missing (configure with CMAKE_EXPORT_COMPILE_COMMANDS)\n")
-            return 2
-        roots = [os.path.join(source, d.rstrip("/")) + os.sep for d in a.dirs]
-        files, seen = [], set()
-        with open(db, encoding="utf-8") as f:
-            for e in json.load(f):
-                p = os.path.realpath(os.path.join(e.get("directory", ""), e["file"]))
-                if p in seen or not any(p.startswith(r) for r in roots):
-                    continue
-                seen.add(p)
-                files.append((p, compile_args(e, p)))
-        # Sources under the directories that the build does not compile (e.g. without Vulkan) are
-        # not checked: say so rather than pass quietly.
-        for r in roots:
-            for dp, _, names in os.walk(r):
-                for n in names:
-                    p = os.path.realpath(os.path.join(dp, n))
-                    if n.endswith((".cpp", ".cc")) and p not in seen:
-                        sys.stderr.write(f"function_length: note: {os.path.relpath(p, source)} is not in the build, not checked\n")
+        files = list_sources(source, a.dirs)
 
-    def wanted(path):
-        return any(path.startswith(r) for r in roots)
-
-    found, failed = {}, False
-    with ThreadPoolExecutor(max_workers=max(1, a.jobs)) as pool:
-        for path, f, errors in pool.map(lambda fa: parse(fa[0], fa[1], wanted), files):
-            for d in errors[:5]:
-                sys.stderr.write(f"function_length: {os.path.relpath(path, source)}: parse error: {d}\n")
-            failed |= bool(errors)
-            found.update(f)
+    found, problems = find_functions(files)
+    if a.dump:
+        with open(a.dump, "w", encoding="utf-8") as df:
+            for (path, _), (name, start, end) in sorted(found.items()):
+                df.write(f"{os.path.relpath(path, source)}\t{start}\t{end}\t{end - start + 1}\t{name}\n")
 
     allowed = read_allowlist(a.allow, source)
     used = set()
@@ -242,8 +288,10 @@ def main():
     for o in offenders:
         print(o)
     print(f"function_length: {len(found)} functions in {len(files)} files, {len(offenders)} problems")
-    if failed:
-        print("function_length: parse errors (above): lengths may be missing")
+    if problems:
+        for p in problems:
+            print(f"function_length: {p}")
+        print("function_length: ctags could not delimit the functions above: lengths may be missing")
         return 1
     return 1 if offenders else 0
 
