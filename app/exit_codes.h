@@ -1,5 +1,5 @@
 // The exit codes of every rayspace command, stated once: `--help` prints this table (ExitCodeHelp),
-// README's "Exit codes" line says the same, and tests/cli_exit_codes.cmake checks both.
+// README.md's and docs/usage.md's exit-code tables say the same, and tests/cli_exit_codes.cmake checks all three.
 #pragma once
 #include <string>
 

@@ -1,5 +1,5 @@
 # The exit codes are stated once (app/exit_codes.h): `rayspace --help` must list every code with its
-# meaning, and README's "Exit codes" line must say the same.
+# meaning, and the exit-code tables of README.md and docs/usage.md must say the same.
 #   cmake -DRAYSPACE=<exe> -DSRC=<source dir> -P cli_exit_codes.cmake
 cmake_minimum_required(VERSION 3.19)
 
@@ -13,13 +13,11 @@ if(at EQUAL -1)
 endif()
 string(SUBSTRING "${out}" ${at} -1 footer)
 
-# README: the list item that starts with "Exit codes", on one line.
-file(READ "${SRC}/README.md" readme)
-string(REGEX MATCH "\n- Exit codes[^\n]*(\n  [^\n]*)*" readme_line "${readme}")
-string(REGEX REPLACE "\n +" " " readme_line "${readme_line}")
-if(readme_line STREQUAL "")
-  message(FATAL_ERROR "README.md: no '- Exit codes' list item")
-endif()
+# The docs' tables: one row "| CODE | MEANING |" per code, the meaning as --help prints it.
+set(docs README.md docs/usage.md)
+foreach(doc ${docs})
+  file(READ "${SRC}/${doc}" text_${doc})
+endforeach()
 
 set(failures "")
 foreach(code 0 1 2 3 4 5 6)
@@ -28,10 +26,12 @@ foreach(code 0 1 2 3 4 5 6)
     continue()
   endif()
   set(meaning "${CMAKE_MATCH_1}")
-  string(FIND "${readme_line}" " ${code} ${meaning}" found)
-  if(found EQUAL -1)
-    set(failures "${failures}\nREADME.md's exit codes do not say '${code} ${meaning}' (as --help does)")
-  endif()
+  foreach(doc ${docs})
+    string(FIND "${text_${doc}}" "\n| ${code} | ${meaning} |\n" found)
+    if(found EQUAL -1)
+      set(failures "${failures}\n${doc}: no exit-code row '| ${code} | ${meaning} |' (as --help says)")
+    endif()
+  endforeach()
 endforeach()
 # No other code is listed.
 string(REGEX MATCHALL "\n  [0-9]+  " listed "${footer}")
@@ -42,4 +42,4 @@ endif()
 if(failures)
   message(FATAL_ERROR "${failures}")
 endif()
-message(STATUS "exit codes: --help and README.md list the same seven")
+message(STATUS "exit codes: --help, README.md and docs/usage.md list the same seven")

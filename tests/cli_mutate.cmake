@@ -1,15 +1,24 @@
-# `rayspace mutate` (docs/verification.md) as CI runs it: about 20 mutants and 2 spirv-opt variants,
-# chosen by this build's commit, on cornell-mirrors at 32x32. Every mutant gets a verdict; a killed
-# one names the pass that caught it (or why the frame failed); every variant diffs equal (a
-# divergence is a compiler or driver finding to report, not to pass). Then a mutant the diff must
-# kill (a comparison flipped in trim's scatter), one only a hand-made kernel case kills (the cone
-# union's sign test), one only the clamping device kills (a private array read one past its end),
-# and bad arguments refused with one line.
-# Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DWORK=<scratch> -P cli_mutate.cmake
+# `rayspace mutate` (docs/verification.md) in three parts, on cornell-mirrors at 32x32:
+#   PART=sample (full tier)     20 mutants and 2 spirv-opt variants chosen by this build's commit. Every
+#                               mutant gets a verdict; a killed one names the pass that caught it (or why
+#                               the frame failed); every variant diffs equal (a divergence is a compiler
+#                               or driver finding to report, not to pass).
+#   PART=targeted (default)     mutants the diff must kill (comparisons flipped in trim), one only a
+#                               hand-made kernel case kills (the cone union's sign test), one only the
+#                               clamping device kills (a private array read one past its end), and bad
+#                               arguments refused with one line.
+#   PART=configs (full tier)    mutants only the traversal lists' kernel cases and the added scenes'
+#                               configurations kill.
+# Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DWORK=<scratch> -DPART=sample|targeted|configs -P cli_mutate.cmake
 cmake_minimum_required(VERSION 3.19)
+if(NOT PART MATCHES "^(sample|targeted|configs)$")
+  message(FATAL_ERROR "cli_mutate.cmake: pass -DPART=sample, targeted or configs")
+endif()
 file(REMOVE_RECURSE "${WORK}")
 file(MAKE_DIRECTORY "${WORK}")
 set(FAILURES "")
+
+if(PART STREQUAL "sample")
 
 execute_process(COMMAND "${RAYSPACE}" mutate "${SRC}/scenes/cornell-mirrors.json" --limit 20 --variants 2 --seed commit --timeout 30
                         --jobs 2 --report "${WORK}/sample.json" --survivors "${SRC}/docs/mutation-survivors.json"
@@ -60,6 +69,12 @@ else()
     endif()
   endforeach()
 endif()
+if(FAILURES)
+  message(FATAL_ERROR "cli.mutate.sample:${FAILURES}")
+endif()
+message(STATUS "cli.mutate.sample: ${killed} of 20 sampled mutants killed, both variants equal")
+return()
+endif()
 
 # One targeted run (every mutant of --only in one configuration, no variants) into WORK/NAME.json:
 # sets `json` (empty when the command failed, which is recorded) and `log` in the caller.
@@ -104,13 +119,16 @@ function(verdicts json)
   set(seen "${out}" PARENT_SCOPE)
 endfunction()
 
-# A mutant the diff must kill: trim's scatter keeps the flagged slots; flipping that test loses rays.
-mutate_one(trim crsh ":comparison:" --pass trim)
+if(PART STREQUAL "targeted")
+# Mutants the diff must kill: trim keeps the flagged slots; flipping its tests loses or invents rays.
+# Four named ones (a survivor costs a run of every kernel case and the clamping device; the sample in
+# the full tier meets the others).
+mutate_one(trim crsh "^trim.comp:(26:16|31:11|45:63|47:15):comparison:" --pass trim)
 if(json)
   string(JSON k GET "${json}" summary killed)
   string(JSON by GET "${json}" summary per_file trim.comp passes 0)
-  if(k LESS 3 OR NOT by STREQUAL "trim")
-    string(APPEND FAILURES "\ntrim's comparisons: ${k} killed (expected at least 3), passes '${by}'\n${log}")
+  if(NOT k EQUAL 4 OR NOT by STREQUAL "trim")
+    string(APPEND FAILURES "\ntrim's comparisons: ${k} of 4 killed, passes '${by}'\n${log}")
   endif()
 endif()
 
@@ -128,6 +146,9 @@ if(json)
   endif()
 endif()
 
+endif()
+
+if(PART STREQUAL "configs")
 # Two more that only kernel cases kill, in the traversal lists' configuration: Woop's axis choice left
 # at x when y is largest divides by a zero component for a ray along y (intersect-axis-rays; the
 # watertight test is shared with tl.trace), and ties of direction components sent to the z list
@@ -153,6 +174,9 @@ if(json AND NOT seen STREQUAL want)
   string(APPEND FAILURES "\nthe added scenes' configurations: got '${seen}', want '${want}'\n${log}")
 endif()
 
+endif()
+
+if(PART STREQUAL "targeted")
 # A mutant only the clamping device kills: a loop one past the window's four corners reads and writes
 # private arrays out of bounds, which lavapipe lets pass unseen; clamped, the fifth side plane
 # overwrites the fourth. And one only the case tl-heads-slivers kills: the sliver test reading a zero
@@ -181,7 +205,13 @@ if(NOT rc EQUAL 2 OR NOT err MATCHES "missing.json")
   string(APPEND FAILURES "\na missing scene: exit ${rc}, ${err}")
 endif()
 
-if(FAILURES)
-  message(FATAL_ERROR "cli.mutate:${FAILURES}")
 endif()
-message(STATUS "cli.mutate: ${killed} of 20 sampled mutants killed, both variants equal, trim's comparisons killed, the cone union's sign test killed by a kernel case, a private-array overrun by the clamping device")
+
+if(FAILURES)
+  message(FATAL_ERROR "cli.mutate.${PART}:${FAILURES}")
+endif()
+if(PART STREQUAL "targeted")
+  message(STATUS "cli.mutate.targeted: trim's comparisons killed, the cone union's sign test killed by a kernel case, a private-array overrun by the clamping device")
+else()
+  message(STATUS "cli.mutate.configs: the traversal lists' kernel cases and the added scenes' configurations kill their mutants")
+endif()

@@ -51,12 +51,10 @@ std::string Compare(const PathRun& a, const PathRun& b) {
   return a.digest == b.digest ? "" : "the frame digest";
 }
 
-}  // namespace
-
-TEST_CASE("fused path: the same pairs, statistics and digest as the passes, on random configurations") {
-  std::vector<std::pair<std::string, int>> scenes = {{"cornell-mirrors.json", 48}, {"office.json", 32}};
-  if (test::HaveData()) scenes.push_back({"sponza.json", 32});
-  std::mt19937 rng(2026);
+// Five random configurations per scene, each rendered by the passes and fused; the top level's group
+// culling must have run in them, so that the equality covers it.
+void CheckRandomConfigurations(const std::vector<std::pair<std::string, int>>& scenes, unsigned seed) {
+  std::mt19937 rng(seed);
   emu::ResetFusedCulledSlots();
   for (const auto& [file, size] : scenes) {
     const Scene s = test::LoadBundled(file);
@@ -81,9 +79,20 @@ TEST_CASE("fused path: the same pairs, statistics and digest as the passes, on r
       CHECK(Compare(passes, fused) == "");
     }
   }
-  // The top level's group culling ran in these runs, so the equality covers it.
   MESSAGE("top-level slots culled by group: " << emu::FusedCulledSlots());
   CHECK(emu::FusedCulledSlots() > 0);
+}
+
+}  // namespace
+
+TEST_CASE("fused path: the same pairs, statistics and digest as the passes, on random configurations") {
+  CheckRandomConfigurations({{"cornell-mirrors.json", 48}, {"office.json", 32}}, 2026);
+}
+
+// The full test tier: the same on Sponza's 66K triangles (the default tier's case guards the claim).
+TEST_CASE("fused path: the same pairs, statistics and digest as the passes, on random configurations on Sponza") {
+  if (test::SkipWithoutData("sponza_dabrovic/sponza.obj")) return;
+  CheckRandomConfigurations({{"sponza.json", 32}}, 2026);
 }
 
 // The passes and the fused path on a bundled scene at 32x32, with `toggle(true)` set around the fused run.
