@@ -1,4 +1,4 @@
-// The Vulkan passes' shared part: pipelines for every registered pass and the split size.
+// The Vulkan passes' shared part: a kernel for every registered pass and the split size.
 #include "kernel_table.h"
 #include "rayspace/gpu/passes.h"
 #include "kernel_util.h"
@@ -18,7 +18,7 @@ std::vector<std::string_view> BuiltinKernelNames() {
   return names;
 }
 
-// One pipeline per registered compute pass, named by the pass (a planted fault stays in its pass even
+// One kernel per registered compute pass, named by the pass (a planted fault stays in its pass even
 // where passes share a kernel file, as compress, sort and decompress do).
 vk::Status VulkanPasses::Create(int device, const Faults& faults, std::unique_ptr<VulkanPasses>& out,
                                 std::uint32_t local_size, const KernelOverrides& overrides) {

@@ -499,9 +499,17 @@ Status Context::CreateKernel(const std::string& name, std::span<const std::uint3
   if (Status st = CreateLayouts(device_, bindings, VK_SHADER_STAGE_COMPUTE_BIT, 128, k.set_layout_, k.layout_); !st)
     return st;
   // common.glsl: kFault, kLocalSize, kStrictMath (a VkBool32).
-  const std::uint32_t spec[3] = {fault, k.local_size_, g_strict_math ? VK_TRUE : VK_FALSE};
+  k.spec_[0] = fault;
+  k.spec_[1] = k.local_size_;
+  k.spec_[2] = g_strict_math ? VK_TRUE : VK_FALSE;
+  if (observer_) observer_->KernelCreated(k, spirv, k.spec_);
+  return Status::Ok();
+}
+
+Status Context::CreatePipeline(const Kernel& k) const {
+  if (k.pipeline_ != VK_NULL_HANDLE) return Status::Ok();
   const VkSpecializationMapEntry entries[3] = {{0, 0, 4}, {1, 4, 4}, {2, 8, 4}};
-  VkSpecializationInfo si{3, entries, sizeof spec, spec};
+  VkSpecializationInfo si{3, entries, sizeof k.spec_, k.spec_};
   VkComputePipelineCreateInfo cp{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
   cp.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
   cp.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
@@ -510,7 +518,6 @@ Status Context::CreateKernel(const std::string& name, std::span<const std::uint3
   cp.stage.pSpecializationInfo = &si;
   cp.layout = k.layout_;
   RS_VK(vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &cp, nullptr, &k.pipeline_));
-  if (observer_) observer_->KernelCreated(k, spirv, spec);
   return Status::Ok();
 }
 
@@ -779,6 +786,7 @@ Status Recorder::DispatchGroups(const Kernel& k, std::span<const Buffer* const> 
     if (!s) return s;
   }
   if (buffers.size() != k.bindings_) return Status::Fail(fmt::format("kernel {} takes {} buffers, got {}", k.name_, k.bindings_, buffers.size()));
+  if (Status st = ctx_.CreatePipeline(k); !st) return st;
   bound_.emplace_back(k.name_, std::vector<const Buffer*>(buffers.begin(), buffers.end()));
   VkDescriptorSet set;
   if (Status st = BindSet("kernel", k.name_, k.set_layout_, buffers, set); !st) return st;

@@ -35,7 +35,8 @@ using VulkanOut = std::conditional_t<std::is_void_v<typename C::Result>, std::mo
 class VulkanPasses {
  public:
   // local_size: invocations per workgroup for every compute kernel (results must not depend on it).
-  // One compute pipeline per registered pass (rayspace/pass_registry.h).
+  // One compute kernel per registered pass (rayspace/pass_registry.h), its pipeline made at its first
+  // dispatch.
   static vk::Status Create(int device, const Faults& faults, std::unique_ptr<VulkanPasses>& out,
                            std::uint32_t local_size = 64, const KernelOverrides& overrides = {});
   // One launch per call (emu/calls.h), same inputs and outputs as the emulated pass; in-place arrays

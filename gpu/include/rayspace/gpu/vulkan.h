@@ -122,7 +122,9 @@ class Kernel {
   VkShaderModule module_ = VK_NULL_HANDLE;
   VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
-  VkPipeline pipeline_ = VK_NULL_HANDLE;
+  // Made at the kernel's first dispatch (Context::CreateKernel says why).
+  mutable VkPipeline pipeline_ = VK_NULL_HANDLE;
+  std::uint32_t spec_[3] = {};  // common.glsl's specialization constants: kFault, kLocalSize, kStrictMath
 };
 
 // A 2D image in device memory with one view: a raster target, read back by Recorder::CopyToHost.
@@ -271,8 +273,13 @@ class Context {
   // `poison`: fill a mappable storage buffer with Buffer::kPoisonWord; false only for a buffer the
   // caller overwrites whole at once (an upload).
   Status CreateBuffer(std::size_t bytes, Buffer& out, bool storage = true, bool poison = true);
+  // Checks the kernel against the device's limits and makes its module and layouts; its pipeline is
+  // made at its first dispatch (Recorder::Dispatch), since a frame runs a few of the passes and
+  // lavapipe spends up to half a second on a pipeline even from its shader cache.
   Status CreateKernel(const std::string& name, std::span<const std::uint32_t> spirv, std::uint32_t bindings,
                       std::uint32_t fault, Kernel& out, std::uint32_t local_size = 64);
+  // Makes `k`'s pipeline unless it has one.
+  Status CreatePipeline(const Kernel& k) const;
   // A width x height 2D image of `format` for `usage` (a copy source as well) with a view of `aspect`;
   // each side must be in [1, maxImageDimension2D] (refused before any Vulkan call otherwise).
   Status CreateImage(VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect, std::uint32_t width,
