@@ -60,7 +60,7 @@ std::uint64_t RecordedCount(const nlohmann::json& j, const char* key, const std:
 }
 
 // The options diff --save-inputs recorded under "options" (each key optional).
-Recorded ReadRecorded(const std::string& dir) {
+Recorded ReadRecordedOptions(const std::string& dir) {
   const std::string file = (fs::path(dir) / "comparison.json").string();
   Recorded r;
   if (std::error_code ec; !fs::exists(file, ec)) return r;
@@ -173,7 +173,7 @@ ExportCounts WriteAtomically(const std::string& out, const Recording& rec, const
 }
 
 ExportInfo Describe(const ExportArgs& args, const verify::PassMethod& method, const verify::BufferSet& in) {
-  const Recorded recorded = ReadRecorded(args.dir);
+  const Recorded recorded = ReadRecordedOptions(args.dir);
   ExportInfo info;
   info.saved = args.dir;
   info.label = fs::path(args.dir).lexically_normal().filename().string();

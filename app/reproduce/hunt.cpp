@@ -63,7 +63,7 @@ const std::vector<Table1Row>& PaperTable1() {
 }
 constexpr double kPaperRegularSteps = 52.0, kPaperPerspectiveSteps = 12.7;  // table 5, Courtyard
 
-const Result* Find(const std::vector<const Result*>& results, const std::string& scene, const std::string& area = "") {
+const Result* FindScene(const std::vector<const Result*>& results, const std::string& scene, const std::string& area = "") {
   for (const Result* r : results)
     if (r->config.scene == scene && r->config.grid_area == area) return r;
   return nullptr;
@@ -118,8 +118,8 @@ Table Table5(const std::vector<const Result*>& results, std::vector<std::vector<
                      "1920x1200, 8 soft-shadow rays per pixel"});
   for (const HuntScene& s : HuntScenes()) {
     if (s.table != 5) continue;
-    const Result* reg = Find(results, s.name, "regular");
-    const Result* per = Find(results, s.name, "200x200x4");
+    const Result* reg = FindScene(results, s.name, "regular");
+    const Result* per = FindScene(results, s.name, "200x200x4");
     if (!reg || !per) continue;
     const double a = AreaRays(*reg).value("steps_per_ray", 0.0), b = AreaRays(*per).value("steps_per_ray", 0.0);
     const auto area_tests = [](const Result& r) { return AreaRays(r).value("tests_per_ray", 0.0); };
@@ -149,7 +149,7 @@ Table Table1(const std::vector<const Result*>& results) {
   std::vector<double> rates, shares;
   for (const HuntScene& s : HuntScenes()) {
     if (s.table != 1) continue;
-    const Result* r = Find(results, s.name);
+    const Result* r = FindScene(results, s.name);
     if (!r) continue;
     // The grids are built once a frame, for eye rays and shadows together: the build's share is of
     // build + both traces, and each rate counts its own trace.

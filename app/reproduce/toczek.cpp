@@ -125,7 +125,7 @@ Walks WalksOf(const Result& r) {
   return w;
 }
 
-const Result* Find(const std::vector<const Result*>& results, const std::string& scene, const std::string& order, bool cull = false,
+const Result* FindRun(const std::vector<const Result*>& results, const std::string& scene, const std::string& order, bool cull = false,
                    bool heads = false, bool frustum = false) {
   for (const Result* r : results)
     if (r->config.scene == scene && r->config.node_order == order && r->config.cull == cull && r->config.heads.empty() != heads &&
@@ -154,7 +154,7 @@ double TypePerRay(const Result& r, const std::string& type) {
 }
 std::string YesNo(bool b) { return b ? "enabled" : "disabled"; }
 
-struct Verdicts {
+struct PairedVerdicts {
   std::vector<std::vector<std::string>> rows;
   void Add(Table& t, const std::string& relation, const std::string& where, const Outcome& ours, const Outcome& published) {
     t.notes.push_back(fmt::format("- {}: {}: ours {} ({}); published {} ({})", where, relation, ours.holds ? "holds" : "fails",
@@ -165,18 +165,18 @@ struct Verdicts {
 
 // Table 1: every published combination, each measured with its switches (the node order, back-face
 // culling, per-polygon heads, the eye rays' frustum culling).
-Table Table1(const std::vector<const Result*>& results, Verdicts& v) {
+Table Table1(const std::vector<const Result*>& results, PairedVerdicts& v) {
   Table t{"toczek-1", "Toczek et al. table 1: the bunny without ground, traversed nodes per ray by optimisation",
           {"node order", "back-face culling", "per-polygon heads", "frustum culling", "published nodes/ray", "ours nodes/ray",
            "ours spheres/ray", "ours triangles/ray", "ours eye ray nodes/ray", "ours shadow ray nodes/ray", "ours culled per list",
            "published x all off", "ours x all off"},
           {}, {}};
   for (const ToczekTable1Row& p : ToczekTable1()) {
-    const Result* r = Find(results, "BUNNY", p.order, p.culling, p.heads, p.frustum);
+    const Result* r = FindRun(results, "BUNNY", p.order, p.culling, p.heads, p.frustum);
     const Walks w = r ? WalksOf(*r) : Walks{};
     // Each row against its order's row with every switch off: the relations the two sides share.
     const double pub_base = ToczekTable1()[p.order == "earliest-first" ? 9 : 1].NodesPerRay();
-    const Result* base = Find(results, "BUNNY", p.order);
+    const Result* base = FindRun(results, "BUNNY", p.order);
     const double ours_base = base ? WalksOf(*base).NodesPerRay() : 0.0;
     t.rows.push_back({p.order, YesNo(p.culling), p.heads ? "regular" : "disabled", YesNo(p.frustum), Fixed(p.NodesPerRay()),
                       r ? Fixed(w.NodesPerRay()) : "not measured", r ? Fixed(w.SpheresPerRay()) : "", r ? Fixed(w.TrianglesPerRay()) : "",
@@ -198,8 +198,8 @@ Table Table1(const std::vector<const Result*>& results, Verdicts& v) {
                     "ray walks only the window of its list outside which every element lies beyond one of the four side planes "
                     "of its 16x16-pixel screen cell's pyramid; it changes only the eye rays' count. The last two columns divide "
                     "each row by its node order's row with every switch off; the plot sets them against each other.");
-  const Result* ef = Find(results, "BUNNY", "earliest-first");
-  const Result* ll = Find(results, "BUNNY", "latest-last");
+  const Result* ef = FindRun(results, "BUNNY", "earliest-first");
+  const Result* ll = FindRun(results, "BUNNY", "latest-last");
   if (ef && ll) {
     const ToczekTable1Row& pe = ToczekTable1()[9];  // earliest first, everything disabled
     const ToczekTable1Row& pl = ToczekTable1()[1];  // latest last, everything disabled
@@ -208,8 +208,8 @@ Table Table1(const std::vector<const Result*>& results, Verdicts& v) {
   }
   // Back-face culling alone, per order: the rows (order, culling, disabled, disabled).
   for (const auto& [order, off_row, on_row] : {std::tuple{"earliest-first", 9, 13}, std::tuple{"latest-last", 1, 5}}) {
-    const Result* off = Find(results, "BUNNY", order);
-    const Result* on = Find(results, "BUNNY", order, true);
+    const Result* off = FindRun(results, "BUNNY", order);
+    const Result* on = FindRun(results, "BUNNY", order, true);
     if (!off || !on) continue;
     v.Add(t, kToczekCulling, fmt::format("bunny, {}, heads and frustum culling disabled", order),
           Lowers(WalksOf(*off).NodesPerRay(), WalksOf(*on).NodesPerRay()),
@@ -218,8 +218,8 @@ Table Table1(const std::vector<const Result*>& results, Verdicts& v) {
   // Frustum culling alone, per order: the rows (order, disabled, disabled, disabled) and (order,
   // disabled, disabled, enabled).
   for (const auto& [order, off_row, on_row] : {std::tuple{"earliest-first", 9, 8}, std::tuple{"latest-last", 1, 0}}) {
-    const Result* off = Find(results, "BUNNY", order);
-    const Result* on = Find(results, "BUNNY", order, false, false, true);
+    const Result* off = FindRun(results, "BUNNY", order);
+    const Result* on = FindRun(results, "BUNNY", order, false, false, true);
     if (!off || !on) continue;
     v.Add(t, kToczekFrustum, fmt::format("bunny, {}, back-face culling and heads disabled", order),
           Lowers(WalksOf(*off).NodesPerRay(), WalksOf(*on).NodesPerRay()),
@@ -230,8 +230,8 @@ Table Table1(const std::vector<const Result*>& results, Verdicts& v) {
   for (const auto& [order, cull, off_row, on_row] :
        {std::tuple{"earliest-first", false, 9, 11}, std::tuple{"earliest-first", true, 13, 15}, std::tuple{"latest-last", false, 1, 3},
         std::tuple{"latest-last", true, 5, 7}}) {
-    const Result* off = Find(results, "BUNNY", order, cull);
-    const Result* on = Find(results, "BUNNY", order, cull, true);
+    const Result* off = FindRun(results, "BUNNY", order, cull);
+    const Result* on = FindRun(results, "BUNNY", order, cull, true);
     if (!off || !on) continue;
     v.Add(t, kToczekHeads, fmt::format("bunny, {}, back-face culling {}, frustum culling disabled", order, cull ? "enabled" : "disabled"),
           Lowers(WalksOf(*off).NodesPerRay(), WalksOf(*on).NodesPerRay()),
@@ -241,7 +241,7 @@ Table Table1(const std::vector<const Result*>& results, Verdicts& v) {
 }
 
 // Table 2: nodes per ray against the triangle count, ours beside the published (a series plot).
-Table Table2(const std::vector<const Result*>& results, Verdicts& v) {
+Table Table2(const std::vector<const Result*>& results, PairedVerdicts& v) {
   Table t{"toczek-2", "Toczek et al. table 2: traversed nodes per ray against the scene's triangles",
           {"scene", "series", "triangles", "nodes per ray", "spheres/ray", "triangles/ray", "elements per list", "note"}, {}, {}};
   std::vector<double> ours, published;
@@ -252,7 +252,7 @@ Table Table2(const std::vector<const Result*>& results, Verdicts& v) {
   }
   for (const ToczekScene& s : ToczekScenes()) {
     if (s.table != 2) continue;
-    const Result* r = Find(results, s.name, "earliest-first");
+    const Result* r = FindRun(results, s.name, "earliest-first");
     if (!r) continue;
     const Walks w = WalksOf(*r);
     std::uint64_t triangles = 0;
@@ -281,7 +281,7 @@ Table Table2(const std::vector<const Result*>& results, Verdicts& v) {
 
 void AddToczekReport(Report& report, const std::vector<const Result*>& results) {
   if (results.empty()) return;
-  Verdicts v;
+  PairedVerdicts v;
   std::vector<Table> tables = {Table1(results, v), Table2(results, v)};
   Table summary{"toczek-summary", "Toczek et al. 2010: its tables' relations on our counts",
                 {"relation", "where", "ours", "compared", "published", "published compared"}, v.rows, {}};

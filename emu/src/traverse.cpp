@@ -16,15 +16,12 @@ float TraversalEpsilon(const SceneBuffers& scene) {
 }
 
 namespace {
-// A lambda, not a function pointer, so the test inlines into the traversal loops.
-constexpr auto kConeTest = [](const layout::ConeNode& n, glm::vec4 sphere, float eps) { return cone::Test(n, sphere, eps); };
-constexpr auto kPrintedTest = [](const layout::ConeNode& n, glm::vec4 sphere, float eps) { return cone::PrintedTest(n, sphere, eps); };
 constexpr std::string_view kCompactPass = "traverse.compact";
 
 // Chosen once per call, so the default loops keep the conservative test inlined with no branch.
 template <typename Loop, typename Call>
 auto WithConeTest(Loop&& loop, const Call& c) {
-  return c.cone_test == layout::kConeTestPrinted ? loop(kPrintedTest, c) : loop(kConeTest, c);
+  return c.cone_test == layout::kConeTestPrinted ? loop(cone::kPrintedTestFn, c) : loop(cone::kTestFn, c);
 }
 }  // namespace
 

@@ -287,6 +287,12 @@ inline bool PrintedTest(const layout::ConeNode& n, glm::vec4 sphere, float eps) 
 // The geometric question alone (accuracy's per-query table): no margin, sphere.w + 0 = sphere.w.
 inline bool PrintedTest(const layout::ConeNode& n, glm::vec4 sphere) { return PrintedTest(n, sphere, 0.0f); }
 
+// The two tests as lambdas, not function pointers, so a traversal loop templated on its test inlines it.
+inline constexpr auto kTestFn = [](const layout::ConeNode& n, glm::vec4 sphere, float eps) { return Test(n, sphere, eps); };
+inline constexpr auto kPrintedTestFn = [](const layout::ConeNode& n, glm::vec4 sphere, float eps) {
+  return PrintedTest(n, sphere, eps);
+};
+
 // The test a traversal's cone_test (layout::kConeTest*) names.
 [[gnu::always_inline]] inline bool TestBy(std::uint32_t cone_test, const layout::ConeNode& n, glm::vec4 sphere, float eps) {
   return cone_test == layout::kConeTestPrinted ? PrintedTest(n, sphere, eps) : Test(n, sphere, eps);
