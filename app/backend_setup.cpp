@@ -109,6 +109,11 @@ Backend MakeBackend(const std::string& name, int device, int local_size, const s
     return static_cast<const VulkanOwner*>(be.owner.get())->gpu->extra_dispatches();
   };
   b.paged_arrays = [](const Backend& be) { return static_cast<const VulkanOwner*>(be.owner.get())->gpu->paged_arrays(); };
+  b.set_faults = [](const Backend& be, const std::map<std::string, std::uint32_t>& f) {
+    gpu_backend::VulkanPasses& gpu = *static_cast<const VulkanOwner*>(be.owner.get())->gpu;
+    if (vk::Status s = gpu.SetFaults(f); !s) throw std::runtime_error("Vulkan: " + s.message);
+    gpu.ResetCounts();
+  };
   b.folded_launches = [](const Backend& be) {
     return static_cast<const VulkanOwner*>(be.owner.get())->gpu->context().folded_launches();
   };

@@ -24,6 +24,9 @@ struct Backend {
   std::size_t (*paged_arrays)(const Backend&) = nullptr;      // arrays bound over several pages (vulkan)
   std::size_t (*folded_launches)(const Backend&) = nullptr;   // launches folded into rows of workgroups (vulkan)
   emu::HierarchyPasses& Hierarchy() const { return hierarchy ? *hierarchy : emu::EmuHierarchyPasses(); }
+  // Plants other kernel faults between frames and starts the dispatch counts anew (vulkan; diff
+  // --inject-each runs a frame per fault on one device).
+  void (*set_faults)(const Backend&, const std::map<std::string, std::uint32_t>&) = nullptr;
 };
 
 // --algo grid on a Vulkan device without 64-bit floats (the grids' build bins in double): refused as

@@ -455,6 +455,10 @@ void PrintSavedInputs(const DiffArgs& args, const verify::Differ& differ) {
 nlohmann::json MeasureDiffImpact(const DiffArgs& args, const Scene& scene, const SceneBuffers& buffers, const emu::FrameOptions& fo,
                                  const Backend& gpu, const DiffTotals& totals, const DiffOutcome& run) {
   if (!totals.first || !run.checker.is_null()) return nullptr;
+  if (args.no_impact) {
+    std::fprintf(stderr, "  impact: not measured (--no-impact)\n");
+    return {{"measured", false}, {"skipped", "--no-impact"}};
+  }
   const ImpactTracerFactory make = [&](emu::HierarchyPasses& passes) -> std::unique_ptr<Tracer> {
     DiffTracer t = MakeDiffTracer(args, buffers, fo, passes);
     if (t.hierarchy) return std::move(t.hierarchy);
@@ -468,30 +472,17 @@ nlohmann::json MeasureDiffImpact(const DiffArgs& args, const Scene& scene, const
   return ImpactJson(impact);
 }
 
-}  // namespace
-
-ExitCode RunDiff(const DiffArgs& args) {
-  const bool one_sided = OneSided(args);
-  emu::FrameOptions fo;
-  const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height, args.bounces);
-  fo.progress = args.progress || isatty(STDERR_FILENO);  // progress on stderr when someone watches
-  ApplyFaithful(args.faithful, fo);
-  ApplyPrimary(args, fo);
+// One frame of a diff with args.inject planted, on a device made once: the planted fault set on both
+// sides, the frame compared call by call, the verdict printed, and the report with the impact.
+struct FaultRun {
+  ExitCode verdict = ExitCode::kOk;
+  nlohmann::json report;
+};
+FaultRun DiffFrame(const DiffArgs& args, const Scene& scene, SceneBuffers& buffers, emu::FrameOptions fo, const Backend& gpu,
+                   const MemoryEstimate& estimate) {
   const Injection injection = ParseInject(args.inject);
-  OutputFile report = OpenOutput(args.report, "the report", &scene);  // before the frame, as --save-inputs
-  const MemoryUse use{.copies = kDiffCopies,
-                      .slot_copies = args.Hierarchy() && args.path == "passes" ? kDiffSlotCopies : 0,
-                      .subdivision = args.subdivision,
-                      .pair_capacity = args.pair_capacity};
-  const MemoryEstimate estimate = EstimateFrameMemory(scene, fo.width, fo.height, use);
-  CheckFitsMachine(estimate, fo.width, fo.height, "--size", "the diff");
-  const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, injection.kernel, args.Limits(), args.kernels);
+  if (gpu.set_faults) gpu.set_faults(gpu, injection.kernel);
   ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
-  SceneBuffers buffers = FlattenForFrame(scene, args.faithful);
-  buffers.one_sided = one_sided;
-  CheckFrameFits(gpu, fo.width, fo.height, ShadowSlotsPerSurface(scene.lights), buffers.triangles.size());
-  if (args.algo == "grid") CheckGridBuild(gpu);
-  PrepareSaveDir(args.save_inputs);  // last: it creates the directory
   auto direct = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);
 
   verify::Backends expected{emu::EmuFramePasses(), emu::EmuHierarchyPasses()};
@@ -511,10 +502,78 @@ ExitCode RunDiff(const DiffArgs& args) {
               gpu.paged_arrays(gpu));
   PrintSavedInputs(args, differ);
   // The report is made before the impact's frames add to the device's dispatch counts.
-  nlohmann::json j = DiffReport(args, scene, fo, gpu, differ, passes, equal, run, totals.first, relaxed, totals.within_spec);
-  j["memory_estimate"] = MemoryEstimateJson(estimate);
-  j["impact"] = MeasureDiffImpact(args, scene, buffers, fo, gpu, totals, run);
-  const ExitCode verdict = !run.checker.is_null() ? ExitCode::kWorkgroupFault : equal ? ExitCode::kOk : ExitCode::kDivergence;
+  FaultRun r;
+  r.report = DiffReport(args, scene, fo, gpu, differ, passes, equal, run, totals.first, relaxed, totals.within_spec);
+  r.report["memory_estimate"] = MemoryEstimateJson(estimate);
+  r.report["impact"] = MeasureDiffImpact(args, scene, buffers, fo, gpu, totals, run);
+  r.verdict = !run.checker.is_null() ? ExitCode::kWorkgroupFault : equal ? ExitCode::kOk : ExitCode::kDivergence;
+  return r;
+}
+
+// --inject-each: every value a fault diff accepts, and nothing that saves one frame's calls.
+void CheckInjectEach(const DiffArgs& args) {
+  if (args.inject_each.empty()) return;
+  if (!args.inject.empty()) ThrowInput("--inject-each: give --inject or --inject-each, not both");
+  if (!args.save_inputs.empty())
+    ThrowInput("--inject-each: --save-inputs saves the calls of one frame; plant one fault with --inject");
+  for (const std::string& f : args.inject_each) {
+    if (f.empty()) ThrowInput("--inject-each: an empty fault in the list");
+    try {
+      ParseInject(f);
+    } catch (const InputError& e) {
+      const std::string m = e.what();  // "--inject 'F': why"
+      ThrowInput("--inject-each{}", m.rfind("--inject", 0) == 0 ? m.substr(8) : ": " + m);
+    }
+  }
+}
+
+}  // namespace
+
+ExitCode RunDiff(const DiffArgs& args) {
+  CheckInjectEach(args);
+  const bool one_sided = OneSided(args);
+  emu::FrameOptions fo;
+  const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height, args.bounces);
+  fo.progress = args.progress || isatty(STDERR_FILENO);  // progress on stderr when someone watches
+  ApplyFaithful(args.faithful, fo);
+  ApplyPrimary(args, fo);
+  const Injection injection = ParseInject(args.inject_each.empty() ? args.inject : args.inject_each.front());
+  OutputFile report = OpenOutput(args.report, "the report", &scene);  // before the frame, as --save-inputs
+  const MemoryUse use{.copies = kDiffCopies,
+                      .slot_copies = args.Hierarchy() && args.path == "passes" ? kDiffSlotCopies : 0,
+                      .subdivision = args.subdivision,
+                      .pair_capacity = args.pair_capacity};
+  const MemoryEstimate estimate = EstimateFrameMemory(scene, fo.width, fo.height, use);
+  CheckFitsMachine(estimate, fo.width, fo.height, "--size", "the diff");
+  const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, injection.kernel, args.Limits(), args.kernels);
+  ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
+  SceneBuffers buffers = FlattenForFrame(scene, args.faithful);
+  buffers.one_sided = one_sided;
+  CheckFrameFits(gpu, fo.width, fo.height, ShadowSlotsPerSurface(scene.lights), buffers.triangles.size());
+  if (args.algo == "grid") CheckGridBuild(gpu);
+  PrepareSaveDir(args.save_inputs);  // last: it creates the directory
+
+  nlohmann::json j;
+  ExitCode verdict = ExitCode::kOk;
+  if (args.inject_each.empty()) {
+    FaultRun r = DiffFrame(args, scene, buffers, fo, gpu, estimate);
+    j = std::move(r.report);
+    verdict = r.verdict;
+  } else {
+    // A frame per fault on the one device: only the faulted kernels' pipelines are made again.
+    j = {{"faults", nlohmann::json::array()}};
+    for (std::size_t i = 0; i < args.inject_each.size(); ++i) {
+      DiffArgs one = args;
+      one.inject = args.inject_each[i];
+      one.inject_each.clear();
+      std::printf("rayspace diff: planted fault %s (%zu of %zu)\n", one.inject.c_str(), i + 1, args.inject_each.size());
+      FaultRun r = DiffFrame(one, scene, buffers, fo, gpu, estimate);
+      j["faults"].push_back(std::move(r.report));
+      // A frame the workgroup checker stopped outranks a divergence, which outranks equality.
+      if (r.verdict == ExitCode::kWorkgroupFault || (r.verdict == ExitCode::kDivergence && verdict == ExitCode::kOk))
+        verdict = r.verdict;
+    }
+  }
   AddProvenance(j);
   return WriteOutputs(verdict, [&] { report.Commit(JsonText(j)); });
 }

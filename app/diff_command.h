@@ -2,6 +2,7 @@
 #include <cstddef>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "exit_codes.h"
 #include "frame_args.h"
@@ -16,14 +17,18 @@ namespace rayspace::app {
 struct DiffArgs : FrameArgs {
   DiffArgs() { model = KernelModelArgs::Checked(); }  // a verification run checks the workgroups (3% slower)
   std::string scene, report, inject, save_inputs;
+  std::vector<std::string> inject_each;  // --inject-each: a frame per fault on one device
   int local_size = 64;
   std::string compare = "auto";  // --compare: auto, bitwise or relaxed
   std::string path = "passes";   // --path: passes (traverse then reduce) or fused (traverse.compact)
   bool progress = false;         // --progress: also when stderr is not a terminal
+  bool no_impact = false;        // --no-impact: a divergence's effect on the picture not measured
 };
 
 // Runs the whole frame with every pass on both backends (same inputs: the GPU's previous outputs)
 // and compares every output bitwise. Returns kOk when all are equal, kDivergence when a pass diverges.
+// With --inject-each, a frame per fault on the one device, the report's "faults" holding each frame's
+// report: kWorkgroupFault when the checker stopped any frame, else kDivergence when any diverged.
 ExitCode RunDiff(const DiffArgs& args);
 
 struct ReplayArgs {

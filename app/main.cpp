@@ -155,6 +155,13 @@ void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
                  "place of the summary)");
   dc->add_option("--inject", cmds.diff.inject, "Plant a fault in one kernel: PASS[:FAULT][@emu], FAULT a number or a "
                  "workgroup fault's name; @emu plants it in the emulated kernel (test use)");
+  dc->add_option("--inject-each", cmds.diff.inject_each, "Plant each fault of a comma-separated list in turn, a frame "
+                 "per fault on one device (only the faulted kernels' pipelines are made again); the report's \"faults\" "
+                 "holds each frame's report; exit 6 when the workgroup checker stopped any frame, else 4 when any "
+                 "diverged")
+      ->delimiter(',');
+  dc->add_flag("--no-impact", cmds.diff.no_impact, "After a divergence, do not measure what it does to the picture (two "
+               "more frames, one on each backend alone, and the oracle's judgement of the changed rays)");
   rayspace::app::AddLocalSizeOption(*dc, cmds.diff.local_size);
   dc->add_option("--save-inputs", cmds.diff.save_inputs, "Write every pass call's inputs and options to DIR/NNNN-PASS/ "
                  "(for replay); DIR must be new or empty");

@@ -3,6 +3,7 @@
 # cli.diff.<case>, so a failure names what it checks:
 #   <scene>.<algo>[.<variant>]       the frame is equal on both backends (exit 0)
 #   fault.[<algo>.]<pass>:<fault>   the planted fault is caught, with <pass> the first divergent pass (exit 4)
+#   faults.<group>                  each planted fault of a list likewise, a frame each on one device
 #   replay.<what>                   saved inputs replay to the recorded comparison
 # tests/CMakeLists.txt includes this file with CASE unset to collect the case names; each test runs
 #   cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DDATA=<data root> -DWORK=<scratch> -DCASE=<case> -P cli_diff.cmake
@@ -151,6 +152,45 @@ function(impact_case name scene size inject expect)
   endif()
 endfunction()
 
+# faults_case(NAME SCENE SIZE FAULTS [diff options...]): each planted fault of the list FAULTS, a frame
+# each on one device (diff --inject-each --no-impact: the device and its pipelines made once), must
+# diverge with its own pass first (PASS:N and PASS:N@emu -> PASS). A failure names each fault missed.
+function(faults_case name scene size faults)
+  begin_case("${name}")
+  scene_path("${scene}" path)
+  string(REPLACE ";" "," each "${faults}")
+  execute_process(COMMAND "${RAYSPACE}" diff "${path}" --data "${DATA}" --size ${size} --inject-each "${each}" --no-impact
+                          --report "${case_work}/report.json" ${ARGN}
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 4)
+    set(FAILURES "${FAILURES}\n${name}: exit ${rc}, expected 4: ${out}${err}" PARENT_SCOPE)
+    return()
+  endif()
+  file(READ "${case_work}/report.json" j)
+  list(LENGTH faults count)
+  string(JSON reported LENGTH "${j}" faults)
+  if(NOT reported EQUAL count)
+    set(FAILURES "${FAILURES}\n${name}: ${reported} frames reported, expected ${count}" PARENT_SCOPE)
+    return()
+  endif()
+  string(REGEX MATCHALL "rayspace diff: first divergent pass: [^\n]+" verdicts "${err}")
+  list(LENGTH verdicts said)
+  if(NOT said EQUAL count)
+    set(FAILURES "${FAILURES}\n${name}: ${said} divergences said on stderr, expected ${count}" PARENT_SCOPE)
+  endif()
+  set(i 0)
+  foreach(f IN LISTS faults)
+    string(REGEX REPLACE "[:@].*" "" pass "${f}")
+    string(JSON inject GET "${j}" faults ${i} inject)
+    string(JSON first GET "${j}" faults ${i} first_divergent_pass)  # JSON null reads as ""
+    string(JSON measured ERROR_VARIABLE no_impact GET "${j}" faults ${i} impact measured)  # null when equal
+    if(NOT inject STREQUAL f OR NOT first STREQUAL pass OR measured)
+      set(FAILURES "${FAILURES}\n${name}: frame ${i} (${inject}, expected ${f}): first divergent pass '${first}', expected '${pass}'" PARENT_SCOPE)
+    endif()
+    math(EXPR i "${i} + 1")
+  endforeach()
+endfunction()
+
 # checker_case(NAME SCENE SIZE INJECT PASS [diff options...]): a fault planted in an emulated kernel
 # (INJECT ends in @emu) must stop the diff with exit 6, before any comparison of PASS, with the
 # workgroup checker's reports naming PASS, a shared word (or, for a divergent barrier, listed
@@ -224,7 +264,6 @@ diff_case(cornell.brute cornell-mirrors 96x96 "" 0 "" --algo brute)
 diff_case(office.crsh office 128x128 "" 0 "")
 diff_case(office.rah office 96x96 "" 0 "" --algo rah)
 diff_case(glass.crsh glass 128x128 "" 0 "")
-diff_case(fault.raygen.refraction:1 glass 96x96 raygen.refraction:1 4 raygen.refraction)
 # Workgroup sizes and dispatch splitting must not change a bit (order-preserving compaction,
 # order-independent reductions).
 foreach(ls 1 7 12 20 32 256 1024)
@@ -289,35 +328,21 @@ foreach(algo crsh rah)
     diff_case(sponza.${algo} sponza 128x128 "" 0 "" ${args})
   endif()
 endforeach()
-foreach(f raster:1 surfaces:1 raygen.shadow:1 raygen.shadow:2 trim:1 hash:1 compress:1 sort:1 decompress:1 build:1
-          traverse:1 reduce:1 intersect:1 shade:1 raygen.reflection:1 surfaces.hits:1 resolve:1)
-  string(REGEX REPLACE ":.*" "" pass "${f}")
-  diff_case(fault.${f} cornell-mirrors 64x64 ${f} 4 ${pass})
-endforeach()
+faults_case(faults.first cornell-mirrors 64x64 "raster:1;surfaces:1;raygen.shadow:1;raygen.shadow:2;trim:1;hash:1;compress:1;sort:1;decompress:1;build:1;traverse:1;reduce:1;intersect:1;shade:1;raygen.reflection:1;surfaces.hits:1;resolve:1")
 # Every pass's own faults beyond its first: a wrong operand, an off-by-one bound or index, a lost tail,
 # a swapped index; each fires on every frame and is caught in its own pass.
-foreach(f raster:3 surfaces:2 surfaces:3 surfaces.hits:2 surfaces.hits:3 raygen.shadow:3 raygen.reflection:2
-          raygen.reflection:3 trim:3 hash:3 compress:2 compress:3 sort:2 sort:3 decompress:2 decompress:3 build:2
-          build:3 traverse:3 reduce:3 intersect:3 shade:2 shade:3 resolve:2 resolve:3
-          # Outputs the host checks (a material id, a leaf's ray count): the diff compares them first.
-          surfaces:4 build:4
-          # Slots left unwritten: they read back as the buffers' poison, never as a right value.
-          traverse:4)
-  string(REGEX REPLACE ":.*" "" pass "${f}")
-  diff_case(fault.${f} cornell-mirrors 64x64 ${f} 4 ${pass})
-endforeach()
+# Among them, outputs the host checks (surfaces:4 a material id, build:4 a leaf's ray count): the diff
+# compares them first; and slots left unwritten (traverse:4): they read back as the buffers' poison,
+# never as a right value.
+faults_case(faults.more cornell-mirrors 64x64 "raster:3;surfaces:2;surfaces:3;surfaces.hits:2;surfaces.hits:3;raygen.shadow:3;raygen.reflection:2;raygen.reflection:3;trim:3;hash:3;compress:2;compress:3;sort:2;sort:3;decompress:2;decompress:3;build:2;build:3;traverse:3;reduce:3;intersect:3;shade:2;shade:3;resolve:2;resolve:3;surfaces:4;build:4;traverse:4")
 # Area lights (docs/area-lights.md): each shape's samples equal on both sides, the relaxed device
 # model bounding a sample a device's square root moves, and the sampler's faults, which a scene of
 # point lights cannot see, caught in their passes.
 diff_case(area.shapes area-shapes 48x48 "" 0 "")
 diff_case(area.shapes.relaxed area-shapes 48x48 raygen.shadow:approx-sqrt 0 "" --compare relaxed)
-foreach(f raygen.shadow:4 raygen.shadow:5 raygen.shadow:6 shade:4 shade:5)
-  string(REGEX REPLACE ":.*" "" pass "${f}")
-  diff_case(fault.${f} area-shapes 48x48 ${f} 4 ${pass})
-endforeach()
-foreach(f raygen.refraction:2 raygen.refraction:3)  # refraction rays need a transparent object
-  diff_case(fault.${f} glass 96x96 ${f} 4 raygen.refraction)
-endforeach()
+faults_case(faults.area area-shapes 32x32 "raygen.shadow:4;raygen.shadow:5;raygen.shadow:6;shade:4;shade:5")
+# Refraction rays need a transparent object.
+faults_case(faults.refraction glass 96x96 "raygen.refraction:1;raygen.refraction:2;raygen.refraction:3")
 # The raster's faults, classified: a half-pixel shift (what a device snapping differently does)
 # changes edge pixels only; the depth scale, interior ones.
 diff_case(fault.raster:2 cornell-mirrors 64x64 raster:2 4 raster)
@@ -379,13 +404,12 @@ diff_case(cornell.crsh.polar-first cornell-mirrors 64x64 "" 0 "" --hash-order po
 diff_case(glass.crsh.polar-first glass 64x64 "" 0 "" --hash-order polar-first --hash-bits 8 --path fused)
 diff_case(office.rah.fused office 64x64 "" 0 "" --path fused --algo rah)
 diff_case(cornell.rah-quadtree.fused cornell-mirrors 64x64 "" 0 "" --path fused --algo rah-quadtree)
-foreach(f traverse.compact:1 traverse.compact:2 traverse.compact:3 traverse.compact:4 traverse.compact:5 traverse.compact:6
-          traverse.compact:7)
-  diff_case(fault.fused.${f} cornell-mirrors 64x64 ${f} 4 traverse.compact --path fused)
-  # The same fault in the emulator's workgroup mirror of the kernel: in global memory, which the
-  # checker does not watch, so the diff must catch it in traverse.compact.
-  diff_case(fault.fused.${f}@emu cornell-mirrors 64x64 ${f}@emu 4 traverse.compact --path fused)
-endforeach()
+faults_case(faults.fused cornell-mirrors 64x64 "traverse.compact:1;traverse.compact:2;traverse.compact:3;traverse.compact:4;traverse.compact:5;traverse.compact:6;traverse.compact:7" --path fused)
+# The same faults in the emulator's workgroup mirror of the kernel: in global memory, which the
+# checker does not watch, so the diff must catch them in traverse.compact (:2@emu alone, below, with
+# the report's workgroup model).
+faults_case(faults.fused.emu cornell-mirrors 64x64 "traverse.compact:1@emu;traverse.compact:3@emu;traverse.compact:4@emu;traverse.compact:5@emu;traverse.compact:6@emu;traverse.compact:7@emu" --path fused)
+diff_case(fault.fused.traverse.compact:2@emu cornell-mirrors 64x64 traverse.compact:2@emu 4 traverse.compact --path fused)
 # The thesis's rays and objects (docs/hierarchy.md, "Faithful to the thesis"): each switch equal on
 # both backends, and a planted raygen.shadow fault still caught under --shadow-rule lit.
 foreach(scene cornell-mirrors office)
@@ -433,14 +457,8 @@ foreach(scene cornell-mirrors office)
     endif()
   endforeach()
 endforeach()
-foreach(f tree.roots:1 tree.roots:2 tree.roots:3 tree.expand:1 tree.expand:2 tree.expand:3 tree.test:1 tree.test:2 tree.test:3
-          intersect.tree:1 intersect.tree:2 intersect.tree:3)
-  string(REGEX REPLACE ":.*" "" pass "${f}")
-  diff_case(fault.tree.${f} cornell-mirrors 48x48 ${f} 4 ${pass} --objects tree --path passes)
-endforeach()
-foreach(f tree.step:1 tree.step:2 tree.step:3 tree.step:4)
-  diff_case(fault.tree.${f} cornell-mirrors 48x48 ${f} 4 tree.step --objects tree --path fused)
-endforeach()
+faults_case(faults.tree cornell-mirrors 48x48 "tree.roots:1;tree.roots:2;tree.roots:3;tree.expand:1;tree.expand:2;tree.expand:3;tree.test:1;tree.test:2;tree.test:3;intersect.tree:1;intersect.tree:2;intersect.tree:3" --objects tree --path passes)
+faults_case(faults.tree.fused cornell-mirrors 48x48 "tree.step:1;tree.step:2;tree.step:3;tree.step:4" --objects tree --path fused)
 # --algo tl: the traversal lists' two passes equal on every list count and order, on refraction rays
 # (glass) and at another local size; each planted fault caught in its own pass.
 foreach(lists 1 2 6 8)
@@ -449,37 +467,25 @@ endforeach()
 diff_case(cornell.tl.latest-last cornell-mirrors 48x48 "" 0 "" --algo tl --node-order latest-last --local-size 32)
 diff_case(glass.tl glass 64x64 "" 0 "" --algo tl --lists 8)
 diff_case(office.tl office 64x64 "" 0 "" --algo tl)
-foreach(f tl.lists:1 tl.lists:2 tl.lists:3 tl.trace:1 tl.trace:2 tl.trace:3)
-  string(REGEX REPLACE ":.*" "" pass "${f}")
-  diff_case(fault.tl.${f} cornell-mirrors 48x48 ${f} 4 ${pass} --algo tl)
-endforeach()
+faults_case(faults.tl cornell-mirrors 48x48 "tl.lists:1;tl.lists:2;tl.lists:3;tl.trace:1;tl.trace:2;tl.trace:3" --algo tl)
 # Back-face culling: the lists' four phases with triangles dropped per list, one-sided walks; the
 # culling faults (fronts dropped, backs kept) caught in their passes.
 diff_case(cornell.tl.cull cornell-mirrors 48x48 "" 0 "" --algo tl --backface-cull on)
 diff_case(glass.tl.cull-8 glass 64x64 "" 0 "" --algo tl --lists 8 --backface-cull on --local-size 32)
-foreach(f tl.lists:4 tl.trace:4)
-  string(REGEX REPLACE ":.*" "" pass "${f}")
-  diff_case(fault.tl.cull.${f} cornell-mirrors 48x48 ${f} 4 ${pass} --algo tl --backface-cull on)
-endforeach()
+faults_case(faults.tl.cull cornell-mirrors 48x48 "tl.lists:4;tl.trace:4" --algo tl --backface-cull on)
 # Per-polygon heads: tl.heads' windows and the walks over them equal; each planted fault caught in
 # its pass (a flipped plane, the opposite class's facets, a head one element late; the walk taking
 # the window of the other side).
 diff_case(cornell.tl.heads cornell-mirrors 48x48 "" 0 "" --algo tl --polygon-heads regular)
 diff_case(glass.tl.heads-simple-8 glass 64x64 "" 0 "" --algo tl --lists 8 --polygon-heads simple --local-size 32)
 diff_case(cornell.tl.heads-cull cornell-mirrors 48x48 "" 0 "" --algo tl --polygon-heads regular --backface-cull on)
-foreach(f tl.heads:1 tl.heads:2 tl.heads:3 tl.trace:5)
-  string(REGEX REPLACE ":.*" "" pass "${f}")
-  diff_case(fault.tl.heads.${f} cornell-mirrors 48x48 ${f} 4 ${pass} --algo tl --polygon-heads regular)
-endforeach()
+faults_case(faults.tl.heads cornell-mirrors 48x48 "tl.heads:1;tl.heads:2;tl.heads:3;tl.trace:5" --algo tl --polygon-heads regular)
 # Eye rays traced beside the raster, with and without their cells' windows (partial cells: 40x36);
 # each frustum-culling fault caught in its pass (a plane flipped, the next cell's planes, a tail one
 # short; an eye ray walking the next cell's window).
 diff_case(cornell.tl.primary cornell-mirrors 40x36 "" 0 "" --algo tl --primary tl)
 diff_case(cornell.tl.frustum cornell-mirrors 40x36 "" 0 "" --algo tl --primary tl --frustum-cull on --lists 8 --local-size 32)
-foreach(f tl.cells:1 tl.cells:2 tl.cells:3 tl.trace:6)
-  string(REGEX REPLACE ":.*" "" pass "${f}")
-  diff_case(fault.tl.frustum.${f} cornell-mirrors 48x48 ${f} 4 ${pass} --algo tl --primary tl --frustum-cull on)
-endforeach()
+faults_case(faults.tl.frustum cornell-mirrors 48x48 "tl.cells:1;tl.cells:2;tl.cells:3;tl.trace:6" --algo tl --primary tl --frustum-cull on)
 # A traversal-list call saved by a diff replays as the call it was: with its fault reproduced, without
 # it equal; the lists' call replays equal.
 diff_case(replay.tl cornell-mirrors 48x48 tl.trace:2 4 tl.trace --algo tl --save-inputs "${case_work}/saved")
@@ -500,7 +506,8 @@ endif()
 # perspective grids) and with coarse and fine grids; each planted fault caught in grid.trace.
 diff_case(cornell.grid cornell-mirrors 48x48 "" 0 "" --algo grid)
 diff_case(glass.grid glass 64x64 "" 0 "" --algo grid --grid-cells 64 --grid-regular 16 --local-size 32)
-diff_case(office.grid office 64x64 "" 0 "" --algo grid)
+# Coarse grids: the office's two lights' grids as three calls; the default resolution is cornell.grid's.
+diff_case(office.grid office 64x64 "" 0 "" --algo grid --grid-cells 64 --grid-regular 16)
 diff_case(area.grid area-shapes 48x48 "" 0 "" --algo grid --grid-regular 100)
 # The area lights' 3D perspective grids coarse and close to the lights (many faces and slices per
 # ray), with front-face culling, and their shadow rays through the regular grid instead.
@@ -527,11 +534,9 @@ if("${CASE}" STREQUAL "replay.grid" AND NOT FAILURES)
 endif()
 # The grids' build as kernels (grid.count, grid.emit, the sort, grid.cells): each planted fault is
 # caught in its own pass, before grid.trace reads the grids.
-foreach(f grid.trace:1 grid.trace:2 grid.trace:3 grid.trace:4 grid.count:1 grid.count:2 grid.count:3 grid.emit:1 grid.emit:2 grid.emit:3
-          grid.cells:1 grid.cells:2 grid.cells:3)
-  string(REGEX REPLACE ":.*" "" pass "${f}")
-  diff_case(fault.grid.${f} cornell-mirrors 48x48 ${f} 4 ${pass} --algo grid)
-endforeach()
+# Coarse grids (a third of the time; the default resolution is cornell.grid's): each fault still
+# caught in its own pass.
+faults_case(faults.grid cornell-mirrors 48x48 "grid.trace:1;grid.trace:2;grid.trace:3;grid.trace:4;grid.count:1;grid.count:2;grid.count:3;grid.emit:1;grid.emit:2;grid.emit:3;grid.cells:1;grid.cells:2;grid.cells:3" --algo grid --grid-cells 64 --grid-regular 16)
 # The same on a scene of area lights only (the regular grid binned first) and with the eye's grid.
 diff_case(fault.grid.volume.grid.count:1 area-shapes 40x40 grid.count:1 4 grid.count --algo grid --grid-area 16x16x3 --grid-area-near 1 --grid-regular 8)
 diff_case(fault.grid.primary.grid.emit:2 cornell-mirrors 40x36 grid.emit:2 4 grid.emit --algo grid --primary grid)

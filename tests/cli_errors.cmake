@@ -101,6 +101,15 @@ expect_error(NAME "--inject trim:1@emu (a fault the emulator does not have)"
 expect_error(NAME "--inject trim:dropped-barrier@gpu"
              NEEDLES "--inject" "'emu'"
              ARGS diff "${WORK}/good.json" --inject trim:dropped-barrier@gpu)
+expect_error(NAME "--inject-each with a fault that does not exist"
+             NEEDLES "--inject-each 'bogus:3'" "no kernel named 'bogus'"
+             ARGS diff "${WORK}/good.json" --inject-each trim:1,bogus:3)
+expect_error(NAME "--inject-each beside --inject"
+             NEEDLES "--inject-each" "not both"
+             ARGS diff "${WORK}/good.json" --inject-each trim:1 --inject trim:2)
+expect_error(NAME "--inject-each with --save-inputs"
+             NEEDLES "--inject-each" "--save-inputs"
+             ARGS diff "${WORK}/good.json" --inject-each trim:1 --save-inputs "${WORK}/saved-each")
 # `rayspace export`: a saved call, an output directory that is new or empty, and a pass it can
 # replay with compute dispatches. Every refusal leaves no output directory behind.
 execute_process(COMMAND "${RAYSPACE}" diff "${WORK}/good.json" --size 8x8 --save-inputs "${WORK}/saved"

@@ -43,6 +43,21 @@ vk::Status VulkanPasses::Create(int device, const Faults& faults, std::unique_pt
   return vk::Status::Ok();
 }
 
+vk::Status VulkanPasses::SetFaults(const Faults& faults) {
+  for (const PassSpec& spec : kPasses) {
+    auto it = faults.find(std::string(spec.name));
+    const std::uint32_t fault = it == faults.end() ? 0u : it->second;
+    if (spec.graphics) {
+      raster_fault_ = fault;
+      continue;
+    }
+    vk::Kernel& k = kernels_[static_cast<std::size_t>(spec.id)];
+    if (k.name().empty()) continue;  // not made (the grid build without 64-bit floats)
+    RS_TRY(ctx_->SetKernelFault(k, fault));
+  }
+  return vk::Status::Ok();
+}
+
 namespace {
 // Whole elements in a part of `bytes`, at least one.
 std::size_t ElementsIn(std::size_t bytes, std::size_t bytes_per_element) {

@@ -521,6 +521,15 @@ Status Context::CreatePipeline(const Kernel& k) const {
   return Status::Ok();
 }
 
+Status Context::SetKernelFault(Kernel& k, std::uint32_t fault) const {
+  if (k.spec_[0] == fault) return Status::Ok();
+  if (observer_) return Status::Fail(fmt::format("kernel {}: its planted fault cannot change while an observer records it", k.name_));
+  vkDestroyPipeline(device_, k.pipeline_, nullptr);
+  k.pipeline_ = VK_NULL_HANDLE;
+  k.spec_[0] = fault;
+  return Status::Ok();
+}
+
 Status Context::CreateImage(VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect, std::uint32_t width,
                             std::uint32_t height, Image& out) {
   if (width < 1 || height < 1 || width > max_image_side_ || height > max_image_side_)

@@ -46,6 +46,12 @@ class VulkanPasses {
   RS_FRAME_CALLS(RS_VULKAN_CALL)
   RS_HIERARCHY_CALLS(RS_VULKAN_CALL)
 #undef RS_VULKAN_CALL
+  // Plants `faults` in place of the current ones (diff --inject-each: one device, a frame per fault):
+  // each kernel whose fault changes makes its pipeline again at its next dispatch, the others keep
+  // theirs. Only between frames.
+  vk::Status SetFaults(const Faults& faults);
+  // Starts extra_dispatches() and paged_arrays() anew (each fault's frame reports its own).
+  void ResetCounts() { extra_dispatches_ = paged_arrays_ = 0; }
   const vk::Context& context() const { return *ctx_; }
   // Buffers that grow with the frame never exceed one binding: element-wise passes run over parts
   // of their streams, and arrays read at any index are paged (gpu/shaders/paged.glsl). This is the

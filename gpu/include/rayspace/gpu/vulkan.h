@@ -280,6 +280,11 @@ class Context {
                       std::uint32_t fault, Kernel& out, std::uint32_t local_size = 64);
   // Makes `k`'s pipeline unless it has one.
   Status CreatePipeline(const Kernel& k) const;
+  // Plants `fault` in `k` (specialization constant 0) in place of its current one: a pipeline made
+  // with the old constant is destroyed, and the next dispatch makes one with the new. Only between
+  // submissions (no recorded work may use the pipeline), and refused while an Observer watches, which
+  // was told the kernel's constants when it was made.
+  Status SetKernelFault(Kernel& k, std::uint32_t fault) const;
   // A width x height 2D image of `format` for `usage` (a copy source as well) with a view of `aspect`;
   // each side must be in [1, maxImageDimension2D] (refused before any Vulkan call otherwise).
   Status CreateImage(VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect, std::uint32_t width,
