@@ -15,12 +15,21 @@ it into a copy under --work, configured and built once first.
 The same seed, count and sources give the same mutants: every pass's candidate sites, shuffled by
 the seed, are taken in turn, so a small sample still reaches every pass. `--dry-run` lists them without building anything.
 
+With --tiers it measures the test tiers' power instead (docs/verification.md, "Test tiers"): the
+sample is drawn over emu/, gpu/src, verify/ and app/ (--count) and the kernels gpu/shaders/*.comp
+(--kernels), the copy is built whole with the project's configuration (Release, Vulkan), and each
+mutant runs the default tier (`ctest -L default --stop-on-failure`) and, only when the default tier
+misses it, the full tier's other tests: killed by the default tier, by the full tier only, survived
+or stillborn. The default tier's kill list must contain the full suite's: no mutant killed by the
+full tier only.
+
 Usage: mutation_check.py [--seed N] [--count N] [--tests REGEX] [--exclude REGEX] [--files PATH ...]
                          [--source DIR] [--build DIR | --work DIR] [--timeout SEC] [--jobs N]
-                         [--cmake-arg ARG ...] [--report JSON] [--dry-run]
+                         [--cmake-arg ARG ...] [--report JSON] [--dry-run] [--tiers [--kernels N]]
 Exit: 0 when the run completed (survivors are a result, not an error), 2 on a usage error.
 """
 import argparse
+import contextlib
 import glob
 import json
 import os
@@ -42,6 +51,9 @@ DEFAULT_EXCLUDE = ("^(objects tree: fused rounds|objects tree: the same frame di
                    "determinism: hierarchy digests|traverse.compact mirror: random calls)")
 # The passes' sources; a mutated header rebuilds every file that includes it, so headers are opt-in.
 DEFAULT_FILES = ("emu/src/*.cpp",)
+# --tiers: the emulator, the Vulkan host code, the verifier and the command; and the kernels apart.
+TIER_FILES = ("emu/src/*.cpp", "gpu/src/*.cpp", "verify/src/*.cpp", "app/*.cpp")
+KERNEL_FILES = ("gpu/shaders/*.comp",)
 
 # Source file stem -> the pass its code serves (docs/mutation.md); files serving every pass are "shared".
 PASS_OF_STEM = {
@@ -70,6 +82,10 @@ STATEMENT = re.compile(r"^\s*[\w\[\]().>-]+\s*(\+=|-=|\*=|=|\+\+|--)[^=].*;\s*$|
 
 def pass_of(path):
     stem = os.path.splitext(os.path.basename(path))[0]
+    if path.startswith("gpu/shaders/"):
+        return "kernel " + stem
+    if not path.startswith("emu/"):
+        return path.split("/")[0] + ("/src" if path.startswith("gpu/src/") else "")
     return PASS_OF_STEM.get(stem, "shared")
 
 
@@ -152,7 +168,7 @@ def run(cmd, cwd, timeout=None):
         return None, "timeout"
 
 
-def prepare_copy(args):
+def configured_copy(args):
     """Copies the source tree (without build folders) to WORK/src and configures WORK/src/build."""
     src = os.path.join(args.work, "src")
     skip = shutil.ignore_patterns("build", "build-*", ".git", "out")
@@ -160,9 +176,18 @@ def prepare_copy(args):
         shutil.copytree(args.source, src, ignore=skip, symlinks=True)
     build = os.path.join(src, "build")
     os.makedirs(build, exist_ok=True)
+    # Compiler-cache entries keyed on paths relative to the copy, as scripts/build.sh does for a clone:
+    # the copy's first build reuses the checkout's objects.
+    os.environ["CCACHE_BASEDIR"] = os.path.abspath(src)
     rc, out = run(["cmake", ".."] + args.cmake_arg, build)
     if rc != 0:
         sys.exit(f"mutation_check.py: configuring the copy failed:\n{out}")
+    return src, build
+
+
+def prepare_copy(args):
+    """The copy's unit tests built; the fast tests must pass unmutated."""
+    src, build = configured_copy(args)
     rc, out = run(["make", f"-j{args.jobs}", "rayspace_tests"], build)
     if rc != 0:
         sys.exit(f"mutation_check.py: the unmutated copy does not build:\n{out[-3000:]}")
@@ -170,6 +195,72 @@ def prepare_copy(args):
     if rc != 0:
         sys.exit(f"mutation_check.py: the unmutated copy fails its tests:\n{out[-3000:]}")
     return src, build
+
+
+def prepare_tiers(args):
+    """The copy built whole with the project's configuration; both tiers must pass unmutated."""
+    src, build = configured_copy(args)
+    rc, out = run(["cmake", "--build", ".", f"-j{args.jobs}"], build)
+    if rc != 0:
+        sys.exit(f"mutation_check.py: the unmutated copy does not build:\n{out[-3000:]}")
+    for tier in ("default", "full"):
+        rc, out = tier_run(args, build, tier)
+        if rc != 0:
+            sys.exit(f"mutation_check.py: the unmutated copy fails its {tier} tier:\n{out[-3000:]}")
+    return src, build
+
+
+def tier_run(args, build, tier):
+    # Without the timing data of earlier runs ctest starts in test order, the unit tests first, so a
+    # killed mutant stops early.
+    cost = os.path.join(build, "Testing", "Temporary", "CTestCostData.txt")
+    if os.path.exists(cost):
+        os.remove(cost)
+    return run(["ctest", "-L", f"^{tier}$", f"-j{args.jobs}", "--stop-on-failure"], build)
+
+
+@contextlib.contextmanager
+def mutated(src, mutant, after=None):
+    """The mutant written into its file for the block; the original restored whatever happens, then
+    `after()` (a rebuild of the restored file)."""
+    path = os.path.join(src, mutant[0])
+    with open(path, encoding="utf-8") as f:
+        original = f.read()
+    try:
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(apply(original, mutant))
+        yield
+    finally:
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(original)
+        if after:
+            after()
+
+
+def try_mutant_tiers(args, src, build, mutant):
+    build_all = ["cmake", "--build", ".", f"-j{args.jobs}"]
+    # The restored file is rebuilt before the next mutant's tests: its unity batch is another's too.
+    with mutated(src, mutant, after=lambda: run(build_all, build)):
+        if run(build_all, build)[0] != 0:
+            return "stillborn"
+        if tier_run(args, build, "default")[0] != 0:
+            return "default"
+        return "full" if tier_run(args, build, "full")[0] != 0 else "survived"
+
+
+def print_tiers(results):
+    killed_default = [m for m, r in results if r == "default"]
+    killed_full = [m for m, r in results if r in ("default", "full")]
+    print(f"{'group':<26} {'default':>7} {'full only':>9} {'survived':>8} {'stillborn':>9}")
+    for g in sorted({pass_of(m[0]) for m, _ in results}) + ["all"]:
+        rows = [r for m, r in results if g == "all" or pass_of(m[0]) == g]
+        print(f"{g:<26} {rows.count('default'):>7} {rows.count('full'):>9} {rows.count('survived'):>8} {rows.count('stillborn'):>9}")
+    print(f"\nkilled by the default tier: {len(killed_default)}; by the full suite: {len(killed_full)}")
+    for label, wanted in (("killed by the full tier only", "full"), ("survivors", "survived")):
+        listed = [m for m, r in results if r == wanted]
+        print(f"{label} ({len(listed)}):")
+        for m in listed:
+            print(f"  {describe(m)}")
 
 
 def ctest(args, build, extra):
@@ -180,20 +271,12 @@ def ctest(args, build, extra):
 
 
 def try_mutant(args, src, build, mutant):
-    path = os.path.join(src, mutant[0])
-    with open(path, encoding="utf-8") as f:
-        original = f.read()
-    try:
-        with open(path, "w", encoding="utf-8") as f:
-            f.write(apply(original, mutant))
+    with mutated(src, mutant):
         rc, _ = run(["make", f"-j{args.jobs}", "rayspace_tests"], build)
         if rc != 0:
             return "stillborn"
         rc, _ = ctest(args, build, ["--stop-on-failure"])
         return "survived" if rc == 0 else "killed"
-    finally:
-        with open(path, "w", encoding="utf-8") as f:
-            f.write(original)
 
 
 def describe(m):
@@ -238,7 +321,11 @@ def parse_args(argv):
     ap.add_argument("--cmake-arg", action="append", default=None)
     ap.add_argument("--report", default=None, help="write every mutant and its result as JSON")
     ap.add_argument("--dry-run", action="store_true", help="list the sampled mutants; build nothing")
+    ap.add_argument("--tiers", action="store_true", help="measure the test tiers: default tier, then full tier if missed")
+    ap.add_argument("--kernels", type=int, default=20, help="--tiers: kernel mutants (gpu/shaders/*.comp) besides --count")
     args = ap.parse_args(argv)
+    if args.kernels < 0:
+        ap.error(f"--kernels {args.kernels}: must be at least 0")
     if args.count < 1:
         ap.error(f"--count {args.count}: must be at least 1")
     if args.timeout < 1 or args.jobs < 1:
@@ -248,16 +335,25 @@ def parse_args(argv):
             re.compile(value)
         except re.error as e:
             ap.error(f"{flag} '{value}': not a regular expression ({e})")
+    if args.tiers and args.build:
+        ap.error("--tiers builds its own copy (--work): --build is not used with it")
     if args.build and not os.path.isfile(os.path.join(args.build, "CMakeCache.txt")):
         ap.error(f"--build '{args.build}': not a configured build (no CMakeCache.txt)")
+    files_given = args.files is not None
     files = []
-    for pattern in args.files or DEFAULT_FILES:
+    for pattern in args.files or (TIER_FILES if args.tiers else DEFAULT_FILES):
         found = sorted(os.path.relpath(p, args.source) for p in glob.glob(os.path.join(args.source, pattern)))
         if not found:
             ap.error(f"--files '{pattern}': no such source under {args.source}")
         files.extend(found)
     args.files = sorted(set(files))
     args.work = args.work or os.path.join(args.source, "build", "mutation")
+    if args.tiers:
+        args.kernel_files = [] if files_given else sorted(
+            os.path.relpath(p, args.source) for pattern in KERNEL_FILES for p in glob.glob(os.path.join(args.source, pattern)))
+        data = os.path.join(os.path.dirname(os.path.abspath(args.source)), "shared", "scenes")
+        args.cmake_arg = args.cmake_arg or ["-DCMAKE_BUILD_TYPE=Release", "-DRAYSPACE_VULKAN=ON",
+                                            f"-DRAYSPACE_TEST_DATA_ROOT={data}"]
     args.cmake_arg = args.cmake_arg or ["-DCMAKE_BUILD_TYPE=RelWithDebInfo", "-DRAYSPACE_VULKAN=OFF"]
     return args
 
@@ -267,21 +363,32 @@ def main(argv):
     candidates = all_mutants(args.source, args.files)
     sample = draw(candidates, args.count, args.seed)
     print(f"seed {args.seed}: {len(sample)} of {len(candidates)} mutants over {len(args.files)} files")
+    if args.tiers and args.kernel_files and args.kernels:
+        kernel_candidates = all_mutants(args.source, args.kernel_files)
+        kernels = draw(kernel_candidates, args.kernels, args.seed)
+        print(f"seed {args.seed}: {len(kernels)} of {len(kernel_candidates)} kernel mutants over {len(args.kernel_files)} kernels")
+        sample = sample + kernels
     if args.dry_run:
         for m in sample:
             print(f"  [{pass_of(m[0])}] {describe(m)}")
         return 0
-    src, build = (args.source, args.build) if args.build else prepare_copy(args)
+    if args.tiers:
+        src, build = prepare_tiers(args)
+    else:
+        src, build = (args.source, args.build) if args.build else prepare_copy(args)
     # SIGTERM unwinds like Ctrl-C, so the mutated file is restored.
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
     results = []
     for i, m in enumerate(sample, 1):
         t0 = time.time()
-        r = try_mutant(args, src, build, m)
+        r = try_mutant_tiers(args, src, build, m) if args.tiers else try_mutant(args, src, build, m)
         results.append((m, r))
         print(f"[{i}/{len(sample)}] {r:<9} {describe(m)} ({time.time() - t0:.0f} s)", flush=True)
     print()
-    print_table(results)
+    if args.tiers:
+        print_tiers(results)
+    else:
+        print_table(results)
     if args.report:
         with open(args.report, "w", encoding="utf-8") as f:
             json.dump({"seed": args.seed, "count": args.count, "tests": args.tests,

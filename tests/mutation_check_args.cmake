@@ -35,6 +35,16 @@ if(NOT n EQUAL 3 OR NOT a MATCHES "^seed 3: 3 of [0-9]+ mutants over 2 files")
   set(FAILURES "${FAILURES}\n  expected 3 mutants of resolve.cpp and shade.cpp with their pass and file:line:\n${a}")
 endif()
 
+# --tiers: the sample reaches beyond the emulator (app/ is the first group in order) and adds the
+# kernels' mutants apart.
+dry_run(t --tiers --seed 2 --count 4 --kernels 2)
+string(REGEX MATCHALL "\n  \\[kernel [a-z_]+\\] gpu/shaders/[a-z_]+\\.comp:[0-9]+: " kernels "${t}")
+list(LENGTH kernels nk)
+if(NOT t MATCHES "^seed 2: 4 of [0-9]+ mutants over [0-9]+ files\nseed 2: 2 of [0-9]+ kernel mutants" OR NOT nk EQUAL 2
+   OR NOT t MATCHES "\n  \\[app\\] app/[a-z_]+\\.cpp:[0-9]+: ")
+  set(FAILURES "${FAILURES}\n  expected 4 source mutants (app/ among them) and 2 kernel mutants:\n${t}")
+endif()
+
 # bad_call(<needle> <arg>...): exit 2, one line on stderr containing the needle.
 function(bad_call needle)
   execute_process(COMMAND python3 "${SCRIPT}" --source "${SRC}" ${ARGN}
@@ -52,6 +62,8 @@ bad_call("--tests '('" --dry-run --tests "(")
 bad_call("--seed" --dry-run --seed many)
 bad_call("--no-such-flag" --no-such-flag)
 bad_call("--build" --dry-run --build "${SRC}/no-such-build")
+bad_call("--tiers builds its own copy" --dry-run --tiers --build "${SRC}")
+bad_call("--kernels -1" --dry-run --tiers --kernels -1)
 
 if(FAILURES)
   message(FATAL_ERROR "mutation_check.py:${FAILURES}")

@@ -22,7 +22,7 @@ set(rayspace_full_tier
   "^cli\\.diff\\.(office|cornell-mirrors)\\.schedule\\.(32\\.(reverse|random:7)|64\\.(forward|random:7)|256\\.(forward|reverse))$"
   # The device-like faults under the bitwise comparison: each is a difference, which the planted
   # faults show bitwise diffs catch; relaxed.bitwise.intersect:approx-div stays, and every
-  # relaxed.<pass>:<fault> (the relaxed model accepting it) stays.
+  # relaxed case (the relaxed model accepting each fault: relaxed.glass, relaxed.office, ...) stays.
   "^cli\\.diff\\.relaxed\\.bitwise\\.(build|hash|raster|raygen|shade|surfaces|traverse)"
   # The workgroup faults in the emulated mirrors, pass by kind: the checker names a kind whatever pass
   # plants it; every kind stays on trim (fault.trim:<kind>@emu, with the case "trim: each planted
