@@ -18,16 +18,20 @@ std::vector<std::string_view> BuiltinKernelNames() {
   return names;
 }
 
+namespace {
+// The fault `faults` plants in `pass`, or 0 (none).
+std::uint32_t FaultOf(const Faults& faults, std::string_view pass) {
+  auto it = faults.find(std::string(pass));
+  return it == faults.end() ? 0u : it->second;
+}
+}  // namespace
+
 // One kernel per registered compute pass, named by the pass (a planted fault stays in its pass even
 // where passes share a kernel file, as compress, sort and decompress do).
 vk::Status VulkanPasses::Create(int device, const Faults& faults, std::unique_ptr<VulkanPasses>& out,
                                 std::uint32_t local_size, const KernelOverrides& overrides) {
   auto p = std::make_unique<VulkanPasses>();
   RS_TRY(vk::Context::Create(device, p->ctx_));
-  auto fault = [&](std::string_view pass) {
-    auto it = faults.find(std::string(pass));
-    return it == faults.end() ? 0u : it->second;
-  };
   for (const PassSpec& spec : kPasses) {
     if (spec.graphics) continue;
     // Without 64-bit floats the grid build's pipelines are not made; its calls fail naming the feature.
@@ -35,18 +39,17 @@ vk::Status VulkanPasses::Create(int device, const Faults& faults, std::unique_pt
     std::span<const std::uint32_t> spirv = BuiltinKernel(spec.kernel);
     if (auto it = overrides.find(std::string(spec.name)); it != overrides.end()) spirv = it->second;
     if (spirv.empty()) return vk::Status::Fail(fmt::format("pass '{}': no kernel '{}.comp' was built", spec.name, spec.kernel));
-    RS_TRY(p->ctx_->CreateKernel(std::string(spec.name), spirv, spec.bindings, fault(spec.name),
+    RS_TRY(p->ctx_->CreateKernel(std::string(spec.name), spirv, spec.bindings, FaultOf(faults, spec.name),
                                  p->kernels_[static_cast<std::size_t>(spec.id)], local_size));
   }
-  p->raster_fault_ = fault(Pass(PassId::kRaster).name);
+  p->raster_fault_ = FaultOf(faults, Pass(PassId::kRaster).name);
   out = std::move(p);
   return vk::Status::Ok();
 }
 
 vk::Status VulkanPasses::SetFaults(const Faults& faults) {
   for (const PassSpec& spec : kPasses) {
-    auto it = faults.find(std::string(spec.name));
-    const std::uint32_t fault = it == faults.end() ? 0u : it->second;
+    const std::uint32_t fault = FaultOf(faults, spec.name);
     if (spec.graphics) {
       raster_fault_ = fault;
       continue;
