@@ -19,7 +19,7 @@ bool SameFrame(const BenchRow& a, const BenchRow& b) {
 }
 
 // The baseline's row for the same scene and size, when it ran.
-const BenchRow* Baseline(const std::vector<BenchRow>& rows, const BenchRow& row) {
+const BenchRow* BaselineRow(const std::vector<BenchRow>& rows, const BenchRow& row) {
   for (const BenchRow& b : rows)
     if (SameFrame(b, row) && b.config->name == kBaselineConfig && b.skipped.empty() && !b.frame_ms.empty()) return &b;
   return nullptr;
@@ -39,7 +39,7 @@ Cells TableRow(const std::vector<BenchRow>& rows, const BenchRow& r) {
     return c;
   }
   const auto [lo, hi] = std::minmax_element(r.frame_ms.begin(), r.frame_ms.end());
-  const BenchRow* base = Baseline(rows, r);
+  const BenchRow* base = BaselineRow(rows, r);
   const std::optional<double> rate = MTestsPerSecond(r);
   c.push_back(fmt::format("{:.1f}", r.MedianMs()));
   c.push_back(fmt::format("{:.1f}-{:.1f}", *lo, *hi));
@@ -101,7 +101,7 @@ nlohmann::json RowJson(const std::vector<BenchRow>& rows, const BenchRow& r) {
     j["skipped"] = r.skipped;
     return j;
   }
-  const BenchRow* base = Baseline(rows, r);
+  const BenchRow* base = BaselineRow(rows, r);
   const std::optional<double> rate = MTestsPerSecond(r);
   j["frame_ms"] = r.frame_ms;
   j["median_ms"] = r.MedianMs();

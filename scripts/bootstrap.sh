@@ -1,18 +1,28 @@
 #!/usr/bin/env bash
 # Installs the Debian packages rayspace needs to build and test. Idempotent: installs only what is
 # missing. As root it runs apt-get; otherwise it prints the command to run.
+#   scripts/bootstrap.sh                what building, testing, benchmarking and fuzzing need
+#   scripts/bootstrap.sh --build-only   what building and running the `rayspace` command needs (demo.sh)
 set -euo pipefail
 
-PACKAGES=(
-  build-essential cmake ccache pkg-config
-  libomp-dev libembree-dev libcgal-dev libgmp-dev libmpfr-dev libglm-dev
-  libopenimageio-dev openimageio-tools
-  doctest-dev libcli11-dev nlohmann-json3-dev libfmt-dev libtinyobjloader-dev libxxhash-dev zlib1g-dev
-  libbenchmark-dev
-  mesa-vulkan-drivers libvulkan-dev glslc libspirv-cross-c-shared-dev spirv-tools vulkan-validationlayers
-  clang libclang-rt-14-dev fonts-dejavu-core universal-ctags
-  libssl-dev gnuplot-nox
+# The `rayspace` command: compilers, its libraries, the kernels' compiler and lavapipe.
+BUILD=(
+  build-essential cmake ninja-build ccache pkg-config
+  libomp-dev libembree-dev libcgal-dev libgmp-dev libmpfr-dev libglm-dev libopenimageio-dev
+  libcli11-dev nlohmann-json3-dev libfmt-dev libtinyobjloader-dev libxxhash-dev zlib1g-dev libssl-dev
+  mesa-vulkan-drivers libvulkan-dev glslc libspirv-cross-c-shared-dev spirv-tools
 )
+# The tests (doctest, the validation layer), benchmarks, fuzzing (clang's runtime), the lint (ctags)
+# and the plots (gnuplot and its font).
+MORE=(
+  doctest-dev libbenchmark-dev vulkan-validationlayers
+  clang libclang-rt-14-dev universal-ctags gnuplot-nox fonts-dejavu-core
+)
+case "${1:-}" in
+  "") PACKAGES=("${BUILD[@]}" "${MORE[@]}") ;;
+  --build-only) PACKAGES=("${BUILD[@]}") ;;
+  *) echo "scripts/bootstrap.sh: unknown argument '$1' (usage: scripts/bootstrap.sh [--build-only])" >&2; exit 2 ;;
+esac
 
 missing=()
 for p in "${PACKAGES[@]}"; do
@@ -34,4 +44,7 @@ if [ "$(id -u)" -ne 0 ]; then
 fi
 echo "bootstrap: installing ${missing[*]}"
 apt-get update -qq
-DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"
+# force-unsafe-io: dpkg skips its fsync per unpacked file, most of the install's time for header-heavy
+# packages (Boost, CGAL); a crash mid-install would need the install run again.
+DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
+  -o Dpkg::Options::=--force-unsafe-io "${missing[@]}"

@@ -5,10 +5,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 start=$SECONDS
 step() { echo "demo: [$((SECONDS - start)) s] $*"; }
-step "installing the Debian packages the build needs (scripts/bootstrap.sh)"
-scripts/bootstrap.sh
+step "installing the Debian packages the rayspace command needs (scripts/bootstrap.sh --build-only)"
+scripts/bootstrap.sh --build-only
 step "building the rayspace command (build/app/rayspace)"
-scripts/build.sh rayspace
+RAYSPACE_TESTS=OFF scripts/build.sh rayspace
 step "rendering scenes/cornell-mirrors.json"
 mkdir -p out
 ./build/app/rayspace render scenes/cornell-mirrors.json --out out/cornell-mirrors.png --stats out/cornell-mirrors.json

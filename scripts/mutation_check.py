@@ -21,11 +21,14 @@ sample is drawn over emu/, gpu/src, verify/ and app/ (--count) and the kernels g
 mutant runs the default tier (`ctest -L default --stop-on-failure`) and, only when the default tier
 misses it, the full tier's other tests: killed by the default tier, by the full tier only, survived
 or stillborn. The default tier's kill list must contain the full suite's: no mutant killed by the
-full tier only.
+full tier only. A tier whose only failures are timeouts runs once more before it counts as a kill (a
+loaded machine is not a test that noticed the bug). The report is written after every mutant, with
+the failing tests that killed it; `--resume` with the same --report goes on where a stopped run left
+off, in the same copy (its source commit must match the report's).
 
 Usage: mutation_check.py [--seed N] [--count N] [--tests REGEX] [--exclude REGEX] [--files PATH ...]
                          [--source DIR] [--build DIR | --work DIR] [--timeout SEC] [--jobs N]
-                         [--cmake-arg ARG ...] [--report JSON] [--dry-run] [--tiers [--kernels N]]
+                         [--cmake-arg ARG ...] [--report JSON] [--dry-run] [--tiers [--kernels N] [--resume]]
 Exit: 0 when the run completed (survivors are a result, not an error), 2 on a usage error.
 """
 import argparse
@@ -168,18 +171,37 @@ def run(cmd, cwd, timeout=None):
         return None, "timeout"
 
 
-def configured_copy(args):
-    """Copies the source tree (without build folders) to WORK/src and configures WORK/src/build."""
+def source_commit(source):
+    """The source's commit, with '+dirty' when its tracked files differ from it."""
+    def git(*a):
+        p = subprocess.run(["git", "-C", source] + list(a), stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+        return p.stdout.strip() if p.returncode == 0 else ""
+    head = git("rev-parse", "HEAD") or "unknown"
+    return head + ("+dirty" if git("status", "--porcelain", "--untracked-files=no") else "")
+
+
+def configured_copy(args, refresh=False):
+    """Copies the source tree (without build folders) to WORK/src and configures WORK/src/build. With
+    `refresh` an existing copy's sources are replaced (its build folder kept for an incremental build)."""
     src = os.path.join(args.work, "src")
     skip = shutil.ignore_patterns("build", "build-*", ".git", "out")
-    if not os.path.isdir(src):
-        shutil.copytree(args.source, src, ignore=skip, symlinks=True)
+    if refresh and os.path.isdir(src):
+        for name in os.listdir(src):
+            if name != "build":
+                path = os.path.join(src, name)
+                shutil.rmtree(path) if os.path.isdir(path) and not os.path.islink(path) else os.remove(path)
+    if refresh or not os.path.isdir(src):
+        shutil.copytree(args.source, src, ignore=skip, symlinks=True, dirs_exist_ok=True)
+        with open(os.path.join(src, ".source_commit"), "w", encoding="utf-8") as f:
+            f.write(source_commit(args.source) + "\n")
     build = os.path.join(src, "build")
     os.makedirs(build, exist_ok=True)
     # Compiler-cache entries keyed on paths relative to the copy, as scripts/build.sh does for a clone:
     # the copy's first build reuses the checkout's objects.
     os.environ["CCACHE_BASEDIR"] = os.path.abspath(src)
-    rc, out = run(["cmake", ".."] + args.cmake_arg, build)
+    # Ninja, as scripts/build.sh uses it, unless the copy's build was made with another generator.
+    generator = ["-G", "Ninja"] if shutil.which("ninja") and not os.path.exists(os.path.join(build, "CMakeCache.txt")) else []
+    rc, out = run(["cmake", ".."] + generator + args.cmake_arg, build)
     if rc != 0:
         sys.exit(f"mutation_check.py: configuring the copy failed:\n{out}")
     return src, build
@@ -188,7 +210,7 @@ def configured_copy(args):
 def prepare_copy(args):
     """The copy's unit tests built; the fast tests must pass unmutated."""
     src, build = configured_copy(args)
-    rc, out = run(["make", f"-j{args.jobs}", "rayspace_tests"], build)
+    rc, out = run(["cmake", "--build", ".", f"-j{args.jobs}", "--target", "rayspace_tests"], build)
     if rc != 0:
         sys.exit(f"mutation_check.py: the unmutated copy does not build:\n{out[-3000:]}")
     rc, out = ctest(args, build, [])
@@ -197,26 +219,56 @@ def prepare_copy(args):
     return src, build
 
 
-def prepare_tiers(args):
-    """The copy built whole with the project's configuration; both tiers must pass unmutated."""
-    src, build = configured_copy(args)
+def prepare_tiers(args, baseline_passed):
+    """The copy built whole with the project's configuration; both tiers must pass unmutated (once per
+    copy: a resumed run whose report says they passed in this copy does not run them again)."""
+    src = os.path.join(args.work, "src")
+    build = os.path.join(src, "build")
     rc, out = run(["cmake", "--build", ".", f"-j{args.jobs}"], build)
     if rc != 0:
         sys.exit(f"mutation_check.py: the unmutated copy does not build:\n{out[-3000:]}")
-    for tier in ("default", "full"):
-        rc, out = tier_run(args, build, tier)
-        if rc != 0:
-            sys.exit(f"mutation_check.py: the unmutated copy fails its {tier} tier:\n{out[-3000:]}")
+    if not baseline_passed:
+        for tier in ("default", "full"):
+            rc, failed = tier_run(args, build, tier)
+            if rc != 0:
+                sys.exit(f"mutation_check.py: the unmutated copy fails its {tier} tier: {', '.join(failed) or rc}")
     return src, build
 
 
+FAILED_TEST = re.compile(r"^\s*\d+ - (\S+) \(([^)]*)\)", re.M)
+
+
 def tier_run(args, build, tier):
-    # Without the timing data of earlier runs ctest starts in test order, the unit tests first, so a
-    # killed mutant stops early.
-    cost = os.path.join(build, "Testing", "Temporary", "CTestCostData.txt")
-    if os.path.exists(cost):
-        os.remove(cost)
-    return run(["ctest", "-L", f"^{tier}$", f"-j{args.jobs}", "--stop-on-failure"], build)
+    """One tier with --stop-on-failure: (exit code, the failing tests as 'name (reason)'). A run whose
+    failures are all timeouts runs again, and its second verdict stands."""
+    for attempt in (1, 2):
+        # Without the timing data of earlier runs ctest starts in test order, the unit tests first,
+        # so a killed mutant stops early.
+        cost = os.path.join(build, "Testing", "Temporary", "CTestCostData.txt")
+        if os.path.exists(cost):
+            os.remove(cost)
+        rc, out = run(["ctest", "-L", f"^{tier}$", f"-j{args.jobs}", "--stop-on-failure"], build)
+        tail = out.split("The following tests FAILED:")[-1] if "The following tests FAILED:" in out else ""
+        failed = [f"{name} ({why})" for name, why in FAILED_TEST.findall(tail)]
+        if rc == 0 or not failed or any(not f.endswith("(Timeout)") for f in failed) or attempt == 2:
+            return rc, failed
+        print(f"    only timeouts ({', '.join(failed)}): the {tier} tier once more", flush=True)
+
+
+PENDING = ".mutant_pending.json"
+
+
+def restore_pending(src):
+    """A run killed outright (SIGKILL) leaves its mutant in the copy; the original saved beside it
+    is written back before anything else runs there."""
+    pending = os.path.join(src, PENDING)
+    if os.path.exists(pending):
+        with open(pending, encoding="utf-8") as f:
+            saved = json.load(f)
+        with open(os.path.join(src, saved["file"]), "w", encoding="utf-8") as f:
+            f.write(saved["original"])
+        os.remove(pending)
+        print(f"restored {saved['file']} from a run that stopped mid-mutant", flush=True)
 
 
 @contextlib.contextmanager
@@ -226,6 +278,9 @@ def mutated(src, mutant, after=None):
     path = os.path.join(src, mutant[0])
     with open(path, encoding="utf-8") as f:
         original = f.read()
+    pending = os.path.join(src, PENDING)
+    with open(pending, "w", encoding="utf-8") as f:
+        json.dump({"file": mutant[0], "original": original}, f)
     try:
         with open(path, "w", encoding="utf-8") as f:
             f.write(apply(original, mutant))
@@ -233,19 +288,23 @@ def mutated(src, mutant, after=None):
     finally:
         with open(path, "w", encoding="utf-8") as f:
             f.write(original)
+        os.remove(pending)
         if after:
             after()
 
 
 def try_mutant_tiers(args, src, build, mutant):
+    """(result, the failing tests that killed it)."""
     build_all = ["cmake", "--build", ".", f"-j{args.jobs}"]
     # The restored file is rebuilt before the next mutant's tests: its unity batch is another's too.
     with mutated(src, mutant, after=lambda: run(build_all, build)):
         if run(build_all, build)[0] != 0:
-            return "stillborn"
-        if tier_run(args, build, "default")[0] != 0:
-            return "default"
-        return "full" if tier_run(args, build, "full")[0] != 0 else "survived"
+            return "stillborn", []
+        rc, failed = tier_run(args, build, "default")
+        if rc != 0:
+            return "default", failed
+        rc, failed = tier_run(args, build, "full")
+        return ("full", failed) if rc != 0 else ("survived", [])
 
 
 def print_tiers(results):
@@ -272,7 +331,7 @@ def ctest(args, build, extra):
 
 def try_mutant(args, src, build, mutant):
     with mutated(src, mutant):
-        rc, _ = run(["make", f"-j{args.jobs}", "rayspace_tests"], build)
+        rc, _ = run(["cmake", "--build", ".", f"-j{args.jobs}", "--target", "rayspace_tests"], build)
         if rc != 0:
             return "stillborn"
         rc, _ = ctest(args, build, ["--stop-on-failure"])
@@ -323,6 +382,7 @@ def parse_args(argv):
     ap.add_argument("--dry-run", action="store_true", help="list the sampled mutants; build nothing")
     ap.add_argument("--tiers", action="store_true", help="measure the test tiers: default tier, then full tier if missed")
     ap.add_argument("--kernels", type=int, default=20, help="--tiers: kernel mutants (gpu/shaders/*.comp) besides --count")
+    ap.add_argument("--resume", action="store_true", help="--tiers: go on with the --report of a stopped run, in its copy")
     args = ap.parse_args(argv)
     if args.kernels < 0:
         ap.error(f"--kernels {args.kernels}: must be at least 0")
@@ -337,6 +397,8 @@ def parse_args(argv):
             ap.error(f"{flag} '{value}': not a regular expression ({e})")
     if args.tiers and args.build:
         ap.error("--tiers builds its own copy (--work): --build is not used with it")
+    if args.resume and not (args.tiers and args.report):
+        ap.error("--resume goes on with a --tiers run's --report: give both")
     if args.build and not os.path.isfile(os.path.join(args.build, "CMakeCache.txt")):
         ap.error(f"--build '{args.build}': not a configured build (no CMakeCache.txt)")
     files_given = args.files is not None
@@ -358,42 +420,98 @@ def parse_args(argv):
     return args
 
 
-def main(argv):
-    args = parse_args(argv)
-    candidates = all_mutants(args.source, args.files)
+def sample_of(args, source):
+    candidates = all_mutants(source, args.files)
     sample = draw(candidates, args.count, args.seed)
     print(f"seed {args.seed}: {len(sample)} of {len(candidates)} mutants over {len(args.files)} files")
     if args.tiers and args.kernel_files and args.kernels:
-        kernel_candidates = all_mutants(args.source, args.kernel_files)
+        kernel_candidates = all_mutants(source, args.kernel_files)
         kernels = draw(kernel_candidates, args.kernels, args.seed)
         print(f"seed {args.seed}: {len(kernels)} of {len(kernel_candidates)} kernel mutants over {len(args.kernel_files)} kernels")
         sample = sample + kernels
+    return sample
+
+
+def entry(m, r, failed):
+    return {"file": m[0], "line": m[1], "pass": pass_of(m[0]), "mutation": m[5], "result": r, "killed_by": failed}
+
+
+def write_report(args, commit, results):
+    """Written whole after every mutant, through a temporary file: a stopped run leaves a readable report."""
+    if not args.report:
+        return
+    tmp = args.report + ".tmp"
+    with open(tmp, "w", encoding="utf-8") as f:
+        json.dump({"seed": args.seed, "count": args.count, "kernels": args.kernels if args.tiers else 0,
+                   "tests": "tiers" if args.tiers else args.tests, "source_commit": commit, "baseline": "passed",
+                   "mutants": [entry(m, r, failed) for m, r, failed in results]}, f, indent=1)
+    os.replace(tmp, args.report)
+
+
+def usage_error(message):
+    sys.stderr.write(f"mutation_check.py: {message}\n")
+    sys.exit(2)
+
+
+def resumed(args, commit):
+    """The results of the report a stopped run left, keyed by (file, line, mutation)."""
+    try:
+        with open(args.report, encoding="utf-8") as f:
+            report = json.load(f)
+    except (OSError, ValueError) as e:
+        usage_error(f"--resume: cannot read --report '{args.report}': {e}")
+    if report.get("source_commit") != commit or report.get("seed") != args.seed or report.get("count") != args.count:
+        usage_error(f"--resume: --report '{args.report}' is of another run (source {report.get('source_commit')}, "
+                 f"seed {report.get('seed')}, count {report.get('count')}; this copy: {commit}, seed {args.seed}, count {args.count})")
+    return {(e["file"], e["line"], e["mutation"]): (e["result"], e.get("killed_by", [])) for e in report["mutants"]}
+
+
+def main(argv):
+    args = parse_args(argv)
     if args.dry_run:
-        for m in sample:
+        for m in sample_of(args, args.source):
             print(f"  [{pass_of(m[0])}] {describe(m)}")
         return 0
+    done = {}
     if args.tiers:
-        src, build = prepare_tiers(args)
+        # The sample is drawn from the copy, so the run (and a resumed one) mutates the sources it was
+        # drawn from whatever happens to the checkout meanwhile.
+        marker = os.path.join(args.work, "src", ".source_commit")
+        if args.resume and not os.path.exists(marker):
+            usage_error(f"--resume: no copy to go on in under --work '{args.work}' (no src/.source_commit)")
+        if args.resume:
+            with open(marker, encoding="utf-8") as f:
+                done = resumed(args, f.read().strip())
+        src, build = configured_copy(args, refresh=not args.resume)
+        restore_pending(src)
+        with open(marker, encoding="utf-8") as f:
+            commit = f.read().strip()
+        sample = sample_of(args, src)
+        src, build = prepare_tiers(args, baseline_passed=bool(done))
     else:
+        commit = source_commit(args.source)
+        sample = sample_of(args, args.source)
         src, build = (args.source, args.build) if args.build else prepare_copy(args)
+        restore_pending(src)
     # SIGTERM unwinds like Ctrl-C, so the mutated file is restored.
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
     results = []
     for i, m in enumerate(sample, 1):
+        key = (m[0], m[1], m[5])
+        if key in done:
+            results.append((m,) + done[key])
+            print(f"[{i}/{len(sample)}] {done[key][0]:<9} {describe(m)} (from the report)", flush=True)
+            continue
         t0 = time.time()
-        r = try_mutant_tiers(args, src, build, m) if args.tiers else try_mutant(args, src, build, m)
-        results.append((m, r))
-        print(f"[{i}/{len(sample)}] {r:<9} {describe(m)} ({time.time() - t0:.0f} s)", flush=True)
+        r, failed = try_mutant_tiers(args, src, build, m) if args.tiers else (try_mutant(args, src, build, m), [])
+        results.append((m, r, failed))
+        write_report(args, commit, results)
+        print(f"[{i}/{len(sample)}] {r:<9} {describe(m)} ({time.time() - t0:.0f} s){' ' + failed[0] if failed else ''}", flush=True)
     print()
     if args.tiers:
-        print_tiers(results)
+        print_tiers([(m, r) for m, r, _ in results])
     else:
-        print_table(results)
-    if args.report:
-        with open(args.report, "w", encoding="utf-8") as f:
-            json.dump({"seed": args.seed, "count": args.count, "tests": args.tests,
-                       "mutants": [{"file": m[0], "line": m[1], "pass": pass_of(m[0]), "mutation": m[5], "result": r}
-                                   for m, r in results]}, f, indent=1)
+        print_table([(m, r) for m, r, _ in results])
     return 0
 
 

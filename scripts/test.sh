@@ -2,7 +2,7 @@
 # The test job: bootstrap, build, run one tier of the tests with ctest (docs/verification.md, "Test tiers").
 #   scripts/test.sh [--full] [-- CTEST_ARGS...]
 #   (no option)  the default tier (ctest label `default`): unit tests, every pass's diff on small frames,
-#                planted faults, the CLI contract; about 12 minutes of ctest on 2 cores
+#                planted faults, the CLI contract; under 10 minutes of ctest on 2 cores
 #   --full       every test: the default tier and the full tier (label `full`: the mutation sample,
 #                Sponza diffs, reproduce, data tests); what CI runs
 # Arguments after `--` go to ctest (e.g. `-- -R cli.diff`).

@@ -1,10 +1,10 @@
 # scripts/mutation_check.py's argument contract and its sample, run as
-#   cmake -DSCRIPT=<scripts/mutation_check.py> -DSRC=<source dir> -P mutation_check_args.cmake
+#   cmake -DSCRIPT=<scripts/mutation_check.py> -DSRC=<source dir> -DWORK=<scratch dir> -P mutation_check_args.cmake
 # The sample is a function of the seed, the count and the sources: the same call lists the same
 # mutants, another seed others. A bad call is exit code 2 with one line on stderr naming the argument.
 # Only --dry-run runs here; a real run rebuilds the unit tests once per mutant (docs/mutation.md).
 cmake_minimum_required(VERSION 3.19)
-foreach(var SCRIPT SRC)
+foreach(var SCRIPT SRC WORK)
   if(NOT DEFINED ${var} OR "${${var}}" STREQUAL "")
     message(FATAL_ERROR "mutation_check_args.cmake: pass -D${var}=...")
   endif()
@@ -64,6 +64,18 @@ bad_call("--no-such-flag" --no-such-flag)
 bad_call("--build" --dry-run --build "${SRC}/no-such-build")
 bad_call("--tiers builds its own copy" --dry-run --tiers --build "${SRC}")
 bad_call("--kernels -1" --dry-run --tiers --kernels -1)
+
+# --resume: only with --tiers and a --report, in a copy that exists, with that copy's report.
+bad_call("--resume goes on with a --tiers run's --report" --resume --tiers)
+bad_call("--resume goes on with a --tiers run's --report" --resume --report r.json)
+set(work "${WORK}/mutation_check_args")
+file(REMOVE_RECURSE "${work}")
+bad_call("no copy to go on in under --work '${work}'" --tiers --resume --report "${work}/r.json" --work "${work}")
+file(WRITE "${work}/src/.source_commit" "abc\n")
+bad_call("cannot read --report '${work}/r.json'" --tiers --resume --report "${work}/r.json" --work "${work}")
+file(WRITE "${work}/r.json" "{\"seed\": 1, \"count\": 40, \"source_commit\": \"def\", \"mutants\": []}")
+bad_call("is of another run (source def" --tiers --resume --report "${work}/r.json" --work "${work}")
+file(REMOVE_RECURSE "${work}")
 
 if(FAILURES)
   message(FATAL_ERROR "mutation_check.py:${FAILURES}")

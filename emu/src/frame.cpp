@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "rayspace/stopwatch.h"
 #include "rayspace/emu/intersect.h"
 #include "rayspace/emu/output_checks.h"
 #include "rayspace/emu/tl/heads.h"
@@ -26,17 +27,6 @@ const char* RayKindName(std::uint32_t kind) {
 }
 
 namespace {
-
-class Clock {
- public:
-  Clock() : t0_(std::chrono::steady_clock::now()) {}
-  double Ms() const {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0_).count();
-  }
-
- private:
-  std::chrono::steady_clock::time_point t0_;
-};
 
 // The frame's progress on stderr: "pass k of n" with the pass's time, the elapsed time and an ETA
 // (the mean time per pass so far times the passes left). A tracer's own passes (hash, sort, build,
@@ -92,7 +82,7 @@ class Progress {
   bool on_, tty_;
   std::string label_;
   std::size_t total_ = 0, started_ = 0, finished_ = 0;
-  Clock clock_;
+  Stopwatch clock_;
 };
 
 class Runner {
@@ -103,7 +93,7 @@ class Runner {
         passes_(checked_ ? *checked_ : EmuFramePasses()) {}
 
   FrameResult Run() {
-    Clock total;
+    Stopwatch total;
     r_.width = opt_.width > 0 ? opt_.width : scene_.width;
     r_.height = opt_.height > 0 ? opt_.height : scene_.height;
     r_.triangles = b_.triangles.size();
@@ -356,7 +346,7 @@ class Runner {
 
   template <typename F>
   void Pass(const std::string& name, F&& body) {
-    Clock c;
+    Stopwatch c;
     subpasses_.clear();
     passes_.Label(name);
     progress_.Start(name);

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rayspace/emu/backend.h"
+#include "rayspace/stopwatch.h"
 #include "rayspace/emu/cone.h"
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/intersect_simd.h"
@@ -33,14 +34,6 @@ constexpr std::uint32_t kTriMask = layout::kPairTriangleMask;
 constexpr std::uint32_t kMaxLevelNodes = 1u << (32 - kTriBits);  // the node ids left in a packed pair
 // --objects tree: rays below one group of top nodes descended together.
 constexpr std::uint32_t kTreeGroupRays = 1u << 17;
-
-class Clock {
- public:
-  double Ms() const { return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0_).count(); }
-
- private:
-  std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
-};
 
 // Levels 1..D of one batch's hierarchy. first[L-1] is a CSR offset array: the children of level-L
 // node i are [first[i], first[i+1]) among the level L-1 nodes (the sorted rays for L = 1).
@@ -128,7 +121,7 @@ class Impl final : public HierarchyTracer {
   template <typename F>
   auto Sub(const std::string& pass, std::size_t elements, F&& body) {
     passes_.Label(pass + "." + ctx_.name);
-    Clock c;
+    Stopwatch c;
     if constexpr (std::is_void_v<decltype(body())>) {
       body();
       Record(pass, elements, c.Ms());

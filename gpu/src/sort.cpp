@@ -30,14 +30,14 @@ vk::Status MakeSortBuffers(vk::Context& c, std::size_t n, std::size_t chunks, So
 
 // A launch of the sort kernel: one invocation per element, or (Groups) one workgroup per block, bin
 // or scan.
-struct Launch {
+struct SortLaunch {
   std::uint64_t count;
   bool groups;
 };
-Launch Elements(std::uint32_t n) { return {n, false}; }
-Launch Groups(std::uint64_t g) { return {g, true}; }
+SortLaunch Elements(std::uint32_t n) { return {n, false}; }
+SortLaunch Groups(std::uint64_t g) { return {g, true}; }
 
-vk::Status Phase(vk::Recorder& rec, const vk::Kernel& k, SortBuffers& sb, layout::SortPush push, Launch launch) {
+vk::Status Phase(vk::Recorder& rec, const vk::Kernel& k, SortBuffers& sb, layout::SortPush push, SortLaunch launch) {
   Bindings<layout::kSortBindings> b;
   b.Set(layout::kSortBindKeys, &sb.keys).Set(layout::kSortBindChunkKey, &sb.key).Set(layout::kSortBindChunkBase, &sb.base);
   b.Set(layout::kSortBindChunkSize, &sb.size).Set(layout::kSortBindSorted, &sb.sorted).Set(layout::kSortBindOrder, &sb.order);
