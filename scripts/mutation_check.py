@@ -487,7 +487,10 @@ def main(argv):
         with open(marker, encoding="utf-8") as f:
             commit = f.read().strip()
         sample = sample_of(args, src)
-        src, build = prepare_tiers(args, baseline_passed=bool(done))
+        src, build = prepare_tiers(args, baseline_passed=args.resume)
+        # The unmutated tiers passed: a report from here on lets --resume skip them.
+        if not args.resume:
+            write_report(args, commit, [])
     else:
         commit = source_commit(args.source)
         sample = sample_of(args, args.source)
