@@ -196,6 +196,7 @@ def configured_copy(args, refresh=False):
             f.write(source_commit(args.source) + "\n")
     build = os.path.join(src, "build")
     os.makedirs(build, exist_ok=True)
+    restore_pending(src)
     # Compiler-cache entries keyed on paths relative to the copy, as scripts/build.sh does for a clone:
     # the copy's first build reuses the checkout's objects.
     os.environ["CCACHE_BASEDIR"] = os.path.abspath(src)
@@ -485,7 +486,6 @@ def main(argv):
             with open(marker, encoding="utf-8") as f:
                 done = resumed(args, f.read().strip())
         src, build = configured_copy(args, refresh=not args.resume)
-        restore_pending(src)
         with open(marker, encoding="utf-8") as f:
             commit = f.read().strip()
         sample = sample_of(args, src)
@@ -496,8 +496,9 @@ def main(argv):
     else:
         commit = source_commit(args.source)
         sample = sample_of(args, args.source)
+        if args.build:
+            restore_pending(args.source)
         src, build = (args.source, args.build) if args.build else prepare_copy(args)
-        restore_pending(src)
     # SIGTERM unwinds like Ctrl-C, so the mutated file is restored.
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
     results = []
