@@ -3,6 +3,7 @@
 #include <CGAL/version.h>
 #include <CLI/Version.hpp>
 #include <OpenImageIO/oiioversion.h>
+#include <png.h>
 #include <embree3/rtcore_config.h>
 #include <fmt/format.h>
 #include <glm/detail/setup.hpp>
@@ -52,8 +53,8 @@ std::string VersionText() {
                    ", debug checks"
 #endif
   );
-  s += fmt::format("libraries: Embree {}, CGAL {}, OpenImageIO {}, OpenMP {}, GLM {}.{}.{}, fmt {}.{}.{}, CLI11 {}, nlohmann-json {}.{}.{}\n",
-                   RTC_VERSION_STRING, CGAL_VERSION_STR, OIIO_VERSION_STRING, _OPENMP, GLM_VERSION_MAJOR, GLM_VERSION_MINOR,
+  s += fmt::format("libraries: Embree {}, CGAL {}, OpenImageIO {}, libpng {}, OpenMP {}, GLM {}.{}.{}, fmt {}.{}.{}, CLI11 {}, nlohmann-json {}.{}.{}\n",
+                   RTC_VERSION_STRING, CGAL_VERSION_STR, OIIO_VERSION_STRING, PNG_LIBPNG_VER_STRING, _OPENMP, GLM_VERSION_MAJOR, GLM_VERSION_MINOR,
                    GLM_VERSION_PATCH, FMT_VERSION / 10000, FMT_VERSION / 100 % 100, FMT_VERSION % 100, CLI11_VERSION,
                    NLOHMANN_JSON_VERSION_MAJOR, NLOHMANN_JSON_VERSION_MINOR, NLOHMANN_JSON_VERSION_PATCH);
   return s;

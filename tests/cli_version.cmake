@@ -6,7 +6,7 @@ if(NOT rc EQUAL 0)
   message(FATAL_ERROR "rayspace --version: exit ${rc}: ${err}")
 endif()
 set(needles "rayspace [0-9]+\\.[0-9]+\\.[0-9]+\n" "commit ([0-9a-f]+|unknown)" "backends: emu"
-            "Embree [0-9]" "CGAL [0-9]" "OpenImageIO [0-9]" "compiler: ")
+            "Embree [0-9]" "CGAL [0-9]" "OpenImageIO [0-9]" "libpng [0-9]" "compiler: ")
 if(VULKAN)
   list(APPEND needles "backends: emu, vulkan")
 endif()

@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "image_oiio_module.h"
+#include "png_writer.h"
 #include "rayspace/error.h"
 
 namespace rayspace {
@@ -44,7 +45,7 @@ const ImageModule& Module() {
   std::call_once(once, [] {
     std::string tried;
     for (const auto& path : Candidates()) {
-      void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+      void* handle = dlopen(path.c_str(), RTLD_LAZY | RTLD_LOCAL);
       if (!handle) {
         tried += fmt::format("\n  {}: {}", path, dlerror());
         continue;
@@ -64,6 +65,7 @@ const ImageModule& Module() {
 }  // namespace
 
 void CheckImageFormat(const std::string& path) {
+  if (IsPngPath(path)) return;
   char error[512] = {};
   if (!Module().can_write(path.c_str(), error, sizeof error))
     ThrowInput("{}: cannot write an image in this format ({}); name the file with an image extension such as .png",
@@ -72,6 +74,13 @@ void CheckImageFormat(const std::string& path) {
 
 void WriteImage(OutputFile& out, int width, int height, const std::vector<std::uint8_t>& rgb) {
   RS_CHECK(rgb.size() == static_cast<std::size_t>(width) * height * 3);
+  if (IsPngPath(out.path())) {
+    std::string why;
+    const std::string png = EncodePng(width, height, rgb, why);
+    if (png.empty()) ThrowInput("{}: cannot encode the PNG image: {}", out.path(), why);
+    out.Write(png);
+    return;
+  }
   char error[512] = {};
   int in_memory = 0;
   // A failed write (a full disk) is an exception, which must not unwind through the module's frames.
