@@ -12,6 +12,7 @@
 #include "memory_estimate.h"
 #include "plot.h"
 #include "rayspace/error.h"
+#include "rayspace/output_file.h"
 #include "rayspace/scene.h"
 
 namespace rayspace::app {
@@ -24,9 +25,7 @@ ExitCode RunAccuracy(const AccuracyArgs& args) {
                    "the accuracy run");
   if (args.samples < 100 || args.samples > 10000000) ThrowInput("--samples {}: expected 100 to 10000000", args.samples);
   plot::CheckTool();  // before the measurements, not after them
-  std::error_code ec;
-  std::filesystem::create_directories(args.out, ec);
-  if (ec) ThrowInput("{}: cannot create the output directory ({})", args.out, ec.message());
+  MakeOutputDirectory(args.out, "--out");
   accuracy::ReportFiles files = accuracy::OpenReportFiles(args.out, scene);
   const SceneBuffers b = FlattenScene(scene);
 

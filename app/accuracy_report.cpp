@@ -1,5 +1,7 @@
 #include "accuracy_report.h"
 
+#include "output_names.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -111,7 +113,7 @@ void AppendEndToEnd(const Report& rep, std::string& md, std::string& csv) {
 
 ReportFiles OpenReportFiles(const std::string& dir, const Scene& scene) {
   ReportFiles f;
-  f.base = (std::filesystem::path(dir) / (scene.name + "-accuracy")).string();
+  f.base = (std::filesystem::path(dir) / (SceneOutputStem(scene, "the report files are named after the scene: rename it") + "-accuracy")).string();
   f.md = OutputFile(f.base + ".md", {"the accuracy table", false, true, scene.files});
   f.csv = OutputFile(f.base + ".csv", {"the accuracy CSV", false, true, scene.files});
   f.svg = OutputFile(f.base + ".svg", {"the accuracy plot", false, true, scene.files});

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include <fmt/format.h>
+
 #include "rayspace/error.h"
 #include "rayspace/layout.h"
 #ifdef RAYSPACE_HAVE_VULKAN
@@ -45,7 +47,67 @@ gpu_backend::KernelOverrides LoadKernels(const KernelFiles& specs) {
 }  // namespace
 #endif
 
-void CheckFrameFits(const Backend& backend, int width, int height, std::size_t slots, std::size_t triangles) {
+namespace {
+// The options under which a pass runs, where that is an option rather than the scene (a reflective
+// or transparent material brings the reflection and refraction passes).
+std::string_view RunsWith(std::string_view pass) {
+  static constexpr std::pair<std::string_view, std::string_view> kWith[] = {
+      {"hash", "--algo crsh, rah or rah-quadtree"},
+      {"compress", "--algo crsh, rah or rah-quadtree"},
+      {"sort", "--algo crsh, rah, rah-quadtree or grid"},
+      {"decompress", "--algo crsh, rah or rah-quadtree"},
+      {"build", "--algo crsh, rah or rah-quadtree"},
+      {"reduce", "--path passes and --algo crsh, rah or rah-quadtree"},
+      {"traverse.compact", "--path fused and --algo crsh, rah or rah-quadtree"},
+      {"tree.roots", "--objects tree --path passes"},
+      {"tree.expand", "--objects tree --path passes"},
+      {"tree.test", "--objects tree --path passes"},
+      {"intersect.tree", "--objects tree"},
+      {"tree.step", "--objects tree --path fused"},
+      {"tl.lists", "--algo tl"},
+      {"tl.trace", "--algo tl"},
+      {"tl.heads", "--algo tl --polygon-heads regular or simple"},
+      {"tl.cells", "--algo tl --primary tl --frustum-cull on"},
+      {"grid.count", "--algo grid"},
+      {"grid.emit", "--algo grid"},
+      {"grid.cells", "--algo grid"},
+      {"grid.trace", "--algo grid"},
+      {"raygen.reflection", "a reflective material"},
+      {"raygen.refraction", "a transparent material"},
+      {"surfaces.hits", "a reflective or transparent material"},
+  };
+  for (const auto& [name, with] : kWith)
+    if (name == pass) return with;
+  return {};
+}
+}  // namespace
+
+std::map<std::string, std::vector<std::uint32_t>> LoadKernelFiles(const KernelFiles& kernels) {
+#ifdef RAYSPACE_HAVE_VULKAN
+  return LoadKernels(kernels);
+#else
+  if (!kernels.empty()) ThrowInput("--kernel '{}': this build of rayspace has no Vulkan backend", kernels.front());
+  return {};
+#endif
+}
+
+void CheckKernelsRan(const Backend& backend, const KernelFiles& kernels) {
+  if (kernels.empty() || !backend.launches) return;
+  for (const std::string& spec : kernels) {
+    const std::string pass = spec.substr(0, spec.find('='));
+    const std::optional<PassId> id = FindPass(pass);
+    if (!id || backend.launches(backend, *id) > 0) continue;
+    std::string ran;
+    for (const PassSpec& p : kPasses)
+      if (!p.graphics && backend.launches(backend, p.id) > 0) ran += (ran.empty() ? "" : ", ") + std::string(p.name);
+    const std::string_view with = RunsWith(pass);
+    ThrowInput("--kernel '{}': this run never launched pass '{}'{}, so the kernel was not tested; the run launched: {}", spec,
+               pass, with.empty() ? std::string() : fmt::format(" (it runs with {})", with), ran.empty() ? "no kernel" : ran);
+  }
+}
+
+void CheckFrameFits(const Backend& backend, int width, int height, std::size_t slots, std::size_t triangles,
+                    const std::string& size_from) {
   const std::size_t limit = backend.max_buffer_bytes;
   if (limit == 0) return;
   const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
@@ -64,8 +126,8 @@ void CheckFrameFits(const Backend& backend, int width, int height, std::size_t s
   static_assert(layout::kBufferPages * 8 < sizeof(layout::Ray));
   const std::size_t max_rays = pages * (limit / sizeof(layout::Ray));
   if (rays > max_rays)
-    ThrowInput("--size {}x{}: {} rays per batch ({} light sample(s)) exceed the {} that {} bindings of {} bytes hold on '{}'; at most {} pixels fit",
-               width, height, rays, slots, max_rays, pages, limit, backend.device, max_rays / std::max<std::size_t>(slots, 1));
+    ThrowInput("{} {}x{}: {} rays per batch ({} light sample(s)) exceed the {} that {} bindings of {} bytes hold on '{}'; at most {} pixels fit",
+               size_from, width, height, rays, slots, max_rays, pages, limit, backend.device, max_rays / std::max<std::size_t>(slots, 1));
 }
 
 void CheckGridBuild(const Backend& backend) {
@@ -114,6 +176,7 @@ Backend MakeBackend(const std::string& name, int device, int local_size, const s
     if (vk::Status s = gpu.SetFaults(f); !s) throw std::runtime_error("Vulkan: " + s.message);
     gpu.ResetCounts();
   };
+  b.launches = [](const Backend& be, PassId id) { return static_cast<const VulkanOwner*>(be.owner.get())->gpu->launches(id); };
   b.folded_launches = [](const Backend& be) {
     return static_cast<const VulkanOwner*>(be.owner.get())->gpu->context().folded_launches();
   };

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "rayspace/emu/backend.h"
+#include "rayspace/pass_registry.h"
 
 namespace rayspace::app {
 
@@ -27,6 +28,8 @@ struct Backend {
   // Plants other kernel faults between frames and starts the dispatch counts anew (vulkan; diff
   // --inject-each runs a frame per fault on one device).
   void (*set_faults)(const Backend&, const std::map<std::string, std::uint32_t>&) = nullptr;
+  // Launches of a pass's kernel so far (vulkan): whether a user's kernel ran.
+  std::uint64_t (*launches)(const Backend&, PassId) = nullptr;
 };
 
 // --algo grid on a Vulkan device without 64-bit floats (the grids' build bins in double): refused as
@@ -36,7 +39,9 @@ void CheckGridBuild(const Backend& backend);
 // The Vulkan backend splits or pages every buffer that grows with the frame, over at most
 // layout::kBufferPages bindings per array: refuses, as bad input, a frame or scene beyond that, naming
 // the size that would fit.
-void CheckFrameFits(const Backend& backend, int width, int height, std::size_t shadow_slots, std::size_t triangles);
+// `size_from` names where the size came from (SizeFrom in cli_util.h).
+void CheckFrameFits(const Backend& backend, int width, int height, std::size_t shadow_slots, std::size_t triangles,
+                    const std::string& size_from = "--size");
 
 // Test hooks: make the Vulkan device look smaller, so that the splitting, paging and launch-folding
 // paths run on small frames (0 keeps the device's own limit).
@@ -50,6 +55,13 @@ struct TestLimits {
 // refusal (unknown pass, unreadable file, GLSL that does not compile, a contract mismatch) is an
 // InputError naming the pass and what is wrong.
 using KernelFiles = std::vector<std::string>;  // "PASS=FILE" as given
+// Each kernel read and checked (the refusals above), as SPIR-V by pass; empty without a Vulkan backend.
+std::map<std::string, std::vector<std::uint32_t>> LoadKernelFiles(const KernelFiles& kernels);
+
+// After the run: a --kernel whose pass the run never launched is an InputError (exit 2) naming the
+// pass, the options under which it runs, and the passes the run launched. A kernel the run does not
+// execute is not tested by it, so no verdict of the run may stand for it.
+void CheckKernelsRan(const Backend& backend, const KernelFiles& kernels);
 
 // name "emu" or "vulkan"; `faults` plants kernel faults (pass -> fault, diff --inject). A bad --device
 // or a build without Vulkan is an InputError; a failing driver a runtime_error naming the call.

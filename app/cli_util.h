@@ -64,4 +64,9 @@ inline Scene LoadSceneForFrame(const std::string& path, const std::string& data,
   return scene;
 }
 
+// Where a frame's size came from, for messages about it: "--size", or the scene file's image.
+inline std::string SizeFrom(const std::string& size, const Scene& scene) {
+  return size.empty() ? scene.path.string() + ": the scene's image" : std::string("--size");
+}
+
 }  // namespace rayspace::app

@@ -345,8 +345,7 @@ void PrepareSaveDir(const std::string& dir) {
       ThrowInput("--save-inputs {}: the directory is not empty; give a new or empty one, so that the saved calls of "
                  "different runs do not mix", dir);
   }
-  fs::create_directories(dir, ec);
-  if (ec) ThrowInput("--save-inputs {}: cannot create the directory ({})", dir, ec.message());
+  MakeOutputDirectory(dir, "--save-inputs");
   OpenOutput(dir + "/pass.json", "the saved inputs", nullptr, false);  // its temporary file goes again
 }
 
@@ -423,7 +422,7 @@ std::string DiffFaultCannotFire(const DiffArgs& args, const Injection& injection
 
 // The verdict: on stdout when every pass is equal; on stderr, with the first divergence, otherwise.
 void PrintDiffVerdict(const DiffArgs& args, const Injection& injection, const DiffTotals& totals, const DiffOutcome& run,
-                      bool equal, const std::string& cannot_fire) {
+                      bool equal) {
   PrintWithinSpec(totals);
   if (equal && totals.within_spec)
     std::printf("  all passes equal or within the spec's precision\n");
@@ -436,10 +435,7 @@ void PrintDiffVerdict(const DiffArgs& args, const Injection& injection, const Di
   PrintFirstDivergence(totals.first);
   if (!run.stopped.empty()) std::fprintf(stderr, "  stopped: %s\n", run.stopped.c_str());
   if (equal && totals.within_spec == 0) std::printf("  frame digest %s\n", HexDigest(run.frame.digest.Frame()).c_str());
-  if (!cannot_fire.empty())
-    std::fprintf(stderr, "rayspace diff: warning: %s\n", cannot_fire.c_str());
-  else if (equal)
-    PrintUnseenFault(args, injection, totals.within_spec);
+  if (equal) PrintUnseenFault(args, injection, totals.within_spec);
 }
 
 void PrintSavedInputs(const DiffArgs& args, const verify::Differ& differ) {
@@ -466,8 +462,10 @@ nlohmann::json MeasureDiffImpact(const DiffArgs& args, const Scene& scene, const
     if (t.grid) return std::move(t.grid);
     return std::move(t.host);
   };
-  const DiffImpact impact = MeasureImpact(scene, buffers, fo, make, {&emu::EmuFramePasses(), &emu::EmuHierarchyPasses()},
-                                          {&gpu.Frame(), &gpu.Hierarchy()});
+  DiffImpact impact = MeasureImpact(scene, buffers, fo, make, {&emu::EmuFramePasses(), &emu::EmuHierarchyPasses()},
+                                    {&gpu.Frame(), &gpu.Hierarchy()});
+  for (const BufferComparison& b : totals.first->buffers)
+    if (!b.Equal()) impact.differed.push_back(b.Summary());
   PrintImpact(stderr, impact);
   return ImpactJson(impact);
 }
@@ -493,11 +491,14 @@ FaultRun DiffFrame(const DiffArgs& args, const Scene& scene, SceneBuffers& buffe
   DiffTracer tracer = MakeDiffTracer(args, buffers, fo, differ.hierarchy());
   PrintDiffHeader(args, scene, fo, gpu, relaxed, tracer.hierarchy != nullptr);
   const DiffOutcome run = RunDiffFrame(scene, buffers, tracer.get(), fo);
+  // Before the verdict: a kernel that never ran, or a fault that could not fire, leaves none.
+  CheckKernelsRan(gpu, args.kernels);
+  if (const std::string why = DiffFaultCannotFire(args, injection, differ, gpu, run); !why.empty()) ThrowInput("{}", why);
 
   DiffTotals totals = Totals(differ.calls());
   const nlohmann::json passes = PrintPasses(totals);
   const bool equal = totals.first == nullptr && run.stopped.empty();
-  PrintDiffVerdict(args, injection, totals, run, equal, DiffFaultCannotFire(args, injection, differ, gpu, run));
+  PrintDiffVerdict(args, injection, totals, run, equal);
   std::printf("  vulkan: %zu split dispatches, %zu arrays paged over several bindings\n", gpu.extra_dispatches(gpu),
               gpu.paged_arrays(gpu));
   PrintSavedInputs(args, differ);
@@ -544,12 +545,12 @@ ExitCode RunDiff(const DiffArgs& args) {
                       .subdivision = args.subdivision,
                       .pair_capacity = args.pair_capacity};
   const MemoryEstimate estimate = EstimateFrameMemory(scene, fo.width, fo.height, use);
-  CheckFitsMachine(estimate, fo.width, fo.height, "--size", "the diff");
+  CheckFitsMachine(estimate, fo.width, fo.height, SizeFrom(args.size, scene).c_str(), "the diff");
   const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, injection.kernel, args.Limits(), args.kernels);
   ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
   SceneBuffers buffers = FlattenForFrame(scene, args.faithful);
   buffers.one_sided = one_sided;
-  CheckFrameFits(gpu, fo.width, fo.height, ShadowSlotsPerSurface(scene.lights), buffers.triangles.size());
+  CheckFrameFits(gpu, fo.width, fo.height, ShadowSlotsPerSurface(scene.lights), buffers.triangles.size(), SizeFrom(args.size, scene));
   if (args.algo == "grid") CheckGridBuild(gpu);
   PrepareSaveDir(args.save_inputs);  // last: it creates the directory
 
@@ -599,9 +600,9 @@ nlohmann::json ReadRecorded(const std::string& dir) {
   if (std::error_code ec; !std::filesystem::exists(file, ec)) return nullptr;
   nlohmann::json recorded;
   try {
-    recorded = nlohmann::json::parse(ReadInputFile(file, {"recorded comparison", kMaxTextFileBytes}));
-  } catch (const nlohmann::json::exception&) {
-    ThrowInput("{}: not valid JSON", file);
+    recorded = ParseJson(ReadInputFile(file, {"recorded comparison", kMaxTextFileBytes}));
+  } catch (const JsonError& e) {
+    ThrowInput("{}: not valid JSON: {}", file, e.what());
   }
   CheckRecorded(recorded, file);
   return recorded;
@@ -769,9 +770,15 @@ ExitCode RunReplay(const ReplayArgs& given) {
     j["workgroup_checker"] = PrintCheckerReports(e.result);
     return WriteOutputs(ExitCode::kWorkgroupFault, [&] { report.Commit(JsonText(j)); });
   }
+  // The kernels given here, not the recording's: a recorded diff's kernels serve its other calls too.
+  CheckKernelsRan(gpu, given.kernels);
   PrintReplayCall(r);
-  if (const std::string why = FaultCannotFire(args.inject, injection, ReplayFacts(in, method, gpu)); !why.empty())
-    std::fprintf(stderr, "rayspace replay: warning: %s\n", why.c_str());
+  // A fault given here that cannot fire leaves no verdict; the recording's own fault may belong to
+  // another call of its frame, which is worth a note only.
+  if (const std::string why = FaultCannotFire(args.inject, injection, ReplayFacts(in, method, gpu)); !why.empty()) {
+    if (!given.inject.empty()) ThrowInput("{}", why);
+    std::fprintf(stderr, "rayspace replay: note: %s (the recorded --inject)\n", why.c_str());
+  }
   const Reproduction rep = CompareWithRecorded(r, recorded);
   const ExitCode verdict = PrintReplayVerdict(r, rep, recorded, args.inject);
   j.update(CallJson(r));

@@ -200,8 +200,11 @@ void PrintImpact(std::FILE* out, const DiffImpact& m) {
     std::fprintf(out, "  impact: not measured: %s\n", m.failed.c_str());
     return;
   }
-  if (m.Benign()) {
-    std::fprintf(out, "  impact: benign: no ray's final hit and no pixel changes (the frame on each backend alone)\n");
+  if (m.NoVisibleChange()) {
+    std::fprintf(out, "  impact: no ray's final hit and no pixel changes in this frame (the frame on each backend alone); "
+                      "not proven benign: %s%s\n",
+                 m.differed.empty() ? "the divergent call's outputs differ" : m.differed.front().c_str(),
+                 m.differed.size() > 1 ? fmt::format(" (and {} more buffers)", m.differed.size() - 1).c_str() : "");
     return;
   }
   const auto count = [&m](const char* k) { return m.verdicts.count(k) ? m.verdicts.at(k) : std::size_t{0}; };
@@ -237,7 +240,7 @@ nlohmann::json ImpactJson(const DiffImpact& m) {
   }
   nlohmann::json verdicts = {{"emulator", 0}, {"vulkan", 0}, {"both", 0}, {"within_rounding", 0}, {"neither", 0}};
   for (const auto& [k, n] : m.verdicts) verdicts[k] = n;
-  return {{"measured", true},           {"benign", m.Benign()},        {"rays", m.rays},
+  return {{"measured", true},           {"no_visible_change", m.NoVisibleChange()}, {"differed", m.differed}, {"rays", m.rays},
           {"rays_changed", m.rays_changed}, {"one_side_only", m.one_side_only}, {"primary_hits_changed", m.primary_changed},
           {"pixels_changed", m.pixels_changed}, {"judged", m.judged},  {"verdicts", verdicts},
           {"changed_rays", first}};

@@ -49,7 +49,10 @@ struct DiffImpact {
   std::size_t judged = 0;             // changed rays the exact oracle judged
   std::map<std::string, std::size_t> verdicts;  // emulator, vulkan, both, within_rounding, neither
   std::vector<ChangedRay> first;      // the first few changed rays
-  bool Benign() const { return failed.empty() && rays_changed == 0 && primary_changed == 0 && pixels_changed == 0; }
+  std::vector<std::string> differed;  // the first divergent call's differing buffers (BufferComparison::Summary)
+  // No ray's final hit and no pixel changes in this frame. Not "benign": what differed (a lost
+  // candidate pair, a wrong count) may decide a hit in another frame, and nothing here proves otherwise.
+  bool NoVisibleChange() const { return failed.empty() && rays_changed == 0 && primary_changed == 0 && pixels_changed == 0; }
 };
 
 // Renders the frame on each side alone and compares (progress on stderr as fo.progress says).

@@ -5,10 +5,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "backend_setup.h"
 #include "diff_command.h"
 #include "export_recording.h"
 #include "export_writer.h"
@@ -16,6 +18,7 @@
 #include "rayspace/error.h"
 #include "rayspace/input_file.h"
 #include "rayspace/gpu/passes.h"
+#include "rayspace/json_text.h"
 #include "rayspace/pass_registry.h"
 #include "rayspace/verify/call_codec.h"
 #include "rayspace/verify/pass_table.h"
@@ -41,7 +44,14 @@ void CheckSavedDir(const std::string& dir) {
 // --out: a new directory or an empty one, so that an export never mixes with other files.
 void CheckOutDir(const std::string& out) {
   std::error_code ec;
-  if (!fs::exists(out, ec)) return;
+  if (!fs::exists(out, ec)) {
+    const fs::path p = fs::path(out).lexically_normal();
+    const fs::path parent = (p.has_filename() ? p : p.parent_path()).parent_path();
+    if (!parent.empty() && !fs::is_directory(parent, ec))
+      ThrowInput("--out {}: the directory {} does not exist; an output directory is created, its parents are not", out,
+                 parent.string());
+    return;
+  }
   if (!fs::is_directory(out, ec)) ThrowInput("--out {}: exists and is not a directory", out);
   if (!fs::is_empty(out, ec)) ThrowInput("--out {}: not empty; the export writes into a new or empty directory", out);
 }
@@ -49,6 +59,7 @@ void CheckOutDir(const std::string& out) {
 // What comparison.json recorded about the run that saved the call (each key optional).
 struct Recorded {
   std::string inject;
+  std::vector<std::string> kernels;  // --kernel PASS=FILE of the recorded diff
   std::uint32_t local_size = 0, max_groups = 0;
   std::size_t split_bytes = 0;
 };
@@ -66,9 +77,9 @@ Recorded ReadRecordedOptions(const std::string& dir) {
   if (std::error_code ec; !fs::exists(file, ec)) return r;
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(ReadInputFile(file, {"recorded comparison", kMaxTextFileBytes}));
-  } catch (const nlohmann::json::exception&) {
-    ThrowInput("{}: not valid JSON", file);
+    j = ParseJson(ReadInputFile(file, {"recorded comparison", kMaxTextFileBytes}));
+  } catch (const JsonError& e) {
+    ThrowInput("{}: not valid JSON: {}", file, e.what());
   }
   if (!j.is_object()) ThrowInput("{}: expected a JSON object", file);
   if (!j.contains("options")) return r;
@@ -77,6 +88,13 @@ Recorded ReadRecordedOptions(const std::string& dir) {
   if (j.contains("inject") && !j["inject"].is_string() && !j["inject"].is_null())
     ThrowInput("{}: 'options.inject' must be a string", file);
   if (j.contains("inject") && j["inject"].is_string()) r.inject = j["inject"].get<std::string>();
+  if (j.contains("kernels") && !j["kernels"].is_null()) {
+    if (!j["kernels"].is_array()) ThrowInput("{}: 'options.kernels' must be an array of PASS=FILE strings", file);
+    for (const nlohmann::json& k : j["kernels"]) {
+      if (!k.is_string()) ThrowInput("{}: 'options.kernels' must be an array of PASS=FILE strings", file);
+      r.kernels.push_back(k.get<std::string>());
+    }
+  }
   r.local_size = static_cast<std::uint32_t>(std::min<std::uint64_t>(RecordedCount(j, "local_size", file), 1u << 20));
   r.split_bytes = RecordedCount(j, "split_bytes", file);
   r.max_groups = static_cast<std::uint32_t>(std::min<std::uint64_t>(RecordedCount(j, "max_groups", file), 65535));
@@ -152,6 +170,20 @@ void CheckAgainstEmulator(const verify::PassMethod& method, const verify::Buffer
   }
 }
 
+// A --kernel for a pass whose kernel this call never dispatches would be exported nowhere: refused,
+// as a run that never launches a user's kernel is (backend_setup.h, CheckKernelsRan).
+void CheckOwnKernelsUsed(const Recording& rec, const ExportInfo& info) {
+  std::set<std::string> dispatched;
+  for (const RecordedStep& s : rec.steps())
+    if (s.kind == StepKind::kDispatch) dispatched.insert(rec.pipelines()[s.id].pass);
+  for (const std::string& k : info.kernel_files) {
+    const std::string pass = k.substr(0, k.find('='));
+    if (!dispatched.count(pass))
+      ThrowInput("--kernel '{}': {} (pass {}) dispatches no {} kernel, so it would be exported nowhere; export a call of pass {}",
+                 k, info.label, info.pass, pass, pass);
+  }
+}
+
 // Writes into a fresh sibling directory and renames it to `out` when complete, so that a failed
 // export leaves nothing behind.
 ExportCounts WriteAtomically(const std::string& out, const Recording& rec, const ExportInfo& info) {
@@ -159,7 +191,7 @@ ExportCounts WriteAtomically(const std::string& out, const Recording& rec, const
   if (tmp.filename().empty()) tmp = tmp.parent_path();
   tmp += fmt::format(".partial-{}", static_cast<long>(::getpid()));
   std::error_code ec;
-  fs::create_directories(tmp, ec);
+  fs::create_directory(tmp, ec);
   if (ec) ThrowInput("--out {}: cannot create the directory: {}", out, ec.message());
   try {
     const ExportCounts counts = WriteExport(tmp, rec, info);
@@ -182,6 +214,8 @@ ExportInfo Describe(const ExportArgs& args, const verify::PassMethod& method, co
   info.method = method.method;
   info.inject = args.inject_given ? args.inject : recorded.inject;
   info.faults = ParseInject(info.inject).kernel;  // a fault planted in the emulator changes no kernel
+  info.kernel_files = args.kernels_given ? args.kernels : recorded.kernels;
+  info.kernels = LoadKernelFiles(info.kernel_files);
   info.local_size = static_cast<std::uint32_t>(args.local_size ? args.local_size : recorded.local_size ? recorded.local_size : 64);
   info.split_bytes = args.split_bytes ? args.split_bytes : recorded.split_bytes;
   info.max_groups = args.max_groups ? args.max_groups : recorded.max_groups;
@@ -224,6 +258,7 @@ ExitCode RunExport(const ExportArgs& args) {
   info.driver = gpu->context().driver();
   const verify::BufferSet actual = FindCapture(method_name)(in, *gpu, rec);
   if (!rec.problem().empty()) ThrowInput("{}: pass {} cannot be exported: {}", args.dir, info.pass, rec.problem());
+  CheckOwnKernelsUsed(rec, info);
   CheckAgainstEmulator(method, in, actual, info);
   const ExportCounts counts = WriteAtomically(args.out, rec, info);
   PrintSummary(args, info, counts);

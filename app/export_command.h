@@ -2,6 +2,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "exit_codes.h"
 
@@ -11,6 +12,8 @@ struct ExportArgs {
   std::string dir, out;
   std::string inject;            // --inject; without it, the fault comparison.json records
   bool inject_given = false;
+  std::vector<std::string> kernels;  // --kernel PASS=FILE; without it, the kernels comparison.json records
+  bool kernels_given = false;
   int device = -1;
   int local_size = 0;            // 0: as comparison.json records it, else 64
   std::size_t split_bytes = 0;   // 0: as recorded, else the device's binding limit

@@ -81,10 +81,19 @@ std::string PipelineLines(const fs::path& dir, const Recording& rec, const Expor
     const std::uint32_t planted = fault == info.faults.end() ? p.spec[0] : fault->second;
     counts.fault_set |= planted != 0;
     const std::string file = fmt::format("kernels/{}.spv", p.pass);
-    WriteFile(dir / file, p.spirv.data(), p.spirv.size() * 4);
+    // A user's kernel replaces the built-in one the sequence was recorded with: same contract, same
+    // dispatches, and the expected read-backs are the emulator's, so the reproducer shows where it differs.
+    const auto own = info.kernels.find(p.pass);
+    const std::vector<std::uint32_t>& spirv = own == info.kernels.end() ? p.spirv : own->second;
+    WriteFile(dir / file, spirv.data(), spirv.size() * 4);
     lines += fmt::format("pipeline {} {} {} {} {} {} {}\n", id, p.pass, file, p.bindings, planted, p.spec[1], p.spec[2]);
-    counts.kernels += fmt::format("{}{}{}", counts.kernels.empty() ? "" : ", ", p.pass,
-                                  planted ? fmt::format(" (planted fault {})", planted) : "");
+    std::string note = planted ? fmt::format(" (planted fault {})", planted) : "";
+    if (own != info.kernels.end()) {
+      for (const std::string& k : info.kernel_files)
+        if (k.rfind(p.pass + "=", 0) == 0) note += fmt::format(" (your kernel {})", k.substr(p.pass.size() + 1));
+      ++counts.own_kernels;
+    }
+    counts.kernels += fmt::format("{}{}{}", counts.kernels.empty() ? "" : ", ", p.pass, note);
   }
   counts.pipelines = order.size();
   return lines;
@@ -162,7 +171,7 @@ One pass call of a rayspace frame (pass `{pass}`, method `{method}`), saved by `
   does next.
 - Expected: the bits the rayspace emulator computes for this call. The dispatch sequence was recorded
   with the built-in kernels on {device} ({driver}; {options}), whose outputs were first checked equal
-  to the emulator's bit for bit.
+  to the emulator's bit for bit.{own}
 
 ## Build and run
 
@@ -203,7 +212,10 @@ rounded, export with `rayspace --strict-math export ...` for bits that hold on a
                      fmt::arg("kernels", c.kernels), fmt::arg("fault", fault), fmt::arg("dispatches", c.dispatches),
                      fmt::arg("submits", c.submits), fmt::arg("buffers", c.buffers), fmt::arg("writes", c.writes),
                      fmt::arg("reads", c.reads), fmt::arg("output_reads", c.output_reads), fmt::arg("device", info.device),
-                     fmt::arg("driver", info.driver), fmt::arg("options", Options(info)));
+                     fmt::arg("driver", info.driver), fmt::arg("options", Options(info)),
+                     fmt::arg("own", info.kernels.empty() ? std::string()
+                                                          : "\n- Your kernels (`--kernel`) are exported in place of the built-in ones the sequence "
+                                                            "was\n  recorded with: a read-back that differs is where yours departs from the emulator."));
 }
 
 nlohmann::json CallJson(const ExportInfo& info, const ExportCounts& c) {
@@ -215,7 +227,7 @@ nlohmann::json CallJson(const ExportInfo& info, const ExportCounts& c) {
           {"strict_math", info.strict_math}, {"split_bytes", info.split_bytes}, {"max_groups", info.max_groups},
           {"pipelines", c.pipelines}, {"buffers", c.buffers},       {"writes", c.writes},
           {"dispatches", c.dispatches}, {"submits", c.submits},     {"reads", c.reads},
-          {"output_reads", c.output_reads}};
+          {"output_reads", c.output_reads}, {"kernel_files", info.kernel_files}};
 }
 
 }  // namespace

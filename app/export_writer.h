@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "export_recording.h"
 
@@ -19,6 +20,8 @@ struct ExportInfo {
   std::string device, driver;    // where the sequence was recorded
   std::string inject;            // the planted fault, as diff --inject gave it (empty: none)
   std::map<std::string, std::uint32_t> faults;  // planted kernel faults by pass, set in the exported pipelines
+  std::vector<std::string> kernel_files;        // --kernel PASS=FILE, as given or recorded
+  std::map<std::string, std::vector<std::uint32_t>> kernels;  // their SPIR-V by pass, exported in place of the built-in
   std::uint32_t local_size = 64;
   bool strict_math = false;
   std::size_t split_bytes = 0;   // --split-bytes (0: the device's binding limit)
@@ -28,8 +31,9 @@ struct ExportInfo {
 // What was written, for the command's summary.
 struct ExportCounts {
   std::size_t pipelines = 0, buffers = 0, writes = 0, dispatches = 0, submits = 0, reads = 0, output_reads = 0;
-  std::string kernels;  // "trim (planted fault 1), ..."
+  std::string kernels;  // "trim (planted fault 1), reduce (your kernel my_reduce.comp), ..."
   bool fault_set = false;  // a planted fault is set in one of the exported pipelines
+  std::size_t own_kernels = 0;  // pipelines exported with a user's kernel
 };
 
 // Writes into `dir`, which must exist and be empty.

@@ -98,7 +98,9 @@ void AddBench(CLI::App& app, Commands& cmds) {
   bc->add_option("--data", b.data, "Data root for mesh paths (default: $RAYSPACE_DATA)");
   bc->add_option("--sizes", b.sizes, "Image sizes WxH[,WxH...] (default 512x512); with several, how time grows with pixels");
   bc->add_option("--configs", b.configs,
-                 "Configurations to run, comma-separated (default: all, in this order): " + rayspace::app::BenchConfigsHelp());
+                 "Configurations to run, comma-separated (default: all, in this order): " + rayspace::app::BenchConfigsHelp())
+      ->check(CLI::Validator([](const std::string& v) { return v.empty() ? std::string("name one or more configurations") : std::string(); },
+                             "", "NONEMPTY"));
   bc->add_option("--repetitions", b.repetitions, "Frames per configuration, scene and size, run in rounds of one frame per configuration; the table shows the median "
                  "(default 3)")->check(CLI::Range(1, 1000));
   bc->add_option("--threads", b.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
@@ -203,6 +205,14 @@ void AddExport(CLI::App& app, Commands& cmds) {
         e.inject_given = true;
       },
       "The planted fault to set in the exported kernel: PASS[:FAULT] (default: the one the saved call records)");
+  ec->add_option_function<std::vector<std::string>>(
+      "--kernel",
+      [&e](const std::vector<std::string>& v) {
+        e.kernels = v;
+        e.kernels_given = true;
+      },
+      "Export your kernel for a pass in place of the built-in one: PASS=FILE (.comp or .spv, repeatable; default: the "
+      "kernels the saved call records)");
   rayspace::app::AddDeviceOption(*ec, e.device);
   ec->add_option("--local-size", e.local_size, "Workgroup size of the kernels (default: as recorded, else 64)")
       ->check(CLI::Range(1, 1024));
@@ -220,7 +230,8 @@ void AddMutate(CLI::App& app, Commands& cmds) {
   mc->add_option("scene", m.scene, "Scene JSON file (default scenes/cornell-mirrors.json)");
   mc->add_option("--pass", m.passes, "Only these passes' kernels (repeatable; default every kernel the scene runs, and their include files)");
   mc->add_option("--config", m.configs, "Only these diff configurations (repeatable; default all: docs/verification.md lists them)");
-  mc->add_option("--limit", m.limit, "Mutants to run, taken in turn from each file's seeded shuffle; 0: every one (default 30)");
+  mc->add_option("--limit", m.limit, "Mutants to run, taken in turn from each file's seeded shuffle; 0: every one (default 30)")
+      ->check(CLI::Range(0, 1000000));
   mc->add_option("--seed", m.seed, "Seed of the choice: a number, a word, or 'commit' (this binary's commit) (default 1)");
   mc->add_option("--report", m.report, "Write every mutant, verdict and variant as JSON to this file");
   mc->add_option("--data", m.data, "Data root for mesh paths (default: $RAYSPACE_DATA)");

@@ -1,4 +1,6 @@
 #include "render_command.h"
+
+#include "output_names.h"
 #include "cli_util.h"
 
 #include <cmath>
@@ -170,7 +172,7 @@ void PrintSummary(const RenderArgs& args, const Outcome& o) {
   for (const emu::PassRecord& p : r.passes)
     if (!p.ran && p.name.rfind("trace.", 0) == 0) std::printf("  skipped     %s: %s\n", p.name.c_str(), p.reason.c_str());
   o.stats.Print(stdout);
-  if (args.timings) PrintPhases(stdout, o.phases, r.total_ms, o.stats.total);
+  if (args.timings) PrintPhases(stdout, o.phases, r.total_ms, o.stats.tests_counted ? std::optional<std::uint64_t>(o.stats.total) : std::nullopt);
   if (!o.oracle) {
     std::printf("  oracle      skipped\n");
   } else {
@@ -198,7 +200,7 @@ struct RenderOutputs {
 
 RenderOutputs OpenRenderOutputs(const RenderArgs& args, const Scene& scene) {
   RenderOutputs o;
-  const std::string image = args.out.empty() ? scene.name + ".png" : args.out;
+  const std::string image = args.out.empty() ? SceneOutputStem(scene, "give --out to name the image") + ".png" : args.out;
   CheckImageFormat(image);
   o.image = OpenOutput(image, "the output image", &scene, false);
   o.stats = OpenOutput(args.stats, "the statistics file", &scene);
@@ -233,13 +235,15 @@ ExitCode RunRender(const RenderArgs& args) {
   RenderOutputs outputs = OpenRenderOutputs(args, scene);
 
   const MemoryEstimate estimate = EstimateFrameMemory(scene, fo.width, fo.height, RenderMemoryUse(args));
-  CheckFitsMachine(estimate, fo.width, fo.height);
+  CheckFitsMachine(estimate, fo.width, fo.height, SizeFrom(args.size, scene).c_str());
 
   const Backend backend = MakeRenderBackend(args);
   SceneBuffers buffers = FlattenForFrame(scene, args.faithful);
   buffers.one_sided = one_sided;
-  CheckFrameFits(backend, fo.width, fo.height, ShadowSlotsPerSurface(scene.lights), buffers.triangles.size());
+  CheckFrameFits(backend, fo.width, fo.height, ShadowSlotsPerSurface(scene.lights), buffers.triangles.size(),
+                 SizeFrom(args.size, scene));
   const std::unique_ptr<RenderedFrame> f = RenderOnBackend(args, scene, buffers, fo, backend);
+  CheckKernelsRan(backend, args.kernels);  // before any summary: a kernel that never ran has no verdict
   const emu::FrameResult& r = f->result;
 
   const refs::Oracle* checked = f->oracle ? &*f->oracle : nullptr;

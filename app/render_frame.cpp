@@ -102,6 +102,7 @@ std::unique_ptr<RenderedFrame> RenderOnBackend(const RenderArgs& args, const Sce
              : f->tracers.tl      ? TlStatistics(*f->tracers.tl, buffers.triangles.size())
              : f->tracers.grid    ? GridStatistics(*f->tracers.grid, buffers.triangles.size())
                                   : BruteStatistics(f->result, buffers.triangles.size());
+  if (args.algo == "embree") f->stats.tests_counted = false;
   f->phases = Phases(f->result.passes);
   return f;
 }

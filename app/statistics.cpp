@@ -269,9 +269,9 @@ void Statistics::ToJson(nlohmann::json& j) const {
   j["final_tests"] = finals;
   // --leaf-test ray-sphere only, so that the default's statistics stay as they were.
   if (leaf_sphere_tests > 0) j["leaf_sphere_tests"] = leaf_spheres;
-  j["total_tests"] = total;
+  j["total_tests"] = tests_counted ? nlohmann::json(total) : nlohmann::json(nullptr);
   j["brute_force_tests"] = brute_force;
-  j["percent_of_brute_force"] = Percent(total, brute_force);
+  j["percent_of_brute_force"] = tests_counted ? nlohmann::json(Percent(total, brute_force)) : nlohmann::json(nullptr);
   j["per_type"] = PerTypeJson(types, brute_force);
   j["object_sphere_tests"] = object_sphere_tests;
   if (object_tree) {
@@ -373,6 +373,11 @@ void Statistics::Print(std::FILE* out) const {
                      PerRay(t.grid_area_tests, t.grid_area_rays), t.grid_volume_rays ? "3D perspective grid" : "regular grid");
       std::fprintf(out, "\n");
     }
+  if (!tests_counted) {
+    std::fprintf(out, "  total tests           not counted (Embree's BVH does not report its tests; brute force %llu)\n",
+                 static_cast<unsigned long long>(brute_force));
+    return;
+  }
   // Each type's tests against its own brute force (rays of the type x triangles), then the frame's.
   for (const auto& [kind, t] : types)
     std::fprintf(out, "  %-11s tests %llu (%.2f%% of its brute force %llu = %llu rays x %llu triangles)\n", emu::RayKindName(kind),

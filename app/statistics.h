@@ -39,6 +39,9 @@ struct Statistics {
   std::map<std::uint32_t, PerType> types;
   std::vector<emu::BatchStats> batches;
   std::uint64_t total = 0, brute_force = 0, object_sphere_tests = 0, leaf_sphere_tests = 0;
+  // False for --algo embree: Embree's BVH does not report its tests, so there is no count to give
+  // (total is then the brute force only as an upper bound, and is not printed as tests).
+  bool tests_counted = true;
   // --objects tree: every test again by its object side (per depth of the tested node; triangle spheres).
   bool object_tree = false;
   std::vector<emu::LevelStats> object_levels;

@@ -45,14 +45,16 @@ std::vector<Phase> Phases(const std::vector<emu::PassRecord>& passes) {
 double SearchMs(const std::vector<Phase>& phases) { return phases[5].ms + phases[6].ms; }
 double TraversalMs(const std::vector<Phase>& phases) { return phases[5].ms; }
 
-void PrintPhases(std::FILE* out, const std::vector<Phase>& phases, double frame_ms, std::uint64_t total_tests) {
+void PrintPhases(std::FILE* out, const std::vector<Phase>& phases, double frame_ms, std::optional<std::uint64_t> total_tests) {
   std::fprintf(out, "  %-26s %10s %7s\n", "phase", "ms", "share");
   for (const Phase& p : phases)
     std::fprintf(out, "  %-26s %10.1f %6.1f%%\n", p.name.c_str(), p.ms, frame_ms > 0 ? 100.0 * p.ms / frame_ms : 0.0);
   const double trav = SearchMs(phases);
-  if (trav > 0)
+  if (!total_tests)
+    std::fprintf(out, "  %-26s %10s (the tracer does not count its tests)\n", "throughput", "n/a");
+  else if (trav > 0)
     std::fprintf(out, "  %-26s %10.1f M tests/s (traversal + final tests)\n", "throughput",
-                 static_cast<double>(total_tests) / (trav * 1e3));
+                 static_cast<double>(*total_tests) / (trav * 1e3));
 }
 
 void PhasesToJson(nlohmann::json& j, const std::vector<Phase>& phases) {

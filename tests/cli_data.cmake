@@ -22,6 +22,11 @@ set(mtl "${root}/sponza_dabrovic/sponza.mtl")
 file(COPY "${DATA}/sponza_dabrovic/sponza.obj" "${DATA}/sponza_dabrovic/sponza.mtl" DESTINATION "${root}/sponza_dabrovic")
 expect(copy 0 "sponza.json: ok" sponza --data "${root}")
 expect(scene-file 0 "sponza.json: ok" "${SRC}/scenes/sponza.json" --data "${root}")
+# A scene file of the user's is loaded as render would: "ok" means it renders, so a width of 0 is a problem.
+file(READ "${SRC}/scenes/cornell-mirrors.json" cornell)
+string(JSON zero SET "${cornell}" image width 0)
+file(WRITE "${WORK}/zero-width.json" "${zero}")
+expect(zero-width 2 "zero-width.json: problem: [^\n]*image.width" "${WORK}/zero-width.json" --data "${root}")
 set(url "https://github.com/jonike/mnrt/blob/[0-9a-f]+/Test%20Scenes/Sponza/sponza.3ds")
 
 # Truncated: the size differs.
@@ -34,7 +39,7 @@ expect(truncated 2 "sponza.json: problem: sponza_dabrovic/sponza.mtl: 100 bytes,
 string(SUBSTRING "${text}" 1 -1 tail)
 file(WRITE "${mtl}" "X${tail}")
 expect(modified 2 "sponza_dabrovic/sponza.mtl: SHA-256 [0-9a-f]+, the manifest says 7bf25f78[0-9a-f]+: a different file" sponza --data "${root}")
-expect(modified-exit-line 2 "rayspace: error: data check: 1 file missing or different under" sponza --data "${root}")
+expect(modified-exit-line 2 "rayspace: error: data check: 1 problem \\(files missing or different under" sponza --data "${root}")
 
 # Missing.
 file(REMOVE "${mtl}")

@@ -121,7 +121,8 @@ endfunction()
 
 # impact_case(NAME SCENE SIZE INJECT EXPECT [diff options...]): the planted fault diverges (exit 4)
 # and the frame runs on each backend alone. EXPECT "changes": rays' final hits and pixels change, and
-# the exact oracle says the emulator is right (vulkan on none); "benign": no hit and no pixel changes.
+# the exact oracle says the emulator is right (vulkan on none); "invisible": no hit and no pixel
+# changes in this frame, which is not called benign: the summary names what differed instead.
 function(impact_case name scene size inject expect)
   begin_case("${name}")
   scene_path("${scene}" path)
@@ -133,22 +134,23 @@ function(impact_case name scene size inject expect)
     return()
   endif()
   file(READ "${case_work}/report.json" j)
-  foreach(key measured benign rays rays_changed pixels_changed judged)
+  foreach(key measured no_visible_change rays rays_changed pixels_changed judged)
     string(JSON ${key} ERROR_VARIABLE jerr GET "${j}" impact ${key})
   endforeach()
   string(JSON emu_right ERROR_VARIABLE jerr GET "${j}" impact verdicts emulator)
   string(JSON vk_right ERROR_VARIABLE jerr GET "${j}" impact verdicts vulkan)
-  set(facts "measured ${measured}, benign ${benign}, ${rays_changed} of ${rays} rays, ${pixels_changed} pixels, emulator right on ${emu_right}, vulkan on ${vk_right} (${jerr})")
+  set(facts "measured ${measured}, no visible change ${no_visible_change}, ${rays_changed} of ${rays} rays, ${pixels_changed} pixels, emulator right on ${emu_right}, vulkan on ${vk_right} (${jerr})")
   if(expect STREQUAL "changes")
     string(JSON first_verdict ERROR_VARIABLE jerr GET "${j}" impact changed_rays 0 verdict)
-    if(NOT measured OR benign OR NOT rays_changed GREATER 0 OR NOT pixels_changed GREATER 0 OR NOT emu_right GREATER 0
+    if(NOT measured OR no_visible_change OR NOT rays_changed GREATER 0 OR NOT pixels_changed GREATER 0 OR NOT emu_right GREATER 0
        OR NOT vk_right EQUAL 0 OR first_verdict STREQUAL "vulkan"
        OR NOT err MATCHES "impact: [0-9]+ of [0-9]+ rays change their final hit \\(emulator right on [1-9][0-9]*, vulkan on 0")
       set(FAILURES "${FAILURES}\n${name}: expected changed hits and pixels, the emulator right: ${facts}\n${err}" PARENT_SCOPE)
     endif()
-  elseif(NOT measured OR NOT benign OR NOT rays_changed EQUAL 0 OR NOT pixels_changed EQUAL 0 OR NOT rays GREATER 0
-         OR NOT err MATCHES "impact: benign: no ray's final hit and no pixel changes")
-    set(FAILURES "${FAILURES}\n${name}: expected a benign impact: ${facts}\n${err}" PARENT_SCOPE)
+  elseif(NOT measured OR NOT no_visible_change OR NOT rays_changed EQUAL 0 OR NOT pixels_changed EQUAL 0 OR NOT rays GREATER 0
+         OR NOT err MATCHES "impact: no ray's final hit and no pixel changes in this frame [^\n]*; not proven benign: [a-z.]+/[a-z_]+: "
+         OR err MATCHES "impact: benign")
+    set(FAILURES "${FAILURES}\n${name}: expected no visible change, not called benign, what differed named: ${facts}\n${err}" PARENT_SCOPE)
   endif()
 endfunction()
 
@@ -625,9 +627,9 @@ endif()
 # traverse:1 drops top-level pairs: in the office some of them held hits, in the Cornell box none.
 impact_case(impact.traverse:1 office 64x64 traverse:1 changes)
 impact_case(impact.intersect:1 cornell-mirrors 64x64 intersect:1 changes)
-impact_case(impact.benign.traverse:1 cornell-mirrors 64x64 traverse:1 benign)
-impact_case(impact.benign.hash:1 cornell-mirrors 64x64 hash:1 benign)
-impact_case(impact.benign.tree.roots:3 cornell-mirrors 48x48 tree.roots:3 benign --objects tree --path passes)
+impact_case(impact.invisible.traverse:1 cornell-mirrors 64x64 traverse:1 invisible)
+impact_case(impact.invisible.hash:1 cornell-mirrors 64x64 hash:1 invisible)
+impact_case(impact.invisible.tree.roots:3 cornell-mirrors 48x48 tree.roots:3 invisible --objects tree --path passes)
 diff_case(replay.save cornell-mirrors 64x64 traverse:1 4 traverse --save-inputs "${WORK}/saved")
 if("${CASE}" STREQUAL "replay.save" AND NOT case_out MATCHES "inputs saved: [0-9]+ calls in ${WORK}/saved")
   set(FAILURES "${FAILURES}\nreplay.save: the summary does not say where the inputs went")
@@ -649,8 +651,9 @@ replay_saved(replay.raster "*-raster" 0 "raster/prim: 4096 elements equal")
 # the equal comparison recorded at save time does not reproduce.
 replay_saved(replay.raster.relaxed "*-raster" 5 "every difference is within the spec's precision" --inject raster:2 --compare relaxed)
 # --split-bytes reaches replay: trim's fault 2 (the carry between parts dropped) shows only when
-# the stream is split, so the same saved call stays equal without the option and diverges with it.
-replay_saved(replay.unsplit "*-trim.shadow.b0" 0 "recorded comparison: reproduced.*warning: the planted fault trim:2 cannot fire: no buffer was split or paged"
+# the stream is split, so the same saved call is refused with the fault that cannot fire (exit 2,
+# no verdict) without the option and diverges with it.
+replay_saved(replay.unsplit "*-trim.shadow.b0" 2 "error: the planted fault trim:2 cannot fire: no buffer was split or paged"
              --inject trim:2)
 replay_saved(replay.split "*-trim.shadow.b0" 5 "NOT reproduced" --inject trim:2 --split-bytes 4096)
 # traverse.compact (the traversal fused with its reduction) on single calls: these cases replay the
@@ -770,15 +773,27 @@ if(run)
   endif()
 endif()
 
-# A fault that cannot fire in the run's configuration (trim's fault 2 needs split buffers): one warning
-# line on stderr, not "executed benignly".
+# A fault that cannot fire in the run's configuration (trim's fault 2 needs split buffers): exit 2 and
+# one error line naming it, no verdict ("equal" or "executed benignly") and no report.
 case_selected(fault.trim:2.unsplit run)
 if(run)
+  file(REMOVE "${case_work}/report.json")
   execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 64x64 --inject trim:2
+                          --report "${case_work}/report.json"
                   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0 OR out MATCHES "benignly"
-     OR NOT err STREQUAL "rayspace diff: warning: the planted fault trim:2 cannot fire: no buffer was split or paged (give --split-bytes)\n")
+  if(NOT rc EQUAL 2 OR out MATCHES "benignly|equal" OR EXISTS "${case_work}/report.json"
+     OR NOT err STREQUAL "rayspace: error: the planted fault trim:2 cannot fire: no buffer was split or paged (give --split-bytes)\n")
     set(FAILURES "${FAILURES}\nfault.trim:2.unsplit: exit ${rc}, stderr '${err}', stdout ${out}")
+  endif()
+endif()
+# The same for a fault in a pass the run's path does not have: the fused path runs no reduce.
+case_selected(fault.reduce:subgroup-32.fused run)
+if(run)
+  execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 32x32 --path fused --inject reduce:subgroup-32
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 2 OR out MATCHES "benignly|equal"
+     OR NOT err STREQUAL "rayspace: error: the planted fault reduce:subgroup-32 cannot fire: pass reduce did not run\n")
+    set(FAILURES "${FAILURES}\nfault.reduce:subgroup-32.fused: exit ${rc}, stderr '${err}', stdout ${out}")
   endif()
 endif()
 
@@ -792,6 +807,16 @@ if(run)
                   RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
   if(NOT rc EQUAL 2 OR NOT err MATCHES "^rayspace: error: --save-inputs ${case_work}/used: the directory is not empty[^\n]*\n$")
     set(FAILURES "${FAILURES}\nsave-inputs.not-empty: exit ${rc}, stderr '${err}'")
+  endif()
+endif()
+# --save-inputs creates its directory, never the parents: a missing parent is exit 2 before the frame.
+case_selected(save-inputs.nodir run)
+if(run)
+  execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --save-inputs "${case_work}/nodir/saved"
+                  RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+  if(NOT rc EQUAL 2 OR EXISTS "${case_work}/nodir"
+     OR NOT err MATCHES "^rayspace: error: --save-inputs ${case_work}/nodir/saved: the directory ${case_work}/nodir does not exist[^\n]*\n$")
+    set(FAILURES "${FAILURES}\nsave-inputs.nodir: exit ${rc}, stderr '${err}'")
   endif()
 endif()
 case_selected(report.nodir run)

@@ -31,6 +31,12 @@ file(WRITE "${WORK}/nan_mesh.json"
 file(WRITE "${WORK}/bad_param.json"
      "{${CAMERA}, ${IMAGE}, ${LIGHTS}, \"objects\": [{\"generator\": \"box\"}, {\"generator\": \"sphere\", \"params\": {\"segments\": -4}}]}\n")
 
+# A value nested 100,000 deep (200 KB), a key given twice, a NUL byte after the closing brace.
+string(REPEAT "[" 100000 open)
+string(REPEAT "]" 100000 close)
+file(WRITE "${WORK}/deep.json" "{${CAMERA}, ${IMAGE}, ${LIGHTS}, \"objects\": ${open}1${close}}\n")
+file(WRITE "${WORK}/dup_key.json" "{${CAMERA}, ${IMAGE}, ${LIGHTS}, ${IMAGE}, \"objects\": [{\"generator\": \"box\"}]}\n")
+
 # --- Error cases --------------------------------------------------------------------------------
 expect_error(NAME "malformed scene JSON"
              NEEDLES "malformed.json" "line 3"
@@ -38,6 +44,13 @@ expect_error(NAME "malformed scene JSON"
 expect_error(NAME "scene JSON number overflow (1e400)"
              NEEDLES "overflow.json"
              ARGS render "${WORK}/overflow.json" --out "${WORK}/x.png")
+expect_error(NAME "scene JSON nested 100,000 deep" NEEDLES "deep.json: invalid JSON: nested deeper than 256"
+             ARGS render "${WORK}/deep.json" --out "${WORK}/x.png")
+expect_error(NAME "scene JSON with a key given twice" NEEDLES "dup_key.json: invalid JSON: the key \"image\" is given twice"
+             ARGS render "${WORK}/dup_key.json" --out "${WORK}/x.png")
+execute_process(COMMAND sh -c "cat \"$0\" && printf '\\000'" "${WORK}/good.json" OUTPUT_FILE "${WORK}/nul.json")
+expect_error(NAME "scene JSON with a NUL byte after the closing brace" NEEDLES "nul.json: invalid JSON:" "a NUL byte"
+             ARGS render "${WORK}/nul.json" --out "${WORK}/x.png")
 expect_error(NAME "scene references a missing mesh"
              NEEDLES "missing_mesh.json" "objects[0].mesh" "meshes/ghost.obj" "--data"
              ARGS render "${WORK}/missing_mesh.json" --out "${WORK}/x.png")

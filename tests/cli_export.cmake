@@ -6,6 +6,7 @@
 #   fault.<pass>:<n>   the first divergent call of a diff with --inject: its reproducer runs the
 #                      faulted kernel and reports the first mismatch (exit 1)
 #   inject             calls of a clean diff exported with --inject PASS:N: each reports a mismatch
+#   kernel             a user's kernel that diverged exports in place of the built-in one
 #   recorded           the fault, local size and binding limits comparison.json records are used
 #   validate           the reproducer's --validate and REPRO_VALIDATE=1 load the validation layer
 # tests/CMakeLists.txt includes this file with CASE unset to collect the case names; each test runs
@@ -23,6 +24,7 @@ macro(begin_case name)
     return()
   endif()
   set(matched TRUE PARENT_SCOPE)
+  file(MAKE_DIRECTORY "${case_work}/export")  # export creates its --out, never the parents
 endmacro()
 
 # Failures gather in a global property, so that helpers at any depth can add to them.
@@ -239,6 +241,52 @@ function(inject_case name)
   endforeach()
 endfunction()
 inject_case(inject)
+
+# A user's kernel (--kernel) that diverged: the call exports with that kernel in place of the built-in
+# one (as recorded, or given to export), so its reproducer shows the mismatch; a correct kernel given
+# instead replays equal; a kernel for a pass the call never dispatches is refused (exit 2). An --out
+# under a missing directory is refused too (its parents are never created).
+function(kernel_case name)
+  begin_case("${name}")
+  file(READ "${SRC}/gpu/shaders/reduce.comp" reduce)
+  string(REPLACE "k < len; k += lanes)" "k + 1u < len; k += lanes)" buggy "${reduce}")
+  if(buggy STREQUAL reduce)
+    fail("reduce.comp no longer has the concatenation loop this case edits")
+    return()
+  endif()
+  file(WRITE "${case_work}/buggy_reduce.comp" "${buggy}")
+  file(WRITE "${case_work}/my_reduce.comp" "${reduce}")
+  file(COPY "${SRC}/gpu/shaders/trim.comp" DESTINATION "${case_work}")
+  save_calls(4 --kernel reduce=${case_work}/buggy_reduce.comp)
+  first_divergent(d)
+  if(NOT d MATCHES "-reduce")
+    fail("the first divergent saved call is not a reduce call: '${d}'")
+    return()
+  endif()
+  export_call("${d}" "${case_work}/export")
+  if(NOT export_rc EQUAL 0 OR NOT export_out MATCHES "kernels: [^\n]*reduce \\(your kernel [^)]*buggy_reduce.comp\\)")
+    fail("export as recorded: exit ${export_rc}, expected the recorded kernel exported: ${export_out}")
+    return()
+  endif()
+  build_repro("${case_work}/export")
+  run_repro("${case_work}/export" 1 "\nfirst mismatch: ")
+  export_call("${d}" "${case_work}/export-fixed" --kernel reduce=${case_work}/my_reduce.comp)
+  if(NOT export_rc EQUAL 0)
+    fail("export --kernel reduce=my_reduce.comp: exit ${export_rc}: ${export_out}")
+  else()
+    run_repro("${case_work}/export-fixed" 0 "equal")
+  endif()
+  export_call("${d}" "${case_work}/nodir/export")
+  if(NOT export_rc EQUAL 2 OR NOT export_out MATCHES "--out ${case_work}/nodir/export: the directory ${case_work}/nodir does not exist"
+     OR EXISTS "${case_work}/nodir")
+    fail("export --out under a missing directory: exit ${export_rc}, expected 2 and nothing created: ${export_out}")
+  endif()
+  export_call("${d}" "${case_work}/export-trim" --kernel trim=${case_work}/trim.comp)
+  if(NOT export_rc EQUAL 2 OR NOT export_out MATCHES "dispatches no trim kernel" OR EXISTS "${case_work}/export-trim")
+    fail("export --kernel trim=...: exit ${export_rc}, expected 2 naming the pass and nothing written: ${export_out}")
+  endif()
+endfunction()
+kernel_case(kernel)
 
 # What comparison.json records of the run that saved a call (its fault, local size and binding
 # limits) is what the export records with unless given; a null key counts as absent.

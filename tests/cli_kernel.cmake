@@ -1,7 +1,8 @@
 # `--kernel PASS=FILE`: a user's kernel runs in place of the built-in one (docs/kernels.md).
 # A copy of the built-in reduce kernel gives all passes equal; a planted bug in the copy makes the diff
 # fail (exit 4) with `reduce` first; a binding outside the contract is refused before anything runs
-# (exit 2, naming the binding); so are an unknown pass, a missing file and GLSL that does not compile.
+# (exit 2, naming the binding); so are an unknown pass, a missing file and GLSL that does not compile,
+# and, after the run, a kernel whose pass the run never launched.
 #   cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DWORK=<scratch> -P cli_kernel.cmake
 cmake_minimum_required(VERSION 3.19)
 file(MAKE_DIRECTORY "${WORK}")
@@ -80,7 +81,7 @@ run(raster 2 "graphics pipeline" diff "${scene}" --size 32x32 --kernel raster=${
 run(emu_backend 2 "--backend vulkan" render "${scene}" --size 32x32 --no-oracle --out ${WORK}/x.png --kernel reduce=${WORK}/my_reduce.comp)
 # render with the copy gives the emulator's digest.
 run(render_emu 0 "digest" render "${scene}" --size 64x64 --no-oracle --out ${WORK}/emu.png --stats ${WORK}/emu.json)
-run(render_copy 0 "digest" render "${scene}" --size 64x64 --no-oracle --backend vulkan --out ${WORK}/copy.png
+run(render_copy 0 "digest" render "${scene}" --size 64x64 --no-oracle --backend vulkan --path passes --out ${WORK}/copy.png
     --stats ${WORK}/copy_render.json --kernel reduce=${WORK}/my_reduce.comp)
 if(EXISTS "${WORK}/emu.json" AND EXISTS "${WORK}/copy_render.json")
   file(READ "${WORK}/emu.json" je)
@@ -92,6 +93,37 @@ if(EXISTS "${WORK}/emu.json" AND EXISTS "${WORK}/copy_render.json")
   endif()
 else()
   set(failures "${failures}\nrender_copy: no statistics written")
+endif()
+
+# A kernel the run never launches is refused after the run, naming the pass and the options that run
+# it (exit 2), with no verdict and no output: render's fused default and diff --path fused have no
+# reduce pass; a replayed reduce call runs no trim kernel.
+file(READ "${SRC}/gpu/shaders/trim.comp" trim)
+file(WRITE "${WORK}/my_trim.comp" "${trim}")
+file(REMOVE "${WORK}/unreached.png" "${WORK}/unreached.json")
+run(render_unreached 2 "this run never launched pass 'reduce' (it runs with --path passes and --algo crsh" render "${scene}" --size 32x32
+    --no-oracle --backend vulkan --out ${WORK}/unreached.png --stats ${WORK}/unreached.json --kernel reduce=${WORK}/my_reduce.comp)
+if(EXISTS "${WORK}/unreached.png" OR EXISTS "${WORK}/unreached.json")
+  set(failures "${failures}
+render_unreached: an output was written for a run refused")
+endif()
+execute_process(COMMAND "${RAYSPACE}" diff "${scene}" --size 32x32 --path fused --kernel reduce=${WORK}/my_reduce.comp
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 2 OR out MATCHES "equal" OR NOT err MATCHES "never launched pass 'reduce'.*the run launched: [a-z]")
+  set(failures "${failures}
+diff_unreached: exit ${rc}, expected 2 with no verdict: ${out}${err}")
+endif()
+file(REMOVE_RECURSE "${WORK}/saved")
+execute_process(COMMAND "${RAYSPACE}" diff "${scene}" --size 16x16 --path passes --save-inputs "${WORK}/saved"
+                RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+file(GLOB reduce_call "${WORK}/saved/*-reduce*")
+if(NOT rc EQUAL 0 OR NOT reduce_call)
+  set(failures "${failures}
+replay_unreached: the diff saving calls failed (exit ${rc}) or saved no reduce call: ${err}")
+else()
+  list(GET reduce_call 0 reduce_call)
+  run(replay_reached 0 "equal" replay "${reduce_call}" --kernel reduce=${WORK}/my_reduce.comp)
+  run(replay_unreached 2 "this run never launched pass 'trim'" replay "${reduce_call}" --kernel trim=${WORK}/my_trim.comp)
 endif()
 
 if(failures)

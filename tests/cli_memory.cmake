@@ -36,6 +36,10 @@ function(expect_refused name needles)
 endfunction()
 
 expect_refused("16384x16384 frame" "--size 16384x16384;estimated;GB;machine" render box.json --size 16384x16384 --no-oracle --out big.png)
+# The same size from the scene file: the message names the scene's image, not --size.
+file(WRITE "${WORK}/big-image.json" "{${CAMERA}, \"image\": {\"width\": 16384, \"height\": 16384}, \"lights\": [{\"position\": [0, 4, 4]}], \"objects\": [{\"generator\": \"box\"}]}\n")
+expect_refused("16384x16384 frame from the scene" "big-image.json: the scene's image 16384x16384;estimated;GB;machine"
+               render big-image.json --no-oracle --out big.png)
 expect_refused("instances past the triangle limit" "instances.json;objects[0].instances;2^28" render instances.json --no-oracle --out i.png)
 if(VULKAN)
   expect_refused("16384x16384 diff" "--size 16384x16384;the diff;estimated;GB;machine" diff box.json --size 16384x16384 --report big-diff.json)

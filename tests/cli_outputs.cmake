@@ -46,6 +46,40 @@ endforeach()
 expect_error(NAME "--stats checked before the backend" NEEDLES "nodir/s.json"
              ARGS render "${WORK}/good.json" --out "${WORK}/x.png" --stats "${WORK}/nodir/s.json" --backend vulkan --device 63)
 
+# --- Outputs an input or a spelling must not steer --------------------------------------------
+# A scene's "name" names the default image only as a plain file name: a path, "..", "" or a control
+# character is refused, naming the scene file, and nothing is written anywhere (WORK/sub is the
+# working directory, so "../escaped" would land in WORK).
+file(MAKE_DIRECTORY "${WORK}/sub")
+foreach(bad "../escaped" "${WORK}/abs" "" ".." "a\tb")
+  string(JSON named SET "${SCENE}" name "\"${bad}\"")
+  file(WRITE "${WORK}/named.json" "${named}\n")
+  execute_process(COMMAND "${RAYSPACE}" render "${WORK}/named.json" WORKING_DIRECTORY "${WORK}/sub"
+                  RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+  math(EXPR CASES "${CASES} + 1")
+  file(GLOB written "${WORK}/escaped*" "${WORK}/abs*" "${WORK}/sub/*" "${WORK}/.png")
+  if(NOT rc EQUAL 2 OR NOT err MATCHES "named.json: the scene's \"name\" '[^\n]*' cannot name an output file: [^\n]*; give --out"
+     OR written)
+    set(FAILURES "${FAILURES}\n  [scene name '${bad}' as the default output] exit ${rc}, written: ${written}; stderr: ${err}")
+    file(REMOVE ${written})
+  endif()
+endforeach()
+# Two outputs that are one file, however spelled: ./x.png beside x.png before either exists, and a
+# hard link to an existing image.
+expect_error(NAME "--out x.png --stats ./x.png" NEEDLES "given as the output image and as the statistics file"
+             ABSENT "${WORK}/x.png" ARGS render "${WORK}/good.json" --out x.png --stats ./x.png)
+file(WRITE "${WORK}/old.png" "old")
+file(CREATE_LINK "${WORK}/old.png" "${WORK}/hard.json")
+expect_error(NAME "--stats a hard link to --out" NEEDLES "given as the output image and as the statistics file"
+             ARGS render "${WORK}/good.json" --out "${WORK}/old.png" --stats "${WORK}/hard.json")
+file(READ "${WORK}/old.png" old)
+if(NOT old STREQUAL "old")
+  set(FAILURES "${FAILURES}\n  [--stats a hard link to --out] the existing file was overwritten")
+endif()
+# An output directory is created, its parents are not.
+expect_error(NAME "accuracy --out under a missing directory" NEEDLES "--out ${WORK}/nodir/acc: the directory ${WORK}/nodir does not exist"
+             ABSENT "${WORK}/nodir" ARGS accuracy "${WORK}/good.json" --samples 100 --out "${WORK}/nodir/acc")
+
 # --- An output that is an input ----------------------------------------------------------------
 foreach(input good.json tri.obj)
   file(READ "${WORK}/${input}" before)

@@ -63,7 +63,14 @@ TEST_CASE("CompareWords: equal buffers count their elements; buffers of other le
   CHECK(c.mismatches == 0);
   CHECK(c.elements == 2);
   CHECK(c.actual_elements == 3);
-  CHECK(c.Summary() == "p/b: sizes differ (expected 2 elements, actual 3)");
+  CHECK(c.Summary() == "p/b: sizes differ (expected 2 elements, actual 3); the 2 in common are equal; actual goes on at 2 with 0x00000007 (7)");
+  // A difference inside the common elements is reported too, not hidden by the sizes.
+  std::vector<std::uint32_t> shorter = {1, 2, 3, 4, 0, 6};
+  const BufferComparison d = CompareWords("p", "b", longer, shorter, 3, 0);
+  CHECK(d.mismatches == 1);
+  CHECK(d.Summary() ==
+        "p/b: sizes differ (expected 3 elements, actual 2); 1 of the 2 in common differ, first at 1 (word 1): expected 0x00000005 (5), "
+        "actual 0x00000000 (0); expected goes on at 2 with 0x00000007 (7)");
 }
 
 TEST_CASE("CompareBytes: each byte is an element, reported as its word") {

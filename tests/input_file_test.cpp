@@ -165,6 +165,21 @@ TEST_CASE("ReadInputFile bounds what gzip data decompresses to") {
   CHECK(Contains(ErrorOf([&] { ReadInputFile(bomb, {"mesh", 1 << 20, rayspace::Gzip::kByExtension}); }),
                  "bomb.ply.gz: mesh decompresses to more than the 1 MiB rayspace reads"));
   CHECK(ReadInputFile(bomb, {"mesh", 8 << 20, rayspace::Gzip::kByExtension}).size() == (8u << 20));
+  // Exactly at the bound is read; one byte over is refused (the bound counts as it decompresses).
+  const fs::path edge = dir.Write("edge.ply.gz", Gzipped(std::string((1 << 20) + 1, 'x')));
+  CHECK(Contains(ErrorOf([&] { ReadInputFile(edge, {"mesh", 1 << 20, rayspace::Gzip::kByExtension}); }), "decompresses to more than"));
+  CHECK(ReadInputFile(edge, {"mesh", (1 << 20) + 1, rayspace::Gzip::kByExtension}).size() == (1u << 20) + 1);
+}
+
+TEST_CASE("ReadInputFile stops a text file's gzip data at its first NUL byte") {
+  TempDir dir;
+  // 8 MiB of NUL bytes after "v 0": a text format is refused at byte 4, a binary one (PLY) is read.
+  const fs::path nul = dir.Write("nul.obj.gz", Gzipped("v 0" + std::string(8 << 20, '\0')));
+  CHECK(ErrorOf([&] { ReadInputFile(nul, {"mesh", rayspace::kMaxDataFileBytes, rayspace::Gzip::kByExtension, true}); }) ==
+        nul.string() + ": mesh holds a NUL byte at decompressed byte 4, and it is a text file");
+  CHECK(ReadInputFile(nul, kGzipMesh).size() == 3 + (8u << 20));
+  // The OBJ loader reads its gzip data as text.
+  CHECK(Contains(ErrorOf([&] { rayspace::LoadMesh(nul); }), "NUL byte at decompressed byte 4"));
 }
 
 TEST_CASE("gzip names: the format and the sub-mesh name come from the name without .gz") {

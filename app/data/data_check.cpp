@@ -9,6 +9,8 @@
 
 #include "manifest_text.h"
 #include "rayspace/error.h"
+#include "rayspace/input_file.h"
+#include "rayspace/json_text.h"
 
 namespace rayspace::data {
 namespace {
@@ -18,8 +20,8 @@ using nlohmann::json;
 
 json ParseManifest(const std::string& text) {
   try {
-    return json::parse(text);
-  } catch (const json::exception& e) {
+    return ParseJson(text);
+  } catch (const JsonError& e) {
     ThrowInput("data manifest: not JSON ({})", e.what());
   }
 }
@@ -62,12 +64,10 @@ std::string CheckFile(const json& manifest, const json& entry, const fs::path& r
 
 // The data-root files a scene not in the manifest needs: its meshes not found beside it.
 std::vector<std::string> MeshesOf(const fs::path& scene) {
-  std::ifstream in(scene);
-  if (!in) ThrowInput("{}: cannot read the scene", scene.string());
   json j;
   try {
-    j = json::parse(in);
-  } catch (const json::exception& e) {
+    j = ParseJson(ReadInputFile(scene, {"scene file", kMaxTextFileBytes}));
+  } catch (const JsonError& e) {
     ThrowInput("{}: not JSON ({})", scene.string(), e.what());
   }
   std::vector<std::string> meshes;

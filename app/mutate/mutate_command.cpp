@@ -18,6 +18,7 @@
 #include "kernel_cases.h"
 #include "mutants.h"
 #include "mutate_runs.h"
+#include "rayspace/input_file.h"
 #include "rayspace/json_text.h"
 #include "rayspace/error.h"
 #include "rayspace/output_file.h"
@@ -209,21 +210,23 @@ std::vector<Mutant> Choose(const MutateArgs& args, const std::vector<Target>& ta
 }
 
 // The mutant's directory: the mutated file and the kernels that read it (an include's); the
-// overrides of configuration entry `e` of its target.
+// overrides of configuration entry `e` of its target, for the passes that configuration runs (`ran`:
+// a kernel given for a pass the diff never launches is refused, rayspace diff --kernel).
 std::vector<std::pair<std::string, std::string>> Prepare(const Mutant& mu, std::size_t e, const std::map<std::string, Kernel>& all,
-                                                        const fs::path& dir) {
+                                                        const std::set<std::string>& ran, const fs::path& dir) {
   fs::create_directories(dir);
   const std::string source = mutate_runs::ReadFile(mutate_runs::ShaderDir() / mu.m.file);
   mutate_runs::WriteFile(dir / mu.m.file, mutate::Apply(source, mu.m));
   std::vector<std::pair<std::string, std::string>> kernels;
   for (const std::string& k : mu.target->kernels[e]) {
     if (k != mu.m.file) fs::copy_file(mutate_runs::ShaderDir() / k, dir / k, fs::copy_options::overwrite_existing);
-    for (const std::string& p : all.at(k).passes) kernels.emplace_back(p, (dir / k).string());
+    for (const std::string& p : all.at(k).passes)
+      if (ran.count(p)) kernels.emplace_back(p, (dir / k).string());
   }
   return kernels;
 }
 
-// The overrides for a kernel case of `pass`: the kernel that runs the pass, from the mutant's
+// The override for a kernel case of `pass`: the kernel that runs the pass, from the mutant's
 // directory (Prepare wrote the mutated file there); none when the mutation does not reach that kernel.
 std::vector<std::pair<std::string, std::string>> PrepareCase(const Mutant& mu, const std::string& pass,
                                                             const std::map<std::string, Kernel>& all, const fs::path& dir) {
@@ -233,9 +236,7 @@ std::vector<std::pair<std::string, std::string>> PrepareCase(const Mutant& mu, c
   const auto it = all.find(k);
   if (it == all.end() || (k != mu.m.file && !it->second.includes.count(mu.m.file))) return {};
   if (k != mu.m.file) fs::copy_file(mutate_runs::ShaderDir() / k, dir / k, fs::copy_options::overwrite_existing);
-  std::vector<std::pair<std::string, std::string>> kernels;
-  for (const std::string& p : it->second.passes) kernels.emplace_back(p, (dir / k).string());
-  return kernels;
+  return {{pass, (dir / k).string()}};  // the case replays a call of `pass` alone
 }
 
 // A survivor the optimiser proves equal: every kernel it touches compiles, with the specialization
@@ -266,8 +267,11 @@ json Explanations(const std::string& given) {
     ThrowInput("--survivors '{}': file not found", given);
   }
   try {
-    return json::parse(mutate_runs::ReadFile(path)).value("mutants", json::object());
-  } catch (const json::exception& e) {
+    const json j = ParseJson(ReadInputFile(path, {"survivors file", kMaxTextFileBytes}));
+    if (!j.is_object() || (j.contains("mutants") && !j["mutants"].is_object()))
+      ThrowInput("--survivors '{}': expected an object whose \"mutants\" is an object", path);
+    return j.value("mutants", json::object());
+  } catch (const JsonError& e) {
     ThrowInput("--survivors '{}': not JSON ({})", path, e.what());
   }
 }
@@ -308,7 +312,8 @@ mutate_runs::Overrides Builtins(const Baseline& base, std::size_t c) {
   mutate_runs::Overrides out;
   for (const auto& [k, kernel] : base.kernels)
     if (Runs(kernel, base.passes[c]))
-      for (const std::string& p : kernel.passes) out.emplace_back(p, (mutate_runs::ShaderDir() / k).string());
+      for (const std::string& p : kernel.passes)
+        if (base.passes[c].count(p)) out.emplace_back(p, (mutate_runs::ShaderDir() / k).string());
   return out;
 }
 
@@ -322,7 +327,7 @@ mutate_runs::Verdict RunClamped(const Mutant& mu, const mutate_runs::Frame& fram
     const mutate_runs::DiffConfig& config = mutate_runs::Configs()[c];
     mutate_runs::Overrides clamped;
     std::string error;
-    if (!mutate_runs::Clamp(Prepare(mu, e, base.kernels, dir), dir / ("clamped-" + config.name), clamped, error)) continue;
+    if (!mutate_runs::Clamp(Prepare(mu, e, base.kernels, base.passes[c], dir), dir / ("clamped-" + config.name), clamped, error)) continue;
     v = DiffMutant(frame, config, clamped, dir / ("clamped-" + config.name), base.scenes[c]);
     tried.push_back("clamped:" + config.name);
     if (v.status == "killed") {
@@ -341,8 +346,9 @@ json RunMutant(const Mutant& mu, const mutate_runs::Frame& frame, const Baseline
   mutate_runs::Verdict v;
   json tried = json::array();
   for (std::size_t e = 0; e < mu.target->configs.size(); ++e) {
-    const mutate_runs::DiffConfig& config = mutate_runs::Configs()[mu.target->configs[e]];
-    v = DiffMutant(frame, config, Prepare(mu, e, base.kernels, dir), dir / config.name, base.scenes[mu.target->configs[e]]);
+    const std::size_t c = mu.target->configs[e];
+    const mutate_runs::DiffConfig& config = mutate_runs::Configs()[c];
+    v = DiffMutant(frame, config, Prepare(mu, e, base.kernels, base.passes[c], dir), dir / config.name, base.scenes[c]);
     tried.push_back(config.name);
     if (v.status != "survived") break;
   }
@@ -437,9 +443,40 @@ void CheckArgs(const MutateArgs& args) {
   for (const std::string& c : args.configs)
     if (std::none_of(mutate_runs::Configs().begin(), mutate_runs::Configs().end(), [&](const auto& k) { return k.name == c; }))
       ThrowInput("--config '{}': not a configuration (docs/verification.md lists them)", c);
+  if (!args.only.empty()) {
+    try {
+      std::regex check(args.only);
+    } catch (const std::regex_error& e) {
+      ThrowInput("--only '{}': not a regular expression ({})", args.only, e.what());
+    }
+  }
   std::error_code ec;
   if (!fs::is_regular_file(args.scene, ec)) ThrowInput("'{}': scene file not found", args.scene);
+  if (!args.work.empty() && fs::exists(args.work, ec) && !fs::is_directory(args.work, ec))
+    ThrowInput("--work {}: not a directory", args.work);
 }
+
+// The run's work directory: --work as given (kept), or a fresh one under $TMPDIR removed on every
+// exit from RunMutate, an error's included.
+class WorkDir {
+ public:
+  explicit WorkDir(const std::string& given) : keep_(!given.empty()) {
+    path_ = keep_ ? fs::path(given) : fs::temp_directory_path() / fmt::format("rayspace-mutate-{}", ::getpid());
+    if (keep_) MakeOutputDirectory(given, "--work");
+    else fs::create_directories(path_);
+  }
+  ~WorkDir() {
+    std::error_code ec;
+    if (!keep_) fs::remove_all(path_, ec);
+  }
+  WorkDir(const WorkDir&) = delete;
+  WorkDir& operator=(const WorkDir&) = delete;
+  const fs::path& path() const { return path_; }
+
+ private:
+  bool keep_;
+  fs::path path_;
+};
 
 ExitCode RunMutate(const MutateArgs& args) {
   CheckArgs(args);
@@ -447,24 +484,24 @@ ExitCode RunMutate(const MutateArgs& args) {
   const std::string seed_text = args.seed == "commit" ? BuildCommit() : args.seed;
   const std::uint64_t seed = mutate::SeedOf(seed_text);
   OutputFile report = args.report.empty() ? OutputFile() : OutputFile(args.report, OutputOptions{"the report", true, true, {}});
-  const fs::path work = args.work.empty() ? fs::temp_directory_path() / fmt::format("rayspace-mutate-{}", ::getpid()) : fs::path(args.work);
-  fs::create_directories(work);
+  const WorkDir work_dir(args.work);
+  const fs::path& work = work_dir.path();
   const mutate_runs::Frame frame{fs::absolute(args.scene).string(), args.data, args.size, args.timeout};
   std::printf("rayspace mutate: %s at %s, seed %s (%016llx)\n", args.scene.c_str(), args.size.c_str(), seed_text.c_str(),
               static_cast<unsigned long long>(seed));
   const std::map<std::string, Kernel> kernels = Kernels();
   Baseline base = RunBaseline(frame, args.configs, work);
   base.kernels = kernels;
-  RunBaselineCases(base, work, args.timeout);
-  base.clamped = std::make_unique<mutate_runs::ClampedBaseline>(frame, work);
   const std::vector<Target> targets = Targets(args, kernels, base);
   std::size_t total = 0;
   const std::vector<Mutant> chosen = Choose(args, targets, seed, total);
   std::printf("  %zu files, %zu mutants in all; running %zu\n", targets.size(), total, chosen.size());
-  if (args.list) {
+  if (args.list) {  // the choice needs only the configurations' passes, not the cases or the clamped device
     for (const Mutant& m : chosen) std::printf("  %s  (%s)\n", m.m.Id().c_str(), mutate_runs::Configs()[m.target->configs[0]].name.c_str());
     return ExitCode::kOk;
   }
+  RunBaselineCases(base, work, args.timeout);
+  base.clamped = std::make_unique<mutate_runs::ClampedBaseline>(frame, work);
   const std::vector<json> results = RunAll(chosen, frame, base, work, explained, args.jobs);
   std::vector<std::string> kernel_files;
   std::map<std::string, std::pair<const DiffConfig*, std::string>> config_of;  // the first configuration, its scene
@@ -477,7 +514,6 @@ ExitCode RunMutate(const MutateArgs& args) {
   json j = {{"scene", args.scene}, {"size", args.size}, {"seed", seed_text}, {"limit", args.limit}, {"timeout", args.timeout},
             {"mutants_in_all", total}, {"configs", base.configs}, {"kernel_cases", base.case_runs}, {"clamped_baseline", base.clamped->Results()}, {"mutants", results}, {"summary", summary}, {"variants", variants}};
   AddProvenance(j);
-  if (args.work.empty()) fs::remove_all(work);
   report.Commit(JsonText(j));
   return ExitCode::kOk;
 }

@@ -10,6 +10,7 @@
 
 #include "rayspace/digest.h"
 #include "rayspace/error.h"
+#include "rayspace/input_file.h"
 #include "rayspace/json_text.h"
 #include "rayspace/output_file.h"
 
@@ -17,9 +18,7 @@ namespace rayspace::reproduce {
 namespace {
 
 std::string ReadText(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) ThrowInput("{}: cannot read", path.string());
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  return ReadInputFile(path, {"reproduce result", kMaxTextFileBytes});  // regular files only, bounded
 }
 
 // OutputFile registers its temporary file with the signal handler; jobs write results concurrently.
@@ -127,8 +126,12 @@ void WriteResult(const std::filesystem::path& dir, const Result& r) {
 std::optional<Result> ReadResult(const std::filesystem::path& dir, const std::string& key) {
   const std::filesystem::path path = ResultPath(dir, key);
   if (!std::filesystem::is_regular_file(path)) return std::nullopt;
-  const nlohmann::json j = nlohmann::json::parse(ReadText(path), nullptr, false);
-  if (j.is_discarded()) return std::nullopt;
+  nlohmann::json j;
+  try {
+    j = ParseJson(ReadText(path));
+  } catch (const JsonError&) {
+    return std::nullopt;  // a result half-written by a killed run is made again
+  }
   try {
     Result r = ResultFromJson(j, path.string());
     if (r.key != key) return std::nullopt;
@@ -170,9 +173,13 @@ void WriteManifest(const std::filesystem::path& dir, const Manifest& m) {
 std::optional<Manifest> ReadManifest(const std::filesystem::path& dir) {
   const std::filesystem::path path = dir / "run.json";
   if (!std::filesystem::exists(path)) return std::nullopt;
-  const nlohmann::json j = nlohmann::json::parse(ReadText(path), nullptr, false);
+  nlohmann::json j;
   try {
-    if (j.is_discarded()) ThrowInput("not JSON");
+    try {
+      j = ParseJson(ReadText(path));
+    } catch (const JsonError& e) {
+      ThrowInput("not JSON ({})", e.what());
+    }
     Manifest m;
     j.at("run").get_to(m.run);
     j.at("keys").get_to(m.keys);

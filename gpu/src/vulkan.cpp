@@ -810,7 +810,10 @@ Status Recorder::DispatchGroups(const Kernel& k, std::span<const Buffer* const> 
     return Status::Fail(fmt::format("kernel {}: {} invocations need {} x {} workgroups, beyond maxComputeWorkGroupCount",
                                     k.name_, groups * k.local_size_, gx, gy));
   if (gy > 1) ++ctx_.folded_launches_;
-  if (groups > 0) vkCmdDispatch(cmd_, gx, static_cast<std::uint32_t>(gy), 1);
+  if (groups > 0) {
+    vkCmdDispatch(cmd_, gx, static_cast<std::uint32_t>(gy), 1);
+    ++k.launches_;
+  }
   dispatched_ = true;
   if (ctx_.observer_)
     ctx_.observer_->Dispatched(*this, k, buffers, {static_cast<const std::uint8_t*>(push), push ? push_size : 0}, gx,

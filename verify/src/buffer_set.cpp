@@ -114,9 +114,9 @@ BufferSet BufferSet::Load(const std::string& dir, std::string& method) {
   const std::string text = ReadInputFile(meta, {"pass file", kMaxTextFileBytes});
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::exception& e) {
-    ThrowInput("{}: {}", meta.string(), e.what());
+    j = ParseJson(text);
+  } catch (const JsonError& e) {
+    ThrowInput("{}: invalid JSON: {}", meta.string(), e.what());
   }
   if (!j.is_object() || !j.contains("method") || !j["method"].is_string() || !j.contains("buffers") ||
       !j["buffers"].is_object())

@@ -70,6 +70,11 @@ BufferComparison CompareImpl(const std::string& pass, const std::string& buffer,
     }
     c.mismatches += differs;
   }
+  if (c.expected_elements != c.actual_elements) {
+    const std::span<const Word> longer = c.expected_elements > c.actual_elements ? expected : actual;
+    c.first_extra = longer[c.elements * words];
+    c.first_extra_is_float = float_mask & 1u;
+  }
   return c;
 }
 
@@ -87,12 +92,18 @@ BufferComparison CompareBytes(const std::string& pass, const std::string& buffer
 
 std::string BufferComparison::Summary() const {
   if (Equal()) return fmt::format("{}/{}: {} elements equal", pass, buffer, elements);
-  if (mismatches == 0)
-    return fmt::format("{}/{}: sizes differ ({} {} elements, {} {})", pass, buffer, expected_name, expected_elements, actual_name,
-                       actual_elements);
-  return fmt::format("{}/{}: {} of {} elements differ; first at {} (word {}): {} {}, {} {}{}", pass, buffer, mismatches, elements,
-                     first_index, first_word, expected_name, Show(first_expected, first_is_float), actual_name,
-                     Show(first_actual, first_is_float), has_float ? fmt::format(", max {} ULP", max_ulp) : "");
+  const std::string first = fmt::format("first at {} (word {}): {} {}, {} {}{}", first_index, first_word, expected_name,
+                                        Show(first_expected, first_is_float), actual_name, Show(first_actual, first_is_float),
+                                        has_float ? fmt::format(", max {} ULP", max_ulp) : "");
+  if (expected_elements == actual_elements)
+    return fmt::format("{}/{}: {} of {} elements differ; {}", pass, buffer, mismatches, elements, first);
+  // Sizes differ: the common elements compared too, and where the longer side goes on.
+  const std::string sizes = fmt::format("{}/{}: sizes differ ({} {} elements, {} {})", pass, buffer, expected_name,
+                                        expected_elements, actual_name, actual_elements);
+  const std::string extra = fmt::format("{} goes on at {} with {}", expected_elements > actual_elements ? expected_name : actual_name,
+                                        elements, Show(first_extra, first_extra_is_float));
+  if (mismatches == 0) return fmt::format("{}; the {} in common are equal; {}", sizes, elements, extra);
+  return fmt::format("{}; {} of the {} in common differ, {}; {}", sizes, mismatches, elements, first, extra);
 }
 
 void BufferComparison::ToJson(nlohmann::json& j) const {
@@ -103,6 +114,10 @@ void BufferComparison::ToJson(nlohmann::json& j) const {
     j["max_ulp"] = max_ulp;
     j["nan_class_matches"] = nan_class_matches;
   }
+  if (expected_elements != actual_elements)
+    j["first_extra"] = {{"index", elements},
+                        {"backend", expected_elements > actual_elements ? expected_name : actual_name},
+                        {"value", Show(first_extra, first_extra_is_float)}};
   if (mismatches)
     j["first_mismatch"] = {{"index", first_index}, {"word", first_word},
                            {"expected", Show(first_expected, first_is_float)},

@@ -113,29 +113,17 @@ class Inflater {
   z_stream zs_{};
 };
 
-// One inflate step into `out`; returns zlib's result, corrupt data thrown as an InputError.
-int InflateStep(z_stream& zs, std::string& out, const std::filesystem::path& path, const InputFile& spec) {
-  const std::size_t old = out.size();
-  out.resize(old + kChunk);
-  zs.next_out = reinterpret_cast<Bytef*>(out.data() + old);
-  zs.avail_out = static_cast<uInt>(kChunk);
-  const int ret = inflate(&zs, Z_NO_FLUSH);
-  out.resize(old + kChunk - zs.avail_out);
-  if (ret == Z_MEM_ERROR) throw std::bad_alloc();
-  if (ret == Z_DATA_ERROR || ret == Z_NEED_DICT || ret == Z_STREAM_ERROR)
-    ThrowInput("{}: {} is not valid gzip data ({})", path.string(), spec.what, zs.msg ? zs.msg : "corrupt stream");
-  if (out.size() > spec.max_bytes) TooLarge(path, spec, "decompresses to");
-  return ret;
-}
-
-// Decompresses while reading, so neither the compressed nor the decompressed data is held beyond
-// the bound. Concatenated gzip members are one file, as gzip itself reads them.
-std::string Gunzip(const Descriptor& fd, const std::filesystem::path& path, const InputFile& spec) {
+// Inflates the whole file from its start, handing each decompressed piece to `sink`; refuses corrupt,
+// truncated or empty data and more than the bound (counted as it goes, so nothing beyond the bound is
+// ever decompressed). Concatenated gzip members are one file, as gzip itself reads them. Returns the
+// decompressed size.
+template <typename Sink>
+std::uint64_t Inflate(const Descriptor& fd, const std::filesystem::path& path, const InputFile& spec, Sink&& sink) {
+  if (::lseek(fd.get(), 0, SEEK_SET) != 0) ThrowInput("{}: cannot read {}: {}", path.string(), spec.what, ErrnoText(errno));
   Inflater inflater;
   z_stream& zs = inflater.z();
-  std::vector<unsigned char> in(kChunk);
-  std::string out;
-  std::uint64_t compressed = 0;
+  std::vector<unsigned char> in(kChunk), out(kChunk);
+  std::uint64_t compressed = 0, total = 0;
   bool eof = false;
   int ret = Z_OK;
   for (;;) {
@@ -150,11 +138,41 @@ std::string Gunzip(const Descriptor& fd, const std::filesystem::path& path, cons
     if (zs.avail_in == 0 && eof) {
       if (compressed == 0) ThrowInput("{}: {} is empty, not gzip data", path.string(), spec.what);
       if (ret != Z_STREAM_END) ThrowInput("{}: {} is truncated gzip data (it ends inside the stream)", path.string(), spec.what);
-      return out;
+      return total;
     }
     if (ret == Z_STREAM_END) inflateReset(&zs);
-    ret = InflateStep(zs, out, path, spec);
+    zs.next_out = out.data();
+    zs.avail_out = static_cast<uInt>(out.size());
+    ret = inflate(&zs, Z_NO_FLUSH);
+    if (ret == Z_MEM_ERROR) throw std::bad_alloc();
+    if (ret == Z_DATA_ERROR || ret == Z_NEED_DICT || ret == Z_STREAM_ERROR)
+      ThrowInput("{}: {} is not valid gzip data ({})", path.string(), spec.what, zs.msg ? zs.msg : "corrupt stream");
+    const std::size_t n = out.size() - zs.avail_out;
+    if (total + n > spec.max_bytes) TooLarge(path, spec, "decompresses to");
+    sink(std::string_view(reinterpret_cast<const char*>(out.data()), n), total);
+    total += n;
   }
+}
+
+// Two passes: the first checks the data (size, framing, and for text a NUL byte, each refused where
+// it is met) and keeps nothing; the second keeps it in a string of exactly its size. A bomb or a file
+// of NUL bytes fails after reading no more than the bound or up to the first NUL, and memory never
+// exceeds the decompressed size (a growing string would peak at twice it).
+std::string Gunzip(const Descriptor& fd, const std::filesystem::path& path, const InputFile& spec) {
+  const std::uint64_t size = Inflate(fd, path, spec, [&](std::string_view piece, std::uint64_t at) {
+    if (!spec.text) return;
+    if (const std::size_t nul = piece.find('\0'); nul != std::string_view::npos)
+      ThrowInput("{}: {} holds a NUL byte at decompressed byte {}, and it is a text file", path.string(), spec.what,
+                 at + nul + 1);
+  });
+  std::string data;
+  data.reserve(static_cast<std::size_t>(size));
+  Inflate(fd, path, spec, [&](std::string_view piece, std::uint64_t) {
+    if (data.size() + piece.size() > size) ThrowInput("{}: {} changed while it was read", path.string(), spec.what);
+    data.append(piece);
+  });
+  if (data.size() != size) ThrowInput("{}: {} changed while it was read", path.string(), spec.what);
+  return data;
 }
 
 }  // namespace

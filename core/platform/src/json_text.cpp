@@ -1,6 +1,8 @@
 #include "rayspace/json_text.h"
 
 #include <cerrno>
+#include <set>
+#include <vector>
 
 #include <fmt/format.h>
 #include <iconv.h>
@@ -84,6 +86,30 @@ std::string EscapeInvalidUtf8(std::string_view s) {
 
 std::string JsonText(const nlohmann::json& j, int indent) {
   return (HasInvalid(j) ? Escaped(j) : j).dump(indent) + "\n";
+}
+
+nlohmann::json ParseJson(std::string_view text) {
+  if (const std::size_t nul = text.find('\0'); nul != std::string_view::npos)
+    throw JsonError(fmt::format("byte {}: a NUL byte", nul + 1));
+  std::vector<std::set<std::string>> keys;  // per open object, the keys it has
+  const nlohmann::json::parser_callback_t check = [&keys](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+    using E = nlohmann::json::parse_event_t;
+    if ((event == E::object_start || event == E::array_start) && depth >= kMaxJsonDepth)
+      throw JsonError(fmt::format("nested deeper than {} arrays and objects", kMaxJsonDepth));
+    if (event == E::object_start) keys.emplace_back();
+    if (event == E::object_end && !keys.empty()) keys.pop_back();
+    if (event == E::key && !keys.empty() && !keys.back().insert(parsed.get<std::string>()).second)
+      throw JsonError(fmt::format("the key \"{}\" is given twice in one object", EscapeInvalidUtf8(parsed.get<std::string>())));
+    return true;
+  };
+  try {
+    return nlohmann::json::parse(text, check);
+  } catch (const nlohmann::json::exception& e) {  // syntax errors and number overflow (1e400) alike
+    std::string what = e.what();
+    if (auto p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);
+    if (what.rfind("parse error at ", 0) == 0) what = what.substr(15);
+    throw JsonError(what);
+  }
 }
 
 }  // namespace rayspace

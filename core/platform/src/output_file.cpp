@@ -224,14 +224,61 @@ void PublishAll(const std::vector<OutputFile*>& outputs) {
     if (o) o->Publish();
 }
 
-void CheckDistinctOutputs(const std::vector<const OutputFile*>& outputs) {
+namespace {
+// Two outputs are one file when their (st_dev, st_ino) match (hard links, symbolic links, any
+// spelling), or, for a file not there yet, when their absolute, weakly canonical paths do.
+struct FileIdentity {
+  bool exists = false;
+  dev_t dev = 0;
+  ino_t ino = 0;
+  fs::path path;
+  bool operator==(const FileIdentity& o) const {
+    return exists == o.exists && (exists ? dev == o.dev && ino == o.ino : path == o.path);
+  }
+};
+
+FileIdentity IdentityOf(const fs::path& p) {
+  FileIdentity id;
+  struct stat st {};
+  if (::stat(p.c_str(), &st) == 0) {
+    id.exists = true;
+    id.dev = st.st_dev;
+    id.ino = st.st_ino;
+    return id;
+  }
   std::error_code ec;
+  const fs::path abs = fs::absolute(p, ec);
+  id.path = fs::weakly_canonical(ec ? p : abs, ec).lexically_normal();
+  if (ec) id.path = abs.lexically_normal();
+  return id;
+}
+}  // namespace
+
+bool MakeOutputDirectory(const std::string& dir, std::string_view option) {
+  std::error_code ec;
+  fs::path p = fs::path(dir).lexically_normal();
+  if (p.has_filename() == false && p.has_parent_path()) p = p.parent_path();  // "a/b/" -> "a/b"
+  const fs::file_status st = fs::status(p, ec);
+  if (fs::exists(st)) {
+    if (!fs::is_directory(st)) ThrowInput("{} {}: not a directory", option, dir);
+    return false;
+  }
+  const fs::path parent = p.has_parent_path() ? p.parent_path() : fs::path(".");
+  if (!fs::is_directory(parent, ec))
+    ThrowInput("{} {}: the directory {} does not exist; an output directory is created, its parents are not", option, dir,
+               parent.string());
+  fs::create_directory(p, ec);
+  if (ec) ThrowInput("{} {}: cannot create the directory ({})", option, dir, ec.message());
+  return true;
+}
+
+void CheckDistinctOutputs(const std::vector<const OutputFile*>& outputs) {
   for (std::size_t i = 0; i < outputs.size(); ++i) {
     if (!outputs[i] || outputs[i]->empty() || outputs[i]->is_stdout()) continue;
-    const fs::path a = fs::weakly_canonical(outputs[i]->target(), ec);
+    const FileIdentity a = IdentityOf(outputs[i]->target());
     for (std::size_t j = 0; j < i; ++j) {
       if (!outputs[j] || outputs[j]->empty() || outputs[j]->is_stdout()) continue;
-      if (fs::weakly_canonical(outputs[j]->target(), ec) == a)
+      if (IdentityOf(outputs[j]->target()) == a)
         ThrowInput("{}: given as {} and as {}: each output needs its own file", outputs[i]->path(), outputs[j]->what(),
                    outputs[i]->what());
     }

@@ -130,7 +130,7 @@ void CheckParsed(const std::filesystem::path& path, const ParsedObj& parsed, con
 }  // namespace
 
 MeshData LoadObj(const std::filesystem::path& path) {
-  std::string text = ReadInputFile(path, {"mesh", kMaxDataFileBytes, Gzip::kByExtension});
+  std::string text = ReadInputFile(path, {"mesh", kMaxDataFileBytes, Gzip::kByExtension, true});
   obj_text::NormaliseLineEnds(text, path.string());
   const ObjCounts counts = ValidateObjText(path, text);
   const ParsedObj parsed = ParseObj(path, text);

@@ -12,6 +12,7 @@
 #include "json_checks.h"
 #include "rayspace/error.h"
 #include "rayspace/input_file.h"
+#include "rayspace/json_text.h"
 #include "rayspace/layout.h"
 #include "rayspace/procedural.h"
 #include "rayspace/scene.h"
@@ -223,11 +224,9 @@ json ParseFile(const std::filesystem::path& path) {
   const std::string text = ReadInputFile(path, {"scene file", kMaxTextFileBytes});
   json root;
   try {
-    root = json::parse(text);
-  } catch (const json::exception& e) {  // syntax errors and number overflow (1e400) alike
-    std::string what = e.what();
-    if (auto p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);
-    ThrowInput("{}: invalid JSON: {}", path.string(), what);
+    root = ParseJson(text);
+  } catch (const JsonError& e) {  // syntax errors, number overflow (1e400), depth, duplicate keys, NUL bytes
+    ThrowInput("{}: invalid JSON: {}", path.string(), e.what());
   }
   return root;
 }

@@ -22,6 +22,9 @@ struct BufferComparison {
   std::size_t first_index = 0, first_word = 0;
   std::uint32_t first_expected = 0, first_actual = 0;
   bool first_is_float = false;
+  // When sizes differ: the longer side's first element past the common ones (its first word).
+  std::uint32_t first_extra = 0;
+  bool first_extra_is_float = false;
   // Which side computed each buffer (diff: the emulator and the Vulkan kernels), named in Summary and
   // in the JSON beside the values.
   std::string expected_name = "expected", actual_name = "actual";

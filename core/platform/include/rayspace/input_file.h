@@ -25,6 +25,7 @@ struct InputFile {
   std::string_view what;           // the file's role in messages: "scene file", "mesh", "material file"
   std::uint64_t max_bytes = kMaxTextFileBytes;  // decompressed, for gzip (and compressed too)
   Gzip gzip = Gzip::kNo;  // kByExtension: a name ending in ".gz" is gzip data, decompressed while read
+  bool text = false;      // a text format (OBJ, MTL): gzip data holding a NUL byte is refused where it is met
 };
 
 // The whole file, decompressed when asked. Throws InputError naming the file when it cannot be

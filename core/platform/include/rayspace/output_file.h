@@ -71,6 +71,11 @@ class OutputFile {
   int slot_ = -1;       // the temporary file's entry in the signal handler's list
 };
 
+// An output directory given as `option` (e.g. "--save-inputs"): creates `dir` itself if it is missing,
+// never its parents. Throws InputError naming the option when the parent directory does not exist,
+// `dir` is not a directory, or it cannot be created. Returns whether it was created here.
+bool MakeOutputDirectory(const std::string& dir, std::string_view option);
+
 // Throws InputError when two of `outputs` would land in the same file.
 void CheckDistinctOutputs(const std::vector<const OutputFile*>& outputs);
 // Publishes every written output of `outputs`.

@@ -64,6 +64,8 @@ class VulkanPasses {
   std::size_t extra_dispatches() const { return extra_dispatches_; }
   // Arrays bound over more than one page so far (for reports and tests).
   std::size_t paged_arrays() const { return paged_arrays_; }
+  // Launches of the pass's kernel so far, over the device's life (0 for the raster, a graphics pass).
+  std::uint64_t launches(PassId id) const { return K(id).launches(); }
 
  private:
   vk::Status ReduceInParts(std::span<const std::uint8_t> flags, std::span<const std::uint32_t> values, std::uint32_t s,

@@ -112,12 +112,16 @@ class Kernel {
   const std::string& name() const { return name_; }
   std::uint32_t local_size() const { return local_size_; }
   std::uint32_t bindings() const { return bindings_; }
+  // Launches of at least one workgroup recorded so far: whether the kernel ran at all (a user's
+  // kernel the run never launches is not tested by it).
+  std::uint64_t launches() const { return launches_; }
 
  private:
   friend class Context;
   friend class Recorder;
   VkDevice device_ = VK_NULL_HANDLE;
   std::string name_;
+  mutable std::uint64_t launches_ = 0;
   std::uint32_t bindings_ = 0, local_size_ = 64;
   VkShaderModule module_ = VK_NULL_HANDLE;
   VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
