@@ -332,9 +332,12 @@ nlohmann::json RecordedOptions(const Args& args, const Backend& gpu) {
 
 // --save-inputs: a new or empty directory, so that the calls of different runs never mix, in which a
 // file can be created.
-void PrepareSaveDir(const std::string& dir) {
+// The directory the saved calls go into, watched until the diff's verdict: an error or a signal
+// (SIGTERM, SIGINT, ...) before it leaves the directory as it was found (gone, or empty), never
+// half-filled. Null without --save-inputs.
+std::unique_ptr<TempDirectory> PrepareSaveDir(const std::string& dir) {
   namespace fs = std::filesystem;
-  if (dir.empty()) return;
+  if (dir.empty()) return nullptr;
   std::error_code ec;
   const fs::file_status st = fs::status(dir, ec);
   if (fs::exists(st) && !fs::is_directory(st)) ThrowInput("--save-inputs {}: not a directory", dir);
@@ -345,8 +348,13 @@ void PrepareSaveDir(const std::string& dir) {
       ThrowInput("--save-inputs {}: the directory is not empty; give a new or empty one, so that the saved calls of "
                  "different runs do not mix", dir);
   }
-  MakeOutputDirectory(dir, "--save-inputs");
+  const bool created = MakeOutputDirectory(dir, "--save-inputs");
   OpenOutput(dir + "/pass.json", "the saved inputs", nullptr, false);  // its temporary file goes again
+  if (created) {
+    fs::remove(dir, ec);  // TempDirectory makes it again, to remove it on failure
+    return std::make_unique<TempDirectory>(dir);
+  }
+  return std::make_unique<TempDirectory>(dir, true);
 }
 
 // The frame's tracer: a hierarchy whose passes go through the Differ, or a host tracer (brute,
@@ -552,7 +560,7 @@ ExitCode RunDiff(const DiffArgs& args) {
   buffers.one_sided = one_sided;
   CheckFrameFits(gpu, fo.width, fo.height, ShadowSlotsPerSurface(scene.lights), buffers.triangles.size(), SizeFrom(args.size, scene));
   if (args.algo == "grid") CheckGridBuild(gpu);
-  PrepareSaveDir(args.save_inputs);  // last: it creates the directory
+  const std::unique_ptr<TempDirectory> saving = PrepareSaveDir(args.save_inputs);  // last: it creates the directory
 
   nlohmann::json j;
   ExitCode verdict = ExitCode::kOk;
@@ -576,6 +584,7 @@ ExitCode RunDiff(const DiffArgs& args) {
     }
   }
   AddProvenance(j);
+  if (saving) saving->Keep();  // every frame ran to its verdict: the saved calls are complete
   return WriteOutputs(verdict, [&] { report.Commit(JsonText(j)); });
 }
 

@@ -204,6 +204,37 @@ execute_process(COMMAND "${RAYSPACE}" mutate "${WORK}/missing.json" --limit 1 RE
 if(NOT rc EQUAL 2 OR NOT err MATCHES "missing.json")
   string(APPEND FAILURES "\na missing scene: exit ${rc}, ${err}")
 endif()
+# Every argument is checked before any work: each refusal comes at once (well under the baseline's
+# seconds), with exit 2 naming the flag.
+file(WRITE "${WORK}/garbage.json" "[1, 2")
+file(WRITE "${WORK}/afile" "")
+foreach(bad "--only;(" "--limit;-1" "--survivors;${WORK}/garbage.json" "--work;${WORK}/afile")
+  string(TIMESTAMP t0 "%s")
+  execute_process(COMMAND "${RAYSPACE}" mutate "${SRC}/scenes/cornell-mirrors.json" ${bad} RESULT_VARIABLE rc OUTPUT_QUIET
+                  ERROR_VARIABLE err TIMEOUT 300)
+  string(TIMESTAMP t1 "%s")
+  math(EXPR took "${t1} - ${t0}")
+  list(GET bad 0 flag)
+  if(NOT rc EQUAL 2 OR NOT err MATCHES "${flag}" OR took GREATER 5)
+    string(APPEND FAILURES "\n${bad}: exit ${rc} after ${took} s, expected 2 at once naming ${flag}: ${err}")
+  endif()
+endforeach()
+# Its scratch directory under $TMPDIR goes on every exit: 0 (--list), 2, and SIGTERM mid-run.
+set(tmp "${WORK}/tmpdir")
+file(REMOVE_RECURSE "${tmp}")
+file(MAKE_DIRECTORY "${tmp}")
+execute_process(COMMAND ${CMAKE_COMMAND} -E env TMPDIR=${tmp} "${RAYSPACE}" mutate "${SRC}/scenes/cornell-mirrors.json" --list --limit 2
+                        --config crsh RESULT_VARIABLE rc_list OUTPUT_QUIET ERROR_VARIABLE err TIMEOUT 300)
+execute_process(COMMAND ${CMAKE_COMMAND} -E env TMPDIR=${tmp} "${RAYSPACE}" mutate "${SRC}/scenes/cornell-mirrors.json" --config nosuch
+                RESULT_VARIABLE rc_bad OUTPUT_QUIET ERROR_QUIET TIMEOUT 300)
+execute_process(COMMAND ${CMAKE_COMMAND} -E env TMPDIR=${tmp} timeout -s TERM 4 "${RAYSPACE}" mutate
+                        "${SRC}/scenes/cornell-mirrors.json" --limit 5 --config crsh
+                RESULT_VARIABLE rc_term OUTPUT_QUIET ERROR_QUIET TIMEOUT 300)
+file(GLOB left "${tmp}/*")
+if(NOT rc_list EQUAL 0 OR NOT rc_bad EQUAL 2 OR NOT rc_term EQUAL 124 OR left)
+  string(APPEND FAILURES "\nscratch directory: --list exit ${rc_list}, a bad --config exit ${rc_bad}, SIGTERM after 4 s exit ${rc_term} (124: "
+                         "timeout's), left under TMPDIR: ${left}; ${err}")
+endif()
 
 endif()
 

@@ -52,6 +52,10 @@ bad_call("--harness 'nope': unknown harness (known: " --harness nope --seconds 5
 bad_call("--harness 'nope'" --harness scene_load,nope --seconds 5)
 bad_call("--seconds needs a value" --harness scene_load --seconds)
 bad_call("unexpected argument '--bogus'" --harness scene_load --seconds 5 --bogus)
+bad_call("--seed '0'" --harness scene_load --seconds 5 --seed 0)
+bad_call("--seed 'x1'" --harness scene_load --seconds 5 --seed x1)
+bad_call("--seed '4294967296'" --harness scene_load --seconds 5 --seed 4294967296)
+bad_call("--seed needs a value" --harness scene_load --seconds 5 --seed)
 
 math(EXPR CASES "${CASES} + 1")
 execute_process(COMMAND bash "${RUN_SH}" --help RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 30)

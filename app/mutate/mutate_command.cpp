@@ -457,24 +457,22 @@ void CheckArgs(const MutateArgs& args) {
 }
 
 // The run's work directory: --work as given (kept), or a fresh one under $TMPDIR removed on every
-// exit from RunMutate, an error's included.
+// exit from RunMutate, an error's and a signal's included (TempDirectory).
 class WorkDir {
  public:
-  explicit WorkDir(const std::string& given) : keep_(!given.empty()) {
-    path_ = keep_ ? fs::path(given) : fs::temp_directory_path() / fmt::format("rayspace-mutate-{}", ::getpid());
-    if (keep_) MakeOutputDirectory(given, "--work");
-    else fs::create_directories(path_);
+  explicit WorkDir(const std::string& given) {
+    if (!given.empty()) {
+      MakeOutputDirectory(given, "--work");
+      path_ = given;
+      return;
+    }
+    temp_ = std::make_unique<TempDirectory>(fs::temp_directory_path() / fmt::format("rayspace-mutate-{}", ::getpid()));
+    path_ = temp_->path();
   }
-  ~WorkDir() {
-    std::error_code ec;
-    if (!keep_) fs::remove_all(path_, ec);
-  }
-  WorkDir(const WorkDir&) = delete;
-  WorkDir& operator=(const WorkDir&) = delete;
   const fs::path& path() const { return path_; }
 
  private:
-  bool keep_;
+  std::unique_ptr<TempDirectory> temp_;
   fs::path path_;
 };
 

@@ -3,6 +3,7 @@
 #include <atomic>
 #include <climits>
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -10,7 +11,9 @@
 #include <utility>
 
 #include <fcntl.h>
+#include <dirent.h>
 #include <sys/stat.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 
 #include "rayspace/error.h"
@@ -20,10 +23,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The temporary files alive now, for the signal handler: it may only read plain memory and call
-// unlink, so the paths live in fixed slots, each published by its `used` flag.
+// The temporary files and directories alive now, for the signal handler: it may only read plain
+// memory and make async-signal-safe calls, so the paths live in fixed slots, each published by its
+// `used` flag.
+enum class TempKind : unsigned char { kFile, kDirectory, kContents };  // kContents: empty it, keep it
 struct TempSlot {
   std::atomic<bool> used{false};
+  TempKind kind = TempKind::kFile;
   char path[PATH_MAX] = {};
 };
 constexpr int kTempSlots = 64;
@@ -31,9 +37,53 @@ TempSlot g_temps[kTempSlots];
 std::mutex g_temps_mutex;  // slot allocation only; the handler never takes it
 std::atomic<bool> g_stdout_taken{false};
 
+// Removes the tree under the open directory `dir` with async-signal-safe calls only (getdents64,
+// openat, unlinkat, close): no allocation, no locks. Closes `dir`. A tree deeper than kMaxDepth
+// keeps what lies below (rayspace's own trees are three levels deep).
+void RemoveTreeAt(int dir, int depth) noexcept {
+  constexpr int kMaxDepth = 16;
+  alignas(8) char buffer[4096];
+  for (;;) {
+    const long n = ::syscall(SYS_getdents64, dir, buffer, sizeof buffer);
+    if (n <= 0) break;
+    bool removed = false;
+    for (long off = 0; off < n;) {
+      struct Entry {
+        std::uint64_t ino;
+        std::int64_t next;
+        unsigned short reclen;
+        unsigned char type;
+        char name[1];
+      };
+      const auto* e = reinterpret_cast<const Entry*>(buffer + off);
+      off += e->reclen;
+      if (e->name[0] == '.' && (e->name[1] == 0 || (e->name[1] == '.' && e->name[2] == 0))) continue;
+      if (e->type == DT_DIR && depth < kMaxDepth) {
+        const int sub = ::openat(dir, e->name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+        if (sub >= 0) RemoveTreeAt(sub, depth + 1);
+        ::unlinkat(dir, e->name, AT_REMOVEDIR);
+      } else {
+        ::unlinkat(dir, e->name, 0);
+      }
+      removed = true;
+    }
+    // Entries removed while listing: read the directory again from its start.
+    if (removed) ::lseek(dir, 0, SEEK_SET);
+  }
+  ::close(dir);
+}
+
 void RemoveTemps() noexcept {
-  for (TempSlot& s : g_temps)
-    if (s.used.load(std::memory_order_acquire)) ::unlink(s.path);
+  for (TempSlot& s : g_temps) {
+    if (!s.used.load(std::memory_order_acquire)) continue;
+    if (s.kind == TempKind::kFile) {
+      ::unlink(s.path);
+      continue;
+    }
+    const int dir = ::open(s.path, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (dir >= 0) RemoveTreeAt(dir, 0);
+    if (s.kind == TempKind::kDirectory) ::rmdir(s.path);
+  }
 }
 
 extern "C" void RemoveTempsAndDie(int sig) {
@@ -62,7 +112,7 @@ void InstallHandlers() {
   }
 }
 
-int RegisterTemp(const std::string& path) {
+int RegisterTemp(const std::string& path, TempKind kind = TempKind::kFile) {
   static std::once_flag installed;
   std::call_once(installed, InstallHandlers);
   if (path.size() >= PATH_MAX) return -1;
@@ -70,6 +120,7 @@ int RegisterTemp(const std::string& path) {
   for (int i = 0; i < kTempSlots; ++i) {
     if (g_temps[i].used.load(std::memory_order_relaxed)) continue;
     std::memcpy(g_temps[i].path, path.c_str(), path.size() + 1);
+    g_temps[i].kind = kind;
     g_temps[i].used.store(true, std::memory_order_release);
     return i;
   }
@@ -283,6 +334,34 @@ void CheckDistinctOutputs(const std::vector<const OutputFile*>& outputs) {
                    outputs[i]->what());
     }
   }
+}
+
+TempDirectory::TempDirectory(const std::filesystem::path& path, bool adopt) : path_(path), adopted_(adopt) {
+  std::error_code ec;
+  if (adopt) {
+    if (!fs::is_directory(path_, ec) || !fs::is_empty(path_, ec))
+      ThrowInput("{}: expected an empty directory", path_.string());
+  } else if (!fs::create_directory(path_, ec) || ec) {
+    ThrowInput("{}: cannot create the directory ({})", path_.string(), ec ? ec.message() : "it exists");
+  }
+  slot_ = RegisterTemp(fs::absolute(path_, ec).string(), adopt ? TempKind::kContents : TempKind::kDirectory);
+}
+
+TempDirectory::~TempDirectory() {
+  if (path_.empty()) return;
+  UnregisterTemp(slot_);
+  std::error_code ec;
+  if (!adopted_) {
+    fs::remove_all(path_, ec);
+    return;
+  }
+  for (const auto& e : fs::directory_iterator(path_, ec)) fs::remove_all(e.path(), ec);
+}
+
+void TempDirectory::Keep() {
+  UnregisterTemp(slot_);
+  slot_ = -1;
+  path_.clear();
 }
 
 }  // namespace rayspace

@@ -76,6 +76,28 @@ class OutputFile {
 // `dir` is not a directory, or it cannot be created. Returns whether it was created here.
 bool MakeOutputDirectory(const std::string& dir, std::string_view option);
 
+// A directory that holds something only while it is being filled: removed with everything in it
+// (or, adopted, emptied) when the object goes, at exit, and by SIGINT, SIGTERM, SIGHUP and SIGABRT
+// (async-signal-safe), unless Keep was called. A run's scratch directory under $TMPDIR, or an output
+// directory that must not be left half-written (diff --save-inputs).
+class TempDirectory {
+ public:
+  // Creates `path` (its parent must exist), or with `adopt` takes the empty directory there, which is
+  // emptied rather than removed. Throws InputError naming it when it cannot.
+  explicit TempDirectory(const std::filesystem::path& path, bool adopt = false);
+  ~TempDirectory();
+  TempDirectory(const TempDirectory&) = delete;
+  TempDirectory& operator=(const TempDirectory&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+  // The directory is complete: it stays, and is no longer watched.
+  void Keep();
+
+ private:
+  std::filesystem::path path_;
+  bool adopted_ = false;
+  int slot_ = -1;
+};
+
 // Throws InputError when two of `outputs` would land in the same file.
 void CheckDistinctOutputs(const std::vector<const OutputFile*>& outputs);
 // Publishes every written output of `outputs`.
