@@ -1,5 +1,8 @@
 #include "statistics.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include <nlohmann/json.hpp>
 
 #include "rayspace/error.h"
@@ -106,6 +109,10 @@ Statistics GridStatistics(const emu::GridTracer& tracer, std::size_t triangles) 
     s.brute_force += t.brute_force;
   }
   return s;
+}
+
+int ShareDecimals(double percent) {
+  return percent > 0 ? std::clamp(2 - static_cast<int>(std::floor(std::log10(percent))), 2, 9) : 2;
 }
 
 Statistics BruteStatistics(const emu::FrameResult& frame, std::size_t triangles) {
@@ -308,7 +315,10 @@ void PrintType(std::FILE* out, std::uint32_t kind, const Statistics::PerType& t,
   const std::pair<const char*, std::uint64_t> shares[2] = {{"% OF BRUTE FORCE", t.brute_force}, {"% OF FRAME BF", frame_bf}};
   for (const auto& [name, whole] : shares) {
     PrintRow(out, kind, name);
-    for (int L = depth; L >= 1; --L) std::fprintf(out, " %15.2f%%", Percent(t.levels[L - 1].intersections, whole));
+    for (int L = depth; L >= 1; --L) {
+      const double v = Percent(t.levels[L - 1].intersections, whole);
+      std::fprintf(out, " %15.*f%%", ShareDecimals(v), v);
+    }
     std::fprintf(out, "\n");
   }
   if (t.leaf_sphere_tests > 0) {

@@ -3,8 +3,6 @@
 #include <png.h>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <vector>
 
 #include <doctest/doctest.h>
@@ -12,24 +10,11 @@
 #include "rayspace/error.h"
 #include "rayspace/image_io.h"
 #include "rayspace/output_file.h"
+#include "test_util.h"
 
 namespace fs = std::filesystem;
 
 namespace {
-
-fs::path FreshDir() {
-  const fs::path dir = fs::temp_directory_path() / "rayspace-image-io";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string Read(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
 
 void Write(const fs::path& p, int w, int h, const std::vector<std::uint8_t>& rgb) {
   rayspace::CheckImageFormat(p.string());
@@ -58,23 +43,23 @@ std::vector<std::uint8_t> Decode(const std::string& bytes, int w, int h) {
 }  // namespace
 
 TEST_CASE("image files: a PNG holds exactly the pixels written, and the same pixels give the same bytes") {
-  const fs::path dir = FreshDir();
+  const rayspace::test::TempDir tmp;
+  const fs::path& dir = tmp.path();
   const int w = 5, h = 3;  // odd sizes: no row padding hides a stride error
   std::vector<std::uint8_t> rgb(static_cast<std::size_t>(w) * h * 3);
   for (std::size_t i = 0; i < rgb.size(); ++i) rgb[i] = static_cast<std::uint8_t>(i * 37 + 11);
   Write(dir / "a.png", w, h, rgb);
   Write(dir / "b.PNG", w, h, rgb);  // the extension in any case
-  const std::string a = Read(dir / "a.png");
+  const std::string a = tmp.Read("a.png");
   REQUIRE(a.size() > 8);
   CHECK(a.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0);
   CHECK(Decode(a, w, h) == rgb);
-  CHECK(Read(dir / "b.PNG") == a);
+  CHECK(tmp.Read("b.PNG") == a);
   // A pixel changed is a pixel decoded changed: the test can see a wrong image.
   rgb[7] ^= 1;
   Write(dir / "c.png", w, h, rgb);
-  CHECK(Decode(Read(dir / "c.png"), w, h) == rgb);
-  CHECK(Read(dir / "c.png") != a);
-  fs::remove_all(dir);
+  CHECK(Decode(tmp.Read("c.png"), w, h) == rgb);
+  CHECK(tmp.Read("c.png") != a);
 }
 
 TEST_CASE("image files: a name without an image extension is refused, naming it") {
