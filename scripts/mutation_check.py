@@ -405,22 +405,28 @@ def parse_args(argv):
     if args.build and not os.path.isfile(os.path.join(args.build, "CMakeCache.txt")):
         ap.error(f"--build '{args.build}': not a configured build (no CMakeCache.txt)")
     files_given = args.files is not None
+    args.file_patterns = args.files or (TIER_FILES if args.tiers else DEFAULT_FILES)
+    args.kernel_patterns = () if files_given else KERNEL_FILES
     files = []
-    for pattern in args.files or (TIER_FILES if args.tiers else DEFAULT_FILES):
-        found = sorted(os.path.relpath(p, args.source) for p in glob.glob(os.path.join(args.source, pattern)))
+    for pattern in args.file_patterns:
+        found = listed(args.source, [pattern])
         if not found:
             ap.error(f"--files '{pattern}': no such source under {args.source}")
         files.extend(found)
     args.files = sorted(set(files))
     args.work = args.work or os.path.join(args.source, "build", "mutation")
     if args.tiers:
-        args.kernel_files = [] if files_given else sorted(
-            os.path.relpath(p, args.source) for pattern in KERNEL_FILES for p in glob.glob(os.path.join(args.source, pattern)))
+        args.kernel_files = listed(args.source, args.kernel_patterns)
         data = os.path.join(os.path.dirname(os.path.abspath(args.source)), "shared", "scenes")
         args.cmake_arg = args.cmake_arg or ["-DCMAKE_BUILD_TYPE=Release", "-DRAYSPACE_VULKAN=ON",
                                             f"-DRAYSPACE_TEST_DATA_ROOT={data}"]
     args.cmake_arg = args.cmake_arg or ["-DCMAKE_BUILD_TYPE=RelWithDebInfo", "-DRAYSPACE_VULKAN=OFF"]
     return args
+
+
+def listed(root, patterns):
+    """The files under `root` the glob patterns name, relative to it, sorted."""
+    return sorted({os.path.relpath(p, root) for pattern in patterns for p in glob.glob(os.path.join(root, pattern))})
 
 
 def sample_of(args, source):
@@ -488,6 +494,9 @@ def main(argv):
         src, build = configured_copy(args, refresh=not args.resume)
         with open(marker, encoding="utf-8") as f:
             commit = f.read().strip()
+        # The files too come from the copy: the checkout may have gained or lost some since.
+        args.files = listed(src, args.file_patterns)
+        args.kernel_files = listed(src, args.kernel_patterns)
         sample = sample_of(args, src)
         src, build = prepare_tiers(args, baseline_passed=args.resume)
         # The unmutated tiers passed: a report from here on lets --resume skip them.
