@@ -1,6 +1,7 @@
 // Helpers shared by the CLI's subcommands.
 #pragma once
 #include <cstdio>
+#include <filesystem>
 #include <regex>
 #include <string>
 #include <utility>
@@ -54,6 +55,8 @@ ExitCode WriteOutputs(ExitCode verdict, Write&& write) {
 // when given (>= 0).
 inline Scene LoadSceneForFrame(const std::string& path, const std::string& data, const std::string& size, int& width,
                                int& height, int bounces = -1) {
+  if (std::error_code ec; !data.empty() && !std::filesystem::is_directory(data, ec))
+    ThrowInput("--data {}: not a directory (the data root, docs/data.md)", data);
   LoadOptions lo;
   lo.data_root = data;
   Scene scene = LoadScene(path, lo);

@@ -288,6 +288,17 @@ rayspace::app::ExitCode Run(const Commands& cmds) {
 
 }  // namespace
 
+// An empty value is never what a user means by a path, a size or a name: `--out ""` would fall
+// back to the default as if the option were absent. Every option and argument that takes a value
+// refuses an empty one, except --inject, where "" means no fault (replay: without the recorded one).
+void RefuseEmptyValues(CLI::App& app) {
+  const CLI::Validator non_empty([](const std::string& v) { return v.empty() ? std::string("an empty value") : std::string(); },
+                                 "", "NONEMPTY");
+  for (CLI::Option* o : app.get_options())
+    if (o->get_items_expected_min() > 0 && o->get_name() != "--inject") o->check(non_empty);
+  for (CLI::App* sub : app.get_subcommands({})) RefuseEmptyValues(*sub);
+}
+
 int main(int argc, char** argv) {
   using rayspace::app::ExitCode;
   CLI::App app{"rayspace: emulator and verification suite for GPU secondary-ray tracing with ray-space hierarchies"};
@@ -316,6 +327,7 @@ int main(int argc, char** argv) {
                                                    "device used without --device and how diff compares on it");
   rayspace::app::AddDeviceLacksOption(*cmds.devices_cmd);
 #endif
+  RefuseEmptyValues(app);
   rayspace::app::SetArguments(argc, argv);
   try {
     app.parse(argc, argv);

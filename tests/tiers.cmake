@@ -45,6 +45,9 @@ set(rayspace_full_tier
   # scenes in cli.backend, cli.tl, cli.grid, cli.hierarchy and the doctest cases.
   "^cli\\.(data|tl\\.data|grid\\.data|backend\\.sponza|hierarchy\\.sponza|sponza_thesis)$"
   "^docs\\.numbers$"
+  # Hundreds of malformed scenes, meshes, flag values and output paths: each class of bad input has
+  # its cases in cli.errors, cli.inputs and cli.outputs.
+  "^hostile\\.inputs$"
 )
 
 # Seconds a test may take before ctest stops it, unless it sets its own TIMEOUT: the slowest test

@@ -268,9 +268,9 @@ json Explanations(const std::string& given) {
   }
   try {
     const json j = ParseJson(ReadInputFile(path, {"survivors file", kMaxTextFileBytes}));
-    if (!j.is_object() || (j.contains("mutants") && !j["mutants"].is_object()))
-      ThrowInput("--survivors '{}': expected an object whose \"mutants\" is an object", path);
-    return j.value("mutants", json::object());
+    if (!j.is_object() || !j.contains("mutants") || !j["mutants"].is_object())
+      ThrowInput("--survivors '{}': expected an object whose \"mutants\" is an object of explained survivors", path);
+    return j["mutants"];
   } catch (const JsonError& e) {
     ThrowInput("--survivors '{}': not JSON ({})", path, e.what());
   }

@@ -187,7 +187,7 @@ DiffRun RunReporting(int timeout, const std::string& args, const fs::path& dir) 
   const fs::path report = dir / "report.json", log = dir / "diff.log";
   std::error_code ec;
   fs::remove(report, ec);
-  const std::string cmd = fmt::format("timeout -s KILL {} {} {} --report {} > {} 2>&1", timeout, Quote(SelfExe()), args,
+  const std::string cmd = fmt::format("timeout --foreground -s KILL {} {} {} --report {} > {} 2>&1", timeout, Quote(SelfExe()), args,
                                       Quote(report.string()), Quote(log.string()));
   const auto t0 = std::chrono::steady_clock::now();
   DiffRun r;

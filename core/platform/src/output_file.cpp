@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <mutex>
 #include <utility>
 
@@ -87,6 +88,22 @@ void RemoveTemps() noexcept {
 }
 
 extern "C" void RemoveTempsAndDie(int sig) {
+  // Other threads run on until the process dies and may create files in a watched directory after
+  // this thread emptied it: a forked cleaner (_Fork: async-signal-safe) waits for this process to be
+  // gone, then removes the directories once more.
+  bool directories = false;
+  for (TempSlot& s : g_temps) directories |= s.used.load(std::memory_order_acquire) && s.kind != TempKind::kFile;
+  if (directories) {
+    const pid_t self = ::getpid();
+    if (::_Fork() == 0) {
+      while (::getppid() == self) {
+        const struct timespec wait {0, 5000000};
+        ::nanosleep(&wait, nullptr);
+      }
+      RemoveTemps();
+      ::_exit(0);
+    }
+  }
   RemoveTemps();
   struct sigaction dfl {};
   dfl.sa_handler = SIG_DFL;
