@@ -290,12 +290,13 @@ rayspace::app::ExitCode Run(const Commands& cmds) {
 
 // An empty value is never what a user means by a path, a size or a name: `--out ""` would fall
 // back to the default as if the option were absent. Every option and argument that takes a value
-// refuses an empty one, except --inject, where "" means no fault (replay: without the recorded one).
+// refuses an empty one, except --inject, where "" means no fault (replay: without the recorded one),
+// and --data, where "" means no data root given (as with RAYSPACE_DATA unset).
 void RefuseEmptyValues(CLI::App& app) {
   const CLI::Validator non_empty([](const std::string& v) { return v.empty() ? std::string("an empty value") : std::string(); },
                                  "", "NONEMPTY");
   for (CLI::Option* o : app.get_options())
-    if (o->get_items_expected_min() > 0 && o->get_name() != "--inject") o->check(non_empty);
+    if (o->get_items_expected_min() > 0 && o->get_name() != "--inject" && o->get_name() != "--data") o->check(non_empty);
   for (CLI::App* sub : app.get_subcommands({})) RefuseEmptyValues(*sub);
 }
 
