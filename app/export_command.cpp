@@ -19,6 +19,7 @@
 #include "rayspace/input_file.h"
 #include "rayspace/gpu/passes.h"
 #include "rayspace/json_text.h"
+#include "rayspace/output_file.h"
 #include "rayspace/pass_registry.h"
 #include "rayspace/verify/call_codec.h"
 #include "rayspace/verify/pass_table.h"
@@ -45,11 +46,7 @@ void CheckSavedDir(const std::string& dir) {
 void CheckOutDir(const std::string& out) {
   std::error_code ec;
   if (!fs::exists(out, ec)) {
-    const fs::path p = fs::path(out).lexically_normal();
-    const fs::path parent = (p.has_filename() ? p : p.parent_path()).parent_path();
-    if (!parent.empty() && !fs::is_directory(parent, ec))
-      ThrowInput("--out {}: the directory {} does not exist; an output directory is created, its parents are not", out,
-                 parent.string());
+    CheckOutputParent(out, "--out");
     return;
   }
   if (!fs::is_directory(out, ec)) ThrowInput("--out {}: exists and is not a directory", out);

@@ -322,6 +322,16 @@ FileIdentity IdentityOf(const fs::path& p) {
 }
 }  // namespace
 
+void CheckOutputParent(const std::string& dir, std::string_view option) {
+  std::error_code ec;
+  fs::path p = fs::path(dir).lexically_normal();
+  if (!p.has_filename() && p.has_parent_path()) p = p.parent_path();  // "a/b/" -> "a/b"
+  const fs::path parent = p.has_parent_path() ? p.parent_path() : fs::path(".");
+  if (!fs::is_directory(parent, ec))
+    ThrowInput("{} {}: the directory {} does not exist; an output directory is created, its parents are not", option, dir,
+               parent.string());
+}
+
 bool MakeOutputDirectory(const std::string& dir, std::string_view option) {
   std::error_code ec;
   fs::path p = fs::path(dir).lexically_normal();
@@ -331,10 +341,7 @@ bool MakeOutputDirectory(const std::string& dir, std::string_view option) {
     if (!fs::is_directory(st)) ThrowInput("{} {}: not a directory", option, dir);
     return false;
   }
-  const fs::path parent = p.has_parent_path() ? p.parent_path() : fs::path(".");
-  if (!fs::is_directory(parent, ec))
-    ThrowInput("{} {}: the directory {} does not exist; an output directory is created, its parents are not", option, dir,
-               parent.string());
+  CheckOutputParent(dir, option);
   fs::create_directory(p, ec);
   if (ec) ThrowInput("{} {}: cannot create the directory ({})", option, dir, ec.message());
   return true;

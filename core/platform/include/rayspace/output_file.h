@@ -75,6 +75,8 @@ class OutputFile {
 // never its parents. Throws InputError naming the option when the parent directory does not exist,
 // `dir` is not a directory, or it cannot be created. Returns whether it was created here.
 bool MakeOutputDirectory(const std::string& dir, std::string_view option);
+// The part of MakeOutputDirectory that creates nothing: the parent of `dir` must exist.
+void CheckOutputParent(const std::string& dir, std::string_view option);
 
 // A directory that holds something only while it is being filled: removed with everything in it
 // (or, adopted, emptied) when the object goes, at exit, and by SIGINT, SIGTERM, SIGHUP and SIGABRT
