@@ -19,15 +19,29 @@ namespace {
 // Error rates below this (and zero) are drawn on the bottom line, labelled "0 (none)".
 constexpr double kFloorRate = 1e-7;
 
+// The modes in the order of the rows, numbered from 1 per test and mode ("CGAL filtered" of the
+// cone-sphere test is not that of the ray-triangle test): the table's # column and the plot's labels.
+using ModeKey = std::pair<std::string, std::string>;  // test, mode
+std::vector<ModeKey> ModeNumbers(const std::vector<Row>& rows) {
+  std::vector<ModeKey> modes;
+  for (const Row& r : rows)
+    if (std::find(modes.begin(), modes.end(), ModeKey{r.test, r.mode}) == modes.end()) modes.push_back({r.test, r.mode});
+  return modes;
+}
+
+std::size_t NumberOf(const std::vector<ModeKey>& modes, const Row& r) {
+  return static_cast<std::size_t>(std::find(modes.begin(), modes.end(), ModeKey{r.test, r.mode}) - modes.begin()) + 1;
+}
+
 // One point per row and kind: the rate of `count` errors in n queries at the row's time per test.
-plot::Point RatePoint(const Row& r, std::size_t count, std::size_t mode) {
+plot::Point RatePoint(const Row& r, std::size_t count, std::size_t number) {
   const double n = static_cast<double>(std::max<std::size_t>(r.n, 1));
-  return {std::max(r.ns, 1.0), std::max(static_cast<double>(count) / n, kFloorRate), fmt::format("{}", mode + 1)};
+  return {std::max(r.ns, 1.0), std::max(static_cast<double>(count) / n, kFloorRate), fmt::format("{}", number)};
 }
 
 // Per row its false negatives (filled: a missed hit, a wrong image) and its false positives (open:
 // an extra test, time only) apart, since a conservative test has FP by design and no FN; colour by
-// test and query set, numbered by mode as in the table, the modes named in the key.
+// test and query set, numbered by test and mode as in the table, the modes named in the key.
 plot::Plot AccuracyPlot(const std::string& title, const std::vector<Row>& rows) {
   static const char* colours[6] = {"#d91a1a", "#1a59d9", "#1a9933", "#994db3", "#d9821a", "#1a9999"};
   plot::Plot p;
@@ -37,38 +51,36 @@ plot::Plot AccuracyPlot(const std::string& title, const std::vector<Row>& rows) 
   p.y = {"errors per test against the exact answer (log)", plot::Scale::kLog, kFloorRate, 1.0, {}};
   p.y.ticks.push_back({kFloorRate, "0 (none)"});
   for (int e = 6; e >= 0; --e) p.y.ticks.push_back({std::pow(10.0, -e), fmt::format("1e-{}", e)});
-  std::vector<std::string> keys, modes;
-  for (const Row& r : rows) {
+  std::vector<std::string> keys;
+  for (const Row& r : rows)
     if (std::find(keys.begin(), keys.end(), r.test + " / " + r.set) == keys.end()) keys.push_back(r.test + " / " + r.set);
-    if (std::find(modes.begin(), modes.end(), r.mode) == modes.end()) modes.push_back(r.mode);
-  }
+  const std::vector<ModeKey> modes = ModeNumbers(rows);
   for (std::size_t k = 0; k < keys.size(); ++k) {
     plot::Series fn{keys[k] + ": FN, missed hits (wrong image)", plot::Style::kPoints, plot::Marker::kFilledSquare, colours[k % 6], {}};
     plot::Series fp{keys[k] + ": FP, extra tests (time only)", plot::Style::kPoints, plot::Marker::kOpenSquare, colours[k % 6], {}};
     for (const Row& r : rows) {
       if (r.test + " / " + r.set != keys[k]) continue;
-      const std::size_t m = std::find(modes.begin(), modes.end(), r.mode) - modes.begin();
-      fn.points.push_back(RatePoint(r, r.fn, m));
-      fp.points.push_back(RatePoint(r, r.fp, m));
+      fn.points.push_back(RatePoint(r, r.fn, NumberOf(modes, r)));
+      fp.points.push_back(RatePoint(r, r.fp, NumberOf(modes, r)));
     }
     p.series.push_back(std::move(fn));
     p.series.push_back(std::move(fp));
   }
+  // The zero line holds most modes: labels that would overlap are drawn once, joined.
+  plot::MergeCloseLabels(p, 0.03);
   for (std::size_t m = 0; m < modes.size(); ++m)
-    p.series.push_back({fmt::format("{}  {}", m + 1, modes[m]), plot::Style::kPoints, plot::Marker::kNone, "#000000", {}});
+    p.series.push_back({fmt::format("{}  {}: {}", m + 1, modes[m].first, modes[m].second), plot::Style::kPoints, plot::Marker::kNone,
+                        "#000000", {}});
   return p;
 }
 
-// The table of modes: one row per mode and query set, numbered by mode as in the plot.
+// The table of modes: one row per mode and query set, numbered by test and mode as in the plot.
 void AppendModeRows(const std::string& scene, const std::vector<Row>& rows, std::string& md, std::string& csv) {
   md += "| # | test | set | mode | queries | ns/test | FN | FP | of which in-plane |\n|---|---|---|---|---:|---:|---:|---:|---:|\n";
-  std::vector<std::string> names;
-  for (const Row& r : rows)
-    if (std::find(names.begin(), names.end(), r.mode) == names.end()) names.push_back(r.mode);
+  const std::vector<ModeKey> modes = ModeNumbers(rows);
   for (const Row& r : rows) {
-    const std::size_t num = std::find(names.begin(), names.end(), r.mode) - names.begin() + 1;
-    md += fmt::format("| {} | {} | {} | {} | {} | {:.1f} | {} | {} | {} |\n", num, r.test, r.set, r.mode, r.n, r.ns, r.fn, r.fp,
-                      r.test == "ray-triangle" ? std::to_string(r.in_plane) : "-");
+    md += fmt::format("| {} | {} | {} | {} | {} | {:.1f} | {} | {} | {} |\n", NumberOf(modes, r), r.test, r.set, r.mode, r.n, r.ns, r.fn,
+                      r.fp, r.test == "ray-triangle" ? std::to_string(r.in_plane) : "-");
     csv += fmt::format("{},{},{},\"{}\",{},{:.2f},{},{},{},,,\n", scene, r.test, r.set, r.mode, r.n, r.ns, r.fn, r.fp, r.in_plane);
   }
 }

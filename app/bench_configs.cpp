@@ -3,6 +3,7 @@
 #include <sstream>
 
 #include "frame_args.h"
+#include "render_options.h"
 #include "rayspace/error.h"
 
 namespace rayspace::app {
@@ -10,24 +11,41 @@ namespace {
 
 // Variants of a tracer: a later way of running one adds one row here; a later tracer needs no row
 // (it is in kAlgorithms). Configurations of one --algo must give the same frame digest.
-const BenchConfig kVariants[] = {
-    {"crsh-passes", "crsh", "passes", "emu", "crsh with the kernels' passes on the emulator (render --path passes)"},
-    {"crsh-tree", "crsh", "auto", "emu", "crsh descending each object's bounding-sphere tree with the cone hierarchy (render --objects tree)", "tree"},
-    {"crsh-auto", "crsh", "auto", "emu", "crsh with flat or tree chosen per ray batch, render's default (render --objects auto)", "auto"},
-    {"crsh-levels-auto", "crsh", "auto", "emu", "crsh with its levels from the image's pixels (render --levels auto)", "flat", "auto"},
-    {"vulkan", "crsh", "fused", "vulkan", "crsh with the GLSL kernels, levels fused (render --backend vulkan; skipped without a device)"},
-    {"vulkan-passes", "crsh", "passes", "vulkan", "crsh with the GLSL kernels pass by pass (render --backend vulkan --path passes)"},
-    {"vulkan-tree", "crsh", "fused", "vulkan", "crsh-tree with the GLSL kernels (render --backend vulkan --objects tree)", "tree"},
-    {"vulkan-tl", "tl", "auto", "vulkan", "tl with the GLSL kernels (render --backend vulkan --algo tl)"},
-    {"vulkan-grid", "grid", "auto", "vulkan", "grid with the GLSL kernel (render --backend vulkan --algo grid)"},
+struct Variant {
+  const char* name;
+  const char* render;
+  const char* what;
 };
+const Variant kVariants[] = {
+    {"crsh-passes", "--algo crsh --path passes", "the kernels' passes on the emulator"},
+    {"crsh-flat", "--algo crsh --objects flat", "every triangle of each object a top node reaches (the thesis's)"},
+    {"crsh-tree", "--algo crsh --objects tree", "each object's bounding-sphere tree descended with the cone hierarchy"},
+    {"crsh-levels-auto", "--algo crsh --levels auto", "levels from the image's pixels"},
+    {"vulkan", "--algo crsh --backend vulkan", "the GLSL kernels, levels fused; skipped without a device"},
+    {"vulkan-passes", "--algo crsh --backend vulkan --path passes", "the GLSL kernels pass by pass"},
+    {"vulkan-tree", "--algo crsh --backend vulkan --objects tree", "crsh-tree with the GLSL kernels"},
+    {"vulkan-tl", "--algo tl --backend vulkan", "tl with the GLSL kernels"},
+    {"vulkan-grid", "--algo grid --backend vulkan", "grid with the GLSL kernel"},
+};
+
+BenchConfig Made(std::string name, std::string render, std::string what) {
+  BenchConfig c{std::move(name), std::move(render), std::move(what)};
+  RenderArgs parsed;
+  ApplyRenderOptions(c.render, parsed);
+  c.algo = parsed.algo;
+  c.path = parsed.path;
+  c.backend = parsed.backend;
+  c.objects = parsed.objects;
+  c.levels_auto = parsed.depth_auto;
+  return c;
+}
 
 std::vector<BenchConfig> MakeConfigs() {
   std::vector<BenchConfig> out;
   auto add_algo = [&out](std::string_view algo) {
-    out.push_back({std::string(algo), std::string(algo), "auto", "emu", "render --algo " + std::string(algo)});
-    for (const BenchConfig& v : kVariants)
-      if (v.algo == algo) out.push_back(v);
+    out.push_back(Made(std::string(algo), "--algo " + std::string(algo), "render's defaults"));
+    for (const Variant& v : kVariants)
+      if (Made(v.name, v.render, v.what).algo == algo) out.push_back(Made(v.name, v.render, v.what));
   };
   add_algo(kBaselineConfig);
   for (const Algorithm& a : kAlgorithms)
@@ -50,7 +68,7 @@ std::string DefaultBenchConfigs() {
 
 std::string BenchConfigsHelp() {
   std::string s;
-  for (const BenchConfig& c : BenchConfigs()) s += (s.empty() ? "" : "; ") + c.name + ": " + c.what;
+  for (const BenchConfig& c : BenchConfigs()) s += (s.empty() ? "" : "; ") + c.name + ": render " + c.render + " (" + c.what + ")";
   return s;
 }
 
@@ -71,12 +89,6 @@ std::vector<const BenchConfig*> ParseBenchConfigs(const std::string& list) {
   return out;
 }
 
-void ApplyBenchConfig(const BenchConfig& config, RenderArgs& args) {
-  args.algo = config.algo;
-  args.path = config.path;
-  args.backend = config.backend;
-  args.objects = config.objects;
-  if (config.levels == "auto") args.depth_auto = args.depth_given = true;
-}
+void ApplyBenchConfig(const BenchConfig& config, RenderArgs& args) { ApplyRenderOptions(config.render, args); }
 
 }  // namespace rayspace::app

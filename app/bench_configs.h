@@ -12,12 +12,11 @@ namespace rayspace::app {
 
 struct BenchConfig {
   std::string name;
-  std::string algo;              // render --algo
-  std::string path = "auto";     // render --path
-  std::string backend = "emu";   // render --backend
-  std::string what;              // one line for --help
-  std::string objects = "flat";  // render --objects
-  std::string levels;            // render --levels (empty: render's default)
+  std::string render;  // the render options that make the row: `rayspace render SCENE <render>`, exactly
+  std::string what;    // why the row is there, for --help
+  // Read from `render` through render's own parser (ApplyRenderOptions), for the report.
+  std::string algo, path, backend, objects;
+  bool levels_auto = false;
 };
 
 // The configuration every ratio is taken against.
@@ -34,7 +33,7 @@ std::string BenchConfigsHelp();
 // listing the known ones.
 std::vector<const BenchConfig*> ParseBenchConfigs(const std::string& list);
 
-// Sets args' tracer, path and backend to the configuration's.
+// Applies the configuration's render options to `args`, as `rayspace render` parses them.
 void ApplyBenchConfig(const BenchConfig& config, RenderArgs& args);
 
 }  // namespace rayspace::app

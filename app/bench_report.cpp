@@ -44,7 +44,7 @@ Cells TableRow(const std::vector<BenchRow>& rows, const BenchRow& r) {
   c.push_back(fmt::format("{:.1f}", r.MedianMs()));
   c.push_back(fmt::format("{:.1f}-{:.1f}", *lo, *hi));
   c.push_back(base ? fmt::format("{:.2f}", r.MedianMs() / base->MedianMs()) : "-");
-  c.push_back(Thousands(r.total_tests));
+  c.push_back(r.tests_counted ? Thousands(r.total_tests) : std::string("n/a"));
   c.push_back(rate ? fmt::format("{:.1f}", *rate) : "n/a");
   c.push_back(fmt::format("{:.1f}", static_cast<double>(r.peak_rss) / 1e6));
   c.push_back(r.peak_reset ? fmt::format("{:+.1f}", (static_cast<double>(r.peak_rss) - static_cast<double>(r.start_rss)) / 1e6)
@@ -96,7 +96,8 @@ nlohmann::json RowJson(const std::vector<BenchRow>& rows, const BenchRow& r) {
   nlohmann::json j = {{"scene", r.scene},           {"width", r.width},
                       {"height", r.height},         {"config", r.config->name},
                       {"algorithm", r.config->algo}, {"path", r.config->path},
-                      {"backend", r.config->backend}};
+                      {"backend", r.config->backend},
+                      {"render", r.config->render}};
   if (!r.skipped.empty()) {
     j["skipped"] = r.skipped;
     return j;
@@ -106,7 +107,7 @@ nlohmann::json RowJson(const std::vector<BenchRow>& rows, const BenchRow& r) {
   j["frame_ms"] = r.frame_ms;
   j["median_ms"] = r.MedianMs();
   j["ratio_to_" + std::string(kBaselineConfig)] = base ? nlohmann::json(r.MedianMs() / base->MedianMs()) : nlohmann::json();
-  j["total_tests"] = r.total_tests;
+  j["total_tests"] = r.tests_counted ? nlohmann::json(r.total_tests) : nlohmann::json(nullptr);
   j["tests_performed"] = r.tests_performed;
   j["search_ms"] = r.search_ms;
   j["traversal_ms"] = r.traversal_ms;
@@ -164,11 +165,11 @@ void PrintGrowthTable(std::FILE* out, const std::vector<BenchRow>& rows) {
 bool CheckDigests(std::FILE* out, std::FILE* err, const std::vector<BenchRow>& rows) {
   bool ok = true;
   // Per scene, size, --algo and --levels (the levels change the statistics, which the digest holds).
-  std::map<std::tuple<std::string, int, int, std::string, std::string>, const BenchRow*> first;
+  std::map<std::tuple<std::string, int, int, std::string, bool>, const BenchRow*> first;
   std::vector<std::vector<std::string>> agreed;  // per --algo and --levels, its configurations that gave the same digests
   for (const BenchRow& r : rows) {
     if (!r.skipped.empty() || r.digests.empty()) continue;
-    const BenchRow*& ref = first[{r.scene, r.width, r.height, r.config->algo, r.config->levels}];
+    const BenchRow*& ref = first[{r.scene, r.width, r.height, r.config->algo, r.config->levels_auto}];
     if (!ref) ref = &r;
     for (std::size_t k = 0; k < r.digests.size(); ++k) {
       if (r.digests[k] == ref->digests.front()) continue;

@@ -34,6 +34,7 @@ void Record(BenchRow& row, const RenderedFrame& f) {
   row.digests.push_back(HexDigest(f.result.digest.Frame()));
   row.total_tests = f.stats.total;
   row.tests_performed = f.stats.hierarchy || f.stats.tl || f.stats.grid;  // brute and embree report brute force
+  row.tests_counted = f.stats.tests_counted;
 }
 
 }  // namespace

@@ -26,6 +26,7 @@ struct BenchRow {
   std::vector<std::string> digests;    // per repetition
   std::uint64_t total_tests = 0;
   bool tests_performed = false;        // false: brute force counted (rays x triangles), not performed
+  bool tests_counted = true;           // false: the tracer does not count its tests (Embree): no total
   std::size_t peak_rss = 0;            // bytes, over the configuration's repetitions
   std::size_t start_rss = 0;           // bytes resident when the configuration started
   bool peak_reset = false;             // false: peak_rss is the whole process's so far

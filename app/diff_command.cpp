@@ -112,6 +112,7 @@ nlohmann::json CallJson(const verify::CallRecord& c) {
   nlohmann::json j = {{"seq", c.seq}, {"pass", c.pass}, {"method", c.method}, {"label", c.label}, {"equal", c.equal},
                       {"buffers", bl}, {"emu_ms", c.expected_ms}, {"vulkan_ms", c.actual_ms}};
   if (!c.hits.empty()) j["hits"] = c.hits;
+  if (!c.pairs.empty()) j["pairs"] = c.pairs;
   if (!c.raster.empty()) j["raster"] = c.raster;
   if (!c.spec.empty()) j["relaxed_model"] = c.spec;
   if (!c.equal) j["within_spec"] = c.within_spec;
@@ -211,6 +212,7 @@ void PrintFirstDivergence(const verify::CallRecord* first) {
     for (const BufferComparison& b : first->buffers)
       if (!b.Equal()) std::fprintf(stderr, "    %s\n", b.Summary().c_str());
     if (!first->hits.empty()) std::fprintf(stderr, "    hits: %s\n", first->hits.c_str());
+    if (!first->pairs.empty()) std::fprintf(stderr, "    pairs: %s\n", first->pairs.c_str());
     if (!first->raster.empty()) std::fprintf(stderr, "    raster: %s\n", first->raster.c_str());
     if (!first->spec.empty()) std::fprintf(stderr, "    relaxed model: %s\n", first->spec.c_str());
   }
@@ -348,13 +350,16 @@ std::unique_ptr<TempDirectory> PrepareSaveDir(const std::string& dir) {
       ThrowInput("--save-inputs {}: the directory is not empty; give a new or empty one, so that the saved calls of "
                  "different runs do not mix", dir);
   }
-  const bool created = MakeOutputDirectory(dir, "--save-inputs");
-  OpenOutput(dir + "/pass.json", "the saved inputs", nullptr, false);  // its temporary file goes again
-  if (created) {
-    fs::remove(dir, ec);  // TempDirectory makes it again, to remove it on failure
-    return std::make_unique<TempDirectory>(dir);
+  CheckOutputParent(dir, "--save-inputs");
+  // Made here (or, found empty, adopted) and removed or emptied again unless the diff completes.
+  std::unique_ptr<TempDirectory> saving;
+  try {
+    saving = std::make_unique<TempDirectory>(dir, fs::exists(st));
+  } catch (const InputError& e) {
+    ThrowInput("--save-inputs {}", e.what());
   }
-  return std::make_unique<TempDirectory>(dir, true);
+  OpenOutput(dir + "/pass.json", "the saved inputs", nullptr, false);  // writable: its temporary file goes again
+  return saving;
 }
 
 // The frame's tracer: a hierarchy whose passes go through the Differ, or a host tracer (brute,
@@ -472,6 +477,7 @@ nlohmann::json MeasureDiffImpact(const DiffArgs& args, const Scene& scene, const
   };
   DiffImpact impact = MeasureImpact(scene, buffers, fo, make, {&emu::EmuFramePasses(), &emu::EmuHierarchyPasses()},
                                     {&gpu.Frame(), &gpu.Hierarchy()});
+  if (!totals.first->pairs.empty()) impact.differed.push_back("candidate pairs: " + totals.first->pairs);
   for (const BufferComparison& b : totals.first->buffers)
     if (!b.Equal()) impact.differed.push_back(b.Summary());
   PrintImpact(stderr, impact);
@@ -551,7 +557,10 @@ ExitCode RunDiff(const DiffArgs& args) {
   const MemoryUse use{.copies = kDiffCopies,
                       .slot_copies = args.Hierarchy() && args.path == "passes" ? kDiffSlotCopies : 0,
                       .subdivision = args.subdivision,
-                      .pair_capacity = args.pair_capacity};
+                      .pair_capacity = args.pair_capacity,
+                      .levels = args.depth_auto ? 0 : args.depth,
+                      .object_mask = args.algo == "crsh",
+                      .object_tree = args.Hierarchy() && args.objects != "flat"};
   const MemoryEstimate estimate = EstimateFrameMemory(scene, fo.width, fo.height, use);
   CheckFitsMachine(estimate, fo.width, fo.height, SizeFrom(args.size, scene).c_str(), "the diff");
   const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, injection.kernel, args.Limits(), args.kernels);

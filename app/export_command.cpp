@@ -181,24 +181,20 @@ void CheckOwnKernelsUsed(const Recording& rec, const ExportInfo& info) {
   }
 }
 
-// Writes into a fresh sibling directory and renames it to `out` when complete, so that a failed
-// export leaves nothing behind.
+// Writes into a fresh sibling directory and renames it to `out` when complete, so that a failed or
+// interrupted export (SIGTERM included: TempDirectory) leaves nothing behind.
 ExportCounts WriteAtomically(const std::string& out, const Recording& rec, const ExportInfo& info) {
   fs::path tmp = fs::path(out).lexically_normal();
   if (tmp.filename().empty()) tmp = tmp.parent_path();
   tmp += fmt::format(".partial-{}", static_cast<long>(::getpid()));
+  TempDirectory partial(tmp);
+  const ExportCounts counts = WriteExport(tmp, rec, info);
   std::error_code ec;
-  fs::create_directory(tmp, ec);
-  if (ec) ThrowInput("--out {}: cannot create the directory: {}", out, ec.message());
-  try {
-    const ExportCounts counts = WriteExport(tmp, rec, info);
-    if (fs::exists(out)) fs::remove(out);
-    fs::rename(tmp, out);
-    return counts;
-  } catch (...) {
-    fs::remove_all(tmp, ec);
-    throw;
-  }
+  if (fs::exists(out)) fs::remove(out);
+  fs::rename(tmp, out, ec);
+  if (ec) ThrowInput("--out {}: cannot rename {} to it: {}", out, tmp.string(), ec.message());
+  partial.Keep();
+  return counts;
 }
 
 ExportInfo Describe(const ExportArgs& args, const verify::PassMethod& method, const verify::BufferSet& in) {

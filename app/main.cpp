@@ -19,6 +19,7 @@
 #include "exit_codes.h"
 #include "ignored_options.h"
 #include "render_command.h"
+#include "render_options.h"
 #include "reproduce/command.h"
 #include "reproduce/frame.h"
 #ifdef RAYSPACE_HAVE_VULKAN
@@ -57,26 +58,7 @@ struct Commands {
 
 void AddRender(CLI::App& app, Commands& cmds) {
   CLI::App* rc = cmds.render_cmd = app.add_subcommand("render", "Render a scene through the emulated pipeline and check it with an oracle");
-  rc->add_option("scene", cmds.render.scene, "Scene JSON file")->required();
-  rayspace::app::AddFrameOptions(*rc, cmds.render);
-  rc->add_option("--out", cmds.render.out, "Output image (PNG); default <scene name>.png in the current directory");
-  rc->add_option("--stats", cmds.render.stats, "Write statistics as JSON to this file (-: to standard output, in place "
-                 "of the summary)");
-  rc->add_option("--threads", cmds.render.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
-  rc->add_option("--direct", cmds.render.direct, "Direct tracer mode: auto, exhaustive or bvh")
-      ->check(CLI::IsMember({"auto", "exhaustive", "bvh"}));
-  rc->add_option("--backend", cmds.render.backend,
-                 "Where the passes run: emu (the CPU emulation) or vulkan (the GLSL kernels; same bits expected)")
-      ->check(CLI::IsMember({"emu", "vulkan"}));
-  rc->add_option("--path", cmds.render.path,
-                 "Hierarchy traversal: fused (each level tests and compacts in one pass, traverse.compact; the same "
-                 "pairs, statistics and digest) or passes (traverse then reduce); auto: fused unless "
-                 "--check-workgroups or --schedule asks for the passes' emulated workgroups. --algo grid: passes runs "
-                 "grid.trace ray by ray, fused and auto its cells' triangles in SIMD lanes (the same walks)")
-      ->check(CLI::IsMember({"auto", "fused", "passes"}));
-  rc->add_flag("--no-oracle", cmds.render.no_oracle, "Skip the oracle re-trace");
-  rc->add_flag("--timings", cmds.render.timings, "Print time per phase (the thesis's phases) and tests per second");
-  rc->add_flag("--progress", cmds.render.progress, "Print each pass and its time on stderr (default when stderr is a terminal)");
+  rayspace::app::AddRenderOptions(*rc, cmds.render);
 }
 
 void AddAccuracy(CLI::App& app, Commands& cmds) {

@@ -15,8 +15,9 @@ namespace rayspace::app {
 struct MemoryEstimate {
   std::size_t pixels = 0, rays_per_pixel = 0;
   std::size_t per_pixel = 0;  // bytes per pixel, over every buffer that grows with the image
-  std::size_t scene = 0;      // the triangles and their derived arrays
-  std::size_t pairs = 0;      // one traversal level's pairs at the pair capacity
+  std::size_t scene = 0;      // the triangles and objects and what each pass derives from them
+  std::size_t objects = 0;    // one batch's top nodes x objects: CRSH's mask, the object tree's first round
+  std::size_t pairs = 0;      // one traversal level's pairs at the pair capacity, or the object tree's lists
   std::size_t slots = 0;      // the pass-by-pass path's slot streams of one traversal call
   std::size_t total = 0;
 };
@@ -27,6 +28,9 @@ struct MemoryUse {
   int slot_copies = 0;  // of one traversal call's slot streams: 0 on the fused path, which has none
   int subdivision = emu::HierarchyConfig{}.subdivision;  // a lower level's slots: its parents' pairs times these
   std::size_t pair_capacity = emu::HierarchyConfig{}.pair_capacity;  // pairs a level holds
+  int levels = emu::HierarchyConfig{}.depth;  // the hierarchy's levels; 0: from the pixels (--levels auto)
+  bool object_mask = false;  // CRSH: each batch's top nodes against every object's sphere
+  bool object_tree = false;  // --objects tree or auto: the object tree's pair lists may be held
 };
 // A Vulkan frame: the host's buffers and the device's (lavapipe's device memory is the host's).
 inline constexpr int kVulkanCopies = 2;

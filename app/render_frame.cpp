@@ -80,7 +80,11 @@ MemoryUse RenderMemoryUse(const RenderArgs& args) {
   return {.copies = args.backend == "vulkan" ? kVulkanCopies : 1,
           .slot_copies = args.Hierarchy() && !UsesFusedPath(args) ? 1 : 0,
           .subdivision = args.subdivision,
-          .pair_capacity = args.pair_capacity};
+          .pair_capacity = args.pair_capacity,
+          .levels = args.depth_auto ? 0 : args.depth,
+          .object_mask = args.algo == "crsh",
+          // auto takes the tree on the emulator only (frame_args.cpp, MakeHierarchyConfig)
+          .object_tree = args.Hierarchy() && (args.objects == "tree" || (args.objects == "auto" && args.backend == "emu"))};
 }
 
 Backend MakeRenderBackend(const RenderArgs& args) {
@@ -103,7 +107,7 @@ std::unique_ptr<RenderedFrame> RenderOnBackend(const RenderArgs& args, const Sce
              : f->tracers.grid    ? GridStatistics(*f->tracers.grid, buffers.triangles.size())
                                   : BruteStatistics(f->result, buffers.triangles.size());
   if (args.algo == "embree") f->stats.tests_counted = false;
-  f->phases = Phases(f->result.passes);
+  f->phases = Phases(f->result.passes, f->result.total_ms, f->oracle_ms);
   return f;
 }
 

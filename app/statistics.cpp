@@ -137,15 +137,18 @@ double Percent(std::uint64_t part, std::uint64_t whole) {
   return whole > 0 ? 100.0 * static_cast<double>(part) / static_cast<double>(whole) : 0.0;
 }
 
-// Per ray type: its rays, its brute force (rays x triangles) and its tests as a share of it.
-nlohmann::json PerTypeJson(const std::map<std::uint32_t, Statistics::PerType>& types, std::uint64_t frame_brute_force) {
+// Per ray type: its rays, its brute force (rays x triangles) and its tests as a share of it; null
+// tests and shares for a tracer that does not count its tests (Embree), as the frame's are.
+nlohmann::json PerTypeJson(const std::map<std::uint32_t, Statistics::PerType>& types, std::uint64_t frame_brute_force,
+                           bool tests_counted) {
   nlohmann::json j = nlohmann::json::object();
+  auto counted = [tests_counted](auto v) { return tests_counted ? nlohmann::json(v) : nlohmann::json(nullptr); };
   for (const auto& [kind, t] : types)
     j[emu::RayKindName(kind)] = {{"rays", t.rays},
                                  {"brute_force_tests", t.brute_force},
-                                 {"total_tests", t.Total()},
-                                 {"percent_of_brute_force", Percent(t.Total(), t.brute_force)},
-                                 {"percent_of_frame_brute_force", Percent(t.Total(), frame_brute_force)}};
+                                 {"total_tests", counted(t.Total())},
+                                 {"percent_of_brute_force", counted(Percent(t.Total(), t.brute_force))},
+                                 {"percent_of_frame_brute_force", counted(Percent(t.Total(), frame_brute_force))}};
   return j;
 }
 
@@ -279,7 +282,7 @@ void Statistics::ToJson(nlohmann::json& j) const {
   j["total_tests"] = tests_counted ? nlohmann::json(total) : nlohmann::json(nullptr);
   j["brute_force_tests"] = brute_force;
   j["percent_of_brute_force"] = tests_counted ? nlohmann::json(Percent(total, brute_force)) : nlohmann::json(nullptr);
-  j["per_type"] = PerTypeJson(types, brute_force);
+  j["per_type"] = PerTypeJson(types, brute_force, tests_counted);
   j["object_sphere_tests"] = object_sphere_tests;
   if (object_tree) {
     emu::LevelStats rays;

@@ -1,4 +1,5 @@
-// Per-phase timings in the thesis's phases (tables 4.25-4.27), summed over a frame's batches.
+// Per-phase timings in the thesis's phases (tables 4.25-4.27), summed over a frame's batches, and the
+// rest of the frame by name, so that the rows add up to the frame's time.
 #pragma once
 #include <cstdio>
 #include <optional>
@@ -17,8 +18,15 @@ struct Phase {
   std::size_t elements = 0;
 };
 
-// Maps pass names (raygen.*, hash.*, sort.*, traverse.*, ...) to the thesis's phases.
-std::vector<Phase> Phases(const std::vector<emu::PassRecord>& passes);
+// The frame's time in rows: the thesis's seven phases first (raygen.*, hash.*, sort.*, traverse.*,
+// ... mapped by the pass registry), then each other pass by name (prep, raster, surfaces, shade,
+// resolve, a tracer's passes of no phase), then "tracer_outside_its_passes" (a trace.* pass's time
+// its own passes do not cover), "oracle" (`oracle_ms`, run inside the frame) and
+// "frame_outside_passes" (the frame's time no pass covers). A tracer without passes of its own
+// (brute, embree) counts its trace.* time as final intersection tests.
+std::vector<Phase> Phases(const std::vector<emu::PassRecord>& passes, double frame_ms, double oracle_ms);
+// The share of the frame in named rows: all but the two *_outside_* ones.
+double NamedShare(const std::vector<Phase>& phases, double frame_ms);
 // Traversal + final tests: the time render --timings divides the total tests by for its throughput.
 double SearchMs(const std::vector<Phase>& phases);
 // The hierarchy traversal alone (0 for a tracer that does not split it off, brute and embree): the

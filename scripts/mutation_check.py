@@ -24,7 +24,8 @@ or stillborn. The default tier's kill list must contain the full suite's: no mut
 full tier only. A tier whose only failures are timeouts runs once more before it counts as a kill (a
 loaded machine is not a test that noticed the bug). The report is written after every mutant, with
 the failing tests that killed it; `--resume` with the same --report goes on where a stopped run left
-off, in the same copy (its source commit must match the report's).
+off, in the same copy (its source commit must match the report's). A file named PAUSE in --work
+holds the run before its next mutant until it is removed.
 
 Usage: mutation_check.py [--seed N] [--count N] [--tests REGEX] [--exclude REGEX] [--files PATH ...]
                          [--source DIR] [--build DIR | --work DIR] [--timeout SEC] [--jobs N]
@@ -310,6 +311,16 @@ def try_mutant_tiers(args, src, build, mutant):
         return ("full", failed) if rc != 0 else ("survived", [])
 
 
+def wait_while_paused(args):
+    """--tiers: a file PAUSE in --work holds the run between mutants (the machine wanted for a timed
+    run); removing it lets the run go on."""
+    pause = os.path.join(args.work, "PAUSE") if args.tiers else None
+    if pause and os.path.exists(pause):
+        print(f"paused: {pause} exists", flush=True)
+        while os.path.exists(pause):
+            time.sleep(5)
+
+
 def print_tiers(results):
     killed_default = [m for m, r in results if r == "default"]
     killed_full = [m for m, r in results if r in ("default", "full")]
@@ -517,6 +528,7 @@ def main(argv):
             results.append((m,) + done[key])
             print(f"[{i}/{len(sample)}] {done[key][0]:<9} {describe(m)} (from the report)", flush=True)
             continue
+        wait_while_paused(args)
         t0 = time.time()
         r, failed = try_mutant_tiers(args, src, build, m) if args.tiers else (try_mutant(args, src, build, m), [])
         results.append((m, r, failed))

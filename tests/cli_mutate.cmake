@@ -230,8 +230,15 @@ execute_process(COMMAND ${CMAKE_COMMAND} -E env TMPDIR=${tmp} "${RAYSPACE}" muta
 execute_process(COMMAND ${CMAKE_COMMAND} -E env TMPDIR=${tmp} timeout -s TERM 4 "${RAYSPACE}" mutate
                         "${SRC}/scenes/cornell-mirrors.json" --limit 5 --config crsh
                 RESULT_VARIABLE rc_term OUTPUT_QUIET ERROR_QUIET TIMEOUT 300)
-execute_process(COMMAND sleep 1)  # the diffs it ran, terminated with it, finish dying
-file(GLOB left "${tmp}/*")
+# The diffs it ran, ended by the same signal, finish dying; its cleaner removes what they leave.
+# Removed within seconds, not at once: the directory is polled for up to 10 s.
+foreach(i RANGE 50)
+  file(GLOB left "${tmp}/*")
+  if(NOT left)
+    break()
+  endif()
+  execute_process(COMMAND sleep 0.2)
+endforeach()
 if(NOT rc_list EQUAL 0 OR NOT rc_bad EQUAL 2 OR NOT rc_term EQUAL 124 OR left)
   string(APPEND FAILURES "\nscratch directory: --list exit ${rc_list}, a bad --config exit ${rc_bad}, SIGTERM after 4 s exit ${rc_term} (124: "
                          "timeout's), left under TMPDIR: ${left}; ${err}")

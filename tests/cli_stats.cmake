@@ -107,9 +107,15 @@ execute_process(COMMAND "${RAYSPACE}" render "${WORK}/box.json" --algo embree --
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 file(READ "${WORK}/embree.json" stats)
 string(JSON total_type ERROR_VARIABLE jerr TYPE "${stats}" total_tests)
+# Per ray type too: its brute force stays, its tests and shares are not made up.
+string(JSON type_total ERROR_VARIABLE jerr2 TYPE "${stats}" per_type shadow total_tests)
+string(JSON type_share ERROR_VARIABLE jerr3 TYPE "${stats}" per_type shadow percent_of_brute_force)
+string(JSON type_bf ERROR_VARIABLE jerr4 GET "${stats}" per_type shadow brute_force_tests)
 if(NOT rc EQUAL 0 OR NOT out MATCHES "total tests +not counted \\(Embree's BVH does not report its tests; brute force 576\\)"
-   OR NOT out MATCHES "throughput +n/a" OR out MATCHES "M tests/s" OR NOT total_type STREQUAL "NULL")
-  set(FAILURES "${FAILURES}\n  embree: exit ${rc}, total_tests ${total_type}; stdout: ${out}${err}")
+   OR NOT out MATCHES "throughput +n/a" OR out MATCHES "M tests/s" OR NOT total_type STREQUAL "NULL"
+   OR NOT type_total STREQUAL "NULL" OR NOT type_share STREQUAL "NULL" OR NOT type_bf GREATER 0)
+  set(FAILURES "${FAILURES}\n  embree: exit ${rc}, total_tests ${total_type}, per_type.shadow total_tests ${type_total} "
+      "percent_of_brute_force ${type_share} brute_force_tests ${type_bf}; stdout: ${out}${err}")
 endif()
 
 if(FAILURES)

@@ -130,3 +130,34 @@ TEST_CASE("plot: gnuplot missing or failing is an error naming the plot") {
   }
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("plot: labels that would overlap are drawn once per cluster, joined in numeric order") {
+  Plot p;
+  p.title = "clusters";
+  p.x = {"ns", Scale::kLog, 1.0, 1e6, {}};
+  p.y = {"rate", Scale::kLog, 1e-7, 1.0, {}};
+  // On the zero line: 10, 11 and 12 ns (a chain within reach), then 1000 ns alone; 10 ns again
+  // higher up (another cluster), and a label repeated in one cluster.
+  p.series.push_back({"a", Style::kPoints, Marker::kFilledSquare, "#d91a1a", {{10, 1e-7, "10"}, {12, 1e-7, "2"}, {1000, 1e-7, "3"}}});
+  p.series.push_back({"b", Style::kPoints, Marker::kOpenSquare, "#1a59d9", {{11, 1e-7, "9"}, {10, 1e-2, "1"}, {11, 1e-7, "2"}}});
+  MergeCloseLabels(p, 0.03);
+  REQUIRE(p.series.size() == 3);
+  for (std::size_t s = 0; s < 2; ++s) {
+    CHECK(p.series[s].points.size() == 3);  // every point stays
+    for (const Point& pt : p.series[s].points) CHECK(pt.label.empty());
+  }
+  const Series& labels = p.series[2];
+  CHECK(labels.marker == Marker::kNone);
+  CHECK(labels.title.empty());
+  REQUIRE(labels.points.size() == 3);
+  CHECK(labels.points[0].label == "2,9,10");  // numeric, not "10,2,9"; "2" once
+  CHECK(labels.points[0].x == 10);
+  CHECK(labels.points[0].y == 1e-7);
+  CHECK(labels.points[1].label == "1");
+  CHECK(labels.points[1].y == 1e-2);
+  CHECK(labels.points[2].label == "3");
+  // The labels' series draws labels only, and no point markers of its own.
+  const std::string s = Script(p, Format::kSvg);
+  CHECK(s.find("$d2 using 1:2:3 with labels") != std::string::npos);
+  CHECK(s.find("$d2 using 1:2 with") == std::string::npos);
+}

@@ -1,5 +1,6 @@
 #include "plot.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <regex>
@@ -62,13 +63,91 @@ std::string SeriesClause(const Plot& plot, const Series& series, std::size_t ind
   const std::string look = fmt::format("with {}{} lw 1.5 lc rgb '{}'", with, marker, series.colour);
   const std::string title = series.title.empty() ? "notitle" : "title " + Quote(plot, series.title);
   if (series.points.empty()) return fmt::format("keyentry {} {}", series.marker == Marker::kNone ? "with points pt -1 ps 0" : look, title);
+  const std::string labels = fmt::format("$d{} using 1:2:3 with labels offset char 0.8,0.5 left notitle", index);
+  // A series of labels alone (MergeCloseLabels): no marker of its own.
+  if (series.marker == Marker::kNone && series.style == Style::kPoints) return labels;
   std::string clause = fmt::format("$d{} using 1:2 {} {}", index, look, title);
   for (const Point& p : series.points)
-    if (!p.label.empty()) return clause + fmt::format(", $d{} using 1:2:3 with labels offset char 0.8,0.5 left notitle", index);
+    if (!p.label.empty()) return clause + ", " + labels;
   return clause;
 }
 
 }  // namespace
+
+namespace {
+
+// A value's position along an axis, 0 at its minimum and 1 at its maximum (on a log axis, in
+// decades); the data's extent where the axis has no range.
+struct AxisMap {
+  bool log = false;
+  double lo = 0, span = 1;
+  AxisMap(const Axis& a, double data_lo, double data_hi) : log(a.scale == Scale::kLog) {
+    const double from = a.min.value_or(data_lo), to = a.max.value_or(data_hi);
+    lo = At(from);
+    span = std::max(At(to) - lo, 1e-300);
+  }
+  double At(double v) const { return log ? std::log10(v) : v; }
+  double operator()(double v) const { return (At(v) - lo) / span; }
+};
+
+bool LabelLess(const std::string& a, const std::string& b) {
+  const auto number = [](const std::string& s) { return !s.empty() && s.find_first_not_of("0123456789") == std::string::npos && s.size() < 19; };
+  if (number(a) && number(b)) return std::stoull(a) < std::stoull(b);
+  return a < b;
+}
+
+}  // namespace
+
+void MergeCloseLabels(Plot& plot, double reach) {
+  struct Labelled {
+    double x, y;  // the point's own coordinates
+    double fx, fy;  // as fractions of the axes
+    std::string label;
+  };
+  std::vector<Labelled> all;
+  double xlo = INFINITY, xhi = -INFINITY, ylo = INFINITY, yhi = -INFINITY;
+  for (const Series& s : plot.series)
+    for (const Point& p : s.points) xlo = std::min(xlo, p.x), xhi = std::max(xhi, p.x), ylo = std::min(ylo, p.y), yhi = std::max(yhi, p.y);
+  const AxisMap mx(plot.x, xlo, xhi), my(plot.y, ylo, yhi);
+  for (Series& s : plot.series)
+    for (Point& p : s.points)
+      if (!p.label.empty()) {
+        all.push_back({p.x, p.y, mx(p.x), my(p.y), p.label});
+        p.label.clear();
+      }
+  std::stable_sort(all.begin(), all.end(), [](const Labelled& a, const Labelled& b) { return a.fx < b.fx; });
+  struct Cluster {
+    double x, y, fx, fy, last_fx;
+    std::vector<std::string> labels;
+    std::size_t chars = 0;  // of the joined label
+  };
+  // A label's text runs right of its point: about 7 pixels a character over a plot area of about
+  // half the image's width (the key sits outside, right), as a fraction of the x axis.
+  const double char_width = 7.0 / (0.5 * std::max(plot.width, 16));
+  std::vector<Cluster> clusters;
+  for (const Labelled& l : all) {
+    const auto near = std::find_if(clusters.begin(), clusters.end(), [&](const Cluster& c) {
+      return std::abs(c.fy - l.fy) < reach && (l.fx - c.last_fx < reach || l.fx - c.fx < reach + c.chars * char_width);
+    });
+    if (near == clusters.end()) {
+      clusters.push_back({l.x, l.y, l.fx, l.fy, l.fx, {l.label}, l.label.size()});
+      continue;
+    }
+    near->last_fx = l.fx;
+    if (std::find(near->labels.begin(), near->labels.end(), l.label) == near->labels.end()) {
+      near->labels.push_back(l.label);
+      near->chars += 1 + l.label.size();
+    }
+  }
+  Series labels{"", Style::kPoints, Marker::kNone, "#000000", {}};
+  for (Cluster& c : clusters) {
+    std::sort(c.labels.begin(), c.labels.end(), LabelLess);
+    std::string text;
+    for (const std::string& l : c.labels) text += (text.empty() ? "" : ",") + l;
+    labels.points.push_back({c.x, c.y, text});
+  }
+  if (!labels.points.empty()) plot.series.push_back(std::move(labels));
+}
 
 std::string Script(const Plot& plot, Format format) {
   if (plot.width < 16 || plot.height < 16) ThrowInput("plot '{}': size {}x{} is too small", plot.title, plot.width, plot.height);

@@ -50,6 +50,13 @@ struct Plot {
 
 enum class Format { kSvg, kPng };
 
+// Labels that would be drawn over each other are drawn once per cluster: points whose labels lie
+// within `reach` of each other (a fraction of each axis's span, on the axis's scale), or under the
+// text of a label to their left on the same line, share one label: the distinct labels joined by
+// commas (numbers in numeric order), beside the cluster's leftmost point; the points keep their
+// series and markers. A cluster grows from left to right, so a chain of close points is one cluster.
+void MergeCloseLabels(Plot& plot, double reach);
+
 // The gnuplot script for a plot, data inline; throws InputError naming the plot for values it
 // cannot draw (a non-positive value on a log axis, a non-finite value, a bad colour).
 std::string Script(const Plot& plot, Format format);

@@ -173,9 +173,10 @@ class Runner {
       r_.object_spheres = PassObjectSpheres(b_);
       r_.digest.Add("prep", "triangle_spheres", r_.triangle_spheres);
       r_.digest.Add("prep", "object_spheres", r_.object_spheres);
+      // The tracer's own preparation (object trees, its buffers) is part of prep's time.
+      tracer_.Prepare(r_.triangle_spheres, r_.object_spheres);
       return b_.triangles.size();
     });
-    tracer_.Prepare(r_.triangle_spheres, r_.object_spheres);
     Pass("raster", [&] {
       r_.gbuffer = passes_.Raster({.frame = fc_, .scene = &b_});
       const GBuffer& g = r_.gbuffer;
@@ -352,13 +353,13 @@ class Runner {
     progress_.Start(name);
     const std::size_t n = body();
     // A tracer's own passes (hash, sort, build, traverse, ...) are listed before the trace pass.
-    for (const SubPass& sp : subpasses_) r_.passes.push_back({sp.name, true, {}, sp.ms, sp.elements});
-    PassRecord rec{name, true, {}, c.Ms(), n};
+    for (const SubPass& sp : subpasses_) r_.passes.push_back({sp.name, true, {}, sp.ms, sp.elements, true});
+    PassRecord rec{name, true, {}, c.Ms(), n, false};
     progress_.Finish(name, n, rec.ms, subpasses_);
     subpasses_.clear();
     r_.passes.push_back(std::move(rec));
   }
-  void Skip(const std::string& name, const std::string& reason) { r_.passes.push_back({name, false, reason, 0.0, 0}); }
+  void Skip(const std::string& name, const std::string& reason) { r_.passes.push_back({name, false, reason, 0.0, 0, false}); }
 
   const Scene& scene_;
   const SceneBuffers& b_;

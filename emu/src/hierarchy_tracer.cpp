@@ -369,9 +369,13 @@ class Impl final : public HierarchyTracer {
     const std::vector<std::uint32_t> singles = Fixed(order.size(), 1);
     const std::vector<layout::ConeNode> ray_nodes =
         Sub("build.rays", rays.size(), [&] { return passes_.BuildLeaves({.rays = rays, .order = order, .first = singles}); });
-    ConeTree cones = MakeConeTree(ray_nodes, h.nodes, h.first);
-    if (HostFastPath())
-      for (int L = 0; L <= cfg_.depth; ++L) cones.lanes.push_back(cone::ToArrays(cones.View().Level(L)));
+    // The levels as one tree (and, for the host's lanes, as arrays): part of the hierarchy's build.
+    ConeTree cones = Sub("build.cones", rays.size(), [&] {
+      ConeTree c = MakeConeTree(ray_nodes, h.nodes, h.first);
+      if (HostFastPath())
+        for (int L = 0; L <= cfg_.depth; ++L) c.lanes.push_back(cone::ToArrays(c.View().Level(L)));
+      return c;
+    });
     const TreeBatch batch{&cones, cones.View(), tree_.View(), &rays, &order, hits, occluded};
     // Groups of top nodes over at most kTreeGroupRays rays: a frame's pairs at the ray level would
     // otherwise outgrow the pair capacity and a whole group's rounds run twice.
@@ -492,8 +496,10 @@ class Impl final : public HierarchyTracer {
       TreeRound next = cfg_.fused ? TreeRoundFused(b, pairs) : TreeRoundByPasses(b, pairs);
       LogTree(next);
       counts.Add(next.counts);
-      finals.cone.insert(finals.cone.end(), next.final.cone.begin(), next.final.cone.end());
-      finals.item.insert(finals.item.end(), next.final.item.begin(), next.final.item.end());
+      Sub("tree.gather", next.final.size(), [&] {
+        finals.cone.insert(finals.cone.end(), next.final.cone.begin(), next.final.cone.end());
+        finals.item.insert(finals.item.end(), next.final.item.begin(), next.final.item.end());
+      });
       pairs = std::move(next.next);
       ++rounds;
     }

@@ -6,6 +6,7 @@
 // the fragment stage reconstructs them from the primitive id and the pixel-centre ray with plain
 // IEEE operations and writes gl_FragDepth, so no attribute-interpolation emulation is needed.
 // The whole draw path runs with FTZ/DAZ, as lavapipe does.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -151,26 +152,38 @@ bool Covers(const Setup& s, int px, int py) {
 std::vector<Setup> SetupAll(const layout::FrameConstants& fc, const std::vector<layout::Triangle>& tris) {
   const int width = static_cast<int>(fc.dims.x), height = static_cast<int>(fc.dims.y);
   const float half_w = 0.5f * static_cast<float>(width), half_h = 0.5f * static_cast<float>(height);
-  // Up to kMaxClipVerts - 2 fan triangles per primitive; compacted below in primitive order.
-  std::vector<std::array<Setup, kMaxClipVerts - 2>> per(tris.size());
-  std::vector<std::uint8_t> count(tris.size(), 0);
-  ParallelForFtz(tris.size(), [&](std::size_t i) {
+  const auto clip_window = [&](std::size_t i, std::array<glm::vec2, kMaxClipVerts>& win) {
     const layout::Triangle& t = tris[i];
     const std::array<glm::vec4, 3> clip = {VertexStage(fc.view_proj, Xyz(t.v0)), VertexStage(fc.view_proj, Xyz(t.v1)),
                                            VertexStage(fc.view_proj, Xyz(t.v2))};
+    return ClipTriangle(clip, half_w, half_h, win);
+  };
+  // Two passes over the primitives, so that memory holds one setup per fan triangle rather than room
+  // for kMaxClipVerts - 2 per primitive (a scene of many triangles would hold 672 bytes for each):
+  // the fan sizes, then the setups at their primitive's offset, compacted in primitive order.
+  std::vector<std::uint8_t> fans(tris.size(), 0);
+  ParallelForFtz(tris.size(), [&](std::size_t i) {
     std::array<glm::vec2, kMaxClipVerts> win;
-    const int n = ClipTriangle(clip, half_w, half_h, win);
+    fans[i] = static_cast<std::uint8_t>(std::max(clip_window(i, win) - 2, 0));
+  });
+  std::vector<std::size_t> offset(tris.size() + 1, 0);
+  for (std::size_t i = 0; i < tris.size(); ++i) offset[i + 1] = offset[i] + fans[i];
+  std::vector<Setup> out(offset.back());
+  ParallelForFtz(tris.size(), [&](std::size_t i) {
+    std::array<glm::vec2, kMaxClipVerts> win;
+    const int n = clip_window(i, win);  // the same polygon as the first pass: the same arithmetic
     int k = 0;
     for (int f = 2; f < n; ++f) {  // fan (0, f-1, f)
       Setup s;
       s.prim = static_cast<std::uint32_t>(i);
-      if (SetupTriangle(win[0], win[f - 1], win[f], width, height, s)) per[i][k++] = s;
+      if (SetupTriangle(win[0], win[f - 1], win[f], width, height, s)) out[offset[i] + k++] = s;
     }
-    count[i] = static_cast<std::uint8_t>(k);
+    fans[i] = static_cast<std::uint8_t>(k);  // the setups kept, at most the fan's size
   });
-  std::vector<Setup> out;
+  std::size_t kept = 0;
   for (std::size_t i = 0; i < tris.size(); ++i)
-    for (int k = 0; k < count[i]; ++k) out.push_back(per[i][k]);
+    for (int k = 0; k < fans[i]; ++k) out[kept++] = out[offset[i] + k];  // kept <= offset[i] + k
+  out.resize(kept);
   return out;
 }
 

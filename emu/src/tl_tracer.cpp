@@ -103,14 +103,23 @@ class Tl final : public TlTracer {
       ctx_.digest->Add(label, "spheres", w.spheres);
       ctx_.digest->Add(label, "triangles", w.triangles);
     }
+    const auto tc = std::chrono::steady_clock::now();
     Count(rays, w);
+    const double count_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - tc).count();
+    if (ctx_.subpasses) ctx_.subpasses->push_back({"tl.statistics." + ctx_.name, count_ms, rays.size()});
     return w;
   }
   // The tree depends on the scene alone (built once, as the other tracers' hierarchies are); the
   // lists are the frame's pass "tl.lists", run before the first batch that needs them, so a frame
   // with nothing to trace builds none.
   void BuildLists() {
-    if (tree_.links.empty() && tree_.tri_words.empty()) tree_ = tl::PrepareTree(scene_.triangles, options_.tree);
+    if (tree_.links.empty() && tree_.tri_words.empty()) {
+      // The scene's tree, built on the host: timed as its own step, so --timings names it.
+      const auto tt = std::chrono::steady_clock::now();
+      tree_ = tl::PrepareTree(scene_.triangles, options_.tree);
+      const double tree_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - tt).count();
+      if (ctx_.subpasses) ctx_.subpasses->push_back({"tl.tree", tree_ms, scene_.triangles.size()});
+    }
     directions_ = tl::Directions(options_.lists);
     passes_.Label("tl.lists");
     const auto t0 = std::chrono::steady_clock::now();
@@ -118,9 +127,9 @@ class Tl final : public TlTracer {
                                       .directions = directions_,
                                       .order = static_cast<std::uint32_t>(options_.order),
                                       .cull = options_.cull ? 1u : 0u});
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     const std::vector<std::uint32_t> lengths = a.lengths;
     lists_ = tl::Assemble(tree_, options_.lists, std::move(a), options_.cull);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     built_ = true;
     if (ctx_.subpasses) ctx_.subpasses->push_back({"tl.lists", ms, lists_.escapes.size()});
     if (ctx_.digest) {

@@ -1,6 +1,7 @@
 #include "rayspace/verify/differ.h"
 
 #include <algorithm>
+#include <iterator>
 #include <bit>
 #include <cstring>
 #include <chrono>
@@ -42,6 +43,48 @@ std::string HitsChanged(Tracer& tracer, const std::vector<layout::Ray>& expected
   }
   return changed ? fmt::format("changed for {} rays", changed) : "unchanged";
 }
+
+// The surviving pairs of a traversal output: the values of flagged slots (traverse.top/level), or the
+// compacted list (traverse.compact.*, reduce); empty when the method has no pair output.
+std::vector<std::uint32_t> SurvivingPairs(const std::string& method, const BufferSet& out) {
+  if (method == "reduce" || method == "traverse.compact.top" || method == "traverse.compact.level")
+    return out.Get<std::uint32_t>("pairs");
+  if (method == "traverse.top" || method == "traverse.level") {
+    const auto flags = out.Get<std::uint8_t>("flags");
+    const auto values = out.Get<std::uint32_t>("values");
+    std::vector<std::uint32_t> kept;
+    for (std::size_t i = 0; i < flags.size() && i < values.size(); ++i)
+      if (flags[i]) kept.push_back(values[i]);
+    return kept;
+  }
+  return {};
+}
+
+}  // namespace
+
+std::string PairsChanged(const std::vector<std::uint32_t>& expected, const std::vector<std::uint32_t>& actual,
+                         std::optional<PairBases> bases) {
+  std::vector<std::uint32_t> e = expected, a = actual, lost, added;
+  std::sort(e.begin(), e.end());
+  std::sort(a.begin(), a.end());
+  std::set_difference(e.begin(), e.end(), a.begin(), a.end(), std::back_inserter(lost));
+  std::set_difference(a.begin(), a.end(), e.begin(), e.end(), std::back_inserter(added));
+  if (lost.empty() && added.empty())
+    return fmt::format("the same {} candidate pairs in another order", expected.size());
+  std::string s = fmt::format("{} of the reference's {} candidate pairs lost, {} added", lost.size(), expected.size(), added.size());
+  const auto pair = [&](std::uint32_t v) {
+    const std::uint32_t node = v >> layout::kPairTriangleBits, tri = v & layout::kPairTriangleMask;
+    if (!bases) return fmt::format("(node +{}, triangle +{} from the level's and the batch's first)", node, tri);
+    return fmt::format("(node {}, triangle {})", bases->node + node, bases->triangle + tri);
+  };
+  if (!lost.empty()) s += fmt::format("; first lost: {}", pair(lost.front()));
+  if (!added.empty()) s += fmt::format("; first added: {}", pair(added.front()));
+  // A lost pair's rays may have hit its triangle: nothing here proves the loss cannot change a hit.
+  if (!lost.empty()) s += "; a lost pair may hold a hit (not judged)";
+  return s;
+}
+
+namespace {
 
 // The raster's attribute images may differ only where coverage does (the primitive or the depth), so
 // that the edge/interior verdict on those pixels covers them.
@@ -135,6 +178,19 @@ CallRecord RunAndCompare(const PassMethod& method, const BufferSet& in, Backends
     const SpecVerdict v = ClassifyWithinSpec(method.method, in, e, actual_out);
     r.spec = v.Summary();
     r.within_spec = v.AllWithin();
+  }
+  // A diverged pair list: which candidate pairs one side lost or added.
+  if (!r.equal) {
+    const std::vector<std::uint32_t> ep = SurvivingPairs(method.method, e);
+    if (!ep.empty() || method.method == "reduce" || method.method.rfind("traverse.", 0) == 0) {
+      const std::vector<std::uint32_t> ap = SurvivingPairs(method.method, actual_out);
+      // A level's pair names its node from the level's base, a top-level one from t0; the reduction
+      // sees packed values alone.
+      const auto has = [&in](const char* name) { return in.scalars.contains(name); };
+      std::optional<PairBases> bases;
+      if (has("b0") && (has("base") || has("t0"))) bases = PairBases{has("base") ? in.U32("base") : in.U32("t0"), in.U32("b0")};
+      if (method.method != "traverse.objects") r.pairs = PairsChanged(ep, ap, bases);
+    }
   }
   // A diverged ray batch: would the hits change? (Trim's dense rays are what gets traced.)
   if (hit_tracer && method.method == "trim" && !r.equal) {

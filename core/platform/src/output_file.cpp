@@ -87,6 +87,25 @@ void RemoveTemps() noexcept {
   }
 }
 
+// Whether a watched directory still holds something (or, removed whole, still exists): async-signal-safe.
+bool TempsLeft() noexcept {
+  for (TempSlot& s : g_temps) {
+    if (!s.used.load(std::memory_order_acquire) || s.kind == TempKind::kFile) continue;
+    const int dir = ::open(s.path, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (dir < 0) continue;
+    if (s.kind == TempKind::kDirectory) {
+      ::close(dir);
+      return true;
+    }
+    alignas(8) char buffer[1024];
+    const long n = ::syscall(SYS_getdents64, dir, buffer, sizeof buffer);
+    ::close(dir);
+    // "." and ".." take at most 48 bytes of entries; anything more is a file left.
+    if (n > 48) return true;
+  }
+  return false;
+}
+
 extern "C" void RemoveTempsAndDie(int sig) {
   // Other threads run on until the process dies and may create files in a watched directory after
   // this thread emptied it: a forked cleaner (_Fork: async-signal-safe) waits for this process to be
@@ -101,6 +120,14 @@ extern "C" void RemoveTempsAndDie(int sig) {
         ::nanosleep(&wait, nullptr);
       }
       RemoveTemps();
+      // The process's children, ended by the same signal (a terminal's or timeout's to the process
+      // group), may still be dying and writing into the directories: again until none is left, for
+      // at most two seconds.
+      for (int i = 0; i < 100 && TempsLeft(); ++i) {
+        const struct timespec wait {0, 20000000};
+        ::nanosleep(&wait, nullptr);
+        RemoveTemps();
+      }
       ::_exit(0);
     }
   }

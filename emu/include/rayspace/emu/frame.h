@@ -26,6 +26,9 @@ struct PassRecord {
   std::string reason;  // why it did not run
   double ms = 0.0;
   std::size_t elements = 0;
+  // One of a tracer's own passes (hash, build, traverse, ...), listed before the trace pass whose
+  // time includes it; the frame's passes (prep, raster, ..., trace.*, resolve) make up the frame.
+  bool in_trace = false;
 };
 
 // A traced batch, as handed to the observer.

@@ -9,6 +9,7 @@
 #pragma once
 #include <memory>
 #include <stdexcept>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,7 @@ struct CallRecord {
   bool equal = true;
   double expected_ms = 0, actual_ms = 0;
   std::string hits;   // for ray batches that differ: whether any ray's hit changed
+  std::string pairs;  // for pair lists that differ: the candidate pairs lost and added (PairsChanged)
   std::string raster; // for a raster that differs: how many pixels, on triangle edges or inside
   std::string spec;   // under the relaxed device model: how many differing elements a device may produce
   bool within_spec = false;  // differs, but only as a conformant device may (relaxed model only)
@@ -45,6 +47,16 @@ struct DiffOptions {
   bool relaxed = false;           // accept differences a conformant device may produce (spec_model.h)
   nlohmann::json options;         // every option that changes what a call computes, recorded for replay
 };
+
+// Where a packed pair's node and triangle ids start (layout::kPairTriangleBits).
+struct PairBases {
+  std::uint32_t node = 0, triangle = 0;
+};
+// The candidate pairs of a diverged pair list: how many of the reference's (`expected`, compared as
+// multisets) the other side lost and how many it added, the first of each decoded by `bases` (or as
+// offsets without them).
+std::string PairsChanged(const std::vector<std::uint32_t>& expected, const std::vector<std::uint32_t>& actual,
+                         std::optional<PairBases> bases);
 
 // Runs `method` on both backends with `in`; `actual_out` receives the actual backend's outputs.
 // `relaxed`: a differing call is classified by the relaxed device model (spec_model.h) and, for the
