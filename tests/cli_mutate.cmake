@@ -239,6 +239,10 @@ foreach(i RANGE 50)
   endif()
   execute_process(COMMAND sleep 0.2)
 endforeach()
+if(left)
+  file(GLOB_RECURSE left_tree LIST_DIRECTORIES true "${tmp}/*")  # what was left, to say who wrote it
+  set(left "${left}: ${left_tree}")
+endif()
 if(NOT rc_list EQUAL 0 OR NOT rc_bad EQUAL 2 OR NOT rc_term EQUAL 124 OR left)
   string(APPEND FAILURES "\nscratch directory: --list exit ${rc_list}, a bad --config exit ${rc_bad}, SIGTERM after 4 s exit ${rc_term} (124: "
                          "timeout's), left under TMPDIR: ${left}; ${err}")

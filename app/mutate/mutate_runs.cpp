@@ -1,5 +1,7 @@
 #include "mutate_runs.h"
 
+#include "rayspace/output_file.h"
+
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -30,7 +32,7 @@ std::string SelfExe() {
   return p.string();
 }
 
-// The exit status of a std::system command (128 + signal when a signal ended it).
+// The exit status of a shell command (RunShellCommand; 128 + signal when a signal ended it).
 int ExitOf(int status) {
   if (status == -1) return 127;
   if (WIFEXITED(status)) return WEXITSTATUS(status);
@@ -191,7 +193,7 @@ DiffRun RunReporting(int timeout, const std::string& args, const fs::path& dir) 
                                       Quote(report.string()), Quote(log.string()));
   const auto t0 = std::chrono::steady_clock::now();
   DiffRun r;
-  r.code = ExitOf(std::system(cmd.c_str()));
+  r.code = ExitOf(RunShellCommand(cmd));
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.log = ReadFile(log);
   r.last_line = LastLine(r.log);
@@ -286,7 +288,7 @@ bool Compile(const fs::path& comp, const fs::path& spv, std::string& error) {
   const std::string cmd = fmt::format("{} -O0 --target-env=vulkan1.2 -fshader-stage=compute -I {} -I {} -I {} {} -o {} > {} 2>&1",
                                       RAYSPACE_MUTATE_GLSLC, Quote(comp.parent_path().string()), Quote(ShaderDir().string()),
                                       Quote(RAYSPACE_MUTATE_CORE_INCLUDE), Quote(comp.string()), Quote(spv.string()), Quote(log.string()));
-  const int code = ExitOf(std::system(cmd.c_str()));
+  const int code = ExitOf(RunShellCommand(cmd));
   error = code == 0 ? "" : FirstLine(ReadFile(log));
   return code == 0;
 }
@@ -294,7 +296,7 @@ bool Compile(const fs::path& comp, const fs::path& spv, std::string& error) {
 std::string Canonical(const fs::path& spv) {
   const fs::path txt = spv.string() + ".txt";
   const std::string cmd = fmt::format("{} --no-header {} -o {} > /dev/null 2>&1", RAYSPACE_MUTATE_SPIRV_DIS, Quote(spv.string()), Quote(txt.string()));
-  if (ExitOf(std::system(cmd.c_str())) != 0) return {};
+  if (ExitOf(RunShellCommand(cmd)) != 0) return {};
   std::istringstream in(ReadFile(txt));
   std::vector<std::string> globals;
   std::string line, body;
@@ -315,7 +317,7 @@ bool Optimize(const fs::path& in, const fs::path& out, const std::vector<std::st
   std::string cmd = std::string(RAYSPACE_MUTATE_SPIRV_OPT);
   for (const std::string& a : recipe) cmd += fmt::format(" {}", Quote(a));
   cmd += fmt::format(" {} -o {} > {} 2>&1", Quote(in.string()), Quote(out.string()), Quote(log.string()));
-  const int code = ExitOf(std::system(cmd.c_str()));
+  const int code = ExitOf(RunShellCommand(cmd));
   error = code == 0 ? "" : FirstLine(ReadFile(log));
   return code == 0;
 }

@@ -11,7 +11,10 @@
 #include <mutex>
 #include <utility>
 
+#include <cerrno>
 #include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
 #include <dirent.h>
 #include <sys/stat.h>
 #include <sys/syscall.h>
@@ -34,6 +37,11 @@ struct TempSlot {
   char path[PATH_MAX] = {};
 };
 constexpr int kTempSlots = 64;
+
+// The process groups of the shell commands running now (RunShellCommand), 0 in a free slot: the
+// handler ends them before it removes the temporaries they might write into.
+constexpr int kChildSlots = 64;
+std::atomic<pid_t> g_children[kChildSlots];
 TempSlot g_temps[kTempSlots];
 std::mutex g_temps_mutex;  // slot allocation only; the handler never takes it
 std::atomic<bool> g_stdout_taken{false};
@@ -107,6 +115,8 @@ bool TempsLeft() noexcept {
 }
 
 extern "C" void RemoveTempsAndDie(int sig) {
+  for (std::atomic<pid_t>& c : g_children)
+    if (const pid_t group = c.load(std::memory_order_acquire); group > 0) ::kill(-group, SIGTERM);
   // Other threads run on until the process dies and may create files in a watched directory after
   // this thread emptied it: a forked cleaner (_Fork: async-signal-safe) waits for this process to be
   // gone, then removes the directories once more.
@@ -413,6 +423,30 @@ void TempDirectory::Keep() {
   UnregisterTemp(slot_);
   slot_ = -1;
   path_.clear();
+}
+
+int RunShellCommand(const std::string& command) {
+  static std::once_flag installed;
+  std::call_once(installed, InstallHandlers);
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);
+  posix_spawnattr_setpgroup(&attr, 0);  // a group of its own: the handler ends it whole
+  const char* argv[] = {"sh", "-c", command.c_str(), nullptr};
+  pid_t pid = -1;
+  const int failed = ::posix_spawn(&pid, "/bin/sh", nullptr, &attr, const_cast<char* const*>(argv), environ);
+  posix_spawnattr_destroy(&attr);
+  if (failed) return -1;
+  int slot = -1;
+  for (int i = 0; i < kChildSlots && slot < 0; ++i) {
+    pid_t free = 0;
+    if (g_children[i].compare_exchange_strong(free, pid, std::memory_order_acq_rel)) slot = i;
+  }
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (slot >= 0) g_children[slot].store(0, std::memory_order_release);
+  return status;
 }
 
 }  // namespace rayspace

@@ -105,4 +105,10 @@ void CheckDistinctOutputs(const std::vector<const OutputFile*>& outputs);
 // Publishes every written output of `outputs`.
 void PublishAll(const std::vector<OutputFile*>& outputs);
 
+// Runs `command` with /bin/sh -c in a process group of its own and waits for it; returns its wait
+// status as std::system does (-1 when it cannot start). A signal that removes the temporaries
+// (SIGINT, SIGTERM, SIGHUP, SIGABRT) first sends SIGTERM to every such group still running, so that
+// no command outlives the run and writes into its scratch directory.
+int RunShellCommand(const std::string& command);
+
 }  // namespace rayspace
