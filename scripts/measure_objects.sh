@@ -3,7 +3,7 @@
 # 1, 4, 16 or 64 copies of the Stanford bunny (its four levels of detail, 69,451 / 16,301 / 3,851 /
 # 948 triangles), each copy scaled to its cell of a square grid, so that every scene fills the same
 # view with the same surface; then the bundled scenes. One `rayspace bench` run per scene with
-# crsh (flat), crsh-tree and crsh-auto (render's default), medians of 3 frames.
+# crsh-flat, crsh-tree and crsh (render's default, --objects auto), medians of 3 frames.
 # Usage: scripts/measure_objects.sh [DATA] [SIZE]   (DATA: the scene data root; SIZE default 256x256)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -55,5 +55,5 @@ scenes=(
   "$(scene bunny-16x3.9k bunny/bun_zipper_res3.ply 4)"
   "$(scene bunny-64x0.9k bunny/bun_zipper_res4.ply 8)"
 )
-"$exe" bench "${scenes[@]}" --data "$data" --sizes "$size" --repetitions 3 --configs crsh,crsh-tree,crsh-auto
-"$exe" bench "$root"/scenes/*.json --data "$data" --sizes "$size" --repetitions 3 --configs crsh,crsh-tree,crsh-auto
+"$exe" bench "${scenes[@]}" --data "$data" --sizes "$size" --repetitions 3 --configs crsh-flat,crsh-tree,crsh
+"$exe" bench "$root"/scenes/*.json --data "$data" --sizes "$size" --repetitions 3 --configs crsh-flat,crsh-tree,crsh
