@@ -41,11 +41,12 @@ BenchConfig Made(std::string name, std::string render, std::string what) {
 }
 
 std::vector<BenchConfig> MakeConfigs() {
-  std::vector<BenchConfig> out;
-  auto add_algo = [&out](std::string_view algo) {
+  std::vector<BenchConfig> variants, out;
+  for (const Variant& v : kVariants) variants.push_back(Made(v.name, v.render, v.what));
+  auto add_algo = [&](std::string_view algo) {
     out.push_back(Made(std::string(algo), "--algo " + std::string(algo), "render's defaults"));
-    for (const Variant& v : kVariants)
-      if (Made(v.name, v.render, v.what).algo == algo) out.push_back(Made(v.name, v.render, v.what));
+    for (const BenchConfig& v : variants)
+      if (v.algo == algo) out.push_back(v);
   };
   add_algo(kBaselineConfig);
   for (const Algorithm& a : kAlgorithms)

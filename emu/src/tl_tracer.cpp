@@ -93,8 +93,7 @@ class Tl final : public TlTracer {
                                  .tri_words = !cells && options_.heads != layout::kTlHeadsOff ? std::span<const tl::Word>(tree_.tri_words)
                                                                                                : std::span<const tl::Word>(),
                                  .windows = cells ? cells_.windows : windows_.windows});
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    if (ctx_.subpasses) ctx_.subpasses->push_back({label, ms, rays.size()});
+    RecordSince(label, t0, rays.size());
     if (ctx_.digest) {
       if (shadow)
         ctx_.digest->Add(label, "occluded", w.occluded);
@@ -105,9 +104,13 @@ class Tl final : public TlTracer {
     }
     const auto tc = std::chrono::steady_clock::now();
     Count(rays, w);
-    const double count_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - tc).count();
-    if (ctx_.subpasses) ctx_.subpasses->push_back({"tl.statistics." + ctx_.name, count_ms, rays.size()});
+    RecordSince("tl.statistics." + ctx_.name, tc, rays.size());
     return w;
+  }
+  // One of the batch's timed steps, from t0 to now, for --timings.
+  void RecordSince(const std::string& name, std::chrono::steady_clock::time_point t0, std::size_t elements) {
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (ctx_.subpasses) ctx_.subpasses->push_back({name, ms, elements});
   }
   // The tree depends on the scene alone (built once, as the other tracers' hierarchies are); the
   // lists are the frame's pass "tl.lists", run before the first batch that needs them, so a frame
@@ -117,8 +120,7 @@ class Tl final : public TlTracer {
       // The scene's tree, built on the host: timed as its own step, so --timings names it.
       const auto tt = std::chrono::steady_clock::now();
       tree_ = tl::PrepareTree(scene_.triangles, options_.tree);
-      const double tree_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - tt).count();
-      if (ctx_.subpasses) ctx_.subpasses->push_back({"tl.tree", tree_ms, scene_.triangles.size()});
+      RecordSince("tl.tree", tt, scene_.triangles.size());
     }
     directions_ = tl::Directions(options_.lists);
     passes_.Label("tl.lists");
@@ -129,9 +131,8 @@ class Tl final : public TlTracer {
                                       .cull = options_.cull ? 1u : 0u});
     const std::vector<std::uint32_t> lengths = a.lengths;
     lists_ = tl::Assemble(tree_, options_.lists, std::move(a), options_.cull);
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     built_ = true;
-    if (ctx_.subpasses) ctx_.subpasses->push_back({"tl.lists", ms, lists_.escapes.size()});
+    RecordSince("tl.lists", t0, lists_.escapes.size());
     if (ctx_.digest) {
       ctx_.digest->Add("tl.lists", "escapes", lists_.escapes);
       ctx_.digest->Add("tl.lists", "words", lists_.words);
@@ -181,8 +182,7 @@ class Tl final : public TlTracer {
     passes_.Label(name);
     const auto t0 = std::chrono::steady_clock::now();
     TlWindows w = run();
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    if (ctx_.subpasses) ctx_.subpasses->push_back({name, ms, w.windows.size() / 2});
+    RecordSince(name, t0, w.windows.size() / 2);
     if (ctx_.digest) ctx_.digest->Add(name, "windows", w.windows);
     return w;
   }

@@ -45,19 +45,17 @@ std::string HitsChanged(Tracer& tracer, const std::vector<layout::Ray>& expected
 }
 
 // The surviving pairs of a traversal output: the values of flagged slots (traverse.top/level), or the
-// compacted list (traverse.compact.*, reduce); empty when the method has no pair output.
-std::vector<std::uint32_t> SurvivingPairs(const std::string& method, const BufferSet& out) {
+// compacted list (traverse.compact.*, reduce); nothing when the method has no pair output.
+std::optional<std::vector<std::uint32_t>> SurvivingPairs(const std::string& method, const BufferSet& out) {
   if (method == "reduce" || method == "traverse.compact.top" || method == "traverse.compact.level")
     return out.Get<std::uint32_t>("pairs");
-  if (method == "traverse.top" || method == "traverse.level") {
-    const auto flags = out.Get<std::uint8_t>("flags");
-    const auto values = out.Get<std::uint32_t>("values");
-    std::vector<std::uint32_t> kept;
-    for (std::size_t i = 0; i < flags.size() && i < values.size(); ++i)
-      if (flags[i]) kept.push_back(values[i]);
-    return kept;
-  }
-  return {};
+  if (method != "traverse.top" && method != "traverse.level") return std::nullopt;
+  const auto flags = out.Get<std::uint8_t>("flags");
+  const auto values = out.Get<std::uint32_t>("values");
+  std::vector<std::uint32_t> kept;
+  for (std::size_t i = 0; i < flags.size() && i < values.size(); ++i)
+    if (flags[i]) kept.push_back(values[i]);
+  return kept;
 }
 
 }  // namespace
@@ -179,18 +177,13 @@ CallRecord RunAndCompare(const PassMethod& method, const BufferSet& in, Backends
     r.spec = v.Summary();
     r.within_spec = v.AllWithin();
   }
-  // A diverged pair list: which candidate pairs one side lost or added.
-  if (!r.equal) {
-    const std::vector<std::uint32_t> ep = SurvivingPairs(method.method, e);
-    if (!ep.empty() || method.method == "reduce" || method.method.rfind("traverse.", 0) == 0) {
-      const std::vector<std::uint32_t> ap = SurvivingPairs(method.method, actual_out);
-      // A level's pair names its node from the level's base, a top-level one from t0; the reduction
-      // sees packed values alone.
-      const auto has = [&in](const char* name) { return in.scalars.contains(name); };
-      std::optional<PairBases> bases;
-      if (has("b0") && (has("base") || has("t0"))) bases = PairBases{has("base") ? in.U32("base") : in.U32("t0"), in.U32("b0")};
-      if (method.method != "traverse.objects") r.pairs = PairsChanged(ep, ap, bases);
-    }
+  // A diverged pair list: which candidate pairs one side lost or added. A level's pair names its
+  // node from the level's base, a top-level one from t0; the reduction sees packed values alone.
+  if (const auto ep = r.equal ? std::nullopt : SurvivingPairs(method.method, e)) {
+    const auto has = [&in](const char* name) { return in.scalars.contains(name); };
+    std::optional<PairBases> bases;
+    if (has("b0") && (has("base") || has("t0"))) bases = PairBases{has("base") ? in.U32("base") : in.U32("t0"), in.U32("b0")};
+    r.pairs = PairsChanged(*ep, *SurvivingPairs(method.method, actual_out), bases);
   }
   // A diverged ray batch: would the hits change? (Trim's dense rays are what gets traced.)
   if (hit_tracer && method.method == "trim" && !r.equal) {
