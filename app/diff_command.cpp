@@ -377,7 +377,8 @@ struct DiffTracer {
   }
 };
 
-DiffTracer MakeDiffTracer(const DiffArgs& args, const SceneBuffers& buffers, const emu::FrameOptions& fo, emu::HierarchyPasses& passes) {
+DiffTracer MakeDiffTracer(const DiffArgs& args, const SceneBuffers& buffers, const emu::FrameOptions& fo, emu::HierarchyPasses& passes,
+                          std::vector<std::uint64_t>* candidate_log = nullptr) {
   DiffTracer t;
   if (args.algo == "brute") {
     t.host = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);
@@ -390,6 +391,7 @@ DiffTracer MakeDiffTracer(const DiffArgs& args, const SceneBuffers& buffers, con
   } else {
     emu::HierarchyConfig cfg = MakeHierarchyConfig(args, fo.width, fo.height, &passes);
     cfg.fused = args.path == "fused";
+    cfg.candidate_log = candidate_log;
     t.hierarchy = emu::MakeHierarchyTracer(buffers, cfg);
   }
   return t;
@@ -468,8 +470,8 @@ nlohmann::json MeasureDiffImpact(const DiffArgs& args, const Scene& scene, const
     std::fprintf(stderr, "  impact: not measured (--no-impact)\n");
     return {{"measured", false}, {"skipped", "--no-impact"}};
   }
-  const ImpactTracerFactory make = [&](emu::HierarchyPasses& passes) -> std::unique_ptr<Tracer> {
-    DiffTracer t = MakeDiffTracer(args, buffers, fo, passes);
+  const ImpactTracerFactory make = [&](emu::HierarchyPasses& passes, std::vector<std::uint64_t>* candidate_log) -> std::unique_ptr<Tracer> {
+    DiffTracer t = MakeDiffTracer(args, buffers, fo, passes, candidate_log);
     if (t.hierarchy) return std::move(t.hierarchy);
     if (t.tl) return std::move(t.tl);
     if (t.grid) return std::move(t.grid);

@@ -29,11 +29,13 @@ struct Captured {
   std::vector<layout::Ray> rays;
   std::vector<std::uint32_t> hits;
   bool shadow = false;
+  std::vector<std::uint64_t> tests;  // the batch's final tests as (ray << 32 | triangle), sorted, unique
 };
 
 struct SideFrame {
   emu::FrameResult result;
   std::vector<std::pair<std::string, Captured>> batches;  // in the frame's order
+  bool logged = false;  // the tracer logged final tests
 };
 
 Captured Capture(const emu::Batch& b) {
@@ -52,8 +54,19 @@ SideFrame RenderSide(const Scene& scene, const SceneBuffers& buffers, emu::Frame
                      ImpactSide side) {
   SideFrame f;
   fo.passes = side.frame;
-  const std::unique_ptr<Tracer> tracer = make(*side.hierarchy);
-  f.result = emu::RenderFrame(scene, buffers, *tracer, fo, [&f](const emu::Batch& b) { f.batches.emplace_back(b.name, Capture(b)); });
+  std::vector<std::uint64_t> log;
+  const std::unique_ptr<Tracer> tracer = make(*side.hierarchy, &log);
+  // The observer sees each batch right after its trace: the log since the last batch is this one's.
+  std::size_t logged = 0;
+  f.result = emu::RenderFrame(scene, buffers, *tracer, fo, [&](const emu::Batch& b) {
+    Captured c = Capture(b);
+    c.tests.assign(log.begin() + static_cast<std::ptrdiff_t>(logged), log.end());
+    std::sort(c.tests.begin(), c.tests.end());
+    c.tests.erase(std::unique(c.tests.begin(), c.tests.end()), c.tests.end());
+    logged = log.size();
+    f.batches.emplace_back(b.name, std::move(c));
+  });
+  f.logged = !log.empty();
   return f;
 }
 
@@ -95,6 +108,39 @@ std::string Verdict(refs::Answer e, refs::Answer v) {
   return er ? "emulator" : vr ? "vulkan" : "neither";
 }
 
+// Would the final pass's test of `ray` against triangle `prim` hit? (PassIntersect's test and its
+// rule that a ray never hits the surface it leaves.)
+bool TestHits(const layout::Ray& r, std::uint32_t prim, const SceneBuffers& scene) {
+  if (prim >= scene.triangles.size() || prim == r.info.y) return false;
+  const layout::Triangle& t = scene.triangles[prim];
+  float th = 0.0f;
+  return emu::IntersectWatertight(emu::SetupWatertight(emu::Xyz(r.origin_tmin), emu::Xyz(r.direction_tmax)), emu::Xyz(t.v0),
+                                  emu::Xyz(t.v1), emu::Xyz(t.v2), r.origin_tmin.w, r.direction_tmax.w, th);
+}
+
+// The emulator's final tests the Vulkan side did not run on the matched ray, and the other way round.
+void CompareTests(const std::string& name, const Captured& e, const Captured& v, const std::vector<std::size_t>& match,
+                  const SceneBuffers& scene, LostTests& out) {
+  std::vector<std::uint64_t> mapped;  // the emulator's tests under the Vulkan side's ray indices
+  std::vector<bool> matched(v.rays.size(), false);
+  for (std::size_t i = 0; i < match.size(); ++i)
+    if (match[i] != kNone) matched[match[i]] = true;
+  for (const std::uint64_t t : e.tests) {
+    const std::size_t i = t >> 32, j = i < match.size() ? match[i] : kNone;
+    if (j == kNone) continue;  // a ray on one side only is counted as such
+    const std::uint64_t key = (static_cast<std::uint64_t>(j) << 32) | (t & 0xffffffffu);
+    mapped.push_back(key);
+    if (std::binary_search(v.tests.begin(), v.tests.end(), key)) continue;
+    ++out.lost;
+    const auto prim = static_cast<std::uint32_t>(t);
+    if (!TestHits(e.rays[i], prim, scene)) continue;
+    if (out.lost_hitting++ == 0) out.first_hitting = fmt::format("{} ray {}, triangle {}", name, i, prim);
+  }
+  std::sort(mapped.begin(), mapped.end());
+  for (const std::uint64_t t : v.tests)
+    if ((t >> 32) < matched.size() && matched[t >> 32] && !std::binary_search(mapped.begin(), mapped.end(), t)) ++out.added;
+}
+
 bool SameRay(const layout::Ray& a, const layout::Ray& b) { return std::memcmp(&a, &b, sizeof(layout::Ray)) == 0; }
 
 void CompareBatch(const std::string& name, const Captured& e, const Captured& v, const SceneBuffers& scene, DiffImpact& out) {
@@ -116,6 +162,7 @@ void CompareBatch(const std::string& name, const Captured& e, const Captured& v,
   const std::size_t one_side = (e.rays.size() - matched) + (v.rays.size() - matched);
   out.one_side_only += one_side;
   out.rays_changed += one_side;
+  CompareTests(name, e, v, match, scene, out.tests);
 }
 
 std::size_t CountDiffering(const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b) {
@@ -133,6 +180,7 @@ std::size_t PixelsDiffering(const std::vector<std::uint8_t>& a, const std::vecto
 }
 
 void Compare(const SideFrame& e, const SideFrame& v, const SceneBuffers& scene, DiffImpact& out) {
+  out.tests.logged = e.logged && v.logged;
   std::unordered_map<std::string, const Captured*> vb;
   for (const auto& [name, c] : v.batches) vb[name] = &c;
   for (const auto& [name, c] : e.batches) {
@@ -195,6 +243,23 @@ DiffImpact MeasureImpact(const Scene& scene, const SceneBuffers& buffers, emu::F
   return out;
 }
 
+namespace {
+
+// "final ray-triangle tests: ..." when the Vulkan side's frame ran fewer or other final tests than the emulator's.
+void PrintLostTests(std::FILE* out, const LostTests& t, bool no_hit_changed) {
+  if (!t.logged || (t.lost == 0 && t.added == 0)) return;
+  std::fprintf(out, "    final ray-triangle tests: the vulkan side's frame lost %zu of the emulator's and added %zu; ", t.lost, t.added);
+  if (t.lost == 0)
+    std::fprintf(out, "none lost\n");
+  else if (t.lost_hitting == 0)
+    std::fprintf(out, "no lost test meets its triangle, so the loss changes no hit in this frame\n");
+  else
+    std::fprintf(out, "%zu lost tests meet their triangle (first: %s): hits the loss can take away%s\n", t.lost_hitting,
+                 t.first_hitting.c_str(), no_hit_changed ? ", hidden in this frame by closer hits or other occluders" : "");
+}
+
+}  // namespace
+
 void PrintImpact(std::FILE* out, const DiffImpact& m) {
   if (!m.failed.empty()) {
     std::fprintf(out, "  impact: not measured: %s\n", m.failed.c_str());
@@ -205,6 +270,7 @@ void PrintImpact(std::FILE* out, const DiffImpact& m) {
                       "not proven benign: %s%s\n",
                  m.differed.empty() ? "the divergent call's outputs differ" : m.differed.front().c_str(),
                  m.differed.size() > 1 ? fmt::format(" (and {} more buffers)", m.differed.size() - 1).c_str() : "");
+    PrintLostTests(out, m.tests, true);
     return;
   }
   const auto count = [&m](const char* k) { return m.verdicts.count(k) ? m.verdicts.at(k) : std::size_t{0}; };
@@ -225,7 +291,18 @@ void PrintImpact(std::FILE* out, const DiffImpact& m) {
     std::fprintf(out, "    first: %s ray %zu: emulator %s, vulkan %s: %s\n", c.batch.c_str(), c.ray,
                  HitText(c.emu, IsShadow(c)).c_str(), HitText(c.vulkan, IsShadow(c)).c_str(), VerdictText(c.verdict));
   }
+  PrintLostTests(out, m.tests, false);
 }
+
+namespace {
+
+nlohmann::json FinalTestsJson(const LostTests& t) {
+  if (!t.logged) return nullptr;
+  return {{"lost", t.lost}, {"added", t.added}, {"lost_meeting_triangle", t.lost_hitting},
+          {"first_lost_meeting_triangle", t.first_hitting.empty() ? nlohmann::json(nullptr) : nlohmann::json(t.first_hitting)}};
+}
+
+}  // namespace
 
 nlohmann::json ImpactJson(const DiffImpact& m) {
   if (!m.failed.empty()) return {{"measured", false}, {"failed", m.failed}};
@@ -243,7 +320,7 @@ nlohmann::json ImpactJson(const DiffImpact& m) {
   return {{"measured", true},           {"no_visible_change", m.NoVisibleChange()}, {"differed", m.differed}, {"rays", m.rays},
           {"rays_changed", m.rays_changed}, {"one_side_only", m.one_side_only}, {"primary_hits_changed", m.primary_changed},
           {"pixels_changed", m.pixels_changed}, {"judged", m.judged},  {"verdicts", verdicts},
-          {"changed_rays", first}};
+          {"changed_rays", first}, {"final_tests", FinalTestsJson(m.tests)}};
 }
 
 }  // namespace rayspace::app

@@ -5,6 +5,7 @@
 // final hit changes is judged by the exact oracle (refs/oracle.h).
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
@@ -26,8 +27,22 @@ struct ImpactSide {
   emu::HierarchyPasses* hierarchy = nullptr;
 };
 
-// The frame's tracer over a side's hierarchy passes (a host tracer ignores them).
-using ImpactTracerFactory = std::function<std::unique_ptr<Tracer>(emu::HierarchyPasses&)>;
+// The frame's tracer over a side's hierarchy passes (a host tracer ignores them). A ray-space
+// hierarchy appends every final ray-triangle test it runs to `candidate_log` (HierarchyConfig's hook);
+// other tracers leave it empty.
+using ImpactTracerFactory = std::function<std::unique_ptr<Tracer>(emu::HierarchyPasses&, std::vector<std::uint64_t>* candidate_log)>;
+
+// The final ray-triangle tests the emulator's frame ran and the Vulkan side's did not, each run
+// alone: a lost test that meets its triangle (the final pass's own watertight test, the ray's own
+// surface excluded) is a hit the loss can take away, hidden in this frame only if a closer hit or
+// another occluder stands before it. With no lost test meeting its triangle, the loss provably
+// changes no hit in this frame.
+struct LostTests {
+  bool logged = false;           // the tracer logs its final tests (the ray-space hierarchy)
+  std::size_t lost = 0, added = 0;
+  std::size_t lost_hitting = 0;  // lost tests whose ray meets the triangle within its segment
+  std::string first_hitting;     // "BATCH ray R, triangle P", or ""
+};
 
 // A ray whose final hit changes: batch, index in the emulator's batch, each side's hit (closest
 // hits: the primitive, kNoPrim for a miss; shadow rays: 1 occluded, 0 lit) and the verdict.
@@ -50,6 +65,7 @@ struct DiffImpact {
   std::map<std::string, std::size_t> verdicts;  // emulator, vulkan, both, within_rounding, neither
   std::vector<ChangedRay> first;      // the first few changed rays
   std::vector<std::string> differed;  // the first divergent call's differing buffers (BufferComparison::Summary)
+  LostTests tests;
   // No ray's final hit and no pixel changes in this frame. Not "benign": what differed (a lost
   // candidate pair, a wrong count) may decide a hit in another frame, and nothing here proves otherwise.
   bool NoVisibleChange() const { return failed.empty() && rays_changed == 0 && primary_changed == 0 && pixels_changed == 0; }
