@@ -9,6 +9,7 @@
 
 #include "rayspace/error.h"
 #include "rayspace/gpu/kernel_check.h"
+#include "rayspace/output_file.h"
 #include "repro_source.h"
 
 namespace rayspace::app {
@@ -21,6 +22,7 @@ void WriteFile(const fs::path& path, const void* data, std::size_t bytes) {
   f.write(static_cast<const char*>(data), static_cast<std::streamsize>(bytes));
   f.close();
   if (!f) ThrowInput("{}: cannot write", path.string());
+  TestSignalPoint("export.file");
 }
 
 void WriteText(const fs::path& path, const std::string& text) { WriteFile(path, text.data(), text.size()); }

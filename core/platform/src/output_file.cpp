@@ -9,6 +9,7 @@
 #include <cstring>
 #include <ctime>
 #include <mutex>
+#include <optional>
 #include <utility>
 
 #include <cerrno>
@@ -315,9 +316,27 @@ void OutputFile::Close() {
   written_ = true;
 }
 
+void TestSignalPoint(std::string_view point) {
+  static const std::optional<std::pair<std::string, long>> planned = []() -> std::optional<std::pair<std::string, long>> {
+    const char* env = std::getenv("RAYSPACE_TEST_SIGTERM");
+    if (!env) return std::nullopt;
+    const std::string_view spec(env);
+    const std::size_t colon = spec.rfind(':');
+    if (colon == std::string_view::npos) return std::nullopt;
+    char* end = nullptr;
+    const std::string count(spec.substr(colon + 1));
+    const long n = std::strtol(count.c_str(), &end, 10);
+    if (end == count.c_str() || *end != '\0' || n < 1) return std::nullopt;
+    return std::make_pair(std::string(spec.substr(0, colon)), n);
+  }();
+  static std::atomic<long> calls{0};
+  if (planned && planned->first == point && calls.fetch_add(1) + 1 == planned->second) ::raise(SIGTERM);
+}
+
 void OutputFile::Publish() {
   if (empty() || is_stdout()) return;
   if (!written_ || temp_.empty()) Fail("nothing was written");
+  TestSignalPoint("publish");
   if (::rename(temp_.c_str(), target_.c_str()) != 0) Fail(std::strerror(errno));
   temp_.clear();
   UnregisterTemp(slot_);

@@ -105,6 +105,13 @@ void CheckDistinctOutputs(const std::vector<const OutputFile*>& outputs);
 // Publishes every written output of `outputs`.
 void PublishAll(const std::vector<OutputFile*>& outputs);
 
+// Test use: with RAYSPACE_TEST_SIGTERM=POINT:N in the environment, the N-th call (counted over the
+// process, 1-based) of TestSignalPoint(POINT) raises SIGTERM in the calling thread, so that a test
+// interrupts a run at a known moment mid-write instead of at a time that races it. Points:
+// "publish" (an output file written, before its rename into place) and "export.file" (a file of
+// an export written into its partial directory). Without the variable it does nothing.
+void TestSignalPoint(std::string_view point);
+
 // Runs `command` with /bin/sh -c in a process group of its own and waits for it; returns its wait
 // status as std::system does (-1 when it cannot start). A signal that removes the temporaries
 // (SIGINT, SIGTERM, SIGHUP, SIGABRT) first sends SIGTERM to every such group still running, so that
