@@ -47,40 +47,6 @@ gpu_backend::KernelOverrides LoadKernels(const KernelFiles& specs) {
 }  // namespace
 #endif
 
-namespace {
-// The options under which a pass runs, where that is an option rather than the scene (a reflective
-// or transparent material brings the reflection and refraction passes).
-std::string_view RunsWith(std::string_view pass) {
-  static constexpr std::pair<std::string_view, std::string_view> kWith[] = {
-      {"hash", "--algo crsh, rah or rah-quadtree"},
-      {"compress", "--algo crsh, rah or rah-quadtree"},
-      {"sort", "--algo crsh, rah, rah-quadtree or grid"},
-      {"decompress", "--algo crsh, rah or rah-quadtree"},
-      {"build", "--algo crsh, rah or rah-quadtree"},
-      {"reduce", "--path passes and --algo crsh, rah or rah-quadtree"},
-      {"traverse.compact", "--path fused and --algo crsh, rah or rah-quadtree"},
-      {"tree.roots", "--objects tree --path passes"},
-      {"tree.expand", "--objects tree --path passes"},
-      {"tree.test", "--objects tree --path passes"},
-      {"intersect.tree", "--objects tree"},
-      {"tree.step", "--objects tree --path fused"},
-      {"tl.lists", "--algo tl"},
-      {"tl.trace", "--algo tl"},
-      {"tl.heads", "--algo tl --polygon-heads regular or simple"},
-      {"tl.cells", "--algo tl --primary tl --frustum-cull on"},
-      {"grid.count", "--algo grid"},
-      {"grid.emit", "--algo grid"},
-      {"grid.cells", "--algo grid"},
-      {"grid.trace", "--algo grid"},
-      {"raygen.reflection", "a reflective material"},
-      {"raygen.refraction", "a transparent material"},
-      {"surfaces.hits", "a reflective or transparent material"},
-  };
-  for (const auto& [name, with] : kWith)
-    if (name == pass) return with;
-  return {};
-}
-}  // namespace
 
 std::map<std::string, std::vector<std::uint32_t>> LoadKernelFiles(const KernelFiles& kernels) {
 #ifdef RAYSPACE_HAVE_VULKAN
@@ -100,9 +66,14 @@ void CheckKernelsRan(const Backend& backend, const KernelFiles& kernels) {
     std::string ran;
     for (const PassSpec& p : kPasses)
       if (!p.graphics && backend.launches(backend, p.id) > 0) ran += (ran.empty() ? "" : ", ") + std::string(p.name);
-    const std::string_view with = RunsWith(pass);
+    const PassReach* reach = ReachOf(*id);
+    std::string with;
+    if (reach && !reach->example.empty())
+      with = fmt::format(" (it runs with {}; for instance: render {})", reach->runs_with, reach->example);
+    else if (reach)
+      with = fmt::format(" (it runs with {})", reach->runs_with);
     ThrowInput("--kernel '{}': this run never launched pass '{}'{}, so the kernel was not tested; the run launched: {}", spec,
-               pass, with.empty() ? std::string() : fmt::format(" (it runs with {})", with), ran.empty() ? "no kernel" : ran);
+               pass, with, ran.empty() ? "no kernel" : ran);
   }
 }
 

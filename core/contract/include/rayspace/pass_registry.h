@@ -403,6 +403,50 @@ constexpr std::optional<PassId> PassOfLabel(std::string_view label) {
   return best;
 }
 
+// The passes whose launch an option decides rather than the scene: `runs_with` says so to a person
+// (the refusal of a --kernel the run never launched), `example` is the render options of one run that
+// launches the pass on a scene with reflective and transparent materials (cli.kernel.reach runs each).
+// The passes not listed run in every frame that has their rays.
+struct PassReach {
+  PassId id;
+  std::string_view runs_with;
+  std::string_view example;
+};
+inline constexpr PassReach kPassReach[] = {
+    {PassId::kHash, "--algo crsh, rah or rah-quadtree", "--algo crsh"},
+    {PassId::kCompress, "--algo crsh, rah or rah-quadtree", "--algo crsh"},
+    {PassId::kSort, "--algo crsh, rah, rah-quadtree or grid", "--algo crsh"},
+    {PassId::kDecompress, "--algo crsh, rah or rah-quadtree", "--algo crsh"},
+    {PassId::kBuild, "--algo crsh, rah or rah-quadtree", "--algo crsh"},
+    {PassId::kTraverse, "--algo crsh, rah or rah-quadtree and --path passes", "--algo crsh --path passes"},
+    {PassId::kReduce, "--path passes and --algo crsh, rah or rah-quadtree", "--algo crsh --path passes"},
+    {PassId::kTraverseCompact, "--path fused and --algo crsh, rah or rah-quadtree", "--algo crsh --path fused --objects flat"},
+    {PassId::kIntersect, "--algo crsh, rah or rah-quadtree with the flat descent (--objects flat)", "--algo crsh --objects flat"},
+    {PassId::kTreeRoots, "--objects tree --path passes", "--objects tree --path passes"},
+    {PassId::kTreeExpand, "--objects tree --path passes", "--objects tree --path passes"},
+    {PassId::kTreeTest, "--objects tree --path passes", "--objects tree --path passes"},
+    {PassId::kIntersectTree, "--objects tree", "--objects tree"},
+    {PassId::kTreeStep, "--objects tree --path fused", "--objects tree --path fused"},
+    {PassId::kTlLists, "--algo tl", "--algo tl"},
+    {PassId::kTlTrace, "--algo tl", "--algo tl"},
+    {PassId::kTlHeads, "--algo tl --polygon-heads regular or simple", "--algo tl --polygon-heads regular"},
+    {PassId::kTlCells, "--algo tl --primary tl --frustum-cull on", "--algo tl --primary tl --frustum-cull on"},
+    {PassId::kGridCount, "--algo grid", "--algo grid"},
+    {PassId::kGridEmit, "--algo grid", "--algo grid"},
+    {PassId::kGridCells, "--algo grid", "--algo grid"},
+    {PassId::kGridTrace, "--algo grid", "--algo grid"},
+    {PassId::kRaygenReflection, "a reflective material", ""},
+    {PassId::kRaygenRefraction, "a transparent material", ""},
+    {PassId::kSurfacesHits, "a reflective or transparent material", ""},
+};
+
+// The reach of a pass, or nothing when every frame with its rays launches it.
+constexpr const PassReach* ReachOf(PassId id) {
+  for (const PassReach& r : kPassReach)
+    if (r.id == id) return &r;
+  return nullptr;
+}
+
 // A call listed by several passes is one per ray kind, in kind order.
 static_assert(static_cast<int>(PassId::kRaygenReflection) - static_cast<int>(PassId::kRaygenShadow) ==
                   static_cast<int>(layout::kRayReflection - layout::kRayShadow) &&
