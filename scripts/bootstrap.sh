@@ -10,7 +10,7 @@ BUILD=(
   build-essential cmake ninja-build ccache pkg-config
   libomp-dev libembree-dev libcgal-dev libgmp-dev libmpfr-dev libglm-dev libopenimageio-dev
   libcli11-dev nlohmann-json3-dev libfmt-dev libtinyobjloader-dev libxxhash-dev zlib1g-dev libpng-dev libssl-dev
-  mesa-vulkan-drivers libvulkan-dev glslc libspirv-cross-c-shared-dev spirv-tools
+  mesa-vulkan-drivers libvulkan-dev glslc libspirv-cross-c-shared-dev spirv-tools spirv-headers
 )
 # The tests (doctest, the validation layer), benchmarks, fuzzing (clang's runtime), the lint (ctags)
 # and the plots (gnuplot and its font).

@@ -175,7 +175,7 @@ vk::Status LoadKernelFile(const std::string& path, std::vector<std::uint32_t>& o
     };
     const std::string dir = fs::absolute(path, ec).parent_path().string();
     const std::string cmd =
-        fmt::format("{} -O0 --target-env=vulkan1.2 -fshader-stage=compute -I {} -I {} -I {} {} -o {} 2> {}", RAYSPACE_GLSLC,
+        fmt::format("{} -O0 -g --target-env=vulkan1.2 -fshader-stage=compute -I {} -I {} -I {} {} -o {} 2> {}", RAYSPACE_GLSLC,
                     quote(dir), quote(RAYSPACE_SHADER_DIR), quote(RAYSPACE_CORE_INCLUDE_DIR), quote(path), quote(tmp.string()),
                     quote(log.string()));
     const int rc = std::system(cmd.c_str());

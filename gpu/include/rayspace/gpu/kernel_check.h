@@ -40,7 +40,7 @@ vk::Status ReflectKernel(std::span<const std::uint32_t> spirv, KernelInterface& 
 vk::Status CheckKernel(const PassSpec& pass, std::span<const std::uint32_t> spirv);
 
 // Reads a user's kernel: a .spv file as it is, or a .comp file compiled with glslc as the built-in
-// kernels are (-O0, Vulkan 1.2; include paths: the file's folder, gpu/shaders and core/contract/include).
+// kernels are (-O0 -g, Vulkan 1.2; include paths: the file's folder, gpu/shaders and core/contract/include).
 vk::Status LoadKernelFile(const std::string& path, std::vector<std::uint32_t>& out);
 
 }  // namespace rayspace::gpu_backend

@@ -1,0 +1,20 @@
+// SPIRV-Tools on a module: the validator (spirv-val) the simulator runs before executing anything, and
+// the debug-information strip that shows glslc -g leaves the computing instructions as they were.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace rayspace::sim {
+
+// spirv-val's verdict for the Vulkan 1.2 environment (SPIR-V up to 1.5): "" when valid, else its
+// first message.
+std::string ValidationError(std::span<const std::uint32_t> spirv);
+
+// The module without debug instructions (OpSource, OpString, OpName, OpLine, ...) and with its ids
+// renumbered in order of first appearance (spirv-opt --strip-debug --compact-ids). Throws InputError
+// naming `what` when SPIRV-Tools rejects it.
+std::vector<std::uint32_t> WithoutDebugInfo(std::span<const std::uint32_t> spirv, const std::string& what);
+
+}  // namespace rayspace::sim
