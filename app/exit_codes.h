@@ -27,9 +27,9 @@ inline constexpr ExitCodeMeaning kExitCodes[] = {
     {ExitCode::kInternal, "internal failure"},
     {ExitCode::kBadInput, "bad input (one line on stderr naming the file and field or line)"},
     {ExitCode::kOracleMismatch, "render: the oracle found rays the frame got wrong"},
-    {ExitCode::kDivergence, "diff or replay: a pass diverged; bench: configurations of one tracer gave different frames"},
+    {ExitCode::kDivergence, "diff or replay: a pass diverged; simulate: a read-back differs from the expected bytes; bench: configurations of one tracer gave different frames"},
     {ExitCode::kNotReproduced, "replay: the recorded comparison was not reproduced"},
-    {ExitCode::kWorkgroupFault, "render, diff or replay: the workgroup checker found a race, a read of an unwritten shared word or a divergent barrier in an emulated kernel"},
+    {ExitCode::kWorkgroupFault, "render, diff or replay: the workgroup checker found a race, a read of an unwritten shared word or a divergent barrier in an emulated kernel; simulate: the kernel faulted on the simulated GPU"},
 };
 
 // The value main() returns.

@@ -19,6 +19,7 @@
 #include "exit_codes.h"
 #include "ignored_options.h"
 #include "render_command.h"
+#include "simulate_command.h"
 #include "render_options.h"
 #include "reproduce/command.h"
 #include "reproduce/frame.h"
@@ -43,6 +44,8 @@ struct Commands {
   std::pair<CLI::App*, CLI::App*> reproduce_cmds{};
   rayspace::app::DataCheckArgs data_check;
   CLI::App* data_check_cmd = nullptr;
+  rayspace::app::SimulateArgs simulate;
+  CLI::App* simulate_cmd = nullptr;
   CLI::App *render_cmd = nullptr, *accuracy_cmd = nullptr, *bench_cmd = nullptr, *diff_cmd = nullptr, *replay_cmd = nullptr, *devices_cmd = nullptr,
            *export_cmd = nullptr;
   bool validate = false;
@@ -117,6 +120,15 @@ void AddData(CLI::App& app, Commands& cmds) {
                "one line per scene, exit 2 when a file is missing or differs");
   cc->add_option("scenes", cmds.data_check.scenes, "Scene JSON files or bundled scene names (default: every bundled scene)");
   cc->add_option("--data", cmds.data_check.data, "Data root (default: $RAYSPACE_DATA)");
+}
+
+void AddSimulate(CLI::App& app, Commands& cmds) {
+  rayspace::app::SimulateArgs& a = cmds.simulate;
+  CLI::App* sc = cmds.simulate_cmd = app.add_subcommand(
+      "simulate", "Run a reproducer written by `rayspace export` on the simulated GPU: the kernels' own SPIR-V executed on "
+                  "the CPU, every read-back compared with the expected bytes; needs no Vulkan device");
+  sc->add_option("dir", a.dir, "The reproducer's directory (export --out)")->required();
+  sc->add_option("--subgroup-size", a.subgroup_size, "Invocations per subgroup (default 8, lavapipe's)")->check(CLI::Range(1, 128));
 }
 
 #ifdef RAYSPACE_HAVE_VULKAN
@@ -258,6 +270,7 @@ rayspace::app::ExitCode Run(const Commands& cmds) {
   if (cmds.reproduce_cmds.second->parsed()) return rayspace::reproduce::RunMerge(cmds.reproduce);
   if (cmds.reproduce_cmds.first->parsed()) return rayspace::reproduce::RunReproduce(cmds.reproduce, rayspace::reproduce::RenderConfig);
   if (cmds.data_check_cmd->parsed()) return rayspace::app::RunDataCheck(cmds.data_check);
+  if (cmds.simulate_cmd->parsed()) return rayspace::app::RunSimulate(cmds.simulate);
 #ifdef RAYSPACE_HAVE_VULKAN
   if (cmds.diff_cmd->parsed()) return rayspace::app::RunDiff(cmds.diff);
   if (cmds.replay_cmd->parsed()) return rayspace::app::RunReplay(cmds.replay);
@@ -302,6 +315,7 @@ int main(int argc, char** argv) {
   AddShadowBench(app, cmds);
   cmds.reproduce_cmds = rayspace::reproduce::AddReproduceCommand(app, cmds.reproduce);
   AddData(app, cmds);
+  AddSimulate(app, cmds);
 #ifdef RAYSPACE_HAVE_VULKAN
   AddDiffAndReplay(app, cmds);
   AddExport(app, cmds);

@@ -36,8 +36,7 @@ inline constexpr ScopeEntry kScope[] = {
     // Arithmetic, logic, comparison and conversion.
     {"Opcode", "OpSNegate"}, {"Opcode", "OpFNegate"}, {"Opcode", "OpIAdd"}, {"Opcode", "OpFAdd"}, {"Opcode", "OpISub"},
     {"Opcode", "OpFSub"}, {"Opcode", "OpIMul"}, {"Opcode", "OpFMul"}, {"Opcode", "OpUDiv"}, {"Opcode", "OpSDiv"},
-    {"Opcode", "OpFDiv"}, {"Opcode", "OpUMod"}, {"Opcode", "OpSRem"}, {"Opcode", "OpSMod"}, {"Opcode", "OpFRem"},
-    {"Opcode", "OpFMod"}, {"Opcode", "OpVectorTimesScalar"}, {"Opcode", "OpDot"},
+    {"Opcode", "OpFDiv"}, {"Opcode", "OpUMod"}, {"Opcode", "OpSRem"}, {"Opcode", "OpSMod"}, {"Opcode", "OpVectorTimesScalar"}, {"Opcode", "OpDot"},
     {"Opcode", "OpShiftRightLogical"}, {"Opcode", "OpShiftRightArithmetic"}, {"Opcode", "OpShiftLeftLogical"},
     {"Opcode", "OpBitwiseOr"}, {"Opcode", "OpBitwiseXor"}, {"Opcode", "OpBitwiseAnd"}, {"Opcode", "OpNot"},
     {"Opcode", "OpBitCount"}, {"Opcode", "OpBitFieldUExtract"}, {"Opcode", "OpBitFieldInsert"},
@@ -83,13 +82,13 @@ inline constexpr ScopeEntry kScope[] = {
     {"Decoration", "Volatile"}, {"Decoration", "Restrict"}, {"Decoration", "Aliased"}, {"Decoration", "RelaxedPrecision"},
     {"GroupOperation", "Reduce"}, {"GroupOperation", "InclusiveScan"}, {"GroupOperation", "ExclusiveScan"},
     {"GLSL.std.450", "FAbs"}, {"GLSL.std.450", "SAbs"}, {"GLSL.std.450", "FSign"}, {"GLSL.std.450", "Floor"},
-    {"GLSL.std.450", "Ceil"}, {"GLSL.std.450", "Trunc"}, {"GLSL.std.450", "Round"}, {"GLSL.std.450", "RoundEven"},
+    {"GLSL.std.450", "Ceil"}, {"GLSL.std.450", "Trunc"}, {"GLSL.std.450", "RoundEven"},
     {"GLSL.std.450", "Fract"}, {"GLSL.std.450", "Sqrt"}, {"GLSL.std.450", "InverseSqrt"}, {"GLSL.std.450", "FMin"},
     {"GLSL.std.450", "UMin"}, {"GLSL.std.450", "SMin"}, {"GLSL.std.450", "FMax"}, {"GLSL.std.450", "UMax"},
     {"GLSL.std.450", "SMax"}, {"GLSL.std.450", "FClamp"}, {"GLSL.std.450", "UClamp"}, {"GLSL.std.450", "SClamp"},
     {"GLSL.std.450", "FMix"}, {"GLSL.std.450", "Step"}, {"GLSL.std.450", "FindILsb"}, {"GLSL.std.450", "FindUMsb"},
     {"GLSL.std.450", "FindSMsb"}, {"GLSL.std.450", "Normalize"}, {"GLSL.std.450", "Length"}, {"GLSL.std.450", "Cross"},
-    {"GLSL.std.450", "Fma"}, {"GLSL.std.450", "Pow"}, {"GLSL.std.450", "Exp2"}, {"GLSL.std.450", "Log2"},
+    {"GLSL.std.450", "Fma"},
 };
 
 }  // namespace rayspace::sim

@@ -1,0 +1,33 @@
+#include "simulate_command.h"
+
+#include <chrono>
+#include <cstdio>
+
+#include "rayspace/sim/export_run.h"
+
+namespace rayspace::app {
+
+ExitCode RunSimulate(const SimulateArgs& args) {
+  const auto t0 = std::chrono::steady_clock::now();
+  sim::ExportRun run;
+  try {
+    run = sim::RunExport(args.dir, {.subgroup_size = args.subgroup_size});
+  } catch (const sim::SimError& e) {
+    std::fprintf(stderr, "rayspace simulate: %s: the kernel faulted: %s\n", args.dir.c_str(), e.what());
+    return ExitCode::kWorkgroupFault;
+  }
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("rayspace simulate: %s on the simulated GPU (subgroup size %u): %llu dispatches, %llu workgroups, %.1f M lane-instructions in %.2f s\n",
+              run.call.c_str(), args.subgroup_size, static_cast<unsigned long long>(run.dispatches),
+              static_cast<unsigned long long>(run.stats.workgroups), run.stats.lane_instructions / 1e6, s);
+  for (const sim::ReadBackResult& r : run.reads)
+    std::printf("  %s (%s): %s\n", r.file.c_str(), r.label.c_str(), r.equal ? "equal" : r.mismatch.c_str());
+  if (run.Equal()) {
+    std::printf("equal: every read-back has the expected bytes\n");
+    return ExitCode::kOk;
+  }
+  std::fprintf(stderr, "rayspace simulate: %s: a read-back differs from the expected bytes\n", args.dir.c_str());
+  return ExitCode::kDivergence;
+}
+
+}  // namespace rayspace::app

@@ -1,0 +1,17 @@
+// `rayspace simulate DIR`: an exported reproducer run on the simulated GPU (docs/simulator.md).
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "exit_codes.h"
+
+namespace rayspace::app {
+
+struct SimulateArgs {
+  std::string dir;
+  std::uint32_t subgroup_size = 8;
+};
+
+ExitCode RunSimulate(const SimulateArgs& args);
+
+}  // namespace rayspace::app

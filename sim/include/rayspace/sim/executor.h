@@ -1,0 +1,48 @@
+// The executor: one dispatch of a prepared kernel on the CPU. Invocations are grouped into subgroups
+// that run in lockstep over active-lane masks: each step runs one segment (a basic block up to its
+// terminator or a barrier) for every lane of the subgroup that stands at it, choosing the segment
+// earliest in the function, so lanes that diverged reconverge at the merge block where the
+// structured control flow joins. A barrier holds a subgroup until every subgroup of the workgroup
+// reached it. Arithmetic is as lavapipe computes it: +, -, *, /, sqrt correctly rounded, nothing
+// fused, denormals kept, min/max and the float-to-integer conversions as LAVAPIPE measures them.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "rayspace/sim/program.h"
+
+namespace rayspace::sim {
+
+// A fault of the kernel found while running it (an access outside a binding, a division by zero, a
+// barrier some invocations never reach, the step limit): the message names the kernel and its line.
+class SimError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct Binding {
+  std::uint8_t* data = nullptr;
+  std::size_t bytes = 0;
+};
+
+struct Dispatch {
+  std::uint32_t groups[3] = {1, 1, 1};
+  std::vector<Binding> bindings;          // by binding number (set 0)
+  std::span<const std::uint8_t> push;     // the push-constant block
+  std::uint32_t subgroup_size = 8;        // lavapipe's
+  std::uint64_t step_limit = 1ull << 34;  // lane-instructions before the run counts as a hang
+};
+
+struct ExecStats {
+  std::uint64_t lane_instructions = 0;  // instructions executed, times the lanes active in each
+  std::uint64_t workgroups = 0;
+};
+
+// Runs every workgroup of the dispatch, in order of its linear index. Throws SimError on a fault.
+void Run(const Program& program, const Dispatch& dispatch, ExecStats& stats);
+
+}  // namespace rayspace::sim

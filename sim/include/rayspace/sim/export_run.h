@@ -1,0 +1,35 @@
+// Runs a reproducer directory written by `rayspace export` (sequence.txt, kernels/, inputs/,
+// expected/: docs/export.md) on the simulator instead of a Vulkan device, and compares every
+// read-back with the expected bytes, as the exported repro.c does on a driver.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "rayspace/sim/executor.h"
+
+namespace rayspace::sim {
+
+struct ExportRunOptions {
+  std::uint32_t subgroup_size = 8;  // lavapipe's, which recorded the expected read-backs
+};
+
+struct ReadBackResult {
+  std::string file, label;
+  bool equal = true;
+  std::string mismatch;  // the first differing word, when not equal
+};
+
+struct ExportRun {
+  std::string call;                   // the exported call's name (sequence.txt's header)
+  std::vector<ReadBackResult> reads;
+  std::uint64_t dispatches = 0;
+  ExecStats stats;
+  bool Equal() const;
+};
+
+// Throws InputError for a directory that is not an export (naming the file and line) or a kernel the
+// simulator cannot take; SimError for a fault the kernel commits while it runs.
+ExportRun RunExport(const std::string& dir, const ExportRunOptions& options);
+
+}  // namespace rayspace::sim
