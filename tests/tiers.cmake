@@ -35,6 +35,9 @@ set(rayspace_full_tier
   # --quick): the doctest cases "reproduce: the report does not depend on --jobs ..." and "reproduce:
   # merge takes every shard of one run exactly once" hold --jobs and shards on small runs.
   "^cli\\.reproduce"
+  # Every exported call of two 32x32 diffs on the simulator: cli.simulate.sample runs one call of every
+  # pass, a planted fault and the refusal.
+  "^cli\\.simulate\\.all$"
   # A frame beyond one storage binding (2048x1152): the same parts and paging on small frames with
   # --split-bytes in cli.backend and cli.diff (studs.crsh.paged, cornell.crsh.paged, ...).
   "^cli\\.large_frame$"
