@@ -111,15 +111,17 @@ void CheckGridBuild(const Backend& backend) {
 Backend MakeBackend(const std::string& name, int device, int local_size, const std::map<std::string, std::uint32_t>& faults,
                     const TestLimits& limits, const KernelFiles& kernels) {
   Backend b;
-  if (name == "emu" && !kernels.empty()) ThrowInput("--kernel '{}': user kernels run on --backend vulkan", kernels.front());
+  if (name == "emu" && !kernels.empty()) ThrowInput("--kernel '{}': user kernels run on --backend vulkan or sim", kernels.front());
   if (name == "emu") {
     b.device = "host";
     return b;
   }
-  if (name != "vulkan") ThrowInput("--backend '{}': expected emu or vulkan", name);
+  if (name != "vulkan" && name != "sim") ThrowInput("--backend '{}': expected emu, sim or vulkan", name);
 #ifdef RAYSPACE_HAVE_VULKAN
   auto owner = std::make_shared<VulkanOwner>();
   const gpu_backend::KernelOverrides overrides = LoadKernels(kernels);
+  // sim: the same host code over the simulated device (vk::Context::CreateSimulated).
+  if (name == "sim") device = vk::Context::kSimulatedDevice;
   if (vk::Status s = gpu_backend::VulkanPasses::Create(device, faults, owner->gpu, static_cast<std::uint32_t>(local_size), overrides);
       !s) {
     // "--device N: ...", "--validate: ...": an option this machine cannot honour, not a failure
@@ -129,7 +131,7 @@ Backend MakeBackend(const std::string& name, int device, int local_size, const s
   owner->gpu->LimitForTesting(limits.storage_bytes, limits.groups_x);
   owner->frame = gpu_backend::MakeVulkanFramePasses(*owner->gpu);
   owner->hierarchy = gpu_backend::MakeVulkanHierarchyPasses(*owner->gpu);
-  b.name = "vulkan";
+  b.name = name;
   b.device = owner->gpu->context().device_name();
   b.max_buffer_bytes = owner->gpu->SplitBytes();
   b.subgroup_size = owner->gpu->context().subgroup_size();

@@ -83,6 +83,7 @@ std::vector<IgnoredOption> IgnoredRenderOptions(const CLI::App& command, const R
   if (args.backend == "emu")
     for (const char* name : {"--device", "--split-bytes", "--max-groups"})
       Note(out, command, name, "--backend emu runs on the host, without a Vulkan device");
+  if (args.backend == "sim") Note(out, command, "--device", "--backend sim runs on the simulated GPU, no Vulkan device");
   return out;
 }
 

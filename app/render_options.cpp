@@ -16,8 +16,9 @@ void AddRenderOptions(CLI::App& command, RenderArgs& args) {
   command.add_option("--direct", args.direct, "Direct tracer mode: auto, exhaustive or bvh")
       ->check(CLI::IsMember({"auto", "exhaustive", "bvh"}));
   command.add_option("--backend", args.backend,
-                     "Where the passes run: emu (the CPU emulation) or vulkan (the GLSL kernels; same bits expected)")
-      ->check(CLI::IsMember({"emu", "vulkan"}));
+                     "Where the passes run: emu (the CPU emulation), vulkan (the GLSL kernels on a device) or sim (the "
+                     "kernels' SPIR-V on the simulated GPU, the raster from the emulator); the same bits expected")
+      ->check(CLI::IsMember({"emu", "sim", "vulkan"}));
   command.add_option("--path", args.path,
                      "Hierarchy traversal: fused (each level tests and compacts in one pass, traverse.compact; the same "
                      "pairs, statistics and digest) or passes (traverse then reduce); auto: fused unless "

@@ -2,6 +2,7 @@
 
 #include "raster_frag.spv.h"
 #include "raster_vert.spv.h"
+#include "rayspace/emu/passes.h"
 #include "rayspace/gpu/passes.h"
 
 #include <fmt/format.h>
@@ -114,6 +115,11 @@ vk::Status RasterGBuffer(vk::Context& ctx, std::span<const std::uint32_t> vert_s
 }
 
 vk::Status VulkanPasses::Run(const emu::call::Raster& c, emu::GBuffer& out) {
+  // The simulated device has no graphics pipeline: its raster is the emulator's.
+  if (ctx_->simulated()) {
+    out = emu::PassRaster(c);
+    return vk::Status::Ok();
+  }
   return RasterGBuffer(*ctx_, kSpirv_raster_vert, kSpirv_raster_frag, c.frame, *c.scene, raster_fault_, out);
 }
 

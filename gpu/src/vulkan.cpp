@@ -10,6 +10,8 @@
 #include "rayspace/gpu/memory.h"
 #include "rayspace/gpu/requirements.h"
 #include "rayspace/gpu/validation.h"
+#include "rayspace/sim/executor.h"
+#include "rayspace/sim/program.h"
 
 namespace rayspace::vk {
 
@@ -97,6 +99,7 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
   std::swap(guard_, o.guard_);
   std::swap(mapped_, o.mapped_);
   std::swap(observed_, o.observed_);
+  std::swap(host_, o.host_);
   return *this;
 }
 
@@ -147,6 +150,10 @@ bool Buffer::GuardChanged(std::size_t& word, std::uint32_t& value) const {
 }
 
 Buffer::~Buffer() {
+  if (host_) {
+    if (observed_ && ctx_->observer()) ctx_->observer()->BufferDestroyed(*this);
+    return;
+  }
   if (!device_) return;
   if (observed_ && ctx_->observer()) ctx_->observer()->BufferDestroyed(*this);
   vkDestroyBuffer(device_, buffer_, nullptr);
@@ -323,6 +330,7 @@ std::string DeviceList(const std::vector<VkPhysicalDevice>& devs) {
 void Context::SetObserver(Observer* observer) { g_observer = observer; }
 
 Status Context::Create(int device, std::unique_ptr<Context>& out) {
+  if (device == kSimulatedDevice) return CreateSimulated(8, out);
   auto c = std::make_unique<Context>();
   RS_TRY(CreateInstance(c->instance_, &c->messenger_));
   std::uint32_t n = 0;
@@ -336,6 +344,24 @@ Status Context::Create(int device, std::unique_ptr<Context>& out) {
   RS_TRY(CheckDevice(c->physical_, chosen));
   c->ReadProperties();
   if (Status s = c->CreateDevice(); !s) return s;
+  c->observer_ = g_observer;
+  out = std::move(c);
+  return Status::Ok();
+}
+
+Status Context::CreateSimulated(std::uint32_t subgroup_size, std::unique_ptr<Context>& out) {
+  if (subgroup_size < 1 || subgroup_size > 128) return Status::Fail(fmt::format("a simulated subgroup of {} invocations (1 to 128)", subgroup_size));
+  auto c = std::make_unique<Context>();
+  c->simulated_ = true;
+  c->device_name_ = fmt::format("rayspace simulator (subgroup size {})", subgroup_size);
+  c->driver_ = "rayspace sim: the kernels' SPIR-V on the CPU";
+  // lavapipe's limits, so that the host code splits and pages as it does there.
+  c->max_storage_range_ = c->storage_limit_ = VkDeviceSize{128} << 20;
+  c->float64_ = true;
+  c->max_stage_storage_buffers_ = 1u << 20;
+  c->max_image_side_ = 16384;
+  c->subgroup_size_ = subgroup_size;
+  c->max_invocations_ = c->max_size_x_ = 1024;
   c->observer_ = g_observer;
   out = std::move(c);
   return Status::Ok();
@@ -424,6 +450,22 @@ Status Context::CreateBuffer(std::size_t bytes, Buffer& out, bool storage, bool 
   Buffer b;
   b.device_ = device_;
   b.size_ = bytes;
+  if (simulated_) {
+    const std::size_t guard = storage ? Buffer::kGuardBytes : 0;
+    b.host_ = std::make_unique<std::uint8_t[]>(bytes + guard);
+    b.mapped_ = b.host_.get();
+    b.ctx_ = this;
+    std::memset(b.mapped_, 0, bytes);
+    if (poison && g_poison && storage) FillWords(b.mapped_, bytes, Buffer::kPoisonWord);
+    if (guard) {
+      b.guard_ = guard;
+      FillWords(static_cast<std::uint8_t*>(b.mapped_) + bytes, guard, Buffer::kGuardWord);
+    }
+    b.observed_ = storage && observer_;
+    out = std::move(b);
+    if (out.observed_) observer_->BufferCreated(out);
+    return Status::Ok();
+  }
   // Guard words after a storage buffer, where a binding of the whole still fits the device.
   const std::size_t guard = storage && bytes + Buffer::kGuardBytes <= max_storage_range_ ? Buffer::kGuardBytes : 0;
   VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
@@ -495,9 +537,13 @@ Status Context::CreateKernel(const std::string& name, std::span<const std::uint3
   k.local_size_ = local_size;
   k.name_ = name;
   k.bindings_ = bindings;
-  if (Status st = CreateModule(device_, spirv, k.module_); !st) return st;
-  if (Status st = CreateLayouts(device_, bindings, VK_SHADER_STAGE_COMPUTE_BIT, 128, k.set_layout_, k.layout_); !st)
-    return st;
+  if (simulated_) {
+    k.spirv_.assign(spirv.begin(), spirv.end());
+  } else {
+    if (Status st = CreateModule(device_, spirv, k.module_); !st) return st;
+    if (Status st = CreateLayouts(device_, bindings, VK_SHADER_STAGE_COMPUTE_BIT, 128, k.set_layout_, k.layout_); !st)
+      return st;
+  }
   // common.glsl: kFault, kLocalSize, kStrictMath (a VkBool32).
   k.spec_[0] = fault;
   k.spec_[1] = k.local_size_;
@@ -507,6 +553,16 @@ Status Context::CreateKernel(const std::string& name, std::span<const std::uint3
 }
 
 Status Context::CreatePipeline(const Kernel& k) const {
+  if (simulated_) {
+    if (k.program_) return Status::Ok();
+    try {
+      k.program_ = std::make_shared<const sim::Program>(sim::Prepare(
+          k.spirv_, {{0, std::to_string(k.spec_[0])}, {1, std::to_string(k.spec_[1])}, {2, std::to_string(k.spec_[2])}}, k.name_));
+    } catch (const std::exception& e) {
+      return Status::Fail(fmt::format("kernel {} on the simulated device: {}", k.name_, e.what()));
+    }
+    return Status::Ok();
+  }
   if (k.pipeline_ != VK_NULL_HANDLE) return Status::Ok();
   const VkSpecializationMapEntry entries[3] = {{0, 0, 4}, {1, 4, 4}, {2, 8, 4}};
   VkSpecializationInfo si{3, entries, sizeof k.spec_, k.spec_};
@@ -524,7 +580,8 @@ Status Context::CreatePipeline(const Kernel& k) const {
 Status Context::SetKernelFault(Kernel& k, std::uint32_t fault) const {
   if (k.spec_[0] == fault) return Status::Ok();
   if (observer_) return Status::Fail(fmt::format("kernel {}: its planted fault cannot change while an observer records it", k.name_));
-  vkDestroyPipeline(device_, k.pipeline_, nullptr);
+  k.program_.reset();
+  if (!simulated_) vkDestroyPipeline(device_, k.pipeline_, nullptr);
   k.pipeline_ = VK_NULL_HANDLE;
   k.spec_[0] = fault;
   return Status::Ok();
@@ -532,6 +589,7 @@ Status Context::SetKernelFault(Kernel& k, std::uint32_t fault) const {
 
 Status Context::CreateImage(VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect, std::uint32_t width,
                             std::uint32_t height, Image& out) {
+  if (simulated_) return Status::Fail("the simulated device runs compute kernels only (the raster comes from the emulator)");
   if (width < 1 || height < 1 || width > max_image_side_ || height > max_image_side_)
     return Status::Fail(fmt::format("a {} x {} image is outside [1, {}] (maxImageDimension2D of '{}')", width, height,
                                     max_image_side_, device_name_));
@@ -691,6 +749,7 @@ Status CreateGraphicsPipeline(VkDevice device, const GraphicsDesc& d, VkShaderMo
 }  // namespace
 
 Status Context::CreateGraphics(const GraphicsDesc& d, std::span<const Image* const> attachments, Graphics& g) {
+  if (simulated_) return Status::Fail("the simulated device runs compute kernels only (the raster comes from the emulator)");
   if (attachments.size() != d.colors.size() + 1)
     return Status::Fail(fmt::format("graphics {}: {} colour formats and {} attachments (colours + depth)", d.name,
                                     d.colors.size(), attachments.size()));
@@ -790,13 +849,37 @@ Status Recorder::Dispatch(const Kernel& k, std::span<const Buffer* const> buffer
 
 Status Recorder::DispatchGroups(const Kernel& k, std::span<const Buffer* const> buffers, const void* push,
                                 std::size_t push_size, std::uint64_t groups) {
-  if (!recording_) {
+  if (!recording_ && !ctx_.simulated_) {
     Status s = Begin();
     if (!s) return s;
   }
+  recording_ = true;
   if (buffers.size() != k.bindings_) return Status::Fail(fmt::format("kernel {} takes {} buffers, got {}", k.name_, k.bindings_, buffers.size()));
   if (Status st = ctx_.CreatePipeline(k); !st) return st;
   bound_.emplace_back(k.name_, std::vector<const Buffer*>(buffers.begin(), buffers.end()));
+  if (ctx_.simulated_) {
+    const std::uint32_t gx = static_cast<std::uint32_t>(std::min<std::uint64_t>(groups, ctx_.max_groups_[0]));
+    const std::uint64_t gy = gx ? (groups + gx - 1) / gx : 0;
+    if (gy > ctx_.max_groups_[1])
+      return Status::Fail(fmt::format("kernel {}: {} invocations need {} x {} workgroups, beyond maxComputeWorkGroupCount",
+                                      k.name_, groups * k.local_size_, gx, gy));
+    if (gy > 1) ++ctx_.folded_launches_;
+    SimStep step;
+    step.kernel = &k;
+    step.buffers.assign(buffers.begin(), buffers.end());
+    if (push && push_size) step.push.assign(static_cast<const std::uint8_t*>(push), static_cast<const std::uint8_t*>(push) + push_size);
+    step.gx = gx;
+    step.gy = static_cast<std::uint32_t>(gy);
+    if (groups > 0) {
+      sim_steps_.push_back(std::move(step));
+      ++k.launches_;
+    }
+    dispatched_ = true;
+    if (ctx_.observer_)
+      ctx_.observer_->Dispatched(*this, k, buffers, {static_cast<const std::uint8_t*>(push), push ? push_size : 0}, gx,
+                                 static_cast<std::uint32_t>(gy));
+    return Status::Ok();
+  }
   VkDescriptorSet set;
   if (Status st = BindSet("kernel", k.name_, k.set_layout_, buffers, set); !st) return st;
   vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.pipeline_);
@@ -870,6 +953,15 @@ Status Recorder::CopyToHost(const Image& image, const Buffer& dst) {
 }
 
 Status Recorder::CopyBuffer(const Buffer& src, const Buffer& dst, std::size_t bytes) {
+  if (ctx_.simulated_) {
+    recording_ = true;
+    SimStep step;
+    step.src = &src;
+    step.dst = &dst;
+    step.bytes = bytes;
+    sim_steps_.push_back(std::move(step));
+    return Status::Ok();
+  }
   if (!recording_) RS_TRY(Begin());
   // Before: whatever earlier commands and submits did with either buffer. After: the copy before
   // later commands (an upload) and before the host reads (a read-back).
@@ -889,11 +981,42 @@ Status Recorder::CopyBuffer(const Buffer& src, const Buffer& dst, std::size_t by
   return Status::Ok();
 }
 
+Status Recorder::SubmitSimulated() {
+  const std::vector<SimStep> steps = std::move(sim_steps_);
+  sim_steps_.clear();
+  for (const SimStep& step : steps) {
+    if (!step.kernel) {
+      if (step.bytes > step.src->size() || step.bytes > step.dst->size()) return Status::Fail("a copy beyond a buffer's end");
+      std::memmove(step.dst->mapped_, step.src->mapped_, step.bytes);
+      continue;
+    }
+    sim::Dispatch d;
+    d.groups[0] = step.gx;
+    d.groups[1] = step.gy;
+    d.subgroup_size = ctx_.subgroup_size_;
+    d.push = step.push;
+    for (const Buffer* b : step.buffers) d.bindings.push_back({static_cast<std::uint8_t*>(b->mapped_), b->size_ + b->guard_});
+    sim::ExecStats stats;
+    try {
+      sim::Run(*step.kernel->program_, d, stats);
+    } catch (const sim::SimError& e) {
+      return Status::Fail(fmt::format("kernel {} faulted on the simulated device: {}", step.kernel->name_, e.what()));
+    }
+    ctx_.sim_instructions_ += stats.lane_instructions;
+  }
+  return Status::Ok();
+}
+
 Status Recorder::Submit() {
   if (!recording_) return Status::Ok();
-  RS_VK(vkEndCommandBuffer(cmd_));
-  recording_ = false;
-  if (Status st = ctx_.SubmitAndWait(cmd_); !st) return st;
+  if (ctx_.simulated_) {
+    recording_ = false;
+    RS_TRY(SubmitSimulated());
+  } else {
+    RS_VK(vkEndCommandBuffer(cmd_));
+    recording_ = false;
+    if (Status st = ctx_.SubmitAndWait(cmd_); !st) return st;
+  }
   if (ctx_.observer_ && dispatched_) ctx_.observer_->Submitted(*this);
   const std::vector<std::pair<std::string, std::vector<const Buffer*>>> bound = std::move(bound_);
   bound_.clear();
@@ -906,6 +1029,7 @@ Status Recorder::Submit() {
                                         kernel, i, buffers[i]->size(), word, value));
     }
   dispatched_ = false;
+  if (ctx_.simulated_) return Status::Ok();
   for (VkDescriptorPool p : pools_) RS_VK(vkResetDescriptorPool(ctx_.device_, p, 0));
   current_ = static_cast<std::size_t>(-1);
   sets_left_ = descriptors_left_ = 0;

@@ -149,9 +149,51 @@ class Builder {
         break;
       }
       case Op::OpVariable: Variable(r); break;
-      case Op::OpSpecConstantOp: ThrowInput("{}: a specialization constant operation spirv-opt did not fold", p_.name);
+      case Op::OpSpecConstantOp: SpecConstantOp(r); break;
       default: break;
     }
+  }
+
+  // What spirv-opt leaves unfolded (a float Select, say), on 32-bit scalars: the constant's words.
+  void SpecConstantOp(const RawInst& r) {
+    const auto& w = r.words;
+    const auto op = static_cast<Op>(w[3]);
+    const std::uint32_t at = Allocate(r.type, r.result), words = p_.T(r.type).words;
+    const auto v = [&](std::size_t k) { return p_.constants.at(p_.reg.at(w[4 + k])); };
+    if (op == Op::OpSelect) {
+      std::copy_n(p_.constants.begin() + p_.reg.at(w[v(0) ? 5 : 6]), words, p_.constants.begin() + at);
+      return;
+    }
+    if (words != 1) ThrowInput("{}: a specialization constant operation on a {}-word value", p_.name, words);
+    std::uint32_t x = 0;
+    switch (op) {
+      case Op::OpIAdd: x = v(0) + v(1); break;
+      case Op::OpISub: x = v(0) - v(1); break;
+      case Op::OpIMul: x = v(0) * v(1); break;
+      case Op::OpUDiv: x = v(1) ? v(0) / v(1) : 0; break;
+      case Op::OpUMod: x = v(1) ? v(0) % v(1) : 0; break;
+      case Op::OpBitwiseAnd: x = v(0) & v(1); break;
+      case Op::OpBitwiseOr: x = v(0) | v(1); break;
+      case Op::OpBitwiseXor: x = v(0) ^ v(1); break;
+      case Op::OpShiftLeftLogical: x = v(1) < 32 ? v(0) << v(1) : 0; break;
+      case Op::OpShiftRightLogical: x = v(1) < 32 ? v(0) >> v(1) : 0; break;
+      case Op::OpIEqual:
+      case Op::OpLogicalEqual: x = v(0) == v(1); break;
+      case Op::OpINotEqual:
+      case Op::OpLogicalNotEqual: x = v(0) != v(1); break;
+      case Op::OpULessThan: x = v(0) < v(1); break;
+      case Op::OpUGreaterThan: x = v(0) > v(1); break;
+      case Op::OpULessThanEqual: x = v(0) <= v(1); break;
+      case Op::OpUGreaterThanEqual: x = v(0) >= v(1); break;
+      case Op::OpLogicalAnd: x = v(0) && v(1); break;
+      case Op::OpLogicalOr: x = v(0) || v(1); break;
+      case Op::OpLogicalNot: x = !v(0); break;
+      case Op::OpNot: x = ~v(0); break;
+      case Op::OpUConvert:
+      case Op::OpSConvert: x = v(0); break;
+      default: ThrowInput("{}: a specialization constant operation {} the simulator does not evaluate", p_.name, NameOf("Opcode", w[3]));
+    }
+    p_.constants[at] = x;
   }
 
   void Variable(const RawInst& r) {

@@ -40,6 +40,11 @@ const char* ResultName(VkResult r);
 
 class Context;
 class MemoryPool;
+}  // namespace rayspace::vk
+namespace rayspace::sim {
+struct Program;
+}  // namespace rayspace::sim
+namespace rayspace::vk {
 // A range of a pooled block of device memory (memory.h).
 struct MemoryRange {
   VkDeviceMemory memory = VK_NULL_HANDLE;
@@ -91,6 +96,7 @@ class Buffer {
 
  private:
   friend class Context;
+  friend class Recorder;  // the simulated device binds and copies the host memory
   Context* ctx_ = nullptr;  // stages the host's reads and writes when the memory is not mapped
   VkDevice device_ = VK_NULL_HANDLE;
   VkBuffer buffer_ = VK_NULL_HANDLE;
@@ -99,6 +105,7 @@ class Buffer {
   std::size_t size_ = 0, guard_ = 0;
   void* mapped_ = nullptr;
   bool observed_ = false;  // a storage buffer made while an Observer watched (below)
+  std::unique_ptr<std::uint8_t[]> host_;  // the simulated device's memory (Context::CreateSimulated)
 };
 
 // A compute pipeline over `bindings` storage buffers with up to 128 bytes of push constants and
@@ -129,6 +136,9 @@ class Kernel {
   // Made at the kernel's first dispatch (Context::CreateKernel says why).
   mutable VkPipeline pipeline_ = VK_NULL_HANDLE;
   std::uint32_t spec_[3] = {};  // common.glsl's specialization constants: kFault, kLocalSize, kStrictMath
+  // The simulated device: the module, and its prepared program made at the first dispatch.
+  std::vector<std::uint32_t> spirv_;
+  mutable std::shared_ptr<const sim::Program> program_;
 };
 
 // A 2D image in device memory with one view: a raster target, read back by Recorder::CopyToHost.
@@ -260,6 +270,17 @@ class Recorder {
   bool dispatched_ = false;  // a dispatch since the last submit (what an Observer is told of)
   // Each dispatch's kernel and buffers since the last submit, whose guard words Submit checks.
   std::vector<std::pair<std::string, std::vector<const Buffer*>>> bound_;
+  // The simulated device: dispatches and copies recorded since the last submit, run by Submit.
+  struct SimStep {
+    const Kernel* kernel = nullptr;  // null: a copy of `bytes` from src to dst
+    std::vector<const Buffer*> buffers;
+    std::vector<std::uint8_t> push;
+    std::uint32_t gx = 0, gy = 0;
+    const Buffer *src = nullptr, *dst = nullptr;
+    std::size_t bytes = 0;
+  };
+  std::vector<SimStep> sim_steps_;
+  Status SubmitSimulated();
 };
 
 // The instance rayspace uses: Vulkan 1.2, portability enumeration where the loader offers it, and,
@@ -269,8 +290,17 @@ Status CreateInstance(VkInstance& out, VkDebugUtilsMessengerEXT* messenger);
 
 class Context {
  public:
-  // device < 0: the first non-CPU device, else the first CPU device (lavapipe).
+  // device < 0: the first non-CPU device, else the first CPU device (lavapipe); kSimulatedDevice:
+  // CreateSimulated with lavapipe's subgroup size.
   static Status Create(int device, std::unique_ptr<Context>& out);
+  // A context whose device is rayspace's simulator (docs/simulator.md): no Vulkan instance or device;
+  // buffers live in host memory, kernels run as SPIR-V on the CPU at each submit, and the limits are
+  // lavapipe's. Graphics pipelines and images are refused (the raster comes from the emulator).
+  static constexpr int kSimulatedDevice = -1000;
+  static Status CreateSimulated(std::uint32_t subgroup_size, std::unique_ptr<Context>& out);
+  bool simulated() const { return simulated_; }
+  // Lane-instructions the simulated device executed so far.
+  std::uint64_t simulated_instructions() const { return sim_instructions_; }
   ~Context();
   // A storage buffer is refused beyond storage_limit() (one binding must not exceed it); transfer-only
   // buffers (storage = false, raster read-back) are limited by memory alone.
@@ -366,6 +396,8 @@ class Context {
   std::uint32_t max_invocations_ = 0, max_size_x_ = 0;  // maxComputeWorkGroupInvocations, ...Size[0]
   std::size_t descriptor_pools_ = 0;
   std::size_t folded_launches_ = 0;
+  bool simulated_ = false;
+  std::uint64_t sim_instructions_ = 0;
 };
 
 }  // namespace rayspace::vk
