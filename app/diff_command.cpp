@@ -377,6 +377,21 @@ struct DiffTracer {
   }
 };
 
+// The actual side of --backends ("emu,vulkan" or "emu,sim"). Not given: a Vulkan device, or the
+// simulated GPU where no Vulkan device is usable (said on stderr).
+Backend MakeActualBackend(const std::string& backends, bool given, int device, int local_size,
+                          const std::map<std::string, std::uint32_t>& faults, const TestLimits& limits, const KernelFiles& kernels) {
+  const std::string actual = backends.substr(backends.find(',') + 1);
+  if (given || actual != "vulkan") return MakeBackend(actual, device, local_size, faults, limits, kernels);
+  try {
+    return MakeBackend("vulkan", device, local_size, faults, limits, kernels);
+  } catch (const std::runtime_error& e) {
+    if (std::string(e.what()).find("no Vulkan device found") == std::string::npos) throw;
+    std::fprintf(stderr, "rayspace: no Vulkan device: the kernels run on the simulated GPU (--backends emu,sim)\n");
+    return MakeBackend("sim", device, local_size, faults, limits, kernels);
+  }
+}
+
 DiffTracer MakeDiffTracer(const DiffArgs& args, const SceneBuffers& buffers, const emu::FrameOptions& fo, emu::HierarchyPasses& passes,
                           std::vector<std::uint64_t>* candidate_log = nullptr) {
   DiffTracer t;
@@ -515,7 +530,7 @@ FaultRun DiffFrame(const DiffArgs& args, const Scene& scene, SceneBuffers& buffe
   const nlohmann::json passes = PrintPasses(totals);
   const bool equal = totals.first == nullptr && run.stopped.empty();
   PrintDiffVerdict(args, injection, totals, run, equal);
-  std::printf("  vulkan: %zu split dispatches, %zu arrays paged over several bindings\n", gpu.extra_dispatches(gpu),
+  std::printf("  %s: %zu split dispatches, %zu arrays paged over several bindings\n", gpu.name.c_str(), gpu.extra_dispatches(gpu),
               gpu.paged_arrays(gpu));
   PrintSavedInputs(args, differ);
   // The report is made before the impact's frames add to the device's dispatch counts.
@@ -565,7 +580,7 @@ ExitCode RunDiff(const DiffArgs& args) {
                       .object_tree = args.Hierarchy() && args.objects != "flat"};
   const MemoryEstimate estimate = EstimateFrameMemory(scene, fo.width, fo.height, use);
   CheckFitsMachine(estimate, fo.width, fo.height, SizeFrom(args.size, scene).c_str(), "the diff");
-  const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, injection.kernel, args.Limits(), args.kernels);
+  const Backend gpu = MakeActualBackend(args.backends, args.backends_given, args.device, args.local_size, injection.kernel, args.Limits(), args.kernels);
   ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
   SceneBuffers buffers = FlattenForFrame(scene, args.faithful);
   buffers.one_sided = one_sided;
@@ -772,7 +787,8 @@ ExitCode RunReplay(const ReplayArgs& given) {
   OutputOptions ro{"the report", true, true, SavedFiles(args.dir)};
   OutputFile report = args.report.empty() ? OutputFile() : OutputFile(args.report, ro);
   const Injection injection = ParseInject(args.inject);
-  const Backend gpu = MakeBackend("vulkan", args.device, args.local_size, injection.kernel, {args.split_bytes, args.max_groups}, args.kernels);
+  const Backend gpu = MakeActualBackend(args.backends, args.backends_given, args.device, args.local_size, injection.kernel,
+                                        {args.split_bytes, args.max_groups}, args.kernels);
   ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
   verify::Backends expected{emu::EmuFramePasses(), emu::EmuHierarchyPasses()};
   verify::Backends actual{gpu.Frame(), gpu.Hierarchy()};

@@ -23,6 +23,8 @@ struct DiffArgs : FrameArgs {
   std::string path = "passes";   // --path: passes (traverse then reduce) or fused (traverse.compact)
   bool progress = false;         // --progress: also when stderr is not a terminal
   bool no_impact = false;        // --no-impact: a divergence's effect on the picture not measured
+  std::string backends = "emu,vulkan";  // --backends: emu,vulkan or emu,sim
+  bool backends_given = false;
 };
 
 // Runs the whole frame with every pass on both backends (same inputs: the GPU's previous outputs)
@@ -40,6 +42,8 @@ struct ReplayArgs {
   std::size_t split_bytes = 0;  // TestLimits, as for render and diff
   std::uint32_t max_groups = 0;
   std::string compare = "auto";  // --compare, as for diff
+  std::string backends = "emu,vulkan";  // --backends, as for diff
+  bool backends_given = false;
   // The options given on the command line ("--split-bytes", ...); the others come from the recording
   // beside the saved call (diff --save-inputs), so that the call runs as the diff ran it.
   std::set<std::string> given;

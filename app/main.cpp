@@ -140,6 +140,18 @@ void AddCompareOption(CLI::App& cmd, std::string& compare) {
       ->check(CLI::IsMember({"auto", "bitwise", "relaxed"}));
 }
 
+void AddBackendsOption(CLI::App& cmd, std::string& backends, bool& given) {
+  cmd.add_option_function<std::string>(
+      "--backends",
+      [&backends, &given](const std::string& v) {
+        backends = v;
+        given = true;
+      },
+      "The expected and the actual side: emu,vulkan (the kernels on a Vulkan device) or emu,sim (the kernels' SPIR-V on "
+      "the simulated GPU); default emu,vulkan, or emu,sim where no Vulkan device is usable")
+      ->check(CLI::IsMember({"emu,vulkan", "emu,sim"}));
+}
+
 void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
   CLI::App* dc = cmds.diff_cmd = app.add_subcommand("diff",
                                     "Run every pass of a frame on the emulator and the Vulkan kernels with the same "
@@ -162,6 +174,7 @@ void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
   dc->add_option("--save-inputs", cmds.diff.save_inputs, "Write every pass call's inputs and options to DIR/NNNN-PASS/ "
                  "(for replay); DIR must be new or empty");
   AddCompareOption(*dc, cmds.diff.compare);
+  AddBackendsOption(*dc, cmds.diff.backends, cmds.diff.backends_given);
   dc->add_option("--path", cmds.diff.path,
                  "Hierarchy traversal: passes (traverse then reduce, default) or fused (traverse.compact, what render "
                  "runs by default; the emulator runs its workgroup mirror unless --no-check-workgroups with the forward "
@@ -180,6 +193,7 @@ void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
   rayspace::app::AddKernelModelOptions(*pc, cmds.replay.model);
   rayspace::app::AddLocalSizeOption(*pc, cmds.replay.local_size);
   AddCompareOption(*pc, cmds.replay.compare);
+  AddBackendsOption(*pc, cmds.replay.backends, cmds.replay.backends_given);
   rayspace::app::AddKernelOption(*pc, cmds.replay.kernels);
   rayspace::app::AddDeviceOption(*pc, cmds.replay.device);
   rayspace::app::AddLimitOptions(*pc, cmds.replay.split_bytes, cmds.replay.max_groups);

@@ -20,7 +20,7 @@ typename C::Result Launch(VulkanPasses& gpu, const C& c) {
 class VulkanFrame final : public emu::FramePasses {
  public:
   explicit VulkanFrame(VulkanPasses& gpu) : gpu_(gpu) {}
-  std::string Name() const override { return "vulkan"; }
+  std::string Name() const override { return gpu_.context().simulated() ? "sim" : "vulkan"; }
   RS_FRAME_CALLS(RS_LAUNCH_CALL)
 
  private:
@@ -30,7 +30,7 @@ class VulkanFrame final : public emu::FramePasses {
 class VulkanHierarchy final : public emu::HierarchyPasses {
  public:
   explicit VulkanHierarchy(VulkanPasses& gpu) : gpu_(gpu) {}
-  std::string Name() const override { return "vulkan"; }
+  std::string Name() const override { return gpu_.context().simulated() ? "sim" : "vulkan"; }
   RS_HIERARCHY_CALLS(RS_LAUNCH_CALL)
 
  private:
