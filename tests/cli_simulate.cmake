@@ -3,6 +3,11 @@
 #                               equal; a call exported with a planted fault differs (exit 4, naming the
 #                               read-back and word); a directory that is no export is exit 2, one line
 #   PART=all (full tier)        every exported call of 32x32 diffs of cornell-mirrors and office
+#   PART=backend (default tier) diff --backends emu,sim on a 16x16 cornell-mirrors under five
+#                               configurations, all equal; render --backend sim gives the emulator's
+#                               digest; a planted reduce fault diverges; trim's divergent barrier is caught
+#   PART=backend-all (full)     the same diffs at 32x32 on cornell-mirrors and office, grids and the
+#                               quadtree too
 # Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DWORK=<scratch> -DPART=<part> -P cli_simulate.cmake
 cmake_minimum_required(VERSION 3.19)
 file(REMOVE_RECURSE "${WORK}")
@@ -76,6 +81,61 @@ if(PART STREQUAL "sample")
   execute_process(COMMAND "${RAYSPACE}" simulate "${WORK}/cornell" RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
   if(NOT rc EQUAL 2 OR NOT err MATCHES "^rayspace: error: [^\n]*: not an export directory \\(no sequence.txt\\)\n$")
     set(failures "${failures}\nsimulate on a saved-calls directory: exit ${rc}: ${err}")
+  endif()
+elseif(PART STREQUAL "backend" OR PART STREQUAL "backend-all")
+  # diff --backends emu,sim: every pass of the frame on the emulator and on the simulated GPU, bitwise.
+  if(PART STREQUAL "backend")
+    set(size 16x16)
+    set(configs "crsh" "crsh --path fused" "tl --algo tl" "tree --objects tree" "rah --algo rah")
+    set(scenes cornell-mirrors)
+  else()
+    set(size 32x32)
+    set(configs "crsh" "crsh --path fused" "tl --algo tl" "tree --objects tree" "rah --algo rah" "quadtree --algo rah-quadtree"
+                "grid --algo grid")
+    set(scenes cornell-mirrors office)
+  endif()
+  foreach(scene ${scenes})
+    foreach(config ${configs})
+      separate_arguments(opts UNIX_COMMAND "${config}")
+      list(POP_FRONT opts name)
+      execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/${scene}.json" --size ${size} --backends emu,sim ${opts}
+                      RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+      if(NOT rc EQUAL 0 OR NOT out MATCHES "on rayspace simulator \\(subgroup size 8\\)" OR NOT out MATCHES "comparison: bitwise"
+         OR NOT out MATCHES "\n  all passes equal\n")
+        set(failures "${failures}\ndiff ${scene} --backends emu,sim ${config}: exit ${rc}: ${out}${err}")
+      endif()
+    endforeach()
+  endforeach()
+  if(PART STREQUAL "backend")
+    # render --backend sim gives the emulator's digest.
+    foreach(backend emu sim)
+      execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --no-oracle --backend ${backend}
+                              --out "${WORK}/${backend}.png" --stats "${WORK}/${backend}.json"
+                      RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+      if(NOT rc EQUAL 0)
+        set(failures "${failures}\nrender --backend ${backend}: exit ${rc}: ${err}")
+        set(digest_${backend} "none (${backend})")
+      else()
+        file(READ "${WORK}/${backend}.json" j)
+        string(JSON digest_${backend} GET "${j}" digest)
+      endif()
+    endforeach()
+    if(NOT digest_emu STREQUAL digest_sim)
+      set(failures "${failures}\nrender --backend sim: digest ${digest_sim}, the emulator's ${digest_emu}")
+    endif()
+    # A planted fault in the kernel is a divergence; a barrier half the workgroup skips, which lavapipe
+    # runs benignly, is caught on the kernel itself.
+    execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backends emu,sim --inject reduce:1
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc EQUAL 4 OR NOT err MATCHES "first divergent pass: reduce")
+      set(failures "${failures}\ndiff --backends emu,sim --inject reduce:1: exit ${rc}, expected 4 at reduce: ${err}")
+    endif()
+    execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backends emu,sim
+                            --inject trim:divergent-barrier
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(rc EQUAL 0 OR NOT err MATCHES "kernel trim faulted on the simulated device: trim: invocations wait at different barriers")
+      set(failures "${failures}\ndiff --backends emu,sim --inject trim:divergent-barrier: exit ${rc}, the barrier not caught: ${err}")
+    endif()
   endif()
 elseif(PART STREQUAL "all")
   foreach(scene cornell-mirrors office)

@@ -38,6 +38,9 @@ set(rayspace_full_tier
   # Every exported call of two 32x32 diffs on the simulator: cli.simulate.sample runs one call of every
   # pass, a planted fault and the refusal.
   "^cli\\.simulate\\.all$"
+  # The simulated backend on 32x32 frames of two scenes under every tracer: cli.simulate.backend diffs
+  # five configurations at 16x16.
+  "^cli\\.simulate\\.backend-all$"
   # A frame beyond one storage binding (2048x1152): the same parts and paging on small frames with
   # --split-bytes in cli.backend and cli.diff (studs.crsh.paged, cornell.crsh.paged, ...).
   "^cli\\.large_frame$"
