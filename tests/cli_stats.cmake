@@ -94,11 +94,33 @@ endforeach()
 # which two decimals would print as 0.00 %): the Cornell box's top level at 64x64 with three levels
 # is about 0.2 % of the shadow brute force, printed as 0.xyz %.
 execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/cornell-mirrors.json" --size 64x64 --levels 3 --objects flat
-                        --out "${WORK}/cornell.png"
+                        --out "${WORK}/cornell.png" --stats "${WORK}/cornell.json"
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 string(REGEX MATCH "# SH % OF BRUTE FORCE[^\n]*" row "${out}")
 if(NOT rc EQUAL 0 OR NOT row MATCHES "OF BRUTE FORCE +0\\.[0-9][0-9][0-9]% ")
   set(FAILURES "${FAILURES}\n  a share under 1 %: exit ${rc}, row '${row}' (expected three significant digits)${err}")
+endif()
+# The table's count rows, top level first, are the statistics' own: here levels miss, so
+# intersections, misses and hits all differ.
+if(EXISTS "${WORK}/cornell.json")
+  file(READ "${WORK}/cornell.json" stats)
+  foreach(field intersections misses hits)
+    set(want_${field} "")
+  endforeach()
+  foreach(i RANGE 2)
+    string(JSON type ERROR_VARIABLE jerr GET "${stats}" levels ${i} ray_type)
+    foreach(field intersections misses hits)
+      string(JSON v ERROR_VARIABLE jerr GET "${stats}" levels ${i} ${field})
+      string(APPEND want_${field} " +${v}")
+    endforeach()
+    check("levels[${i}] type" "${type}" "shadow")
+  endforeach()
+  foreach(field intersections misses hits)
+    string(TOUPPER "${field}" label)
+    if(NOT out MATCHES "# SH ${label}${want_${field}}\n")
+      set(FAILURES "${FAILURES}\n  the ${label} row is not the statistics' (${want_${field}}):\n${out}")
+    endif()
+  endforeach()
 endif()
 
 # Embree's BVH reports no tests: no count and no throughput are made up from the brute force.
