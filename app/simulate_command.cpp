@@ -20,6 +20,10 @@ ExitCode RunSimulate(const SimulateArgs& args) {
   std::printf("rayspace simulate: %s on the simulated GPU (subgroup size %u): %llu dispatches, %llu workgroups, %.1f M lane-instructions in %.2f s\n",
               run.call.c_str(), args.subgroup_size, static_cast<unsigned long long>(run.dispatches),
               static_cast<unsigned long long>(run.stats.workgroups), run.stats.lane_instructions / 1e6, s);
+  std::printf("  %-18s %10s %16s %10s %10s %12s\n", "kernel", "dispatches", "lane-instr (M)", "prepare s", "run s", "M lane-instr/s");
+  for (const sim::KernelTiming& k : run.kernels)
+    std::printf("  %-18s %10llu %16.2f %10.3f %10.3f %12.1f\n", k.kernel.c_str(), static_cast<unsigned long long>(k.dispatches),
+                k.lane_instructions / 1e6, k.prepare_s, k.run_s, k.run_s > 0 ? k.lane_instructions / 1e6 / k.run_s : 0.0);
   for (const sim::ReadBackResult& r : run.reads)
     std::printf("  %s (%s): %s\n", r.file.c_str(), r.label.c_str(), r.equal ? "equal" : r.mismatch.c_str());
   if (run.Equal()) {

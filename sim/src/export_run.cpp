@@ -1,6 +1,7 @@
 #include "rayspace/sim/export_run.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +18,17 @@ namespace rayspace::sim {
 namespace {
 
 namespace fs = std::filesystem;
+
+double Seconds(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+KernelTiming& TimingOf(ExportRun& run, const std::string& kernel) {
+  for (KernelTiming& k : run.kernels)
+    if (k.kernel == kernel) return k;
+  run.kernels.push_back({kernel});
+  return run.kernels.back();
+}
 
 std::vector<std::uint8_t> ReadBytes(const fs::path& path, const std::string& where) {
   std::ifstream in(path, std::ios::binary);
@@ -84,7 +96,9 @@ ExportRun RunExport(const std::string& dir, const ExportRunOptions& options) {
       std::memcpy(spirv.data(), bytes.data(), bytes.size());
       const Specialization spec = {{0, std::to_string(Number(w[5], where))}, {1, std::to_string(Number(w[6], where))},
                                    {2, std::to_string(Number(w[7], where))}};
+      const auto t0 = std::chrono::steady_clock::now();
       pipelines[Number(w[1], where)] = Prepare(spirv, spec, w[2]);
+      TimingOf(run, w[2]).prepare_s += Seconds(t0);
     } else if (step == "buffer") {
       need(3);
       buffers[Number(w[1], where)].assign(Number(w[2], where), 0);
@@ -122,7 +136,13 @@ ExportRun RunExport(const std::string& dir, const ExportRunOptions& options) {
         std::vector<std::uint8_t>& b = buffer(w[k]);
         d.bindings.push_back({b.data(), b.size()});
       }
+      const auto t0 = std::chrono::steady_clock::now();
+      const std::uint64_t before = run.stats.lane_instructions;
       Run(it->second, d, run.stats);
+      KernelTiming& k = TimingOf(run, it->second.name);
+      k.run_s += Seconds(t0);
+      k.lane_instructions += run.stats.lane_instructions - before;
+      ++k.dispatches;
       ++run.dispatches;
     } else if (step == "read") {
       need(3);

@@ -20,11 +20,19 @@ struct ReadBackResult {
   std::string mismatch;  // the first differing word, when not equal
 };
 
+// Per kernel: its preparation (spirv-val, spirv-opt, decoding) and its execution, timed apart.
+struct KernelTiming {
+  std::string kernel;
+  std::uint64_t dispatches = 0, lane_instructions = 0;
+  double prepare_s = 0, run_s = 0;
+};
+
 struct ExportRun {
   std::string call;                   // the exported call's name (sequence.txt's header)
   std::vector<ReadBackResult> reads;
   std::uint64_t dispatches = 0;
   ExecStats stats;
+  std::vector<KernelTiming> kernels;  // in order of first use
   bool Equal() const;
 };
 
