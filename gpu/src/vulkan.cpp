@@ -456,15 +456,7 @@ Status Context::CreateBuffer(std::size_t bytes, Buffer& out, bool storage, bool 
     b.mapped_ = b.host_.get();
     b.ctx_ = this;
     std::memset(b.mapped_, 0, bytes);
-    if (poison && g_poison && storage) FillWords(b.mapped_, bytes, Buffer::kPoisonWord);
-    if (guard) {
-      b.guard_ = guard;
-      FillWords(static_cast<std::uint8_t*>(b.mapped_) + bytes, guard, Buffer::kGuardWord);
-    }
-    b.observed_ = storage && observer_;
-    out = std::move(b);
-    if (out.observed_) observer_->BufferCreated(out);
-    return Status::Ok();
+    return Finish(b, guard, poison && storage, storage, out);
   }
   // Guard words after a storage buffer, where a binding of the whole still fits the device.
   const std::size_t guard = storage && bytes + Buffer::kGuardBytes <= max_storage_range_ ? Buffer::kGuardBytes : 0;
@@ -503,10 +495,15 @@ Status Context::CreateBuffer(std::size_t bytes, Buffer& out, bool storage, bool 
   RS_TRY(pool_->Allocate(req, type, mappable, /*image=*/false, b.range_));
   RS_VK(vkBindBufferMemory(device_, b.buffer_, b.range_.memory, b.range_.offset));
   b.mapped_ = b.range_.mapped;
-  if (poison && g_poison && storage && b.mapped_) FillWords(b.mapped_, bytes, Buffer::kPoisonWord);  // staged memory is not poisoned
-  if (guard && b.mapped_) {  // staged memory keeps no guard: the host cannot watch it
+  // Staged memory is neither poisoned nor guarded: the host cannot watch it.
+  return Finish(b, b.mapped_ ? guard : 0, poison && storage && b.mapped_, storage, out);
+}
+
+Status Context::Finish(Buffer& b, std::size_t guard, bool poison, bool storage, Buffer& out) {
+  if (poison && g_poison) FillWords(b.mapped_, b.size_, Buffer::kPoisonWord);
+  if (guard) {
     b.guard_ = guard;
-    FillWords(static_cast<std::uint8_t*>(b.mapped_) + bytes, guard, Buffer::kGuardWord);
+    FillWords(static_cast<std::uint8_t*>(b.mapped_) + b.size_, guard, Buffer::kGuardWord);
   }
   b.observed_ = storage && observer_;
   out = std::move(b);

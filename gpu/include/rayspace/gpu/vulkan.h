@@ -371,6 +371,8 @@ class Context {
  private:
   void ReadProperties();
   Status CreateDevice();
+  // A new buffer's poison and guard words (where given), told to the observer, moved to `out`.
+  Status Finish(Buffer& b, std::size_t guard, bool poison, bool storage, Buffer& out);
   friend class Recorder;
   // Submits one ended command buffer to the queue and waits for it.
   Status SubmitAndWait(VkCommandBuffer cmd);
