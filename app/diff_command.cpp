@@ -18,6 +18,8 @@
 
 #include <unistd.h>
 
+#include <regex>
+
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
@@ -256,7 +258,18 @@ struct DiffOutcome {
   emu::FrameResult frame;
   std::string stopped;              // why the frame stopped early, or ""
   nlohmann::json checker = nullptr; // the workgroup checker's reports, when it stopped the frame
+  // The simulated device's checker finding on a kernel (racecheck, initcheck, synccheck, memcheck)
+  // that stopped the frame: {"checker", "pass", "finding"}.
+  nlohmann::json sim_checker = nullptr;
 };
+
+// A simulated device's fault names its checker: "<kernel>[ line N]: <checker>: ...".
+nlohmann::json SimCheckerFinding(const std::string& stopped) {
+  static const std::regex finding(R"(kernel (\S+) faulted on the simulated device: (.*?(racecheck|initcheck|synccheck|memcheck): .*)$)");
+  std::smatch m;
+  if (!std::regex_search(stopped, m, finding)) return nullptr;
+  return {{"checker", m[3].str()}, {"pass", m[1].str()}, {"finding", m[2].str()}};
+}
 
 // The --report file: the run, every pass's totals and every call.
 nlohmann::json DiffReport(const DiffArgs& args, const Scene& scene, const emu::FrameOptions& fo, const Backend& gpu,
@@ -418,6 +431,7 @@ DiffOutcome RunDiffFrame(const Scene& scene, const SceneBuffers& buffers, Tracer
     run.frame = emu::RenderFrame(scene, buffers, tracer, fo);
   } catch (const verify::DiffStop& stop) {
     run.stopped = stop.what();
+    run.sim_checker = SimCheckerFinding(run.stopped);
   } catch (const emu::DeviceOutputError& e) {
     // The Differ compared the call's outputs before the host checked them: the pass is reported.
     run.stopped = std::string("device output error: ") + e.what();
@@ -480,7 +494,7 @@ void PrintSavedInputs(const DiffArgs& args, const verify::Differ& differ) {
 // the diff found none, or the workgroup checker stopped it before any comparison mattered).
 nlohmann::json MeasureDiffImpact(const DiffArgs& args, const Scene& scene, const SceneBuffers& buffers, const emu::FrameOptions& fo,
                                  const Backend& gpu, const DiffTotals& totals, const DiffOutcome& run) {
-  if (!totals.first || !run.checker.is_null()) return nullptr;
+  if (!totals.first || !run.checker.is_null() || !run.sim_checker.is_null()) return nullptr;
   if (args.no_impact) {
     std::fprintf(stderr, "  impact: not measured (--no-impact)\n");
     return {{"measured", false}, {"skipped", "--no-impact"}};
@@ -538,7 +552,14 @@ FaultRun DiffFrame(const DiffArgs& args, const Scene& scene, SceneBuffers& buffe
   r.report = DiffReport(args, scene, fo, gpu, differ, passes, equal, run, totals.first, relaxed, totals.within_spec);
   r.report["memory_estimate"] = MemoryEstimateJson(estimate);
   r.report["impact"] = MeasureDiffImpact(args, scene, buffers, fo, gpu, totals, run);
-  r.verdict = !run.checker.is_null() ? ExitCode::kWorkgroupFault : equal ? ExitCode::kOk : ExitCode::kDivergence;
+  if (!run.sim_checker.is_null()) {
+    r.report["simulator_checker"] = run.sim_checker;
+    std::fprintf(stderr, "  %s on the kernel of %s: %s\n", run.sim_checker["checker"].get<std::string>().c_str(),
+                 run.sim_checker["pass"].get<std::string>().c_str(), run.sim_checker["finding"].get<std::string>().c_str());
+  }
+  r.verdict = !run.checker.is_null() || !run.sim_checker.is_null() ? ExitCode::kWorkgroupFault
+              : equal                                              ? ExitCode::kOk
+                                                                   : ExitCode::kDivergence;
   return r;
 }
 

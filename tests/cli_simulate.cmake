@@ -5,7 +5,8 @@
 #   PART=all (full tier)        every exported call of 32x32 diffs of cornell-mirrors and office
 #   PART=backend (default tier) diff --backends emu,sim on a 16x16 cornell-mirrors under five
 #                               configurations, all equal; render --backend sim gives the emulator's
-#                               digest; a planted reduce fault diverges; trim's divergent barrier is caught
+#                               digest; a planted reduce fault diverges; the workgroup faults are
+#                               caught on the kernel by racecheck or initcheck (exit 6)
 #   PART=backend-all (full)     the same diffs at 32x32 on cornell-mirrors and office, grids and the
 #                               quadtree too
 # Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DWORK=<scratch> -DPART=<part> -P cli_simulate.cmake
@@ -123,19 +124,33 @@ elseif(PART STREQUAL "backend" OR PART STREQUAL "backend-all")
     if(NOT digest_emu STREQUAL digest_sim)
       set(failures "${failures}\nrender --backend sim: digest ${digest_sim}, the emulator's ${digest_emu}")
     endif()
-    # A planted fault in the kernel is a divergence; a barrier half the workgroup skips, which lavapipe
-    # runs benignly, is caught on the kernel itself.
+    # A planted fault in the kernel's arithmetic is a divergence.
     execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backends emu,sim --inject reduce:1
                     RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
     if(NOT rc EQUAL 4 OR NOT err MATCHES "first divergent pass: reduce")
       set(failures "${failures}\ndiff --backends emu,sim --inject reduce:1: exit ${rc}, expected 4 at reduce: ${err}")
     endif()
-    execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backends emu,sim
-                            --inject trim:divergent-barrier
-                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-    if(rc EQUAL 0 OR NOT err MATCHES "kernel trim faulted on the simulated device: trim: invocations wait at different barriers")
-      set(failures "${failures}\ndiff --backends emu,sim --inject trim:divergent-barrier: exit ${rc}, the barrier not caught: ${err}")
-    endif()
+    # The workgroup faults, on the kernel: each stops the diff with exit 6 naming the checker, those
+    # lavapipe runs benignly included (trim's divergent barrier, a dropped barrier at local size 8).
+    foreach(fault "trim:divergent-barrier racecheck trim" "trim:dropped-barrier racecheck trim --local-size 8"
+                  "sort:dropped-barrier racecheck sort --local-size 8" "trim:shared-off-by-one initcheck trim"
+                  "reduce:subgroup-32 racecheck reduce")
+      separate_arguments(f UNIX_COMMAND "${fault}")
+      list(POP_FRONT f inject checker pass)
+      execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backends emu,sim --inject ${inject}
+                              ${f} --report "${WORK}/fault.json"
+                      RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+      set(named "")
+      if(EXISTS "${WORK}/fault.json")
+        file(READ "${WORK}/fault.json" j)
+        string(JSON named ERROR_VARIABLE jerr GET "${j}" simulator_checker checker)
+        file(REMOVE "${WORK}/fault.json")
+      endif()
+      if(NOT rc EQUAL 6 OR NOT err MATCHES "\n  ${checker} on the kernel of ${pass}: ${pass} line [0-9]+: ${checker}: invocation [0-9]+ "
+         OR NOT named STREQUAL checker)
+        set(failures "${failures}\ndiff --backends emu,sim --inject ${fault}: exit ${rc}, expected 6 with ${checker} named: ${err}")
+      endif()
+    endforeach()
   endif()
 elseif(PART STREQUAL "all")
   foreach(scene cornell-mirrors office)

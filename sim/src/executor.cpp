@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "rayspace/sim/grammar.h"
+#include "rayspace/sim/shared_check.h"
 
 namespace rayspace::sim {
 namespace {
@@ -82,6 +83,8 @@ class Workgroup {
     for (const Variable& v : p.variables)
       if (v.storage == static_cast<std::uint32_t>(spv::StorageClass::Workgroup)) {
         regions_.push_back({shared_.data() + at, Pointee(v).words * 4});
+        const auto name = p.names.find(v.id);
+        shared_names_.push_back(name == p.names.end() ? fmt::format("%{}", v.id) : name->second);
         at += Pointee(v).words * 4;
       }
     private_base_ = static_cast<std::uint32_t>(regions_.size());
@@ -107,6 +110,8 @@ class Workgroup {
     std::fill(shared_.begin(), shared_.end(), 0);
     std::fill(private_.begin(), private_.end(), 0);
     for (std::uint32_t l = 0; l < size_; ++l) StartLane(l, group);
+    shared_check_.Begin(shared_.size() / 4);
+    group_ = fmt::format("workgroup ({}, {})", group[0], group[1]);
     const std::uint32_t subgroups = (size_ + sg_ - 1) / sg_;
     for (;;) {
       for (std::uint32_t s = 0; s < subgroups; ++s) RunSubgroup(s * sg_, std::min(size_, (s + 1) * sg_));
@@ -114,12 +119,13 @@ class Workgroup {
       for (LaneState st : state_) (st == LaneState::kBarrier ? waiting : done) += 1;
       if (waiting == 0) return;
       if (done > 0)
-        throw SimError(fmt::format("{}: {} invocations wait at a barrier that {} others, already returned, never reach", p_.name,
+        throw SimError(fmt::format("{}: synccheck: {} invocations wait at a barrier that {} others, already returned, never reach", p_.name,
                                    waiting, done));
       for (std::uint32_t l = 0; l < size_; ++l) {
-        if (seg_[l] != seg_[0]) throw SimError(fmt::format("{}: invocations wait at different barriers", p_.name));
+        if (seg_[l] != seg_[0]) throw SimError(fmt::format("{}: synccheck: invocations wait at different barriers", p_.name));
         state_[l] = LaneState::kRunning;
       }
+      shared_check_.Barrier();
     }
   }
 
@@ -270,7 +276,7 @@ class Workgroup {
   void Extended(const Inst& in);
   void Subgroup(const Inst& in);
   void Atomic(const Inst& in);
-  std::uint8_t* Address(const Inst& in, std::uint32_t lane, std::uint32_t ptr_id, std::size_t bytes);
+  std::uint8_t* Address(const Inst& in, std::uint32_t lane, std::uint32_t ptr_id, std::size_t bytes, AccessKind kind);
   void Copy(const Inst& in, std::uint32_t type, bool expl, std::uint8_t* mem, std::uint32_t* reg, bool load);
 
   const Program& p_;
@@ -287,6 +293,9 @@ class Workgroup {
   std::vector<LaneState> state_;
   std::vector<std::uint32_t> lanes_;
   std::uint32_t sub_first_ = 0, sub_end_ = 0;
+  SharedCheck shared_check_;
+  std::vector<std::string> shared_names_;  // by shared region, from shared_base_
+  std::string group_;
 };
 
 bool Workgroup::Execute(const Inst& in, std::uint32_t s) {
@@ -328,12 +337,20 @@ bool Workgroup::Execute(const Inst& in, std::uint32_t s) {
     case Op::OpReturnValue:
       for (std::uint32_t l : lanes_) state_[l] = LaneState::kDone;
       return true;
-    case Op::OpControlBarrier:
+    case Op::OpControlBarrier: {
+      // A barrier in non-uniform control flow: lanes of this subgroup still running elsewhere.
+      std::uint32_t running = 0;
+      for (std::uint32_t l = sub_first_; l < sub_end_; ++l) running += state_[l] == LaneState::kRunning;
+      if (running != lanes_.size())
+        Fail(in, fmt::format("synccheck: a barrier reached by {} of the {} running invocations of subgroup {} (non-uniform control "
+                             "flow, {})",
+                             lanes_.size(), running, sub_first_ / sg_, group_));
       for (std::uint32_t l : lanes_) {
         state_[l] = LaneState::kBarrier;
         seg_[l] = s + 1;
       }
       return true;
+    }
     case Op::OpUnreachable:
     case Op::OpKill: Fail(in, "reached");
     case Op::OpPhi: {
@@ -388,13 +405,19 @@ bool Workgroup::Execute(const Inst& in, std::uint32_t s) {
   }
 }
 
-std::uint8_t* Workgroup::Address(const Inst& in, std::uint32_t lane, std::uint32_t ptr_id, std::size_t bytes) {
+std::uint8_t* Workgroup::Address(const Inst& in, std::uint32_t lane, std::uint32_t ptr_id, std::size_t bytes, AccessKind kind) {
   const std::uint32_t* p = R(lane, ptr_id);
-  if (p[0] >= regions_.size()) Fail(in, "a pointer to no memory");
+  if (p[0] >= regions_.size()) Fail(in, "memcheck: a pointer to no memory");
   const Region& r = regions_[p[0]];
   if (static_cast<std::size_t>(p[1]) + bytes > r.bytes)
-    Fail(in, fmt::format("an access of {} bytes at byte {} of a {}-byte {} (invocation {})", bytes, p[1], r.bytes,
-                         p[0] < d_.bindings.size() ? fmt::format("binding {}", p[0]) : std::string("variable"), lane));
+    Fail(in, fmt::format("memcheck: an access of {} bytes at byte {} of a {}-byte {} (invocation {} of {})", bytes, p[1], r.bytes,
+                         p[0] < d_.bindings.size() ? fmt::format("binding {}", p[0]) : std::string("variable"), lane, group_));
+  if (p[0] >= shared_base_ && p[0] < private_base_) {
+    const std::size_t base = static_cast<std::size_t>(r.data - shared_.data()) / 4;
+    for (std::size_t w = p[1] / 4; w < (p[1] + bytes + 3) / 4; ++w)
+      if (const auto finding = shared_check_.Access(base + w, lane, kind))
+        Fail(in, fmt::format("{} (shared '{}' word {}, {})", *finding, shared_names_[p[0] - shared_base_], w, group_));
+  }
   return r.data + p[1];
 }
 
@@ -455,14 +478,14 @@ void Workgroup::Memory(const Inst& in) {
       const Type& pt = p_.T(TypeOfValue(ops[0]));
       const bool expl = Explicit(pt.storage);
       const std::size_t bytes = Extent(p_, in.type, expl);
-      for (std::uint32_t l : lanes_) Copy(in, in.type, expl, Address(in, l, ops[0], bytes), R(l, in.result), true);
+      for (std::uint32_t l : lanes_) Copy(in, in.type, expl, Address(in, l, ops[0], bytes, AccessKind::kRead), R(l, in.result), true);
       return;
     }
     case Op::OpStore: {
       const Type& pt = p_.T(TypeOfValue(ops[0]));
       const bool expl = Explicit(pt.storage);
       const std::size_t bytes = Extent(p_, pt.element, expl);
-      for (std::uint32_t l : lanes_) Copy(in, pt.element, expl, Address(in, l, ops[0], bytes), R(l, ops[1]), false);
+      for (std::uint32_t l : lanes_) Copy(in, pt.element, expl, Address(in, l, ops[0], bytes, AccessKind::kWrite), R(l, ops[1]), false);
       return;
     }
     case Op::OpAccessChain:
@@ -541,7 +564,7 @@ void Workgroup::Arithmetic(const Inst& in) {
     case Op::OpUDiv:
     case Op::OpUMod:
       Componentwise(in, ops, in.type, [&](const Comp&, std::uint64_t a, std::uint64_t b) {
-        if (b == 0) Fail(in, "integer division by zero");
+        if (b == 0) Fail(in, "memcheck: integer division by zero");
         return op == Op::OpUDiv ? a / b : a % b;
       });
       return;
@@ -550,7 +573,7 @@ void Workgroup::Arithmetic(const Inst& in) {
     case Op::OpSMod:
       Componentwise(in, ops, in.type, [&](const Comp& c, std::uint64_t ua, std::uint64_t ub) {
         const std::int64_t a = SignExtend(ua, c.width), b = SignExtend(ub, c.width);
-        if (b == 0) Fail(in, "integer division by zero");
+        if (b == 0) Fail(in, "memcheck: integer division by zero");
         if (b == -1) return op == Op::OpSDiv ? Mask(0 - ua, c.width) : std::uint64_t{0};
         std::int64_t r = op == Op::OpSDiv ? a / b : a % b;
         if (op == Op::OpSMod && r != 0 && ((r < 0) != (b < 0))) r += b;
@@ -565,7 +588,7 @@ void Workgroup::Arithmetic(const Inst& in) {
         const std::uint32_t *a = R(l, ops[0]), *b = R(l, ops[1]);
         for (std::uint32_t i = 0; i < rc.n; ++i) {
           const std::uint64_t v = Get(a, rc, i), n = Get(b, sc, i);
-          if (n >= rc.width) Fail(in, fmt::format("a shift by {}, at least the width {}", n, rc.width));
+          if (n >= rc.width) Fail(in, fmt::format("memcheck: a shift by {}, at least the width {}", n, rc.width));
           std::uint64_t r = op == Op::OpShiftLeftLogical ? v << n
                             : op == Op::OpShiftRightLogical ? v >> n
                                                              : static_cast<std::uint64_t>(SignExtend(v, rc.width) >> n);
@@ -998,7 +1021,7 @@ void Workgroup::Atomic(const Inst& in) {
   const Comp c = CompOf(op == Op::OpAtomicStore ? TypeOfValue(ops[3]) : in.type);
   const std::size_t bytes = c.words * 4;
   for (std::uint32_t l : lanes_) {
-    std::uint8_t* mem = Address(in, l, ops[0], bytes);
+    std::uint8_t* mem = Address(in, l, ops[0], bytes, AccessKind::kAtomic);
     std::uint32_t w[2] = {0, 0};
     std::memcpy(w, mem, bytes);
     const std::uint64_t old = Get(w, c, 0);

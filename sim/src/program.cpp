@@ -291,6 +291,7 @@ Program Prepare(std::span<const std::uint32_t> spirv, const Specialization& spec
     if (op == Op::OpEntryPoint) entry = r.words[2];
     if (op == Op::OpExtInstImport) p.glsl_set = r.result;
     if (op == Op::OpString) p.line_files.emplace_back(reinterpret_cast<const char*>(r.words.data() + 2));
+    if (op == Op::OpName && r.words.size() > 2) p.names[r.words[1]] = reinterpret_cast<const char*>(r.words.data() + 2);
     if (op == Op::OpExecutionMode && r.words.size() >= 6 && r.words[2] == static_cast<std::uint32_t>(spv::ExecutionMode::LocalSize))
       for (int k = 0; k < 3; ++k) p.local_size[k] = r.words[3 + k];
     if (op == Op::OpFunction) {

@@ -65,6 +65,7 @@ struct Program {
   std::uint32_t local_size[3] = {1, 1, 1};
   std::uint32_t glsl_set = 0;                // the GLSL.std.450 import's id
   std::vector<std::string> line_files;       // OpString names (for reports)
+  std::map<std::uint32_t, std::string> names;  // OpName: the GLSL names of variables (for reports)
 
   const Type& T(std::uint32_t id) const { return types.at(id); }
   std::span<const std::uint32_t> Ops(const Inst& i) const { return {operands.data() + i.first, i.count}; }
