@@ -65,8 +65,9 @@ void CheckKernelsRan(const Backend& backend, const KernelFiles& kernels);
 
 // name "emu" or "vulkan"; `faults` plants kernel faults (pass -> fault, diff --inject). A bad --device
 // or a build without Vulkan is an InputError; a failing driver a runtime_error naming the call.
+// `simulated_subgroup`: invocations per subgroup of the simulated GPU (name "sim").
 Backend MakeBackend(const std::string& name, int device, int local_size = 64,
                     const std::map<std::string, std::uint32_t>& faults = {}, const TestLimits& limits = {},
-                    const KernelFiles& kernels = {});
+                    const KernelFiles& kernels = {}, std::uint32_t simulated_subgroup = 8);
 
 }  // namespace rayspace::app

@@ -25,6 +25,7 @@ struct DiffArgs : FrameArgs {
   bool no_impact = false;        // --no-impact: a divergence's effect on the picture not measured
   std::string backends = "emu,vulkan";  // --backends: emu,vulkan or emu,sim
   bool backends_given = false;
+  std::uint32_t subgroup_size = 0;      // --subgroup-size: the simulated GPU's (0: 8)
 };
 
 // Runs the whole frame with every pass on both backends (same inputs: the GPU's previous outputs)

@@ -175,6 +175,10 @@ void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
                  "(for replay); DIR must be new or empty");
   AddCompareOption(*dc, cmds.diff.compare);
   AddBackendsOption(*dc, cmds.diff.backends, cmds.diff.backends_given);
+  dc->add_option("--subgroup-size", cmds.diff.subgroup_size,
+                 "--backends emu,sim: invocations per subgroup of the simulated GPU, and of the emulated kernels' mirrors "
+                 "(default 8, lavapipe's)")
+      ->check(CLI::Range(1, 128));
   dc->add_option("--path", cmds.diff.path,
                  "Hierarchy traversal: passes (traverse then reduce, default) or fused (traverse.compact, what render "
                  "runs by default; the emulator runs its workgroup mirror unless --no-check-workgroups with the forward "

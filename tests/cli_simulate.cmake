@@ -4,11 +4,11 @@
 #                               read-back and word); a directory that is no export is exit 2, one line
 #   PART=all (full tier)        every exported call of 32x32 diffs of cornell-mirrors and office
 #   PART=backend (default tier) diff --backends emu,sim on a 16x16 cornell-mirrors under five
-#                               configurations, all equal; render --backend sim gives the emulator's
+#                               configurations and subgroup sizes 4 and 32, all equal; render --backend sim gives the emulator's
 #                               digest; a planted reduce fault diverges; the workgroup faults are
 #                               caught on the kernel by racecheck or initcheck (exit 6)
 #   PART=backend-all (full)     the same diffs at 32x32 on cornell-mirrors and office, grids and the
-#                               quadtree too
+#                               quadtree too, subgroup sizes 1, 4, 32 and 64
 # Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DWORK=<scratch> -DPART=<part> -P cli_simulate.cmake
 cmake_minimum_required(VERSION 3.19)
 file(REMOVE_RECURSE "${WORK}")
@@ -87,12 +87,14 @@ elseif(PART STREQUAL "backend" OR PART STREQUAL "backend-all")
   # diff --backends emu,sim: every pass of the frame on the emulator and on the simulated GPU, bitwise.
   if(PART STREQUAL "backend")
     set(size 16x16)
-    set(configs "crsh" "crsh --path fused" "tl --algo tl" "tree --objects tree" "rah --algo rah")
+    set(configs "crsh" "crsh --path fused" "tl --algo tl" "tree --objects tree" "rah --algo rah" "crsh --subgroup-size 4"
+                "crsh --subgroup-size 32")
     set(scenes cornell-mirrors)
   else()
     set(size 32x32)
     set(configs "crsh" "crsh --path fused" "tl --algo tl" "tree --objects tree" "rah --algo rah" "quadtree --algo rah-quadtree"
-                "grid --algo grid")
+                "grid --algo grid" "crsh --subgroup-size 1" "crsh --subgroup-size 4" "crsh --subgroup-size 32" "crsh --subgroup-size 64"
+                "fused --path fused --subgroup-size 4" "fused --path fused --subgroup-size 64")
     set(scenes cornell-mirrors office)
   endif()
   foreach(scene ${scenes})
@@ -101,7 +103,11 @@ elseif(PART STREQUAL "backend" OR PART STREQUAL "backend-all")
       list(POP_FRONT opts name)
       execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/${scene}.json" --size ${size} --backends emu,sim ${opts}
                       RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-      if(NOT rc EQUAL 0 OR NOT out MATCHES "on rayspace simulator \\(subgroup size 8\\)" OR NOT out MATCHES "comparison: bitwise"
+      set(sg 8)
+      if(config MATCHES "--subgroup-size ([0-9]+)")
+        set(sg ${CMAKE_MATCH_1})
+      endif()
+      if(NOT rc EQUAL 0 OR NOT out MATCHES "on rayspace simulator \\(subgroup size ${sg}\\)" OR NOT out MATCHES "comparison: bitwise"
          OR NOT out MATCHES "\n  all passes equal\n")
         set(failures "${failures}\ndiff ${scene} --backends emu,sim ${config}: exit ${rc}: ${out}${err}")
       endif()
@@ -123,6 +129,12 @@ elseif(PART STREQUAL "backend" OR PART STREQUAL "backend-all")
     endforeach()
     if(NOT digest_emu STREQUAL digest_sim)
       set(failures "${failures}\nrender --backend sim: digest ${digest_sim}, the emulator's ${digest_emu}")
+    endif()
+    # The subgroup size is the simulated GPU's alone.
+    execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backends emu,vulkan --subgroup-size 4
+                    RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+    if(NOT rc EQUAL 2 OR NOT err MATCHES "^rayspace: error: --subgroup-size 4: only the simulated GPU's subgroup size is chosen")
+      set(failures "${failures}\ndiff --backends emu,vulkan --subgroup-size 4: exit ${rc}, expected 2: ${err}")
     endif()
     # A planted fault in the kernel's arithmetic is a divergence.
     execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backends emu,sim --inject reduce:1

@@ -329,8 +329,8 @@ std::string DeviceList(const std::vector<VkPhysicalDevice>& devs) {
 }  // namespace
 void Context::SetObserver(Observer* observer) { g_observer = observer; }
 
-Status Context::Create(int device, std::unique_ptr<Context>& out) {
-  if (device == kSimulatedDevice) return CreateSimulated(8, out);
+Status Context::Create(int device, std::unique_ptr<Context>& out, std::uint32_t simulated_subgroup) {
+  if (device == kSimulatedDevice) return CreateSimulated(simulated_subgroup, out);
   auto c = std::make_unique<Context>();
   RS_TRY(CreateInstance(c->instance_, &c->messenger_));
   std::uint32_t n = 0;

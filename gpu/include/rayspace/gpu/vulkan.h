@@ -292,7 +292,7 @@ class Context {
  public:
   // device < 0: the first non-CPU device, else the first CPU device (lavapipe); kSimulatedDevice:
   // CreateSimulated with lavapipe's subgroup size.
-  static Status Create(int device, std::unique_ptr<Context>& out);
+  static Status Create(int device, std::unique_ptr<Context>& out, std::uint32_t simulated_subgroup = 8);
   // A context whose device is rayspace's simulator (docs/simulator.md): no Vulkan instance or device;
   // buffers live in host memory, kernels run as SPIR-V on the CPU at each submit, and the limits are
   // lavapipe's. Graphics pipelines and images are refused (the raster comes from the emulator).
