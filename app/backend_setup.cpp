@@ -109,7 +109,7 @@ void CheckGridBuild(const Backend& backend) {
 }
 
 Backend MakeBackend(const std::string& name, int device, int local_size, const std::map<std::string, std::uint32_t>& faults,
-                    const TestLimits& limits, const KernelFiles& kernels, std::uint32_t simulated_subgroup) {
+                    const TestLimits& limits, const KernelFiles& kernels, const sim::DeviceConfig& simulated) {
   Backend b;
   if (name == "emu" && !kernels.empty()) ThrowInput("--kernel '{}': user kernels run on --backend vulkan or sim", kernels.front());
   if (name == "emu") {
@@ -123,7 +123,7 @@ Backend MakeBackend(const std::string& name, int device, int local_size, const s
   // sim: the same host code over the simulated device (vk::Context::CreateSimulated).
   if (name == "sim") device = vk::Context::kSimulatedDevice;
   if (vk::Status s = gpu_backend::VulkanPasses::Create(device, faults, owner->gpu, static_cast<std::uint32_t>(local_size), overrides,
-                                                       simulated_subgroup);
+                                                       simulated);
       !s) {
     // "--device N: ...", "--validate: ...": an option this machine cannot honour, not a failure
     if (s.message.rfind("--", 0) == 0) ThrowInput("{}", s.message);
@@ -161,7 +161,7 @@ Backend MakeBackend(const std::string& name, int device, int local_size, const s
   (void)faults;
   (void)limits;
   (void)kernels;
-  (void)simulated_subgroup;
+  (void)simulated;
   ThrowInput("--backend vulkan: this build of rayspace has no Vulkan backend (configured with RAYSPACE_VULKAN=OFF, or AUTO "
              "without the Vulkan loader, glslc or SPIRV-Cross)");
 #endif

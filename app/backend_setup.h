@@ -7,6 +7,7 @@
 
 #include "rayspace/emu/backend.h"
 #include "rayspace/pass_registry.h"
+#include "rayspace/sim/device.h"
 
 namespace rayspace::app {
 
@@ -65,9 +66,9 @@ void CheckKernelsRan(const Backend& backend, const KernelFiles& kernels);
 
 // name "emu" or "vulkan"; `faults` plants kernel faults (pass -> fault, diff --inject). A bad --device
 // or a build without Vulkan is an InputError; a failing driver a runtime_error naming the call.
-// `simulated_subgroup`: invocations per subgroup of the simulated GPU (name "sim").
+// `simulated`: the simulated GPU's configuration (name "sim").
 Backend MakeBackend(const std::string& name, int device, int local_size = 64,
                     const std::map<std::string, std::uint32_t>& faults = {}, const TestLimits& limits = {},
-                    const KernelFiles& kernels = {}, std::uint32_t simulated_subgroup = 8);
+                    const KernelFiles& kernels = {}, const sim::DeviceConfig& simulated = {});
 
 }  // namespace rayspace::app

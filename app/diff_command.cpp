@@ -394,12 +394,14 @@ struct DiffTracer {
 // simulated GPU where no Vulkan device is usable (said on stderr).
 Backend MakeActualBackend(const std::string& backends, bool given, int device, int local_size,
                           const std::map<std::string, std::uint32_t>& faults, const TestLimits& limits, const KernelFiles& kernels,
-                          std::uint32_t subgroup_size = 0) {
+                          std::uint32_t subgroup_size = 0, const std::string& schedule = "forward") {
   const std::string actual = backends.substr(backends.find(',') + 1);
   if (subgroup_size && actual != "sim")
     ThrowInput("--subgroup-size {}: only the simulated GPU's subgroup size is chosen (--backends emu,sim); a Vulkan device has its own",
                subgroup_size);
-  if (given || actual != "vulkan") return MakeBackend(actual, device, local_size, faults, limits, kernels, subgroup_size ? subgroup_size : 8);
+  // The simulated GPU takes --schedule too: the order of its workgroups and subgroups.
+  const sim::DeviceConfig simulated{.subgroup_size = subgroup_size ? subgroup_size : 8u, .schedule = ParseSchedule(schedule)};
+  if (given || actual != "vulkan") return MakeBackend(actual, device, local_size, faults, limits, kernels, simulated);
   try {
     return MakeBackend("vulkan", device, local_size, faults, limits, kernels);
   } catch (const std::runtime_error& e) {
@@ -606,7 +608,7 @@ ExitCode RunDiff(const DiffArgs& args) {
   const MemoryEstimate estimate = EstimateFrameMemory(scene, fo.width, fo.height, use);
   CheckFitsMachine(estimate, fo.width, fo.height, SizeFrom(args.size, scene).c_str(), "the diff");
   const Backend gpu = MakeActualBackend(args.backends, args.backends_given, args.device, args.local_size, injection.kernel, args.Limits(),
-                                        args.kernels, args.subgroup_size);
+                                        args.kernels, args.subgroup_size, args.model.schedule);
   ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
   SceneBuffers buffers = FlattenForFrame(scene, args.faithful);
   buffers.one_sided = one_sided;

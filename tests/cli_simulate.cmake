@@ -4,11 +4,13 @@
 #                               read-back and word); a directory that is no export is exit 2, one line
 #   PART=all (full tier)        every exported call of 32x32 diffs of cornell-mirrors and office
 #   PART=backend (default tier) diff --backends emu,sim on a 16x16 cornell-mirrors under five
-#                               configurations and subgroup sizes 4 and 32, all equal; render --backend sim gives the emulator's
+#                               configurations, subgroup sizes 4 and 32 and a random schedule, all equal; render --backend sim gives the emulator's
 #                               digest; a planted reduce fault diverges; the workgroup faults are
 #                               caught on the kernel by racecheck or initcheck (exit 6)
 #   PART=backend-all (full)     the same diffs at 32x32 on cornell-mirrors and office, grids and the
 #                               quadtree too, subgroup sizes 1, 4, 32 and 64
+#   PART=schedules (full)       cornell-mirrors at 64x64 under forward, reverse and three random
+#                               schedules at subgroup sizes 4, 8, 32 and 64: all equal
 # Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DWORK=<scratch> -DPART=<part> -P cli_simulate.cmake
 cmake_minimum_required(VERSION 3.19)
 file(REMOVE_RECURSE "${WORK}")
@@ -83,12 +85,22 @@ if(PART STREQUAL "sample")
   if(NOT rc EQUAL 2 OR NOT err MATCHES "^rayspace: error: [^\n]*: not an export directory \\(no sequence.txt\\)\n$")
     set(failures "${failures}\nsimulate on a saved-calls directory: exit ${rc}: ${err}")
   endif()
-elseif(PART STREQUAL "backend" OR PART STREQUAL "backend-all")
+elseif(PART STREQUAL "backend" OR PART STREQUAL "backend-all" OR PART STREQUAL "schedules")
   # diff --backends emu,sim: every pass of the frame on the emulator and on the simulated GPU, bitwise.
   if(PART STREQUAL "backend")
     set(size 16x16)
     set(configs "crsh" "crsh --path fused" "tl --algo tl" "tree --objects tree" "rah --algo rah" "crsh --subgroup-size 4"
-                "crsh --subgroup-size 32")
+                "crsh --subgroup-size 32" "fused --path fused --schedule random:7 --subgroup-size 4")
+    set(scenes cornell-mirrors)
+  elseif(PART STREQUAL "schedules")
+    # The acceptance's product: 64x64, five schedules, four subgroup sizes.
+    set(size 64x64)
+    set(configs "")
+    foreach(schedule forward reverse random:1 random:2 random:3)
+      foreach(sg 4 8 32 64)
+        list(APPEND configs "crsh --schedule ${schedule} --subgroup-size ${sg}")
+      endforeach()
+    endforeach()
     set(scenes cornell-mirrors)
   else()
     set(size 32x32)

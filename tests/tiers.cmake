@@ -41,6 +41,9 @@ set(rayspace_full_tier
   # The simulated backend on 32x32 frames of two scenes under every tracer: cli.simulate.backend diffs
   # five configurations at 16x16.
   "^cli\\.simulate\\.backend-all$"
+  # Five schedules by four subgroup sizes at 64x64: cli.simulate.backend runs a random schedule at
+  # subgroup size 4, and gpu.sim executor cases check the orders themselves.
+  "^cli\\.simulate\\.schedules$"
   # A frame beyond one storage binding (2048x1152): the same parts and paging on small frames with
   # --split-bytes in cli.backend and cli.diff (studs.crsh.paged, cornell.crsh.paged, ...).
   "^cli\\.large_frame$"

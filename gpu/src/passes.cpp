@@ -29,9 +29,9 @@ std::uint32_t FaultOf(const Faults& faults, std::string_view pass) {
 // One kernel per registered compute pass, named by the pass (a planted fault stays in its pass even
 // where passes share a kernel file, as compress, sort and decompress do).
 vk::Status VulkanPasses::Create(int device, const Faults& faults, std::unique_ptr<VulkanPasses>& out,
-                                std::uint32_t local_size, const KernelOverrides& overrides, std::uint32_t simulated_subgroup) {
+                                std::uint32_t local_size, const KernelOverrides& overrides, const sim::DeviceConfig& simulated) {
   auto p = std::make_unique<VulkanPasses>();
-  RS_TRY(vk::Context::Create(device, p->ctx_, simulated_subgroup));
+  RS_TRY(vk::Context::Create(device, p->ctx_, simulated));
   for (const PassSpec& spec : kPasses) {
     if (spec.graphics) continue;
     // Without 64-bit floats the grid build's pipelines are not made; its calls fail naming the feature.

@@ -329,8 +329,8 @@ std::string DeviceList(const std::vector<VkPhysicalDevice>& devs) {
 }  // namespace
 void Context::SetObserver(Observer* observer) { g_observer = observer; }
 
-Status Context::Create(int device, std::unique_ptr<Context>& out, std::uint32_t simulated_subgroup) {
-  if (device == kSimulatedDevice) return CreateSimulated(simulated_subgroup, out);
+Status Context::Create(int device, std::unique_ptr<Context>& out, const sim::DeviceConfig& simulated) {
+  if (device == kSimulatedDevice) return CreateSimulated(simulated, out);
   auto c = std::make_unique<Context>();
   RS_TRY(CreateInstance(c->instance_, &c->messenger_));
   std::uint32_t n = 0;
@@ -349,10 +349,12 @@ Status Context::Create(int device, std::unique_ptr<Context>& out, std::uint32_t 
   return Status::Ok();
 }
 
-Status Context::CreateSimulated(std::uint32_t subgroup_size, std::unique_ptr<Context>& out) {
+Status Context::CreateSimulated(const sim::DeviceConfig& config, std::unique_ptr<Context>& out) {
+  const std::uint32_t subgroup_size = config.subgroup_size;
   if (subgroup_size < 1 || subgroup_size > 128) return Status::Fail(fmt::format("a simulated subgroup of {} invocations (1 to 128)", subgroup_size));
   auto c = std::make_unique<Context>();
   c->simulated_ = true;
+  c->sim_config_ = config;
   c->device_name_ = fmt::format("rayspace simulator (subgroup size {})", subgroup_size);
   c->driver_ = "rayspace sim: the kernels' SPIR-V on the CPU";
   // lavapipe's limits, so that the host code splits and pages as it does there.
@@ -991,6 +993,9 @@ Status Recorder::SubmitSimulated() {
     d.groups[0] = step.gx;
     d.groups[1] = step.gy;
     d.subgroup_size = ctx_.subgroup_size_;
+    d.schedule = ctx_.sim_config_.schedule;
+    d.step_limit = ctx_.sim_config_.step_limit;
+    d.dispatch_index = ctx_.sim_dispatches_++;
     d.push = step.push;
     for (const Buffer* b : step.buffers) d.bindings.push_back({static_cast<std::uint8_t*>(b->mapped_), b->size_ + b->guard_});
     sim::ExecStats stats;

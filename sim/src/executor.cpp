@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <random>
 
 #include <fmt/format.h>
 
@@ -18,6 +19,17 @@ namespace rayspace::sim {
 namespace {
 
 using Op = spv::Op;
+
+// 0 .. n-1 in the schedule's order; a random order is a permutation drawn from its seed and `salt`.
+std::vector<std::uint32_t> ScheduleOrder(std::uint32_t n, const wg::Schedule& s, std::uint64_t salt) {
+  std::vector<std::uint32_t> order(n);
+  for (std::uint32_t i = 0; i < n; ++i) order[i] = s.order == wg::Order::kReverse ? n - 1 - i : i;
+  if (s.order == wg::Order::kRandom) {
+    std::mt19937_64 rng(s.seed * 0x2545F4914F6CDD1Dull ^ salt);
+    for (std::uint32_t i = n; i > 1; --i) std::swap(order[i - 1], order[rng() % i]);
+  }
+  return order;
+}
 constexpr std::uint32_t kNone = ~0u;
 
 bool Explicit(std::uint32_t storage) {
@@ -112,9 +124,11 @@ class Workgroup {
     for (std::uint32_t l = 0; l < size_; ++l) StartLane(l, group);
     shared_check_.Begin(shared_.size() / 4);
     group_ = fmt::format("workgroup ({}, {})", group[0], group[1]);
+    group_index_ = group[0] + static_cast<std::uint64_t>(group[1]) * d_.groups[0];
+    interval_ = 0;
     const std::uint32_t subgroups = (size_ + sg_ - 1) / sg_;
     for (;;) {
-      for (std::uint32_t s = 0; s < subgroups; ++s) RunSubgroup(s * sg_, std::min(size_, (s + 1) * sg_));
+      for (std::uint32_t s : Order(subgroups, ++interval_)) RunSubgroup(s * sg_, std::min(size_, (s + 1) * sg_));
       std::uint32_t waiting = 0, done = 0;
       for (LaneState st : state_) (st == LaneState::kBarrier ? waiting : done) += 1;
       if (waiting == 0) return;
@@ -130,6 +144,10 @@ class Workgroup {
   }
 
  private:
+  // The subgroups' order in barrier interval `interval` of this workgroup.
+  std::vector<std::uint32_t> Order(std::uint32_t n, std::uint64_t interval) const {
+    return ScheduleOrder(n, d_.schedule, (d_.dispatch_index * 0x9E3779B97F4A7C15ull) ^ (group_index_ << 20) ^ interval);
+  }
   const Type& Pointee(const Variable& v) const { return p_.T(p_.T(v.type).element); }
   static bool PerInvocation(const Variable& v) {
     const auto s = static_cast<spv::StorageClass>(v.storage);
@@ -294,6 +312,7 @@ class Workgroup {
   std::vector<std::uint32_t> lanes_;
   std::uint32_t sub_first_ = 0, sub_end_ = 0;
   SharedCheck shared_check_;
+  std::uint64_t group_index_ = 0, interval_ = 0;
   std::vector<std::string> shared_names_;  // by shared region, from shared_base_
   std::string group_;
 };
@@ -1051,13 +1070,14 @@ void Workgroup::Atomic(const Inst& in) {
 
 void Run(const Program& program, const Dispatch& dispatch, ExecStats& stats) {
   Workgroup wg(program, dispatch, stats);
-  std::uint32_t g[3];
-  for (g[2] = 0; g[2] < dispatch.groups[2]; ++g[2])
-    for (g[1] = 0; g[1] < dispatch.groups[1]; ++g[1])
-      for (g[0] = 0; g[0] < dispatch.groups[0]; ++g[0]) {
-        wg.Run(g);
-        ++stats.workgroups;
-      }
+  const std::uint64_t count = std::uint64_t{dispatch.groups[0]} * dispatch.groups[1] * dispatch.groups[2];
+  if (count > 0xffffffffull) throw SimError(fmt::format("{}: {} workgroups in one dispatch", program.name, count));
+  for (std::uint32_t linear : ScheduleOrder(static_cast<std::uint32_t>(count), dispatch.schedule, dispatch.dispatch_index)) {
+    const std::uint32_t g[3] = {linear % dispatch.groups[0], (linear / dispatch.groups[0]) % dispatch.groups[1],
+                                linear / (dispatch.groups[0] * dispatch.groups[1])};
+    wg.Run(g);
+    ++stats.workgroups;
+  }
 }
 
 }  // namespace rayspace::sim

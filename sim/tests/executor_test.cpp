@@ -4,6 +4,7 @@
 // zero, a barrier part of the workgroup never reaches, a hang).
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -41,9 +42,10 @@ std::vector<std::uint32_t> Compile(const std::string& body, const std::string& n
 
 // Runs `body` over `groups` workgroups of `local` invocations, subgroups of `subgroup`, on `data`.
 std::vector<std::uint32_t> Run(const std::string& body, std::uint32_t local, std::uint32_t groups, std::uint32_t subgroup,
-                               std::vector<std::uint32_t> data) {
+                               std::vector<std::uint32_t> data, rayspace::wg::Schedule schedule = {}) {
   const sim::Program p = sim::Prepare(Compile(body, "k"), {{1, std::to_string(local)}}, "k");
   sim::Dispatch d;
+  d.schedule = schedule;
   d.groups[0] = groups;
   d.subgroup_size = subgroup;
   d.step_limit = 1u << 24;
@@ -164,4 +166,29 @@ TEST_CASE("sim executor: racecheck and initcheck on shared memory, lanes of one 
   void main() { if (gl_LocalInvocationIndex == 0u) s[0] = 0u; barrier(); atomicAdd(s[0], 1u); barrier();
                 data[gl_LocalInvocationIndex] = s[0]; })", 16, 1, 8, std::vector<std::uint32_t>(16, 0));
   for (std::uint32_t i = 0; i < 16; ++i) CHECK(sum[i] == 16);
+}
+
+TEST_CASE("sim executor: the schedule orders workgroups and subgroups, reproducibly from its seed") {
+  // Each workgroup's first invocation, and each subgroup's first lane, takes a ticket in the order it runs.
+  const std::string tickets = R"(void main() {
+    if (gl_LocalInvocationIndex == 0u) data[gl_WorkGroupID.x] = atomicAdd(data[40], 1u);
+    if (gl_SubgroupInvocationID == 0u) data[20u + gl_WorkGroupID.x * 4u + gl_SubgroupID] = atomicAdd(data[41], 1u);
+  })";
+  using rayspace::wg::Order;
+  const auto run = [&](Order o, std::uint64_t seed) { return Run(tickets, 32, 5, 8, std::vector<std::uint32_t>(42, 0), {o, seed}); };
+  const auto fwd = run(Order::kForward, 0), rev = run(Order::kReverse, 0), rnd = run(Order::kRandom, 7), again = run(Order::kRandom, 7);
+  for (std::uint32_t g = 0; g < 5; ++g) {
+    CHECK(fwd[g] == g);
+    CHECK(rev[g] == 4 - g);
+    for (std::uint32_t s = 0; s < 4; ++s) {
+      CHECK(fwd[20 + g * 4 + s] == g * 4 + s);
+      CHECK(rev[20 + g * 4 + s] == (4 - g) * 4 + (3 - s));
+    }
+  }
+  CHECK(rnd == again);
+  CHECK(rnd != fwd);
+  CHECK(rnd != rev);
+  std::vector<std::uint32_t> groups(rnd.begin(), rnd.begin() + 5);
+  std::sort(groups.begin(), groups.end());
+  CHECK(groups == std::vector<std::uint32_t>{0, 1, 2, 3, 4});
 }

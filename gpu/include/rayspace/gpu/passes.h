@@ -37,10 +37,10 @@ class VulkanPasses {
   // local_size: invocations per workgroup for every compute kernel (results must not depend on it).
   // One compute kernel per registered pass (rayspace/pass_registry.h), its pipeline made at its first
   // dispatch.
-  // device vk::Context::kSimulatedDevice: the simulated GPU, with `simulated_subgroup` invocations
-  // per subgroup.
+  // device vk::Context::kSimulatedDevice: the simulated GPU configured by `simulated`.
   static vk::Status Create(int device, const Faults& faults, std::unique_ptr<VulkanPasses>& out,
-                           std::uint32_t local_size = 64, const KernelOverrides& overrides = {}, std::uint32_t simulated_subgroup = 8);
+                           std::uint32_t local_size = 64, const KernelOverrides& overrides = {},
+                           const sim::DeviceConfig& simulated = {});
   // One launch per call (emu/calls.h), same inputs and outputs as the emulated pass; in-place arrays
   // (Shade's accumulator, Intersect's hits or occlusion) are updated like the emulator does. Each is
   // defined in gpu/src/<kernel>.cpp beside its kernel's launch code.

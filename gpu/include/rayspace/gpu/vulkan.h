@@ -11,6 +11,8 @@
 
 #include <vulkan/vulkan.h>
 
+#include "rayspace/sim/device.h"
+
 namespace rayspace::vk {
 
 // The outcome of a call at the Vulkan boundary. A failed Vulkan call carries its VkResult and its
@@ -292,12 +294,12 @@ class Context {
  public:
   // device < 0: the first non-CPU device, else the first CPU device (lavapipe); kSimulatedDevice:
   // CreateSimulated with lavapipe's subgroup size.
-  static Status Create(int device, std::unique_ptr<Context>& out, std::uint32_t simulated_subgroup = 8);
+  static Status Create(int device, std::unique_ptr<Context>& out, const sim::DeviceConfig& simulated = {});
   // A context whose device is rayspace's simulator (docs/simulator.md): no Vulkan instance or device;
   // buffers live in host memory, kernels run as SPIR-V on the CPU at each submit, and the limits are
   // lavapipe's. Graphics pipelines and images are refused (the raster comes from the emulator).
   static constexpr int kSimulatedDevice = -1000;
-  static Status CreateSimulated(std::uint32_t subgroup_size, std::unique_ptr<Context>& out);
+  static Status CreateSimulated(const sim::DeviceConfig& config, std::unique_ptr<Context>& out);
   bool simulated() const { return simulated_; }
   // Lane-instructions the simulated device executed so far.
   std::uint64_t simulated_instructions() const { return sim_instructions_; }
@@ -399,7 +401,8 @@ class Context {
   std::size_t descriptor_pools_ = 0;
   std::size_t folded_launches_ = 0;
   bool simulated_ = false;
-  std::uint64_t sim_instructions_ = 0;
+  sim::DeviceConfig sim_config_;
+  std::uint64_t sim_instructions_ = 0, sim_dispatches_ = 0;
 };
 
 }  // namespace rayspace::vk

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "rayspace/sim/device.h"
 #include "rayspace/sim/program.h"
 
 namespace rayspace::sim {
@@ -35,6 +36,8 @@ struct Dispatch {
   std::span<const std::uint8_t> push;     // the push-constant block
   std::uint32_t subgroup_size = 8;        // lavapipe's
   std::uint64_t step_limit = 1ull << 34;  // lane-instructions before the run counts as a hang
+  wg::Schedule schedule;                  // workgroup and subgroup order (DeviceConfig::schedule)
+  std::uint64_t dispatch_index = 0;       // mixed into a random schedule's seed: each dispatch its own order
 };
 
 struct ExecStats {
@@ -42,7 +45,8 @@ struct ExecStats {
   std::uint64_t workgroups = 0;
 };
 
-// Runs every workgroup of the dispatch, in order of its linear index. Throws SimError on a fault.
+// Runs every workgroup of the dispatch in the schedule's order (forward: by linear index). Throws
+// SimError on a fault.
 void Run(const Program& program, const Dispatch& dispatch, ExecStats& stats);
 
 }  // namespace rayspace::sim
