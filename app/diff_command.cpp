@@ -405,7 +405,9 @@ Backend MakeActualBackend(const std::string& backends, bool given, int device, i
   try {
     return MakeBackend("vulkan", device, local_size, faults, limits, kernels);
   } catch (const std::runtime_error& e) {
-    if (std::string(e.what()).find("no Vulkan device found") == std::string::npos) throw;
+    // No device, or no driver at all (the loader finds no ICD: vkCreateInstance's INCOMPATIBLE_DRIVER).
+    const std::string why = e.what();
+    if (why.find("no Vulkan device found") == std::string::npos && why.find("VK_ERROR_INCOMPATIBLE_DRIVER") == std::string::npos) throw;
     std::fprintf(stderr, "rayspace: no Vulkan device: the kernels run on the simulated GPU (--backends emu,sim)\n");
     return MakeBackend("sim", device, local_size, faults, limits, kernels);
   }

@@ -19,6 +19,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
+constexpr std::uint64_t kMaxBufferBytes = std::uint64_t{1} << 30;
+
 double Seconds(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -101,7 +103,10 @@ ExportRun RunExport(const std::string& dir, const ExportRunOptions& options) {
       TimingOf(run, w[2]).prepare_s += Seconds(t0);
     } else if (step == "buffer") {
       need(3);
-      buffers[Number(w[1], where)].assign(Number(w[2], where), 0);
+      // A storage buffer is bound whole: at most a binding's range (lavapipe's is 128 MiB).
+      const std::uint64_t bytes = Number(w[2], where);
+      if (bytes > kMaxBufferBytes) ThrowInput("{}: a buffer of {} bytes, beyond the {} one binding may hold", where, bytes, kMaxBufferBytes);
+      buffers[Number(w[1], where)].assign(bytes, 0);
       labels[Number(w[1], where)] = w.size() > 3 ? w[3] : w[1];
     } else if (step == "write") {
       need(4);
@@ -136,6 +141,9 @@ ExportRun RunExport(const std::string& dir, const ExportRunOptions& options) {
         std::vector<std::uint8_t>& b = buffer(w[k]);
         d.bindings.push_back({b.data(), b.size()});
       }
+      for (const Variable& v : it->second.variables)
+        if (v.binding != ~0u && v.binding >= d.bindings.size())
+          ThrowInput("{}: kernel {} reads binding {}, and the dispatch binds {} buffers", where, it->second.name, v.binding, d.bindings.size());
       const auto t0 = std::chrono::steady_clock::now();
       const std::uint64_t before = run.stats.lane_instructions;
       Run(it->second, d, run.stats);

@@ -238,6 +238,16 @@ def cli_cases(src):
         ("mutate with a garbage survivors file", ["mutate", scene, "--survivors", "s.json"]),
         ("reproduce with an unknown table", ["reproduce", "--table", "nosuch"]),
         ("devices with a bad device", ["devices", "--device", "77"]),
+        ("simulate of a missing directory", ["simulate", "nodir"]),
+        ("simulate of a file", ["simulate", "s.json"]),
+        ("simulate of a directory without sequence.txt", ["simulate", "empty"]),
+        ("simulate with subgroups of 0", ["simulate", "empty", "--subgroup-size", "0"]),
+        ("simulate with subgroups of 129", ["simulate", "empty", "--subgroup-size", "129"]),
+        ("diff with unknown backends", ["diff", "s.json", "--size", "16x16", "--backends", "emu,gpu"]),
+        ("diff with backends in the wrong order", ["diff", "s.json", "--size", "16x16", "--backends", "sim,emu"]),
+        ("diff with a subgroup size on Vulkan", ["diff", "s.json", "--size", "16x16", "--backends", "emu,vulkan", "--subgroup-size", "4"]),
+        ("diff with a subgroup size of 0", ["diff", "s.json", "--size", "16x16", "--backends", "emu,sim", "--subgroup-size", "0"]),
+        ("render on an unknown backend", ["render", "s.json", "--backend", "simulator"]),
         ("an unknown command", ["frobnicate"]),
         ("no command", []),
         ("render of a missing scene", ["render", "nosuch.json"]),
@@ -248,6 +258,25 @@ def cli_cases(src):
         files = dict(good)
         files["empty/"] = None
         cases.append(Case(what, args, "bad", files, ()))
+    # Reproducer directories whose sequence.txt lies: each refused naming the file and line.
+    spirv = "kernels/k.spv"
+    steps = {
+        "a bad header": "rayspace-repro 2\n",
+        "an unknown step": "rayspace-repro 1\nfrobnicate 0\n",
+        "a buffer of a petabyte": "rayspace-repro 1\nbuffer 0 1000000000000000 x\n",
+        "a buffer size that is no number": "rayspace-repro 1\nbuffer 0 12ab x\n",
+        "a write into a missing buffer": "rayspace-repro 1\nwrite 3 inputs/w.bin 4\n",
+        "a write larger than its file": "rayspace-repro 1\nbuffer 0 16 x\nwrite 0 inputs/w.bin 16\n",
+        "a dispatch of a missing pipeline": "rayspace-repro 1\nbuffer 0 16 x\ndispatch 7 1 1 0 0\n",
+        "a pipeline that is not SPIR-V": f"rayspace-repro 1\npipeline 0 k {spirv} 1 0 64 0\n",
+        "a pipeline whose file is missing": "rayspace-repro 1\npipeline 0 k kernels/none.spv 1 0 64 0\n",
+        "a read beyond its buffer": "rayspace-repro 1\nbuffer 0 4 x\nread 0 64 inputs/w.bin - 0 4\n",
+        "a push word that is not hexadecimal": f"rayspace-repro 1\nbuffer 0 16 x\ndispatch 0 1 1 4 zz 0\n",
+        "a step with too few fields": "rayspace-repro 1\nbuffer 0\n",
+    }
+    for what, text in steps.items():
+        files = {"r/sequence.txt": text, "r/inputs/w.bin": b"\0\0\0\0", "r/kernels/k.spv": b"not spirv"}
+        cases.append(Case(f"simulate of a reproducer with {what}", ["simulate", "r"], "bad", files, ()))
     return cases
 
 
@@ -284,6 +313,7 @@ def run_case(exe, work, index, case):
         if name.endswith("/"):
             os.makedirs(path, exist_ok=True)
             continue
+        os.makedirs(os.path.dirname(path), exist_ok=True)
         with open(path, "wb") as f:
             f.write(data if isinstance(data, bytes) else data.encode("utf-8", "surrogateescape"))
     tmp = os.path.join(cwd, ".tmp")
