@@ -7,8 +7,8 @@
 #                               configurations, subgroup sizes 4 and 32 and a random schedule, all equal; render --backend sim gives the emulator's
 #                               digest; a planted reduce fault diverges; the workgroup faults are
 #                               caught on the kernel by racecheck or initcheck (exit 6)
-#   PART=backend-all (full)     the same diffs at 32x32 on cornell-mirrors and office, the quadtree
-#                               too, subgroup sizes 1, 4, 32 and 64, and the grids at 16x16
+#   PART=backend-all (full)     the same diffs at 32x32 on cornell-mirrors, the quadtree too, subgroup
+#                               sizes 1, 4, 32 and 64, the grids at 16x16, and office fused and pass by pass
 #   PART=schedules (full)       cornell-mirrors at 64x64 under forward, reverse and three random
 #                               schedules at subgroup sizes 4, 8, 32 and 64: all equal
 # Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DWORK=<scratch> -DPART=<part> -P cli_simulate.cmake
@@ -109,18 +109,29 @@ elseif(PART STREQUAL "backend" OR PART STREQUAL "backend-all" OR PART STREQUAL "
     # The grids' kernels are the simulator's slowest (a 16x16 frame takes about 50 s): at 16x16 only.
     set(configs "crsh" "crsh --path fused" "tl --algo tl" "tree --objects tree" "rah --algo rah" "quadtree --algo rah-quadtree"
                 "crsh --subgroup-size 1" "crsh --subgroup-size 4" "crsh --subgroup-size 32" "crsh --subgroup-size 64"
-                "fused --path fused --subgroup-size 4" "fused --path fused --subgroup-size 64" "grid --algo grid --size 16x16")
-    set(scenes cornell-mirrors office)
+                "grid --algo grid --size 16x16")
+    set(scenes cornell-mirrors)
+  endif()
+  if(PART STREQUAL "backend-all")
+    # office under the default configuration and pass by pass.
+    list(APPEND configs "office-crsh --scene office" "office-fused --scene office --path fused")
   endif()
   foreach(scene ${scenes})
     foreach(config ${configs})
       separate_arguments(opts UNIX_COMMAND "${config}")
       list(POP_FRONT opts name)
+      set(on "${scene}")
+      list(FIND opts "--scene" at)
+      if(at GREATER -1)
+        math(EXPR next "${at} + 1")
+        list(GET opts ${next} on)
+        list(REMOVE_AT opts ${next} ${at})
+      endif()
       set(sz --size ${size})
       if(config MATCHES "--size")
         set(sz "")
       endif()
-      execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/${scene}.json" ${sz} --backends emu,sim ${opts}
+      execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/${on}.json" ${sz} --backends emu,sim ${opts}
                       RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
       set(sg 8)
       if(config MATCHES "--subgroup-size ([0-9]+)")
@@ -128,7 +139,7 @@ elseif(PART STREQUAL "backend" OR PART STREQUAL "backend-all" OR PART STREQUAL "
       endif()
       if(NOT rc EQUAL 0 OR NOT out MATCHES "on rayspace simulator \\(subgroup size ${sg}\\)" OR NOT out MATCHES "comparison: bitwise"
          OR NOT out MATCHES "\n  all passes equal\n")
-        set(failures "${failures}\ndiff ${scene} --backends emu,sim ${config}: exit ${rc}: ${out}${err}")
+        set(failures "${failures}\ndiff ${on} --backends emu,sim ${config}: exit ${rc}: ${out}${err}")
       endif()
     endforeach()
   endforeach()

@@ -38,8 +38,8 @@ set(rayspace_full_tier
   # Every exported call of two 32x32 diffs on the simulator: cli.simulate.sample runs one call of every
   # pass, a planted fault and the refusal.
   "^cli\\.simulate\\.all$"
-  # The simulated backend on 32x32 frames of two scenes under every tracer: cli.simulate.backend diffs
-  # five configurations at 16x16.
+  # The simulated backend on 32x32 frames under every tracer: cli.simulate.backend diffs five
+  # configurations at 16x16.
   "^cli\\.simulate\\.backend-all$"
   # Five schedules by four subgroup sizes at 64x64: cli.simulate.backend runs a random schedule at
   # subgroup size 4, and gpu.sim executor cases check the orders themselves.
