@@ -856,13 +856,15 @@ Status Recorder::DispatchGroups(const Kernel& k, std::span<const Buffer* const> 
   if (buffers.size() != k.bindings_) return Status::Fail(fmt::format("kernel {} takes {} buffers, got {}", k.name_, k.bindings_, buffers.size()));
   if (Status st = ctx_.CreatePipeline(k); !st) return st;
   bound_.emplace_back(k.name_, std::vector<const Buffer*>(buffers.begin(), buffers.end()));
+  // Launches wider than maxComputeWorkGroupCount[0] groups fold into rows of groups; kernels index
+  // with GlobalIndex() (common.glsl), which reads the grid row-major, and skip indices past the end.
+  const std::uint32_t gx = static_cast<std::uint32_t>(std::min<std::uint64_t>(groups, ctx_.max_groups_[0]));
+  const std::uint64_t gy = gx ? (groups + gx - 1) / gx : 0;
+  if (gy > ctx_.max_groups_[1])
+    return Status::Fail(fmt::format("kernel {}: {} invocations need {} x {} workgroups, beyond maxComputeWorkGroupCount",
+                                    k.name_, groups * k.local_size_, gx, gy));
+  if (gy > 1) ++ctx_.folded_launches_;
   if (ctx_.simulated_) {
-    const std::uint32_t gx = static_cast<std::uint32_t>(std::min<std::uint64_t>(groups, ctx_.max_groups_[0]));
-    const std::uint64_t gy = gx ? (groups + gx - 1) / gx : 0;
-    if (gy > ctx_.max_groups_[1])
-      return Status::Fail(fmt::format("kernel {}: {} invocations need {} x {} workgroups, beyond maxComputeWorkGroupCount",
-                                      k.name_, groups * k.local_size_, gx, gy));
-    if (gy > 1) ++ctx_.folded_launches_;
     SimStep step;
     step.kernel = &k;
     step.buffers.assign(buffers.begin(), buffers.end());
@@ -884,14 +886,6 @@ Status Recorder::DispatchGroups(const Kernel& k, std::span<const Buffer* const> 
   vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.pipeline_);
   vkCmdBindDescriptorSets(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, k.layout_, 0, 1, &set, 0, nullptr);
   if (push_size) vkCmdPushConstants(cmd_, k.layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, static_cast<std::uint32_t>(push_size), push);
-  // Launches wider than maxComputeWorkGroupCount[0] groups fold into rows of groups; kernels index
-  // with GlobalIndex() (common.glsl), which reads the grid row-major, and skip indices past the end.
-  const std::uint32_t gx = static_cast<std::uint32_t>(std::min<std::uint64_t>(groups, ctx_.max_groups_[0]));
-  const std::uint64_t gy = gx ? (groups + gx - 1) / gx : 0;
-  if (gy > ctx_.max_groups_[1])
-    return Status::Fail(fmt::format("kernel {}: {} invocations need {} x {} workgroups, beyond maxComputeWorkGroupCount",
-                                    k.name_, groups * k.local_size_, gx, gy));
-  if (gy > 1) ++ctx_.folded_launches_;
   if (groups > 0) {
     vkCmdDispatch(cmd_, gx, static_cast<std::uint32_t>(gy), 1);
     ++k.launches_;
