@@ -175,9 +175,9 @@ DiffTotals Totals(const std::vector<verify::CallRecord>& calls) {
 }
 
 // Prints one line per kernel pass and returns the same as the report's "passes".
-nlohmann::json PrintPasses(DiffTotals& d) {
+nlohmann::json PrintPasses(DiffTotals& d, const std::string& actual) {
   nlohmann::json passes = nlohmann::json::array();
-  std::printf("  %-18s %6s %12s %11s %11s  %s\n", "pass", "calls", "mismatches", "emu ms", "vulkan ms", "buffers (elements)");
+  std::printf("  %-18s %6s %12s %11s %11s  %s\n", "pass", "calls", "mismatches", "emu ms", (actual + " ms").c_str(), "buffers (elements)");
   for (const std::string& p : d.order) {
     const PassTotals& t = d.totals[p];
     std::size_t mism = 0;
@@ -549,7 +549,7 @@ FaultRun DiffFrame(const DiffArgs& args, const Scene& scene, SceneBuffers& buffe
   if (const std::string why = DiffFaultCannotFire(args, injection, differ, gpu, run); !why.empty()) ThrowInput("{}", why);
 
   DiffTotals totals = Totals(differ.calls());
-  const nlohmann::json passes = PrintPasses(totals);
+  const nlohmann::json passes = PrintPasses(totals, gpu.name);
   const bool equal = totals.first == nullptr && run.stopped.empty();
   PrintDiffVerdict(args, injection, totals, run, equal);
   std::printf("  %s: %zu split dispatches, %zu arrays paged over several bindings\n", gpu.name.c_str(), gpu.extra_dispatches(gpu),
