@@ -263,6 +263,20 @@ class Workgroup {
         f32(std::bit_cast<float>(static_cast<std::uint32_t>(a)), std::bit_cast<float>(static_cast<std::uint32_t>(b))));
   }
 
+  // +, -, *, / in the component's precision, each correctly rounded (lavapipe's).
+  static std::uint64_t FAdd(const Comp& c, std::uint64_t a, std::uint64_t b) {
+    return FloatOp(c, a, b, [](float x, float y) { return x + y; }, [](double x, double y) { return x + y; });
+  }
+  static std::uint64_t FSub(const Comp& c, std::uint64_t a, std::uint64_t b) {
+    return FloatOp(c, a, b, [](float x, float y) { return x - y; }, [](double x, double y) { return x - y; });
+  }
+  static std::uint64_t FMul(const Comp& c, std::uint64_t a, std::uint64_t b) {
+    return FloatOp(c, a, b, [](float x, float y) { return x * y; }, [](double x, double y) { return x * y; });
+  }
+  static std::uint64_t FDiv(const Comp& c, std::uint64_t a, std::uint64_t b) {
+    return FloatOp(c, a, b, [](float x, float y) { return x / y; }, [](double x, double y) { return x / y; });
+  }
+
   template <class Fn>
   void Componentwise(const Inst& in, std::span<const std::uint32_t> ops, std::uint32_t operand_type_of, Fn fn) {
     const Comp rc = CompOf(in.type), oc = CompOf(operand_type_of);
@@ -312,6 +326,7 @@ class Workgroup {
   std::vector<std::uint32_t> lanes_;
   std::uint32_t sub_first_ = 0, sub_end_ = 0;
   SharedCheck shared_check_;
+  std::vector<std::uint64_t> scan_;  // a subgroup scan's exclusive values, reused across instructions
   std::uint64_t group_index_ = 0, interval_ = 0;
   std::vector<std::string> shared_names_;  // by shared region, from shared_base_
   std::string group_;
@@ -573,8 +588,6 @@ static std::pair<std::uint32_t, std::uint32_t> Part(const Program& p, std::uint3
 void Workgroup::Arithmetic(const Inst& in) {
   const auto ops = p_.Ops(in);
   const auto op = static_cast<Op>(in.op);
-  const auto f32 = [](auto fn) { return fn; };
-  (void)f32;
   switch (op) {
     case Op::OpIAdd: Componentwise(in, ops, in.type, [](const Comp& c, std::uint64_t a, std::uint64_t b) { return Mask(a + b, c.width); }); return;
     case Op::OpISub: Componentwise(in, ops, in.type, [](const Comp& c, std::uint64_t a, std::uint64_t b) { return Mask(a - b, c.width); }); return;
@@ -641,17 +654,17 @@ void Workgroup::Arithmetic(const Inst& in) {
       }
       return;
     }
-    case Op::OpFAdd: Componentwise(in, ops, in.type, [](const Comp& c, std::uint64_t a, std::uint64_t b) { return FloatOp(c, a, b, [](float x, float y) { return x + y; }, [](double x, double y) { return x + y; }); }); return;
-    case Op::OpFSub: Componentwise(in, ops, in.type, [](const Comp& c, std::uint64_t a, std::uint64_t b) { return FloatOp(c, a, b, [](float x, float y) { return x - y; }, [](double x, double y) { return x - y; }); }); return;
-    case Op::OpFMul: Componentwise(in, ops, in.type, [](const Comp& c, std::uint64_t a, std::uint64_t b) { return FloatOp(c, a, b, [](float x, float y) { return x * y; }, [](double x, double y) { return x * y; }); }); return;
-    case Op::OpFDiv: Componentwise(in, ops, in.type, [](const Comp& c, std::uint64_t a, std::uint64_t b) { return FloatOp(c, a, b, [](float x, float y) { return x / y; }, [](double x, double y) { return x / y; }); }); return;
+    case Op::OpFAdd: Componentwise(in, ops, in.type, FAdd); return;
+    case Op::OpFSub: Componentwise(in, ops, in.type, FSub); return;
+    case Op::OpFMul: Componentwise(in, ops, in.type, FMul); return;
+    case Op::OpFDiv: Componentwise(in, ops, in.type, FDiv); return;
     case Op::OpFNegate: Componentwise(in, ops, in.type, [](const Comp& c, std::uint64_t a, std::uint64_t) { return a ^ (c.width == 64 ? 0x8000000000000000ull : 0x80000000ull); }); return;
     case Op::OpVectorTimesScalar: {
       const Comp c = CompOf(in.type);
       for (std::uint32_t l : lanes_) {
         const std::uint64_t s = Get(R(l, ops[1]), c, 0);
         for (std::uint32_t i = 0; i < c.n; ++i)
-          Put(R(l, in.result), c, i, FloatOp(c, Get(R(l, ops[0]), c, i), s, [](float x, float y) { return x * y; }, [](double x, double y) { return x * y; }));
+          Put(R(l, in.result), c, i, FMul(c, Get(R(l, ops[0]), c, i), s));
       }
       return;
     }
@@ -660,8 +673,8 @@ void Workgroup::Arithmetic(const Inst& in) {
       for (std::uint32_t l : lanes_) {
         std::uint64_t sum = 0;
         for (std::uint32_t i = 0; i < c.n; ++i) {
-          const std::uint64_t prod = FloatOp(c, Get(R(l, ops[0]), c, i), Get(R(l, ops[1]), c, i), [](float x, float y) { return x * y; }, [](double x, double y) { return x * y; });
-          sum = i == 0 ? prod : FloatOp(c, sum, prod, [](float x, float y) { return x + y; }, [](double x, double y) { return x + y; });
+          const std::uint64_t prod = FMul(c, Get(R(l, ops[0]), c, i), Get(R(l, ops[1]), c, i));
+          sum = i == 0 ? prod : FAdd(c, sum, prod);
         }
         Put(R(l, in.result), c, 0, sum);
       }
@@ -860,10 +873,7 @@ void Workgroup::Extended(const Inst& in) {
   const std::uint32_t inst = all[1];
   const auto args = all.subspan(2);
   const Comp rc = CompOf(in.type);
-  const auto add = [](const Comp& c, std::uint64_t a, std::uint64_t b) { return FloatOp(c, a, b, [](float x, float y) { return x + y; }, [](double x, double y) { return x + y; }); };
-  const auto mul = [](const Comp& c, std::uint64_t a, std::uint64_t b) { return FloatOp(c, a, b, [](float x, float y) { return x * y; }, [](double x, double y) { return x * y; }); };
-  const auto sub = [](const Comp& c, std::uint64_t a, std::uint64_t b) { return FloatOp(c, a, b, [](float x, float y) { return x - y; }, [](double x, double y) { return x - y; }); };
-  const auto div = [](const Comp& c, std::uint64_t a, std::uint64_t b) { return FloatOp(c, a, b, [](float x, float y) { return x / y; }, [](double x, double y) { return x / y; }); };
+  const auto add = FAdd, mul = FMul, sub = FSub, div = FDiv;
   const auto sqrt = [](const Comp& c, std::uint64_t a) { return FloatOp(c, a, a, [](float x, float) { return std::sqrt(x); }, [](double x, double) { return std::sqrt(x); }); };
   const auto fmin = [](const Comp& c, std::uint64_t a, std::uint64_t b) { return FloatOp(c, a, b, [](float x, float y) { return Min(x, y); }, [](double x, double y) { return Min(x, y); }); };
   const auto fmax = [](const Comp& c, std::uint64_t a, std::uint64_t b) { return FloatOp(c, a, b, [](float x, float y) { return Max(x, y); }, [](double x, double y) { return Max(x, y); }); };
@@ -1016,7 +1026,8 @@ void Workgroup::Subgroup(const Inst& in) {
       for (std::uint32_t i = 0; i < c.n; ++i) {
         std::uint64_t total = identity;
         bool started = false;
-        std::vector<std::uint64_t> before(lanes_.size());
+        std::vector<std::uint64_t>& before = scan_;
+        before.assign(lanes_.size(), 0);
         for (std::size_t k = 0; k < lanes_.size(); ++k) {
           before[k] = total;
           const std::uint64_t v = Get(R(lanes_[k], ops[2]), c, i);

@@ -140,7 +140,7 @@ class Builder {
       case Op::OpSpecConstantComposite: {
         std::uint32_t at = Allocate(r.type, r.result);
         for (std::size_t i = 3; i < w.size(); ++i) {
-          const std::uint32_t n = p_.T(TypeOf(w[i])).words;
+          const std::uint32_t n = p_.T(p_.value_type.at(w[i])).words;
           std::copy_n(p_.constants.begin() + p_.reg.at(w[i]), n, p_.constants.begin() + at);
           at += n;
         }
@@ -209,7 +209,6 @@ class Builder {
   }
 
   std::uint32_t Allocate(std::uint32_t type, std::uint32_t id) {
-    type_of_[id] = type;
     p_.value_type[id] = type;
     p_.reg[id] = p_.reg_words;
     p_.reg_words += p_.T(type).words;
@@ -217,7 +216,6 @@ class Builder {
     return p_.reg[id];
   }
 
-  std::uint32_t TypeOf(std::uint32_t id) const { return type_of_.at(id); }
 
   void Function(const std::vector<RawInst>& insts, std::size_t begin, std::size_t end) {
     std::uint32_t line = 0, order = 0;
@@ -262,7 +260,7 @@ class Builder {
 
  private:
   Program& p_;
-  std::map<std::uint32_t, std::uint32_t> stride_, binding_, builtin_, type_of_;
+  std::map<std::uint32_t, std::uint32_t> stride_, binding_, builtin_;
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> member_offset_, member_stride_;
 };
 
