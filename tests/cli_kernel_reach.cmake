@@ -1,9 +1,9 @@
 # Where each compute pass runs, as a refused --kernel says (core pass_registry.h, kPassReach): for every
-# pass with a compute kernel, a run with the host's brute tracer and the built-in kernel given as the
+# pass with a compute kernel, a run with the host's brute tracer and the built-in kernel's source given as the
 # user's either launches it (exit 0: a pass of every frame) or refuses it naming the options that run
 # it and an example; the example run then launches it (exit 0; one run per example, with every kernel
 # whose example it is). A pass refused without an example, or whose example does not launch it, fails.
-# Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DSHADERS=<built .spv dir> -DWORK=<scratch> -P cli_kernel_reach.cmake
+# Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DSHADERS=<the kernels' .comp dir> -DWORK=<scratch> -P cli_kernel_reach.cmake
 cmake_minimum_required(VERSION 3.19)
 set(failures "")
 # cornell-mirrors with a glass box: reflective and transparent materials.
@@ -34,7 +34,7 @@ foreach(pass ${passes})
   elseif(pass MATCHES "^grid\\.(count|emit|cells)$")
     set(kernel grid_build)
   endif()
-  set(k --kernel "${pass}=${SHADERS}/${kernel}.spv")
+  set(k --kernel "${pass}=${SHADERS}/${kernel}.comp")
   execute_process(COMMAND "${RAYSPACE}" ${common} --algo brute ${k} RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
   if(rc EQUAL 0)
     continue()  # a pass of every frame
