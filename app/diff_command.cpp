@@ -18,7 +18,6 @@
 
 #include <unistd.h>
 
-#include <regex>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -263,12 +262,14 @@ struct DiffOutcome {
   nlohmann::json sim_checker = nullptr;
 };
 
-// A simulated device's fault names its checker: "<kernel>[ line N]: <checker>: ...".
-nlohmann::json SimCheckerFinding(const std::string& stopped) {
-  static const std::regex finding(R"(kernel (\S+) faulted on the simulated device: (.*?(racecheck|initcheck|synccheck|memcheck): .*)$)");
-  std::smatch m;
-  if (!std::regex_search(stopped, m, finding)) return nullptr;
-  return {{"checker", m[3].str()}, {"pass", m[1].str()}, {"finding", m[2].str()}};
+// A stop on a simulated device's checker finding: {"checker", "pass", "finding"} (the finding as the
+// simulator words it, from the kernel's name on), or null.
+nlohmann::json SimCheckerFinding(const verify::DiffStop& stop) {
+  if (stop.checker().empty()) return nullptr;
+  const std::string what = stop.what();
+  static const std::string kMark = "faulted on the simulated device: ";
+  const std::size_t at = what.find(kMark);
+  return {{"checker", stop.checker()}, {"pass", stop.pass()}, {"finding", at == std::string::npos ? what : what.substr(at + kMark.size())}};
 }
 
 // The --report file: the run, every pass's totals and every call.
@@ -394,13 +395,18 @@ struct DiffTracer {
 // simulated GPU where no Vulkan device is usable (said on stderr).
 Backend MakeActualBackend(const std::string& backends, bool given, int device, int local_size,
                           const std::map<std::string, std::uint32_t>& faults, const TestLimits& limits, const KernelFiles& kernels,
-                          std::uint32_t subgroup_size = 0, const std::string& schedule = "forward") {
+                          std::uint32_t subgroup_size = 0, const std::string& schedule = "forward", const std::string& sim_checks = "") {
   const std::string actual = backends.substr(backends.find(',') + 1);
   if (subgroup_size && actual != "sim")
     ThrowInput("--subgroup-size {}: only the simulated GPU's subgroup size is chosen (--backends emu,sim); a Vulkan device has its own",
                subgroup_size);
+  if (!sim_checks.empty() && actual != "sim")
+    ThrowInput("--sim-checks {}: only the simulated GPU runs these checkers (--backends emu,sim); a Vulkan device runs none", sim_checks);
   // The simulated GPU takes --schedule too: the order of its workgroups and subgroups.
-  const sim::DeviceConfig simulated{.subgroup_size = subgroup_size ? subgroup_size : 8u, .schedule = ParseSchedule(schedule)};
+  std::string error;
+  const std::optional<sim::Checks> checks = sim::ParseChecks(sim_checks.empty() ? "all" : sim_checks, error);
+  if (!checks) ThrowInput("--sim-checks {}: {}", sim_checks, error);
+  const sim::DeviceConfig simulated{.subgroup_size = subgroup_size ? subgroup_size : 8u, .schedule = ParseSchedule(schedule), .checks = *checks};
   if (given || actual != "vulkan") return MakeBackend(actual, device, local_size, faults, limits, kernels, simulated);
   try {
     return MakeBackend("vulkan", device, local_size, faults, limits, kernels);
@@ -439,7 +445,7 @@ DiffOutcome RunDiffFrame(const Scene& scene, const SceneBuffers& buffers, Tracer
     run.frame = emu::RenderFrame(scene, buffers, tracer, fo);
   } catch (const verify::DiffStop& stop) {
     run.stopped = stop.what();
-    run.sim_checker = SimCheckerFinding(run.stopped);
+    run.sim_checker = SimCheckerFinding(stop);
   } catch (const emu::DeviceOutputError& e) {
     // The Differ compared the call's outputs before the host checked them: the pass is reported.
     run.stopped = std::string("device output error: ") + e.what();
@@ -610,7 +616,7 @@ ExitCode RunDiff(const DiffArgs& args) {
   const MemoryEstimate estimate = EstimateFrameMemory(scene, fo.width, fo.height, use);
   CheckFitsMachine(estimate, fo.width, fo.height, SizeFrom(args.size, scene).c_str(), "the diff");
   const Backend gpu = MakeActualBackend(args.backends, args.backends_given, args.device, args.local_size, injection.kernel, args.Limits(),
-                                        args.kernels, args.subgroup_size, args.model.schedule);
+                                        args.kernels, args.subgroup_size, args.model.schedule, args.sim_checks);
   ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
   SceneBuffers buffers = FlattenForFrame(scene, args.faithful);
   buffers.one_sided = one_sided;

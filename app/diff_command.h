@@ -26,6 +26,7 @@ struct DiffArgs : FrameArgs {
   std::string backends = "emu,vulkan";  // --backends: emu,vulkan or emu,sim
   bool backends_given = false;
   std::uint32_t subgroup_size = 0;      // --subgroup-size: the simulated GPU's (0: 8)
+  std::string sim_checks;               // --sim-checks: the simulated GPU's checkers ("": all)
 };
 
 // Runs the whole frame with every pass on both backends (same inputs: the GPU's previous outputs)

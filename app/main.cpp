@@ -20,6 +20,7 @@
 #include "ignored_options.h"
 #include "render_command.h"
 #include "simulate_command.h"
+#include "rayspace/sim/device.h"
 #include "render_options.h"
 #include "reproduce/command.h"
 #include "reproduce/frame.h"
@@ -122,6 +123,17 @@ void AddData(CLI::App& app, Commands& cmds) {
   cc->add_option("--data", cmds.data_check.data, "Data root (default: $RAYSPACE_DATA)");
 }
 
+// --sim-checks LIST: which of the simulated GPU's checkers run.
+void AddSimChecksOption(CLI::App& cmd, std::string& checks) {
+  cmd.add_option("--sim-checks", checks,
+                 "The simulated GPU's checkers: all (default), none, or a comma-separated list of racecheck, initcheck, "
+                 "synccheck, memcheck; one left out lets the kernel go on as a lenient device would")
+      ->check([](const std::string& v) {
+        std::string error;
+        return rayspace::sim::ParseChecks(v, error) ? std::string() : error;
+      });
+}
+
 void AddSimulate(CLI::App& app, Commands& cmds) {
   rayspace::app::SimulateArgs& a = cmds.simulate;
   CLI::App* sc = cmds.simulate_cmd = app.add_subcommand(
@@ -129,6 +141,7 @@ void AddSimulate(CLI::App& app, Commands& cmds) {
                   "the CPU, every read-back compared with the expected bytes; needs no Vulkan device");
   sc->add_option("dir", a.dir, "The reproducer's directory (export --out)")->required();
   sc->add_option("--subgroup-size", a.subgroup_size, "Invocations per subgroup (default 8, lavapipe's)")->check(CLI::Range(1, 128));
+  AddSimChecksOption(*sc, a.sim_checks);
 }
 
 #ifdef RAYSPACE_HAVE_VULKAN
@@ -179,6 +192,7 @@ void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
                  "--backends emu,sim: invocations per subgroup of the simulated GPU, and of the emulated kernels' mirrors "
                  "(default 8, lavapipe's)")
       ->check(CLI::Range(1, 128));
+  AddSimChecksOption(*dc, cmds.diff.sim_checks);
   dc->add_option("--path", cmds.diff.path,
                  "Hierarchy traversal: passes (traverse then reduce, default) or fused (traverse.compact, what render "
                  "runs by default; the emulator runs its workgroup mirror unless --no-check-workgroups with the forward "

@@ -2,6 +2,12 @@
 
 #include <chrono>
 #include <cstdio>
+#include <optional>
+
+#include "rayspace/error.h"
+#include <optional>
+
+#include "rayspace/error.h"
 
 #include "rayspace/sim/export_run.h"
 
@@ -9,11 +15,21 @@ namespace rayspace::app {
 
 ExitCode RunSimulate(const SimulateArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
+  std::string error;
+  const std::optional<sim::Checks> checks = sim::ParseChecks(args.sim_checks, error);
+  if (!checks) ThrowInput("--sim-checks {}: {}", args.sim_checks, error);
+  sim::DeviceConfig device;
+  device.subgroup_size = args.subgroup_size;
+  device.checks = *checks;
   sim::ExportRun run;
   try {
-    run = sim::RunExport(args.dir, {.subgroup_size = args.subgroup_size});
+    run = sim::RunExport(args.dir, device);
   } catch (const sim::SimError& e) {
-    std::fprintf(stderr, "rayspace simulate: %s: the kernel faulted: %s\n", args.dir.c_str(), e.what());
+    if (e.checker())
+      std::fprintf(stderr, "rayspace simulate: %s: %s found a fault of the kernel: %s\n", args.dir.c_str(), sim::CheckerName(*e.checker()),
+                   e.what());
+    else
+      std::fprintf(stderr, "rayspace simulate: %s: the kernel faulted: %s\n", args.dir.c_str(), e.what());
     return ExitCode::kWorkgroupFault;
   }
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

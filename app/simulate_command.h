@@ -10,6 +10,7 @@ namespace rayspace::app {
 struct SimulateArgs {
   std::string dir;
   std::uint32_t subgroup_size = 8;
+  std::string sim_checks = "all";  // --sim-checks
 };
 
 ExitCode RunSimulate(const SimulateArgs& args);

@@ -989,14 +989,17 @@ Status Recorder::SubmitSimulated() {
     d.subgroup_size = ctx_.subgroup_size_;
     d.schedule = ctx_.sim_config_.schedule;
     d.step_limit = ctx_.sim_config_.step_limit;
+    d.checks = ctx_.sim_config_.checks;
     d.dispatch_index = ctx_.sim_dispatches_++;
     d.push = step.push;
-    for (const Buffer* b : step.buffers) d.bindings.push_back({static_cast<std::uint8_t*>(b->mapped_), b->size_ + b->guard_});
+    for (const Buffer* b : step.buffers) d.bindings.push_back({static_cast<std::uint8_t*>(b->mapped_), b->size_ + b->guard_, b->size_});
     sim::ExecStats stats;
     try {
       sim::Run(*step.kernel->program_, d, stats);
     } catch (const sim::SimError& e) {
-      return Status::Fail(fmt::format("kernel {} faulted on the simulated device: {}", step.kernel->name_, e.what()));
+      Status st = Status::Fail(fmt::format("kernel {} faulted on the simulated device: {}", step.kernel->name_, e.what()));
+      if (e.checker()) st.checker = sim::CheckerName(*e.checker());
+      return st;
     }
     ctx_.sim_instructions_ += stats.lane_instructions;
   }

@@ -8,12 +8,14 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <random>
 
 #include <fmt/format.h>
 
 #include "rayspace/sim/grammar.h"
 #include "rayspace/sim/shared_check.h"
+#include "rayspace/sim/storage_check.h"
 
 namespace rayspace::sim {
 namespace {
@@ -31,6 +33,8 @@ std::vector<std::uint32_t> ScheduleOrder(std::uint32_t n, const wg::Schedule& s,
   return order;
 }
 constexpr std::uint32_t kNone = ~0u;
+// The register words before member or element `index` of a value of `type`, and that part's type.
+static std::pair<std::uint32_t, std::uint32_t> Part(const Program& p, std::uint32_t type, std::uint32_t index);
 
 bool Explicit(std::uint32_t storage) {
   const auto s = static_cast<spv::StorageClass>(storage);
@@ -40,6 +44,7 @@ bool Explicit(std::uint32_t storage) {
 struct Region {
   std::uint8_t* data = nullptr;
   std::size_t bytes = 0;
+  std::size_t valid = 0;  // bytes memcheck allows (a binding's own, before its guard words)
 };
 
 enum class LaneState : std::uint8_t { kRunning, kBarrier, kDone };
@@ -75,17 +80,18 @@ struct Comp {
 
 class Workgroup {
  public:
-  Workgroup(const Program& p, const Dispatch& d, ExecStats& stats) : p_(p), d_(d), stats_(stats) {
+  Workgroup(const Program& p, const Dispatch& d, ExecStats& stats, StorageCheck* storage_check)
+      : p_(p), d_(d), stats_(stats), storage_check_(storage_check) {
     const std::uint32_t* ls = p.local_size;
     size_ = ls[0] * ls[1] * ls[2];
     sg_ = d.subgroup_size;
     if (size_ == 0 || sg_ == 0) throw SimError(fmt::format("{}: an empty workgroup or subgroup", p.name));
     // Regions: bindings, the push constants, workgroup variables, then per invocation its own.
-    for (const Binding& b : d.bindings) regions_.push_back({b.data, b.bytes});
+    for (const Binding& b : d.bindings) regions_.push_back({b.data, b.bytes, b.valid ? std::min(b.valid, b.bytes) : b.bytes});
     push_region_ = static_cast<std::uint32_t>(regions_.size());
     push_copy_.assign(d.push.begin(), d.push.end());
     push_copy_.resize(std::max<std::size_t>(push_copy_.size(), 128), 0);
-    regions_.push_back({push_copy_.data(), push_copy_.size()});
+    regions_.push_back({push_copy_.data(), push_copy_.size(), push_copy_.size()});
     shared_base_ = static_cast<std::uint32_t>(regions_.size());
     std::size_t shared_bytes = 0;
     for (const Variable& v : p.variables)
@@ -94,7 +100,7 @@ class Workgroup {
     std::size_t at = 0;
     for (const Variable& v : p.variables)
       if (v.storage == static_cast<std::uint32_t>(spv::StorageClass::Workgroup)) {
-        regions_.push_back({shared_.data() + at, Pointee(v).words * 4});
+        regions_.push_back({shared_.data() + at, Pointee(v).words * 4, Pointee(v).words * 4});
         const auto name = p.names.find(v.id);
         shared_names_.push_back(name == p.names.end() ? fmt::format("%{}", v.id) : name->second);
         at += Pointee(v).words * 4;
@@ -111,8 +117,14 @@ class Workgroup {
     private_.assign(per_lane * size_, 0);
     for (std::uint32_t l = 0; l < size_; ++l)
       for (std::size_t k = 0; k < private_vars_.size(); ++k)
-        regions_.push_back({private_.data() + l * per_lane + private_offsets_[k], Pointee(*private_vars_[k]).words * 4});
+        regions_.push_back({private_.data() + l * per_lane + private_offsets_[k], Pointee(*private_vars_[k]).words * 4,
+                            Pointee(*private_vars_[k]).words * 4});
     regs_.resize(static_cast<std::size_t>(size_) * p.reg_words);
+    if (d.checks.On(Checker::kInitcheck)) {
+      init_ = true;
+      undef_.resize(regs_.size());
+      private_undef_.resize(private_.size() / 4);
+    }
     seg_.resize(size_);
     prev_.resize(size_);
     state_.resize(size_);
@@ -122,9 +134,11 @@ class Workgroup {
     std::fill(shared_.begin(), shared_.end(), 0);
     std::fill(private_.begin(), private_.end(), 0);
     for (std::uint32_t l = 0; l < size_; ++l) StartLane(l, group);
-    shared_check_.Begin(shared_.size() / 4);
+    shared_check_.Begin(shared_.size() / 4, d_.checks);
     group_ = fmt::format("workgroup ({}, {})", group[0], group[1]);
     group_index_ = group[0] + static_cast<std::uint64_t>(group[1]) * d_.groups[0];
+    if (storage_check_) storage_check_->BeginWorkgroup(static_cast<std::uint32_t>(group_index_));
+    orders_storage_ = false;
     interval_ = 0;
     const std::uint32_t subgroups = (size_ + sg_ - 1) / sg_;
     for (;;) {
@@ -132,14 +146,20 @@ class Workgroup {
       std::uint32_t waiting = 0, done = 0;
       for (LaneState st : state_) (st == LaneState::kBarrier ? waiting : done) += 1;
       if (waiting == 0) return;
-      if (done > 0)
+      const bool sync = d_.checks.On(Checker::kSynccheck);
+      if (done > 0 && sync)
         throw SimError(fmt::format("{}: synccheck: {} invocations wait at a barrier that {} others, already returned, never reach", p_.name,
-                                   waiting, done));
+                                   waiting, done),
+                       Checker::kSynccheck);
       for (std::uint32_t l = 0; l < size_; ++l) {
-        if (seg_[l] != seg_[0]) throw SimError(fmt::format("{}: synccheck: invocations wait at different barriers", p_.name));
+        if (state_[l] != LaneState::kBarrier) continue;
+        if (sync && seg_[l] != seg_[0])
+          throw SimError(fmt::format("{}: synccheck: invocations wait at different barriers ({})", p_.name, group_), Checker::kSynccheck);
         state_[l] = LaneState::kRunning;
       }
       shared_check_.Barrier();
+      if (storage_check_ && orders_storage_) storage_check_->Barrier();
+      orders_storage_ = false;
     }
   }
 
@@ -157,6 +177,7 @@ class Workgroup {
 
   void StartLane(std::uint32_t l, const std::uint32_t group[3]) {
     std::copy(p_.constants.begin(), p_.constants.end(), regs_.begin() + static_cast<std::ptrdiff_t>(l) * p_.reg_words);
+    if (init_) std::fill_n(undef_.begin() + static_cast<std::ptrdiff_t>(l) * p_.reg_words, p_.reg_words, 0);
     const std::uint32_t* ls = p_.local_size;
     const std::uint32_t local[3] = {l % ls[0], (l / ls[0]) % ls[1], l / (ls[0] * ls[1])};
     std::uint32_t shared = shared_base_, priv = 0;
@@ -175,6 +196,10 @@ class Workgroup {
         std::uint8_t* mem = private_.data() + l * lane_bytes_ + private_offsets_[priv];
         ++priv;
         if (v.initializer) std::memcpy(mem, R(l, v.initializer), Pointee(v).words * 4);
+        // initcheck: a Function or Private variable without an initializer holds undefined words.
+        if (init_)
+          std::fill_n(private_undef_.begin() + static_cast<std::ptrdiff_t>((mem - private_.data()) / 4), Pointee(v).words,
+                      static_cast<std::uint8_t>(s != spv::StorageClass::Input && !v.initializer));
         if (s == spv::StorageClass::Input) FillBuiltin(v, mem, l, local, group);
       }
       r[1] = 0;
@@ -223,6 +248,17 @@ class Workgroup {
   [[noreturn]] void Fail(const Inst& in, const std::string& what) const {
     throw SimError(fmt::format("{}{}: {} ({})", p_.name, in.line ? fmt::format(" line {}", in.line) : std::string(), what,
                                NameOf("Opcode", in.op)));
+  }
+  [[noreturn]] void Fail(const Inst& in, const Finding& f) const {
+    throw SimError(fmt::format("{}{}: {}: {} ({})", p_.name, in.line ? fmt::format(" line {}", in.line) : std::string(),
+                               CheckerName(f.checker), f.what, NameOf("Opcode", in.op)),
+                   f.checker);
+  }
+
+  // An integer division by zero: memcheck's finding, or a lenient device's zero.
+  std::uint64_t DivisionByZero(const Inst& in) const {
+    if (d_.checks.On(Checker::kMemcheck)) Fail(in, Finding{Checker::kMemcheck, "integer division by zero"});
+    return 0;
   }
 
   Comp CompOf(std::uint32_t type) const {
@@ -297,12 +333,34 @@ class Workgroup {
       stats_.lane_instructions += lanes_.size();
       if (stats_.lane_instructions > d_.step_limit)
         throw SimError(fmt::format("{}: more than {} lane-instructions: a hang, or raise the step limit", p_.name, d_.step_limit));
-      if (Execute(in, s)) return;
+      if (init_) TrackBefore(in);
+      const bool ended = Execute(in, s);
+      if (init_ && in.result && p_.reg[in.result] != kNone) Propagate(in);
+      if (ended) return;
     }
   }
 
   // Returns true when the instruction ended the segment for its lanes (a branch, return or barrier).
   bool Execute(const Inst& in, std::uint32_t s);
+  // initcheck on Function and Private values (undef_ shadows each register word, private_undef_ each
+  // per-invocation memory word): before an instruction, an undefined value that reaches a branch, an
+  // index, an atomic or memory shared with other invocations is a finding, and a store to a
+  // per-invocation variable records its words' state; after it, the result's state follows from its
+  // operands'.
+  void TrackBefore(const Inst& in);
+  void Propagate(const Inst& in);
+  std::uint8_t* U(std::uint32_t lane, std::uint32_t id) { return undef_.data() + static_cast<std::size_t>(lane) * p_.reg_words + p_.reg[id]; }
+  bool Undefined(std::uint32_t lane, std::uint32_t id) {
+    if (id >= p_.reg.size() || p_.reg[id] == kNone) return false;
+    const std::uint8_t* u = U(lane, id);
+    return std::any_of(u, u + p_.T(TypeOfValue(id)).words, [](std::uint8_t b) { return b != 0; });
+  }
+  // The first word of private_undef_ a pointer of `lane` addresses, or kNone outside per-invocation memory.
+  std::size_t PrivateWord(std::uint32_t lane, std::uint32_t ptr_id, std::uint32_t words) {
+    const std::uint32_t* p = R(lane, ptr_id);
+    if (p[0] < private_base_ || p[0] >= regions_.size() || static_cast<std::size_t>(p[1]) + words * 4u > regions_[p[0]].bytes) return kNone;
+    return static_cast<std::size_t>(regions_[p[0]].data - private_.data() + p[1]) / 4;
+  }
   void Memory(const Inst& in);
   void Arithmetic(const Inst& in);
   void Extended(const Inst& in);
@@ -330,7 +388,173 @@ class Workgroup {
   std::uint64_t group_index_ = 0, interval_ = 0;
   std::vector<std::string> shared_names_;  // by shared region, from shared_base_
   std::string group_;
+  StorageCheck* storage_check_;  // null when racecheck is off
+  bool orders_storage_ = false;  // the barrier being reached orders storage memory (UniformMemory semantics)
+  std::vector<std::uint8_t> scratch_;  // what an access outside a binding touches when memcheck is off
+  bool init_ = false;                  // initcheck on
+  std::vector<std::uint8_t> undef_, private_undef_;
 };
+
+void Workgroup::TrackBefore(const Inst& in) {
+  const auto ops = p_.Ops(in);
+  const auto op = static_cast<Op>(in.op);
+  const auto undefined = [&](std::uint32_t l, const char* what) {
+    Fail(in, Finding{Checker::kInitcheck, fmt::format("invocation {} of {} {} an undefined value (a Function or Private variable read "
+                                                      "before any write on its path, or OpUndef)",
+                                                      l, group_, what)});
+  };
+  switch (op) {
+    case Op::OpBranchConditional:
+    case Op::OpSwitch:
+      for (std::uint32_t l : lanes_)
+        if (Undefined(l, ops[0])) undefined(l, "branches on");
+      return;
+    case Op::OpAccessChain:
+    case Op::OpInBoundsAccessChain:
+      for (std::uint32_t l : lanes_)
+        for (std::size_t k = 1; k < ops.size(); ++k)
+          if (Undefined(l, ops[k])) undefined(l, "indexes memory with");
+      return;
+    case Op::OpStore: {
+      const std::uint32_t words = p_.T(TypeOfValue(ops[1])).words;
+      for (std::uint32_t l : lanes_) {
+        const std::size_t w = PrivateWord(l, ops[0], words);
+        if (w != kNone) {
+          std::memcpy(private_undef_.data() + w, U(l, ops[1]), words);
+        } else if (Undefined(l, ops[1])) {
+          undefined(l, "stores to memory other invocations see");
+        }
+      }
+      return;
+    }
+    case Op::OpAtomicStore:
+    case Op::OpAtomicExchange:
+    case Op::OpAtomicCompareExchange:
+    case Op::OpAtomicIAdd:
+    case Op::OpAtomicISub:
+    case Op::OpAtomicUMin:
+    case Op::OpAtomicUMax:
+    case Op::OpAtomicSMin:
+    case Op::OpAtomicSMax:
+    case Op::OpAtomicAnd:
+    case Op::OpAtomicOr:
+    case Op::OpAtomicXor:
+      for (std::uint32_t l : lanes_)
+        for (std::size_t k = 3; k < ops.size(); ++k)
+          if (Undefined(l, ops[k])) undefined(l, "gives an atomic operation");
+      return;
+    default: return;
+  }
+}
+
+void Workgroup::Propagate(const Inst& in) {
+  const auto ops = p_.Ops(in);
+  const auto op = static_cast<Op>(in.op);
+  const std::uint32_t words = p_.T(in.type).words;
+  const auto copy = [&](std::uint32_t l, std::uint32_t from, std::uint32_t at = 0) { std::memcpy(U(l, in.result), U(l, from) + at, words); };
+  const auto set = [&](std::uint32_t l, bool u) { std::fill_n(U(l, in.result), words, static_cast<std::uint8_t>(u)); };
+  switch (op) {
+    case Op::OpLoad:
+      for (std::uint32_t l : lanes_) {
+        const std::size_t w = PrivateWord(l, ops[0], words);
+        if (w != kNone) std::memcpy(U(l, in.result), private_undef_.data() + w, words);
+        else set(l, false);  // shared memory has its own initcheck; storage buffers are the host's
+      }
+      return;
+    case Op::OpUndef:
+      for (std::uint32_t l : lanes_) set(l, true);
+      return;
+    case Op::OpPhi:
+      for (std::uint32_t l : lanes_)
+        for (std::size_t k = 0; k + 1 < ops.size(); k += 2)
+          if (ops[k + 1] == prev_[l]) {
+            copy(l, ops[k]);
+            break;
+          }
+      return;
+    case Op::OpCopyObject:
+    case Op::OpCopyLogical:
+    case Op::OpBitcast:
+      for (std::uint32_t l : lanes_) copy(l, ops[0]);
+      return;
+    case Op::OpSelect: {
+      const bool scalar = CompOf(TypeOfValue(ops[0])).n == 1;
+      for (std::uint32_t l : lanes_) {
+        if (scalar && !Undefined(l, ops[0])) copy(l, R(l, ops[0])[0] ? ops[1] : ops[2]);
+        else set(l, Undefined(l, ops[0]) || Undefined(l, ops[1]) || Undefined(l, ops[2]));
+      }
+      return;
+    }
+    case Op::OpCompositeConstruct:
+      for (std::uint32_t l : lanes_) {
+        std::uint32_t at = 0;
+        for (std::uint32_t id : ops) {
+          const std::uint32_t n = p_.T(TypeOfValue(id)).words;
+          std::memcpy(U(l, in.result) + at, U(l, id), n);
+          at += n;
+        }
+      }
+      return;
+    case Op::OpCompositeExtract:
+    case Op::OpCompositeInsert: {
+      const bool insert = op == Op::OpCompositeInsert;
+      const std::uint32_t composite = ops[insert ? 1 : 0];
+      std::uint32_t type = TypeOfValue(composite), at = 0;
+      for (std::size_t k = insert ? 2 : 1; k < ops.size(); ++k) {
+        const auto [w, t] = Part(p_, type, ops[k]);
+        at += w;
+        type = t;
+      }
+      for (std::uint32_t l : lanes_) {
+        if (insert) {
+          copy(l, composite);
+          std::memcpy(U(l, in.result) + at, U(l, ops[0]), p_.T(type).words);
+        } else {
+          copy(l, composite, at);
+        }
+      }
+      return;
+    }
+    case Op::OpVectorShuffle:
+      for (std::uint32_t l : lanes_) set(l, Undefined(l, ops[0]) || Undefined(l, ops[1]));
+      return;
+    case Op::OpExtInst:
+      for (std::uint32_t l : lanes_) {
+        bool u = false;
+        for (std::size_t k = 2; k < ops.size(); ++k) u = u || Undefined(l, ops[k]);
+        set(l, u);
+      }
+      return;
+    case Op::OpAccessChain:
+    case Op::OpInBoundsAccessChain:
+    case Op::OpArrayLength:
+      for (std::uint32_t l : lanes_) set(l, false);
+      return;
+    default: break;
+  }
+  if (in.op >= static_cast<std::uint16_t>(Op::OpAtomicLoad) && in.op <= static_cast<std::uint16_t>(Op::OpAtomicXor)) {
+    for (std::uint32_t l : lanes_) set(l, false);  // what memory held
+    return;
+  }
+  if (in.op >= static_cast<std::uint16_t>(Op::OpGroupNonUniformElect) && in.op <= static_cast<std::uint16_t>(Op::OpGroupNonUniformQuadSwap)) {
+    // A subgroup operation mixes the active lanes' values: undefined for all when any lane's is. The
+    // arithmetic and ballot-count forms have a literal group operation as their second operand.
+    const bool literal = ops.size() > 2 && (op == Op::OpGroupNonUniformBallotBitCount ||
+                                            (in.op >= static_cast<std::uint16_t>(Op::OpGroupNonUniformIAdd) &&
+                                             in.op <= static_cast<std::uint16_t>(Op::OpGroupNonUniformLogicalXor)));
+    bool u = false;
+    for (std::uint32_t l : lanes_)
+      for (std::size_t k = literal ? 2 : 1; k < ops.size(); ++k) u = u || Undefined(l, ops[k]);
+    for (std::uint32_t l : lanes_) set(l, u);
+    return;
+  }
+  // Arithmetic, comparisons, conversions: undefined when any operand is.
+  for (std::uint32_t l : lanes_) {
+    bool u = false;
+    for (std::uint32_t id : ops) u = u || Undefined(l, id);
+    set(l, u);
+  }
+}
 
 bool Workgroup::Execute(const Inst& in, std::uint32_t s) {
   const auto ops = p_.Ops(in);
@@ -343,8 +567,10 @@ bool Workgroup::Execute(const Inst& in, std::uint32_t s) {
     case Op::OpNop:
     case Op::OpSelectionMerge:
     case Op::OpLoopMerge:
-    case Op::OpMemoryBarrier:
     case Op::OpUndef: return false;
+    case Op::OpMemoryBarrier:
+      if (R(lanes_[0], ops[1])[0] & static_cast<std::uint32_t>(spv::MemorySemanticsMask::UniformMemory)) orders_storage_ = true;
+      return false;
     case Op::OpBranch:
       for (std::uint32_t l : lanes_) jump(l, ops[0]);
       return true;
@@ -375,10 +601,11 @@ bool Workgroup::Execute(const Inst& in, std::uint32_t s) {
       // A barrier in non-uniform control flow: lanes of this subgroup still running elsewhere.
       std::uint32_t running = 0;
       for (std::uint32_t l = sub_first_; l < sub_end_; ++l) running += state_[l] == LaneState::kRunning;
-      if (running != lanes_.size())
-        Fail(in, fmt::format("synccheck: a barrier reached by {} of the {} running invocations of subgroup {} (non-uniform control "
-                             "flow, {})",
-                             lanes_.size(), running, sub_first_ / sg_, group_));
+      if (running != lanes_.size() && d_.checks.On(Checker::kSynccheck))
+        Fail(in, Finding{Checker::kSynccheck, fmt::format("a barrier reached by {} of the {} running invocations of subgroup {} (non-uniform "
+                                                          "control flow, {})",
+                                                          lanes_.size(), running, sub_first_ / sg_, group_)});
+      if (R(lanes_[0], ops[2])[0] & static_cast<std::uint32_t>(spv::MemorySemanticsMask::UniformMemory)) orders_storage_ = true;
       for (std::uint32_t l : lanes_) {
         state_[l] = LaneState::kBarrier;
         seg_[l] = s + 1;
@@ -443,14 +670,27 @@ std::uint8_t* Workgroup::Address(const Inst& in, std::uint32_t lane, std::uint32
   const std::uint32_t* p = R(lane, ptr_id);
   if (p[0] >= regions_.size()) Fail(in, "memcheck: a pointer to no memory");
   const Region& r = regions_[p[0]];
-  if (static_cast<std::size_t>(p[1]) + bytes > r.bytes)
-    Fail(in, fmt::format("memcheck: an access of {} bytes at byte {} of a {}-byte {} (invocation {} of {})", bytes, p[1], r.bytes,
-                         p[0] < d_.bindings.size() ? fmt::format("binding {}", p[0]) : std::string("variable"), lane, group_));
+  const std::size_t end = static_cast<std::size_t>(p[1]) + bytes;
+  if (end > r.valid && d_.checks.On(Checker::kMemcheck)) {
+    const bool binding = p[0] < d_.bindings.size();
+    Fail(in, Finding{Checker::kMemcheck, fmt::format("an access of {} bytes at byte {} of a {}-byte {}{} (invocation {} of {})", bytes, p[1],
+                                                     r.valid, binding ? fmt::format("binding {}", p[0]) : std::string("variable"),
+                                                     end <= r.bytes ? ", into the guard words after its end" : "", lane, group_)});
+  }
+  if (end > r.bytes) {  // a lenient device: the read gives zero, the write lands nowhere
+    scratch_.assign(bytes, 0);
+    return scratch_.data();
+  }
   if (p[0] >= shared_base_ && p[0] < private_base_) {
     const std::size_t base = static_cast<std::size_t>(r.data - shared_.data()) / 4;
     for (std::size_t w = p[1] / 4; w < (p[1] + bytes + 3) / 4; ++w)
-      if (const auto finding = shared_check_.Access(base + w, lane, kind))
-        Fail(in, fmt::format("{} (shared '{}' word {}, {})", *finding, shared_names_[p[0] - shared_base_], w, group_));
+      if (auto finding = shared_check_.Access(base + w, lane, kind)) {
+        finding->what += fmt::format(" (shared '{}' word {}, {})", shared_names_[p[0] - shared_base_], w, group_);
+        Fail(in, *finding);
+      }
+  } else if (storage_check_ && p[0] < d_.bindings.size()) {
+    for (std::size_t w = p[1] / 4; w < (p[1] + bytes + 3) / 4; ++w)
+      if (auto finding = storage_check_->Access(p[0], w, lane, kind)) Fail(in, *finding);
   }
   return r.data + p[1];
 }
@@ -596,7 +836,7 @@ void Workgroup::Arithmetic(const Inst& in) {
     case Op::OpUDiv:
     case Op::OpUMod:
       Componentwise(in, ops, in.type, [&](const Comp&, std::uint64_t a, std::uint64_t b) {
-        if (b == 0) Fail(in, "memcheck: integer division by zero");
+        if (b == 0) return DivisionByZero(in);
         return op == Op::OpUDiv ? a / b : a % b;
       });
       return;
@@ -605,7 +845,7 @@ void Workgroup::Arithmetic(const Inst& in) {
     case Op::OpSMod:
       Componentwise(in, ops, in.type, [&](const Comp& c, std::uint64_t ua, std::uint64_t ub) {
         const std::int64_t a = SignExtend(ua, c.width), b = SignExtend(ub, c.width);
-        if (b == 0) Fail(in, "memcheck: integer division by zero");
+        if (b == 0) return DivisionByZero(in);
         if (b == -1) return op == Op::OpSDiv ? Mask(0 - ua, c.width) : std::uint64_t{0};
         std::int64_t r = op == Op::OpSDiv ? a / b : a % b;
         if (op == Op::OpSMod && r != 0 && ((r < 0) != (b < 0))) r += b;
@@ -620,7 +860,12 @@ void Workgroup::Arithmetic(const Inst& in) {
         const std::uint32_t *a = R(l, ops[0]), *b = R(l, ops[1]);
         for (std::uint32_t i = 0; i < rc.n; ++i) {
           const std::uint64_t v = Get(a, rc, i), n = Get(b, sc, i);
-          if (n >= rc.width) Fail(in, fmt::format("memcheck: a shift by {}, at least the width {}", n, rc.width));
+          if (n >= rc.width) {
+            if (d_.checks.On(Checker::kMemcheck))
+              Fail(in, Finding{Checker::kMemcheck, fmt::format("a shift by {}, at least the width {}", n, rc.width)});
+            Put(R(l, in.result), rc, i, 0);  // undefined: a lenient device's zero
+            continue;
+          }
           std::uint64_t r = op == Op::OpShiftLeftLogical ? v << n
                             : op == Op::OpShiftRightLogical ? v >> n
                                                              : static_cast<std::uint64_t>(SignExtend(v, rc.width) >> n);
@@ -1080,7 +1325,13 @@ void Workgroup::Atomic(const Inst& in) {
 }  // namespace
 
 void Run(const Program& program, const Dispatch& dispatch, ExecStats& stats) {
-  Workgroup wg(program, dispatch, stats);
+  std::unique_ptr<StorageCheck> storage_check;
+  if (dispatch.checks.On(Checker::kRacecheck)) {
+    std::vector<std::size_t> words;
+    for (const Binding& b : dispatch.bindings) words.push_back(b.bytes / 4);
+    storage_check = std::make_unique<StorageCheck>(words);
+  }
+  Workgroup wg(program, dispatch, stats, storage_check.get());
   const std::uint64_t count = std::uint64_t{dispatch.groups[0]} * dispatch.groups[1] * dispatch.groups[2];
   if (count > 0xffffffffull) throw SimError(fmt::format("{}: {} workgroups in one dispatch", program.name, count));
   for (std::uint32_t linear : ScheduleOrder(static_cast<std::uint32_t>(count), dispatch.schedule, dispatch.dispatch_index)) {

@@ -56,7 +56,7 @@ bool ExportRun::Equal() const {
   return std::all_of(reads.begin(), reads.end(), [](const ReadBackResult& r) { return r.equal; });
 }
 
-ExportRun RunExport(const std::string& dir, const ExportRunOptions& options) {
+ExportRun RunExport(const std::string& dir, const DeviceConfig& device) {
   const fs::path root(dir);
   const fs::path seq_path = root / "sequence.txt";
   std::ifstream seq(seq_path);
@@ -126,7 +126,11 @@ ExportRun RunExport(const std::string& dir, const ExportRunOptions& options) {
       Dispatch d;
       d.groups[0] = static_cast<std::uint32_t>(Number(w[2], where));
       d.groups[1] = static_cast<std::uint32_t>(Number(w[3], where));
-      d.subgroup_size = options.subgroup_size;
+      d.subgroup_size = device.subgroup_size;
+      d.schedule = device.schedule;
+      d.step_limit = device.step_limit;
+      d.checks = device.checks;
+      d.dispatch_index = run.dispatches;
       const std::uint64_t push_bytes = Number(w[4], where);
       const std::size_t push_words = (push_bytes + 3) / 4;
       need(5 + push_words);

@@ -1,13 +1,16 @@
 // Known answers of the executor on small GLSL kernels compiled here with glslc: subgroup operations
 // over active lanes, reconvergence after divergent branches and loops, barriers that publish shared
 // memory across subgroups, and the faults a run reports (an access outside a binding, a division by
-// zero, a barrier part of the workgroup never reaches, a hang).
+// zero, a barrier part of the workgroup never reaches, a hang), each by its checker, and what the
+// kernel does with that checker switched off.
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,10 +45,11 @@ std::vector<std::uint32_t> Compile(const std::string& body, const std::string& n
 
 // Runs `body` over `groups` workgroups of `local` invocations, subgroups of `subgroup`, on `data`.
 std::vector<std::uint32_t> Run(const std::string& body, std::uint32_t local, std::uint32_t groups, std::uint32_t subgroup,
-                               std::vector<std::uint32_t> data, rayspace::wg::Schedule schedule = {}) {
+                               std::vector<std::uint32_t> data, rayspace::wg::Schedule schedule = {}, sim::Checks checks = {}) {
   const sim::Program p = sim::Prepare(Compile(body, "k"), {{1, std::to_string(local)}}, "k");
   sim::Dispatch d;
   d.schedule = schedule;
+  d.checks = checks;
   d.groups[0] = groups;
   d.subgroup_size = subgroup;
   d.step_limit = 1u << 24;
@@ -191,4 +195,114 @@ TEST_CASE("sim executor: the schedule orders workgroups and subgroups, reproduci
   std::vector<std::uint32_t> groups(rnd.begin(), rnd.begin() + 5);
   std::sort(groups.begin(), groups.end());
   CHECK(groups == std::vector<std::uint32_t>{0, 1, 2, 3, 4});
+}
+
+namespace {
+// The checker of the SimError `f` throws, or nothing when it throws none.
+std::optional<sim::Checker> CheckerOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const sim::SimError& e) {
+    REQUIRE_MESSAGE(e.checker().has_value(), e.what());
+    return e.checker();
+  }
+  return std::nullopt;
+}
+// All checkers but `c`.
+sim::Checks Without(sim::Checker c) { return {static_cast<std::uint8_t>(0xfu & ~(1u << static_cast<int>(c)))}; }
+}  // namespace
+
+TEST_CASE("sim executor: racecheck on storage buffers, within a workgroup and between workgroups") {
+  // barrier() orders shared memory only: another invocation's storage store is not yet ordered.
+  const std::string neighbour = R"(void main() {
+    uint i = gl_GlobalInvocationID.x;
+    data[i] = i + 1u;
+    FENCE barrier();
+    data[64u + i] = data[gl_WorkGroupID.x * 8u + (i + 1u) % 8u];
+  })";
+  auto with = [&neighbour](const std::string& fence) {
+    std::string k = neighbour;
+    k.replace(k.find("FENCE"), 5, fence);
+    return k;
+  };
+  CHECK_THROWS_WITH_AS(Run(with(""), 8, 2, 8, std::vector<std::uint32_t>(128, 0)),
+                       doctest::Contains("racecheck: invocation 0 of workgroup 0 reads binding 0 word 1, which invocation 1 wrote with no "
+                                         "barrier between"),
+                       sim::SimError);
+  const auto out = Run(with("memoryBarrierBuffer();"), 8, 2, 8, std::vector<std::uint32_t>(128, 0));
+  for (std::uint32_t i = 0; i < 16; ++i) CHECK(out[64 + i] == (i - i % 8) + (i + 1) % 8 + 1);
+  // Two workgroups of one dispatch are never ordered: a word one writes and the other reads.
+  CHECK_THROWS_WITH_AS(Run(R"(void main() { if (gl_WorkGroupID.x == 0u) data[0] = 5u; else data[1] = data[0]; })", 1, 2, 8,
+                           std::vector<std::uint32_t>(2, 0)),
+                       doctest::Contains("racecheck: invocation 0 of workgroup 1 reads binding 0 word 0, which invocation 0 of workgroup 0 "
+                                         "wrote"),
+                       sim::SimError);
+  CHECK_THROWS_WITH_AS(Run(R"(void main() { if (gl_WorkGroupID.x == 0u) data[1] = data[0]; else data[0] = 5u; })", 1, 2, 8,
+                           std::vector<std::uint32_t>(2, 0)),
+                       doctest::Contains("racecheck: invocation 0 of workgroup 1 writes binding 0 word 0, which invocations of other "
+                                         "workgroups read"),
+                       sim::SimError);
+  // Reads by everyone of a word nobody writes, and atomics, race with nothing.
+  const auto sum = Run(R"(void main() { atomicAdd(data[1], data[0]); })", 8, 4, 8, std::vector<std::uint32_t>{3, 0});
+  CHECK(sum[1] == 3 * 32);
+}
+
+TEST_CASE("sim executor: each finding names its checker, and with that checker off the kernel runs on as a lenient device") {
+  using C = sim::Checker;
+  const std::vector<std::uint32_t> eight(8, 0);
+  struct Planted {
+    C checker;
+    std::string body;
+    std::uint32_t local, groups;
+  };
+  const std::vector<Planted> planted = {
+      {C::kMemcheck, "void main() { data[gl_LocalInvocationIndex + 4u] = 1u; }", 8, 1},
+      {C::kMemcheck, "void main() { data[0] = 7u / data[1]; }", 1, 1},
+      {C::kMemcheck, "void main() { data[0] = 1u << (data[1] + 40u); }", 1, 1},
+      {C::kSynccheck, "void main() { if (gl_LocalInvocationIndex < 4u) barrier(); data[gl_LocalInvocationIndex] = 1u; }", 8, 1},
+      {C::kSynccheck, "void main() { if (gl_SubgroupID == 0u) return; barrier(); data[gl_LocalInvocationIndex] = 1u; }", 8, 1},
+      {C::kRacecheck, "shared uint s[8]; void main() { s[gl_LocalInvocationIndex] = 1u; data[gl_LocalInvocationIndex] = s[0]; }", 8, 1},
+      {C::kRacecheck, "void main() { data[0] = gl_WorkGroupID.x; }", 1, 2},
+      {C::kInitcheck, "shared uint s[8]; void main() { data[gl_LocalInvocationIndex] = s[gl_LocalInvocationIndex]; }", 8, 1},
+      {C::kInitcheck, "void main() { uint k; if (gl_LocalInvocationIndex > 3u) k = 1u; data[gl_LocalInvocationIndex] = k; }", 8, 1},
+  };
+  for (const Planted& p : planted) {
+    CAPTURE(p.body);
+    const auto run = [&](sim::Checks checks) { Run(p.body, p.local, p.groups, 4, eight, {}, checks); };
+    CHECK(CheckerOf([&] { run({}); }) == p.checker);
+    CHECK(CheckerOf([&] { run(Without(p.checker)); }) == std::nullopt);
+    CHECK(CheckerOf([&] { run(sim::Checks::None()); }) == std::nullopt);
+  }
+  // A lenient device's values: an access outside the binding reads zero and writes nowhere.
+  const auto out = Run("void main() { data[1] = data[9]; data[12] = 5u; }", 1, 1, 8, std::vector<std::uint32_t>{7, 7}, {},
+                       Without(C::kMemcheck));
+  CHECK(out == std::vector<std::uint32_t>{7, 0});
+}
+
+TEST_CASE("sim executor: initcheck follows undefined Function values to a branch, an index, an atomic or a store") {
+  const std::vector<std::uint32_t> sixteen(16, 0);
+  CHECK_THROWS_WITH_AS(Run("void main() { uint k; if (gl_LocalInvocationIndex > 3u) k = 1u; data[gl_LocalInvocationIndex] = k + 2u; }", 8, 1, 8,
+                           sixteen),
+                       doctest::Contains("initcheck: invocation 0 of workgroup (0, 0) stores to memory other invocations see an undefined value"),
+                       sim::SimError);
+  CHECK_THROWS_WITH_AS(Run("void main() { uint k; if (gl_LocalInvocationIndex == 0u) k = 1u; if (k * 2u > 1u) data[0] = 1u; }", 2, 1, 8,
+                           sixteen),
+                       doctest::Contains("initcheck: invocation 1 of workgroup (0, 0) branches on an undefined value"), sim::SimError);
+  CHECK_THROWS_WITH_AS(Run("void main() { uint k[4]; k[0] = 1u; data[k[gl_LocalInvocationIndex % 2u]] = 1u; }", 2, 1, 8, sixteen),
+                       doctest::Contains("initcheck: invocation 1 of workgroup (0, 0) indexes memory with an undefined value"), sim::SimError);
+  CHECK_THROWS_WITH_AS(Run("void main() { uint k; atomicAdd(data[0], k); }", 1, 1, 8, sixteen),
+                       doctest::Contains("gives an atomic operation an undefined value"), sim::SimError);
+  // Defined on every path that uses it: the parts of an array written, a value chosen over an
+  // undefined one, a variable written in a loop before it is read, a subgroup sum of defined values.
+  const auto out = Run(R"(void main() {
+    uint i = gl_LocalInvocationIndex;
+    uint k[4];
+    k[1] = i;
+    uint u;
+    uint v = i < 100u ? 7u : u;
+    uint w;
+    for (uint n = 0u; n < 3u; ++n) w = n;
+    data[i] = k[1] + v + w + subgroupAdd(k[1]);
+  })", 8, 1, 8, sixteen);
+  for (std::uint32_t i = 0; i < 8; ++i) CHECK(out[i] == i + 7 + 2 + 28);
 }

@@ -154,6 +154,7 @@ CallRecord RunAndCompare(const PassMethod& method, const BufferSet& in, Backends
     r.actual_ms = TimeMs([&] { actual_out = method.run(in, actual); });
   } catch (const emu::BackendError& err) {
     r.error = err.what();
+    r.error_checker = err.checker();
     r.equal = false;
     return r;
   }
@@ -241,7 +242,8 @@ BufferSet Differ::Call(const std::string& method_name, const BufferSet& in) {
   if (!options_.save_dir.empty()) Save(r, in, method_name);
   calls_.push_back(r);
   const CallRecord& rec = calls_.back();
-  if (!rec.error.empty()) throw DiffStop(fmt::format("{} ({}): the actual backend failed: {}", rec.pass, rec.label, rec.error));
+  if (!rec.error.empty())
+    throw DiffStop(fmt::format("{} ({}): the actual backend failed: {}", rec.pass, rec.label, rec.error), rec.error_checker, rec.pass);
   for (const BufferComparison& c : rec.buffers)
     if (!c.Equal() && !rec.within_spec && method.index_outputs.count(c.buffer))
       throw DiffStop(fmt::format("{} ({}): '{}' differs, and later passes index with it", rec.pass, rec.label, c.buffer));

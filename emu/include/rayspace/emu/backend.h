@@ -12,6 +12,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rayspace/emu/calls.h"
@@ -22,7 +23,12 @@ namespace rayspace::emu {
 
 class BackendError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  // `checker`: the simulated device's checker whose finding failed the call ("racecheck", ...), or "".
+  explicit BackendError(const std::string& what, std::string checker = {}) : std::runtime_error(what), checker_(std::move(checker)) {}
+  const std::string& checker() const { return checker_; }
+
+ private:
+  std::string checker_;
 };
 
 // One virtual method per call (emu/calls.h), named like the call: `Result TraverseTop(const

@@ -3,10 +3,28 @@
 // so that two simulated devices in one process may differ.
 #pragma once
 #include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
 
 #include "rayspace/workgroup.h"
 
 namespace rayspace::sim {
+
+// The checkers (docs/simulator.md): each finding of the simulator is of one of them.
+enum class Checker : std::uint8_t { kRacecheck, kInitcheck, kSynccheck, kMemcheck };
+constexpr int kCheckerCount = 4;
+const char* CheckerName(Checker c);  // "racecheck", ...
+
+// A set of checkers, one bit per Checker.
+struct Checks {
+  std::uint8_t bits = 0xf;  // all on
+  bool On(Checker c) const { return bits >> static_cast<int>(c) & 1u; }
+  static Checks None() { return {0}; }
+  std::string ToString() const;  // "all", "none" or "racecheck,memcheck"
+};
+// "all", "none" or a comma-separated list of checker names; nullopt (and `error`) for anything else.
+std::optional<Checks> ParseChecks(std::string_view list, std::string& error);
 
 struct DeviceConfig {
   std::uint32_t subgroup_size = 8;        // lavapipe's
@@ -14,6 +32,10 @@ struct DeviceConfig {
   // forward, reverse, or a permutation drawn from the seed per dispatch and per interval.
   wg::Schedule schedule;
   std::uint64_t step_limit = 1ull << 34;  // lane-instructions before a dispatch counts as a hang
+  // The checkers that run. One switched off lets the kernel go on as a lenient device would: an access
+  // outside a binding reads zero and writes nothing, a division by zero gives zero, a divergent
+  // barrier releases whoever waits; races and undefined reads go unreported.
+  Checks checks;
 };
 
 }  // namespace rayspace::sim

@@ -8,6 +8,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -20,14 +21,25 @@ namespace rayspace::sim {
 
 // A fault of the kernel found while running it (an access outside a binding, a division by zero, a
 // barrier some invocations never reach, the step limit): the message names the kernel and its line.
+// A checker's finding carries the checker; a fault no checker owns (the step limit, an instruction
+// the simulator lacks) carries none.
 class SimError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit SimError(const std::string& what, std::optional<Checker> checker = std::nullopt)
+      : std::runtime_error(what), checker_(checker) {}
+  std::optional<Checker> checker() const { return checker_; }
+
+ private:
+  std::optional<Checker> checker_;
 };
 
+// A storage buffer bound to the dispatch: `bytes` is the descriptor's range (what OpArrayLength
+// measures), of which the first `valid` bytes are the buffer's own (0: all); the rest are the host's
+// guard words, which memcheck counts as outside the buffer.
 struct Binding {
   std::uint8_t* data = nullptr;
   std::size_t bytes = 0;
+  std::size_t valid = 0;
 };
 
 struct Dispatch {
@@ -38,6 +50,7 @@ struct Dispatch {
   std::uint64_t step_limit = 1ull << 34;  // lane-instructions before the run counts as a hang
   wg::Schedule schedule;                  // workgroup and subgroup order (DeviceConfig::schedule)
   std::uint64_t dispatch_index = 0;       // mixed into a random schedule's seed: each dispatch its own order
+  Checks checks;                          // the checkers that run (DeviceConfig::checks)
 };
 
 struct ExecStats {

@@ -10,10 +10,6 @@
 
 namespace rayspace::sim {
 
-struct ExportRunOptions {
-  std::uint32_t subgroup_size = 8;  // lavapipe's, which recorded the expected read-backs
-};
-
 struct ReadBackResult {
   std::string file, label;
   bool equal = true;
@@ -36,8 +32,9 @@ struct ExportRun {
   bool Equal() const;
 };
 
-// Throws InputError for a directory that is not an export (naming the file and line) or a kernel the
-// simulator cannot take; SimError for a fault the kernel commits while it runs.
-ExportRun RunExport(const std::string& dir, const ExportRunOptions& options);
+// Runs it on a simulated device of `device`'s shape (lavapipe's subgroup size of 8 recorded the
+// expected read-backs). Throws InputError for a directory that is not an export (naming the file and
+// line) or a kernel the simulator cannot take; SimError for a fault the kernel commits while it runs.
+ExportRun RunExport(const std::string& dir, const DeviceConfig& device);
 
 }  // namespace rayspace::sim

@@ -11,19 +11,26 @@
 #include <string>
 #include <vector>
 
+#include "rayspace/sim/device.h"
+
 namespace rayspace::sim {
 
 enum class AccessKind : std::uint8_t { kRead, kWrite, kAtomic };
 
+// What a checker found, in words that name the invocations and the word (not the kernel).
+struct Finding {
+  Checker checker;
+  std::string what;
+};
+
 class SharedCheck {
  public:
-  // A workgroup begins: `words` of shared memory, none written.
-  void Begin(std::size_t words);
+  // A workgroup begins: `words` of shared memory, none written; findings of the checkers in `checks`.
+  void Begin(std::size_t words, Checks checks);
   // Every invocation passed a barrier: accesses before it are ordered before those after.
   void Barrier() { ++epoch_; }
-  // An access of `invocation` to shared word `word`; a finding ("racecheck: ..." or "initcheck: ...",
-  // without the kernel's name) or nothing.
-  std::optional<std::string> Access(std::size_t word, std::uint32_t invocation, AccessKind kind);
+  // An access of `invocation` to shared word `word`: a racecheck or initcheck finding, or nothing.
+  std::optional<Finding> Access(std::size_t word, std::uint32_t invocation, AccessKind kind);
 
  private:
   static constexpr std::uint32_t kNobody = ~0u, kMany = ~0u - 1;
@@ -34,6 +41,7 @@ class SharedCheck {
   };
   std::vector<Word> words_;
   std::uint32_t epoch_ = 1;
+  bool race_ = true, init_ = true;
 };
 
 }  // namespace rayspace::sim

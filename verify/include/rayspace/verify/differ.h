@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rayspace/emu/tracer.h"
@@ -32,12 +33,20 @@ struct CallRecord {
   std::string spec;   // under the relaxed device model: how many differing elements a device may produce
   bool within_spec = false;  // differs, but only as a conformant device may (relaxed model only)
   std::string error;  // the actual backend failed on this call
+  std::string error_checker;  // ... on a simulated device's checker finding: which checker ("racecheck", ...)
   std::string saved;  // directory of the saved inputs, when saving
 };
 
 class DiffStop : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit DiffStop(const std::string& what, std::string checker = {}, std::string pass = {})
+      : std::runtime_error(what), checker_(std::move(checker)), pass_(std::move(pass)) {}
+  // A stop on a simulated device's checker finding: the checker and the pass whose kernel it was in.
+  const std::string& checker() const { return checker_; }
+  const std::string& pass() const { return pass_; }
+
+ private:
+  std::string checker_, pass_;
 };
 
 struct DiffOptions {
