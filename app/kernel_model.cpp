@@ -103,10 +103,11 @@ Injection ParseInject(const std::string& spec) {
     const std::uint32_t n = FaultNumber(p, fault, spec);
     if (emu) {
       bool mirrored = false;
-      for (const FaultSpec& f : p.faults) mirrored |= f.number == n && (!f.name.empty() || f.emu);
+      for (const FaultSpec& f : p.faults) mirrored |= f.number == n && ((!f.name.empty() && !f.kernel_only) || f.emu);
       if (!mirrored)
-        ThrowInput("--inject '{}': only the workgroup faults (named ones) and {} can be planted on the emulator's side", spec,
-                   EmulatedOwnFaults());
+        ThrowInput("--inject '{}': only the workgroup faults (named ones but global-race, out-of-bounds and undefined-value, which "
+                   "live in the kernel alone) and {} can be planted on the emulator's side",
+                   spec, EmulatedOwnFaults());
       in.emu[pass] = n;
     } else {
       in.kernel[pass] = n;

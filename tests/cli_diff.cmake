@@ -639,6 +639,13 @@ foreach(f IN LISTS workgroup_faults)
   endif()
 endforeach()
 faults_case(faults.workgroup cornell-mirrors 64x64 "${kernel_workgroup_faults}")
+# The faults for the simulated GPU's checkers, in trim's kernel alone (a write-write race of equal
+# values, a load past the end whose value goes unused, an undefined offset that lavapipe's compiler
+# makes zero, the right one): lavapipe runs each benignly and the diff must say so; on the simulator
+# each is caught by its checker (tests/cli_simulate.cmake).
+foreach(f trim:global-race trim:out-of-bounds trim:undefined-value)
+  diff_case(fault.${f} cornell-mirrors 16x16 ${f} 0 "" --algo brute)
+endforeach()
 
 # Saved inputs replay to the same comparison: with the fault it diverges again ("reproduced"),
 # without it the pass is equal, which differs from the recording (exit 5).

@@ -111,6 +111,15 @@ expect_error(NAME "--inject trim:no-such-fault"
 expect_error(NAME "--inject trim:1@emu (a fault the emulator does not have)"
              NEEDLES "--inject" "trim:1@emu" "workgroup faults"
              ARGS diff "${WORK}/good.json" --inject trim:1@emu)
+expect_error(NAME "--inject trim:global-race@emu (a fault of the kernel alone)"
+             NEEDLES "--inject" "trim:global-race@emu" "live in the kernel alone"
+             ARGS diff "${WORK}/good.json" --inject trim:global-race@emu)
+expect_error(NAME "--sim-checks with a checker that does not exist"
+             NEEDLES "--sim-checks" "'bogus' is not a checker"
+             ARGS diff "${WORK}/good.json" --backends emu,sim --sim-checks racecheck,bogus)
+expect_error(NAME "--sim-checks for a Vulkan device"
+             NEEDLES "--sim-checks racecheck" "only the simulated GPU runs these checkers"
+             ARGS diff "${WORK}/good.json" --backends emu,vulkan --sim-checks racecheck)
 expect_error(NAME "--inject trim:dropped-barrier@gpu"
              NEEDLES "--inject" "'emu'"
              ARGS diff "${WORK}/good.json" --inject trim:dropped-barrier@gpu)

@@ -26,7 +26,8 @@ void main() {
   if (pc.phase == kTrimPhaseBlockSums) {
     if (g >= blocks) return;  // uniform: the whole workgroup leaves
     WORKGROUP_SUM(flags, g * kScanBlock, min(pc.n, (g + 1u) * kScanBlock), total);
-    if (l == 0u) sums[g] = total;
+    // Fault kFaultGlobalRace: every invocation stores the (same) block sum, an unordered write-write race.
+    if (l == 0u || kFault == kFaultGlobalRace) sums[g] = total;
   } else if (pc.phase == kTrimPhaseScanSums) {
     if (g != 0u) return;
     WORKGROUP_SCAN_IN_PLACE(sums, 0u, blocks, total);
@@ -34,10 +35,13 @@ void main() {
   } else {
     if (g >= blocks) return;
     const uint end = min(pc.n, (g + 1u) * kScanBlock);
-    uint run = sums[kFault == kFaultWorkgroupOffset ? g + 1u : g];
+    uint run;
+    if (kFault != kFaultUndefinedValue || g != 0u) run = sums[kFault == kFaultWorkgroupOffset ? g + 1u : g];
     for (uint c0 = g * kScanBlock; c0 < end; c0 += kLocalSize) {
       const uint i = c0 + l;
-      const uint f = i < end ? flags[i] : 0u;
+      // Fault kFaultOutOfBounds: the flag loaded before the bounds check (a load past the stream's end).
+      const uint early = kFault == kFaultOutOfBounds ? flags[i] : 0u;
+      const uint f = i < end ? (kFault == kFaultOutOfBounds ? early : flags[i]) : 0u;
       const uint s = run + (WorkgroupInclusiveAdd(f, total) - f);  // flagged slots before i
       if (i < end) {
         // Fault 1: an inclusive scan where an exclusive one belongs (off by one).

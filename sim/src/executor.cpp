@@ -9,6 +9,7 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <random>
 
 #include <fmt/format.h>
@@ -139,31 +140,50 @@ class Workgroup {
     group_index_ = group[0] + static_cast<std::uint64_t>(group[1]) * d_.groups[0];
     if (storage_check_) storage_check_->BeginWorkgroup(static_cast<std::uint32_t>(group_index_));
     orders_storage_ = false;
+    pending_race_.reset();
     interval_ = 0;
     const std::uint32_t subgroups = (size_ + sg_ - 1) / sg_;
     for (;;) {
       for (std::uint32_t s : Order(subgroups, ++interval_)) RunSubgroup(s * sg_, std::min(size_, (s + 1) * sg_));
       std::uint32_t waiting = 0, done = 0;
       for (LaneState st : state_) (st == LaneState::kBarrier ? waiting : done) += 1;
-      if (waiting == 0) return;
+      if (waiting == 0) break;
       const bool sync = d_.checks.On(Checker::kSynccheck);
+      std::uint32_t first = 0;
+      while (state_[first] != LaneState::kBarrier) ++first;
       if (done > 0 && sync)
-        throw SimError(fmt::format("{}: synccheck: {} invocations wait at a barrier that {} others, already returned, never reach", p_.name,
-                                   waiting, done),
+        throw SimError(fmt::format("{}: synccheck: {} invocations wait at a barrier ({}) that {} others, already returned, never reach "
+                                   "({}){}",
+                                   p_.name, waiting, BarrierAt(seg_[first]), done, group_, Consequence()),
                        Checker::kSynccheck);
       for (std::uint32_t l = 0; l < size_; ++l) {
         if (state_[l] != LaneState::kBarrier) continue;
-        if (sync && seg_[l] != seg_[0])
-          throw SimError(fmt::format("{}: synccheck: invocations wait at different barriers ({})", p_.name, group_), Checker::kSynccheck);
+        if (sync && seg_[l] != seg_[first])
+          throw SimError(fmt::format("{}: synccheck: invocations {} and {} wait at different barriers ({} and {}; {}){}", p_.name, first, l,
+                                     BarrierAt(seg_[first]), BarrierAt(seg_[l]), group_, Consequence()),
+                         Checker::kSynccheck);
         state_[l] = LaneState::kRunning;
       }
+      if (pending_race_) throw *pending_race_;
       shared_check_.Barrier();
       if (storage_check_ && orders_storage_) storage_check_->Barrier();
       orders_storage_ = false;
     }
+    if (pending_race_) throw *pending_race_;
   }
 
  private:
+  // The GLSL line of the barrier that ends the segment before `segment` (where a waiting lane resumes).
+  std::string BarrierAt(std::uint32_t segment) const { return p_.Where(p_.code[p_.segments[segment - 1].end - 1]); }
+  // A race (or a shared word read before any store) found while the barriers were unresolved is the
+  // divergence's consequence: said after it.
+  std::string Consequence() const { return pending_race_ ? fmt::format("; then, unordered by it: {}", pending_race_->what()) : std::string(); }
+  // A race is held until the workgroup's barrier resolves: when it proves divergent, synccheck names
+  // the cause; otherwise the race is the finding.
+  void Race(const Inst& in, const Finding& f) {
+    if (!pending_race_) pending_race_ = Compose(in, f);
+  }
+
   // The subgroups' order in barrier interval `interval` of this workgroup.
   std::vector<std::uint32_t> Order(std::uint32_t n, std::uint64_t interval) const {
     return ScheduleOrder(n, d_.schedule, (d_.dispatch_index * 0x9E3779B97F4A7C15ull) ^ (group_index_ << 20) ^ interval);
@@ -246,14 +266,13 @@ class Workgroup {
   }
 
   [[noreturn]] void Fail(const Inst& in, const std::string& what) const {
-    throw SimError(fmt::format("{}{}: {} ({})", p_.name, in.line ? fmt::format(" line {}", in.line) : std::string(), what,
-                               NameOf("Opcode", in.op)));
+    throw SimError(fmt::format("{}: {} ({})", p_.Where(in), what, NameOf("Opcode", in.op)));
   }
-  [[noreturn]] void Fail(const Inst& in, const Finding& f) const {
-    throw SimError(fmt::format("{}{}: {}: {} ({})", p_.name, in.line ? fmt::format(" line {}", in.line) : std::string(),
-                               CheckerName(f.checker), f.what, NameOf("Opcode", in.op)),
-                   f.checker);
+  SimError Compose(const Inst& in, const Finding& f) const {
+    return SimError(fmt::format("{}: {}: {} ({})", p_.Where(in), CheckerName(f.checker), f.what, NameOf("Opcode", in.op)),
+                    f.checker);
   }
+  [[noreturn]] void Fail(const Inst& in, const Finding& f) const { throw Compose(in, f); }
 
   // An integer division by zero: memcheck's finding, or a lenient device's zero.
   std::uint64_t DivisionByZero(const Inst& in) const {
@@ -331,6 +350,7 @@ class Workgroup {
     for (std::uint32_t i = seg.first; i < seg.end; ++i) {
       const Inst& in = p_.code[i];
       stats_.lane_instructions += lanes_.size();
+      if (stats_.lane_instructions > d_.step_limit && pending_race_) throw *pending_race_;
       if (stats_.lane_instructions > d_.step_limit)
         throw SimError(fmt::format("{}: more than {} lane-instructions: a hang, or raise the step limit", p_.name, d_.step_limit));
       if (init_) TrackBefore(in);
@@ -391,6 +411,7 @@ class Workgroup {
   StorageCheck* storage_check_;  // null when racecheck is off
   bool orders_storage_ = false;  // the barrier being reached orders storage memory (UniformMemory semantics)
   std::vector<std::uint8_t> scratch_;  // what an access outside a binding touches when memcheck is off
+  std::optional<SimError> pending_race_;  // the workgroup's first race or unwritten shared read, until its barrier resolves
   bool init_ = false;                  // initcheck on
   std::vector<std::uint8_t> undef_, private_undef_;
 };
@@ -534,6 +555,20 @@ void Workgroup::Propagate(const Inst& in) {
   }
   if (in.op >= static_cast<std::uint16_t>(Op::OpAtomicLoad) && in.op <= static_cast<std::uint16_t>(Op::OpAtomicXor)) {
     for (std::uint32_t l : lanes_) set(l, false);  // what memory held
+    return;
+  }
+  if (op == Op::OpGroupNonUniformShuffle || op == Op::OpGroupNonUniformBroadcast || op == Op::OpGroupNonUniformBroadcastFirst) {
+    // Each lane's result is one lane's value: undefined when that lane's is, or when it is inactive.
+    for (std::uint32_t l : lanes_) {
+      if (op != Op::OpGroupNonUniformBroadcastFirst && Undefined(l, ops[2])) {
+        set(l, true);
+        continue;
+      }
+      const std::uint32_t src = op == Op::OpGroupNonUniformBroadcastFirst ? lanes_[0] : sub_first_ + R(l, ops[2])[0];
+      const bool active = std::find(lanes_.begin(), lanes_.end(), src) != lanes_.end();
+      if (active) std::memcpy(U(l, in.result), U(src, ops[1]), words);
+      else set(l, true);
+    }
     return;
   }
   if (in.op >= static_cast<std::uint16_t>(Op::OpGroupNonUniformElect) && in.op <= static_cast<std::uint16_t>(Op::OpGroupNonUniformQuadSwap)) {
@@ -686,11 +721,11 @@ std::uint8_t* Workgroup::Address(const Inst& in, std::uint32_t lane, std::uint32
     for (std::size_t w = p[1] / 4; w < (p[1] + bytes + 3) / 4; ++w)
       if (auto finding = shared_check_.Access(base + w, lane, kind)) {
         finding->what += fmt::format(" (shared '{}' word {}, {})", shared_names_[p[0] - shared_base_], w, group_);
-        Fail(in, *finding);
+        Race(in, *finding);  // an unwritten word read may be a store this interval has yet to make: a race too
       }
   } else if (storage_check_ && p[0] < d_.bindings.size()) {
     for (std::size_t w = p[1] / 4; w < (p[1] + bytes + 3) / 4; ++w)
-      if (auto finding = storage_check_->Access(p[0], w, lane, kind)) Fail(in, *finding);
+      if (auto finding = storage_check_->Access(p[0], w, lane, kind)) Race(in, *finding);
   }
   return r.data + p[1];
 }

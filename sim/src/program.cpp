@@ -1,6 +1,7 @@
 #include "rayspace/sim/program.h"
 
 #include <spirv/unified1/spirv.hpp11>
+#include <filesystem>
 #include <spirv-tools/libspirv.h>
 #include <spirv-tools/optimizer.hpp>
 
@@ -218,16 +219,18 @@ class Builder {
 
 
   void Function(const std::vector<RawInst>& insts, std::size_t begin, std::size_t end) {
-    std::uint32_t line = 0, order = 0;
+    std::uint32_t line = 0, file = 0, order = 0;
     Segment seg;
     bool open = false;
     for (std::size_t i = begin; i < end; ++i) {
       const RawInst& r = insts[i];
       const auto op = static_cast<Op>(r.op);
       if (op == Op::OpLine) {
+        file = r.words[1];
         line = r.words[2];
         continue;
       }
+      if (op == Op::OpNoLine) line = file = 0;
       if (op == Op::OpNoLine || op == Op::OpFunctionParameter || op == Op::OpFunctionEnd) continue;
       if (op == Op::OpFunctionCall) ThrowInput("{}: a function call spirv-opt did not inline", p_.name);
       if (op == Op::OpLabel) {
@@ -242,7 +245,7 @@ class Builder {
       }
       if (!open) continue;
       Inst in{r.op, static_cast<std::uint16_t>(r.words.size() - r.operand_start), r.type, r.result,
-              static_cast<std::uint32_t>(p_.operands.size()), line};
+              static_cast<std::uint32_t>(p_.operands.size()), line, file};
       p_.operands.insert(p_.operands.end(), r.words.begin() + r.operand_start, r.words.end());
       if (r.result && r.type) Allocate(r.type, r.result);
       p_.code.push_back(in);
@@ -288,7 +291,7 @@ Program Prepare(std::span<const std::uint32_t> spirv, const Specialization& spec
     const auto op = static_cast<Op>(r.op);
     if (op == Op::OpEntryPoint) entry = r.words[2];
     if (op == Op::OpExtInstImport) p.glsl_set = r.result;
-    if (op == Op::OpString) p.line_files.emplace_back(reinterpret_cast<const char*>(r.words.data() + 2));
+    if (op == Op::OpString) p.strings[r.result] = reinterpret_cast<const char*>(r.words.data() + 2);
     if (op == Op::OpName && r.words.size() > 2) p.names[r.words[1]] = reinterpret_cast<const char*>(r.words.data() + 2);
     if (op == Op::OpExecutionMode && r.words.size() >= 6 && r.words[2] == static_cast<std::uint32_t>(spv::ExecutionMode::LocalSize))
       for (int k = 0; k < 3; ++k) p.local_size[k] = r.words[3 + k];
@@ -303,6 +306,15 @@ Program Prepare(std::span<const std::uint32_t> spirv, const Specialization& spec
   if (!fn_begin) ThrowInput("{}: no entry point function", name);
   b.Function(insts, fn_begin, fn_end);
   return p;
+}
+
+std::string Program::Where(const Inst& in) const {
+  if (in.line) {
+    const auto f = strings.find(in.file);
+    if (f == strings.end()) return fmt::format("{} line {}", name, in.line);
+    return fmt::format("{} {}:{}", name, std::filesystem::path(f->second).filename().string(), in.line);
+  }
+  return in.result ? fmt::format("{} main %{}", name, in.result) : name;
 }
 
 }  // namespace rayspace::sim

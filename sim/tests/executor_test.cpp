@@ -120,7 +120,7 @@ TEST_CASE("sim executor: a kernel's faults are reported, naming the kernel and i
   CHECK_THROWS_WITH_AS(Run("void main() { data[gl_LocalInvocationIndex + 4u] = 1u; }", 8, 1, 8, std::vector<std::uint32_t>(8, 0)),
                        doctest::Contains("memcheck: an access of 4 bytes at byte 32 of a 32-byte binding 0"), sim::SimError);
   CHECK_THROWS_WITH_AS(Run("void main() { data[0] = 7u / data[1]; }", 1, 1, 8, std::vector<std::uint32_t>(2, 0)),
-                       doctest::Contains("k line 8: memcheck: integer division by zero"), sim::SimError);
+                       doctest::Contains("k k.comp:8: memcheck: integer division by zero"), sim::SimError);
   CHECK_THROWS_WITH_AS(Run("void main() { if (gl_LocalInvocationIndex < 4u) barrier(); data[0] = 1u; }", 8, 1, 8,
                            std::vector<std::uint32_t>(1, 0)),
                        doctest::Contains("synccheck: a barrier reached by 4 of the 8 running invocations of subgroup 0 (non-uniform control flow"), sim::SimError);
@@ -302,7 +302,14 @@ TEST_CASE("sim executor: initcheck follows undefined Function values to a branch
     uint v = i < 100u ? 7u : u;
     uint w;
     for (uint n = 0u; n < 3u; ++n) w = n;
-    data[i] = k[1] + v + w + subgroupAdd(k[1]);
+    uint m;
+    if (gl_SubgroupInvocationID < 2u) m = i * 100u;
+    data[i] = k[1] + v + w + subgroupAdd(k[1]) + subgroupShuffle(m, 1u);
   })", 8, 1, 8, sixteen);
-  for (std::uint32_t i = 0; i < 8; ++i) CHECK(out[i] == i + 7 + 2 + 28);
+  for (std::uint32_t i = 0; i < 8; ++i) CHECK(out[i] == i + 7 + 2 + 28 + 100);
+  // A shuffle from a lane whose value is undefined.
+  CHECK_THROWS_WITH_AS(Run("void main() { uint m; if (gl_SubgroupInvocationID < 2u) m = 1u; data[gl_LocalInvocationIndex] = "
+                           "subgroupShuffle(m, 2u); }",
+                           8, 1, 8, sixteen),
+                       doctest::Contains("stores to memory other invocations see an undefined value"), sim::SimError);
 }

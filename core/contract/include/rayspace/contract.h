@@ -37,6 +37,11 @@ RS_CONST(uint, kFaultDivergentBarrier, 12u);  // that barrier reached by the fir
 RS_CONST(uint, kFaultSubgroup32, 13u);        // the subgroup size assumed to be 32
 RS_CONST(uint, kFaultSharedOffByOne, 14u);    // subgroup sums published one shared word too far
 RS_CONST(uint, kFaultWorkgroupOffset, 15u);   // a workgroup starts at the next block's offset of the global scan
+// Planted faults for the simulated GPU's checkers, in trim's kernel only (no emulator mirror): each is
+// a mistake a device may run benignly or that corrupts far from its cause.
+RS_CONST(uint, kFaultGlobalRace, 16u);      // every invocation stores its workgroup's block sum, not the first alone
+RS_CONST(uint, kFaultOutOfBounds, 17u);     // a flag is loaded before the bounds check, past the stream's end
+RS_CONST(uint, kFaultUndefinedValue, 18u);  // the first workgroup's running offset is never set
 // Planted faults that behave like a real GPU's arithmetic (gpu/shaders/common.glsl Div, Sqrt), which
 // the relaxed comparison must accept, and one no conformant device produces, which it must refuse
 // (docs/numerics.md, "The relaxed device model").

@@ -73,6 +73,7 @@ struct FaultSpec {
   std::string_view name = {};
   bool emu = false;
   FaultNeeds needs = FaultNeeds::kNothing;
+  bool kernel_only = false;  // a named fault with no emulator mirror: for the simulated GPU's checkers
 };
 
 // A call of the backend interface (emu/backend.h) that runs this pass. `index_outputs` are outputs
@@ -225,7 +226,11 @@ inline constexpr FaultSpec kTrimFaults[] = {
     {2, "the carry between parts is dropped (--split-bytes)", {}, false, FaultNeeds::kSplit},
     {3, "a flagged slot's neighbour is gathered"},
     RS_WORKGROUP_FAULTS,
-    {layout::kFaultWorkgroupOffset, "a workgroup starts at the next block's offset of the global scan", "workgroup-offset"}};
+    {layout::kFaultWorkgroupOffset, "a workgroup starts at the next block's offset of the global scan", "workgroup-offset"},
+    {layout::kFaultGlobalRace, "every invocation stores its workgroup's block sum, not the first alone", "global-race", false, FaultNeeds::kNothing, true},
+    {layout::kFaultOutOfBounds, "a flag is loaded before the bounds check, past the stream's end", "out-of-bounds", false, FaultNeeds::kNothing,
+     true},
+    {layout::kFaultUndefinedValue, "the first workgroup's running offset is never set", "undefined-value", false, FaultNeeds::kNothing, true}};
 inline constexpr FaultSpec kHashFaults[] = {{1, "the azimuth cell comes from the wrong coordinate pair"},
                                             {2, "the launch row is ignored (--max-groups)", {}, false, FaultNeeds::kRows},
                                             {3, "the direction's cells are interleaved azimuth first"},

@@ -32,6 +32,7 @@ struct Inst {
   std::uint32_t type = 0, result = 0;
   std::uint32_t first = 0;
   std::uint32_t line = 0;  // the GLSL line of the last OpLine before it (0: none)
+  std::uint32_t file = 0;  // that OpLine's file (an OpString id)
 };
 
 // A basic block cut at barriers: a segment ends with its terminator or an OpControlBarrier, after
@@ -64,10 +65,13 @@ struct Program {
   std::vector<Variable> variables;           // module-scope and the entry function's
   std::uint32_t local_size[3] = {1, 1, 1};
   std::uint32_t glsl_set = 0;                // the GLSL.std.450 import's id
-  std::vector<std::string> line_files;       // OpString names (for reports)
+  std::map<std::uint32_t, std::string> strings;  // OpString by id: the source files OpLine names
   std::map<std::uint32_t, std::string> names;  // OpName: the GLSL names of variables (for reports)
 
   const Type& T(std::uint32_t id) const { return types.at(id); }
+  // Where an instruction is, for reports: "trim workgroup.glsl:44" from debug info, else the
+  // kernel, the entry function and the result id: "trim main %57".
+  std::string Where(const Inst& in) const;
   std::span<const std::uint32_t> Ops(const Inst& i) const { return {operands.data() + i.first, i.count}; }
 };
 
