@@ -32,7 +32,7 @@ import subprocess
 import sys
 
 SOURCE_SUFFIXES = (".cpp", ".cc", ".cxx", ".h", ".hh", ".hpp", ".inl")
-DEFAULT_DIRS = ["app", "core", "emu", "gpu/src", "verify", "refs"]
+DEFAULT_DIRS = ["app", "core", "emu", "gpu/src", "sim/src", "verify", "refs"]
 
 
 def find_ctags():

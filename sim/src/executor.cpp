@@ -468,6 +468,7 @@ void Workgroup::TrackBefore(const Inst& in) {
   }
 }
 
+// Long: one case per way a result takes its operands' definedness; apart they would hide the one rule.
 void Workgroup::Propagate(const Inst& in) {
   const auto ops = p_.Ops(in);
   const auto op = static_cast<Op>(in.op);
@@ -591,6 +592,7 @@ void Workgroup::Propagate(const Inst& in) {
   }
 }
 
+// Long: the dispatch over opcodes, one case each.
 bool Workgroup::Execute(const Inst& in, std::uint32_t s) {
   const auto ops = p_.Ops(in);
   const std::uint32_t label = p_.segments[s].label;
@@ -860,6 +862,7 @@ static std::pair<std::uint32_t, std::uint32_t> Part(const Program& p, std::uint3
   return {index * p.T(t.element).words, t.element};
 }
 
+// Long: one case per arithmetic opcode, each a line or two.
 void Workgroup::Arithmetic(const Inst& in) {
   const auto ops = p_.Ops(in);
   const auto op = static_cast<Op>(in.op);
@@ -1147,6 +1150,7 @@ void Workgroup::Arithmetic(const Inst& in) {
   }
 }
 
+// Long: one case per GLSL.std.450 instruction.
 void Workgroup::Extended(const Inst& in) {
   const auto all = p_.Ops(in);
   if (all[0] != p_.glsl_set) Fail(in, "an extended instruction of a set other than GLSL.std.450");
@@ -1233,6 +1237,7 @@ void Workgroup::Extended(const Inst& in) {
   }
 }
 
+// Long: one case per subgroup operation.
 void Workgroup::Subgroup(const Inst& in) {
   const auto ops = p_.Ops(in);
   const auto op = static_cast<Op>(in.op);

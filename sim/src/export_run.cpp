@@ -56,6 +56,7 @@ bool ExportRun::Equal() const {
   return std::all_of(reads.begin(), reads.end(), [](const ReadBackResult& r) { return r.equal; });
 }
 
+// Long: one branch per step of sequence.txt, read in one pass as repro.c replays it.
 ExportRun RunExport(const std::string& dir, const DeviceConfig& device) {
   const fs::path root(dir);
   const fs::path seq_path = root / "sequence.txt";
