@@ -1,11 +1,14 @@
 #!/usr/bin/env python3
 """Writes the seed corpora of the numeric harnesses (fuzz/corpus/<harness>/) in the documented
-float32 layouts (fuzz/README.md), and a few scene files for scene_load. Run from anywhere; the
+float32 layouts (fuzz/README.md), a few scene files for scene_load and SPIR-V modules for spirv_load. Run from anywhere; the
 output is committed, so this only needs rerunning to add seeds."""
 import gzip
 import math
 import os
+import shutil
 import struct
+import subprocess
+import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -128,3 +131,30 @@ write("scene_load", "objgz-two-members", raw=b"\x04" + gzip.compress(obj_tri[:20
 write("scene_load", "plygz-triangle", raw=b"\x05" + gzip.compress(
     b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
     b"element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", mtime=0))
+
+# spirv_load: small kernels compiled by glslc (when it is on the PATH; the outputs are committed): a
+# store per invocation, a shared-memory scan with barriers and subgroup operations, a loop with a
+# branch, and a module cut short.
+SPIRV_SEEDS = {
+    "store": "layout(local_size_x = 8) in;\nlayout(std430, binding = 0) buffer B { uint d[]; };\n"
+             "void main() { d[gl_GlobalInvocationID.x] = gl_LocalInvocationIndex * 3u; }\n",
+    "scan": "#extension GL_KHR_shader_subgroup_arithmetic : require\nlayout(local_size_x = 16) in;\n"
+            "layout(std430, binding = 0) buffer B { uint d[]; };\nshared uint s[16];\n"
+            "void main() { uint i = gl_LocalInvocationIndex; s[i] = subgroupInclusiveAdd(i); barrier();\n"
+            "  d[gl_WorkGroupID.x * 16u + i] = s[15u - i]; }\n",
+    "loop": "layout(local_size_x = 4) in;\nlayout(std430, binding = 0) buffer B { uint d[]; };\n"
+            "void main() { uint n = 0u; for (uint k = 0u; k < gl_LocalInvocationIndex; ++k) { if (k % 2u == 0u) n += k; }\n"
+            "  d[gl_GlobalInvocationID.x] = n; }\n",
+}
+if shutil.which("glslc"):
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, body in SPIRV_SEEDS.items():
+            src, out = os.path.join(tmp, name + ".comp"), os.path.join(tmp, name + ".spv")
+            with open(src, "w") as f:
+                f.write("#version 460\n" + body)
+            subprocess.run(["glslc", "-O0", "-g", "--target-env=vulkan1.2", src, "-o", out], check=True)
+            with open(out, "rb") as f:
+                spv = f.read()
+            write("spirv_load", name, raw=spv)
+            if name == "scan":
+                write("spirv_load", "truncated", raw=spv[: len(spv) // 2])
