@@ -763,7 +763,7 @@ Reproduction CompareWithRecorded(const verify::CallRecord& r, const nlohmann::js
 }
 
 void PrintReplayCall(const verify::CallRecord& r) {
-  if (!r.error.empty()) std::fprintf(stderr, "  vulkan backend failed: %s\n", r.error.c_str());
+  if (!r.error.empty()) std::fprintf(stderr, "  the actual backend failed: %s\n", r.error.c_str());
   for (const BufferComparison& b : r.buffers) std::printf("  %s\n", b.Summary().c_str());
   if (!r.spec.empty()) std::printf("  relaxed model: %s\n", r.spec.c_str());
   if (!r.raster.empty()) std::printf("  raster: %s\n", r.raster.c_str());
@@ -845,6 +845,15 @@ ExitCode RunReplay(const ReplayArgs& given) {
   // The kernels given here, not the recording's: a recorded diff's kernels serve its other calls too.
   CheckKernelsRan(gpu, given.kernels);
   PrintReplayCall(r);
+  // A simulated device's checker finding on the kernel: exit 6, as diff gives it.
+  if (!r.error_checker.empty()) {
+    const std::string what = r.error, mark = "faulted on the simulated device: ";
+    const std::size_t at = what.find(mark);
+    const std::string finding = at == std::string::npos ? what : what.substr(at + mark.size());
+    std::fprintf(stderr, "  %s on the kernel of %s: %s\n", r.error_checker.c_str(), r.pass.c_str(), finding.c_str());
+    j["simulator_checker"] = {{"checker", r.error_checker}, {"pass", r.pass}, {"finding", finding}};
+    return WriteOutputs(ExitCode::kWorkgroupFault, [&] { report.Commit(JsonText(j)); });
+  }
   // A fault given here that cannot fire leaves no verdict; the recording's own fault may belong to
   // another call of its frame, which is worth a note only.
   if (const std::string why = FaultCannotFire(args.inject, injection, ReplayFacts(in, method, gpu)); !why.empty()) {

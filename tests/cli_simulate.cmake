@@ -1,7 +1,9 @@
 # `rayspace simulate`: exported reproducers run on the simulated GPU give the read-backs lavapipe gave.
 #   PART=sample (default tier)  one exported call of every pass of a 16x16 cornell-mirrors diff, each
 #                               equal; a call exported with a planted fault differs (exit 4, naming the
-#                               read-back and word); a directory that is no export is exit 2, one line
+#                               read-back and word); one exported with trim's global race is exit 6
+#                               naming racecheck (0 with it off), as is its replay --backends emu,sim;
+#                               a directory that is no export is exit 2, one line
 #   PART=all (full tier)        every exported call of 32x32 diffs of cornell-mirrors and office
 #   PART=backend (default tier) diff --backends emu,sim on a 16x16 cornell-mirrors under five
 #                               configurations and a random schedule at subgroup size 4, all equal; render --backend sim gives the emulator's
@@ -82,6 +84,35 @@ if(PART STREQUAL "sample")
   if(NOT rc EQUAL 4 OR NOT sout MATCHES "\\(reduce/5/Out\\): word [0-9]+: expected 0x[0-9a-f]+ got 0x[0-9a-f]+\n"
      OR NOT err MATCHES "a read-back differs from the expected bytes")
     set(failures "${failures}\nsimulate with reduce:1 planted: exit ${rc}, expected 4 naming the differing word: ${sout}${err}")
+  endif()
+  # A checker's finding on an exported kernel: a trim call exported with the global race planted
+  # (lavapipe runs it benignly, so its read-backs are the right ones) is exit 6 naming racecheck, and
+  # equal with racecheck left out. replay --backends emu,sim of the saved call stops the same way.
+  file(GLOB trim "${WORK}/cornell/*-trim.*")
+  list(GET trim 0 trim)
+  export_call("${trim}" --inject trim:global-race)
+  execute_process(COMMAND "${RAYSPACE}" simulate "${out}" RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+  if(NOT rc EQUAL 6 OR NOT err MATCHES "racecheck found a fault of the kernel: trim trim.comp:[0-9]+: racecheck: invocation ")
+    set(failures "${failures}\nsimulate with trim:global-race planted: exit ${rc}, expected 6 naming racecheck: ${err}")
+  endif()
+  execute_process(COMMAND "${RAYSPACE}" simulate "${out}" --sim-checks initcheck,synccheck,memcheck RESULT_VARIABLE rc OUTPUT_VARIABLE sout
+                  ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0 OR NOT sout MATCHES "\nequal: every read-back has the expected bytes\n")
+    set(failures "${failures}\nsimulate with trim:global-race planted, racecheck off: exit ${rc}, expected 0: ${sout}${err}")
+  endif()
+  execute_process(COMMAND "${RAYSPACE}" replay "${trim}" --backends emu,sim --inject trim:global-race --report "${WORK}/replay.json"
+                  RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+  set(named "")
+  if(EXISTS "${WORK}/replay.json")
+    file(READ "${WORK}/replay.json" j)
+    string(JSON named ERROR_VARIABLE jerr GET "${j}" simulator_checker checker)
+  endif()
+  if(NOT rc EQUAL 6 OR NOT err MATCHES "\n  racecheck on the kernel of trim: trim trim.comp:[0-9]+: racecheck: " OR NOT named STREQUAL "racecheck")
+    set(failures "${failures}\nreplay --backends emu,sim --inject trim:global-race: exit ${rc}, expected 6 naming racecheck: ${err}")
+  endif()
+  execute_process(COMMAND "${RAYSPACE}" replay "${trim}" --backends emu,sim RESULT_VARIABLE rc OUTPUT_VARIABLE sout ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0 OR NOT sout MATCHES "on rayspace simulator" OR NOT sout MATCHES "\n  equal\n")
+    set(failures "${failures}\nreplay --backends emu,sim: exit ${rc}, expected 0 on the simulator: ${sout}${err}")
   endif()
   # Not an export: one line, exit 2.
   execute_process(COMMAND "${RAYSPACE}" simulate "${WORK}/cornell" RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)

@@ -11,7 +11,8 @@ template <typename C>
 typename C::Result Launch(VulkanPasses& gpu, const C& c) {
   VulkanOut<C> out;
   if (const vk::Status s = gpu.Run(c, out); !s)
-    throw emu::BackendError(fmt::format("Vulkan backend, pass {}: {}", C::kName, s.message), s.checker);
+    throw emu::BackendError(fmt::format("{}, pass {}: {}", gpu.context().simulated() ? "simulated GPU" : "Vulkan backend", C::kName, s.message),
+                            s.checker);
   if constexpr (!std::is_void_v<typename C::Result>) return out;
 }
 

@@ -36,7 +36,7 @@ std::vector<std::uint32_t> Optimized(std::span<const std::uint32_t> spirv, const
   spvtools::Optimizer opt(SPV_ENV_VULKAN_1_2);
   std::string first;
   opt.SetMessageConsumer([&first](spv_message_level_t level, const char*, const spv_position_t&, const char* m) {
-    if (level <= SPV_MSG_ERROR && first.empty()) first = m;
+    if (level <= SPV_MSG_ERROR && first.empty()) first = OneLine(m);
   });
   std::unordered_map<std::uint32_t, std::string> values(spec.begin(), spec.end());
   opt.RegisterPass(spvtools::CreateSetSpecConstantDefaultValuePass(values))
@@ -291,8 +291,8 @@ Program Prepare(std::span<const std::uint32_t> spirv, const Specialization& spec
     const auto op = static_cast<Op>(r.op);
     if (op == Op::OpEntryPoint) entry = r.words[2];
     if (op == Op::OpExtInstImport) p.glsl_set = r.result;
-    if (op == Op::OpString) p.strings[r.result] = reinterpret_cast<const char*>(r.words.data() + 2);
-    if (op == Op::OpName && r.words.size() > 2) p.names[r.words[1]] = reinterpret_cast<const char*>(r.words.data() + 2);
+    if (op == Op::OpString) p.strings[r.result] = OneLine(reinterpret_cast<const char*>(r.words.data() + 2));
+    if (op == Op::OpName && r.words.size() > 2) p.names[r.words[1]] = OneLine(reinterpret_cast<const char*>(r.words.data() + 2));
     if (op == Op::OpExecutionMode && r.words.size() >= 6 && r.words[2] == static_cast<std::uint32_t>(spv::ExecutionMode::LocalSize))
       for (int k = 0; k < 3; ++k) p.local_size[k] = r.words[3 + k];
     if (op == Op::OpFunction) {

@@ -4,12 +4,18 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace rayspace::sim {
 
+// `text` on one line: control characters become spaces and runs of spaces one. SPIRV-Tools' messages
+// put the offending instruction on a line of its own, and a module's strings (OpSource text, names)
+// may hold any bytes; an error the user reads is one line.
+std::string OneLine(std::string_view text);
+
 // spirv-val's verdict for the Vulkan 1.2 environment (SPIR-V up to 1.5): "" when valid, else its
-// first message.
+// first message, on one line.
 std::string ValidationError(std::span<const std::uint32_t> spirv);
 
 // The module without debug instructions (OpSource, OpString, OpName, OpLine, ...) and with its ids
