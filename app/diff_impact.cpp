@@ -221,9 +221,9 @@ std::string HitText(std::uint32_t hit, bool shadow) {
   return hit == layout::kNoPrim ? "miss" : fmt::format("triangle {}", hit);
 }
 
-const char* VerdictText(const std::string& verdict) {
+std::string VerdictText(const std::string& verdict, const std::string& actual) {
   if (verdict == "emulator") return "the emulator is right";
-  if (verdict == "vulkan") return "vulkan is right";
+  if (verdict == "vulkan") return actual + " is right";  // the actual side, whichever backend it is
   if (verdict == "both") return "both are right";
   if (verdict == "within_rounding") return "both are right within rounding";
   return "neither is right";
@@ -236,9 +236,10 @@ bool IsShadow(const ChangedRay& c) { return c.batch.rfind("shadow.", 0) == 0; }
 DiffImpact MeasureImpact(const Scene& scene, const SceneBuffers& buffers, emu::FrameOptions fo, const ImpactTracerFactory& tracer,
                          ImpactSide emu_side, ImpactSide vulkan_side) {
   DiffImpact out;
+  out.actual = vulkan_side.frame->Name();
   SideFrame e, v;
   if (!TryRenderSide("emulator", scene, buffers, fo, tracer, emu_side, e, out.failed)) return out;
-  if (!TryRenderSide("vulkan backend", scene, buffers, fo, tracer, vulkan_side, v, out.failed)) return out;
+  if (!TryRenderSide((out.actual + " backend").c_str(), scene, buffers, fo, tracer, vulkan_side, v, out.failed)) return out;
   Compare(e, v, buffers, out);
   return out;
 }
@@ -246,9 +247,10 @@ DiffImpact MeasureImpact(const Scene& scene, const SceneBuffers& buffers, emu::F
 namespace {
 
 // "final ray-triangle tests: ..." when the Vulkan side's frame ran fewer or other final tests than the emulator's.
-void PrintLostTests(std::FILE* out, const LostTests& t, bool no_hit_changed) {
+void PrintLostTests(std::FILE* out, const LostTests& t, bool no_hit_changed, const std::string& actual) {
   if (!t.logged || (t.lost == 0 && t.added == 0)) return;
-  std::fprintf(out, "    final ray-triangle tests: the vulkan side's frame lost %zu of the emulator's and added %zu; ", t.lost, t.added);
+  std::fprintf(out, "    final ray-triangle tests: the %s side's frame lost %zu of the emulator's and added %zu; ", actual.c_str(), t.lost,
+               t.added);
   if (t.lost == 0)
     std::fprintf(out, "none lost\n");
   else if (t.lost_hitting == 0)
@@ -270,7 +272,7 @@ void PrintImpact(std::FILE* out, const DiffImpact& m) {
                       "not proven benign: %s%s\n",
                  m.differed.empty() ? "the divergent call's outputs differ" : m.differed.front().c_str(),
                  m.differed.size() > 1 ? fmt::format(" (and {} more buffers)", m.differed.size() - 1).c_str() : "");
-    PrintLostTests(out, m.tests, true);
+    PrintLostTests(out, m.tests, true, m.actual);
     return;
   }
   const auto count = [&m](const char* k) { return m.verdicts.count(k) ? m.verdicts.at(k) : std::size_t{0}; };
@@ -280,18 +282,18 @@ void PrintImpact(std::FILE* out, const DiffImpact& m) {
   if (m.rays_changed == 0)
     std::fprintf(out, "  impact: no ray's final hit changes, %zu pixels change", m.pixels_changed);
   else
-    std::fprintf(out, "  impact: %zu of %zu rays change their final hit (emulator right on %zu, vulkan on %zu%s), %zu pixels change",
-                 m.rays_changed, m.rays, count("emulator"), count("vulkan"), others.c_str(), m.pixels_changed);
+    std::fprintf(out, "  impact: %zu of %zu rays change their final hit (emulator right on %zu, %s on %zu%s), %zu pixels change",
+                 m.rays_changed, m.rays, count("emulator"), m.actual.c_str(), count("vulkan"), others.c_str(), m.pixels_changed);
   if (m.primary_changed) std::fprintf(out, ", %zu primary hits (raster) change", m.primary_changed);
   if (m.one_side_only) std::fprintf(out, "; %zu rays traced by one side only", m.one_side_only);
   if (m.judged + m.one_side_only < m.rays_changed) std::fprintf(out, "; the oracle judged the first %zu", m.judged);
   std::fprintf(out, "\n");
   if (!m.first.empty()) {
     const ChangedRay& c = m.first.front();
-    std::fprintf(out, "    first: %s ray %zu: emulator %s, vulkan %s: %s\n", c.batch.c_str(), c.ray,
-                 HitText(c.emu, IsShadow(c)).c_str(), HitText(c.vulkan, IsShadow(c)).c_str(), VerdictText(c.verdict));
+    std::fprintf(out, "    first: %s ray %zu: emulator %s, %s %s: %s\n", c.batch.c_str(), c.ray, HitText(c.emu, IsShadow(c)).c_str(),
+                 m.actual.c_str(), HitText(c.vulkan, IsShadow(c)).c_str(), VerdictText(c.verdict, m.actual).c_str());
   }
-  PrintLostTests(out, m.tests, false);
+  PrintLostTests(out, m.tests, false, m.actual);
 }
 
 namespace {

@@ -55,6 +55,7 @@ struct ChangedRay {
 };
 
 struct DiffImpact {
+  std::string actual = "vulkan";      // the actual side's backend, as its passes name it (vulkan, sim)
   std::string failed;                 // why a side's frame could not be made, or ""
   std::size_t rays = 0;               // rays traced by the emulator's frame
   std::size_t rays_changed = 0;       // matched rays whose final hit changes, plus rays on one side only
@@ -62,7 +63,7 @@ struct DiffImpact {
   std::size_t primary_changed = 0;    // pixels whose raster primitive changes
   std::size_t pixels_changed = 0;     // pixels of the final image that change
   std::size_t judged = 0;             // changed rays the exact oracle judged
-  std::map<std::string, std::size_t> verdicts;  // emulator, vulkan, both, within_rounding, neither
+  std::map<std::string, std::size_t> verdicts;  // emulator, vulkan (the actual side), both, within_rounding, neither
   std::vector<ChangedRay> first;      // the first few changed rays
   std::vector<std::string> differed;  // the first divergent call's differing buffers (BufferComparison::Summary)
   LostTests tests;
