@@ -305,6 +305,15 @@ Program Prepare(std::span<const std::uint32_t> spirv, const Specialization& spec
   b.MemberStrides();
   if (!fn_begin) ThrowInput("{}: no entry point function", name);
   b.Function(insts, fn_begin, fn_end);
+  // The workgroup limits a device reports (lavapipe's, which are Vulkan's usual ones): a pipeline
+  // beyond them is not created, so the simulator refuses it too.
+  const std::uint32_t* ls = p.local_size;
+  constexpr std::uint32_t kMaxSize[3] = {1024, 1024, 64}, kMaxInvocations = 1024;
+  const std::uint64_t invocations = std::uint64_t{ls[0]} * ls[1] * ls[2];
+  if (ls[0] > kMaxSize[0] || ls[1] > kMaxSize[1] || ls[2] > kMaxSize[2] || invocations > kMaxInvocations || invocations == 0)
+    ThrowInput("{}: a workgroup of {}x{}x{} invocations, beyond the device's maxComputeWorkGroupSize (1024, 1024, 64) and "
+               "maxComputeWorkGroupInvocations (1024)",
+               name, ls[0], ls[1], ls[2]);
   return p;
 }
 
