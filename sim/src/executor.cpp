@@ -11,6 +11,7 @@
 #include <memory>
 #include <optional>
 #include <random>
+#include <type_traits>
 
 #include <fmt/format.h>
 
@@ -36,6 +37,8 @@ std::vector<std::uint32_t> ScheduleOrder(std::uint32_t n, const wg::Schedule& s,
 constexpr std::uint32_t kNone = ~0u;
 // The register words before member or element `index` of a value of `type`, and that part's type.
 static std::pair<std::uint32_t, std::uint32_t> Part(const Program& p, std::uint32_t type, std::uint32_t index);
+
+bool IsAtomic(std::uint16_t op) { return op >= static_cast<std::uint16_t>(Op::OpAtomicLoad) && op <= static_cast<std::uint16_t>(Op::OpAtomicXor); }
 
 bool Explicit(std::uint32_t storage) {
   const auto s = static_cast<spv::StorageClass>(storage);
@@ -343,6 +346,44 @@ class Workgroup {
     }
   }
 
+  // OpCompositeConstruct, Extract and Insert move whole register words. `file(lane, id)` gives a
+  // value's first word in the register file or in its definedness shadow (one entry per word, the
+  // same layout), so the values and their state move by the same code.
+  template <class File>
+  void MoveComposite(const Inst& in, File file) {
+    const auto ops = p_.Ops(in);
+    using Word = std::remove_pointer_t<decltype(file(0u, 0u))>;
+    const auto move = [](Word* to, const Word* from, std::uint32_t words) { std::memmove(to, from, words * sizeof(Word)); };
+    if (static_cast<Op>(in.op) == Op::OpCompositeConstruct) {
+      for (std::uint32_t l : lanes_) {
+        std::uint32_t at = 0;
+        for (std::uint32_t id : ops) {
+          const std::uint32_t n = p_.T(TypeOfValue(id)).words;
+          move(file(l, in.result) + at, file(l, id), n);
+          at += n;
+        }
+      }
+      return;
+    }
+    const bool insert = static_cast<Op>(in.op) == Op::OpCompositeInsert;
+    const std::uint32_t composite = ops[insert ? 1 : 0];
+    std::uint32_t type = TypeOfValue(composite), at = 0;
+    for (std::size_t k = insert ? 2 : 1; k < ops.size(); ++k) {
+      const auto [w, t] = Part(p_, type, ops[k]);
+      at += w;
+      type = t;
+    }
+    const std::uint32_t words = p_.T(type).words, all = p_.T(TypeOfValue(composite)).words;
+    for (std::uint32_t l : lanes_) {
+      if (insert) {
+        move(file(l, in.result), file(l, composite), all);
+        move(file(l, in.result) + at, file(l, ops[0]), words);
+      } else {
+        move(file(l, in.result), file(l, composite) + at, words);
+      }
+    }
+  }
+
   std::uint32_t TypeOfValue(std::uint32_t id) const { return p_.value_type[id]; }
 
   void RunSegment(std::uint32_t s) {
@@ -448,23 +489,13 @@ void Workgroup::TrackBefore(const Inst& in) {
       }
       return;
     }
-    case Op::OpAtomicStore:
-    case Op::OpAtomicExchange:
-    case Op::OpAtomicCompareExchange:
-    case Op::OpAtomicIAdd:
-    case Op::OpAtomicISub:
-    case Op::OpAtomicUMin:
-    case Op::OpAtomicUMax:
-    case Op::OpAtomicSMin:
-    case Op::OpAtomicSMax:
-    case Op::OpAtomicAnd:
-    case Op::OpAtomicOr:
-    case Op::OpAtomicXor:
-      for (std::uint32_t l : lanes_)
-        for (std::size_t k = 3; k < ops.size(); ++k)
-          if (Undefined(l, ops[k])) undefined(l, "gives an atomic operation");
+    default:
+      // The atomics' value operands (after pointer, scope and semantics); OpAtomicLoad has none.
+      if (IsAtomic(in.op))
+        for (std::uint32_t l : lanes_)
+          for (std::size_t k = 3; k < ops.size(); ++k)
+            if (Undefined(l, ops[k])) undefined(l, "gives an atomic operation");
       return;
-    default: return;
   }
 }
 
@@ -508,35 +539,8 @@ void Workgroup::Propagate(const Inst& in) {
       return;
     }
     case Op::OpCompositeConstruct:
-      for (std::uint32_t l : lanes_) {
-        std::uint32_t at = 0;
-        for (std::uint32_t id : ops) {
-          const std::uint32_t n = p_.T(TypeOfValue(id)).words;
-          std::memcpy(U(l, in.result) + at, U(l, id), n);
-          at += n;
-        }
-      }
-      return;
     case Op::OpCompositeExtract:
-    case Op::OpCompositeInsert: {
-      const bool insert = op == Op::OpCompositeInsert;
-      const std::uint32_t composite = ops[insert ? 1 : 0];
-      std::uint32_t type = TypeOfValue(composite), at = 0;
-      for (std::size_t k = insert ? 2 : 1; k < ops.size(); ++k) {
-        const auto [w, t] = Part(p_, type, ops[k]);
-        at += w;
-        type = t;
-      }
-      for (std::uint32_t l : lanes_) {
-        if (insert) {
-          copy(l, composite);
-          std::memcpy(U(l, in.result) + at, U(l, ops[0]), p_.T(type).words);
-        } else {
-          copy(l, composite, at);
-        }
-      }
-      return;
-    }
+    case Op::OpCompositeInsert: MoveComposite(in, [this](std::uint32_t l, std::uint32_t id) { return U(l, id); }); return;
     case Op::OpVectorShuffle:
       for (std::uint32_t l : lanes_) set(l, Undefined(l, ops[0]) || Undefined(l, ops[1]));
       return;
@@ -554,7 +558,7 @@ void Workgroup::Propagate(const Inst& in) {
       return;
     default: break;
   }
-  if (in.op >= static_cast<std::uint16_t>(Op::OpAtomicLoad) && in.op <= static_cast<std::uint16_t>(Op::OpAtomicXor)) {
+  if (IsAtomic(in.op)) {
     for (std::uint32_t l : lanes_) set(l, false);  // what memory held
     return;
   }
@@ -1090,36 +1094,8 @@ void Workgroup::Arithmetic(const Inst& in) {
       return;
     }
     case Op::OpCompositeConstruct:
-      for (std::uint32_t l : lanes_) {
-        std::uint32_t at = 0;
-        for (std::uint32_t id : ops) {
-          const std::uint32_t n = p_.T(TypeOfValue(id)).words;
-          std::memmove(R(l, in.result) + at, R(l, id), n * 4);
-          at += n;
-        }
-      }
-      return;
     case Op::OpCompositeExtract:
-    case Op::OpCompositeInsert: {
-      const bool insert = op == Op::OpCompositeInsert;
-      const std::uint32_t composite = ops[insert ? 1 : 0];
-      std::uint32_t type = TypeOfValue(composite), at = 0;
-      for (std::size_t k = insert ? 2 : 1; k < ops.size(); ++k) {
-        const auto [w, t] = Part(p_, type, ops[k]);
-        at += w;
-        type = t;
-      }
-      const std::uint32_t words = p_.T(type).words, all = p_.T(TypeOfValue(composite)).words;
-      for (std::uint32_t l : lanes_) {
-        if (insert) {
-          std::memmove(R(l, in.result), R(l, composite), all * 4);
-          std::memmove(R(l, in.result) + at, R(l, ops[0]), words * 4);
-        } else {
-          std::memmove(R(l, in.result), R(l, composite) + at, words * 4);
-        }
-      }
-      return;
-    }
+    case Op::OpCompositeInsert: MoveComposite(in, [this](std::uint32_t l, std::uint32_t id) { return R(l, id); }); return;
     case Op::OpVectorShuffle: {
       const Comp rc = CompOf(in.type), ac = CompOf(TypeOfValue(ops[0]));
       for (std::uint32_t l : lanes_)
