@@ -239,7 +239,15 @@ def prepare_tiers(args, baseline_passed):
     return src, build
 
 
-FAILED_TEST = re.compile(r"^\s*\d+ - (\S+) \(([^)]*)\)", re.M)
+# "	183 - cone simd: lanes (all of them) equal the scalar path (Failed)": a doctest name holds spaces
+# and parentheses; the reason is the last parenthesised group of the line.
+FAILED_TEST = re.compile(r"^\s*\d+ - (.+) \(([^()]+)\)[ \t]*$", re.M)
+
+
+def failed_tests(out):
+    """The tests ctest's output lists as failed, as 'name (reason)'."""
+    tail = out.split("The following tests FAILED:")[-1] if "The following tests FAILED:" in out else ""
+    return [f"{name} ({why})" for name, why in FAILED_TEST.findall(tail)]
 
 
 def tier_run(args, build, tier):
@@ -252,8 +260,7 @@ def tier_run(args, build, tier):
         if os.path.exists(cost):
             os.remove(cost)
         rc, out = run(["ctest", "-L", f"^{tier}$", f"-j{args.jobs}", "--stop-on-failure"], build)
-        tail = out.split("The following tests FAILED:")[-1] if "The following tests FAILED:" in out else ""
-        failed = [f"{name} ({why})" for name, why in FAILED_TEST.findall(tail)]
+        failed = failed_tests(out)
         if rc == 0 or not failed or any(not f.endswith("(Timeout)") for f in failed) or attempt == 2:
             return rc, failed
         print(f"    only timeouts ({', '.join(failed)}): the {tier} tier once more", flush=True)
