@@ -1,6 +1,7 @@
 #include "backend_setup.h"
 
 #include <algorithm>
+#include <cstdio>
 
 #include <fmt/format.h>
 
@@ -77,6 +78,27 @@ void CheckKernelsRan(const Backend& backend, const KernelFiles& kernels) {
   }
 }
 
+nlohmann::json ReportKernelCoverage(const Backend& backend, const KernelFiles& kernels) {
+  if (kernels.empty() || !backend.coverage) return nullptr;
+  nlohmann::json out = nlohmann::json::array();
+  for (const std::string& spec : kernels) {
+    const std::string pass = spec.substr(0, spec.find('='));
+    const std::optional<PassId> id = FindPass(pass);
+    if (!id) continue;
+    const std::optional<sim::LineCoverage> c = backend.coverage(backend, *id);
+    if (!c) continue;
+    const char* unit = c->by_line ? "lines" : "instructions (no debug information)";
+    std::string missed;
+    for (std::size_t k = 0; k < c->missed.size() && k < 8; ++k) missed += (k ? ", " : "") + c->missed[k];
+    if (c->missed.size() > 8) missed += fmt::format(" and {} more runs", c->missed.size() - 8);
+    std::printf("  coverage of --kernel %s on the simulated GPU: %zu of %zu %s reached (%.0f %%)%s%s\n", pass.c_str(), c->reached, c->total,
+                unit, c->total ? 100.0 * static_cast<double>(c->reached) / static_cast<double>(c->total) : 0.0,
+                missed.empty() ? "" : "; never reached, so not tested by this run: ", missed.c_str());
+    out.push_back({{"pass", pass}, {"by_line", c->by_line}, {"reached", c->reached}, {"total", c->total}, {"missed", c->missed}});
+  }
+  return out;
+}
+
 void CheckFrameFits(const Backend& backend, int width, int height, std::size_t slots, std::size_t triangles,
                     const std::string& size_from) {
   const std::size_t limit = backend.max_buffer_bytes;
@@ -151,6 +173,8 @@ Backend MakeBackend(const std::string& name, int device, int local_size, const s
     gpu.ResetCounts();
   };
   b.launches = [](const Backend& be, PassId id) { return static_cast<const VulkanOwner*>(be.owner.get())->gpu->launches(id); };
+  if (name == "sim")
+    b.coverage = [](const Backend& be, PassId id) { return static_cast<const VulkanOwner*>(be.owner.get())->gpu->coverage(id); };
   b.folded_launches = [](const Backend& be) {
     return static_cast<const VulkanOwner*>(be.owner.get())->gpu->context().folded_launches();
   };

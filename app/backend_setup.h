@@ -2,11 +2,15 @@
 #pragma once
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "rayspace/emu/backend.h"
 #include "rayspace/pass_registry.h"
+#include <nlohmann/json.hpp>
+
+#include "rayspace/sim/coverage.h"
 #include "rayspace/sim/device.h"
 
 namespace rayspace::app {
@@ -31,11 +35,14 @@ struct Backend {
   void (*set_faults)(const Backend&, const std::map<std::string, std::uint32_t>&) = nullptr;
   // Launches of a pass's kernel so far (vulkan): whether a user's kernel ran.
   std::uint64_t (*launches)(const Backend&, PassId) = nullptr;
+  // The lines of a pass's kernel executed so far (sim only; nothing elsewhere).
+  std::optional<sim::LineCoverage> (*coverage)(const Backend&, PassId) = nullptr;
 };
 
 // --algo grid on a Vulkan device without 64-bit floats (the grids' build bins in double): refused as
 // an option this device cannot honour, naming what it lacks.
 void CheckGridBuild(const Backend& backend);
+
 
 // The Vulkan backend splits or pages every buffer that grows with the frame, over at most
 // layout::kBufferPages bindings per array: refuses, as bad input, a frame or scene beyond that, naming
@@ -56,6 +63,10 @@ struct TestLimits {
 // refusal (unknown pass, unreadable file, GLSL that does not compile, a contract mismatch) is an
 // InputError naming the pass and what is wrong.
 using KernelFiles = std::vector<std::string>;  // "PASS=FILE" as given
+// After a frame on the simulated GPU with user kernels (--kernel): prints each one's share of lines
+// reached and the runs of lines never reached, which an equal verdict says nothing about. Returns the
+// report's "kernel_coverage" (null when there is nothing to report).
+nlohmann::json ReportKernelCoverage(const Backend& backend, const KernelFiles& kernels);
 // Each kernel read and checked (the refusals above), as SPIR-V by pass; empty without a Vulkan backend.
 std::map<std::string, std::vector<std::uint32_t>> LoadKernelFiles(const KernelFiles& kernels);
 

@@ -561,9 +561,11 @@ FaultRun DiffFrame(const DiffArgs& args, const Scene& scene, SceneBuffers& buffe
   std::printf("  %s: %zu split dispatches, %zu arrays paged over several bindings\n", gpu.name.c_str(), gpu.extra_dispatches(gpu),
               gpu.paged_arrays(gpu));
   PrintSavedInputs(args, differ);
+  const nlohmann::json coverage = ReportKernelCoverage(gpu, args.kernels);
   // The report is made before the impact's frames add to the device's dispatch counts.
   FaultRun r;
   r.report = DiffReport(args, scene, fo, gpu, differ, passes, equal, run, totals.first, relaxed, totals.within_spec);
+  r.report["kernel_coverage"] = coverage;
   r.report["memory_estimate"] = MemoryEstimateJson(estimate);
   r.report["impact"] = MeasureDiffImpact(args, scene, buffers, fo, gpu, totals, run);
   if (!run.sim_checker.is_null()) {

@@ -3,6 +3,8 @@
 #                               equal; a call exported with a planted fault differs (exit 4, naming the
 #                               read-back and word); one exported with trim's global race is exit 6
 #                               naming racecheck (0 with it off), as is its replay --backends emu,sim;
+#                               a user's reduce kernel's unreached lines are named, and --reduction
+#                               scan reaches the first of them
 #                               a directory that is no export is exit 2, one line
 #   PART=all (full tier)        every exported call of 32x32 diffs of cornell-mirrors and office
 #   PART=backend (default tier) diff --backends emu,sim on a 16x16 cornell-mirrors under five
@@ -113,6 +115,30 @@ if(PART STREQUAL "sample")
   execute_process(COMMAND "${RAYSPACE}" replay "${trim}" --backends emu,sim RESULT_VARIABLE rc OUTPUT_VARIABLE sout ERROR_VARIABLE err)
   if(NOT rc EQUAL 0 OR NOT sout MATCHES "on rayspace simulator" OR NOT sout MATCHES "\n  equal\n")
     set(failures "${failures}\nreplay --backends emu,sim: exit ${rc}, expected 0 on the simulator: ${sout}${err}")
+  endif()
+  # Coverage of a user's kernel: the lines a run never reached are named, and the option that takes
+  # the other path reaches them (the scan-based reduction runs the phases the hierarchical one skips).
+  file(COPY "${SRC}/gpu/shaders/reduce.comp" DESTINATION "${WORK}")
+  foreach(run default scan)
+    set(extra "")
+    if(run STREQUAL "scan")
+      set(extra --reduction scan)
+    endif()
+    execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backends emu,sim
+                            --kernel "reduce=${WORK}/reduce.comp" ${extra} --report "${WORK}/coverage_${run}.json"
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE sout ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0 OR NOT sout MATCHES "\n  coverage of --kernel reduce on the simulated GPU: [0-9]+ of [0-9]+ lines reached \\([0-9]+ %\\); never reached, so not tested by this run: reduce.comp:")
+      set(failures "${failures}\ndiff --kernel reduce=reduce.comp ${extra}: exit ${rc}, no coverage line naming reduce.comp's missed lines: ${sout}${err}")
+      break()
+    endif()
+    file(READ "${WORK}/coverage_${run}.json" j)
+    string(JSON missed_${run} GET "${j}" kernel_coverage 0 missed)
+  endforeach()
+  if(DEFINED missed_default AND DEFINED missed_scan)
+    string(JSON first GET "${missed_default}" 0)
+    if(missed_scan MATCHES "\"${first}\"")
+      set(failures "${failures}\ncoverage: --reduction scan does not reach ${first}, which the default run missed: ${missed_scan}")
+    endif()
   endif()
   # Not an export: one line, exit 2.
   execute_process(COMMAND "${RAYSPACE}" simulate "${WORK}/cornell" RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)

@@ -160,6 +160,11 @@ Buffer::~Buffer() {
   if (pool_) pool_->Release(range_);
 }
 
+std::optional<sim::LineCoverage> Kernel::coverage() const {
+  if (!program_ || coverage_.empty()) return std::nullopt;
+  return sim::CoverageOf(*program_, coverage_);
+}
+
 Kernel::~Kernel() {
   if (!device_) return;
   vkDestroyPipeline(device_, pipeline_, nullptr);
@@ -990,6 +995,9 @@ Status Recorder::SubmitSimulated() {
     d.schedule = ctx_.sim_config_.schedule;
     d.step_limit = ctx_.sim_config_.step_limit;
     d.checks = ctx_.sim_config_.checks;
+    std::vector<std::uint8_t>& coverage = step.kernel->coverage_;
+    if (coverage.size() != step.kernel->program_->code.size()) coverage.assign(step.kernel->program_->code.size(), 0);
+    d.coverage = coverage.data();
     d.dispatch_index = ctx_.sim_dispatches_++;
     d.push = step.push;
     for (const Buffer* b : step.buffers) d.bindings.push_back({static_cast<std::uint8_t*>(b->mapped_), b->size_ + b->guard_, b->size_});

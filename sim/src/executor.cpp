@@ -394,6 +394,7 @@ class Workgroup {
       if (stats_.lane_instructions > d_.step_limit && pending_race_) throw *pending_race_;
       if (stats_.lane_instructions > d_.step_limit)
         throw SimError(fmt::format("{}: more than {} lane-instructions: a hang, or raise the step limit", p_.name, d_.step_limit));
+      if (d_.coverage) d_.coverage[i] = 1;
       if (init_) TrackBefore(in);
       const bool ended = Execute(in, s);
       if (init_ && in.result && p_.reg[in.result] != kNone) Propagate(in);

@@ -68,6 +68,8 @@ class VulkanPasses {
   std::size_t paged_arrays() const { return paged_arrays_; }
   // Launches of the pass's kernel so far, over the device's life (0 for the raster, a graphics pass).
   std::uint64_t launches(PassId id) const { return K(id).launches(); }
+  // The lines of the pass's kernel the simulated device executed so far (nothing on a Vulkan device).
+  std::optional<sim::LineCoverage> coverage(PassId id) const { return K(id).coverage(); }
 
  private:
   vk::Status ReduceInParts(std::span<const std::uint8_t> flags, std::span<const std::uint32_t> values, std::uint32_t s,

@@ -5,12 +5,14 @@
 #include <cstdint>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
 #include <vulkan/vulkan.h>
 
+#include "rayspace/sim/coverage.h"
 #include "rayspace/sim/device.h"
 
 namespace rayspace::vk {
@@ -125,6 +127,9 @@ class Kernel {
   // Launches of at least one workgroup recorded so far: whether the kernel ran at all (a user's
   // kernel the run never launches is not tested by it).
   std::uint64_t launches() const { return launches_; }
+  // On the simulated device: the kernel's lines its dispatches so far executed (sim/coverage.h);
+  // nothing on a Vulkan device or before its first dispatch.
+  std::optional<sim::LineCoverage> coverage() const;
 
  private:
   friend class Context;
@@ -142,6 +147,7 @@ class Kernel {
   // The simulated device: the module, and its prepared program made at the first dispatch.
   std::vector<std::uint32_t> spirv_;
   mutable std::shared_ptr<const sim::Program> program_;
+  mutable std::vector<std::uint8_t> coverage_;  // per instruction of program_: ran in some dispatch
 };
 
 // A 2D image in device memory with one view: a raster target, read back by Recorder::CopyToHost.
