@@ -123,7 +123,7 @@ if(PART STREQUAL "targeted")
 # Mutants the diff must kill: trim keeps the flagged slots; flipping its tests loses or invents rays.
 # Four named ones (a survivor costs a run of every kernel case and the clamping device; the sample in
 # the full tier meets the others).
-mutate_one(trim crsh "^trim.comp:(26:16|31:11|45:63|47:15):comparison:" --pass trim)
+mutate_one(trim crsh "^trim.comp:(26:16|32:11|49:63|51:15):comparison:" --pass trim)
 if(json)
   string(JSON k GET "${json}" summary killed)
   string(JSON by GET "${json}" summary per_file trim.comp passes 0)
