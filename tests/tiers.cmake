@@ -43,7 +43,7 @@ set(rayspace_full_tier
   "^cli\\.simulate\\.backend-all$"
   # Five schedules by four subgroup sizes at 64x64: cli.simulate.backend runs a random schedule at
   # subgroup size 4, and gpu.sim executor cases check the orders themselves.
-  "^cli\\.simulate\\.schedules$"
+  "^cli\\.simulate\\.schedules\\."
   # A frame beyond one storage binding (2048x1152): the same parts and paging on small frames with
   # --split-bytes in cli.backend and cli.diff (studs.crsh.paged, cornell.crsh.paged, ...).
   "^cli\\.large_frame$"
