@@ -7,8 +7,8 @@
 #                               scan reaches the first of them
 #                               a directory that is no export is exit 2, one line
 #   PART=all (full tier)        every exported call of 32x32 diffs of cornell-mirrors and office
-#   PART=backend (default tier) diff --backends emu,sim on a 16x16 cornell-mirrors under five
-#                               configurations and a random schedule at subgroup size 4, all equal; render --backend sim gives the emulator's
+#   PART=backend (default tier) diff --backends emu,sim on a 16x16 cornell-mirrors pass by pass, and
+#                               fused under a random schedule at subgroup size 4, all equal; render --backend sim gives the emulator's
 #                               digest; a planted reduce fault diverges; every planted GPU fault
 #                               is caught on the kernel by its checker (exit 6)
 #   PART=backend-all (full)     the same diffs at 32x32 on cornell-mirrors, the quadtree too, subgroup
@@ -124,7 +124,7 @@ if(PART STREQUAL "sample")
     if(run STREQUAL "scan")
       set(extra --reduction scan)
     endif()
-    execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backends emu,sim
+    execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 8x8 --backends emu,sim
                             --kernel "reduce=${WORK}/reduce.comp" ${extra} --report "${WORK}/coverage_${run}.json"
                     RESULT_VARIABLE rc OUTPUT_VARIABLE sout ERROR_VARIABLE err)
     if(NOT rc EQUAL 0 OR NOT sout MATCHES "\n  coverage of --kernel reduce on the simulated GPU: [0-9]+ of [0-9]+ lines reached \\([0-9]+ %\\); never reached, so not tested by this run: reduce.comp:")
@@ -149,9 +149,9 @@ elseif(PART STREQUAL "backend" OR PART STREQUAL "backend-all" OR PART STREQUAL "
   # diff --backends emu,sim: every pass of the frame on the emulator and on the simulated GPU, bitwise.
   if(PART STREQUAL "backend")
     set(size 16x16)
-    # Other subgroup sizes and schedules: one case here, the product in the full tier (backend-all, schedules).
-    set(configs "crsh" "crsh --path fused" "tl --algo tl" "tree --objects tree" "rah --algo rah"
-                "fused --path fused --schedule random:7 --subgroup-size 4")
+    # The hierarchy pass by pass and fused, once under another schedule and subgroup size; the other
+    # tracers (tl, the object tree, rah), sizes and schedules are the full tier's (backend-all, schedules).
+    set(configs "crsh" "fused --path fused --schedule random:7 --subgroup-size 4")
     set(scenes cornell-mirrors)
   elseif(PART STREQUAL "schedules")
     # The acceptance's product: 64x64, five schedules (a test each: SCHEDULE), four subgroup sizes.
