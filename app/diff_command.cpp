@@ -262,14 +262,17 @@ struct DiffOutcome {
   nlohmann::json sim_checker = nullptr;
 };
 
-// A stop on a simulated device's checker finding: {"checker", "pass", "finding"} (the finding as the
-// simulator words it, from the kernel's name on), or null.
-nlohmann::json SimCheckerFinding(const verify::DiffStop& stop) {
-  if (stop.checker().empty()) return nullptr;
-  const std::string what = stop.what();
+// A simulated device's checker finding on a pass's kernel, from the backend's error: {"checker",
+// "pass", "finding"} (the finding as the simulator words it, from the kernel's name on). diff and
+// replay report it alike.
+nlohmann::json SimCheckerJson(const std::string& checker, const std::string& pass, const std::string& error) {
   static const std::string kMark = "faulted on the simulated device: ";
-  const std::size_t at = what.find(kMark);
-  return {{"checker", stop.checker()}, {"pass", stop.pass()}, {"finding", at == std::string::npos ? what : what.substr(at + kMark.size())}};
+  const std::size_t at = error.find(kMark);
+  return {{"checker", checker}, {"pass", pass}, {"finding", at == std::string::npos ? error : error.substr(at + kMark.size())}};
+}
+void PrintSimChecker(const nlohmann::json& f) {
+  std::fprintf(stderr, "  %s on the kernel of %s: %s\n", f["checker"].get<std::string>().c_str(), f["pass"].get<std::string>().c_str(),
+               f["finding"].get<std::string>().c_str());
 }
 
 // The --report file: the run, every pass's totals and every call.
@@ -445,7 +448,7 @@ DiffOutcome RunDiffFrame(const Scene& scene, const SceneBuffers& buffers, Tracer
     run.frame = emu::RenderFrame(scene, buffers, tracer, fo);
   } catch (const verify::DiffStop& stop) {
     run.stopped = stop.what();
-    run.sim_checker = SimCheckerFinding(stop);
+    if (!stop.checker().empty()) run.sim_checker = SimCheckerJson(stop.checker(), stop.pass(), stop.what());
   } catch (const emu::DeviceOutputError& e) {
     // The Differ compared the call's outputs before the host checked them: the pass is reported.
     run.stopped = std::string("device output error: ") + e.what();
@@ -570,8 +573,7 @@ FaultRun DiffFrame(const DiffArgs& args, const Scene& scene, SceneBuffers& buffe
   r.report["impact"] = MeasureDiffImpact(args, scene, buffers, fo, gpu, totals, run);
   if (!run.sim_checker.is_null()) {
     r.report["simulator_checker"] = run.sim_checker;
-    std::fprintf(stderr, "  %s on the kernel of %s: %s\n", run.sim_checker["checker"].get<std::string>().c_str(),
-                 run.sim_checker["pass"].get<std::string>().c_str(), run.sim_checker["finding"].get<std::string>().c_str());
+    PrintSimChecker(run.sim_checker);
   }
   r.verdict = !run.checker.is_null() || !run.sim_checker.is_null() ? ExitCode::kWorkgroupFault
               : equal                                              ? ExitCode::kOk
@@ -849,11 +851,8 @@ ExitCode RunReplay(const ReplayArgs& given) {
   PrintReplayCall(r);
   // A simulated device's checker finding on the kernel: exit 6, as diff gives it.
   if (!r.error_checker.empty()) {
-    const std::string what = r.error, mark = "faulted on the simulated device: ";
-    const std::size_t at = what.find(mark);
-    const std::string finding = at == std::string::npos ? what : what.substr(at + mark.size());
-    std::fprintf(stderr, "  %s on the kernel of %s: %s\n", r.error_checker.c_str(), r.pass.c_str(), finding.c_str());
-    j["simulator_checker"] = {{"checker", r.error_checker}, {"pass", r.pass}, {"finding", finding}};
+    j["simulator_checker"] = SimCheckerJson(r.error_checker, r.pass, r.error);
+    PrintSimChecker(j["simulator_checker"]);
     return WriteOutputs(ExitCode::kWorkgroupFault, [&] { report.Commit(JsonText(j)); });
   }
   // A fault given here that cannot fire leaves no verdict; the recording's own fault may belong to
