@@ -159,7 +159,7 @@ void CheckAgainstEmulator(const verify::PassMethod& method, const verify::Buffer
   const verify::BufferSet expected = method.run(in, emulator);
   for (const auto& [name, blob] : expected.blobs()) {
     auto it = actual.blobs().find(name);
-    const BufferComparison c = verify::CompareBlobs(info.pass, name, blob, it == actual.blobs().end() ? verify::Blob{} : it->second);
+    const BufferComparison c = verify::CompareBlobs(info.pass, name, blob, it == actual.blobs().end() ? verify::Blob{} : it->second, "vulkan");
     if (!c.Equal())
       ThrowInput("{}: pass {}: the built-in kernels on '{}' do not give the emulator's bits ({}); record on a device that "
                  "does (--device N, see rayspace devices) or with --strict-math",

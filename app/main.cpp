@@ -134,6 +134,20 @@ void AddSimChecksOption(CLI::App& cmd, std::string& checks) {
       });
 }
 
+// --device-model MODEL: the simulated GPU's float arithmetic.
+void AddDeviceModelOption(CLI::App& cmd, std::string& model) {
+  cmd.add_option("--device-model", model,
+                 "The simulated GPU's float arithmetic: lavapipe (default: correctly rounded, the emulator's bits) or "
+                 "worst[:SEED] (every operation Vulkan lets round loosely takes another permitted value: +, -, * and "
+                 "conversions toward zero, / and inversesqrt off by 1-2 ULP, doubles at single precision, a*b+c fused "
+                 "where not precise, min/max of a NaN the NaN, denormals flushed) or worst-nearest[:SEED] (the same with "
+                 "+, -, * and conversions to nearest)")
+      ->check([](const std::string& v) {
+        std::string error;
+        return rayspace::sim::ParseDeviceModel(v, error) ? std::string() : error;
+      });
+}
+
 void AddSimulate(CLI::App& app, Commands& cmds) {
   rayspace::app::SimulateArgs& a = cmds.simulate;
   CLI::App* sc = cmds.simulate_cmd = app.add_subcommand(
@@ -142,6 +156,7 @@ void AddSimulate(CLI::App& app, Commands& cmds) {
   sc->add_option("dir", a.dir, "The reproducer's directory (export --out)")->required();
   sc->add_option("--subgroup-size", a.subgroup_size, "Invocations per subgroup (default 8, lavapipe's)")->check(CLI::Range(1, 128));
   AddSimChecksOption(*sc, a.sim_checks);
+  AddDeviceModelOption(*sc, a.device_model);
 }
 
 #ifdef RAYSPACE_HAVE_VULKAN
@@ -193,6 +208,7 @@ void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
                  "(default 8, lavapipe's)")
       ->check(CLI::Range(1, 128));
   AddSimChecksOption(*dc, cmds.diff.sim_checks);
+  AddDeviceModelOption(*dc, cmds.diff.device_model);
   dc->add_option("--path", cmds.diff.path,
                  "Hierarchy traversal: passes (traverse then reduce, default) or fused (traverse.compact, what render "
                  "runs by default; the emulator runs its workgroup mirror unless --no-check-workgroups with the forward "

@@ -5,9 +5,6 @@
 #include <optional>
 
 #include "rayspace/error.h"
-#include <optional>
-
-#include "rayspace/error.h"
 
 #include "rayspace/sim/export_run.h"
 
@@ -18,9 +15,12 @@ ExitCode RunSimulate(const SimulateArgs& args) {
   std::string error;
   const std::optional<sim::Checks> checks = sim::ParseChecks(args.sim_checks, error);
   if (!checks) ThrowInput("--sim-checks {}: {}", args.sim_checks, error);
+  const std::optional<sim::DeviceModelChoice> model = sim::ParseDeviceModel(args.device_model, error);
+  if (!model) ThrowInput("--device-model {}: {}", args.device_model, error);
   sim::DeviceConfig device;
   device.subgroup_size = args.subgroup_size;
   device.checks = *checks;
+  device.arithmetic = *model;
   sim::ExportRun run;
   try {
     run = sim::RunExport(args.dir, device);

@@ -11,6 +11,7 @@ struct SimulateArgs {
   std::string dir;
   std::uint32_t subgroup_size = 8;
   std::string sim_checks = "all";  // --sim-checks
+  std::string device_model = "lavapipe";  // --device-model
 };
 
 ExitCode RunSimulate(const SimulateArgs& args);

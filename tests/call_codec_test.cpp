@@ -321,10 +321,10 @@ TEST_CASE("call codec: a Compacted result is its pairs and a one-element tested 
   Compacted other = r;
   other.tested -= 1;
   const BufferSet out2 = verify::EncodeOutputs(c, &other);
-  const BufferComparison t = verify::CompareBlobs("traverse.compact", "tested", out.blobs().at("tested"), out2.blobs().at("tested"));
+  const BufferComparison t = verify::CompareBlobs("traverse.compact", "tested", out.blobs().at("tested"), out2.blobs().at("tested"), "vulkan");
   CHECK_FALSE(t.Equal());
   CHECK(t.Summary().find("traverse.compact/tested: 1 of 1 elements differ; first at 0") == 0);
-  CHECK(verify::CompareBlobs("traverse.compact", "pairs", out.blobs().at("pairs"), out2.blobs().at("pairs")).Equal());
+  CHECK(verify::CompareBlobs("traverse.compact", "pairs", out.blobs().at("pairs"), out2.blobs().at("pairs"), "vulkan").Equal());
 }
 
 // ---- output ranges ----------------------------------------------------------------------------------

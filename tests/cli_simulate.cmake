@@ -282,6 +282,42 @@ elseif(PART STREQUAL "backend" OR PART STREQUAL "backend-all" OR PART STREQUAL "
       endforeach()
     endforeach()
   endif()
+elseif(PART STREQUAL "device-model")
+  # The worst-conformant device: every loose float operation takes another permitted value. The
+  # relaxed comparison accepts what it computes on the hierarchy's passes (exit 0, with differing
+  # words counted within the spec); the bitwise one sees the first float pass diverge (exit 4); the
+  # model is the simulated GPU's alone, and a malformed one is refused.
+  set(cornell "${SRC}/scenes/cornell-mirrors.json")
+  execute_process(COMMAND "${RAYSPACE}" diff "${cornell}" --size 16x16 --backends emu,sim --device-model worst:3 --report "${WORK}/worst.json"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0 OR NOT out MATCHES "on rayspace simulator \\(subgroup size 8, worst:3 arithmetic\\)" OR NOT out MATCHES "comparison: relaxed"
+     OR NOT out MATCHES "within the spec's precision: [0-9]+ call\\(s\\) differ only as a conformant device may"
+     OR NOT out MATCHES "all passes equal or within the spec's precision")
+    set(failures "${failures}\ndiff --device-model worst:3: exit ${rc}, expected 0 within the spec: ${out}${err}")
+  endif()
+  execute_process(COMMAND "${RAYSPACE}" diff "${cornell}" --size 16x16 --backends emu,sim --device-model worst:3 --compare bitwise --no-impact
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 4 OR NOT err MATCHES "first divergent pass: surfaces" OR NOT err MATCHES "emu 0x[0-9a-f]+ \\([^)]*\\), sim 0x")
+    set(failures "${failures}\ndiff --device-model worst:3 --compare bitwise: exit ${rc}, expected 4 at surfaces: ${err}")
+  endif()
+  # --strict-math's claim: with + - * rounded to nearest, the strict kernels give the emulator's bits on
+  # any conformant device; worst-nearest is that device with every other loose operation loose.
+  execute_process(COMMAND "${RAYSPACE}" diff "${cornell}" --size 16x16 --backends emu,sim --device-model worst-nearest:5 --strict-math
+                          --compare bitwise --no-impact
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0 OR NOT out MATCHES "worst-nearest:5 arithmetic" OR NOT out MATCHES "\n  all passes equal\n")
+    set(failures "${failures}\ndiff --device-model worst-nearest:5 --strict-math --compare bitwise: exit ${rc}, expected equal: ${out}${err}")
+  endif()
+  foreach(bad "--backends;emu,vulkan;--device-model;worst@only the simulated GPU's arithmetic is chosen"
+              "--backends;emu,sim;--device-model;worst:x@the seed 'x' is not an unsigned 64-bit integer"
+              "--backends;emu,sim;--device-model;nvidia@'nvidia' is not a device model")
+    string(REPLACE "@" ";" bad "${bad}")
+    list(POP_BACK bad message)
+    execute_process(COMMAND "${RAYSPACE}" diff "${cornell}" --size 16x16 ${bad} RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+    if(NOT rc EQUAL 2 OR NOT err MATCHES "${message}")
+      set(failures "${failures}\ndiff ${bad}: exit ${rc}, expected 2 naming '${message}': ${err}")
+    endif()
+  endforeach()
 elseif(PART STREQUAL "all")
   foreach(scene cornell-mirrors office)
     save(${scene} ${scene} 32x32)
@@ -293,7 +329,7 @@ elseif(PART STREQUAL "all")
     endforeach()
   endforeach()
 else()
-  message(FATAL_ERROR "PART must be sample or all")
+  message(FATAL_ERROR "PART must be sample, all, backend, backend-all, schedules or device-model")
 endif()
 if(failures)
   message(FATAL_ERROR "cli_simulate:${failures}")

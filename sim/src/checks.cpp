@@ -14,7 +14,10 @@ std::string Checks::ToString() const {
   if (bits == 0) return "none";
   std::string s;
   for (int i = 0; i < kCheckerCount; ++i)
-    if (bits >> i & 1u) s += (s.empty() ? "" : ",") + std::string(kNames[i]);
+    if (bits >> i & 1u) {
+      if (!s.empty()) s += ',';
+      s += kNames[i];
+    }
   return s;
 }
 

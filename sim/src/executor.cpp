@@ -15,6 +15,7 @@
 
 #include <fmt/format.h>
 
+#include "device_math.h"
 #include "rayspace/sim/grammar.h"
 #include "rayspace/sim/shared_check.h"
 #include "rayspace/sim/storage_check.h"
@@ -80,6 +81,7 @@ struct Comp {
   std::uint32_t width = 32;
   std::uint32_t n = 1;
   std::uint32_t words = 1;  // per component
+  const DeviceMath* math = nullptr;  // the worst-conformant device's float arithmetic; null: lavapipe's
 };
 
 class Workgroup {
@@ -129,6 +131,7 @@ class Workgroup {
       undef_.resize(regs_.size());
       private_undef_.resize(private_.size() / 4);
     }
+    if (d.arithmetic.model != DeviceModel::kLavapipe) math_.emplace(d.arithmetic.seed, d.arithmetic.model == DeviceModel::kWorst);
     seg_.resize(size_);
     prev_.resize(size_);
     state_.resize(size_);
@@ -293,6 +296,7 @@ class Workgroup {
     c.kind = t->kind;
     c.width = t->kind == TypeKind::kBool ? 32 : t->width;
     c.words = c.width == 64 ? 2 : 1;
+    c.math = math_ ? &*math_ : nullptr;
     return c;
   }
   static std::uint64_t Get(const std::uint32_t* p, const Comp& c, std::uint32_t i) {
@@ -321,18 +325,32 @@ class Workgroup {
         f32(std::bit_cast<float>(static_cast<std::uint32_t>(a)), std::bit_cast<float>(static_cast<std::uint32_t>(b))));
   }
 
-  // +, -, *, / in the component's precision, each correctly rounded (lavapipe's).
+  // +, -, *, / in the component's precision, each correctly rounded (lavapipe's), or as the
+  // worst-conformant device computes them.
   static std::uint64_t FAdd(const Comp& c, std::uint64_t a, std::uint64_t b) {
+    if (c.math) [[unlikely]] return c.math->Binary(FloatOpKind::kAdd, c.width, a, b);
     return FloatOp(c, a, b, [](float x, float y) { return x + y; }, [](double x, double y) { return x + y; });
   }
   static std::uint64_t FSub(const Comp& c, std::uint64_t a, std::uint64_t b) {
+    if (c.math) [[unlikely]] return c.math->Binary(FloatOpKind::kSub, c.width, a, b);
     return FloatOp(c, a, b, [](float x, float y) { return x - y; }, [](double x, double y) { return x - y; });
   }
   static std::uint64_t FMul(const Comp& c, std::uint64_t a, std::uint64_t b) {
+    if (c.math) [[unlikely]] return c.math->Binary(FloatOpKind::kMul, c.width, a, b);
     return FloatOp(c, a, b, [](float x, float y) { return x * y; }, [](double x, double y) { return x * y; });
   }
   static std::uint64_t FDiv(const Comp& c, std::uint64_t a, std::uint64_t b) {
+    if (c.math) [[unlikely]] return c.math->Binary(FloatOpKind::kDiv, c.width, a, b);
     return FloatOp(c, a, b, [](float x, float y) { return x / y; }, [](double x, double y) { return x / y; });
+  }
+
+  static std::uint64_t FMin(const Comp& c, std::uint64_t a, std::uint64_t b) {
+    if (c.math) [[unlikely]] return c.math->Binary(FloatOpKind::kMin, c.width, a, b);
+    return FloatOp(c, a, b, [](float x, float y) { return Min(x, y); }, [](double x, double y) { return Min(x, y); });
+  }
+  static std::uint64_t FMax(const Comp& c, std::uint64_t a, std::uint64_t b) {
+    if (c.math) [[unlikely]] return c.math->Binary(FloatOpKind::kMax, c.width, a, b);
+    return FloatOp(c, a, b, [](float x, float y) { return Max(x, y); }, [](double x, double y) { return Max(x, y); });
   }
 
   template <class Fn>
@@ -426,6 +444,7 @@ class Workgroup {
   void Memory(const Inst& in);
   void Arithmetic(const Inst& in);
   void Extended(const Inst& in);
+  void Contracted(const Inst& in);
   void Subgroup(const Inst& in);
   void Atomic(const Inst& in);
   std::uint8_t* Address(const Inst& in, std::uint32_t lane, std::uint32_t ptr_id, std::size_t bytes, AccessKind kind);
@@ -455,6 +474,7 @@ class Workgroup {
   std::vector<std::uint8_t> scratch_;  // what an access outside a binding touches when memcheck is off
   std::optional<SimError> pending_race_;  // the workgroup's first race or unwritten shared read, until its barrier resolves
   bool init_ = false;                  // initcheck on
+  std::optional<DeviceMath> math_;     // --device-model worst
   std::vector<std::uint8_t> undef_, private_undef_;
 };
 
@@ -942,8 +962,14 @@ void Workgroup::Arithmetic(const Inst& in) {
       }
       return;
     }
-    case Op::OpFAdd: Componentwise(in, ops, in.type, FAdd); return;
-    case Op::OpFSub: Componentwise(in, ops, in.type, FSub); return;
+    case Op::OpFAdd:
+    case Op::OpFSub:
+      if (math_ && p_.contract[&in - p_.code.data()] != kNoContraction) {
+        Contracted(in);
+        return;
+      }
+      Componentwise(in, ops, in.type, op == Op::OpFAdd ? FAdd : FSub);
+      return;
     case Op::OpFMul: Componentwise(in, ops, in.type, FMul); return;
     case Op::OpFDiv: Componentwise(in, ops, in.type, FDiv); return;
     case Op::OpFNegate: Componentwise(in, ops, in.type, [](const Comp& c, std::uint64_t a, std::uint64_t) { return a ^ (c.width == 64 ? 0x8000000000000000ull : 0x80000000ull); }); return;
@@ -1075,15 +1101,24 @@ void Workgroup::Arithmetic(const Inst& in) {
             case Op::OpConvertFToU: r = FloatToU(F(v, oc), rc.width); break;
             case Op::OpConvertFToS: r = FloatToS(F(v, oc), rc.width); break;
             case Op::OpConvertSToF:
+              if (rc.math) {
+                const std::int64_t sv = SignExtend(v, oc.width);
+                r = rc.math->FromInteger(rc.width, sv < 0 ? 0 - static_cast<std::uint64_t>(sv) : static_cast<std::uint64_t>(sv), sv < 0);
+                break;
+              }
               r = rc.width == 64 ? std::bit_cast<std::uint64_t>(static_cast<double>(SignExtend(v, oc.width)))
                                  : std::bit_cast<std::uint32_t>(static_cast<float>(SignExtend(v, oc.width)));
               break;
             case Op::OpConvertUToF:
+              if (rc.math) {
+                r = rc.math->FromInteger(rc.width, v, false);
+                break;
+              }
               r = rc.width == 64 ? std::bit_cast<std::uint64_t>(static_cast<double>(v)) : std::bit_cast<std::uint32_t>(static_cast<float>(v));
               break;
             case Op::OpUConvert: r = Mask(v, rc.width); break;
             case Op::OpSConvert: r = Mask(static_cast<std::uint64_t>(SignExtend(v, oc.width)), rc.width); break;
-            default: r = FBits(F(v, oc), rc); break;
+            default: r = rc.math ? rc.math->FromDouble(rc.width, F(v, oc)) : FBits(F(v, oc), rc); break;
           }
           Put(R(l, in.result), rc, i, r);
         }
@@ -1127,6 +1162,27 @@ void Workgroup::Arithmetic(const Inst& in) {
   }
 }
 
+// An add or subtract whose operand is a multiply of the same block, neither of them NoContraction:
+// the worst-conformant device computes it as one fused operation.
+void Workgroup::Contracted(const Inst& in) {
+  const std::uint32_t entry = p_.contract[&in - p_.code.data()];
+  const Inst& mul = p_.code[entry & ~kContractSecond];
+  const bool second = entry & kContractSecond;  // the multiply is the second operand
+  const auto ops = p_.Ops(in), m = p_.Ops(mul);
+  const bool sub = static_cast<Op>(in.op) == Op::OpFSub;
+  const Comp c = CompOf(in.type);
+  const std::uint64_t sign = c.width == 64 ? 0x8000000000000000ull : 0x80000000ull;
+  for (std::uint32_t l : lanes_)
+    for (std::uint32_t i = 0; i < c.n; ++i) {
+      std::uint64_t x = Get(R(l, m[0]), c, i);
+      const std::uint64_t y = Get(R(l, m[1]), c, i);
+      std::uint64_t other = Get(R(l, ops[second ? 0 : 1]), c, i);
+      if (sub && !second) other ^= sign;  // x*y - other
+      if (sub && second) x ^= sign;       // other - x*y = (-x)*y + other
+      Put(R(l, in.result), c, i, math_->Fused(c.width, x, y, other));
+    }
+}
+
 // Long: one case per GLSL.std.450 instruction.
 void Workgroup::Extended(const Inst& in) {
   const auto all = p_.Ops(in);
@@ -1135,9 +1191,12 @@ void Workgroup::Extended(const Inst& in) {
   const auto args = all.subspan(2);
   const Comp rc = CompOf(in.type);
   const auto add = FAdd, mul = FMul, sub = FSub, div = FDiv;
-  const auto sqrt = [](const Comp& c, std::uint64_t a) { return FloatOp(c, a, a, [](float x, float) { return std::sqrt(x); }, [](double x, double) { return std::sqrt(x); }); };
-  const auto fmin = [](const Comp& c, std::uint64_t a, std::uint64_t b) { return FloatOp(c, a, b, [](float x, float y) { return Min(x, y); }, [](double x, double y) { return Min(x, y); }); };
-  const auto fmax = [](const Comp& c, std::uint64_t a, std::uint64_t b) { return FloatOp(c, a, b, [](float x, float y) { return Max(x, y); }, [](double x, double y) { return Max(x, y); }); };
+  const auto sqrt = [](const Comp& c, std::uint64_t a) {
+    if (c.math) return c.math->Binary(FloatOpKind::kSqrt, c.width, a, a);
+    return FloatOp(c, a, a, [](float x, float) { return std::sqrt(x); }, [](double x, double) { return std::sqrt(x); });
+  };
+  const auto fmin = [](const Comp& c, std::uint64_t a, std::uint64_t b) { return FMin(c, a, b); };
+  const auto fmax = [](const Comp& c, std::uint64_t a, std::uint64_t b) { return FMax(c, a, b); };
   const auto dot = [&](std::uint32_t l, std::uint32_t a, std::uint32_t b) {
     const Comp c = CompOf(TypeOfValue(a));
     std::uint64_t s = 0;
@@ -1184,7 +1243,7 @@ void Workgroup::Extended(const Inst& in) {
         case GLSLstd450RoundEven: r = FBits(std::nearbyint(F(a, rc)), rc); break;
         case GLSLstd450Fract: r = sub(rc, a, FBits(std::floor(F(a, rc)), rc)); break;
         case GLSLstd450Sqrt: r = sqrt(rc, a); break;
-        case GLSLstd450InverseSqrt: r = div(rc, one(rc), sqrt(rc, a)); break;
+        case GLSLstd450InverseSqrt: r = rc.math ? rc.math->Binary(FloatOpKind::kInverseSqrt, rc.width, a, a) : div(rc, one(rc), sqrt(rc, a)); break;
         case GLSLstd450FMin: r = fmin(rc, a, arg(1, i)); break;
         case GLSLstd450FMax: r = fmax(rc, a, arg(1, i)); break;
         case GLSLstd450FClamp: r = fmin(rc, fmax(rc, a, arg(1, i)), arg(2, i)); break;
@@ -1199,7 +1258,9 @@ void Workgroup::Extended(const Inst& in) {
           break;
         case GLSLstd450FMix: r = add(rc, mul(rc, a, sub(rc, one(rc), arg(2, i))), mul(rc, arg(1, i), arg(2, i))); break;
         case GLSLstd450Step: r = FBits(F(arg(1, i), rc) < F(a, rc) ? 0.0 : 1.0, rc); break;
-        case GLSLstd450Fma: r = add(rc, mul(rc, a, arg(1, i)), arg(2, i)); break;  // lavapipe never fuses
+        case GLSLstd450Fma:  // lavapipe never fuses; a device may
+          r = rc.math ? rc.math->Fused(rc.width, a, arg(1, i), arg(2, i)) : add(rc, mul(rc, a, arg(1, i)), arg(2, i));
+          break;
         case GLSLstd450FindILsb: r = a == 0 ? 0xffffffffu : static_cast<std::uint64_t>(std::countr_zero(a)); break;
         case GLSLstd450FindUMsb: r = a == 0 ? 0xffffffffu : 63u - static_cast<std::uint64_t>(std::countl_zero(a)); break;
         case GLSLstd450FindSMsb: {
@@ -1277,8 +1338,8 @@ void Workgroup::Subgroup(const Inst& in) {
           case Op::OpGroupNonUniformIAdd: return Mask(a + b, c.width);
           case Op::OpGroupNonUniformUMin: return std::min(a, b);
           case Op::OpGroupNonUniformUMax: return std::max(a, b);
-          case Op::OpGroupNonUniformFMin: return FloatOp(c, a, b, [](float x, float y) { return Min(x, y); }, [](double x, double y) { return Min(x, y); });
-          default: return FloatOp(c, a, b, [](float x, float y) { return Max(x, y); }, [](double x, double y) { return Max(x, y); });
+          case Op::OpGroupNonUniformFMin: return FMin(c, a, b);
+          default: return FMax(c, a, b);
         }
       };
       std::uint64_t identity = 0;

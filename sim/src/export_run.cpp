@@ -131,6 +131,7 @@ ExportRun RunExport(const std::string& dir, const DeviceConfig& device) {
       d.schedule = device.schedule;
       d.step_limit = device.step_limit;
       d.checks = device.checks;
+      d.arithmetic = device.arithmetic;
       d.dispatch_index = run.dispatches;
       const std::uint64_t push_bytes = Number(w[4], where);
       const std::size_t push_words = (push_bytes + 3) / 4;

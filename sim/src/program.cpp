@@ -2,6 +2,7 @@
 
 #include <spirv/unified1/spirv.hpp11>
 #include <filesystem>
+#include <set>
 #include <spirv-tools/libspirv.h>
 #include <spirv-tools/optimizer.hpp>
 
@@ -32,6 +33,26 @@ spv_result_t Collect(void* user, const spv_parsed_instruction_t* in) {
   return SPV_SUCCESS;
 }
 
+// The SpecIds of boolean specialization constants: spirv-opt takes their values as "true" or
+// "false" and leaves a boolean given as a number at its default, silently.
+std::set<std::uint32_t> BooleanSpecIds(std::span<const std::uint32_t> spirv) {
+  std::map<std::uint32_t, std::uint32_t> spec_id;  // result id -> SpecId
+  std::set<std::uint32_t> booleans;                // result ids
+  for (std::size_t at = 5; at < spirv.size();) {
+    const std::uint32_t count = spirv[at] >> 16, op = spirv[at] & 0xffffu;
+    if (count == 0 || at + count > spirv.size()) break;  // spirv-val has accepted the module; defensive only
+    if (op == static_cast<std::uint32_t>(Op::OpDecorate) && count >= 4 && spirv[at + 2] == static_cast<std::uint32_t>(spv::Decoration::SpecId))
+      spec_id[spirv[at + 1]] = spirv[at + 3];
+    if ((op == static_cast<std::uint32_t>(Op::OpSpecConstantTrue) || op == static_cast<std::uint32_t>(Op::OpSpecConstantFalse)) && count >= 3)
+      booleans.insert(spirv[at + 2]);
+    at += count;
+  }
+  std::set<std::uint32_t> ids;
+  for (const auto& [id, sid] : spec_id)
+    if (booleans.count(id)) ids.insert(sid);
+  return ids;
+}
+
 std::vector<std::uint32_t> Optimized(std::span<const std::uint32_t> spirv, const Specialization& spec, const std::string& name) {
   spvtools::Optimizer opt(SPV_ENV_VULKAN_1_2);
   std::string first;
@@ -39,6 +60,9 @@ std::vector<std::uint32_t> Optimized(std::span<const std::uint32_t> spirv, const
     if (level <= SPV_MSG_ERROR && first.empty()) first = OneLine(m);
   });
   std::unordered_map<std::uint32_t, std::string> values(spec.begin(), spec.end());
+  // A boolean's value as Vulkan reads it (a VkBool32: nonzero is true), in the words spirv-opt takes.
+  for (const std::uint32_t id : BooleanSpecIds(spirv))
+    if (const auto v = values.find(id); v != values.end()) v->second = v->second == "0" || v->second == "false" ? "false" : "true";
   opt.RegisterPass(spvtools::CreateSetSpecConstantDefaultValuePass(values))
       .RegisterPass(spvtools::CreateFreezeSpecConstantValuePass())
       .RegisterPass(spvtools::CreateFoldSpecConstantOpAndCompositePass())
@@ -66,6 +90,7 @@ class Builder {
         if (d == spv::Decoration::ArrayStride || d == spv::Decoration::MatrixStride) stride_[w[1]] = w[3];
         if (d == spv::Decoration::Binding) binding_[w[1]] = w[3];
         if (d == spv::Decoration::BuiltIn) builtin_[w[1]] = w[3];
+        if (d == spv::Decoration::NoContraction) precise_.insert(w[1]);
       } else if (r.op == static_cast<std::uint16_t>(Op::OpMemberDecorate) && w.size() >= 4) {
         const auto d = static_cast<spv::Decoration>(w[3]);
         if (d == spv::Decoration::Offset) member_offset_[{w[1], w[2]}] = w[4];
@@ -261,9 +286,30 @@ class Builder {
     }
   }
 
+  // Program::contract: within one block, the adds and subtracts a device may fuse with a multiply.
+  void Contractions() {
+    p_.contract.assign(p_.code.size(), kNoContraction);
+    std::map<std::uint32_t, std::uint32_t> muls;  // result id -> index, of the current block's contractible multiplies
+    std::uint32_t label = 0;
+    for (const Segment& seg : p_.segments) {
+      if (seg.label != label) muls.clear();
+      label = seg.label;
+      for (std::uint32_t i = seg.first; i < seg.end; ++i) {
+        const Inst& in = p_.code[i];
+        const auto op = static_cast<Op>(in.op);
+        if (op == Op::OpFMul && !precise_.count(in.result)) muls[in.result] = i;
+        if ((op != Op::OpFAdd && op != Op::OpFSub) || precise_.count(in.result)) continue;
+        const auto ops = p_.Ops(in);
+        if (const auto m = muls.find(ops[0]); m != muls.end()) p_.contract[i] = m->second;
+        else if (const auto m1 = muls.find(ops[1]); m1 != muls.end()) p_.contract[i] = m1->second | kContractSecond;
+      }
+    }
+  }
+
  private:
   Program& p_;
   std::map<std::uint32_t, std::uint32_t> stride_, binding_, builtin_;
+  std::set<std::uint32_t> precise_;  // NoContraction
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> member_offset_, member_stride_;
 };
 
@@ -305,6 +351,7 @@ Program Prepare(std::span<const std::uint32_t> spirv, const Specialization& spec
   b.MemberStrides();
   if (!fn_begin) ThrowInput("{}: no entry point function", name);
   b.Function(insts, fn_begin, fn_end);
+  b.Contractions();
   // The workgroup limits a device reports (lavapipe's, which are Vulkan's usual ones): a pipeline
   // beyond them is not created, so the simulator refuses it too.
   const std::uint32_t* ls = p.local_size;

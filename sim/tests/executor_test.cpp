@@ -6,6 +6,8 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <bit>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -45,9 +47,11 @@ std::vector<std::uint32_t> Compile(const std::string& body, const std::string& n
 
 // Runs `body` over `groups` workgroups of `local` invocations, subgroups of `subgroup`, on `data`.
 std::vector<std::uint32_t> Run(const std::string& body, std::uint32_t local, std::uint32_t groups, std::uint32_t subgroup,
-                               std::vector<std::uint32_t> data, rayspace::wg::Schedule schedule = {}, sim::Checks checks = {}) {
+                               std::vector<std::uint32_t> data, rayspace::wg::Schedule schedule = {}, sim::Checks checks = {},
+                               sim::DeviceModelChoice arithmetic = {}) {
   const sim::Program p = sim::Prepare(Compile(body, "k"), {{1, std::to_string(local)}}, "k");
   sim::Dispatch d;
+  d.arithmetic = arithmetic;
   d.schedule = schedule;
   d.checks = checks;
   d.groups[0] = groups;
@@ -312,4 +316,49 @@ TEST_CASE("sim executor: initcheck follows undefined Function values to a branch
                            "subgroupShuffle(m, 2u); }",
                            8, 1, 8, sixteen),
                        doctest::Contains("stores to memory other invocations see an undefined value"), sim::SimError);
+}
+
+TEST_CASE("sim executor: the worst-conformant device fuses what a kernel leaves contractible and rounds loosely; lavapipe's does neither") {
+  // data[0..2]: x, y, z as floats. x*y + z without `precise` may be fused; with it (a kernel of its
+  // own: glslang marks every instance of an expression `precise` once one is), never.
+  const std::string loose_body = R"(void main() {
+    float x = uintBitsToFloat(data[0]), y = uintBitsToFloat(data[1]), z = uintBitsToFloat(data[2]);
+    data[3] = floatBitsToUint(x * y + z);
+    data[4] = floatBitsToUint(x / y);
+    data[5] = floatBitsToUint(sqrt(y));
+  })";
+  const std::string precise_body = R"(void main() {
+    float x = uintBitsToFloat(data[0]), y = uintBitsToFloat(data[1]), z = uintBitsToFloat(data[2]);
+    precise float p = x * y + z;
+    data[3] = floatBitsToUint(p);
+  })";
+  const float x = 1.0f + 0x1p-12f, y = 3.0f;
+  const auto bits = [](float f) { return std::bit_cast<std::uint32_t>(f); };
+  std::vector<std::uint32_t> in = {bits(x), bits(x), bits(-1.0f), 0, 0, 0};
+  const sim::DeviceModelChoice worst{sim::DeviceModel::kWorst, 1};
+  CHECK(Run(loose_body, 1, 1, 1, in)[3] == bits(0x1p-11f));  // lavapipe: rounded after the multiply
+  CHECK(Run(loose_body, 1, 1, 1, in, {}, {}, worst)[3] == bits(0x1p-11f + 0x1p-24f));  // fused: one rounding
+  CHECK(Run(precise_body, 1, 1, 1, in, {}, {}, worst)[3] == bits(0x1p-11f));         // precise: never fused
+  in[1] = bits(y);
+  const auto exact = Run(loose_body, 1, 1, 1, in), loose = Run(loose_body, 1, 1, 1, in, {}, {}, worst);
+  CHECK(exact[4] == bits(x / y));
+  CHECK(exact[5] == bits(std::sqrt(y)));
+  CHECK(loose[4] != exact[4]);
+  CHECK(loose[5] != exact[5]);
+  CHECK(std::fabs(std::bit_cast<float>(loose[4]) - x / y) <= 3 * std::ldexp(1.0f, std::ilogb(x / y) - 23));
+}
+
+TEST_CASE("sim executor: a boolean specialization constant given as a number takes it as Vulkan reads a VkBool32") {
+  // spirv-opt keeps a boolean's default when handed "1": the simulator must say "true" for it.
+  const std::string body = R"(layout(constant_id = 2) const bool kFlag = false;
+  void main() { data[0] = kFlag ? 7u : 3u; })";
+  for (const auto& [value, expected] : {std::pair{"1", 7u}, std::pair{"0", 3u}}) {
+    const sim::Program p = sim::Prepare(Compile(body, "k"), {{1, "1"}, {2, value}}, "k");
+    std::vector<std::uint32_t> data(1, 0);
+    sim::Dispatch d;
+    d.bindings.push_back({reinterpret_cast<std::uint8_t*>(data.data()), data.size() * 4});
+    sim::ExecStats stats;
+    sim::Run(p, d, stats);
+    CHECK_MESSAGE(data[0] == expected, "kFlag given as " << value);
+  }
 }

@@ -148,7 +148,8 @@ BufferSet BufferSet::Load(const std::string& dir, std::string& method) {
   return s;
 }
 
-BufferComparison CompareBlobs(const std::string& pass, const std::string& name, const Blob& expected, const Blob& actual) {
+BufferComparison CompareBlobs(const std::string& pass, const std::string& name, const Blob& expected, const Blob& actual,
+                              const std::string& actual_name) {
   RS_CHECK(expected.type == actual.type);
   const ElemInfo& info = Info(expected.type);
   const auto words = [](const Blob& b) {
@@ -157,7 +158,7 @@ BufferComparison CompareBlobs(const std::string& pass, const std::string& name, 
   BufferComparison c = info.bytes == 1 ? CompareBytes(pass, name, expected.bytes(), actual.bytes())
                                        : CompareWords(pass, name, words(expected), words(actual), info.bytes / 4, info.float_mask);
   c.expected_name = "emu";
-  c.actual_name = "vulkan";
+  c.actual_name = actual_name;
   return c;
 }
 

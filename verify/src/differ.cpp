@@ -161,7 +161,7 @@ CallRecord RunAndCompare(const PassMethod& method, const BufferSet& in, Backends
   for (const auto& [name, blob] : e.blobs()) {
     auto it = actual_out.blobs().find(name);
     RS_CHECK_MSG(it != actual_out.blobs().end(), "pass method {} gave no '{}' on the actual backend", method.method, name);
-    r.buffers.push_back(CompareBlobs(r.pass, name, blob, it->second));
+    r.buffers.push_back(CompareBlobs(r.pass, name, blob, it->second, actual.frame.Name()));
     r.equal &= r.buffers.back().Equal();
   }
   // A diverged raster: on triangle edges, where devices may differ, or inside triangles?

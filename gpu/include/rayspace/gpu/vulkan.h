@@ -355,7 +355,9 @@ class Context {
   Observer* observer() const { return observer_; }
   // lavapipe: its float operations are correctly rounded (docs/gpu.md), so its kernels give the
   // emulator's bits; on other devices Vulkan's looser division and square root may not.
-  bool correctly_rounded_floats() const { return simulated_ || driver_id_ == VK_DRIVER_ID_MESA_LLVMPIPE; }
+  bool correctly_rounded_floats() const {
+    return simulated_ ? sim_config_.arithmetic.model == sim::DeviceModel::kLavapipe : driver_id_ == VK_DRIVER_ID_MESA_LLVMPIPE;
+  }
   // shaderFloat64 enabled (with 64-bit SignedZeroInfNanPreserve): the grids' build kernels exist.
   bool float64() const { return float64_; }
   // The most bytes one storage binding may hold: maxStorageBufferRange unless lowered for tests.

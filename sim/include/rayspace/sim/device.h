@@ -26,6 +26,20 @@ struct Checks {
 // "all", "none" or a comma-separated list of checker names; nullopt (and `error`) for anything else.
 std::optional<Checks> ParseChecks(std::string_view list, std::string& error);
 
+// The simulated device's float arithmetic (docs/simulator.md, "Device models"): lavapipe's (every
+// operation correctly rounded, nothing fused, denormals kept: the emulator's bits), or the
+// worst-conformant device, whose loose operations each take another value Vulkan permits, drawn
+// from a seed; worst-nearest is the same device with +, -, * and conversions rounded to nearest.
+enum class DeviceModel : std::uint8_t { kLavapipe, kWorst, kWorstNearest };
+struct DeviceModelChoice {
+  DeviceModel model = DeviceModel::kLavapipe;
+  std::uint64_t seed = 1;
+  std::string ToString() const;  // "lavapipe", "worst:SEED" or "worst-nearest:SEED"
+};
+// "lavapipe", "worst" or "worst-nearest" (seed 1), or either with ":SEED"; nullopt (and `error`) for
+// anything else.
+std::optional<DeviceModelChoice> ParseDeviceModel(std::string_view text, std::string& error);
+
 struct DeviceConfig {
   std::uint32_t subgroup_size = 8;        // lavapipe's
   // The order of a dispatch's workgroups and, between two barriers, of a workgroup's subgroups:
@@ -36,6 +50,7 @@ struct DeviceConfig {
   // outside a binding reads zero and writes nothing, a division by zero gives zero, a divergent
   // barrier releases whoever waits; races and undefined reads go unreported.
   Checks checks;
+  DeviceModelChoice arithmetic;
 };
 
 }  // namespace rayspace::sim

@@ -51,6 +51,7 @@ struct Dispatch {
   wg::Schedule schedule;                  // workgroup and subgroup order (DeviceConfig::schedule)
   std::uint64_t dispatch_index = 0;       // mixed into a random schedule's seed: each dispatch its own order
   Checks checks;                          // the checkers that run (DeviceConfig::checks)
+  DeviceModelChoice arithmetic;           // DeviceConfig::arithmetic
   std::uint8_t* coverage = nullptr;       // one byte per instruction of Program::code, set when it runs (coverage.h)
 };
 

@@ -51,6 +51,8 @@ struct Variable {
   std::uint32_t initializer = 0;
 };
 
+constexpr std::uint32_t kNoContraction = ~0u, kContractSecond = 1u << 31;
+
 struct Program {
   std::string name;
   std::vector<Type> types;                   // by id
@@ -67,6 +69,10 @@ struct Program {
   std::uint32_t glsl_set = 0;                // the GLSL.std.450 import's id
   std::map<std::uint32_t, std::string> strings;  // OpString by id: the source files OpLine names
   std::map<std::uint32_t, std::string> names;  // OpName: the GLSL names of variables (for reports)
+  // By instruction: for an OpFAdd or OpFSub a device may fuse with an OpFMul operand computed in the
+  // same block (neither decorated NoContraction), that multiply's index, with kContractSecond set
+  // when it is the second operand; kNoContraction otherwise.
+  std::vector<std::uint32_t> contract;
 
   const Type& T(std::uint32_t id) const { return types.at(id); }
   // Where an instruction is, for reports: "trim workgroup.glsl:44" from debug info, else the

@@ -175,6 +175,8 @@ class BufferSet {
 
 // Bitwise comparison of two buffers of the same name (float words get ULP distances and NaN classes):
 // `expected` the emulator's, `actual` the Vulkan kernels', as the comparison's text and JSON name them.
-BufferComparison CompareBlobs(const std::string& pass, const std::string& name, const Blob& expected, const Blob& actual);
+// `actual_name` names the actual side in the comparison's text ("vulkan", "sim").
+BufferComparison CompareBlobs(const std::string& pass, const std::string& name, const Blob& expected, const Blob& actual,
+                              const std::string& actual_name);
 
 }  // namespace rayspace::verify
