@@ -560,8 +560,10 @@ FaultRun DiffFrame(const DiffArgs& args, const Scene& scene, SceneBuffers& buffe
   DiffTracer tracer = MakeDiffTracer(args, buffers, fo, differ.hierarchy());
   PrintDiffHeader(args, scene, fo, gpu, relaxed, tracer.hierarchy != nullptr);
   const DiffOutcome run = RunDiffFrame(scene, buffers, tracer.get(), fo);
-  // Before the verdict: a kernel that never ran, or a fault that could not fire, leaves none.
-  CheckKernelsRan(gpu, args.kernels);
+  // Before the verdict: a kernel that never ran, or a fault that could not fire, leaves none. A frame
+  // stopped early (a divergence, a checker's finding) has its verdict, and the passes after the stop
+  // could not launch.
+  if (run.stopped.empty()) CheckKernelsRan(gpu, args.kernels);
   if (const std::string why = DiffFaultCannotFire(args, injection, differ, gpu, run); !why.empty()) ThrowInput("{}", why);
 
   DiffTotals totals = Totals(differ.calls());

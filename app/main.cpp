@@ -286,6 +286,10 @@ void AddMutate(CLI::App& app, Commands& cmds) {
   mc->add_option("--only", m.only, "Only mutants whose id (file:line:column:operator:replacement) matches this regular expression");
   mc->add_option("--work", m.work, "Keep each mutant's files, diff log and report in this directory (default: a temporary one, removed)");
   mc->add_flag("--list", m.list, "Print the chosen mutants and exit");
+  mc->add_option("--backends", m.backends,
+                 "Where each mutant's diffs run: emu,vulkan (default), emu,sim (the kernels' SPIR-V on the simulated GPU, its "
+                 "checkers on) or emu,vulkan,sim (both: each side's score, and the mutants whose verdicts differ, in one report)")
+      ->check(CLI::IsMember({"emu,vulkan", "emu,sim", "emu,vulkan,sim"}));
 }
 
 // The replay options the command line gives; the rest come from the saved call's recording.

@@ -113,6 +113,12 @@ if(NOT rc EQUAL 2 OR out MATCHES "equal" OR NOT err MATCHES "never launched pass
   set(failures "${failures}
 diff_unreached: exit ${rc}, expected 2 with no verdict: ${out}${err}")
 endif()
+# A frame stopped by a divergence before a given kernel's pass has its verdict (exit 4), not "never
+# launched": the sort kernel diverges (planted) and decompress, which the same file serves, cannot run.
+file(READ "${SRC}/gpu/shaders/sort.comp" sort)
+file(WRITE "${WORK}/my_sort.comp" "${sort}")
+run(stopped_before 4 "first divergent pass: sort" diff "${scene}" --size 16x16 --path passes --inject sort:1 --no-impact
+    --kernel decompress=${WORK}/my_sort.comp)
 file(REMOVE_RECURSE "${WORK}/saved")
 execute_process(COMMAND "${RAYSPACE}" diff "${scene}" --size 16x16 --path passes --save-inputs "${WORK}/saved"
                 RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)

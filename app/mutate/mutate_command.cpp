@@ -80,11 +80,11 @@ struct Baseline {
 
 // Saves every kernel case and replays it with the built-in kernels: each must be equal, or the
 // emulator and the driver disagree at a boundary, a finding that no mutant's verdict may hide.
-void RunBaselineCases(Baseline& b, const fs::path& work, int timeout) {
+void RunBaselineCases(Baseline& b, const fs::path& work, int timeout, const std::string& backends) {
   for (const mutate::KernelCase& k : mutate::KernelCases()) {
     const fs::path dir = work / "cases" / k.name;
     k.call.Save(dir.string(), k.method);
-    const mutate_runs::DiffRun run = mutate_runs::RunReplay(dir, {}, work / "baseline" / ("case-" + k.name), timeout);
+    const mutate_runs::DiffRun run = mutate_runs::RunReplay(dir, {}, work / "baseline" / ("case-" + k.name), timeout, backends);
     if (run.code != 0)
       ThrowInput("kernel case {} ({}): the built-in kernels do not replay it equal (exit {}: {}); the emulator and the driver "
                  "disagree at a boundary", k.name, k.method, run.code, run.last_line);
@@ -321,6 +321,7 @@ mutate_runs::Overrides Builtins(const Baseline& base, std::size_t c) {
 // where the clamped built-in kernels diff equal, until one kills it.
 mutate_runs::Verdict RunClamped(const Mutant& mu, const mutate_runs::Frame& frame, const Baseline& base, const fs::path& dir, json& tried) {
   mutate_runs::Verdict v{"survived", "", {}};
+  if (!base.clamped) return v;  // the simulated GPU: memcheck names what clamping would hide
   for (std::size_t e = 0; e < mu.target->configs.size() && v.status == "survived"; ++e) {
     const std::size_t c = mu.target->configs[e];
     if (!base.clamped->Usable(c, Builtins(base, c), base.scenes[c])) continue;
@@ -360,7 +361,8 @@ json RunMutant(const Mutant& mu, const mutate_runs::Frame& frame, const Baseline
     if (proved || v.status != "survived") break;
     const auto kernels = PrepareCase(mu, c.pass, base.kernels, dir);
     if (kernels.empty()) continue;
-    v = Judge(frame.timeout, [&](int timeout) { return mutate_runs::RunReplay(c.dir, kernels, dir / ("case-" + c.name), timeout); });
+    v = Judge(frame.timeout,
+              [&](int timeout) { return mutate_runs::RunReplay(c.dir, kernels, dir / ("case-" + c.name), timeout, frame.backends); });
     tried.push_back("case:" + c.name);
     if (v.status == "killed") v.caught["case"] = c.name;
   }
@@ -476,17 +478,57 @@ class WorkDir {
   fs::path path_;
 };
 
+// --backends: the actual sides, in order ("vulkan", "sim").
+std::vector<std::string> Sides(const std::string& backends) {
+  if (backends == "emu,vulkan") return {"vulkan"};
+  if (backends == "emu,sim") return {"sim"};
+  if (backends == "emu,vulkan,sim") return {"vulkan", "sim"};
+  ThrowInput("--backends '{}': expected emu,vulkan, emu,sim or emu,vulkan,sim", backends);
+}
+
+// The chosen mutants with the targets of another side's baseline (a configuration that does not
+// diff equal there is not run there); a file that side runs in no configuration keeps no mutant.
+std::vector<Mutant> OnSide(const std::vector<Mutant>& chosen, const std::vector<Target>& targets) {
+  std::vector<Mutant> out;
+  for (const Mutant& m : chosen)
+    for (const Target& t : targets)
+      if (t.file == m.m.file) out.push_back({m.m, &t});
+  return out;
+}
+
+// Per mutant run on both sides, where their verdicts differ: killed on one, survived on the other.
+json Differences(const std::vector<json>& first, const std::vector<json>& second, const std::string& a, const std::string& b) {
+  std::map<std::string, const json*> other;
+  for (const json& m : second) other[m["id"].get<std::string>()] = &m;
+  json out = json::array();
+  for (const json& m : first) {
+    const auto it = other.find(m["id"].get<std::string>());
+    if (it == other.end() || m["status"] == (*it->second)["status"]) continue;
+    const json& o = *it->second;
+    json d = {{"id", m["id"]}, {"source", m.value("source", std::string())}, {a, m["status"]}, {b, o["status"]}};
+    const json& killer = m["status"] == "killed" ? m : o;
+    if (killer.contains("caught")) d["caught"] = killer["caught"];
+    if (killer.contains("reason")) d["reason"] = killer["reason"];
+    out.push_back(d);
+  }
+  return out;
+}
+
 ExitCode RunMutate(const MutateArgs& args) {
   CheckArgs(args);
+  const std::vector<std::string> sides = Sides(args.backends);
   const json explained = Explanations(args.survivors);
   const std::string seed_text = args.seed == "commit" ? BuildCommit() : args.seed;
   const std::uint64_t seed = mutate::SeedOf(seed_text);
   OutputFile report = args.report.empty() ? OutputFile() : OutputFile(args.report, OutputOptions{"the report", true, true, {}});
   const WorkDir work_dir(args.work);
   const fs::path& work = work_dir.path();
-  const mutate_runs::Frame frame{fs::absolute(args.scene).string(), args.data, args.size, args.timeout};
-  std::printf("rayspace mutate: %s at %s, seed %s (%016llx)\n", args.scene.c_str(), args.size.c_str(), seed_text.c_str(),
-              static_cast<unsigned long long>(seed));
+  const auto frame_on = [&](const std::string& side) {
+    return mutate_runs::Frame{fs::absolute(args.scene).string(), args.data, args.size, args.timeout, side == "sim" ? "emu,sim" : ""};
+  };
+  const mutate_runs::Frame frame = frame_on(sides[0]);
+  std::printf("rayspace mutate: %s at %s, seed %s (%016llx), on %s\n", args.scene.c_str(), args.size.c_str(), seed_text.c_str(),
+              static_cast<unsigned long long>(seed), args.backends.c_str());
   const std::map<std::string, Kernel> kernels = Kernels();
   Baseline base = RunBaseline(frame, args.configs, work);
   base.kernels = kernels;
@@ -498,8 +540,10 @@ ExitCode RunMutate(const MutateArgs& args) {
     for (const Mutant& m : chosen) std::printf("  %s  (%s)\n", m.m.Id().c_str(), mutate_runs::Configs()[m.target->configs[0]].name.c_str());
     return ExitCode::kOk;
   }
-  RunBaselineCases(base, work, args.timeout);
-  base.clamped = std::make_unique<mutate_runs::ClampedBaseline>(frame, work);
+  RunBaselineCases(base, work, args.timeout, frame.backends);
+  // The clamping device is a Vulkan pipeline's robust access; on the simulator memcheck names the access.
+  if (sides[0] == "vulkan") base.clamped = std::make_unique<mutate_runs::ClampedBaseline>(frame, work);
+  if (sides.size() > 1) std::printf("  on %s:\n", sides[0].c_str());
   const std::vector<json> results = RunAll(chosen, frame, base, work, explained, args.jobs);
   std::vector<std::string> kernel_files;
   std::map<std::string, std::pair<const DiffConfig*, std::string>> config_of;  // the first configuration, its scene
@@ -510,7 +554,30 @@ ExitCode RunMutate(const MutateArgs& args) {
   const json summary = Summaries(results);
   PrintSummary(summary, variants);
   json j = {{"scene", args.scene}, {"size", args.size}, {"seed", seed_text}, {"limit", args.limit}, {"timeout", args.timeout},
-            {"mutants_in_all", total}, {"configs", base.configs}, {"kernel_cases", base.case_runs}, {"clamped_baseline", base.clamped->Results()}, {"mutants", results}, {"summary", summary}, {"variants", variants}};
+            {"backends", sides}, {"mutants_in_all", total}, {"configs", base.configs}, {"kernel_cases", base.case_runs},
+            {"clamped_baseline", base.clamped ? json(base.clamped->Results()) : json()}, {"mutants", results}, {"summary", summary},
+            {"variants", variants}};
+  // The other side: the same mutants, its own baseline, cases and (on Vulkan) clamping device.
+  for (std::size_t k = 1; k < sides.size(); ++k) {
+    const std::string& side = sides[k];
+    const fs::path side_work = work / side;
+    const mutate_runs::Frame side_frame = frame_on(side);
+    Baseline other = RunBaseline(side_frame, args.configs, side_work);
+    other.kernels = kernels;
+    const std::vector<Target> other_targets = Targets(args, kernels, other);
+    RunBaselineCases(other, side_work, args.timeout, side_frame.backends);
+    if (side == "vulkan") other.clamped = std::make_unique<mutate_runs::ClampedBaseline>(side_frame, side_work);
+    std::printf("  on %s:\n", side.c_str());
+    const std::vector<json> side_results = RunAll(OnSide(chosen, other_targets), side_frame, other, side_work, explained, args.jobs);
+    const json side_summary = Summaries(side_results);
+    PrintSummary(side_summary, json::array());
+    const json differ = Differences(results, side_results, sides[0], side);
+    std::printf("  %zu mutant(s) with another verdict on %s than on %s:\n", differ.size(), side.c_str(), sides[0].c_str());
+    for (const json& d : differ)
+      std::printf("    %s: %s %s, %s %s%s\n", d["id"].get<std::string>().c_str(), sides[0].c_str(), d[sides[0]].get<std::string>().c_str(),
+                  side.c_str(), d[side].get<std::string>().c_str(), d.contains("reason") ? (" (" + d["reason"].get<std::string>() + ")").c_str() : "");
+    j["on_" + side] = {{"configs", other.configs}, {"mutants", side_results}, {"summary", side_summary}, {"differences", differ}};
+  }
   AddProvenance(j);
   report.Commit(JsonText(j));
   return ExitCode::kOk;

@@ -220,12 +220,14 @@ DiffRun RunDiff(const Frame& frame, const DiffConfig& config, const std::vector<
   std::string args = fmt::format("diff {} --size {}", Quote(scene.empty() ? frame.scene : scene), config.size.empty() ? frame.size : config.size);
   if (!frame.data.empty()) args += fmt::format(" --data {}", Quote(frame.data));
   for (const std::string& f : config.flags) args += fmt::format(" {}", Quote(f));
+  if (!frame.backends.empty()) args += " --backends " + Quote(frame.backends);
   return RunReporting(frame.timeout, args + KernelFlags(kernels), dir);
 }
 
 DiffRun RunReplay(const fs::path& call, const std::vector<std::pair<std::string, std::string>>& kernels, const fs::path& dir,
-                  int timeout) {
-  return RunReporting(timeout, "replay " + Quote(call.string()) + KernelFlags(kernels), dir);
+                  int timeout, const std::string& backends) {
+  const std::string flags = backends.empty() ? "" : " --backends " + Quote(backends);
+  return RunReporting(timeout, "replay " + Quote(call.string()) + flags + KernelFlags(kernels), dir);
 }
 
 namespace {
@@ -277,6 +279,11 @@ Verdict Classify(const DiffRun& run) {
   v.status = "killed";
   v.caught = Caught(run.report);
   v.reason = run.code == 4 ? "diff: a pass diverged" : fmt::format("exit {}: {}", run.code, ErrorLine(run.log));
+  // Exit 6 on the simulated GPU: a checker's finding on the kernel (the report names the checker).
+  if (run.code == 6 && run.report.is_object() && run.report.contains("simulator_checker") && run.report["simulator_checker"].is_object()) {
+    v.caught["checker"] = run.report["simulator_checker"].value("checker", std::string());
+    v.reason = fmt::format("the simulator's {} found a fault of the kernel", v.caught["checker"].get<std::string>());
+  }
   return v;
 }
 

@@ -26,6 +26,7 @@ const std::vector<DiffConfig>& Configs();
 struct Frame {
   std::string scene, data, size;
   int timeout = 60;
+  std::string backends;  // diff's and replay's --backends ("": their default)
 };
 
 // A diff run: its exit code (124 or 137 when the time limit killed it), its report (null when it
@@ -45,7 +46,7 @@ DiffRun RunDiff(const Frame& frame, const DiffConfig& config, const std::vector<
 // `rayspace replay` of a saved call (a kernel case) with the same kernel overrides, under the time
 // limit; files and logs in `dir`.
 DiffRun RunReplay(const std::filesystem::path& call, const std::vector<std::pair<std::string, std::string>>& kernels,
-                  const std::filesystem::path& dir, int timeout);
+                  const std::filesystem::path& dir, int timeout, const std::string& backends = "");
 // The scene a configuration renders, written into `work` when it is derived ("glass"); "" when the
 // command's scene has no material to make glass.
 std::string SceneFor(const DiffConfig& config, const std::string& scene, const std::filesystem::path& work);
