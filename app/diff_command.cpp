@@ -399,7 +399,7 @@ struct DiffTracer {
 Backend MakeActualBackend(const std::string& backends, bool given, int device, int local_size,
                           const std::map<std::string, std::uint32_t>& faults, const TestLimits& limits, const KernelFiles& kernels,
                           std::uint32_t subgroup_size = 0, const std::string& schedule = "forward", const std::string& sim_checks = "",
-                          const std::string& device_model = "") {
+                          const std::string& device_model = "", const std::string& subgroup_layout = "") {
   const std::string actual = backends.substr(backends.find(',') + 1);
   if (subgroup_size && actual != "sim")
     ThrowInput("--subgroup-size {}: only the simulated GPU's subgroup size is chosen (--backends emu,sim); a Vulkan device has its own",
@@ -409,14 +409,22 @@ Backend MakeActualBackend(const std::string& backends, bool given, int device, i
   if (!device_model.empty() && actual != "sim")
     ThrowInput("--device-model {}: only the simulated GPU's arithmetic is chosen (--backends emu,sim); a Vulkan device has its own",
                device_model);
+  if (!subgroup_layout.empty() && actual != "sim")
+    ThrowInput("--subgroup-layout {}: only the simulated GPU's subgroup layout is chosen (--backends emu,sim); a Vulkan device has its own",
+               subgroup_layout);
   // The simulated GPU takes --schedule too: the order of its workgroups and subgroups.
   std::string error;
   const std::optional<sim::Checks> checks = sim::ParseChecks(sim_checks.empty() ? "all" : sim_checks, error);
   if (!checks) ThrowInput("--sim-checks {}: {}", sim_checks, error);
   const std::optional<sim::DeviceModelChoice> model = sim::ParseDeviceModel(device_model.empty() ? "lavapipe" : device_model, error);
   if (!model) ThrowInput("--device-model {}: {}", device_model, error);
-  const sim::DeviceConfig simulated{
-      .subgroup_size = subgroup_size ? subgroup_size : 8u, .schedule = ParseSchedule(schedule), .checks = *checks, .arithmetic = *model};
+  const std::optional<sim::SubgroupLayoutChoice> layout = sim::ParseSubgroupLayout(subgroup_layout.empty() ? "linear" : subgroup_layout, error);
+  if (!layout) ThrowInput("--subgroup-layout {}: {}", subgroup_layout, error);
+  const sim::DeviceConfig simulated{.subgroup_size = subgroup_size ? subgroup_size : 8u,
+                                    .schedule = ParseSchedule(schedule),
+                                    .checks = *checks,
+                                    .arithmetic = *model,
+                                    .layout = *layout};
   if (given || actual != "vulkan") return MakeBackend(actual, device, local_size, faults, limits, kernels, simulated);
   try {
     return MakeBackend("vulkan", device, local_size, faults, limits, kernels);
@@ -629,7 +637,8 @@ ExitCode RunDiff(const DiffArgs& args) {
   const MemoryEstimate estimate = EstimateFrameMemory(scene, fo.width, fo.height, use);
   CheckFitsMachine(estimate, fo.width, fo.height, SizeFrom(args.size, scene).c_str(), "the diff");
   const Backend gpu = MakeActualBackend(args.backends, args.backends_given, args.device, args.local_size, injection.kernel, args.Limits(),
-                                        args.kernels, args.subgroup_size, args.model.schedule, args.sim_checks, args.device_model);
+                                        args.kernels, args.subgroup_size, args.model.schedule, args.sim_checks, args.device_model,
+                                        args.subgroup_layout);
   ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
   SceneBuffers buffers = FlattenForFrame(scene, args.faithful);
   buffers.one_sided = one_sided;

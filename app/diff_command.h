@@ -28,6 +28,7 @@ struct DiffArgs : FrameArgs {
   std::uint32_t subgroup_size = 0;      // --subgroup-size: the simulated GPU's (0: 8)
   std::string sim_checks;               // --sim-checks: the simulated GPU's checkers ("": all)
   std::string device_model;             // --device-model: the simulated GPU's arithmetic ("": lavapipe)
+  std::string subgroup_layout;          // --subgroup-layout: how it fills its subgroups ("": linear)
 };
 
 // Runs the whole frame with every pass on both backends (same inputs: the GPU's previous outputs)

@@ -148,6 +148,19 @@ void AddDeviceModelOption(CLI::App& cmd, std::string& model) {
       });
 }
 
+// --subgroup-layout LAYOUT: how the simulated GPU fills its subgroups.
+void AddSubgroupLayoutOption(CLI::App& cmd, std::string& layout) {
+  cmd.add_option("--subgroup-layout", layout,
+                 "How the simulated GPU fills its subgroups: linear (default, lavapipe's: local index = subgroup x size + "
+                 "lane), shuffled[:SEED] (invocations dealt to subgroups and lanes in a seeded order) or partial[:SEED] (each "
+                 "subgroup launched with between half and all of its lanes, the rest inactive); Vulkan allows each without "
+                 "full subgroups required")
+      ->check([](const std::string& v) {
+        std::string error;
+        return rayspace::sim::ParseSubgroupLayout(v, error) ? std::string() : error;
+      });
+}
+
 void AddSimulate(CLI::App& app, Commands& cmds) {
   rayspace::app::SimulateArgs& a = cmds.simulate;
   CLI::App* sc = cmds.simulate_cmd = app.add_subcommand(
@@ -157,6 +170,7 @@ void AddSimulate(CLI::App& app, Commands& cmds) {
   sc->add_option("--subgroup-size", a.subgroup_size, "Invocations per subgroup (default 8, lavapipe's)")->check(CLI::Range(1, 128));
   AddSimChecksOption(*sc, a.sim_checks);
   AddDeviceModelOption(*sc, a.device_model);
+  AddSubgroupLayoutOption(*sc, a.subgroup_layout);
 }
 
 #ifdef RAYSPACE_HAVE_VULKAN
@@ -209,6 +223,7 @@ void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
       ->check(CLI::Range(1, 128));
   AddSimChecksOption(*dc, cmds.diff.sim_checks);
   AddDeviceModelOption(*dc, cmds.diff.device_model);
+  AddSubgroupLayoutOption(*dc, cmds.diff.subgroup_layout);
   dc->add_option("--path", cmds.diff.path,
                  "Hierarchy traversal: passes (traverse then reduce, default) or fused (traverse.compact, what render "
                  "runs by default; the emulator runs its workgroup mirror unless --no-check-workgroups with the forward "

@@ -17,7 +17,10 @@ ExitCode RunSimulate(const SimulateArgs& args) {
   if (!checks) ThrowInput("--sim-checks {}: {}", args.sim_checks, error);
   const std::optional<sim::DeviceModelChoice> model = sim::ParseDeviceModel(args.device_model, error);
   if (!model) ThrowInput("--device-model {}: {}", args.device_model, error);
+  const std::optional<sim::SubgroupLayoutChoice> layout = sim::ParseSubgroupLayout(args.subgroup_layout, error);
+  if (!layout) ThrowInput("--subgroup-layout {}: {}", args.subgroup_layout, error);
   sim::DeviceConfig device;
+  device.layout = *layout;
   device.subgroup_size = args.subgroup_size;
   device.checks = *checks;
   device.arithmetic = *model;

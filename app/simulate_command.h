@@ -12,6 +12,7 @@ struct SimulateArgs {
   std::uint32_t subgroup_size = 8;
   std::string sim_checks = "all";  // --sim-checks
   std::string device_model = "lavapipe";  // --device-model
+  std::string subgroup_layout = "linear";  // --subgroup-layout
 };
 
 ExitCode RunSimulate(const SimulateArgs& args);

@@ -360,9 +360,10 @@ Status Context::CreateSimulated(const sim::DeviceConfig& config, std::unique_ptr
   auto c = std::make_unique<Context>();
   c->simulated_ = true;
   c->sim_config_ = config;
-  c->device_name_ = config.arithmetic.model == sim::DeviceModel::kLavapipe
-                       ? fmt::format("rayspace simulator (subgroup size {})", subgroup_size)
-                       : fmt::format("rayspace simulator (subgroup size {}, {} arithmetic)", subgroup_size, config.arithmetic.ToString());
+  c->device_name_ = fmt::format("rayspace simulator (subgroup size {}", subgroup_size);
+  if (config.layout.layout != sim::SubgroupLayout::kLinear) c->device_name_ += fmt::format(", {} subgroup layout", config.layout.ToString());
+  if (config.arithmetic.model != sim::DeviceModel::kLavapipe) c->device_name_ += fmt::format(", {} arithmetic", config.arithmetic.ToString());
+  c->device_name_ += ")";
   c->driver_ = "rayspace sim: the kernels' SPIR-V on the CPU";
   // lavapipe's limits, so that the host code splits and pages as it does there.
   c->max_storage_range_ = c->storage_limit_ = VkDeviceSize{128} << 20;
@@ -998,6 +999,7 @@ Status Recorder::SubmitSimulated() {
     d.step_limit = ctx_.sim_config_.step_limit;
     d.checks = ctx_.sim_config_.checks;
     d.arithmetic = ctx_.sim_config_.arithmetic;
+    d.layout = ctx_.sim_config_.layout;
     std::vector<std::uint8_t>& coverage = step.kernel->coverage_;
     if (coverage.size() != step.kernel->program_->code.size()) coverage.assign(step.kernel->program_->code.size(), 0);
     d.coverage = coverage.data();

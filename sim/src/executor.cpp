@@ -52,7 +52,8 @@ struct Region {
   std::size_t valid = 0;  // bytes memcheck allows (a binding's own, before its guard words)
 };
 
-enum class LaneState : std::uint8_t { kRunning, kBarrier, kDone };
+// kAbsent: a lane of a partial subgroup that no invocation holds.
+enum class LaneState : std::uint8_t { kRunning, kBarrier, kDone, kAbsent };
 
 // Lavapipe's min and max (LAVAPIPE.md): the first operand when the second is NaN.
 template <class F> F Min(F a, F b) { return b != b ? a : (a < b ? a : b); }
@@ -120,39 +121,46 @@ class Workgroup {
         per_lane += Pointee(v).words * 4;
       }
     lane_bytes_ = per_lane;
-    private_.assign(per_lane * size_, 0);
-    for (std::uint32_t l = 0; l < size_; ++l)
+    // Slots: the (subgroup, lane) places, subgroup k's at k*S .. k*S+S-1; a partial layout leaves
+    // some empty, at most one in two of a subgroup's.
+    slots_cap_ = d.layout.layout == SubgroupLayout::kPartial ? 2 * size_ + sg_ : size_;
+    private_.assign(per_lane * slots_cap_, 0);
+    for (std::uint32_t l = 0; l < slots_cap_; ++l)
       for (std::size_t k = 0; k < private_vars_.size(); ++k)
         regions_.push_back({private_.data() + l * per_lane + private_offsets_[k], Pointee(*private_vars_[k]).words * 4,
                             Pointee(*private_vars_[k]).words * 4});
-    regs_.resize(static_cast<std::size_t>(size_) * p.reg_words);
+    regs_.resize(static_cast<std::size_t>(slots_cap_) * p.reg_words);
     if (d.checks.On(Checker::kInitcheck)) {
       init_ = true;
       undef_.resize(regs_.size());
       private_undef_.resize(private_.size() / 4);
     }
     if (d.arithmetic.model != DeviceModel::kLavapipe) math_.emplace(d.arithmetic.seed, d.arithmetic.model == DeviceModel::kWorst);
-    seg_.resize(size_);
-    prev_.resize(size_);
-    state_.resize(size_);
+    seg_.resize(slots_cap_);
+    prev_.resize(slots_cap_);
+    state_.resize(slots_cap_);
   }
 
   void Run(const std::uint32_t group[3]) {
     std::fill(shared_.begin(), shared_.end(), 0);
     std::fill(private_.begin(), private_.end(), 0);
-    for (std::uint32_t l = 0; l < size_; ++l) StartLane(l, group);
+    group_index_ = group[0] + static_cast<std::uint64_t>(group[1]) * d_.groups[0];
+    Layout();
+    for (std::uint32_t l = 0; l < slots_; ++l) {
+      if (local_of_[l] == kNone) state_[l] = LaneState::kAbsent;
+      else StartLane(l, group);
+    }
     shared_check_.Begin(shared_.size() / 4, d_.checks);
     group_ = fmt::format("workgroup ({}, {})", group[0], group[1]);
-    group_index_ = group[0] + static_cast<std::uint64_t>(group[1]) * d_.groups[0];
     if (storage_check_) storage_check_->BeginWorkgroup(static_cast<std::uint32_t>(group_index_));
     orders_storage_ = false;
     pending_race_.reset();
     interval_ = 0;
-    const std::uint32_t subgroups = (size_ + sg_ - 1) / sg_;
     for (;;) {
-      for (std::uint32_t s : Order(subgroups, ++interval_)) RunSubgroup(s * sg_, std::min(size_, (s + 1) * sg_));
+      for (std::uint32_t s : Order(subgroups_, ++interval_)) RunSubgroup(s * sg_, std::min(slots_, (s + 1) * sg_));
       std::uint32_t waiting = 0, done = 0;
-      for (LaneState st : state_) (st == LaneState::kBarrier ? waiting : done) += 1;
+      for (std::uint32_t l = 0; l < slots_; ++l)
+        if (state_[l] != LaneState::kAbsent) (state_[l] == LaneState::kBarrier ? waiting : done) += 1;
       if (waiting == 0) break;
       const bool sync = d_.checks.On(Checker::kSynccheck);
       std::uint32_t first = 0;
@@ -162,10 +170,11 @@ class Workgroup {
                                    "({}){}",
                                    p_.name, waiting, BarrierAt(seg_[first]), done, group_, Consequence()),
                        Checker::kSynccheck);
-      for (std::uint32_t l = 0; l < size_; ++l) {
+      for (std::uint32_t l = 0; l < slots_; ++l) {
         if (state_[l] != LaneState::kBarrier) continue;
         if (sync && seg_[l] != seg_[first])
-          throw SimError(fmt::format("{}: synccheck: invocations {} and {} wait at different barriers ({} and {}; {}){}", p_.name, first, l,
+          throw SimError(fmt::format("{}: synccheck: invocations {} and {} wait at different barriers ({} and {}; {}){}", p_.name,
+                                     local_of_[first], local_of_[l],
                                      BarrierAt(seg_[first]), BarrierAt(seg_[l]), group_, Consequence()),
                          Checker::kSynccheck);
         state_[l] = LaneState::kRunning;
@@ -179,6 +188,40 @@ class Workgroup {
   }
 
  private:
+  // This workgroup's slots (local_of_, slots_, subgroups_) in the device's subgroup layout, drawn
+  // for each workgroup of each dispatch.
+  void Layout() {
+    const SubgroupLayoutChoice& c = d_.layout;
+    local_of_.assign(slots_cap_, kNone);
+    if (c.layout == SubgroupLayout::kLinear || (!c.kernel.empty() && c.kernel != p_.name)) {
+      for (std::uint32_t i = 0; i < size_; ++i) local_of_[i] = i;
+      slots_ = size_;
+    } else {
+      std::mt19937_64 rng(c.seed * 0xD1B54A32D192ED03ull ^ (d_.dispatch_index << 32) ^ group_index_);
+      if (c.layout == SubgroupLayout::kShuffled) {
+        for (std::uint32_t i = 0; i < size_; ++i) local_of_[i] = i;
+        for (std::uint32_t i = size_; i > 1; --i) std::swap(local_of_[i - 1], local_of_[rng() % i]);
+        slots_ = size_;
+      } else {
+        std::uint32_t next = 0, slot = 0;
+        while (next < size_) {
+          const std::uint32_t half = (sg_ + 1) / 2;
+          const std::uint32_t count = std::min(size_ - next, half + static_cast<std::uint32_t>(rng() % (sg_ - half + 1)));
+          std::vector<std::uint32_t> lanes(sg_);
+          for (std::uint32_t k = 0; k < sg_; ++k) lanes[k] = k;
+          for (std::uint32_t k = sg_; k > 1; --k) std::swap(lanes[k - 1], lanes[rng() % k]);
+          std::sort(lanes.begin(), lanes.begin() + count);  // the invocations in local order across the chosen lanes
+          for (std::uint32_t k = 0; k < count; ++k) local_of_[slot + lanes[k]] = next++;
+          slot += sg_;
+        }
+        slots_ = slot;
+      }
+    }
+    subgroups_ = (slots_ + sg_ - 1) / sg_;
+  }
+  // The local invocation index in slot `l`, for reports.
+  std::uint32_t Local(std::uint32_t l) const { return local_of_[l]; }
+
   // The GLSL line of the barrier that ends the segment before `segment` (where a waiting lane resumes).
   std::string BarrierAt(std::uint32_t segment) const { return p_.Where(p_.code[p_.segments[segment - 1].end - 1]); }
   // A race (or a shared word read before any store) found while the barriers were unresolved is the
@@ -205,7 +248,8 @@ class Workgroup {
     std::copy(p_.constants.begin(), p_.constants.end(), regs_.begin() + static_cast<std::ptrdiff_t>(l) * p_.reg_words);
     if (init_) std::fill_n(undef_.begin() + static_cast<std::ptrdiff_t>(l) * p_.reg_words, p_.reg_words, 0);
     const std::uint32_t* ls = p_.local_size;
-    const std::uint32_t local[3] = {l % ls[0], (l / ls[0]) % ls[1], l / (ls[0] * ls[1])};
+    const std::uint32_t li = local_of_[l];
+    const std::uint32_t local[3] = {li % ls[0], (li / ls[0]) % ls[1], li / (ls[0] * ls[1])};
     std::uint32_t shared = shared_base_, priv = 0;
     for (const Variable& v : p_.variables) {
       std::uint32_t* r = R(l, v.id);
@@ -246,11 +290,11 @@ class Workgroup {
       case spv::BuiltIn::WorkgroupId: std::copy(group, group + 3, w); break;
       case spv::BuiltIn::NumWorkgroups: std::copy(d_.groups, d_.groups + 3, w); break;
       case spv::BuiltIn::WorkgroupSize: std::copy(ls, ls + 3, w); break;
-      case spv::BuiltIn::LocalInvocationIndex: w[0] = l; break;
+      case spv::BuiltIn::LocalInvocationIndex: w[0] = local_of_[l]; break;
       case spv::BuiltIn::SubgroupSize: w[0] = sg_; break;
       case spv::BuiltIn::SubgroupLocalInvocationId: w[0] = l % sg_; break;
       case spv::BuiltIn::SubgroupId: w[0] = l / sg_; break;
-      case spv::BuiltIn::NumSubgroups: w[0] = (size_ + sg_ - 1) / sg_; break;
+      case spv::BuiltIn::NumSubgroups: w[0] = subgroups_; break;
       default: throw SimError(fmt::format("{}: built-in {} is not simulated", p_.name, NameOf("BuiltIn", v.builtin)));
     }
     std::memcpy(mem, w, std::min<std::size_t>(Pointee(v).words * 4, sizeof w));
@@ -454,6 +498,8 @@ class Workgroup {
   const Dispatch& d_;
   ExecStats& stats_;
   std::uint32_t size_ = 0, sg_ = 0;
+  std::uint32_t slots_cap_ = 0, slots_ = 0, subgroups_ = 0;
+  std::vector<std::uint32_t> local_of_;  // by slot: the local invocation index it holds (kNone: an absent lane)
   std::vector<Region> regions_;
   std::vector<std::uint8_t> push_copy_, shared_, private_;
   std::uint32_t push_region_ = 0, shared_base_ = 0, private_base_ = 0;
@@ -484,7 +530,7 @@ void Workgroup::TrackBefore(const Inst& in) {
   const auto undefined = [&](std::uint32_t l, const char* what) {
     Fail(in, Finding{Checker::kInitcheck, fmt::format("invocation {} of {} {} an undefined value (a Function or Private variable read "
                                                       "before any write on its path, or OpUndef)",
-                                                      l, group_, what)});
+                                                      Local(l), group_, what)});
   };
   switch (op) {
     case Op::OpBranchConditional:
@@ -737,7 +783,7 @@ std::uint8_t* Workgroup::Address(const Inst& in, std::uint32_t lane, std::uint32
     const bool binding = p[0] < d_.bindings.size();
     Fail(in, Finding{Checker::kMemcheck, fmt::format("an access of {} bytes at byte {} of a {}-byte {}{} (invocation {} of {})", bytes, p[1],
                                                      r.valid, binding ? fmt::format("binding {}", p[0]) : std::string("variable"),
-                                                     end <= r.bytes ? ", into the guard words after its end" : "", lane, group_)});
+                                                     end <= r.bytes ? ", into the guard words after its end" : "", Local(lane), group_)});
   }
   if (end > r.bytes) {  // a lenient device: the read gives zero, the write lands nowhere
     scratch_.assign(bytes, 0);
@@ -746,13 +792,13 @@ std::uint8_t* Workgroup::Address(const Inst& in, std::uint32_t lane, std::uint32
   if (p[0] >= shared_base_ && p[0] < private_base_) {
     const std::size_t base = static_cast<std::size_t>(r.data - shared_.data()) / 4;
     for (std::size_t w = p[1] / 4; w < (p[1] + bytes + 3) / 4; ++w)
-      if (auto finding = shared_check_.Access(base + w, lane, kind)) {
+      if (auto finding = shared_check_.Access(base + w, Local(lane), kind)) {
         finding->what += fmt::format(" (shared '{}' word {}, {})", shared_names_[p[0] - shared_base_], w, group_);
         Race(in, *finding);  // an unwritten word read may be a store this interval has yet to make: a race too
       }
   } else if (storage_check_ && p[0] < d_.bindings.size()) {
     for (std::size_t w = p[1] / 4; w < (p[1] + bytes + 3) / 4; ++w)
-      if (auto finding = storage_check_->Access(p[0], w, lane, kind)) Race(in, *finding);
+      if (auto finding = storage_check_->Access(p[0], w, Local(lane), kind)) Race(in, *finding);
   }
   return r.data + p[1];
 }

@@ -132,6 +132,7 @@ ExportRun RunExport(const std::string& dir, const DeviceConfig& device) {
       d.step_limit = device.step_limit;
       d.checks = device.checks;
       d.arithmetic = device.arithmetic;
+      d.layout = device.layout;
       d.dispatch_index = run.dispatches;
       const std::uint64_t push_bytes = Number(w[4], where);
       const std::size_t push_words = (push_bytes + 3) / 4;

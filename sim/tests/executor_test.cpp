@@ -13,6 +13,7 @@
 #include <fstream>
 #include <functional>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -48,10 +49,11 @@ std::vector<std::uint32_t> Compile(const std::string& body, const std::string& n
 // Runs `body` over `groups` workgroups of `local` invocations, subgroups of `subgroup`, on `data`.
 std::vector<std::uint32_t> Run(const std::string& body, std::uint32_t local, std::uint32_t groups, std::uint32_t subgroup,
                                std::vector<std::uint32_t> data, rayspace::wg::Schedule schedule = {}, sim::Checks checks = {},
-                               sim::DeviceModelChoice arithmetic = {}) {
+                               sim::DeviceModelChoice arithmetic = {}, sim::SubgroupLayoutChoice layout = {}) {
   const sim::Program p = sim::Prepare(Compile(body, "k"), {{1, std::to_string(local)}}, "k");
   sim::Dispatch d;
   d.arithmetic = arithmetic;
+  d.layout = layout;
   d.schedule = schedule;
   d.checks = checks;
   d.groups[0] = groups;
@@ -361,4 +363,46 @@ TEST_CASE("sim executor: a boolean specialization constant given as a number tak
     sim::Run(p, d, stats);
     CHECK_MESSAGE(data[0] == expected, "kFlag given as " << value);
   }
+}
+
+TEST_CASE("sim executor: subgroup layouts: linear is lavapipe's, shuffled deals invocations to places, partial leaves lanes inactive") {
+  // Each invocation writes its subgroup, lane, the active lanes of its subgroup and the subgroup count
+  // at its local index.
+  const std::string body = R"(void main() {
+    uint i = gl_LocalInvocationIndex;
+    data[i] = gl_SubgroupID * 1000u + gl_SubgroupInvocationID;
+    data[64 + i] = subgroupBallotBitCount(subgroupBallot(true));
+    data[128 + i] = gl_NumSubgroups;
+  })";
+  const auto places = [](const std::vector<std::uint32_t>& out) {
+    std::vector<std::uint32_t> p(out.begin(), out.begin() + 64);
+    std::sort(p.begin(), p.end());
+    return p;
+  };
+  const auto linear = Run(body, 64, 1, 8, std::vector<std::uint32_t>(192, 0));
+  for (std::uint32_t i = 0; i < 64; ++i) {
+    CHECK(linear[i] == i / 8 * 1000 + i % 8);
+    CHECK(linear[64 + i] == 8);
+    CHECK(linear[128 + i] == 8);
+  }
+  const sim::SubgroupLayoutChoice shuffled{sim::SubgroupLayout::kShuffled, 5, ""};
+  const auto s = Run(body, 64, 1, 8, std::vector<std::uint32_t>(192, 0), {}, {}, {}, shuffled);
+  CHECK(places(s) == places(linear));  // the same places, every one taken once
+  CHECK(s != linear);                  // dealt in another order
+  CHECK(Run(body, 64, 1, 8, std::vector<std::uint32_t>(192, 0), {}, {}, {}, shuffled) == s);  // reproducible from the seed
+  const sim::SubgroupLayoutChoice partial{sim::SubgroupLayout::kPartial, 5, ""};
+  const auto q = Run(body, 64, 1, 8, std::vector<std::uint32_t>(192, 0), {}, {}, {}, partial);
+  std::set<std::uint32_t> taken(q.begin(), q.begin() + 64);
+  CHECK(taken.size() == 64);  // no two invocations share a place
+  bool narrow = false;
+  for (std::uint32_t i = 0; i < 64; ++i) {
+    CHECK(q[64 + i] >= 4);  // at least half the lanes of a subgroup of 8
+    CHECK(q[64 + i] <= 8);
+    narrow = narrow || q[64 + i] < 8;
+    CHECK(q[128 + i] > 8);  // more subgroups than a full layout's
+    if (i > 0) CHECK(q[i] > q[i - 1]);  // local order kept across subgroups and lanes
+  }
+  CHECK(narrow);
+  // @KERNEL: another kernel's name leaves this one linear.
+  CHECK(Run(body, 64, 1, 8, std::vector<std::uint32_t>(192, 0), {}, {}, {}, {sim::SubgroupLayout::kPartial, 5, "other"}) == linear);
 }

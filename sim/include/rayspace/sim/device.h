@@ -40,6 +40,23 @@ struct DeviceModelChoice {
 // anything else.
 std::optional<DeviceModelChoice> ParseDeviceModel(std::string_view text, std::string& error);
 
+// How a workgroup's invocations fill its subgroups (docs/simulator.md, "Subgroup layouts"). Vulkan
+// ties LocalInvocationIndex to no subgroup or lane, and without full subgroups (the kernels' pipelines
+// do not require them) a subgroup may launch with lanes no invocation holds. linear is lavapipe's:
+// subgroup k holds local indices k*S .. k*S+S-1 at lanes 0 .. S-1. shuffled deals the invocations to
+// the (subgroup, lane) places of the linear layout in a seeded order; partial launches each subgroup
+// with a seeded count of invocations between S/2 and S, in local order, at seeded lanes.
+enum class SubgroupLayout : std::uint8_t { kLinear, kShuffled, kPartial };
+struct SubgroupLayoutChoice {
+  SubgroupLayout layout = SubgroupLayout::kLinear;
+  std::uint64_t seed = 1;
+  std::string kernel;  // only this kernel's dispatches ("": every kernel's); the others linear
+  std::string ToString() const;  // "linear", "shuffled:SEED", "partial:SEED", then "@KERNEL" if any
+};
+// "linear", "shuffled", "partial" (seed 1), or the last two with ":SEED", each with "@KERNEL" to
+// apply to that kernel alone; nullopt (and `error`) else.
+std::optional<SubgroupLayoutChoice> ParseSubgroupLayout(std::string_view text, std::string& error);
+
 struct DeviceConfig {
   std::uint32_t subgroup_size = 8;        // lavapipe's
   // The order of a dispatch's workgroups and, between two barriers, of a workgroup's subgroups:
@@ -51,6 +68,7 @@ struct DeviceConfig {
   // barrier releases whoever waits; races and undefined reads go unreported.
   Checks checks;
   DeviceModelChoice arithmetic;
+  SubgroupLayoutChoice layout;
 };
 
 }  // namespace rayspace::sim

@@ -52,6 +52,7 @@ struct Dispatch {
   std::uint64_t dispatch_index = 0;       // mixed into a random schedule's seed: each dispatch its own order
   Checks checks;                          // the checkers that run (DeviceConfig::checks)
   DeviceModelChoice arithmetic;           // DeviceConfig::arithmetic
+  SubgroupLayoutChoice layout;            // DeviceConfig::layout
   std::uint8_t* coverage = nullptr;       // one byte per instruction of Program::code, set when it runs (coverage.h)
 };
 
