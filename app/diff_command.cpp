@@ -667,6 +667,15 @@ ExitCode RunDiff(const DiffArgs& args) {
         verdict = r.verdict;
     }
   }
+  // A simulated subgroup layout other than lavapipe's: what a kernel that fails under it assumes.
+  if (verdict != ExitCode::kOk && !args.subgroup_layout.empty() && args.subgroup_layout.rfind("linear", 0) != 0) {
+    const bool partial = args.subgroup_layout.rfind("partial", 0) == 0;
+    const char* assumption = partial ? "full subgroups (every lane active; NumSubgroups = local size / SubgroupSize)"
+                                     : "linear lanes (LocalInvocationIndex = SubgroupId x SubgroupSize + SubgroupInvocationId)";
+    std::fprintf(stderr, "  subgroup layout %s: a kernel that fails only under it assumes %s, which Vulkan does not promise "
+                         "(docs/simulator.md, \"Subgroup layouts\")\n", args.subgroup_layout.c_str(), assumption);
+    j["layout_assumption"] = {{"layout", args.subgroup_layout}, {"assumes", partial ? "full subgroups" : "linear lanes"}};
+  }
   AddProvenance(j);
   if (saving) saving->Keep();  // every frame ran to its verdict: the saved calls are complete
   return WriteOutputs(verdict, [&] { report.Commit(JsonText(j)); });

@@ -308,7 +308,24 @@ elseif(PART STREQUAL "device-model")
   if(NOT rc EQUAL 0 OR NOT out MATCHES "worst-nearest:5 arithmetic" OR NOT out MATCHES "\n  all passes equal\n")
     set(failures "${failures}\ndiff --device-model worst-nearest:5 --strict-math --compare bitwise: exit ${rc}, expected equal: ${out}${err}")
   endif()
+  # Subgroup layouts Vulkan allows: trim assumes linear lanes and full subgroups (docs/simulator.md);
+  # the layout on surfaces alone, which assumes neither, is equal.
+  foreach(layout "shuffled:1@trim;4;first divergent pass: trim;linear lanes" "partial:1@trim;6;racecheck on the kernel of trim;full subgroups"
+                 "shuffled:1@surfaces;0;;")
+    list(GET layout 0 name)
+    list(GET layout 1 want)
+    list(GET layout 2 needle)
+    list(GET layout 3 assumes)
+    execute_process(COMMAND "${RAYSPACE}" diff "${cornell}" --size 16x16 --algo brute --backends emu,sim --subgroup-layout ${name} --no-impact
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc EQUAL want OR NOT err MATCHES "${needle}" OR NOT out MATCHES "${name} subgroup layout"
+       OR (assumes AND NOT err MATCHES "subgroup layout ${name}: a kernel that fails only under it assumes ${assumes}"))
+      set(failures "${failures}\ndiff --subgroup-layout ${name}: exit ${rc}, expected ${want} (${needle}; assumes ${assumes}): ${out}${err}")
+    endif()
+  endforeach()
   foreach(bad "--backends;emu,vulkan;--device-model;worst@only the simulated GPU's arithmetic is chosen"
+              "--backends;emu,vulkan;--subgroup-layout;shuffled@only the simulated GPU's subgroup layout is chosen"
+              "--backends;emu,sim;--subgroup-layout;partial:x@the seed 'x' is not an unsigned 64-bit integer"
               "--backends;emu,sim;--device-model;worst:x@the seed 'x' is not an unsigned 64-bit integer"
               "--backends;emu,sim;--device-model;nvidia@'nvidia' is not a device model")
     string(REPLACE "@" ";" bad "${bad}")
@@ -318,6 +335,32 @@ elseif(PART STREQUAL "device-model")
       set(failures "${failures}\ndiff ${bad}: exit ${rc}, expected 2 naming '${message}': ${err}")
     endif()
   endforeach()
+elseif(PART STREQUAL "walkthrough")
+  # docs/simulator.md's walkthrough: a user's trim kernel whose copy of workgroup.glsl saves the
+  # barrier after the scan reads the tile. lavapipe runs it benignly at local size 8 (all passes
+  # equal); the simulator names the race on the user's own line.
+  file(READ "${SRC}/gpu/shaders/workgroup.glsl" wg)
+  string(REPLACE "  barrier();  // the tile is free for the next call" "  // (barrier saved)" mine "${wg}")
+  if(mine STREQUAL wg)
+    message(FATAL_ERROR "workgroup.glsl no longer has the barrier the walkthrough removes")
+  endif()
+  file(WRITE "${WORK}/mine/workgroup.glsl" "${mine}")
+  file(COPY "${SRC}/gpu/shaders/trim.comp" DESTINATION "${WORK}/mine")
+  set(walk diff "${SRC}/scenes/cornell-mirrors.json" --size 32x32 --algo brute --local-size 8 --kernel trim=${WORK}/mine/trim.comp --no-impact)
+  execute_process(COMMAND "${RAYSPACE}" ${walk} --backends emu,vulkan RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0 OR NOT out MATCHES "\n  all passes equal\n")
+    set(failures "${failures}\nwalkthrough on lavapipe: exit ${rc}, expected all passes equal: ${out}${err}")
+  endif()
+  execute_process(COMMAND "${RAYSPACE}" ${walk} --backends emu,sim RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 6 OR NOT err MATCHES "racecheck on the kernel of trim: trim workgroup.glsl:[0-9]+: racecheck: invocation [0-9]+ writes shared word [0-9]+, which other invocations read with no barrier between \\(shared 'wg_tile'")
+    set(failures "${failures}\nwalkthrough on the simulator: exit ${rc}, expected 6 with the race on wg_tile: ${out}${err}")
+  endif()
+  # With the barrier in place, the same run on the simulator is equal.
+  file(WRITE "${WORK}/mine/workgroup.glsl" "${wg}")
+  execute_process(COMMAND "${RAYSPACE}" ${walk} --backends emu,sim RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0 OR NOT out MATCHES "\n  all passes equal\n")
+    set(failures "${failures}\nwalkthrough with the barrier on the simulator: exit ${rc}, expected all passes equal: ${out}${err}")
+  endif()
 elseif(PART STREQUAL "all")
   foreach(scene cornell-mirrors office)
     save(${scene} ${scene} 32x32)
@@ -329,7 +372,7 @@ elseif(PART STREQUAL "all")
     endforeach()
   endforeach()
 else()
-  message(FATAL_ERROR "PART must be sample, all, backend, backend-all, schedules or device-model")
+  message(FATAL_ERROR "PART must be sample, all, backend, backend-all, schedules, device-model or walkthrough")
 endif()
 if(failures)
   message(FATAL_ERROR "cli_simulate:${failures}")
