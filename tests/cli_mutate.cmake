@@ -9,10 +9,14 @@
 #                               arguments refused with one line.
 #   PART=configs (full tier)    mutants only the traversal lists' kernel cases and the added scenes'
 #                               configurations kill.
+#   PART=backends (full tier)   --backends emu,vulkan,sim: two mutants lavapipe runs benignly (a trim
+#                               comparison that reads one word past its binding, a reduce constant that
+#                               makes two subgroups write one word) survive there and die on the
+#                               simulator, by memcheck and racecheck, listed in the report's differences.
 # Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DWORK=<scratch> -DPART=sample|targeted|configs -P cli_mutate.cmake
 cmake_minimum_required(VERSION 3.19)
-if(NOT PART MATCHES "^(sample|targeted|configs)$")
-  message(FATAL_ERROR "cli_mutate.cmake: pass -DPART=sample, targeted or configs")
+if(NOT PART MATCHES "^(sample|targeted|configs|backends)$")
+  message(FATAL_ERROR "cli_mutate.cmake: pass -DPART=sample, targeted, configs or backends")
 endif()
 file(REMOVE_RECURSE "${WORK}")
 file(MAKE_DIRECTORY "${WORK}")
@@ -250,10 +254,44 @@ endif()
 
 endif()
 
+if(PART STREQUAL "backends")
+  execute_process(COMMAND "${RAYSPACE}" mutate "${SRC}/scenes/cornell-mirrors.json" --limit 0 --config crsh --size 16x16 --variants 0
+                          --only "trim.comp:44:24:comparison:<=|reduce.comp:87:29:constant:2u" --backends emu,vulkan,sim
+                          --report "${WORK}/backends.json"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0 OR NOT EXISTS "${WORK}/backends.json")
+    string(APPEND FAILURES "\nmutate --backends emu,vulkan,sim: exit ${rc}: ${out}${err}")
+  else()
+    file(READ "${WORK}/backends.json" j)
+    string(JSON n ERROR_VARIABLE jerr LENGTH "${j}" on_sim differences)
+    set(seen "")
+    if(NOT jerr)
+      math(EXPR last "${n} - 1")
+      foreach(i RANGE ${last})
+        string(JSON id GET "${j}" on_sim differences ${i} id)
+        string(JSON on_vulkan GET "${j}" on_sim differences ${i} vulkan)
+        string(JSON on_sim GET "${j}" on_sim differences ${i} sim)
+        string(JSON checker ERROR_VARIABLE cerr GET "${j}" on_sim differences ${i} caught checker)
+        list(APPEND seen "${id}:${on_vulkan}:${on_sim}:${checker}")
+      endforeach()
+    endif()
+    foreach(want "trim.comp:44:24:comparison:<=:survived:killed:memcheck" "reduce.comp:87:29:constant:2u:survived:killed:racecheck")
+      if(NOT want IN_LIST seen)
+        string(APPEND FAILURES "\nmutate --backends emu,vulkan,sim: expected ${want} among the differences, got '${seen}'")
+      endif()
+    endforeach()
+    if(NOT out MATCHES "2 mutant\\(s\\) with another verdict on sim than on vulkan")
+      string(APPEND FAILURES "\nmutate --backends emu,vulkan,sim: no list of differences printed: ${out}")
+    endif()
+  endif()
+endif()
+
 if(FAILURES)
   message(FATAL_ERROR "cli.mutate.${PART}:${FAILURES}")
 endif()
-if(PART STREQUAL "targeted")
+if(PART STREQUAL "backends")
+  message(STATUS "cli.mutate.backends: two mutants survive lavapipe and die on the simulator")
+elseif(PART STREQUAL "targeted")
   message(STATUS "cli.mutate.targeted: trim's comparisons killed, the cone union's sign test killed by a kernel case, a private-array overrun by the clamping device")
 else()
   message(STATUS "cli.mutate.configs: the traversal lists' kernel cases and the added scenes' configurations kill their mutants")

@@ -12,6 +12,10 @@ set(rayspace_full_tier
   # only the lists' kernel cases and the added scenes kill: the machinery is cli.mutate.targeted's
   # (named mutants killed by the diff, a kernel case and the clamping device).
   "^cli\\.mutate\\.(sample|configs)$"
+  # Mutants lavapipe runs benignly killed on the simulated GPU: the default tier's cli.simulate.backend
+  # catches the planted faults lavapipe runs benignly by the same checkers, and cli.mutate.targeted runs
+  # the mutate machinery.
+  "^cli\\.mutate\\.backends$"
   # Random configurations on the data scenes: the same cases on the bundled scenes stay.
   "^fused path: the same pairs, statistics and digest as the passes, on random configurations on Sponza$"
   "^grid lanes: the pass's walks, statistics and digest on the data scenes and random configurations$"
