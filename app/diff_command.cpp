@@ -1,6 +1,7 @@
 #include "diff_command.h"
 #include "version.h"
 #include "backend_setup.h"
+#include "coverage_options.h"
 #include "cli_util.h"
 #include "diff_impact.h"
 #include "kernel_model.h"
@@ -586,6 +587,9 @@ FaultRun DiffFrame(const DiffArgs& args, const Scene& scene, SceneBuffers& buffe
   FaultRun r;
   r.report = DiffReport(args, scene, fo, gpu, differ, passes, equal, run, totals.first, relaxed, totals.within_spec);
   r.report["kernel_coverage"] = coverage;
+  if (args.coverage_options)
+    r.report["coverage_options"] =
+        ProbeCoverageOptions({args.scene, args.data, "16x16", args.kernels, 120}, coverage);
   r.report["memory_estimate"] = MemoryEstimateJson(estimate);
   r.report["impact"] = MeasureDiffImpact(args, scene, buffers, fo, gpu, totals, run);
   if (!run.sim_checker.is_null()) {
@@ -619,6 +623,10 @@ void CheckInjectEach(const DiffArgs& args) {
 
 ExitCode RunDiff(const DiffArgs& args) {
   CheckInjectEach(args);
+  // Coverage is the simulated GPU's, of a user's kernel: without both there is nothing to probe.
+  if (args.coverage_options && (args.backends != "emu,sim" || args.kernels.empty()))
+    ThrowInput("--coverage-options: probes the lines of a --kernel the simulated GPU never reached; give --backends emu,sim and --kernel "
+               "PASS=FILE");
   const bool one_sided = OneSided(args);
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height, args.bounces);

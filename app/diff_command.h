@@ -29,6 +29,7 @@ struct DiffArgs : FrameArgs {
   std::string sim_checks;               // --sim-checks: the simulated GPU's checkers ("": all)
   std::string device_model;             // --device-model: the simulated GPU's arithmetic ("": lavapipe)
   std::string subgroup_layout;          // --subgroup-layout: how it fills its subgroups ("": linear)
+  bool coverage_options = false;        // --coverage-options: probe the options that reach a user kernel's unreached lines
 };
 
 // Runs the whole frame with every pass on both backends (same inputs: the GPU's previous outputs)

@@ -224,6 +224,10 @@ void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
   AddSimChecksOption(*dc, cmds.diff.sim_checks);
   AddDeviceModelOption(*dc, cmds.diff.device_model);
   AddSubgroupLayoutOption(*dc, cmds.diff.subgroup_layout);
+  dc->add_flag("--coverage-options", cmds.diff.coverage_options,
+               "--backends emu,sim with --kernel: after the diff, probe the configurations that run every kernel's rarer "
+               "paths (mutate's; 16x16 frames on the simulated GPU) and print which options reach the kernel's unreached "
+               "lines (minutes)");
   dc->add_option("--path", cmds.diff.path,
                  "Hierarchy traversal: passes (traverse then reduce, default) or fused (traverse.compact, what render "
                  "runs by default; the emulator runs its workgroup mirror unless --no-check-workgroups with the forward "

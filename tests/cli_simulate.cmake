@@ -335,6 +335,30 @@ elseif(PART STREQUAL "device-model")
       set(failures "${failures}\ndiff ${bad}: exit ${rc}, expected 2 naming '${message}': ${err}")
     endif()
   endforeach()
+elseif(PART STREQUAL "coverage-options")
+  # diff --coverage-options: the lines a user's reduce kernel leaves unreached on a default frame are
+  # reached with --reduction scan, but for the planted fault's branch, which no probe reaches.
+  file(COPY "${SRC}/gpu/shaders/reduce.comp" DESTINATION "${WORK}/mine")
+  execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backends emu,sim
+                          --kernel reduce=${WORK}/mine/reduce.comp --coverage-options --report "${WORK}/options.json"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  set(probe "")
+  set(never "")
+  if(EXISTS "${WORK}/options.json")
+    file(READ "${WORK}/options.json" j)
+    string(JSON probe ERROR_VARIABLE jerr GET "${j}" coverage_options 0 probes 0 config)
+    string(JSON never ERROR_VARIABLE jerr GET "${j}" coverage_options 0 unreached)
+  endif()
+  if(NOT rc EQUAL 0 OR NOT out MATCHES "\n    reached with --path passes --reduction scan: reduce.comp:" OR NOT probe STREQUAL "scan"
+     OR NOT never MATCHES "^\\[ *\"workgroup.glsl:38\" *\\]$")
+    set(failures "${failures}\ndiff --coverage-options: exit ${rc}, probe '${probe}', unreached '${never}': ${out}${err}")
+  endif()
+  # Nothing to probe without the simulated GPU or a user's kernel.
+  execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backends emu,vulkan --coverage-options
+                  RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+  if(NOT rc EQUAL 2 OR NOT err MATCHES "--coverage-options: probes the lines of a --kernel")
+    set(failures "${failures}\ndiff --coverage-options on Vulkan without a kernel: exit ${rc}, expected 2: ${err}")
+  endif()
 elseif(PART STREQUAL "walkthrough")
   # docs/simulator.md's walkthrough: a user's trim kernel whose copy of workgroup.glsl saves the
   # barrier after the scan reads the tile. lavapipe runs it benignly at local size 8 (all passes
@@ -372,7 +396,7 @@ elseif(PART STREQUAL "all")
     endforeach()
   endforeach()
 else()
-  message(FATAL_ERROR "PART must be sample, all, backend, backend-all, schedules, device-model or walkthrough")
+  message(FATAL_ERROR "PART must be sample, all, backend, backend-all, schedules, device-model, walkthrough or coverage-options")
 endif()
 if(failures)
   message(FATAL_ERROR "cli_simulate:${failures}")

@@ -45,6 +45,9 @@ set(rayspace_full_tier
   # The simulated backend on 32x32 frames under every tracer: cli.simulate.backend diffs five
   # configurations at 16x16.
   "^cli\\.simulate\\.backend-all$"
+  # The options that reach a user kernel's unreached lines, probed over 26 configurations (minutes):
+  # cli.simulate.sample shows --reduction scan reaching the lines a default frame misses.
+  "^cli\\.simulate\\.coverage-options$"
   # Five schedules by four subgroup sizes at 64x64: cli.simulate.backend runs a random schedule at
   # subgroup size 4, and gpu.sim executor cases check the orders themselves.
   "^cli\\.simulate\\.schedules\\."
