@@ -29,7 +29,10 @@ const Variant kVariants[] = {
 };
 
 BenchConfig Made(std::string name, std::string render, std::string what) {
-  BenchConfig c{std::move(name), std::move(render), std::move(what)};
+  BenchConfig c;
+  c.name = std::move(name);
+  c.render = std::move(render);
+  c.what = std::move(what);
   RenderArgs parsed;
   ApplyRenderOptions(c.render, parsed);
   c.algo = parsed.algo;

@@ -12,7 +12,7 @@ typename C::Result Launch(VulkanPasses& gpu, const C& c) {
   VulkanOut<C> out;
   if (const vk::Status s = gpu.Run(c, out); !s)
     throw emu::BackendError(fmt::format("{}, pass {}: {}", gpu.context().simulated() ? "simulated GPU" : "Vulkan backend", C::kName, s.message),
-                            s.checker);
+                            s.checker, s.finding);
   if constexpr (!std::is_void_v<typename C::Result>) return out;
 }
 

@@ -86,7 +86,7 @@ Status CreateLayouts(VkDevice device, std::uint32_t bindings, VkShaderStageFlags
 Status Status::Fail(const std::string& call, VkResult r) {
   std::string name = call.substr(0, call.find('('));
   std::string message = fmt::format("{} failed: {} ({})", name, ResultName(r), static_cast<int>(r));
-  return {false, r, std::move(name), std::move(message)};
+  return {false, r, std::move(name), std::move(message), {}, {}};
 }
 
 Buffer& Buffer::operator=(Buffer&& o) noexcept {
@@ -1011,7 +1011,10 @@ Status Recorder::SubmitSimulated() {
       sim::Run(*step.kernel->program_, d, stats);
     } catch (const sim::SimError& e) {
       Status st = Status::Fail(fmt::format("kernel {} faulted on the simulated device: {}", step.kernel->name_, e.what()));
-      if (e.checker()) st.checker = sim::CheckerName(*e.checker());
+      if (e.checker()) {
+        st.checker = sim::CheckerName(*e.checker());
+        st.finding = e.what();
+      }
       return st;
     }
     ctx_.sim_instructions_ += stats.lane_instructions;

@@ -155,6 +155,7 @@ CallRecord RunAndCompare(const PassMethod& method, const BufferSet& in, Backends
   } catch (const emu::BackendError& err) {
     r.error = err.what();
     r.error_checker = err.checker();
+    r.error_finding = err.finding();
     r.equal = false;
     return r;
   }
@@ -243,7 +244,8 @@ BufferSet Differ::Call(const std::string& method_name, const BufferSet& in) {
   calls_.push_back(r);
   const CallRecord& rec = calls_.back();
   if (!rec.error.empty())
-    throw DiffStop(fmt::format("{} ({}): the actual backend failed: {}", rec.pass, rec.label, rec.error), rec.error_checker, rec.pass);
+    throw DiffStop(fmt::format("{} ({}): the actual backend failed: {}", rec.pass, rec.label, rec.error), rec.error_checker, rec.pass,
+                   rec.error_finding);
   for (const BufferComparison& c : rec.buffers)
     if (!c.Equal() && !rec.within_spec && method.index_outputs.count(c.buffer))
       throw DiffStop(fmt::format("{} ({}): '{}' differs, and later passes index with it", rec.pass, rec.label, c.buffer));

@@ -23,12 +23,15 @@ namespace rayspace::emu {
 
 class BackendError : public std::runtime_error {
  public:
-  // `checker`: the simulated device's checker whose finding failed the call ("racecheck", ...), or "".
-  explicit BackendError(const std::string& what, std::string checker = {}) : std::runtime_error(what), checker_(std::move(checker)) {}
+  // `checker`: the simulated device's checker whose finding failed the call ("racecheck", ...), or "";
+  // `finding`: that finding's own text (what names the backend and pass around it).
+  explicit BackendError(const std::string& what, std::string checker = {}, std::string finding = {})
+      : std::runtime_error(what), checker_(std::move(checker)), finding_(std::move(finding)) {}
   const std::string& checker() const { return checker_; }
+  const std::string& finding() const { return finding_; }
 
  private:
-  std::string checker_;
+  std::string checker_, finding_;
 };
 
 // One virtual method per call (emu/calls.h), named like the call: `Result TraverseTop(const

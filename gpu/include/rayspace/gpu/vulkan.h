@@ -26,10 +26,11 @@ struct Status {
   std::string call;              // the failed Vulkan function, e.g. "vkCreateDevice"
   std::string message;           // "vkCreateDevice failed: VK_ERROR_INITIALIZATION_FAILED (-3)"
   std::string checker;           // the simulated device's checker whose finding this is ("racecheck", ...), or ""
+  std::string finding;           // ... and the finding as the simulator gave it (kernel, line, invocations, word)
   static Status Ok() { return {}; }
   // `call` may be the call's whole source text (RS_VK passes it): the name is what precedes '('.
   static Status Fail(const std::string& call, VkResult r);
-  static Status Fail(const std::string& msg) { return {false, VK_SUCCESS, {}, msg, {}}; }
+  static Status Fail(const std::string& msg) { return {false, VK_SUCCESS, {}, msg, {}, {}}; }
   explicit operator bool() const { return ok; }
 };
 

@@ -34,19 +34,22 @@ struct CallRecord {
   bool within_spec = false;  // differs, but only as a conformant device may (relaxed model only)
   std::string error;  // the actual backend failed on this call
   std::string error_checker;  // ... on a simulated device's checker finding: which checker ("racecheck", ...)
+  std::string error_finding;  // ... and the finding's own text
   std::string saved;  // directory of the saved inputs, when saving
 };
 
 class DiffStop : public std::runtime_error {
  public:
-  explicit DiffStop(const std::string& what, std::string checker = {}, std::string pass = {})
-      : std::runtime_error(what), checker_(std::move(checker)), pass_(std::move(pass)) {}
-  // A stop on a simulated device's checker finding: the checker and the pass whose kernel it was in.
+  explicit DiffStop(const std::string& what, std::string checker = {}, std::string pass = {}, std::string finding = {})
+      : std::runtime_error(what), checker_(std::move(checker)), pass_(std::move(pass)), finding_(std::move(finding)) {}
+  // A stop on a simulated device's checker finding: the checker, the pass whose kernel it was in and
+  // the finding's own text.
   const std::string& checker() const { return checker_; }
   const std::string& pass() const { return pass_; }
+  const std::string& finding() const { return finding_; }
 
  private:
-  std::string checker_, pass_;
+  std::string checker_, pass_, finding_;
 };
 
 struct DiffOptions {
