@@ -175,9 +175,10 @@ DiffTotals Totals(const std::vector<verify::CallRecord>& calls) {
 }
 
 // Prints one line per kernel pass and returns the same as the report's "passes".
-nlohmann::json PrintPasses(DiffTotals& d, const std::string& actual) {
+nlohmann::json PrintPasses(DiffTotals& d, const std::string& expected, const std::string& actual) {
   nlohmann::json passes = nlohmann::json::array();
-  std::printf("  %-18s %6s %12s %11s %11s  %s\n", "pass", "calls", "mismatches", "emu ms", (actual + " ms").c_str(), "buffers (elements)");
+  std::printf("  %-18s %6s %12s %11s %11s  %s\n", "pass", "calls", "mismatches", (expected + " ms").c_str(), (actual + " ms").c_str(),
+              "buffers (elements)");
   for (const std::string& p : d.order) {
     const PassTotals& t = d.totals[p];
     std::size_t mism = 0;
@@ -393,22 +394,19 @@ struct DiffTracer {
   }
 };
 
-// The actual side of --backends ("emu,vulkan" or "emu,sim"). Not given: a Vulkan device, or the
-// simulated GPU where no Vulkan device is usable (said on stderr).
-Backend MakeActualBackend(const std::string& backends, bool given, int device, int local_size,
-                          const std::map<std::string, std::uint32_t>& faults, const TestLimits& limits, const KernelFiles& kernels,
-                          std::uint32_t subgroup_size = 0, const std::string& schedule = "forward", const std::string& sim_checks = "",
-                          const std::string& device_model = "", const std::string& subgroup_layout = "") {
-  const std::string actual = backends.substr(backends.find(',') + 1);
-  if (subgroup_size && actual != "sim")
+// The simulated GPU's configuration from diff's options, refused where no side is the simulated GPU.
+sim::DeviceConfig SimulatedConfig(const std::string& backends, std::uint32_t subgroup_size, const std::string& schedule,
+                                  const std::string& sim_checks, const std::string& device_model, const std::string& subgroup_layout) {
+  const bool sim_side = backends.find("sim") != std::string::npos;
+  if (subgroup_size && !sim_side)
     ThrowInput("--subgroup-size {}: only the simulated GPU's subgroup size is chosen (--backends emu,sim); a Vulkan device has its own",
                subgroup_size);
-  if (!sim_checks.empty() && actual != "sim")
+  if (!sim_checks.empty() && !sim_side)
     ThrowInput("--sim-checks {}: only the simulated GPU runs these checkers (--backends emu,sim); a Vulkan device runs none", sim_checks);
-  if (!device_model.empty() && actual != "sim")
+  if (!device_model.empty() && !sim_side)
     ThrowInput("--device-model {}: only the simulated GPU's arithmetic is chosen (--backends emu,sim); a Vulkan device has its own",
                device_model);
-  if (!subgroup_layout.empty() && actual != "sim")
+  if (!subgroup_layout.empty() && !sim_side)
     ThrowInput("--subgroup-layout {}: only the simulated GPU's subgroup layout is chosen (--backends emu,sim); a Vulkan device has its own",
                subgroup_layout);
   // The simulated GPU takes --schedule too: the order of its workgroups and subgroups.
@@ -419,11 +417,21 @@ Backend MakeActualBackend(const std::string& backends, bool given, int device, i
   if (!model) ThrowInput("--device-model {}: {}", device_model, error);
   const std::optional<sim::SubgroupLayoutChoice> layout = sim::ParseSubgroupLayout(subgroup_layout.empty() ? "linear" : subgroup_layout, error);
   if (!layout) ThrowInput("--subgroup-layout {}: {}", subgroup_layout, error);
-  const sim::DeviceConfig simulated{.subgroup_size = subgroup_size ? subgroup_size : 8u,
-                                    .schedule = ParseSchedule(schedule),
-                                    .checks = *checks,
-                                    .arithmetic = *model,
-                                    .layout = *layout};
+  return {.subgroup_size = subgroup_size ? subgroup_size : 8u,
+          .schedule = ParseSchedule(schedule),
+          .checks = *checks,
+          .arithmetic = *model,
+          .layout = *layout};
+}
+
+// The actual side of --backends ("emu,vulkan", "emu,sim" or "sim,vulkan"). Not given: a Vulkan
+// device, or the simulated GPU where no Vulkan device is usable (said on stderr).
+Backend MakeActualBackend(const std::string& backends, bool given, int device, int local_size,
+                          const std::map<std::string, std::uint32_t>& faults, const TestLimits& limits, const KernelFiles& kernels,
+                          std::uint32_t subgroup_size = 0, const std::string& schedule = "forward", const std::string& sim_checks = "",
+                          const std::string& device_model = "", const std::string& subgroup_layout = "") {
+  const std::string actual = backends.substr(backends.find(',') + 1);
+  const sim::DeviceConfig simulated = SimulatedConfig(backends, subgroup_size, schedule, sim_checks, device_model, subgroup_layout);
   if (given || actual != "vulkan") return MakeBackend(actual, device, local_size, faults, limits, kernels, simulated);
   try {
     return MakeBackend("vulkan", device, local_size, faults, limits, kernels);
@@ -553,19 +561,22 @@ struct FaultRun {
   nlohmann::json report;
 };
 FaultRun DiffFrame(const DiffArgs& args, const Scene& scene, SceneBuffers& buffers, emu::FrameOptions fo, const Backend& gpu,
-                   const MemoryEstimate& estimate) {
+                   const MemoryEstimate& estimate, const Backend* reference) {
   const Injection injection = ParseInject(args.inject);
   if (gpu.set_faults) gpu.set_faults(gpu, injection.kernel);
   ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
   auto direct = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);
 
-  verify::Backends expected{emu::EmuFramePasses(), emu::EmuHierarchyPasses()};
+  // The expected side: the emulator, or (--backends sim,vulkan) the kernels on the simulated GPU.
+  verify::Backends expected = reference ? verify::Backends{reference->Frame(), reference->Hierarchy()}
+                                        : verify::Backends{emu::EmuFramePasses(), emu::EmuHierarchyPasses()};
   verify::Backends actual{gpu.Frame(), gpu.Hierarchy()};
   const bool relaxed = args.compare == "relaxed" || (args.compare == "auto" && !gpu.correctly_rounded);
   verify::Differ differ(expected, actual, {args.save_inputs, direct.get(), args.inject, relaxed, RecordedOptions(args, gpu)});
   fo.passes = &differ.frame();
   DiffTracer tracer = MakeDiffTracer(args, buffers, fo, differ.hierarchy());
   PrintDiffHeader(args, scene, fo, gpu, relaxed, tracer.hierarchy != nullptr);
+  if (reference) std::printf("  expected side: %s, the same kernels\n", reference->device.c_str());
   const DiffOutcome run = RunDiffFrame(scene, buffers, tracer.get(), fo);
   // Before the verdict: a kernel that never ran, or a fault that could not fire, leaves none. A frame
   // stopped early (a divergence, a checker's finding) has its verdict, and the passes after the stop
@@ -574,13 +585,13 @@ FaultRun DiffFrame(const DiffArgs& args, const Scene& scene, SceneBuffers& buffe
   if (const std::string why = DiffFaultCannotFire(args, injection, differ, gpu, run); !why.empty()) ThrowInput("{}", why);
 
   DiffTotals totals = Totals(differ.calls());
-  const nlohmann::json passes = PrintPasses(totals, gpu.name);
+  const nlohmann::json passes = PrintPasses(totals, reference ? reference->name : "emu", gpu.name);
   const bool equal = totals.first == nullptr && run.stopped.empty();
   PrintDiffVerdict(args, injection, totals, run, equal);
   std::printf("  %s: %zu split dispatches, %zu arrays paged over several bindings\n", gpu.name.c_str(), gpu.extra_dispatches(gpu),
               gpu.paged_arrays(gpu));
   PrintSavedInputs(args, differ);
-  const nlohmann::json coverage = ReportKernelCoverage(gpu, args.kernels);
+  const nlohmann::json coverage = ReportKernelCoverage(reference ? *reference : gpu, args.kernels);
   // The report is made before the impact's frames add to the device's dispatch counts.
   FaultRun r;
   r.report = DiffReport(args, scene, fo, gpu, differ, passes, equal, run, totals.first, relaxed, totals.within_spec);
@@ -589,7 +600,14 @@ FaultRun DiffFrame(const DiffArgs& args, const Scene& scene, SceneBuffers& buffe
     r.report["coverage_options"] =
         ProbeCoverageOptions({args.scene, args.data, "16x16", args.kernels, 120}, coverage);
   r.report["memory_estimate"] = MemoryEstimateJson(estimate);
-  r.report["impact"] = MeasureDiffImpact(args, scene, buffers, fo, gpu, totals, run);
+  if (reference && totals.first && run.checker.is_null() && run.sim_checker.is_null()) {
+    // The impact renders the frame on the emulator and on the actual device: a third side.
+    std::fprintf(stderr, "  impact: not measured (the expected side is the simulated GPU; the impact compares with the emulator)\n");
+    r.report["impact"] = {{"measured", false}, {"skipped", "--backends sim,vulkan"}};
+  } else {
+    r.report["impact"] = MeasureDiffImpact(args, scene, buffers, fo, gpu, totals, run);
+  }
+  if (reference) r.report["expected_device"] = reference->device;
   if (!run.sim_checker.is_null()) {
     r.report["simulator_checker"] = run.sim_checker;
     PrintSimChecker(run.sim_checker);
@@ -621,6 +639,15 @@ void CheckInjectEach(const DiffArgs& args) {
 
 ExitCode RunDiff(const DiffArgs& args) {
   CheckInjectEach(args);
+  if (args.backends == "sim,vulkan") {
+    // Both sides run the kernels: a planted fault would be in both or in one by a choice the user
+    // did not make; the relaxed model judges a device against the emulator's IEEE bits.
+    if (!args.inject.empty() || !args.inject_each.empty())
+      ThrowInput("--inject with --backends sim,vulkan: plant faults against the emulator (--backends emu,sim or emu,vulkan)");
+    if (args.compare == "relaxed")
+      ThrowInput("--compare relaxed with --backends sim,vulkan: the relaxed model judges a device against the emulator; use "
+                 "--backends emu,vulkan");
+  }
   // Coverage is the simulated GPU's, of a user's kernel: without both there is nothing to probe.
   if (args.coverage_options && (args.backends != "emu,sim" || args.kernels.empty()))
     ThrowInput("--coverage-options: probes the lines of a --kernel the simulated GPU never reached; give --backends emu,sim and --kernel "
@@ -645,6 +672,12 @@ ExitCode RunDiff(const DiffArgs& args) {
   const Backend gpu = MakeActualBackend(args.backends, args.backends_given, args.device, args.local_size, injection.kernel, args.Limits(),
                                         args.kernels, args.subgroup_size, args.model.schedule, args.sim_checks, args.device_model,
                                         args.subgroup_layout);
+  // --backends sim,vulkan: the kernels on the simulated GPU are the expected side.
+  std::optional<Backend> reference;
+  if (args.backends == "sim,vulkan")
+    reference = MakeBackend("sim", args.device, args.local_size, {}, args.Limits(), args.kernels,
+                            SimulatedConfig(args.backends, args.subgroup_size, args.model.schedule, args.sim_checks, args.device_model,
+                                            args.subgroup_layout));
   ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
   SceneBuffers buffers = FlattenForFrame(scene, args.faithful);
   buffers.one_sided = one_sided;
@@ -655,7 +688,7 @@ ExitCode RunDiff(const DiffArgs& args) {
   nlohmann::json j;
   ExitCode verdict = ExitCode::kOk;
   if (args.inject_each.empty()) {
-    FaultRun r = DiffFrame(args, scene, buffers, fo, gpu, estimate);
+    FaultRun r = DiffFrame(args, scene, buffers, fo, gpu, estimate, reference ? &*reference : nullptr);
     j = std::move(r.report);
     verdict = r.verdict;
   } else {
@@ -666,7 +699,7 @@ ExitCode RunDiff(const DiffArgs& args) {
       one.inject = args.inject_each[i];
       one.inject_each.clear();
       std::printf("rayspace diff: planted fault %s (%zu of %zu)\n", one.inject.c_str(), i + 1, args.inject_each.size());
-      FaultRun r = DiffFrame(one, scene, buffers, fo, gpu, estimate);
+      FaultRun r = DiffFrame(one, scene, buffers, fo, gpu, estimate, reference ? &*reference : nullptr);
       j["faults"].push_back(std::move(r.report));
       // A frame the workgroup checker stopped outranks a divergence, which outranks equality.
       if (r.verdict == ExitCode::kWorkgroupFault || (r.verdict == ExitCode::kDivergence && verdict == ExitCode::kOk))
@@ -870,10 +903,18 @@ ExitCode RunReplay(const ReplayArgs& given) {
   const Backend gpu = MakeActualBackend(args.backends, args.backends_given, args.device, args.local_size, injection.kernel,
                                         {args.split_bytes, args.max_groups}, args.kernels);
   ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
-  verify::Backends expected{emu::EmuFramePasses(), emu::EmuHierarchyPasses()};
+  // --backends sim,vulkan: the same kernels on the simulated GPU are the expected side (as diff).
+  std::optional<Backend> reference;
+  if (args.backends == "sim,vulkan") {
+    if (!args.inject.empty()) ThrowInput("--inject with --backends sim,vulkan: plant faults against the emulator (--backends emu,sim or emu,vulkan)");
+    reference = MakeBackend("sim", args.device, args.local_size, {}, {args.split_bytes, args.max_groups}, args.kernels,
+                            SimulatedConfig(args.backends, 0, "forward", "", "", ""));
+  }
+  verify::Backends expected = reference ? verify::Backends{reference->Frame(), reference->Hierarchy()}
+                                        : verify::Backends{emu::EmuFramePasses(), emu::EmuHierarchyPasses()};
   verify::Backends actual{gpu.Frame(), gpu.Hierarchy()};
-  std::printf("rayspace replay: %s (%s) on %s\n", InSavedCall(args.dir, [&] { return method.pass(in); }).c_str(),
-              method_name.c_str(), gpu.device.c_str());
+  std::printf("rayspace replay: %s (%s) on %s%s\n", InSavedCall(args.dir, [&] { return method.pass(in); }).c_str(),
+              method_name.c_str(), gpu.device.c_str(), reference ? (", expected from " + reference->device).c_str() : "");
   if (!applied.empty()) std::printf("  as recorded:%s\n", applied.c_str());
   nlohmann::json j = {{"dir", args.dir}, {"options", RecordedOptions(args, gpu)}};
   AddProvenance(j);

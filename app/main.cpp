@@ -189,9 +189,10 @@ void AddBackendsOption(CLI::App& cmd, std::string& backends, bool& given) {
         backends = v;
         given = true;
       },
-      "The expected and the actual side: emu,vulkan (the kernels on a Vulkan device) or emu,sim (the kernels' SPIR-V on "
-      "the simulated GPU); default emu,vulkan, or emu,sim where no Vulkan device is usable")
-      ->check(CLI::IsMember({"emu,vulkan", "emu,sim"}));
+      "The expected and the actual side: emu,vulkan (the kernels on a Vulkan device), emu,sim (the kernels' SPIR-V on "
+      "the simulated GPU) or sim,vulkan (the same kernels on both: the simulated GPU expected); default emu,vulkan, or "
+      "emu,sim where no Vulkan device is usable")
+      ->check(CLI::IsMember({"emu,vulkan", "emu,sim", "sim,vulkan"}));
 }
 
 void AddDiffAndReplay(CLI::App& app, Commands& cmds) {

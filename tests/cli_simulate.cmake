@@ -225,6 +225,19 @@ elseif(PART STREQUAL "backend" OR PART STREQUAL "backend-all" OR PART STREQUAL "
        OR NOT out MATCHES "on rayspace simulator" OR NOT out MATCHES "\n  all passes equal\n")
       set(failures "${failures}\ndiff without a Vulkan driver: exit ${rc}, expected the simulated GPU: ${out}${err}")
     endif()
+    # Any pair: the same kernels on the simulated GPU (expected) and on lavapipe are equal; a fault
+    # planted with two devices as sides is refused (it would need a side chosen for it).
+    execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backends sim,vulkan
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0 OR NOT out MATCHES "expected side: rayspace simulator \\(subgroup size 8\\), the same kernels"
+       OR NOT out MATCHES "sim ms +vulkan ms" OR NOT out MATCHES "\n  all passes equal\n")
+      set(failures "${failures}\ndiff --backends sim,vulkan: exit ${rc}, expected all passes equal with the simulator expected: ${out}${err}")
+    endif()
+    execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backends sim,vulkan --inject trim:1
+                    RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+    if(NOT rc EQUAL 2 OR NOT err MATCHES "^rayspace: error: --inject with --backends sim,vulkan")
+      set(failures "${failures}\ndiff --backends sim,vulkan --inject trim:1: exit ${rc}, expected 2: ${err}")
+    endif()
     # The subgroup size is the simulated GPU's alone.
     execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backends emu,vulkan --subgroup-size 4
                     RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
