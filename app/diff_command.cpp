@@ -618,6 +618,17 @@ FaultRun DiffFrame(const DiffArgs& args, const Scene& scene, SceneBuffers& buffe
   return r;
 }
 
+// --backends sim,vulkan: both sides run the kernels, so a planted fault would be in both or in one by
+// a choice the user did not make, and the relaxed model judges a device against the emulator's bits.
+void CheckDevicePair(const DiffArgs& args) {
+  if (args.backends != "sim,vulkan") return;
+  if (!args.inject.empty() || !args.inject_each.empty())
+    ThrowInput("--inject with --backends sim,vulkan: plant faults against the emulator (--backends emu,sim or emu,vulkan)");
+  if (args.compare == "relaxed")
+    ThrowInput("--compare relaxed with --backends sim,vulkan: the relaxed model judges a device against the emulator; use "
+               "--backends emu,vulkan");
+}
+
 // --inject-each: every value a fault diff accepts, and nothing that saves one frame's calls.
 void CheckInjectEach(const DiffArgs& args) {
   if (args.inject_each.empty()) return;
@@ -639,15 +650,7 @@ void CheckInjectEach(const DiffArgs& args) {
 
 ExitCode RunDiff(const DiffArgs& args) {
   CheckInjectEach(args);
-  if (args.backends == "sim,vulkan") {
-    // Both sides run the kernels: a planted fault would be in both or in one by a choice the user
-    // did not make; the relaxed model judges a device against the emulator's IEEE bits.
-    if (!args.inject.empty() || !args.inject_each.empty())
-      ThrowInput("--inject with --backends sim,vulkan: plant faults against the emulator (--backends emu,sim or emu,vulkan)");
-    if (args.compare == "relaxed")
-      ThrowInput("--compare relaxed with --backends sim,vulkan: the relaxed model judges a device against the emulator; use "
-                 "--backends emu,vulkan");
-  }
+  CheckDevicePair(args);
   // Coverage is the simulated GPU's, of a user's kernel: without both there is nothing to probe.
   if (args.coverage_options && (args.backends != "emu,sim" || args.kernels.empty()))
     ThrowInput("--coverage-options: probes the lines of a --kernel the simulated GPU never reached; give --backends emu,sim and --kernel "
