@@ -10,6 +10,15 @@ include("${CMAKE_CURRENT_LIST_DIR}/cli_same_frame.cmake")
 
 # PART=sponza: only the Sponza frames (test cli.backend.sponza), which need the data root; without it
 # they print "data root not found" and ctest counts them as skipped (SKIP_REGULAR_EXPRESSION).
+# PART=office: office's frames (test cli.backend.office, full tier).
+if(PART STREQUAL "office")
+  same_frame(office "${SRC}/scenes/office.json" 64x64)
+  same_frame(office_rah "${SRC}/scenes/office.json" 64x64 --algo rah)
+  if(failures)
+    message(FATAL_ERROR "render --backend vulkan differs from emu:${failures}")
+  endif()
+  return()
+endif()
 if(PART STREQUAL "sponza")
   cli_require_data(cli.backend.sponza)
   same_frame(sponza "${SRC}/scenes/sponza.json" 128x128)
@@ -57,8 +66,7 @@ file(WRITE "${WORK}/glass-scene.json" "${glass}")
 foreach(algo crsh rah)
   same_frame(glass_${algo} "${WORK}/glass-scene.json" 80x64 --algo ${algo})
 endforeach()
-same_frame(office "${SRC}/scenes/office.json" 64x64)
-same_frame(office_rah "${SRC}/scenes/office.json" 64x64 --algo rah)
+
 
 # A frame whose rays outgrow every page, or a scene array beyond one binding, is refused up front
 # as bad input (exit 2, one line): with the device's own limit, and with lowered ones.

@@ -145,13 +145,16 @@ if(PART STREQUAL "sample")
   if(NOT rc EQUAL 2 OR NOT err MATCHES "^rayspace: error: [^\n]*: not an export directory \\(no sequence.txt\\)\n$")
     set(failures "${failures}\nsimulate on a saved-calls directory: exit ${rc}: ${err}")
   endif()
-elseif(PART STREQUAL "backend" OR PART STREQUAL "backend-all" OR PART STREQUAL "schedules")
+elseif(PART STREQUAL "backend" OR PART STREQUAL "backend-faults" OR PART STREQUAL "backend-all" OR PART STREQUAL "schedules")
   # diff --backends emu,sim: every pass of the frame on the emulator and on the simulated GPU, bitwise.
   if(PART STREQUAL "backend")
     set(size 16x16)
     # The hierarchy pass by pass and fused, once under another schedule and subgroup size; the other
     # tracers (tl, the object tree, rah), sizes and schedules are the full tier's (backend-all, schedules).
     set(configs "crsh" "fused --path fused --schedule random:7 --subgroup-size 4")
+    set(scenes cornell-mirrors)
+  elseif(PART STREQUAL "backend-faults")
+    set(configs "")  # the planted faults alone (below)
     set(scenes cornell-mirrors)
   elseif(PART STREQUAL "schedules")
     # The acceptance's product: 64x64, five schedules (a test each: SCHEDULE), four subgroup sizes.
@@ -219,7 +222,7 @@ elseif(PART STREQUAL "backend" OR PART STREQUAL "backend-all" OR PART STREQUAL "
     endif()
     # Without a Vulkan driver, diff verifies the kernels on the simulated GPU.
     execute_process(COMMAND env VK_ICD_FILENAMES=${WORK}/none.json VK_DRIVER_FILES=${WORK}/none.json
-                            "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16
+                            "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --algo brute
                     RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
     if(NOT rc EQUAL 0 OR NOT err MATCHES "no Vulkan device: the kernels run on the simulated GPU \\(--backends emu,sim\\)"
        OR NOT out MATCHES "on rayspace simulator" OR NOT out MATCHES "\n  all passes equal\n")
@@ -251,13 +254,13 @@ elseif(PART STREQUAL "backend" OR PART STREQUAL "backend-all" OR PART STREQUAL "
       set(failures "${failures}\ndiff --backends emu,sim --inject reduce:1: exit ${rc}, expected 4 at reduce: ${err}")
     endif()
   endif()
-  # The planted faults, on the kernel: each stops the diff with exit 6 naming its checker, those
-  # lavapipe runs benignly included (trim's divergent barrier, a dropped barrier at local size 8, the
-  # global race, the load past the end, the undefined value). In the full tier, with that checker
-  # off the same run must not name it: the checker, not another, is what catches the fault (the
-  # default tier's "each finding names its checker, and with that checker off ..." shows the same on
-  # small kernels).
-  if(PART STREQUAL "backend" OR PART STREQUAL "backend-all")
+  # The planted faults, on the kernel (backend-faults, default tier): each stops the diff with exit 6
+  # naming its checker, those lavapipe runs benignly included (trim's divergent barrier, a dropped
+  # barrier at local size 8, the global race, the load past the end, the undefined value). In
+  # backend-all, with that checker off the same run must not name it: the checker, not another, is
+  # what catches the fault (the default tier's "each finding names its checker, and with that checker
+  # off ..." shows the same on small kernels).
+  if(PART STREQUAL "backend-faults" OR PART STREQUAL "backend-all")
     set(all_checkers racecheck initcheck synccheck memcheck)
     # (trim runs in every frame: its faults take the host's brute tracer, which keeps the frames short.)
     foreach(fault "trim:divergent-barrier synccheck trim --algo brute" "trim:dropped-barrier racecheck trim --local-size 8 --algo brute"
@@ -409,7 +412,7 @@ elseif(PART STREQUAL "all")
     endforeach()
   endforeach()
 else()
-  message(FATAL_ERROR "PART must be sample, all, backend, backend-all, schedules, device-model, walkthrough or coverage-options")
+  message(FATAL_ERROR "PART must be sample, all, backend, backend-faults, backend-all, schedules, device-model, walkthrough or coverage-options")
 endif()
 if(failures)
   message(FATAL_ERROR "cli_simulate:${failures}")

@@ -51,14 +51,14 @@ std::string Compare(const PathRun& a, const PathRun& b) {
   return a.digest == b.digest ? "" : "the frame digest";
 }
 
-// Five random configurations per scene, each rendered by the passes and fused; the top level's group
+// Three random configurations per scene, each rendered by the passes and fused; the top level's group
 // culling must have run in them, so that the equality covers it.
 void CheckRandomConfigurations(const std::vector<std::pair<std::string, int>>& scenes, unsigned seed) {
   std::mt19937 rng(seed);
   emu::ResetFusedCulledSlots();
   for (const auto& [file, size] : scenes) {
     const Scene s = test::LoadBundled(file);
-    for (int run = 0; run < 5; ++run) {
+    for (int run = 0; run < 3; ++run) {
       emu::HierarchyConfig cfg;
       cfg.algorithm = std::array{emu::Algorithm::kCrsh, emu::Algorithm::kCrsh, emu::Algorithm::kRah, emu::Algorithm::kRahQuadtree}[rng() % 4];
       cfg.subdivision = std::array{4, 8, 16}[rng() % 3];

@@ -48,6 +48,15 @@ set(rayspace_full_tier
   # The options that reach a user kernel's unreached lines, probed over 26 configurations (minutes):
   # cli.simulate.sample shows --reduction scan reaching the lines a default frame misses.
   "^cli\\.simulate\\.coverage-options$"
+  # The worst-conformant device and the subgroup layouts on whole frames: gpu.sim's "device math: ..."
+  # cases, "the worst-conformant device fuses ...", "subgroup layouts ..." and "a boolean
+  # specialization constant ..." hold the same claims on small kernels.
+  "^cli\\.simulate\\.device-model$"
+  # Every pass launched or refused with an example that launches it: cli.kernel refuses a pass a run
+  # never launched, naming its example, and the registry case maps every pass to its kernel.
+  "^cli\\.kernel\\.reach$"
+  # office on both backends, image for image: cli.diff.office.crsh and .rah diff its passes bitwise.
+  "^cli\\.backend\\.office$"
   # Five schedules by four subgroup sizes at 64x64: cli.simulate.backend runs a random schedule at
   # subgroup size 4, and gpu.sim executor cases check the orders themselves.
   "^cli\\.simulate\\.schedules\\."
