@@ -10,19 +10,15 @@ include("${CMAKE_CURRENT_LIST_DIR}/cli_same_frame.cmake")
 
 # PART=sponza: only the Sponza frames (test cli.backend.sponza), which need the data root; without it
 # they print "data root not found" and ctest counts them as skipped (SKIP_REGULAR_EXPRESSION).
-# PART=office: office's frames (test cli.backend.office, full tier).
-if(PART STREQUAL "office")
-  same_frame(office "${SRC}/scenes/office.json" 64x64)
-  same_frame(office_rah "${SRC}/scenes/office.json" 64x64 --algo rah)
-  if(failures)
-    message(FATAL_ERROR "render --backend vulkan differs from emu:${failures}")
+# PART=office: office's frames (test cli.backend.office, full tier). Each: crsh and rah.
+if(PART STREQUAL "sponza" OR PART STREQUAL "office")
+  set(size 64x64)
+  if(PART STREQUAL "sponza")
+    cli_require_data(cli.backend.sponza)
+    set(size 128x128)
   endif()
-  return()
-endif()
-if(PART STREQUAL "sponza")
-  cli_require_data(cli.backend.sponza)
-  same_frame(sponza "${SRC}/scenes/sponza.json" 128x128)
-  same_frame(sponza_rah "${SRC}/scenes/sponza.json" 128x128 --algo rah)
+  same_frame(${PART} "${SRC}/scenes/${PART}.json" ${size})
+  same_frame(${PART}_rah "${SRC}/scenes/${PART}.json" ${size} --algo rah)
   if(failures)
     message(FATAL_ERROR "render --backend vulkan differs from emu:${failures}")
   endif()
