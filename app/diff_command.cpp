@@ -710,8 +710,11 @@ ExitCode RunDiff(const DiffArgs& args) {
     }
   }
   // A simulated subgroup layout other than lavapipe's: what a kernel that fails under it assumes.
-  if (verdict != ExitCode::kOk && !args.subgroup_layout.empty() && args.subgroup_layout.rfind("linear", 0) != 0) {
-    const bool partial = args.subgroup_layout.rfind("partial", 0) == 0;
+  std::string layout_error;
+  const std::optional<sim::SubgroupLayoutChoice> layout =
+      args.subgroup_layout.empty() ? std::nullopt : sim::ParseSubgroupLayout(args.subgroup_layout, layout_error);
+  if (verdict != ExitCode::kOk && layout && layout->layout != sim::SubgroupLayout::kLinear) {
+    const bool partial = layout->layout == sim::SubgroupLayout::kPartial;
     const char* assumption = partial ? "full subgroups (every lane active; NumSubgroups = local size / SubgroupSize)"
                                      : "linear lanes (LocalInvocationIndex = SubgroupId x SubgroupSize + SubgroupInvocationId)";
     std::fprintf(stderr, "  subgroup layout %s: a kernel that fails only under it assumes %s, which Vulkan does not promise "

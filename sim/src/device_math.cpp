@@ -100,7 +100,9 @@ std::uint64_t DeviceMath::Draw(FloatOpKind op, std::uint64_t a, std::uint64_t b)
 }
 
 std::uint64_t DeviceMath::Binary(FloatOpKind op, std::uint32_t width, std::uint64_t a_bits, std::uint64_t b_bits) const {
-  const std::uint64_t draw = Draw(op, a_bits, b_bits);
+  // The draw decides only the loose division and roots: hashed for those alone.
+  const bool loose = op == FloatOpKind::kDiv || op == FloatOpKind::kInverseSqrt;
+  const std::uint64_t draw = loose ? Draw(op, a_bits, b_bits) : 0;
   const int k = 1 + static_cast<int>(draw & 1);
   const bool up = (draw >> 1) & 1;
   if (width == 32) {
