@@ -1,6 +1,7 @@
 // Compress, sort and decompress (thesis §3.2.3-3.2.6, after Garanzha and Loop): equal keys collapse
 // into chunks, chunks are radix sorted, then expanded back to rays. Mirrors gpu/shaders/sort.comp.
 #include <algorithm>
+#include <bit>
 
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/passes.h"
@@ -33,7 +34,7 @@ Chunks PassCompress(const call::Compress& in) {
 
 namespace {
 
-constexpr std::uint32_t kBins = 256, kNoDigit = 256;
+constexpr std::uint32_t kBins = 256;
 
 // One LSD radix pass of sort.comp (8 bits at `shift`, src -> dst), phase for phase: per-block
 // histograms in shared memory, a scan over blocks per bin, a scan of the bin totals, and the stable
@@ -78,37 +79,46 @@ class RadixPass {
     });
   }
 
-  // sort.comp's RankAndScatter: each invocation ranks its element among the step's earlier elements
-  // of the same digit; the last of each digit advances that digit's bin.
+  // sort.comp's RankAndScatter: each element of a step marks its bit in its digit's row and ranks
+  // itself by the marked bits before it; the last of each digit advances that digit's bin.
   void RankAndScatter(wg::Workgroup& w) {
+    constexpr std::uint32_t kWords = layout::kSortRankWords;
     auto& bins = w.Shared<std::uint32_t>(kBins, "bins");
-    auto& digits = w.Shared<std::uint32_t>(layout::kMaxLocalSize, "digits");
-    const std::uint32_t g = w.id(), end = std::min(n_, (g + 1) * kBlock), step = w.local_size();
-    wg::Private<std::uint32_t> digit = w.Private<std::uint32_t>(), before = w.Private<std::uint32_t>(),
-                               after = w.Private<std::uint32_t>();
+    auto& marks = w.Shared<std::uint32_t>(kBins * kWords, "marks");
+    const std::uint32_t g = w.id(), end = std::min(n_, (g + 1) * kBlock), size = w.local_size();
+    const std::uint32_t step = std::min(size, layout::kSortRankStep);
+    wg::Private<std::uint32_t> row = w.Private<std::uint32_t>(), before = w.Private<std::uint32_t>();
+    wg::Private<bool> last = w.Private<bool>();
     w.Phase([&](wg::Inv& i) {
-      for (std::uint32_t b = i.local_id; b < kBins; b += step) bins[b] = 0u;
+      for (std::uint32_t b = i.local_id; b < kBins; b += size) bins[b] = 0u;
+      for (std::uint32_t b = i.local_id; b < kBins * kWords; b += size) marks[b] = 0u;
     });
+    w.Barrier();
+    const auto mine = [&](const wg::Inv& i, std::uint32_t c0) { return i.local_id < step && c0 + i.local_id < end; };
+    const auto bit = [](const wg::Inv& i) { return 1u << (i.local_id & 31u); };
     for (std::uint32_t c0 = g * kBlock; c0 < end; c0 += step) {
       w.Phase([&](wg::Inv& i) {
-        digit[i] = c0 + i.local_id < end ? Digit(c0 + i.local_id) : kNoDigit;
-        digits[i.local_id] = digit[i];
+        if (!mine(i, c0)) return;
+        row[i] = Digit(c0 + i.local_id) * kWords;
+        wg::AtomicOr(marks[row[i] + (i.local_id >> 5)], bit(i));
       });
       w.Barrier();
       w.Phase([&](wg::Inv& i) {
-        before[i] = after[i] = 0;
-        for (std::uint32_t k = 0; k < step; ++k) {
-          const std::uint32_t d = digits[k];
-          before[i] += k < i.local_id && d == digit[i] ? 1u : 0u;
-          after[i] += k > i.local_id && d == digit[i] ? 1u : 0u;
-        }
-        if (c0 + i.local_id < end)
-          dst_[scratch_[kBins * blocks_ + digit[i]] + scratch_[digit[i] * blocks_ + g] + bins[digit[i]] + before[i]] =
-              src_[c0 + i.local_id];
+        if (!mine(i, c0)) return;
+        const std::uint32_t word = i.local_id >> 5, digit = row[i] / kWords;
+        before[i] = 0;
+        for (std::uint32_t k = 0; k < word; ++k) before[i] += static_cast<std::uint32_t>(std::popcount(std::uint32_t{marks[row[i] + k]}));
+        const std::uint32_t own = marks[row[i] + word];
+        before[i] += static_cast<std::uint32_t>(std::popcount(own & (bit(i) - 1u)));
+        last[i] = (own & ~(bit(i) | (bit(i) - 1u))) == 0u;
+        for (std::uint32_t k = word + 1; k < kWords; ++k) last[i] = last[i] && marks[row[i] + k] == 0u;
+        dst_[scratch_[kBins * blocks_ + digit] + scratch_[digit * blocks_ + g] + bins[digit] + before[i]] = src_[c0 + i.local_id];
       });
       w.Barrier();
       w.Phase([&](wg::Inv& i) {
-        if (c0 + i.local_id < end && after[i] == 0) bins[digit[i]] += before[i] + 1u;
+        if (!mine(i, c0)) return;
+        wg::AtomicAnd(marks[row[i] + (i.local_id >> 5)], ~bit(i));
+        if (last[i]) bins[row[i] / kWords] += before[i] + 1u;
       });
     }
   }

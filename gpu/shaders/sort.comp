@@ -19,35 +19,45 @@ layout(std430, binding = kSortBindSums) buffer Sums { uint sums[]; };       // p
 layout(push_constant) uniform Block { SortPush pc; };
 
 shared uint bins[256];
-shared uint digits[kMaxLocalSize];
+shared uint marks[256u * kSortRankWords];  // per digit, a bit per element of the scatter's step
 
-// The radix pass's stable scatter of block g: kLocalSize elements at a time in element order, each
-// invocation ranks its element among the earlier ones of the same digit in shared memory (at most
-// kLocalSize reads), and `bins` carries each digit's count over the block's earlier elements; the last
-// element of each digit in the step advances it, so every bin has one writer. The positions are the
-// stable counting sort's whatever the workgroup size.
+// The radix pass's stable scatter of block g: kSortRankStep elements at a time (fewer when the
+// workgroup is smaller) in element order. Each element sets its bit in its digit's marks; its rank
+// among the step's earlier elements of that digit is the count of marked bits before its own, at most
+// kSortRankWords words read; `bins` carries each digit's count over the block's earlier steps, and the
+// last element of each digit in the step advances it, so every bin has one writer. The positions are
+// the stable counting sort's whatever the workgroup size.
 void RankAndScatter(uint g, uint n, uint blocks) {
-  const uint l = gl_LocalInvocationID.x;
+  const uint l = gl_LocalInvocationID.x, step = min(kLocalSize, kSortRankStep);
   for (uint b = l; b < 256u; b += kLocalSize) bins[b] = 0u;
-  const uint end = min(n, (g + 1u) * kScanBlock);
-  for (uint c0 = g * kScanBlock; c0 < end; c0 += kLocalSize) {
-    const uint i = c0 + l, c = i < end ? sorted[pc.src + i] : 0u;
-    const uint digit = i < end ? (chunk_key[c] >> pc.shift) & 255u : 256u;  // 256: no element
-    digits[l] = digit;
-    barrier();  // the digits and the previous step's bins are visible
-    uint before = 0u, after = 0u;
-    for (uint k = 0u; k < kLocalSize; ++k) {
-      const uint d = digits[k];
-      // Fault 2 (sort): an element counts itself among the earlier ones of its digit (<= for <).
-      before += (kFault == 2u && pc.phase == kSortPhaseScatter ? k <= l : k < l) && d == digit ? 1u : 0u;
-      after += k > l && d == digit ? 1u : 0u;
+  for (uint b = l; b < 256u * kSortRankWords; b += kLocalSize) marks[b] = 0u;
+  barrier();  // bins and marks cleared
+  const uint end = min(n, (g + 1u) * kScanBlock), word = l >> 5u, bit = 1u << (l & 31u);
+  for (uint c0 = g * kScanBlock; c0 < end; c0 += step) {
+    const bool mine = l < step && c0 + l < end;
+    const uint c = mine ? sorted[pc.src + c0 + l] : 0u;
+    const uint digit = mine ? (chunk_key[c] >> pc.shift) & 255u : 0u, row = digit * kSortRankWords;
+    if (mine) atomicOr(marks[row + word], bit);
+    barrier();  // the step's marks and the previous step's bins are visible
+    uint before = 0u;
+    bool last = true;
+    if (mine) {
+      for (uint w = 0u; w < word; ++w) before += uint(bitCount(marks[row + w]));
+      const uint own = marks[row + word];
+      // Fault 2 (sort): an element counts itself among the earlier ones of its digit.
+      before += uint(bitCount(own & (kFault == 2u && pc.phase == kSortPhaseScatter ? bit | (bit - 1u) : bit - 1u)));
+      last = (own & ~(bit | (bit - 1u))) == 0u;
+      for (uint w = word + 1u; w < kSortRankWords; ++w) last = last && marks[row + w] == 0u;
+      // Fault 3 (sort): each digit starts at the next digit's base (the total scan read as inclusive).
+      const uint base_digit = kFault == 3u ? min(digit + 1u, 255u) : digit;
+      sorted[pc.dst + scratch[256u * blocks + base_digit] + scratch[digit * blocks + g] + bins[digit] + before] = c;
     }
-    // Fault 3 (sort): each digit starts at the next digit's base (the total scan read as inclusive).
-    const uint base_digit = kFault == 3u ? min(digit + 1u, 255u) : digit;
-    if (i < end) sorted[pc.dst + scratch[256u * blocks + base_digit] + scratch[digit * blocks + g] + bins[digit] + before] = c;
-    barrier();  // every bin read before it advances
-    // Fault 1 (sort): a bin's running position is not advanced in the top byte's pass.
-    if (i < end && after == 0u && !(kFault == 1u && pc.shift == 24u)) bins[digit] += before + 1u;
+    barrier();  // every bin and mark read before they change
+    if (mine) {
+      atomicAnd(marks[row + word], ~bit);  // atomics: the next step's marks may share the word
+      // Fault 1 (sort): a bin's running position is not advanced in the top byte's pass.
+      if (last && !(kFault == 1u && pc.shift == 24u)) bins[digit] += before + 1u;
+    }
   }
 }
 

@@ -14,8 +14,8 @@ namespace {
 
 Lacks g_lacks;
 
-// The shared memory the kernels declare at most (sort.comp: wg_tile, digits and bins).
-constexpr std::uint32_t kSharedBytes = (2 * layout::kMaxLocalSize + 256) * 4;
+// The shared memory the kernels declare at most (sort.comp: wg_tile, the scatter's marks and bins).
+constexpr std::uint32_t kSharedBytes = (layout::kMaxLocalSize + 256 * layout::kSortRankWords + 256) * 4;
 // The raster's attachment formats (raster.h), as the requirements below name them.
 static_assert(gpu_backend::kRasterDepthFormat == VK_FORMAT_D32_SFLOAT &&
                   gpu_backend::kRasterColorFormats[0] == VK_FORMAT_R32G32B32A32_SFLOAT &&
@@ -160,7 +160,7 @@ std::vector<Requirement> CheckRequirements(VkPhysicalDevice d, const Lacks& lack
   c.Limit("maxPerStageDescriptorStorageBuffers", "intersect (three arrays and five paged arrays of four)", MaxBindings(),
           lim.maxPerStageDescriptorStorageBuffers);
   c.Limit("maxPushConstantsSize", "traverse.compact (the largest push block)", MaxPushBytes(), lim.maxPushConstantsSize);
-  c.Limit("maxComputeSharedMemorySize", "sort (wg_tile, digits and bins at the largest local size)", kSharedBytes,
+  c.Limit("maxComputeSharedMemorySize", "sort (wg_tile, marks and bins at the largest local size)", kSharedBytes,
           lim.maxComputeSharedMemorySize);
   return c.Take();
 }

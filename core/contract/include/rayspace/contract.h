@@ -189,6 +189,10 @@ RS_CONST(uint, kSortPhaseHistograms, 11u);
 RS_CONST(uint, kSortPhaseBinScan, 12u);
 RS_CONST(uint, kSortPhaseTotalScan, 13u);
 RS_CONST(uint, kSortPhaseScatter, 14u);
+// The scatter ranks at most kSortRankStep elements a step: a bit per element in kSortRankWords words
+// per digit, 8 KB of shared memory whatever the local size.
+RS_CONST(uint, kSortRankStep, 256u);
+RS_CONST(uint, kSortRankWords, 8u);
 // decompress: sizes in sorted order, scan, then every ray finds its chunk
 RS_CONST(uint, kDecompressPhaseSizes, 20u);
 RS_CONST(uint, kDecompressPhaseBlockSums, 21u);
@@ -776,6 +780,7 @@ static_assert(sizeof(SurfacesPush) == 8 && sizeof(SurfacesHitsPush) == 4 && size
               sizeof(GridBuildGrid) == 96 && sizeof(GridBuildPush) == 16);
 static_assert(kTlMaxElements == 65535u * kTlLoopBlock && kTlEscapeNone == ~0u && kTlNoParent == ~0u);
 static_assert(kTreeStepBlock % kMaxLocalSize == 0u);
+static_assert(kSortRankWords * 32u == kSortRankStep && kScanBlock % kSortRankStep == 0u);
 static_assert(offsetof(TraversePush, eps) == 40);
 }  // namespace rayspace::layout
 #endif

@@ -401,6 +401,9 @@ template <AtomicWord T>
 T AtomicOr(SharedRef<T> r, T v) { return r.array()->Rmw(r.index(), [v](T o) { return static_cast<T>(o | v); }); }
 
 template <AtomicWord T>
+T AtomicAnd(SharedRef<T> r, T v) { return r.array()->Rmw(r.index(), [v](T o) { return static_cast<T>(o & v); }); }
+
+template <AtomicWord T>
 T AtomicAdd(T& global, T v) { return std::atomic_ref<T>(global).fetch_add(v); }
 template <AtomicWord T>
 T AtomicOr(T& global, T v) { return std::atomic_ref<T>(global).fetch_or(v); }
