@@ -129,7 +129,11 @@ class Workgroup {
       for (std::size_t k = 0; k < private_vars_.size(); ++k)
         regions_.push_back({private_.data() + l * per_lane + private_offsets_[k], Pointee(*private_vars_[k]).words * 4,
                             Pointee(*private_vars_[k]).words * 4});
+    // Constants once a slot for the whole dispatch: nothing writes a constant's registers, and every
+    // other register is written before it is read (SSA dominance, spirv-val), its initcheck state too.
     regs_.resize(static_cast<std::size_t>(slots_cap_) * p.reg_words);
+    for (std::uint32_t l = 0; l < slots_cap_; ++l)
+      std::copy(p.constants.begin(), p.constants.end(), regs_.begin() + static_cast<std::ptrdiff_t>(l) * p.reg_words);
     if (d.checks.On(Checker::kInitcheck)) {
       init_ = true;
       undef_.resize(regs_.size());
@@ -139,11 +143,12 @@ class Workgroup {
     seg_.resize(slots_cap_);
     prev_.resize(slots_cap_);
     state_.resize(slots_cap_);
+    SetUpSlots();
   }
 
   void Run(const std::uint32_t group[3]) {
     std::fill(shared_.begin(), shared_.end(), 0);
-    std::fill(private_.begin(), private_.end(), 0);
+    for (std::uint32_t l = 0; l < slots_cap_; ++l) std::copy(lane_start_.begin(), lane_start_.end(), private_.begin() + l * lane_bytes_);
     group_index_ = group[0] + static_cast<std::uint64_t>(group[1]) * d_.groups[0];
     Layout();
     for (std::uint32_t l = 0; l < slots_; ++l) {
@@ -244,36 +249,49 @@ class Workgroup {
   }
   std::uint32_t* R(std::uint32_t lane, std::uint32_t id) { return regs_.data() + static_cast<std::size_t>(lane) * p_.reg_words + p_.reg[id]; }
 
+  // What no workgroup changes, once for the dispatch: every slot's variable pointers, and the memory
+  // and initcheck state an invocation's own variables start from (initializers are constants; a
+  // Function or Private variable without one holds undefined words).
+  void SetUpSlots() {
+    lane_start_.assign(lane_bytes_, 0);
+    lane_undef_start_.assign(lane_bytes_ / 4, 0);
+    std::uint32_t priv = 0;
+    for (const Variable& v : p_.variables) {
+      if (!PerInvocation(v)) continue;
+      const std::size_t at = private_offsets_[priv++];
+      const auto s = static_cast<spv::StorageClass>(v.storage);
+      if (v.initializer) std::memcpy(lane_start_.data() + at, p_.constants.data() + p_.reg[v.initializer], Pointee(v).words * 4);
+      std::fill_n(lane_undef_start_.begin() + static_cast<std::ptrdiff_t>(at / 4), Pointee(v).words,
+                  static_cast<std::uint8_t>(s != spv::StorageClass::Input && !v.initializer));
+      if (s == spv::StorageClass::Input) inputs_.push_back({&v, at});
+    }
+    for (std::uint32_t l = 0; l < slots_cap_; ++l) {
+      std::uint32_t shared = shared_base_;
+      priv = 0;
+      for (const Variable& v : p_.variables) {
+        std::uint32_t* r = R(l, v.id);
+        const auto s = static_cast<spv::StorageClass>(v.storage);
+        if (s == spv::StorageClass::StorageBuffer || s == spv::StorageClass::Uniform) {
+          if (v.binding >= d_.bindings.size()) throw SimError(fmt::format("{}: binding {} is not bound", p_.name, v.binding));
+          r[0] = v.binding;
+        } else if (s == spv::StorageClass::PushConstant) {
+          r[0] = push_region_;
+        } else if (s == spv::StorageClass::Workgroup) {
+          r[0] = shared++;
+        } else {
+          r[0] = private_base_ + l * static_cast<std::uint32_t>(private_vars_.size()) + priv++;
+        }
+        r[1] = 0;
+      }
+    }
+  }
+
   void StartLane(std::uint32_t l, const std::uint32_t group[3]) {
-    std::copy(p_.constants.begin(), p_.constants.end(), regs_.begin() + static_cast<std::ptrdiff_t>(l) * p_.reg_words);
-    if (init_) std::fill_n(undef_.begin() + static_cast<std::ptrdiff_t>(l) * p_.reg_words, p_.reg_words, 0);
     const std::uint32_t* ls = p_.local_size;
     const std::uint32_t li = local_of_[l];
     const std::uint32_t local[3] = {li % ls[0], (li / ls[0]) % ls[1], li / (ls[0] * ls[1])};
-    std::uint32_t shared = shared_base_, priv = 0;
-    for (const Variable& v : p_.variables) {
-      std::uint32_t* r = R(l, v.id);
-      const auto s = static_cast<spv::StorageClass>(v.storage);
-      if (s == spv::StorageClass::StorageBuffer || s == spv::StorageClass::Uniform) {
-        if (v.binding >= d_.bindings.size()) throw SimError(fmt::format("{}: binding {} is not bound", p_.name, v.binding));
-        r[0] = v.binding;
-      } else if (s == spv::StorageClass::PushConstant) {
-        r[0] = push_region_;
-      } else if (s == spv::StorageClass::Workgroup) {
-        r[0] = shared++;
-      } else {
-        r[0] = private_base_ + l * static_cast<std::uint32_t>(private_vars_.size()) + priv;
-        std::uint8_t* mem = private_.data() + l * lane_bytes_ + private_offsets_[priv];
-        ++priv;
-        if (v.initializer) std::memcpy(mem, R(l, v.initializer), Pointee(v).words * 4);
-        // initcheck: a Function or Private variable without an initializer holds undefined words.
-        if (init_)
-          std::fill_n(private_undef_.begin() + static_cast<std::ptrdiff_t>((mem - private_.data()) / 4), Pointee(v).words,
-                      static_cast<std::uint8_t>(s != spv::StorageClass::Input && !v.initializer));
-        if (s == spv::StorageClass::Input) FillBuiltin(v, mem, l, local, group);
-      }
-      r[1] = 0;
-    }
+    if (init_) std::copy(lane_undef_start_.begin(), lane_undef_start_.end(), private_undef_.begin() + l * (lane_bytes_ / 4));
+    for (const auto& [v, at] : inputs_) FillBuiltin(*v, private_.data() + l * lane_bytes_ + at, l, local, group);
     seg_[l] = 0;
     prev_[l] = 0;
     state_[l] = LaneState::kRunning;
@@ -506,6 +524,8 @@ class Workgroup {
   std::vector<std::size_t> private_offsets_;
   std::vector<const Variable*> private_vars_;
   std::size_t lane_bytes_ = 0;
+  std::vector<std::uint8_t> lane_start_, lane_undef_start_;             // a slot's own variables as an invocation starts
+  std::vector<std::pair<const Variable*, std::size_t>> inputs_;         // built-in inputs and their offsets in a slot
   std::vector<std::uint32_t> regs_, seg_, prev_;
   std::vector<LaneState> state_;
   std::vector<std::uint32_t> lanes_;
