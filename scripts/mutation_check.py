@@ -24,7 +24,8 @@ or stillborn. The default tier's kill list must contain the full suite's: no mut
 full tier only. A tier whose only failures are timeouts runs once more before it counts as a kill (a
 loaded machine is not a test that noticed the bug). The report is written after every mutant, with
 the failing tests that killed it; `--resume` with the same --report goes on where a stopped run left
-off, in the same copy (its source commit must match the report's). A file named PAUSE in --work
+off, in the same copy (its source commit must match the report's), or, where there is no copy under --work
+(another checkout), in a copy made from the report's source commit. A file named PAUSE in --work
 holds the run before its next mutant until it is removed.
 
 Usage: mutation_check.py [--seed N] [--count N] [--tests REGEX] [--exclude REGEX] [--files PATH ...]
@@ -493,6 +494,27 @@ def resumed(args, commit):
     return {(e["file"], e["line"], e["mutation"]): (e["result"], e.get("killed_by", [])) for e in report["mutants"]}
 
 
+def copy_of_reported_commit(args):
+    """--resume in another checkout (a fresh clone, the report kept in the repository): the copy is
+    made anew from the report's source commit, whose unmutated tiers the report says passed."""
+    try:
+        with open(args.report, encoding="utf-8") as f:
+            commit = json.load(f).get("source_commit", "")
+    except (OSError, ValueError) as e:
+        usage_error(f"--resume: cannot read --report '{args.report}': {e}")
+    if not re.fullmatch(r"[0-9a-f]{40}", commit):
+        usage_error(f"--resume: no copy under --work '{args.work}', and the report's source '{commit}' is not a clean commit to make one from")
+    src = os.path.join(args.work, "src")
+    os.makedirs(src, exist_ok=True)
+    archive = subprocess.run(["git", "-C", args.source, "archive", commit], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    if archive.returncode != 0:
+        usage_error(f"--resume: the report's source commit {commit} is not in {args.source}: {archive.stderr.decode().strip()}")
+    subprocess.run(["tar", "-x", "-C", src], input=archive.stdout, check=True)
+    with open(os.path.join(src, ".source_commit"), "w", encoding="utf-8") as f:
+        f.write(commit + "\n")
+    print(f"resuming: a copy of {commit[:12]} made under {src}", flush=True)
+
+
 def main(argv):
     args = parse_args(argv)
     if args.dry_run:
@@ -505,7 +527,7 @@ def main(argv):
         # drawn from whatever happens to the checkout meanwhile.
         marker = os.path.join(args.work, "src", ".source_commit")
         if args.resume and not os.path.exists(marker):
-            usage_error(f"--resume: no copy to go on in under --work '{args.work}' (no src/.source_commit)")
+            copy_of_reported_commit(args)
         if args.resume:
             with open(marker, encoding="utf-8") as f:
                 done = resumed(args, f.read().strip())
