@@ -75,6 +75,12 @@ std::map<std::string, std::vector<std::uint32_t>> LoadKernelFiles(const KernelFi
 // execute is not tested by it, so no verdict of the run may stand for it.
 void CheckKernelsRan(const Backend& backend, const KernelFiles& kernels);
 
+// The simulated GPU's configuration from the options that choose it (empty: the defaults, lavapipe's
+// arithmetic and layout, every checker). `backends` is diff's list ("emu,sim", ...) or render's one
+// backend; an option given where no side is the simulated GPU is an InputError naming it.
+sim::DeviceConfig SimulatedConfig(const std::string& backends, std::uint32_t subgroup_size, const std::string& schedule,
+                                  const std::string& sim_checks, const std::string& device_model, const std::string& subgroup_layout);
+
 // name "emu" or "vulkan"; `faults` plants kernel faults (pass -> fault, diff --inject). A bad --device
 // or a build without Vulkan is an InputError; a failing driver a runtime_error naming the call.
 // `simulated`: the simulated GPU's configuration (name "sim").

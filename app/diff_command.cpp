@@ -394,36 +394,6 @@ struct DiffTracer {
   }
 };
 
-// The simulated GPU's configuration from diff's options, refused where no side is the simulated GPU.
-sim::DeviceConfig SimulatedConfig(const std::string& backends, std::uint32_t subgroup_size, const std::string& schedule,
-                                  const std::string& sim_checks, const std::string& device_model, const std::string& subgroup_layout) {
-  const bool sim_side = backends.find("sim") != std::string::npos;
-  if (subgroup_size && !sim_side)
-    ThrowInput("--subgroup-size {}: only the simulated GPU's subgroup size is chosen (--backends emu,sim); a Vulkan device has its own",
-               subgroup_size);
-  if (!sim_checks.empty() && !sim_side)
-    ThrowInput("--sim-checks {}: only the simulated GPU runs these checkers (--backends emu,sim); a Vulkan device runs none", sim_checks);
-  if (!device_model.empty() && !sim_side)
-    ThrowInput("--device-model {}: only the simulated GPU's arithmetic is chosen (--backends emu,sim); a Vulkan device has its own",
-               device_model);
-  if (!subgroup_layout.empty() && !sim_side)
-    ThrowInput("--subgroup-layout {}: only the simulated GPU's subgroup layout is chosen (--backends emu,sim); a Vulkan device has its own",
-               subgroup_layout);
-  // The simulated GPU takes --schedule too: the order of its workgroups and subgroups.
-  std::string error;
-  const std::optional<sim::Checks> checks = sim::ParseChecks(sim_checks.empty() ? "all" : sim_checks, error);
-  if (!checks) ThrowInput("--sim-checks {}: {}", sim_checks, error);
-  const std::optional<sim::DeviceModelChoice> model = sim::ParseDeviceModel(device_model.empty() ? "lavapipe" : device_model, error);
-  if (!model) ThrowInput("--device-model {}: {}", device_model, error);
-  const std::optional<sim::SubgroupLayoutChoice> layout = sim::ParseSubgroupLayout(subgroup_layout.empty() ? "linear" : subgroup_layout, error);
-  if (!layout) ThrowInput("--subgroup-layout {}: {}", subgroup_layout, error);
-  return {.subgroup_size = subgroup_size ? subgroup_size : 8u,
-          .schedule = ParseSchedule(schedule),
-          .checks = *checks,
-          .arithmetic = *model,
-          .layout = *layout};
-}
-
 // The actual side of --backends ("emu,vulkan", "emu,sim" or "sim,vulkan"). Not given: a Vulkan
 // device, or the simulated GPU where no Vulkan device is usable (said on stderr).
 Backend MakeActualBackend(const std::string& backends, bool given, int device, int local_size,

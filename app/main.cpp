@@ -60,11 +60,6 @@ struct Commands {
 #endif
 };
 
-void AddRender(CLI::App& app, Commands& cmds) {
-  CLI::App* rc = cmds.render_cmd = app.add_subcommand("render", "Render a scene through the emulated pipeline and check it with an oracle");
-  rayspace::app::AddRenderOptions(*rc, cmds.render);
-}
-
 void AddAccuracy(CLI::App& app, Commands& cmds) {
   CLI::App* ac = cmds.accuracy_cmd = app.add_subcommand("accuracy", "Measure what accuracy costs: each precision mode of the cone-sphere and ray-triangle tests");
   ac->add_option("scene", cmds.accuracy.scene, "Scene JSON file")->required();
@@ -171,6 +166,18 @@ void AddSimulate(CLI::App& app, Commands& cmds) {
   AddSimChecksOption(*sc, a.sim_checks);
   AddDeviceModelOption(*sc, a.device_model);
   AddSubgroupLayoutOption(*sc, a.subgroup_layout);
+}
+
+void AddRender(CLI::App& app, Commands& cmds) {
+  CLI::App* rc = cmds.render_cmd = app.add_subcommand("render", "Render a scene through the emulated pipeline and check it with an oracle");
+  rayspace::app::AddRenderOptions(*rc, cmds.render);
+  rc->add_option("--subgroup-size", cmds.render.subgroup_size,
+                 "--backend sim: invocations per subgroup of the simulated GPU, and of the emulated kernels' mirrors "
+                 "(default 8, lavapipe's)")
+      ->check(CLI::Range(1, 128));
+  AddSimChecksOption(*rc, cmds.render.sim_checks);
+  AddDeviceModelOption(*rc, cmds.render.device_model);
+  AddSubgroupLayoutOption(*rc, cmds.render.subgroup_layout);
 }
 
 #ifdef RAYSPACE_HAVE_VULKAN

@@ -1,5 +1,6 @@
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <string>
 
 #include "exit_codes.h"
@@ -11,6 +12,9 @@ namespace rayspace::app {
 struct RenderArgs : FrameArgs {
   std::string scene, out, stats, direct = "auto", backend = "emu";
   std::string path = "auto";  // --path: auto (fused unless the emulated workgroups are checked), fused or passes
+  // --backend sim: the simulated GPU's subgroup size (0: 8), checkers, arithmetic and subgroup layout
+  std::uint32_t subgroup_size = 0;
+  std::string sim_checks, device_model, subgroup_layout;
   int threads = 0;
   bool no_oracle = false, progress = false, timings = false;
 };

@@ -88,7 +88,10 @@ MemoryUse RenderMemoryUse(const RenderArgs& args) {
 }
 
 Backend MakeRenderBackend(const RenderArgs& args) {
-  Backend backend = MakeBackend(args.backend, args.device, 64, {}, args.Limits(), args.kernels);
+  // The simulated GPU takes --schedule too, as in diff: the order of its workgroups and subgroups.
+  const sim::DeviceConfig simulated = SimulatedConfig(args.backend, args.subgroup_size, args.model.schedule, args.sim_checks,
+                                                      args.device_model, args.subgroup_layout);
+  Backend backend = MakeBackend(args.backend, args.device, 64, {}, args.Limits(), args.kernels, simulated);
   ConfigureEmulatedKernels(args.model, 64, backend.subgroup_size, {});
   return backend;
 }

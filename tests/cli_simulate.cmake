@@ -9,13 +9,15 @@
 #   PART=all (full tier)        every exported call of 32x32 diffs of cornell-mirrors and office
 #   PART=backend (default tier) diff --backends emu,sim on a 16x16 cornell-mirrors pass by pass, and
 #                               fused under a random schedule at subgroup size 4, all equal; render --backend sim gives the emulator's
-#                               digest; a planted reduce fault diverges; every planted GPU fault
-#                               is caught on the kernel by its checker (exit 6)
+#                               digest, and refuses the simulated GPU's options on other backends; a planted reduce
+#                               fault diverges; every planted GPU fault is caught on the kernel by its checker (exit 6)
 #   PART=backend-all (full)     the same diffs at 32x32 on cornell-mirrors, the quadtree too, subgroup
 #                               sizes 1, 4, 32 and 64, the grids at 16x16, and office fused and pass by pass;
 #                               each planted fault not caught by its checker when --sim-checks leaves it out
 #   PART=schedules (full)       cornell-mirrors at 64x64 under SCHEDULE (forward, reverse and three random
 #                               ones, a test each) at subgroup sizes 4, 8, 32 and 64: all equal
+#   PART=device-model (full)    diff and render under the worst-conformant device (render's digest not the
+#                               emulator's, lavapipe's model's equal to it); the subgroup layouts' findings
 # Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DWORK=<scratch> -DPART=<part> -P cli_simulate.cmake
 cmake_minimum_required(VERSION 3.19)
 file(REMOVE_RECURSE "${WORK}")
@@ -220,6 +222,20 @@ elseif(PART STREQUAL "backend" OR PART STREQUAL "backend-faults" OR PART STREQUA
     if(NOT digest_emu STREQUAL digest_sim)
       set(failures "${failures}\nrender --backend sim: digest ${digest_sim}, the emulator's ${digest_emu}")
     endif()
+    # The simulated GPU's options belong to --backend sim: elsewhere refused with exit 2, naming them.
+    foreach(bad "emu;--device-model;worst@--device-model worst: only the simulated GPU's arithmetic is chosen"
+                "vulkan;--subgroup-layout;shuffled@--subgroup-layout shuffled: only the simulated GPU's subgroup layout is chosen"
+                "emu;--sim-checks;none@--sim-checks none: only the simulated GPU runs these checkers"
+                "vulkan;--subgroup-size;4@--subgroup-size 4: only the simulated GPU's subgroup size is chosen")
+      string(REPLACE "@" ";" bad "${bad}")
+      list(POP_BACK bad message)
+      list(POP_FRONT bad backend)
+      execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --no-oracle --backend ${backend} ${bad}
+                              --out "${WORK}/refused.png" RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+      if(NOT rc EQUAL 2 OR NOT err MATCHES "^rayspace: error: ${message}" OR EXISTS "${WORK}/refused.png")
+        set(failures "${failures}\nrender --backend ${backend} ${bad}: exit ${rc}, expected 2 naming '${message}' and no image: ${err}")
+      endif()
+    endforeach()
     # Without a Vulkan driver, diff verifies the kernels on the simulated GPU.
     execute_process(COMMAND env VK_ICD_FILENAMES=${WORK}/none.json VK_DRIVER_FILES=${WORK}/none.json
                             "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --algo brute
@@ -339,6 +355,37 @@ elseif(PART STREQUAL "device-model")
       set(failures "${failures}\ndiff --subgroup-layout ${name}: exit ${rc}, expected ${want} (${needle}; assumes ${assumes}): ${out}${err}")
     endif()
   endforeach()
+  # render --backend sim renders what the worst device computes: another digest than the emulator's,
+  # the oracle still satisfied (the relaxed model holds on this scene); the emulator's with lavapipe's.
+  foreach(model lavapipe worst)
+    set(choice ${model})
+    if(model STREQUAL "worst")
+      set(choice worst:3)
+    endif()
+    execute_process(COMMAND "${RAYSPACE}" render "${cornell}" --size 16x16 --backend sim --device-model ${choice}
+                            --out "${WORK}/render-${model}.png" --stats "${WORK}/render-${model}.json"
+                    RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+    set(digest_${model} "none")
+    set(device_${model} "none")
+    if(NOT rc EQUAL 0)
+      set(failures "${failures}\nrender --backend sim --device-model ${choice}: exit ${rc}, expected 0: ${err}")
+    else()
+      file(READ "${WORK}/render-${model}.json" j)
+      string(JSON digest_${model} GET "${j}" digest)
+      string(JSON device_${model} GET "${j}" backend device)
+    endif()
+  endforeach()
+  execute_process(COMMAND "${RAYSPACE}" render "${cornell}" --size 16x16 --no-oracle --stats "${WORK}/render-emu.json" --out "${WORK}/render-emu.png"
+                  RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+  set(digest_emu "none")
+  if(rc EQUAL 0)
+    file(READ "${WORK}/render-emu.json" j)
+    string(JSON digest_emu GET "${j}" digest)
+  endif()
+  if(NOT digest_lavapipe STREQUAL digest_emu OR digest_worst STREQUAL digest_emu OR NOT device_worst MATCHES "worst:3 arithmetic")
+    set(failures "${failures}\nrender --backend sim: lavapipe's model ${digest_lavapipe}, worst:3 ${digest_worst} (${device_worst}), "
+                 "the emulator's ${digest_emu}: expected the first equal to it and the second not")
+  endif()
   foreach(bad "--backends;emu,vulkan;--device-model;worst@only the simulated GPU's arithmetic is chosen"
               "--backends;emu,vulkan;--subgroup-layout;shuffled@only the simulated GPU's subgroup layout is chosen"
               "--backends;emu,sim;--subgroup-layout;partial:x@the seed 'x' is not an unsigned 64-bit integer"
