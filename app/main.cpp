@@ -168,16 +168,23 @@ void AddSimulate(CLI::App& app, Commands& cmds) {
   AddSubgroupLayoutOption(*sc, a.subgroup_layout);
 }
 
+// The simulated GPU's device options of a command that runs frames on it (`where`: how it is chosen).
+void AddSimulatedDeviceOptions(CLI::App& cmd, const std::string& where, std::uint32_t& subgroup_size, std::string& checks,
+                               std::string& model, std::string& layout) {
+  cmd.add_option("--subgroup-size", subgroup_size,
+                 where + ": invocations per subgroup of the simulated GPU, and of the emulated kernels' mirrors (default 8, "
+                 "lavapipe's)")
+      ->check(CLI::Range(1, 128));
+  AddSimChecksOption(cmd, checks);
+  AddDeviceModelOption(cmd, model);
+  AddSubgroupLayoutOption(cmd, layout);
+}
+
 void AddRender(CLI::App& app, Commands& cmds) {
   CLI::App* rc = cmds.render_cmd = app.add_subcommand("render", "Render a scene through the emulated pipeline and check it with an oracle");
   rayspace::app::AddRenderOptions(*rc, cmds.render);
-  rc->add_option("--subgroup-size", cmds.render.subgroup_size,
-                 "--backend sim: invocations per subgroup of the simulated GPU, and of the emulated kernels' mirrors "
-                 "(default 8, lavapipe's)")
-      ->check(CLI::Range(1, 128));
-  AddSimChecksOption(*rc, cmds.render.sim_checks);
-  AddDeviceModelOption(*rc, cmds.render.device_model);
-  AddSubgroupLayoutOption(*rc, cmds.render.subgroup_layout);
+  AddSimulatedDeviceOptions(*rc, "--backend sim", cmds.render.subgroup_size, cmds.render.sim_checks, cmds.render.device_model,
+                            cmds.render.subgroup_layout);
 }
 
 #ifdef RAYSPACE_HAVE_VULKAN
@@ -225,13 +232,8 @@ void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
                  "(for replay); DIR must be new or empty");
   AddCompareOption(*dc, cmds.diff.compare);
   AddBackendsOption(*dc, cmds.diff.backends, cmds.diff.backends_given);
-  dc->add_option("--subgroup-size", cmds.diff.subgroup_size,
-                 "--backends emu,sim: invocations per subgroup of the simulated GPU, and of the emulated kernels' mirrors "
-                 "(default 8, lavapipe's)")
-      ->check(CLI::Range(1, 128));
-  AddSimChecksOption(*dc, cmds.diff.sim_checks);
-  AddDeviceModelOption(*dc, cmds.diff.device_model);
-  AddSubgroupLayoutOption(*dc, cmds.diff.subgroup_layout);
+  AddSimulatedDeviceOptions(*dc, "--backends emu,sim", cmds.diff.subgroup_size, cmds.diff.sim_checks, cmds.diff.device_model,
+                            cmds.diff.subgroup_layout);
   dc->add_flag("--coverage-options", cmds.diff.coverage_options,
                "--backends emu,sim with --kernel: after the diff, probe the configurations that run every kernel's rarer "
                "paths (mutate's; 16x16 frames on the simulated GPU) and print which options reach the kernel's unreached "
