@@ -130,7 +130,8 @@ class Workgroup {
         regions_.push_back({private_.data() + l * per_lane + private_offsets_[k], Pointee(*private_vars_[k]).words * 4,
                             Pointee(*private_vars_[k]).words * 4});
     // Constants once a slot for the whole dispatch: nothing writes a constant's registers, and every
-    // other register is written before it is read (SSA dominance, spirv-val), its initcheck state too.
+    // other register of a lane is written before that lane reads it (SSA dominance, spirv-val), its
+    // initcheck state too; a read across lanes (a shuffle) from an inactive lane gives 0 (Subgroup).
     regs_.resize(static_cast<std::size_t>(slots_cap_) * p.reg_words);
     for (std::uint32_t l = 0; l < slots_cap_; ++l)
       std::copy(p.constants.begin(), p.constants.end(), regs_.begin() + static_cast<std::ptrdiff_t>(l) * p.reg_words);
@@ -1392,7 +1393,10 @@ void Workgroup::Subgroup(const Inst& in) {
           if (id >= sg_ || sub_first_ + id >= sub_end_) Fail(in, fmt::format("lane {} of a subgroup of {}", id, sub_end_ - sub_first_));
           src = sub_first_ + static_cast<std::uint32_t>(id);
         }
-        std::memmove(R(l, in.result), R(src, ops[1]), words * 4);
+        // An inactive lane's value is undefined (initcheck says so): 0 here, not what its register
+        // holds from an earlier invocation, so the bits do not depend on the schedule.
+        if (std::find(lanes_.begin(), lanes_.end(), src) == lanes_.end()) std::fill_n(R(l, in.result), words, 0u);
+        else std::memmove(R(l, in.result), R(src, ops[1]), words * 4);
       }
       return;
     }

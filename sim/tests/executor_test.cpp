@@ -218,6 +218,24 @@ std::optional<sim::Checker> CheckerOf(const std::function<void()>& f) {
 sim::Checks Without(sim::Checker c) { return {static_cast<std::uint8_t>(0xfu & ~(1u << static_cast<int>(c)))}; }
 }  // namespace
 
+TEST_CASE("sim executor: a shuffle from an inactive lane gives 0 whatever ran before it in that lane's place") {
+  // Workgroup 0's even lanes compute v, workgroup 1's odd lanes; each active lane reads its
+  // neighbour's v, which is inactive and never computed it in this workgroup (undefined: 0 here,
+  // not the v its place held in the other workgroup, so that the schedule does not show).
+  const std::string body = R"(void main() {
+    const uint lane = gl_SubgroupInvocationID, i = gl_LocalInvocationIndex + 8u * gl_WorkGroupID.x;
+    if ((lane + gl_WorkGroupID.x) % 2u == 0u) {
+      const uint v = i + 1000u;
+      data[i] = subgroupShuffle(v, lane ^ 1u) + 1u;
+    }
+  })";
+  using rayspace::wg::Order;
+  for (const Order o : {Order::kForward, Order::kReverse}) {
+    const auto out = Run(body, 8, 2, 8, std::vector<std::uint32_t>(16, 0), {o, 0}, sim::Checks::None());
+    for (std::uint32_t i = 0; i < 16; ++i) CHECK_MESSAGE(out[i] == ((i % 8 + i / 8) % 2 == 0 ? 1u : 0u), "element ", i);
+  }
+}
+
 TEST_CASE("sim executor: racecheck on storage buffers, within a workgroup and between workgroups") {
   // barrier() orders shared memory only: another invocation's storage store is not yet ordered.
   const std::string neighbour = R"(void main() {
