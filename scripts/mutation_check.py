@@ -25,7 +25,8 @@ full tier only. A tier whose only failures are timeouts runs once more before it
 loaded machine is not a test that noticed the bug). The report is written after every mutant, with
 the failing tests that killed it; `--resume` with the same --report goes on where a stopped run left
 off, in the same copy (its source commit must match the report's), or, where there is no copy under --work
-(another checkout), in a copy made from the report's source commit. A file named PAUSE in --work
+(another checkout), in a copy made from the report's source commit, whose unmutated tiers run
+first. A file named PAUSE in --work
 holds the run before its next mutant until it is removed.
 
 Usage: mutation_check.py [--seed N] [--count N] [--tests REGEX] [--exclude REGEX] [--files PATH ...]
@@ -505,14 +506,18 @@ def copy_of_reported_commit(args):
     if not re.fullmatch(r"[0-9a-f]{40}", commit):
         usage_error(f"--resume: no copy under --work '{args.work}', and the report's source '{commit}' is not a clean commit to make one from")
     src = os.path.join(args.work, "src")
-    os.makedirs(src, exist_ok=True)
     archive = subprocess.run(["git", "-C", args.source, "archive", commit], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     if archive.returncode != 0:
         usage_error(f"--resume: the report's source commit {commit} is not in {args.source}: {archive.stderr.decode().strip()}")
-    subprocess.run(["tar", "-x", "-C", src], input=archive.stdout, check=True)
+    # A copy left without its marker (a run stopped while copying) is not added to: made whole anew.
+    shutil.rmtree(src, ignore_errors=True)
+    os.makedirs(src)
+    untar = subprocess.run(["tar", "-x", "-C", src], input=archive.stdout, stderr=subprocess.PIPE)
+    if untar.returncode != 0:
+        usage_error(f"--resume: unpacking {commit} under {src} failed: {untar.stderr.decode().strip()}")
     with open(os.path.join(src, ".source_commit"), "w", encoding="utf-8") as f:
         f.write(commit + "\n")
-    print(f"resuming: a copy of {commit[:12]} made under {src}", flush=True)
+    print(f"resuming: a copy of {commit[:12]} made under {src}; its unmutated tiers run first", flush=True)
 
 
 def main(argv):
@@ -526,7 +531,10 @@ def main(argv):
         # The sample is drawn from the copy, so the run (and a resumed one) mutates the sources it was
         # drawn from whatever happens to the checkout meanwhile.
         marker = os.path.join(args.work, "src", ".source_commit")
-        if args.resume and not os.path.exists(marker):
+        # A copy made here from the report's commit has not yet passed its tiers unmutated: this
+        # machine's data and tools may differ from the run's before.
+        fresh_copy = args.resume and not os.path.exists(marker)
+        if fresh_copy:
             copy_of_reported_commit(args)
         if args.resume:
             with open(marker, encoding="utf-8") as f:
@@ -538,7 +546,7 @@ def main(argv):
         args.files = listed(src, args.file_patterns)
         args.kernel_files = listed(src, args.kernel_patterns)
         sample = sample_of(args, src)
-        src, build = prepare_tiers(args, baseline_passed=args.resume)
+        src, build = prepare_tiers(args, baseline_passed=args.resume and not fresh_copy)
         # The unmutated tiers passed: a report from here on lets --resume skip them.
         if not args.resume:
             write_report(args, commit, [])
