@@ -24,10 +24,9 @@ or stillborn. The default tier's kill list must contain the full suite's: no mut
 full tier only. A tier whose only failures are timeouts runs once more before it counts as a kill (a
 loaded machine is not a test that noticed the bug). The report is written after every mutant, with
 the failing tests that killed it; `--resume` with the same --report goes on where a stopped run left
-off, in the same copy (its source commit must match the report's), or, where there is no copy under --work
-(another checkout), in a copy made from the report's source commit, whose unmutated tiers run
-first. A file named PAUSE in --work
-holds the run before its next mutant until it is removed.
+off, in the same copy (its source commit must match the report's), or, where there is no copy under
+--work (another checkout), in a copy made from the report's source commit, whose unmutated tiers
+run first. A file named PAUSE in --work holds the run before its next mutant until it is removed.
 
 Usage: mutation_check.py [--seed N] [--count N] [--tests REGEX] [--exclude REGEX] [--files PATH ...]
                          [--source DIR] [--build DIR | --work DIR] [--timeout SEC] [--jobs N]
