@@ -34,8 +34,8 @@ std::string ToString(const wg::Schedule& s) {
 
 void AddKernelModelOptions(CLI::App& command, KernelModelArgs& args) {
   command.add_option("--schedule", args.schedule,
-                     "Emulator: the order the invocations of each workgroup phase run in: forward, reverse or "
-                     "random[:SEED] (results must not change)")
+                     "The order the invocations of each emulated workgroup phase run in, and on the simulated GPU the "
+                     "order of its workgroups and subgroups: forward, reverse or random[:SEED] (results must not change)")
       ->check([](const std::string& spec) {
         try {
           ParseSchedule(spec);
