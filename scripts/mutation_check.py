@@ -25,8 +25,8 @@ full tier only. A tier whose only failures are timeouts runs once more before it
 loaded machine is not a test that noticed the bug). The report is written after every mutant, with
 the failing tests that killed it; `--resume` with the same --report goes on where a stopped run left
 off, in the same copy (its source commit must match the report's), or, where there is no copy under
---work (another checkout), in a copy made from the report's source commit, whose unmutated tiers
-run first. A file named PAUSE in --work holds the run before its next mutant until it is removed.
+--work (another checkout), in a copy made from the report's source commit, whose unmutated default
+tier runs first. A file named PAUSE in --work holds the run before its next mutant until it is removed.
 
 Usage: mutation_check.py [--seed N] [--count N] [--tests REGEX] [--exclude REGEX] [--files PATH ...]
                          [--source DIR] [--build DIR | --work DIR] [--timeout SEC] [--jobs N]
@@ -222,16 +222,18 @@ def prepare_copy(args):
     return src, build
 
 
-def prepare_tiers(args, baseline_passed):
-    """The copy built whole with the project's configuration; both tiers must pass unmutated (once per
-    copy: a resumed run whose report says they passed in this copy does not run them again)."""
+def prepare_tiers(args, baseline_tiers):
+    """The copy built whole with the project's configuration; the tiers in `baseline_tiers` must pass
+    unmutated (both for a new run; none when resumed in the copy where the report says they passed;
+    the default tier in a copy made anew from the report's commit, whose full tier the report vouches
+    for: a machine that cannot run the tests fails the default tier too)."""
     src = os.path.join(args.work, "src")
     build = os.path.join(src, "build")
     rc, out = run(["cmake", "--build", ".", f"-j{args.jobs}"], build)
     if rc != 0:
         sys.exit(f"mutation_check.py: the unmutated copy does not build:\n{out[-3000:]}")
-    if not baseline_passed:
-        for tier in ("default", "full"):
+    if baseline_tiers:
+        for tier in baseline_tiers:
             t0 = time.time()
             rc, failed = tier_run(args, build, tier)
             if rc != 0:
@@ -516,7 +518,7 @@ def copy_of_reported_commit(args):
         usage_error(f"--resume: unpacking {commit} under {src} failed: {untar.stderr.decode().strip()}")
     with open(os.path.join(src, ".source_commit"), "w", encoding="utf-8") as f:
         f.write(commit + "\n")
-    print(f"resuming: a copy of {commit[:12]} made under {src}; its unmutated tiers run first", flush=True)
+    print(f"resuming: a copy of {commit[:12]} made under {src}; its unmutated default tier runs first", flush=True)
 
 
 def main(argv):
@@ -530,8 +532,8 @@ def main(argv):
         # The sample is drawn from the copy, so the run (and a resumed one) mutates the sources it was
         # drawn from whatever happens to the checkout meanwhile.
         marker = os.path.join(args.work, "src", ".source_commit")
-        # A copy made here from the report's commit has not yet passed its tiers unmutated: this
-        # machine's data and tools may differ from the run's before.
+        # A copy made here from the report's commit has not yet passed its default tier unmutated:
+        # this machine's data and tools may differ from the run's before.
         fresh_copy = args.resume and not os.path.exists(marker)
         if fresh_copy:
             copy_of_reported_commit(args)
@@ -545,7 +547,8 @@ def main(argv):
         args.files = listed(src, args.file_patterns)
         args.kernel_files = listed(src, args.kernel_patterns)
         sample = sample_of(args, src)
-        src, build = prepare_tiers(args, baseline_passed=args.resume and not fresh_copy)
+        baseline = ("default",) if fresh_copy else () if args.resume else ("default", "full")
+        src, build = prepare_tiers(args, baseline)
         # The unmutated tiers passed: a report from here on lets --resume skip them.
         if not args.resume:
             write_report(args, commit, [])
