@@ -74,6 +74,12 @@ TEST_CASE("grid: the least distance from a point to a triangle") {
   CHECK(grid::PointTriangleDistance({-3, -4, 0}, a, b, c) == doctest::Approx(5.0));            // nearest a vertex
   CHECK(grid::PointTriangleDistance({1, -2, 0}, a, b, c) == doctest::Approx(2.0));             // nearest an edge
   CHECK(grid::PointTriangleDistance({2, 2, 0}, a, b, c) == doctest::Approx(std::sqrt(2.0)));  // beyond the long edge
+  // Two equal vertices make a segment (conference has such triangles): the distance to it, not 0 / 0,
+  // and not a vertex's, which would be more than the least distance.
+  const glm::dvec3 d(2, 0, 0);
+  CHECK(grid::PointTriangleDistance({1, 1, 0}, a, a, d) == doctest::Approx(1.0));
+  CHECK(grid::PointTriangleDistance({1, 1, 0}, a, d, d) == doctest::Approx(1.0));
+  CHECK(grid::PointTriangleDistance({1, 1, 0}, d, a, a) == doctest::Approx(1.0));
 }
 
 TEST_CASE("grid: every point of every triangle lies in a cell that lists it, no closer than its least distance") {

@@ -288,7 +288,8 @@ double PointTriangleDistance(dvec3 p, dvec3 a, dvec3 b, dvec3 c) {
   const double d3 = DotD(ab, bp), d4 = DotD(ac, bp);
   if (d3 >= 0.0lf && d4 <= d3) return LengthD(bp);
   precise const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0lf && d1 >= 0.0lf && d3 <= 0.0lf) {
+  // An edge region only where its edge has a length (emu PointTriangleDistance).
+  if (vc <= 0.0lf && d1 >= 0.0lf && d3 <= 0.0lf && d1 - d3 > 0.0lf) {
     precise const dvec3 q = p - (a + ab * (d1 / (d1 - d3)));
     return LengthD(q);
   }
@@ -296,13 +297,13 @@ double PointTriangleDistance(dvec3 p, dvec3 a, dvec3 b, dvec3 c) {
   const double d5 = DotD(ab, cp), d6 = DotD(ac, cp);
   if (d6 >= 0.0lf && d5 <= d6) return LengthD(cp);
   precise const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0lf && d2 >= 0.0lf && d6 <= 0.0lf) {
+  if (vb <= 0.0lf && d2 >= 0.0lf && d6 <= 0.0lf && d2 - d6 > 0.0lf) {
     precise const dvec3 q = p - (a + ac * (d2 / (d2 - d6)));
     return LengthD(q);
   }
   precise const double va = d3 * d6 - d5 * d4;
   precise const double e43 = d4 - d3, e56 = d5 - d6;
-  if (va <= 0.0lf && e43 >= 0.0lf && e56 >= 0.0lf) {
+  if (va <= 0.0lf && e43 >= 0.0lf && e56 >= 0.0lf && e43 + e56 > 0.0lf) {
     precise const dvec3 q = p - (b + (c - b) * (e43 / (e43 + e56)));
     return LengthD(q);
   }
