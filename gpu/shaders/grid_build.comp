@@ -288,8 +288,7 @@ double PointTriangleDistance(dvec3 p, dvec3 a, dvec3 b, dvec3 c) {
   const double d3 = DotD(ab, bp), d4 = DotD(ac, bp);
   if (d3 >= 0.0lf && d4 <= d3) return LengthD(bp);
   precise const double vc = d1 * d4 - d3 * d2;
-  // An edge region only where its edge has a length (emu PointTriangleDistance).
-  if (vc <= 0.0lf && d1 >= 0.0lf && d3 <= 0.0lf && d1 - d3 > 0.0lf) {
+  if (vc <= 0.0lf && d1 >= 0.0lf && d3 <= 0.0lf && d1 - d3 > 0.0lf) {  // edge regions: edges of some length
     precise const dvec3 q = p - (a + ab * (d1 / (d1 - d3)));
     return LengthD(q);
   }
