@@ -87,7 +87,7 @@ class RadixPass {
     auto& marks = w.Shared<std::uint32_t>(kBins * kWords, "marks");
     const std::uint32_t g = w.id(), end = std::min(n_, (g + 1) * kBlock), size = w.local_size();
     const std::uint32_t step = std::min(size, layout::kSortRankStep);
-    wg::Private<std::uint32_t> row = w.Private<std::uint32_t>(), before = w.Private<std::uint32_t>();
+    wg::Private<std::uint32_t> digit = w.Private<std::uint32_t>(), before = w.Private<std::uint32_t>();
     wg::Private<bool> last = w.Private<bool>();
     w.Phase([&](wg::Inv& i) {
       for (std::uint32_t b = i.local_id; b < kBins; b += size) bins[b] = 0u;
@@ -99,26 +99,26 @@ class RadixPass {
     for (std::uint32_t c0 = g * kBlock; c0 < end; c0 += step) {
       w.Phase([&](wg::Inv& i) {
         if (!mine(i, c0)) return;
-        row[i] = Digit(c0 + i.local_id) * kWords;
-        wg::AtomicOr(marks[row[i] + (i.local_id >> 5)], bit(i));
+        digit[i] = Digit(c0 + i.local_id);
+        wg::AtomicOr(marks[digit[i] * kWords + (i.local_id >> 5)], bit(i));
       });
       w.Barrier();
       w.Phase([&](wg::Inv& i) {
         if (!mine(i, c0)) return;
-        const std::uint32_t word = i.local_id >> 5, digit = row[i] / kWords;
+        const std::uint32_t word = i.local_id >> 5, d = digit[i], row = d * kWords;
         before[i] = 0;
-        for (std::uint32_t k = 0; k < word; ++k) before[i] += static_cast<std::uint32_t>(std::popcount(std::uint32_t{marks[row[i] + k]}));
-        const std::uint32_t own = marks[row[i] + word];
+        for (std::uint32_t k = 0; k < word; ++k) before[i] += static_cast<std::uint32_t>(std::popcount(std::uint32_t{marks[row + k]}));
+        const std::uint32_t own = marks[row + word];
         before[i] += static_cast<std::uint32_t>(std::popcount(own & (bit(i) - 1u)));
         last[i] = (own & ~(bit(i) | (bit(i) - 1u))) == 0u;
-        for (std::uint32_t k = word + 1; k < kWords; ++k) last[i] = last[i] && marks[row[i] + k] == 0u;
-        dst_[scratch_[kBins * blocks_ + digit] + scratch_[digit * blocks_ + g] + bins[digit] + before[i]] = src_[c0 + i.local_id];
+        for (std::uint32_t k = word + 1; k < kWords; ++k) last[i] = last[i] && marks[row + k] == 0u;
+        dst_[scratch_[kBins * blocks_ + d] + scratch_[d * blocks_ + g] + bins[d] + before[i]] = src_[c0 + i.local_id];
       });
       w.Barrier();
       w.Phase([&](wg::Inv& i) {
         if (!mine(i, c0)) return;
-        wg::AtomicAnd(marks[row[i] + (i.local_id >> 5)], ~bit(i));
-        if (last[i]) bins[row[i] / kWords] += before[i] + 1u;
+        wg::AtomicAnd(marks[digit[i] * kWords + (i.local_id >> 5)], ~bit(i));
+        if (last[i]) bins[digit[i]] += before[i] + 1u;
       });
     }
   }

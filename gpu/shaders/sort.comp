@@ -45,7 +45,7 @@ void RankAndScatter(uint g, uint n, uint blocks) {
       for (uint w = 0u; w < word; ++w) before += uint(bitCount(marks[row + w]));
       const uint own = marks[row + word];
       // Fault 2 (sort): an element counts itself among the earlier ones of its digit.
-      before += uint(bitCount(own & (kFault == 2u && pc.phase == kSortPhaseScatter ? bit | (bit - 1u) : bit - 1u)));
+      before += uint(bitCount(own & (kFault == 2u ? bit | (bit - 1u) : bit - 1u)));
       last = (own & ~(bit | (bit - 1u))) == 0u;
       for (uint w = word + 1u; w < kSortRankWords; ++w) last = last && marks[row + w] == 0u;
       // Fault 3 (sort): each digit starts at the next digit's base (the total scan read as inclusive).

@@ -4,6 +4,7 @@
 #include <spirv/unified1/spirv.hpp11>
 
 #include <algorithm>
+#include <bitset>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -85,6 +86,9 @@ struct Comp {
   const DeviceMath* math = nullptr;  // the worst-conformant device's float arithmetic; null: lavapipe's
 };
 
+// The widest subgroup the simulator runs (--subgroup-size 1 to 128).
+constexpr std::uint32_t kMaxSubgroup = 128;
+
 class Workgroup {
  public:
   Workgroup(const Program& p, const Dispatch& d, ExecStats& stats, StorageCheck* storage_check)
@@ -93,6 +97,7 @@ class Workgroup {
     size_ = ls[0] * ls[1] * ls[2];
     sg_ = d.subgroup_size;
     if (size_ == 0 || sg_ == 0) throw SimError(fmt::format("{}: an empty workgroup or subgroup", p.name));
+    if (sg_ > kMaxSubgroup) throw SimError(fmt::format("{}: a subgroup of {} invocations (at most {})", p.name, sg_, kMaxSubgroup));
     // Regions: bindings, the push constants, workgroup variables, then per invocation its own.
     for (const Binding& b : d.bindings) regions_.push_back({b.data, b.bytes, b.valid ? std::min(b.valid, b.bytes) : b.bytes});
     push_region_ = static_cast<std::uint32_t>(regions_.size());
@@ -249,6 +254,15 @@ class Workgroup {
     return s == spv::StorageClass::Input || s == spv::StorageClass::Private || s == spv::StorageClass::Function;
   }
   std::uint32_t* R(std::uint32_t lane, std::uint32_t id) { return regs_.data() + static_cast<std::size_t>(lane) * p_.reg_words + p_.reg[id]; }
+  // The subgroup's active lanes (lanes_), by place in the subgroup; Active: `lane` (a slot) among them.
+  std::bitset<kMaxSubgroup> ActiveLanes() const {
+    std::bitset<kMaxSubgroup> b;
+    for (std::uint32_t l : lanes_) b.set(l - sub_first_);
+    return b;
+  }
+  bool Active(const std::bitset<kMaxSubgroup>& active, std::uint32_t lane) const {
+    return lane >= sub_first_ && lane - sub_first_ < kMaxSubgroup && active.test(lane - sub_first_);
+  }
 
   // What no workgroup changes, once for the dispatch: every slot's variable pointers, and the memory
   // and initcheck state an invocation's own variables start from (initializers are constants; a
@@ -652,14 +666,14 @@ void Workgroup::Propagate(const Inst& in) {
   }
   if (op == Op::OpGroupNonUniformShuffle || op == Op::OpGroupNonUniformBroadcast || op == Op::OpGroupNonUniformBroadcastFirst) {
     // Each lane's result is one lane's value: undefined when that lane's is, or when it is inactive.
+    const std::bitset<kMaxSubgroup> active = ActiveLanes();
     for (std::uint32_t l : lanes_) {
       if (op != Op::OpGroupNonUniformBroadcastFirst && Undefined(l, ops[2])) {
         set(l, true);
         continue;
       }
       const std::uint32_t src = op == Op::OpGroupNonUniformBroadcastFirst ? lanes_[0] : sub_first_ + R(l, ops[2])[0];
-      const bool active = std::find(lanes_.begin(), lanes_.end(), src) != lanes_.end();
-      if (active) std::memcpy(U(l, in.result), U(src, ops[1]), words);
+      if (Active(active, src)) std::memcpy(U(l, in.result), U(src, ops[1]), words);
       else set(l, true);
     }
     return;
@@ -1386,6 +1400,7 @@ void Workgroup::Subgroup(const Inst& in) {
     case Op::OpGroupNonUniformShuffle: {
       const std::uint32_t words = p_.T(in.type).words;
       const Comp ic = op == Op::OpGroupNonUniformBroadcastFirst ? Comp{} : CompOf(TypeOfValue(ops[2]));
+      const std::bitset<kMaxSubgroup> active = ActiveLanes();
       for (std::uint32_t l : lanes_) {
         std::uint32_t src = first;
         if (op != Op::OpGroupNonUniformBroadcastFirst) {
@@ -1395,8 +1410,8 @@ void Workgroup::Subgroup(const Inst& in) {
         }
         // An inactive lane's value is undefined (initcheck says so): 0 here, not what its register
         // holds from an earlier invocation, so the bits do not depend on the schedule.
-        if (std::find(lanes_.begin(), lanes_.end(), src) == lanes_.end()) std::fill_n(R(l, in.result), words, 0u);
-        else std::memmove(R(l, in.result), R(src, ops[1]), words * 4);
+        if (Active(active, src)) std::memmove(R(l, in.result), R(src, ops[1]), words * 4);
+        else std::fill_n(R(l, in.result), words, 0u);
       }
       return;
     }
