@@ -77,8 +77,12 @@ bad_call("the report's source 'abc+dirty' is not a clean commit" --tiers --resum
 file(WRITE "${work}/r.json" "{\"seed\": 1, \"count\": 40, \"source_commit\": \"0123456789012345678901234567890123456789\", \"mutants\": []}")
 bad_call("commit 0123456789012345678901234567890123456789 is not in" --tiers --resume --report "${work}/r.json" --work "${work}")
 # A commit that is there: the copy is made from it (then the report's seed, not this run's, stops it).
+# Only where SRC is a checkout's top: a copy of the tree inside another checkout (mutation_check.py's
+# own copy under build/) would find that checkout's commits.
 execute_process(COMMAND git -C "${SRC}" rev-parse HEAD RESULT_VARIABLE git_rc OUTPUT_VARIABLE head OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
-if(git_rc EQUAL 0)
+execute_process(COMMAND git -C "${SRC}" rev-parse --show-toplevel OUTPUT_VARIABLE top OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
+file(REAL_PATH "${SRC}" src_real)
+if(git_rc EQUAL 0 AND top STREQUAL src_real)
   file(REMOVE_RECURSE "${work}/src")
   file(WRITE "${work}/r.json" "{\"seed\": 9, \"count\": 40, \"source_commit\": \"${head}\", \"mutants\": []}")
   bad_call("is of another run (source ${head}, seed 9" --tiers --resume --report "${work}/r.json" --work "${work}")
