@@ -4,6 +4,7 @@
 #include <string>
 
 #include "rayspace/error.h"
+#include "rayspace/gpu/float_controls.h"
 #include "rayspace/gpu/requirements.h"
 
 namespace rayspace::app {
@@ -40,6 +41,11 @@ ExitCode RunDevices() {
                   r.have.c_str(), r.why.c_str());
     std::printf("    float controls (32-bit): DenormPreserve %s, DenormFlushToZero %s, RoundingModeRTE %s\n",
                 d.denorm_preserve ? "yes" : "no", d.denorm_flush ? "yes" : "no", d.round_to_nearest ? "yes" : "no");
+    std::printf("    the kernels request: %s (what the device offers of DenormPreserve and RoundingModeRTE)\n",
+                vk::FloatControls{d.denorm_preserve, d.round_to_nearest}.Describe().c_str());
+    // lavapipe's subgroup is one SIMD register of 32-bit lanes: its width is the environment's choice.
+    if (d.driver_id == VK_DRIVER_ID_MESA_LLVMPIPE)
+      std::printf("    subgroup size: LP_NATIVE_VECTOR_WIDTH=128, 256 or 512 in the environment gives 4, 8 or 16 lanes\n");
     std::printf("    %s\n", ok ? "usable" : "not usable: rayspace refuses it, naming what is missing");
     std::printf("    diff compares: %s\n", ComparisonModel(d).c_str());
   }

@@ -127,7 +127,7 @@ if(PART STREQUAL "targeted")
 # Mutants the diff must kill: trim keeps the flagged slots; flipping its tests loses or invents rays.
 # Four named ones (a survivor costs a run of every kernel case and the clamping device; the sample in
 # the full tier meets the others).
-mutate_one(trim crsh "^trim.comp:(26:16|32:11|49:63|51:15):comparison:" --pass trim)
+mutate_one(trim crsh "^trim.comp:(26:16|32:11|51:63|53:15):comparison:" --pass trim)
 if(json)
   string(JSON k GET "${json}" summary killed)
   string(JSON by GET "${json}" summary per_file trim.comp passes 0)
@@ -256,7 +256,7 @@ endif()
 
 if(PART STREQUAL "backends")
   execute_process(COMMAND "${RAYSPACE}" mutate "${SRC}/scenes/cornell-mirrors.json" --limit 0 --config crsh --size 16x16 --variants 0
-                          --only "trim.comp:44:24:comparison:<=|reduce.comp:87:29:constant:2u" --backends emu,vulkan,sim
+                          --only "trim.comp:46:24:comparison:<=|reduce.comp:89:29:constant:2u" --backends emu,vulkan,sim
                           --report "${WORK}/backends.json"
                   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(NOT rc EQUAL 0 OR NOT EXISTS "${WORK}/backends.json")
@@ -275,7 +275,7 @@ if(PART STREQUAL "backends")
         list(APPEND seen "${id}:${on_vulkan}:${on_sim}:${checker}")
       endforeach()
     endif()
-    foreach(want "trim.comp:44:24:comparison:<=:survived:killed:memcheck" "reduce.comp:87:29:constant:2u:survived:killed:racecheck")
+    foreach(want "trim.comp:46:24:comparison:<=:survived:killed:memcheck" "reduce.comp:89:29:constant:2u:survived:killed:racecheck")
       if(NOT want IN_LIST seen)
         string(APPEND FAILURES "\nmutate --backends emu,vulkan,sim: expected ${want} among the differences, got '${seen}'")
       endif()

@@ -197,3 +197,50 @@ TEST_CASE("relaxed model: a cone-sphere test on its boundary may flip, one far f
   const auto far = ClassifyWithinSpec("traverse.objects", in, expected, actual);
   CHECK(far.beyond == 1);
 }
+
+TEST_CASE("relaxed model: the fused traversal's list may gain or lose a pair whose test may flip, in slot order only") {
+  using namespace rayspace;
+  using rayspace::verify::BufferSet;
+  using rayspace::verify::ClassifyWithinSpec;
+  // One parent with one child node; two pairs, triangle 0's sphere on the test's boundary (the smallest
+  // radius the float test accepts, by bisection) and triangle 1's accepted with room to spare.
+  layout::ConeNode n{};
+  n.sphere = glm::vec4(0, 0, 0, 0.001f);
+  n.cone = glm::vec4(0, 0, 1, std::cos(0.1f));
+  n.extra = glm::vec4(std::sin(0.1f), 1, 0, 0);
+  auto accepts = [&](float r) { return emu::cone::Test(n, glm::vec4(1, 0, 5, r), 0.0f); };
+  std::uint32_t lo = std::bit_cast<std::uint32_t>(0.0f), hi = std::bit_cast<std::uint32_t>(2.0f);
+  while (hi - lo > 1) {
+    const std::uint32_t mid = lo + (hi - lo) / 2;
+    (accepts(std::bit_cast<float>(mid)) ? hi : lo) = mid;
+  }
+  const std::vector<layout::ConeNode> nodes = {n};
+  const std::vector<std::uint32_t> pairs = {0u, 1u}, first = {0u, 1u};
+  const std::vector<glm::vec4> spheres = {glm::vec4(1, 0, 5, std::bit_cast<float>(hi)), glm::vec4(1, 0, 5, 2.0f)};
+  emu::call::TraverseLevel c;
+  c.pairs = pairs;
+  c.nodes = nodes;
+  c.first = first;
+  c.children_max = 1;
+  c.tri_spheres = spheres;
+  const BufferSet in = rayspace::verify::EncodeCall(c);
+  const auto verdict = [&](std::vector<std::uint32_t> device, std::uint64_t tested = 2) {
+    BufferSet expected, actual;
+    expected.Put("pairs", std::vector<std::uint32_t>{0u, 1u});  // child 0 with triangles 0 and 1, both kept
+    expected.Put("tested", std::vector<std::uint64_t>{2});
+    actual.Put("pairs", device);
+    actual.Put("tested", std::vector<std::uint64_t>{tested});
+    return ClassifyWithinSpec("traverse.compact.level", in, expected, actual);
+  };
+  const auto boundary = verdict({1u});  // the boundary pair dropped: a conformant device may
+  CHECK(boundary.modelled);
+  CHECK(boundary.within == 1);
+  CHECK(boundary.beyond == 0);
+  const auto far = verdict({0u});  // the far pair dropped: none may
+  CHECK(far.beyond == 1);
+  CHECK(far.first_beyond.find("dropped") != std::string::npos);
+  CHECK(verdict({1u, 0u}).beyond >= 1);         // out of slot order
+  CHECK(verdict({0u, 1u, 7u}).beyond == 1);     // a pair no slot gives
+  CHECK(verdict({0u, 1u}, 3).beyond == 1);      // the tests run are counted exactly
+  CHECK(verdict({0u, 1u}).AllWithin());         // equal lists: nothing beyond
+}

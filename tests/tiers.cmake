@@ -42,6 +42,9 @@ set(rayspace_full_tier
   # Every exported call of two 32x32 diffs on the simulator: cli.simulate.sample runs one call of every
   # pass, a planted fault and the refusal.
   "^cli\\.simulate\\.all$"
+  # lavapipe at every width on three scenes at 64x64 and five local sizes: cli.widths.sample diffs
+  # widths 4 and 16 at local sizes 7, 12, 32 and 256 on cornell-mirrors.
+  "^cli\\.widths\\.all$"
   # The simulated backend on 32x32 frames under every tracer: cli.simulate.backend diffs five
   # configurations at 16x16.
   "^cli\\.simulate\\.backend-all$"

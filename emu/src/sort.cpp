@@ -4,6 +4,7 @@
 #include <bit>
 
 #include "rayspace/emu/hierarchy.h"
+#include "rayspace/emu/output_checks.h"
 #include "rayspace/emu/passes.h"
 #include "rayspace/parallel.h"
 
@@ -48,13 +49,15 @@ class RadixPass {
   void Run() {
     DispatchKernel(site_, "Histograms", blocks_, [&](wg::Workgroup& w) { Histogram(w); });
     DispatchKernel(site_, "BinScan", kBins, [&](wg::Workgroup& w) {  // scratch[bin * blocks + block]
-      const std::uint32_t total = WorkgroupScanInPlace(w, WorkgroupTile(w), &scratch_[w.id() * blocks_], blocks_, site_.fault);
+      auto& tile = WorkgroupTile(w);
+      const std::uint32_t total = WorkgroupScanInPlace(w, tile, &scratch_[w.id() * blocks_], blocks_, WorkgroupRank(w, tile), site_.fault);
       w.Phase([&](wg::Inv& i) {
         if (i.local_id == 0) scratch_[kBins * blocks_ + w.id()] = total;
       });
     });
     DispatchKernel(site_, "TotalScan", 1, [&](wg::Workgroup& w) {
-      WorkgroupScanInPlace(w, WorkgroupTile(w), &scratch_[kBins * blocks_], kBins, site_.fault);
+      auto& tile = WorkgroupTile(w);
+      WorkgroupScanInPlace(w, tile, &scratch_[kBins * blocks_], kBins, WorkgroupRank(w, tile), site_.fault);
     });
     DispatchKernel(site_, "Scatter", blocks_, [&](wg::Workgroup& w) { RankAndScatter(w); });
   }
@@ -82,7 +85,8 @@ class RadixPass {
   // sort.comp's RankAndScatter: each element of a step marks its bit in its digit's row and ranks
   // itself by the marked bits before it; the last of each digit advances that digit's bin.
   void RankAndScatter(wg::Workgroup& w) {
-    constexpr std::uint32_t kWords = layout::kSortRankWords;
+    // sort.comp's kMarkWords: a bit per element of a step, the step at most the local size.
+    const std::uint32_t kWords = (std::min(w.local_size(), layout::kSortRankStep) + 31u) / 32u;
     auto& bins = w.Shared<std::uint32_t>(kBins, "bins");
     auto& marks = w.Shared<std::uint32_t>(kBins * kWords, "marks");
     const std::uint32_t g = w.id(), end = std::min(n_, (g + 1) * kBlock), size = w.local_size();
@@ -112,7 +116,11 @@ class RadixPass {
         before[i] += static_cast<std::uint32_t>(std::popcount(own & (bit(i) - 1u)));
         last[i] = (own & ~(bit(i) | (bit(i) - 1u))) == 0u;
         for (std::uint32_t k = word + 1; k < kWords; ++k) last[i] = last[i] && marks[row + k] == 0u;
-        dst_[scratch_[kBins * blocks_ + d] + scratch_[d * blocks_ + g] + bins[d] + before[i]] = src_[c0 + i.local_id];
+        const std::uint32_t at = scratch_[kBins * blocks_ + d] + scratch_[d * blocks_ + g] + bins[d] + before[i];
+        // Only a fault in the scans (the checker off, or one it cannot see) moves a position past the
+        // output: the frame stops there, as no memory outside the buffer is the kernel's to write.
+        if (at >= n_) throw DeviceOutputError(fmt::format("{}.Scatter: element {} sent to position {} of {}", site_.pass, c0 + i.local_id, at, n_));
+        dst_[at] = src_[c0 + i.local_id];
       });
       w.Barrier();
       w.Phase([&](wg::Inv& i) {

@@ -172,9 +172,11 @@ class CompactKernel {
   // Each invocation writes its triangles' one object, or kCompactMixedObjects.
   void GroupsOfRound(wg::Workgroup& w) {
     const std::uint32_t c0 = w.id() * w.local_size() * kCompactCols;
-    const auto valid = [&](const wg::Inv& i, std::uint32_t k) { return c0 + i.local_id * kCompactCols + k < pc_.tris; };
+    // Columns by rank; every subgroup of the model is Aligned (linear and full), so each group is judged.
+    const wg::Private<std::uint32_t> rank = WorkgroupRank(w, WorkgroupTile(w));
+    const auto valid = [&](const wg::Inv& i, std::uint32_t k) { return c0 + rank[i] * kCompactCols + k < pc_.tris; };
     const auto sphere = [&](const wg::Inv& i, std::uint32_t k) {
-      return tri_spheres_[pc_.b0 + c0 + i.local_id * kCompactCols + k];
+      return tri_spheres_[pc_.b0 + c0 + rank[i] * kCompactCols + k];
     };
     wg::Private<glm::vec3> lo = w.Private<glm::vec3>(), hi = lo;
     wg::Private<std::uint32_t> ok = w.Private<std::uint32_t>();
@@ -190,13 +192,13 @@ class CompactKernel {
       std::uint32_t object = layout::kCompactMixedObjects;
       for (std::uint32_t k = 0; k < kCompactCols && valid(i, k); ++k) {
         // Fault 7: the first triangle's object taken for all of the invocation's triangles.
-        const std::uint32_t o = pc_.use_mask == 0u ? 0u : info_[pc_.b0 + c0 + i.local_id * kCompactCols + k].ids.y;
+        const std::uint32_t o = pc_.use_mask == 0u ? 0u : info_[pc_.b0 + c0 + rank[i] * kCompactCols + k].ids.y;
         if (k == 0)
           object = o;
         else if (o != object && site_.fault != 7u)
           object = layout::kCompactMixedObjects;
       }
-      objects_[std::size_t{w.id()} * w.local_size() + i.local_id] = object;
+      objects_[std::size_t{w.id()} * w.local_size() + rank[i]] = object;
     });
     lo = w.SubgroupReduce(lo, [](glm::vec3 a, glm::vec3 b) { return glm::min(a, b); });
     hi = w.SubgroupReduce(hi, [](glm::vec3 a, glm::vec3 b) { return glm::max(a, b); });
@@ -258,13 +260,14 @@ class CompactKernel {
   // local_size x kCompactCols triangles, one WorkgroupInclusiveAdd4 of the rows' counts a round.
   void TestTopTile(wg::Workgroup& w) {
     auto& tile = WorkgroupTile(w);
-    auto& tile4 = w.Shared<glm::uvec4>(layout::kMaxLocalSize / 4u, "wg_tile4");
+    auto& tile4 = w.Shared<glm::uvec4>(std::min(w.local_size(), layout::kMaxLocalSize / 4u), "wg_tile4");
     // The host refuses more subgroups than the kernel's wg_tile4 holds; so does the mirror.
     RS_CHECK_MSG(w.num_subgroups() <= layout::kMaxLocalSize / 4u, "traverse.compact: {} subgroups of {} exceed wg_tile4",
                  w.num_subgroups(), w.subgroup_size());
     const std::uint32_t row0 = w.id() * kCompactRows, rows = std::min(kCompactRows, pc_.blocks - row0);
     wg::Private<bool> shared_rows = w.Private<bool>();
     const RowNodes node = NodesOfRows(w, row0, rows, shared_rows);
+    const wg::Private<std::uint32_t> rank = WorkgroupRank(w, tile);
     wg::Private<std::array<std::uint32_t, kCompactRows>> run = w.Private<std::array<std::uint32_t, kCompactRows>>(), hit = run;
     wg::Private<glm::uvec4> n = w.Private<glm::uvec4>(), sums = n;
     wg::Private<std::uint32_t> tests = w.Private<std::uint32_t>(), all_tests = tests;
@@ -275,16 +278,16 @@ class CompactKernel {
       w.Phase([&](wg::Inv& i) {
         // Without a mask every row tests every triangle: no object is read.
         const std::uint32_t shared_object =
-            pc_.use_mask == 0u ? 0u : objects_[std::size_t{round} * w.local_size() + i.local_id];
-        in[i] = LoadRound(row0, rows, c0 + i.local_id * kCompactCols, shared_object, last[i]);
+            pc_.use_mask == 0u ? 0u : objects_[std::size_t{round} * w.local_size() + rank[i]];
+        in[i] = LoadRound(row0, rows, c0 + rank[i] * kCompactCols, shared_object, last[i]);
         for (const std::uint32_t may : in[i].may) tests[i] += static_cast<std::uint32_t>(std::popcount(may));  // culled or not
       });
       const wg::Private<std::uint32_t> live = LiveRows(w, node, shared_rows, round, rows);
       w.Phase([&](wg::Inv& i) {
         // The spheres only for a subgroup with a live row, as the kernel loads them.
         if (live[i] != 0u)
-          for (std::uint32_t k = 0; k < kCompactCols && c0 + i.local_id * kCompactCols + k < pc_.tris; ++k)
-            in[i].sphere[k] = tri_spheres_[pc_.b0 + c0 + i.local_id * kCompactCols + k];
+          for (std::uint32_t k = 0; k < kCompactCols && c0 + rank[i] * kCompactCols + k < pc_.tris; ++k)
+            in[i].sphere[k] = tri_spheres_[pc_.b0 + c0 + rank[i] * kCompactCols + k];
         n[i] = TestTopRound(node[i], in[i], live[i], rows, hit[i]);
       });
       const wg::Private<glm::uvec4> inclusive = WorkgroupInclusiveAdd4(w, tile4, n, sums);
@@ -295,7 +298,7 @@ class CompactKernel {
           std::uint32_t at = (row0 + r) * pc_.tris + (site_.fault == 3u ? 0u : run[i][r]) + Field(before, r);
           for (std::uint32_t bits = hit[i][r]; bits != 0u; bits &= bits - 1u)
             scratch_[at++] = ((pc_.t0 + row0 + r - pc_.id_base) << kPairTriangleBits) |
-                             (c0 + i.local_id * kCompactCols + static_cast<std::uint32_t>(std::countr_zero(bits)));
+                             (c0 + rank[i] * kCompactCols + static_cast<std::uint32_t>(std::countr_zero(bits)));
           run[i][r] += Field(sums[i], r);
         }
       });
@@ -403,10 +406,11 @@ class CompactKernel {
       full[i] = static_cast<std::uint32_t>(std::popcount(b.x) + std::popcount(b.y) + std::popcount(b.z) + std::popcount(b.w)) ==
                 w.subgroup_size();
     });
+    const wg::Private<std::uint32_t> rank = WorkgroupRank(w, tile);
     wg::Private<std::uint32_t> run = w.Private<std::uint32_t>(), tests = run, sums = run;
     for (std::uint32_t v0 = first / cm * chunks; v0 / chunks * cm < end; v0 += w.local_size()) {
       wg::Private<LevelChunk> q = w.Private<LevelChunk>();
-      w.Phase([&](wg::Inv& i) { q[i] = LoadChunk(v0 + i.local_id, chunks, first, end); });
+      w.Phase([&](wg::Inv& i) { q[i] = LoadChunk(v0 + rank[i], chunks, first, end); });
       const wg::Private<bool> shared = SharedChildren(w, q, full);
       w.Phase([&](wg::Inv& i) {
         if (shared[i]) return;
@@ -447,7 +451,7 @@ class CompactKernel {
   // they touch different buffers, so the phase boundary between them here changes nothing.
   void ScanBlocks(wg::Workgroup& w) {
     auto& tile = WorkgroupTile(w);
-    const std::uint32_t total = WorkgroupScanInPlace(w, tile, counts_.data(), pc_.blocks, site_.fault);
+    const std::uint32_t total = WorkgroupScanInPlace(w, tile, counts_.data(), pc_.blocks, WorkgroupRank(w, tile), site_.fault);
     w.Phase([&](wg::Inv& i) {
       if (i.local_id == 0) counts_[pc_.blocks] = total;
     });

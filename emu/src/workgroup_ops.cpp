@@ -37,7 +37,7 @@ void DispatchKernel(const KernelSite& site, std::string_view phase, std::uint32_
 }
 
 wg::Shared<std::uint32_t>& WorkgroupTile(wg::Workgroup& w) {
-  return w.Shared<std::uint32_t>(layout::kMaxLocalSize, "wg_tile");
+  return w.Shared<std::uint32_t>(w.local_size(), "wg_tile");
 }
 
 wg::Private<std::uint32_t> WorkgroupInclusiveAdd(wg::Workgroup& w, wg::Shared<std::uint32_t>& tile,
@@ -82,6 +82,26 @@ wg::Private<std::uint32_t> WorkgroupInclusiveAdd(wg::Workgroup& w, wg::Shared<st
   return out;
 }
 
+wg::Private<std::uint32_t> WorkgroupRank(wg::Workgroup& w, wg::Shared<std::uint32_t>& tile) {
+  const wg::Private<bool> elect = w.SubgroupElect();
+  wg::Private<std::uint32_t> rank = w.Private<std::uint32_t>();
+  // The model's subgroups are linear and full but the last: subgroupBallotBitCount is the lanes
+  // there, subgroupBallotExclusiveBitCount the lane.
+  const auto lanes = [&](std::uint32_t sg) { return std::min(w.subgroup_size(), w.local_size() - sg * w.subgroup_size()); };
+  const std::uint32_t top = w.local_size() - 1;  // the counts fill the tile from its top, as the kernel's
+  w.Phase([&](wg::Inv& i) {
+    if (elect[i]) tile[top - i.subgroup_id] = lanes(i.subgroup_id);
+  });
+  w.Barrier();
+  w.Phase([&](wg::Inv& i) {
+    std::uint32_t before = 0;
+    for (std::uint32_t k = 0; k < i.subgroup_id; ++k) before += tile[top - k];
+    rank[i] = before + i.lane;
+  });
+  w.Barrier();  // the tile is free for the scans
+  return rank;
+}
+
 wg::Private<std::uint32_t> WorkgroupSum(wg::Workgroup& w, wg::Shared<std::uint32_t>& tile,
                                         const std::function<std::uint32_t(std::uint32_t)>& load, std::uint32_t i0,
                                         std::uint32_t i1, std::uint32_t fault) {
@@ -97,18 +117,18 @@ wg::Private<std::uint32_t> WorkgroupSum(wg::Workgroup& w, wg::Shared<std::uint32
 }
 
 std::uint32_t WorkgroupScanInPlace(wg::Workgroup& w, wg::Shared<std::uint32_t>& tile, std::uint32_t* buf,
-                                   std::uint32_t count, std::uint32_t fault) {
+                                   std::uint32_t count, const wg::Private<std::uint32_t>& rank, std::uint32_t fault) {
   const std::uint32_t step = w.local_size();
   wg::Private<std::uint32_t> v = w.Private<std::uint32_t>(), chunk = w.Private<std::uint32_t>();
   std::uint32_t carry = 0;  // uniform: every invocation holds the same
   for (std::uint32_t c0 = 0; c0 < count; c0 += step) {
     w.Phase([&](wg::Inv& i) {
-      const std::uint32_t k = c0 + i.local_id;
+      const std::uint32_t k = c0 + rank[i];
       v[i] = k < count ? buf[k] : 0u;
     });
     const wg::Private<std::uint32_t> inc = WorkgroupInclusiveAdd(w, tile, v, chunk, fault);
     w.Phase([&](wg::Inv& i) {
-      const std::uint32_t k = c0 + i.local_id;
+      const std::uint32_t k = c0 + rank[i];
       if (k < count) buf[k] = carry + (inc[i] - v[i]);
     });
     carry += chunk[0u];
@@ -135,7 +155,7 @@ std::uint32_t ReduceThenScan(const KernelSite& site, std::size_t n, const std::f
   });
   DispatchKernel(site, "ScanSums", blocks ? 1u : 0u, [&](wg::Workgroup& w) {
     auto& tile = WorkgroupTile(w);
-    const std::uint32_t total = WorkgroupScanInPlace(w, tile, sums.data(), blocks, site.fault);
+    const std::uint32_t total = WorkgroupScanInPlace(w, tile, sums.data(), blocks, WorkgroupRank(w, tile), site.fault);
     w.Phase([&](wg::Inv& i) {
       if (i.local_id == 0) sums[blocks] = total;
     });
@@ -146,12 +166,13 @@ std::uint32_t ReduceThenScan(const KernelSite& site, std::size_t n, const std::f
     const std::uint32_t g = w.id(), end = std::min(count, (g + 1) * kBlock), step = w.local_size();
     // kFaultWorkgroupOffset: the workgroup starts at the next block's offset.
     std::uint32_t run = sums[site.fault == layout::kFaultWorkgroupOffset ? g + 1 : g];
+    const wg::Private<std::uint32_t> r = WorkgroupRank(w, tile);
     wg::Private<std::uint32_t> f = w.Private<std::uint32_t>(), total = w.Private<std::uint32_t>();
     for (std::uint32_t c0 = g * kBlock; c0 < end; c0 += step) {
-      w.Phase([&](wg::Inv& i) { f[i] = c0 + i.local_id < end ? flag(c0 + i.local_id) : 0u; });
+      w.Phase([&](wg::Inv& i) { f[i] = c0 + r[i] < end ? flag(c0 + r[i]) : 0u; });
       const wg::Private<std::uint32_t> inc = WorkgroupInclusiveAdd(w, tile, f, total, site.fault);
       w.Phase([&](wg::Inv& i) {
-        if (c0 + i.local_id < end) slot(c0 + i.local_id, run + (inc[i] - f[i]));
+        if (c0 + r[i] < end) slot(c0 + r[i], run + (inc[i] - f[i]));
       });
       run += total[0u];
     }

@@ -25,8 +25,17 @@ layout(push_constant) uniform Block { BuildPush pc; };
 Ray RayAt(uint sorted) { return LoadRays(LoadOrder(sorted, pc.order_page), pc.ray_page); }
 ConeNode BelowAt(uint j) { return LoadBelow(j, pc.below_page); }
 
-// The lanes of this subgroup: fewer in a partial last subgroup.
+// The lanes of this subgroup that hold an invocation: fewer in a partial subgroup, and not
+// necessarily the first ones (Vulkan promises neither unless full subgroups are required). Lanes
+// fetch by their rank among them, and a fold takes the k-th fetch from the k-th active lane.
 uint SubgroupLanes() { return subgroupBallotBitCount(subgroupBallot(true)); }
+uint LaneRank() { return subgroupBallotExclusiveBitCount(subgroupBallot(true)); }
+// The next active lane in lane order: `rest` starts as subgroupBallot(true) and loses its lowest bit.
+uint NextLane(inout uvec4 rest) {
+  const uint lane = subgroupBallotFindLSB(rest);
+  rest[lane >> 5u] &= ~(1u << (lane & 31u));
+  return lane;
+}
 
 ConeNode ShuffleNode(ConeNode n, uint lane) {
   ConeNode m;
@@ -42,7 +51,7 @@ ConeNode ShuffleNode(ConeNode n, uint lane) {
 ConeNode Leaf(uint f0, uint f1, uint lanes) {
   ConeNode n;
   for (uint j0 = f0; j0 < f1; j0 += lanes) {
-    const uint j = j0 + gl_SubgroupInvocationID;
+    const uint j = j0 + LaneRank();
     vec3 o = vec3(0.0), r = vec3(0.0);
     if (j < f1) {
       const Ray ray = RayAt(j);
@@ -50,9 +59,13 @@ ConeNode Leaf(uint f0, uint f1, uint lanes) {
       r = Normalize3(ray.direction_tmax.xyz);
     }
     const uint m = min(lanes, f1 - j0);
+    uvec4 rest = subgroupBallot(true);
+    uint before = 0u;
     for (uint k = 0u; k < m; ++k) {
-      // Fault 2: each ray is grown with its predecessor's origin (a lane index off by one).
-      const vec3 ok = subgroupShuffle(o, kFault == 2u && k > 0u ? k - 1u : k), rk = subgroupShuffle(r, k);
+      const uint lane = NextLane(rest);
+      // Fault 2: each ray is grown with its predecessor's origin (a lane off by one).
+      const vec3 ok = subgroupShuffle(o, kFault == 2u && k > 0u ? before : lane), rk = subgroupShuffle(r, lane);
+      before = lane;
       if (j0 + k == f0) {
         n.sphere = vec4(ok, 0.0);
         n.cone = vec4(rk, 1.0);
@@ -101,13 +114,14 @@ ConeNode Parent(uint f0, uint f1, uint lanes) {
   for (uint pass = 0u; pass < 2u; ++pass) {
     if (pass == 1u && pairwise) n = FoldStack();
     for (uint j0 = f0; j0 < f1; j0 += lanes) {
-      const uint j = j0 + gl_SubgroupInvocationID;
+      const uint j = j0 + LaneRank();
       ConeNode b;
       b.sphere = b.cone = b.extra = vec4(0.0);
       if (j < f1) b = BelowAt(j);
       const uint m = min(lanes, f1 - j0);
+      uvec4 rest = subgroupBallot(true);
       for (uint k = 0u; k < m; ++k) {
-        const ConeNode bk = ShuffleNode(b, k);
+        const ConeNode bk = ShuffleNode(b, NextLane(rest));
         if (pass == 0u && pairwise) {
           PushChild(bk);
         } else if (pass == 0u) {
@@ -122,11 +136,12 @@ ConeNode Parent(uint f0, uint f1, uint lanes) {
   return Finish(n);
 }
 
-// One subgroup per node, grid-stride over the dispatch's nodes.
+// One subgroup per node, grid-stride over the dispatch's nodes: a workgroup takes SubgroupSlots()
+// nodes whatever subgroups the device launched (any past them idle).
 void main() {
-  const uint lanes = SubgroupLanes();
-  const uint stride = gl_NumWorkGroups.x * gl_NumWorkGroups.y * NumSubgroups();
-  for (uint i = WorkGroupIndex() * NumSubgroups() + gl_SubgroupID; i < pc.count; i += stride) {
+  const uint lanes = SubgroupLanes(), slots = SubgroupSlots();
+  const uint stride = gl_NumWorkGroups.x * gl_NumWorkGroups.y * slots;
+  for (uint i = WorkGroupIndex() * slots + gl_SubgroupID; gl_SubgroupID < slots && i < pc.count; i += stride) {
     const uint f0 = first[i], f1 = first[i + 1u];
     // Fault 3: a parent leaves out its last child; fault 4: a leaf drops its last ray (lost tails).
     const bool lost_tail = kFault == (pc.phase == kBuildPhaseLeaves ? 4u : 3u) && f1 > f0 + 1u;

@@ -398,14 +398,15 @@ void main() {
     if (l == 0u) sums[g] = total;
   } else if (pc.phase == kGridBuildPhaseScanSums) {
     if (g != 0u) return;
-    WORKGROUP_SCAN_IN_PLACE(sums, 0u, pc.blocks, total);
+    WORKGROUP_SCAN_IN_PLACE(sums, 0u, pc.blocks, WorkgroupRank(), total);
     if (l == 0u) sums[pc.blocks] = total;
   } else if (pc.phase == kGridBuildPhaseOffsets) {
     if (g >= pc.blocks) return;
     const uint end = min(pc.count, (g + 1u) * kScanBlock);
     uint run = sums[g];
+    const uint r = WorkgroupRank();
     for (uint c0 = g * kScanBlock; c0 < end; c0 += kLocalSize) {
-      const uint t = c0 + l;
+      const uint t = c0 + r;
       const uint c = t < end ? counts[t] : 0u;
       const uint s = run + (WorkgroupInclusiveAdd(c, total) - c);  // references of the triangles before t
       // Fault 1 of grid.emit: an inclusive scan where an exclusive one belongs.

@@ -36,9 +36,9 @@ void main() {
     if (g >= pc.blocks) return;
     // Fault 2: each block starts at the previous block's offset (an off-by-one in the scan).
     uint run = (kFault == 2u && g > 0u) ? sums[g - 1u] : sums[g];
-    const uint end = min(pc.n, (g + 1u) * kScanBlock);
+    const uint end = min(pc.n, (g + 1u) * kScanBlock), r = WorkgroupRank();
     for (uint c0 = g * kScanBlock; c0 < end; c0 += kLocalSize) {
-      const uint i = c0 + l;
+      const uint i = c0 + r;
       const uint f = i < end && flags[i] != 0u ? 1u : 0u;
       const uint at = run + (WorkgroupInclusiveAdd(f, total) - f);
       if (f != 0u) out_values[at] = values[i];
@@ -46,14 +46,16 @@ void main() {
     }
   } else if (pc.phase == kReducePhaseLocal) {
     // One subgroup per component, grid-stride over the components: each chunk of `lanes` slots is
-    // compacted by a subgroup exclusive add of the flags (no barrier), in slot order.
-    const uint lanes = subgroupBallotBitCount(subgroupBallot(true));
-    const uint stride = gl_NumWorkGroups.x * gl_NumWorkGroups.y * NumSubgroups();
-    for (uint c = g * NumSubgroups() + gl_SubgroupID; c < pc.comps; c += stride) {
+    // compacted by a subgroup exclusive add of the flags (no barrier), in slot order: lanes are
+    // ranked among the active ones, and a workgroup takes SubgroupSlots() components whatever
+    // subgroups the device launched (any past them idle).
+    const uint lanes = subgroupBallotBitCount(subgroupBallot(true)), lane = subgroupBallotExclusiveBitCount(subgroupBallot(true));
+    const uint slots = SubgroupSlots(), stride = gl_NumWorkGroups.x * gl_NumWorkGroups.y * slots;
+    for (uint c = g * slots + gl_SubgroupID; gl_SubgroupID < slots && c < pc.comps; c += stride) {
       const uint base = c * pc.s, end = min(pc.n, base + pc.s);
       uint k = 0u;
       for (uint c0 = base; c0 < end; c0 += lanes) {
-        const uint i = c0 + gl_SubgroupInvocationID;
+        const uint i = c0 + lane;
         const uint f = i < end && flags[i] != 0u ? 1u : 0u;
         const uint at = k + subgroupExclusiveAdd(f);
         if (f != 0u) local_values[base + at] = values[i];
@@ -67,29 +69,29 @@ void main() {
     if (l == 0u) sums[g] = total;
   } else if (pc.phase == kReducePhaseScanSums) {
     if (g != 0u) return;
-    WORKGROUP_SCAN_IN_PLACE(sums, 0u, pc.blocks, total);
+    WORKGROUP_SCAN_IN_PLACE(sums, 0u, pc.blocks, WorkgroupRank(), total);
     if (l == 0u) sums[pc.blocks] = total;
   } else if (pc.phase == kReducePhaseOffsets) {  // counts -> exclusive offsets within each block
     if (g >= pc.blocks) return;
     uint run = sums[g];
-    const uint end = min(pc.comps, (g + 1u) * kScanBlock);
+    const uint end = min(pc.comps, (g + 1u) * kScanBlock), r = WorkgroupRank();
     for (uint c0 = g * kScanBlock; c0 < end; c0 += kLocalSize) {
-      const uint i = c0 + l;
+      const uint i = c0 + r;
       const uint x = i < end ? counts[i] : 0u;
       const uint at = run + (WorkgroupInclusiveAdd(x, total) - x);
       if (i < end) counts[i] = at;
       run += total;
     }
   } else {  // Concat: one subgroup per component, grid-stride as Local, its lanes copy the segment
-    const uint lanes = subgroupBallotBitCount(subgroupBallot(true));
-    const uint stride = gl_NumWorkGroups.x * gl_NumWorkGroups.y * NumSubgroups();
-    for (uint c = g * NumSubgroups() + gl_SubgroupID; c < pc.comps; c += stride) {
+    const uint lanes = subgroupBallotBitCount(subgroupBallot(true)), lane = subgroupBallotExclusiveBitCount(subgroupBallot(true));
+    const uint slots = SubgroupSlots(), stride = gl_NumWorkGroups.x * gl_NumWorkGroups.y * slots;
+    for (uint c = g * slots + gl_SubgroupID; gl_SubgroupID < slots && c < pc.comps; c += stride) {
       const uint next = c + 1u < pc.comps ? counts[c + 1u] : sums[pc.blocks];
       // Fault 1: the last element of every segment is dropped.
       const uint len = next - counts[c] - ((kFault == 1u && next > counts[c]) ? 1u : 0u);
       // Fault 3: each segment is copied from one value late (an off-by-one source index).
       const uint from = c * pc.s + (kFault == 3u ? 1u : 0u);
-      for (uint k = gl_SubgroupInvocationID; k < len; k += lanes) out_values[counts[c] + k] = local_values[from + k];
+      for (uint k = lane; k < len; k += lanes) out_values[counts[c] + k] = local_values[from + k];
     }
   }
 }

@@ -19,24 +19,26 @@ layout(std430, binding = kSortBindSums) buffer Sums { uint sums[]; };       // p
 layout(push_constant) uniform Block { SortPush pc; };
 
 shared uint bins[256];
-shared uint marks[256u * kSortRankWords];  // per digit, a bit per element of the scatter's step
+// Per digit, a bit per element of the scatter's step (at most kSortRankStep): sized by the local size.
+const uint kMarkWords = ((kLocalSize < kSortRankStep ? kLocalSize : kSortRankStep) + 31u) / 32u;
+shared uint marks[256u * kMarkWords];
 
 // The radix pass's stable scatter of block g: kSortRankStep elements at a time (fewer when the
 // workgroup is smaller) in element order. Each element sets its bit in its digit's marks; its rank
 // among the step's earlier elements of that digit is the count of marked bits before its own, at most
-// kSortRankWords words read; `bins` carries each digit's count over the block's earlier steps, and the
+// kMarkWords words read; `bins` carries each digit's count over the block's earlier steps, and the
 // last element of each digit in the step advances it, so every bin has one writer. The positions are
 // the stable counting sort's whatever the workgroup size.
 void RankAndScatter(uint g, uint n, uint blocks) {
   const uint l = gl_LocalInvocationID.x, step = min(kLocalSize, kSortRankStep);
   for (uint b = l; b < 256u; b += kLocalSize) bins[b] = 0u;
-  for (uint b = l; b < 256u * kSortRankWords; b += kLocalSize) marks[b] = 0u;
+  for (uint b = l; b < 256u * kMarkWords; b += kLocalSize) marks[b] = 0u;
   barrier();  // bins and marks cleared
   const uint end = min(n, (g + 1u) * kScanBlock), word = l >> 5u, bit = 1u << (l & 31u);
   for (uint c0 = g * kScanBlock; c0 < end; c0 += step) {
     const bool mine = l < step && c0 + l < end;
     const uint c = mine ? sorted[pc.src + c0 + l] : 0u;
-    const uint digit = mine ? (chunk_key[c] >> pc.shift) & 255u : 0u, row = digit * kSortRankWords;
+    const uint digit = mine ? (chunk_key[c] >> pc.shift) & 255u : 0u, row = digit * kMarkWords;
     if (mine) atomicOr(marks[row + word], bit);
     barrier();  // the step's marks and the previous step's bins are visible
     uint before = 0u;
@@ -47,7 +49,7 @@ void RankAndScatter(uint g, uint n, uint blocks) {
       // Fault 2 (sort): an element counts itself among the earlier ones of its digit.
       before += uint(bitCount(own & (kFault == 2u ? bit | (bit - 1u) : bit - 1u)));
       last = (own & ~(bit | (bit - 1u))) == 0u;
-      for (uint w = word + 1u; w < kSortRankWords; ++w) last = last && marks[row + w] == 0u;
+      for (uint w = word + 1u; w < kMarkWords; ++w) last = last && marks[row + w] == 0u;
       // Fault 3 (sort): each digit starts at the next digit's base (the total scan read as inclusive).
       const uint base_digit = kFault == 3u ? min(digit + 1u, 255u) : digit;
       sorted[pc.dst + scratch[256u * blocks + base_digit] + scratch[digit * blocks + g] + bins[digit] + before] = c;
@@ -78,7 +80,7 @@ void main() {
       break;
     case kCompressPhaseScanSums:  // one workgroup
       if (g == 0u) {
-        WORKGROUP_SCAN_IN_PLACE(sums, 0u, blocks, total);
+        WORKGROUP_SCAN_IN_PLACE(sums, 0u, blocks, WorkgroupRank(), total);
         if (l == 0u) {
           sums[blocks] = total;
           // Fault 3 (compress): the chunk count is the last chunk's index, not the count.
@@ -89,9 +91,9 @@ void main() {
     case kCompressPhaseChunks:  // one workgroup per block: heads find their chunk index by a scan
       if (g < blocks) {
         uint k = sums[g];
-        const uint end = min(n, (g + 1u) * kScanBlock);
+        const uint end = min(n, (g + 1u) * kScanBlock), r = WorkgroupRank();
         for (uint c0 = g * kScanBlock; c0 < end; c0 += kLocalSize) {
-          const uint i = c0 + l;
+          const uint i = c0 + r;
           const uint head = i < end ? scratch[i] : 0u;
           const uint at = k + (WorkgroupInclusiveAdd(head, total) - head);
           if (head != 0u) {
@@ -128,12 +130,12 @@ void main() {
       break;
     case kSortPhaseBinScan:  // one workgroup per bin: exclusive scan over blocks, total to scratch[256 * blocks + bin]
       if (g < 256u) {
-        WORKGROUP_SCAN_IN_PLACE(scratch, g * blocks, blocks, total);
+        WORKGROUP_SCAN_IN_PLACE(scratch, g * blocks, blocks, WorkgroupRank(), total);
         if (l == 0u) scratch[256u * blocks + g] = total;
       }
       break;
     case kSortPhaseTotalScan:  // one workgroup: exclusive scan of the bin totals
-      if (g == 0u) WORKGROUP_SCAN_IN_PLACE(scratch, 256u * blocks, 256u, total);
+      if (g == 0u) WORKGROUP_SCAN_IN_PLACE(scratch, 256u * blocks, 256u, WorkgroupRank(), total);
       break;
     case kSortPhaseScatter:  // stable scatter, one workgroup per block (see RankAndScatter)
       if (g < blocks) RankAndScatter(g, n, blocks);
@@ -151,16 +153,16 @@ void main() {
       break;
     case kDecompressPhaseScanSums:  // one workgroup
       if (g == 0u) {
-        WORKGROUP_SCAN_IN_PLACE(sums, 0u, blocks, total);
+        WORKGROUP_SCAN_IN_PLACE(sums, 0u, blocks, WorkgroupRank(), total);
         if (l == 0u) sums[blocks] = total;
       }
       break;
     case kDecompressPhaseStarts:  // one workgroup per block: chunk starts into scratch[n + j]
       if (g < blocks) {
         uint run = sums[g];
-        const uint end = min(n, (g + 1u) * kScanBlock);
+        const uint end = min(n, (g + 1u) * kScanBlock), r = WorkgroupRank();
         for (uint c0 = g * kScanBlock; c0 < end; c0 += kLocalSize) {
-          const uint i = c0 + l;
+          const uint i = c0 + r;
           const uint size = i < end ? scratch[i] : 0u;
           const uint start = run + (WorkgroupInclusiveAdd(size, total) - size);
           // Fault 3 (decompress): a chunk starts where it ends (the scan read as inclusive).

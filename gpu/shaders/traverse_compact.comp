@@ -45,7 +45,8 @@ layout(push_constant) uniform Block { TraverseCompactPush pc; };
 
 // kTraverseCompactPhaseTop's counts, kCompactRows per invocation and round, two 16-bit fields a
 // word (a round has at most kMaxLocalSize x kCompactCols < 2^16 survivors per row), scanned at once.
-shared uvec4 wg_tile4[kMaxLocalSize / 4u];  // one per subgroup: the host keeps subgroups <= kMaxLocalSize / 4
+// One per subgroup: the host keeps subgroups <= kMaxLocalSize / 4, and there are never more than invocations.
+shared uvec4 wg_tile4[kLocalSize < kMaxLocalSize / 4u ? kLocalSize : kMaxLocalSize / 4u];
 uvec4 WorkgroupInclusiveAdd4(uvec4 v, out uvec4 total) {
   const uvec4 inclusive = subgroupInclusiveAdd(v);
   const uvec4 subgroup_sum = subgroupAdd(v);
@@ -93,7 +94,15 @@ ConeNode RowNode(ConeNode mine, uint row0, uint r, bool shared_rows) {
 
 uint GroupWords() { return kLocalSize * kCompactGroupWords; }
 uint SphereWord(uint round) { return round * GroupWords() + gl_SubgroupID * 4u; }
-uint ObjectWord(uint round) { return round * GroupWords() + kLocalSize * 4u + gl_LocalInvocationID.x; }
+uint ObjectWord(uint round, uint rank) { return round * GroupWords() + kLocalSize * 4u + rank; }
+// Whether this subgroup holds the ranks (WorkgroupRank) k * gl_SubgroupSize onwards, as many as a
+// linear layout gives subgroup k: then its triangles are those of group k in every dispatch, which a
+// device need not lay out alike. Uniform in the subgroup; always so on a linear, full layout.
+bool Aligned(uint rank) {
+  const uint first = gl_SubgroupID * gl_SubgroupSize;
+  return first < kLocalSize && subgroupMin(rank) == first &&
+         subgroupBallotBitCount(subgroupBallot(true)) == min(gl_SubgroupSize, kLocalSize - first);
+}
 vec4 GroupSphere(uint round) {
   const uint w = SphereWord(round);
   return uintBitsToFloat(uvec4(group_words[w], group_words[w + 1u], group_words[w + 2u], group_words[w + 3u]));
@@ -106,7 +115,7 @@ vec4 GroupSphere(uint round) {
 // kCompactMixedObjects: the top phase then loads one word a round, not an object id per triangle
 // (lavapipe loads lane by lane). Computed once per call rather than once per tile of rows.
 void GroupsOfRound(uint round) {
-  const uint col0 = round * kLocalSize * kCompactCols + gl_LocalInvocationID.x * kCompactCols;
+  const uint rank = WorkgroupRank(), col0 = round * kLocalSize * kCompactCols + rank * kCompactCols;
   vec4 sphere[kCompactCols];
   vec3 lo = vec3(kDeviceCullLimit), hi = vec3(-kDeviceCullLimit);
   bool ok = true;
@@ -133,9 +142,10 @@ void GroupsOfRound(uint round) {
   for (uint i = 0u; i < kCompactCols; ++i)
     if (col0 + i < pc.tris) reach = max(reach, DeviceReach(sphere[i], c));
   precise const float radius = subgroupMax(reach) * kDeviceCullRadiusUp;
-  group_words[ObjectWord(round)] = object;
+  group_words[ObjectWord(round, rank)] = object;
+  const bool judged = ok && Aligned(rank);
   if (subgroupElect()) {
-    const uvec4 v = floatBitsToUint(vec4(c, ok ? radius : -1.0));
+    const uvec4 v = floatBitsToUint(vec4(c, judged ? radius : -1.0));
     const uint w = SphereWord(round);
     group_words[w] = v.x, group_words[w + 1u] = v.y, group_words[w + 2u] = v.z, group_words[w + 3u] = v.w;
   }
@@ -146,9 +156,9 @@ void GroupsOfRound(uint round) {
 // one test per row for the subgroup's gl_SubgroupSize x kCompactCols slots, and a ballot gathers
 // them. Uniform in the subgroup. Only the conservative cone test culls, and only where the rows'
 // nodes are shared (SharedRows).
-uint LiveRows(ConeNode mine, uint round, uint rows, bool shared_rows) {
+uint LiveRows(ConeNode mine, uint round, uint rows, bool shared_rows, bool aligned) {
   const uint all_rows = (1u << rows) - 1u;
-  if (!shared_rows || pc.cone_test != kConeTestConservative) return all_rows;
+  if (!shared_rows || !aligned || pc.cone_test != kConeTestConservative) return all_rows;
   const vec4 group = GroupSphere(round);
   const bool miss = gl_SubgroupInvocationID < rows && DeviceGroupMisses(mine, group, pc.eps);
   return all_rows & ~subgroupBallot(miss).x;
@@ -161,6 +171,8 @@ void TestTopTile(uint g) {
   const uint row0 = g * kCompactRows, rows = min(kCompactRows, pc.count / pc.tris - row0), l = gl_LocalInvocationID.x;
   const ConeNode mine = LoadNodes(pc.t0 + row0 + min(gl_SubgroupInvocationID, rows - 1u), pc.node_page);
   const bool shared_rows = SharedRows();
+  const uint rank = WorkgroupRank();
+  const bool aligned = Aligned(rank);
   uint run[kCompactRows];  // survivors of the rounds before, per row
   for (uint r = 0u; r < kCompactRows; ++r) run[r] = 0u;
   uint tests = 0u;
@@ -168,12 +180,12 @@ void TestTopTile(uint g) {
   // and its rounds mostly keep it.
   uint object = kCompactMixedObjects, object_bits = 0u;
   for (uint c0 = 0u; c0 < pc.tris; c0 += kLocalSize * kCompactCols) {
-    const uint col0 = c0 + l * kCompactCols;
+    const uint col0 = c0 + rank * kCompactCols;
     vec4 sphere[kCompactCols];
     uint may[kCompactCols];  // bit r: row r tests this triangle
     const uint round = c0 / (kLocalSize * kCompactCols);
     // Without a mask every row tests every triangle: no object is needed.
-    const uint shared_object = pc.use_mask == 0u ? 0u : group_words[ObjectWord(round)];
+    const uint shared_object = pc.use_mask == 0u ? 0u : group_words[ObjectWord(round, rank)];
     for (uint i = 0u; i < kCompactCols; ++i) {
       may[i] = 0u;
       if (col0 + i >= pc.tris) continue;
@@ -183,7 +195,7 @@ void TestTopTile(uint g) {
       may[i] = object_bits;
     }
     for (uint i = 0u; i < kCompactCols; ++i) tests += bitCount(may[i]);  // culled or not, every slot counts
-    const uint live = LiveRows(mine, round, rows, shared_rows);
+    const uint live = LiveRows(mine, round, rows, shared_rows, aligned);
     // The spheres only for a subgroup with a live row (uniform in the subgroup): lavapipe loads lane
     // by lane, and a culled subgroup would load them for nothing.
     if (live != 0u)
@@ -235,9 +247,10 @@ void TestBlock(uint g) {
   const uint cm = pc.children_max, chunks = (cm + kCompactChunk - 1u) / kCompactChunk;
   const uint first = g * kCompactBlock, end = min(pc.count, first + kCompactBlock), l = gl_LocalInvocationID.x;
   const bool full = subgroupBallotBitCount(subgroupBallot(true)) == gl_SubgroupSize;  // every lane there to shuffle from
+  const uint rank = WorkgroupRank();
   uint run = 0u, tests = 0u;  // survivors and tests of the rounds before
   for (uint v0 = first / cm * chunks; v0 / chunks * cm < end; v0 += kLocalSize) {
-    const uint v = v0 + l, p = v / chunks, kc = (v - p * chunks) * kCompactChunk;
+    const uint v = v0 + rank, p = v / chunks, kc = (v - p * chunks) * kCompactChunk;
     const bool valid = p * cm < end;
     uint parent = 0xFFFFFFFFu, tri_local = 0u, c0 = 0u, children = 0u, a = 0u, b = 0u;
     vec4 sphere = vec4(0.0);
@@ -306,7 +319,7 @@ void main() {
   if (pc.phase == kTraverseCompactPhaseScan) {
     if (g != 0u) return;
     uint total;
-    WORKGROUP_SCAN_IN_PLACE(counts, 0u, pc.blocks, total);
+    WORKGROUP_SCAN_IN_PLACE(counts, 0u, pc.blocks, WorkgroupRank(), total);
     if (gl_LocalInvocationID.x == 0u) counts[pc.blocks] = total;
     WORKGROUP_SUM(tested, 0u, pc.blocks, total);
     if (gl_LocalInvocationID.x == 0u) tested[pc.blocks] = total;

@@ -91,8 +91,9 @@ void ScatterBlock(uint g) {
                                   : uvec2(offsets[g], pc.slots - (kFault == 4u ? 1u : 0u) + offsets[pc.blocks + 1u + g]);
   const uvec2 limit = uvec2(offsets[g + 1u] - offsets[g], offsets[pc.blocks + 2u + g] - offsets[pc.blocks + 1u + g]);
   uvec2 run = uvec2(0u);
+  const uint r = WorkgroupRank();
   for (uint r0 = first; r0 < end; r0 += kLocalSize) {
-    const uint p = r0 + gl_LocalInvocationID.x;
+    const uint p = r0 + r;
     const uvec2 n = p < end ? CountPair(p) : uvec2(0u);
     uint s1, s2;
     const uvec2 before = uvec2(WorkgroupInclusiveAdd(n.x, s1), WorkgroupInclusiveAdd(n.y, s2)) - n;
@@ -108,9 +109,9 @@ void main() {
   if (pc.phase == kTreeStepPhaseScan) {
     if (g != 0u) return;
     uint total;
-    WORKGROUP_SCAN_IN_PLACE(offsets, 0u, pc.blocks, total);
+    WORKGROUP_SCAN_IN_PLACE(offsets, 0u, pc.blocks, WorkgroupRank(), total);
     if (gl_LocalInvocationID.x == 0u) offsets[pc.blocks] = total;
-    WORKGROUP_SCAN_IN_PLACE(offsets, pc.blocks + 1u, pc.blocks, total);
+    WORKGROUP_SCAN_IN_PLACE(offsets, pc.blocks + 1u, pc.blocks, WorkgroupRank(), total);
     if (gl_LocalInvocationID.x == 0u) offsets[2u * pc.blocks + 1u] = total;
   } else if (g < pc.blocks) {  // uniform: the whole workgroup leaves
     if (pc.phase == kTreeStepPhaseCount)

@@ -30,15 +30,17 @@ void main() {
     if (l == 0u || kFault == kFaultGlobalRace) sums[g] = total;
   } else if (pc.phase == kTrimPhaseScanSums) {
     if (g != 0u) return;
-    WORKGROUP_SCAN_IN_PLACE(sums, 0u, blocks, total);
+    WORKGROUP_SCAN_IN_PLACE(sums, 0u, blocks, WorkgroupRank(), total);
     if (l == 0u) sums[blocks] = total;
   } else {
     if (g >= blocks) return;
     const uint end = min(pc.n, (g + 1u) * kScanBlock);
     uint run;
     if (kFault != kFaultUndefinedValue || g != 0u) run = sums[kFault == kFaultWorkgroupOffset ? g + 1u : g];
+    // Fault kFaultLinearLanes: slots by local index (equal where subgroups are linear and full).
+    const uint rank = WorkgroupRank(), r = kFault == kFaultLinearLanes ? l : rank;
     for (uint c0 = g * kScanBlock; c0 < end; c0 += kLocalSize) {
-      const uint i = c0 + l;
+      const uint i = c0 + r;
       // Fault kFaultOutOfBounds: the flag loaded before the bounds check (a load past the stream's end).
       const uint early = kFault == kFaultOutOfBounds ? flags[i] : 0u;
       const uint f = i < end ? (kFault == kFaultOutOfBounds ? early : flags[i]) : 0u;

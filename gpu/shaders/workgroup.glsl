@@ -7,22 +7,42 @@
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_ballot : require
 
-shared uint wg_tile[kMaxLocalSize];  // one word per subgroup (rayspace/contract.h)
+shared uint wg_tile[kLocalSize];  // one word per subgroup: never more subgroups than invocations
 
 // This workgroup's index in the launch, rows of groups read in order (vk::Recorder::Dispatch folds
 // launches wider than maxComputeWorkGroupCount[0]); uniform across the workgroup.
 uint WorkGroupIndex() { return gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x; }
 
-// The subgroups of a workgroup, the last one partial when kLocalSize is not a multiple of the
-// subgroup size. Not gl_NumSubgroups: with workgroups of 12 or 20 invocations and subgroups of 8,
-// lavapipe's scans behave as if it were floor(kLocalSize / gl_SubgroupSize) and drop the partial
-// subgroup's sum (cli.diff.cornell.crsh.local-size-12 and -20 diverge with it and pass without).
-uint NumSubgroups() { return (kLocalSize + gl_SubgroupSize - 1u) / gl_SubgroupSize; }
+// The subgroups of a workgroup: gl_NumSubgroups, but never fewer than ceil(kLocalSize /
+// gl_SubgroupSize), since a subgroup holds at most gl_SubgroupSize invocations. With workgroups of 12
+// or 20 invocations and subgroups of 8, lavapipe's gl_NumSubgroups is floor(kLocalSize /
+// gl_SubgroupSize), one short (cli.diff.cornell.crsh.local-size-12 and -20 diverge with it alone).
+uint NumSubgroups() { return max(gl_NumSubgroups, (kLocalSize + gl_SubgroupSize - 1u) / gl_SubgroupSize); }
+// The subgroups a workgroup has at the least, the same in every workgroup: kernels with a subgroup
+// per item give each workgroup this many items (the host sizes their grids by it).
+uint SubgroupSlots() { return (kLocalSize + gl_SubgroupSize - 1u) / gl_SubgroupSize; }
 
-// Inclusive prefix sum of `v` over the workgroup's invocations in local-id order; `total` receives
-// the sum of all. Subgroups scan their own lanes (subgroupInclusiveAdd; lanes are local ids in order,
-// gl_SubgroupID * gl_SubgroupSize + gl_SubgroupInvocationID), one lane of each publishes its subgroup's
-// sum in shared memory, and after one barrier every invocation adds the sums of the subgroups before
+// This invocation's rank in the workgroup, 0 .. kLocalSize - 1: subgroups in gl_SubgroupID order, then
+// a subgroup's active lanes in lane order, the order the scans below add in. Vulkan ties no lane to a
+// local index, and unless a pipeline requires full subgroups one may launch with lanes idle, so a
+// kernel that scans slots in order hands slot c0 + rank to each invocation, never c0 + its local index.
+// On a device that lays subgroups out linearly and full (lavapipe) the rank is the local index. Two
+// barriers; call in uniform control flow. The counts fill the tile from its top, the scans' sums
+// from its bottom: a scan that reads a word no subgroup published (a planted shared-off-by-one)
+// then reads a word never written, which a checker reports, not a stale count.
+uint WorkgroupRank() {
+  const uvec4 here = subgroupBallot(true);
+  if (subgroupElect()) wg_tile[kLocalSize - 1u - gl_SubgroupID] = subgroupBallotBitCount(here);
+  barrier();
+  uint before = 0u;
+  for (uint k = 0u; k < gl_SubgroupID; ++k) before += wg_tile[kLocalSize - 1u - k];
+  barrier();  // the tile is free for the scans
+  return before + subgroupBallotExclusiveBitCount(here);
+}
+
+// Inclusive prefix sum of `v` over the workgroup's invocations in rank order (WorkgroupRank);
+// `total` receives the sum of all. Subgroups scan their own active lanes (subgroupInclusiveAdd), one
+// lane of each publishes its subgroup's sum in shared memory, and after one barrier every invocation adds the sums of the subgroups before
 // its own: two barriers a call, whatever the workgroup size (the device's subgroup size is read, not
 // assumed). Integer sums, so the result does not depend on the order the device runs invocations in.
 // The planted faults kFault* of rayspace/contract.h live here, as in the emulator's mirror
@@ -61,12 +81,13 @@ uint WorkgroupInclusiveAdd(uint v, out uint total) {
     WorkgroupInclusiveAdd(wg_s_, TOTAL);                                                   \
   }
 // Exclusive scan of BUF[FIRST .. FIRST + COUNT) in place, kLocalSize words at a time with a running
-// carry (no invocation loops over the whole range alone); TOTAL receives the sum.
-#define WORKGROUP_SCAN_IN_PLACE(BUF, FIRST, COUNT, TOTAL)                                  \
+// carry (no invocation loops over the whole range alone); RANK is WorkgroupRank(), TOTAL receives the
+// sum.
+#define WORKGROUP_SCAN_IN_PLACE(BUF, FIRST, COUNT, RANK, TOTAL)                            \
   {                                                                                        \
     uint wg_carry_ = 0u, wg_chunk_;                                                        \
     for (uint wg_c0_ = 0u; wg_c0_ < (COUNT); wg_c0_ += kLocalSize) {                       \
-      const uint wg_k_ = wg_c0_ + gl_LocalInvocationID.x;                                  \
+      const uint wg_k_ = wg_c0_ + (RANK);                                                  \
       const uint wg_v_ = wg_k_ < (COUNT) ? BUF[(FIRST) + wg_k_] : 0u;                      \
       const uint wg_inc_ = WorkgroupInclusiveAdd(wg_v_, wg_chunk_);                        \
       if (wg_k_ < (COUNT)) BUF[(FIRST) + wg_k_] = wg_carry_ + (wg_inc_ - wg_v_);           \

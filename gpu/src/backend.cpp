@@ -4,13 +4,17 @@
 
 #include <fmt/format.h>
 
+#include "rayspace/error.h"
+
 namespace rayspace::gpu_backend {
 namespace {
 
 template <typename C>
 typename C::Result Launch(VulkanPasses& gpu, const C& c) {
   VulkanOut<C> out;
-  if (const vk::Status s = gpu.Run(c, out); !s)
+  if (const vk::Status s = gpu.Run(c, out); !s && s.refused)
+    ThrowInput("{}, pass {}: {}", gpu.context().simulated() ? "simulated GPU" : "Vulkan backend", C::kName, s.message);
+  else if (!s)
     throw emu::BackendError(fmt::format("{}, pass {}: {}", gpu.context().simulated() ? "simulated GPU" : "Vulkan backend", C::kName, s.message),
                             s.checker, s.finding);
   if constexpr (!std::is_void_v<typename C::Result>) return out;

@@ -28,7 +28,7 @@ vk::Status VulkanPasses::Build(std::uint32_t phase, std::span<const layout::Ray>
     Bindings<layout::kBuildBindings> b;
     b.Set(layout::kBuildBindFirst, bf).Set(layout::kBuildBindNodes, bn);
     b.Set(layout::kBuildBindRays, pr).Set(layout::kBuildBindOrder, po).Set(layout::kBuildBindBelow, pb);
-    // one subgroup per node (build.comp's NumSubgroups() per workgroup)
+    // one subgroup per node (build.comp's SubgroupSlots() per workgroup)
     const vk::Kernel& k = K(PassId::kBuild);
     const std::uint64_t per_group = (k.local_size() + c.subgroup_size() - 1) / c.subgroup_size();
     return rec.DispatchGroups(k, b.All(), &push, sizeof push, (push.count + per_group - 1) / per_group);

@@ -3,12 +3,14 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 
 #include <fmt/format.h>
 #include <spirv_cross/spirv_cross_c.h>
@@ -16,6 +18,7 @@
 #include "rayspace/error.h"
 #include "rayspace/gpu/passes.h"
 #include "rayspace/input_file.h"
+#include "rayspace/output_file.h"
 
 namespace rayspace::gpu_backend {
 namespace {
@@ -164,10 +167,19 @@ vk::Status LoadKernelFile(const std::string& path, std::vector<std::uint32_t>& o
     return vk::Status::Fail(fmt::format("kernel file '{}' {}", path, why));
   std::string spv_path = path;
   fs::path tmp;
+  // The compile's output and log in a directory of its own, removed on every exit and on a signal
+  // (TempDirectory), so an interrupted compile leaves nothing under TMPDIR.
+  std::optional<TempDirectory> scratch;
   if (fs::path(path).extension() != ".spv") {
     // GLSL: compile as the built-in kernels are compiled (gpu/CMakeLists.txt).
-    tmp = fs::temp_directory_path() / fmt::format("rayspace-kernel-{}.spv", ::getpid());
-    const fs::path log = tmp.string() + ".log";
+    static std::atomic<unsigned> compiles{0};
+    try {
+      scratch.emplace(fs::temp_directory_path(ec) / fmt::format("rayspace-kernel-{}-{}", ::getpid(), compiles++));
+    } catch (const InputError& e) {
+      return vk::Status::Fail(fmt::format("kernel file '{}': no scratch directory to compile it in: {}", path, e.what()));
+    }
+    tmp = scratch->path() / "kernel.spv";
+    const fs::path log = scratch->path() / "glslc.log";
     auto quote = [](const std::string& s) {
       std::string q = "'";
       for (char ch : s) q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);

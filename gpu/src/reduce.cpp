@@ -33,7 +33,7 @@ vk::Status RunReduce(vk::Context& c, const vk::Kernel& k, std::span<const std::u
     const layout::ReducePush push{n, phase, scan ? 1u : s, comps, blocks};
     if (phase == layout::kReducePhaseLocal || phase == layout::kReducePhaseConcat) {
       // a subgroup per component, at most kReduceStrideGroups workgroups; the kernel strides over the rest
-      const std::uint64_t per_group = (k.local_size() + c.subgroup_size() - 1) / c.subgroup_size();  // NumSubgroups()
+      const std::uint64_t per_group = (k.local_size() + c.subgroup_size() - 1) / c.subgroup_size();  // SubgroupSlots()
       const std::uint64_t groups = std::min<std::uint64_t>(layout::kReduceStrideGroups, (comps + per_group - 1) / per_group);
       RS_TRY(rec.DispatchGroups(k, b.All(), &push, sizeof push, groups));
     } else {  // a workgroup per block, or one for the scan of the block sums

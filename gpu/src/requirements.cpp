@@ -4,7 +4,10 @@
 
 #include <algorithm>
 
+#include <spirv/unified1/spirv.hpp11>
+
 #include "rayspace/contract.h"
+#include "rayspace/gpu/passes.h"
 #include "rayspace/gpu/raster.h"
 #include "rayspace/gpu/vulkan.h"
 #include "rayspace/pass_registry.h"
@@ -84,6 +87,26 @@ void CheckFormats(Checker& c, VkPhysicalDevice d) {
   c.Feature("VK_FORMAT_R32_UINT", "raster: the primitive-id colour attachment, copied out", FormatHas(d, gpu_backend::kRasterColorFormats[4], kColor));
 }
 
+// The subgroup features as the kernels' SPIR-V declares them: a row per feature, naming the
+// kernels; optional, since a device without one runs every kernel that does not declare it (and
+// those are refused at creation, naming it).
+void CheckSubgroups(Checker& c, const VkPhysicalDeviceSubgroupProperties& sub) {
+  c.Limit("subgroupSize", "the subgroup kernels' grids (a subgroup per node or component; any size 1-128 gives the same bits)", 1,
+          sub.subgroupSize);
+  std::map<VkSubgroupFeatureFlags, std::string> users;
+  VkSubgroupFeatureFlags any = 0;
+  for (std::string_view k : gpu_backend::BuiltinKernelNames()) {
+    const VkSubgroupFeatureFlags f = SubgroupFeaturesOf(gpu_backend::BuiltinKernel(k));
+    any |= f;
+    for (VkSubgroupFeatureFlags bit = 1; bit <= f; bit <<= 1)
+      if (f & bit) users[bit] += fmt::format("{}{}", users[bit].empty() ? "" : ", ", k);
+  }
+  const bool compute = (sub.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) != 0;
+  c.Feature("subgroupSupportedStages", "every kernel that uses subgroups: subgroup operations in compute", compute || any == 0);
+  for (const auto& [bit, kernels] : users)
+    c.Feature(SubgroupFeatureName(bit), "kernels " + kernels, compute && (sub.supportedOperations & bit) != 0, true);
+}
+
 bool HasGraphicsComputeQueue(VkPhysicalDevice d) {
   std::uint32_t n = 0;
   vkGetPhysicalDeviceQueueFamilyProperties(d, &n, nullptr);
@@ -149,10 +172,7 @@ std::vector<Requirement> CheckRequirements(VkPhysicalDevice d, const Lacks& lack
   c.Feature("shaderBufferInt64Atomics", "intersect, shade (atomicMin / atomicAdd on 64-bit words)", f12.shaderBufferInt64Atomics);
   c.Feature("shaderSignedZeroInfNanPreserveFloat32", "every kernel (SignedZeroInfNanPreserve: no a - a -> 0 folding)",
             fc.shaderSignedZeroInfNanPreserveFloat32);
-  constexpr VkSubgroupFeatureFlags kOps = VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT |
-                                          VK_SUBGROUP_FEATURE_BALLOT_BIT | VK_SUBGROUP_FEATURE_SHUFFLE_BIT;
-  c.Feature("subgroupOperations", "trim, sort, reduce, build, traverse.compact: basic, arithmetic, ballot and shuffle in compute",
-            (sub.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) && (sub.supportedOperations & kOps) == kOps);
+  CheckSubgroups(c, sub);
   c.Feature("graphicsComputeQueue", "raster and the compute passes: one queue family with both", HasGraphicsComputeQueue(d));
   CheckFormats(c, d);
   c.Limit("maxColorAttachments", "raster (five G-buffer targets)", 5, lim.maxColorAttachments);
@@ -214,6 +234,55 @@ std::vector<DeviceReport> DescribeDevices(int& preferred) {
   if (n) preferred = PreferredDevice(devs);
   vkDestroyInstance(inst, nullptr);
   return out;
+}
+
+VkSubgroupFeatureFlags SubgroupFeaturesOf(std::span<const std::uint32_t> spirv) {
+  VkSubgroupFeatureFlags f = 0;
+  if (spirv.size() < 5 || spirv[0] != spv::MagicNumber) return f;
+  for (std::size_t at = 5; at < spirv.size();) {
+    const std::uint32_t words = spirv[at] >> 16, op = spirv[at] & 0xffffu;
+    if (words == 0 || at + words > spirv.size()) break;
+    if (op == static_cast<std::uint32_t>(spv::Op::OpCapability) && words == 2) {
+      switch (static_cast<spv::Capability>(spirv[at + 1])) {
+        case spv::Capability::GroupNonUniform: f |= VK_SUBGROUP_FEATURE_BASIC_BIT; break;
+        case spv::Capability::GroupNonUniformVote: f |= VK_SUBGROUP_FEATURE_VOTE_BIT; break;
+        case spv::Capability::GroupNonUniformArithmetic: f |= VK_SUBGROUP_FEATURE_ARITHMETIC_BIT; break;
+        case spv::Capability::GroupNonUniformBallot: f |= VK_SUBGROUP_FEATURE_BALLOT_BIT; break;
+        case spv::Capability::GroupNonUniformShuffle: f |= VK_SUBGROUP_FEATURE_SHUFFLE_BIT; break;
+        case spv::Capability::GroupNonUniformShuffleRelative: f |= VK_SUBGROUP_FEATURE_SHUFFLE_RELATIVE_BIT; break;
+        case spv::Capability::GroupNonUniformClustered: f |= VK_SUBGROUP_FEATURE_CLUSTERED_BIT; break;
+        case spv::Capability::GroupNonUniformQuad: f |= VK_SUBGROUP_FEATURE_QUAD_BIT; break;
+        default: break;
+      }
+    } else if (op != static_cast<std::uint32_t>(spv::Op::OpNop)) {
+      break;  // capabilities come first in a module
+    }
+    at += words;
+  }
+  return f;
+}
+
+std::string SubgroupFeatureName(VkSubgroupFeatureFlags bit) {
+  switch (bit) {
+    case VK_SUBGROUP_FEATURE_BASIC_BIT: return "VK_SUBGROUP_FEATURE_BASIC_BIT";
+    case VK_SUBGROUP_FEATURE_VOTE_BIT: return "VK_SUBGROUP_FEATURE_VOTE_BIT";
+    case VK_SUBGROUP_FEATURE_ARITHMETIC_BIT: return "VK_SUBGROUP_FEATURE_ARITHMETIC_BIT";
+    case VK_SUBGROUP_FEATURE_BALLOT_BIT: return "VK_SUBGROUP_FEATURE_BALLOT_BIT";
+    case VK_SUBGROUP_FEATURE_SHUFFLE_BIT: return "VK_SUBGROUP_FEATURE_SHUFFLE_BIT";
+    case VK_SUBGROUP_FEATURE_SHUFFLE_RELATIVE_BIT: return "VK_SUBGROUP_FEATURE_SHUFFLE_RELATIVE_BIT";
+    case VK_SUBGROUP_FEATURE_CLUSTERED_BIT: return "VK_SUBGROUP_FEATURE_CLUSTERED_BIT";
+    case VK_SUBGROUP_FEATURE_QUAD_BIT: return "VK_SUBGROUP_FEATURE_QUAD_BIT";
+    default: return fmt::format("subgroup feature 0x{:x}", bit);
+  }
+}
+
+VkSubgroupFeatureFlags ComputeSubgroupFeatures(VkPhysicalDevice device) {
+  const DeviceInfo info = QueryDevice(device);
+  if (!(info.subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) || DeviceLacks().count("subgroupSupportedStages")) return 0;
+  VkSubgroupFeatureFlags f = info.subgroup.supportedOperations;
+  for (VkSubgroupFeatureFlags bit = 1; bit != 0 && bit <= f; bit <<= 1)
+    if ((f & bit) && DeviceLacks().count(SubgroupFeatureName(bit))) f &= ~bit;
+  return f;
 }
 
 std::string Unmet(const std::vector<Requirement>& reqs) {

@@ -7,10 +7,12 @@
 #include <cstring>
 
 #include "rayspace/contract.h"
+#include "rayspace/gpu/float_controls.h"
 #include "rayspace/gpu/memory.h"
 #include "rayspace/gpu/requirements.h"
 #include "rayspace/gpu/validation.h"
 #include "rayspace/sim/executor.h"
+#include "rayspace/sim/module_tools.h"
 #include "rayspace/sim/program.h"
 
 namespace rayspace::vk {
@@ -248,6 +250,12 @@ Status Context::CreateDevice() {
   features.shaderInt64 = VK_TRUE;
   // The grids' build bins in double (grid_build.comp); a device without it runs every other pass.
   float64_ = HasFloat64(physical_);
+  subgroup_features_ = ComputeSubgroupFeatures(physical_);
+  {
+    const DeviceInfo info = QueryDevice(physical_);
+    float_controls_.denorm_preserve = info.float_controls.shaderDenormPreserveFloat32;
+    float_controls_.round_to_nearest = info.float_controls.shaderRoundingModeRTEFloat32;
+  }
   features.shaderFloat64 = float64_ ? VK_TRUE : VK_FALSE;
   const float priority = 1.0f;
   VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
@@ -368,6 +376,7 @@ Status Context::CreateSimulated(const sim::DeviceConfig& config, std::unique_ptr
   // lavapipe's limits, so that the host code splits and pages as it does there.
   c->max_storage_range_ = c->storage_limit_ = VkDeviceSize{128} << 20;
   c->float64_ = true;
+  c->subgroup_features_ = ~VkSubgroupFeatureFlags{0};  // the executor's scope decides (sim/scope.h)
   c->max_stage_storage_buffers_ = 1u << 20;
   c->max_image_side_ = 16384;
   c->subgroup_size_ = subgroup_size;
@@ -540,14 +549,22 @@ Status Context::CreateKernel(const std::string& name, std::span<const std::uint3
     return Status::Fail(fmt::format("--local-size {}: '{}' allows at most {} invocations per workgroup "
                                     "(maxComputeWorkGroupInvocations {}, maxComputeWorkGroupSize[0] {})",
                                     local_size, device_name_, std::min(max_invocations_, max_size_x_), max_invocations_, max_size_x_));
+  k.refusal_.clear();
+  if (const VkSubgroupFeatureFlags missing = SubgroupFeaturesOf(spirv) & ~subgroup_features_; missing != 0) {
+    std::string names;
+    for (VkSubgroupFeatureFlags bit = 1; bit != 0 && bit <= missing; bit <<= 1)
+      if (missing & bit) names += (names.empty() ? "" : ", ") + SubgroupFeatureName(bit);
+    k.refusal_ = fmt::format("kernel {} declares subgroup operations '{}' lacks in compute: {} (rayspace devices)", name,
+                             device_name_, names);
+  }
   k.device_ = device_;
   k.local_size_ = local_size;
   k.name_ = name;
   k.bindings_ = bindings;
-  if (simulated_) {
-    k.spirv_.assign(spirv.begin(), spirv.end());
-  } else {
-    if (Status st = CreateModule(device_, spirv, k.module_); !st) return st;
+  k.spirv_.assign(spirv.begin(), spirv.end());
+  if (!simulated_) {
+    // The float controls the device offers, requested (rayspace/gpu/float_controls.h).
+    if (Status st = CreateModule(device_, WithFloatControls(spirv, float_controls_), k.module_); !st) return st;
     if (Status st = CreateLayouts(device_, bindings, VK_SHADER_STAGE_COMPUTE_BIT, 128, k.set_layout_, k.layout_); !st)
       return st;
   }
@@ -559,7 +576,29 @@ Status Context::CreateKernel(const std::string& name, std::span<const std::uint3
   return Status::Ok();
 }
 
+// --strict-math's promise holds only for a kernel whose strict pipeline has no division or root
+// left that a device may round loosely (the grids' build, in double, has); checked once per kernel
+// on the pipeline as it would run (gpu/tests/strict_spirv_test.cpp holds every built-in kernel to it).
+Status StrictMathRefusal(const Kernel& k, std::span<const std::uint32_t> spirv, const std::uint32_t spec[3]) {
+  std::vector<std::string> loose;
+  try {
+    loose = sim::LooselyRounded(sim::Specialized(
+        spirv, {{0, std::to_string(spec[0])}, {1, std::to_string(spec[1])}, {2, spec[2] ? "true" : "false"}}, k.name()));
+  } catch (const std::exception& e) {
+    return Status::Fail(fmt::format("kernel {}: {}", k.name(), e.what()));
+  }
+  if (loose.empty()) return Status::Ok();
+  return Status::Refuse(fmt::format("--strict-math: kernel {} still divides or takes roots as the device rounds them ({}{}); "
+                                    "it has no exact path, so its bits are not promised (run it without --strict-math)",
+                                    k.name(), loose.front(), loose.size() > 1 ? fmt::format(" and {} more", loose.size() - 1) : ""));
+}
+
 Status Context::CreatePipeline(const Kernel& k) const {
+  if (!k.refusal_.empty()) return Status::Refuse(k.refusal_);
+  if (k.spec_[2] && !k.strict_checked_) {
+    RS_TRY(StrictMathRefusal(k, k.spirv_, k.spec_));
+    k.strict_checked_ = true;
+  }
   if (simulated_) {
     if (k.program_) return Status::Ok();
     try {
@@ -590,6 +629,7 @@ Status Context::SetKernelFault(Kernel& k, std::uint32_t fault) const {
   k.program_.reset();
   if (!simulated_) vkDestroyPipeline(device_, k.pipeline_, nullptr);
   k.pipeline_ = VK_NULL_HANDLE;
+  k.strict_checked_ = false;
   k.spec_[0] = fault;
   return Status::Ok();
 }

@@ -12,6 +12,7 @@
 
 #include "rayspace/gpu/kernel_check.h"
 #include "rayspace/gpu/passes.h"
+#include "rayspace/gpu/requirements.h"
 #include "rayspace/pass_registry.h"
 
 namespace rayspace {
@@ -120,6 +121,25 @@ TEST_CASE("registry: user kernels in GLSL are compiled and checked member by mem
   const vk::Status bad = CheckSource(PassId::kResolve, "#version 460\nvoid main() { undefined_thing(); }\n");
   CHECK_FALSE(bad);
   CHECK(bad.message.find("does not compile") != std::string::npos);
+}
+
+// The subgroup features each kernel needs are read from its SPIR-V's capabilities, which is what a
+// device is checked against (rayspace devices, and kernel creation refusing by name).
+TEST_CASE("registry: each kernel's subgroup features are its SPIR-V's capabilities") {
+  constexpr VkSubgroupFeatureFlags kScan =
+      VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT | VK_SUBGROUP_FEATURE_BALLOT_BIT;
+  CHECK(vk::SubgroupFeaturesOf(BuiltinKernel("trim")) == kScan);  // elect, inclusive add, ballot
+  CHECK(vk::SubgroupFeaturesOf(BuiltinKernel("traverse_compact")) == (kScan | VK_SUBGROUP_FEATURE_SHUFFLE_BIT | VK_SUBGROUP_FEATURE_VOTE_BIT));
+  CHECK(vk::SubgroupFeaturesOf(BuiltinKernel("surfaces")) == 0);  // no subgroup operation
+  std::set<std::string> vote;
+  for (std::string_view k : BuiltinKernelNames())
+    if (vk::SubgroupFeaturesOf(BuiltinKernel(k)) & VK_SUBGROUP_FEATURE_VOTE_BIT) vote.insert(std::string(k));
+  CHECK(vote == std::set<std::string>{"traverse_compact"});  // subgroupAll in its level phase
+  // Not SPIR-V, or cut short: no feature, no crash.
+  CHECK(vk::SubgroupFeaturesOf(std::vector<std::uint32_t>{1, 2, 3, 4, 5, 6}) == 0);
+  const auto trim = BuiltinKernel("trim");
+  CHECK(vk::SubgroupFeaturesOf(trim.first(6)) == 0);
+  CHECK(vk::SubgroupFeatureName(VK_SUBGROUP_FEATURE_VOTE_BIT) == "VK_SUBGROUP_FEATURE_VOTE_BIT");
 }
 
 }  // namespace

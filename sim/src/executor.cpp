@@ -798,6 +798,8 @@ bool Workgroup::Execute(const Inst& in, std::uint32_t s) {
     case Op::OpGroupNonUniformBroadcastFirst:
     case Op::OpGroupNonUniformBallot:
     case Op::OpGroupNonUniformBallotBitCount:
+    case Op::OpGroupNonUniformBallotFindLSB:
+    case Op::OpGroupNonUniformBallotFindMSB:
     case Op::OpGroupNonUniformShuffle:
     case Op::OpGroupNonUniformIAdd:
     case Op::OpGroupNonUniformUMin:
@@ -1395,6 +1397,19 @@ void Workgroup::Subgroup(const Inst& in) {
       }
       return;
     }
+    case Op::OpGroupNonUniformBallotFindLSB:
+    case Op::OpGroupNonUniformBallotFindMSB:  // of a value's first SubgroupSize bits; none set: all ones
+      for (std::uint32_t l : lanes_) {
+        const std::uint32_t* v = R(l, ops[1]);
+        std::uint32_t found = 0xffffffffu;
+        for (std::uint32_t b = 0; b < sg_ && b < 128; ++b)
+          if ((v[b / 32] >> (b % 32)) & 1u) {
+            found = b;
+            if (op == Op::OpGroupNonUniformBallotFindLSB) break;
+          }
+        R(l, in.result)[0] = found;
+      }
+      return;
     case Op::OpGroupNonUniformBroadcast:
     case Op::OpGroupNonUniformBroadcastFirst:
     case Op::OpGroupNonUniformShuffle: {

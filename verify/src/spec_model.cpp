@@ -535,6 +535,55 @@ SpecVerdict TraverseLevel(const BufferSet& in, const BufferSet& e, const BufferS
   return t.Done();
 }
 
+// The survivors of a fused traversal call (traverse.compact.*): a compacted list in slot order, where
+// traverse.top/level keep a flag per slot. `each_slot(visit)` calls visit(pair, node, sphere) for
+// every slot that runs a test, in slot order. The device's list must hold, in that order, every pair
+// the emulator keeps and no other, except that a slot whose test some conformant device decides the
+// other way may be in or out; the count of tests run is an integer, exact everywhere.
+template <typename EachSlot>
+SpecVerdict TallyCompacted(const BufferSet& e, const BufferSet& a, float eps, std::uint32_t cone_test, bool flush, EachSlot&& each_slot) {
+  Tally t;
+  if (e.Has("tested") && e.Get<std::uint64_t>("tested") != a.Get<std::uint64_t>("tested")) t.Beyond("tested: counts are integers");
+  const std::vector<std::uint32_t> ep = e.Get<std::uint32_t>("pairs"), ap = a.Get<std::uint32_t>("pairs");
+  std::size_t i = 0, j = 0;
+  each_slot([&](std::uint32_t pair, const layout::ConeNode& node, glm::vec4 sphere) {
+    const bool kept = i < ep.size() && ep[i] == pair, device = j < ap.size() && ap[j] == pair;
+    i += kept, j += device;
+    if (kept == device) return;
+    if (TestMayFlip(node, sphere, eps, cone_test, flush))
+      t.Within();
+    else
+      t.Beyond(fmt::format("pairs: {:#x} {} where every conformant device {} it", pair, device ? "kept" : "dropped",
+                           device ? "drops" : "keeps"));
+  });
+  if (j < ap.size()) t.Beyond(fmt::format("pairs[{}]: {:#x} is no tested slot's pair in slot order", j, ap[j]));
+  if (i < ep.size()) t.Beyond(fmt::format("pairs: the emulator's pair {:#x} is no tested slot's in slot order", ep[i]));
+  return t.Done();
+}
+
+SpecVerdict TraverseTopCompacted(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
+  const DecodedCall<emu::call::TraverseTop> d = DecodeCall<emu::call::TraverseTop>(in);
+  const emu::call::TraverseTop& c = d.call;
+  return TallyCompacted(e, a, c.eps, c.cone_test, flush, [&](auto&& visit) {
+    for (std::uint32_t node = c.t0; node < c.t1; ++node)
+      for (std::uint32_t tri = c.b0; tri < c.b1; ++tri)
+        if (emu::TopSlotTested(c, node, tri))
+          visit(((node - c.t0) << emu::kPairTriangleBits) | (tri - c.b0), c.top[node], c.tri_spheres[tri]);
+  });
+}
+
+SpecVerdict TraverseLevelCompacted(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
+  const DecodedCall<emu::call::TraverseLevel> d = DecodeCall<emu::call::TraverseLevel>(in);
+  const emu::call::TraverseLevel& c = d.call;
+  return TallyCompacted(e, a, c.eps, c.cone_test, flush, [&](auto&& visit) {
+    for (const std::uint32_t pair : c.pairs) {
+      const std::uint32_t parent = c.base_up + (pair >> emu::kPairTriangleBits), tri_local = pair & emu::kPairTriangleMask;
+      for (std::uint32_t k = c.first[parent]; k < c.first[parent + 1]; ++k)
+        visit(((k - c.base) << emu::kPairTriangleBits) | tri_local, c.nodes[k], c.tri_spheres[c.b0 + tri_local]);
+    }
+  });
+}
+
 SpecVerdict ObjectMask(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
   const DecodedCall<emu::call::ObjectMask> d = DecodeCall<emu::call::ObjectMask>(in);
   const emu::call::ObjectMask& c = d.call;
@@ -731,6 +780,8 @@ SpecVerdict ClassifyWithinSpec(const std::string& method, const BufferSet& in, c
   if (method == "surfaces.hits") return SurfacesFromHits(in, expected, actual, flush_denormals);
   if (method == "traverse.top") return TraverseTop(in, expected, actual, flush_denormals);
   if (method == "traverse.level") return TraverseLevel(in, expected, actual, flush_denormals);
+  if (method == "traverse.compact.top") return TraverseTopCompacted(in, expected, actual, flush_denormals);
+  if (method == "traverse.compact.level") return TraverseLevelCompacted(in, expected, actual, flush_denormals);
   if (method == "traverse.objects") return ObjectMask(in, expected, actual, flush_denormals);
   return {};
 }

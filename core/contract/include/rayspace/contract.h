@@ -42,6 +42,7 @@ RS_CONST(uint, kFaultWorkgroupOffset, 15u);   // a workgroup starts at the next 
 RS_CONST(uint, kFaultGlobalRace, 16u);      // every invocation stores its workgroup's block sum, not the first alone
 RS_CONST(uint, kFaultOutOfBounds, 17u);     // a flag is loaded before the bounds check, past the stream's end
 RS_CONST(uint, kFaultUndefinedValue, 18u);  // the first workgroup's running offset is never set
+RS_CONST(uint, kFaultLinearLanes, 19u);     // slots handed out by local index, as if lanes were local ids in order
 // Planted faults that behave like a real GPU's arithmetic (gpu/shaders/common.glsl Div, Sqrt), which
 // the relaxed comparison must accept, and one no conformant device produces, which it must refuse
 // (docs/numerics.md, "The relaxed device model").

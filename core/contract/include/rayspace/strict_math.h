@@ -9,7 +9,6 @@
 
 #ifdef __cplusplus
 #include <bit>
-#include <cmath>
 #include <cstdint>
 
 #include "rayspace/layout.h"
@@ -18,7 +17,6 @@ namespace rayspace::layout {
 inline uint floatBitsToUint(float f) { return std::bit_cast<uint>(f); }
 inline float uintBitsToFloat(uint u) { return std::bit_cast<float>(u); }
 inline int findMSB(uint x) { return x == 0u ? -1 : 31 - std::countl_zero(x); }
-inline float sqrt(float x) { return std::sqrt(x); }
 #define RS_INLINE inline
 #define RS_OUT(T) T&
 #else
@@ -91,9 +89,10 @@ RS_INLINE float DivRN(float a, float b) {
 }
 
 // sqrt(x) rounded to nearest even. The significand, shifted by an even count so the exponent stays
-// even, has an integer square root of 25 or 26 bits: estimated in float, corrected by one Newton step
-// and exact integer squares. (No square root of a float lies halfway between two floats, so the
-// round bit alone decides, but the sticky bit is passed anyway.)
+// even, has an integer square root of 25 or 26 bits: integer Newton steps from a power of two above
+// it (at most twice the root; six steps leave it within one), then exact integer squares. No float
+// operation is used, so a device's loose sqrt cannot enter. (No square root of a float lies halfway
+// between two floats, so the round bit alone decides, but the sticky bit is passed anyway.)
 RS_INLINE float SqrtRN(float x) {
   const uint ux = floatBitsToUint(x);
   if ((ux & 0x7FFFFFFFu) == 0u) return x;  // +-0
@@ -106,9 +105,8 @@ RS_INLINE float SqrtRN(float x) {
     e = e - 1;
   }
   const uint64_t big = m << 26u;  // < 2^51
-  uint64_t r = uint64_t(sqrt(float(big)));
-  if (r == uint64_t(0)) r = uint64_t(1);
-  r = (r + big / r) >> 1u;
+  uint64_t r = uint64_t(1) << uint((StrictMsb64(big) + 2) / 2);
+  for (int i = 0; i < 6; ++i) r = (r + big / r) >> 1u;
   for (int i = 0; i < 4; ++i)
     if (r * r > big) r = r - uint64_t(1);
   for (int i = 0; i < 4; ++i)

@@ -43,11 +43,15 @@ struct KernelSite {
 void DispatchKernel(const KernelSite& site, std::string_view phase, std::uint32_t groups,
                     const std::function<void(wg::Workgroup&)>& kernel);
 
-// `shared uint wg_tile[kMaxLocalSize]` of workgroup.glsl, declared in a kernel mirror's workgroup.
+// `shared uint wg_tile[kLocalSize]` of workgroup.glsl, declared in a kernel mirror's workgroup.
 wg::Shared<std::uint32_t>& WorkgroupTile(wg::Workgroup& w);
 
+// uint WorkgroupRank(): each invocation's rank, the order the scans add in (subgroups in order, then
+// their active lanes); on the model's linear, full subgroups the local index. Two barriers.
+wg::Private<std::uint32_t> WorkgroupRank(wg::Workgroup& w, wg::Shared<std::uint32_t>& tile);
+
 // uint WorkgroupInclusiveAdd(uint v, out uint total): the inclusive prefix sum of v over the
-// workgroup in local-id order, and the sum of all in `total`. Ends with a barrier.
+// workgroup in rank order, and the sum of all in `total`. Ends with a barrier.
 wg::Private<std::uint32_t> WorkgroupInclusiveAdd(wg::Workgroup& w, wg::Shared<std::uint32_t>& tile,
                                                  const wg::Private<std::uint32_t>& v, wg::Private<std::uint32_t>& total,
                                                  std::uint32_t fault);
@@ -58,9 +62,9 @@ wg::Private<std::uint32_t> WorkgroupSum(wg::Workgroup& w, wg::Shared<std::uint32
                                         std::uint32_t i1, std::uint32_t fault);
 
 // WORKGROUP_SCAN_IN_PLACE: exclusive scan of buf[0 .. count) in place, kLocalSize words at a time with
-// a running carry; returns the sum.
+// a running carry, invocation i taking slots c0 + rank[i]; returns the sum.
 std::uint32_t WorkgroupScanInPlace(wg::Workgroup& w, wg::Shared<std::uint32_t>& tile, std::uint32_t* buf,
-                                   std::uint32_t count, std::uint32_t fault);
+                                   std::uint32_t count, const wg::Private<std::uint32_t>& rank, std::uint32_t fault);
 
 // Order-preserving reduce-then-scan over blocks of kScanBlock flags, the three dispatches of
 // trim.comp (BlockSums, ScanSums, Scatter): `flag(i)` is 0 or 1 (or a count), and `slot(i, s)` runs for

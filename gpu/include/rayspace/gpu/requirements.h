@@ -6,6 +6,7 @@
 #pragma once
 #include <cstdint>
 #include <map>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,14 @@ bool Fakeable(const std::string& name, const std::vector<Requirement>& reqs);
 std::string UnknownLack(const std::vector<Requirement>& reqs);
 // A limit as the device reports it, or as DeviceLacks() fakes it.
 std::uint64_t FakedLimit(const std::string& name, std::uint64_t have);
+
+// The subgroup features a kernel declares: its OpCapability GroupNonUniform* as Vulkan's
+// VkSubgroupFeatureFlagBits (a module that is not SPIR-V declares none).
+VkSubgroupFeatureFlags SubgroupFeaturesOf(std::span<const std::uint32_t> spirv);
+// A feature's requirement name as the spec spells its bit, "VK_SUBGROUP_FEATURE_VOTE_BIT".
+std::string SubgroupFeatureName(VkSubgroupFeatureFlags bit);
+// The subgroup features `device` offers in compute, less the ones DeviceLacks() names.
+VkSubgroupFeatureFlags ComputeSubgroupFeatures(VkPhysicalDevice device);
 
 // The device to use without --device: discrete GPUs first, then integrated, virtual, other and CPU;
 // among equals one that meets every requirement; then the lowest index.

@@ -12,6 +12,8 @@
 
 #include <vulkan/vulkan.h>
 
+#include "rayspace/gpu/float_controls.h"
+
 #include "rayspace/sim/coverage.h"
 #include "rayspace/sim/device.h"
 
@@ -27,7 +29,11 @@ struct Status {
   std::string message;           // "vkCreateDevice failed: VK_ERROR_INITIALIZATION_FAILED (-3)"
   std::string checker;           // the simulated device's checker whose finding this is ("racecheck", ...), or ""
   std::string finding;           // ... and the finding as the simulator gave it (kernel, line, invocations, word)
+  // The device cannot run the kernel as asked (a subgroup feature it lacks, a loose operation under
+  // --strict-math): the run is refused as bad input, naming it, not failed.
+  bool refused = false;
   static Status Ok() { return {}; }
+  static Status Refuse(const std::string& msg) { return {false, VK_SUCCESS, {}, msg, {}, {}, true}; }
   // `call` may be the call's whole source text (RS_VK passes it): the name is what precedes '('.
   static Status Fail(const std::string& call, VkResult r);
   static Status Fail(const std::string& msg) { return {false, VK_SUCCESS, {}, msg, {}, {}}; }
@@ -147,6 +153,10 @@ class Kernel {
   std::uint32_t spec_[3] = {};  // common.glsl's specialization constants: kFault, kLocalSize, kStrictMath
   // The simulated device: the module, and its prepared program made at the first dispatch.
   std::vector<std::uint32_t> spirv_;
+  // Why the device refuses this kernel at its first dispatch ("" when it does not): the subgroup
+  // features its SPIR-V declares and the device lacks.
+  std::string refusal_;
+  mutable bool strict_checked_ = false;  // --strict-math: no loose operation left (StrictMathRefusal)
   mutable std::shared_ptr<const sim::Program> program_;
   mutable std::vector<std::uint8_t> coverage_;  // per instruction of program_: ran in some dispatch
 };
@@ -406,6 +416,10 @@ class Context {
   VkDeviceSize max_storage_range_ = 0, storage_limit_ = 0;
   std::uint32_t max_groups_[2] = {65535, 65535};
   bool float64_ = false;
+  // The subgroup features the device offers in compute (ComputeSubgroupFeatures): a kernel that
+  // declares another is refused at creation, naming it.
+  VkSubgroupFeatureFlags subgroup_features_ = 0;
+  FloatControls float_controls_;  // requested in every kernel the device offers them for
   std::uint32_t max_stage_storage_buffers_ = 0, max_image_side_ = 0, subgroup_size_ = 1;
   std::uint32_t max_invocations_ = 0, max_size_x_ = 0;  // maxComputeWorkGroupInvocations, ...Size[0]
   std::size_t descriptor_pools_ = 0;

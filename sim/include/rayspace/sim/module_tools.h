@@ -2,6 +2,7 @@
 // the debug-information strip that shows glslc -g leaves the computing instructions as they were.
 #pragma once
 #include <cstdint>
+#include <map>
 #include <span>
 #include <string>
 #include <string_view>
@@ -22,5 +23,18 @@ std::string ValidationError(std::span<const std::uint32_t> spirv);
 // renumbered in order of first appearance (spirv-opt --strip-debug --compact-ids). Throws InputError
 // naming `what` when SPIRV-Tools rejects it.
 std::vector<std::uint32_t> WithoutDebugInfo(std::span<const std::uint32_t> spirv, const std::string& what);
+
+// The module as a pipeline with these specialization constants (SpecId -> decimal text, "true" or
+// "false" for a boolean) runs it: the constants frozen and folded, functions inlined, branches on
+// them resolved and what they make dead removed (spirv-opt's set-spec-const-default-value,
+// freeze-spec-const, fold-spec-const-op-composite, inline, ccp, dead-branch-elim, aggressive-dce).
+// Throws InputError naming `what` when SPIRV-Tools rejects it.
+std::vector<std::uint32_t> Specialized(std::span<const std::uint32_t> spirv, const std::map<std::uint32_t, std::string>& spec,
+                                       const std::string& what);
+
+// The instructions a conformant Vulkan device may round loosely that a module still holds: OpFDiv,
+// and GLSL.std.450 Sqrt and InverseSqrt, of any float width. Each as "FILE:LINE OpFDiv (64-bit)"
+// (the OpLine before it; "?" without debug information).
+std::vector<std::string> LooselyRounded(std::span<const std::uint32_t> spirv);
 
 }  // namespace rayspace::sim

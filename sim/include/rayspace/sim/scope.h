@@ -64,6 +64,7 @@ inline constexpr ScopeEntry kScope[] = {
     {"Opcode", "OpGroupNonUniformElect"}, {"Opcode", "OpGroupNonUniformAll"}, {"Opcode", "OpGroupNonUniformAny"},
     {"Opcode", "OpGroupNonUniformBroadcast"}, {"Opcode", "OpGroupNonUniformBroadcastFirst"},
     {"Opcode", "OpGroupNonUniformBallot"}, {"Opcode", "OpGroupNonUniformBallotBitCount"},
+    {"Opcode", "OpGroupNonUniformBallotFindLSB"}, {"Opcode", "OpGroupNonUniformBallotFindMSB"},
     {"Opcode", "OpGroupNonUniformShuffle"}, {"Opcode", "OpGroupNonUniformIAdd"}, {"Opcode", "OpGroupNonUniformUMin"},
     {"Opcode", "OpGroupNonUniformUMax"}, {"Opcode", "OpGroupNonUniformFMin"}, {"Opcode", "OpGroupNonUniformFMax"},
     // Capabilities, storage classes, built-ins, execution modes, decorations, group operations.
