@@ -388,8 +388,9 @@ int main(int argc, char** argv) {
                "Vulkan: the kernels divide and take square roots correctly rounded in integer arithmetic, so they "
                "give the emulator's bits on any conformant device (Vulkan lets a device round / and sqrt loosely)");
   app.add_flag("--validate", cmds.validate,
-               "Vulkan: run with the Khronos validation layer and synchronization validation; any message fails the "
-               "Vulkan call after which it was reported (also RAYSPACE_VALIDATE=1)");
+               "Vulkan: run with the Khronos validation layer, synchronization validation and GPU-assisted validation "
+               "(descriptor accesses checked against their bounds); any message fails the Vulkan call after which it was "
+               "reported (RAYSPACE_VALIDATE=gpu does the same, RAYSPACE_VALIDATE=1 without GPU-assisted validation)");
   AddRender(app, cmds);
   AddAccuracy(app, cmds);
   AddBench(app, cmds);
@@ -422,7 +423,7 @@ int main(int argc, char** argv) {
   rayspace::SetCheckFailuresThrow(true);
 #ifdef RAYSPACE_HAVE_VULKAN
   NoteGivenReplayOptions(cmds);
-  if (cmds.validate) rayspace::vk::SetValidation(true);
+  if (cmds.validate) rayspace::vk::SetValidation(true, /*gpu_assisted=*/true);
   rayspace::vk::Context::SetStrictMath(cmds.strict_math);
   // The timed frames leave new buffers as the pool hands them out; diff and replay poison them.
   if (cmds.render_cmd->parsed() || cmds.bench_cmd->parsed()) rayspace::vk::Context::SetPoisonNewBuffers(false);

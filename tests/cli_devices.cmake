@@ -5,6 +5,12 @@
 # --local-size beyond a faked workgroup limit is refused too.
 #   cmake -DRAYSPACE=<exe> -DSRC=<source dir> -P cli_devices.cmake
 set(failures "")
+# render_lacking(NAME [options...]): a 16x16 cornell-mirrors render on Vulkan with NAME faked missing;
+# sets rc, out and err.
+macro(render_lacking name)
+  execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backend vulkan --no-oracle
+                          --device-lacks "${name}" --out "${WORK}/x.png" ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+endmacro()
 execute_process(COMMAND "${RAYSPACE}" devices RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0 OR NOT out MATCHES "usable" OR out MATCHES "NOT MET")
   message(FATAL_ERROR "rayspace devices: exit ${rc}, expected 0 with every requirement met:\n${out}${err}")
@@ -34,14 +40,12 @@ foreach(name IN LISTS names)
     if(NOT rc EQUAL 0 OR NOT out MATCHES "usable")
       string(APPEND failures "\ndevices --device-lacks ${name} (optional): exit ${rc}, expected 0 and usable")
     endif()
-    execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backend vulkan --no-oracle
-                            --device-lacks "${name}" --out "${WORK}/x.png" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    render_lacking("${name}")
     if(NOT rc EQUAL 2 OR NOT err MATCHES "kernel [a-z_.]+ declares subgroup operations '[^']+' lacks in compute: [A-Z_, ]*${pattern}")
       string(APPEND failures "\nrender --device-lacks ${name}: exit ${rc}, expected 2 naming the kernel and ${name}: ${err}")
     endif()
     if(name STREQUAL "VK_SUBGROUP_FEATURE_VOTE_BIT")
-      execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backend vulkan --no-oracle
-                              --path passes --device-lacks "${name}" --out "${WORK}/x.png" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+      render_lacking("${name}" --path passes)
       if(NOT rc EQUAL 0)
         string(APPEND failures "\nrender --path passes --device-lacks ${name}: exit ${rc}, expected 0: ${err}")
       endif()
@@ -55,13 +59,11 @@ foreach(name IN LISTS names)
     if(NOT rc EQUAL 0 OR NOT out MATCHES "usable")
       string(APPEND failures "\ndevices --device-lacks ${name} (optional): exit ${rc}, expected 0 and usable")
     endif()
-    execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backend vulkan --no-oracle
-                            --device-lacks "${name}" --out "${WORK}/x.png" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    render_lacking("${name}")
     if(NOT rc EQUAL 0)
       string(APPEND failures "\nrender --device-lacks ${name} (optional): exit ${rc}, expected 0: ${err}")
     endif()
-    execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backend vulkan --algo grid
-                            --device-lacks "${name}" --out "${WORK}/x.png" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    render_lacking("${name}" --algo grid)
     if(NOT rc EQUAL 2 OR NOT err MATCHES "--algo grid: the Vulkan device .* lacks shaderFloat64 or shaderSignedZeroInfNanPreserveFloat64")
       string(APPEND failures "\nrender --algo grid --device-lacks ${name}: exit ${rc}, expected 2 naming it: ${err}")
     endif()
@@ -70,9 +72,7 @@ foreach(name IN LISTS names)
   if(NOT rc EQUAL 2 OR NOT out MATCHES "NOT MET +${pattern} ")
     string(APPEND failures "\ndevices --device-lacks ${name}: exit ${rc}, expected 2 and '${name}' NOT MET")
   endif()
-  execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backend vulkan
-                          --device-lacks "${name}" --out "${WORK}/x.png"
-                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  render_lacking("${name}")
   string(FIND "${err}" "lacks what rayspace needs: ${name} (" at)
   if(NOT rc EQUAL 2 OR at EQUAL -1)
     string(APPEND failures "\nrender --device-lacks ${name}: exit ${rc}, expected 2 naming it: ${err}")

@@ -644,9 +644,22 @@ faults_case(faults.workgroup cornell-mirrors 64x64 "${kernel_workgroup_faults}")
 # makes zero, the right one, slots by local index on lavapipe's linear subgroups): lavapipe runs each
 # benignly and the diff must say so; on the simulator each is caught by its checker or, for
 # linear-lanes, by a shuffled subgroup layout (tests/cli_simulate.cmake).
-foreach(f trim:global-race trim:out-of-bounds trim:undefined-value trim:linear-lanes)
+foreach(f trim:global-race trim:out-of-bounds trim:undefined-value trim:linear-lanes trim:far-out-of-bounds)
   diff_case(fault.${f} cornell-mirrors 16x16 ${f} 0 "" --algo brute)
 endforeach()
+# GPU-assisted validation (--validate; the suite's RAYSPACE_VALIDATE=1 leaves it off, so the case
+# above is benign): a load a block past the flags, beyond the buffer's 256 guard bytes, is the
+# layer's own finding, naming the descriptor and the byte.
+function(gpu_assisted_case name)
+  begin_case("${name}")
+  execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --algo brute --validate
+                          --inject trim:far-out-of-bounds --no-impact
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(rc EQUAL 0 OR NOT err MATCHES "pass trim: .*Validation Error: .*access out of bounds\. Descriptor size is [0-9]+ and highest byte accessed was [0-9]+")
+    set(FAILURES "${FAILURES}\n${name}: exit ${rc}, expected the layer's out-of-bounds finding in trim: ${out}${err}" PARENT_SCOPE)
+  endif()
+endfunction()
+gpu_assisted_case(validate.gpu-assisted)
 
 # Saved inputs replay to the same comparison: with the fault it diverges again ("reproduced"),
 # without it the pass is equal, which differs from the recording (exit 5).

@@ -162,18 +162,20 @@ TEST_CASE("relaxed model: resolve bytes a device may produce, and one it may not
   }
 }
 
-TEST_CASE("relaxed model: a cone-sphere test on its boundary may flip, one far from it may not") {
-  using namespace rayspace;
-  using rayspace::verify::BufferSet;
-  using rayspace::verify::ClassifyWithinSpec;
-  // A node at the origin about +z with a half-angle of 0.1 rad; spheres at (1, 0, 5). The smallest
-  // radius the float test accepts is found by bisection over the floats: there the decision is one
-  // rounding away from the other answer. Radius 2 is accepted with room to spare.
-  layout::ConeNode n{};
-  n.sphere = glm::vec4(0, 0, 0, 0.001f);
-  n.cone = glm::vec4(0, 0, 1, std::cos(0.1f));
-  n.extra = glm::vec4(std::sin(0.1f), 1, 0, 0);
-  auto accepts = [&](float r) { return emu::cone::Test(n, glm::vec4(1, 0, 5, r), 0.0f); };
+namespace {
+// A node at the origin about +z with a half-angle of 0.1 rad, and the smallest radius of a sphere at
+// (1, 0, 5) that the float test accepts, found by bisection over the floats: there the decision is one
+// rounding away from the other answer. Radius 2 is accepted with room to spare.
+struct BoundaryCase {
+  rayspace::layout::ConeNode node{};
+  float radius = 0.0f;
+};
+BoundaryCase Boundary() {
+  BoundaryCase b;
+  b.node.sphere = glm::vec4(0, 0, 0, 0.001f);
+  b.node.cone = glm::vec4(0, 0, 1, std::cos(0.1f));
+  b.node.extra = glm::vec4(std::sin(0.1f), 1, 0, 0);
+  auto accepts = [&](float r) { return rayspace::emu::cone::Test(b.node, glm::vec4(1, 0, 5, r), 0.0f); };
   std::uint32_t lo = std::bit_cast<std::uint32_t>(0.0f), hi = std::bit_cast<std::uint32_t>(2.0f);
   REQUIRE(!accepts(0.0f));
   REQUIRE(accepts(2.0f));
@@ -181,9 +183,20 @@ TEST_CASE("relaxed model: a cone-sphere test on its boundary may flip, one far f
     const std::uint32_t mid = lo + (hi - lo) / 2;
     (accepts(std::bit_cast<float>(mid)) ? hi : lo) = mid;
   }
+  b.radius = std::bit_cast<float>(hi);
+  return b;
+}
+}  // namespace
+
+TEST_CASE("relaxed model: a cone-sphere test on its boundary may flip, one far from it may not") {
+  using namespace rayspace;
+  using rayspace::verify::BufferSet;
+  using rayspace::verify::ClassifyWithinSpec;
+  const BoundaryCase b = Boundary();
+  const layout::ConeNode n = b.node;
   emu::call::ObjectMask c;
   const std::vector<layout::ConeNode> top = {n};
-  const std::vector<glm::vec4> spheres = {glm::vec4(1, 0, 5, std::bit_cast<float>(hi)), glm::vec4(1, 0, 5, 2.0f)};
+  const std::vector<glm::vec4> spheres = {glm::vec4(1, 0, 5, b.radius), glm::vec4(1, 0, 5, 2.0f)};
   c.top = top;
   c.object_spheres = spheres;
   const BufferSet in = rayspace::verify::EncodeCall(c);
@@ -202,21 +215,13 @@ TEST_CASE("relaxed model: the fused traversal's list may gain or lose a pair who
   using namespace rayspace;
   using rayspace::verify::BufferSet;
   using rayspace::verify::ClassifyWithinSpec;
-  // One parent with one child node; two pairs, triangle 0's sphere on the test's boundary (the smallest
-  // radius the float test accepts, by bisection) and triangle 1's accepted with room to spare.
-  layout::ConeNode n{};
-  n.sphere = glm::vec4(0, 0, 0, 0.001f);
-  n.cone = glm::vec4(0, 0, 1, std::cos(0.1f));
-  n.extra = glm::vec4(std::sin(0.1f), 1, 0, 0);
-  auto accepts = [&](float r) { return emu::cone::Test(n, glm::vec4(1, 0, 5, r), 0.0f); };
-  std::uint32_t lo = std::bit_cast<std::uint32_t>(0.0f), hi = std::bit_cast<std::uint32_t>(2.0f);
-  while (hi - lo > 1) {
-    const std::uint32_t mid = lo + (hi - lo) / 2;
-    (accepts(std::bit_cast<float>(mid)) ? hi : lo) = mid;
-  }
+  // One parent with one child node; two pairs, triangle 0's sphere on the test's boundary and
+  // triangle 1's accepted with room to spare.
+  const BoundaryCase b = Boundary();
+  const layout::ConeNode n = b.node;
   const std::vector<layout::ConeNode> nodes = {n};
   const std::vector<std::uint32_t> pairs = {0u, 1u}, first = {0u, 1u};
-  const std::vector<glm::vec4> spheres = {glm::vec4(1, 0, 5, std::bit_cast<float>(hi)), glm::vec4(1, 0, 5, 2.0f)};
+  const std::vector<glm::vec4> spheres = {glm::vec4(1, 0, 5, b.radius), glm::vec4(1, 0, 5, 2.0f)};
   emu::call::TraverseLevel c;
   c.pairs = pairs;
   c.nodes = nodes;

@@ -41,8 +41,8 @@ void main() {
     const uint rank = WorkgroupRank(), r = kFault == kFaultLinearLanes ? l : rank;
     for (uint c0 = g * kScanBlock; c0 < end; c0 += kLocalSize) {
       const uint i = c0 + r;
-      // Fault kFaultOutOfBounds: the flag loaded before the bounds check (a load past the stream's end).
-      const uint early = kFault == kFaultOutOfBounds ? flags[i] : 0u;
+      // Fault kFaultOutOfBounds: the flag loaded before the bounds check; kFaultFarOutOfBounds: a block on.
+      const uint early = kFault == kFaultOutOfBounds ? flags[i] : kFault == kFaultFarOutOfBounds ? flags[i + kScanBlock] : 0u;
       const uint f = i < end ? (kFault == kFaultOutOfBounds ? early : flags[i]) : 0u;
       const uint s = run + (WorkgroupInclusiveAdd(f, total) - f);  // flagged slots before i
       if (i < end) {

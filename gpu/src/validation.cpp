@@ -12,7 +12,7 @@
 namespace rayspace::vk {
 namespace {
 
-std::atomic<bool> g_requested{false};
+std::atomic<bool> g_requested{false}, g_gpu_assisted{false};
 std::mutex g_mutex;
 std::vector<std::string> g_messages;
 std::atomic<bool> g_pending{false};
@@ -34,12 +34,21 @@ void FillMessenger(VkDebugUtilsMessengerCreateInfoEXT& m) {
 
 }  // namespace
 
-void SetValidation(bool on) { g_requested = on; }
+void SetValidation(bool on, bool gpu_assisted) {
+  g_requested = on;
+  g_gpu_assisted = on && gpu_assisted;
+}
 
 bool ValidationRequested() {
   if (g_requested) return true;
   const char* e = std::getenv("RAYSPACE_VALIDATE");
   return e && *e && std::strcmp(e, "0") != 0;
+}
+
+bool GpuAssistedValidationRequested() {
+  if (g_gpu_assisted) return true;
+  const char* e = std::getenv("RAYSPACE_VALIDATE");
+  return e && std::strcmp(e, "gpu") == 0;
 }
 
 Status AddValidation(VkInstanceCreateInfo& ici, ValidationChain& chain, std::vector<const char*>& extensions) {
@@ -54,7 +63,7 @@ Status AddValidation(VkInstanceCreateInfo& ici, ValidationChain& chain, std::vec
                                     "vulkan-validationlayers)",
                                     chain.layer));
   FillMessenger(chain.messenger);  // also reports what instance creation and destruction do
-  chain.features.enabledValidationFeatureCount = 1;
+  chain.features.enabledValidationFeatureCount = GpuAssistedValidationRequested() ? 2 : 1;
   chain.features.pEnabledValidationFeatures = chain.enables;
   chain.features.pNext = &chain.messenger;
   chain.messenger.pNext = ici.pNext;

@@ -12,6 +12,7 @@
 #include "rayspace/emu/cone.h"
 #include "rayspace/emu/hash_math.h"
 #include "rayspace/emu/hierarchy.h"
+#include "rayspace/emu/object_tree_traverse.h"
 #include "rayspace/emu/raygen_math.h"
 #include "rayspace/emu/shade_math.h"
 #include "rayspace/emu/surface_math.h"
@@ -247,16 +248,13 @@ void TallyLeafTests(const emu::call::Intersect& c, const std::vector<std::uint32
   }
 }
 
-SpecVerdict Intersect(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
-  const DecodedCall<emu::call::Intersect> d = DecodeCall<emu::call::Intersect>(in);
-  const emu::call::Intersect& c = d.call;
-  Tally t;
-  const std::vector<std::uint32_t> et = e.Get<std::uint32_t>("tests"), at = a.Get<std::uint32_t>("tests");
-  if (et.size() != at.size() || (et != at && c.leaf_test != layout::kLeafTestRaySphere))
-    t.Beyond("tests: the per-pair test counts are integers");
-  else if (et != at)
-    TallyLeafTests(c, et, at, flush, t);
-  const bool shadow = c.occluded != nullptr;
+// The closest hits (or shadow flags) of a final-test call: every ray whose word differs must hold a
+// result the device may reach from its candidates, the triangles `each_pair_ray(visit)` pairs it with
+// (visit(ray, prim), the ray's own surface skipped).
+template <typename EachPairRay>
+void TallyHits(const std::vector<std::uint32_t>* occluded, const std::vector<std::uint64_t>* hits, const emu::In<layout::Ray>& rays,
+               const SceneBuffers& scene, const BufferSet& e, const BufferSet& a, bool flush, Tally& t, EachPairRay&& each_pair_ray) {
+  const bool shadow = occluded != nullptr;
   const std::string out = shadow ? "occluded" : "hits";
   std::vector<std::uint64_t> eh, ah;
   if (shadow) {
@@ -268,36 +266,66 @@ SpecVerdict Intersect(const BufferSet& in, const BufferSet& e, const BufferSet& 
   }
   if (eh.size() != ah.size()) {
     t.Beyond(out + ": sizes differ");
-    return t.Done();
+    return;
   }
   std::unordered_map<std::uint32_t, std::vector<Candidate>> cands;
   for (std::size_t i = 0; i < eh.size(); ++i)
     if (eh[i] != ah[i]) cands[static_cast<std::uint32_t>(i)];
-  if (cands.empty()) return t.Done();
-  for (std::size_t p = 0; p < c.pairs.size(); ++p) {
-    const std::uint32_t node = c.base1 + (c.pairs[p] >> emu::kPairTriangleBits), prim = c.b0 + (c.pairs[p] & emu::kPairTriangleMask);
-    for (std::uint32_t j = c.first1[node]; j < c.first1[node + 1]; ++j) {
-      const std::uint32_t ray = c.order[j];
-      auto it = cands.find(ray);
-      if (it == cands.end() || prim == c.rays[ray].info.y) continue;
-      it->second.push_back(ModelCandidate(c.rays[ray], c.scene->triangles[prim], prim, flush));
-    }
-  }
+  if (cands.empty()) return;
+  each_pair_ray([&](std::uint32_t ray, std::uint32_t prim) {
+    auto it = cands.find(ray);
+    if (it == cands.end() || prim == rays[ray].info.y) return;
+    it->second.push_back(ModelCandidate(rays[ray], scene.triangles[prim], prim, flush));
+  });
   for (const auto& [ray, cs] : cands) {
     bool ok;
     if (shadow) {
-      const std::uint32_t before = (*c.occluded)[ray];
+      const std::uint32_t before = (*occluded)[ray];
       bool possible = before != 0, definite = before != 0;
       for (const Candidate& cd : cs) possible |= cd.possible, definite |= cd.definite;
       ok = ah[ray] == 1 ? possible : (ah[ray] == 0 && !definite);
     } else {
-      ok = ClosestAllowed((*c.hits)[ray], ah[ray], cs, c.rays[ray]);
+      ok = ClosestAllowed((*hits)[ray], ah[ray], cs, rays[ray]);
     }
     if (ok)
       t.Within();
     else
       t.Beyond(fmt::format("{}[{}]: {:#018x} is no permitted result of its {} candidate triangles", out, ray, ah[ray], cs.size()));
   }
+}
+
+SpecVerdict Intersect(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
+  const DecodedCall<emu::call::Intersect> d = DecodeCall<emu::call::Intersect>(in);
+  const emu::call::Intersect& c = d.call;
+  Tally t;
+  const std::vector<std::uint32_t> et = e.Get<std::uint32_t>("tests"), at = a.Get<std::uint32_t>("tests");
+  if (et.size() != at.size() || (et != at && c.leaf_test != layout::kLeafTestRaySphere))
+    t.Beyond("tests: the per-pair test counts are integers");
+  else if (et != at)
+    TallyLeafTests(c, et, at, flush, t);
+  TallyHits(c.occluded, c.hits, c.rays, *c.scene, e, a, flush, t, [&](auto&& visit) {
+    for (std::size_t p = 0; p < c.pairs.size(); ++p) {
+      const std::uint32_t node = c.base1 + (c.pairs[p] >> emu::kPairTriangleBits), prim = c.b0 + (c.pairs[p] & emu::kPairTriangleMask);
+      for (std::uint32_t j = c.first1[node]; j < c.first1[node + 1]; ++j) visit(c.order[j], prim);
+    }
+  });
+  return t.Done();
+}
+
+// intersect.tree: the object tree's final pairs, a level-1 node's rays (or level 0's one ray) against
+// a triangle of the tree's list; the hits as intersect's, the per-pair ray counts exact.
+SpecVerdict IntersectTree(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
+  const DecodedCall<emu::call::IntersectTree> d = DecodeCall<emu::call::IntersectTree>(in);
+  const emu::call::IntersectTree& c = d.call;
+  Tally t;
+  if (e.Get<std::uint32_t>("tests") != a.Get<std::uint32_t>("tests")) t.Beyond("tests: the per-pair ray counts are integers");
+  TallyHits(c.occluded, c.hits, c.rays, *c.scene, e, a, flush, t, [&](auto&& visit) {
+    for (std::size_t p = 0; p < c.pair_cone.size(); ++p) {
+      const auto [j0, j1] = emu::TreeFinalRays(c.first1, c.pair_cone[p], c.pair_item[p]);
+      const std::uint32_t prim = c.tree_triangles[c.pair_item[p] & ~layout::kTreeItemTriangle];
+      for (std::uint32_t j = j0; j < j1; ++j) visit(c.order[j], prim);
+    }
+  });
   return t.Done();
 }
 
@@ -771,6 +799,7 @@ SpecVerdict ClassifyWithinSpec(const std::string& method, const BufferSet& in, c
                                const BufferSet& actual, bool flush_denormals) {
   if (method == "raygen") return Raygen(in, expected, actual, flush_denormals);
   if (method == "intersect") return Intersect(in, expected, actual, flush_denormals);
+  if (method == "intersect.tree") return IntersectTree(in, expected, actual, flush_denormals);
   if (method == "resolve") return Resolve(in, expected, actual, flush_denormals);
   if (method == "hash") return Hash(in, expected, actual, flush_denormals);
   if (method == "shade") return Shade(in, expected, actual, flush_denormals);

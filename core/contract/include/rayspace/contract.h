@@ -43,6 +43,7 @@ RS_CONST(uint, kFaultGlobalRace, 16u);      // every invocation stores its workg
 RS_CONST(uint, kFaultOutOfBounds, 17u);     // a flag is loaded before the bounds check, past the stream's end
 RS_CONST(uint, kFaultUndefinedValue, 18u);  // the first workgroup's running offset is never set
 RS_CONST(uint, kFaultLinearLanes, 19u);     // slots handed out by local index, as if lanes were local ids in order
+RS_CONST(uint, kFaultFarOutOfBounds, 20u);  // a flag loaded a block past its own, beyond any guard words
 // Planted faults that behave like a real GPU's arithmetic (gpu/shaders/common.glsl Div, Sqrt), which
 // the relaxed comparison must accept, and one no conformant device produces, which it must refuse
 // (docs/numerics.md, "The relaxed device model").

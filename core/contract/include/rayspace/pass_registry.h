@@ -232,7 +232,9 @@ inline constexpr FaultSpec kTrimFaults[] = {
      true},
     {layout::kFaultUndefinedValue, "the first workgroup's running offset is never set", "undefined-value", false, FaultNeeds::kNothing, true},
     {layout::kFaultLinearLanes, "the scan's slots are handed out by local index, as if lanes were local ids in order", "linear-lanes", false,
-     FaultNeeds::kNothing, true}};
+     FaultNeeds::kNothing, true},
+    {layout::kFaultFarOutOfBounds, "a flag is loaded a block past its own, beyond the buffer and its guard words", "far-out-of-bounds",
+     false, FaultNeeds::kNothing, true}};
 inline constexpr FaultSpec kHashFaults[] = {{1, "the azimuth cell comes from the wrong coordinate pair"},
                                             {2, "the launch row is ignored (--max-groups)", {}, false, FaultNeeds::kRows},
                                             {3, "the direction's cells are interleaved azimuth first"},

@@ -12,18 +12,24 @@
 
 namespace rayspace::vk {
 
-void SetValidation(bool on);
+// `gpu_assisted`: the layer's GPU-assisted validation too, which instruments every kernel to check its
+// descriptor accesses against their bounds (a frame takes several times longer). --validate asks for
+// both; RAYSPACE_VALIDATE=1 (the test suite's environment) for synchronization validation alone,
+// RAYSPACE_VALIDATE=gpu for both.
+void SetValidation(bool on, bool gpu_assisted = false);
 bool ValidationRequested();  // SetValidation(true), or RAYSPACE_VALIDATE set and not "0"
+bool GpuAssistedValidationRequested();
 
 // The pNext chain and names an instance needs for validation; lives as long as the create info.
 struct ValidationChain {
-  VkValidationFeatureEnableEXT enables[1] = {VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT};
+  VkValidationFeatureEnableEXT enables[2] = {VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT,
+                                             VK_VALIDATION_FEATURE_ENABLE_GPU_ASSISTED_EXT};
   VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT, nullptr, 0, nullptr, 0, nullptr};
   VkDebugUtilsMessengerCreateInfoEXT messenger{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT, nullptr, 0, 0, 0, nullptr, nullptr};
   const char* layer = "VK_LAYER_KHRONOS_validation";
   const char* extension = VK_EXT_DEBUG_UTILS_EXTENSION_NAME;
 };
-// Adds the layer and synchronization validation to `ici` (which must have no layers of its own) and
+// Adds the layer and synchronization validation (and GPU-assisted validation when requested) to `ici` (which must have no layers of its own) and
 // the debug-utils extension to `extensions`, or fails naming the missing layer and its package.
 Status AddValidation(VkInstanceCreateInfo& ici, ValidationChain& chain, std::vector<const char*>& extensions);
 // The messenger that collects the layer's warnings and errors for the life of the instance.
