@@ -276,8 +276,7 @@ std::string SubgroupFeatureName(VkSubgroupFeatureFlags bit) {
   }
 }
 
-VkSubgroupFeatureFlags ComputeSubgroupFeatures(VkPhysicalDevice device) {
-  const DeviceInfo info = QueryDevice(device);
+VkSubgroupFeatureFlags ComputeSubgroupFeatures(const DeviceInfo& info) {
   if (!(info.subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) || DeviceLacks().count("subgroupSupportedStages")) return 0;
   VkSubgroupFeatureFlags f = info.subgroup.supportedOperations;
   for (VkSubgroupFeatureFlags bit = 1; bit != 0 && bit <= f; bit <<= 1)

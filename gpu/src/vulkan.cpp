@@ -217,6 +217,8 @@ void Context::ReadProperties() {
   const DeviceInfo info = QueryDevice(physical_);
   const VkPhysicalDeviceLimits& lim = info.props.limits;
   device_name_ = info.props.deviceName;
+  subgroup_features_ = ComputeSubgroupFeatures(info);
+  float_controls_ = {info.float_controls.shaderDenormPreserveFloat32 != VK_FALSE, info.float_controls.shaderRoundingModeRTEFloat32 != VK_FALSE};
   max_storage_range_ = lim.maxStorageBufferRange;
   storage_limit_ = max_storage_range_;
   max_groups_[0] = lim.maxComputeWorkGroupCount[0];
@@ -250,12 +252,6 @@ Status Context::CreateDevice() {
   features.shaderInt64 = VK_TRUE;
   // The grids' build bins in double (grid_build.comp); a device without it runs every other pass.
   float64_ = HasFloat64(physical_);
-  subgroup_features_ = ComputeSubgroupFeatures(physical_);
-  {
-    const DeviceInfo info = QueryDevice(physical_);
-    float_controls_.denorm_preserve = info.float_controls.shaderDenormPreserveFloat32;
-    float_controls_.round_to_nearest = info.float_controls.shaderRoundingModeRTEFloat32;
-  }
   features.shaderFloat64 = float64_ ? VK_TRUE : VK_FALSE;
   const float priority = 1.0f;
   VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};

@@ -68,8 +68,9 @@ std::uint64_t FakedLimit(const std::string& name, std::uint64_t have);
 VkSubgroupFeatureFlags SubgroupFeaturesOf(std::span<const std::uint32_t> spirv);
 // A feature's requirement name as the spec spells its bit, "VK_SUBGROUP_FEATURE_VOTE_BIT".
 std::string SubgroupFeatureName(VkSubgroupFeatureFlags bit);
-// The subgroup features `device` offers in compute, less the ones DeviceLacks() names.
-VkSubgroupFeatureFlags ComputeSubgroupFeatures(VkPhysicalDevice device);
+// The subgroup features a device (as QueryDevice read it) offers in compute, less the ones
+// DeviceLacks() names.
+VkSubgroupFeatureFlags ComputeSubgroupFeatures(const DeviceInfo& info);
 
 // The device to use without --device: discrete GPUs first, then integrated, virtual, other and CPU;
 // among equals one that meets every requirement; then the lowest index.
