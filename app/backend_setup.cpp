@@ -40,7 +40,7 @@ gpu_backend::KernelOverrides LoadKernels(const KernelFiles& specs) {
     }
     if (out.count(pass)) ThrowInput("--kernel '{}': pass '{}' is given twice", spec, pass);
     std::vector<std::uint32_t> spirv;
-    if (vk::Status s = gpu_backend::LoadKernelFile(file, spirv); !s) ThrowInput("--kernel '{}': {}", spec, s.message);
+    if (vk::Status s = gpu_backend::LoadKernelFile(file, spirv, FindDataPaths(specs.data_prefix)); !s) ThrowInput("--kernel '{}': {}", spec, s.message);
     if (vk::Status s = gpu_backend::CheckKernel(Pass(*id), spirv); !s) ThrowInput("--kernel '{}': {}", spec, s.message);
     out[pass] = std::move(spirv);
   }

@@ -1,5 +1,6 @@
 // Chooses the backend of a run: the emulator, or the Vulkan kernels on a device.
 #pragma once
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <optional>
@@ -62,7 +63,12 @@ struct TestLimits {
 // against the pass's contract (bindings, push constants, workgroup size) by reflection. Every
 // refusal (unknown pass, unreadable file, GLSL that does not compile, a contract mismatch) is an
 // InputError naming the pass and what is wrong.
-using KernelFiles = std::vector<std::string>;  // "PASS=FILE" as given
+struct KernelFiles : std::vector<std::string> {  // "PASS=FILE" as given
+  using std::vector<std::string>::vector;
+  // Whose GLSL includes a .comp file compiles against: an install's prefix, or empty for the install
+  // holding this executable, else the source tree (rayspace/install_paths.h).
+  std::filesystem::path data_prefix;
+};
 // After a frame on the simulated GPU with user kernels (--kernel): prints each one's share of lines
 // reached and the runs of lines never reached, which an equal verdict says nothing about. Returns the
 // report's "kernel_coverage" (null when there is nothing to report).

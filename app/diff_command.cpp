@@ -4,6 +4,7 @@
 #include "coverage_options.h"
 #include "cli_util.h"
 #include "diff_impact.h"
+#include "junit_reports.h"
 #include "kernel_model.h"
 #include "memory_estimate.h"
 
@@ -618,7 +619,7 @@ void CheckInjectEach(const DiffArgs& args) {
 
 }  // namespace
 
-ExitCode RunDiff(const DiffArgs& args) {
+DiffResult DiffToReport(const DiffArgs& args, const std::function<void(const Scene&)>& on_scene) {
   CheckInjectEach(args);
   CheckDevicePair(args);
   // Coverage is the simulated GPU's, of a user's kernel: without both there is nothing to probe.
@@ -632,7 +633,7 @@ ExitCode RunDiff(const DiffArgs& args) {
   ApplyFaithful(args.faithful, fo);
   ApplyPrimary(args, fo);
   const Injection injection = ParseInject(args.inject_each.empty() ? args.inject : args.inject_each.front());
-  OutputFile report = OpenOutput(args.report, "the report", &scene);  // before the frame, as --save-inputs
+  if (on_scene) on_scene(scene);  // before the frame, as --save-inputs
   const MemoryUse use{.copies = kDiffCopies,
                       .slot_copies = args.Hierarchy() && args.path == "passes" ? kDiffSlotCopies : 0,
                       .subdivision = args.subdivision,
@@ -693,7 +694,20 @@ ExitCode RunDiff(const DiffArgs& args) {
   }
   AddProvenance(j);
   if (saving) saving->Keep();  // every frame ran to its verdict: the saved calls are complete
-  return WriteOutputs(verdict, [&] { report.Commit(JsonText(j)); });
+  return {verdict, std::move(j)};
+}
+
+ExitCode RunDiff(const DiffArgs& args) {
+  if (!args.junit.empty() && args.junit == args.report) ThrowInput("--junit '{}': the same file as --report", args.junit);
+  std::optional<OutputFile> report, junit;
+  DiffResult r = DiffToReport(args, [&](const Scene& scene) {
+    report.emplace(OpenOutput(args.report, "the report", &scene));
+    junit.emplace(OpenOutput(args.junit, "the JUnit report", &scene));
+  });
+  return WriteOutputs(r.verdict, [&] {
+    report->Commit(JsonText(r.report));
+    junit->Commit(JUnitXml("rayspace diff", DiffJUnit(r.report)));
+  });
 }
 
 namespace {

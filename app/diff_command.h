@@ -1,5 +1,6 @@
 #pragma once
 #include <cstddef>
+#include <functional>
 #include <set>
 #include <string>
 #include <vector>
@@ -7,8 +8,13 @@
 #include "exit_codes.h"
 #include "frame_args.h"
 
+#include <nlohmann/json.hpp>
+
 namespace rayspace::verify {
 class BufferSet;
+}
+namespace rayspace {
+struct Scene;
 }
 
 namespace rayspace::app {
@@ -16,7 +22,7 @@ namespace rayspace::app {
 // The frame, tracer and device options shared with render (FrameArgs), and diff's own.
 struct DiffArgs : FrameArgs {
   DiffArgs() { model = KernelModelArgs::Checked(); }  // a verification run checks the workgroups (3% slower)
-  std::string scene, report, inject, save_inputs;
+  std::string scene, report, inject, save_inputs, junit;
   std::vector<std::string> inject_each;  // --inject-each: a frame per fault on one device
   int local_size = 64;
   std::string compare = "auto";  // --compare: auto, bitwise or relaxed
@@ -37,6 +43,14 @@ struct DiffArgs : FrameArgs {
 // With --inject-each, a frame per fault on the one device, the report's "faults" holding each frame's
 // report: kWorkgroupFault when the checker stopped any frame, else kDivergence when any diverged.
 ExitCode RunDiff(const DiffArgs& args);
+
+// RunDiff's work without its report file: the verdict and the report as a value. `on_scene`, when
+// given, runs once the scene is loaded and before any frame (RunDiff opens its report file there).
+struct DiffResult {
+  ExitCode verdict = ExitCode::kOk;
+  nlohmann::json report;
+};
+DiffResult DiffToReport(const DiffArgs& args, const std::function<void(const Scene&)>& on_scene = {});
 
 struct ReplayArgs {
   std::string dir, report, inject;

@@ -208,7 +208,9 @@ ExportInfo Describe(const ExportArgs& args, const verify::PassMethod& method, co
   info.inject = args.inject_given ? args.inject : recorded.inject;
   info.faults = ParseInject(info.inject).kernel;  // a fault planted in the emulator changes no kernel
   info.kernel_files = args.kernels_given ? args.kernels : recorded.kernels;
-  info.kernels = LoadKernelFiles(info.kernel_files);
+  KernelFiles files;
+  files.assign(info.kernel_files.begin(), info.kernel_files.end());
+  info.kernels = LoadKernelFiles(files);
   info.local_size = static_cast<std::uint32_t>(args.local_size ? args.local_size : recorded.local_size ? recorded.local_size : 64);
   info.split_bytes = args.split_bytes ? args.split_bytes : recorded.split_bytes;
   info.max_groups = args.max_groups ? args.max_groups : recorded.max_groups;

@@ -262,7 +262,7 @@ void AddDeviceLacksOption(CLI::App& command) {
 }
 
 void AddKernelOption(CLI::App& command, KernelFiles& kernels) {
-  command.add_option("--kernel", kernels,
+  command.add_option("--kernel", static_cast<std::vector<std::string>&>(kernels),
                      "Vulkan: run a user's kernel for one pass in place of the built-in one: PASS=FILE (.comp or .spv), "
                      "checked against the pass's contract (docs/kernels.md); repeatable");
 }

@@ -56,7 +56,9 @@ struct Commands {
   rayspace::app::ReplayArgs replay;
   rayspace::app::ExportArgs export_args;
   rayspace::app::MutateArgs mutate;
+  rayspace::app::MutateMergeArgs mutate_merge;
   CLI::App* mutate_cmd = nullptr;
+  CLI::App* mutate_merge_cmd = nullptr;
 #endif
 };
 
@@ -218,6 +220,8 @@ void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
   rayspace::app::AddFrameOptions(*dc, cmds.diff);
   dc->add_option("--report", cmds.diff.report, "Write the comparison as JSON to this file (-: to standard output, in "
                  "place of the summary)");
+  dc->add_option("--junit", cmds.diff.junit, "Write the comparison as a JUnit XML report to this file: a test case per pass "
+                 "call, failed with its first mismatch (docs/library.md)");
   dc->add_option("--inject", cmds.diff.inject, "Plant a fault in one kernel: PASS[:FAULT][@emu], FAULT a number or a "
                  "workgroup fault's name; @emu plants it in the emulated kernel (test use)");
   dc->add_option("--inject-each", cmds.diff.inject_each, "Plant each fault of a comma-separated list in turn, a frame "
@@ -305,6 +309,15 @@ void AddMutate(CLI::App& app, Commands& cmds) {
       ->check(CLI::Range(0, 1000000));
   mc->add_option("--seed", m.seed, "Seed of the choice: a number, a word, or 'commit' (this binary's commit) (default 1)");
   mc->add_option("--report", m.report, "Write every mutant, verdict and variant as JSON to this file");
+  mc->add_option("--shard", m.shard, "Run only the mutants and variants I, I+N, ... (0 <= I < N) of the choice; combine the "
+                 "shards' reports with `mutate merge` into the bytes one run writes (default 0/1)");
+  CLI::App* merge = cmds.mutate_merge_cmd = mc->add_subcommand("merge", "Merge the --report files of `mutate --shard` runs, every "
+                                                                         "shard of one run once, into one run's report");
+  merge->add_option("out", cmds.mutate_merge.out, "The merged report (JSON)")->required();
+  merge->add_option("shards", cmds.mutate_merge.shards, "The shards' reports")->required();
+  merge->add_option("--junit", cmds.mutate_merge.junit, "Also write the merged run as a JUnit XML report to this file");
+  mc->add_option("--junit", m.junit, "Write the mutants and variants as a JUnit XML report to this file: a test case per mutant, "
+                 "failed when it survives unexplained (docs/library.md)");
   mc->add_option("--data", m.data, "Data root for mesh paths (default: $RAYSPACE_DATA)");
   mc->add_option("--size", m.size, "Frame size WxH of each diff (default 32x32)");
   mc->add_option("--variants", m.variants, "spirv-opt variants to run (kernel x recipe, seeded): a count or 'all' (default 2)");
@@ -357,6 +370,7 @@ rayspace::app::ExitCode Run(const Commands& cmds) {
   if (cmds.replay_cmd->parsed()) return rayspace::app::RunReplay(cmds.replay);
   if (cmds.devices_cmd->parsed()) return rayspace::app::RunDevices();
   if (cmds.export_cmd->parsed()) return rayspace::app::RunExport(cmds.export_args);
+  if (cmds.mutate_merge_cmd->parsed()) return rayspace::app::RunMutateMerge(cmds.mutate_merge);
   if (cmds.mutate_cmd->parsed()) return rayspace::app::RunMutate(cmds.mutate);
 #endif
   return ExitCode::kOk;

@@ -26,9 +26,13 @@ std::vector<std::string>& Arguments() {
 
 void SetArguments(int argc, char** argv) { Arguments().assign(argv, argv + argc); }
 
-void AddProvenance(nlohmann::json& j) {
+void AddVersion(nlohmann::json& j) {
   j["rayspace_version"] = RAYSPACE_VERSION;
   j["commit"] = RAYSPACE_COMMIT;
+}
+
+void AddProvenance(nlohmann::json& j) {
+  AddVersion(j);
   j["arguments"] = Arguments();
 }
 

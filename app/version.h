@@ -16,5 +16,8 @@ void SetArguments(int argc, char** argv);
 // What made a JSON file, so that a result can be traced to its build and its options: adds
 // "rayspace_version", "commit" and "arguments" (argv as given, the program's name first).
 void AddProvenance(nlohmann::json& j);
+// AddProvenance without the arguments: for a report that must not depend on how it was asked for
+// (mutate's, which shards merge into).
+void AddVersion(nlohmann::json& j);
 
 }  // namespace rayspace::app

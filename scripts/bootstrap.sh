@@ -12,10 +12,10 @@ BUILD=(
   libcli11-dev nlohmann-json3-dev libfmt-dev libtinyobjloader-dev libxxhash-dev zlib1g-dev libpng-dev libssl-dev
   mesa-vulkan-drivers libvulkan-dev glslc libspirv-cross-c-shared-dev spirv-tools spirv-headers
 )
-# The tests (doctest, the validation layer), benchmarks, fuzzing (clang's runtime), the lint (ctags)
-# and the plots (gnuplot and its font).
+# The tests (doctest, the validation layer, xmllint for the JUnit reports), benchmarks, fuzzing
+# (clang's runtime), the lint (ctags) and the plots (gnuplot and its font).
 MORE=(
-  doctest-dev libbenchmark-dev vulkan-validationlayers
+  doctest-dev libbenchmark-dev vulkan-validationlayers libxml2-utils
   clang libclang-rt-14-dev universal-ctags gnuplot-nox fonts-dejavu-core
 )
 case "${1:-}" in

@@ -2,7 +2,8 @@
 # a second run, a run with --jobs 2, a run interrupted (--stop-after, as Ctrl-C) and resumed, or three
 # shards merged; an interrupted run leaves no partial file; bad arguments exit 2 with one line.
 # Frames are 16x16 (the hidden --size), and 27 of the 75 configurations (--only), to keep it quick.
-# Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DDATA=<data root> -DWORK=<scratch> -P cli_reproduce.cmake
+# The first run also writes --junit, validated against docs/schemas/junit.xsd.
+# Run: cmake -DRAYSPACE=<exe> -DSRC=<source dir> -DDATA=<data root> -DXMLLINT=<xmllint> -DWORK=<scratch> -P cli_reproduce.cmake
 cmake_minimum_required(VERSION 3.19)
 include(${CMAKE_CURRENT_LIST_DIR}/cli_expect.cmake)
 cli_require_data(cli.reproduce bunny/bun_zipper_res4.ply bunny/bun_zipper_res3.ply bunny/bun_zipper.ply dragon/dragon.obj
@@ -51,7 +52,18 @@ function(same name dir)
   endforeach()
 endfunction()
 
-run(first ${common} --out first)
+run(first ${common} --out first --junit first-junit.xml)
+# The relation checks as JUnit, valid under the schema, a case per relation and place.
+execute_process(COMMAND "${XMLLINT}" --noout --schema "${SRC}/docs/schemas/junit.xsd" "${WORK}/first-junit.xml"
+                RESULT_VARIABLE valid ERROR_VARIABLE why)
+if(NOT valid EQUAL 0)
+  set(FAILURES "${FAILURES}\n  [first] first-junit.xml not valid under junit.xsd: ${why}")
+else()
+  file(READ "${WORK}/first-junit.xml" junit)
+  if(NOT junit MATCHES "<testsuites name=\"rayspace reproduce\" tests=\"[1-9][0-9]*\"" OR NOT junit MATCHES "classname=\"reproduce[.]CRSH total &lt; RAH total\"")
+    set(FAILURES "${FAILURES}\n  [first] first-junit.xml lacks the relation checks:\n${junit}")
+  endif()
+endif()
 foreach(f report.md results.json run.json timings.md timings.csv tables/table-4.01.csv tables/table-4.24.csv
           tables/table-quadtree.csv tables/table-summary.csv plots/table-4.04.svg)
   if(NOT EXISTS "${WORK}/first/${f}")

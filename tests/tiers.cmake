@@ -58,6 +58,9 @@ set(rayspace_full_tier
   # Every pass launched or refused with an example that launches it: cli.kernel refuses a pass a run
   # never launched, naming its example, and the registry case maps every pass to its kernel.
   "^cli\\.kernel\\.reach$"
+  # The Debian packages built (cpack) and used by a consumer project: install.consumer does the same
+  # from `cmake --install`, with the same consumer and the trees hidden.
+  "^install\\.deb$"
   # office on both backends, image for image: cli.diff.office.crsh and .rah diff its passes bitwise.
   "^cli\\.backend\\.office$"
   # Five schedules by four subgroup sizes at 64x64: cli.simulate.backend runs a random schedule at

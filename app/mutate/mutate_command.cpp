@@ -18,7 +18,11 @@
 #include "kernel_cases.h"
 #include "mutants.h"
 #include "mutate_runs.h"
+#include "mutate_shards.h"
+#include "junit_reports.h"
+#include "rayspace/shard.h"
 #include "rayspace/input_file.h"
+#include "rayspace/install_paths.h"
 #include "rayspace/json_text.h"
 #include "rayspace/error.h"
 #include "rayspace/output_file.h"
@@ -261,7 +265,7 @@ bool ProvablyEquivalent(const Mutant& mu, const fs::path& dir) {
 // --survivors: "none" reads no classifications; unset, the source tree's own list.
 json Explanations(const std::string& given) {
   if (given == "none") return json::object();
-  const std::string path = given.empty() ? (mutate_runs::SourceDir() / "docs" / "mutation-survivors.json").string() : given;
+  const std::string path = given.empty() ? FindDataPaths().survivors.string() : given;
   if (!fs::exists(path)) {
     if (given.empty()) return json::object();
     ThrowInput("--survivors '{}': file not found", given);
@@ -429,13 +433,13 @@ std::vector<json> RunAll(const std::vector<Mutant>& mutants, const mutate_runs::
 
 json RunVariants(const MutateArgs& args, const std::vector<std::string>& kernels,
                  const std::map<std::string, std::pair<const DiffConfig*, std::string>>& config_of, const mutate_runs::Frame& frame,
-                 const fs::path& work, std::uint64_t seed);
-json Summaries(const std::vector<json>& mutants);
-void PrintSummary(const json& summary, const json& variants);
+                 const fs::path& work, std::uint64_t seed, const Shard& shard, std::size_t& chosen);
+void PrintScores(const json& summary, const json& variants);
 
 // The arguments checked before the first diff runs.
 void CheckArgs(const MutateArgs& args) {
   if (args.timeout < 1) ThrowInput("--timeout {}: at least 1 second", args.timeout);
+  if (!args.junit.empty() && args.junit == args.report) ThrowInput("--junit '{}': the same file as --report", args.junit);
   if (args.variants != "all" && (args.variants.empty() || args.variants.find_first_not_of("0123456789") != std::string::npos))
     ThrowInput("--variants '{}': a count or 'all'", args.variants);
   for (const std::string& p : args.passes) {
@@ -496,39 +500,63 @@ std::vector<Mutant> OnSide(const std::vector<Mutant>& chosen, const std::vector<
   return out;
 }
 
-// Per mutant run on both sides, where their verdicts differ: killed on one, survived on the other.
-json Differences(const std::vector<json>& first, const std::vector<json>& second, const std::string& a, const std::string& b) {
-  std::map<std::string, const json*> other;
-  for (const json& m : second) other[m["id"].get<std::string>()] = &m;
-  json out = json::array();
-  for (const json& m : first) {
-    const auto it = other.find(m["id"].get<std::string>());
-    if (it == other.end() || m["status"] == (*it->second)["status"]) continue;
-    const json& o = *it->second;
-    json d = {{"id", m["id"]}, {"source", m.value("source", std::string())}, {a, m["status"]}, {b, o["status"]}};
-    const json& killer = m["status"] == "killed" ? m : o;
-    if (killer.contains("caught")) d["caught"] = killer["caught"];
-    if (killer.contains("reason")) d["reason"] = killer["reason"];
-    out.push_back(d);
-  }
+namespace {
+
+// The mutants of `chosen` that `shard` runs, each verdict tagged with its index in `chosen`.
+std::vector<json> RunShard(const std::vector<Mutant>& chosen, const Shard& shard, const mutate_runs::Frame& frame, const Baseline& base,
+                           const fs::path& work, const json& explained, int jobs) {
+  std::vector<Mutant> mine;
+  std::vector<std::size_t> index;
+  for (std::size_t i = 0; i < chosen.size(); ++i)
+    if (shard.Holds(i)) mine.push_back(chosen[i]), index.push_back(i);
+  std::vector<json> out = RunAll(mine, frame, base, work, explained, jobs);
+  for (std::size_t k = 0; k < out.size(); ++k) out[k]["index"] = index[k];
   return out;
 }
 
+// Another side (--backends emu,vulkan,sim): the same mutants on its own baseline, cases and (on
+// Vulkan) clamping device; its report section, with the mutants whose verdicts differ from `first`'s.
+json RunSide(const MutateArgs& args, const std::string& side, const mutate_runs::Frame& frame, const std::vector<Mutant>& chosen,
+             const std::map<std::string, Kernel>& kernels, const fs::path& work, const json& explained, const Shard& shard,
+             const std::vector<json>& first, const std::string& first_side) {
+  Baseline other = RunBaseline(frame, args.configs, work);
+  other.kernels = kernels;
+  const std::vector<Target> targets = Targets(args, kernels, other);
+  RunBaselineCases(other, work, args.timeout, frame.backends);
+  if (side == "vulkan") other.clamped = std::make_unique<mutate_runs::ClampedBaseline>(frame, work);
+  std::printf("  on %s:\n", side.c_str());
+  const std::vector<Mutant> on_side = OnSide(chosen, targets);
+  const std::vector<json> results = RunShard(on_side, shard, frame, other, work, explained, args.jobs);
+  const json summary = mutate_shards::Summaries(results);
+  PrintScores(summary, json::array());
+  const json differ = mutate_shards::Differences(first, results, first_side, side);
+  std::printf("  %zu mutant(s) with another verdict on %s than on %s:\n", differ.size(), side.c_str(), first_side.c_str());
+  for (const json& d : differ)
+    std::printf("    %s: %s %s, %s %s%s\n", d["id"].get<std::string>().c_str(), first_side.c_str(), d[first_side].get<std::string>().c_str(),
+                side.c_str(), d[side].get<std::string>().c_str(), d.contains("reason") ? (" (" + d["reason"].get<std::string>() + ")").c_str() : "");
+  return {{"configs", other.configs}, {"mutants_run", on_side.size()}, {"mutants", results}, {"summary", summary}, {"differences", differ}};
+}
+
+}  // namespace
+
 ExitCode RunMutate(const MutateArgs& args) {
   CheckArgs(args);
+  const Shard shard = ParseShard(args.shard);
   const std::vector<std::string> sides = Sides(args.backends);
   const json explained = Explanations(args.survivors);
   const std::string seed_text = args.seed == "commit" ? BuildCommit() : args.seed;
   const std::uint64_t seed = mutate::SeedOf(seed_text);
   OutputFile report = args.report.empty() ? OutputFile() : OutputFile(args.report, OutputOptions{"the report", true, true, {}});
+  OutputFile junit = args.junit.empty() ? OutputFile() : OutputFile(args.junit, OutputOptions{"the JUnit report", true, true, {}});
   const WorkDir work_dir(args.work);
   const fs::path& work = work_dir.path();
   const auto frame_on = [&](const std::string& side) {
     return mutate_runs::Frame{fs::absolute(args.scene).string(), args.data, args.size, args.timeout, side == "sim" ? "emu,sim" : ""};
   };
   const mutate_runs::Frame frame = frame_on(sides[0]);
-  std::printf("rayspace mutate: %s at %s, seed %s (%016llx), on %s\n", args.scene.c_str(), args.size.c_str(), seed_text.c_str(),
-              static_cast<unsigned long long>(seed), args.backends.c_str());
+  std::printf("rayspace mutate: %s at %s, seed %s (%016llx), on %s%s\n", args.scene.c_str(), args.size.c_str(), seed_text.c_str(),
+              static_cast<unsigned long long>(seed), args.backends.c_str(),
+              shard.count > 1 ? fmt::format(", shard {}/{}", shard.index, shard.count).c_str() : "");
   const std::map<std::string, Kernel> kernels = Kernels();
   Baseline base = RunBaseline(frame, args.configs, work);
   base.kernels = kernels;
@@ -537,49 +565,59 @@ ExitCode RunMutate(const MutateArgs& args) {
   const std::vector<Mutant> chosen = Choose(args, targets, seed, total);
   std::printf("  %zu files, %zu mutants in all; running %zu\n", targets.size(), total, chosen.size());
   if (args.list) {  // the choice needs only the configurations' passes, not the cases or the clamped device
-    for (const Mutant& m : chosen) std::printf("  %s  (%s)\n", m.m.Id().c_str(), mutate_runs::Configs()[m.target->configs[0]].name.c_str());
+    for (std::size_t i = 0; i < chosen.size(); ++i)
+      if (shard.Holds(i))
+        std::printf("  %s  (%s)\n", chosen[i].m.Id().c_str(), mutate_runs::Configs()[chosen[i].target->configs[0]].name.c_str());
     return ExitCode::kOk;
   }
   RunBaselineCases(base, work, args.timeout, frame.backends);
   // The clamping device is a Vulkan pipeline's robust access; on the simulator memcheck names the access.
   if (sides[0] == "vulkan") base.clamped = std::make_unique<mutate_runs::ClampedBaseline>(frame, work);
   if (sides.size() > 1) std::printf("  on %s:\n", sides[0].c_str());
-  const std::vector<json> results = RunAll(chosen, frame, base, work, explained, args.jobs);
+  const std::vector<json> results = RunShard(chosen, shard, frame, base, work, explained, args.jobs);
   std::vector<std::string> kernel_files;
   std::map<std::string, std::pair<const DiffConfig*, std::string>> config_of;  // the first configuration, its scene
   for (const Target& t : targets)
     if (t.file.size() > 5 && t.file.substr(t.file.size() - 5) == ".comp")
       kernel_files.push_back(t.file), config_of[t.file] = {&mutate_runs::Configs()[t.configs[0]], base.scenes[t.configs[0]]};
-  const json variants = RunVariants(args, kernel_files, config_of, frame, work, seed);
-  const json summary = Summaries(results);
-  PrintSummary(summary, variants);
+  std::size_t variants_run = 0;
+  const json variants = RunVariants(args, kernel_files, config_of, frame, work, seed, shard, variants_run);
+  const json summary = mutate_shards::Summaries(results);
+  PrintScores(summary, variants);
   json j = {{"scene", args.scene}, {"size", args.size}, {"seed", seed_text}, {"limit", args.limit}, {"timeout", args.timeout},
-            {"backends", sides}, {"mutants_in_all", total}, {"configs", base.configs}, {"kernel_cases", base.case_runs},
-            {"clamped_baseline", base.clamped ? json(base.clamped->Results()) : json()}, {"mutants", results}, {"summary", summary},
-            {"variants", variants}};
-  // The other side: the same mutants, its own baseline, cases and (on Vulkan) clamping device.
-  for (std::size_t k = 1; k < sides.size(); ++k) {
-    const std::string& side = sides[k];
-    const fs::path side_work = work / side;
-    const mutate_runs::Frame side_frame = frame_on(side);
-    Baseline other = RunBaseline(side_frame, args.configs, side_work);
-    other.kernels = kernels;
-    const std::vector<Target> other_targets = Targets(args, kernels, other);
-    RunBaselineCases(other, side_work, args.timeout, side_frame.backends);
-    if (side == "vulkan") other.clamped = std::make_unique<mutate_runs::ClampedBaseline>(side_frame, side_work);
-    std::printf("  on %s:\n", side.c_str());
-    const std::vector<json> side_results = RunAll(OnSide(chosen, other_targets), side_frame, other, side_work, explained, args.jobs);
-    const json side_summary = Summaries(side_results);
-    PrintSummary(side_summary, json::array());
-    const json differ = Differences(results, side_results, sides[0], side);
-    std::printf("  %zu mutant(s) with another verdict on %s than on %s:\n", differ.size(), side.c_str(), sides[0].c_str());
-    for (const json& d : differ)
-      std::printf("    %s: %s %s, %s %s%s\n", d["id"].get<std::string>().c_str(), sides[0].c_str(), d[sides[0]].get<std::string>().c_str(),
-                  side.c_str(), d[side].get<std::string>().c_str(), d.contains("reason") ? (" (" + d["reason"].get<std::string>() + ")").c_str() : "");
-    j["on_" + side] = {{"configs", other.configs}, {"mutants", side_results}, {"summary", side_summary}, {"differences", differ}};
-  }
-  AddProvenance(j);
+            {"backends", sides}, {"mutants_in_all", total}, {"mutants_run", chosen.size()}, {"configs", base.configs},
+            {"kernel_cases", base.case_runs}, {"clamped_baseline", base.clamped ? json(base.clamped->Results()) : json()},
+            {"mutants", results}, {"summary", summary}, {"variants_run", variants_run}, {"variants", variants}};
+  for (std::size_t k = 1; k < sides.size(); ++k)
+    j["on_" + sides[k]] = RunSide(args, sides[k], frame_on(sides[k]), chosen, kernels, work / sides[k], explained, shard, results, sides[0]);
+  if (shard.count > 1) j["shard"] = {{"index", shard.index}, {"count", shard.count}};
+  // What the run decided alone (times, its scratch paths, its command line) stays out: shards merge
+  // into these bytes, and two runs of one binary write the same report.
+  AddVersion(j);
+  mutate_shards::MakeDeterministic(j, work.string());
   report.Commit(JsonText(j));
+  junit.Commit(JUnitXml("rayspace mutate", MutateJUnit(j)));
+  return ExitCode::kOk;
+}
+
+ExitCode RunMutateMerge(const MutateMergeArgs& args) {
+  if (args.out == args.junit) ThrowInput("--junit '{}': the same file as the merged report", args.junit);
+  OutputFile out(args.out, OutputOptions{"the merged report", true, true, {}});
+  OutputFile junit = args.junit.empty() ? OutputFile() : OutputFile(args.junit, OutputOptions{"the JUnit report", true, true, {}});
+  std::vector<std::pair<std::string, json>> shards;
+  for (const std::string& f : args.shards) {
+    try {
+      shards.emplace_back(f, ParseJson(ReadInputFile(f, {"shard report", kMaxTextFileBytes})));
+    } catch (const JsonError& e) {
+      ThrowInput("{}: not JSON ({})", f, e.what());
+    }
+  }
+  const json merged = mutate_shards::Merge(shards);
+  PrintScores(merged["summary"], merged["variants"]);
+  std::printf("rayspace mutate merge: %zu shards, %zu mutants, %zu variants\n", shards.size(), merged["mutants"].size(),
+              merged["variants"].size());
+  out.Commit(JsonText(merged));
+  junit.Commit(JUnitXml("rayspace mutate", MutateJUnit(merged)));
   return ExitCode::kOk;
 }
 

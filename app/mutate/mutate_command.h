@@ -16,7 +16,8 @@ struct MutateArgs {
   std::vector<std::string> configs;  // only these diff configurations (mutate_runs::Configs)
   std::size_t limit = 30;           // mutants run (0: every one)
   std::string seed = "1";           // a number, a word, or "commit": the binary's commit
-  std::string report, data, size = "32x32", work, survivors, only;
+  std::string report, junit, data, size = "32x32", work, survivors, only;
+  std::string shard = "0/1";  // --shard I/N: the mutants and variants I, I+N, ... of the run's choice
   std::string variants = "2";  // spirv-opt variants run: a count, or "all"
   int timeout = 60;            // seconds per diff before a mutant counts as hung
   int jobs = 1;
@@ -27,5 +28,13 @@ struct MutateArgs {
 };
 
 ExitCode RunMutate(const MutateArgs& args);
+
+// `rayspace mutate merge OUT SHARD...`: the reports of `mutate --shard I/N` runs (every shard of one run
+// exactly once) merged into OUT, the same bytes one run writes (mutate_shards.h).
+struct MutateMergeArgs {
+  std::string out, junit;
+  std::vector<std::string> shards;
+};
+ExitCode RunMutateMerge(const MutateMergeArgs& args);
 
 }  // namespace rayspace::app

@@ -10,6 +10,7 @@
 #include "mutate_command.h"
 #include "mutate_runs.h"
 #include "rayspace/error.h"
+#include "rayspace/shard.h"
 #include "rayspace/pass_registry.h"
 
 namespace rayspace::app {
@@ -75,7 +76,7 @@ json RunVariant(const std::string& kernel, const std::pair<std::string, std::vec
 
 json RunVariants(const MutateArgs& args, const std::vector<std::string>& kernels,
                  const std::map<std::string, std::pair<const DiffConfig*, std::string>>& config_of, const mutate_runs::Frame& frame,
-                 const fs::path& work, std::uint64_t seed) {
+                 const fs::path& work, std::uint64_t seed, const Shard& shard, std::size_t& chosen) {
   std::vector<std::pair<std::string, std::size_t>> pairs;  // kernel, recipe
   for (const std::string& k : kernels)
     for (std::size_t r = 0; r < Recipes().size(); ++r) pairs.emplace_back(k, r);
@@ -87,11 +88,14 @@ json RunVariants(const MutateArgs& args, const std::vector<std::string>& kernels
     count = std::min<std::size_t>(n, pairs.size());
   }
   const std::vector<std::size_t> order = mutate::Shuffled(pairs.size(), seed ^ 0x5A17ull);
+  chosen = count;
   json out = json::array();
   for (std::size_t i = 0; i < count; ++i) {
+    if (!shard.Holds(i)) continue;
     const auto& [kernel, r] = pairs[order[i]];
     const auto& [config, scene] = config_of.at(kernel);
-    const json j = RunVariant(kernel, Recipes()[r], *config, scene, frame, work / "variants" / fmt::format("{:03}", i));
+    json j = RunVariant(kernel, Recipes()[r], *config, scene, frame, work / "variants" / fmt::format("{:03}", i));
+    j["index"] = i;
     std::printf("  variant %s through spirv-opt %s: %s\n", kernel.c_str(), Recipes()[r].first.c_str(), j["status"].get<std::string>().c_str());
     std::fflush(stdout);
     out.push_back(j);
@@ -99,32 +103,7 @@ json RunVariants(const MutateArgs& args, const std::vector<std::string>& kernels
   return out;
 }
 
-json Summaries(const std::vector<json>& mutants) {
-  std::map<std::string, std::map<std::string, std::size_t>> per_file;
-  std::map<std::string, std::vector<std::string>> passes_of;
-  std::map<std::string, std::size_t> all;
-  std::size_t unexplained = 0;
-  for (const json& m : mutants) {
-    const std::string file = m["file"], status = m["status"];
-    ++per_file[file][status];
-    ++all[status];
-    passes_of[file] = m["passes"].get<std::vector<std::string>>();
-    unexplained += status == "survived" && !m.contains("class");
-  }
-  const auto score = [](std::map<std::string, std::size_t>& c) {
-    const std::size_t k = c["killed"], s = c["survived"];
-    return k + s ? static_cast<double>(k) / (k + s) : 1.0;
-  };
-  json files = json::object();
-  for (auto& [file, c] : per_file)
-    files[file] = {{"passes", passes_of[file]}, {"killed", c["killed"]}, {"survived", c["survived"]}, {"equivalent", c["equivalent"]},
-                   {"stillborn", c["stillborn"]}, {"invalid", c["invalid"]}, {"score", score(c)}};
-  return {{"mutants", mutants.size()}, {"killed", all["killed"]}, {"survived", all["survived"]}, {"equivalent", all["equivalent"]},
-          {"stillborn", all["stillborn"]}, {"invalid", all["invalid"]}, {"unexplained_survivors", unexplained}, {"score", score(all)},
-          {"per_file", files}};
-}
-
-void PrintSummary(const json& summary, const json& variants) {
+void PrintScores(const json& summary, const json& variants) {
   std::printf("  %-24s %7s %7s %9s %10s %9s %7s  %s\n", "file", "killed", "survived", "equivalent", "stillborn", "invalid", "score", "passes");
   for (const auto& [file, c] : summary["per_file"].items()) {
     std::string passes;

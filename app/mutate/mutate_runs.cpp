@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "rayspace/error.h"
+#include "rayspace/install_paths.h"
 
 namespace rayspace::app::mutate_runs {
 namespace fs = std::filesystem;
@@ -125,7 +126,7 @@ void WriteFile(const fs::path& p, const std::string& text) {
 // cornell-soft with its rect light tilted (its axes have three non-zero components) and a sphere and
 // a disk light added: every light shape's sampler runs.
 std::string ShapesScene(const fs::path& work) {
-  nlohmann::json j = nlohmann::json::parse(ReadFile(SourceDir() / "scenes" / "cornell-soft.json"));
+  nlohmann::json j = nlohmann::json::parse(ReadFile(FindDataPaths().scenes / "cornell-soft.json"));
   nlohmann::json sphere = j["lights"][0], disk = j["lights"][0];
   for (nlohmann::json* l : {&sphere, &disk}) {
     l->erase("size");
@@ -149,7 +150,7 @@ std::string ShapesScene(const fs::path& work) {
 // height): the light lies exactly in the plane of every ceiling triangle, where front-face culling's
 // side test (grid.glsl, FacesAway) meets a dot product of exactly 0.
 std::string LightInCeilingScene(const fs::path& work) {
-  nlohmann::json j = nlohmann::json::parse(ReadFile(SourceDir() / "scenes" / "cornell-mirrors.json"));
+  nlohmann::json j = nlohmann::json::parse(ReadFile(FindDataPaths().scenes / "cornell-mirrors.json"));
   j["lights"][0]["position"][1] = 548.8;
   fs::create_directories(work);
   WriteFile(work / "light-in-ceiling-scene.json", j.dump(2));
@@ -160,7 +161,7 @@ std::string SceneFor(const DiffConfig& config, const std::string& scene, const f
   if (config.scene.empty()) return scene;
   if (config.scene == "shapes") return ShapesScene(work);
   if (config.scene == "light-in-ceiling") return LightInCeilingScene(work);
-  if (config.scene != "glass") return (SourceDir() / "scenes" / config.scene).string();
+  if (config.scene != "glass") return (FindDataPaths().scenes / config.scene).string();
   // The command's scene with its first material transparent and refractive (mesh paths are
   // resolved against the data root, so the copy may live anywhere).
   nlohmann::json j;
@@ -287,14 +288,13 @@ Verdict Classify(const DiffRun& run) {
   return v;
 }
 
-fs::path ShaderDir() { return RAYSPACE_MUTATE_SHADER_DIR; }
-fs::path SourceDir() { return RAYSPACE_MUTATE_SOURCE_DIR; }
+fs::path ShaderDir() { return FindDataPaths().shaders; }
 
 bool Compile(const fs::path& comp, const fs::path& spv, std::string& error) {
   const fs::path log = spv.string() + ".log";
   const std::string cmd = fmt::format("{} -O0 --target-env=vulkan1.2 -fshader-stage=compute -I {} -I {} -I {} {} -o {} > {} 2>&1",
                                       RAYSPACE_MUTATE_GLSLC, Quote(comp.parent_path().string()), Quote(ShaderDir().string()),
-                                      Quote(RAYSPACE_MUTATE_CORE_INCLUDE), Quote(comp.string()), Quote(spv.string()), Quote(log.string()));
+                                      Quote(FindDataPaths().includes.string()), Quote(comp.string()), Quote(spv.string()), Quote(log.string()));
   const int code = ExitOf(RunShellCommand(cmd));
   error = code == 0 ? "" : FirstLine(ReadFile(log));
   return code == 0;

@@ -59,10 +59,8 @@ struct Verdict {
 };
 Verdict Classify(const DiffRun& run);
 
-// The shader directory, glslc and spirv-opt this binary was built with.
+// The kernels' GLSL: the install's or the source tree's (rayspace/install_paths.h).
 std::filesystem::path ShaderDir();
-// The source tree this binary was built from (its bundled scenes and docs/mutation-survivors.json).
-std::filesystem::path SourceDir();
 // Compiles a kernel as the built-in kernels are compiled (glslc -O0, Vulkan 1.2, the file's folder
 // first on the include path); false with the first error line in `error`.
 bool Compile(const std::filesystem::path& comp, const std::filesystem::path& spv, std::string& error);

@@ -16,6 +16,8 @@ std::pair<CLI::App*, CLI::App*> AddReproduceCommand(CLI::App& app, ReproduceArgs
   rc->add_option("--jobs", a.jobs, "Configurations run at once, the cores shared among them (default 1)")->check(CLI::Range(1, 1024));
   rc->add_option("--shard", a.shard, "Run only the slice I of N (0 <= I < N) of the configurations; combine the "
                  "directories with `reproduce merge`");
+  rc->add_option("--junit", a.junit, "Also write the relation checks as a JUnit XML report to this file: a test case per "
+                 "relation and place, failed when it does not hold on ours (docs/library.md)");
   rc->add_flag("--resume", a.resume, "Skip configurations whose result is already in --out");
   rc->add_option("--only", a.only, "Run only the configurations whose name (as --list prints it) matches this regular expression");
   rc->add_option("--data", a.data, "Data root for mesh paths (default: $RAYSPACE_DATA)");
@@ -29,6 +31,7 @@ std::pair<CLI::App*, CLI::App*> AddReproduceCommand(CLI::App& app, ReproduceArgs
   CLI::App* mc = rc->add_subcommand("merge", "Combine the directories of `reproduce --shard` runs into one and write its report");
   mc->add_option("out", a.merge_out, "Directory to write the combined results and report into")->required();
   mc->add_option("dirs", a.merge_dirs, "The shard directories, every shard of one run exactly once")->required();
+  mc->add_option("--junit", a.junit, "Also write the merged run's relation checks as a JUnit XML report to this file");
   return {rc, mc};
 }
 

@@ -157,9 +157,19 @@ std::vector<Result> ReadRun(const fs::path& dir, const std::vector<std::string>&
 
 }  // namespace
 
+namespace {
+// --junit FILE, checked before the run ("-": standard output).
+OutputFile JUnitOutput(const std::string& path) {
+  return path.empty() ? OutputFile() : OutputFile(path, OutputOptions{"the JUnit report", true, true, {}});
+}
+}  // namespace
+
 app::ExitCode RunReproduce(const ReproduceArgs& args, const FrameFn& frame) {
   if (args.list) return List(args);
   const Shard shard = ParseShard(args.shard);
+  if (!args.junit.empty() && shard.count > 1)
+    ThrowInput("--junit with --shard {}: a shard writes no report; give --junit to reproduce merge", args.shard);
+  OutputFile junit = JUnitOutput(args.junit);
   if (shard.count == 1) plot::CheckTool();  // the report's plots: refuse before hours of frames, not after
   const std::vector<Config> configs = Configurations(args);
   if (configs.empty()) return app::ExitCode::kOk;
@@ -189,7 +199,7 @@ app::ExitCode RunReproduce(const ReproduceArgs& args, const FrameFn& frame) {
                  shard.index, shard.count, slice.size(), (out / "results").c_str());
     return app::ExitCode::kOk;
   }
-  WriteReport(out, ReadRun(out, manifest.keys));
+  junit.Commit(ReportJUnit(WriteReport(out, ReadRun(out, manifest.keys))));
   std::printf("rayspace reproduce: %zu configurations (%zu measured now); report: %s\n", keys.size(), todo.size(),
               (out / "report.md").c_str());
   return app::ExitCode::kOk;
@@ -197,6 +207,7 @@ app::ExitCode RunReproduce(const ReproduceArgs& args, const FrameFn& frame) {
 
 app::ExitCode RunMerge(const ReproduceArgs& args) {
   plot::CheckTool();
+  OutputFile junit = JUnitOutput(args.junit);
   std::vector<std::pair<std::string, Manifest>> shards;
   for (const std::string& d : args.merge_dirs) {
     if (!fs::is_directory(d)) ThrowInput("{}: no such directory", d);
@@ -214,7 +225,7 @@ app::ExitCode RunMerge(const ReproduceArgs& args) {
   fs::create_directories(out / "results");
   WriteManifest(out, whole);
   for (const Result& r : results) WriteResult(out, r);
-  WriteReport(out, ReadRun(out, whole.keys));
+  junit.Commit(ReportJUnit(WriteReport(out, ReadRun(out, whole.keys))));
   std::printf("rayspace reproduce merge: %zu shards, %zu configurations; report: %s\n", shards.size(), results.size(),
               (out / "report.md").c_str());
   return app::ExitCode::kOk;

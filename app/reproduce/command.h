@@ -15,7 +15,7 @@ namespace rayspace::reproduce {
 
 struct ReproduceArgs {
   std::vector<std::string> targets;
-  std::string out = "reproduce", shard = "0/1", only, data, scenes = "scenes", size;
+  std::string out = "reproduce", shard = "0/1", only, data, scenes = "scenes", size, junit;
   bool quick = false, full = false, list = false, resume = false, progress = false;
   int jobs = 1, stop_after = 0;
   std::string merge_out;

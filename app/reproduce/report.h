@@ -54,8 +54,13 @@ std::string TableCsv(const Table& table);
 // The summary: per relation, how many of its checks hold, ours and published.
 Table SummaryTable(const std::vector<RelationRow>& relations);
 
-// Writes report.md, tables/*.csv, results.json, timings.md and timings.csv into `out`, atomically each.
-void WriteReport(const std::filesystem::path& out, const std::vector<Result>& results);
+// Writes report.md, tables/*.csv, results.json, timings.md and timings.csv into `out`, atomically each;
+// returns the report.
+Report WriteReport(const std::filesystem::path& out, const std::vector<Result>& results);
+// The report's relation checks as JUnit XML (--junit): a test case per relation and place, passed
+// when it holds on our numbers, failed with what was compared when it does not, skipped when ours has
+// no verdict; the published side's verdict is the case's output.
+std::string ReportJUnit(const Report& report);
 
 // Draws the table's ours-against-published plot into out/plots/table-<id>.svg (gnuplot) and returns
 // the markdown line that links it; nothing for a table without both columns.

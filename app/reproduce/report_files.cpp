@@ -6,6 +6,7 @@
 
 #include "report.h"
 #include "rayspace/json_text.h"
+#include "rayspace/junit.h"
 #include "roger.h"
 #include "hunt.h"
 #include "toczek.h"
@@ -84,7 +85,28 @@ std::vector<const Result*> TableOrder(const std::vector<Result>& results) {
 
 }  // namespace
 
-void WriteReport(const std::filesystem::path& out, const std::vector<Result>& results) {
+std::string ReportJUnit(const Report& report) {
+  JUnitSuite suite{report.title, {}};
+  for (const RelationRow& r : report.relations) {
+    JUnitCase c;
+    c.classname = "reproduce." + r.relation;
+    c.name = r.where;
+    c.output = "published: " + Verdict(r.published) + (r.published ? " (" + r.published->detail + ")" : "");
+    if (!r.ours) {
+      c.outcome = JUnitCase::Outcome::kSkipped;
+      c.message = "not measured";
+    } else if (!r.ours->holds) {
+      c.outcome = JUnitCase::Outcome::kFailure;
+      c.type = "relation";
+      c.message = r.relation + " fails on ours: " + r.ours->detail;
+      c.details = c.message + "\n" + c.output;
+    }
+    suite.cases.push_back(std::move(c));
+  }
+  return JUnitXml("rayspace reproduce", {suite});
+}
+
+Report WriteReport(const std::filesystem::path& out, const std::vector<Result>& results) {
   const Published& published = ThesisPublished();
   // Each target's sections from its own results: a run of roger alone has no thesis tables.
   std::vector<Result> thesis;
@@ -133,6 +155,7 @@ void WriteReport(const std::filesystem::path& out, const std::vector<Result>& re
   md.replace(0, md.find('\n'), "# Phase timings");
   WriteText(out / "timings.md", md, "the timings file");
   WriteText(out / "report.md", ReportMarkdown(report), "the report");
+  return report;
 }
 
 }  // namespace rayspace::reproduce

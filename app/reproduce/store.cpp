@@ -141,15 +141,6 @@ std::optional<Result> ReadResult(const std::filesystem::path& dir, const std::st
   }
 }
 
-Shard ParseShard(const std::string& text) {
-  static const std::regex re(R"((\d{1,6})/(\d{1,6}))");
-  std::smatch m;
-  if (!std::regex_match(text, m, re)) ThrowInput("--shard '{}': expected I/N, e.g. 0/4", text);
-  const Shard s{std::stoi(m[1]), std::stoi(m[2])};
-  if (s.count < 1 || s.index >= s.count) ThrowInput("--shard '{}': needs 0 <= I < N", text);
-  return s;
-}
-
 std::vector<std::string> Manifest::Slice() const {
   std::vector<std::string> slice;
   for (std::size_t i = static_cast<std::size_t>(shard.index); i < keys.size(); i += static_cast<std::size_t>(shard.count))

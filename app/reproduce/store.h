@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "rayspace/shard.h"
+
 #include <nlohmann/json.hpp>
 
 #include "configs.h"
@@ -42,12 +44,6 @@ void WriteResult(const std::filesystem::path& dir, const Result& r);
 // The stored result when its file exists, parses and holds `key`; nothing otherwise.
 std::optional<Result> ReadResult(const std::filesystem::path& dir, const std::string& key);
 
-struct Shard {
-  int index = 0, count = 1;
-  auto operator<=>(const Shard&) const = default;
-};
-// "I/N" with 0 <= I < N; throws InputError naming --shard.
-Shard ParseShard(const std::string& text);
 
 struct Manifest {
   std::string run;                // a hash of every key of the run

@@ -159,7 +159,7 @@ vk::Status CheckKernel(const PassSpec& pass, std::span<const std::uint32_t> spir
   return vk::Status::Ok();
 }
 
-vk::Status LoadKernelFile(const std::string& path, std::vector<std::uint32_t>& out) {
+vk::Status LoadKernelFile(const std::string& path, std::vector<std::uint32_t>& out, const DataPaths& data) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (!fs::exists(path, ec)) return vk::Status::Fail(fmt::format("kernel file '{}' not found", path));
@@ -172,6 +172,9 @@ vk::Status LoadKernelFile(const std::string& path, std::vector<std::uint32_t>& o
   std::optional<TempDirectory> scratch;
   if (fs::path(path).extension() != ".spv") {
     // GLSL: compile as the built-in kernels are compiled (gpu/CMakeLists.txt).
+    if (!fs::is_directory(data.shaders, ec) || !fs::is_directory(data.includes / "rayspace", ec))
+      return vk::Status::Fail(fmt::format("kernel file '{}': the kernels' GLSL includes are missing from the {} ({} and {})", path,
+                                          data.where, data.shaders.string(), (data.includes / "rayspace").string()));
     static std::atomic<unsigned> compiles{0};
     try {
       scratch.emplace(fs::temp_directory_path(ec) / fmt::format("rayspace-kernel-{}-{}", ::getpid(), compiles++));
@@ -188,7 +191,7 @@ vk::Status LoadKernelFile(const std::string& path, std::vector<std::uint32_t>& o
     const std::string dir = fs::absolute(path, ec).parent_path().string();
     const std::string cmd =
         fmt::format("{} -O0 -g --target-env=vulkan1.2 -fshader-stage=compute -I {} -I {} -I {} {} -o {} 2> {}", RAYSPACE_GLSLC,
-                    quote(dir), quote(RAYSPACE_SHADER_DIR), quote(RAYSPACE_CORE_INCLUDE_DIR), quote(path), quote(tmp.string()),
+                    quote(dir), quote(data.shaders.string()), quote(data.includes.string()), quote(path), quote(tmp.string()),
                     quote(log.string()));
     const int rc = std::system(cmd.c_str());
     std::string first;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "rayspace/gpu/vulkan.h"
+#include "rayspace/install_paths.h"
 #include "rayspace/pass_registry.h"
 
 namespace rayspace::gpu_backend {
@@ -40,7 +41,8 @@ vk::Status ReflectKernel(std::span<const std::uint32_t> spirv, KernelInterface& 
 vk::Status CheckKernel(const PassSpec& pass, std::span<const std::uint32_t> spirv);
 
 // Reads a user's kernel: a .spv file as it is, or a .comp file compiled with glslc as the built-in
-// kernels are (-O0 -g, Vulkan 1.2; include paths: the file's folder, gpu/shaders and core/contract/include).
-vk::Status LoadKernelFile(const std::string& path, std::vector<std::uint32_t>& out);
+// kernels are (-O0 -g, Vulkan 1.2; include paths: the file's folder, then the kernels' GLSL and the
+// contract headers of `data`: an install's or the source tree's, rayspace/install_paths.h).
+vk::Status LoadKernelFile(const std::string& path, std::vector<std::uint32_t>& out, const DataPaths& data = FindDataPaths());
 
 }  // namespace rayspace::gpu_backend

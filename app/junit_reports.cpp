@@ -1,0 +1,150 @@
+#include "junit_reports.h"
+
+#include <fmt/format.h>
+
+namespace rayspace::app {
+namespace {
+
+using Outcome = JUnitCase::Outcome;
+
+std::string Str(const nlohmann::json& j, const char* key) {
+  return j.contains(key) && j[key].is_string() ? j[key].get<std::string>() : std::string();
+}
+
+// "BUFFER[INDEX]: expected E, actual A" for the call's first differing buffer.
+std::string FirstMismatch(const nlohmann::json& call) {
+  for (const nlohmann::json& b : call.value("buffers", nlohmann::json::array())) {
+    if (b.value("equal", true)) continue;
+    if (b.contains("first_mismatch")) {
+      const nlohmann::json& m = b["first_mismatch"];
+      return fmt::format("{}[{}]: expected {}, actual {} ({} of {} elements differ)", Str(b, "buffer"), m.value("index", 0),
+                         Str(m, "expected"), Str(m, "actual"), b.value("mismatches", 0), b.value("elements", 0));
+    }
+    return fmt::format("{}: {} elements expected, {} actual", Str(b, "buffer"), b.value("expected_elements", 0),
+                       b.value("actual_elements", 0));
+  }
+  return "differs";
+}
+
+JUnitSuite FrameSuite(const nlohmann::json& r) {
+  JUnitSuite s;
+  const std::string inject = Str(r, "inject");
+  s.name = fmt::format("diff {} {}x{} {}{}", Str(r, "scene"), r.value("width", 0), r.value("height", 0), Str(r, "algorithm"),
+                       inject.empty() ? "" : " --inject " + inject);
+  bool failed_call = false;
+  for (const nlohmann::json& c : r.value("calls", nlohmann::json::array())) {
+    JUnitCase k;
+    k.classname = "diff." + Str(c, "pass");
+    k.name = fmt::format("{:04} {}", c.value("seq", 0), Str(c, "label"));
+    k.seconds = (c.value("emu_ms", 0.0) + c.value("vulkan_ms", 0.0)) / 1000;
+    if (!c.value("equal", true) && c.value("within_spec", false)) {
+      k.output = "differs only as a conformant device may: " + Str(c, "relaxed_model");
+    } else if (!c.value("equal", true)) {
+      failed_call = true;
+      k.outcome = Outcome::kFailure;
+      k.type = "divergence";
+      k.message = FirstMismatch(c);
+      std::string details;
+      for (const char* key : {"pairs", "hits", "raster"})
+        if (!Str(c, key).empty()) details += fmt::format("{}: {}\n", key, Str(c, key));
+      k.details = details + c.value("buffers", nlohmann::json::array()).dump(2);
+    }
+    s.cases.push_back(std::move(k));
+  }
+  // A stop no call's comparison explains: a checker's finding, a device output error, a driver error.
+  const std::string stopped = Str(r, "stopped");
+  JUnitCase frame;
+  frame.classname = "diff";
+  frame.name = "frame";
+  if (!stopped.empty() && !failed_call) {
+    const bool checker = r.contains("simulator_checker") || (r.contains("workgroup_checker") && !r["workgroup_checker"].is_null());
+    frame.outcome = Outcome::kFailure;
+    frame.type = checker ? "checker" : "stopped";
+    frame.message = stopped;
+    frame.details = checker ? (r.contains("simulator_checker") ? r["simulator_checker"] : r["workgroup_checker"]).dump(2) : stopped;
+  } else if (!stopped.empty()) {
+    frame.output = "stopped: " + stopped;
+  }
+  s.cases.push_back(std::move(frame));
+  return s;
+}
+
+std::string MutantLine(const nlohmann::json& m) {
+  return fmt::format("{}:{} {} '{}' -> '{}'", Str(m, "file"), m.value("line", 0), Str(m, "operator"), Str(m, "before"), Str(m, "after"));
+}
+
+JUnitSuite MutantSuite(const std::string& side, const nlohmann::json& mutants) {
+  JUnitSuite s{"mutate on " + side, {}};
+  for (const nlohmann::json& m : mutants) {
+    JUnitCase k;
+    k.classname = "mutate." + Str(m, "file");
+    k.name = Str(m, "id");
+    const std::string status = Str(m, "status");
+    const std::string why = Str(m, "why"), reason = Str(m, "reason");
+    if (status == "killed") {
+      k.output = "killed" + (m.contains("caught") ? ": " + m["caught"].dump() : std::string());
+    } else if (status == "survived" && !m.contains("class")) {
+      k.outcome = Outcome::kFailure;
+      k.type = "survived";
+      k.message = MutantLine(m) + ": no diff configuration, kernel case or clamped device tells it from the kernel";
+      k.details = m.dump(2);
+    } else if (status == "survived" || status == "equivalent" || status == "stillborn" || status == "invalid") {
+      k.outcome = Outcome::kSkipped;
+      k.message = status == "survived" ? "explained survivor (" + Str(m, "class") + "): " + why
+                                       : status + (why.empty() ? reason.empty() ? "" : ": " + reason : ": " + why);
+    } else {
+      k.outcome = Outcome::kError;
+      k.type = status.empty() ? "error" : status;
+      k.message = MutantLine(m) + ": " + (reason.empty() ? "no verdict" : reason);
+      k.details = m.dump(2);
+    }
+    s.cases.push_back(std::move(k));
+  }
+  return s;
+}
+
+}  // namespace
+
+std::vector<JUnitSuite> MutateJUnit(const nlohmann::json& report) {
+  std::vector<JUnitSuite> out;
+  const nlohmann::json sides = report.value("backends", nlohmann::json::array());
+  const std::string first = sides.empty() ? "vulkan" : sides[0].get<std::string>();
+  out.push_back(MutantSuite(first, report.value("mutants", nlohmann::json::array())));
+  for (std::size_t k = 1; k < sides.size(); ++k) {
+    const std::string side = sides[k].get<std::string>();
+    if (report.contains("on_" + side)) out.push_back(MutantSuite(side, report["on_" + side].value("mutants", nlohmann::json::array())));
+  }
+  JUnitSuite variants{"mutate variants", {}};
+  for (const nlohmann::json& v : report.value("variants", nlohmann::json::array())) {
+    JUnitCase k;
+    k.classname = "mutate.variant." + Str(v, "kernel");
+    k.name = Str(v, "recipe");
+    k.seconds = v.value("seconds", 0.0);
+    const std::string status = Str(v, "status");
+    if (status == "diverged") {
+      k.outcome = Outcome::kFailure;
+      k.type = "divergence";
+      k.message = "the spirv-opt variant diffs unequal: " + Str(v, "reason");
+      k.details = v.dump(2);
+    } else if (status != "equal") {
+      k.outcome = Outcome::kError;
+      k.type = "error";
+      k.message = Str(v, "reason").empty() ? "no verdict" : Str(v, "reason");
+    }
+    variants.cases.push_back(std::move(k));
+  }
+  out.push_back(std::move(variants));
+  return out;
+}
+
+std::vector<JUnitSuite> DiffJUnit(const nlohmann::json& report) {
+  std::vector<JUnitSuite> out;
+  if (report.contains("faults") && report["faults"].is_array()) {
+    for (const nlohmann::json& r : report["faults"]) out.push_back(FrameSuite(r));
+  } else {
+    out.push_back(FrameSuite(report));
+  }
+  return out;
+}
+
+}  // namespace rayspace::app

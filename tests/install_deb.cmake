@@ -1,0 +1,28 @@
+# install_consumer.cmake with MODE=deb: `cpack -G DEB` of the build into WORK/debs, the packages
+# resolved by `apt-get install --simulate`, their Depends checked (the computed shared libraries and
+# the programs rayspace runs), and both unpacked under WORK/root; sets `prefix` to WORK/root/usr.
+execute_process(COMMAND cpack -G DEB -B "${work}/debs" --config "${BUILD}/CPackConfig.cmake" RESULT_VARIABLE rc OUTPUT_VARIABLE out
+                ERROR_VARIABLE err)
+file(GLOB debs "${work}/debs/rayspace_*.deb" "${work}/debs/rayspace-dev_*.deb")
+list(LENGTH debs n)
+if(NOT rc EQUAL 0 OR NOT n EQUAL 2)
+  file(REMOVE_RECURSE "${work}")
+  message(FATAL_ERROR "cpack -G DEB failed (exit ${rc}, ${n} of 2 packages): ${out}${err}")
+endif()
+execute_process(COMMAND apt-get install --simulate ${debs} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  string(APPEND failures "\napt-get install --simulate does not resolve the packages: ${out}${err}")
+endif()
+foreach(deb ${debs})
+  execute_process(COMMAND dpkg-deb -f "${deb}" Package Depends OUTPUT_VARIABLE fields)
+  if(fields MATCHES "Package: rayspace\n" AND NOT fields MATCHES "libc6.*glslc|glslc.*libc6")
+    string(APPEND failures "\n${deb}: Depends lacks the computed shared libraries or glslc: ${fields}")
+  elseif(fields MATCHES "Package: rayspace-dev" AND NOT fields MATCHES "rayspace \\(= [0-9.]+\\).*libembree-dev")
+    string(APPEND failures "\n${deb}: Depends lacks rayspace or the -dev packages: ${fields}")
+  endif()
+  execute_process(COMMAND dpkg-deb -x "${deb}" "${work}/root" RESULT_VARIABLE rc ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    string(APPEND failures "\ndpkg-deb -x ${deb}: ${err}")
+  endif()
+endforeach()
+set(prefix "${work}/root/usr")

@@ -1,0 +1,31 @@
+# scripts/check_layers.py on a made-up tree: two libraries, the lower one including the upper one's
+# header, must fail naming the file and the include; without that include it passes; a lines count
+# more than 10 % off fails.
+#   cmake -DPYTHON=<python3> -DSRC=<source dir> -DWORK=<scratch> -P lint_layers.cmake
+cmake_minimum_required(VERSION 3.19)
+file(REMOVE_RECURSE "${WORK}")
+file(MAKE_DIRECTORY "${WORK}/docs" "${WORK}/low/include/rayspace" "${WORK}/high/include/rayspace/high" "${WORK}/high/src")
+file(WRITE "${WORK}/low/include/rayspace/low.h" "#pragma once\nint Low();\n")
+file(WRITE "${WORK}/high/include/rayspace/high/high.h" "#pragma once\n#include \"rayspace/low.h\"\n")
+file(WRITE "${WORK}/high/src/high.cpp" "#include \"rayspace/high/high.h\"\n")
+function(table low_lines)
+  file(WRITE "${WORK}/docs/architecture.md" "# A\n\n## Libraries\n\n| library | folder | what | may include | lines |\n|---|---|---|---|---|\n"
+       "| `rayspace_low` | `low/` | below | none | ${low_lines} |\n| `rayspace_high` | `high/` | above | `rayspace_low` | 3 |\n\n## Next\n")
+endfunction()
+set(failures "")
+function(check name expect_rc expect_text)
+  execute_process(COMMAND "${PYTHON}" "${SRC}/scripts/check_layers.py" --root "${WORK}" RESULT_VARIABLE rc ERROR_VARIABLE err)
+  if(NOT rc EQUAL expect_rc OR NOT err MATCHES "${expect_text}")
+    set(failures "${failures}\n${name}: exit ${rc} (expected ${expect_rc}), stderr '${err}'" PARENT_SCOPE)
+  endif()
+endfunction()
+table(2)
+check(clean 0 "")
+file(APPEND "${WORK}/low/include/rayspace/low.h" "#include \"rayspace/high/high.h\"\n")
+table(3)
+check(upward 1 "low/include/rayspace/low.h: includes \"rayspace/high/high.h\" of rayspace_high; rayspace_low may include only rayspace_low")
+table(30)
+check(lines 1 "rayspace_low has 3 lines, the table says 30")
+if(failures)
+  message(FATAL_ERROR "lint.layers.fixture:${failures}")
+endif()
