@@ -4,13 +4,13 @@
 #include <filesystem>
 #include <system_error>
 
-#include "accuracy_measure.h"
-#include "accuracy_report.h"
-#include "accuracy_sampler.h"
-#include "accuracy_grid.h"
-#include "accuracy_tl.h"
+#include "rayspace/accuracy/measure.h"
+#include "rayspace/accuracy/report.h"
+#include "rayspace/accuracy/sampler.h"
+#include "rayspace/accuracy/grid.h"
+#include "rayspace/accuracy/tl.h"
 #include "memory_estimate.h"
-#include "plot.h"
+#include "rayspace/plot.h"
 #include "rayspace/error.h"
 #include "rayspace/output_file.h"
 #include "rayspace/scene.h"

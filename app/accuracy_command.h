@@ -2,7 +2,7 @@
 #include <cstddef>
 #include <string>
 
-#include "exit_codes.h"
+#include "rayspace/exit_codes.h"
 
 namespace rayspace::app {
 

@@ -2,7 +2,7 @@
 #include <string>
 #include <vector>
 
-#include "exit_codes.h"
+#include "rayspace/exit_codes.h"
 #include "faithful_args.h"
 
 namespace rayspace::app {

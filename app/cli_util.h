@@ -6,25 +6,13 @@
 #include <string>
 #include <utility>
 
-#include "exit_codes.h"
+#include "rayspace/exit_codes.h"
 #include "rayspace/error.h"
+#include "rayspace/image_size.h"
 #include "rayspace/output_file.h"
 #include "rayspace/scene.h"
 
 namespace rayspace::app {
-
-// Parses --size WxH (or one size of another option); each side in [1, kMaxImageSide]. Throws
-// InputError naming the option.
-inline void ParseSize(const std::string& s, int& w, int& h, const char* option = "--size") {
-  static const std::regex re(R"((\d{1,9})x(\d{1,9}))");
-  std::smatch m;
-  if (!std::regex_match(s, m, re)) ThrowInput("{} '{}': expected WxH, e.g. 512x512", option, s);
-  const long long lw = std::stoll(m[1]), lh = std::stoll(m[2]);
-  if (lw < 1 || lh < 1 || lw > kMaxImageSide || lh > kMaxImageSide)
-    ThrowInput("{} '{}': each side must be in [1, {}]", option, s, kMaxImageSide);
-  w = static_cast<int>(lw);
-  h = static_cast<int>(lh);
-}
 
 // An output file the user named, checked now, before the work that fills it (OutputFile): it may not
 // replace the scene or a mesh the run reads. "-" is standard output where `allow_stdout`.

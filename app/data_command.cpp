@@ -7,7 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "data_check.h"
+#include "rayspace/data_check.h"
 #include "rayspace/error.h"
 #include "rayspace/scene.h"
 

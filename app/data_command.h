@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "exit_codes.h"
+#include "rayspace/exit_codes.h"
 
 namespace rayspace::app {
 

@@ -1,5 +1,5 @@
 #pragma once
-#include "exit_codes.h"
+#include "rayspace/exit_codes.h"
 
 namespace rayspace::app {
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "exit_codes.h"
+#include "rayspace/exit_codes.h"
 #include "frame_args.h"
 
 #include <nlohmann/json.hpp>

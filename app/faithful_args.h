@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "rayspace/emu/frame.h"
-#include "faithful_presets.h"
+#include "rayspace/reproduce/faithful_presets.h"
 #include "rayspace/emu/hierarchy.h"
 
 namespace CLI {

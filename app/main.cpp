@@ -16,14 +16,14 @@
 #include "shadow_bench.h"
 #include "bench_configs.h"
 #include "data_command.h"
-#include "exit_codes.h"
+#include "rayspace/exit_codes.h"
 #include "ignored_options.h"
 #include "render_command.h"
 #include "simulate_command.h"
 #include "rayspace/sim/device.h"
 #include "render_options.h"
-#include "reproduce/command.h"
-#include "reproduce/frame.h"
+#include "rayspace/reproduce/command.h"
+#include "reproduce_frame.h"
 #ifdef RAYSPACE_HAVE_VULKAN
 #include "devices_command.h"
 #include "diff_command.h"
@@ -355,8 +355,8 @@ void WarnIgnoredOptions(const Commands& cmds) {
 #endif
 }
 
-rayspace::app::ExitCode Run(const Commands& cmds) {
-  using rayspace::app::ExitCode;
+rayspace::ExitCode Run(const Commands& cmds) {
+  using rayspace::ExitCode;
   if (cmds.render_cmd->parsed()) return rayspace::app::RunRender(cmds.render);
   if (cmds.accuracy_cmd->parsed()) return rayspace::app::RunAccuracy(cmds.accuracy);
   if (cmds.bench_cmd->parsed()) return rayspace::app::RunBench(cmds.bench);
@@ -391,11 +391,11 @@ void RefuseEmptyValues(CLI::App& app) {
 }
 
 int main(int argc, char** argv) {
-  using rayspace::app::ExitCode;
+  using rayspace::ExitCode;
   CLI::App app{"rayspace: emulator and verification suite for GPU secondary-ray tracing with ray-space hierarchies"};
   app.require_subcommand(1);
   app.fallthrough();  // --validate may follow the command's own options
-  app.footer(rayspace::app::ExitCodeHelp());  // before the subcommands, which inherit it
+  app.footer(rayspace::ExitCodeHelp());  // before the subcommands, which inherit it
   app.set_version_flag("--version", [] { return rayspace::app::VersionText(); }, "Print the version, commit, backends and libraries");
   Commands cmds;
   app.add_flag("--strict-math", cmds.strict_math,

@@ -1,10 +1,11 @@
 #include "render_command.h"
 
-#include "output_names.h"
+#include "rayspace/output_names.h"
 #include "cli_util.h"
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 #include <unistd.h>
 
@@ -12,6 +13,7 @@
 
 #include "memory_estimate.h"
 #include "peak_memory.h"
+#include "rayspace/digest.h"
 #include "rayspace/error.h"
 #include "rayspace/image_io.h"
 #include "rayspace/json_text.h"
@@ -224,7 +226,7 @@ void PrintMismatchVerdict(const refs::Oracle& oracle) {
 
 }  // namespace
 
-ExitCode RunRender(const RenderArgs& args) {
+RenderValue RenderToValue(const RenderArgs& args, const std::function<std::string(const Scene&)>& on_scene) {
   if (args.threads > 0) SetThreadCount(args.threads);
   const bool one_sided = OneSided(args);  // before any work: a bad switch fails first
   emu::FrameOptions fo;
@@ -232,7 +234,7 @@ ExitCode RunRender(const RenderArgs& args) {
   fo.progress = args.progress || isatty(STDERR_FILENO);  // progress on stderr when someone watches
   ApplyFaithful(args.faithful, fo);
   ApplyPrimary(args, fo);
-  RenderOutputs outputs = OpenRenderOutputs(args, scene);
+  const std::string image = on_scene ? on_scene(scene) : std::string();
 
   const MemoryEstimate estimate = EstimateFrameMemory(scene, fo.width, fo.height, RenderMemoryUse(args));
   CheckFitsMachine(estimate, fo.width, fo.height, SizeFrom(args.size, scene).c_str());
@@ -247,15 +249,32 @@ ExitCode RunRender(const RenderArgs& args) {
   const emu::FrameResult& r = f->result;
 
   const refs::Oracle* checked = f->oracle ? &*f->oracle : nullptr;
-  const Outcome o{scene, backend, r, checked, f->oracle_ms, outputs.image.path(), f->tracer,
+  const Outcome o{scene, backend, r, checked, f->oracle_ms, image, f->tracer,
                   OracleJson(checked, f->oracle_ms), f->stats, f->phases, PeakRssBytes(), estimate};
   PrintSummary(args, o);
   const bool wrong = checked && !checked->mismatches().empty();
   if (wrong) PrintMismatchVerdict(*checked);
-  return WriteOutputs(wrong ? ExitCode::kOracleMismatch : ExitCode::kOk, [&] {
-    WriteImage(outputs.image, r.width, r.height, r.rgb);
-    outputs.stats.Write(JsonText(StatsJson(args, o)));
-    PublishAll({&outputs.image, &outputs.stats});
+  RenderValue v;
+  v.verdict = wrong ? ExitCode::kOracleMismatch : ExitCode::kOk;
+  v.width = r.width;
+  v.height = r.height;
+  v.rgb = r.rgb;
+  v.digest = HexDigest(r.digest.Frame());
+  v.oracle_mismatches = checked ? checked->mismatches().size() : 0;
+  v.statistics = StatsJson(args, o);
+  return v;
+}
+
+ExitCode RunRender(const RenderArgs& args) {
+  std::optional<RenderOutputs> outputs;
+  const RenderValue v = RenderToValue(args, [&](const Scene& scene) {
+    outputs.emplace(OpenRenderOutputs(args, scene));
+    return outputs->image.path();
+  });
+  return WriteOutputs(v.verdict, [&] {
+    WriteImage(outputs->image, v.width, v.height, v.rgb);
+    outputs->stats.Write(JsonText(v.statistics));
+    PublishAll({&outputs->image, &outputs->stats});
   });
 }
 

@@ -1,9 +1,13 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
+#include <vector>
 
-#include "exit_codes.h"
+#include <nlohmann/json.hpp>
+
+#include "rayspace/exit_codes.h"
 #include "frame_args.h"
 
 namespace rayspace::app {
@@ -21,5 +25,19 @@ struct RenderArgs : FrameArgs {
 
 // Runs `rayspace render`: kOk, or kOracleMismatch when the oracle found rays the frame got wrong.
 ExitCode RunRender(const RenderArgs& args);
+
+// RunRender's work without its files: the frame, its verdict (kOk, or kOracleMismatch when the oracle
+// found rays the frame got wrong) and the statistics file's JSON. `on_scene`, when given, runs once
+// the scene is loaded and before the frame, and returns the image's path for the statistics (RunRender
+// opens its output files there).
+struct RenderValue {
+  ExitCode verdict = ExitCode::kOk;
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> rgb;  // 8-bit sRGB, row by row from the top
+  std::string digest;             // the frame's digest (hex), as the summary prints it
+  std::size_t oracle_mismatches = 0;
+  nlohmann::json statistics;      // what --stats writes
+};
+RenderValue RenderToValue(const RenderArgs& args, const std::function<std::string(const Scene&)>& on_scene = {});
 
 }  // namespace rayspace::app

@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <string>
 
-#include "exit_codes.h"
+#include "rayspace/exit_codes.h"
 
 namespace rayspace::app {
 

@@ -56,8 +56,9 @@ DEFAULT_EXCLUDE = ("^(objects tree: fused rounds|objects tree: the same frame di
                    "determinism: hierarchy digests|traverse.compact mirror: random calls)")
 # The passes' sources; a mutated header rebuilds every file that includes it, so headers are opt-in.
 DEFAULT_FILES = ("emu/src/*.cpp",)
-# --tiers: the emulator, the Vulkan host code, the verifier and the command; and the kernels apart.
-TIER_FILES = ("emu/src/*.cpp", "gpu/src/*.cpp", "verify/src/*.cpp", "app/*.cpp")
+# --tiers: the emulator, the Vulkan host code, the verifier and the command (with the accuracy study,
+# which was part of it); and the kernels apart. A resumed run lists them in its copy of the tree.
+TIER_FILES = ("emu/src/*.cpp", "gpu/src/*.cpp", "verify/src/*.cpp", "app/*.cpp", "accuracy/src/*.cpp")
 KERNEL_FILES = ("gpu/shaders/*.comp",)
 
 # Source file stem -> the pass its code serves (docs/mutation.md); files serving every pass are "shared".

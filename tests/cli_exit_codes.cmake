@@ -1,4 +1,4 @@
-# The exit codes are stated once (app/exit_codes.h): `rayspace --help` must list every code with its
+# The exit codes are stated once (core/platform/include/rayspace/exit_codes.h): `rayspace --help` must list every code with its
 # meaning, and the exit-code tables of README.md and docs/usage.md must say the same.
 #   cmake -DRAYSPACE=<exe> -DSRC=<source dir> -P cli_exit_codes.cmake
 cmake_minimum_required(VERSION 3.19)

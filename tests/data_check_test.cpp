@@ -8,7 +8,7 @@
 
 #include <unistd.h>
 
-#include "data_check.h"
+#include "rayspace/data_check.h"
 #include "rayspace/error.h"
 
 namespace {

@@ -9,7 +9,7 @@
 #include <utility>
 
 #include "rayspace/junit.h"
-#include "report.h"
+#include "rayspace/reproduce/report.h"
 
 namespace {
 

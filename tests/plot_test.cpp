@@ -6,7 +6,7 @@
 #include <fstream>
 #include <string>
 
-#include "plot.h"
+#include "rayspace/plot.h"
 #include "rayspace/error.h"
 
 namespace {

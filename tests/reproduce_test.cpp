@@ -8,12 +8,12 @@
 #include <iterator>
 
 #include "rayspace/error.h"
-#include "faithful_table.h"
-#include "relations.h"
-#include "runner.h"
-#include "report.h"
-#include "roger.h"
-#include "store.h"
+#include "rayspace/reproduce/faithful_table.h"
+#include "rayspace/reproduce/relations.h"
+#include "rayspace/reproduce/runner.h"
+#include "rayspace/reproduce/report.h"
+#include "rayspace/reproduce/roger.h"
+#include "rayspace/reproduce/store.h"
 
 namespace rayspace::reproduce {
 namespace {

@@ -3,26 +3,32 @@
 #include <nlohmann/json.hpp>
 
 #include "diff_command.h"
+#include "render_command.h"
 #include "rayspace/json_text.h"
 #include "version.h"
 
 namespace rayspace::api {
 namespace {
 
+// The frame and the user's kernels, as render's and diff's options (app::FrameArgs) hold them.
+void ApplyFrame(const FrameConfig& f, const std::vector<KernelOverride>& kernels, const std::string& prefix, app::FrameArgs& a) {
+  a.data = f.data;
+  a.size = f.size;
+  a.algo = f.algo;
+  a.bounces = f.bounces;
+  for (const KernelOverride& k : kernels) a.kernels.push_back(k.pass + "=" + k.file);
+  a.kernels.data_prefix = prefix;
+}
+
 app::DiffArgs ToArgs(const DiffRequest& r) {
   app::DiffArgs a;
+  ApplyFrame(r.frame, r.kernels, r.prefix, a);
   a.scene = r.frame.scene;
-  a.data = r.frame.data;
-  a.size = r.frame.size;
-  a.algo = r.frame.algo;
-  a.bounces = r.frame.bounces;
   a.local_size = r.frame.local_size;
   a.backends = r.backends;
   a.backends_given = true;  // the request names its device: no fallback to the simulated GPU
   a.compare = r.compare;
   a.inject = r.inject;
-  for (const KernelOverride& k : r.kernels) a.kernels.push_back(k.pass + "=" + k.file);
-  a.kernels.data_prefix = r.prefix;
   return a;
 }
 
@@ -55,8 +61,8 @@ const char* ToString(Verdict v) {
 DiffReport Diff(const DiffRequest& request) {
   const app::DiffResult r = app::DiffToReport(ToArgs(request));
   DiffReport out;
-  out.verdict = r.verdict == app::ExitCode::kOk           ? Verdict::kEqual
-                : r.verdict == app::ExitCode::kDivergence ? Verdict::kDivergent
+  out.verdict = r.verdict == ExitCode::kOk           ? Verdict::kEqual
+                : r.verdict == ExitCode::kDivergence ? Verdict::kDivergent
                                                           : Verdict::kCheckerStopped;
   const nlohmann::json& j = r.report;
   if (j["first_divergent_pass"].is_string()) out.first_divergent_pass = j["first_divergent_pass"];
@@ -71,6 +77,24 @@ DiffReport Diff(const DiffRequest& request) {
     out.calls.push_back(std::move(p));
   }
   out.json = JsonText(j);
+  return out;
+}
+
+RenderReport Render(const RenderRequest& request) {
+  app::RenderArgs a;
+  ApplyFrame(request.frame, request.kernels, request.prefix, a);
+  a.scene = request.frame.scene;
+  a.backend = request.backend;
+  a.path = request.path;
+  a.no_oracle = !request.oracle;
+  const app::RenderValue v = app::RenderToValue(a);
+  RenderReport out;
+  out.width = v.width;
+  out.height = v.height;
+  out.rgb.assign(v.rgb.begin(), v.rgb.end());
+  out.digest = v.digest;
+  out.oracle_mismatches = v.oracle_mismatches;
+  out.statistics = JsonText(v.statistics);
   return out;
 }
 

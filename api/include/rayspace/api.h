@@ -1,12 +1,14 @@
-// rayspace's library API: what a kernel developer's own program or test calls to diff a kernel of
-// theirs against the emulator, pass by pass, and read the verdict as a value. The `rayspace diff`
-// command is this call with its report printed and written; docs/library.md shows both in use.
+// rayspace's library API: what a kernel developer's own program or test calls to render a frame on a
+// backend, with kernels of theirs, and to diff them against the emulator pass by pass, reading each
+// result as a value. `rayspace render` and `rayspace diff` are these calls with their outputs printed
+// and written; docs/library.md shows them in use.
 //
 // Every call is self-contained: its configuration travels in the request, and a bad request (an
 // unknown pass, a kernel that does not compile or breaks the pass's contract, a scene that does not
 // load) throws rayspace::InputError naming the input; a failing driver throws std::runtime_error.
-// A diff prints its pass table on stdout, as the command does.
+// A call prints its summary (a render's statistics, a diff's pass table) on stdout, as the command does.
 #pragma once
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -28,7 +30,7 @@ struct FrameConfig {
   std::string size = "64x64";  // WxH
   std::string algo = "crsh";   // crsh, rah, rah-quadtree, tl, grid, brute, embree
   int bounces = -1;            // -1: the scene's own
-  int local_size = 64;         // the compute kernels' workgroup size
+  int local_size = 64;         // the compute kernels' workgroup size (a diff's; a render runs 64)
 };
 
 // A user's kernel in place of the built-in kernel of one pass: a .comp file (compiled with the
@@ -75,7 +77,27 @@ struct DiffReport {
 // outputs) and compares every output.
 DiffReport Diff(const DiffRequest& request);
 
-// "rayspace X.Y.Z (commit ...)", as `rayspace --version` prints first.
+struct RenderRequest {
+  FrameConfig frame;
+  std::string backend = "emu";  // emu, vulkan or sim (the simulated GPU)
+  std::string path = "auto";    // hierarchy traversal: fused, passes (traverse then reduce), or auto
+  std::vector<KernelOverride> kernels;  // vulkan and sim only
+  bool oracle = true;                   // re-trace every ray with Embree and compare the hits
+  std::string prefix = kInstallPrefix;  // see kInstallPrefix
+};
+
+struct RenderReport {
+  int width = 0, height = 0;
+  std::vector<unsigned char> rgb;       // 8-bit sRGB, three bytes a pixel, rows from the top
+  std::string digest;                   // the frame's digest: equal digests, equal frames
+  std::size_t oracle_mismatches = 0;    // rays whose hit the oracle disagrees with (0 without it)
+  std::string statistics;               // the statistics JSON, as `rayspace render --stats` writes it
+};
+
+// Renders one frame on the backend, with the user's kernels in place of built-in ones.
+RenderReport Render(const RenderRequest& request);
+
+// "rayspace X.Y.Z", as `rayspace --version` prints first.
 std::string Version();
 
 }  // namespace rayspace::api

@@ -1,0 +1,58 @@
+// Roger, Assarsson and Holzschuch 2007 ("Whitted ray-tracing for dynamic scenes using a ray-space
+// hierarchy on the GPU"): its figures 9 and 13 publish plots, not tables, so `reproduce roger` measures
+// what they plot on scenes we hold and checks the claims the text makes of them as relations on our
+// counts. Times vary run to run: they are judged in timings.md only.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "rayspace/reproduce/configs.h"
+#include "rayspace/reproduce/counts.h"
+#include "rayspace/reproduce/relations.h"
+
+namespace rayspace::reproduce {
+
+// One stand-in scene: a reflector in the room of scenes/roger-*.json.
+struct RogerScene {
+  std::string name;    // BUNNY res4, WAVY n=4: the configuration's scene
+  std::string file;    // relative to the scenes directory
+  std::string series;  // "bunny" (figure 9(b)) or "wavy" (figure 9(c))
+  double x = 0;        // the figure's abscissa: the bunny's polygons, or n
+  bool quick = false;  // measured by --quick too
+};
+const std::vector<RogerScene>& RogerScenes();
+
+// The paper's scenes are not held: what stands in for them, for the report's rows.
+inline constexpr const char* kRogerStandIn =
+    "stand-in: the paper's Kitchen is not held; a room (cornell_room, a ball, a block) holds the reflector";
+
+// The configurations of `reproduce roger` at a base frame size: every scene (--quick: those marked
+// quick) with Roger's quadtree and the thesis's RAH (subdivision 8, depth 2) at width x height, and the
+// first bunny at half and twice each side too (figure 13(c)).
+std::vector<Config> RogerConfigs(int width, int height, bool full);
+
+// Our counts in the paper's terms, summed over the ray types.
+std::uint64_t ConeSphereTests(const Counts& c);  // every level's intersections: the traversal's tests
+std::uint64_t FinalTests(const Counts& c);       // ray-triangle tests
+std::uint64_t Rays(const Counts& c);
+
+// The paper's claims as relations, each named as the report names it.
+inline constexpr const char* kRogerGrowsLod = "work grows with the bunny's polygons (fig. 9(b))";
+inline constexpr const char* kRogerGrowsN = "work grows with n of cos(nx)cos(ny) (fig. 9(c))";
+inline constexpr const char* kRogerPerRay = "ray-triangle tests per ray between 2.5 and 4.5 (fig. 13(a))";
+inline constexpr const char* kRogerSubLinear = "4x the pixels, less than 4x the cone-sphere tests (fig. 13(c))";
+
+struct GrowthPoint {
+  double x = 0;
+  std::uint64_t work = 0;
+};
+// Holds when work strictly increases with x (the points in any order; fewer than two: fails, nothing
+// was compared). Detail: the works in x order, "1,200 < 3,400 < 9,000".
+Outcome GrowsWith(std::vector<GrowthPoint> points);
+// Holds when lo <= v <= hi; detail "3.21 in [2.5, 4.5]".
+Outcome InRange(double v, double lo, double hi);
+// Holds when big / small < pixel_ratio; detail "x3.10 < x4 pixels".
+Outcome SubLinear(std::uint64_t small, std::uint64_t big, double pixel_ratio);
+
+}  // namespace rayspace::reproduce

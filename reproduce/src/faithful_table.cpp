@@ -1,0 +1,89 @@
+#include "rayspace/reproduce/faithful_table.h"
+
+#include <cmath>
+#include <map>
+#include <tuple>
+
+#include <fmt/format.h>
+
+namespace rayspace::reproduce {
+namespace {
+
+// Totals by (faithful preset, scene, algo, subdivision, levels).
+using Totals = std::map<std::tuple<std::string, std::string, std::string, int, int>, std::uint64_t>;
+
+Totals MakeTotals(const std::vector<Result>& results) {
+  Totals t;
+  for (const Result& r : results)
+    if (!r.config.quadtree()) t[{r.config.faithful, r.config.scene, r.config.algo, r.config.subdivision, r.config.levels}] = r.counts.total;
+  return t;
+}
+
+std::optional<double> Get(const Totals& t, const std::string& faithful, const std::string& scene, const char* algo, HierarchyShape s) {
+  const auto it = t.find({faithful, scene, algo, s.subdivision, s.depth});
+  return it == t.end() ? std::nullopt : std::optional<double>(static_cast<double>(it->second));
+}
+
+std::optional<double> PublishedTotal(const Published& p, const std::string& scene, const char* algo, HierarchyShape s) {
+  const auto* v = p.Total(s, scene, algo);
+  return v ? std::optional<double>(static_cast<double>(v->first)) : std::nullopt;
+}
+
+std::optional<double> Quotient(std::optional<double> a, std::optional<double> b) {
+  if (!a || !b || *b == 0.0) return std::nullopt;
+  return *a / *b;
+}
+
+std::string Number(std::optional<double> v, const char* format) { return v ? fmt::format(fmt::runtime(format), *v) : "n/a"; }
+
+// Ours against the published within the tolerance; nothing when either is missing.
+std::optional<Outcome> Within(std::optional<double> ours, std::optional<double> pub, const char* format) {
+  const std::optional<double> q = Quotient(ours, pub);
+  if (!q) return std::nullopt;
+  const bool holds = std::abs(*q - 1.0) <= kFaithfulTolerance;
+  return Outcome{holds, fmt::format("{} vs {}: {:+.1f} %", Number(ours, format), Number(pub, format), (*q - 1.0) * 100.0)};
+}
+
+}  // namespace
+
+Table FaithfulTable(const std::vector<Result>& results, const Published& p, std::vector<RelationRow>& relations) {
+  Table t{"faithful", "Faithful to the thesis (`--faithful thesis`) beside rayspace's defaults",
+          {"scene", "shape", "RAH published", "RAH faithful", "RAH faithful/published", "CRSH published", "CRSH faithful",
+           "CRSH faithful/published", "CRSH/RAH published", "CRSH/RAH default", "CRSH/RAH faithful", "verdict"},
+          {},
+          {"Target: each faithful total and each faithful CRSH/RAH within 15 % of the thesis's. `--faithful thesis` is "
+           "the thesis's method as printed (docs/hierarchy.md, \"Faithful to the thesis\"), and Sponza is one object as "
+           "in the thesis. Where a row fails, docs/reproduce.md says why."}};
+  const Totals totals = MakeTotals(results);
+  for (const Result& r : results)
+    if (!r.config.faithful.empty() && (r.config.width != 512 || r.config.height != 512)) {
+      t.notes.push_back(fmt::format("These frames are {}x{}, not the thesis's 512x512: totals scale with the rays, so only a "
+                                    "`--full` run compares them.", r.config.width, r.config.height));
+      break;
+    }
+  for (const SceneChoice& sc : ThesisScenes())
+    for (const auto& [sub, depth] : ThesisShapes()) {
+      const HierarchyShape s{sub, depth};
+      const auto rah_pub = PublishedTotal(p, sc.paper, "RAH", s), crsh_pub = PublishedTotal(p, sc.paper, "CRSH", s);
+      const auto rah = Get(totals, "thesis", sc.paper, "rah", s), crsh = Get(totals, "thesis", sc.paper, "crsh", s);
+      if (!rah && !crsh) continue;
+      const auto ratio_pub = Quotient(crsh_pub, rah_pub), ratio = Quotient(crsh, rah);
+      const auto ratio_default = Quotient(Get(totals, "", sc.paper, "crsh", s), Get(totals, "", sc.paper, "rah", s));
+      const std::string where = fmt::format("{} s{} d{}", sc.paper, sub, depth);
+      const std::optional<Outcome> checks[] = {Within(rah, rah_pub, "{:.0f}"), Within(crsh, crsh_pub, "{:.0f}"),
+                                                Within(ratio, ratio_pub, "{:.3f}")};
+      relations.push_back({kFaithfulTotal, where + " RAH", checks[0], std::nullopt});
+      relations.push_back({kFaithfulTotal, where + " CRSH", checks[1], std::nullopt});
+      relations.push_back({kFaithfulRatio, where, checks[2], std::nullopt});
+      int held = 0, judged = 0;
+      for (const auto& c : checks)
+        if (c) held += c->holds, ++judged;
+      t.rows.push_back({sc.paper, fmt::format("s{} d{}", sub, depth), Number(rah_pub, "{:.0f}"), Number(rah, "{:.0f}"),
+                        Number(Quotient(rah, rah_pub), "{:.3f}"), Number(crsh_pub, "{:.0f}"), Number(crsh, "{:.0f}"),
+                        Number(Quotient(crsh, crsh_pub), "{:.3f}"), Number(ratio_pub, "{:.3f}"), Number(ratio_default, "{:.3f}"),
+                        Number(ratio, "{:.3f}"), fmt::format("{} of {} within 15 %", held, judged)});
+    }
+  return t;
+}
+
+}  // namespace rayspace::reproduce

@@ -1,0 +1,105 @@
+#include "rayspace/reproduce/roger.h"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+namespace rayspace::reproduce {
+
+const std::vector<RogerScene>& RogerScenes() {
+  // The bunny's polygons are its PLY files' (bunny/SOURCE.txt); the paper's LODs run 948 to 69,000.
+  // n is the wavy generator's frequency on a unit square (n / 2pi periods across the reflector).
+  static const std::vector<RogerScene> scenes = {
+      {"BUNNY res4", "roger-bunny-res4.json", "bunny", 948, true},
+      {"BUNNY res3", "roger-bunny-res3.json", "bunny", 3851, true},
+      {"BUNNY res2", "roger-bunny-res2.json", "bunny", 16301, false},
+      {"BUNNY full", "roger-bunny-full.json", "bunny", 69451, false},
+      {"WAVY n=4", "roger-wavy-n4.json", "wavy", 4, true},
+      {"WAVY n=8", "roger-wavy-n8.json", "wavy", 8, true},
+      {"WAVY n=16", "roger-wavy-n16.json", "wavy", 16, true},
+      {"WAVY n=32", "roger-wavy-n32.json", "wavy", 32, true},
+  };
+  return scenes;
+}
+
+std::vector<Config> RogerConfigs(int width, int height, bool full) {
+  std::vector<Config> configs;
+  auto add = [&](const RogerScene& s, int w, int h, bool faithful) {
+    Config c;
+    c.target = "roger";
+    c.scene = s.name;
+    c.scene_file = s.file;
+    c.bounces = 1;  // the paper's figures 9 and 13: one bounce
+    c.path = "passes";  // cone-sphere tests, then the stream reduction: figure 9(a) times them apart
+    c.width = w;
+    c.height = h;
+    c.algo = "rah-quadtree";
+    c.subdivision = 4;
+    c.levels = 0;
+    configs.push_back(c);
+    c.algo = "rah";
+    c.subdivision = 8;
+    c.levels = 2;
+    configs.push_back(c);
+    if (!faithful) return;
+    // The quadtree as the paper describes it (--faithful roger: its leaf-level ray-sphere test and its
+    // printed cone test), beside rayspace's: figure 13(a)'s tests per ray depend on the leaf test.
+    c.algo = "rah-quadtree";
+    c.subdivision = 4;
+    c.levels = 0;
+    c.faithful = "roger";
+    configs.push_back(c);
+  };
+  for (const RogerScene& s : RogerScenes())
+    if (full || s.quick) add(s, width, height, true);
+  // Figure 13(c): the same frame at a quarter (when it has a pixel) and four times the pixels.
+  if (width >= 2 && height >= 2) add(RogerScenes().front(), width / 2, height / 2, false);
+  add(RogerScenes().front(), width * 2, height * 2, false);
+  return configs;
+}
+
+std::uint64_t ConeSphereTests(const Counts& c) {
+  std::uint64_t n = 0;
+  for (const auto& [type, t] : c.types)
+    for (const LevelCounts& l : t.levels) n += l.intersections;
+  return n;
+}
+
+std::uint64_t FinalTests(const Counts& c) {
+  std::uint64_t n = 0;
+  for (const auto& [type, t] : c.types) n += t.final_tests;
+  return n;
+}
+
+std::uint64_t Rays(const Counts& c) {
+  std::uint64_t n = 0;
+  for (const auto& [type, t] : c.types) n += t.rays;
+  return n;
+}
+
+Outcome GrowsWith(std::vector<GrowthPoint> points) {
+  std::stable_sort(points.begin(), points.end(), [](const GrowthPoint& a, const GrowthPoint& b) { return a.x < b.x; });
+  if (points.size() < 2) return {false, fmt::format("{} point(s): nothing to compare", points.size())};
+  bool holds = true;
+  std::string detail = Thousands(points[0].work);
+  for (std::size_t i = 1; i < points.size(); ++i) {
+    const bool up = points[i].work > points[i - 1].work;
+    holds = holds && up;
+    detail += fmt::format(" {} {}", up ? "<" : ">=", Thousands(points[i].work));
+  }
+  return {holds, detail};
+}
+
+Outcome InRange(double v, double lo, double hi) {
+  const bool holds = v >= lo && v <= hi;
+  return {holds, fmt::format("{:.2f} {} [{}, {}]", v, holds ? "in" : "not in", lo, hi)};
+}
+
+Outcome SubLinear(std::uint64_t small, std::uint64_t big, double pixel_ratio) {
+  const double ratio = small ? static_cast<double>(big) / static_cast<double>(small) : 0.0;
+  const bool holds = small > 0 && ratio < pixel_ratio;
+  return {holds, fmt::format("x{:.2f} {} x{:g} pixels ({} -> {})", ratio, holds ? "<" : ">=", pixel_ratio, Thousands(small),
+                             Thousands(big))};
+}
+
+}  // namespace rayspace::reproduce

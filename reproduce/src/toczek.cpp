@@ -1,0 +1,297 @@
+// `reproduce toczek`: its configurations, the paper's tables 1 and 2, and their sections of report.md.
+#include "rayspace/reproduce/toczek.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "rayspace/reproduce/report.h"
+#include "rayspace/reproduce/store.h"
+
+namespace rayspace::reproduce {
+
+const std::vector<ToczekScene>& ToczekScenes() {
+  static const std::vector<ToczekScene> scenes = {
+      {"BUNNY", "toczek-bunny-noground.json", 1, 69451, "the Stanford bunny (bun_zipper.ply), no ground, as the paper's table 1"},
+      {"CUBES", "toczek-cubes.json", 2, 222,
+       "our generator: 18 boxes in a corner (a floor and two walls, 2 triangles each); the paper's layout is not published"},
+      {"SUZANNE", "toczek-suzanne.json", 2, 970, "Blender's Suzanne (968 triangles) on a 2-triangle ground"},
+      {"BUNNY+GROUND", "toczek-bunny.json", 2, 69453, "the Stanford bunny on a 2-triangle ground"},
+      {"DRAGON", "toczek-dragon.json", 2, 871416,
+       "stand-in: the 100,000-triangle decimated dragon on a 2-triangle ground (the paper's has 871,416); the Happy Buddha "
+       "(293,234) is not held"},
+  };
+  return scenes;
+}
+
+std::vector<Config> ToczekConfigs(int width, int height) {
+  std::vector<Config> configs;
+  for (const ToczekScene& s : ToczekScenes()) {
+    Config c;
+    c.target = "toczek";
+    c.scene = s.name;
+    c.scene_file = s.file;
+    c.algo = "tl";
+    c.lists = 6;  // the paper's sextants
+    c.bounces = 0;  // direct illumination: shadow rays only
+    c.width = width;
+    c.height = height;
+    c.subdivision = 0;
+    c.levels = 0;
+    for (const char* order : {"earliest-first", "latest-last"}) {
+      if (s.table == 2 && std::string(order) != "earliest-first") continue;
+      c.node_order = order;
+      // Table 1: its 16 combinations, eye rays traced through the lists as the paper's are: back-face
+      // culling off and on (one-sided triangles when on), the regular per-polygon heads off and on,
+      // frustum culling of the eye rays off and on.
+      for (const bool cull : {false, true})
+        for (const char* heads : {"", "regular"})
+          for (const bool frustum : {false, true}) {
+            if (s.table == 2 && (cull || *heads || frustum)) continue;
+            c.cull = cull;
+            c.heads = heads;
+            c.primary = s.table == 1;
+            c.frustum = frustum;
+            configs.push_back(c);
+          }
+    }
+    c.cull = false;
+    c.heads.clear();
+    c.primary = c.frustum = false;
+  }
+  return configs;
+}
+
+// The paper's table 1 (GTX 280, bunny without ground, 1024x1024) and table 2 (all optimisations on).
+const std::vector<ToczekTable1Row>& ToczekTable1() {
+  static const std::vector<ToczekTable1Row> rows = {
+      {"latest-last", false, false, true, 8.43e6, 15.02e9},    {"latest-last", false, false, false, 8.43e6, 14.54e9},
+      {"latest-last", false, true, true, 8.40e6, 13.99e9},     {"latest-last", false, true, false, 8.40e6, 16.41e9},
+      {"latest-last", true, false, true, 8.43e6, 13.05e9},     {"latest-last", true, false, false, 8.40e6, 14.85e9},
+      {"latest-last", true, true, true, 8.44e6, 15.01e9},      {"latest-last", true, true, false, 8.43e6, 13.92e9},
+      {"earliest-first", false, false, true, 8.40e6, 16.29e9}, {"earliest-first", false, false, false, 8.43e6, 13.52e9},
+      {"earliest-first", false, true, true, 8.41e6, 15.32e9},  {"earliest-first", false, true, false, 8.43e6, 14.87e9},
+      {"earliest-first", true, false, true, 8.40e6, 13.75e9},  {"earliest-first", true, false, false, 8.40e6, 16.17e9},
+      {"earliest-first", true, true, true, 8.43e6, 13.39e9},   {"earliest-first", true, true, false, 8.43e6, 14.65e9},
+  };
+  return rows;
+}
+
+const std::vector<ToczekTable2Row>& ToczekTable2() {
+  static const std::vector<ToczekTable2Row> rows = {
+      {"Cubes", 222, 60.85e6, 70.52e9},          {"Suzanne", 970, 44.43e6, 48.20e9}, {"Bunny", 69453, 11.52e6, 12.41e9},
+      {"Happy Buddha", 293234, 5.69e6, 6.42e9}, {"Dragon", 871416, 6.31e6, 6.96e9},
+  };
+  return rows;
+}
+
+Outcome WithinShare(double a, double b, double bound) {
+  const double share = std::max(a, b) > 0 ? std::abs(a - b) / std::max(a, b) : 0.0;
+  return {share <= bound, fmt::format("{:.0f} vs {:.0f}: {:.1f}% {} {:.0f}%", a, b, 100.0 * share, share <= bound ? "<=" : ">", 100.0 * bound)};
+}
+
+Outcome Lowers(double without, double with) {
+  return {with < without, fmt::format("{:.1f} without, {:.1f} with: x{:.3f}", without, with, without > 0 ? with / without : 0.0)};
+}
+
+Outcome SpreadAtMost(const std::vector<double>& values, double bound) {
+  if (values.size() < 2) return {false, fmt::format("{} value(s): nothing to compare", values.size())};
+  const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
+  const double spread = *lo > 0 ? *hi / *lo : 0.0;
+  return {*lo > 0 && spread <= bound, fmt::format("x{:.2f} ({:.0f} to {:.0f}) over {} scenes", spread, *lo, *hi, values.size())};
+}
+
+namespace {
+
+// Ours: the sphere and triangle elements the walks tested per ray (render --stats, traversal_lists).
+struct Walks {
+  double rays = 0, spheres = 0, triangles = 0;
+  std::uint64_t elements = 0;  // per list
+  double NodesPerRay() const { return rays > 0 ? (spheres + triangles) / rays : 0.0; }
+  double SpheresPerRay() const { return rays > 0 ? spheres / rays : 0.0; }
+  double TrianglesPerRay() const { return rays > 0 ? triangles / rays : 0.0; }
+};
+Walks WalksOf(const Result& r) {
+  Walks w;
+  const nlohmann::json lists = r.statistics.value("traversal_lists", nlohmann::json::object());
+  w.elements = lists.value("elements_per_list", std::uint64_t{0});
+  const nlohmann::json types = lists.value("per_type", nlohmann::json::object());
+  for (const auto& [name, t] : types.items()) {
+    w.rays += t.value("rays", 0.0);
+    w.spheres += t.value("sphere_tests", 0.0);
+    w.triangles += t.value("triangle_tests", 0.0);
+  }
+  return w;
+}
+
+const Result* FindRun(const std::vector<const Result*>& results, const std::string& scene, const std::string& order, bool cull = false,
+                   bool heads = false, bool frustum = false) {
+  for (const Result* r : results)
+    if (r->config.scene == scene && r->config.node_order == order && r->config.cull == cull && r->config.heads.empty() != heads &&
+        r->config.frustum == frustum)
+      return r;
+  return nullptr;
+}
+
+// The culled share of the triangle references, per list, from the statistics (traversal_lists).
+std::string CulledShares(const Result& r) {
+  const nlohmann::json lists = r.statistics.value("traversal_lists", nlohmann::json::object());
+  std::string out;
+  for (const nlohmann::json& l : lists.value("per_list", nlohmann::json::array()))
+    out += fmt::format("{}{:.1f}%", out.empty() ? "" : " ", 100.0 * l.value("culled_fraction", 0.0));
+  return out;
+}
+
+std::string Fixed(double v) { return fmt::format("{:.1f}", v); }
+
+// One ray type's elements per ray (traversal_lists.per_type), 0 when the type did not run.
+double TypePerRay(const Result& r, const std::string& type) {
+  const nlohmann::json t =
+      r.statistics.value("traversal_lists", nlohmann::json::object()).value("per_type", nlohmann::json::object()).value(type, nlohmann::json::object());
+  const double rays = t.value("rays", 0.0);
+  return rays > 0 ? (t.value("sphere_tests", 0.0) + t.value("triangle_tests", 0.0)) / rays : 0.0;
+}
+std::string YesNo(bool b) { return b ? "enabled" : "disabled"; }
+
+struct PairedVerdicts {
+  std::vector<std::vector<std::string>> rows;
+  void Add(Table& t, const std::string& relation, const std::string& where, const Outcome& ours, const Outcome& published) {
+    t.notes.push_back(fmt::format("- {}: {}: ours {} ({}); published {} ({})", where, relation, ours.holds ? "holds" : "fails",
+                                  ours.detail, published.holds ? "holds" : "fails", published.detail));
+    rows.push_back({relation, where, ours.holds ? "holds" : "fails", ours.detail, published.holds ? "holds" : "fails", published.detail});
+  }
+};
+
+// Table 1: every published combination, each measured with its switches (the node order, back-face
+// culling, per-polygon heads, the eye rays' frustum culling).
+Table Table1(const std::vector<const Result*>& results, PairedVerdicts& v) {
+  Table t{"toczek-1", "Toczek et al. table 1: the bunny without ground, traversed nodes per ray by optimisation",
+          {"node order", "back-face culling", "per-polygon heads", "frustum culling", "published nodes/ray", "ours nodes/ray",
+           "ours spheres/ray", "ours triangles/ray", "ours eye ray nodes/ray", "ours shadow ray nodes/ray", "ours culled per list",
+           "published x all off", "ours x all off"},
+          {}, {}};
+  for (const ToczekTable1Row& p : ToczekTable1()) {
+    const Result* r = FindRun(results, "BUNNY", p.order, p.culling, p.heads, p.frustum);
+    const Walks w = r ? WalksOf(*r) : Walks{};
+    // Each row against its order's row with every switch off: the relations the two sides share.
+    const double pub_base = ToczekTable1()[p.order == "earliest-first" ? 9 : 1].NodesPerRay();
+    const Result* base = FindRun(results, "BUNNY", p.order);
+    const double ours_base = base ? WalksOf(*base).NodesPerRay() : 0.0;
+    t.rows.push_back({p.order, YesNo(p.culling), p.heads ? "regular" : "disabled", YesNo(p.frustum), Fixed(p.NodesPerRay()),
+                      r ? Fixed(w.NodesPerRay()) : "not measured", r ? Fixed(w.SpheresPerRay()) : "", r ? Fixed(w.TrianglesPerRay()) : "",
+                      r ? Fixed(TypePerRay(*r, "primary")) : "", r ? Fixed(TypePerRay(*r, "shadow")) : "",
+                      r && p.culling ? CulledShares(*r) : "", fmt::format("{:.3f}", p.NodesPerRay() / pub_base),
+                      r && ours_base > 0 ? fmt::format("{:.3f}", w.NodesPerRay() / ours_base) : ""});
+  }
+  t.notes.push_back("Published nodes/ray: the table's traversed nodes per second over its rays per second (primary and shadow rays "
+                    "traced on the GPU). Ours: the sphere and triangle elements the walks of the eye rays (traced through the lists "
+                    "beside the raster, `--primary tl`) and the shadow rays tested, per ray, 6 lists; each kind's own count beside. "
+                    "With back-face culling the triangles are one-sided (a shadow ray meets "
+                    "an occluder only from its front) and each list drops those its rays can only meet from behind; the culled "
+                    "share is per list, +x -x +y -y +z -z (10.8% of uniformly oriented triangles per sextant, not the paper's 16.7%: "
+                    "docs/traversal-lists.md). Culling drops triangles and the nodes left empty, not the spheres above "
+                    "the rest (the tree is built once over every triangle), and a shadow ray's walk tests about 11 "
+                    "triangles against about 97 spheres: what it can save is small. With the regular per-polygon heads a shadow ray "
+                    "walks only the window of its list that is not wholly behind the plane of the triangle it ends on, nor past "
+                    "that triangle along the four facet planes of its sextant (docs/traversal-lists.md). With frustum culling an eye "
+                    "ray walks only the window of its list outside which every element lies beyond one of the four side planes "
+                    "of its 16x16-pixel screen cell's pyramid; it changes only the eye rays' count. The last two columns divide "
+                    "each row by its node order's row with every switch off; the plot sets them against each other.");
+  const Result* ef = FindRun(results, "BUNNY", "earliest-first");
+  const Result* ll = FindRun(results, "BUNNY", "latest-last");
+  if (ef && ll) {
+    const ToczekTable1Row& pe = ToczekTable1()[9];  // earliest first, everything disabled
+    const ToczekTable1Row& pl = ToczekTable1()[1];  // latest last, everything disabled
+    v.Add(t, kToczekOrder, "bunny, every optimisation disabled", WithinShare(WalksOf(*ef).NodesPerRay(), WalksOf(*ll).NodesPerRay(), 0.2),
+          WithinShare(pe.NodesPerRay(), pl.NodesPerRay(), 0.2));
+  }
+  // Back-face culling alone, per order: the rows (order, culling, disabled, disabled).
+  for (const auto& [order, off_row, on_row] : {std::tuple{"earliest-first", 9, 13}, std::tuple{"latest-last", 1, 5}}) {
+    const Result* off = FindRun(results, "BUNNY", order);
+    const Result* on = FindRun(results, "BUNNY", order, true);
+    if (!off || !on) continue;
+    v.Add(t, kToczekCulling, fmt::format("bunny, {}, heads and frustum culling disabled", order),
+          Lowers(WalksOf(*off).NodesPerRay(), WalksOf(*on).NodesPerRay()),
+          Lowers(ToczekTable1()[static_cast<std::size_t>(off_row)].NodesPerRay(), ToczekTable1()[static_cast<std::size_t>(on_row)].NodesPerRay()));
+  }
+  // Frustum culling alone, per order: the rows (order, disabled, disabled, disabled) and (order,
+  // disabled, disabled, enabled).
+  for (const auto& [order, off_row, on_row] : {std::tuple{"earliest-first", 9, 8}, std::tuple{"latest-last", 1, 0}}) {
+    const Result* off = FindRun(results, "BUNNY", order);
+    const Result* on = FindRun(results, "BUNNY", order, false, false, true);
+    if (!off || !on) continue;
+    v.Add(t, kToczekFrustum, fmt::format("bunny, {}, back-face culling and heads disabled", order),
+          Lowers(WalksOf(*off).NodesPerRay(), WalksOf(*on).NodesPerRay()),
+          Lowers(ToczekTable1()[static_cast<std::size_t>(off_row)].NodesPerRay(), ToczekTable1()[static_cast<std::size_t>(on_row)].NodesPerRay()));
+  }
+  // Regular per-polygon heads alone, per order and culling: the rows (order, culling, disabled,
+  // disabled) against (order, culling, regular, disabled).
+  for (const auto& [order, cull, off_row, on_row] :
+       {std::tuple{"earliest-first", false, 9, 11}, std::tuple{"earliest-first", true, 13, 15}, std::tuple{"latest-last", false, 1, 3},
+        std::tuple{"latest-last", true, 5, 7}}) {
+    const Result* off = FindRun(results, "BUNNY", order, cull);
+    const Result* on = FindRun(results, "BUNNY", order, cull, true);
+    if (!off || !on) continue;
+    v.Add(t, kToczekHeads, fmt::format("bunny, {}, back-face culling {}, frustum culling disabled", order, cull ? "enabled" : "disabled"),
+          Lowers(WalksOf(*off).NodesPerRay(), WalksOf(*on).NodesPerRay()),
+          Lowers(ToczekTable1()[static_cast<std::size_t>(off_row)].NodesPerRay(), ToczekTable1()[static_cast<std::size_t>(on_row)].NodesPerRay()));
+  }
+  return t;
+}
+
+// Table 2: nodes per ray against the triangle count, ours beside the published (a series plot).
+Table Table2(const std::vector<const Result*>& results, PairedVerdicts& v) {
+  Table t{"toczek-2", "Toczek et al. table 2: traversed nodes per ray against the scene's triangles",
+          {"scene", "series", "triangles", "nodes per ray", "spheres/ray", "triangles/ray", "elements per list", "note"}, {}, {}};
+  std::vector<double> ours, published;
+  std::uint64_t cubes_elements = 0;
+  for (const ToczekTable2Row& p : ToczekTable2()) {
+    t.rows.push_back({p.scene, "published", Thousands(p.triangles), Fixed(p.NodesPerRay()), "", "", "", "GTX 280, all optimisations"});
+    published.push_back(p.NodesPerRay());
+  }
+  for (const ToczekScene& s : ToczekScenes()) {
+    if (s.table != 2) continue;
+    const Result* r = FindRun(results, s.name, "earliest-first");
+    if (!r) continue;
+    const Walks w = WalksOf(*r);
+    std::uint64_t triangles = 0;
+    for (const auto& [type, c] : r->counts.types)
+      if (c.rays) triangles = c.brute_force / c.rays;
+    t.rows.push_back({s.name, "ours", Thousands(triangles), Fixed(w.NodesPerRay()), Fixed(w.SpheresPerRay()),
+                      Fixed(w.TrianglesPerRay()), Thousands(w.elements), s.note});
+    ours.push_back(w.NodesPerRay());
+    if (s.name == "CUBES") cubes_elements = w.elements;
+  }
+  t.plot_x = "triangles";
+  t.plot_y = "nodes per ray";
+  t.plot_group = "series";
+  t.notes.push_back("Ours: 6 lists, earliest first, none of the optimisations (two-sided triangles, so that every tracer sees the "
+                    "same scene), shadow rays only; the paper's table 2 has every optimisation on and counts its primary rays too.");
+  if (cubes_elements > 0)
+    t.notes.push_back(fmt::format("The published values are not elements tested per ray: {:.0f} for the cubes exceeds the {} "
+                                  "elements our cubes' whole list holds, and a walk visits each element of one list at most "
+                                  "once. Only the relations compare.",
+                                  ToczekTable2().front().NodesPerRay(), Thousands(cubes_elements)));
+  v.Add(t, kToczekFlat, "every scene", SpreadAtMost(ours, 3.0), SpreadAtMost(published, 3.0));
+  return t;
+}
+
+}  // namespace
+
+void AddToczekReport(Report& report, const std::vector<const Result*>& results) {
+  if (results.empty()) return;
+  PairedVerdicts v;
+  std::vector<Table> tables = {Table1(results, v), Table2(results, v)};
+  Table summary{"toczek-summary", "Toczek et al. 2010: its tables' relations on our counts",
+                {"relation", "where", "ours", "compared", "published", "published compared"}, v.rows, {}};
+  summary.notes.push_back(fmt::format(
+      "{} configurations of `reproduce toczek` at {}x{} on the emulator, one point light, direct illumination (shadow rays "
+      "traced with `--algo tl`). The paper's frame rates and rays per second are a GPU's; what compares is their ratio, "
+      "traversed nodes per ray.",
+      results.size(), results.front()->config.width, results.front()->config.height));
+  report.tables.push_back(std::move(summary));
+  for (Table& t : tables) report.tables.push_back(std::move(t));
+}
+
+}  // namespace rayspace::reproduce
