@@ -307,7 +307,7 @@ nlohmann::json FinalTestsJson(const LostTests& t) {
 }  // namespace
 
 nlohmann::json ImpactJson(const DiffImpact& m) {
-  if (!m.failed.empty()) return {{"measured", false}, {"failed", m.failed}};
+  if (!m.failed.empty()) return {{"measured", false}, {"actual", m.actual}, {"failed", m.failed}};
   nlohmann::json first = nlohmann::json::array();
   for (const ChangedRay& c : m.first) {
     const auto hit = [&c](std::uint32_t h) {
@@ -319,7 +319,7 @@ nlohmann::json ImpactJson(const DiffImpact& m) {
   }
   nlohmann::json verdicts = {{"emulator", 0}, {"vulkan", 0}, {"both", 0}, {"within_rounding", 0}, {"neither", 0}};
   for (const auto& [k, n] : m.verdicts) verdicts[k] = n;
-  return {{"measured", true},           {"no_visible_change", m.NoVisibleChange()}, {"differed", m.differed}, {"rays", m.rays},
+  return {{"measured", true},           {"actual", m.actual}, {"no_visible_change", m.NoVisibleChange()}, {"differed", m.differed}, {"rays", m.rays},
           {"rays_changed", m.rays_changed}, {"one_side_only", m.one_side_only}, {"primary_hits_changed", m.primary_changed},
           {"pixels_changed", m.pixels_changed}, {"judged", m.judged},  {"verdicts", verdicts},
           {"changed_rays", first}, {"final_tests", FinalTestsJson(m.tests)}};

@@ -269,11 +269,20 @@ elseif(PART STREQUAL "backend" OR PART STREQUAL "backend-faults" OR PART STREQUA
     if(NOT rc EQUAL 2 OR NOT err MATCHES "^rayspace: error: --subgroup-size 4: only the simulated GPU's subgroup size is chosen")
       set(failures "${failures}\ndiff --backends emu,vulkan --subgroup-size 4: exit ${rc}, expected 2: ${err}")
     endif()
-    # A planted fault in the kernel's arithmetic is a divergence.
+    # A planted fault in the kernel's arithmetic is a divergence; its impact runs the frame on the
+    # simulated GPU as the actual side, and names it so (here that frame fails on the bad pairs).
+    file(REMOVE "${WORK}/reduce-fault.json")
     execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backends emu,sim --inject reduce:1
+                            --report "${WORK}/reduce-fault.json"
                     RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-    if(NOT rc EQUAL 4 OR NOT err MATCHES "first divergent pass: reduce")
-      set(failures "${failures}\ndiff --backends emu,sim --inject reduce:1: exit ${rc}, expected 4 at reduce: ${err}")
+    set(actual "")
+    if(EXISTS "${WORK}/reduce-fault.json")
+      file(READ "${WORK}/reduce-fault.json" j)
+      string(JSON actual ERROR_VARIABLE jerr GET "${j}" impact actual)
+    endif()
+    if(NOT rc EQUAL 4 OR NOT err MATCHES "first divergent pass: reduce" OR NOT actual STREQUAL "sim"
+       OR NOT err MATCHES "impact: not measured: the sim backend's frame failed")
+      set(failures "${failures}\ndiff --backends emu,sim --inject reduce:1: exit ${rc}, expected 4 at reduce with the impact's actual side sim (got '${actual}'): ${err}")
     endif()
   endif()
   # The planted faults, on the kernel (backend-faults, default tier): each stops the diff with exit 6
