@@ -11,21 +11,6 @@ std::string Str(const nlohmann::json& j, const char* key) {
   return j.contains(key) && j[key].is_string() ? j[key].get<std::string>() : std::string();
 }
 
-// "BUFFER[INDEX]: expected E, actual A" for the call's first differing buffer.
-std::string FirstMismatch(const nlohmann::json& call) {
-  for (const nlohmann::json& b : call.value("buffers", nlohmann::json::array())) {
-    if (b.value("equal", true)) continue;
-    if (b.contains("first_mismatch")) {
-      const nlohmann::json& m = b["first_mismatch"];
-      return fmt::format("{}[{}]: expected {}, actual {} ({} of {} elements differ)", Str(b, "buffer"), m.value("index", 0),
-                         Str(m, "expected"), Str(m, "actual"), b.value("mismatches", 0), b.value("elements", 0));
-    }
-    return fmt::format("{}: {} elements expected, {} actual", Str(b, "buffer"), b.value("expected_elements", 0),
-                       b.value("actual_elements", 0));
-  }
-  return "differs";
-}
-
 JUnitSuite FrameSuite(const nlohmann::json& r) {
   JUnitSuite s;
   const std::string inject = Str(r, "inject");
@@ -43,7 +28,8 @@ JUnitSuite FrameSuite(const nlohmann::json& r) {
       failed_call = true;
       k.outcome = Outcome::kFailure;
       k.type = "divergence";
-      k.message = FirstMismatch(c);
+      const std::string first = FirstMismatch(c);
+      k.message = first.empty() ? "differs" : first;
       std::string details;
       for (const char* key : {"pairs", "hits", "raster"})
         if (!Str(c, key).empty()) details += fmt::format("{}: {}\n", key, Str(c, key));
@@ -104,6 +90,20 @@ JUnitSuite MutantSuite(const std::string& side, const nlohmann::json& mutants) {
 }
 
 }  // namespace
+
+std::string FirstMismatch(const nlohmann::json& call) {
+  for (const nlohmann::json& b : call.value("buffers", nlohmann::json::array())) {
+    if (b.value("equal", true)) continue;
+    if (b.contains("first_mismatch")) {
+      const nlohmann::json& m = b["first_mismatch"];
+      return fmt::format("{}[{}]: expected {}, actual {} ({} of {} elements differ)", Str(b, "buffer"), m.value("index", 0),
+                         Str(m, "expected"), Str(m, "actual"), b.value("mismatches", 0), b.value("elements", 0));
+    }
+    return fmt::format("{}: {} elements expected, {} actual", Str(b, "buffer"), b.value("expected_elements", 0),
+                       b.value("actual_elements", 0));
+  }
+  return {};
+}
 
 std::vector<JUnitSuite> MutateJUnit(const nlohmann::json& report) {
   std::vector<JUnitSuite> out;

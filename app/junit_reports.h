@@ -15,6 +15,10 @@ namespace rayspace::app {
 // when a checker or an error stopped the frame without a divergent call.
 std::vector<JUnitSuite> DiffJUnit(const nlohmann::json& report);
 
+// A diff report call's first differing buffer (its "calls" entry), as "BUFFER[INDEX]: expected E,
+// actual A (M of N elements differ)", or its element counts when they differ; "" when none differs.
+std::string FirstMismatch(const nlohmann::json& call);
+
 // mutate's report: a suite per side (the mutants on Vulkan, on the simulated GPU) and one of the
 // spirv-opt variants. A killed mutant passes; an unexplained survivor fails (the tests' gap); an
 // equivalent, explained, stillborn or invalid one is skipped, saying which; a mutant that broke the

@@ -258,10 +258,10 @@ RenderValue RenderToValue(const RenderArgs& args, const std::function<std::strin
   v.verdict = wrong ? ExitCode::kOracleMismatch : ExitCode::kOk;
   v.width = r.width;
   v.height = r.height;
-  v.rgb = r.rgb;
   v.digest = HexDigest(r.digest.Frame());
   v.oracle_mismatches = checked ? checked->mismatches().size() : 0;
   v.statistics = StatsJson(args, o);
+  v.rgb = std::move(f->result.rgb);  // last: nothing reads the frame's pixels after this
   return v;
 }
 

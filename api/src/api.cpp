@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "diff_command.h"
+#include "junit_reports.h"
 #include "render_command.h"
 #include "rayspace/json_text.h"
 #include "version.h"
@@ -32,21 +33,6 @@ app::DiffArgs ToArgs(const DiffRequest& r) {
   return a;
 }
 
-std::string FirstMismatch(const nlohmann::json& call) {
-  for (const nlohmann::json& b : call.value("buffers", nlohmann::json::array())) {
-    if (b.value("equal", true)) continue;
-    const std::string name = b.value("buffer", std::string("?"));
-    if (b.contains("first_mismatch")) {
-      const nlohmann::json& m = b["first_mismatch"];
-      return name + "[" + m["index"].dump() + "]: expected " + m["expected"].get<std::string>() + ", actual " +
-             m["actual"].get<std::string>();
-    }
-    return name + ": " + std::to_string(b.value("expected_elements", 0)) + " elements expected, " +
-           std::to_string(b.value("actual_elements", 0)) + " actual";
-  }
-  return {};
-}
-
 }  // namespace
 
 const char* ToString(Verdict v) {
@@ -73,7 +59,7 @@ DiffReport Diff(const DiffRequest& request) {
     p.label = c.value("label", std::string());
     p.equal = c.value("equal", true);
     p.within_spec = c.value("within_spec", false);
-    if (!p.equal) p.first_mismatch = FirstMismatch(c);
+    if (!p.equal) p.first_mismatch = app::FirstMismatch(c);
     out.calls.push_back(std::move(p));
   }
   out.json = JsonText(j);
@@ -87,11 +73,11 @@ RenderReport Render(const RenderRequest& request) {
   a.backend = request.backend;
   a.path = request.path;
   a.no_oracle = !request.oracle;
-  const app::RenderValue v = app::RenderToValue(a);
+  app::RenderValue v = app::RenderToValue(a);
   RenderReport out;
   out.width = v.width;
   out.height = v.height;
-  out.rgb.assign(v.rgb.begin(), v.rgb.end());
+  out.rgb = std::move(v.rgb);
   out.digest = v.digest;
   out.oracle_mismatches = v.oracle_mismatches;
   out.statistics = JsonText(v.statistics);

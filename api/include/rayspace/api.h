@@ -62,7 +62,7 @@ struct PassCall {
   std::string label;  // where in the frame, e.g. "reduce.L2.shadow.b0"
   bool equal = true;
   bool within_spec = false;    // differs only as a conformant device may (relaxed comparison)
-  std::string first_mismatch;  // "" when equal: "BUFFER[INDEX]: expected E, actual A"
+  std::string first_mismatch;  // "" when equal: "BUFFER[INDEX]: expected E, actual A (M of N elements differ)"
 };
 
 struct DiffReport {
