@@ -111,7 +111,7 @@ ExitCode RunBench(const BenchArgs& args) {
                    c->name);
   }
   OutputFile json = CheckInputsAndOutput(args);
-  if (args.threads > 0) SetThreadCount(args.threads);
+  const ScopedSettings threads([&](Settings& s) { s.threads = args.threads > 0 ? args.threads : s.threads; });
   CheckBenchMemory(args, sizes, configs);
 
   std::vector<BenchRow> rows;

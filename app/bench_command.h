@@ -1,4 +1,6 @@
 #pragma once
+#include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -13,6 +15,7 @@ struct BenchArgs {
   std::string sizes = "512x512";
   std::string configs;  // empty: every configuration (bench_configs.h)
   int repetitions = 3, threads = 0, device = -1;
+  std::map<std::string, std::uint64_t> device_lacks;  // --device-lacks (test use)
   bool progress = false;
   FaithfulArgs faithful;  // the thesis's hierarchy, rays and objects: every configuration takes them
 };

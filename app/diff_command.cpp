@@ -535,7 +535,7 @@ FaultRun DiffFrame(const DiffArgs& args, const Scene& scene, SceneBuffers& buffe
                    const MemoryEstimate& estimate, const Backend* reference) {
   const Injection injection = ParseInject(args.inject);
   if (gpu.set_faults) gpu.set_faults(gpu, injection.kernel);
-  ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
+  const ScopedSettings model = EmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
   auto direct = emu::MakeDirectTracer(buffers, emu::DirectMode::kAuto);
 
   // The expected side: the emulator, or (--backends sim,vulkan) the kernels on the simulated GPU.
@@ -652,7 +652,7 @@ DiffResult DiffToReport(const DiffArgs& args, const std::function<void(const Sce
     reference = MakeBackend("sim", args.device, args.local_size, {}, args.Limits(), args.kernels,
                             SimulatedConfig(args.backends, args.subgroup_size, args.model.schedule, args.sim_checks, args.device_model,
                                             args.subgroup_layout));
-  ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
+  const ScopedSettings model = EmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
   SceneBuffers buffers = FlattenForFrame(scene, args.faithful);
   buffers.one_sided = one_sided;
   CheckFrameFits(gpu, fo.width, fo.height, ShadowSlotsPerSurface(scene.lights), buffers.triangles.size(), SizeFrom(args.size, scene));
@@ -792,11 +792,9 @@ std::string ApplyRecordedOptions(const nlohmann::json& recorded, const std::stri
               [](const nlohmann::json& v) { return v.is_array() && std::all_of(v.begin(), v.end(), [](const auto& e) { return e.is_string(); }); },
               [](const KernelFiles&) { return true; }))
     for (const std::string& k : args.kernels) applied += " --kernel " + k;
-  bool strict = vk::Context::StrictMath();
-  if (Reapply(o, "strict_math", args, "--strict-math", strict, file, boolean, [](bool) { return true; }) && strict) {
-    vk::Context::SetStrictMath(true);
+  args.strict_math = vk::Context::StrictMath();
+  if (Reapply(o, "strict_math", args, "--strict-math", args.strict_math, file, boolean, [](bool) { return true; }) && args.strict_math)
     applied += " --strict-math";
-  }
   return applied;
 }
 
@@ -887,12 +885,13 @@ ExitCode RunReplay(const ReplayArgs& given) {
   CheckSavedInputs(in, args.dir);
   const nlohmann::json recorded = ReadRecorded(args.dir);
   const std::string applied = ApplyRecordedOptions(recorded, args.dir + "/comparison.json", args);
+  const ScopedSettings strict([&](Settings& s) { s.strict_math |= args.strict_math; });
   OutputOptions ro{"the report", true, true, SavedFiles(args.dir)};
   OutputFile report = args.report.empty() ? OutputFile() : OutputFile(args.report, ro);
   const Injection injection = ParseInject(args.inject);
   const Backend gpu = MakeActualBackend(args.backends, args.backends_given, args.device, args.local_size, injection.kernel,
                                         {args.split_bytes, args.max_groups}, args.kernels);
-  ConfigureEmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
+  const ScopedSettings model = EmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
   // --backends sim,vulkan: the same kernels on the simulated GPU are the expected side (as diff).
   std::optional<Backend> reference;
   if (args.backends == "sim,vulkan") {

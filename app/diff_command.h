@@ -1,4 +1,6 @@
 #pragma once
+#include <cstdint>
+#include <map>
 #include <cstddef>
 #include <functional>
 #include <set>
@@ -56,6 +58,7 @@ struct ReplayArgs {
   std::string dir, report, inject;
   KernelModelArgs model = KernelModelArgs::Checked();  // --schedule, --check-workgroups
   int device = -1;
+  std::map<std::string, std::uint64_t> device_lacks;  // --device-lacks (test use)
   int local_size = 64;
   KernelFiles kernels;
   std::size_t split_bytes = 0;  // TestLimits, as for render and diff
@@ -66,6 +69,8 @@ struct ReplayArgs {
   // The options given on the command line ("--split-bytes", ...); the others come from the recording
   // beside the saved call (diff --save-inputs), so that the call runs as the diff ran it.
   std::set<std::string> given;
+  // --strict-math as given or recorded: the kernels are made with it.
+  bool strict_math = false;
 };
 
 // Runs one saved pass call (diff --save-inputs) on both backends, with the options recorded beside it

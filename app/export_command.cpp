@@ -142,9 +142,10 @@ CaptureFn FindCapture(const std::string& method) {
 // device, every kernel made with `rec` watching.
 std::unique_ptr<gpu_backend::VulkanPasses> MakeRecordedPasses(int device, const ExportInfo& info, Recording& rec) {
   std::unique_ptr<gpu_backend::VulkanPasses> gpu;
-  vk::Context::SetObserver(&rec);
-  const vk::Status s = gpu_backend::VulkanPasses::Create(device, {}, gpu, info.local_size);
-  vk::Context::SetObserver(nullptr);
+  const vk::Status s = [&] {
+    const ScopedSettings observed([&](Settings& settings) { settings.observer = &rec; });
+    return gpu_backend::VulkanPasses::Create(device, {}, gpu, info.local_size);
+  }();
   if (!s && s.message.rfind("--", 0) == 0) ThrowInput("{}", s.message);
   if (!s) throw std::runtime_error("Vulkan: " + s.message);
   gpu->LimitForTesting(info.split_bytes, info.max_groups);

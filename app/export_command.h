@@ -1,4 +1,5 @@
 #pragma once
+#include <map>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -15,6 +16,7 @@ struct ExportArgs {
   std::vector<std::string> kernels;  // --kernel PASS=FILE; without it, the kernels comparison.json records
   bool kernels_given = false;
   int device = -1;
+  std::map<std::string, std::uint64_t> device_lacks;  // --device-lacks (test use)
   int local_size = 0;            // 0: as comparison.json records it, else 64
   std::size_t split_bytes = 0;   // 0: as recorded, else the device's binding limit
   std::uint32_t max_groups = 0;  // 0: as recorded, else the device's

@@ -206,7 +206,7 @@ void AddFrameOptions(CLI::App& command, FrameArgs& args) {
       ->capture_default_str();
   command.add_option("--size", args.size, "Image size WxH (overrides the scene)");
   command.add_option("--data", args.data, "Data root for mesh paths (default: $RAYSPACE_DATA)");
-  AddDeviceOption(command, args.device);
+  AddDeviceOption(command, args.device, args.device_lacks);
   AddLimitOptions(command, args.split_bytes, args.max_groups);
   AddKernelOption(command, args.kernels);
   AddKernelModelOptions(command, args.model);
@@ -226,20 +226,20 @@ void AddLimitOptions(CLI::App& command, std::size_t& split_bytes, std::uint32_t&
       ->check(CLI::Range(1u, 65535u));
 }
 
-void AddDeviceOption(CLI::App& command, int& device) {
+void AddDeviceOption(CLI::App& command, int& device, std::map<std::string, std::uint64_t>& lacks) {
   command
       .add_option("--device", device,
                   "Vulkan device index (default: a discrete GPU, else an integrated one, ..., else lavapipe: "
                   "`rayspace devices` shows the choice); render uses it with --backend vulkan")
       ->check(CLI::Range(0, 64));
-  AddDeviceLacksOption(command);
+  AddDeviceLacksOption(command, lacks);
 }
 
-void AddDeviceLacksOption(CLI::App& command) {
+void AddDeviceLacksOption(CLI::App& command, std::map<std::string, std::uint64_t>& out) {
 #ifdef RAYSPACE_HAVE_VULKAN
   command.add_option_function<std::vector<std::string>>(
       "--device-lacks",
-      [](const std::vector<std::string>& specs) {
+      [&out](const std::vector<std::string>& specs) {
         vk::Lacks lacks;
         for (const std::string& s : specs) {
           const auto eq = s.find('=');
@@ -252,12 +252,13 @@ void AddDeviceLacksOption(CLI::App& command) {
           }
           lacks[s.substr(0, eq)] = value;
         }
-        vk::SetDeviceLacks(std::move(lacks));
+        out = std::move(lacks);
       },
       "Vulkan: make the device look as if it lacked a requirement: NAME (a feature, or a limit as 0) or NAME=VALUE "
       "(a limit); names as `rayspace devices` prints them (test use)");
 #else
   (void)command;
+  (void)out;
 #endif
 }
 

@@ -1,6 +1,7 @@
 // The options `render` and `diff` share (the frame, its tracer, the Vulkan device): one struct with one
 // set of defaults, registered on both commands by one function, so that the two cannot drift apart.
 #pragma once
+#include <map>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -66,6 +67,7 @@ struct FrameArgs {
   std::size_t pair_capacity = kHierarchyDefaults.pair_capacity;
   std::string size, data;
   int device = -1;  // -1: the first non-CPU device, else lavapipe
+  std::map<std::string, std::uint64_t> device_lacks;  // --device-lacks (test use)
   std::size_t split_bytes = 0;
   std::uint32_t max_groups = 0;
   KernelFiles kernels;  // --kernel PASS=FILE (Vulkan): user kernels in place of built-in ones
@@ -100,9 +102,9 @@ void ApplyPrimary(const FrameArgs& args, emu::FrameOptions& fo);
 // `command`, writing into `args`.
 void AddFrameOptions(CLI::App& command, FrameArgs& args);
 // --device and --device-lacks (replay runs on a device but renders no frame).
-void AddDeviceOption(CLI::App& command, int& device);
-// --device-lacks NAME[=VALUE] (test use): sets vk::SetDeviceLacks when parsed (rayspace devices too).
-void AddDeviceLacksOption(CLI::App& command);
+void AddDeviceOption(CLI::App& command, int& device, std::map<std::string, std::uint64_t>& lacks);
+// --device-lacks NAME[=VALUE] (test use), parsed into `out` (Settings::device_lacks; rayspace devices too).
+void AddDeviceLacksOption(CLI::App& command, std::map<std::string, std::uint64_t>& out);
 // --kernel PASS=FILE, repeatable (render --backend vulkan, diff, replay).
 void AddKernelOption(CLI::App& command, KernelFiles& kernels);
 // --split-bytes and --max-groups (TestLimits): render, diff and replay.

@@ -137,14 +137,16 @@ std::string FaultCannotFire(const std::string& spec, const Injection& injection,
   return {};
 }
 
-void ConfigureEmulatedKernels(const KernelModelArgs& args, std::uint32_t local_size, std::uint32_t subgroup_size,
-                              const Injection& injection) {
-  wg::SetSchedule(ParseSchedule(args.schedule));
-  wg::SetLocalSize(local_size);
-  wg::SetSubgroupSize(subgroup_size == 0 ? 8u : subgroup_size);
-  wg::SetChecking(args.check || !injection.emu.empty());
-  emu::SetEmuFaults(injection.emu);
-  emu::SetWorkgroupModel(RequestsWorkgroupModel(args) || !injection.emu.empty());
+ScopedSettings EmulatedKernels(const KernelModelArgs& args, std::uint32_t local_size, std::uint32_t subgroup_size,
+                               const Injection& injection) {
+  return ScopedSettings([&](Settings& s) {
+    s.schedule = ParseSchedule(args.schedule);
+    s.local_size = local_size;
+    s.subgroup_size = subgroup_size == 0 ? 8u : subgroup_size;
+    s.check = args.check || !injection.emu.empty();
+    s.emu_faults = {injection.emu.begin(), injection.emu.end()};
+    s.workgroup_model = RequestsWorkgroupModel(args) || !injection.emu.empty();
+  });
 }
 
 }  // namespace rayspace::app

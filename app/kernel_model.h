@@ -7,6 +7,7 @@
 #include <string>
 
 #include "rayspace/workgroup.h"
+#include "rayspace/settings.h"
 
 namespace CLI {
 class App;
@@ -53,10 +54,10 @@ struct FaultFacts {
 // "" when it could.
 std::string FaultCannotFire(const std::string& spec, const Injection& injection, const FaultFacts& facts);
 
-// Sets the emulator's workgroup model for this process: schedule, local size, subgroup size (the
-// device's, or lavapipe's 8 without one), checking, the emulator-side faults, and whether the model
-// was asked for (emu::SetWorkgroupModel: traverse.compact then runs its workgroup mirror).
-void ConfigureEmulatedKernels(const KernelModelArgs& args, std::uint32_t local_size, std::uint32_t subgroup_size,
-                              const Injection& injection);
+// The emulator's workgroup model in force for the caller's scope: schedule, local size, subgroup size
+// (the device's, or lavapipe's 8 without one), checking, the emulator-side faults, and whether the
+// model was asked for (Settings::workgroup_model: traverse.compact then runs its workgroup mirror).
+[[nodiscard]] ScopedSettings EmulatedKernels(const KernelModelArgs& args, std::uint32_t local_size, std::uint32_t subgroup_size,
+                                             const Injection& injection);
 
 }  // namespace rayspace::app

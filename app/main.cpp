@@ -51,6 +51,7 @@ struct Commands {
            *export_cmd = nullptr;
   bool validate = false;
   bool strict_math = false;
+  std::map<std::string, std::uint64_t> device_lacks;  // rayspace devices --device-lacks
 #ifdef RAYSPACE_HAVE_VULKAN
   rayspace::app::DiffArgs diff;
   rayspace::app::ReplayArgs replay;
@@ -89,7 +90,7 @@ void AddBench(CLI::App& app, Commands& cmds) {
   bc->add_option("--threads", b.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 1024));
   bc->add_option("--json", b.json, "Write every measurement as JSON to this file (-: to standard output, in place of "
                  "the tables)");
-  rayspace::app::AddDeviceOption(*bc, b.device);
+  rayspace::app::AddDeviceOption(*bc, b.device, b.device_lacks);
   rayspace::app::AddFaithfulOptions(*bc, b.faithful);
   bc->add_flag("--progress", b.progress, "Print each frame's time on stderr (default when stderr is a terminal)");
 }
@@ -262,7 +263,7 @@ void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
   AddCompareOption(*pc, cmds.replay.compare);
   AddBackendsOption(*pc, cmds.replay.backends, cmds.replay.backends_given);
   rayspace::app::AddKernelOption(*pc, cmds.replay.kernels);
-  rayspace::app::AddDeviceOption(*pc, cmds.replay.device);
+  rayspace::app::AddDeviceOption(*pc, cmds.replay.device, cmds.replay.device_lacks);
   rayspace::app::AddLimitOptions(*pc, cmds.replay.split_bytes, cmds.replay.max_groups);
 }
 
@@ -288,7 +289,7 @@ void AddExport(CLI::App& app, Commands& cmds) {
       },
       "Export your kernel for a pass in place of the built-in one: PASS=FILE (.comp or .spv, repeatable; default: the "
       "kernels the saved call records)");
-  rayspace::app::AddDeviceOption(*ec, e.device);
+  rayspace::app::AddDeviceOption(*ec, e.device, e.device_lacks);
   ec->add_option("--local-size", e.local_size, "Workgroup size of the kernels (default: as recorded, else 64)")
       ->check(CLI::Range(1, 1024));
   rayspace::app::AddLimitOptions(*ec, e.split_bytes, e.max_groups);
@@ -344,6 +345,26 @@ void NoteGivenReplayOptions(Commands& cmds) {
 #endif
 
 // Flags the chosen mode does not use: a warning each, before the run.
+// The settings the parsed command runs with, made once: RS_CHECK failures end the run with an error,
+// the workgroup checker is off unless the command asks for it (--check-workgroups, an @emu fault),
+// and --validate, --strict-math and --device-lacks as given. The timed frames (render, bench) leave
+// new buffers as the pool hands them out; diff and replay poison them.
+rayspace::Settings CommandSettings(const Commands& cmds) {
+  rayspace::Settings s;
+  s.check = false;
+  s.check_failures_throw = true;
+  s.validation = cmds.validate ? rayspace::Validation::kGpuAssisted : rayspace::Validation::kFromEnvironment;
+  s.strict_math = cmds.strict_math;
+  s.poison_new_buffers = !(cmds.render_cmd->parsed() || cmds.bench_cmd->parsed());
+  for (const auto* lacks : {&cmds.device_lacks, &cmds.render.device_lacks, &cmds.bench.device_lacks
+#ifdef RAYSPACE_HAVE_VULKAN
+                            , &cmds.diff.device_lacks, &cmds.replay.device_lacks, &cmds.export_args.device_lacks
+#endif
+       })
+    s.device_lacks.insert(lacks->begin(), lacks->end());
+  return s;
+}
+
 void WarnIgnoredOptions(const Commands& cmds) {
   if (cmds.render_cmd->parsed())
     rayspace::app::WarnIgnored("render", rayspace::app::IgnoredRenderOptions(*cmds.render_cmd, cmds.render));
@@ -418,7 +439,7 @@ int main(int argc, char** argv) {
   AddMutate(app, cmds);
   cmds.devices_cmd = app.add_subcommand("devices", "List the Vulkan devices, each requirement of rayspace met or not, the "
                                                    "device used without --device and how diff compares on it");
-  rayspace::app::AddDeviceLacksOption(*cmds.devices_cmd);
+  rayspace::app::AddDeviceLacksOption(*cmds.devices_cmd, cmds.device_lacks);
 #endif
   RefuseEmptyValues(app);
   rayspace::app::SetArguments(argc, argv);
@@ -433,15 +454,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "rayspace: error: %s\n", e.what());
     return ToInt(ExitCode::kBadInput);
   }
-  rayspace::wg::SetChecking(false);  // unless a command asks: --check-workgroups, an @emu fault
-  rayspace::SetCheckFailuresThrow(true);
 #ifdef RAYSPACE_HAVE_VULKAN
   NoteGivenReplayOptions(cmds);
-  if (cmds.validate) rayspace::vk::SetValidation(true, /*gpu_assisted=*/true);
-  rayspace::vk::Context::SetStrictMath(cmds.strict_math);
-  // The timed frames leave new buffers as the pool hands them out; diff and replay poison them.
-  if (cmds.render_cmd->parsed() || cmds.bench_cmd->parsed()) rayspace::vk::Context::SetPoisonNewBuffers(false);
 #endif
+  const rayspace::ScopedSettings settings(CommandSettings(cmds));
   WarnIgnoredOptions(cmds);
   ExitCode code = ExitCode::kOk;
   try {

@@ -227,7 +227,7 @@ void PrintMismatchVerdict(const refs::Oracle& oracle) {
 }  // namespace
 
 RenderValue RenderToValue(const RenderArgs& args, const std::function<std::string(const Scene&)>& on_scene) {
-  if (args.threads > 0) SetThreadCount(args.threads);
+  const ScopedSettings threads([&](Settings& s) { s.threads = args.threads > 0 ? args.threads : s.threads; });
   const bool one_sided = OneSided(args);  // before any work: a bad switch fails first
   emu::FrameOptions fo;
   const Scene scene = LoadSceneForFrame(args.scene, args.data, args.size, fo.width, fo.height, args.bounces);

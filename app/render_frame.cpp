@@ -91,13 +91,12 @@ Backend MakeRenderBackend(const RenderArgs& args) {
   // The simulated GPU takes --schedule too, as in diff: the order of its workgroups and subgroups.
   const sim::DeviceConfig simulated = SimulatedConfig(args.backend, args.subgroup_size, args.model.schedule, args.sim_checks,
                                                       args.device_model, args.subgroup_layout);
-  Backend backend = MakeBackend(args.backend, args.device, 64, {}, args.Limits(), args.kernels, simulated);
-  ConfigureEmulatedKernels(args.model, 64, backend.subgroup_size, {});
-  return backend;
+  return MakeBackend(args.backend, args.device, 64, {}, args.Limits(), args.kernels, simulated);
 }
 
 std::unique_ptr<RenderedFrame> RenderOnBackend(const RenderArgs& args, const Scene& scene, const SceneBuffers& buffers,
                                                emu::FrameOptions fo, const Backend& backend) {
+  const ScopedSettings model = EmulatedKernels(args.model, 64, backend.subgroup_size, {});
   fo.passes = backend.frame;
   auto f = std::make_unique<RenderedFrame>();
   f->tracers = MakeTracers(args, scene, buffers, fo, backend);

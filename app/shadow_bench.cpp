@@ -111,7 +111,7 @@ ExitCode RunShadowBench(const ShadowBenchArgs& args) {
   int width = 0, height = 0;
   ParseSize(args.size, width, height, "--size");
   OutputFile json = args.json.empty() ? OutputFile() : OutputFile(args.json, OutputOptions{"the JSON file", true, true, {}});
-  if (args.threads > 0) SetThreadCount(args.threads);
+  const ScopedSettings threads([&](Settings& s) { s.threads = args.threads > 0 ? args.threads : s.threads; });
   std::vector<Row> rows;
   for (const std::string& s : args.scenes) rows.push_back(Measure(args, s, width, height));
   std::printf("rayspace shadow-bench: hard shadows, %s, %d threads, median of %d; grid %ux%u cells per face%s\n", args.size.c_str(),

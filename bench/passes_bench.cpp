@@ -17,9 +17,9 @@ using namespace rayspace;
 
 namespace {
 
-// The emulated passes run unchecked, as `rayspace render` runs them; the workgroup benchmarks below
-// set checking per dispatch.
-const bool kUnchecked = (wg::SetChecking(false), true);
+// The emulated passes run unchecked, as `rayspace render` runs them, on the benchmarks' thread; the
+// workgroup benchmarks below set checking per dispatch.
+const ScopedSettings kUnchecked([](Settings& s) { s.check = false; });
 
 struct Loaded {
   Scene scene;
@@ -80,11 +80,13 @@ void BM_FusedFrameCull(benchmark::State& state, const char* scene, bool cull) {
   cfg.fused = true;
   auto tracer = emu::MakeHierarchyTracer(l.buffers, cfg);
   emu::FrameOptions fo;
-  const double saved = emu::cone::SetCullMarginForTesting(cull ? emu::cone::kCullMargin : INFINITY);
-  emu::ResetFusedCulledSlots();
+  std::uint64_t culled = 0;
+  const ScopedSettings margin([&](Settings& s) {
+    s.cull_margin = cull ? emu::cone::kCullMargin : INFINITY;
+    s.culled_slots = &culled;
+  });
   for (auto _ : state) benchmark::DoNotOptimize(emu::RenderFrame(l.scene, l.buffers, *tracer, fo));
-  state.counters["culled/frame"] = benchmark::Counter(static_cast<double>(emu::FusedCulledSlots()), benchmark::Counter::kAvgIterations);
-  emu::cone::SetCullMarginForTesting(saved);
+  state.counters["culled/frame"] = benchmark::Counter(static_cast<double>(culled), benchmark::Counter::kAvgIterations);
 }
 
 // The workgroup model's cost (docs/workgroups.md): a 1M-element inclusive scan of blocks of 256, as

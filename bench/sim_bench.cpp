@@ -19,7 +19,8 @@ using namespace rayspace;
 
 namespace {
 
-const bool kUnchecked = (wg::SetChecking(false), true);  // the emulator's own checker: not measured here
+// The emulator's own checker is not measured here (off on the benchmarks' thread).
+const ScopedSettings kUnchecked([](Settings& s) { s.check = false; });
 
 struct Device {
   std::unique_ptr<gpu_backend::VulkanPasses> gpu;

@@ -54,7 +54,7 @@ struct Group {
 };
 
 // Which reject: the emulator's (double, aligned groups) or the kernel's (float, a subgroup's group);
-// `margin` is the device bound's (the host's is set by SetCullMarginForTesting).
+// `margin` is the device bound's (the host's is Settings::cull_margin).
 enum class Bound { kHost, kDevice };
 struct Reject {
   Bound bound = Bound::kHost;
@@ -142,9 +142,8 @@ TEST_CASE("cone cull: a culled group's every sphere is rejected by the float tes
 // accept nothing here, 2^-18 and below do.)
 TEST_CASE("cone cull: a planted margin of 0 or below culls groups the test hits") {
   for (const double planted : {-0x1p-8, 0.0}) {
-    const double saved = cone::SetCullMarginForTesting(planted);
+    const ScopedSettings margin([planted](Settings& s) { s.cull_margin = planted; });
     const Tally t = Run(7u, 500, true);
-    cone::SetCullMarginForTesting(saved);
     CAPTURE(planted);
     CHECK(t.culled > 400);
     CHECK(t.accepted > 0);

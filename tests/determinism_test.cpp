@@ -24,16 +24,15 @@ struct Run {
 };
 
 Run Render(const Scene& s, int threads, std::size_t chunk, int w, int h) {
-  SetThreadCount(threads);
-  SetChunkSize(chunk);
+  rayspace::test::TestSettings settings;
+  settings->threads = threads;
+  settings->chunk = chunk;
   const SceneBuffers b = FlattenScene(s);
   auto tracer = emu::MakeDirectTracer(b, emu::DirectMode::kAuto);
   emu::FrameOptions fo;
   fo.width = w;
   fo.height = h;
   emu::FrameResult r = emu::RenderFrame(s, b, *tracer, fo);
-  SetThreadCount(0);
-  SetChunkSize(0);
   return {r.digest.Frame(), r.digest.entries()};
 }
 
@@ -100,22 +99,23 @@ std::vector<float> Contributions() {
 // partial per workgroup on a GPU). `split` is set when another thread than the one holding element
 // 0 summed at least two elements: then the large element cannot absorb them one by one.
 Run FloatReduction(const std::vector<float>& c, const Schedule& sc, bool& split) {
+  rayspace::test::TestSettings settings;
   struct Partial {
     std::size_t first, count = 0;
     float sum = 0.0f;
   };
   std::mutex m;
   std::map<std::thread::id, Partial> partials;
-  SetThreadCount(sc.threads);
-  SetChunkSize(sc.chunk);
+  settings->threads = sc.threads;
+  settings->chunk = sc.chunk;
   ParallelFor(c.size(), [&](std::size_t i) {
     std::lock_guard lock(m);
     auto [it, fresh] = partials.try_emplace(std::this_thread::get_id(), Partial{i});
     it->second.sum += c[i];
     ++it->second.count;
   });
-  SetThreadCount(0);
-  SetChunkSize(0);
+  settings->threads = 0;
+  settings->chunk = 0;
   std::vector<Partial> ordered;
   for (const auto& [id, p] : partials) ordered.push_back(p);
   std::sort(ordered.begin(), ordered.end(), [](const Partial& a, const Partial& b) { return a.first < b.first; });
@@ -133,6 +133,7 @@ Run FloatReduction(const std::vector<float>& c, const Schedule& sc, bool& split)
 // The same contributions through the shade pass: every surface lights pixel 0 with colour 1 (a white
 // light straight above at distance 1, no attenuation, diffuse 1), weighted by its contribution.
 Run ShadeAccumulation(const std::vector<float>& c, const Schedule& sc, std::vector<std::uint64_t>& accum) {
+  rayspace::test::TestSettings settings;
   Scene scene;
   scene.materials.push_back(test::Diffuse("white", glm::vec3(1.0f)));
   LightDesc light;
@@ -154,12 +155,12 @@ Run ShadeAccumulation(const std::vector<float>& c, const Schedule& sc, std::vect
   std::vector<std::uint32_t> offsets(c.size());
   for (std::size_t i = 0; i < c.size(); ++i) offsets[i] = static_cast<std::uint32_t>(i);
   accum.assign(3, 0);
-  SetThreadCount(sc.threads);
-  SetChunkSize(sc.chunk);
+  settings->threads = sc.threads;
+  settings->chunk = sc.chunk;
   emu::PassShade({.frame = fc, .surfaces = surfaces, .shadow_flags = flags, .shadow_offsets = offsets, .occluded = occluded,
                   .accum = &accum, .scene = &b});
-  SetThreadCount(0);
-  SetChunkSize(0);
+  settings->threads = 0;
+  settings->chunk = 0;
   DigestLog log;
   log.Add("shade", "accum", accum);
   return {log.Frame(), log.entries()};

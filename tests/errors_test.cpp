@@ -17,12 +17,13 @@
 using namespace rayspace;
 
 TEST_CASE("errors: an exception in a parallel loop reaches the caller, under every schedule") {
+  rayspace::test::TestSettings settings;
   for (int threads : {1, 2, 4})
     for (std::size_t chunk : {std::size_t{0}, std::size_t{1}, std::size_t{7}}) {
       CAPTURE(threads);
       CAPTURE(chunk);
-      SetThreadCount(threads);
-      SetChunkSize(chunk);
+      settings->threads = threads;
+      settings->chunk = chunk;
       std::atomic<int> ran{0};
       CHECK_THROWS_WITH_AS(ParallelFor(1000, [&](std::size_t i) {
                              ran.fetch_add(1);
@@ -39,13 +40,12 @@ TEST_CASE("errors: an exception in a parallel loop reaches the caller, under eve
       ParallelFor(1000, [&](std::size_t) { all.fetch_add(1); });
       CHECK(all.load() == 1000);
     }
-  SetThreadCount(0);
-  SetChunkSize(0);
 }
 
 TEST_CASE("errors: a failed check throws CheckFailure naming the condition when asked to") {
-  SetCheckFailuresThrow(true);
-  SetThreadCount(2);
+  rayspace::test::TestSettings settings;
+  settings->check_failures_throw = true;
+  settings->threads = 2;
   try {
     ParallelFor(64, [](std::size_t i) { RS_CHECK_MSG(i != 40, "slot {}", i); });
     FAIL("the check did not fire");
@@ -54,8 +54,6 @@ TEST_CASE("errors: a failed check throws CheckFailure naming the condition when 
     CHECK(what.find("i != 40") != std::string::npos);
     CHECK(what.find("slot 40") != std::string::npos);
   }
-  SetCheckFailuresThrow(false);
-  SetThreadCount(0);
 }
 
 namespace {

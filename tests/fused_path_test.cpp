@@ -54,8 +54,10 @@ std::string Compare(const PathRun& a, const PathRun& b) {
 // Three random configurations per scene, each rendered by the passes and fused; the top level's group
 // culling must have run in them, so that the equality covers it.
 void CheckRandomConfigurations(const std::vector<std::pair<std::string, int>>& scenes, unsigned seed) {
+  rayspace::test::TestSettings settings;
+  std::uint64_t culled = 0;
+  settings->culled_slots = &culled;
   std::mt19937 rng(seed);
-  emu::ResetFusedCulledSlots();
   for (const auto& [file, size] : scenes) {
     const Scene s = test::LoadBundled(file);
     for (int run = 0; run < 3; ++run) {
@@ -72,15 +74,14 @@ void CheckRandomConfigurations(const std::vector<std::pair<std::string, int>>& s
       const int threads = 1 + static_cast<int>(rng() % 2);
       INFO(file << " run " << run << ": subdivision " << cfg.subdivision << ", depth " << cfg.depth << ", capacity "
                 << cfg.pair_capacity << ", batch triangles " << cfg.max_batch_triangles << ", threads " << threads << ", algorithm " << static_cast<int>(cfg.algorithm));
-      SetThreadCount(threads);
+      settings->threads = threads;
       const PathRun passes = RunPath(s, size, size, cfg, false), fused = RunPath(s, size, size, cfg, true);
-      SetThreadCount(0);
       REQUIRE(!passes.pairs.empty());
       CHECK(Compare(passes, fused) == "");
     }
   }
-  MESSAGE("top-level slots culled by group: " << emu::FusedCulledSlots());
-  CHECK(emu::FusedCulledSlots() > 0);
+  MESSAGE("top-level slots culled by group: " << culled);
+  CHECK(culled > 0);
 }
 
 }  // namespace
@@ -95,33 +96,27 @@ TEST_CASE("fused path: the same pairs, statistics and digest as the passes, on r
   CheckRandomConfigurations({{"sponza.json", 32}}, 2026);
 }
 
-// The passes and the fused path on a bundled scene at 32x32, with `toggle(true)` set around the fused run.
-static std::string CompareToggled(const std::string& file, void (*toggle)(bool), bool on) {
+// The passes and the fused path on a bundled scene at 32x32, the fused run with `plant` applied to
+// its settings.
+static std::string ComparePlanted(const std::string& file, void (*plant)(Settings&)) {
   const Scene s = test::LoadBundled(file);
   const PathRun passes = RunPath(s, 32, 32, {}, false);
-  struct Restore {
-    void (*toggle)(bool);
-    bool on;
-    ~Restore() { toggle(!on); }
-  } restore{toggle, on};
-  toggle(on);
+  const ScopedSettings planted(plant);
   return Compare(passes, RunPath(s, 32, 32, {}, true));
 }
 
 TEST_CASE("fused path: a planted difference (the last survivor of every block dropped) is seen") {
-  CHECK(CompareToggled("cornell-mirrors.json", emu::SetFusedFaultForTesting, true).rfind("the pairs of compacted level", 0) == 0);
+  const auto plant = [](Settings& s) { s.fused_fault = true; };
+  CHECK(ComparePlanted("cornell-mirrors.json", plant).rfind("the pairs of compacted level", 0) == 0);
 }
 
 TEST_CASE("fused path: a planted unsound group cull (a negative margin) is seen") {
-  static double saved = emu::cone::kCullMargin;
-  const auto toggle = [](bool on) {
-    if (on) saved = emu::cone::SetCullMarginForTesting(-0.25);
-    else emu::cone::SetCullMarginForTesting(saved);
-  };
-  CHECK(CompareToggled("cornell-mirrors.json", toggle, true).rfind("the pairs of compacted level", 0) == 0);
+  const auto plant = [](Settings& s) { s.cull_margin = -0.25; };
+  CHECK(ComparePlanted("cornell-mirrors.json", plant).rfind("the pairs of compacted level", 0) == 0);
 }
 
 TEST_CASE("fused path: every instruction set of the lanes (scalar, AVX2, AVX-512F) gives the passes' pairs") {
+  rayspace::test::TestSettings settings;
   for (const char* file : {"office.json", "cornell-mirrors.json"}) {
     const Scene s = test::LoadBundled(file);
     const PathRun passes = RunPath(s, 32, 32, {}, false);
@@ -132,9 +127,8 @@ TEST_CASE("fused path: every instruction set of the lanes (scalar, AVX2, AVX-512
       }
       CAPTURE(file);
       CAPTURE(emu::cone::IsaName(isa));
-      emu::SetFusedIsa(isa);
+      settings->fused_isa = isa;
       const std::string diff = Compare(passes, RunPath(s, 32, 32, {}, true));
-      emu::SetFusedIsa(emu::cone::BestIsa());
       CHECK(diff == "");
     }
   }

@@ -96,6 +96,7 @@ class UnstableSort final : public HierarchyPasses {
 }  // namespace
 
 TEST_CASE("grid build: the passes give the host build's arrays, bit for bit, on random grids and soups") {
+  rayspace::test::TestSettings settings;
   std::mt19937 rng(20261127);
   for (int round = 0; round < 14; ++round) {
     CAPTURE(round);
@@ -122,10 +123,10 @@ TEST_CASE("grid build: the passes give the host build's arrays, bit for bit, on 
     CAPTURE(o.closed);
     CAPTURE(o.margins);
     const int threads = 1 + round % 2;
-    SetThreadCount(threads);
+    settings->threads = threads;
     const GridArrays host = grid::Build(b, o, with_eye ? &eye : nullptr, eye_cells, &eye);
     const GridArrays passes = BuildWithPasses(b, grid::Plan(b, o, with_eye ? &eye : nullptr, eye_cells, &eye), EmuHierarchyPasses());
-    SetThreadCount(0);
+    settings->threads = 0;
     REQUIRE(host.triangles.size() > 0);
     CHECK(Differs(host, passes) == "");
   }

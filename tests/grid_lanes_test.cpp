@@ -76,6 +76,7 @@ emu::grid::Options RandomOptions(std::mt19937& rng) {
 // Three runs per scene (the default render's options, then two random), each walked by the pass and by
 // the lanes.
 static void CheckRandomConfigurations(const std::vector<std::pair<std::string, int>>& scenes) {
+  rayspace::test::TestSettings settings;
   std::mt19937 rng(2027);
   std::size_t tested = 0;
   for (const auto& [file, size] : scenes) {
@@ -89,9 +90,9 @@ static void CheckRandomConfigurations(const std::vector<std::pair<std::string, i
       INFO(file << " run " << run << ": cells " << o.cells << ", regular " << o.regular << ", closed " << o.closed << ", area " << o.area_cells
                 << "x" << o.area_depth << " near " << o.area_near << (o.area_perspective ? "" : " (regular)") << ", secondary "
                 << o.secondary_perspective << ", margins " << o.margins << ", primary " << primary << ", threads " << threads);
-      SetThreadCount(threads);
+      settings->threads = threads;
       const GridRun pass = Render(s, b, size, o, primary, false), lanes = Render(s, b, size, o, primary, true);
-      SetThreadCount(0);
+      settings->threads = 0;
       REQUIRE(!pass.stats.empty());
       for (const emu::GridBatchStats& st : pass.stats) tested += st.tests;
       CHECK(Compare(pass, lanes) == "");
@@ -148,6 +149,7 @@ TEST_CASE("grid lanes: every instruction set (AVX2, AVX-512F) walks as the pass,
 }
 
 TEST_CASE("grid lanes: a planted difference (the last lane of every full lane group dropped) is seen, in shadow and in eye rays") {
+  rayspace::test::TestSettings settings;
   const Scene s = test::LoadBundled("cornell-mirrors.json");
   const SceneBuffers b = FlattenScene(s);
   emu::grid::Options o;
@@ -156,9 +158,9 @@ TEST_CASE("grid lanes: a planted difference (the last lane of every full lane gr
   for (const bool primary : {false, true}) {
     CAPTURE(primary);
     const GridRun pass = Render(s, b, 32, o, primary, false);
-    emu::SetGridLanesFaultForTesting(true);
+    settings->grid_lanes_fault = true;
     const GridRun faulty = Render(s, b, 32, o, primary, true);
-    emu::SetGridLanesFaultForTesting(false);
+    settings->grid_lanes_fault = false;
     CHECK(Compare(pass, faulty) != "");
     // The eye rays go through the tiled order alone: their batch differs too.
     if (primary) CHECK(pass.eye_hits != faulty.eye_hits);

@@ -12,6 +12,7 @@
 #include "rayspace/emu/light_sample.h"
 #include "rayspace/parallel.h"
 #include "tl_util.h"
+#include "test_settings.h"
 
 using namespace rayspace;
 using namespace rayspace::emu;
@@ -438,6 +439,7 @@ TEST_CASE("grid: the binning's margins keep shadow rays aimed at vertices and ed
 }
 
 TEST_CASE("grid: the build's arrays are the same for every thread count and schedule, each cell's list ascending") {
+  rayspace::test::TestSettings settings;
   // Over 2,048 triangles: the build bins them in several runs of 1,024.
   SceneBuffers with_point = SoupScene(test::TlSoup(2600, 31), {});
   with_point.lights = AreaSoup(31).lights;
@@ -449,11 +451,9 @@ TEST_CASE("grid: the build's arrays are the same for every thread count and sche
   o.area_cells = 24;
   o.secondary_perspective = true;
   const auto build = [&](int threads, std::size_t chunk) {
-    SetThreadCount(threads);
-    SetChunkSize(chunk);
+    settings->threads = threads;
+    settings->chunk = chunk;
     GridArrays g = grid::Build(with_point, o, &eye, 5, &eye);
-    SetThreadCount(0);
-    SetChunkSize(0);
     return g;
   };
   const GridArrays a = build(1, 0);

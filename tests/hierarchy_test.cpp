@@ -64,16 +64,17 @@ TEST_CASE("statistics: accounting identity, RAH top level, and all algorithms ag
 }
 
 TEST_CASE("determinism: hierarchy digests across threads, reductions, component sizes and forced overflow") {
+  rayspace::test::TestSettings settings;
   const Scene s = test::LoadBundled("cornell-mirrors.json");
   HierarchyConfig cfg;
   const std::uint64_t ref = RunHierarchy(s, 64, 64, cfg).frame.digest.Frame();
-  SetThreadCount(1);
+  settings->threads = 1;
   CHECK(RunHierarchy(s, 64, 64, cfg).frame.digest.Frame() == ref);
-  SetThreadCount(2);
-  SetChunkSize(3);
+  settings->threads = 2;
+  settings->chunk = 3;
   CHECK(RunHierarchy(s, 64, 64, cfg).frame.digest.Frame() == ref);
-  SetChunkSize(0);
-  SetThreadCount(0);
+  settings->chunk = 0;
+  settings->threads = 0;
   for (int comp : {1, 5, 64, 4096}) {
     HierarchyConfig c = cfg;
     c.component_size = comp;

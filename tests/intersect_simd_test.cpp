@@ -15,6 +15,7 @@
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/intersect.h"
 #include "rayspace/emu/intersect_simd.h"
+#include "test_settings.h"
 
 using namespace rayspace;
 
@@ -110,13 +111,14 @@ Outcome Run(const Case& k, bool lanes, bool shadow) {
 }  // namespace
 
 TEST_CASE("intersect simd: many rays at a time give the scalar test's hits, occlusion and counts, on every instruction set") {
+  rayspace::test::TestSettings settings;
   for (const emu::cone::Isa isa : {emu::cone::Isa::kAvx2, emu::cone::Isa::kAvx512}) {
     if (!emu::cone::Runs(isa)) {
       MESSAGE("this CPU lacks " << emu::cone::IsaName(isa));
       continue;
     }
     CAPTURE(emu::cone::IsaName(isa));
-    emu::SetIntersectIsa(isa);
+    settings->intersect_isa = isa;
     std::mt19937 rng(4242);
     std::size_t rays = 0, hit = 0;
     for (int iter = 0; iter < 3000; ++iter) {
@@ -132,7 +134,7 @@ TEST_CASE("intersect simd: many rays at a time give the scalar test's hits, occl
                       << scalar.occluded[r] << ", lanes " << lanes.hits[r] << " / " << lanes.occluded[r]);
       }
     }
-    emu::SetIntersectIsa(emu::cone::BestIsa());
+    settings->intersect_isa = emu::cone::BestIsa();
     // Both outcomes occur often enough for the comparison to mean something.
     CHECK(hit > rays / 10);
     CHECK(hit < rays * 9 / 10);
@@ -140,10 +142,11 @@ TEST_CASE("intersect simd: many rays at a time give the scalar test's hits, occl
 }
 
 TEST_CASE("intersect simd: the scalar fallback is PassIntersect") {
+  rayspace::test::TestSettings settings;
   std::mt19937 rng(17);
   const Case k = RandomCase(rng);
-  emu::SetIntersectIsa(emu::cone::Isa::kScalar);
+  settings->intersect_isa = emu::cone::Isa::kScalar;
   const Outcome off = Run(k, true, false);
-  emu::SetIntersectIsa(emu::cone::BestIsa());
+  settings->intersect_isa = emu::cone::BestIsa();
   CHECK(off.hits == Run(k, false, false).hits);
 }

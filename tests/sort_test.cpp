@@ -7,6 +7,7 @@
 
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/workgroup.h"
+#include "test_settings.h"
 
 using namespace rayspace;
 using namespace rayspace::emu;
@@ -34,6 +35,7 @@ TEST_CASE("sort: compress, radix sort and decompress equal a stable sort by key"
 }
 
 TEST_CASE("sort: the radix mirror is a stable sort at every local size and schedule, the checker silent") {
+  rayspace::test::TestSettings settings;
   std::mt19937 rng(17);
   std::vector<std::uint32_t> keys(3 * 4096 + 333);
   for (auto& k : keys) k = rng() % 5 == 0 ? rng() : rng() % 300;  // many equal digits: stability matters
@@ -44,12 +46,10 @@ TEST_CASE("sort: the radix mirror is a stable sort at every local size and sched
     for (wg::Schedule s : {wg::Schedule{wg::Order::kForward, 0}, wg::Schedule{wg::Order::kReverse, 0},
                            wg::Schedule{wg::Order::kRandom, 21}}) {
       INFO("local size " << local << " order " << static_cast<int>(s.order));
-      wg::SetLocalSize(local);
-      wg::SetSchedule(s);
+      settings->local_size = local;
+      settings->schedule = s;
       CHECK(PassSortChunks({.chunk_key = keys}) == expect);  // checker on: a report throws
     }
-  wg::SetLocalSize(64);
-  wg::SetSchedule({});
 }
 
 TEST_CASE("sort: the fused path's host radix sort gives the kernel mirror's permutation") {

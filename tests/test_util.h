@@ -23,6 +23,7 @@
 #include "rayspace/scene.h"
 #include "rayspace/scene_buffers.h"
 #include "rayspace/workgroup.h"
+#include "test_settings.h"
 
 namespace rayspace::test {
 
@@ -65,19 +66,6 @@ class TempDir {
 };
 
 inline std::filesystem::path SourceDir() { return RAYSPACE_SOURCE_DIR; }
-// Restores the emulator's workgroup settings (schedule, local and subgroup size, checking, planted
-// faults, the workgroup model) after a test changes them.
-struct ModelGuard {
-  ~ModelGuard() {
-    wg::SetSchedule({});
-    wg::SetLocalSize(64);
-    wg::SetSubgroupSize(8);
-    wg::SetChecking(true);
-    emu::SetEmuFaults({});
-    emu::SetWorkgroupModel(false);
-  }
-};
-
 inline std::filesystem::path DataRoot() { return RAYSPACE_TEST_DATA_ROOT; }
 inline bool HaveData() { return std::filesystem::is_directory(DataRoot()); }
 // A case that needs `file` under the data root: without it, prints "data root not found: ..." on

@@ -229,16 +229,15 @@ TEST_CASE("refs: the oracle and the exact judge apply the one-sided rule") {
 }
 
 TEST_CASE("tl.lists with culling: the same bits on every schedule (threads, chunk sizes)") {
+  rayspace::test::TestSettings settings;
   const std::vector<Triangle> tris = Oriented(1500, 23);
   const tl::Tree tree = tl::PrepareTree(tris);
   for (const std::uint32_t k : {6u, 8u}) {
     const std::vector<glm::vec4> dirs = tl::Directions(k);
     auto on = [&](int threads, std::size_t chunk) {
-      rayspace::SetThreadCount(threads);
-      rayspace::SetChunkSize(chunk);
+      settings->threads = threads;
+      settings->chunk = chunk;
       rayspace::emu::TlListArrays a = rayspace::emu::PassTlLists({.tree = tree.View(), .directions = dirs, .order = 0, .cull = 1});
-      rayspace::SetThreadCount(0);
-      rayspace::SetChunkSize(0);
       return a;
     };
     const rayspace::emu::TlListArrays ref = on(1, 0);

@@ -291,15 +291,16 @@ TEST_CASE("tl.heads: a hand-worked window") {
 }
 
 TEST_CASE("tl.heads: the same bits on every schedule (threads, chunk sizes)") {
+  rayspace::test::TestSettings settings;
   const std::vector<Triangle> tris = Soup(300, 9);
   const Prepared p = Prepare(tris, 6);
   const TlWindows ref = Windows(p, layout::kTlHeadsRegular);
   for (const auto& [threads, chunk] : {std::pair{2, std::size_t{1}}, {3, std::size_t{7}}, {2, std::size_t{1000}}}) {
-    rayspace::SetThreadCount(threads);
-    rayspace::SetChunkSize(chunk);
+    settings->threads = threads;
+    settings->chunk = chunk;
     const TlWindows w = Windows(p, layout::kTlHeadsRegular);
-    rayspace::SetThreadCount(0);
-    rayspace::SetChunkSize(0);
+    settings->threads = 0;
+    settings->chunk = 0;
     CAPTURE(threads);
     CHECK(w.windows == ref.windows);
   }
@@ -443,16 +444,17 @@ TEST_CASE("tl.cells: a cell's planes face its own rays; flipped, they lose hits"
 }
 
 TEST_CASE("tl.cells: the same bits on every schedule, and calls that break the contract are refused") {
+  rayspace::test::TestSettings settings;
   const std::vector<Triangle> tris = Soup(200, 8);
   const layout::FrameConstants fc = Camera(70, 33);
   const Prepared p = Prepare(tris, 8);
   const TlWindows ref = Cells(p, fc);
   for (const auto& [threads, chunk] : {std::pair{2, std::size_t{1}}, {3, std::size_t{5}}}) {
-    rayspace::SetThreadCount(threads);
-    rayspace::SetChunkSize(chunk);
+    settings->threads = threads;
+    settings->chunk = chunk;
     const TlWindows w = Cells(p, fc);
-    rayspace::SetThreadCount(0);
-    rayspace::SetChunkSize(0);
+    settings->threads = 0;
+    settings->chunk = 0;
     CHECK(w.windows == ref.windows);
   }
   auto error = [&](layout::FrameConstants f, float margin) {

@@ -325,12 +325,11 @@ namespace {
 
 // tl.lists at a given schedule: threads and the ParallelFor chunk size.
 rayspace::emu::TlListArrays ListsOn(const tl::Tree& tree, std::uint32_t k, int threads, std::size_t chunk) {
-  rayspace::SetThreadCount(threads);
-  rayspace::SetChunkSize(chunk);
+  rayspace::test::TestSettings settings;
+  settings->threads = threads;
+  settings->chunk = chunk;
   const std::vector<glm::vec4> dirs = tl::Directions(k);
   rayspace::emu::TlListArrays a = rayspace::emu::PassTlLists({.tree = tree.View(), .directions = dirs, .order = 0});
-  rayspace::SetThreadCount(0);
-  rayspace::SetChunkSize(0);
   return a;
 }
 

@@ -176,7 +176,6 @@ TEST_CASE("traverse.compact: the emulator's backend gives the survivors of the s
 namespace {
 
 
-using test::ModelGuard;
 
 // The shared random calls (random_traversal.h): a top level whose calls choose the object mask, and
 // a lower level.
@@ -227,7 +226,7 @@ Compacted CheckMirror(const C& c) {
 
 TEST_CASE("traverse.compact mirror: random calls give the lanes' and traverse + reduce's result at every local size, "
           "subgroup size and schedule, the checker silent") {
-  ModelGuard guard;
+  rayspace::test::TestSettings settings;
   // Rows of 170 triangles: one round a row from local size 32 on; rows of 1,300 (tc_wide): several
   // rounds of the top phase up to local size 128, the rows' nodes shuffled between rounds.
   const RandomTop tc(3, 150, 170, 6), tc_wide(4, 40, 1300, 5);
@@ -239,9 +238,9 @@ TEST_CASE("traverse.compact mirror: random calls give the lanes' and traverse + 
       for (wg::Schedule s : {wg::Schedule{wg::Order::kForward, 0}, wg::Schedule{wg::Order::kReverse, 0},
                              wg::Schedule{wg::Order::kRandom, 17}}) {
         INFO("local size " << local << " subgroup " << sg << " order " << static_cast<int>(s.order));
-        wg::SetLocalSize(local);
-        wg::SetSubgroupSize(sg);
-        wg::SetSchedule(s);
+        settings->local_size = local;
+        settings->subgroup_size = sg;
+        settings->schedule = s;
         const Compacted all = CheckMirror(tc.Call(0, 150, 0, 170, false));
         CHECK(all.tested == 150u * 170u);
         CHECK(all.pairs.size() > all.tested / 100);
@@ -260,11 +259,11 @@ TEST_CASE("traverse.compact mirror: random calls give the lanes' and traverse + 
 }
 
 TEST_CASE("traverse.compact mirror: empty calls, calls shorter than a round and a lone slot") {
-  ModelGuard guard;
+  rayspace::test::TestSettings settings;
   const RandomTop tc(9, 40, 50, 3);
   for (std::uint32_t local : {1u, 7u, 64u}) {
     INFO("local size " << local);
-    wg::SetLocalSize(local);
+    settings->local_size = local;
     CHECK(Mirror(tc.Call(5, 5, 0, 50, false)).pairs.empty());
     CHECK(Mirror(tc.Call(0, 40, 7, 7, true)).tested == 0u);
     CheckMirror(tc.Call(3, 4, 10, 11, false));
@@ -275,7 +274,7 @@ TEST_CASE("traverse.compact mirror: empty calls, calls shorter than a round and 
 }
 
 TEST_CASE("traverse.compact mirror: more blocks than its grid of kCompactStrideGroups workgroups, which stride over them") {
-  ModelGuard guard;
+  rayspace::test::TestSettings settings;
   // The top level's blocks are its rows (Scatter strides over them); a level's are kCompactBlock
   // slots (Test and Scatter stride).
   constexpr std::uint32_t kRows = layout::kCompactStrideGroups + 20u;
@@ -290,7 +289,7 @@ TEST_CASE("traverse.compact mirror: more blocks than its grid of kCompactStrideG
 }
 
 TEST_CASE("traverse.compact mirror: each planted fault changes the result, and the backend runs the mirror when asked") {
-  ModelGuard guard;
+  rayspace::test::TestSettings settings;
   // Rows of two rounds and a part at the default local size (64 x kCompactCols triangles a round).
   constexpr std::uint32_t kRowTris = 2u * 64u * layout::kCompactCols + 100u;
   const RandomTop tc(11, 150, kRowTris, 6);
@@ -302,24 +301,24 @@ TEST_CASE("traverse.compact mirror: each planted fault changes the result, and t
   // Local size 64: more than one round a top-level row and a lower-level block, which fault 3 needs.
   for (std::uint32_t fault : {1u, 2u, 3u, 4u}) {
     INFO("traverse.compact:" << fault << "@emu");
-    SetEmuFaults({{"traverse.compact", fault}});
+    settings->emu_faults = {{"traverse.compact", fault}};
     CHECK(RunsWorkgroupMirror("traverse.compact"));
     CHECK_FALSE(Same(EmuHierarchyPasses().TraverseTopCompacted(top), top_lanes));
     CHECK_FALSE(Same(EmuHierarchyPasses().TraverseLevelCompacted(level), level_lanes));
   }
   // Fault 6 is in the levels' shared children: pairs in runs of one parent, some subgroups straddling two.
   const RandomLevel runs(14, 300, 2000, 8, false, 12);
-  SetEmuFaults({});
+  settings->emu_faults = {};
   const Compacted runs_lanes = Lanes(call::TraverseLevelCompacted{runs.Call()});
-  SetEmuFaults({{"traverse.compact", 6u}});
+  settings->emu_faults = {{"traverse.compact", 6u}};
   CHECK_FALSE(Same(EmuHierarchyPasses().TraverseLevelCompacted(call::TraverseLevelCompacted{runs.Call()}), runs_lanes));
   // Fault 7 is in the top level's object words: 6 objects over rows of 1,124 triangles, so some
   // invocations' 8 triangles straddle two objects.
-  SetEmuFaults({{"traverse.compact", 7u}});
+  settings->emu_faults = {{"traverse.compact", 7u}};
   CHECK_FALSE(Same(EmuHierarchyPasses().TraverseTopCompacted(top), top_lanes));
-  SetEmuFaults({});
+  settings->emu_faults = {};
   CHECK_FALSE(RunsWorkgroupMirror("traverse.compact"));
-  SetWorkgroupModel(true);
+  settings->workgroup_model = true;
   CHECK(RunsWorkgroupMirror("traverse.compact"));
   // The mirror without a fault: the lanes' result.
   CHECK(Same(EmuHierarchyPasses().TraverseTopCompacted(top), top_lanes));
@@ -329,9 +328,9 @@ TEST_CASE("traverse.compact mirror: each planted fault changes the result, and t
 
 TEST_CASE("traverse.compact mirror: a dropped barrier in its workgroup scan is named by the checker") {
   // The phase-A scan is WorkgroupInclusiveAdd with the pass's fault, as in the kernel.
-  ModelGuard guard;
+  rayspace::test::TestSettings settings;
   const RandomTop tc(13, 60, 100, 2);
-  SetEmuFaults({{"traverse.compact", layout::kFaultDroppedBarrier}});
+  settings->emu_faults = {{"traverse.compact", layout::kFaultDroppedBarrier}};
   try {
     Mirror(tc.Call(0, 60, 0, 100, false));
     FAIL("the checker did not report the dropped barrier");
@@ -384,7 +383,7 @@ TEST_CASE("cone: the test as printed (eq. 3.16) rejects what the exact geometry 
 
 TEST_CASE("traverse: cone_test printed runs eq. 3.16 in every traversal pass, the fused lanes' fallback and the "
           "workgroup mirror alike") {
-  ModelGuard guard;
+  rayspace::test::TestSettings settings;
   const RandomTop tc(3, 150, 170, 6);
   const RandomLevel lc(5, 300, 2000, 8);
   const auto printed = [](const layout::ConeNode& n, glm::vec4 s, float eps) { return emu::cone::PrintedTest(n, s, eps); };

@@ -63,6 +63,7 @@ emu::HierarchyConfig RandomConfig(std::mt19937& rng, bool big_scene) {
 }  // namespace
 
 TEST_CASE("objects tree: the same frame digest as flat, on the bundled scenes and random configurations") {
+  rayspace::test::TestSettings settings;
   std::vector<std::pair<std::string, int>> scenes = {{"cornell-mirrors.json", 48}, {"office.json", 32}};
   if (test::HaveData()) scenes.push_back({"sponza.json", 32});
   std::mt19937 rng(16);
@@ -74,9 +75,9 @@ TEST_CASE("objects tree: the same frame digest as flat, on the bundled scenes an
       INFO(file << " run " << run << ": algorithm " << static_cast<int>(cfg.algorithm) << ", subdivision " << cfg.subdivision
                 << ", depth " << cfg.depth << ", fused " << cfg.fused << ", pair capacity " << cfg.pair_capacity << ", big "
                 << cfg.object_tree_options.big_fraction << ", leaf " << cfg.object_tree_options.leaf_triangles << ", threads " << threads);
-      SetThreadCount(threads);
+      settings->threads = threads;
       const Run flat = RunObjects(s, size, cfg, false), tree = RunObjects(s, size, cfg, true);
-      SetThreadCount(0);
+      settings->threads = 0;
       CHECK(flat.digest == tree.digest);
       CHECK(Sum(tree.stats, &emu::BatchStats::tree_rounds) > 0);
       CHECK(Sum(tree.stats, &emu::BatchStats::object_sphere_tests) == 0);  // the roots take the object spheres' place
@@ -87,6 +88,7 @@ TEST_CASE("objects tree: the same frame digest as flat, on the bundled scenes an
 }
 
 TEST_CASE("objects tree: fused rounds give the passes' pairs and counts round by round, and a dropped survivor is seen") {
+  rayspace::test::TestSettings settings;
   const Scene s = test::LoadBundled("office.json");
   std::mt19937 rng(7);
   for (int run = 0; run < 3; ++run) {
@@ -106,36 +108,38 @@ TEST_CASE("objects tree: fused rounds give the passes' pairs and counts round by
       CHECK(passes.stats[i].ray_level.hits == fused.stats[i].ray_level.hits);
       CHECK(passes.stats[i].object_triangles.hits == fused.stats[i].object_triangles.hits);
     }
-    emu::SetTreeFaultForTesting(emu::TreeFault::kDropBlockSurvivor);
+    settings->tree_fault = static_cast<std::uint32_t>(emu::TreeFault::kDropBlockSurvivor);
     const Run faulty = RunObjects(s, 40, cfg, true);
-    emu::SetTreeFaultForTesting(emu::TreeFault::kNone);
+    settings->tree_fault = static_cast<std::uint32_t>(emu::TreeFault::kNone);
     CHECK(faulty.pairs != passes.pairs);
   }
 }
 
 TEST_CASE("objects tree: the same pairs and counts at one and two threads") {
+  rayspace::test::TestSettings settings;
   const Scene s = test::LoadBundled("office.json");
   emu::HierarchyConfig cfg;
   cfg.fused = true;
-  SetThreadCount(1);
+  settings->threads = 1;
   const Run a = RunObjects(s, 40, cfg, true);
-  SetThreadCount(2);
+  settings->threads = 2;
   const Run b = RunObjects(s, 40, cfg, true);
-  SetThreadCount(0);
+  settings->threads = 0;
   CHECK(a.pairs == b.pairs);
   CHECK(a.digest == b.digest);
   CHECK(Sum(a.stats, &emu::BatchStats::final_tests) == Sum(b.stats, &emu::BatchStats::final_tests));
 }
 
 TEST_CASE("objects tree: a descent that skips an object node's last child, or a leaf's rays after its first, loses hits") {
+  rayspace::test::TestSettings settings;
   const Scene s = test::LoadBundled("office.json");
   emu::HierarchyConfig cfg;
   const Run flat = RunObjects(s, 32, cfg, false);
   for (const emu::TreeFault f : {emu::TreeFault::kDropLastChild, emu::TreeFault::kFirstRayOnly}) {
     CAPTURE(static_cast<int>(f));
-    emu::SetTreeFaultForTesting(f);
+    settings->tree_fault = static_cast<std::uint32_t>(f);
     const Run faulty = RunObjects(s, 32, cfg, true);
-    emu::SetTreeFaultForTesting(emu::TreeFault::kNone);
+    settings->tree_fault = static_cast<std::uint32_t>(emu::TreeFault::kNone);
     CHECK(faulty.digest != flat.digest);
   }
 }

@@ -15,10 +15,11 @@
 using namespace rayspace;
 
 TEST_CASE("trim: exclusive scan and scatter keep input order") {
+  rayspace::test::TestSettings settings;
   std::mt19937 rng(11);
   for (std::size_t n : {0u, 1u, 4095u, 4096u, 4097u, 12289u, 100000u}) {
     for (std::size_t chunk : {0u, 1u, 13u}) {
-      SetChunkSize(chunk);
+      settings->chunk = chunk;
       emu::SparseRays s;
       s.rays.resize(n);
       s.flags.resize(n);
@@ -41,12 +42,10 @@ TEST_CASE("trim: exclusive scan and scatter keep input order") {
       CHECK(got == kept);
     }
   }
-  SetChunkSize(0);
 }
 
 namespace {
 
-using test::ModelGuard;
 
 std::vector<std::uint32_t> RandomFlags(std::size_t n, std::uint32_t seed) {
   std::mt19937 rng(seed);
@@ -58,7 +57,7 @@ std::vector<std::uint32_t> RandomFlags(std::size_t n, std::uint32_t seed) {
 }  // namespace
 
 TEST_CASE("trim: the workgroup mirror is bit-identical under every schedule, local size and subgroup size") {
-  ModelGuard guard;
+  rayspace::test::TestSettings settings;
   const std::vector<std::uint32_t> flags = RandomFlags(3 * 4096 + 77, 5);
   std::vector<std::uint32_t> expect(flags.size());
   std::exclusive_scan(flags.begin(), flags.end(), expect.begin(), 0u);
@@ -67,9 +66,9 @@ TEST_CASE("trim: the workgroup mirror is bit-identical under every schedule, loc
       for (wg::Schedule s : {wg::Schedule{wg::Order::kForward, 0}, wg::Schedule{wg::Order::kReverse, 0},
                              wg::Schedule{wg::Order::kRandom, 3}, wg::Schedule{wg::Order::kRandom, 99}}) {
         INFO("local size " << local << " subgroup " << sg << " order " << static_cast<int>(s.order) << " seed " << s.seed);
-        wg::SetLocalSize(local);
-        wg::SetSubgroupSize(sg);
-        wg::SetSchedule(s);
+        settings->local_size = local;
+        settings->subgroup_size = sg;
+        settings->schedule = s;
         std::uint32_t total = 0;
         CHECK(emu::ExclusiveScan(flags, &total, {"trim"}) == expect);  // checker on: a report throws
         CHECK(total == expect.back() + flags.back());
@@ -77,7 +76,7 @@ TEST_CASE("trim: the workgroup mirror is bit-identical under every schedule, loc
 }
 
 TEST_CASE("trim: each planted workgroup fault is named by the checker, and the wrong offset by the result") {
-  ModelGuard guard;
+  rayspace::test::TestSettings settings;
   const std::vector<std::uint32_t> flags = RandomFlags(2 * 4096 + 5, 9);
   struct Case {
     std::uint32_t fault;
@@ -88,7 +87,7 @@ TEST_CASE("trim: each planted workgroup fault is named by the checker, and the w
                         Case{layout::kFaultSubgroup32, wg::ReportKind::kRace},
                         Case{layout::kFaultSharedOffByOne, wg::ReportKind::kUninitialisedRead}}) {
     INFO("fault " << c.fault);
-    emu::SetEmuFaults({{"trim", c.fault}});
+    settings->emu_faults = {{"trim", c.fault}};
     try {
       emu::PassTrim({.kind = layout::kRayShadow, .rays = std::vector<layout::Ray>(flags.size()), .flags = flags});
       FAIL("the checker did not report the planted fault");
@@ -102,7 +101,7 @@ TEST_CASE("trim: each planted workgroup fault is named by the checker, and the w
     }
   }
   // Not a shared-memory fault: the checker stays silent, the offsets are wrong.
-  emu::SetEmuFaults({{"trim", layout::kFaultWorkgroupOffset}});
+  settings->emu_faults = {{"trim", layout::kFaultWorkgroupOffset}};
   const emu::Trimmed t = emu::PassTrim({.kind = layout::kRayShadow, .rays = std::vector<layout::Ray>(flags.size()), .flags = flags});
   std::vector<std::uint32_t> expect(flags.size());
   std::exclusive_scan(flags.begin(), flags.end(), expect.begin(), 0u);
@@ -112,14 +111,14 @@ TEST_CASE("trim: each planted workgroup fault is named by the checker, and the w
 TEST_CASE("trim: schedule variation exposes a dropped barrier even with the checker off") {
   // Unchecked, the racy mirror runs on: its result depends on the order invocations run in, which is
   // what varying the schedule is for.
-  ModelGuard guard;
-  wg::SetChecking(false);
-  emu::SetEmuFaults({{"trim", layout::kFaultDroppedBarrier}});
+  rayspace::test::TestSettings settings;
+  settings->check = false;
+  settings->emu_faults = {{"trim", layout::kFaultDroppedBarrier}};
   const std::vector<std::uint32_t> flags = RandomFlags(4096, 13);
   std::uint32_t fwd_total = 0, rev_total = 0;
-  wg::SetSchedule({wg::Order::kForward, 0});
+  settings->schedule = {wg::Order::kForward, 0};
   const auto fwd = emu::ExclusiveScan(flags, &fwd_total, emu::KernelSite::Of("trim"));
-  wg::SetSchedule({wg::Order::kReverse, 0});
+  settings->schedule = {wg::Order::kReverse, 0};
   const auto rev = emu::ExclusiveScan(flags, &rev_total, emu::KernelSite::Of("trim"));
   CHECK(fwd != rev);
 }

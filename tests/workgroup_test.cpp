@@ -10,6 +10,7 @@
 #include <random>
 
 #include "rayspace/workgroup.h"
+#include "test_settings.h"
 
 using namespace rayspace;
 using namespace rayspace::wg;
@@ -368,6 +369,7 @@ TEST_CASE("workgroup: atomicAdd from every invocation gives the exact total unde
 }
 
 TEST_CASE("workgroup: atomics on one word do not race, an atomic and a plain write do, and old values follow the schedule") {
+  rayspace::test::TestSettings settings;
   auto run = [](bool plain_write, Schedule s, std::vector<std::uint32_t>* slots) {
     return Dispatch("atomics.race", 1, 16, [&](Workgroup& w) {
       auto& c = w.Shared<std::uint32_t>(1, "counter");
@@ -399,10 +401,10 @@ TEST_CASE("workgroup: atomics on one word do not race, an atomic and a plain wri
   CHECK(fwd[0] == 0);
   CHECK(rev[0] == 15);
   // The global setting applies when the dispatch does not override it.
-  SetSchedule({Order::kReverse, 0});
+  settings->schedule = {Order::kReverse, 0};
   std::vector<std::uint32_t> global(16);
   run(false, GetSchedule(), &global);
-  SetSchedule({});
+  settings->schedule = {};
   CHECK(global == rev);
 }
 

@@ -29,10 +29,11 @@ bool Exact(glm::vec3 org, glm::vec3 dir, float tmin, float tlimit, glm::vec4 s) 
 }
 
 // Where the walks' sphere tests go while a frame is sampled: the frame's own test decides, the
-// query is kept. A plain function (tl::SphereTest), so the sampling frame walks on one thread.
-std::vector<SphereQuery>* g_sink = nullptr;
+// query is kept. A plain function (tl::SphereTest), so the sampling frame walks on one thread, the
+// one that samples: the sink is that thread's.
+thread_local std::vector<SphereQuery>* tls_sink = nullptr;
 bool Recording(glm::vec3 org, glm::vec3 dir, float tmin, float tlimit, glm::vec4 s) {
-  g_sink->push_back({org, dir, tmin, tlimit, s});
+  tls_sink->push_back({org, dir, tmin, tlimit, s});
   return emu::tl::SphereMayHit(org, dir, tmin, tlimit, s);
 }
 
@@ -79,10 +80,10 @@ double Distance(const SphereQuery& q) {
 
 SphereWorkload SampleSpheres(const Scene& scene, const SceneBuffers& b, const emu::FrameOptions& fo, std::size_t samples) {
   std::vector<SphereQuery> all;
-  g_sink = &all;
+  tls_sink = &all;
   ModeWalks recorder(Recording);
   RunTlFrame(scene, b, fo, recorder);
-  g_sink = nullptr;
+  tls_sink = nullptr;
   SphereWorkload w;
   w.seen = all.size();
   // A seeded uniform sample (the same scene gives the same queries), in the walks' order.

@@ -28,6 +28,7 @@
 #include "rayspace/output_file.h"
 #include "rayspace/pass_registry.h"
 #include "version.h"
+#include "rayspace/settings.h"
 
 namespace rayspace::app {
 namespace fs = std::filesystem;
@@ -424,7 +425,12 @@ std::vector<json> RunAll(const std::vector<Mutant>& mutants, const mutate_runs::
     }
   };
   std::vector<std::thread> threads;
-  for (int t = 0; t < std::max(1, jobs); ++t) threads.emplace_back(worker);
+  const Settings& settings = CurrentSettings();  // each job runs with the caller's
+  for (int t = 0; t < std::max(1, jobs); ++t)
+    threads.emplace_back([&] {
+      const SettingsInForce in_force(settings);
+      worker();
+    });
   for (std::thread& t : threads) t.join();
   return out;
 }

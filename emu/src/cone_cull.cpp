@@ -4,6 +4,7 @@
 // (p, r) implies f(p) <= (r + rn) (1 + 2^-17) + |eps| (1 + 2^-20) + 2^-16 |v|, and a group whose
 // centre g clears (rho + rn + |eps|) (1 + 2^-12) + 2^-12 |g - apex| clears that for each member.
 #include "rayspace/emu/cone_cull.h"
+#include "rayspace/settings.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +13,6 @@
 namespace rayspace::emu::cone {
 namespace {
 
-double g_margin = kCullMargin;
 constexpr double kUnitTolerance = 0x1p-20;
 
 bool Bounded(double v) { return std::isfinite(v) && std::abs(v) < kCullLimit; }
@@ -66,10 +66,10 @@ bool GroupMisses(const CullNode& n, const SphereGroups& groups, std::size_t g) {
   const double b = std::sqrt(cx * cx + cy * cy + cz * cz);
   const double f = b * n.cosa - a * n.sina;
   const double len = std::sqrt(vx * vx + vy * vy + vz * vz);
-  return f > (groups.r[g] + n.reach) * (1.0 + g_margin) + g_margin * len;
+  const double margin = CurrentSettings().cull_margin.value_or(kCullMargin);
+  return f > (groups.r[g] + n.reach) * (1.0 + margin) + margin * len;
 }
 
-double SetCullMarginForTesting(double margin) { return std::exchange(g_margin, margin); }
 
 bool DeviceCullable(glm::vec4 s) {
   const float lim = layout::kDeviceCullLimit;

@@ -15,13 +15,13 @@
 #include "rayspace/emu/passes.h"
 #include "rayspace/emu/workgroup_ops.h"
 #include "simd/intersect_lanes.h"
+#include "rayspace/settings.h"
 
 namespace rayspace::emu {
 namespace {
 
 constexpr std::uint32_t kMissWord = 0xFFFFFFFFu;
 
-bool g_lanes_fault = false;
 
 // The ray and its best answer so far; Test() runs the watertight test on one triangle.
 struct Walk {
@@ -80,7 +80,7 @@ struct Walk {
         for (int f = 0; f < 12; ++f) group.v[f][m] = src[f];
         ids[m++] = tri;
       }
-      if (g_lanes_fault && m == W) --m;
+      if (CurrentSettings().grid_lanes_fault && m == W) --m;
       std::uint32_t bits = (wide ? intersect_lanes::TrianglesAvx512(one, group, t) : intersect_lanes::TrianglesAvx2(one, group, t)) &
                            ((1u << m) - 1u);
       if (c.shadow != 0u && bits) {
@@ -348,8 +348,6 @@ GridWalks PassGridTraceLanes(const call::GridTrace& c, const GridLanes& lanes) {
   return Trace(c, &lanes);
 }
 
-void SetGridLanesFaultForTesting(bool on) { g_lanes_fault = on; }
-bool GridLanesFault() { return g_lanes_fault; }
 
 // ---- the grids' build as passes (gpu/shaders/grid_build.comp): grid.count, grid.emit and grid.cells
 // around the sort pass, one grid a call; the host build (grid_build.cpp) bins with the same

@@ -15,6 +15,7 @@
 #include "rayspace/emu/intersect_simd.h"
 #include "rayspace/parallel.h"
 #include "simd/intersect_lanes.h"
+#include "rayspace/settings.h"
 
 namespace rayspace::emu {
 namespace {
@@ -121,7 +122,7 @@ void TestCell(const call::GridTrace& c, const GridLanes& lanes, const Tiles& t, 
           const bool holds = t.u[p] >= box.x && t.v[p] >= box.y && t.u[p] <= box.z && t.v[p] <= box.w;
           in |= (holds && tri != c.rays[t.order[p]].info.y ? 1u : 0u) << l;
         }
-        if (GridLanesFault() && in >> (W - 1)) in &= ~(1u << (W - 1));
+        if (CurrentSettings().grid_lanes_fault && in >> (W - 1)) in &= ~(1u << (W - 1));
         if (!in) continue;
         std::uint32_t hit = RaysOf<W>(arrays, lt, j, th) & in;
         for (std::uint32_t m = in; m; m &= m - 1) ++tests[j + static_cast<std::uint32_t>(__builtin_ctz(m))];

@@ -14,7 +14,5 @@ namespace rayspace::emu {
 // eye grid, in a shadow batch, or with scalar lanes.
 std::vector<std::uint8_t> TraceEyeTiles(const call::GridTrace& c, const GridLanes& lanes, GridWalks& out);
 
-// SetGridLanesFaultForTesting's switch: both lane paths drop the last lane of every full group.
-bool GridLanesFault();
 
 }  // namespace rayspace::emu

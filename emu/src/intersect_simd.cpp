@@ -12,11 +12,15 @@
 #include "rayspace/emu/intersect.h"
 #include "rayspace/parallel.h"
 #include "simd/intersect_lanes.h"
+#include "rayspace/settings.h"
 
 namespace rayspace::emu {
 namespace {
 
-cone::Isa g_isa = cone::BestIsa();
+cone::Isa IntersectIsa() {
+  const std::optional<cone::Isa> isa = CurrentSettings().intersect_isa;
+  return isa && cone::Runs(*isa) ? *isa : cone::BestIsa();
+}
 
 intersect_lanes::RayArrays View(const WatertightArrays& w) {
   return {w.ox.data(), w.oy.data(), w.oz.data(), w.dx.data(),   w.dy.data(),   w.dz.data(),   w.sx.data(),
@@ -97,8 +101,9 @@ emu::LanesTriangle PrepareLanesTriangle(const layout::Triangle& t) { return std:
 void IntersectRaysLanes(const call::Intersect& c, const WatertightArrays& w, const emu::LanesTriangle& prepared, std::uint32_t prim,
                         std::uint32_t j0, std::uint32_t j1) {
   const intersect_lanes::Triangle tri = std::bit_cast<intersect_lanes::Triangle>(prepared);
-  if (g_isa == cone::Isa::kAvx512) return TestRays<16>(c, View(w), tri, prim, j0, j1);
-  if (g_isa == cone::Isa::kAvx2) return TestRays<8>(c, View(w), tri, prim, j0, j1);
+  const cone::Isa isa = IntersectIsa();
+  if (isa == cone::Isa::kAvx512) return TestRays<16>(c, View(w), tri, prim, j0, j1);
+  if (isa == cone::Isa::kAvx2) return TestRays<8>(c, View(w), tri, prim, j0, j1);
   IntersectRaysScalar(c, prim, j0, j1);
 }
 
@@ -119,7 +124,6 @@ void IntersectRaysScalar(const call::Intersect& c, std::uint32_t prim, std::uint
   }
 }
 
-void SetIntersectIsa(cone::Isa isa) { g_isa = cone::Runs(isa) ? isa : cone::BestIsa(); }
 
 WatertightArrays ToWatertightArrays(std::span<const layout::Ray> rays, std::span<const std::uint32_t> order) {
   const std::size_t n = order.size(), padded = n + WatertightArrays::kPad;
@@ -138,7 +142,8 @@ WatertightArrays ToWatertightArrays(std::span<const layout::Ray> rays, std::span
 }
 
 std::vector<std::uint32_t> PassIntersectLanes(const call::Intersect& c, const WatertightArrays& w) {
-  if (g_isa == cone::Isa::kScalar) return PassIntersect(c);
+  const cone::Isa isa = IntersectIsa();
+  if (isa == cone::Isa::kScalar) return PassIntersect(c);
   std::vector<std::uint32_t> tests(c.pairs.size());
   ParallelFor(c.pairs.size(), [&](std::size_t p) {
     tests[p] = EndRay(c, p) - FirstRay(c, p);
@@ -147,7 +152,7 @@ std::vector<std::uint32_t> PassIntersectLanes(const call::Intersect& c, const Wa
     const glm::vec4 sphere = c.tri_spheres[c.b0 + (c.pairs[p] & kPairTriangleMask)];
     for (std::uint32_t j = FirstRay(c, p); j < EndRay(c, p); ++j) tests[p] -= !cone::RayMayMeetSphere(c.rays[c.order[j]], sphere, c.eps);
   });
-  if (!c.pairs.empty()) (g_isa == cone::Isa::kAvx512 ? TestRuns<16> : TestRuns<8>)(c, w);
+  if (!c.pairs.empty()) (isa == cone::Isa::kAvx512 ? TestRuns<16> : TestRuns<8>)(c, w);
   return tests;
 }
 

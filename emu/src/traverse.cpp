@@ -7,6 +7,7 @@
 #include "rayspace/emu/cone.h"
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/workgroup_ops.h"
+#include "rayspace/settings.h"
 
 namespace rayspace::emu {
 
@@ -52,17 +53,14 @@ Compacted PassTraverseLevelCompacted(const call::TraverseLevelCompacted& c) {
 }
 
 namespace {
-bool g_fused_fault = false;
 }  // namespace
 
-void SetFusedFaultForTesting(bool on) { g_fused_fault = on; }
-bool FusedFaultForTesting() { return g_fused_fault; }
 
 Compacted ConcatenateBlocks(std::vector<std::vector<std::uint32_t>>& parts, const std::vector<std::uint64_t>& tested) {
   Compacted r;
   std::size_t total = 0;
   for (std::size_t b = 0; b < parts.size(); ++b) {
-    if (g_fused_fault && !parts[b].empty()) parts[b].pop_back();
+    if (CurrentSettings().fused_fault && !parts[b].empty()) parts[b].pop_back();
     total += parts[b].size();
     r.tested += tested[b];
   }

@@ -10,12 +10,11 @@
 #include "rayspace/emu/cone_cull.h"
 #include "rayspace/emu/cone_simd.h"
 #include "rayspace/emu/hierarchy.h"
+#include "rayspace/settings.h"
 
 namespace rayspace::emu {
 namespace {
 
-cone::Isa g_isa = cone::BestIsa();
-std::atomic<std::uint64_t> g_culled{0};
 
 // Triangles [t0, t1) of a batch (batch-local) that share an object. A scene's objects own contiguous
 // triangles, so a batch has few runs; without an object mask the batch is one run, always tested.
@@ -57,7 +56,7 @@ std::size_t TestCulled(const call::TraverseTop& c, const TopSpheres& s, const co
   std::uint32_t from = lo;
   std::uint64_t culled = 0;
   auto skip = [&](std::uint32_t gl, std::uint32_t gh) {
-    if (from < gl) count += cone::TestSpheres(g_isa, n, s.lanes, from, gl, c.eps, first, 0, out + count);
+    if (from < gl) count += cone::TestSpheres(FusedIsa(), n, s.lanes, from, gl, c.eps, first, 0, out + count);
     culled += gh - gl;
     from = gh;
   };
@@ -74,8 +73,9 @@ std::size_t TestCulled(const call::TraverseTop& c, const TopSpheres& s, const co
     if (cone::GroupMisses(cull, s.fine, g)) skip(std::max(lo, g * F), std::min(hi, (g + 1) * F));
     ++g;
   }
-  if (from < hi) count += cone::TestSpheres(g_isa, n, s.lanes, from, hi, c.eps, first, 0, out + count);
-  if (culled) g_culled.fetch_add(culled, std::memory_order_relaxed);
+  if (from < hi) count += cone::TestSpheres(FusedIsa(), n, s.lanes, from, hi, c.eps, first, 0, out + count);
+  if (std::uint64_t* sink = CurrentSettings().culled_slots; culled && sink)
+    std::atomic_ref<std::uint64_t>(*sink).fetch_add(culled, std::memory_order_relaxed);
   return count;
 }
 
@@ -95,11 +95,11 @@ void TestNodeRow(const call::TraverseTop& c, const TopSpheres& spheres, const st
 
 }  // namespace
 
-std::uint64_t FusedCulledSlots() { return g_culled.load(); }
-void ResetFusedCulledSlots() { g_culled = 0; }
 
-void SetFusedIsa(cone::Isa isa) { g_isa = cone::Runs(isa) ? isa : cone::BestIsa(); }
-cone::Isa FusedIsa() { return g_isa; }
+cone::Isa FusedIsa() {
+  const std::optional<cone::Isa> isa = CurrentSettings().fused_isa;
+  return isa && cone::Runs(*isa) ? *isa : cone::BestIsa();
+}
 
 // --cone-test printed has no lanes: the scalar fused loops give the same slot order and test counts.
 Compacted PassTraverseTopCompacted(const call::TraverseTop& c) {
@@ -135,7 +135,7 @@ Compacted PassTraverseLevelCompacted(const call::TraverseLevel& c) {
       children += c.first[parent + 1] - c.first[parent];
     }
     std::vector<std::uint32_t> buf(children + cone::kLanePad);
-    const std::size_t n = cone::TestPairs(g_isa, nodes, lv, p0, p1, c.eps, buf.data(), tested);
+    const std::size_t n = cone::TestPairs(FusedIsa(), nodes, lv, p0, p1, c.eps, buf.data(), tested);
     out.assign(buf.begin(), buf.begin() + static_cast<std::ptrdiff_t>(n));
   });
 }

@@ -11,6 +11,7 @@
 #include "rayspace/emu/intersect_simd.h"
 #include "rayspace/error.h"
 #include "rayspace/parallel.h"
+#include "rayspace/settings.h"
 
 namespace rayspace::emu {
 namespace {
@@ -19,7 +20,7 @@ using layout::kTreeItemTriangle;
 using layout::kTreeLevelShift;
 using layout::kTreeNodeMask;
 
-TreeFault g_fault = TreeFault::kNone;
+TreeFault Fault() { return static_cast<TreeFault>(CurrentSettings().tree_fault); }
 
 std::uint32_t LevelOf(std::uint32_t cone) { return cone >> kTreeLevelShift; }
 std::uint32_t NodeOf(std::uint32_t cone) { return cone & kTreeNodeMask; }
@@ -47,7 +48,7 @@ Expansion Expand(const Trees& c, std::uint32_t cone, std::uint32_t item) {
   const bool cone_side = IsTriangle(item) || (L > 0 && SplitCone(c.cones.Node(L, n), c.tree.tree_spheres[item]));
   if (cone_side) return {true, L - 1, c.cones.First(L, n), c.cones.First(L, n + 1), 0, 0};
   const glm::uvec4 o = c.tree.tree_links[item];
-  const std::uint32_t children = o.y - (g_fault == TreeFault::kDropLastChild && o.y > 0);
+  const std::uint32_t children = o.y - (Fault() == TreeFault::kDropLastChild && o.y > 0);
   return {false, L, o.x, o.x + children, o.z, o.z + o.w};
 }
 
@@ -111,7 +112,7 @@ TreeRound InBlocks(const Trees& c, std::size_t n, BlockFn&& block) {
     TreeRound& r = parts[b];
     r.counts = empty;
     block(b * kPairsPerBlock, std::min(n, (b + 1) * kPairsPerBlock), r);
-    if (g_fault == TreeFault::kDropBlockSurvivor && !r.next.cone.empty()) r.next.cone.pop_back(), r.next.item.pop_back();
+    if (Fault() == TreeFault::kDropBlockSurvivor && !r.next.cone.empty()) r.next.cone.pop_back(), r.next.item.pop_back();
   });
   TreeRound out;
   out.counts = empty;
@@ -302,7 +303,7 @@ std::pair<std::uint32_t, std::uint32_t> TreeFinalRays(std::span<const std::uint3
   const std::uint32_t L = LevelOf(cone), n = NodeOf(cone);
   RS_CHECK_MSG(L <= 1 && IsTriangle(item), "tree pair ({}, {}) is not final", cone, item);
   const std::uint32_t j0 = L == 1 ? first1[n] : n;
-  return {j0, L == 1 && g_fault != TreeFault::kFirstRayOnly ? first1[n + 1] : j0 + 1};
+  return {j0, L == 1 && Fault() != TreeFault::kFirstRayOnly ? first1[n + 1] : j0 + 1};
 }
 
 std::vector<std::uint32_t> PassIntersectTree(const call::IntersectTree& c) {
@@ -338,6 +339,5 @@ std::vector<std::uint32_t> PassIntersectTreeLanes(const call::IntersectTree& c, 
   return tests;
 }
 
-void SetTreeFaultForTesting(TreeFault fault) { g_fault = fault; }
 
 }  // namespace rayspace::emu

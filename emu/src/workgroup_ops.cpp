@@ -6,27 +6,23 @@
 
 #include "rayspace/contract.h"
 #include "rayspace/error.h"
+#include "rayspace/settings.h"
 
 namespace rayspace::emu {
 namespace {
 
-std::map<std::string, std::uint32_t, std::less<>> g_faults;
-bool g_workgroup_model = false;
-
 }  // namespace
 
-void SetEmuFaults(std::map<std::string, std::uint32_t> faults) { g_faults = {faults.begin(), faults.end()}; }
-
-bool AnyEmuFault() { return !g_faults.empty(); }
+bool AnyEmuFault() { return !CurrentSettings().emu_faults.empty(); }
 
 std::uint32_t EmuFault(std::string_view pass) {
-  auto it = g_faults.find(pass);
-  return it == g_faults.end() ? 0u : it->second;
+  const auto& faults = CurrentSettings().emu_faults;
+  auto it = faults.find(pass);
+  return it == faults.end() ? 0u : it->second;
 }
 
-void SetWorkgroupModel(bool on) { g_workgroup_model = on; }
-bool WorkgroupModel() { return g_workgroup_model; }
-bool RunsWorkgroupMirror(std::string_view pass) { return g_workgroup_model || EmuFault(pass) != 0; }
+bool WorkgroupModel() { return CurrentSettings().workgroup_model; }
+bool RunsWorkgroupMirror(std::string_view pass) { return WorkgroupModel() || EmuFault(pass) != 0; }
 
 void DispatchKernel(const KernelSite& site, std::string_view phase, std::uint32_t groups,
                     const std::function<void(wg::Workgroup&)>& kernel) {

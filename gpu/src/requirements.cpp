@@ -11,11 +11,11 @@
 #include "rayspace/gpu/raster.h"
 #include "rayspace/gpu/vulkan.h"
 #include "rayspace/pass_registry.h"
+#include "rayspace/settings.h"
 
 namespace rayspace::vk {
 namespace {
 
-Lacks g_lacks;
 
 // The shared memory the kernels declare at most (sort.comp: wg_tile, the scatter's marks and bins).
 constexpr std::uint32_t kSharedBytes = (layout::kMaxLocalSize + 256 * layout::kSortRankWords + 256) * 4;
@@ -119,10 +119,9 @@ bool HasGraphicsComputeQueue(VkPhysicalDevice d) {
 
 }  // namespace
 
-void SetDeviceLacks(Lacks lacks) { g_lacks = std::move(lacks); }
-const Lacks& DeviceLacks() { return g_lacks; }
+const Lacks& DeviceLacks() { return CurrentSettings().device_lacks; }
 std::string UnknownLack(const std::vector<Requirement>& reqs) {
-  for (const auto& [name, value] : g_lacks)
+  for (const auto& [name, value] : DeviceLacks())
     if (!Fakeable(name, reqs)) return name;
   return {};
 }
@@ -135,8 +134,8 @@ bool Fakeable(const std::string& name, const std::vector<Requirement>& reqs) {
 }
 
 std::uint64_t FakedLimit(const std::string& name, std::uint64_t have) {
-  auto it = g_lacks.find(name);
-  return it == g_lacks.end() ? have : it->second;
+  auto it = DeviceLacks().find(name);
+  return it == DeviceLacks().end() ? have : it->second;
 }
 
 DeviceInfo QueryDevice(VkPhysicalDevice d) {

@@ -1,4 +1,5 @@
 #include "rayspace/gpu/validation.h"
+#include "rayspace/settings.h"
 
 #include <fmt/format.h>
 
@@ -12,7 +13,6 @@
 namespace rayspace::vk {
 namespace {
 
-std::atomic<bool> g_requested{false}, g_gpu_assisted{false};
 std::mutex g_mutex;
 std::vector<std::string> g_messages;
 std::atomic<bool> g_pending{false};
@@ -34,22 +34,16 @@ void FillMessenger(VkDebugUtilsMessengerCreateInfoEXT& m) {
 
 }  // namespace
 
-void SetValidation(bool on, bool gpu_assisted) {
-  g_requested = on;
-  g_gpu_assisted = on && gpu_assisted;
+Validation RequestedValidation() {
+  const Validation v = CurrentSettings().validation;
+  if (v != Validation::kFromEnvironment) return v;
+  const char* e = std::getenv("RAYSPACE_VALIDATE");
+  if (!e || !*e || std::strcmp(e, "0") == 0) return Validation::kOff;
+  return std::strcmp(e, "gpu") == 0 ? Validation::kGpuAssisted : Validation::kSynchronization;
 }
 
-bool ValidationRequested() {
-  if (g_requested) return true;
-  const char* e = std::getenv("RAYSPACE_VALIDATE");
-  return e && *e && std::strcmp(e, "0") != 0;
-}
-
-bool GpuAssistedValidationRequested() {
-  if (g_gpu_assisted) return true;
-  const char* e = std::getenv("RAYSPACE_VALIDATE");
-  return e && std::strcmp(e, "gpu") == 0;
-}
+bool ValidationRequested() { return RequestedValidation() != Validation::kOff; }
+bool GpuAssistedValidationRequested() { return RequestedValidation() == Validation::kGpuAssisted; }
 
 Status AddValidation(VkInstanceCreateInfo& ici, ValidationChain& chain, std::vector<const char*>& extensions) {
   std::uint32_t n = 0;

@@ -14,6 +14,7 @@
 #include "rayspace/sim/executor.h"
 #include "rayspace/sim/module_tools.h"
 #include "rayspace/sim/program.h"
+#include "rayspace/settings.h"
 
 namespace rayspace::vk {
 
@@ -323,7 +324,6 @@ Status CheckDevice(VkPhysicalDevice d, int index) {
 }  // namespace
 
 namespace {
-Observer* g_observer = nullptr;
 
 // "0 'name', 1 'name'": what --device may name, for its error.
 std::string DeviceList(const std::vector<VkPhysicalDevice>& devs) {
@@ -336,7 +336,6 @@ std::string DeviceList(const std::vector<VkPhysicalDevice>& devs) {
   return list;
 }
 }  // namespace
-void Context::SetObserver(Observer* observer) { g_observer = observer; }
 
 Status Context::Create(int device, std::unique_ptr<Context>& out, const sim::DeviceConfig& simulated) {
   if (device == kSimulatedDevice) return CreateSimulated(simulated, out);
@@ -353,7 +352,7 @@ Status Context::Create(int device, std::unique_ptr<Context>& out, const sim::Dev
   RS_TRY(CheckDevice(c->physical_, chosen));
   c->ReadProperties();
   if (Status s = c->CreateDevice(); !s) return s;
-  c->observer_ = g_observer;
+  c->observer_ = CurrentSettings().observer;
   out = std::move(c);
   return Status::Ok();
 }
@@ -377,7 +376,7 @@ Status Context::CreateSimulated(const sim::DeviceConfig& config, std::unique_ptr
   c->max_image_side_ = 16384;
   c->subgroup_size_ = subgroup_size;
   c->max_invocations_ = c->max_size_x_ = 1024;
-  c->observer_ = g_observer;
+  c->observer_ = CurrentSettings().observer;
   out = std::move(c);
   return Status::Ok();
 }
@@ -443,8 +442,6 @@ void Context::LimitForTesting(VkDeviceSize storage_bytes, std::uint32_t groups_x
 }
 
 namespace {
-bool g_poison = true;
-
 // `bytes` from p filled with copies of `word`, its low bytes first in a tail shorter than a word.
 void FillWords(void* p, std::size_t bytes, std::uint32_t word) {
   auto* b = static_cast<std::uint8_t*>(p);
@@ -515,7 +512,7 @@ Status Context::CreateBuffer(std::size_t bytes, Buffer& out, bool storage, bool 
 }
 
 Status Context::Finish(Buffer& b, std::size_t guard, bool poison, bool storage, Buffer& out) {
-  if (poison && g_poison) FillWords(b.mapped_, b.size_, Buffer::kPoisonWord);
+  if (poison && CurrentSettings().poison_new_buffers) FillWords(b.mapped_, b.size_, Buffer::kPoisonWord);
   if (guard) {
     b.guard_ = guard;
     FillWords(static_cast<std::uint8_t*>(b.mapped_) + b.size_, guard, Buffer::kGuardWord);
@@ -528,12 +525,7 @@ Status Context::Finish(Buffer& b, std::size_t guard, bool poison, bool storage, 
 
 static_assert(Buffer::kPoisonWord == layout::kPoisonWord, "the host's poison is the contract's");
 
-namespace {
-bool g_strict_math = false;
-}  // namespace
-void Context::SetStrictMath(bool on) { g_strict_math = on; }
-void Context::SetPoisonNewBuffers(bool on) { g_poison = on; }
-bool Context::StrictMath() { return g_strict_math; }
+bool Context::StrictMath() { return CurrentSettings().strict_math; }
 
 Status Context::CreateKernel(const std::string& name, std::span<const std::uint32_t> spirv, std::uint32_t bindings,
                              std::uint32_t fault, Kernel& k, std::uint32_t local_size) {
@@ -567,7 +559,7 @@ Status Context::CreateKernel(const std::string& name, std::span<const std::uint3
   // common.glsl: kFault, kLocalSize, kStrictMath (a VkBool32).
   k.spec_[0] = fault;
   k.spec_[1] = k.local_size_;
-  k.spec_[2] = g_strict_math ? VK_TRUE : VK_FALSE;
+  k.spec_[2] = StrictMath() ? VK_TRUE : VK_FALSE;
   if (observer_) observer_->KernelCreated(k, spirv, k.spec_);
   return Status::Ok();
 }

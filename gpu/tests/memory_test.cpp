@@ -13,6 +13,7 @@
 #include "rayspace/gpu/memory.h"
 #include "rayspace/gpu/requirements.h"
 #include "rayspace/gpu/vulkan.h"
+#include "test_settings.h"
 
 namespace rayspace {
 namespace {
@@ -104,9 +105,10 @@ TEST_CASE("memory: a buffer larger than half a block has a block of its own, kep
 }
 
 TEST_CASE("memory: a device allowing one block refuses the second, naming maxMemoryAllocationCount") {
-  vk::SetDeviceLacks({{"maxMemoryAllocationCount", 1}});
+  rayspace::test::TestSettings settings;
+  settings->device_lacks = {{"maxMemoryAllocationCount", 1}};
   auto ctx = MakeContext();
-  vk::SetDeviceLacks({});
+  settings->device_lacks = {};
   vk::Buffer buffer;
   REQUIRE(ctx->CreateBuffer(64, buffer));
   vk::Image image;  // images never share a block with buffers
@@ -122,11 +124,12 @@ namespace rayspace {
 namespace {
 
 TEST_CASE("memory: without mappable device-local memory, storage buffers are device-local and staged") {
-  vk::SetDeviceLacks({{"mappableDeviceLocal", 0}});
+  rayspace::test::TestSettings settings;
+  settings->device_lacks = {{"mappableDeviceLocal", 0}};
   auto ctx = MakeContext();
   vk::Buffer b;
   REQUIRE(ctx->CreateBuffer(4 * 1000, b));
-  vk::SetDeviceLacks({});
+  settings->device_lacks = {};
   CHECK_FALSE(b.mapped());
   std::vector<std::uint32_t> v(1000);
   std::iota(v.begin(), v.end(), 7u);

@@ -12,6 +12,7 @@
 #include "rayspace/gpu/passes.h"
 #include "rayspace/gpu/requirements.h"
 #include "rayspace/gpu/vulkan.h"
+#include "test_settings.h"
 
 namespace rayspace {
 namespace {
@@ -67,9 +68,9 @@ class Log final : public vk::Observer {
 
 std::unique_ptr<gpu_backend::VulkanPasses> ObservedPasses(Log& log) {
   std::unique_ptr<gpu_backend::VulkanPasses> gpu;
-  vk::Context::SetObserver(&log);
+  test::TestSettings settings;
+  settings->observer = &log;
   const vk::Status st = gpu_backend::VulkanPasses::Create(-1, {}, gpu);
-  vk::Context::SetObserver(nullptr);
   INFO("Vulkan: " << st.message);
   REQUIRE(st);
   return gpu;
@@ -125,13 +126,14 @@ TEST_CASE("observer: a trim call is told in order: buffers and uploads, three di
 }
 
 TEST_CASE("observer: staged host accesses are told once, their staging buffers and copies not at all") {
-  vk::SetDeviceLacks({{"mappableDeviceLocal", 0}});  // storage buffers the host reaches by staging
+  rayspace::test::TestSettings settings;
+  settings->device_lacks = {{"mappableDeviceLocal", 0}};  // storage buffers the host reaches by staging
   Log log;
   auto gpu = ObservedPasses(log);
   log.events.clear();
   emu::Trimmed out;
   RunTrim(*gpu, out);
-  vk::SetDeviceLacks({});
+  settings->device_lacks = {};
   CHECK(log.Count("buffer ") == 5);  // no staging buffer
   CHECK(log.Count("write ") == 2);
   CHECK(log.Count("read ") == 3);
@@ -142,10 +144,10 @@ TEST_CASE("observer: a context made without an observer tells nothing") {
   Log log;
   std::unique_ptr<gpu_backend::VulkanPasses> gpu;
   REQUIRE(gpu_backend::VulkanPasses::Create(-1, {}, gpu));
-  vk::Context::SetObserver(&log);  // too late for this context
+  test::TestSettings settings;
+  settings->observer = &log;  // too late for this context
   emu::Trimmed out;
   RunTrim(*gpu, out);
-  vk::Context::SetObserver(nullptr);
   CHECK(log.events.empty());
 }
 

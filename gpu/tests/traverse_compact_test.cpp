@@ -25,6 +25,7 @@
 #include "rayspace/scene.h"
 #include "rayspace/workgroup.h"
 #include "random_traversal.h"
+#include "test_settings.h"
 
 namespace rayspace {
 namespace {
@@ -116,10 +117,10 @@ emu::Compacted CheckCall(gpu_backend::VulkanPasses& gpu, const C& call) {
   return got;
 }
 
-// Sets the emulator's local size for a test and restores the default after it.
+// The emulator's local size for a test's scope.
 struct LocalSizeGuard {
-  explicit LocalSizeGuard(std::uint32_t n) { wg::SetLocalSize(n); }
-  ~LocalSizeGuard() { wg::SetLocalSize(64); }
+  explicit LocalSizeGuard(std::uint32_t n) : in_force([n](Settings& s) { s.local_size = n; }) {}
+  ScopedSettings in_force;
 };
 
 }  // namespace
@@ -220,6 +221,7 @@ TEST_CASE("traverse.compact: calls split into parts by a small binding limit con
 }
 
 TEST_CASE("traverse.compact: every planted fault of the kernel is seen, and is the mirror's fault of that number") {
+  rayspace::test::TestSettings settings;
   // Rows of 1,200 triangles: several rounds of the top phase at the default local size (fault 3).
   const TopCase tc(21, 300, 1200, 3, false);
   // With the object mask, 7 objects over 1,200 triangles: some invocations' 8 triangles straddle two
@@ -240,9 +242,9 @@ TEST_CASE("traverse.compact: every planted fault of the kernel is seen, and is t
     if (f.number != 5u && f.number != 7u) CHECK(Difference(Emulated(lc.Call()), faulty_level) != "");
     // The same fault planted in the emulator's mirror (@emu) is the same mistake, bit for bit, the
     // words it leaves unwritten included (the poison word on both sides).
-    emu::SetEmuFaults({{"traverse.compact", f.number}});
+    settings->emu_faults = {{"traverse.compact", f.number}};
     const emu::Compacted mirrored = Mirrored(top), mirrored_level = Mirrored(lc.Call()), mirrored_masked = Mirrored(masked);
-    emu::SetEmuFaults({});
+    settings->emu_faults = {};
     if (f.number == 1u) {
       // Fault 1's blocks overlap: block g writes over the start of block g + 1, and which of the two
       // writes a word last depends on the order the workgroups run in, on the device and in the

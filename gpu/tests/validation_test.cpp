@@ -1,4 +1,4 @@
-// Under the Khronos validation layer with synchronization validation (vk::SetValidation), the raster
+// Under the Khronos validation layer with synchronization validation (Settings::validation), the raster
 // is clean, and each planted violation of the kind lavapipe forgives makes the Vulkan call after it
 // fail with the rule it breaks: a violation that comes back fails ctest, whose Vulkan tests all run
 // validated (tests/CMakeLists.txt).
@@ -18,8 +18,7 @@ namespace rayspace {
 namespace {
 
 struct Validated {
-  Validated() { vk::SetValidation(true); }
-  ~Validated() { vk::SetValidation(false); }
+  ScopedSettings in_force{[](Settings& s) { s.validation = Validation::kSynchronization; }};
 };
 
 vk::Status Raster(vk::Context& ctx, const gpu_backend::RasterViolations& planted) {

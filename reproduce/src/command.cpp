@@ -22,6 +22,7 @@
 #include "rayspace/reproduce/roger.h"
 #include "rayspace/reproduce/hunt.h"
 #include "rayspace/reproduce/toczek.h"
+#include "rayspace/settings.h"
 
 namespace rayspace::reproduce {
 namespace {
@@ -193,7 +194,9 @@ ExitCode RunReproduce(const ReproduceArgs& args, const FrameFn& frame) {
     if (std::find(slice.begin(), slice.end(), p.key) != slice.end() && !(args.resume && ReadResult(out, p.key)))
       todo.push_back(p);
   std::sort(todo.begin(), todo.end(), [](const Planned& a, const Planned& b) { return a.key < b.key; });
-  SetThreadCount(std::max(1, static_cast<int>(std::thread::hardware_concurrency()) / std::max(1, args.jobs)));
+  const ScopedSettings threads([&](Settings& s) {
+    s.threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()) / std::max(1, args.jobs));
+  });
   RunPlanned(todo, {out, args.jobs, args.stop_after, args.progress || isatty(STDERR_FILENO)}, frame);
   if (shard.count > 1) {
     std::fprintf(stderr, "rayspace reproduce: shard %d/%d: %zu results in %s; combine the shards with rayspace reproduce merge\n",

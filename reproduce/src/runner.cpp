@@ -1,4 +1,5 @@
 #include "rayspace/reproduce/runner.h"
+#include "rayspace/settings.h"
 
 #include <atomic>
 #include <chrono>
@@ -102,7 +103,12 @@ void RunPlanned(const std::vector<Planned>& todo, const RunOptions& options, con
   };
   std::vector<std::thread> threads;
   const int jobs = std::max(1, std::min<int>(options.jobs, static_cast<int>(todo.size())));
-  for (int j = 1; j < jobs; ++j) threads.emplace_back(worker);
+  const Settings& settings = CurrentSettings();  // each job runs with the caller's
+  for (int j = 1; j < jobs; ++j)
+    threads.emplace_back([&] {
+      const SettingsInForce in_force(settings);
+      worker();
+    });
   worker();
   for (std::thread& t : threads) t.join();
   if (error) std::rethrow_exception(error);

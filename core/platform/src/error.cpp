@@ -1,19 +1,15 @@
 #include "rayspace/error.h"
 
-#include <atomic>
 #include <cstdio>
 #include <cstdlib>
 
-namespace rayspace {
-namespace {
-std::atomic<bool> g_throw{false};
-}  // namespace
+#include "rayspace/settings.h"
 
-void SetCheckFailuresThrow(bool on) { g_throw.store(on); }
+namespace rayspace {
 
 void CheckFailed(const char* expr, const char* file, int line, const std::string& msg) {
   const std::string what = fmt::format("{} ({}:{}){}{}", expr, file, line, msg.empty() ? "" : ": ", msg);
-  if (g_throw.load()) throw CheckFailure(what);
+  if (CurrentSettings().check_failures_throw) throw CheckFailure(what);
   std::fprintf(stderr, "rayspace: internal check failed: %s\n", what.c_str());
   std::abort();
 }

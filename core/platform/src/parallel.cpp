@@ -6,23 +6,25 @@
 #include <exception>
 #include <mutex>
 
+#include "rayspace/settings.h"
+
 #if defined(__SSE__)
 #include <xmmintrin.h>
 #endif
 
 namespace rayspace {
 namespace {
-int g_threads = 0;
-std::size_t g_chunk = 0;
-
 // An exception must not leave an OpenMP region (the runtime terminates the process): each iteration
 // runs under a catch, the first exception is kept, the remaining iterations are skipped, and the
 // exception is rethrown on the calling thread after the loop.
+// Each iteration also runs with the caller's settings in force on its worker thread.
 class FirstException {
  public:
+  FirstException() : settings_(CurrentSettings()) {}
   void Run(const std::function<void(std::size_t)>& fn, std::size_t i) {
     if (failed_.load(std::memory_order_relaxed)) return;
     try {
+      SettingsInForce in_force(settings_);
       fn(i);
     } catch (...) {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -35,6 +37,7 @@ class FirstException {
   }
 
  private:
+  const Settings& settings_;
   std::atomic<bool> failed_{false};
   std::mutex mutex_;
   std::exception_ptr error_;
@@ -42,9 +45,10 @@ class FirstException {
 
 }  // namespace
 
-void SetThreadCount(int n) { g_threads = n; }
-int ThreadCount() { return g_threads > 0 ? g_threads : omp_get_max_threads(); }
-void SetChunkSize(std::size_t n) { g_chunk = n; }
+int ThreadCount() {
+  const int n = CurrentSettings().threads;
+  return n > 0 ? n : omp_get_max_threads();
+}
 
 void ParallelFor(std::size_t n, const std::function<void(std::size_t)>& fn) {
   const long long count = static_cast<long long>(n);
@@ -54,11 +58,12 @@ void ParallelFor(std::size_t n, const std::function<void(std::size_t)>& fn) {
     return;
   }
   FirstException first;
-  if (g_chunk == 0) {
+  const std::size_t chunk_size = CurrentSettings().chunk;
+  if (chunk_size == 0) {
 #pragma omp parallel for schedule(static) num_threads(threads)
     for (long long i = 0; i < count; ++i) first.Run(fn, static_cast<std::size_t>(i));
   } else {
-    const int chunk = static_cast<int>(g_chunk);
+    const int chunk = static_cast<int>(chunk_size);
 #pragma omp parallel for schedule(dynamic, chunk) num_threads(threads)
     for (long long i = 0; i < count; ++i) first.Run(fn, static_cast<std::size_t>(i));
   }
@@ -67,7 +72,7 @@ void ParallelFor(std::size_t n, const std::function<void(std::size_t)>& fn) {
 
 void ParallelForDynamic(std::size_t n, std::size_t grain, const std::function<void(std::size_t)>& fn) {
   const int threads = ThreadCount();
-  if (g_chunk != 0 || threads <= 1 || n < 2) {
+  if (CurrentSettings().chunk != 0 || threads <= 1 || n < 2) {
     ParallelFor(n, fn);
     return;
   }

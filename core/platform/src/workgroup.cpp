@@ -6,13 +6,11 @@
 
 #include "rayspace/error.h"
 #include "rayspace/parallel.h"
+#include "rayspace/settings.h"
 
 namespace rayspace::wg {
 namespace {
 
-Schedule g_schedule;
-bool g_check = true;
-std::uint32_t g_local_size = 64, g_subgroup_size = 8;
 constexpr std::size_t kReportCap = 64;
 
 std::uint64_t SplitMix(std::uint64_t& s) {
@@ -37,20 +35,10 @@ std::string InvName(std::uint32_t inv) {
 
 }  // namespace
 
-void SetSchedule(Schedule s) { g_schedule = s; }
-Schedule GetSchedule() { return g_schedule; }
-void SetChecking(bool on) { g_check = on; }
-bool Checking() { return g_check; }
-void SetLocalSize(std::uint32_t n) {
-  RS_CHECK_MSG(n >= 1 && n <= 1024, "workgroup local size {} out of range [1, 1024]", n);
-  g_local_size = n;
-}
-std::uint32_t LocalSize() { return g_local_size; }
-void SetSubgroupSize(std::uint32_t n) {
-  RS_CHECK_MSG(n >= 1 && n <= 128 && (n & (n - 1)) == 0, "subgroup size {} is not a power of two in [1, 128]", n);
-  g_subgroup_size = n;
-}
-std::uint32_t SubgroupSize() { return g_subgroup_size; }
+Schedule GetSchedule() { return CurrentSettings().schedule; }
+bool Checking() { return CurrentSettings().check; }
+std::uint32_t LocalSize() { return CurrentSettings().local_size; }
+std::uint32_t SubgroupSize() { return CurrentSettings().subgroup_size; }
 
 const char* ToString(ReportKind k) {
   switch (k) {

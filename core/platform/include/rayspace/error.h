@@ -21,13 +21,12 @@ template <typename... Args>
 
 // Invariant checks that stay on in release builds: a failure is a bug in rayspace, not bad input.
 // By default a failed check aborts (a core dump for the debugger); the CLI asks for a CheckFailure
-// exception instead, so a failure ends the run with its one-line message and exit code 1, never a
+// exception instead (Settings::check_failures_throw), so a failure ends the run with its one-line message and exit code 1, never a
 // signal, and no half-written output stays behind.
 class CheckFailure : public std::logic_error {
  public:
   explicit CheckFailure(const std::string& what) : std::logic_error(what) {}
 };
-void SetCheckFailuresThrow(bool on);
 [[noreturn]] void CheckFailed(const char* expr, const char* file, int line, const std::string& msg);
 
 }  // namespace rayspace

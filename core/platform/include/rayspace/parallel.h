@@ -7,18 +7,15 @@
 
 namespace rayspace {
 
-// Threads used by ParallelFor (0 = OpenMP default). Set once from --threads.
-void SetThreadCount(int n);
+// Threads ParallelFor uses: the settings' (rayspace/settings.h), or OpenMP's default. The settings'
+// chunk size picks the schedule; each worker runs with the caller's settings in force.
 int ThreadCount();
-
-// Elements per scheduling chunk (0 = static even split). Tests vary it to prove schedule independence.
-void SetChunkSize(std::size_t n);
 
 // Runs fn(i) for i in [0, n). Timings and logs are labelled by the pass that calls it.
 void ParallelFor(std::size_t n, const std::function<void(std::size_t)>& fn);
 
 // ParallelFor for items of uneven cost (the fused path's blocks and pairs): handed out `grain` at a
-// time as threads free up, unless SetChunkSize chose a schedule. The output is the same either way.
+// time as threads free up, unless the settings chose a chunk size. The output is the same either way.
 void ParallelForDynamic(std::size_t n, std::size_t grain, const std::function<void(std::size_t)>& fn);
 
 // Sets the CPU's flush-to-zero and denormals-are-zero modes on the calling thread for the lifetime

@@ -34,29 +34,17 @@
 
 #include <glm/vec4.hpp>
 
+#include "rayspace/settings.h"
+
 namespace rayspace::wg {
 
-// ---- Schedule and global settings -----------------------------------------------------------------
+// ---- Schedule and device shape ----------------------------------------------------------------------
 
-enum class Order { kForward, kReverse, kRandom };
-
-// The order the invocations of each phase run in. kRandom draws a fresh permutation per (workgroup,
-// phase) from the seed, so a run is reproducible for any thread count.
-struct Schedule {
-  Order order = Order::kForward;
-  std::uint64_t seed = 0;
-};
-
-void SetSchedule(Schedule s);  // global default, like SetThreadCount
+// The schedule, checking and device shape in force (rayspace/settings.h): the defaults of dispatches
+// that do not set their own, as the Vulkan side's --local-size and the device's subgroup size.
 Schedule GetSchedule();
-void SetChecking(bool on);     // global default for race/uninitialised/barrier checking (on)
 bool Checking();
-// The device shape the emulated kernels run with, as the Vulkan side's --local-size and the device's
-// subgroup size: the defaults of dispatches that do not set their own. Local size 1..1024 (64),
-// subgroup size a power of two 1..128 (8, lavapipe's).
-void SetLocalSize(std::uint32_t n);
 std::uint32_t LocalSize();
-void SetSubgroupSize(std::uint32_t n);
 std::uint32_t SubgroupSize();
 
 // ---- Checker reports --------------------------------------------------------------------------------
@@ -101,9 +89,9 @@ class CheckError : public std::runtime_error {
 };
 
 struct DispatchOptions {
-  std::optional<std::uint32_t> subgroup_size = std::nullopt;  // overrides SetSubgroupSize
-  std::optional<Schedule> schedule = std::nullopt;  // overrides SetSchedule for this dispatch
-  std::optional<bool> check = std::nullopt;  // overrides SetChecking for this dispatch
+  std::optional<std::uint32_t> subgroup_size = std::nullopt;  // overrides Settings::subgroup_size
+  std::optional<Schedule> schedule = std::nullopt;  // overrides Settings::schedule for this dispatch
+  std::optional<bool> check = std::nullopt;  // overrides Settings::check for this dispatch
   bool throw_on_report = false;        // throw CheckError instead of returning a non-ok result
 };
 

@@ -39,10 +39,9 @@ CullNode CullNodeOf(const layout::ConeNode& n, float eps);
 // True only if cone::Test(n, s, eps) is false for every sphere s of group g.
 bool GroupMisses(const CullNode& n, const SphereGroups& groups, std::size_t g);
 
-// The bound's relative margin, 2^-12 (docs/performance.md); tests plant a negative one to see a
-// culled group that the test would have hit. Returns the previous margin.
+// The bound's relative margin, 2^-12 (docs/performance.md); tests plant a negative one
+// (Settings::cull_margin) to see a culled group that the test would have hit.
 inline constexpr double kCullMargin = 0x1p-12;
-double SetCullMarginForTesting(double margin);
 
 // ---- The same reject as a device computes it (gpu/shaders/cone_cull.glsl, its twin) ---------------
 // The fused top-level kernel bounds each subgroup's triangles of a round in float, by subgroup

@@ -10,10 +10,11 @@
 #include <vector>
 
 #include "rayspace/layout.h"
+#include "rayspace/settings.h"
 
 namespace rayspace::emu::cone {
 
-enum class Isa { kScalar, kAvx2, kAvx512 };
+using Isa = rayspace::Isa;  // rayspace/settings.h
 Isa BestIsa();  // the widest this CPU runs
 bool Runs(Isa isa);
 const char* IsaName(Isa isa);

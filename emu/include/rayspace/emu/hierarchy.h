@@ -195,14 +195,12 @@ PairSlots TraverseTopWith(TestFn&& test, const call::TraverseTop& c) {
 // concatenated in block order.
 inline constexpr std::size_t kFusedBlock = 8192;
 
-// Test hook: drops the last survivor of every block, so the fused-path equality test can fail.
-void SetFusedFaultForTesting(bool on);
-bool FusedFaultForTesting();
-
-// Top-level slots the fused path skipped because their group provably misses (cone_cull.h), since
-// the last reset: a diagnostic, so tests can see that the culling ran; the statistics count every slot.
-std::uint64_t FusedCulledSlots();
-void ResetFusedCulledSlots();
+// Test hook Settings::fused_fault: drops the last survivor of every block, so the fused-path
+// equality test can fail.
+//
+// The fused path adds the top-level slots it skipped because their group provably misses
+// (cone_cull.h) to *Settings::culled_slots when set: a diagnostic, so tests can see that the culling
+// ran; the statistics count every slot.
 
 // Concatenates per-block survivors in block order.
 Compacted ConcatenateBlocks(std::vector<std::vector<std::uint32_t>>& parts, const std::vector<std::uint64_t>& tested);
@@ -250,10 +248,9 @@ Compacted TraverseLevelCompactedWith(TestFn&& test, const call::TraverseLevel& c
 }
 
 // The fused levels run the cone-sphere test on many lanes where the CPU has AVX2 or AVX-512F
-// (cone_simd.h), the same bits as the scalar test; SetFusedIsa(cone::Isa::kScalar) forces the scalar
+// (cone_simd.h), the same bits as the scalar test; Settings::fused_isa = Isa::kScalar forces the scalar
 // loop, and an instruction set the CPU lacks means the best it has.
 Compacted PassTraverseTopCompacted(const call::TraverseTop& c);
-void SetFusedIsa(cone::Isa isa);
 cone::Isa FusedIsa();  // what the fused levels and the object tree's top level run on
 Compacted PassTraverseLevelCompacted(const call::TraverseLevel& c);
 // traverse_compact.comp's three dispatches on the workgroup model (emu/src/traverse_compact_wg.cpp):

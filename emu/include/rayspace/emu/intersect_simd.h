@@ -36,8 +36,7 @@ void IntersectRaysScalar(const call::Intersect& c, std::uint32_t prim, std::uint
 // descent's final tests. Scalar when the lanes are.
 void IntersectRaysLanes(const call::Intersect& c, const WatertightArrays& w, const LanesTriangle& tri, std::uint32_t prim,
                         std::uint32_t j0, std::uint32_t j1);
-// The lanes PassIntersectLanes uses (cone::Isa: scalar, AVX2 or AVX-512F); one the CPU lacks means
-// the best it has. For tests and measurements.
-void SetIntersectIsa(cone::Isa isa);
+// The lanes PassIntersectLanes uses are Settings::intersect_isa (scalar, AVX2 or AVX-512F); one the
+// CPU lacks means the best it has.
 
 }  // namespace rayspace::emu

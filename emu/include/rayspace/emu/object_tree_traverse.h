@@ -81,6 +81,6 @@ std::vector<std::uint32_t> PassIntersectTreeLanes(const call::IntersectTree& c, 
 // survivor of every block; both paths refine an object node into all but its last child; the final
 // tests test only the first ray of a level-1 node.
 enum class TreeFault { kNone, kDropBlockSurvivor, kDropLastChild, kFirstRayOnly };
-void SetTreeFaultForTesting(TreeFault fault);
+// Settings::tree_fault holds one of these (a test hook).
 
 }  // namespace rayspace::emu

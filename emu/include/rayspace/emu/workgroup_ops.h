@@ -13,18 +13,16 @@
 
 namespace rayspace::emu {
 
-// Planted faults of the emulated kernels: pass name -> fault number (the registry's numbers, as the
-// kernel side's). Process-wide, like the schedule; empty by default.
-void SetEmuFaults(std::map<std::string, std::uint32_t> faults);
+// Planted faults of the emulated kernels (Settings::emu_faults): pass name -> fault number (the
+// registry's numbers, as the kernel side's); empty by default.
 std::uint32_t EmuFault(std::string_view pass);
 bool AnyEmuFault();
 
-// Whether the run asks for the emulated kernels' workgroups: the commands set it when the checker is
+// Whether the run asks for the emulated kernels' workgroups (Settings::workgroup_model): the commands set it when the checker is
 // on, the schedule is not forward or a fault is planted with @emu (app/kernel_model.cpp). A pass
 // whose emulation has a faster path than its workgroup mirror (traverse.compact's lanes) takes the
 // mirror then, since the faster path has no workgroups to check, reorder or plant a fault in.
-// Process-wide, like the faults; off by default, so that library users and renders get the fast path.
-void SetWorkgroupModel(bool on);
+// Off by default, so that library users and renders get the fast path.
 bool WorkgroupModel();
 // Whether `pass` runs its workgroup mirror: the model is asked for, or a fault is planted in it.
 bool RunsWorkgroupMirror(std::string_view pass);
@@ -38,7 +36,7 @@ struct KernelSite {
 };
 
 // wg::Dispatch of an emulated kernel phase named "<pass>.<phase>" with the emulator's local size and
-// subgroup size (wg::SetLocalSize, wg::SetSubgroupSize). With checking on, a checker report throws
+// subgroup size (Settings::local_size, Settings::subgroup_size). With checking on, a checker report throws
 // wg::CheckError naming the dispatch, workgroup, phase, shared word and invocations.
 void DispatchKernel(const KernelSite& site, std::string_view phase, std::uint32_t groups,
                     const std::function<void(wg::Workgroup&)>& kernel);

@@ -51,8 +51,7 @@ using Lacks = std::map<std::string, std::uint64_t>;
 // Every requirement, evaluated on `device` as `lacking` makes it look.
 std::vector<Requirement> CheckRequirements(VkPhysicalDevice device, const Lacks& lacking);
 
-// Test hook, process-wide like SetValidation: devices look as if they lacked these.
-void SetDeviceLacks(Lacks lacks);
+// Settings::device_lacks (a test hook, --device-lacks): devices look as if they lacked these.
 const Lacks& DeviceLacks();
 // Whether `name` may be given to --device-lacks: a requirement's name, or a limit checked elsewhere
 // (the workgroup limits against --local-size, maxMemoryAllocationCount by the memory pool), or

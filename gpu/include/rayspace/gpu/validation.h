@@ -9,15 +9,16 @@
 #include <vulkan/vulkan.h>
 
 #include "rayspace/gpu/vulkan.h"
+#include "rayspace/settings.h"
 
 namespace rayspace::vk {
 
-// `gpu_assisted`: the layer's GPU-assisted validation too, which instruments every kernel to check its
-// descriptor accesses against their bounds (a frame takes several times longer). --validate asks for
-// both; RAYSPACE_VALIDATE=1 (the test suite's environment) for synchronization validation alone,
-// RAYSPACE_VALIDATE=gpu for both.
-void SetValidation(bool on, bool gpu_assisted = false);
-bool ValidationRequested();  // SetValidation(true), or RAYSPACE_VALIDATE set and not "0"
+// Settings::validation, read when an instance is created. GPU-assisted validation instruments every
+// kernel to check its descriptor accesses against their bounds (a frame takes several times longer).
+// --validate asks for both; RAYSPACE_VALIDATE=1 (the test suite's environment) for synchronization
+// validation alone, RAYSPACE_VALIDATE=gpu for both.
+Validation RequestedValidation();
+bool ValidationRequested();
 bool GpuAssistedValidationRequested();
 
 // The pNext chain and names an instance needs for validation; lives as long as the create info.

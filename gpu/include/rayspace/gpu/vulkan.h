@@ -351,18 +351,17 @@ class Context {
   // it only to size launches).
   std::uint32_t subgroup_size() const { return subgroup_size_; }
   std::string driver() const { return driver_; }
-  // --strict-math, process-wide like SetValidation: kernels made afterwards divide and take square
+  // Settings::strict_math (--strict-math): kernels made while it is in force divide and take square
   // roots correctly rounded in integer arithmetic (rayspace/strict_math.h), so they give the
   // emulator's bits on any conformant device.
-  static void SetStrictMath(bool on);
   static bool StrictMath();
-  // Whether new storage buffers are poisoned (Buffer::kPoisonWord), process-wide; on by default, so
-  // that diff, replay and the tests see unwritten words. render and bench, the timed frames, turn it
-  // off: filling every new buffer cost their Vulkan frame a sixth of its time and a third more
-  // resident memory (docs/gpu.md, "Poison").
-  static void SetPoisonNewBuffers(bool on);
-  // Contexts created afterwards tell `observer` what they do (null: none); it must outlive them.
-  static void SetObserver(Observer* observer);
+  // Settings::poison_new_buffers: whether new storage buffers are poisoned (Buffer::kPoisonWord); on
+  // by default, so that diff, replay and the tests see unwritten words. render and bench, the timed
+  // frames, turn it off: filling every new buffer cost their Vulkan frame a sixth of its time and a
+  // third more resident memory (docs/gpu.md, "Poison").
+  //
+  // A context tells Settings::observer (as in force when it is created) what it does; the observer
+  // must outlive it.
   Observer* observer() const { return observer_; }
   // lavapipe: its float operations are correctly rounded (docs/gpu.md), so its kernels give the
   // emulator's bits; on other devices Vulkan's looser division and square root may not.

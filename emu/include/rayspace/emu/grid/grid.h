@@ -203,8 +203,7 @@ struct GridLanes {
 // best it has.
 GridLanes PrepareGridLanes(std::span<const layout::Triangle> triangles, cone::Isa isa = cone::BestIsa());
 GridWalks PassGridTraceLanes(const call::GridTrace& c, const GridLanes& lanes);
-// Tests only: the lanes drop the last triangle of every full lane group (a difference the
-// equality test must see).
-void SetGridLanesFaultForTesting(bool on);
+// Settings::grid_lanes_fault (tests only): the lanes drop the last triangle of every full lane
+// group (a difference the equality test must see).
 
 }  // namespace rayspace::emu
