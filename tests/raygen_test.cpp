@@ -2,6 +2,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "rayspace/emu/intersect.h"
 #include "rayspace/emu/passes.h"
@@ -105,4 +106,24 @@ TEST_CASE("raygen: a slot without a surface (a background pixel) gets no ray of 
     CHECK(rays.flags[0] == 0u);
     CHECK(Xyz(rays.rays[0].direction_tmax) == glm::vec3(0.0f));
   }
+}
+
+// The kernels and the passes spawn no ray along a degenerate direction (zero length, or NaN): the
+// reflection of a zero incoming direction is zero, a NaN incoming direction reflects and refracts
+// into NaN. The material would spawn one along any other direction.
+TEST_CASE("raygen: a zero or NaN direction spawns no reflection or refraction ray") {
+  MaterialDesc m = test::Diffuse("glass mirror", glm::vec3(0.1f));
+  m.reflectivity = 0.5f;
+  m.transparency = 0.5f;
+  m.ior = 1.5f;
+  Fixture f(m);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const auto zero = RaygenReflection(f, {f.Surface({0, 0, 0}, {0, 1, 0}, {0, 0, 0})});
+  CHECK(zero.flags[0] == 0u);
+  for (const SparseRays& rays : {RaygenReflection(f, {f.Surface({0, 0, 0}, {0, 1, 0}, {nan, -1, 0})}),
+                                 RaygenRefraction(f, {f.Surface({0, 0, 0}, {0, 1, 0}, {nan, -1, 0})})})
+    CHECK(rays.flags[0] == 0u);
+  // The same surface with a proper incoming direction spawns both.
+  CHECK(RaygenReflection(f, {f.Surface({0, 0, 0}, {0, 1, 0}, {0, -1, 0})}).flags[0] == 1u);
+  CHECK(RaygenRefraction(f, {f.Surface({0, 0, 0}, {0, 1, 0}, {0, -1, 0})}).flags[0] == 1u);
 }
