@@ -1,5 +1,5 @@
 #include "accuracy_command.h"
-#include "cli_util.h"
+#include "rayspace/frame/command_util.h"
 
 #include <filesystem>
 #include <system_error>
@@ -9,7 +9,7 @@
 #include "rayspace/accuracy/sampler.h"
 #include "rayspace/accuracy/grid.h"
 #include "rayspace/accuracy/tl.h"
-#include "memory_estimate.h"
+#include "rayspace/frame/memory_estimate.h"
 #include "rayspace/plot.h"
 #include "rayspace/error.h"
 #include "rayspace/output_file.h"

@@ -14,13 +14,13 @@
 #include "bench_configs.h"
 #include "bench_report.h"
 #include "bench_run.h"
-#include "cli_util.h"
-#include "memory_estimate.h"
+#include "rayspace/frame/command_util.h"
+#include "rayspace/frame/memory_estimate.h"
 #include "rayspace/error.h"
 #include "rayspace/input_file.h"
 #include "rayspace/json_text.h"
 #include "rayspace/parallel.h"
-#include "render_frame.h"
+#include "rayspace/frame/render_frame.h"
 
 namespace rayspace::app {
 namespace {

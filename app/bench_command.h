@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "rayspace/exit_codes.h"
-#include "faithful_args.h"
+#include "rayspace/frame/faithful_args.h"
 
 namespace rayspace::app {
 

@@ -2,7 +2,7 @@
 
 #include <sstream>
 
-#include "frame_args.h"
+#include "rayspace/frame/frame_args.h"
 #include "render_options.h"
 #include "rayspace/error.h"
 

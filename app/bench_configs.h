@@ -6,7 +6,7 @@
 #include <string_view>
 #include <vector>
 
-#include "render_command.h"
+#include "rayspace/frame/render_command.h"
 
 namespace rayspace::app {
 

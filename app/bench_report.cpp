@@ -1,5 +1,5 @@
 #include "bench_report.h"
-#include "version.h"
+#include "rayspace/frame/version.h"
 
 #include <algorithm>
 #include <map>
@@ -9,7 +9,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "text_table.h"
+#include "rayspace/frame/text_table.h"
 
 namespace rayspace::app {
 namespace {

@@ -5,9 +5,9 @@
 #include <exception>
 #include <memory>
 
-#include "peak_memory.h"
+#include "rayspace/frame/peak_memory.h"
 #include "rayspace/digest.h"
-#include "render_frame.h"
+#include "rayspace/frame/render_frame.h"
 
 namespace rayspace::app {
 namespace {

@@ -7,7 +7,7 @@
 
 #include "bench_configs.h"
 #include "rayspace/scene.h"
-#include "render_command.h"
+#include "rayspace/frame/render_command.h"
 
 namespace rayspace::app {
 

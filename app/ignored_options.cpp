@@ -7,8 +7,8 @@
 #include "bench_command.h"
 #include "bench_configs.h"
 #include "rayspace/error.h"
-#include "render_command.h"
-#include "render_frame.h"
+#include "rayspace/frame/render_command.h"
+#include "rayspace/frame/render_frame.h"
 
 namespace rayspace::app {
 namespace {

@@ -9,7 +9,7 @@
 
 #include "rayspace/emu/output_checks.h"
 #include "rayspace/error.h"
-#include "version.h"
+#include "rayspace/frame/version.h"
 #include "rayspace/workgroup.h"
 #include "accuracy_command.h"
 #include "bench_command.h"
@@ -18,7 +18,7 @@
 #include "data_command.h"
 #include "rayspace/exit_codes.h"
 #include "ignored_options.h"
-#include "render_command.h"
+#include "rayspace/frame/render_command.h"
 #include "simulate_command.h"
 #include "rayspace/sim/device.h"
 #include "render_options.h"
@@ -26,10 +26,11 @@
 #include "reproduce_frame.h"
 #ifdef RAYSPACE_HAVE_VULKAN
 #include "devices_command.h"
-#include "diff_command.h"
-#include "export_command.h"
-#include "mutate/mutate_command.h"
+#include "rayspace/diff/diff_command.h"
+#include "rayspace/export/export_command.h"
+#include "rayspace/mutate/mutate_command.h"
 #include "rayspace/gpu/validation.h"
+#include "frame_options.h"
 #endif
 
 namespace {
@@ -378,7 +379,10 @@ void WarnIgnoredOptions(const Commands& cmds) {
 
 rayspace::ExitCode Run(const Commands& cmds) {
   using rayspace::ExitCode;
-  if (cmds.render_cmd->parsed()) return rayspace::app::RunRender(cmds.render);
+  if (cmds.render_cmd->parsed()) {
+    rayspace::app::ValidateFrameArgs(cmds.render);
+    return rayspace::app::RunRender(cmds.render);
+  }
   if (cmds.accuracy_cmd->parsed()) return rayspace::app::RunAccuracy(cmds.accuracy);
   if (cmds.bench_cmd->parsed()) return rayspace::app::RunBench(cmds.bench);
   if (cmds.shadow_bench_cmd->parsed()) return rayspace::app::RunShadowBench(cmds.shadow_bench);
@@ -387,7 +391,10 @@ rayspace::ExitCode Run(const Commands& cmds) {
   if (cmds.data_check_cmd->parsed()) return rayspace::app::RunDataCheck(cmds.data_check);
   if (cmds.simulate_cmd->parsed()) return rayspace::app::RunSimulate(cmds.simulate);
 #ifdef RAYSPACE_HAVE_VULKAN
-  if (cmds.diff_cmd->parsed()) return rayspace::app::RunDiff(cmds.diff);
+  if (cmds.diff_cmd->parsed()) {
+    rayspace::app::ValidateFrameArgs(cmds.diff);
+    return rayspace::app::RunDiff(cmds.diff);
+  }
   if (cmds.replay_cmd->parsed()) return rayspace::app::RunReplay(cmds.replay);
   if (cmds.devices_cmd->parsed()) return rayspace::app::RunDevices();
   if (cmds.export_cmd->parsed()) return rayspace::app::RunExport(cmds.export_args);

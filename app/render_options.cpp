@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 
 #include "rayspace/error.h"
+#include "frame_options.h"
 
 namespace rayspace::app {
 

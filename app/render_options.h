@@ -3,7 +3,7 @@
 #pragma once
 #include <string>
 
-#include "render_command.h"
+#include "rayspace/frame/render_command.h"
 
 namespace CLI {
 class App;

@@ -2,7 +2,8 @@
 
 #include <mutex>
 
-#include "render_frame.h"
+#include "rayspace/frame/render_frame.h"
+#include "frame_options.h"
 
 namespace rayspace::reproduce {
 namespace {

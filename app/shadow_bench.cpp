@@ -8,8 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "bench_run.h"
-#include "cli_util.h"
-#include "memory_estimate.h"
+#include "rayspace/frame/command_util.h"
+#include "rayspace/frame/memory_estimate.h"
 #include "rayspace/emu/calls.h"
 #include "rayspace/emu/frame.h"
 #include "rayspace/emu/grid/grid.h"

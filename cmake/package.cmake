@@ -12,9 +12,10 @@ endif()
 include(CMakePackageConfigHelpers)
 
 set(RAYSPACE_EXPORTED rayspace_fp_rules rayspace_platform rayspace_contract rayspace_scene rayspace_core rayspace_emu rayspace_exact
-                      rayspace_refs rayspace_verify rayspace_sim rayspace_accuracy rayspace_mutate rayspace_reproduce rayspace_plot rayspace_data)
+                      rayspace_refs rayspace_verify rayspace_sim rayspace_accuracy rayspace_mutate rayspace_reproduce rayspace_plot rayspace_data
+                      rayspace_frame rayspace_commands)
 if(RAYSPACE_HAVE_VULKAN)
-  list(APPEND RAYSPACE_EXPORTED rayspace_gpu rayspace_commands rayspace_api)
+  list(APPEND RAYSPACE_EXPORTED rayspace_gpu rayspace_diff rayspace_export rayspace_api)
 endif()
 list(APPEND RAYSPACE_EXPORTED rayspace)
 foreach(t ${RAYSPACE_EXPORTED})

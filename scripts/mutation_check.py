@@ -16,7 +16,7 @@ The same seed, count and sources give the same mutants: every pass's candidate s
 the seed, are taken in turn, so a small sample still reaches every pass. `--dry-run` lists them without building anything.
 
 With --tiers it measures the test tiers' power instead (docs/verification.md, "Test tiers"): the
-sample is drawn over emu/, gpu/src, verify/ and app/ (--count) and the kernels gpu/shaders/*.comp
+sample is drawn over emu/, gpu/src, verify/, app/, frame/, diff/, export/ and accuracy/ (--count) and the kernels gpu/shaders/*.comp
 (--kernels), the copy is built whole with the project's configuration (Release, Vulkan), and each
 mutant runs the default tier (`ctest -L default --stop-on-failure`) and, only when the default tier
 misses it, the full tier's other tests: killed by the default tier, by the full tier only, survived
@@ -56,9 +56,10 @@ DEFAULT_EXCLUDE = ("^(objects tree: fused rounds|objects tree: the same frame di
                    "determinism: hierarchy digests|traverse.compact mirror: random calls)")
 # The passes' sources; a mutated header rebuilds every file that includes it, so headers are opt-in.
 DEFAULT_FILES = ("emu/src/*.cpp",)
-# --tiers: the emulator, the Vulkan host code, the verifier and the command (with the accuracy study,
-# which was part of it); and the kernels apart. A resumed run lists them in its copy of the tree.
-TIER_FILES = ("emu/src/*.cpp", "gpu/src/*.cpp", "verify/src/*.cpp", "app/*.cpp", "accuracy/src/*.cpp")
+# --tiers: the emulator, the Vulkan host code, the verifier, the command line and the commands' engines
+# (frame, diff, export; the accuracy study); and the kernels apart. A resumed run lists them in its copy of the tree.
+TIER_FILES = ("emu/src/*.cpp", "gpu/src/*.cpp", "verify/src/*.cpp", "app/*.cpp", "frame/src/*.cpp", "diff/src/*.cpp",
+              "export/src/*.cpp", "accuracy/src/*.cpp")
 KERNEL_FILES = ("gpu/shaders/*.comp",)
 
 # Source file stem -> the pass its code serves (docs/mutation.md); files serving every pass are "shared".

@@ -60,6 +60,11 @@ expect_error(NAME "generator parameter out of range"
 expect_error(NAME "missing scene file"
              NEEDLES "no_such_scene.json"
              ARGS render "${WORK}/no_such_scene.json" --out "${WORK}/x.png")
+# The options are validated once, right after parsing, before the scene is read: a capacity too small
+# for the hierarchy is named although the scene does not exist.
+expect_error(NAME "--pair-capacity too small, checked before the scene is read"
+             NEEDLES "--pair-capacity 10: too small for subdivision 8 with 3 levels"
+             ARGS render "${WORK}/no_such_scene.json" --subdivision 8 --levels 3 --pair-capacity 10 --out "${WORK}/x.png")
 expect_error(NAME "--size 0x10"
              NEEDLES "--size" "0x10"
              ARGS render "${WORK}/good.json" --size 0x10 --out "${WORK}/x.png")

@@ -1,4 +1,4 @@
-// The mutants `rayspace mutate` makes of the GLSL kernels (app/mutate/mutants.h): each operator on a
+// The mutants `rayspace mutate` makes of the GLSL kernels (rayspace/mutate/mutants.h): each operator on a
 // hand-written kernel with known sites, what the tokenizer must leave alone (comments, directives,
 // layout qualifiers, the planted faults' numbers), the two-site binding swap, and the seeded choice.
 #include <doctest/doctest.h>
@@ -13,7 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "mutants.h"
+#include "rayspace/mutate/mutants.h"
 #include "test_util.h"
 
 using namespace rayspace;

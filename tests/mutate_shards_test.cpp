@@ -1,4 +1,4 @@
-// `mutate --shard` and `mutate merge` (app/mutate/mutate_shards.h): shards of a run merge into the
+// `mutate --shard` and `mutate merge` (rayspace/mutate/mutate_shards.h): shards of a run merge into the
 // run's own report, byte for byte; shards of different runs, a missing or a repeated shard are refused.
 #include <doctest/doctest.h>
 
@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "mutate_shards.h"
+#include "rayspace/mutate/mutate_shards.h"
 #include "rayspace/error.h"
 #include "rayspace/json_text.h"
 #include "rayspace/shard.h"

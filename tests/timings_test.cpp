@@ -1,12 +1,12 @@
 // --timings' rows: the thesis's phases, every other pass by name, and the two remainders no pass
-// covers, adding up to the frame's time (app/timings.h).
+// covers, adding up to the frame's time (rayspace/frame/timings.h).
 #include <doctest/doctest.h>
 
 #include <numeric>
 #include <string>
 #include <vector>
 
-#include "../app/timings.h"
+#include "rayspace/frame/timings.h"
 
 using rayspace::app::NamedShare;
 using rayspace::app::Phase;

@@ -2,11 +2,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "diff_command.h"
-#include "junit_reports.h"
-#include "render_command.h"
+#include "rayspace/diff/diff_command.h"
+#include "rayspace/diff/junit_reports.h"
+#include "rayspace/frame/render_command.h"
 #include "rayspace/json_text.h"
-#include "version.h"
+#include "rayspace/frame/version.h"
 
 namespace rayspace::api {
 namespace {

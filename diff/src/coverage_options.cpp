@@ -1,4 +1,4 @@
-#include "coverage_options.h"
+#include "rayspace/diff/coverage_options.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-#include "mutate/mutate_runs.h"
+#include "rayspace/mutate/mutate_runs.h"
 #include "rayspace/output_file.h"
 
 namespace rayspace::app {

@@ -1,12 +1,12 @@
-#include "diff_command.h"
-#include "version.h"
-#include "backend_setup.h"
-#include "coverage_options.h"
-#include "cli_util.h"
-#include "diff_impact.h"
-#include "junit_reports.h"
-#include "kernel_model.h"
-#include "memory_estimate.h"
+#include "rayspace/diff/diff_command.h"
+#include "rayspace/frame/version.h"
+#include "rayspace/frame/backend_setup.h"
+#include "rayspace/diff/coverage_options.h"
+#include "rayspace/frame/command_util.h"
+#include "rayspace/diff/diff_impact.h"
+#include "rayspace/diff/junit_reports.h"
+#include "rayspace/frame/kernel_model.h"
+#include "rayspace/frame/memory_estimate.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "diff_impact.h"
+#include "rayspace/diff/diff_impact.h"
 
 #include <algorithm>
 #include <cmath>

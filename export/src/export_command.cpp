@@ -1,4 +1,4 @@
-#include "export_command.h"
+#include "rayspace/export/export_command.h"
 
 #include <unistd.h>
 
@@ -10,11 +10,11 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "backend_setup.h"
-#include "diff_command.h"
-#include "export_recording.h"
-#include "export_writer.h"
-#include "kernel_model.h"
+#include "rayspace/frame/backend_setup.h"
+#include "rayspace/diff/diff_command.h"
+#include "rayspace/export/export_recording.h"
+#include "rayspace/export/export_writer.h"
+#include "rayspace/frame/kernel_model.h"
 #include "rayspace/error.h"
 #include "rayspace/input_file.h"
 #include "rayspace/gpu/passes.h"

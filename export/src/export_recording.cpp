@@ -1,4 +1,4 @@
-#include "export_recording.h"
+#include "rayspace/export/export_recording.h"
 
 #include <fmt/format.h>
 

@@ -1,4 +1,4 @@
-#include "export_writer.h"
+#include "rayspace/export/export_writer.h"
 
 #include <fstream>
 #include <set>

@@ -1,4 +1,4 @@
-#include "backend_setup.h"
+#include "rayspace/frame/backend_setup.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -12,7 +12,7 @@
 #include "rayspace/gpu/kernel_check.h"
 #endif
 #include "rayspace/pass_registry.h"
-#include "kernel_model.h"
+#include "rayspace/frame/kernel_model.h"
 
 namespace rayspace::app {
 

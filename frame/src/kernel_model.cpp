@@ -1,8 +1,7 @@
-#include "kernel_model.h"
+#include "rayspace/frame/kernel_model.h"
 
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
 #include "rayspace/emu/workgroup_ops.h"
@@ -30,25 +29,6 @@ std::string ToString(const wg::Schedule& s) {
     case wg::Order::kRandom: return fmt::format("random:{}", s.seed);
   }
   return "?";
-}
-
-void AddKernelModelOptions(CLI::App& command, KernelModelArgs& args) {
-  command.add_option("--schedule", args.schedule,
-                     "The order the invocations of each emulated workgroup phase run in, and on the simulated GPU the "
-                     "order of its workgroups and subgroups: forward, reverse or random[:SEED] (results must not change)")
-      ->check([](const std::string& spec) {
-        try {
-          ParseSchedule(spec);
-          return std::string();
-        } catch (const InputError& e) {
-          const std::string m = e.what();  // CLI11 names the option itself
-          return m.substr(m.find('\''));
-        }
-      });
-  command.add_flag("--check-workgroups,!--no-check-workgroups", args.check,
-                   fmt::format("Emulator: check every shared-memory access of the workgroup kernels for races, reads "
-                               "of unwritten words and divergent barriers (always on when a fault is planted with @emu; "
-                               "default {})", args.check ? "on" : "off"));
 }
 
 bool RequestsWorkgroupModel(const KernelModelArgs& args) {

@@ -1,4 +1,4 @@
-#include "memory_estimate.h"
+#include "rayspace/frame/memory_estimate.h"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "peak_memory.h"
+#include "rayspace/frame/peak_memory.h"
 
 #include <fstream>
 #include <string>

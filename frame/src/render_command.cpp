@@ -1,7 +1,7 @@
-#include "render_command.h"
+#include "rayspace/frame/render_command.h"
 
 #include "rayspace/output_names.h"
-#include "cli_util.h"
+#include "rayspace/frame/command_util.h"
 
 #include <cmath>
 #include <cstdio>
@@ -11,15 +11,15 @@
 
 #include <nlohmann/json.hpp>
 
-#include "memory_estimate.h"
-#include "peak_memory.h"
+#include "rayspace/frame/memory_estimate.h"
+#include "rayspace/frame/peak_memory.h"
 #include "rayspace/digest.h"
 #include "rayspace/error.h"
 #include "rayspace/image_io.h"
 #include "rayspace/json_text.h"
 #include "rayspace/parallel.h"
-#include "render_frame.h"
-#include "version.h"
+#include "rayspace/frame/render_frame.h"
+#include "rayspace/frame/version.h"
 
 namespace rayspace::app {
 namespace {

@@ -1,8 +1,8 @@
-#include "render_frame.h"
+#include "rayspace/frame/render_frame.h"
 
 #include <chrono>
 
-#include "kernel_model.h"
+#include "rayspace/frame/kernel_model.h"
 #include "rayspace/error.h"
 #include "rayspace/parallel.h"
 #include "rayspace/refs/embree_tracer.h"

@@ -1,4 +1,4 @@
-#include "statistics.h"
+#include "rayspace/frame/statistics.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "text_table.h"
+#include "rayspace/frame/text_table.h"
 
 #include <algorithm>
 

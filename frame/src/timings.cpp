@@ -1,4 +1,4 @@
-#include "timings.h"
+#include "rayspace/frame/timings.h"
 
 #include <algorithm>
 

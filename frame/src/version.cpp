@@ -1,4 +1,4 @@
-#include "version.h"
+#include "rayspace/frame/version.h"
 
 #include <CGAL/version.h>
 #include <CLI/Version.hpp>

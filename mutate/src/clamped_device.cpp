@@ -1,4 +1,4 @@
-#include "clamped_device.h"
+#include "rayspace/mutate/clamped_device.h"
 
 #include <fmt/format.h>
 

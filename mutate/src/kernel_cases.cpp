@@ -1,4 +1,4 @@
-#include "kernel_cases.h"
+#include "rayspace/mutate/kernel_cases.h"
 
 #include <cmath>
 #include <cstdint>

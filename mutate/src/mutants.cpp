@@ -1,4 +1,4 @@
-#include "mutants.h"
+#include "rayspace/mutate/mutants.h"
 
 #include <bit>
 #include <limits>

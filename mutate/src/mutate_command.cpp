@@ -1,4 +1,4 @@
-#include "mutate_command.h"
+#include "rayspace/mutate/mutate_command.h"
 
 #include <algorithm>
 #include <atomic>
@@ -14,12 +14,12 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "clamped_device.h"
-#include "kernel_cases.h"
-#include "mutants.h"
-#include "mutate_runs.h"
-#include "mutate_shards.h"
-#include "junit_reports.h"
+#include "rayspace/mutate/clamped_device.h"
+#include "rayspace/mutate/kernel_cases.h"
+#include "rayspace/mutate/mutants.h"
+#include "rayspace/mutate/mutate_runs.h"
+#include "rayspace/mutate/mutate_shards.h"
+#include "rayspace/mutate/mutate_junit.h"
 #include "rayspace/shard.h"
 #include "rayspace/input_file.h"
 #include "rayspace/install_paths.h"
@@ -27,7 +27,7 @@
 #include "rayspace/error.h"
 #include "rayspace/output_file.h"
 #include "rayspace/pass_registry.h"
-#include "version.h"
+#include "rayspace/frame/version.h"
 #include "rayspace/settings.h"
 
 namespace rayspace::app {

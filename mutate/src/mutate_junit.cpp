@@ -1,4 +1,4 @@
-#include "mutate_junit.h"
+#include "rayspace/mutate/mutate_junit.h"
 
 #include <fmt/format.h>
 

@@ -6,9 +6,9 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "mutants.h"
-#include "mutate_command.h"
-#include "mutate_runs.h"
+#include "rayspace/mutate/mutants.h"
+#include "rayspace/mutate/mutate_command.h"
+#include "rayspace/mutate/mutate_runs.h"
 #include "rayspace/error.h"
 #include "rayspace/shard.h"
 #include "rayspace/pass_registry.h"

@@ -1,4 +1,4 @@
-#include "mutate_runs.h"
+#include "rayspace/mutate/mutate_runs.h"
 
 #include "rayspace/output_file.h"
 

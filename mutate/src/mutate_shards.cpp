@@ -1,4 +1,4 @@
-#include "mutate_shards.h"
+#include "rayspace/mutate/mutate_shards.h"
 
 #include <algorithm>
 #include <map>

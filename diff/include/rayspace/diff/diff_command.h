@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "rayspace/exit_codes.h"
-#include "frame_args.h"
+#include "rayspace/frame/frame_args.h"
 
 #include <nlohmann/json.hpp>
 

@@ -1,5 +1,5 @@
-// The commands' reports as JUnit test cases (rayspace/junit.h), for --junit FILE: what one test case
-// is in each command is said here and in docs/library.md, "Results in CI".
+// diff's report as JUnit test cases (rayspace/junit.h), for --junit FILE: what one test case is is
+// said here and in docs/library.md, "Results in CI".
 #pragma once
 #include <string>
 #include <vector>
@@ -18,11 +18,5 @@ std::vector<JUnitSuite> DiffJUnit(const nlohmann::json& report);
 // A diff report call's first differing buffer (its "calls" entry), as "BUFFER[INDEX]: expected E,
 // actual A (M of N elements differ)", or its element counts when they differ; "" when none differs.
 std::string FirstMismatch(const nlohmann::json& call);
-
-// mutate's report: a suite per side (the mutants on Vulkan, on the simulated GPU) and one of the
-// spirv-opt variants. A killed mutant passes; an unexplained survivor fails (the tests' gap); an
-// equivalent, explained, stillborn or invalid one is skipped, saying which; a mutant that broke the
-// tool is an error. A variant passes when it diffs equal.
-std::vector<JUnitSuite> MutateJUnit(const nlohmann::json& report);
 
 }  // namespace rayspace::app

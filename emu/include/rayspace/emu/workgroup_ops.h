@@ -19,7 +19,7 @@ std::uint32_t EmuFault(std::string_view pass);
 bool AnyEmuFault();
 
 // Whether the run asks for the emulated kernels' workgroups (Settings::workgroup_model): the commands set it when the checker is
-// on, the schedule is not forward or a fault is planted with @emu (app/kernel_model.cpp). A pass
+// on, the schedule is not forward or a fault is planted with @emu (frame/src/kernel_model.cpp). A pass
 // whose emulation has a faster path than its workgroup mirror (traverse.compact's lanes) takes the
 // mirror then, since the faster path has no workgroups to check, reorder or plant a fault in.
 // Off by default, so that library users and renders get the fast path.

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "export_recording.h"
+#include "rayspace/export/export_recording.h"
 
 namespace rayspace::app {
 

@@ -9,10 +9,6 @@
 #include "rayspace/reproduce/faithful_presets.h"
 #include "rayspace/emu/hierarchy.h"
 
-namespace CLI {
-class App;
-}
-
 namespace rayspace::app {
 
 struct FaithfulArgs {
@@ -27,14 +23,6 @@ struct FaithfulArgs {
   std::string child_merge = "sequential";                // --child-merge sequential|pairwise
 };
 
-// Registers --faithful, --hash-order, --hash-bits, --shadow-rule, --shadow-bounces, --one-object,
-// --cone-test, --leaf-test and --child-merge on `command`, writing into `args`. --faithful is resolved
-// when the command's parse completes: each switch of the preset that the command line does not give
-// is set as if it had been given, so an explicit switch wins over the preset.
-void AddFaithfulOptions(CLI::App& command, FaithfulArgs& args);
-// The switches of a preset, as `--faithful name` alone on a command line gives them (for callers
-// without a command line, such as `rayspace reproduce`). Throws InputError for an unknown name.
-FaithfulArgs FaithfulFromPreset(const std::string& name);
 // The largest --hash-bits: a shadow key holds the light index and both angles' cells.
 int MaxHashBits();
 // Sets the hierarchy configuration's fields the switches name; --cone-test printed takes --objects

@@ -8,17 +8,13 @@
 #include <string_view>
 #include <vector>
 
-#include "backend_setup.h"
-#include "faithful_args.h"
-#include "kernel_model.h"
+#include "rayspace/frame/backend_setup.h"
+#include "rayspace/frame/faithful_args.h"
+#include "rayspace/frame/kernel_model.h"
 #include "rayspace/emu/frame.h"
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/grid/grid.h"
 #include "rayspace/emu/tl/tl.h"
-
-namespace CLI {
-class App;
-}
 
 namespace rayspace::app {
 
@@ -96,24 +92,14 @@ bool OneSided(const FrameArgs& args);
 // per-cell heads, --primary tl only) into the frame's options; InputError otherwise.
 void ApplyPrimary(const FrameArgs& args, emu::FrameOptions& fo);
 
-// Registers --algo, --lists, --node-order, --subdivision, --levels (alias --depth), --bounces, --objects, --tree-leaf, --tree-big, --reduction, --component-size, --pair-capacity, --size,
-// --data, --device, --split-bytes, --max-groups, --kernel, --schedule, --check-workgroups and the
-// thesis's switches (faithful_args.h) on
-// `command`, writing into `args`.
-void AddFrameOptions(CLI::App& command, FrameArgs& args);
-// --device and --device-lacks (replay runs on a device but renders no frame).
-void AddDeviceOption(CLI::App& command, int& device, std::map<std::string, std::uint64_t>& lacks);
-// --device-lacks NAME[=VALUE] (test use), parsed into `out` (Settings::device_lacks; rayspace devices too).
-void AddDeviceLacksOption(CLI::App& command, std::map<std::string, std::uint64_t>& out);
-// --kernel PASS=FILE, repeatable (render --backend vulkan, diff, replay).
-void AddKernelOption(CLI::App& command, KernelFiles& kernels);
-// --split-bytes and --max-groups (TestLimits): render, diff and replay.
-void AddLimitOptions(CLI::App& command, std::size_t& split_bytes, std::uint32_t& max_groups);
-// --local-size (diff and replay).
-void AddLocalSizeOption(CLI::App& command, int& local_size);
 
 // Refuses a pair capacity below subdivision^(levels-1), the most pairs one node and one triangle reach.
 void CheckPairCapacity(std::size_t capacity, int subdivision, int levels);
+
+// Every check of the options that needs neither the scene nor the device, at once (InputError naming
+// the first that fails): the command line runs it right after parsing, before any work. The engines
+// check again where they use the options, for callers that never parsed a command line.
+void ValidateFrameArgs(const FrameArgs& args);
 
 // The hierarchy tracer's configuration for a frame of width x height, for a hierarchy --algo.
 emu::HierarchyConfig MakeHierarchyConfig(const FrameArgs& args, int width, int height, emu::HierarchyPasses* passes);

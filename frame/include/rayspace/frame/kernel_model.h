@@ -9,10 +9,6 @@
 #include "rayspace/workgroup.h"
 #include "rayspace/settings.h"
 
-namespace CLI {
-class App;
-}
-
 namespace rayspace::app {
 
 // "forward", "reverse" or "random[:SEED]" (seed a decimal number, default 1); anything else is an
@@ -29,7 +25,6 @@ struct KernelModelArgs {
     return a;
   }
 };
-void AddKernelModelOptions(CLI::App& command, KernelModelArgs& args);
 // Whether the options ask for the emulated kernels' workgroups: the checker on, or a schedule other
 // than forward (an @emu fault asks too, through the Injection).
 bool RequestsWorkgroupModel(const KernelModelArgs& args);

@@ -7,17 +7,17 @@
 
 #include <nlohmann/json.hpp>
 
-#include "backend_setup.h"
+#include "rayspace/frame/backend_setup.h"
 #include "rayspace/emu/frame.h"
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/grid/tracer.h"
 #include "rayspace/emu/tl/tracer.h"
 #include "rayspace/refs/oracle.h"
 #include "rayspace/scene.h"
-#include "memory_estimate.h"
-#include "render_command.h"
-#include "statistics.h"
-#include "timings.h"
+#include "rayspace/frame/memory_estimate.h"
+#include "rayspace/frame/render_command.h"
+#include "rayspace/frame/statistics.h"
+#include "rayspace/frame/timings.h"
 
 namespace rayspace::app {
 

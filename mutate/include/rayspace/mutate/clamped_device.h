@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-#include "mutate_runs.h"
+#include "rayspace/mutate/mutate_runs.h"
 
 namespace rayspace::app::mutate_runs {
 
