@@ -6,8 +6,11 @@
 #include <bit>
 #include <cmath>
 #include <random>
+#include <tuple>
+#include <vector>
 
 #include "rayspace/emu/cone.h"
+#include "rayspace/emu/object_tree_traverse.h"
 #include "rayspace/verify/call_codec.h"
 #include "rayspace/verify/spec_model.h"
 #include "rayspace/verify/spec_real.h"
@@ -248,4 +251,104 @@ TEST_CASE("relaxed model: the fused traversal's list may gain or lose a pair who
   CHECK(verdict({0u, 1u, 7u}).beyond == 1);     // a pair no slot gives
   CHECK(verdict({0u, 1u}, 3).beyond == 1);      // the tests run are counted exactly
   CHECK(verdict({0u, 1u}).AllWithin());         // equal lists: nothing beyond
+}
+
+namespace {
+// The object-tree descent's smallest call: one level-1 cone node (the boundary case's) over one ray,
+// and an object tree whose root (at (1, 0, 5), radius 1000: the object side is refined, with room to
+// spare) has two children, the boundary sphere and the far one (radius 2).
+struct TreeCase {
+  BoundaryCase b = Boundary();
+  std::vector<rayspace::layout::ConeNode> cone_nodes;
+  std::vector<std::uint32_t> cone_base = {0, 1, 2}, cone_first = {0, 1, 0, 1};
+  std::vector<glm::vec4> spheres;
+  std::vector<glm::uvec4> links = {glm::uvec4(1, 2, 0, 0), glm::uvec4(0), glm::uvec4(0)};
+  std::vector<std::uint32_t> depth = {0, 1, 1}, roots = {0}, children = {1, 2}, none;
+  std::vector<glm::vec4> tri_spheres;
+  std::uint32_t cone = 1u << rayspace::layout::kTreeLevelShift;  // level 1, node 0
+  TreeCase() {
+    rayspace::layout::ConeNode ray = b.node;
+    cone_nodes = {ray, b.node};
+    spheres = {glm::vec4(1, 0, 5, 1000), glm::vec4(1, 0, 5, b.radius), glm::vec4(1, 0, 5, 2)};
+  }
+  rayspace::emu::ConeTreeView Cones() const { return {cone_nodes, cone_base, cone_first}; }
+  rayspace::emu::ObjectTreeView Tree(const std::vector<std::uint32_t>& tree_roots) const {
+    return {spheres, links, depth, tree_roots, tri_spheres, none};
+  }
+};
+}  // namespace
+
+TEST_CASE("relaxed model: the object-tree descent may keep or drop a candidate whose test may flip, and counts it") {
+  using namespace rayspace;
+  using rayspace::verify::BufferSet;
+  using rayspace::verify::ClassifyWithinSpec;
+  const TreeCase tc;
+  const std::vector<std::uint32_t> pair_cone = {tc.cone}, pair_item = {0u}, offsets = {0u};
+  SUBCASE("tree.roots and tree.test: a flag per candidate") {
+    emu::call::TreeRoots roots{.cones = tc.Cones(), .tree = tc.Tree(tc.children), .level = 1, .t0 = 0, .t1 = 1, .eps = 0.0f};
+    emu::call::TreeTest test{.cones = tc.Cones(), .tree = tc.Tree(tc.roots), .pair_cone = pair_cone, .pair_item = pair_item,
+                             .offsets = offsets, .slots = 2, .eps = 0.0f};
+    for (const auto& [method, in, emulated] :
+         {std::tuple{"tree.roots", verify::EncodeCall(roots), emu::PassTreeRoots(roots)},
+          std::tuple{"tree.test", verify::EncodeCall(test), emu::PassTreeTest(test)}}) {
+      CAPTURE(method);
+      REQUIRE(emulated.flags == std::vector<std::uint8_t>{1, 1});  // both candidates kept, to go on
+      const BufferSet expected = verify::EncodeOutputs(test, &emulated);  // roots' buffers are test's
+      const auto verdict = [&](std::vector<std::uint8_t> flags, int hits_lost) {
+        emu::TreeSlots device = emulated;
+        device.flags = flags;
+        device.counts.cone_hits[1] -= hits_lost;
+        device.counts.node_hits[1] -= hits_lost;
+        return ClassifyWithinSpec(method, in, expected, verify::EncodeOutputs(test, &device));
+      };
+      const auto boundary = verdict({0, 1}, 1);  // the boundary candidate dropped: a conformant device may
+      CHECK(boundary.modelled);
+      CHECK(boundary.within == 1);
+      CHECK(boundary.beyond == 0);
+      const auto far = verdict({1, 0}, 1);  // the far one dropped: none may
+      CHECK(far.beyond >= 1);
+      CHECK(far.first_beyond.find("flags[1]") != std::string::npos);
+      CHECK(verdict({0, 1}, 0).beyond == 1);  // the counts not the device's own flags'
+      CHECK(verdict({2, 1}, 0).beyond == 1);  // a node candidate is never final
+      CHECK(verdict({1, 1}, 0).AllWithin());
+      emu::TreeSlots moved = emulated;
+      std::swap(moved.pairs.item[0], moved.pairs.item[1]);
+      CHECK(ClassifyWithinSpec(method, in, expected, verify::EncodeOutputs(test, &moved)).beyond == 1);  // candidates are integers
+    }
+  }
+  SUBCASE("tree.step: the kept candidates in slot order") {
+    emu::call::TreeStep step{.cones = tc.Cones(), .tree = tc.Tree(tc.roots), .pair_cone = pair_cone, .pair_item = pair_item, .eps = 0.0f};
+    const BufferSet in = verify::EncodeCall(step);
+    const emu::TreeRound emulated = emu::PassTreeStep(step);
+    REQUIRE(emulated.next.item == std::vector<std::uint32_t>{1u, 2u});
+    const BufferSet expected = verify::EncodeOutputs(step, &emulated);
+    const auto verdict = [&](std::vector<std::uint32_t> items, int hits_lost) {
+      emu::TreeRound device = emulated;
+      device.next.item = items;
+      device.next.cone.assign(items.size(), tc.cone);
+      device.counts.cone_hits[1] -= hits_lost;
+      device.counts.node_hits[1] -= hits_lost;
+      return ClassifyWithinSpec("tree.step", in, expected, verify::EncodeOutputs(step, &device));
+    };
+    const auto boundary = verdict({2u}, 1);
+    CHECK(boundary.modelled);
+    CHECK(boundary.within == 1);
+    CHECK(boundary.beyond == 0);
+    const auto far = verdict({1u}, 1);  // the far candidate dropped
+    CHECK(far.beyond >= 1);
+    CHECK(far.first_beyond.find("dropped") != std::string::npos);
+    CHECK(verdict({2u}, 0).beyond == 1);          // counts
+    CHECK(verdict({2u, 1u}, 0).beyond >= 1);      // out of slot order
+    CHECK(verdict({1u, 2u, 2u}, -1).beyond >= 1);  // a candidate twice
+    CHECK(verdict({1u, 2u}, 0).AllWithin());
+  }
+  SUBCASE("tree.expand: a pair refined on the side no device doubts has one count") {
+    emu::call::TreeExpand expand{.cones = tc.Cones(), .tree = tc.Tree(tc.roots), .pair_cone = pair_cone, .pair_item = pair_item};
+    BufferSet expected, actual;
+    expected.Put("counts", std::vector<std::uint32_t>{2u});
+    actual.Put("counts", std::vector<std::uint32_t>{1u});
+    const auto v = ClassifyWithinSpec("tree.expand", verify::EncodeCall(expand), expected, actual);
+    CHECK(v.modelled);
+    CHECK(v.beyond == 1);
+  }
 }

@@ -27,13 +27,7 @@ std::uint32_t NodeOf(std::uint32_t cone) { return cone & kTreeNodeMask; }
 std::uint32_t ConeOf(std::uint32_t level, std::uint32_t node) { return level << kTreeLevelShift | node; }
 bool IsTriangle(std::uint32_t item) { return (item & kTreeItemTriangle) != 0; }
 
-// The candidates of one pair: the cone side's children [k0, k1) of level `level`, or the object
-// side's child nodes [k0, k1) then own triangles [t0, t1), tested against the cone at `level`.
-struct Expansion {
-  bool cone_side = false;
-  std::uint32_t level = 0, k0 = 0, k1 = 0, t0 = 0, t1 = 0;
-  std::uint32_t Count() const { return (k1 - k0) + (t1 - t0); }
-};
+using Expansion = TreeExpansion;
 
 // What every tree pass reads: the two hierarchies and the test margin.
 struct Trees {
@@ -42,15 +36,23 @@ struct Trees {
   float eps;
 };
 
-Expansion Expand(const Trees& c, std::uint32_t cone, std::uint32_t item) {
+bool SplitsCone(const Trees& c, std::uint32_t cone, std::uint32_t item) {
+  const std::uint32_t L = LevelOf(cone);
+  return IsTriangle(item) || (L > 0 && SplitCone(c.cones.Node(L, NodeOf(cone)), c.tree.tree_spheres[item]));
+}
+
+Expansion ExpandSide(const Trees& c, std::uint32_t cone, std::uint32_t item, bool cone_side) {
   const std::uint32_t L = LevelOf(cone), n = NodeOf(cone);
   RS_CHECK_MSG(!(IsTriangle(item) && L <= 1), "tree pair ({}, {}) is final, not one to refine", cone, item);
-  const bool cone_side = IsTriangle(item) || (L > 0 && SplitCone(c.cones.Node(L, n), c.tree.tree_spheres[item]));
+  RS_CHECK_MSG(!cone_side || L > 0, "tree pair ({}, {}): a ray has no children to refine into", cone, item);
+  RS_CHECK_MSG(cone_side || !IsTriangle(item), "tree pair ({}, {}): a triangle has no children to refine into", cone, item);
   if (cone_side) return {true, L - 1, c.cones.First(L, n), c.cones.First(L, n + 1), 0, 0};
   const glm::uvec4 o = c.tree.tree_links[item];
   const std::uint32_t children = o.y - (Fault() == TreeFault::kDropLastChild && o.y > 0);
   return {false, L, o.x, o.x + children, o.z, o.z + o.w};
 }
+
+Expansion Expand(const Trees& c, std::uint32_t cone, std::uint32_t item) { return ExpandSide(c, cone, item, SplitsCone(c, cone, item)); }
 
 // Candidate k of pair (cone, item) under expansion e.
 std::pair<std::uint32_t, std::uint32_t> Candidate(const Expansion& e, std::uint32_t cone, std::uint32_t item, std::uint32_t k) {
@@ -163,16 +165,23 @@ ObjectTreeIndex IndexObjectTree(ObjectTree tree, std::span<const glm::vec4> tri_
   return x;
 }
 
-bool SplitCone(const layout::ConeNode& n, glm::vec4 o) {
-  const float cosa = n.cone.w, sina = n.extra.x;
-  if (!(cosa > 0.0f)) return true;  // a hemisphere or wider: refining the object cannot narrow it
-  // r + d tan(alpha) > R  <=>  d sin > (R - r) cos, squared when both sides are non-negative.
-  const float rhs = (o.w - n.sphere.w) * cosa;
-  if (rhs < 0.0f) return true;
-  const float dx = o.x - n.sphere.x, dy = o.y - n.sphere.y, dz = o.z - n.sphere.z;
-  const float d2 = dx * dx + dy * dy + dz * dz;
-  return d2 * (sina * sina) > rhs * rhs;
+TreeExpansion ExpandTreePair(const ConeTreeView& cones, const ObjectTreeView& tree, std::uint32_t cone, std::uint32_t item, bool cone_side) {
+  return ExpandSide(Trees{cones, tree, 0.0f}, cone, item, cone_side);
 }
+bool TreeSplitsCone(const ConeTreeView& cones, const ObjectTreeView& tree, std::uint32_t cone, std::uint32_t item) {
+  return SplitsCone(Trees{cones, tree, 0.0f}, cone, item);
+}
+std::pair<std::uint32_t, std::uint32_t> TreeCandidate(const TreeExpansion& e, std::uint32_t cone, std::uint32_t item, std::uint32_t k) {
+  return Candidate(e, cone, item, k);
+}
+const layout::ConeNode& TreeConeNode(const ConeTreeView& cones, std::uint32_t cone) { return cones.Node(LevelOf(cone), NodeOf(cone)); }
+glm::vec4 TreeItemSphere(const ObjectTreeView& tree, std::uint32_t item) { return SphereOf(tree, item); }
+std::uint8_t TreePairKind(std::uint32_t cone, std::uint32_t item) { return KindOf(cone, item); }
+void CountTreeTests(TreeCounts& k, const ObjectTreeView& tree, std::uint32_t cone, std::uint32_t item, std::uint64_t tests,
+                    std::uint64_t hits) {
+  Count(k, tree, cone, item, tests, hits);
+}
+TreeCounts EmptyTreeCounts(const ConeTreeView& cones, const ObjectTreeView& tree) { return EmptyCounts(Trees{cones, tree, 0.0f}); }
 
 ConeTree MakeConeTree(std::span<const layout::ConeNode> rays, const std::vector<std::vector<layout::ConeNode>>& levels,
                       const std::vector<std::vector<std::uint32_t>>& first) {

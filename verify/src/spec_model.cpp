@@ -19,6 +19,7 @@
 #include "rayspace/refs/exact_cone.h"
 #include "rayspace/verify/call_codec.h"
 #include "rayspace/verify/spec_real.h"
+#include "spec_tally.h"
 
 namespace rayspace::verify {
 namespace {
@@ -30,18 +31,7 @@ V Spec3(glm::vec3 v) { return V(R(v.x), R(v.y), R(v.z)); }
 
 std::string Show(float f) { return fmt::format("{:#010x} ({:g})", std::bit_cast<std::uint32_t>(f), f); }
 
-class Tally {
- public:
-  Tally() { v_.modelled = true; }
-  void Within() { ++v_.within; }
-  void Beyond(const std::string& why) {
-    if (v_.beyond++ == 0) v_.first_beyond = why;
-  }
-  SpecVerdict Done() { return v_; }
-
- private:
-  SpecVerdict v_;
-};
+using Tally = SpecTally;
 
 // Calls fn(i, expected, actual) for every element where the two copies of output `name` differ (the
 // emulator's and the device's), after requiring equal sizes, and `size` elements when given.
@@ -812,6 +802,7 @@ SpecVerdict ClassifyWithinSpec(const std::string& method, const BufferSet& in, c
   if (method == "traverse.compact.top") return TraverseTopCompacted(in, expected, actual, flush_denormals);
   if (method == "traverse.compact.level") return TraverseLevelCompacted(in, expected, actual, flush_denormals);
   if (method == "traverse.objects") return ObjectMask(in, expected, actual, flush_denormals);
+  if (method.starts_with("tree.")) return ClassifyTree(method, in, expected, actual, flush_denormals);
   return {};
 }
 

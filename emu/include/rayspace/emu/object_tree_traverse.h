@@ -55,8 +55,48 @@ ConeTree MakeConeTree(std::span<const layout::ConeNode> rays, const std::vector<
 
 // Which side of a pair is refined: the cone when its cross-section where the object node's centre
 // lies is wider than the node (radius + distance x tan(alpha) > the node's radius), or when it is
-// at least a hemisphere; multiplications and additions only, so every device decides alike.
-bool SplitCone(const layout::ConeNode& cone, glm::vec4 object_sphere);
+// at least a hemisphere. Multiplications, additions and comparisons only, each correctly rounded in
+// Vulkan, but to nearest or toward zero as the device chooses: a decision on the boundary may go
+// either way (the relaxed model asks through S = SpecReal; gpu/shaders/tree.glsl holds the kernel's).
+template <typename S>
+bool SplitConeOf(const layout::ConeNode& n, glm::vec4 o) {
+  const S cosa(n.cone.w), sina(n.extra.x);
+  if (!(cosa > S(0.0f))) return true;  // a hemisphere or wider: refining the object cannot narrow it
+  // r + d tan(alpha) > R  <=>  d sin > (R - r) cos, squared when both sides are non-negative.
+  const S rhs = (S(o.w) - S(n.sphere.w)) * cosa;
+  if (rhs < S(0.0f)) return true;
+  const S dx = S(o.x) - S(n.sphere.x), dy = S(o.y) - S(n.sphere.y), dz = S(o.z) - S(n.sphere.z);
+  const S d2 = dx * dx + dy * dy + dz * dz;
+  return d2 * (sina * sina) > rhs * rhs;
+}
+inline bool SplitCone(const layout::ConeNode& cone, glm::vec4 object_sphere) { return SplitConeOf<float>(cone, object_sphere); }
+
+// A pair's candidates, in the order tree.expand counts them and tree.test and tree.step test them:
+// the cone side's children [k0, k1) of `level`, or the object side's child nodes [k0, k1) then own
+// triangles [t0, t1), tested against the cone at `level`. What the passes and the relaxed model
+// (verify/) share.
+struct TreeExpansion {
+  bool cone_side = false;
+  std::uint32_t level = 0, k0 = 0, k1 = 0, t0 = 0, t1 = 0;
+  std::uint32_t Count() const { return (k1 - k0) + (t1 - t0); }
+};
+// The expansion of pair (cone, item): refining the cone side when `cone_side`, else the object side
+// (the passes take SplitCone's decision; the relaxed model asks for both when it may go either way).
+TreeExpansion ExpandTreePair(const ConeTreeView& cones, const ObjectTreeView& tree, std::uint32_t cone, std::uint32_t item, bool cone_side);
+// Whether the passes refine the cone side of pair (cone, item) (a triangle item, or SplitCone).
+bool TreeSplitsCone(const ConeTreeView& cones, const ObjectTreeView& tree, std::uint32_t cone, std::uint32_t item);
+// Candidate k of pair (cone, item) under e: its (cone, item).
+std::pair<std::uint32_t, std::uint32_t> TreeCandidate(const TreeExpansion& e, std::uint32_t cone, std::uint32_t item, std::uint32_t k);
+// What a candidate's cone-sphere test reads: the cone node, the item's sphere.
+const layout::ConeNode& TreeConeNode(const ConeTreeView& cones, std::uint32_t cone);
+glm::vec4 TreeItemSphere(const ObjectTreeView& tree, std::uint32_t item);
+// A kept candidate's kind: 2 when it is final (a level-1 node or a ray with a triangle), else 1.
+std::uint8_t TreePairKind(std::uint32_t cone, std::uint32_t item);
+// Adds `tests` tests and `hits` hits of candidate (cone, item) to k (by cone level and object depth).
+void CountTreeTests(TreeCounts& k, const ObjectTreeView& tree, std::uint32_t cone, std::uint32_t item, std::uint64_t tests,
+                    std::uint64_t hits);
+// Counts with every level and depth of the two trees, all zero.
+TreeCounts EmptyTreeCounts(const ConeTreeView& cones, const ObjectTreeView& tree);
 
 // The passes (emu/calls.h): tree.roots; a round as tree.expand, tree.test (after an exclusive scan
 // of the counts) and the reductions; or fused as tree.step; the final tests.

@@ -4,11 +4,11 @@
 // from a 2-ULP inversesqrt, denormals possibly flushed), or is one beyond what the spec allows?
 //
 // Most passes with float arithmetic the spec leaves loose have a model (raygen, intersect and
-// intersect.tree, hash, surfaces, shade, build, traverse and traverse.compact, resolve). Each
-// re-evaluates a differing element in SpecReal (spec_real.h) through the emulator's own templated
-// math, so the model and the emulated pass cannot drift apart. The integer passes compute only what
-// the spec makes exact on every device, and their differences are bugs on any device; tl.*, tree.*
-// and the grids' passes have no model yet (docs/numerics.md).
+// intersect.tree, hash, surfaces, shade, build, traverse and traverse.compact, the object tree's
+// tree.*, resolve). Each re-evaluates a differing element in SpecReal (spec_real.h) through the
+// emulator's own templated math, so the model and the emulated pass cannot drift apart. The integer passes compute only what
+// the spec makes exact on every device, and their differences are bugs on any device; tl.* and the
+// grids' passes have no model yet (docs/numerics.md).
 #pragma once
 #include <string>
 
