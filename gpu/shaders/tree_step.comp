@@ -109,9 +109,10 @@ void main() {
   if (pc.phase == kTreeStepPhaseScan) {
     if (g != 0u) return;
     uint total;
-    WORKGROUP_SCAN_IN_PLACE(offsets, 0u, pc.blocks, WorkgroupRank(), total);
+    const uint rank = WorkgroupRank();  // once: both scans add in the same order
+    WORKGROUP_SCAN_IN_PLACE(offsets, 0u, pc.blocks, rank, total);
     if (gl_LocalInvocationID.x == 0u) offsets[pc.blocks] = total;
-    WORKGROUP_SCAN_IN_PLACE(offsets, pc.blocks + 1u, pc.blocks, WorkgroupRank(), total);
+    WORKGROUP_SCAN_IN_PLACE(offsets, pc.blocks + 1u, pc.blocks, rank, total);
     if (gl_LocalInvocationID.x == 0u) offsets[2u * pc.blocks + 1u] = total;
   } else if (g < pc.blocks) {  // uniform: the whole workgroup leaves
     if (pc.phase == kTreeStepPhaseCount)
