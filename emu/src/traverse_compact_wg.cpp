@@ -428,8 +428,8 @@ class CompactKernel {
         const std::uint32_t before = (inclusive[i] & 0xFFFFu) - n[i];
         // Fault 3: every round starts at the block's start (the carry between rounds is dropped).
         std::uint32_t at = first + (site_.fault == 3u ? 0u : run[i]) + before;
-        // A store past the buffer (only a planted fault makes one) is dropped, as robust buffer
-        // access drops the kernel's.
+        // A store past the buffer (only a planted fault makes one) is not made. The device enables
+        // no robust buffer access: its store lands in the guard words, which fail the call (docs/gpu.md).
         for (std::uint32_t bits = q[i].hit; bits != 0u; bits &= bits - 1u, ++at)
           if (at < pc_.count)
             scratch_[at] = ((q[i].c0 + q[i].kc + static_cast<std::uint32_t>(std::countr_zero(bits)) - pc_.base) << kPairTriangleBits) |

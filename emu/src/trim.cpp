@@ -22,8 +22,9 @@ Trimmed PassTrim(const call::Trim& c) {
       KernelSite::Of("trim"), flags.size(), [&](std::size_t i) { return flags[i]; },
       [&](std::size_t i, std::uint32_t s) {
         t.offsets[i] = s;
-        // A dense index past the stream (only a planted wrong offset makes one) is dropped, as robust
-        // buffer access drops the kernel's store.
+        // A dense index past the stream (only a planted wrong offset makes one) is not stored. The
+        // device enables no robust buffer access: there the store lands in the buffer's guard words,
+        // which fail the call (docs/gpu.md, "Guard words"); here the wrong offsets differ already.
         if (flags[i] && s < t.rays.size()) t.rays[s] = c.rays[i];
       },
       [&](std::uint32_t count) { t.rays.resize(count); });
