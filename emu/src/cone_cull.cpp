@@ -49,7 +49,7 @@ SphereGroups GroupsOf(std::span<const glm::vec4> spheres, std::uint32_t group_si
 
 CullNode CullNodeOf(const layout::ConeNode& n, float eps) {
   CullNode c{n.sphere.x, n.sphere.y, n.sphere.z, n.cone.x, n.cone.y, n.cone.z, n.cone.w, n.extra.x,
-             double(n.sphere.w) + std::abs(double(eps)), false};
+             double(n.sphere.w) + std::abs(double(eps)), false, CurrentSettings().cull_margin.value_or(kCullMargin)};
   const double values[] = {c.x, c.y, c.z, c.ax, c.ay, c.az, c.cosa, c.sina, double(n.sphere.w), c.reach};
   const bool finite = std::all_of(std::begin(values), std::end(values), Bounded);
   const double axis2 = c.ax * c.ax + c.ay * c.ay + c.az * c.az, angle2 = c.cosa * c.cosa + c.sina * c.sina;
@@ -66,8 +66,7 @@ bool GroupMisses(const CullNode& n, const SphereGroups& groups, std::size_t g) {
   const double b = std::sqrt(cx * cx + cy * cy + cz * cz);
   const double f = b * n.cosa - a * n.sina;
   const double len = std::sqrt(vx * vx + vy * vy + vz * vz);
-  const double margin = CurrentSettings().cull_margin.value_or(kCullMargin);
-  return f > (groups.r[g] + n.reach) * (1.0 + margin) + margin * len;
+  return f > (groups.r[g] + n.reach) * (1.0 + n.margin) + n.margin * len;
 }
 
 

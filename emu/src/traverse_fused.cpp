@@ -55,8 +55,9 @@ std::size_t TestCulled(const call::TraverseTop& c, const TopSpheres& s, const co
   std::size_t count = 0;
   std::uint32_t from = lo;
   std::uint64_t culled = 0;
+  const cone::Isa isa = FusedIsa();
   auto skip = [&](std::uint32_t gl, std::uint32_t gh) {
-    if (from < gl) count += cone::TestSpheres(FusedIsa(), n, s.lanes, from, gl, c.eps, first, 0, out + count);
+    if (from < gl) count += cone::TestSpheres(isa, n, s.lanes, from, gl, c.eps, first, 0, out + count);
     culled += gh - gl;
     from = gh;
   };
@@ -73,7 +74,7 @@ std::size_t TestCulled(const call::TraverseTop& c, const TopSpheres& s, const co
     if (cone::GroupMisses(cull, s.fine, g)) skip(std::max(lo, g * F), std::min(hi, (g + 1) * F));
     ++g;
   }
-  if (from < hi) count += cone::TestSpheres(FusedIsa(), n, s.lanes, from, hi, c.eps, first, 0, out + count);
+  if (from < hi) count += cone::TestSpheres(isa, n, s.lanes, from, hi, c.eps, first, 0, out + count);
   if (std::uint64_t* sink = CurrentSettings().culled_slots; culled && sink)
     std::atomic_ref<std::uint64_t>(*sink).fetch_add(culled, std::memory_order_relaxed);
   return count;

@@ -33,6 +33,7 @@ SphereGroups GroupsOf(std::span<const glm::vec4> spheres, std::uint32_t group_si
 struct CullNode {
   double x, y, z, ax, ay, az, cosa, sina, reach;  // reach = node radius + |eps|
   bool usable;
+  double margin;  // the bound's relative margin in force when the node was made (kCullMargin)
 };
 CullNode CullNodeOf(const layout::ConeNode& n, float eps);
 
