@@ -15,6 +15,7 @@
 #include "rayspace/contract.h"
 #include "rayspace/emu/intersect.h"
 #include "rayspace/emu/tl/heads.h"
+#include "rayspace/emu/tl/walk_math.h"
 #include "rayspace/error.h"
 #include "rayspace/parallel.h"
 
@@ -198,22 +199,8 @@ std::uint32_t ListFor(std::uint32_t count, glm::vec3 dir) {
   return 0;
 }
 
-// Along the unit direction u, the centre lies at a and at distance b from the line. The ray's part
-// [t0, t1] (in length) meets the sphere only if b <= r and [a - r, a + r] meets [t0, t1]; both are
-// checked with the sphere grown by the cone test's slacks (contract.h), which cover the rounding of
-// v, u, a, b and the t scaling (a few ulps of |a| + b, of t), so the test only ever accepts more.
 bool SphereMayHit(glm::vec3 org, glm::vec3 dir, float tmin, float tlimit, glm::vec4 sphere) {
-  const float len = Length(dir);
-  const glm::vec3 v = Xyz(sphere) - org;
-  const glm::vec3 u(dir.x / len, dir.y / len, dir.z / len);
-  const float a = Dot(v, u), b = Length(Cross(v, u));
-  if (!std::isfinite(a) || !std::isfinite(b)) return true;  // out of float range: keep
-  const float r = (sphere.w * layout::kRadiusSlack + (Abs(a) + b) * layout::kTestSlack) +
-                  std::bit_cast<float>(layout::kRadiusFloorBits);
-  if (b > r) return false;
-  const float t0 = tmin * len, t1 = tlimit * len;
-  if (a + r < t0 - Abs(t0) * layout::kTestSlack) return false;
-  return !(a - r > t1 + Abs(t1) * layout::kTestSlack);
+  return SphereMayHitOf<float>(org, dir, tmin, tlimit, sphere);
 }
 
 namespace {

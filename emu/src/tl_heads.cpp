@@ -11,6 +11,7 @@
 #include "rayspace/kernel_functions.h"
 #include "rayspace/emu/intersect.h"
 #include "rayspace/emu/tl/heads.h"
+#include "rayspace/emu/tl/walk_math.h"
 #include "rayspace/parallel.h"
 
 namespace rayspace::emu::tl {
@@ -21,15 +22,9 @@ constexpr float kSqrt2Up = 1.41421366f;
 
 }  // namespace
 
-float FacetBound(glm::vec3 m, glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, bool ends) {
-  const float a = Dot(m, v0), b = Dot(m, v1), d = Dot(m, v2);
-  float x = a;
-  if (ends ? b > x : b < x) x = b;
-  if (ends ? d > x : d < x) x = d;
-  return x;
-}
+float FacetBound(glm::vec3 m, glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, bool ends) { return FacetBoundOf(m, v0, v1, v2, ends); }
 
-bool Sliver(glm::vec3 e1, glm::vec3 e2, glm::vec3 n) { return !(MaxAbs(n, n) * 32.0f >= MaxAbs(e1, e1) * MaxAbs(e2, e2)); }
+bool Sliver(glm::vec3 e1, glm::vec3 e2, glm::vec3 n) { return SliverOf(e1, e2, n); }
 
 std::uint32_t Facets(std::uint32_t count, std::uint32_t k, glm::vec3 m[4]) {
   if (count == 2) {
@@ -172,24 +167,11 @@ std::uint32_t RayCase(const ListsView& lists, std::span<const Word> tri_words, c
   const std::uint32_t prim = ray.info.y;
   if (prim >= tri_words.size()) return kNoCase;
   const Word w = tri_words[prim];
-  const glm::vec3 v0 = Xyz(lists.vertices[w.x]), v1 = Xyz(lists.vertices[w.y]), v2 = Xyz(lists.vertices[w.z]);
-  const glm::vec3 e1 = v1 - v0, e2 = v2 - v0, n = Cross(e1, e2);
-  if (Sliver(e1, e2, n)) return kNoCase;
-  const glm::vec3 d = Xyz(ray.direction_tmax);
-  const float dn = Dot(d, n), lim = layout::kTlSideRatio * (Length(d) * Length(n));
-  if (!(std::fabs(dn) > lim)) return kNoCase;  // along the plane, or NaN
-  // A starting ray reaches the side d points to; an ending one comes from the other.
-  const bool behind = ends ? dn > 0.0f : dn < 0.0f;
-  if (lists.heads == layout::kTlHeadsRegular) {
-    const glm::vec3 p = ends ? Xyz(ray.origin_tmin) + d * ray.direction_tmax.w : Xyz(ray.origin_tmin);
-    glm::vec3 m[4];
-    const std::uint32_t facets = Facets(static_cast<std::uint32_t>(lists.first.size() - 1), k, m);
-    for (std::uint32_t j = 0; j < facets; ++j) {
-      const float bound = FacetBound(m[j], v0, v1, v2, ends), x = Dot(m[j], p);
-      if (ends ? !(x <= bound) : !(x >= bound)) return kNoCase;
-    }
-  }
-  return (ends ? 2u : 0u) + (behind ? 1u : 0u);
+  glm::vec3 m[4];
+  const std::uint32_t facets =
+      lists.heads == layout::kTlHeadsRegular ? Facets(static_cast<std::uint32_t>(lists.first.size() - 1), k, m) : 0u;
+  return RayCaseOf(Xyz(lists.vertices[w.x]), Xyz(lists.vertices[w.y]), Xyz(lists.vertices[w.z]), Xyz(ray.origin_tmin),
+                   Xyz(ray.direction_tmax), ray.direction_tmax.w, ends, m, facets, kNoCase);
 }
 
 }  // namespace rayspace::emu::tl
