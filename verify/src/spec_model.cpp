@@ -178,12 +178,6 @@ SpecVerdict Raygen(const BufferSet& in, const BufferSet& e, const BufferSet& a, 
 
 // ---- intersect ------------------------------------------------------------------------------------
 
-struct Candidate {
-  std::uint32_t prim = 0;
-  bool possible = false, definite = false;
-  SpecReal t{};
-};
-
 Candidate ModelCandidate(const layout::Ray& r, const layout::Triangle& tri, std::uint32_t prim, bool flush) {
   ScopedSpecTrace trace(flush);
   R t{};
@@ -199,7 +193,8 @@ std::uint64_t LatestPacked(const Candidate& c) {
   return c.t.any ? emu::kMissPacked : emu::PackHit(c.t.hi, c.prim);
 }
 
-// Can the 64-bit atomic minimum end at `a`, starting from `h0`, given the candidates' permitted hits?
+}  // namespace
+
 // A reported t passed the device's own range check, which compares exactly: tmin < t < tmax.
 bool ClosestAllowed(std::uint64_t h0, std::uint64_t a, const std::vector<Candidate>& cands, const layout::Ray& ray) {
   for (const Candidate& c : cands)
@@ -212,6 +207,8 @@ bool ClosestAllowed(std::uint64_t h0, std::uint64_t a, const std::vector<Candida
     if (c.prim == emu::HitPrim(a) && c.possible && c.t.Allows(t)) return true;
   return false;
 }
+
+namespace {
 
 bool TestMayFlip(const layout::ConeNode& n, glm::vec4 sphere, float eps, std::uint32_t cone_test, bool flush);
 
@@ -803,6 +800,7 @@ SpecVerdict ClassifyWithinSpec(const std::string& method, const BufferSet& in, c
   if (method == "traverse.compact.level") return TraverseLevelCompacted(in, expected, actual, flush_denormals);
   if (method == "traverse.objects") return ObjectMask(in, expected, actual, flush_denormals);
   if (method.starts_with("tree.")) return ClassifyTree(method, in, expected, actual, flush_denormals);
+  if (method == "tl.trace") return ClassifyTlTrace(in, expected, actual, flush_denormals);
   return {};
 }
 

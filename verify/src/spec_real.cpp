@@ -152,6 +152,14 @@ SpecReal operator-(SpecReal a, SpecReal b) {
   return r;
 }
 
+SpecReal Square(SpecReal x) {
+  if (x.any) return SpecReal::Unbounded(x.v * x.v);
+  // One value times itself: never negative, whichever value of [lo, hi] the device holds.
+  const double l = double(x.lo) * x.lo, h = double(x.hi) * x.hi;
+  const double lo = x.lo <= 0.0f && x.hi >= 0.0f ? 0.0 : std::min(l, h);
+  return Make(x.v * x.v, DownF(lo), UpF(std::max(l, h)));
+}
+
 SpecReal operator*(SpecReal a, SpecReal b) {
   if (a.any || b.any) return SpecReal::Unbounded(a.v * b.v);
   // Products of floats are exact in double.

@@ -1,8 +1,13 @@
-// The relaxed models' tally of one call's differing elements (spec_model.cpp, spec_tree.cpp).
+// What the relaxed models share (spec_model.cpp, spec_tree.cpp, spec_tl.cpp): the tally of one call's
+// differing elements, and the closest-hit rule of the final tests.
 #pragma once
+#include <cstdint>
 #include <string>
+#include <vector>
 
+#include "rayspace/layout.h"
 #include "rayspace/verify/spec_model.h"
+#include "rayspace/verify/spec_real.h"
 
 namespace rayspace::verify {
 
@@ -19,9 +24,25 @@ class SpecTally {
   SpecVerdict v_;
 };
 
+// A triangle a ray's final test may meet: whether some conformant device's test hits it (possible),
+// whether every device's does (definite), and the t a hit may report.
+struct Candidate {
+  std::uint32_t prim = 0;
+  bool possible = false, definite = false;
+  SpecReal t{};
+};
+
+// Can the 64-bit atomic minimum of the packed hits (t, prim) end at `a`, starting from `h0`, given the
+// candidates' permitted hits? Not when a definite candidate's hit is surely nearer, nor when `a` is
+// no permitted hit of a possible candidate (or `h0` itself).
+bool ClosestAllowed(std::uint64_t h0, std::uint64_t a, const std::vector<Candidate>& cands, const layout::Ray& ray);
+
 // The models of the object-tree descent's passes (tree.roots, tree.expand, tree.test, tree.step), or
 // an unmodelled verdict for another method.
 SpecVerdict ClassifyTree(const std::string& method, const BufferSet& in, const BufferSet& expected, const BufferSet& actual,
                          bool flush_denormals);
+
+// tl.trace's model (spec_tl.cpp).
+SpecVerdict ClassifyTlTrace(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
 
 }  // namespace rayspace::verify

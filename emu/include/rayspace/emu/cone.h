@@ -249,7 +249,7 @@ template <typename S>
   if (s < S(0.0f) || (s == S(0.0f) && c >= S(0.0f))) return true;
   const S R = R0 * k + (Abs(a) + b) * S(kTestSlack);
   if (c > S(0.0f)) return s <= R;  // nearest point on the cone's surface
-  return Dot(v, v) <= R * R;       // nearest point is the apex
+  return SelfDot(v) <= Square(R);  // nearest point is the apex
 }
 
 inline bool Test(const layout::ConeNode& n, glm::vec4 sphere, float eps) { return TestOf<float>(n, sphere, eps); }

@@ -23,12 +23,16 @@ using Vec4 = glm::vec<4, S, glm::defaultp>;
 
 inline float Abs(float x) { return std::fabs(x); }
 inline float Sqrt(float x) { return std::sqrt(x); }
+inline float Square(float x) { return x * x; }
 inline float NextAfter(float x, float toward) { return std::nextafter(x, toward); }
 template <typename S>
 Vec3<S> Xyz(const Vec4<S>& v) { return {v.x, v.y, v.z}; }
 
 template <typename S>
 S Dot(Vec3<S> a, Vec3<S> b) { return (a.x * b.x + a.y * b.y) + a.z * b.z; }
+// Dot(v, v), written with Square so that a relaxed evaluation knows each term is not negative.
+template <typename S>
+S SelfDot(Vec3<S> v) { return (Square(v.x) + Square(v.y)) + Square(v.z); }
 template <typename S>
 Vec3<S> Cross(Vec3<S> a, Vec3<S> b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
@@ -36,11 +40,11 @@ Vec3<S> Cross(Vec3<S> a, Vec3<S> b) {
 // GLSL normalize on lavapipe: v / sqrt(dot(v, v)).
 template <typename S>
 Vec3<S> Normalize(Vec3<S> v) {
-  const S l = Sqrt(Dot(v, v));
+  const S l = Sqrt(SelfDot(v));
   return {v.x / l, v.y / l, v.z / l};
 }
 template <typename S>
-S Length(Vec3<S> v) { return Sqrt(Dot(v, v)); }
+S Length(Vec3<S> v) { return Sqrt(SelfDot(v)); }
 // GLSL min/max on lavapipe return the first operand when the second is NaN.
 inline float Min(float a, float b) { return b != b ? a : (a < b ? a : b); }
 inline float Max(float a, float b) { return b != b ? a : (a > b ? a : b); }
@@ -99,7 +103,7 @@ S ScaledLength(Vec3<S> v) {
   if (!(m > S(0.0f)) || !(m < S(INFINITY))) return m;
   const S k = InversePowerOfTwo(m);
   const Vec3<S> s(v.x * k, v.y * k, v.z * k);
-  return Sqrt(Dot(s, s)) / k;
+  return Sqrt(SelfDot(s)) / k;
 }
 
 // The largest magnitude among the components of a and b (NaN-free inputs).

@@ -29,9 +29,9 @@ Vec3<S> ShadingNormalOf(const SceneBuffers& scene, std::uint32_t prim, Vec3<S> p
     const S w0 = a0 / sum, w1 = a1 / sum, w2 = a2 / sum;
     for (int j = 0; j < 3; ++j) s[j] = (S(tn.n0[j]) * w0 + S(tn.n1[j]) * w1) + S(tn.n2[j]) * w2;
   }
-  const S len2 = Dot(s, s);
+  const S len2 = SelfDot(s);
   if (!(len2 > S(0.0f)) || !(len2 <= S(3.0e38f))) {
-    const S nl = Dot(n, n);
+    const S nl = SelfDot(n);
     if (!(nl > S(0.0f)) || !(nl <= S(3.0e38f))) return V(Xyz(tn.n0));  // degenerate triangle: stored normal
     return Normalize(n);
   }

@@ -56,6 +56,9 @@ SpecReal operator-(SpecReal a, SpecReal b);
 SpecReal operator*(SpecReal a, SpecReal b);
 SpecReal operator/(SpecReal a, SpecReal b);
 SpecReal operator-(SpecReal a);
+// x * x: the interval of a value times itself, which no device's rounding makes negative (the
+// product of two intervals would admit lo * hi).
+SpecReal Square(SpecReal x);
 SpecReal Sqrt(SpecReal x);
 SpecReal Abs(SpecReal x);
 SpecReal Min(SpecReal a, SpecReal b);
