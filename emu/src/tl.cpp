@@ -159,19 +159,7 @@ Lists Assemble(const Tree& tree, std::uint32_t count, TlListArrays arrays, bool 
 // |e1| |e2| and |g|_1: float n is within about 2^-20 |e1| |e2| per component (the edges' and the
 // products' rounding), so a culled triangle is one whose exact normal passes the exact test.
 bool Culled(glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, std::uint32_t count, std::uint32_t k) {
-  if (count != 6 && count != 8) return false;
-  const glm::vec3 e1 = v1 - v0, e2 = v2 - v0;
-  const glm::vec3 n = Cross(e1, e2);
-  const float m = layout::kTlCullMargin * (MaxAbs(e1, e1) * MaxAbs(e2, e2));
-  // Tiny or huge edges (a margin below the normal range, an overflow, a NaN) are never dropped.
-  if (!(m >= 0x1p-100f && m <= 0x1p100f)) return false;
-  if (count == 8) {
-    const float sx = (k & 1u) ? -n.x : n.x, sy = (k & 2u) ? -n.y : n.y, sz = (k & 4u) ? -n.z : n.z;
-    return sx > m && sy > m && sz > m;
-  }
-  const std::uint32_t a = k / 2u, b = a == 2u ? 0u : a + 1u, c = b == 2u ? 0u : b + 1u;
-  const float na = (k & 1u) ? -n[a] : n[a];
-  return na - (Abs(n[b]) + Abs(n[c])) > 3.0f * m;
+  return CulledOf(v0, v1, v2, count, k);
 }
 
 Lists Build(std::span<const layout::Triangle> triangles, const Options& options) {

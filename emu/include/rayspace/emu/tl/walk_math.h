@@ -1,8 +1,8 @@
-// The rounded arithmetic of a tl.trace walk, templated over the scalar like the other kernel math
-// (rayspace/emu/intersect.h): float is the emulator's and tl_trace.comp's arithmetic, operation for
-// operation; verify::SpecReal asks which decisions a conformant device may take the other way
-// (docs/numerics.md, "The relaxed device model"). The integer decisions of the walk (the list of a
-// direction, escapes, windows) stay in tl.cpp.
+// The rounded arithmetic of the traversal lists (tl.lists' culling, a tl.trace walk), templated over
+// the scalar like the other kernel math (rayspace/emu/intersect.h): float is the emulator's and the
+// kernels' arithmetic, operation for operation; verify::SpecReal asks which decisions a conformant
+// device may take the other way (docs/numerics.md, "The relaxed device model"). The integer
+// decisions (the list of a direction, escapes, windows) stay in tl.cpp.
 #pragma once
 #include <bit>
 #include <cmath>
@@ -13,6 +13,25 @@
 #include "rayspace/layout.h"
 
 namespace rayspace::emu::tl {
+
+// May list k of `count` drop the triangle (tl::Culled): every direction of its class sees its back,
+// by a margin that covers the normal's rounding.
+template <typename S>
+bool CulledOf(Vec3<S> v0, Vec3<S> v1, Vec3<S> v2, std::uint32_t count, std::uint32_t k) {
+  if (count != 6 && count != 8) return false;
+  const Vec3<S> e1 = v1 - v0, e2 = v2 - v0;
+  const Vec3<S> n = Cross(e1, e2);
+  const S m = S(layout::kTlCullMargin) * (MaxAbs(e1, e1) * MaxAbs(e2, e2));
+  // Tiny or huge edges (a margin below the normal range, an overflow, a NaN) are never dropped.
+  if (!(m >= S(0x1p-100f) && m <= S(0x1p100f))) return false;
+  if (count == 8) {
+    const S sx = (k & 1u) ? -n.x : n.x, sy = (k & 2u) ? -n.y : n.y, sz = (k & 4u) ? -n.z : n.z;
+    return sx > m && sy > m && sz > m;
+  }
+  const std::uint32_t a = k / 2u, b = a == 2u ? 0u : a + 1u, c = b == 2u ? 0u : b + 1u;
+  const S na = (k & 1u) ? -n[a] : n[a];
+  return na - (Abs(n[b]) + Abs(n[c])) > S(3.0f) * m;
+}
 
 // Along the unit direction u, the centre lies at a and at distance b from the line. The ray's part
 // [t0, t1] (in length) meets the sphere only if b <= r and [a - r, a + r] meets [t0, t1]; both are
