@@ -1,5 +1,5 @@
-// tl.trace's relaxed device model (verify/src/spec_tl.cpp): what a conformant device's walk of a
-// traversal list may report, on the smallest lists where the answer follows by hand.
+// The traversal lists' relaxed device models (verify/src/spec_tl*.cpp): what a conformant device's
+// walk of a list, or its window of one, may be, on the smallest lists where the answer follows by hand.
 #include <doctest/doctest.h>
 
 #include <bit>
@@ -9,6 +9,7 @@
 
 #include "rayspace/emu/calls.h"
 #include "rayspace/emu/intersect.h"
+#include "rayspace/emu/tl/heads.h"
 #include "rayspace/emu/tl/layout.h"
 #include "rayspace/emu/tl/tl.h"
 #include "rayspace/verify/call_codec.h"
@@ -123,4 +124,51 @@ TEST_CASE("relaxed model: a tl.trace shadow ray is occluded only by a triangle s
   skipped.occluded = {0};
   skipped.triangles = {0};
   CHECK(boundary.Verdict(skipped).AllWithin());
+}
+
+namespace {
+
+// tl.heads' smallest call: one list of two triangle elements, A then C, and the ray's triangle T in
+// the plane z = 0 (normal +z, margin 1). Case 0 (rays starting on T, in front) rejects a triangle
+// wholly below z = -|n| margin; C lies at z = 1, A at `za`.
+struct HeadsCase {
+  std::vector<std::uint32_t> first = {0, 2};
+  std::vector<std::uint32_t> escapes = {1u, static_cast<std::uint32_t>(emu::tl::kEscapeLast)};
+  std::vector<glm::uvec4> words = {glm::uvec4(3, 4, 5, 1), glm::uvec4(6, 7, 8, 2)};
+  std::vector<glm::uvec4> tri_words = {glm::uvec4(0, 1, 2, 0), glm::uvec4(3, 4, 5, 1), glm::uvec4(6, 7, 8, 2)};
+  std::vector<glm::vec4> vertices;
+  emu::call::TlHeads call;
+  explicit HeadsCase(float za) {
+    vertices = {{0, 0, 0, 1}, {1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, za, 1}, {1, 0, za, 1}, {0, 1, za, 1}, {0, 0, 1, 1}, {1, 0, 1, 1}, {0, 1, 1, 1}};
+    call = {.first = first, .escapes = escapes, .words = words, .vertices = vertices, .tri_words = tri_words,
+            .mode = layout::kTlHeadsSimple, .margin = 1.0f};
+  }
+  // The verdict on a device whose window of (T, case 0, the list) is [head, tail).
+  verify::SpecVerdict Verdict(std::uint32_t head, std::uint32_t tail) const {
+    const emu::TlWindows emulated = emu::PassTlHeads(call);
+    emu::TlWindows device = emulated;
+    device.windows[0] = head;
+    device.windows[1] = tail;
+    return verify::ClassifyWithinSpec("tl.heads", verify::EncodeCall(call), verify::EncodeOutputs(call, &emulated),
+                                      verify::EncodeOutputs(call, &device));
+  }
+};
+
+}  // namespace
+
+TEST_CASE("relaxed model: a tl.heads window may keep a triangle on the margin's boundary, not one far beyond it") {
+  const HeadsCase boundary(std::nextafter(-1.0f, -2.0f));  // rejected by the emulator, by |n| = sqrt(1) rounded up not
+  REQUIRE(emu::PassTlHeads(boundary.call).windows[0] == 1u);
+  REQUIRE(emu::PassTlHeads(boundary.call).windows[1] == 2u);
+  const verify::SpecVerdict kept = boundary.Verdict(0, 2);
+  CHECK(kept.modelled);
+  CHECK(kept.within == 1);
+  CHECK(kept.beyond == 0);
+  CHECK(boundary.Verdict(0, 1).beyond == 1);  // C, which no device rejects, left out
+  CHECK(boundary.Verdict(1, 1).beyond == 1);  // empty, though C is in every device's window
+  const HeadsCase far(-2.0f);
+  REQUIRE(emu::PassTlHeads(far.call).windows[0] == 1u);
+  const verify::SpecVerdict wider = far.Verdict(0, 2);
+  CHECK(wider.beyond == 1);
+  CHECK(wider.first_beyond.find("windows[0]") != std::string::npos);
 }

@@ -16,6 +16,7 @@
 #include "rayspace/emu/intersect.h"
 #include "rayspace/emu/tl/heads.h"
 #include "rayspace/emu/tl/walk_math.h"
+#include "rayspace/emu/tl/window.h"
 #include "rayspace/error.h"
 #include "rayspace/parallel.h"
 
@@ -441,58 +442,6 @@ TlListArrays PassTlLists(const call::TlLists& c) {
 namespace {
 
 // One invocation of tl_heads.comp: the window of (triangle, case, list).
-// The window of one list (tl_window.glsl): the part [head, tail) of [begin, end) outside which every
-// triangle is `rejected` (lies beyond a plane; a rejected sphere holds only rejected triangles).
-// Head: in list order, skip a subtree that is rejected and enter a sphere that is not, up to the first
-// triangle not rejected; the head is the element right after the last subtree skipped (begin if
-// none). A walk may start at any element (escapes are relative: it walks the rest of the list as if
-// every ancestor's sphere were hit), so the spheres entered before the last skip are not tested;
-// those after it are, so the walk keeps every sphere test that prunes nothing the head skips.
-// Tail: from the head, along the chain of subtrees to the list's end, the last one not rejected,
-// then the same inside it, one level at a time, until a triangle or a sphere none of whose children
-// is kept (every element after the tail is rejected).
-template <typename Rejected>
-glm::uvec2 ListWindow(std::span<const std::uint32_t> escapes, std::uint32_t begin, std::uint32_t end, Rejected&& rejected) {
-  auto triangle = [&](std::uint32_t i) { return tl::IsTriangle(static_cast<tl::Escape>(escapes[i])); };
-  auto next = [&](std::uint32_t i) {  // the element after i's subtree (a sphere's escape -1: the end)
-    const tl::Escape e = static_cast<tl::Escape>(escapes[i]);
-    return triangle(i) ? i + 1u : e == tl::kEscapeNone ? end : i + static_cast<std::uint32_t>(e);
-  };
-  std::uint32_t head = begin, i = begin;
-  bool found = false;
-  for (std::uint32_t b = 0; !found && i < end && b <= end / layout::kTlLoopBlock; ++b)
-    for (std::uint32_t j = 0; !found && i < end && j < layout::kTlLoopBlock; ++j) {
-      if (rejected(i))
-        head = i = next(i);  // skipped: the walk starts after it at the earliest
-      else if (triangle(i))
-        found = true;
-      else
-        i += 1;  // into the sphere
-    }
-  if (!found) return {end, end};
-  std::uint32_t lo = head, hi = end, tail = end;
-  for (std::uint32_t level = 0; level <= layout::kTlMaxDepth + 1; ++level) {
-    std::uint32_t last = hi, x = lo;  // last: the last subtree of [lo, hi) not rejected, hi for none
-    for (std::uint32_t b = 0; x < hi && b <= end / layout::kTlLoopBlock; ++b)
-      for (std::uint32_t j = 0; x < hi && j < layout::kTlLoopBlock; ++j) {
-        if (!rejected(x)) last = x;
-        x = next(x);
-      }
-    if (last == hi) {  // none kept below the sphere before [lo, hi): it ends the window
-      tail = lo;
-      break;
-    }
-    if (triangle(last)) {
-      tail = last + 1;
-      break;
-    }
-    lo = last + 1;
-    hi = next(last);
-    tail = hi;  // if the levels run out: the whole sphere's subtree
-  }
-  return {head, tail};
-}
-
 // An element's sphere (a sphere element) or vertices (a triangle element), for a rejection test.
 template <typename Call, typename SphereTest, typename TriangleTest>
 bool ElementRejected(const Call& c, std::uint32_t i, SphereTest&& sphere, TriangleTest&& triangle) {
@@ -508,7 +457,7 @@ glm::uvec2 HeadsWindow(const call::TlHeads& c, std::uint32_t K, std::uint32_t t,
   const glm::uvec4 w = c.tri_words[t];
   const tl::HeadPlanes p = tl::MakePlanes(Xyz(c.vertices[w.x]), Xyz(c.vertices[w.y]), Xyz(c.vertices[w.z]), cs, K, k, c.mode, c.margin);
   if (!p.valid) return {begin, end};
-  return ListWindow(c.escapes, begin, end, [&](std::uint32_t i) {
+  return tl::ListWindow(c.escapes, begin, end, [&](std::uint32_t i) {
     return ElementRejected(
         c, i, [&](glm::vec4 s) { return tl::SphereRejected(p, s); },
         [&](glm::vec3 a, glm::vec3 b, glm::vec3 d) { return tl::TriangleRejected(p, a, b, d); });
@@ -518,7 +467,7 @@ glm::uvec2 HeadsWindow(const call::TlHeads& c, std::uint32_t K, std::uint32_t t,
 // One invocation of tl_cells.comp: the window of (cell, list).
 glm::uvec2 CellsWindow(const call::TlCells& c, std::uint32_t k, std::uint32_t cell) {
   const tl::CellPlanes p = tl::MakeCellPlanes(c.frame, cell, c.margin);
-  return ListWindow(
+  return tl::ListWindow(
       c.escapes, c.first[k], c.first[k + 1],
       [&](std::uint32_t i) {
         return ElementRejected(

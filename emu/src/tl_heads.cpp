@@ -15,12 +15,6 @@
 #include "rayspace/parallel.h"
 
 namespace rayspace::emu::tl {
-namespace {
-
-// An upper bound of sqrt(2), the length of a sextant facet's normal e_a +- e_b.
-constexpr float kSqrt2Up = 1.41421366f;
-
-}  // namespace
 
 float FacetBound(glm::vec3 m, glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, bool ends) { return FacetBoundOf(m, v0, v1, v2, ends); }
 
@@ -51,54 +45,12 @@ std::uint32_t Facets(std::uint32_t count, std::uint32_t k, glm::vec3 m[4]) {
 
 HeadPlanes MakePlanes(glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, std::uint32_t c, std::uint32_t count, std::uint32_t k,
                       std::uint32_t mode, float margin) {
-  HeadPlanes p;
-  const glm::vec3 e1 = v1 - v0, e2 = v2 - v0;
-  p.n = Cross(e1, e2);
-  p.valid = !Sliver(e1, e2, p.n);
-  p.v0 = v0;
-  p.behind = (c & 1u) != 0;
-  p.ends = (c & 2u) != 0;
-  p.reach = margin * Length(p.n);
-  p.margin = margin;
-  p.facets = mode == layout::kTlHeadsRegular ? Facets(count, k, p.m) : 0u;
-  for (std::uint32_t j = 0; j < p.facets; ++j) {
-    p.bound[j] = FacetBound(p.m[j], v0, v1, v2, p.ends);
-    p.len[j] = count == 6 ? kSqrt2Up : 1.0f;
-  }
-  return p;
+  return MakePlanesOf(v0, v1, v2, c, count, k, mode, margin);
 }
 
-// Beyond the triangle's plane: the side the rays reach is h >= 0 (h the signed, scaled distance),
-// up to the margin; beyond a facet: below the bound (starting rays) or above it (ending rays).
-bool SphereRejected(const HeadPlanes& p, glm::vec4 s) {
-  const glm::vec3 c = Xyz(s);
-  const float h0 = Dot(p.n, c - p.v0), h = p.behind ? -h0 : h0;
-  if (h + s.w * Length(p.n) < -p.reach) return true;
-  for (std::uint32_t j = 0; j < p.facets; ++j) {
-    const float x = Dot(p.m[j], c), r = s.w * p.len[j], g = p.margin * p.len[j];
-    if (p.ends ? x - r > p.bound[j] + g : x + r < p.bound[j] - g) return true;
-  }
-  return false;
-}
+bool SphereRejected(const HeadPlanes& p, glm::vec4 s) { return SphereRejectedOf(p, s); }
 
-bool TriangleRejected(const HeadPlanes& p, glm::vec3 a, glm::vec3 b, glm::vec3 d) {
-  const glm::vec3 v[3] = {a, b, d};
-  bool all = true;
-  for (const glm::vec3& x : v) {
-    const float h0 = Dot(p.n, x - p.v0), h = p.behind ? -h0 : h0;
-    all = all && h < -p.reach;
-  }
-  if (all) return true;
-  for (std::uint32_t j = 0; j < p.facets; ++j) {
-    bool beyond = true;
-    for (const glm::vec3& x : v) {
-      const float y = Dot(p.m[j], x), g = p.margin * p.len[j];
-      beyond = beyond && (p.ends ? y > p.bound[j] + g : y < p.bound[j] - g);
-    }
-    if (beyond) return true;
-  }
-  return false;
-}
+bool TriangleRejected(const HeadPlanes& p, glm::vec3 a, glm::vec3 b, glm::vec3 d) { return TriangleRejectedOf(p, a, b, d); }
 
 float HeadsMargin(glm::vec3 lo, glm::vec3 hi, std::span<const glm::vec3> lights) {
   float m = std::max(MaxAbs(lo, lo), MaxAbs(hi, hi));
@@ -120,35 +72,12 @@ CellPlanes MakeCellPlanes(const layout::FrameConstants& fc, std::uint32_t cell, 
   const std::uint32_t cx = cell % CellsX(fc), cy = cell / CellsX(fc);
   const std::uint32_t x0 = cx * layout::kTlCellPixels, y0 = cy * layout::kTlCellPixels;
   const std::uint32_t x1 = std::min(x0 + layout::kTlCellPixels, fc.dims.x) - 1, y1 = std::min(y0 + layout::kTlCellPixels, fc.dims.y) - 1;
-  const glm::vec3 c[4] = {layout::PixelDirection(fc, x0, y0), layout::PixelDirection(fc, x1, y0), layout::PixelDirection(fc, x1, y1),
-                          layout::PixelDirection(fc, x0, y1)};
-  const glm::vec3 mid = ((c[0] + c[1]) + c[2]) + c[3];
-  CellPlanes p;
-  p.eye = Xyz(fc.eye);
-  p.margin = margin;
-  for (std::uint32_t j = 0; j < 4; ++j) {
-    glm::vec3 n = Cross(c[j], c[(j + 1) & 3u]);
-    if (Dot(n, mid) < 0.0f) n = -n;
-    p.n[j] = n;
-    p.len[j] = Length(n);
-  }
-  return p;
+  return MakeCellPlanesOf(fc, x0, y0, x1, y1, margin);
 }
 
-bool CellSphereRejected(const CellPlanes& p, glm::vec4 s) {
-  const glm::vec3 v = Xyz(s) - p.eye;
-  for (std::uint32_t j = 0; j < 4; ++j)
-    if (Dot(p.n[j], v) + s.w * p.len[j] < -(p.margin * p.len[j])) return true;
-  return false;
-}
+bool CellSphereRejected(const CellPlanes& p, glm::vec4 s) { return CellSphereRejectedOf(p, s); }
 
-bool CellTriangleRejected(const CellPlanes& p, glm::vec3 a, glm::vec3 b, glm::vec3 c) {
-  for (std::uint32_t j = 0; j < 4; ++j) {
-    const float g = -(p.margin * p.len[j]);
-    if (Dot(p.n[j], a - p.eye) < g && Dot(p.n[j], b - p.eye) < g && Dot(p.n[j], c - p.eye) < g) return true;
-  }
-  return false;
-}
+bool CellTriangleRejected(const CellPlanes& p, glm::vec3 a, glm::vec3 b, glm::vec3 c) { return CellTriangleRejectedOf(p, a, b, c); }
 
 std::vector<layout::Ray> EyeRays(const layout::FrameConstants& fc) {
   std::vector<layout::Ray> rays(std::size_t{fc.dims.x} * fc.dims.y);

@@ -801,6 +801,8 @@ SpecVerdict ClassifyWithinSpec(const std::string& method, const BufferSet& in, c
   if (method == "traverse.objects") return ObjectMask(in, expected, actual, flush_denormals);
   if (method.starts_with("tree.")) return ClassifyTree(method, in, expected, actual, flush_denormals);
   if (method == "tl.lists") return ClassifyTlLists(in, expected, actual, flush_denormals);
+  if (method == "tl.heads") return ClassifyTlHeads(in, expected, actual, flush_denormals);
+  if (method == "tl.cells") return ClassifyTlCells(in, expected, actual, flush_denormals);
   if (method == "tl.trace") return ClassifyTlTrace(in, expected, actual, flush_denormals);
   return {};
 }

@@ -160,6 +160,18 @@ SpecReal Square(SpecReal x) {
   return Make(x.v * x.v, DownF(lo), UpF(std::max(l, h)));
 }
 
+SpecReal Lesser(SpecReal x, SpecReal b) {
+  const float v = b.v < x.v ? b.v : x.v;
+  if (x.any || b.any) return SpecReal::Unbounded(v);
+  return Make(v, std::min(x.lo, b.lo), std::min(x.hi, b.hi));
+}
+
+SpecReal Greater(SpecReal x, SpecReal b) {
+  const float v = b.v > x.v ? b.v : x.v;
+  if (x.any || b.any) return SpecReal::Unbounded(v);
+  return Make(v, std::max(x.lo, b.lo), std::max(x.hi, b.hi));
+}
+
 SpecReal operator*(SpecReal a, SpecReal b) {
   if (a.any || b.any) return SpecReal::Unbounded(a.v * b.v);
   // Products of floats are exact in double.

@@ -42,8 +42,10 @@ bool ClosestAllowed(std::uint64_t h0, std::uint64_t a, const std::vector<Candida
 SpecVerdict ClassifyTree(const std::string& method, const BufferSet& in, const BufferSet& expected, const BufferSet& actual,
                          bool flush_denormals);
 
-// tl.lists' model (spec_tl_lists.cpp) and tl.trace's (spec_tl.cpp).
+// tl.lists' model (spec_tl_lists.cpp), the windows' (spec_tl_windows.cpp) and tl.trace's (spec_tl.cpp).
 SpecVerdict ClassifyTlLists(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
+SpecVerdict ClassifyTlHeads(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
+SpecVerdict ClassifyTlCells(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
 SpecVerdict ClassifyTlTrace(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
 
 }  // namespace rayspace::verify

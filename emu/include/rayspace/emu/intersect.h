@@ -49,6 +49,10 @@ S Length(Vec3<S> v) { return Sqrt(SelfDot(v)); }
 inline float Min(float a, float b) { return b != b ? a : (a < b ? a : b); }
 inline float Max(float a, float b) { return b != b ? a : (a > b ? a : b); }
 inline float Clamp(float x, float lo, float hi) { return Min(Max(x, lo), hi); }
+// The lesser (greater) of x and b by one comparison, x kept on a tie: a kernel's `if (b < x) x = b;`.
+// In verify::SpecReal the interval of the value the device's own comparison picks.
+inline float Lesser(float x, float b) { return b < x ? b : x; }
+inline float Greater(float x, float b) { return b > x ? b : x; }
 
 inline std::uint32_t FloatBits(float f) {
   std::uint32_t u;

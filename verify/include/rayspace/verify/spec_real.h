@@ -64,6 +64,10 @@ SpecReal Abs(SpecReal x);
 SpecReal Min(SpecReal a, SpecReal b);
 SpecReal Max(SpecReal a, SpecReal b);
 SpecReal Clamp(SpecReal x, SpecReal lo, SpecReal hi);
+// What `b < x ? b : x` (`b > x ? b : x`) gives on a device: the lesser (greater) of its own two
+// values, so the interval is [min, min] ([max, max]) of the endpoints, with no decision to count.
+SpecReal Lesser(SpecReal x, SpecReal b);
+SpecReal Greater(SpecReal x, SpecReal b);
 // The next float after x toward `toward`, as a device computes it from the bits (monotone).
 SpecReal NextAfter(SpecReal x, float toward);
 // 2^-e for the exponent e of |m|, from the nominal value: scaling by it is exact, so any device's

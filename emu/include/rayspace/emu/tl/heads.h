@@ -15,31 +15,18 @@
 
 #include <glm/vec3.hpp>
 
+#include "rayspace/emu/tl/heads_math.h"
 #include "rayspace/emu/tl/tl.h"
 
 namespace rayspace::emu::tl {
 
-// The planes of one (triangle, case, list): the triangle's plane n . (x - v0) (n = (v1 - v0) x
-// (v2 - v0) in float), on the side behind (case & 1) or in front, and `facets` facet planes m . x
-// against `bound` (starting rays: at least the triangle's least projection; ending rays, case & 2:
-// at most its greatest). An element is beyond a plane when it lies farther than `margin` (scaled by
-// |n| or |m|) on the far side. A sliver (|n| small against |e1| |e2|, where the float normal's
-// direction is uncertain) has no planes: valid = false, the whole list.
-struct HeadPlanes {
-  glm::vec3 n{0.0f}, v0{0.0f};
-  bool valid = false, behind = false, ends = false;
-  float reach = 0.0f, margin = 0.0f;
-  std::uint32_t facets = 0;
-  glm::vec3 m[4];
-  float bound[4] = {}, len[4] = {};
-};
+// The planes of one (triangle, case, list) and of one screen cell: tl/heads_math.h.
+using HeadPlanes = HeadPlanesOf<float>;
+using CellPlanes = CellPlanesOf<float>;
 
 // Is |n| too small against |e1| |e2| (max norms, |n| < |e1| |e2| / 32) for the float normal's
 // direction to be trusted?
 bool Sliver(glm::vec3 e1, glm::vec3 e2, glm::vec3 n);
-// The facet normals of list k's direction class (K = 2: 1; 6: 4, s e_a +- e_b and s e_a +- e_c;
-// 8: the 3 signed axes; 1: none); returns how many.
-std::uint32_t Facets(std::uint32_t count, std::uint32_t k, glm::vec3 m[4]);
 HeadPlanes MakePlanes(glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, std::uint32_t c, std::uint32_t count, std::uint32_t k,
                       std::uint32_t mode, float margin);
 bool SphereRejected(const HeadPlanes& p, glm::vec4 sphere);
@@ -69,11 +56,6 @@ float HeadsMargin(glm::vec3 lo, glm::vec3 hi, std::span<const glm::vec3> lights)
 // normals n = (corner) x (next corner) turned towards the sum of the corners. A cell one pixel wide
 // has a zero normal (a plane that rejects nothing) and two normals of its plane, which the sum of
 // the corners (in that plane) may turn either way: each then keeps a half-space holding the rays.
-struct CellPlanes {
-  glm::vec3 eye{0.0f};
-  glm::vec3 n[4];
-  float len[4] = {}, margin = 0.0f;
-};
 std::uint32_t CellsX(const layout::FrameConstants& fc);
 std::uint32_t CellCount(const layout::FrameConstants& fc);
 // The cell of pixel (px, py).

@@ -65,10 +65,7 @@ bool SliverOf(Vec3<S> e1, Vec3<S> e2, Vec3<S> n) {
 template <typename S>
 S FacetBoundOf(Vec3<S> m, Vec3<S> v0, Vec3<S> v1, Vec3<S> v2, bool ends) {
   const S a = Dot(m, v0), b = Dot(m, v1), d = Dot(m, v2);
-  S x = a;
-  if (ends ? b > x : b < x) x = b;
-  if (ends ? d > x : d < x) x = d;
-  return x;
+  return ends ? Greater(Greater(a, b), d) : Lesser(Lesser(a, b), d);
 }
 
 // What tl::RayCase decides from the ray and its triangle's vertices: 2 * ends + behind, or
