@@ -498,6 +498,10 @@ worst_case(relaxed.tl.worst cornell-mirrors 16x16 "tl.lists;tl.trace" ${tl_all})
 faults_case(relaxed.faults.tl cornell-mirrors 16x16
             "tl.lists:1;tl.lists:2;tl.lists:3;tl.lists:4;tl.heads:1;tl.heads:2;tl.heads:3;tl.cells:1;tl.cells:2;tl.cells:3;tl.trace:1;tl.trace:2;tl.trace:3;tl.trace:4;tl.trace:5"
             ${tl_all} --compare relaxed)
+# grid.trace's perspective cells under the relaxed model: the planted faults that change a point
+# light's shadow rays (a cell one column off, the least distance too far, a cell's last triangle
+# untested) are each judged beyond the spec (the stepping walks have no model yet).
+faults_case(relaxed.faults.grid cornell-mirrors 16x16 "grid.trace:1;grid.trace:2;grid.trace:4" --algo grid --compare relaxed)
 diff_case(strict-math.glass glass 64x64 "" 0 "" --strict-math)
 diff_case(strict-math.office office 64x64 "" 0 "" --strict-math)
 # The scan-based reduction's fault needs the scan reduction.

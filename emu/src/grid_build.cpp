@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "rayspace/emu/grid/grid.h"
+#include "rayspace/emu/grid/face_math.h"
 #include "grid_bin.h"
 #include "rayspace/emu/intersect.h"
 #include "rayspace/emu/light_sample.h"
@@ -175,14 +176,8 @@ void PlanRegular(GridPlan& p, const SceneBuffers& scene, std::uint32_t longest, 
 }  // namespace
 
 FaceUv DirectionFace(glm::vec3 d) {
-  const glm::vec3 a(Abs(d.x), Abs(d.y), Abs(d.z));
-  const std::uint32_t major = a.x >= a.y && a.x >= a.z ? 0u : (a.y >= a.z ? 1u : 2u);
-  const float m = a[major];
-  FaceUv f;
-  f.face = 2u * major + (d[major] < 0.0f ? 1u : 0u);
-  f.u = d[(major + 1) % 3] / m;
-  f.v = d[(major + 2) % 3] / m;
-  return f;
+  const FaceUvOf<float> f = DirectionFaceOf<float>(d);
+  return {f.face, f.u, f.v};
 }
 
 std::uint32_t PerspectiveGridOf(const layout::Ray& r, bool shadow, std::span<const glm::uvec4> light_grids,
@@ -205,8 +200,7 @@ std::uint32_t VolumeGridOf(const layout::Ray& r, bool shadow, std::span<const gl
 }
 
 std::uint32_t FaceCell(FaceUv f, std::uint32_t n) {
-  const float half = static_cast<float>(n) * 0.5f;
-  const float x = (f.u + 1.0f) * half, y = (f.v + 1.0f) * half;
+  const float x = FaceCoordinateOf(f.u, n), y = FaceCoordinateOf(f.v, n);
   const std::uint32_t i = std::min(static_cast<std::uint32_t>(Max(x, 0.0f)), n - 1u);
   const std::uint32_t j = std::min(static_cast<std::uint32_t>(Max(y, 0.0f)), n - 1u);
   return (f.face * n + j) * n + i;
@@ -237,10 +231,7 @@ double PointTriangleDistance(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec
   return glm::length(p - (a + ab * v + ac * w));
 }
 
-bool FacesAway(glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, glm::vec3 o) {
-  const glm::vec3 n = PlaneNormalOf(v0, v1, v2);
-  return Dot(n, o - v0) < 0.0f;
-}
+bool FacesAway(glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, glm::vec3 o) { return FacesAwayOf(v0, v1, v2, o); }
 
 std::vector<bool> ClosedObjects(const SceneBuffers& scene, std::vector<std::size_t>* open_edges) {
   const std::size_t n = scene.triangles.size();

@@ -803,6 +803,7 @@ SpecVerdict ClassifyWithinSpec(const std::string& method, const BufferSet& in, c
   if (method == "tl.lists") return ClassifyTlLists(in, expected, actual, flush_denormals);
   if (method == "tl.heads") return ClassifyTlHeads(in, expected, actual, flush_denormals);
   if (method == "tl.cells") return ClassifyTlCells(in, expected, actual, flush_denormals);
+  if (method == "grid.trace") return ClassifyGridTrace(in, expected, actual, flush_denormals);
   if (method == "tl.trace") return ClassifyTlTrace(in, expected, actual, flush_denormals);
   return {};
 }

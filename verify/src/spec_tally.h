@@ -46,6 +46,8 @@ SpecVerdict ClassifyTree(const std::string& method, const BufferSet& in, const B
 SpecVerdict ClassifyTlLists(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
 SpecVerdict ClassifyTlHeads(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
 SpecVerdict ClassifyTlCells(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
+// grid.trace's model of the perspective cells (spec_grid.cpp).
+SpecVerdict ClassifyGridTrace(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
 SpecVerdict ClassifyTlTrace(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
 
 }  // namespace rayspace::verify
