@@ -426,7 +426,7 @@ endforeach()
 # a * (1 / b), sqrt as 1 / inversesqrt, a half-pixel edge shift) diverge under the bitwise comparison
 # lavapipe gets by default and are accepted as within the spec under --compare relaxed; a 4-ULP error
 # and interior raster pixels are beyond it. --strict-math gives the emulator's bits everywhere.
-set(device_like intersect:approx-div raygen.shadow:approx-div raygen.shadow:approx-sqrt raygen.refraction:approx-sqrt raster:2
+set(device_like intersect:approx-div raygen.shadow:approx-div raygen.shadow:approx-sqrt raygen.refraction:approx-sqrt raster:2 raster:approx-div
     surfaces:approx-div surfaces.hits:approx-div surfaces.hits:approx-sqrt shade:approx-div shade:approx-sqrt
     build:approx-div build:approx-sqrt)
 foreach(f IN LISTS device_like)

@@ -188,25 +188,9 @@ std::vector<Setup> SetupAll(const layout::FrameConstants& fc, const std::vector<
 }
 
 Fragment ShadeFragment(const layout::FrameConstants& fc, const SceneBuffers& scene, std::uint32_t prim, int px, int py) {
-  Fragment f;
   const layout::Triangle& t = scene.triangles[prim];
-  const glm::vec3 v0 = Xyz(t.v0), v1 = Xyz(t.v1), v2 = Xyz(t.v2);
   const glm::vec3 d = PixelDirection(fc, static_cast<std::uint32_t>(px), static_cast<std::uint32_t>(py));
-  // Edges and normal scaled by powers of two (exact; tt unchanged) so scenes from 2^-60 to 2^60
-  // neither overflow nor flush (the graphics path runs with FTZ/DAZ).
-  const glm::vec3 e1 = v1 - v0, e2 = v2 - v0;
-  const float ke = InversePowerOfTwo(MaxAbs(e1, e2));
-  const glm::vec3 n0 = Cross(e1 * ke, e2 * ke);
-  const glm::vec3 n = n0 * InversePowerOfTwo(MaxAbs(n0, n0));
-  const float tt = Dot(v0 - Xyz(fc.eye), n) / Dot(d, n);
-  if (!(tt > 0.0f) || !(tt <= std::numeric_limits<float>::max())) {
-    f.discard = true;
-    return f;
-  }
-  f.depth = Min(tt * fc.params.y, 1.0f);
-  f.t = tt;
-  f.position = {fc.eye.x + tt * d.x, fc.eye.y + tt * d.y, fc.eye.z + tt * d.z};
-  return f;
+  return ShadeFragmentOf(fc, Xyz(t.v0), Xyz(t.v1), Xyz(t.v2), d);
 }
 
 }  // namespace raster

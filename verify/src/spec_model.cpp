@@ -803,6 +803,8 @@ SpecVerdict ClassifyWithinSpec(const std::string& method, const BufferSet& in, c
   if (method == "tl.lists") return ClassifyTlLists(in, expected, actual, flush_denormals);
   if (method == "tl.heads") return ClassifyTlHeads(in, expected, actual, flush_denormals);
   if (method == "tl.cells") return ClassifyTlCells(in, expected, actual, flush_denormals);
+  // The raster's fragment words alone (the differ adds the coverage verdict on edges).
+  if (method == "raster.fragments") return ClassifyRasterFragments(in, expected, actual, flush_denormals);
   if (method == "grid.trace") return ClassifyGridTrace(in, expected, actual, flush_denormals);
   if (method == "tl.trace") return ClassifyTlTrace(in, expected, actual, flush_denormals);
   return {};

@@ -46,6 +46,9 @@ SpecVerdict ClassifyTree(const std::string& method, const BufferSet& in, const B
 SpecVerdict ClassifyTlLists(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
 SpecVerdict ClassifyTlHeads(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
 SpecVerdict ClassifyTlCells(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
+// The raster's fragment stage where both sides cover a pixel with the same triangle (spec_raster.cpp).
+SpecVerdict ClassifyRasterFragments(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
+
 // grid.trace's model of the perspective cells (spec_grid.cpp).
 SpecVerdict ClassifyGridTrace(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
 SpecVerdict ClassifyTlTrace(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);

@@ -185,12 +185,13 @@ inline constexpr PhaseSpec kGridCellsPhases[] = {RS_PHASE(GridBuild, Gather), RS
 inline constexpr PhaseSpec kTreeStepPhases[] = {RS_PHASE(TreeStep, Count), RS_PHASE(TreeStep, Scan), RS_PHASE(TreeStep, Scatter)};
 #undef RS_PHASE
 
-inline constexpr FaultSpec kRasterFaults[] = {{1, "the depth is written without the 1/far scale"},
-                                              {2, "every vertex half a pixel to the right (edge pixels only)"},
-                                              {3, "the pixel's column steps along the rows and its row along the columns"}};
 // What many GPUs compute where Vulkan permits it: the relaxed comparison accepts these.
 #define RS_APPROX_DIV {layout::kFaultApproxDiv, "a / b computed as a * (1 / b), as a GPU may", "approx-div"}
 #define RS_APPROX_SQRT {layout::kFaultApproxSqrt, "sqrt(x) computed as 1 / inversesqrt(x), as a GPU may", "approx-sqrt"}
+inline constexpr FaultSpec kRasterFaults[] = {{1, "the depth is written without the 1/far scale"},
+                                              {2, "every vertex half a pixel to the right (edge pixels only)"},
+                                              {3, "the pixel's column steps along the rows and its row along the columns"},
+                                              RS_APPROX_DIV};
 inline constexpr FaultSpec kSurfacesFaults[] = {{1, "rows and columns swapped when the pixel index is split"},
                                                 {2, "the view direction is left unnormalised"},
                                                 {3, "the position is read from the next pixel's texel"},

@@ -118,6 +118,21 @@ S MaxAbs(Vec3<S> a, Vec3<S> b) {
   return Max(x, y);
 }
 
+// layout::PixelDirection (rayspace/kernel_functions.h, which the kernels include) in S: (pixel_origin
+// + px * pixel_dx) + py * pixel_dy, each operation rounded.
+template <typename S>
+Vec3<S> PixelDirectionOf(const layout::FrameConstants& f, std::uint32_t px, std::uint32_t py) {
+  const S fx(static_cast<float>(px)), fy(static_cast<float>(py));
+  Vec3<S> d;
+  for (int k = 0; k < 3; ++k) {
+    const S a = fx * S(f.pixel_dx[k]);
+    const S b = S(f.pixel_origin[k]) + a;
+    const S c = fy * S(f.pixel_dy[k]);
+    d[k] = b + c;
+  }
+  return d;
+}
+
 // Per-ray setup of the watertight ray-triangle test (Woop, Benthin, Wald 2013): the axis where the
 // direction is largest becomes z, and the ray is sheared onto +z.
 template <typename S>

@@ -6,6 +6,7 @@
 
 #include <glm/glm.hpp>
 
+#include "rayspace/emu/intersect.h"
 #include "rayspace/layout.h"
 #include "rayspace/scene_buffers.h"
 
@@ -26,12 +27,39 @@ struct Setup {
   std::uint32_t prim;
 };
 
-struct Fragment {
+// A fragment as the fragment stage computes it, templated over the scalar like the other kernel
+// math (rayspace/emu/intersect.h): float is raster.frag's arithmetic; verify::SpecReal what a
+// conformant device may compute (the relaxed raster model, docs/numerics.md).
+template <typename S>
+struct FragmentOf {
   bool discard = false;
-  float depth = 1.0f;
-  float t = 0.0f;
-  glm::vec3 position{0};
+  S depth{1.0f};
+  S t{0.0f};
+  Vec3<S> position{S(0.0f)};
 };
+using Fragment = FragmentOf<float>;
+
+// The depth and position of pixel (px, py) on triangle (v0, v1, v2): the pixel-centre ray met with
+// the triangle's plane. Edges and normal are scaled by powers of two (exact; tt unchanged) so scenes
+// from 2^-60 to 2^60 neither overflow nor flush (the graphics path runs with FTZ/DAZ).
+template <typename S>
+FragmentOf<S> ShadeFragmentOf(const layout::FrameConstants& fc, Vec3<S> v0, Vec3<S> v1, Vec3<S> v2, Vec3<S> d) {
+  FragmentOf<S> f;
+  const Vec3<S> e1 = v1 - v0, e2 = v2 - v0;
+  const S ke = InversePowerOfTwo(MaxAbs(e1, e2));
+  const Vec3<S> n0 = Cross(e1 * ke, e2 * ke);
+  const Vec3<S> n = n0 * InversePowerOfTwo(MaxAbs(n0, n0));
+  const Vec3<S> eye(S(fc.eye.x), S(fc.eye.y), S(fc.eye.z));
+  const S tt = Dot(v0 - eye, n) / Dot(d, n);
+  if (!(tt > S(0.0f)) || !(tt <= S(3.40282347e38f))) {
+    f.discard = true;
+    return f;
+  }
+  f.depth = Min(tt * S(fc.params.y), S(1.0f));
+  f.t = tt;
+  f.position = Vec3<S>(eye.x + tt * d.x, eye.y + tt * d.y, eye.z + tt * d.z);
+  return f;
+}
 
 glm::vec4 VertexStage(const glm::mat4& view_proj, glm::vec3 p);
 glm::vec2 WindowFused(const glm::vec4& clip, float half_w, float half_h);

@@ -92,21 +92,6 @@ bool TriangleRejectedOf(const HeadPlanesOf<S>& p, Vec3<S> a, Vec3<S> b, Vec3<S> 
   return false;
 }
 
-// layout::PixelDirection (rayspace/kernel_functions.h, which the kernels include) in S: (pixel_origin
-// + px * pixel_dx) + py * pixel_dy, each operation rounded.
-template <typename S>
-Vec3<S> PixelDirectionOf(const layout::FrameConstants& f, std::uint32_t px, std::uint32_t py) {
-  const S fx(static_cast<float>(px)), fy(static_cast<float>(py));
-  Vec3<S> d;
-  for (int k = 0; k < 3; ++k) {
-    const S a = fx * S(f.pixel_dx[k]);
-    const S b = S(f.pixel_origin[k]) + a;
-    const S c = fy * S(f.pixel_dy[k]);
-    d[k] = b + c;
-  }
-  return d;
-}
-
 // A screen cell's four side planes through the eye (tl::MakeCellPlanes).
 template <typename S>
 struct CellPlanesOf {

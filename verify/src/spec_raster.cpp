@@ -1,0 +1,84 @@
+// The relaxed device model of the raster's fragment stage (docs/numerics.md, "The relaxed device
+// model"): where both sides cover a pixel with the same triangle, the depth, the position and the
+// shading normal are the fragment stage's arithmetic (a division, a root) and must lie in the
+// intervals of that arithmetic in SpecReal (emu::raster::ShadeFragmentOf, emu::ShadingNormalOf); the
+// material words and the normal's transparency are copies and must be equal. Pixels whose triangle
+// differs are the coverage verdict's (raster_edges.h).
+#include <bit>
+#include <cstdint>
+#include <cstring>
+
+#include <fmt/format.h>
+
+#include "rayspace/emu/raster_detail.h"
+#include "rayspace/emu/surface_math.h"
+#include "rayspace/verify/call_codec.h"
+#include "spec_tally.h"
+
+namespace rayspace::verify {
+namespace {
+
+using R = SpecReal;
+
+bool Same(const glm::vec4& a, const glm::vec4& b) { return std::memcmp(&a, &b, sizeof(glm::vec4)) == 0; }
+
+// Why the device's words of pixel i are no fragment a conformant device computes, or "".
+std::string CheckFragment(const emu::call::Raster& c, std::uint32_t prim, std::uint32_t px, std::uint32_t py, float depth,
+                          const glm::vec4& position, const glm::vec4& normal, bool flush) {
+  ScopedSpecTrace trace(flush);
+  const layout::Triangle& t = c.scene->triangles[prim];
+  const emu::Vec3<R> v0(R(t.v0.x), R(t.v0.y), R(t.v0.z)), v1(R(t.v1.x), R(t.v1.y), R(t.v1.z)), v2(R(t.v2.x), R(t.v2.y), R(t.v2.z));
+  const emu::raster::FragmentOf<R> f = emu::raster::ShadeFragmentOf(c.frame, v0, v1, v2, emu::PixelDirectionOf<R>(c.frame, px, py));
+  if (f.discard) return trace.trace().ambiguous ? "" : "a pixel every device discards";
+  const emu::Vec3<R> n = emu::ShadingNormalOf(*c.scene, prim, f.position);
+  // After a decision that may go either way (which region of the shading normal's weights) the
+  // words are no longer bounded by this evaluation.
+  if (trace.trace().ambiguous != 0) return "";
+  if (!f.depth.Allows(depth)) return fmt::format("depth {:#x} outside [{}, {}]", std::bit_cast<std::uint32_t>(depth), f.depth.lo, f.depth.hi);
+  for (int k = 0; k < 3; ++k) {
+    if (!f.position[k].Allows(position[k])) return fmt::format("position[{}] {} outside [{}, {}]", k, position[k], f.position[k].lo, f.position[k].hi);
+    if (!n[k].Allows(normal[k])) return fmt::format("normal[{}] {} outside [{}, {}]", k, normal[k], n[k].lo, n[k].hi);
+  }
+  return "";
+}
+
+}  // namespace
+
+SpecVerdict ClassifyRasterFragments(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
+  const DecodedCall<emu::call::Raster> d = DecodeCall<emu::call::Raster>(in);
+  const emu::call::Raster& c = d.call;
+  SpecTally t;
+  const auto ep = e.Get<std::uint32_t>("prim"), ap = a.Get<std::uint32_t>("prim");
+  const auto ed = e.Get<float>("depth"), ad = a.Get<float>("depth");
+  const auto diffuse = [&](const BufferSet& s) { return s.Get<glm::vec4>("diffuse"); };
+  const auto specular = [&](const BufferSet& s) { return s.Get<glm::vec4>("specular"); };
+  const auto ef = diffuse(e), af = diffuse(a), es = specular(e), as = specular(a);
+  const auto epos = e.Get<glm::vec4>("position"), apos = a.Get<glm::vec4>("position");
+  const auto en = e.Get<glm::vec4>("normal"), an = a.Get<glm::vec4>("normal");
+  const std::size_t n = std::size_t{c.frame.dims.x} * c.frame.dims.y;
+  if (ep.size() != n || ap.size() != n || ed.size() != n || ad.size() != n || ef.size() != n || af.size() != n || es.size() != n || as.size() != n || epos.size() != n ||
+      apos.size() != n || en.size() != n || an.size() != n) {
+    t.Beyond("depth, diffuse, specular, position, normal: a word per pixel");
+    return t.Done();
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (ep[i] != ap[i] || ep[i] >= c.scene->triangles.size()) continue;  // coverage, or an empty pixel on both sides
+    if (std::bit_cast<std::uint32_t>(ed[i]) == std::bit_cast<std::uint32_t>(ad[i]) && Same(epos[i], apos[i]) && Same(en[i], an[i]) &&
+        Same(ef[i], af[i]) && Same(es[i], as[i]))
+      continue;
+    std::string why;
+    if (!Same(ef[i], af[i]) || !Same(es[i], as[i]) || std::bit_cast<std::uint32_t>(en[i].w) != std::bit_cast<std::uint32_t>(an[i].w) ||
+        std::bit_cast<std::uint32_t>(apos[i].w) != std::bit_cast<std::uint32_t>(epos[i].w))
+      why = "a material word or a w, which the fragment stage copies";
+    else
+      why = CheckFragment(c, ap[i], static_cast<std::uint32_t>(i % c.frame.dims.x), static_cast<std::uint32_t>(i / c.frame.dims.x), ad[i],
+                          apos[i], an[i], flush);
+    if (why.empty())
+      t.Within();
+    else
+      t.Beyond(fmt::format("pixel {}: {}", i, why));
+  }
+  return t.Done();
+}
+
+}  // namespace rayspace::verify
