@@ -36,11 +36,6 @@ std::pair<std::uint32_t, std::uint32_t> CellSpan(R c, std::uint32_t n) {
   return {cell(x.lo), cell(x.hi)};
 }
 
-struct RayWords {
-  std::uint64_t result;
-  std::uint32_t steps, tests;
-};
-
 struct Bounds {
   std::vector<Candidate> candidates;
   std::uint32_t tests_lo = 0, tests_hi = 0;
@@ -88,7 +83,7 @@ Bounds PerspectiveBounds(const emu::call::GridTrace& c, const layout::Ray& r, st
 }
 
 // One differing ray of a perspective cell.
-void CheckPerspectiveRay(const emu::call::GridTrace& c, std::size_t i, std::uint32_t index, const RayWords& a, bool flush, SpecTally& t) {
+void CheckPerspectiveRay(const emu::call::GridTrace& c, std::size_t i, std::uint32_t index, const TracedRay& a, bool flush, SpecTally& t) {
   const layout::Ray& r = c.rays[i];
   const bool shadow = c.shadow != 0;
   bool may_cull = false, may_walk = true;
@@ -101,7 +96,7 @@ void CheckPerspectiveRay(const emu::call::GridTrace& c, std::size_t i, std::uint
     may_walk = !away || flip;
   }
   // Culled untraced: in shadow, no step, no test.
-  if (may_cull && a.result == (shadow ? 1u : 0u) && a.steps == 0 && a.tests == 0) {
+  if (may_cull && a.result == (shadow ? 1u : 0u) && a.first == 0 && a.second == 0) {
     t.Within();
     return;
   }
@@ -111,35 +106,14 @@ void CheckPerspectiveRay(const emu::call::GridTrace& c, std::size_t i, std::uint
   }
   Bounds b = PerspectiveBounds(c, r, index, flush);
   if (shadow && a.result != 0) b.tests_lo = 0;  // the walk ends at any hit it may take
-  bool ok;
-  if (shadow) {
-    bool possible = false, definite = false;
-    for (const Candidate& cd : b.candidates) possible |= cd.possible, definite |= cd.definite;
-    ok = a.result == 1 ? possible : (a.result == 0 && !definite);
-  } else {
-    ok = ClosestAllowed(emu::kMissPacked, a.result, b.candidates, r);
-  }
-  if (!ok)
+  if (!ResultAllowed(shadow, shadow ? 0 : emu::kMissPacked, a.result, b.candidates, r))
     t.Beyond(fmt::format("{}[{}]: {:#x} is no result of the triangles of a cell its (u, v) may fall in ({} it may test)",
                          shadow ? "occluded" : "hits", i, a.result, b.candidates.size()));
-  else if (a.steps != 1 || a.tests < b.tests_lo || a.tests > b.tests_hi)
-    t.Beyond(fmt::format("ray {}: {} steps and {} tests, where a perspective cell is one step of {} to {} tests", i, a.steps, a.tests,
+  else if (a.first != 1 || a.second < b.tests_lo || a.second > b.tests_hi)
+    t.Beyond(fmt::format("ray {}: {} steps and {} tests, where a perspective cell is one step of {} to {} tests", i, a.first, a.second,
                          b.tests_lo, b.tests_hi));
   else
     t.Within();
-}
-
-std::vector<RayWords> GridWords(const BufferSet& s, bool shadow) {
-  std::vector<std::uint64_t> result;
-  if (shadow)
-    for (std::uint32_t v : s.Get<std::uint32_t>("occluded")) result.push_back(v);
-  else
-    result = s.Get<std::uint64_t>("hits");
-  const std::vector<std::uint32_t> steps = s.Get<std::uint32_t>("steps"), tests = s.Get<std::uint32_t>("tests");
-  std::vector<RayWords> out;
-  if (steps.size() != result.size() || tests.size() != result.size()) return out;
-  for (std::size_t i = 0; i < result.size(); ++i) out.push_back({result[i], steps[i], tests[i]});
-  return out;
 }
 
 }  // namespace
@@ -148,7 +122,7 @@ SpecVerdict ClassifyGridTrace(const BufferSet& in, const BufferSet& expected, co
   const DecodedCall<emu::call::GridTrace> d = DecodeCall<emu::call::GridTrace>(in);
   const emu::call::GridTrace& c = d.call;
   const bool shadow = c.shadow != 0;
-  const std::vector<RayWords> e = GridWords(expected, shadow), a = GridWords(actual, shadow);
+  const std::vector<TracedRay> e = TracedRays(expected, shadow, "steps", "tests"), a = TracedRays(actual, shadow, "steps", "tests");
   SpecTally t;
   if (e.size() != c.rays.size() || a.size() != c.rays.size()) {
     t.Beyond("hits or occluded, steps, tests: a word per ray");
@@ -156,7 +130,7 @@ SpecVerdict ClassifyGridTrace(const BufferSet& in, const BufferSet& expected, co
   }
   std::vector<std::pair<std::size_t, std::uint32_t>> differing;  // ray, its perspective grid
   for (std::size_t i = 0; i < e.size(); ++i) {
-    if (e[i].result == a[i].result && e[i].steps == a[i].steps && e[i].tests == a[i].tests) continue;
+    if (e[i].result == a[i].result && e[i].first == a[i].first && e[i].second == a[i].second) continue;
     const layout::Ray& r = c.rays[i];
     const std::uint32_t index = emu::grid::PerspectiveGridOf(r, shadow, c.light_grids, c.origins, c.eye);
     const glm::vec3 dir = emu::Xyz(r.direction_tmax);

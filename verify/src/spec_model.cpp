@@ -208,6 +208,26 @@ bool ClosestAllowed(std::uint64_t h0, std::uint64_t a, const std::vector<Candida
   return false;
 }
 
+bool ResultAllowed(bool shadow, std::uint64_t before, std::uint64_t result, const std::vector<Candidate>& cands, const layout::Ray& ray) {
+  if (!shadow) return ClosestAllowed(before, result, cands, ray);
+  bool possible = before != 0, definite = before != 0;
+  for (const Candidate& cd : cands) possible |= cd.possible, definite |= cd.definite;
+  return result == 1 ? possible : (result == 0 && !definite);
+}
+
+std::vector<TracedRay> TracedRays(const BufferSet& s, bool shadow, const char* first, const char* second) {
+  std::vector<std::uint64_t> result;
+  if (shadow)
+    for (std::uint32_t v : s.Get<std::uint32_t>("occluded")) result.push_back(v);
+  else
+    result = s.Get<std::uint64_t>("hits");
+  const std::vector<std::uint32_t> a = s.Get<std::uint32_t>(first), b = s.Get<std::uint32_t>(second);
+  std::vector<TracedRay> out;
+  if (a.size() != result.size() || b.size() != result.size()) return out;
+  for (std::size_t i = 0; i < result.size(); ++i) out.push_back({result[i], a[i], b[i]});
+  return out;
+}
+
 namespace {
 
 bool TestMayFlip(const layout::ConeNode& n, glm::vec4 sphere, float eps, std::uint32_t cone_test, bool flush);
@@ -265,16 +285,8 @@ void TallyHits(const std::vector<std::uint32_t>* occluded, const std::vector<std
     it->second.push_back(ModelCandidate(rays[ray], scene.triangles[prim], prim, flush));
   });
   for (const auto& [ray, cs] : cands) {
-    bool ok;
-    if (shadow) {
-      const std::uint32_t before = (*occluded)[ray];
-      bool possible = before != 0, definite = before != 0;
-      for (const Candidate& cd : cs) possible |= cd.possible, definite |= cd.definite;
-      ok = ah[ray] == 1 ? possible : (ah[ray] == 0 && !definite);
-    } else {
-      ok = ClosestAllowed((*hits)[ray], ah[ray], cs, rays[ray]);
-    }
-    if (ok)
+    const std::uint64_t before = shadow ? std::uint64_t{(*occluded)[ray]} : (*hits)[ray];
+    if (ResultAllowed(shadow, before, ah[ray], cs, rays[ray]))
       t.Within();
     else
       t.Beyond(fmt::format("{}[{}]: {:#018x} is no permitted result of its {} candidate triangles", out, ray, ah[ray], cs.size()));

@@ -36,6 +36,20 @@ struct Candidate {
 // candidates' permitted hits? Not when a definite candidate's hit is surely nearer, nor when `a` is
 // no permitted hit of a possible candidate (or `h0` itself).
 bool ClosestAllowed(std::uint64_t h0, std::uint64_t a, const std::vector<Candidate>& cands, const layout::Ray& ray);
+// A final test's result: a shadow flag (`shadow`) set only where some candidate may hit (or it was
+// set before), clear only where none surely hits; else a closest hit ClosestAllowed permits.
+// `before` is the flag or packed hit the call started from.
+bool ResultAllowed(bool shadow, std::uint64_t before, std::uint64_t result, const std::vector<Candidate>& cands, const layout::Ray& ray);
+
+// A tracer's words per ray (tl.trace, grid.trace): the packed closest hit or the shadow flag, and the
+// two counts it reports.
+struct TracedRay {
+  std::uint64_t result;
+  std::uint32_t first, second;
+};
+// The rays of a trace call's outputs: `hits` (or `occluded` for shadow rays) and the count buffers
+// `first` and `second`; empty when their sizes differ.
+std::vector<TracedRay> TracedRays(const BufferSet& s, bool shadow, const char* first, const char* second);
 
 // The models of the object-tree descent's passes (tree.roots, tree.expand, tree.test, tree.step), or
 // an unmodelled verdict for another method.

@@ -141,56 +141,30 @@ TlWalkBounds TlBoundWalk(const emu::call::TlTrace& c, const layout::Ray& ray, fl
   return b;
 }
 
-struct TlRayWords {
-  std::uint64_t result;  // the packed hit, or the shadow flag
-  std::uint32_t spheres, triangles;
-};
-
 // One differing ray: is the device's result one some conformant device's walk reaches?
-void TlCheckRay(const emu::call::TlTrace& c, std::size_t r, const TlRayWords& e, const TlRayWords& a, bool flush, SpecTally& t) {
+void TlCheckRay(const emu::call::TlTrace& c, std::size_t r, const TracedRay& e, const TracedRay& a, bool flush, SpecTally& t) {
   const layout::Ray& ray = c.rays[r];
   const bool shadow = c.shadow != 0;
   // A shadow walk bounds t by tmax until its first hit ends it; a closest-hit walk by its best hit so far.
   const float sure_limit = shadow || a.result == emu::kMissPacked ? ray.direction_tmax.w : emu::HitT(a.result);
   TlWalkBounds b = TlBoundWalk(c, ray, sure_limit, flush);
   if (shadow && a.result != 0) b.spheres_lo = b.triangles_lo = 0;  // a device's walk may end at any hit it may take
-  bool ok = true;
-  if (shadow) {
-    bool possible = false, definite = false;
-    for (const Candidate& cd : b.candidates) possible |= cd.possible, definite |= cd.definite;
-    ok = a.result == 1 ? possible : (a.result == 0 && !definite);
-  } else {
-    ok = ClosestAllowed(emu::kMissPacked, a.result, b.candidates, ray);
-  }
-  if (!ok) {
+  if (!ResultAllowed(shadow, shadow ? 0 : emu::kMissPacked, a.result, b.candidates, ray)) {
     t.Beyond(fmt::format("{}[{}]: {:#x} is no result of a walk a conformant device may take ({} triangles it may test)",
                          shadow ? "occluded" : "hits", r, a.result, b.candidates.size()));
     return;
   }
   const auto inside = [](std::uint64_t x, std::uint64_t lo, std::uint64_t hi) { return lo <= x && x <= hi; };
-  if (!inside(e.spheres, b.spheres_lo, b.spheres_hi) || !inside(e.triangles, b.triangles_lo, b.triangles_hi)) {
+  if (!inside(e.first, b.spheres_lo, b.spheres_hi) || !inside(e.second, b.triangles_lo, b.triangles_hi)) {
     t.Beyond(fmt::format("ray {}: the model's bounds miss the emulator's own counts (a model error)", r));
     return;
   }
-  if (!inside(a.spheres, b.spheres_lo, b.spheres_hi) || !inside(a.triangles, b.triangles_lo, b.triangles_hi)) {
-    t.Beyond(fmt::format("ray {}: {} spheres and {} triangles tested, outside the walks' {} to {} and {} to {}", r, a.spheres,
-                         a.triangles, b.spheres_lo, b.spheres_hi, b.triangles_lo, b.triangles_hi));
+  if (!inside(a.first, b.spheres_lo, b.spheres_hi) || !inside(a.second, b.triangles_lo, b.triangles_hi)) {
+    t.Beyond(fmt::format("ray {}: {} spheres and {} triangles tested, outside the walks' {} to {} and {} to {}", r, a.first,
+                         a.second, b.spheres_lo, b.spheres_hi, b.triangles_lo, b.triangles_hi));
     return;
   }
   t.Within();
-}
-
-std::vector<TlRayWords> TlWords(const BufferSet& s, bool shadow) {
-  std::vector<std::uint64_t> result;
-  if (shadow)
-    for (std::uint32_t v : s.Get<std::uint32_t>("occluded")) result.push_back(v);
-  else
-    result = s.Get<std::uint64_t>("hits");
-  const std::vector<std::uint32_t> spheres = s.Get<std::uint32_t>("spheres"), triangles = s.Get<std::uint32_t>("triangles");
-  std::vector<TlRayWords> out;
-  if (spheres.size() != result.size() || triangles.size() != result.size()) return out;
-  for (std::size_t i = 0; i < result.size(); ++i) out.push_back({result[i], spheres[i], triangles[i]});
-  return out;
 }
 
 }  // namespace
@@ -199,13 +173,13 @@ SpecVerdict ClassifyTlTrace(const BufferSet& in, const BufferSet& expected, cons
   const DecodedCall<emu::call::TlTrace> d = DecodeCall<emu::call::TlTrace>(in);
   const emu::call::TlTrace& c = d.call;
   SpecTally t;
-  const std::vector<TlRayWords> e = TlWords(expected, c.shadow != 0), a = TlWords(actual, c.shadow != 0);
+  const std::vector<TracedRay> e = TracedRays(expected, c.shadow != 0, "spheres", "triangles"), a = TracedRays(actual, c.shadow != 0, "spheres", "triangles");
   if (e.size() != c.rays.size() || a.size() != c.rays.size()) {
     t.Beyond("hits or occluded, spheres, triangles: a word per ray");
     return t.Done();
   }
   for (std::size_t r = 0; r < e.size(); ++r)
-    if (e[r].result != a[r].result || e[r].spheres != a[r].spheres || e[r].triangles != a[r].triangles) TlCheckRay(c, r, e[r], a[r], flush, t);
+    if (e[r].result != a[r].result || e[r].first != a[r].first || e[r].second != a[r].second) TlCheckRay(c, r, e[r], a[r], flush, t);
   return t.Done();
 }
 
