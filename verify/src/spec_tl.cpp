@@ -89,8 +89,10 @@ void TlWalkRange(const emu::call::TlTrace& c, const layout::Ray& ray, std::uint3
     ++b.spheres_hi;
     b.spheres_lo += visited ? 1u : 0u;
     const std::uint32_t subtree_end = x == emu::tl::kEscapeNone ? end : i + static_cast<std::uint32_t>(x);
-    if (TlTestSphere(ray, w, ray.direction_tmax.w, flush).may_pass) {
-      const bool entered = TlTestSphere(ray, w, sure_limit, flush).surely_passes;
+    const TlSphereDecision wide = TlTestSphere(ray, w, ray.direction_tmax.w, flush);
+    if (wide.may_pass) {
+      // A shadow ray's or a missing ray's limit is tmax itself: the same test, not run again.
+      const bool entered = (sure_limit == ray.direction_tmax.w ? wide : TlTestSphere(ray, w, sure_limit, flush)).surely_passes;
       open.emplace_back(subtree_end, entered);
       unsure += entered ? 0u : 1u;
       ++i;
