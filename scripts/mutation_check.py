@@ -23,7 +23,9 @@ misses it, the full tier's other tests: killed by the default tier, by the full 
 or stillborn. The default tier's kill list must contain the full suite's: no mutant killed by the
 full tier only. A tier whose only failures are timeouts runs once more before it counts as a kill (a
 loaded machine is not a test that noticed the bug). The report is written after every mutant, with
-the failing tests that killed it; `--resume` with the same --report goes on where a stopped run left
+the failing tests that killed it. A full-only kill is confirmed: its failing tests run again on the
+mutant (they must fail) and on the restored copy (they must pass); otherwise it is 'unconfirmed',
+neither a kill nor a survivor (a test that failed under load). `--resume` with the same --report goes on where a stopped run left
 off, in the same copy (its source commit must match the report's), or, where there is no copy under
 --work (another checkout), in a copy made from the report's source commit, whose unmutated default
 tier runs first. A file named PAUSE in --work holds the run before its next mutant until it is removed.
@@ -320,7 +322,41 @@ def try_mutant_tiers(args, src, build, mutant):
         if rc != 0:
             return "default", failed
         rc, failed = tier_run(args, build, "full")
-        return ("full", failed) if rc != 0 else ("survived", [])
+        if rc == 0:
+            return "survived", []
+        again = run_named(args, build, failed)
+    return confirmed(args, build, failed, again)
+
+
+def reconfirmed(args, src, build, mutant, failed):
+    """A full-only kill of a report written before kills were confirmed, confirmed now."""
+    build_all = ["cmake", "--build", ".", f"-j{args.jobs}"]
+    with mutated(src, mutant, after=lambda: run(build_all, build)):
+        if run(build_all, build)[0] != 0:
+            return "stillborn", []
+        again = run_named(args, build, failed)
+    return confirmed(args, build, failed, again)
+
+
+def run_named(args, build, failed):
+    """Reruns exactly the tests `failed` names: their exit code."""
+    names = [f.rsplit(" (", 1)[0] for f in failed]
+    pattern = "^(" + "|".join(re.sub(r"([][.^$*+?(){}|\\])", r"\\\1", n) for n in names) + ")$"
+    return run(["ctest", "-R", pattern, f"-j{args.jobs}"], build)[0]
+
+
+# A full-only kill is the claim that the default tier misses a bug: it stands only when the killing
+# tests fail again on the mutant and pass on the restored copy under the same load.
+def confirmed(args, build, failed, again):
+    """'full' when the killing tests failed twice on the mutant and pass without it; 'unconfirmed'
+    (neither a kill nor a survivor, listed) otherwise."""
+    if again == 0:
+        print(f"    {', '.join(failed)}: passed on the mutant when run again", flush=True)
+        return "unconfirmed", failed
+    if run_named(args, build, failed) != 0:
+        print(f"    {', '.join(failed)}: failed without the mutant too", flush=True)
+        return "unconfirmed", failed
+    return "full", failed
 
 
 def wait_while_paused(args):
@@ -336,12 +372,14 @@ def wait_while_paused(args):
 def print_tiers(results):
     killed_default = [m for m, r in results if r == "default"]
     killed_full = [m for m, r in results if r in ("default", "full")]
-    print(f"{'group':<26} {'default':>7} {'full only':>9} {'survived':>8} {'stillborn':>9}")
+    print(f"{'group':<26} {'default':>7} {'full only':>9} {'survived':>8} {'stillborn':>9} {'unconfirmed':>11}")
     for g in sorted({pass_of(m[0]) for m, _ in results}) + ["all"]:
         rows = [r for m, r in results if g == "all" or pass_of(m[0]) == g]
-        print(f"{g:<26} {rows.count('default'):>7} {rows.count('full'):>9} {rows.count('survived'):>8} {rows.count('stillborn'):>9}")
+        print(f"{g:<26} {rows.count('default'):>7} {rows.count('full'):>9} {rows.count('survived'):>8} "
+              f"{rows.count('stillborn'):>9} {rows.count('unconfirmed'):>11}")
     print(f"\nkilled by the default tier: {len(killed_default)}; by the full suite: {len(killed_full)}")
-    for label, wanted in (("killed by the full tier only", "full"), ("survivors", "survived")):
+    for label, wanted in (("killed by the full tier only", "full"), ("survivors", "survived"),
+                          ("unconfirmed: a full-tier failure that did not repeat on the mutant, or repeated without it", "unconfirmed")):
         listed = [m for m, r in results if r == wanted]
         print(f"{label} ({len(listed)}):")
         for m in listed:
@@ -465,7 +503,10 @@ def sample_of(args, source):
 
 
 def entry(m, r, failed):
-    return {"file": m[0], "line": m[1], "pass": pass_of(m[0]), "mutation": m[5], "result": r, "killed_by": failed}
+    e = {"file": m[0], "line": m[1], "pass": pass_of(m[0]), "mutation": m[5], "result": r, "killed_by": failed}
+    if r in ("full", "unconfirmed"):
+        e["confirmed"] = r == "full"
+    return e
 
 
 def write_report(args, commit, results):
@@ -495,7 +536,9 @@ def resumed(args, commit):
     if report.get("source_commit") != commit or report.get("seed") != args.seed or report.get("count") != args.count:
         usage_error(f"--resume: --report '{args.report}' is of another run (source {report.get('source_commit')}, "
                  f"seed {report.get('seed')}, count {report.get('count')}; this copy: {commit}, seed {args.seed}, count {args.count})")
-    return {(e["file"], e["line"], e["mutation"]): (e["result"], e.get("killed_by", [])) for e in report["mutants"]}
+    # A full-only kill from before kills were confirmed comes back as 'full?': confirmed on resume.
+    return {(e["file"], e["line"], e["mutation"]): (e["result"] + ("?" if e["result"] == "full" and "confirmed" not in e else ""),
+                                                    e.get("killed_by", [])) for e in report["mutants"]}
 
 
 def copy_of_reported_commit(args):
@@ -565,6 +608,13 @@ def main(argv):
     results = []
     for i, m in enumerate(sample, 1):
         key = (m[0], m[1], m[5])
+        if key in done and done[key][0] == "full?":
+            wait_while_paused(args)
+            r, failed = reconfirmed(args, src, build, m, done[key][1])
+            results.append((m, r, failed))
+            write_report(args, commit, results)
+            print(f"[{i}/{len(sample)}] {r:<9} {describe(m)} (the report's full-only kill, confirmed again)", flush=True)
+            continue
         if key in done:
             results.append((m,) + done[key])
             print(f"[{i}/{len(sample)}] {done[key][0]:<9} {describe(m)} (from the report)", flush=True)
