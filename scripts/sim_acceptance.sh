@@ -5,6 +5,7 @@
 # Usage: scripts/sim_acceptance.sh RAYSPACE DATA_ROOT [SIZE] [TIMEOUT_S] [SCENE...] > table.txt
 # A run past TIMEOUT_S (default 900) is stopped and reported as such; nothing is retried. SCENE names
 # (cornell-mirrors, ...) choose the scenes and their order; default every bundled scene by name.
+# SIM_CONFIGS (';'-separated, e.g. "crsh;crsh --objects tree") chooses the configurations.
 set -u
 rayspace=$1
 data=$2
@@ -16,6 +17,16 @@ scenes=()
 for s in "$@"; do scenes+=("$here/scenes/$s.json"); done
 [ ${#scenes[@]} -eq 0 ] && scenes=("$here"/scenes/*.json)
 configs=("crsh" "crsh --objects tree" "rah" "rah-quadtree" "tl" "grid" "brute" "embree")
+# SIM_CONFIGS="crsh;rah" runs those configurations only, each one of the list above.
+if [ -n "${SIM_CONFIGS:-}" ]; then
+  IFS=';' read -r -a chosen <<< "$SIM_CONFIGS"
+  for c in "${chosen[@]}"; do
+    known=0
+    for k in "${configs[@]}"; do [ "$c" = "$k" ] && known=1; done
+    [ $known -eq 1 ] || { echo "sim_acceptance.sh: SIM_CONFIGS '$c': not one of: ${configs[*]}" >&2; exit 2; }
+  done
+  configs=("${chosen[@]}")
+fi
 for scene in "${scenes[@]}"; do
   name=$(basename "$scene" .json)
   [ "$name" = manifest ] && continue
