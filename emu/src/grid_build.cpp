@@ -207,28 +207,7 @@ std::uint32_t FaceCell(FaceUv f, std::uint32_t n) {
 }
 
 double PointTriangleDistance(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
-  const glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
-  if (d1 <= 0 && d2 <= 0) return glm::length(p - a);
-  const glm::dvec3 bp = p - b;
-  const double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return glm::length(p - b);
-  const double vc = d1 * d4 - d3 * d2;
-  // An edge region is taken only where its edge has a length: a triangle with two equal vertices
-  // (0 / 0 there) is a segment, whose closest point a later region finds.
-  if (vc <= 0 && d1 >= 0 && d3 <= 0 && d1 - d3 > 0) return glm::length(p - (a + ab * (d1 / (d1 - d3))));
-  const glm::dvec3 cp = p - c;
-  const double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return glm::length(p - c);
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0 && d2 - d6 > 0) return glm::length(p - (a + ac * (d2 / (d2 - d6))));
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0 && (d4 - d3) + (d5 - d6) > 0)
-    return glm::length(p - (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)))));
-  const double denom = va + vb + vc;
-  if (!(denom != 0.0)) return std::min({glm::length(p - a), glm::length(p - b), glm::length(p - c)});  // degenerate
-  const double v = vb / denom, w = vc / denom;
-  return glm::length(p - (a + ab * v + ac * w));
+  return bin::PointTriangleDistanceOf<bin::Exact>(p, a, b, c);
 }
 
 bool FacesAway(glm::vec3 v0, glm::vec3 v1, glm::vec3 v2, glm::vec3 o) { return FacesAwayOf(v0, v1, v2, o); }

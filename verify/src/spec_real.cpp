@@ -116,6 +116,8 @@ SpecReal SpecReal::FromInteger(std::uint64_t n) {
   return Make(static_cast<float>(n), DownF(x), UpF(x));
 }
 
+SpecReal SpecReal::Between(float v, float lo, float hi) { return Make(v, lo, hi); }
+
 SpecReal SpecReal::Unbounded(float nominal) {
   SpecReal r{};
   r.v = nominal;

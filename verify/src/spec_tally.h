@@ -63,6 +63,8 @@ SpecVerdict ClassifyTlCells(const BufferSet& in, const BufferSet& expected, cons
 // The raster's fragment stage where both sides cover a pixel with the same triangle (spec_raster.cpp).
 SpecVerdict ClassifyRasterFragments(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
 
+// grid.count's model (spec_grid_build.cpp).
+SpecVerdict ClassifyGridCount(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
 // grid.trace's model of the perspective cells (spec_grid.cpp).
 SpecVerdict ClassifyGridTrace(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
 SpecVerdict ClassifyTlTrace(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);

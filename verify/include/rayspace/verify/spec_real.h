@@ -48,6 +48,8 @@ struct SpecReal {
   SpecReal(float x);  // NOLINT: constants and input words convert implicitly, exactly
   static SpecReal Unbounded(float nominal);
   static SpecReal FromInteger(std::uint64_t n);  // float(n) as a device converts it (n < 2^53)
+  // Every float in [lo, hi] (a denormal flushed on a flushing device); nominal value v.
+  static SpecReal Between(float v, float lo, float hi);
   bool Allows(float actual) const;  // is `actual` a value the rules permit here?
 };
 
