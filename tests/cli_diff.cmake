@@ -458,8 +458,8 @@ diff_case(relaxed.intersect:ulp4 glass 64x64 intersect:ulp4 4 intersect --compar
 diff_case(relaxed.raster:1 glass 64x64 raster:1 4 raster --compare relaxed)
 
 # worst_case(NAME SCENE SIZE METHODS [diff options...]): on the simulated worst-conformant device the
-# relaxed comparison accepts the frame (exit 0), and each method of METHODS has a call that differs
-# and is within the spec (a model that saw nothing to judge proves nothing).
+# relaxed comparison accepts the frame (exit 0), and each method (or call label) of METHODS has a
+# call that differs and is within the spec (a model that saw nothing to judge proves nothing).
 function(worst_case name scene size methods)
   begin_case("${name}")
   scene_path("${scene}" path)
@@ -476,9 +476,10 @@ function(worst_case name scene size methods)
   set(judged "")
   foreach(k RANGE ${last})
     string(JSON method GET "${j}" calls ${k} method)
+    string(JSON label GET "${j}" calls ${k} label)
     string(JSON within ERROR_VARIABLE none GET "${j}" calls ${k} within_spec)
     if(within STREQUAL "ON")
-      list(APPEND judged "${method}")
+      list(APPEND judged "${method}" "${label}")
     endif()
   endforeach()
   foreach(m IN LISTS methods)
@@ -498,15 +499,15 @@ worst_case(relaxed.tl.worst cornell-mirrors 16x16 "tl.lists;tl.trace" ${tl_all})
 faults_case(relaxed.faults.tl cornell-mirrors 16x16
             "tl.lists:1;tl.lists:2;tl.lists:3;tl.lists:4;tl.heads:1;tl.heads:2;tl.heads:3;tl.cells:1;tl.cells:2;tl.cells:3;tl.trace:1;tl.trace:2;tl.trace:3;tl.trace:4;tl.trace:5"
             ${tl_all} --compare relaxed)
-# grid.trace's perspective cells and grid.count under the relaxed model: the planted faults that
-# change a point light's shadow rays (a cell one column off, the least distance too far, a cell's
-# last triangle untested) and the build's (a span's last column lost, the distance to the first
-# vertex, a regular span one layer short) are each judged beyond the spec (the stepping walks have
-# no model yet). On the worst-conformant device the point lights' grids differ at grid.count (spans,
-# rectangles and distances computed in double at single precision), within the spec.
-faults_case(relaxed.faults.grid cornell-mirrors 16x16 "grid.trace:1;grid.trace:2;grid.trace:4;grid.count:1;grid.count:2;grid.count:3"
-            --algo grid --compare relaxed)
-worst_case(relaxed.grid.worst cornell-mirrors 16x16 "grid.count" --algo grid --bounces 0 --grid-cells 32)
+# The grids under the relaxed model: the planted faults of grid.trace (a perspective cell one column
+# off, the least distance too far, a regular walk skipping a z layer, a cell's last triangle
+# untested) and of grid.count (a span's last column lost, the distance to the first vertex, a regular
+# span one layer short) are each judged beyond the spec. On the worst-conformant device the grids
+# differ at grid.count (spans, rectangles and distances computed in double at single precision) and
+# the reflection rays' walks through the regular grid at grid.trace, within the spec.
+faults_case(relaxed.faults.grid cornell-mirrors 16x16
+            "grid.trace:1;grid.trace:2;grid.trace:3;grid.trace:4;grid.count:1;grid.count:2;grid.count:3" --algo grid --compare relaxed)
+worst_case(relaxed.grid.worst cornell-mirrors 16x16 "grid.count;grid.trace.reflection.b1" --algo grid --grid-cells 32)
 diff_case(strict-math.glass glass 64x64 "" 0 "" --strict-math)
 diff_case(strict-math.office office 64x64 "" 0 "" --strict-math)
 # The scan-based reduction's fault needs the scan reduction.

@@ -6,6 +6,7 @@
 
 #include "rayspace/emu/calls.h"
 #include "rayspace/emu/grid/grid.h"
+#include "rayspace/emu/grid/walk_math.h"
 #include "rayspace/emu/intersect.h"
 #include "rayspace/emu/intersect_simd.h"
 #include "rayspace/parallel.h"
@@ -110,32 +111,25 @@ std::uint32_t PerspectiveCell(const call::GridTrace& c, const layout::Ray& r, gr
   return g.x + grid::FaceCell(uv, g.y);
 }
 
-// 3D DDA through the regular grid over (tmin, tmax) clipped to its box.
+// 3D DDA through the regular grid over (tmin, tmax) clipped to its box (the arithmetic is
+// grid/walk_math.h's).
 void StepRegular(Walk& k, float tmin, float tmax) {
   const call::GridTrace& c = k.c;
   const glm::vec3 lo = Xyz(c.volume[0]), cell = Xyz(c.volume[1]), inv_cell = Xyz(c.volume[2]), hi = Xyz(c.volume[3]);
   const glm::uvec4 dims = c.volume_dims[0];
   const glm::vec3 org = Xyz(k.r.origin_tmin), dir = Xyz(k.r.direction_tmax);
-  glm::vec3 inv;
-  float t0 = tmin, t1 = tmax;
-  for (int a = 0; a < 3; ++a) {
-    inv[a] = 1.0f / dir[a];
-    float ta = (lo[a] - org[a]) * inv[a], tb = (hi[a] - org[a]) * inv[a];
-    if (inv[a] < 0.0f) std::swap(ta, tb);
-    t0 = Max(t0, ta);
-    t1 = Min(t1, tb);
-  }
-  if (!(t0 <= t1)) return;
+  const grid::BoxClipOf<float> clip = grid::BoxClip(lo, hi, org, dir, tmin, tmax);
+  const glm::vec3 inv = clip.inv;
+  const float t0 = clip.t0, t1 = clip.t1;
+  if (clip.outside || !(t0 <= t1)) return;
   glm::ivec3 at, step;
   glm::vec3 next;
   for (int a = 0; a < 3; ++a) {
-    const float p = org[a] + dir[a] * t0;
-    const float x = (p - lo[a]) * inv_cell[a];
+    const float x = grid::EntryCoordinateOf(org[a], dir[a], t0, lo[a], inv_cell[a]);
     at[a] = static_cast<int>(static_cast<std::uint32_t>(Min(Max(x, 0.0f), static_cast<float>(dims[a] - 1u))));
     step[a] = dir[a] > 0.0f ? 1 : (dir[a] < 0.0f ? -1 : 0);
     // The t where the ray leaves this cell along axis a (infinite when it does not move along a).
-    const float boundary = lo[a] + static_cast<float>(at[a] + (step[a] > 0 ? 1 : 0)) * cell[a];
-    next[a] = step[a] == 0 ? INFINITY : (boundary - org[a]) * inv[a];
+    next[a] = step[a] == 0 ? INFINITY : grid::CrossingOf(lo[a], cell[a], at[a] + (step[a] > 0 ? 1 : 0), org[a], inv[a]);
   }
   for (std::uint32_t guard = 0; guard < dims.x + dims.y + dims.z; ++guard) {
     ++k.steps;
@@ -152,8 +146,7 @@ void StepRegular(Walk& k, float tmin, float tmax) {
     if (!(exit <= t1)) return;
     at[a] += step[a];
     if (at[a] < 0 || at[a] >= static_cast<int>(dims[a])) return;
-    const float boundary = lo[a] + static_cast<float>(at[a] + (step[a] > 0 ? 1 : 0)) * cell[a];
-    next[a] = (boundary - org[a]) * inv[a];
+    next[a] = grid::CrossingOf(lo[a], cell[a], at[a] + (step[a] > 0 ? 1 : 0), org[a], inv[a]);
   }
 }
 

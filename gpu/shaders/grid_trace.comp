@@ -103,7 +103,15 @@ void StepRegular(float tmin, float tmax) {
   const vec3 org = r.origin_tmin.xyz, dir = r.direction_tmax.xyz;
   vec3 inv;
   float t0 = tmin, t1 = tmax;
+  bool outside = false;
   for (int a = 0; a < 3; ++a) {
+    // An axis the ray does not move along: no quotient of a zero divisor (Vulkan bounds none), the
+    // ray is in the box's slab or nowhere in it (emu BoxClip).
+    if (dir[a] == 0.0) {
+      inv[a] = 0.0;
+      outside = outside || org[a] < vol.lo[a] || org[a] > vol.hi[a];
+      continue;
+    }
     inv[a] = Div(1.0, dir[a]);
     precise float ta = (vol.lo[a] - org[a]) * inv[a];
     precise float tb = (vol.hi[a] - org[a]) * inv[a];
@@ -115,7 +123,7 @@ void StepRegular(float tmin, float tmax) {
     t0 = max(t0, ta);
     t1 = min(t1, tb);
   }
-  if (!(t0 <= t1)) return;
+  if (outside || !(t0 <= t1)) return;
   ivec3 at, stp;
   vec3 next;
   for (int a = 0; a < 3; ++a) {

@@ -338,6 +338,37 @@ verify::BufferSet TlHeadsSliversCall() {
   return verify::EncodeCall(c);
 }
 
+// Walks through a regular grid of 2 x 2 x 2 cells over [0, 2]^3, every cell listing three walls, of
+// rays with zero direction components: along each axis and in the coordinate planes, from inside the
+// box, from outside it along the moving axis, outside a slab they do not move across, and exactly on
+// a slab's faces (no quotient of a zero component is taken: emu grid::BoxClip).
+verify::BufferSet GridAxisRaysCall() {
+  emu::call::GridTrace c;
+  std::vector<layout::Triangle> triangles = {{vec4(1.5f, -1, -1, 1), vec4(1.5f, 3, -1, 1), vec4(1.5f, 1, 3, 1)},
+                                             {vec4(-1, 0.25f, -1, 1), vec4(3, 0.25f, -1, 1), vec4(1, 0.25f, 3, 1)},
+                                             {vec4(-1, -1, 1.25f, 1), vec4(3, -1, 1.25f, 1), vec4(1, 3, 1.25f, 1)}};
+  std::vector<std::uint32_t> first, cell_triangles;
+  for (std::uint32_t cell = 0; cell <= 8; ++cell) first.push_back(3 * cell);
+  for (std::uint32_t cell = 0; cell < 8; ++cell)
+    for (std::uint32_t t = 0; t < 3; ++t) cell_triangles.push_back(t);
+  const float h = 0.70710677f;
+  std::vector<layout::Ray> rays;
+  for (const glm::vec3 d : {glm::vec3(1, 0, 0), glm::vec3(-1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, -1, 0), glm::vec3(0, 0, 1),
+                            glm::vec3(0, 0, -1), glm::vec3(h, h, 0), glm::vec3(0, -h, h), glm::vec3(-h, 0, -h)})
+    for (const glm::vec3 o : {glm::vec3(0.5f, 0.5f, 0.5f), glm::vec3(-1.0f, 0.75f, 0.5f), glm::vec3(0.5f, 3.0f, 0.5f),
+                              glm::vec3(2.0f, 2.0f, 0.0f), glm::vec3(0.0f, 1.0f, 2.0f), glm::vec3(1.0f, 1.0f, 1.0f)})
+      rays.push_back(RayAt(o, d));
+  c.first = first;
+  c.cell_triangles = cell_triangles;
+  const std::vector<vec4> volume = {vec4(0.0f), vec4(1.0f), vec4(1.0f), vec4(2.0f)};  // lo, cell, 1 / cell, hi
+  const std::vector<glm::uvec4> dims = {glm::uvec4(2, 2, 2, 0)};
+  c.volume = volume;
+  c.volume_dims = dims;
+  c.triangles = triangles;
+  c.rays = rays;
+  return verify::EncodeCall(c);
+}
+
 }  // namespace
 
 std::vector<KernelCase> KernelCases() {
@@ -368,6 +399,9 @@ std::vector<KernelCase> KernelCases() {
       {"tl-trace-ties", "tl.trace", "tl.trace",
        "shadow rays whose largest direction components tie (|z| = |x|, |z| = |y|, all three) walking 6 lists over a lattice",
        TlTraceTiesCall()},
+      {"grid-trace-axis-rays", "grid.trace", "grid.trace",
+       "regular-grid walks of rays with zero direction components, inside the box, outside a slab they do not cross, on its faces",
+       GridAxisRaysCall()},
       {"tl-heads-slivers", "tl.heads", "tl.heads",
        "per-polygon heads of sliver triangles (normal short against the edges: whole lists) across a lattice",
        TlHeadsSliversCall()},

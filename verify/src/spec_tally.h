@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "rayspace/emu/calls.h"
 #include "rayspace/layout.h"
 #include "rayspace/verify/spec_model.h"
 #include "rayspace/verify/spec_real.h"
@@ -63,6 +64,8 @@ SpecVerdict ClassifyTlCells(const BufferSet& in, const BufferSet& expected, cons
 // The raster's fragment stage where both sides cover a pixel with the same triangle (spec_raster.cpp).
 SpecVerdict ClassifyRasterFragments(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
 
+// A ray walking the regular grid in a grid.trace call (spec_grid_walk.cpp): its words `a` judged.
+void CheckRegularRay(const emu::call::GridTrace& c, std::size_t i, const TracedRay& a, bool flush, SpecTally& t);
 // grid.count's model (spec_grid_build.cpp).
 SpecVerdict ClassifyGridCount(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
 // grid.trace's model of the perspective cells (spec_grid.cpp).

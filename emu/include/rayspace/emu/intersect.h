@@ -25,6 +25,9 @@ inline float Abs(float x) { return std::fabs(x); }
 inline float Sqrt(float x) { return std::sqrt(x); }
 inline float Square(float x) { return x * x; }
 inline float NextAfter(float x, float toward) { return std::nextafter(x, toward); }
+// The value lavapipe computes (verify::SpecReal's own for its type): for decisions on input words,
+// which every device reads alike.
+inline float Nominal(float x) { return x; }
 template <typename S>
 Vec3<S> Xyz(const Vec4<S>& v) { return {v.x, v.y, v.z}; }
 
