@@ -150,46 +150,6 @@ void StepRegular(Walk& k, float tmin, float tmax) {
   }
 }
 
-// Clips [t0, t1] to the half-line where g0 + g1 t >= 0.
-void ClipLinear(float g0, float g1, float& t0, float& t1) {
-  if (g1 > 0.0f) t0 = Max(t0, -g0 / g1);
-  else if (g1 < 0.0f) t1 = Min(t1, -g0 / g1);
-  else if (g0 < 0.0f) t1 = -INFINITY;
-}
-
-// The ray's box-clipped range [t0, t1] within region `region` of a 3D grid about `c` (core half-side
-// zn): 0..5 a face's frustum beyond the near plane (sides widened by kGridFaceSlack), 6 the core.
-void RegionRange(glm::vec3 oq, glm::vec3 dir, float zn, std::uint32_t region, float& t0, float& t1) {
-  if (region == layout::kGridFaces) {
-    const float h = zn * layout::kGridCoreWiden;
-    for (int a = 0; a < 3; ++a) {
-      ClipLinear(h - oq[a], -dir[a], t0, t1);  // oq + dir t <= h
-      ClipLinear(h + oq[a], dir[a], t0, t1);   // oq + dir t >= -h
-    }
-    return;
-  }
-  const std::uint32_t major = region / 2u, ua = (major + 1u) % 3u, vb = (major + 2u) % 3u;
-  const float sgn = region % 2u == 0u ? 1.0f : -1.0f;
-  const float m0 = sgn * oq[major], dm = sgn * dir[major];
-  const float wide = 1.0f + layout::kGridFaceSlack;
-  ClipLinear(m0 - zn * layout::kGridNearShrink, dm, t0, t1);
-  const float wm0 = wide * m0, wdm = wide * dm;
-  ClipLinear(wm0 - oq[ua], wdm - dir[ua], t0, t1);
-  ClipLinear(wm0 + oq[ua], wdm + dir[ua], t0, t1);
-  ClipLinear(wm0 - oq[vb], wdm - dir[vb], t0, t1);
-  ClipLinear(wm0 + oq[vb], wdm + dir[vb], t0, t1);
-}
-
-// A point of face `f` in perspective space: (u, v) as cell coordinates x = (u + 1) n / 2, and r = 1 / m;
-// m is kept at or beyond the near plane. Returns m.
-float Perspective(glm::vec3 q, std::uint32_t f, float half_n, float near, glm::vec3& p) {
-  const std::uint32_t major = f / 2u, ua = (major + 1u) % 3u, vb = (major + 2u) % 3u;
-  const float sgn = f % 2u == 0u ? 1.0f : -1.0f;
-  const float m = Max(sgn * q[major], near);
-  p = glm::vec3((q[ua] / m + 1.0f) * half_n, (q[vb] / m + 1.0f) * half_n, 1.0f / m);
-  return m;
-}
-
 // An area light's shadow ray through its 3D perspective grid: the part in the core through the
 // regular grid, the part in each face's frustum through the face's cells, in order of entry, each each a 3D DDA along the straight line the ray is in perspective
 // space (Hunt and Mark 5.3). Returns early on a hit (shadow) or once the best hit lies before where
@@ -205,8 +165,8 @@ void StepVolume(Walk& k, std::uint32_t index) {
   // The ray within the regular grid's box (every triangle lies inside it).
   float T0 = k.tmin, T1 = k.tmax;
   for (int a = 0; a < 3; ++a) {
-    ClipLinear(org[a] - c.volume[0][a], dir[a], T0, T1);
-    ClipLinear(c.volume[3][a] - org[a], -dir[a], T0, T1);
+    grid::ClipLinearOf(org[a] - c.volume[0][a], dir[a], T0, T1);
+    grid::ClipLinearOf(c.volume[3][a] - org[a], -dir[a], T0, T1);
   }
   if (!(T0 <= T1)) return;
   constexpr std::uint32_t kRegions = layout::kGridFaces + 1u;
@@ -214,7 +174,7 @@ void StepVolume(Walk& k, std::uint32_t index) {
   for (std::uint32_t s = 0; s < kRegions; ++s) {
     r0[s] = T0;
     r1[s] = T1;
-    RegionRange(oq, dir, zn, s, r0[s], r1[s]);
+    grid::RegionRangeOf(oq, dir, zn, s, r0[s], r1[s]);
   }
   std::uint32_t done = 0u;  // regions walked, one bit each
   const std::uint32_t cells_per_face = n * n * depth;
@@ -234,8 +194,8 @@ void StepVolume(Walk& k, std::uint32_t index) {
     }
     const float* bounds = &c.slices[g.w + s * (depth + 1u)];
     glm::vec3 p0, p1;
-    const float ma = Perspective(oq + dir * t0, s, half_n, near, p0);
-    const float mb = Perspective(oq + dir * t1, s, half_n, near, p1);
+    const float ma = grid::PerspectiveOf(oq + dir * t0, s, half_n, near, p0);
+    const float mb = grid::PerspectiveOf(oq + dir * t1, s, half_n, near, p1);
     const glm::vec3 delta = p1 - p0;
     glm::ivec3 at;
     glm::ivec3 step;
@@ -243,14 +203,14 @@ void StepVolume(Walk& k, std::uint32_t index) {
     for (int a = 0; a < 2; ++a) {
       at[a] = static_cast<int>(Min(static_cast<std::uint32_t>(Max(p0[a], 0.0f)), n - 1u));
       step[a] = delta[a] > 0.0f ? 1 : (delta[a] < 0.0f ? -1 : 0);
-      next[a] = step[a] == 0 ? INFINITY : (static_cast<float>(at[a] + (step[a] > 0 ? 1 : 0)) - p0[a]) / delta[a];
+      next[a] = step[a] == 0 ? INFINITY : grid::ColumnCrossingOf(at[a], step[a], p0[a], delta[a]);
     }
     std::uint32_t slice = 0;
     for (std::uint32_t j = 1; j < depth; ++j) slice += p0.z <= bounds[j] ? 1u : 0u;
     at.z = static_cast<int>(slice);
     // Away from the light, r falls: the far boundary is slice + 1's.
     step.z = delta.z < 0.0f ? 1 : (delta.z > 0.0f ? -1 : 0);
-    next.z = step.z == 0 ? INFINITY : (bounds[at.z + (step.z > 0 ? 1 : 0)] - p0.z) / delta.z;
+    next.z = step.z == 0 ? INFINITY : grid::SliceCrossingOf(bounds[at.z + (step.z > 0 ? 1 : 0)], p0.z, delta.z);
     for (std::uint32_t guard = 0; guard < 2u * n + depth; ++guard) {
       ++k.steps;
       k.Cell(g.x + s * cells_per_face + (static_cast<std::uint32_t>(at.z) * n + static_cast<std::uint32_t>(at.y)) * n +
@@ -268,8 +228,8 @@ void StepVolume(Walk& k, std::uint32_t index) {
       }
       at[a] += step[a];
       if (at[a] < 0 || at[a] >= static_cast<int>(a == 2 ? depth : n)) break;
-      next[a] = a == 2 ? (bounds[at.z + (step.z > 0 ? 1 : 0)] - p0.z) / delta.z
-                       : (static_cast<float>(at[a] + (step[a] > 0 ? 1 : 0)) - p0[a]) / delta[a];
+      next[a] = a == 2 ? grid::SliceCrossingOf(bounds[at.z + (step.z > 0 ? 1 : 0)], p0.z, delta.z)
+                       : grid::ColumnCrossingOf(at[a], step[a], p0[a], delta[a]);
     }
   }
 }

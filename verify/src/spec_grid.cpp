@@ -4,8 +4,8 @@
 // quotients: which cell, which rectangles) and each triangle test. A device's answer is within the
 // spec when some cell its (u, v) may fall in and some permitted tests give it; a triangle every
 // device tests (its cell certain, its rectangle surely holding (u, v)) and surely hits bounds it.
-// The rays that walk the regular grid are judged by spec_grid_walk.cpp; those that walk a 3D grid
-// have no model yet: a call with such a ray differing is unmodelled, compared word for word.
+// The rays that walk a grid (the regular grid, an area light's 3D grid) are judged by
+// spec_grid_walk.cpp.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -128,20 +128,16 @@ SpecVerdict ClassifyGridTrace(const BufferSet& in, const BufferSet& expected, co
     t.Beyond("hits or occluded, steps, tests: a word per ray");
     return t.Done();
   }
-  std::vector<std::pair<std::size_t, std::uint32_t>> differing;  // ray, its perspective grid (none: the regular grid)
   for (std::size_t i = 0; i < e.size(); ++i) {
     if (e[i].result == a[i].result && e[i].first == a[i].first && e[i].second == a[i].second) continue;
     const layout::Ray& r = c.rays[i];
-    // A walk through a 3D grid: no model yet, the call is compared word for word.
-    if (emu::grid::VolumeGridOf(r, shadow, c.light_grids, c.secondary) != layout::kGridNoLight) return {};
+    const std::uint32_t volume = emu::grid::VolumeGridOf(r, shadow, c.light_grids, c.secondary);
     const std::uint32_t index = emu::grid::PerspectiveGridOf(r, shadow, c.light_grids, c.origins, c.eye);
     const glm::vec3 dir = emu::Xyz(r.direction_tmax);
-    const bool regular = index == layout::kGridNoLight || !(std::max({std::fabs(dir.x), std::fabs(dir.y), std::fabs(dir.z)}) > 0.0f);
-    differing.emplace_back(i, regular ? layout::kGridNoLight : index);
-  }
-  for (const auto& [i, index] : differing) {
-    if (index == layout::kGridNoLight)
-      CheckRegularRay(c, i, a[i], flush, t);
+    const bool walks = volume != layout::kGridNoLight || index == layout::kGridNoLight ||
+                       !(std::max({std::fabs(dir.x), std::fabs(dir.y), std::fabs(dir.z)}) > 0.0f);
+    if (walks)
+      CheckWalkingRay(c, i, volume, a[i], flush, t);
     else
       CheckPerspectiveRay(c, i, index, a[i], flush, t);
   }

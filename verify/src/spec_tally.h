@@ -64,8 +64,9 @@ SpecVerdict ClassifyTlCells(const BufferSet& in, const BufferSet& expected, cons
 // The raster's fragment stage where both sides cover a pixel with the same triangle (spec_raster.cpp).
 SpecVerdict ClassifyRasterFragments(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
 
-// A ray walking the regular grid in a grid.trace call (spec_grid_walk.cpp): its words `a` judged.
-void CheckRegularRay(const emu::call::GridTrace& c, std::size_t i, const TracedRay& a, bool flush, SpecTally& t);
+// A ray walking a grid in a grid.trace call (spec_grid_walk.cpp): the regular grid, or (`volume`
+// not kGridNoLight) that 3D grid; its words `a` judged.
+void CheckWalkingRay(const emu::call::GridTrace& c, std::size_t i, std::uint32_t volume, const TracedRay& a, bool flush, SpecTally& t);
 // grid.count's model (spec_grid_build.cpp).
 SpecVerdict ClassifyGridCount(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
 // grid.trace's model of the perspective cells (spec_grid.cpp).
