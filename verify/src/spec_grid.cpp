@@ -50,7 +50,6 @@ Bounds PerspectiveBounds(const emu::call::GridTrace& c, const layout::Ray& r, st
   const auto [i0, i1] = CellSpan(uv.u, g.y);
   const auto [j0, j1] = CellSpan(uv.v, g.y);
   const bool one_cell = i0 == i1 && j0 == j1;
-  const emu::WatertightRayOf<R> w = emu::SetupWatertight(GridSpec3(r.origin_tmin), GridSpec3(r.direction_tmax));
   b.tests_lo = ~0u;
   for (std::uint32_t j = j0; j <= j1; ++j)
     for (std::uint32_t i = i0; i <= i1; ++i) {
@@ -67,14 +66,9 @@ Bounds PerspectiveBounds(const emu::call::GridTrace& c, const layout::Ray& r, st
           if (!inside && !flip) continue;
           ++may;
           sure += inside && !flip ? 1u : 0u;
-          const layout::Triangle& tr = c.triangles[t];
-          ScopedSpecTrace hit_trace(flush);
-          R th{};
-          const bool hit = emu::IntersectWatertight(w, GridSpec3(tr.v0), GridSpec3(tr.v1), GridSpec3(tr.v2), R(r.origin_tmin.w),
-                                                    R(r.direction_tmax.w), th);
-          const bool ambiguous = hit_trace.trace().ambiguous != 0;
-          b.candidates.push_back({t, hit || ambiguous, hit && !ambiguous && inside && !flip && one_cell,
-                                  ambiguous ? SpecReal::Unbounded(th.v) : th});
+          Candidate cand = ModelCandidate(r, c.triangles[t], t, flush);
+          cand.definite = cand.definite && inside && !flip && one_cell;
+          b.candidates.push_back(cand);
         }
       b.tests_lo = std::min(b.tests_lo, one_cell ? sure : 0u);
       b.tests_hi = std::max(b.tests_hi, may);

@@ -317,21 +317,14 @@ struct WalkCandidates {
 WalkCandidates CandidatesOf(const emu::call::GridTrace& c, const layout::Ray& r, const WalkBounds& w, bool found, bool flush) {
   WalkCandidates out;
   std::map<std::uint32_t, std::size_t> at;
-  const emu::WatertightRayOf<R> ray = emu::SetupWatertight(WalkSpec3(r.origin_tmin), WalkSpec3(r.direction_tmax));
   for (std::uint32_t cell : w.may_cells)
     for (std::uint32_t k = c.first[cell]; k < c.first[cell + 1]; ++k) {
       const std::uint32_t t = c.cell_triangles[k];
       if (t == r.info.y) continue;
       ++out.may_tests;
       if (at.count(t)) continue;
-      const layout::Triangle& tr = c.triangles[t];
-      ScopedSpecTrace trace(flush);
-      R th{};
-      const bool hit = emu::IntersectWatertight(ray, WalkSpec3(tr.v0), WalkSpec3(tr.v1), WalkSpec3(tr.v2), R(r.origin_tmin.w),
-                                                R(r.direction_tmax.w), th);
-      const bool ambiguous = trace.trace().ambiguous != 0;
       at[t] = out.candidates.size();
-      out.candidates.push_back({t, hit || ambiguous, hit && !ambiguous, ambiguous ? SpecReal::Unbounded(th.v) : th});
+      out.candidates.push_back(ModelCandidate(r, c.triangles[t], t, flush));
     }
   std::vector<bool> listed(out.candidates.size(), false);
   for (const WalkBounds::Sure& s : w.sure)

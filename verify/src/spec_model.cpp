@@ -178,6 +178,13 @@ SpecVerdict Raygen(const BufferSet& in, const BufferSet& e, const BufferSet& a, 
 
 // ---- intersect ------------------------------------------------------------------------------------
 
+// The largest packed hit a candidate that surely hits may report.
+std::uint64_t LatestPacked(const Candidate& c) {
+  return c.t.any ? emu::kMissPacked : emu::PackHit(c.t.hi, c.prim);
+}
+
+}  // namespace
+
 Candidate ModelCandidate(const layout::Ray& r, const layout::Triangle& tri, std::uint32_t prim, bool flush) {
   ScopedSpecTrace trace(flush);
   R t{};
@@ -187,13 +194,6 @@ Candidate ModelCandidate(const layout::Ray& r, const layout::Triangle& tri, std:
   const bool ambiguous = trace.trace().ambiguous != 0;
   return {prim, hit || ambiguous, hit && !ambiguous, ambiguous ? SpecReal::Unbounded(t.v) : t};
 }
-
-// The largest packed hit a candidate that surely hits may report.
-std::uint64_t LatestPacked(const Candidate& c) {
-  return c.t.any ? emu::kMissPacked : emu::PackHit(c.t.hi, c.prim);
-}
-
-}  // namespace
 
 // A reported t passed the device's own range check, which compares exactly: tmin < t < tmax.
 bool ClosestAllowed(std::uint64_t h0, std::uint64_t a, const std::vector<Candidate>& cands, const layout::Ray& ray) {

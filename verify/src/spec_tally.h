@@ -33,6 +33,9 @@ struct Candidate {
   SpecReal t{};
 };
 
+// A triangle's watertight test against a ray (the final tests' and the grids'), in SpecReal.
+Candidate ModelCandidate(const layout::Ray& r, const layout::Triangle& tri, std::uint32_t prim, bool flush);
+
 // Can the 64-bit atomic minimum of the packed hits (t, prim) end at `a`, starting from `h0`, given the
 // candidates' permitted hits? Not when a definite candidate's hit is surely nearer, nor when `a` is
 // no permitted hit of a possible candidate (or `h0` itself).
