@@ -25,17 +25,22 @@ RasterDifference ClassifyRaster(std::uint32_t width, std::uint32_t height, std::
           std::bit_cast<std::uint32_t>(expected_depth[i]) == std::bit_cast<std::uint32_t>(actual_depth[i]))
         continue;
       ++d.pixels;
-      bool edge = false;
-      for (int dy = -1; dy <= 1 && !edge; ++dy)
-        for (int dx = -1; dx <= 1 && !edge; ++dx) {
-          const std::int64_t nx = std::int64_t{x} + dx, ny = std::int64_t{y} + dy;
-          if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
-          const std::size_t j = static_cast<std::size_t>(ny) * width + static_cast<std::size_t>(nx);
-          edge = expected_prim[j] != expected_prim[i] || actual_prim[j] != actual_prim[i];
-        }
-      d.edge += edge;
+      d.edge += OnTriangleEdge(width, height, expected_prim, actual_prim, x, y);
     }
   return d;
+}
+
+bool OnTriangleEdge(std::uint32_t width, std::uint32_t height, std::span<const std::uint32_t> expected_prim,
+                    std::span<const std::uint32_t> actual_prim, std::uint32_t x, std::uint32_t y) {
+  const std::size_t i = std::size_t{y} * width + x;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const std::int64_t nx = std::int64_t{x} + dx, ny = std::int64_t{y} + dy;
+      if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
+      const std::size_t j = static_cast<std::size_t>(ny) * width + static_cast<std::size_t>(nx);
+      if (expected_prim[j] != expected_prim[i] || actual_prim[j] != actual_prim[i]) return true;
+    }
+  return false;
 }
 
 }  // namespace rayspace::verify

@@ -817,6 +817,7 @@ SpecVerdict ClassifyWithinSpec(const std::string& method, const BufferSet& in, c
   if (method == "tl.cells") return ClassifyTlCells(in, expected, actual, flush_denormals);
   // The raster's fragment words alone (the differ adds the coverage verdict on edges).
   if (method == "raster.fragments") return ClassifyRasterFragments(in, expected, actual, flush_denormals);
+  if (method == "raster.flips") return ClassifyRasterFlips(in, expected, actual, flush_denormals);
   if (method == "grid.trace") return ClassifyGridTrace(in, expected, actual, flush_denormals);
   if (method == "grid.count") return ClassifyGridCount(in, expected, actual, flush_denormals);
   if (method == "tl.trace") return ClassifyTlTrace(in, expected, actual, flush_denormals);

@@ -3,7 +3,8 @@
 // shading normal are the fragment stage's arithmetic (a division, a root) and must lie in the
 // intervals of that arithmetic in SpecReal (emu::raster::ShadeFragmentOf, emu::ShadingNormalOf); the
 // material words and the normal's transparency are copies and must be equal. Pixels whose triangle
-// differs are the coverage verdict's (raster_edges.h).
+// differs on an edge are the coverage verdict's (raster_edges.h); inside both triangles, a depth
+// test that a loosely rounded depth may turn (ClassifyRasterFlips).
 #include <bit>
 #include <cstdint>
 #include <cstring>
@@ -13,6 +14,7 @@
 #include "rayspace/emu/raster_detail.h"
 #include "rayspace/emu/surface_math.h"
 #include "rayspace/verify/call_codec.h"
+#include "rayspace/verify/raster_edges.h"
 #include "spec_tally.h"
 
 namespace rayspace::verify {
@@ -42,7 +44,69 @@ std::string CheckFragment(const emu::call::Raster& c, std::uint32_t prim, std::u
   return "";
 }
 
+// Could the depth test pick `b` over `a` at pixel (px, py) on a conformant device? Both fragments'
+// depths (the stage's quotient, in SpecReal) must admit b's at or before a's, and b must cover the
+// pixel or one beside it (its edge may pass within a pixel where a hides it).
+std::string FlipWhy(const emu::call::Raster& c, const std::vector<emu::raster::Setup>& setups, std::uint32_t a, std::uint32_t b,
+                    std::uint32_t px, std::uint32_t py, bool flush) {
+  if (a >= c.scene->triangles.size() || b >= c.scene->triangles.size()) return "a triangle against the background, away from every edge";
+  bool covers = false;
+  for (const emu::raster::Setup& s : setups)
+    for (int dy = -1; dy <= 1 && s.prim == b && !covers; ++dy)
+      for (int dx = -1; dx <= 1 && !covers; ++dx) covers = emu::raster::Covers(s, static_cast<int>(px) + dx, static_cast<int>(py) + dy);
+  if (!covers) return fmt::format("triangle {} does not cover it", b);
+  ScopedSpecTrace trace(flush);
+  const auto fragment = [&](std::uint32_t prim) {
+    const layout::Triangle& t = c.scene->triangles[prim];
+    const emu::Vec3<R> v0(R(t.v0.x), R(t.v0.y), R(t.v0.z)), v1(R(t.v1.x), R(t.v1.y), R(t.v1.z)), v2(R(t.v2.x), R(t.v2.y), R(t.v2.z));
+    return emu::raster::ShadeFragmentOf(c.frame, v0, v1, v2, emu::PixelDirectionOf<R>(c.frame, px, py));
+  };
+  const emu::raster::FragmentOf<R> fa = fragment(a), fb = fragment(b);
+  if (trace.trace().ambiguous != 0) return "";
+  if (fb.discard) return fmt::format("triangle {}'s fragment is discarded on every device", b);
+  if (!fa.discard && fb.depth.lo > fa.depth.hi)
+    return fmt::format("triangle {} lies behind triangle {} on every device (depth [{}, {}] against [{}, {}])", b, a, fb.depth.lo, fb.depth.hi,
+                       fa.depth.lo, fa.depth.hi);
+  return "";
+}
+
 }  // namespace
+
+// Interior pixels whose triangle differs: a depth test a loosely rounded depth may turn, the device's
+// words then the other triangle's fragment.
+SpecVerdict ClassifyRasterFlips(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
+  const DecodedCall<emu::call::Raster> d = DecodeCall<emu::call::Raster>(in);
+  const emu::call::Raster& c = d.call;
+  SpecTally t;
+  const auto ep = e.Get<std::uint32_t>("prim"), ap = a.Get<std::uint32_t>("prim");
+  const std::uint32_t w = c.frame.dims.x, h = c.frame.dims.y;
+  const std::size_t n = std::size_t{w} * h;
+  if (ep.size() != n || ap.size() != n) {
+    t.Beyond("prim: a word per pixel");
+    return t.Done();
+  }
+  std::vector<emu::raster::Setup> setups;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t px = static_cast<std::uint32_t>(i % w), py = static_cast<std::uint32_t>(i / w);
+    if (ep[i] == ap[i] || OnTriangleEdge(w, h, ep, ap, px, py)) continue;
+    if (setups.empty()) setups = emu::raster::SetupAll(c.frame, c.scene->triangles);
+    std::string why = FlipWhy(c, setups, ep[i], ap[i], px, py, flush);
+    if (why.empty()) {
+      const layout::Material& m = c.scene->materials[c.scene->info[ap[i]].ids.x];
+      const auto words = [&](const char* name) { return a.Get<glm::vec4>(name)[i]; };
+      if (!Same(words("diffuse"), m.diffuse_reflectivity) || !Same(words("specular"), m.specular_shininess) ||
+          std::bit_cast<std::uint32_t>(words("normal").w) != std::bit_cast<std::uint32_t>(m.transparency_ior.x))
+        why = "a material word or a w, which the fragment stage copies";
+      else
+        why = CheckFragment(c, ap[i], px, py, a.Get<float>("depth")[i], words("position"), words("normal"), flush);
+    }
+    if (why.empty())
+      t.Within();
+    else
+      t.Beyond(fmt::format("pixel {} (interior, triangle {} where the emulator has {}): {}", i, ap[i], ep[i], why));
+  }
+  return t.Done();
+}
 
 SpecVerdict ClassifyRasterFragments(const BufferSet& in, const BufferSet& e, const BufferSet& a, bool flush) {
   const DecodedCall<emu::call::Raster> d = DecodeCall<emu::call::Raster>(in);

@@ -66,6 +66,8 @@ SpecVerdict ClassifyTlHeads(const BufferSet& in, const BufferSet& expected, cons
 SpecVerdict ClassifyTlCells(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
 // The raster's fragment stage where both sides cover a pixel with the same triangle (spec_raster.cpp).
 SpecVerdict ClassifyRasterFragments(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
+// Its depth test where the triangle differs away from every edge (spec_raster.cpp).
+SpecVerdict ClassifyRasterFlips(const BufferSet& in, const BufferSet& expected, const BufferSet& actual, bool flush_denormals);
 
 // A ray walking a grid in a grid.trace call (spec_grid_walk.cpp): the regular grid, or (`volume`
 // not kGridNoLight) that 3D grid; its words `a` judged.

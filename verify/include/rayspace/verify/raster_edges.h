@@ -18,6 +18,10 @@ struct RasterDifference {
   std::string Summary() const;  // "N pixels differ: E on a triangle edge (...), I interior (...)"
 };
 
+// Whether pixel (x, y) has a neighbour (8-connected) of another primitive in either image.
+bool OnTriangleEdge(std::uint32_t width, std::uint32_t height, std::span<const std::uint32_t> expected_prim,
+                    std::span<const std::uint32_t> actual_prim, std::uint32_t x, std::uint32_t y);
+
 // Compares the two G-buffers of a width x height raster by primitive id and depth bits.
 RasterDifference ClassifyRaster(std::uint32_t width, std::uint32_t height, std::span<const std::uint32_t> expected_prim,
                                 std::span<const std::uint32_t> actual_prim, std::span<const float> expected_depth,
