@@ -280,6 +280,27 @@ SceneBuffers AreaSoup(std::uint32_t seed) {
   return b;
 }
 
+// `count` shadow rays of the soup's two area lights, alternately, each from a point of its light's box
+// (a sample) to a point of the soup; with `own_surfaces` every seventh leaves a triangle of the soup.
+std::vector<layout::Ray> AreaShadowRays(const SceneBuffers& b, int count, std::uint32_t seed, bool own_surfaces) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-1.2f, 1.2f), s(-1.0f, 1.0f);
+  std::vector<layout::Ray> rays;
+  for (int i = 0; i < count; ++i) {
+    const std::uint32_t l = static_cast<std::uint32_t>(i % 2);
+    glm::vec3 lo, hi;
+    LightCorners(b.lights[l], lo, hi);
+    const glm::vec3 from = (lo + hi) * 0.5f + (hi - lo) * 0.5f * glm::vec3(s(rng), s(rng), s(rng));
+    const glm::vec3 v = glm::vec3(u(rng), u(rng), u(rng)) - from;
+    const float dist = Length(v);
+    layout::Ray r = test::MakeSegment(from, v / dist, 1e-6f, dist * kShadowTmaxFactor);
+    const bool own = own_surfaces && i % 7 == 0;
+    r.info = glm::uvec4(0, own ? static_cast<std::uint32_t>(i % 400) : layout::kNoPrim, layout::kRayShadow, l);
+    rays.push_back(r);
+  }
+  return rays;
+}
+
 GridWalks Trace(const GridArrays& g, const SceneBuffers& b, const std::vector<layout::Ray>& rays, std::uint32_t shadow) {
   return PassGridTrace({.first = g.first, .cell_triangles = g.triangles, .min_dist = g.min_dist, .boxes = g.boxes, .light_grids = g.light_grids,
                         .origins = g.origins, .volume = g.volume, .volume_dims = g.volume_dims, .slices = g.slices, .triangles = b.triangles,
@@ -340,21 +361,7 @@ TEST_CASE("grid: area lights' shadow rays through their 3D grids give brute forc
     mid.area_depth = 8;
     for (const grid::Options& o : {fine, coarse, mid}) {
       const GridArrays g = grid::Build(b, o);
-      std::mt19937 rng(seed * 13);
-      std::uniform_real_distribution<float> u(-1.2f, 1.2f), s(-1.0f, 1.0f);
-      std::vector<layout::Ray> rays;
-      for (int i = 0; i < 2000; ++i) {
-        // From a point of the light's box (a sample) to a point of the soup.
-        const std::uint32_t l = static_cast<std::uint32_t>(i % 2);
-        glm::vec3 lo, hi;
-        LightCorners(b.lights[l], lo, hi);
-        const glm::vec3 from = (lo + hi) * 0.5f + (hi - lo) * 0.5f * glm::vec3(s(rng), s(rng), s(rng));
-        const glm::vec3 v = glm::vec3(u(rng), u(rng), u(rng)) - from;
-        const float dist = Length(v);
-        layout::Ray r = test::MakeSegment(from, v / dist, 1e-6f, dist * kShadowTmaxFactor);
-        r.info = glm::uvec4(0, i % 7 == 0 ? static_cast<std::uint32_t>(i % 400) : layout::kNoPrim, layout::kRayShadow, l);
-        rays.push_back(r);
-      }
+      const std::vector<layout::Ray> rays = AreaShadowRays(b, 2000, seed * 13, true);
       const GridWalks w = Trace(g, b, rays, 1);
       std::size_t occluded = 0, walked = 0;
       for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -380,20 +387,7 @@ TEST_CASE("relaxed model: an area light's shadow ray may stop its 3D walk anywhe
   grid::Options o;
   o.area_near = 2;
   const GridArrays g = grid::Build(b, o);
-  std::mt19937 rng(26);
-  std::uniform_real_distribution<float> u(-1.2f, 1.2f), s(-1.0f, 1.0f);
-  std::vector<layout::Ray> rays;
-  for (int i = 0; i < 600; ++i) {
-    const std::uint32_t l = static_cast<std::uint32_t>(i % 2);
-    glm::vec3 lo, hi;
-    LightCorners(b.lights[l], lo, hi);
-    const glm::vec3 from = (lo + hi) * 0.5f + (hi - lo) * 0.5f * glm::vec3(s(rng), s(rng), s(rng));
-    const glm::vec3 v = glm::vec3(u(rng), u(rng), u(rng)) - from;
-    const float dist = Length(v);
-    layout::Ray r = test::MakeSegment(from, v / dist, 1e-6f, dist * kShadowTmaxFactor);
-    r.info = glm::uvec4(0, layout::kNoPrim, layout::kRayShadow, l);
-    rays.push_back(r);
-  }
+  const std::vector<layout::Ray> rays = AreaShadowRays(b, 600, 26, false);
   const call::GridTrace c{.first = g.first, .cell_triangles = g.triangles, .min_dist = g.min_dist, .boxes = g.boxes,
                           .light_grids = g.light_grids, .origins = g.origins, .volume = g.volume, .volume_dims = g.volume_dims,
                           .slices = g.slices, .triangles = b.triangles, .rays = rays, .shadow = 1, .secondary = g.secondary};
