@@ -33,7 +33,6 @@ using R = SpecReal;
 using WalkV3 = emu::Vec3<R>;
 
 WalkV3 WalkSpec3(glm::vec4 v) { return {R(v.x), R(v.y), R(v.z)}; }
-WalkV3 WalkSpec3(glm::vec3 v) { return {R(v.x), R(v.y), R(v.z)}; }
 
 // What every device's hit-free walk of one ray may and must do.
 struct WalkBounds {

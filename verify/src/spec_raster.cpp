@@ -78,11 +78,15 @@ SpecVerdict ClassifyRasterFlips(const BufferSet& in, const BufferSet& e, const B
   const DecodedCall<emu::call::Raster> d = DecodeCall<emu::call::Raster>(in);
   const emu::call::Raster& c = d.call;
   SpecTally t;
-  const auto ep = e.Get<std::uint32_t>("prim"), ap = a.Get<std::uint32_t>("prim");
+  const auto ep = e.View<std::uint32_t>("prim"), ap = a.View<std::uint32_t>("prim");
+  const auto depth = a.View<float>("depth");
+  const auto diffuse = a.View<glm::vec4>("diffuse"), specular = a.View<glm::vec4>("specular");
+  const auto position = a.View<glm::vec4>("position"), normal = a.View<glm::vec4>("normal");
   const std::uint32_t w = c.frame.dims.x, h = c.frame.dims.y;
   const std::size_t n = std::size_t{w} * h;
-  if (ep.size() != n || ap.size() != n) {
-    t.Beyond("prim: a word per pixel");
+  if (ep.size() != n || ap.size() != n || depth.size() != n || diffuse.size() != n || specular.size() != n || position.size() != n ||
+      normal.size() != n) {
+    t.Beyond("prim, depth, diffuse, specular, position, normal: a word per pixel");
     return t.Done();
   }
   std::vector<emu::raster::Setup> setups;
@@ -93,12 +97,11 @@ SpecVerdict ClassifyRasterFlips(const BufferSet& in, const BufferSet& e, const B
     std::string why = FlipWhy(c, setups, ep[i], ap[i], px, py, flush);
     if (why.empty()) {
       const layout::Material& m = c.scene->materials[c.scene->info[ap[i]].ids.x];
-      const auto words = [&](const char* name) { return a.Get<glm::vec4>(name)[i]; };
-      if (!Same(words("diffuse"), m.diffuse_reflectivity) || !Same(words("specular"), m.specular_shininess) ||
-          std::bit_cast<std::uint32_t>(words("normal").w) != std::bit_cast<std::uint32_t>(m.transparency_ior.x))
+      if (!Same(diffuse[i], m.diffuse_reflectivity) || !Same(specular[i], m.specular_shininess) ||
+          std::bit_cast<std::uint32_t>(normal[i].w) != std::bit_cast<std::uint32_t>(m.transparency_ior.x))
         why = "a material word or a w, which the fragment stage copies";
       else
-        why = CheckFragment(c, ap[i], px, py, a.Get<float>("depth")[i], words("position"), words("normal"), flush);
+        why = CheckFragment(c, ap[i], px, py, depth[i], position[i], normal[i], flush);
     }
     if (why.empty())
       t.Within();
