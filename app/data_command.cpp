@@ -30,9 +30,7 @@ fs::path SceneArgument(const std::string& arg, const std::vector<std::string>& b
 }  // namespace
 
 ExitCode RunDataCheck(const DataCheckArgs& args) {
-  std::string root = args.data;
-  if (root.empty())
-    if (const char* env = std::getenv("RAYSPACE_DATA")) root = env;
+  const std::string root = data::DataRoot(args.data);
   if (root.empty()) ThrowInput("data check: no data root: give --data DIR or set RAYSPACE_DATA (docs/data.md)");
   if (std::error_code ec; !fs::is_directory(root, ec)) ThrowInput("data check: --data {}: not a directory", root);
   const std::vector<std::string> bundled = data::ManifestScenes(data::EmbeddedManifest());

@@ -10,6 +10,7 @@ cli_require_data(cli.reproduce bunny/bun_zipper_res4.ply bunny/bun_zipper_res3.p
                  suzanne/suzanne.obj)
 file(REMOVE_RECURSE "${WORK}")
 file(MAKE_DIRECTORY "${WORK}")
+unset(ENV{RAYSPACE_DATA})  # each run names its data root, or none on purpose
 set(FAILURES "")
 set(CASES 0)
 set(common thesis --size 16x16 --only "s8 d[23]|quadtree" --scenes "${SRC}/scenes" --data "${DATA}")
@@ -179,6 +180,16 @@ expect_error(NAME data NEEDLES "sponza_dabrovic/sponza.mtl: missing under the da
 if(EXISTS "${WORK}/y")
   set(FAILURES "${FAILURES}\n  [data] a run refused for its data left y/ behind")
 endif()
+# Without --data the data root is RAYSPACE_DATA, as for render; with neither, the error says so. The
+# run is of one configuration, so its plots have a single point (a range of its own, no warning).
+set(ENV{RAYSPACE_DATA} "${DATA}")
+run(env-data roger --size 16x16 --only "BUNNY res4 rah-quadtree 16x16" --scenes "${SRC}/scenes" --out env-data)
+if(NOT EXISTS "${WORK}/env-data/report.md")
+  set(FAILURES "${FAILURES}\n  [env-data] no report.md from a run with RAYSPACE_DATA")
+endif()
+unset(ENV{RAYSPACE_DATA})
+expect_error(NAME no-data-root NEEDLES "bun_zipper_res4.ply: missing under the data root" "no data root: give --data DIR or set RAYSPACE_DATA"
+             ARGS reproduce roger --size 16x16 --only "BUNNY res4 rah-quadtree 16x16" --scenes "${SRC}/scenes" --out z2)
 expect_error(NAME scenes NEEDLES "nowhere/office.json: cannot open scene file" ARGS reproduce thesis --scenes nowhere --out x)
 
 if(NOT FAILURES STREQUAL "")

@@ -109,6 +109,22 @@ TEST_CASE("plot: gnuplot renders a well-formed SVG and a PNG, the same bytes eac
   CHECK(p1 == p2);
 }
 
+TEST_CASE("plot: one point, or points on one value, get a range around it and render without a warning") {
+  Plot p;
+  p.title = "one configuration";
+  p.x = {"triangles", Scale::kLog, std::nullopt, std::nullopt, {}};
+  p.y = {"tests", Scale::kLinear, std::nullopt, std::nullopt, {}};
+  p.series.push_back({"ours", Style::kLinesPoints, Marker::kFilledCircle, "#d91a1a", {{948, 5, "1"}}});
+  const std::string s = Script(p, Format::kSvg);
+  CHECK(s.find("set xrange [474:1896]\n") != std::string::npos);
+  CHECK(s.find("set yrange [4:6]\n") != std::string::npos);
+  CHECK(Render(p, Format::kSvg).size() > 100);  // gnuplot's "empty x range" warning would be an error
+  p.series.front().points.push_back({2000, 5, "2"});  // x spread: gnuplot's own range there
+  const std::string two = Script(p, Format::kSvg);
+  CHECK(two.find("set xrange") == std::string::npos);
+  CHECK(two.find("set yrange [4:6]\n") != std::string::npos);
+}
+
 TEST_CASE("plot: gnuplot missing or failing is an error naming the plot") {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "rayspace_plot_test";
   std::filesystem::remove_all(dir);

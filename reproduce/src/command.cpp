@@ -106,6 +106,8 @@ void CheckScenesAndData(const std::vector<fs::path>& scenes, const std::string& 
     if (const std::string why = NotRegularFile(s.string()); !why.empty())
       ThrowInput("{}: cannot open scene file: it {} (--scenes names the directory of the scene files)", s.string(), why);
   const std::vector<data::Problem> problems = data::CheckSceneData(scenes, data_root);
+  if (!problems.empty() && data_root.empty())
+    ThrowInput("{} (no data root: give --data DIR or set RAYSPACE_DATA)", problems.front().message);
   if (problems.size() == 1) ThrowInput("{}", problems.front().message);
   if (!problems.empty())
     ThrowInput("{} (and {} more: `rayspace data check --data {}` lists them)", problems.front().message, problems.size() - 1,
@@ -121,10 +123,11 @@ std::map<std::string, LoadedScene> LoadScenes(const std::vector<Config>& configs
   for (const Config& c : configs)
     if (std::find(paths.begin(), paths.end(), fs::path(args.scenes) / c.scene_file) == paths.end())
       paths.push_back(fs::path(args.scenes) / c.scene_file);
-  CheckScenesAndData(paths, args.data);
+  const std::string data_root = data::DataRoot(args.data);
+  CheckScenesAndData(paths, data_root);
   std::map<std::string, LoadedScene> scenes;
   LoadOptions lo;
-  lo.data_root = args.data;
+  lo.data_root = data_root;
   for (const Config& c : configs) {
     if (scenes.count(SceneKey(c))) continue;
     LoadedScene& s = scenes[SceneKey(c)];

@@ -1,3 +1,4 @@
+#include <cstdlib>
 #include "rayspace/data_check.h"
 
 #include <fstream>
@@ -101,6 +102,12 @@ void CheckScene(const json& manifest, const fs::path& scene, const fs::path& roo
 }
 
 }  // namespace
+
+std::string DataRoot(const std::string& given) {
+  if (!given.empty()) return given;
+  const char* env = std::getenv("RAYSPACE_DATA");
+  return env ? std::string(env) : std::string();
+}
 
 std::vector<Problem> CheckSceneData(const std::vector<fs::path>& scenes, const fs::path& data_root, const std::string& manifest_json) {
   const json manifest = ParseManifest(manifest_json);

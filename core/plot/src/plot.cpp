@@ -29,6 +29,27 @@ std::string Number(const Plot& plot, const Axis& axis, const char* name, double 
   return fmt::format("{:.17g}", v);
 }
 
+// An axis whose data all share one value and that has no range of its own gets one around that value
+// (a factor of 2 each way on a log axis, 1 each way on a linear one): gnuplot would warn of an empty
+// range, and a plot of one configuration (`--only`) is a plot all the same.
+Axis WithExtent(const Plot& plot, Axis axis, double Point::*coordinate) {
+  if (axis.min || axis.max) return axis;
+  std::optional<double> lo, hi;
+  for (const Series& series : plot.series)
+    for (const Point& p : series.points) {
+      lo = std::min(lo.value_or(p.*coordinate), p.*coordinate);
+      hi = std::max(hi.value_or(p.*coordinate), p.*coordinate);
+    }
+  if (!lo || *lo != *hi || !std::isfinite(*lo)) return axis;
+  if (axis.scale == Scale::kLog) {
+    if (*lo <= 0) return axis;  // refused where the data are written
+    axis.min = *lo / 2, axis.max = *lo * 2;
+  } else {
+    axis.min = *lo - 1, axis.max = *lo + 1;
+  }
+  return axis;
+}
+
 void AxisLines(const Plot& plot, const Axis& axis, const char* name, std::string& s) {
   s += fmt::format("set {}label {}\n", name, Quote(plot, axis.label));
   if (axis.scale == Scale::kLog) s += fmt::format("set logscale {} 10\nset format {} '1e%T'\n", name, name);
@@ -157,8 +178,8 @@ std::string Script(const Plot& plot, Format format) {
                       : fmt::format("set terminal pngcairo size {},{} noenhanced font 'DejaVu Sans,10' background '#ffffff'\n", plot.width, plot.height);
   s += "set encoding utf8\nset output\n";
   s += fmt::format("set title {}\n", Quote(plot, plot.title));
-  AxisLines(plot, plot.x, "x", s);
-  AxisLines(plot, plot.y, "y", s);
+  AxisLines(plot, WithExtent(plot, plot.x, &Point::x), "x", s);
+  AxisLines(plot, WithExtent(plot, plot.y, &Point::y), "y", s);
   s += "set grid\nset key outside right top Left reverse noautotitle\n";
   std::string clauses;
   for (std::size_t i = 0; i < plot.series.size(); ++i) {

@@ -8,6 +8,10 @@
 
 namespace rayspace::data {
 
+// The data root a command uses: the given --data, else $RAYSPACE_DATA, else "" (none). Every command
+// that reads data resolves it here, so none of them ignores the variable.
+std::string DataRoot(const std::string& given);
+
 // One file that is missing or differs; `message` is one line naming the file, what differs and
 // where to get it.
 struct Problem {
