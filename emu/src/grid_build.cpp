@@ -1,5 +1,6 @@
 // The grids of `--algo grid`, built on the host in double (rayspace/emu/grid/grid.h, docs/grids.md).
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <array>
 #include <limits>
@@ -276,6 +277,7 @@ GridPlan Plan(const SceneBuffers& scene, const Options& options, const glm::vec3
     g.eye = static_cast<std::uint32_t>(g.light_grids.size());
     g.origins.emplace_back(*eye, 1.0f);
     g.light_grids.emplace_back(static_cast<std::uint32_t>(p.total_cells), eye_cells, 0u, 0u);
+    p.eye_grid = p.grids.size();
     PlanPerspective(p, *eye, eye_cells, false, options);  // every triangle: eye rays want the closest hit
   }
   g.perspective_cells = p.total_cells;
@@ -322,9 +324,12 @@ GridArrays Build(const SceneBuffers& scene, const Options& options, const glm::v
   return Build(scene, Plan(scene, options, eye, eye_cells, secondary_eye));
 }
 
-GridArrays Build(const SceneBuffers& scene, GridPlan p) {
-  for (std::size_t k = 0; k < p.grids.size(); ++k)
+GridArrays Build(const SceneBuffers& scene, GridPlan p, double* eye_ms) {
+  for (std::size_t k = 0; k < p.grids.size(); ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
     AppendLists(p.arrays, p.grids[k], p.cells[k], BinHost(scene, p.grids[k], p.arrays.slices, p.cells[k]));
+    if (eye_ms && k == p.eye_grid) *eye_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  }
   FinishLists(p.arrays);
   return std::move(p.arrays);
 }

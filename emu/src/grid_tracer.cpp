@@ -86,14 +86,23 @@ class Grid final : public GridTracer {
     }
     build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     built_ = true;
-    if (ctx_.subpasses) ctx_.subpasses->push_back({"grid.build", build_ms_, grids_.first.size() - 1});
+    // The eye's grid timed apart ("grid.build.eye"), "grid.build" the rest: the lights', the regular
+    // grid and the 3D grids.
+    if (ctx_.subpasses && grids_.eye != layout::kGridNoLight) {
+      const std::size_t n = grids_.light_grids[grids_.eye].y, eye_cells = layout::kGridFaces * n * n;
+      ctx_.subpasses->push_back({"grid.build", build_ms_ - eye_build_ms_, grids_.first.size() - 1 - eye_cells});
+      ctx_.subpasses->push_back({"grid.build.eye", eye_build_ms_, eye_cells});
+    } else if (ctx_.subpasses) {
+      ctx_.subpasses->push_back({"grid.build", build_ms_, grids_.first.size() - 1});
+    }
   }
   // The render path on the emulator bins on the host (grid::Build's functions, in parallel runs);
   // a backend, `diff` and --path passes run the build's passes, grid by grid: grid.count, grid.emit,
   // the sort by cell, grid.cells. Both give the same arrays (tests/grid_build_test.cpp).
   GridArrays BuildGrids(grid::GridPlan plan) {
-    if (lanes_) return grid::Build(scene_, std::move(plan));
-    return BuildWithPasses(scene_, std::move(plan), passes_);
+    eye_build_ms_ = 0;
+    if (lanes_) return grid::Build(scene_, std::move(plan), &eye_build_ms_);
+    return BuildWithPasses(scene_, std::move(plan), passes_, &eye_build_ms_);
   }
   GridWalks Trace(const std::vector<layout::Ray>& rays, std::uint32_t shadow) {
     // Eye rays (--primary grid) go through the eye's grid, built again whenever the camera changes.
@@ -174,6 +183,7 @@ class Grid final : public GridTracer {
   layout::FrameConstants eye_frame_{};  // the frame the eye's grid was built for
   glm::vec3 secondary_eye_{0.0f};       // the eye the 3D grid for reflection and refraction rays is about
   double build_ms_ = 0.0;
+  double eye_build_ms_ = 0.0;  // of build_ms_, the eye's grid
   bool built_ = false;
   BatchContext ctx_;
   std::vector<GridBatchStats> stats_;
@@ -181,8 +191,9 @@ class Grid final : public GridTracer {
 
 }  // namespace
 
-GridArrays BuildWithPasses(const SceneBuffers& scene, grid::GridPlan plan, HierarchyPasses& passes) {
+GridArrays BuildWithPasses(const SceneBuffers& scene, grid::GridPlan plan, HierarchyPasses& passes, double* eye_ms) {
   for (std::size_t k = 0; k < plan.grids.size(); ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
     const grid::GridDescriptor d = grid::Describe(plan.grids[k]);
     passes.Label("grid.count");
     const GridCounts counts = passes.GridCount({.triangles = scene.triangles, .grid = d.params, .shape = d.shape, .slices = plan.arrays.slices});
@@ -199,6 +210,7 @@ GridArrays BuildWithPasses(const SceneBuffers& scene, grid::GridPlan plan, Hiera
                                               .dist = counts.dist,
                                               .cell_count = static_cast<std::uint32_t>(plan.cells[k])});
     grid::AppendLists(plan.arrays, plan.grids[k], plan.cells[k], lists);
+    if (eye_ms && k == plan.eye_grid) *eye_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   }
   grid::FinishLists(plan.arrays);
   return std::move(plan.arrays);

@@ -36,7 +36,7 @@ class GridTracer : public Tracer {
 // `passes` null: the emulator's.
 // A plan's grids built by the build's passes on `passes`, grid by grid: grid.count, grid.emit, the
 // sort by cell, grid.cells (labelled so; what `diff` compares). The same arrays as grid::Build.
-GridArrays BuildWithPasses(const SceneBuffers& scene, grid::GridPlan plan, HierarchyPasses& passes);
+GridArrays BuildWithPasses(const SceneBuffers& scene, grid::GridPlan plan, HierarchyPasses& passes, double* eye_ms = nullptr);
 
 std::unique_ptr<GridTracer> MakeGridTracer(const SceneBuffers& scene, const grid::Options& options, HierarchyPasses* passes = nullptr);
 
