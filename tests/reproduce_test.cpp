@@ -45,8 +45,13 @@ TEST_CASE("reproduce: relations hold or fail on hand-made numbers") {
   CHECK_FALSE(off.holds);
   CHECK(off.detail == "180 != 220");
 
-  CHECK(DeeperLowers(rah, crsh).holds);
-  CHECK_FALSE(DeeperLowers(crsh, rah).holds);
+  CHECK(Below(crsh, rah).holds);
+  CHECK_FALSE(Below(rah, crsh).holds);
+  CHECK(Above(rah, crsh).holds);
+  CHECK(Above(rah, crsh).detail == "180 > 150");
+  CHECK_FALSE(Above(rah, rah).holds);  // equal is neither above nor below
+  CHECK(Above(rah, rah).detail == "180 <= 180");
+  CHECK_FALSE(Below(rah, rah).holds);
   CHECK(BelowBrute(rah).holds);
   CHECK_FALSE(BelowBrute(Hand(1000, 1000, {1, 0}, {1, 0})).holds);
 
@@ -127,17 +132,45 @@ TEST_CASE("reproduce roger: the report's verdicts follow the counts") {
   CHECK(v.at(per_ray) == "fails");  // 9 per ray
 }
 
-TEST_CASE("reproduce: the summary counts each relation's verdicts") {
+TEST_CASE("reproduce: the summary counts each relation's verdicts, the paper's apart from the project's") {
   const std::vector<RelationRow> rows = {
-      {kCrshBelowRah, "a", Outcome{true, ""}, Outcome{true, ""}},
-      {kCrshBelowRah, "b", Outcome{false, ""}, Outcome{true, ""}},
-      {kIdentity, "a", std::nullopt, Outcome{false, ""}},
+      {kCrshBelowRah, "a", Outcome{true, ""}, Outcome{true, ""}, "sec. 4.4"},
+      {kCrshBelowRah, "b", Outcome{false, ""}, Outcome{true, ""}, "sec. 4.4"},
+      {kIdentity, "a", std::nullopt, Outcome{false, ""}, ""},
   };
   const Table t = SummaryTable(rows);
-  REQUIRE(t.rows.size() == 2);
-  CHECK(t.rows[0] == std::vector<std::string>{kCrshBelowRah, "1 of 2", "2 of 2"});
-  CHECK(t.rows[1] == std::vector<std::string>{kIdentity, "n/a", "0 of 1"});  // nothing judged: n/a, not "0 of 0"
-  CHECK(TableCsv(t).find("\"total = sum of level intersections") == std::string::npos);  // no comma: unquoted
+  REQUIRE(t.rows.size() == 1);
+  CHECK(t.rows[0] == std::vector<std::string>{kCrshBelowRah, "sec. 4.4", "1 of 2", "2 of 2"});
+  const Table project = SummaryTable(rows, false);
+  REQUIRE(project.rows.size() == 1);
+  CHECK(project.rows[0][0] == kIdentity);
+  CHECK(project.rows[0][1].find("35 of the 36") != std::string::npos);  // why the project checks it
+  CHECK(project.rows[0][2] == "n/a");  // nothing judged: n/a, not "0 of 0"
+  CHECK(project.rows[0][3] == "0 of 1");
+  CHECK(project.title.find("not stated by the papers") != std::string::npos);
+}
+
+TEST_CASE("reproduce: slot accounting turns the pairs tested into the thesis's counts (SPONZA RAH s16 d4, table 4.23)") {
+  // The thesis's 256,713 rays at subdivision 16: 16,045 level-1 nodes, 1,003 at level 2, 63 at level 3
+  // under 4 top nodes. What a frame tests: the top level every (top node, triangle) pair; level 3 the
+  // 63 nodes' pairs under hit parents; the levels below from the published hits.
+  Counts c;
+  TypeCounts& t = c.types["shadow"];
+  t.levels = {{0, 10038322}, {4186350 * 16, 34655887}, {63 * 66450, 4186350}, {265800, 265800}};
+  t.levels[0].intersections = 34655887 * 16;
+  t.final_tests = 10038322 * 16;
+  t.total = t.final_tests + t.levels[0].intersections + t.levels[1].intersections + t.levels[2].intersections + t.levels[3].intersections;
+  c.total = t.total;
+  const Counts slots = SlotAccounting(c, 16);
+  const TypeCounts& s = slots.types.at("shadow");
+  CHECK(s.levels[2].intersections == 4252800);  // 64 slots x 66,450: the thesis's level 3
+  CHECK(s.levels[2].misses() == 66450);         // the empty slot's tests, all misses
+  CHECK(s.levels[3].intersections == 265800);   // the top level as tested
+  CHECK(slots.total == 786607544);              // the thesis's total, table 4.24
+  CHECK(c.total == 786607544 - 66450);          // the pairs tested: one slot fewer
+  Counts quadtree;  // no levels: kept as it is
+  quadtree.types["shadow"].total = quadtree.total = 7;
+  CHECK(SlotAccounting(quadtree, 4).total == 7);
 }
 
 TEST_CASE("reproduce: the published CSV files parse, and a bad row is named") {
@@ -171,16 +204,18 @@ TEST_CASE("reproduce: the embedded thesis tables hold the one published inconsis
 }
 
 // A result of `algo` on SPONZA at subdivision 8, depth 2, 512x512, with a total.
+// It traces the thesis's 256,713 shadow rays, so that tests per ray compare as totals would.
 Result SponzaTotal(const std::string& algo, const std::string& faithful, double total) {
   Result r;
   r.config.scene = "SPONZA";
   r.config.algo = algo;
   r.config.faithful = faithful;
   r.counts.total = static_cast<std::uint64_t>(total);
+  r.counts.types["shadow"].rays = 256713;
   return r;
 }
 
-TEST_CASE("reproduce: the faithful table judges each total and the CRSH/RAH ratio against 15 %") {
+TEST_CASE("reproduce: the faithful table judges each total per ray and the CRSH/RAH ratio against 15 %") {
   // Published, table 4.4: SPONZA s8 d2 RAH 632,408,864 and CRSH 405,619,896 (ratio 0.6414).
   const std::vector<Result> results = {SponzaTotal("rah", "thesis", 632408864 * 1.10), SponzaTotal("crsh", "thesis", 405619896 * 0.80),
                                        SponzaTotal("rah", "", 1e9), SponzaTotal("crsh", "", 1e8)};
@@ -199,7 +234,14 @@ TEST_CASE("reproduce: the faithful table judges each total and the CRSH/RAH rati
   CHECK(relations[0].where == "SPONZA s8 d2 RAH");
   CHECK(relations[0].ours->holds);
   CHECK_FALSE(relations[1].ours->holds);
-  CHECK(relations[1].ours->detail == "324495916 vs 405619896: -20.0 %");
+  CHECK(relations[1].ours->detail == "1264.0 vs 1580.1: -20.0 %");
+  // Twice the thesis's rays and twice its total is the same number per ray: within the tolerance.
+  Result doubled = SponzaTotal("rah", "thesis", 2.0 * 632408864);
+  doubled.counts.types["shadow"].rays = 2 * 256713;
+  std::vector<RelationRow> per_ray;
+  FaithfulTable({doubled}, ThesisPublished(), per_ray);
+  REQUIRE_FALSE(per_ray.empty());
+  CHECK(per_ray[0].ours->holds);
   CHECK_FALSE(relations[2].ours->holds);
   CHECK_FALSE(relations[2].published.has_value());
   // Just inside the tolerance holds (1.15 x the published, rounded down); just past it fails.
@@ -258,7 +300,9 @@ namespace {
 FrameOutput FakeFrame(const Config& c, const Scene&, const SceneBuffers&) {
   FrameOutput out;
   TypeCounts& t = out.counts.types["shadow"];
-  for (int L = 1; L <= c.levels; ++L) t.levels.push_back({static_cast<std::uint64_t>(100 * L + c.subdivision), 7});
+  // RAH's nodes hit more than CRSH's, so that RAH's total is the larger counted either way.
+  const std::uint64_t hits = c.algo == "crsh" ? 7 : 9;
+  for (int L = 1; L <= c.levels; ++L) t.levels.push_back({static_cast<std::uint64_t>(100 * L + c.subdivision), hits});
   t.rays = 64;
   t.brute_force = 64 * 10;
   t.total = 200 + static_cast<std::uint64_t>(c.subdivision + c.levels + (c.algo == "crsh" ? 0 : 50));
@@ -286,7 +330,9 @@ TEST_CASE("reproduce: the report does not depend on --jobs, and a failing frame 
     planned.push_back({c, ResultKey("digest", c.Canonical(), Version()), &scene});
   const std::filesystem::path tmp = std::filesystem::temp_directory_path() / "rayspace_reproduce_test";
   const std::string one = ReportOf(tmp / "one", planned, 1);
-  CHECK(one.find("| CRSH total < RAH total | 18 of 18 |") != std::string::npos);
+  CHECK(one.find("| CRSH total < RAH total | sec. 4.4, every scene and configuration") != std::string::npos);
+  CHECK(one.find("| 18 of 18 | 18 of 18 |") != std::string::npos);
+  CHECK(one.find("## Relations the project adds (not stated by the papers)") != std::string::npos);
   CHECK(ReportOf(tmp / "three", planned, 3) == one);
   const FrameFn failing = [](const Config& c, const Scene& s, const SceneBuffers& b) {
     if (c.algo == "rah-quadtree") throw InputError("no quadtree here");

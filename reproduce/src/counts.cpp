@@ -32,6 +32,24 @@ void from_json(const nlohmann::json& j, Counts& c) {
   j.at("brute_force_tests").get_to(c.brute_force);
 }
 
+Counts SlotAccounting(const Counts& c, int subdivision) {
+  Counts out = c;
+  const auto s = static_cast<std::uint64_t>(subdivision);
+  out.total = 0;
+  for (auto& [name, t] : out.types) {
+    if (t.levels.empty()) {
+      out.total += t.total;
+      continue;
+    }
+    for (std::size_t L = 0; L + 1 < t.levels.size(); ++L) t.levels[L].intersections = t.levels[L + 1].hits * s;
+    t.final_tests = t.levels[0].hits * s;
+    t.total = t.final_tests;
+    for (const LevelCounts& l : t.levels) t.total += l.intersections;
+    out.total += t.total;
+  }
+  return out;
+}
+
 std::string ThesisRayType(const std::string& type) {
   if (type == "shadow") return "SH";
   if (type == "reflection") return "RE";

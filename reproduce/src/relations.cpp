@@ -29,7 +29,11 @@ std::string Thousands(std::uint64_t v) {
 std::string Verdict(const std::optional<Outcome>& o) { return !o ? "n/a" : o->holds ? "holds" : "fails"; }
 
 Outcome CrshBelowRah(const Measurement& rah, const Measurement& crsh) { return Less(crsh.total, rah.total); }
-Outcome DeeperLowers(const Measurement& shallow, const Measurement& deep) { return Less(deep.total, shallow.total); }
+Outcome Below(const Measurement& m, const Measurement& reference) { return Less(m.total, reference.total); }
+Outcome Above(const Measurement& m, const Measurement& reference) {
+  const bool holds = m.total > reference.total;
+  return {holds, fmt::format("{} {} {}", Thousands(m.total), holds ? ">" : "<=", Thousands(reference.total))};
+}
 Outcome BelowBrute(const Measurement& m) { return Less(m.total, m.brute_force); }
 
 Outcome RahTopLevel(const Measurement& rah, int depth) {

@@ -134,7 +134,10 @@ Report WriteReport(const std::filesystem::path& out, const std::vector<Result>& 
     if (const std::string plot = t.plot_x.empty() ? TablePlots(t, out) : SeriesPlot(t, out); !plot.empty()) t.notes.push_back(plot);
   std::filesystem::create_directories(out / "tables");
   for (const Table& t : report.tables) WriteText(out / "tables" / ("table-" + t.id + ".csv"), TableCsv(t), "a report table");
-  if (!thesis.empty()) WriteText(out / "tables" / "table-summary.csv", TableCsv(SummaryTable(report.relations)), "a report table");
+  if (!thesis.empty()) {
+    WriteText(out / "tables" / "table-summary.csv", TableCsv(SummaryTable(report.relations)), "a report table");
+    WriteText(out / "tables" / "table-summary-project.csv", TableCsv(SummaryTable(report.relations, false)), "a report table");
+  }
   WriteText(out / "results.json", JsonText(ResultsJson(sorted)), "the results file");
   std::vector<const Result*> thesis_sorted;
   for (const Result* r : sorted)

@@ -1,5 +1,5 @@
 // The report's comparison of `--faithful thesis` with the thesis: per scene and hierarchy shape, the
-// RAH and CRSH totals and their ratio CRSH/RAH, published, ours with rayspace's defaults, and ours with
+// RAH and CRSH tests per traced ray and their ratio CRSH/RAH, published, ours with rayspace's defaults, and ours with
 // the thesis's method as printed; the target is each within 15 % of the published.
 #pragma once
 #include <vector>
@@ -8,7 +8,7 @@
 
 namespace rayspace::reproduce {
 
-inline constexpr const char* kFaithfulTotal = "faithful total within 15 % of the thesis's";
+inline constexpr const char* kFaithfulTotal = "faithful tests per ray within 15 % of the thesis's";
 inline constexpr const char* kFaithfulRatio = "faithful CRSH/RAH within 15 % of the thesis's";
 // The tolerance of both relations: |ours / published - 1| <= 0.15.
 inline constexpr double kFaithfulTolerance = 0.15;

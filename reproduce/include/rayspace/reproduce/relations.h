@@ -28,13 +28,20 @@ std::string Verdict(const std::optional<Outcome>& o);  // "holds", "fails" or "n
 
 // The relations, each named as the report's summary names it.
 inline constexpr const char* kCrshBelowRah = "CRSH total < RAH total";
-inline constexpr const char* kDeeperLowers = "depth d+1 total < depth d total";
+// The thesis compares each configuration's CRSH total with its baseline's (subdivision 8, depth 2):
+// above it on OFFICE and CORNELL, below it on SPONZA (sec. 4.4, "Configuration Comparison").
+inline constexpr const char* kAboveBaseline = "CRSH total > the baseline's (s8 d2)";
+inline constexpr const char* kBelowBaseline = "CRSH total < the baseline's (s8 d2)";
+// And on SPONZA between depths: depth 4 below depth 3 at subdivision 8, above it at 16.
+inline constexpr const char* kDeeperLowers = "CRSH depth 4 total < depth 3 total";
+inline constexpr const char* kDeeperRaises = "CRSH depth 4 total > depth 3 total";
 inline constexpr const char* kRahTopLevel = "RAH top level = top nodes x triangles";
 inline constexpr const char* kIdentity = "total = sum of level intersections + level-1 hits x subdivision";
 inline constexpr const char* kBelowBrute = "total < brute force";
 
 Outcome CrshBelowRah(const Measurement& rah, const Measurement& crsh);
-Outcome DeeperLowers(const Measurement& shallow, const Measurement& deep);
+Outcome Below(const Measurement& m, const Measurement& reference);
+Outcome Above(const Measurement& m, const Measurement& reference);
 Outcome RahTopLevel(const Measurement& rah, int depth);
 Outcome Identity(const Measurement& m, int subdivision);
 Outcome BelowBrute(const Measurement& m);

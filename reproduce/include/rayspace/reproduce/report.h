@@ -25,10 +25,13 @@ struct Table {
   std::string plot_x, plot_y, plot_group;
 };
 
-// A relation checked on one table's numbers: its verdict on ours and on the published.
+// A relation checked on one table's numbers: its verdict on ours and on the published, and where the
+// paper states it (section and words, or table); empty: a relation the project adds (an identity
+// read off the tables, a target of its own), reported apart from the paper's.
 struct RelationRow {
   std::string relation, where;
   std::optional<Outcome> ours, published;
+  std::string source;
 };
 
 struct Report {
@@ -51,8 +54,9 @@ std::vector<Table> RogerTimings(const std::vector<const Result*>& results);
 std::string SeriesPlot(const Table& table, const std::filesystem::path& out, const std::string& dir = "plots");
 std::string ReportMarkdown(const Report& report);
 std::string TableCsv(const Table& table);
-// The summary: per relation, how many of its checks hold, ours and published.
-Table SummaryTable(const std::vector<RelationRow>& relations);
+// The summary: per relation, how many of its checks hold, ours and published; `stated`: the
+// relations the paper states (with their source), else those the project adds.
+Table SummaryTable(const std::vector<RelationRow>& relations, bool stated = true);
 
 // Writes report.md, tables/*.csv, results.json, timings.md and timings.csv into `out`, atomically each;
 // returns the report.
