@@ -192,6 +192,23 @@ endif()
 unset(ENV{RAYSPACE_DATA})
 expect_error(NAME no-data-root NEEDLES "bun_zipper_res4.ply: missing under the data root" "no data root: give --data DIR or set RAYSPACE_DATA"
              ARGS reproduce roger --size 16x16 --only "BUNNY res4 rah-quadtree 16x16" --scenes "${SRC}/scenes" --out z2)
+# The fit, on a search of a few frames: its summary, its frames and the fitted scene, which renders.
+run(fit thesis --fit --fit-small --scenes "${SRC}/scenes" --data "${DATA}" --out fit)
+foreach(f fit-thesis-sponza.json fit-thesis-sponza-frames.json sponza-thesis-fit.json)
+  if(NOT EXISTS "${WORK}/fit/${f}")
+    set(FAILURES "${FAILURES}\n  [fit] no ${f}")
+  endif()
+endforeach()
+expect_in(fit fit/fit-thesis-sponza.json "\"best\"" "\"sensitivity\"" "\"starts\"" "\"level2_hits\": 32686844")
+expect_in(fit fit/sponza-thesis-fit.json "\"name\": \"sponza-thesis-fit\"")
+execute_process(COMMAND "${RAYSPACE}" render "${WORK}/fit/sponza-thesis-fit.json" --data "${DATA}" --size 16x16 --no-oracle --out fit.png
+                WORKING_DIRECTORY "${WORK}" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 120)
+if(NOT rc EQUAL 0)
+  set(FAILURES "${FAILURES}\n  [fit] the fitted scene does not render: ${err}")
+endif()
+expect_error(NAME fit-target NEEDLES "--fit toczek: only the thesis's fit" ARGS reproduce toczek --fit --out f2)
+expect_error(NAME fit-shard NEEDLES "--fit takes none of --shard" ARGS reproduce --fit --shard 1/2 --out f3)
+expect_error(NAME fit-small NEEDLES "--fit-small: only with --fit" ARGS reproduce thesis --fit-small --out f4)
 expect_error(NAME scenes NEEDLES "nowhere/office.json: cannot open scene file" ARGS reproduce thesis --scenes nowhere --out x)
 
 if(NOT FAILURES STREQUAL "")

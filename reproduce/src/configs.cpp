@@ -8,11 +8,13 @@ namespace rayspace::reproduce {
 
 const std::vector<SceneChoice>& ThesisScenes() {
   static const std::vector<SceneChoice> scenes = {
-      {"OFFICE", {"office.json"}, 1, "stand-in office model, 2 lights"},
-      {"CORNELL", {"cornell-mirrors.json"}, 2,
-       "stand-in: cornell-mirrors, shadow rays after each of 2 bounces"},
-      {"SPONZA", {"sponza-thesis.json"}, 1,
-       "34 objects, not one mesh; our viewpoint, chosen for the thesis's shadow-ray count (its camera is not published)",
+      {"OFFICE", {{"office.json", "stand-in office model, 2 lights"}}, 1},
+      {"CORNELL", {{"cornell-mirrors.json", "stand-in: cornell-mirrors, shadow rays after each of 2 bounces"}}, 2},
+      {"SPONZA",
+       {{"sponza-thesis-fit.json",
+         "34 objects, not one mesh; camera and light fitted on RAH s8 d2's rays and level hits (docs/reproduce.md, \"Fits\")"},
+        {"sponza-thesis.json", "34 objects, not one mesh; our viewpoint, chosen for the thesis's shadow-ray count (its camera is not published)"}},
+       1,
        true},
   };
   return scenes;
@@ -89,10 +91,10 @@ std::vector<Config> ThesisConfigs(const std::filesystem::path& scenes_dir, int w
   for (const SceneChoice& s : ThesisScenes()) {
     Config c;
     c.scene = s.paper;
-    c.scene_file = s.files.back();
-    for (const std::string& f : s.files)
-      if (std::filesystem::exists(scenes_dir / f)) {
-        c.scene_file = f;
+    c.scene_file = s.files.back().file;
+    for (const SceneFile& f : s.files)
+      if (std::filesystem::exists(scenes_dir / f.file)) {
+        c.scene_file = f.file;
         break;
       }
     c.bounces = s.bounces;

@@ -16,7 +16,7 @@ namespace rayspace::reproduce {
 struct ReproduceArgs {
   std::vector<std::string> targets;
   std::string out = "reproduce", shard = "0/1", only, data, scenes = "scenes", size, junit;
-  bool quick = false, full = false, list = false, resume = false, progress = false;
+  bool quick = false, full = false, list = false, resume = false, progress = false, fit = false, fit_small = false;
   int jobs = 1, stop_after = 0;
   std::string merge_out;
   std::vector<std::string> merge_dirs;

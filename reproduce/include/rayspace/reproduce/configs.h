@@ -9,14 +9,18 @@
 
 namespace rayspace::reproduce {
 
-// A paper's scene and the scene file that stands in for it. The first of `files` found in the scenes
+// A scene file that stands in for a paper's scene, and how it differs, for the report's rows.
+struct SceneFile {
+  std::string file;  // relative to the scenes directory
+  std::string note;
+};
+// A paper's scene and the scene files that stand in for it. The first of `files` found in the scenes
 // directory is used, so a closer stand-in takes over when it is added.
 struct SceneChoice {
-  std::string paper;               // the thesis's name: OFFICE, CORNELL, SPONZA
-  std::vector<std::string> files;  // candidates, best first, relative to the scenes directory
-  int bounces = 1;                 // --bounces: reflection bounces the thesis's frame traces
-  std::string note;                // how ours differs, for the report's rows
-  bool one_object = false;         // the thesis's model is one object: --one-object in faithful runs
+  std::string paper;             // the thesis's name: OFFICE, CORNELL, SPONZA
+  std::vector<SceneFile> files;  // candidates, best first
+  int bounces = 1;               // --bounces: reflection bounces the thesis's frame traces
+  bool one_object = false;       // the thesis's model is one object: --one-object in faithful runs
 };
 // The thesis's scenes, the one table to change when a scene's stand-in changes.
 const std::vector<SceneChoice>& ThesisScenes();

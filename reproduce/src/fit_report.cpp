@@ -1,0 +1,129 @@
+#include "rayspace/reproduce/fit_report.h"
+
+#include <cmath>
+#include <map>
+
+#include <fmt/format.h>
+
+#include "rayspace/reproduce/configs.h"
+#include "rayspace/reproduce/fit_thesis.h"
+#include "thesis_sponza_fit_json.h"
+
+namespace rayspace::reproduce {
+
+const nlohmann::json& ThesisSponzaFit() {
+  static const nlohmann::json record = std::string(kThesisSponzaFitJson).empty() ? nlohmann::json() : nlohmann::json::parse(kThesisSponzaFitJson);
+  return record;
+}
+
+namespace {
+
+constexpr double kTolerance = 0.15;  // the targets: within 15 % of the thesis's
+
+std::string Ratio(double ours, double published) { return published > 0 ? fmt::format("{:.3f}", ours / published) : "n/a"; }
+bool Within(double ours, double published) { return published > 0 && std::abs(ours / published - 1.0) <= kTolerance; }
+
+FitCounts CountsOf(const nlohmann::json& frame) {
+  return {frame.at("rays").get<std::uint64_t>(), frame.at("level2_hits").get<std::uint64_t>(), frame.at("level1_hits").get<std::uint64_t>()};
+}
+
+std::string JText(const nlohmann::json& j) { return j.is_number() ? fmt::format("{:.4f}", j.get<double>()) : "inf"; }
+
+}  // namespace
+
+Table FitTable(const nlohmann::json& record, const Result* rah, std::vector<RelationRow>& relations) {
+  Table t{"fit-thesis", "The fit: SPONZA's camera and light (docs/reproduce.md, \"Fits\")", {"parameter", "range", "fitted"}, {}, {}};
+  const nlohmann::json& best = record.at("best");
+  for (const FitRange& r : ThesisFitRanges())
+    t.rows.push_back({r.name, fmt::format("[{}, {}]", r.lo, r.hi), fmt::format("{:.4f}", best.at("point").at(r.name).get<double>())});
+  const FitCounts fitted = CountsOf(best);
+  t.notes.push_back(fmt::format(
+      "Fit set (in sample), SPONZA RAH s8 d2 at 512x512: shadow rays {} against {} (x{}), level-2 hits {} against {} (x{}), "
+      "level-1 hits {} against {} (x{}); J = {} after {} frames.",
+      Thousands(fitted.rays), Thousands(kThesisFitSet.rays), Ratio(fitted.rays, kThesisFitSet.rays), Thousands(fitted.level2_hits),
+      Thousands(kThesisFitSet.level2_hits), Ratio(fitted.level2_hits, kThesisFitSet.level2_hits), Thousands(fitted.level1_hits),
+      Thousands(kThesisFitSet.level1_hits), Ratio(fitted.level1_hits, kThesisFitSet.level1_hits), JText(best.at("J")),
+      record.at("frames").get<int>()));
+  if (!rah) return t;
+  // The committed record and this run's frame of the fitted scene must agree, or the fit is stale.
+  FitCounts ours;
+  if (const auto it = rah->counts.types.find("shadow"); it != rah->counts.types.end() && it->second.levels.size() == 2)
+    ours = {it->second.rays, it->second.levels[1].hits, it->second.levels[0].hits};
+  const bool same = ours.rays == fitted.rays && ours.level2_hits == fitted.level2_hits && ours.level1_hits == fitted.level1_hits;
+  const Outcome o{same, fmt::format("this run {} / {} / {}, the record {} / {} / {}", Thousands(ours.rays), Thousands(ours.level2_hits),
+                                    Thousands(ours.level1_hits), Thousands(fitted.rays), Thousands(fitted.level2_hits), Thousands(fitted.level1_hits))};
+  relations.push_back({"the fitted scene renders the fit's counts", "SPONZA rah s8 d2", o, std::nullopt, ""});
+  t.notes.push_back(fmt::format("This run's SPONZA RAH s8 d2 {} the record's counts ({}).", same ? "gives" : "does NOT give", o.detail));
+  return t;
+}
+
+Table SensitivityTable(const nlohmann::json& record) {
+  Table t{"fit-thesis-sensitivity", "The fit: J with each parameter moved from the fitted point (fractions of its range)",
+          {"parameter", "-1/8", "-1/16", "fitted", "+1/16", "+1/8"}, {}, {}};
+  std::map<std::string, std::map<double, std::string>> j;
+  for (const nlohmann::json& s : record.at("sensitivity")) j[s.at("parameter")][s.at("fraction").get<double>()] = JText(s.at("frame").at("J"));
+  const std::string fitted = JText(record.at("best").at("J"));
+  for (const FitRange& r : ThesisFitRanges()) {
+    auto& m = j[r.name];
+    t.rows.push_back({r.name, m[-0.125], m[-0.0625], fitted, m[0.0625], m[0.125]});
+  }
+  t.notes.push_back("A J below the fitted one would mean the search stopped short; each row shows how far the fit set pulls "
+                    "its parameter.");
+  return t;
+}
+
+Table SponzaTargetsTable(const std::vector<Result>& results, const Published& p) {
+  Table t{"targets-sponza", "Targets: SPONZA within 15 % of the thesis's, in sample and out of sample",
+          {"number", "in sample (the fit set's configuration)", "out of sample within 15 %", "target"}, {}, {}};
+  std::map<std::pair<std::string, std::pair<int, int>>, const Result*> by;
+  for (const Result& r : results)
+    if (r.config.scene == "SPONZA" && r.config.faithful.empty() && !r.config.quadtree()) by[{r.config.algo, {r.config.subdivision, r.config.levels}}] = &r;
+  int totals = 0, totals_in = 0, ratios = 0, ratios_in = 0, cells = 0, cells_in = 0, cells_n = 0, totals_n = 0, ratios_n = 0;
+  std::string in_total, in_ratio;
+  for (const auto& [sub, depth] : ThesisShapes()) {
+    const HierarchyShape s{sub, depth};
+    const bool fit_shape = sub == 8 && depth == 2;
+    std::map<std::string, double> ours_total;
+    for (const char* alg : {"RAH", "CRSH"}) {
+      const auto it = by.find({alg == std::string("RAH") ? "rah" : "crsh", {sub, depth}});
+      const auto* pub = p.Total(s, "SPONZA", alg);
+      if (it == by.end() || !pub) continue;
+      const Result& r = *it->second;
+      ours_total[alg] = static_cast<double>(r.counts.total);
+      const bool within = Within(static_cast<double>(r.counts.total), static_cast<double>(pub->first));
+      if (fit_shape && alg == std::string("RAH")) {
+        totals_in += within, in_total = Ratio(static_cast<double>(r.counts.total), static_cast<double>(pub->first));
+      } else {
+        totals += within, ++totals_n;
+      }
+      const auto type = r.counts.types.find("shadow");
+      if (type == r.counts.types.end()) continue;
+      for (int L = 1; L <= depth && L <= static_cast<int>(type->second.levels.size()); ++L)
+        for (const char* metric : {"intersections", "misses", "hits"}) {
+          const std::uint64_t* pv = p.Level(s, "SPONZA", alg, "SH", L, metric);
+          if (!pv) continue;
+          const LevelCounts& l = type->second.levels[L - 1];
+          const double ov = static_cast<double>(metric == std::string("intersections") ? l.intersections : metric == std::string("hits") ? l.hits : l.misses());
+          if (fit_shape && alg == std::string("RAH")) cells_in += Within(ov, static_cast<double>(*pv));
+          else cells += Within(ov, static_cast<double>(*pv)), ++cells_n;
+        }
+    }
+    const auto* rp = p.Total(s, "SPONZA", "RAH");
+    const auto* cp = p.Total(s, "SPONZA", "CRSH");
+    if (ours_total.size() == 2 && rp && cp) {
+      const double ours = ours_total["CRSH"] / ours_total["RAH"], pub = static_cast<double>(cp->first) / static_cast<double>(rp->first);
+      if (fit_shape) ratios_in += Within(ours, pub), in_ratio = Ratio(ours, pub);
+      else ratios += Within(ours, pub), ++ratios_n;
+    }
+  }
+  t.rows.push_back({"totals (RAH, CRSH x 6 shapes)", fmt::format("RAH s8 d2: {} ({})", totals_in ? "within" : "outside", in_total),
+                    fmt::format("{} of {}", totals, totals_n), "9 of 12"});
+  t.rows.push_back({"CRSH/RAH (6 shapes)", fmt::format("s8 d2, partly (its RAH total): {} ({})", ratios_in ? "within" : "outside", in_ratio),
+                    fmt::format("{} of {}", ratios, ratios_n), "5 of 6"});
+  t.rows.push_back({"per-level cells (108)", fmt::format("RAH s8 d2: {} of 6", cells_in), fmt::format("{} of {}", cells, cells_n), "70 of 108"});
+  t.notes.push_back("Out of sample: every number outside the fit set (SPONZA RAH s8 d2 and the ray count), with the fitted "
+                    "scene fixed; ours counted as the thesis counts.");
+  return t;
+}
+
+}  // namespace rayspace::reproduce
