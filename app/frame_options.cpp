@@ -101,17 +101,21 @@ void AddFaithfulOptions(CLI::App& command, FaithfulArgs& args) {
       ->capture_default_str();
 }
 
-FaithfulArgs FaithfulFromPreset(const std::string& name) {
+FaithfulArgs FaithfulFromWords(const std::vector<std::string>& words) {
   FaithfulArgs args;
   CLI::App app;
   AddFaithfulOptions(app, args);
+  std::string text;
+  for (const std::string& w : words) text += (text.empty() ? "" : " ") + w;
   try {
-    app.parse(std::vector<std::string>{name, "--faithful"});  // CLI11 reads the vector from its back
+    app.parse(std::vector<std::string>(words.rbegin(), words.rend()));  // CLI11 reads the vector from its back
   } catch (const CLI::ParseError& e) {
-    ThrowInput("--faithful {}: {}", name, e.what());
+    ThrowInput("{}: {}", text, e.what());
   }
   return args;
 }
+
+FaithfulArgs FaithfulFromPreset(const std::string& name) { return FaithfulFromWords({"--faithful", name}); }
 
 void AddKernelModelOptions(CLI::App& command, KernelModelArgs& args) {
   command.add_option("--schedule", args.schedule,

@@ -43,5 +43,7 @@ void AddFaithfulOptions(CLI::App& command, FaithfulArgs& args);
 // The switches of a preset, as `--faithful name` alone on a command line gives them (for callers
 // without a command line, such as `rayspace reproduce`). Throws InputError for an unknown name.
 FaithfulArgs FaithfulFromPreset(const std::string& name);
+// Faithful switches given as command-line words (--cone-test printed ...), on top of rayspace's defaults.
+FaithfulArgs FaithfulFromWords(const std::vector<std::string>& words);
 
 }  // namespace rayspace::app

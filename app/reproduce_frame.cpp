@@ -31,7 +31,8 @@ app::RenderArgs Args(const Config& c) {
   args.no_oracle = true;
   args.backend = "emu";
   if (!c.faithful.empty()) args.faithful = app::FaithfulFromPreset(c.faithful);
-  args.faithful.one_object = c.one_object;
+  if (!c.switches.empty()) args.faithful = app::FaithfulFromWords(c.switches);
+  args.faithful.one_object = args.faithful.one_object || c.one_object;
   if (!c.path.empty()) args.path = c.path;
   return args;
 }

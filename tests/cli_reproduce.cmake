@@ -192,6 +192,11 @@ endif()
 unset(ENV{RAYSPACE_DATA})
 expect_error(NAME no-data-root NEEDLES "bun_zipper_res4.ply: missing under the data root" "no data root: give --data DIR or set RAYSPACE_DATA"
              ARGS reproduce roger --size 16x16 --only "BUNNY res4 rah-quadtree 16x16" --scenes "${SRC}/scenes" --out z2)
+# The ablation: SPONZA's 12 configurations under the defaults and each faithful switch, a row each.
+run(ablation thesis-ablation --size 16x16 --scenes "${SRC}/scenes" --data "${DATA}" --out ablation)
+expect_in(ablation ablation/report.md "# CRSH thesis: the faithful switches on SPONZA" "| (rayspace's defaults) |"
+          "| --cone-test printed |" "| --hash-order polar-first --hash-bits 8 |" "| --one-object |" "| --child-merge pairwise |"
+          "| --shadow-rule lit |")
 # The fit, on a search of a few frames: its summary, its frames and the fitted scene, which renders.
 run(fit thesis --fit --fit-small --scenes "${SRC}/scenes" --data "${DATA}" --out fit)
 foreach(f fit-thesis-sponza.json fit-thesis-sponza-frames.json sponza-thesis-fit.json)

@@ -271,6 +271,18 @@ TEST_CASE("reproduce: the canonical text names every setting, and keeps the defa
   Config merged_only = c;
   merged_only.faithful.clear();
   CHECK(merged_only.Canonical().ends_with("backend=emu one-object"));
+  // The ablation's switches name their results and survive the result file (a result read back
+  // without them would be scored as the defaults').
+  Config ablation = merged_only;
+  ablation.one_object = false;
+  ablation.target = "thesis-ablation";
+  ablation.switches = {"--cone-test", "printed"};
+  CHECK(ablation.Canonical().ends_with("backend=emu switches=[--cone-test printed]"));
+  CHECK(ablation.RenderArgs().find(" --cone-test printed") != std::string::npos);
+  Result r;
+  r.key = "k";
+  r.config = ablation;
+  CHECK(ResultFromJson(ToJson(r), "a result").config.switches == ablation.switches);
 }
 
 TEST_CASE("reproduce: merge takes every shard of one run exactly once") {

@@ -49,6 +49,7 @@ std::vector<Config> TargetConfigs(const std::string& target, const ReproduceArgs
     const bool paper = args.full && args.size.empty();
     return ToczekConfigs(paper ? kToczekFullSide : w, paper ? kToczekFullSide : h);
   }
+  if (target == "thesis-ablation") return AblationConfigs(args.scenes, w, h);
   return ThesisConfigs(args.scenes, w, h);
 }
 

@@ -25,6 +25,7 @@ const std::vector<Target>& Targets() {
       {"thesis", "", "CRSH thesis (Reis 2015) tables 4.1-4.27: RAH and CRSH per level, totals, % of brute force, phase timings; Roger's quadtree beside them"},
       {"roger", "", "Roger et al. 2007 figures 9(a-c), 13(a-c): phase shares, work against the bunny's LOD, against cos(nx)cos(ny), tests per ray, against pixels; rah-quadtree and rah"},
       {"toczek", "", "Toczek et al. 2010 tables 1-2: traversed nodes per ray against the node order (table 1, bunny without ground) and against the triangle count (table 2: cubes, Suzanne, bunny, dragon); --algo tl"},
+      {"thesis-ablation", "", "CRSH thesis: each faithful switch alone (cone test, hash layout and bits, shadow rule, one object, child merge) on SPONZA's 12 configurations, scored against tables 4.3-4.24"},
       {"hunt-mark", "", "Hunt and Mark 2008 tables 1 and 5: eye-ray and hard-shadow rates and build share against the triangle count (bunny LODs, conference), grid cells per soft-shadow ray, regular against 3D perspective grid (Sponza, conference); --algo grid"},
   };
   return targets;
@@ -57,6 +58,11 @@ std::string Config::Canonical() const {
     for (const std::string& w : app::FaithfulPreset(faithful)) faithful_text += (faithful_text.back() == '[' ? "" : " ") + w;
     faithful_text += "]";
   }
+  if (!switches.empty()) {
+    faithful_text += " switches=[";
+    for (const std::string& w : switches) faithful_text += (faithful_text.back() == '[' ? "" : " ") + w;
+    faithful_text += "]";
+  }
   if (one_object) faithful_text += " one-object";
   return fmt::format("target={} scene={} file={} algo={} {} bounces={} size={}x{} objects=flat backend=emu{}{}", target, scene,
                      scene_file, algo, shape, bounces, width, height, path.empty() ? "" : " path=" + path, faithful_text);
@@ -70,7 +76,9 @@ std::string Config::Name() const {
                                       : fmt::format("{} {} s{} d{}", scene, algo, subdivision, levels);
   // roger measures one scene at several sizes (figure 13(c)); the thesis's run has one size.
   const std::string sized = target == "thesis" ? name : fmt::format("{} {}x{}", name, width, height);
-  return faithful.empty() ? sized : sized + " faithful";
+  std::string with;
+  for (const std::string& w : switches) with += " " + w;
+  return (faithful.empty() ? sized : sized + " faithful") + with;
 }
 
 std::string Config::RenderArgs() const {
@@ -80,10 +88,42 @@ std::string Config::RenderArgs() const {
                                                    heads.empty() ? "" : " --polygon-heads " + heads, primary ? " --primary tl" : "",
                                                    frustum ? " --frustum-cull on" : "")
                                        : fmt::format(" --subdivision {} --levels {}", subdivision, levels);
-  const std::string faithful_args =
+  std::string faithful_args =
       faithful.empty() ? "" : fmt::format(" --faithful {}{}", faithful, one_object ? " --one-object" : "");
+  for (const std::string& w : switches) faithful_args += " " + w;
   return fmt::format("scenes/{} --algo {}{} --bounces {} --objects flat --size {}x{}{}{} --no-oracle", scene_file, algo, shape,
                      bounces, width, height, path.empty() ? "" : " --path " + path, faithful_args);
+}
+
+const std::vector<std::vector<std::string>>& AblationSwitches() {
+  // --shadow-bounces first changes nothing on SPONZA (one bounce, no mirror): not a variant.
+  static const std::vector<std::vector<std::string>> variants = {
+      {},
+      {"--cone-test", "printed"},
+      {"--hash-order", "polar-first"},
+      {"--hash-bits", "8"},
+      {"--hash-order", "polar-first", "--hash-bits", "8"},
+      {"--shadow-rule", "lit"},
+      {"--one-object"},
+      {"--child-merge", "pairwise"},
+      // The switches that alone gain cells against the defaults (measured: docs/reproduce.md), together.
+      {"--hash-order", "polar-first", "--hash-bits", "8", "--child-merge", "pairwise"},
+  };
+  return variants;
+}
+
+std::vector<Config> AblationConfigs(const std::filesystem::path& scenes_dir, int width, int height) {
+  std::vector<Config> configs;
+  for (const Config& base : ThesisConfigs(scenes_dir, width, height)) {
+    if (base.scene != "SPONZA" || base.quadtree() || !base.faithful.empty()) continue;
+    for (const std::vector<std::string>& v : AblationSwitches()) {
+      Config c = base;
+      c.target = "thesis-ablation";
+      c.switches = v;
+      configs.push_back(c);
+    }
+  }
+  return configs;
 }
 
 std::vector<Config> ThesisConfigs(const std::filesystem::path& scenes_dir, int width, int height) {

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "rayspace/reproduce/report.h"
+#include "rayspace/reproduce/fit_report.h"
 #include "rayspace/json_text.h"
 #include "rayspace/junit.h"
 #include "rayspace/reproduce/roger.h"
@@ -109,16 +110,22 @@ std::string ReportJUnit(const Report& report) {
 Report WriteReport(const std::filesystem::path& out, const std::vector<Result>& results) {
   const Published& published = ThesisPublished();
   // Each target's sections from its own results: a run of roger alone has no thesis tables.
-  std::vector<Result> thesis;
+  std::vector<Result> thesis, ablation;
   std::vector<const Result*> roger, toczek, hunt;
   for (const Result& r : results)
-    if (r.config.target == "roger") roger.push_back(&r);
+    if (r.config.target == "thesis-ablation") ablation.push_back(r);
+    else if (r.config.target == "roger") roger.push_back(&r);
     else if (r.config.target == "toczek") toczek.push_back(&r);
     else if (r.config.target == "hunt-mark") hunt.push_back(&r);
     else thesis.push_back(r);
   const std::vector<const Result*> sorted = TableOrder(results), roger_sorted = TableOrder(roger);
   Report report = thesis.empty() ? Report{} : BuildReport(thesis, published);
-  if (thesis.empty()) {
+  if (!ablation.empty()) {
+    for (Result& r : ablation) r.counts = SlotAccounting(r.counts, r.config.subdivision);
+    if (thesis.empty()) report.title = "CRSH thesis: the faithful switches on SPONZA";
+    report.tables.push_back(AblationTable(ablation, published));
+  }
+  if (thesis.empty() && ablation.empty()) {
     const int targets = !roger.empty() + !toczek.empty() + !hunt.empty();
     report.title = targets > 1 && hunt.empty() ? "Roger et al. 2007 and Toczek et al. 2010: the papers and ours"
                    : targets > 1              ? "The papers and ours"

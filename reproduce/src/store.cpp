@@ -42,6 +42,7 @@ nlohmann::json ConfigJson(const Config& c) {
   if (!c.path.empty()) j["path"] = c.path;
   if (!c.faithful.empty()) j["faithful"] = c.faithful;
   if (c.one_object) j["one_object"] = true;
+  if (!c.switches.empty()) j["switches"] = c.switches;
   if (c.tl()) j["lists"] = c.lists, j["node_order"] = c.node_order;
   if (c.cull) j["cull"] = true;
   if (!c.heads.empty()) j["heads"] = c.heads;
@@ -64,6 +65,7 @@ Config ConfigFromJson(const nlohmann::json& j) {
   j.at("height").get_to(c.height);
   c.faithful = j.value("faithful", std::string());
   c.one_object = j.value("one_object", false);
+  c.switches = j.value("switches", std::vector<std::string>());
   c.path = j.value("path", std::string());
   c.lists = j.value("lists", 0u);
   c.node_order = j.value("node_order", std::string());

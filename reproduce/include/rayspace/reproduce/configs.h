@@ -41,6 +41,8 @@ struct Config {
   int subdivision = 8, levels = 2, bounces = 1;
   int width = 512, height = 512;
   std::string faithful;    // empty, or a --faithful preset (the thesis's method as printed)
+  // thesis-ablation: render switches of the faithful family (--cone-test printed, ...) given one by one.
+  std::vector<std::string> switches;
   bool one_object = false;  // --one-object
   // --path: empty for render's default (fused: each level tests and compacts in one pass); "passes"
   // runs the cone-sphere tests and the stream reduction as separate passes, timed apart (roger).
@@ -69,6 +71,12 @@ struct Config {
 // quadtree; then, per scene, the 6 shapes x {rah, crsh} again with --faithful thesis.
 // Scene files are resolved in `scenes_dir`.
 std::vector<Config> ThesisConfigs(const std::filesystem::path& scenes_dir, int width, int height);
+
+// thesis-ablation: SPONZA's 12 default configurations (6 shapes x {rah, crsh}) under rayspace's
+// defaults and under each faithful switch alone (AblationSwitches), at width x height.
+std::vector<Config> AblationConfigs(const std::filesystem::path& scenes_dir, int width, int height);
+// The switches the ablation varies, one variant each; the first, empty, is rayspace's defaults.
+const std::vector<std::vector<std::string>>& AblationSwitches();
 
 // The hierarchy shapes of the thesis's tables, in table order.
 const std::vector<std::pair<int, int>>& ThesisShapes();

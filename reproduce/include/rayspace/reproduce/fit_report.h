@@ -25,5 +25,8 @@ Table SensitivityTable(const nlohmann::json& record);
 // SPONZA's totals, CRSH/RAH ratios and per-level cells within 15 % of the thesis's, in sample (RAH s8
 // d2, the fit set) and out of sample; `results` in slot counts.
 Table SponzaTargetsTable(const std::vector<Result>& results, const Published& published);
+// reproduce thesis-ablation: per variant (AblationSwitches), the same scores out of sample and the
+// per-level cells gained or lost against rayspace's defaults; `results` in slot counts.
+Table AblationTable(const std::vector<Result>& results, const Published& published);
 
 }  // namespace rayspace::reproduce
