@@ -20,8 +20,9 @@ namespace rayspace::app {
 namespace {
 
 std::string PresetHelp() {
-  std::string help = "Work as a paper printed it: thesis (the CRSH thesis) or roger (Roger et al. 2007); none keeps "
-                     "rayspace's own choices. A preset sets switches the command line does not give:";
+  std::string help = "Work as a paper did: thesis (the CRSH thesis: the readings its published numbers support, "
+                     "docs/reproduce.md) or roger (Roger et al. 2007); none keeps rayspace's own choices. A preset sets "
+                     "switches the command line does not give:";
   for (const char* name : {"thesis", "roger"}) {
     help += fmt::format(" {} =", name);
     for (const std::string& w : FaithfulPreset(name)) help += " " + w;

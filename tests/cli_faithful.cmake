@@ -87,12 +87,12 @@ endif()
 # --faithful thesis: the same frame as its switches given one by one (the preset is only a list of
 # switches), and a switch given beside it wins over the preset's value.
 math(EXPR CASES "${CASES} + 1")
-set(thesis_switches --hash-order polar-first --hash-bits 8 --shadow-bounces first --objects flat --cone-test printed)
+set(thesis_switches --hash-order polar-first --hash-bits 8 --shadow-bounces first --objects flat --child-merge pairwise)
 render_stats(preset cornell-mirrors --faithful thesis)
 render_stats(spelled cornell-mirrors ${thesis_switches})
 render_stats(preset10 cornell-mirrors --faithful thesis --hash-bits 12)
 render_stats(spelled10 cornell-mirrors --hash-order polar-first --hash-bits 12 --shadow-bounces first --objects flat
-             --cone-test printed)
+             --child-merge pairwise)
 foreach(path "total_tests" "rays;shadow;total" "rays;reflection;total" "object_sphere_tests")
   expect_equal_json(preset spelled "--faithful thesis: ${path}" ${path})
   expect_equal_json(preset10 spelled10 "--faithful thesis --hash-bits 12: ${path}" ${path})
