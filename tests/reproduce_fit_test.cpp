@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "rayspace/reproduce/fit_report.h"
 #include "rayspace/reproduce/fit_thesis.h"
 
 namespace {
@@ -94,4 +95,26 @@ TEST_CASE("reproduce fit: the search lowers J below its grid's best, and gives t
   CHECK(a.at("sensitivity").size() == 4 * kFitParams);
   CHECK(a.at("frames").get<int>() == 16 + 8 + static_cast<int>(a.at("refine")[0].at("path").size() + a.at("refine")[1].at("path").size()) + 36);
   CHECK(FitThesisSponza(scene, o, PoseFrame) == a);
+}
+
+TEST_CASE("reproduce fit: the report's check fails when this run's frame does not give the committed record's counts") {
+  nlohmann::json record;
+  for (std::size_t k = 0; k < kFitParams; ++k) record["best"]["point"][ThesisFitRanges()[k].name] = 0.0;
+  record["best"]["rays"] = 256024, record["best"]["level2_hits"] = 32271565, record["best"]["level1_hits"] = 13140002;
+  record["best"]["J"] = 0.0002, record["frames"] = 1;
+  Result rah;
+  TypeCounts& t = rah.counts.types["shadow"];
+  t.rays = 256024;
+  t.levels = {{0, 13140002}, {0, 32271565}};
+  std::vector<RelationRow> relations;
+  const Table same = FitTable(record, &rah, relations);
+  REQUIRE(relations.size() == 1);
+  CHECK(relations[0].relation == std::string(kFitMatches));
+  CHECK(relations[0].ours->holds);
+  t.levels[0].hits += 1;  // a stale record: the scene no longer renders what was fitted (planted)
+  const Table stale = FitTable(record, &rah, relations);
+  REQUIRE(relations.size() == 2);
+  CHECK_FALSE(relations[1].ours->holds);
+  CHECK(stale.notes.back().find("does NOT give") != std::string::npos);
+  CHECK(same.rows.size() == kFitParams);
 }

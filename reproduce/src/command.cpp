@@ -198,10 +198,10 @@ ExitCode RunFit(const ReproduceArgs& args, const FrameFn& frame) {
   WriteText(fs::path(args.out) / "fit-thesis-sponza-frames.json", frames.dump() + "\n", "the fit's frames");
   WriteText(fs::path(args.out) / "fit-thesis-sponza.json", record.dump(1) + "\n", "the fit's record");
   const nlohmann::json scene_file = nlohmann::json::parse(ReadInputFile(o.scene_file, {"scene file", kMaxTextFileBytes}));
-  WriteText(fs::path(args.out) / "sponza-thesis-fit.json", FittedSceneJson(scene_file, record).dump(2) + "\n", "the fitted scene");
+  WriteText(fs::path(args.out) / kFittedSponzaFile, FittedSceneJson(scene_file, record).dump(2) + "\n", "the fitted scene");
   std::printf("rayspace reproduce --fit: %d frames, J = %s; %s (%s beside it) and %s\n", record.at("frames").get<int>(),
               record.at("best").at("J").dump().c_str(), (fs::path(args.out) / "fit-thesis-sponza.json").c_str(),
-              "fit-thesis-sponza-frames.json", (fs::path(args.out) / "sponza-thesis-fit.json").c_str());
+              "fit-thesis-sponza-frames.json", (fs::path(args.out) / kFittedSponzaFile).c_str());
   return ExitCode::kOk;
 }
 

@@ -11,7 +11,7 @@ const std::vector<SceneChoice>& ThesisScenes() {
       {"OFFICE", {{"office.json", "stand-in office model, 2 lights"}}, 1},
       {"CORNELL", {{"cornell-mirrors.json", "stand-in: cornell-mirrors, shadow rays after each of 2 bounces"}}, 2},
       {"SPONZA",
-       {{"sponza-thesis-fit.json",
+       {{kFittedSponzaFile,
          "34 objects, not one mesh; camera and light fitted on RAH s8 d2's rays and level hits (docs/reproduce.md, \"Fits\")"},
         {"sponza-thesis.json", "34 objects, not one mesh; our viewpoint, chosen for the thesis's shadow-ray count (its camera is not published)"}},
        1,

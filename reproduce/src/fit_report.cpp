@@ -52,7 +52,7 @@ Table FitTable(const nlohmann::json& record, const Result* rah, std::vector<Rela
   const bool same = ours.rays == fitted.rays && ours.level2_hits == fitted.level2_hits && ours.level1_hits == fitted.level1_hits;
   const Outcome o{same, fmt::format("this run {} / {} / {}, the record {} / {} / {}", Thousands(ours.rays), Thousands(ours.level2_hits),
                                     Thousands(ours.level1_hits), Thousands(fitted.rays), Thousands(fitted.level2_hits), Thousands(fitted.level1_hits))};
-  relations.push_back({"the fitted scene renders the fit's counts", "SPONZA rah s8 d2", o, std::nullopt, ""});
+  relations.push_back({kFitMatches, "SPONZA rah s8 d2", o, std::nullopt, ""});
   t.notes.push_back(fmt::format("This run's SPONZA RAH s8 d2 {} the record's counts ({}).", same ? "gives" : "does NOT give", o.detail));
   return t;
 }
@@ -92,7 +92,7 @@ SponzaScore ScoreSponza(const std::vector<const Result*>& results, const Publish
   for (const Result* r : results)
     if (r->config.scene == "SPONZA" && r->config.faithful.empty() && !r->config.quadtree()) {
       by[{r->config.algo, {r->config.subdivision, r->config.levels}}] = r;
-      sc.fitted_scene = sc.fitted_scene || r->config.scene_file == "sponza-thesis-fit.json";
+      sc.fitted_scene = sc.fitted_scene || r->config.scene_file == kFittedSponzaFile;
     }
   for (const auto& [sub, depth] : ThesisShapes()) {
     const HierarchyShape s{sub, depth};
@@ -166,12 +166,12 @@ Table AblationTable(const std::vector<Result>& results, const Published& p) {
   std::map<std::vector<std::string>, std::vector<const Result*>> by;
   for (const Result& r : results)
     if (r.config.target == "thesis-ablation") by[r.config.switches].push_back(&r);
-  const auto defaults = by.find({});
-  const int base = defaults == by.end() ? -1 : ScoreSponza(defaults->second, p).cells;
+  int base = -1;  // the defaults' cells: AblationSwitches lists the defaults first
   for (const std::vector<std::string>& v : AblationSwitches()) {
     const auto it = by.find(v);
     if (it == by.end()) continue;
     const SponzaScore sc = ScoreSponza(it->second, p);
+    if (v.empty()) base = sc.cells;
     std::string name;
     for (const std::string& w : v) name += (name.empty() ? "" : " ") + w;
     t.rows.push_back({name.empty() ? "(rayspace's defaults)" : name, fmt::format("{} of {}", sc.totals, sc.totals_n),

@@ -287,7 +287,7 @@ std::string MarkdownTable(const Table& t) {
 std::string ProjectReason(const std::string& relation) {
   if (relation == kRahTopLevel) return "RAH's top level tests every (top node, triangle) pair: read off tables 4.3 and 4.4's arithmetic";
   if (relation == kIdentity) return "the accounting that 35 of the 36 published totals follow (the 36th is a misprint)";
-  if (relation == "the fitted scene renders the fit's counts") return "the committed fit is the scene this run rendered, not a stale record";
+  if (relation == kFitMatches) return "the committed fit is the scene this run rendered, not a stale record";
   return "the project's own target for the faithful preset";
 }
 
@@ -316,7 +316,7 @@ Report BuildReport(const std::vector<Result>& tested, const Published& published
   report.tables.push_back(ScenesTable(idx));
   // The committed fit, where this run's SPONZA is the fitted scene.
   const Result* sponza = Find(idx, "SPONZA", "rah", {8, 2});
-  if (!ThesisSponzaFit().is_null() && sponza && sponza->config.scene_file == "sponza-thesis-fit.json") {
+  if (!ThesisSponzaFit().is_null() && sponza && sponza->config.scene_file == kFittedSponzaFile) {
     report.tables.push_back(FitTable(ThesisSponzaFit(), sponza->config.width == 512 && sponza->config.height == 512 ? sponza : nullptr,
                                      report.relations));
     report.tables.push_back(SensitivityTable(ThesisSponzaFit()));

@@ -22,6 +22,8 @@ struct SceneChoice {
   int bounces = 1;               // --bounces: reflection bounces the thesis's frame traces
   bool one_object = false;       // the thesis's model is one object: --one-object in faithful runs
 };
+// SPONZA's scene with the fitted camera and light (`reproduce thesis --fit`, committed under scenes/).
+inline constexpr const char* kFittedSponzaFile = "sponza-thesis-fit.json";
 // The thesis's scenes, the one table to change when a scene's stand-in changes.
 const std::vector<SceneChoice>& ThesisScenes();
 

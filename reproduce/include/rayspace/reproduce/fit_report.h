@@ -12,6 +12,9 @@
 
 namespace rayspace::reproduce {
 
+// The project relation that checks a run's frame of the fitted scene against the committed record.
+inline constexpr const char* kFitMatches = "the fitted scene renders the fit's counts";
+
 // The committed fit's record (reproduce/fits/thesis-sponza.json, carried in the binary); null when
 // none is committed.
 const nlohmann::json& ThesisSponzaFit();
