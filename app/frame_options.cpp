@@ -195,6 +195,12 @@ void AddGridOptions(CLI::App& command, FrameArgs& args) {
       ->check(CLI::Range(1u, 1024u))
       ->capture_default_str();
   command
+      .add_option("--grid-regular-cells", args.grid_regular_cells,
+                  "--algo grid: size the regular grid by its cells instead: the count along the longest side (1 to 1024) "
+                  "whose grid holds the number closest to this (Hunt and Mark compare grids of about equal cells)")
+      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 30))
+      ->excludes("--grid-regular");
+  command
       .add_option("--grid-area", args.grid_area,
                   "--algo grid: each area light's 3D perspective grid about its centre, NxNxD (cells per face side, "
                   "twice, then depth slices; Hunt and Mark's 200x200x4), or 'regular': its shadow rays step through the "

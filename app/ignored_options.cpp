@@ -34,7 +34,7 @@ void NoteHierarchyOptions(std::vector<IgnoredOption>& out, const CLI::App& comma
   if (args.algo != "tl")
     for (const char* name : {"--lists", "--node-order", "--polygon-heads"}) Note(out, command, name, "only --algo tl walks traversal lists");
   if (args.algo != "grid")
-    for (const char* name : {"--grid-cells", "--grid-regular", "--grid-area", "--grid-area-near", "--grid-secondary", "--closed-models"}) Note(out, command, name, "only --algo grid builds grids");
+    for (const char* name : {"--grid-cells", "--grid-regular", "--grid-regular-cells", "--grid-area", "--grid-area-near", "--grid-secondary", "--closed-models"}) Note(out, command, name, "only --algo grid builds grids");
   if (!args.Hierarchy()) {
     for (const char* name : {"--subdivision", "--levels", "--reduction", "--component-size", "--pair-capacity", "--objects",
                              "--hash-order", "--hash-bits"})

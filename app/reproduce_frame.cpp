@@ -20,6 +20,7 @@ app::RenderArgs Args(const Config& c) {
     args.frustum_cull = c.frustum ? "on" : "off";
   } else if (c.grid()) {
     if (!c.grid_area.empty()) args.grid_area = c.grid_area;
+    args.grid_regular_cells = c.grid_regular_cells;
     args.primary = c.primary ? "grid" : "raster";
   } else if (!c.quadtree()) {
     args.subdivision = c.subdivision;
@@ -96,6 +97,8 @@ FrameOutput RenderConfig(const Config& c, const Scene& scene, const SceneBuffers
   if (out.statistics.contains("grids")) {
     out.timings["grid_build_ms"] = out.statistics["grids"].value("build_ms", 0.0);
     out.statistics["grids"].erase("build_ms");
+    // The regular grid's shape (--grid-regular-cells chooses it from the scene's box).
+    if (f->tracer.contains("regular_dims")) out.statistics["grids"]["regular_dims"] = f->tracer["regular_dims"];
   }
   return out;
 }

@@ -132,6 +132,26 @@ TEST_CASE("grid build: the passes give the host build's arrays, bit for bit, on 
   }
 }
 
+TEST_CASE("grid build: --grid-regular-cells picks the count along the longest side whose grid is closest") {
+  // A cube: n^3; 54^3 = 157,464 is 2,536 from 160,000, 55^3 = 166,375 is 6,375 from it.
+  CHECK(grid::RegularLongestFor({1.0, 1.0, 1.0}, 160000) == 54u);
+  // A 2:1:1 box: n x ceil(n/2)^2; 16 x 8 x 8 = 1,024 is 24 from 1,000, 15 x 8 x 8 = 960 is 40.
+  CHECK(grid::RegularLongestFor({2.0, 1.0, 1.0}, 1000) == 16u);
+  // A tie: on the 2:1:1 box 3 x 2 x 2 = 12 and 4 x 2 x 2 = 16 are both 2 from 14: the lower count wins.
+  CHECK(grid::RegularLongestFor({2.0, 1.0, 1.0}, 14) == 3u);
+  CHECK(grid::RegularLongestFor({1.0, 1.0, 1.0}, 1) == 1u);
+  CHECK(grid::RegularLongestFor({1.0, 1.0, 1.0}, std::uint64_t{1} << 40) == grid::kRegularLongestMax);
+  // The build uses it: a unit cube scene's grid of about 160,000 cells is 54 x 54 x 54.
+  SceneBuffers b;
+  b.triangles = {test::MakeTriangle({0.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 1.0f})};
+  b.lo = glm::vec3(0.0f);
+  b.hi = glm::vec3(1.0f);
+  grid::Options o;
+  o.regular = 7;  // replaced by the cell count's choice
+  o.regular_cells = 160000;
+  CHECK(grid::Plan(b, o, nullptr, 0, nullptr).arrays.volume_dims[0] == glm::uvec4(54u, 54u, 54u, 0u));
+}
+
 TEST_CASE("grid build: a regular grid's spans and references by a known answer") {
   SceneBuffers b;
   b.triangles = {test::MakeTriangle({0.5f, 0.5f, 0.5f}, {2.5f, 0.5f, 0.5f}, {0.5f, 1.5f, 3.5f}),

@@ -378,6 +378,33 @@ TEST_CASE("grid: area lights' shadow rays through their 3D grids give brute forc
   }
 }
 
+TEST_CASE("grid: an area light's shadow ray counts its core cube's cells apart, and only those") {
+  const SceneBuffers b = AreaSoup(3);
+  const std::vector<layout::Ray> rays = AreaShadowRays(b, 2000, 29, true);
+  grid::Options faces;
+  faces.area_near = 2;
+  grid::Options all_core = faces;
+  all_core.area_near = 1u << 20;  // a core cube wider than the scene: every step is the regular grid's
+  grid::Options regular = faces;
+  regular.area_perspective = false;
+  const GridArrays gf = grid::Build(b, faces), gc = grid::Build(b, all_core), gr = grid::Build(b, regular);
+  const GridWalks wf = Trace(gf, b, rays, 1), wc = Trace(gc, b, rays, 1), wr = Trace(gr, b, rays, 1);
+  REQUIRE(wf.core_steps.size() == rays.size());
+  std::size_t split = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    INFO("ray " << i);
+    CHECK(wf.core_steps[i] <= wf.steps[i]);
+    // The ray starts on the light, inside its core cube: a walk that steps at all starts there.
+    if (wf.steps[i]) CHECK(wf.core_steps[i] >= 1u);
+    split += wf.core_steps[i] > 0 && wf.core_steps[i] < wf.steps[i];
+    // All in the core: the same cells as the regular grid's walk of the same ray.
+    CHECK(wc.core_steps[i] == wc.steps[i]);
+    CHECK(wc.steps[i] == wr.steps[i]);
+    CHECK(wr.core_steps[i] == 0u);
+  }
+  CHECK(split > 200);  // walks that leave the core and cross faces' cells
+}
+
 // The relaxed model of a walk through a 3D grid (verify/src/spec_grid_walk.cpp) on the area
 // lights' shadow rays: a device that stops a cell earlier or tests one triangle fewer after its hit
 // is within the spec; one that reports an occluded ray lit is beyond it wherever a triangle surely

@@ -33,6 +33,7 @@ struct Walk {
   const GridLanes* lanes = nullptr;  // PassGridTraceLanes: each cell's triangles W at a time
   std::uint64_t best = kMissPacked;
   std::uint32_t tests = 0, steps = 0;
+  std::uint32_t core_steps = 0;  // of `steps`, those in an area light's core cube (statistics only)
   bool Done() const { return c.shadow != 0u && best != kMissPacked; }
   // Whether the ray tests reference i of the cell list (own surface, and in a perspective cell, the
   // reference's (u, v) rectangle).
@@ -188,7 +189,9 @@ void StepVolume(Walk& k, std::uint32_t index) {
     const float t0 = r0[s], t1 = r1[s];
     if (k.best != kMissPacked && HitT(k.best) < t0) return;
     if (s == layout::kGridFaces) {  // the core: the regular grid's cells
+      const std::uint32_t before = k.steps;
       StepRegular(k, t0, t1);
+      k.core_steps += k.steps - before;
       if (k.Done()) return;
       continue;
     }
@@ -245,6 +248,7 @@ GridWalks Trace(const call::GridTrace& c, const GridLanes* lanes) {
   else out.hits.assign(n, kMissPacked);
   out.steps.assign(n, 0u);
   out.tests.assign(n, 0u);
+  out.core_steps.assign(n, 0u);
   // The render path takes eye rays per cell and triangle (Hunt and Mark's tiled order).
   const std::vector<std::uint8_t> tiled = lanes ? TraceEyeTiles(c, *lanes, out) : std::vector<std::uint8_t>(n, 0);
   ParallelFor(n, [&](std::size_t i) {
@@ -273,6 +277,7 @@ GridWalks Trace(const call::GridTrace& c, const GridLanes* lanes) {
     else out.hits[i] = k.best;
     out.steps[i] = k.steps;
     out.tests[i] = k.tests;
+    out.core_steps[i] = k.core_steps;
   });
   return out;
 }

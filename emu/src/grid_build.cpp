@@ -148,8 +148,18 @@ void PlanVolume(GridPlan& p, const SceneBuffers& scene, const layout::Light* lig
   AddGrid(p, grid, layout::kGridFaces * std::uint64_t{n} * n * depth);
 }
 
+// The regular grid's cells along each axis of a box of `size`: `longest` along the longest side, the
+// others in proportion (at least 1).
+glm::uvec3 RegularDims(const glm::dvec3& size, std::uint32_t longest) {
+  const double side = std::max({size.x, size.y, size.z});
+  glm::uvec3 dims;
+  for (int k = 0; k < 3; ++k) dims[k] = std::max(1u, static_cast<std::uint32_t>(std::ceil(longest * size[k] / side)));
+  return dims;
+}
+
 // The regular grid over the scene's box, widened by 2^-10 of its size on each side; `cells` along
-// the longest side, the others in proportion (at least 1).
+// the longest side (or, with options.regular_cells, the count whose grid is closest to that many
+// cells), the others in proportion.
 void PlanRegular(GridPlan& p, const SceneBuffers& scene, std::uint32_t longest, const Options& options) {
   GridArrays& g = p.arrays;
   glm::dvec3 lo(scene.lo), hi(scene.hi);
@@ -157,9 +167,8 @@ void PlanRegular(GridPlan& p, const SceneBuffers& scene, std::uint32_t longest, 
   lo -= pad;
   hi += pad;
   const glm::dvec3 size = hi - lo;
-  const double side = std::max({size.x, size.y, size.z});
-  glm::uvec3 dims;
-  for (int k = 0; k < 3; ++k) dims[k] = std::max(1u, static_cast<std::uint32_t>(std::ceil(longest * size[k] / side)));
+  if (options.regular_cells) longest = RegularLongestFor(size, options.regular_cells);
+  const glm::uvec3 dims = RegularDims(size, longest);
   const glm::vec3 cell = glm::vec3(size / glm::dvec3(dims));
   const glm::vec3 flo(lo);
   const glm::vec3 inv = glm::vec3(1.0 / glm::dvec3(cell));
@@ -251,6 +260,17 @@ std::vector<bool> ClosedObjects(const SceneBuffers& scene, std::vector<std::size
     if (open_edges) open_edges->push_back(open);
   }
   return closed;
+}
+
+std::uint32_t RegularLongestFor(const glm::dvec3& size, std::uint64_t cells) {
+  std::uint32_t best = 1;
+  std::uint64_t best_gap = ~std::uint64_t{0};
+  for (std::uint32_t n = 1; n <= kRegularLongestMax; ++n) {
+    const glm::uvec3 d = RegularDims(size, n);
+    const std::uint64_t have = std::uint64_t{d.x} * d.y * d.z, gap = have > cells ? have - cells : cells - have;
+    if (gap < best_gap) best = n, best_gap = gap;
+  }
+  return best;
 }
 
 std::uint32_t EyeCells(std::uint32_t height, double tan_half_fov) {

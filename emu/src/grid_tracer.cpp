@@ -31,12 +31,14 @@ class Grid final : public GridTracer {
     out["algorithm"] = "grid";
     out["perspective_cells_per_face"] = options_.cells;
     out["regular_cells_longest_side"] = options_.regular;
+    if (options_.regular_cells) out["regular_cells_target"] = options_.regular_cells;
     out["closed_models"] = options_.closed;
     out["secondary_grid"] = options_.secondary_perspective ? "perspective" : "regular";
     out["area_grid"] = options_.area_perspective ? fmt::format("{0}x{0}x{1}", options_.area_cells, options_.area_depth) : "regular";
     if (built_) {
       const glm::uvec4 d = grids_.volume_dims[0];
       out["regular_dims"] = {d.x, d.y, d.z};
+      out["regular_cells_longest_side"] = std::max({d.x, d.y, d.z});
       out["perspective_cells"] = grids_.perspective_cells;
       out["perspective_triangle_refs"] = grids_.perspective_refs;
       out["regular_cells"] = grids_.regular_cells;
@@ -150,6 +152,7 @@ class Grid final : public GridTracer {
     s.name = ctx_.name;
     s.kind = ctx_.kind;
     s.rays = rays.size();
+    s.has_core_steps = w.core_steps.size() == rays.size();
     for (std::size_t i = 0; i < rays.size(); ++i) {
       s.steps += w.steps[i];
       s.tests += w.tests[i];
@@ -157,6 +160,7 @@ class Grid final : public GridTracer {
           scene_.lights[rays[i].info.w].sampling.x != layout::kLightPoint) {
         ++s.area_rays;
         s.area_steps += w.steps[i];
+        if (i < w.core_steps.size()) s.area_core_steps += w.core_steps[i];
         s.area_tests += w.tests[i];
         s.volume_rays += grid::VolumeGridOf(rays[i], true, grids_.light_grids, grids_.secondary) != layout::kGridNoLight;
         continue;

@@ -103,6 +103,7 @@ std::string ParseGridArea(const std::string& text, emu::grid::Options& o) {
 emu::grid::Options MakeGridOptions(const FrameArgs& args) {
   emu::grid::Options o{args.grid_cells, args.grid_regular, args.closed_models};
   o.area_near = args.grid_area_near;
+  o.regular_cells = args.grid_regular_cells;
   o.secondary_perspective = args.grid_secondary == "perspective";
   const std::string e = ParseGridArea(args.grid_area, o);
   RS_CHECK_MSG(e.empty(), "--grid-area: {}", e);  // the option's validator has already refused it

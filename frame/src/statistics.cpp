@@ -102,6 +102,8 @@ Statistics GridStatistics(const emu::GridTracer& tracer, std::size_t triangles) 
     t.grid_area_rays += b.area_rays;
     t.grid_area_steps += b.area_steps;
     t.grid_area_tests += b.area_tests;
+    t.grid_area_core_steps += b.area_core_steps;
+    if (b.area_rays && !b.has_core_steps) t.grid_area_core_unknown = true;
     t.grid_volume_rays += b.volume_rays;
   }
   for (const auto& [kind, t] : s.types) {
@@ -199,6 +201,12 @@ nlohmann::json GridJson(const Statistics& s) {
                                 {"through_3d_perspective_grid", t.grid_volume_rays},
                                 {"steps_per_ray", PerRay(t.grid_area_steps, t.grid_area_rays)},
                                 {"tests_per_ray", PerRay(t.grid_area_tests, t.grid_area_rays)}};
+    // The cells of the lights' core cubes (regular cells walked before the faces' cells), counted by
+    // the emulator's walk.
+    if (t.grid_area_rays && t.grid_volume_rays && !t.grid_area_core_unknown) {
+      one["area_light_rays"]["core_steps_per_ray"] = PerRay(t.grid_area_core_steps, t.grid_area_rays);
+      one["area_light_rays"]["face_steps_per_ray"] = PerRay(t.grid_area_steps - t.grid_area_core_steps, t.grid_area_rays);
+    }
     types[emu::RayKindName(kind)] = one;
   }
   return {{"build_ms", s.grid_build_ms}, {"per_type", types}};

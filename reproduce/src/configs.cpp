@@ -45,7 +45,8 @@ const std::vector<std::pair<int, int>>& ThesisShapes() {
 std::string Config::Canonical() const {
   // The quadtree's subdivision is 4 and its depth log2 of the image size: both follow from the size.
   const std::string shape = quadtree() ? "quadtree"
-                            : grid()   ? fmt::format("grid{}{}", grid_area.empty() ? "" : " area=" + grid_area, primary ? " primary=grid" : "")
+                            : grid()   ? fmt::format("grid{}{}{}", grid_area.empty() ? "" : " area=" + grid_area, primary ? " primary=grid" : "",
+                                                   grid_regular_cells ? fmt::format(" regular-cells={}", grid_regular_cells) : "")
                             : tl()     ? fmt::format("lists={} order={}{}{}{}{}", lists, node_order, cull ? " cull=on" : "", heads.empty() ? "" : " heads=" + heads,
                                                    primary ? " primary=tl" : "", frustum ? " frustum=on" : "")
                                        : fmt::format("subdivision={} levels={}", subdivision, levels);
@@ -70,7 +71,8 @@ std::string Config::Canonical() const {
 
 std::string Config::Name() const {
   const std::string name = quadtree() ? fmt::format("{} {}", scene, algo)
-                           : grid()   ? fmt::format("{} grid{}{}", scene, grid_area.empty() ? "" : " " + grid_area, primary ? " primary" : "")
+                           : grid()   ? fmt::format("{} grid{}{}{}", scene, grid_area.empty() ? "" : " " + grid_area, primary ? " primary" : "",
+                                                    grid_regular_cells ? fmt::format(" regular ~{}", grid_regular_cells) : "")
                            : tl()     ? fmt::format("{} tl K{} {}{}{}{}{}", scene, lists, node_order, cull ? " culled" : "", heads.empty() ? "" : " heads " + heads,
                                                   primary ? " primary" : "", frustum ? " frustum" : "")
                                       : fmt::format("{} {} s{} d{}", scene, algo, subdivision, levels);
@@ -83,7 +85,8 @@ std::string Config::Name() const {
 
 std::string Config::RenderArgs() const {
   const std::string shape = quadtree() ? ""
-                            : grid()   ? fmt::format("{}{}", grid_area.empty() ? "" : " --grid-area " + grid_area, primary ? " --primary grid" : "")
+                            : grid()   ? fmt::format("{}{}{}", grid_area.empty() ? "" : " --grid-area " + grid_area, primary ? " --primary grid" : "",
+                                                   grid_regular_cells ? fmt::format(" --grid-regular-cells {}", grid_regular_cells) : "")
                             : tl()     ? fmt::format(" --lists {} --node-order {}{}{}{}{}", lists, node_order, cull ? " --backface-cull on" : "",
                                                    heads.empty() ? "" : " --polygon-heads " + heads, primary ? " --primary tl" : "",
                                                    frustum ? " --frustum-cull on" : "")

@@ -49,6 +49,7 @@ nlohmann::json ConfigJson(const Config& c) {
   if (c.primary) j["primary"] = true;
   if (c.frustum) j["frustum"] = true;
   if (!c.grid_area.empty()) j["grid_area"] = c.grid_area;
+  if (c.grid_regular_cells) j["grid_regular_cells"] = c.grid_regular_cells;
   return j;
 }
 
@@ -74,6 +75,7 @@ Config ConfigFromJson(const nlohmann::json& j) {
   c.primary = j.value("primary", false);
   c.frustum = j.value("frustum", false);
   c.grid_area = j.value("grid_area", std::string());
+  c.grid_regular_cells = j.value("grid_regular_cells", std::uint64_t{0});
   return c;
 }
 

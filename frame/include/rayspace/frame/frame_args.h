@@ -52,6 +52,7 @@ struct FrameArgs {
   std::string frustum_cull = "off";               // --frustum-cull (--primary tl)
   std::uint32_t grid_cells = emu::grid::Options{}.cells;      // --grid-cells (--algo grid)
   std::uint32_t grid_regular = emu::grid::Options{}.regular;  // --grid-regular (--algo grid)
+  std::uint64_t grid_regular_cells = 0;                       // --grid-regular-cells (0: not given)
   bool closed_models = false;                                  // --closed-models (--algo grid)
   std::string grid_area = "200x200x4";                         // --grid-area NxNxD|regular (--algo grid)
   std::uint32_t grid_area_near = emu::grid::Options{}.area_near;  // --grid-area-near (--algo grid)

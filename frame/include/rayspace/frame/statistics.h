@@ -32,6 +32,10 @@ struct Statistics {
     // perspective grid, those of them not occluded, and those no triangle test was needed for.
     std::uint64_t grid_steps = 0, grid_perspective_rays = 0, grid_unoccluded_perspective_rays = 0, grid_skipped_rays = 0;
     std::uint64_t grid_area_rays = 0, grid_area_steps = 0, grid_area_tests = 0, grid_volume_rays = 0;
+    // Of grid_area_steps, those in the lights' core cubes; unknown when some batch's walks did not
+    // count them (a backend's kernel).
+    std::uint64_t grid_area_core_steps = 0;
+    bool grid_area_core_unknown = false;
     emu::LevelStats ray_level;  // --objects tree
     // Every test of this ray type: its levels, its rays' own (--objects tree) and its final tests.
     std::uint64_t Total() const;

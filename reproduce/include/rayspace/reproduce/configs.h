@@ -58,6 +58,8 @@ struct Config {
   bool primary = false, frustum = false;
   // --algo grid (hunt-mark): --grid-area (empty: the default), and `primary` is --primary grid.
   std::string grid_area;
+  // --grid-regular-cells (0: not given, the regular grid is 54 along the longest side).
+  std::uint64_t grid_regular_cells = 0;
   bool grid() const { return algo == "grid"; }
   bool tl() const { return algo == "tl"; }
   bool quadtree() const { return algo == "rah-quadtree"; }

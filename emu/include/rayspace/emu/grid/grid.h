@@ -70,6 +70,11 @@ struct GridWalks {
   std::vector<std::uint64_t> hits;
   std::vector<std::uint32_t> occluded, steps, tests;
   RS_FIELDS(hits, occluded, steps, tests)
+  // Per ray, the steps of `steps` taken in an area light's core cube (the regular grid's cells):
+  // counted by the emulator's walk for the statistics (Hunt and Mark's table 5 is reported with and
+  // without them); grid_trace.comp does not write it, so a backend's walks leave it empty and it is
+  // not one of the compared fields.
+  std::vector<std::uint32_t> core_steps;
 };
 
 namespace grid {
@@ -100,6 +105,9 @@ struct Options {
   // The render path (--path auto/fused on the emulator): grid.trace with each cell's triangles in
   // lanes (PassGridTraceLanes), the pass's walks bit for bit; `diff` and a backend run the pass.
   bool lanes = false;
+  // --grid-regular-cells: when not 0, `regular` is instead the count along the longest side (1 to
+  // 1024, the lower on a tie) whose grid holds the number of cells closest to this.
+  std::uint64_t regular_cells = 0;
 };
 
 // The face (0..5: +x, -x, +y, -y, +z, -z) and the (u, v) in [-1, 1] of a direction seen from a light;
@@ -142,6 +150,12 @@ std::vector<bool> ClosedObjects(const SceneBuffers& scene, std::vector<std::size
 // An eye grid's cells per face side: Hunt and Mark's cells of about 100 x 100 pixels, for an image of
 // `height` pixels whose vertical half-angle has tangent `tan_half_fov` (a face spans tangents -1..1).
 std::uint32_t EyeCells(std::uint32_t height, double tan_half_fov);
+
+// --grid-regular-cells: the regular grid's count along the longest side of a box of `size` (its
+// extent, padded as the grid pads it), 1 to kRegularLongestMax, whose grid holds the number of cells
+// closest to `cells` (the lower count on a tie).
+inline constexpr std::uint32_t kRegularLongestMax = 1024;
+std::uint32_t RegularLongestFor(const glm::dvec3& size, std::uint64_t cells);
 
 // The grids a frame builds, in cell order, each described as the build kernels read it
 // (layout::GridBuildGrid), with everything of GridArrays that does not depend on binning: lights'

@@ -23,6 +23,10 @@ struct GridBatchStats {
   // Area-light shadow rays, their cells and tests, and how many of them went through a 3D
   // perspective grid (all, unless --grid-area regular).
   std::uint64_t area_rays = 0, area_steps = 0, area_tests = 0, volume_rays = 0;
+  // Of area_steps, those in the lights' core cubes (the regular grid's cells); has_core_steps: the
+  // walks counted them (the emulator's pass does; a backend's kernel does not report them).
+  std::uint64_t area_core_steps = 0;
+  bool has_core_steps = false;
 };
 
 class GridTracer : public Tracer {
