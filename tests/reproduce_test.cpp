@@ -14,6 +14,7 @@
 #include "rayspace/reproduce/report.h"
 #include "rayspace/reproduce/roger.h"
 #include "rayspace/reproduce/store.h"
+#include "rayspace/reproduce/toczek.h"
 
 namespace rayspace::reproduce {
 namespace {
@@ -283,6 +284,34 @@ TEST_CASE("reproduce: the canonical text names every setting, and keeps the defa
   r.key = "k";
   r.config = ablation;
   CHECK(ResultFromJson(ToJson(r), "a result").config.switches == ablation.switches);
+  // Hunt and Mark's fitted grid: the regular grid's cell count names its results, is passed to
+  // render and survives the result file; without it the grid configurations keep their keys.
+  Config grid;
+  grid.target = "hunt-mark";
+  grid.scene = "SPONZA-SOFT";
+  grid.scene_file = "sponza-soft.json";
+  grid.algo = "grid";
+  grid.bounces = 0;
+  grid.grid_area = "regular";
+  CHECK(grid.Canonical() ==
+        "target=hunt-mark scene=SPONZA-SOFT file=sponza-soft.json algo=grid grid area=regular bounces=0 size=512x512 objects=flat "
+        "backend=emu");
+  grid.grid_regular_cells = 160000;
+  CHECK(grid.Canonical().find("grid area=regular regular-cells=160000 bounces=0") != std::string::npos);
+  CHECK(grid.RenderArgs().find(" --grid-regular-cells 160000") != std::string::npos);
+  r.config = grid;
+  CHECK(ResultFromJson(ToJson(r), "a result").config.grid_regular_cells == 160000u);
+}
+
+TEST_CASE("reproduce toczek: the node definition is the traversal event closest to the fit row, never a scale") {
+  // |ln| distances: 58.8 -> 3.31, 114,940 -> 4.27, 73.9 -> 3.08 from 1,603.8: warp steps.
+  CHECK(FitNodeDefinition({58.8, 114940.5, 73.9}, 1603.8) == NodeDefinition::kWarpSteps);
+  // Above the target counts by the same log distance: 3,207.6 (x2) beats 400 (x1/4).
+  CHECK(FitNodeDefinition({400.0, 3207.6, 10.0}, 1603.8) == NodeDefinition::kEntries);
+  // A definition the walks did not count (negative) is never chosen; a tie keeps the earlier.
+  CHECK(FitNodeDefinition({100.0, -1.0, 100.0}, 1603.8) == NodeDefinition::kTested);
+  CHECK(FitNodeDefinition({1.0, -1.0, 1600.0}, 1603.8) == NodeDefinition::kWarpSteps);
+  CHECK(std::string(NodeDefinitionName(NodeDefinition::kEntries)) == "list entries passed");
 }
 
 TEST_CASE("reproduce: merge takes every shard of one run exactly once") {

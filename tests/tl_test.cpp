@@ -14,6 +14,7 @@
 #include "rayspace/emu/intersect.h"
 #include "rayspace/emu/calls.h"
 #include "rayspace/emu/tl/tl.h"
+#include "rayspace/emu/tl/tracer.h"
 #include "rayspace/error.h"
 #include "rayspace/parallel.h"
 #include "rayspace/scene.h"
@@ -98,20 +99,24 @@ TEST_CASE("tl: the hand-worked scene's walks") {
   CHECK(tl::Closest(l, down, &s) == PackHit(5.0f, 1));
   CHECK(s.spheres == 4);
   CHECK(s.triangles == 1);
-  // Any hit stops at T1: R, A, B.
+  CHECK(s.entries == 7);  // T0 skipped by A's escape, T2 by C's: the whole list passed
+  // Any hit stops at T1: R, A, B; the entries up to T1 passed (R, A, T0, B, T1), C and T2 not.
   s = {};
   CHECK(tl::Any(l, down, &s));
   CHECK(s.spheres == 3);
   CHECK(s.triangles == 1);
+  CHECK(s.entries == 5);
   // Through the middle: R hit, A, B, C missed by escapes, no triangle tested.
   s = {};
   CHECK(tl::Closest(l, MakeSegment({5, 5, 5}, {0, 0, -1}), &s) == kMissPacked);
   CHECK(s.spheres == 4);
   CHECK(s.triangles == 0);
-  // Outside the root: its escape -1 ends the walk at once.
+  CHECK(s.entries == 7);
+  // Outside the root: its escape -1 ends the walk at once, passing the whole list.
   s = {};
   CHECK_FALSE(tl::Any(l, MakeSegment({20, 20, 5}, {0, 0, -1}), &s));
   CHECK(s.spheres == 1);
+  CHECK(s.entries == 7);
   // The interval is open: a hit at exactly tmax or tmin is not one.
   CHECK(tl::Closest(l, MakeSegment({9.7f, 0.2f, 5.0f}, {0, 0, -1}, 0.0f, 5.0f)) == kMissPacked);
   CHECK(tl::Closest(l, MakeSegment({9.7f, 0.2f, 5.0f}, {0, 0, -1}, 5.0f, INFINITY)) == kMissPacked);
@@ -371,6 +376,16 @@ TEST_CASE("tl.trace: per ray brute force's hit, and the walk's sphere and triang
     }
     CHECK(bad == 0);
   }
+}
+
+TEST_CASE("tl: warp steps charge each ray its 32-ray warp's longest walk") {
+  // 40 rays: the first warp's longest walk is ray 5's 7 + 3 = 10 elements, the second's (8 rays) ray
+  // 33's 2 + 2 = 4: 32 x 10 + 8 x 4 = 352.
+  std::vector<std::uint32_t> spheres(40, 1), triangles(40, 0);
+  spheres[5] = 7, triangles[5] = 3;
+  spheres[33] = 2, triangles[33] = 2;
+  CHECK(rayspace::emu::WarpSteps(spheres, triangles) == 352u);
+  CHECK(rayspace::emu::WarpSteps({}, {}) == 0u);
 }
 
 TEST_CASE("tl: keys order like their floats, -0 before +0 and a NaN last") {

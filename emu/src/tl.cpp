@@ -236,22 +236,27 @@ struct Walker {
       }
     }
     bool done = i >= end;
+    const std::uint32_t begin = i;
+    std::uint32_t reached = i;  // one past the last entry passed
     for (std::uint32_t b = 0; !done && b <= end / layout::kTlLoopBlock; ++b) {
       for (std::uint32_t j = 0; !done && j < layout::kTlLoopBlock; ++j) {
         Escape next = static_cast<Escape>(lists.escapes[i]);
         const Word& w = lists.words[i];
+        bool stop_here = false;  // an any-hit walk's hit: the entries after it are not passed
         if (IsTriangle(next)) {
-          if (Triangle(w) && any) next = kEscapeLast;
+          if (Triangle(w) && any) next = kEscapeLast, stop_here = true;
         } else {
           ++stats.spheres;
           const float limit = best == kMissPacked ? tmax : HitT(best);
           const glm::vec4 s(std::bit_cast<float>(w.x), std::bit_cast<float>(w.y), std::bit_cast<float>(w.z), std::bit_cast<float>(w.w));
           if (test(org, dir, tmin, limit, s)) next = 1;
         }
+        reached = next > 0 ? std::min(i + static_cast<std::uint32_t>(next), end) : stop_here ? i + 1 : end;
         i += static_cast<std::uint32_t>(next);
         done = next <= 0 || i >= end;
       }
     }
+    stats.entries = reached - begin;
   }
 };
 
@@ -259,6 +264,7 @@ void AddStats(Stats* to, const Stats& s) {
   if (to == nullptr) return;
   to->spheres += s.spheres;
   to->triangles += s.triangles;
+  to->entries += s.entries;
 }
 
 ListsView ViewOf(const Lists& l) { return {l.first, l.escapes, l.words, l.vertices, l.one_sided}; }
@@ -518,6 +524,7 @@ TlWalks TlTraceWith(const call::TlTrace& c, tl::SphereTest test) {
     out.hits.resize(n);
   out.spheres.assign(n, 0);
   out.triangles.assign(n, 0);
+  out.entries.assign(n, 0);
   ParallelForDynamic(n, 256, [&](std::size_t i) {
     tl::Stats s;
     const std::uint64_t hit = tl::Walk(view, c.rays[i], c.shadow != 0, &s, test);
@@ -527,6 +534,7 @@ TlWalks TlTraceWith(const call::TlTrace& c, tl::SphereTest test) {
       out.hits[i] = hit;
     out.spheres[i] = static_cast<std::uint32_t>(s.spheres);
     out.triangles[i] = static_cast<std::uint32_t>(s.triangles);
+    out.entries[i] = static_cast<std::uint32_t>(s.entries);
   });
   return out;
 }

@@ -1,6 +1,7 @@
 // The traversal lists as a frame's tracer (rayspace/emu/tl/tracer.h).
 #include "rayspace/emu/tl/tracer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 
@@ -202,6 +203,9 @@ class Tl final : public TlTracer {
       s.spheres += w.spheres[i];
       s.triangles += w.triangles[i];
     }
+    s.warp_steps = WarpSteps(w.spheres, w.triangles);
+    s.has_entries = w.entries.size() == rays.size();
+    for (const std::uint32_t x : w.entries) s.entries += x;
     stats_.push_back(std::move(s));
   }
 
@@ -221,6 +225,18 @@ class Tl final : public TlTracer {
 };
 
 }  // namespace
+
+std::uint64_t WarpSteps(std::span<const std::uint32_t> spheres, std::span<const std::uint32_t> triangles) {
+  RS_CHECK(spheres.size() == triangles.size());
+  std::uint64_t steps = 0;
+  for (std::size_t b = 0; b < spheres.size(); b += kTlWarpRays) {
+    const std::size_t e = std::min(spheres.size(), b + kTlWarpRays);
+    std::uint64_t longest = 0;
+    for (std::size_t i = b; i < e; ++i) longest = std::max<std::uint64_t>(longest, std::uint64_t{spheres[i]} + triangles[i]);
+    steps += longest * (e - b);
+  }
+  return steps;
+}
 
 std::unique_ptr<TlTracer> MakeTlTracer(const SceneBuffers& scene, const tl::Options& options, HierarchyPasses* passes) {
   return std::make_unique<Tl>(scene, options, passes ? *passes : EmuHierarchyPasses());

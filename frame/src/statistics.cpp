@@ -73,6 +73,9 @@ Statistics TlStatistics(const emu::TlTracer& tracer, std::size_t triangles) {
     t.brute_force += b.rays * triangles;
     t.final_tests += b.triangles;
     t.tl_sphere_tests += b.spheres;
+    t.tl_warp_steps += b.warp_steps;
+    t.tl_entries += b.entries;
+    if (b.rays && !b.has_entries) t.tl_entries_unknown = true;
     for (std::size_t k = 0; k < b.list_rays.size() && k < s.tl_lists.size(); ++k) {
       s.tl_lists[k].rays += b.list_rays[k];
       s.tl_lists[k].spheres += b.list_spheres[k];
@@ -216,12 +219,19 @@ nlohmann::json GridJson(const Statistics& s) {
 nlohmann::json TlJson(const Statistics& s) {
   const emu::TlShape& sh = s.tl_shape;
   nlohmann::json types = nlohmann::json::object(), lists = nlohmann::json::array();
-  for (const auto& [kind, t] : s.types)
-    types[emu::RayKindName(kind)] = {{"rays", t.rays},
-                                     {"sphere_tests", t.tl_sphere_tests},
-                                     {"triangle_tests", t.final_tests},
-                                     {"spheres_per_ray", PerRay(t.tl_sphere_tests, t.rays)},
-                                     {"triangles_per_ray", PerRay(t.final_tests, t.rays)}};
+  for (const auto& [kind, t] : s.types) {
+    nlohmann::json one = {{"rays", t.rays},
+                          {"sphere_tests", t.tl_sphere_tests},
+                          {"triangle_tests", t.final_tests},
+                          {"spheres_per_ray", PerRay(t.tl_sphere_tests, t.rays)},
+                          {"triangles_per_ray", PerRay(t.final_tests, t.rays)},
+                          // Each ray charged its 32-ray warp's longest walk (elements tested).
+                          {"warp_steps", t.tl_warp_steps},
+                          {"warp_steps_per_ray", PerRay(t.tl_warp_steps, t.rays)}};
+    // The list entries passed, tested or skipped by an escape (the emulator's walks count them).
+    if (!t.tl_entries_unknown) one["entries"] = t.tl_entries, one["entries_per_ray"] = PerRay(t.tl_entries, t.rays);
+    types[emu::RayKindName(kind)] = std::move(one);
+  }
   std::uint64_t held = 0;  // elements over all lists
   for (std::size_t k = 0; k < s.tl_lists.size(); ++k) {
     const Statistics::TlList& l = s.tl_lists[k];

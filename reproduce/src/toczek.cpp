@@ -107,8 +107,22 @@ namespace {
 // Ours: the sphere and triangle elements the walks tested per ray (render --stats, traversal_lists).
 struct Walks {
   double rays = 0, spheres = 0, triangles = 0;
+  // The other node definitions' counts (docs/reproduce.md, "Fits"): each ray charged its 32-ray
+  // warp's longest walk, and the list entries passed (entries < 0: not counted).
+  double warp_steps = 0, entries = 0;
   std::uint64_t elements = 0;  // per list
   double NodesPerRay() const { return rays > 0 ? (spheres + triangles) / rays : 0.0; }
+  // Nodes per ray under a definition: elements tested (NodesPerRay), entries passed, warp steps; a
+  // negative value when the walks did not count it.
+  double PerRay(NodeDefinition d) const {
+    if (rays <= 0) return 0.0;
+    switch (d) {
+      case NodeDefinition::kTested: return NodesPerRay();
+      case NodeDefinition::kEntries: return entries < 0 ? -1.0 : entries / rays;
+      case NodeDefinition::kWarpSteps: return warp_steps / rays;
+    }
+    return 0.0;
+  }
   double SpheresPerRay() const { return rays > 0 ? spheres / rays : 0.0; }
   double TrianglesPerRay() const { return rays > 0 ? triangles / rays : 0.0; }
 };
@@ -121,6 +135,8 @@ Walks WalksOf(const Result& r) {
     w.rays += t.value("rays", 0.0);
     w.spheres += t.value("sphere_tests", 0.0);
     w.triangles += t.value("triangle_tests", 0.0);
+    w.warp_steps += t.value("warp_steps", 0.0);
+    w.entries = w.entries < 0 || !t.contains("entries") ? -1.0 : w.entries + t.value("entries", 0.0);
   }
   return w;
 }
@@ -277,12 +293,112 @@ Table Table2(const std::vector<const Result*>& results, PairedVerdicts& v) {
   return t;
 }
 
+// The node definition fitted on table 1's row "earliest first, every switch off" and every other
+// published row predicted with it (docs/reproduce.md, "Fits"): `fit` the search, `predicted` the rows.
+constexpr std::size_t kFitRow = 9;  // ToczekTable1(): earliest first, everything disabled
+constexpr double kToczekWithin = 2.0;
+
+std::string Ratio(double ours, double published) { return ours >= 0 && published > 0 ? fmt::format("{:.3f}", ours / published) : "not counted"; }
+
+void FitTables(const std::vector<const Result*>& results, std::vector<Table>& out) {
+  const Result* fit_run = FindRun(results, "BUNNY", "earliest-first");
+  if (!fit_run) return;
+  const double target = ToczekTable1()[kFitRow].NodesPerRay();
+  const Walks fw = WalksOf(*fit_run);
+  std::vector<double> ours;
+  for (const NodeDefinition d : kNodeDefinitions) ours.push_back(fw.PerRay(d));
+  const NodeDefinition chosen = FitNodeDefinition(ours, target);
+  Table fit{"toczek-fit", "Toczek et al.: what a traversed node is, fitted on table 1's row earliest first, every switch off",
+            {"node definition", "ours nodes/ray", "published nodes/ray", "ours / published", "|ln(ours / published)|", "chosen"}, {}, {}};
+  for (std::size_t i = 0; i < ours.size(); ++i)
+    fit.rows.push_back({NodeDefinitionName(kNodeDefinitions[i]), ours[i] >= 0 ? Fixed(ours[i]) : "not counted", Fixed(target),
+                        Ratio(ours[i], target), ours[i] > 0 ? fmt::format("{:.3f}", std::abs(std::log(ours[i] / target))) : "",
+                        kNodeDefinitions[i] == chosen ? "yes" : ""});
+  Table pred{"toczek-predicted", "Toczek et al.: every published row predicted with the fitted node definition",
+             {"table", "row", "published nodes/ray", "ours nodes/ray", "ours / published", "within 2x", "sample", "elements tested / published",
+              "entries passed / published", "warp steps / published"},
+             {}, {}};
+  std::size_t within = 0, predicted = 0;
+  // Per definition, the least and greatest ours / published over the rows: how far each is.
+  std::vector<std::pair<double, double>> spans(std::size(kNodeDefinitions), {0.0, 0.0});
+  const auto add = [&](const std::string& table, const std::string& row, double published, const Result* r, bool in_sample, const std::string& note) {
+    if (!r) return;
+    const Walks w = WalksOf(*r);
+    const double x = w.PerRay(chosen), q = x / published;
+    const bool ok = x > 0 && q <= kToczekWithin && q >= 1.0 / kToczekWithin;
+    if (!in_sample) predicted += 1, within += ok;
+    for (std::size_t d = 0; d < spans.size(); ++d) {
+      const double y = w.PerRay(kNodeDefinitions[d]) / published;
+      if (y <= 0) continue;
+      spans[d] = spans[d].first == 0 ? std::pair{y, y} : std::pair{std::min(spans[d].first, y), std::max(spans[d].second, y)};
+    }
+    pred.rows.push_back({table, row, Fixed(published), Fixed(x), fmt::format("{:.3f}", q), ok ? "yes" : "no",
+                         in_sample ? "in (the fit row)" : "out" + note, Ratio(w.PerRay(NodeDefinition::kTested), published),
+                         Ratio(w.PerRay(NodeDefinition::kEntries), published), Ratio(w.PerRay(NodeDefinition::kWarpSteps), published)});
+  };
+  for (std::size_t i = 0; i < ToczekTable1().size(); ++i) {
+    const ToczekTable1Row& p = ToczekTable1()[i];
+    add("1", fmt::format("{}, culling {}, heads {}, frustum {}", p.order, YesNo(p.culling), p.heads ? "regular" : "disabled", YesNo(p.frustum)),
+        p.NodesPerRay(), FindRun(results, "BUNNY", p.order, p.culling, p.heads, p.frustum), i == kFitRow, "");
+  }
+  for (const ToczekTable2Row& p : ToczekTable2()) {
+    const ToczekScene* s = nullptr;
+    for (const ToczekScene& x : ToczekScenes())
+      if (x.table == 2 && x.paper_triangles == p.triangles) s = &x;
+    if (s == nullptr) continue;  // the Happy Buddha is not held
+    add("2", p.scene, p.NodesPerRay(), FindRun(results, s->name, "earliest-first"), false,
+        s->paper_triangles == 871416 ? " (stand-in: 100,000 triangles)" : "");
+  }
+  double best = 0;
+  for (const double x : ours)
+    if (x > 0 && (best == 0 || std::abs(std::log(x / target)) < std::abs(std::log(best / target)))) best = x;
+  fit.notes.push_back(fmt::format(
+      "Fit set: table 1's row earliest first, every switch off ({:.1f} published nodes per ray, {} rays/s and {} nodes/s). Each "
+      "definition is a traversal event the emulator's walk counts, never a scale factor: elements tested (the sphere and "
+      "triangle tests), list entries passed (tested or skipped by an escape, up to where the walk stopped), warp steps (per "
+      "32 consecutive rays of a batch, the longest walk's tests, charged to each of its rays). Chosen: {} (ours / published "
+      "{:.3f}). Out of sample, {} of {} published rows are within 2x with it (target: every row).",
+      target, ToczekTable1()[kFitRow].nodes_per_s / 1e9, ToczekTable1()[kFitRow].rays_per_s / 1e6, NodeDefinitionName(chosen), best / target,
+      within, predicted));
+  std::string range;
+  for (std::size_t d = 0; d < spans.size(); ++d)
+    range += fmt::format("{}{} x{:.3f} to x{:.3f}", range.empty() ? "" : "; ", NodeDefinitionName(kNodeDefinitions[d]), spans[d].first,
+                         spans[d].second);
+  pred.notes.push_back(fmt::format(
+      "Ours over the published, over every row, per definition: {}. A closest-hit walk passes its whole list; warp steps are "
+      "at most 32 times the elements tested by construction. The last three columns give each definition's ratio on every row.",
+      range));
+  out.push_back(std::move(fit));
+  out.push_back(std::move(pred));
+}
+
 }  // namespace
+
+const char* NodeDefinitionName(NodeDefinition d) {
+  switch (d) {
+    case NodeDefinition::kTested: return "elements tested";
+    case NodeDefinition::kEntries: return "list entries passed";
+    case NodeDefinition::kWarpSteps: return "warp steps";
+  }
+  return "";
+}
+
+NodeDefinition FitNodeDefinition(const std::vector<double>& ours, double target) {
+  NodeDefinition best = kNodeDefinitions[0];
+  double residual = -1;
+  for (std::size_t i = 0; i < ours.size() && i < std::size(kNodeDefinitions); ++i) {
+    if (!(ours[i] > 0) || !(target > 0)) continue;
+    const double r = std::abs(std::log(ours[i] / target));
+    if (residual < 0 || r < residual) best = kNodeDefinitions[i], residual = r;
+  }
+  return best;
+}
 
 void AddToczekReport(Report& report, const std::vector<const Result*>& results) {
   if (results.empty()) return;
   PairedVerdicts v;
   std::vector<Table> tables = {Table1(results, v), Table2(results, v)};
+  FitTables(results, tables);
   Table summary{"toczek-summary", "Toczek et al. 2010: its tables' relations on our counts",
                 {"relation", "where", "ours", "compared", "published", "published compared"}, v.rows, {}};
   summary.notes.push_back(fmt::format(

@@ -28,6 +28,10 @@ struct Statistics {
     std::uint64_t final_tests = 0, rays = 0, brute_force = 0, object_sphere_tests = 0;
     std::uint64_t leaf_sphere_tests = 0;  // --leaf-test ray-sphere
     std::uint64_t tl_sphere_tests = 0;    // --algo tl (final_tests: its triangle tests)
+    // --algo tl: the steps of 32-ray warps charged to each of their rays, and the list entries the
+    // walks passed (unknown when some batch's walks did not count them: a backend's kernel).
+    std::uint64_t tl_warp_steps = 0, tl_entries = 0;
+    bool tl_entries_unknown = false;
     // --algo grid (final_tests: its triangle tests): cells visited; point-light shadow rays through a
     // perspective grid, those of them not occluded, and those no triangle test was needed for.
     std::uint64_t grid_steps = 0, grid_perspective_rays = 0, grid_unoccluded_perspective_rays = 0, grid_skipped_rays = 0;

@@ -63,6 +63,16 @@ Outcome Lowers(double without, double with);
 // Holds when max / min of the values <= bound; detail "x1.08 over 4 scenes".
 Outcome SpreadAtMost(const std::vector<double>& values, double bound);
 
+// What the paper's "traversed nodes" counts is not published: the traversal events a `tl` walk
+// counts (docs/reproduce.md, "Fits"), in the protocol's order.
+enum class NodeDefinition { kTested, kEntries, kWarpSteps };
+inline constexpr NodeDefinition kNodeDefinitions[] = {NodeDefinition::kTested, NodeDefinition::kEntries, NodeDefinition::kWarpSteps};
+const char* NodeDefinitionName(NodeDefinition d);
+// The fit: the definition whose nodes per ray on the fit row (ours) is closest in |ln| to the
+// published `target`; `ours` per definition (negative: not counted, never chosen). Ties: the
+// earlier definition.
+NodeDefinition FitNodeDefinition(const std::vector<double>& ours, double target);
+
 // The sections of `reproduce toczek`: table 1 and table 2, ours beside the published, their relations.
 void AddToczekReport(Report& report, const std::vector<const Result*>& results);
 

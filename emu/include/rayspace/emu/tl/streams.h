@@ -50,6 +50,10 @@ struct TlWalks {
   std::vector<std::uint64_t> hits;
   std::vector<std::uint32_t> occluded, spheres, triangles;
   RS_FIELDS(hits, occluded, spheres, triangles)
+  // Per ray, the list entries its walk passed (tl::Stats::entries): counted by the emulator's walk for
+  // the statistics (Toczek et al.'s "traversed nodes" read as entries); tl_trace.comp does not write
+  // it, so a backend's walks leave it empty and it is not one of the compared fields.
+  std::vector<std::uint32_t> entries;
 };
 
 }  // namespace rayspace::emu

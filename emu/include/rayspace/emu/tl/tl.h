@@ -104,6 +104,9 @@ std::uint32_t ListFor(std::uint32_t count, glm::vec3 dir);
 struct Stats {
   std::uint64_t spheres = 0;    // sphere elements tested
   std::uint64_t triangles = 0;  // triangle elements tested (the ignored primitive included)
+  // List entries the walk passed, tested or skipped by an escape: from where it began to where it
+  // stopped (the list's or window's end, or the element whose hit ended an any-hit walk).
+  std::uint64_t entries = 0;
 };
 
 // The closest hit as emu::PackHit (kMissPacked for none), the same as testing every triangle with

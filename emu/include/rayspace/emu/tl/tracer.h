@@ -5,6 +5,7 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -20,7 +21,19 @@ struct TlBatchStats {
   std::uint32_t kind = 0;
   std::uint64_t rays = 0, spheres = 0, triangles = 0;
   std::vector<std::uint64_t> list_rays, list_spheres, list_triangles;  // per list
+  // Per 32 consecutive rays of the batch (a SIMT warp), the elements tested by its longest walk,
+  // counted once for each of its rays: the steps a warp takes until its last ray ends.
+  std::uint64_t warp_steps = 0;
+  // The list entries the walks passed (TlWalks::entries); has_entries: the walks counted them (the
+  // emulator's pass does, a backend's kernel does not).
+  std::uint64_t entries = 0;
+  bool has_entries = false;
 };
+
+inline constexpr std::size_t kTlWarpRays = 32;
+// Per kTlWarpRays consecutive rays, the most elements (spheres + triangles) one of them tested,
+// times the warp's rays; summed over the batch (TlBatchStats::warp_steps).
+std::uint64_t WarpSteps(std::span<const std::uint32_t> spheres, std::span<const std::uint32_t> triangles);
 
 // The lists' shape: the tree's nodes and triangle references, K, the bytes of every array
 // (tl::Lists::Bytes), and per list its elements and the triangle references culling dropped from
