@@ -202,6 +202,15 @@ TEST_CASE("reproduce: the embedded thesis tables hold the one published inconsis
   const auto sponza_d2 = PublishedMeasurement(p, {8, 2}, "SPONZA", "RAH");
   CHECK(Identity(*sponza_d2, 8).holds);
   CHECK(RahTopLevel(*sponza_d2, 2).holds);
+  // The report's own line for it: the arithmetic, and the row it was copied from.
+  const Table t = MisprintsTable(p);
+  REQUIRE(t.rows.size() == 1);
+  CHECK(t.rows[0][0] == "4.8");
+  CHECK(t.rows[0][1] == "SPONZA RAH s8 d3");
+  CHECK(t.rows[0][2] == "632,408,864");
+  CHECK(t.rows[0][4] == "610,873,884");
+  CHECK(t.rows[0][5] == "+21,534,980");
+  CHECK(t.rows[0][6] == "SPONZA RAH s8 d2");
 }
 
 // A result of `algo` on SPONZA at subdivision 8, depth 2, 512x512, with a total.

@@ -293,6 +293,48 @@ std::string ProjectReason(const std::string& relation) {
 
 }  // namespace
 
+// The published totals that do not add up as the thesis's own accounting does, with the arithmetic:
+// each printed level term, their sum, and the printed totals that equal the printed one.
+Table MisprintsTable(const Published& p) {
+  Table t{"thesis-misprints", "The thesis's numbers that contradict each other",
+          {"table", "configuration", "printed total", "printed levels", "their sum", "printed - sum", "printed total equals"}, {}, {}};
+  for (std::size_t c = 0; c < ThesisShapes().size(); ++c) {
+    const HierarchyShape s{ThesisShapes()[c].first, ThesisShapes()[c].second};
+    for (const SceneChoice& sc : ThesisScenes())
+      for (const char* alg : {"RAH", "CRSH"}) {
+        const std::optional<Measurement> m = PublishedMeasurement(p, s, sc.paper, alg);
+        if (!m || Identity(*m, s.subdivision).holds) continue;
+        std::string terms;
+        std::uint64_t sum = 0;
+        for (const auto& [type, levels] : m->levels) {
+          for (std::size_t L = levels.size(); L-- > 0;) {
+            terms += fmt::format("{}{} level {} {}", terms.empty() ? "" : " + ", type, L + 1, Thousands(levels[L].intersections));
+            sum += levels[L].intersections;
+          }
+          if (!levels.empty()) {
+            terms += fmt::format(" + {} level-1 hits {} x {}", type, Thousands(levels[0].hits), s.subdivision);
+            sum += levels[0].hits * static_cast<std::uint64_t>(s.subdivision);
+          }
+        }
+        std::string equals;
+        for (const auto& [key, total] : p.totals)
+          if (total.first == m->total && !(std::get<0>(key) == s.subdivision && std::get<1>(key) == s.depth && std::get<2>(key) == sc.paper &&
+                                           std::get<3>(key) == alg))
+            equals += fmt::format("{}{} {} s{} d{}", equals.empty() ? "" : "; ", std::get<2>(key), std::get<3>(key), std::get<0>(key),
+                                  std::get<1>(key));
+        const std::int64_t diff = static_cast<std::int64_t>(m->total) - static_cast<std::int64_t>(sum);
+        t.rows.push_back({fmt::format("4.{}", 4 * c + 4), fmt::format("{} {} s{} d{}", sc.paper, alg, s.subdivision, s.depth),
+                          Thousands(m->total), terms, Thousands(sum), fmt::format("{}{}", diff < 0 ? "-" : "+", Thousands(static_cast<std::uint64_t>(std::abs(diff)))),
+                          equals.empty() ? "none" : equals});
+      }
+  }
+  t.notes.push_back(
+      "Every other printed total is the sum of its printed level intersections and its level-1 hits x subdivision (each hit "
+      "followed by one test per child slot). A total that is not, and equals another configuration's printed total, was "
+      "copied from that row: its levels are the numbers to trust.");
+  return t;
+}
+
 Report BuildReport(const std::vector<Result>& tested, const Published& published) {
   Report report;
   // Our counts as the thesis counts them, everywhere but the accounting identity (SlotAccounting).
@@ -329,6 +371,7 @@ Report BuildReport(const std::vector<Result>& tested, const Published& published
     report.tables.push_back(TotalsTable(first + 3, s, idx, actual, published, report));
   }
   report.tables.push_back(QuadtreeTable(idx));
+  if (Table misprints = MisprintsTable(published); !misprints.rows.empty()) report.tables.push_back(std::move(misprints));
   if (Table faithful = FaithfulTable(results, published, report.relations); !faithful.rows.empty())
     report.tables.push_back(std::move(faithful));
   return report;

@@ -37,6 +37,11 @@ std::vector<Config> RogerConfigs(int width, int height, bool full) {
     c.subdivision = 4;
     c.levels = 0;
     configs.push_back(c);
+    // The leaf rule's fit (docs/reproduce.md, "Fits"): the quadtree with the leaf-level ray-sphere
+    // test alone, at every scene and size, so that every figure can be predicted with it.
+    c.switches = {"--leaf-test", "ray-sphere"};
+    configs.push_back(c);
+    c.switches.clear();
     c.algo = "rah";
     c.subdivision = 8;
     c.levels = 2;

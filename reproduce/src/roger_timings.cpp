@@ -44,8 +44,9 @@ std::array<double, kPhases> PhaseMs(const Result& r) {
 }
 
 std::string Name(const Result& r) {
-  const std::string name = fmt::format("{} {} {}x{}", r.config.scene, r.config.quadtree() ? "rah-quadtree" : "rah s8 d2",
-                                       r.config.width, r.config.height);
+  std::string name = fmt::format("{} {} {}x{}", r.config.scene, r.config.quadtree() ? "rah-quadtree" : "rah s8 d2",
+                                 r.config.width, r.config.height);
+  for (const std::string& w : r.config.switches) name += " " + w;
   return r.config.faithful.empty() ? name : name + " --faithful " + r.config.faithful;
 }
 

@@ -43,6 +43,9 @@ struct Report {
 
 // Builds every table from the results (any order) and the published numbers.
 Report BuildReport(const std::vector<Result>& results, const Published& published);
+// The published totals whose printed levels do not add up to them (the accounting identity), each
+// with its terms, their sum and the printed totals it equals.
+Table MisprintsTable(const Published& published);
 // Appends the sections of `reproduce roger` (roger_report.cpp): a summary of its claims' verdicts, then a
 // table per figure; each relation's verdict under its table and in the summary.
 void AddRogerReport(Report& report, const std::vector<const Result*>& results);
