@@ -30,7 +30,8 @@ struct ToczekScene {
 const std::vector<ToczekScene>& ToczekScenes();
 
 // Table 1 on the bunny without ground in both node orders, back-face culling off and on; table 2 on
-// every scene (6 lists, earliest first), at width x height.
+// every scene (6 lists, earliest first), and again with 1 list (section 4's 6 lists against 1), at
+// width x height.
 std::vector<Config> ToczekConfigs(int width, int height);
 
 // The published rows: table 1 (node order, back-face culling, per-polygon heads, frustum culling,
@@ -74,6 +75,7 @@ const char* NodeDefinitionName(NodeDefinition d);
 NodeDefinition FitNodeDefinition(const std::vector<double>& ours, double target);
 
 // The sections of `reproduce toczek`: table 1 and table 2, ours beside the published, their relations.
-void AddToczekReport(Report& report, const std::vector<const Result*>& results);
+// The times (6 lists against 1) into `timings`.
+void AddToczekReport(Report& report, Report& timings, const std::vector<const Result*>& results);
 
 }  // namespace rayspace::reproduce
