@@ -196,6 +196,19 @@ def read_csv(path):
         return list(csv.DictReader(f))
 
 
+def read_csv_block(path, columns):
+    """The rows of the table in `path` (tables one after another, a blank line between) whose header
+    holds `columns`."""
+    import csv
+    with open(path, newline="") as f:
+        blocks = f.read().split("\n\n")
+    for block in blocks:
+        rows = list(csv.DictReader(block.strip("\n").splitlines()))
+        if rows and all(c in rows[0] for c in columns):
+            return rows
+    return []
+
+
 def hierarchy_body(report):
     """The hierarchy block's text, from the reproduce report in `report` (a directory)."""
     totals = read_csv(os.path.join(report, "tables", "table-4.04.csv"))
@@ -203,7 +216,7 @@ def hierarchy_body(report):
     timings_path = os.path.join(report, "timings.csv")
     phases, order = {}, []
     if os.path.exists(timings_path):
-        for row in read_csv(timings_path):
+        for row in read_csv_block(timings_path, ("configuration", "phase", "ours ms")):
             name = row["configuration"]
             if not name.endswith(" s8 d2") and not name.endswith("rah-quadtree"):
                 continue
