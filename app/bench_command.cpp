@@ -103,12 +103,12 @@ ExitCode RunBench(const BenchArgs& args) {
   std::vector<const BenchConfig*> configs = ParseBenchConfigs(args.configs.empty() ? DefaultBenchConfigs() : args.configs);
   // The object tree has only the conservative test: without --configs its configurations are left out,
   // a named one is refused before the first frame.
-  if (args.faithful.cone_test == "printed") {
+  if (args.faithful.cone_test != "conservative") {
     if (args.configs.empty()) std::erase_if(configs, [](const BenchConfig* c) { return c->objects == "tree"; });
     for (const BenchConfig* c : configs)
       if (c->objects == "tree")
-        ThrowInput("--cone-test printed: configuration '{}' traces the object tree, which has only the conservative test",
-                   c->name);
+        ThrowInput("--cone-test {}: configuration '{}' traces the object tree, which has only the conservative test",
+                   args.faithful.cone_test, c->name);
   }
   OutputFile json = CheckInputsAndOutput(args);
   const ScopedSettings threads([&](Settings& s) { s.threads = args.threads > 0 ? args.threads : s.threads; });

@@ -83,9 +83,11 @@ void AddFaithfulOptions(CLI::App& command, FaithfulArgs& args) {
                    "Merge all of the scene's objects into one (one bounding sphere), as the thesis's Sponza; same hits");
   command
       .add_option("--cone-test", args.cone_test,
-                  "The traversal's cone-sphere test: conservative (never loses a hit) or printed (the thesis's eq. 3.16 "
-                  "as printed, no margins; it can lose hits, which the oracle counts); printed traces --objects flat")
-      ->check(CLI::IsMember({"conservative", "printed"}))
+                  "The traversal's cone-sphere test: conservative (never loses a hit), printed (the thesis's eq. 3.16 "
+                  "as printed, no margins; it can lose hits, which the oracle counts) or printed-signed (the same without "
+                  "the absolute value of the distance along the axis: one cone, not two apex to apex); the printed ones "
+                  "trace --objects flat")
+      ->check(CLI::IsMember({"conservative", "printed", "printed-signed"}))
       ->capture_default_str();
   command
       .add_option("--leaf-test", args.leaf_test,

@@ -550,6 +550,9 @@ diff_case(cornell.crsh.faithful.cone_test cornell-mirrors 64x64 "" 0 "" --cone-t
 diff_case(office.crsh.faithful.cone_test.fused office 64x64 "" 0 "" --cone-test printed --path fused)
 diff_case(cornell.rah.faithful.cone_test cornell-mirrors 64x64 "" 0 "" --cone-test printed --algo rah)
 diff_case(glass.rah.faithful.cone_test.fused glass 64x64 "" 0 "" --cone-test printed --algo rah --path fused)
+# --cone-test printed-signed: the same without the absolute value, the same pairs on both backends.
+diff_case(cornell.crsh.faithful.cone_test_signed cornell-mirrors 64x64 "" 0 "" --cone-test printed-signed)
+diff_case(office.crsh.faithful.cone_test_signed.fused office 64x64 "" 0 "" --cone-test printed-signed --path fused)
 # Roger et al.'s leaf test (--leaf-test ray-sphere): each ray of a surviving leaf node against the
 # triangle's sphere before its ray-triangle test; the per-pair counts and the hits equal on both
 # backends, for each hierarchy, on the passes and on the fused path.

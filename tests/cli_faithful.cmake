@@ -83,6 +83,13 @@ string(JSON printed_tests GET "${printed_stats}" total_tests)
 if(flat_tests EQUAL printed_tests)
   string(APPEND FAILURES "\n--cone-test printed: ${printed_tests} tests, as many as the conservative test's")
 endif()
+# printed-signed: one cone, not two apex to apex: fewer pairs kept than the printed test's.
+render_stats(signed cornell-mirrors --cone-test printed-signed)
+expect_equal_json(flat signed "--cone-test printed-signed: rays" rays)
+string(JSON signed_tests GET "${signed_stats}" total_tests)
+if(NOT signed_tests LESS printed_tests)
+  string(APPEND FAILURES "\n--cone-test printed-signed: ${signed_tests} tests, not fewer than the printed test's ${printed_tests}")
+endif()
 
 # --faithful thesis: the same frame as its switches given one by one (the preset is only a list of
 # switches), and a switch given beside it wins over the preset's value.

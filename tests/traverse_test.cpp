@@ -374,6 +374,16 @@ TEST_CASE("cone: the test as printed (eq. 3.16) rejects what the exact geometry 
   n.cone.w = 0.99f;
   n.extra.x = 0.14106736f;
   CHECK(emu::cone::PrintedTest(n, glm::vec4(0.0f, 0.0f, 10.0f, 0.5f)));
+  // The same sphere behind the apex: |C - H| makes the printed test a double cone that keeps it
+  // (10 x 0.1425 + 0.5 / 0.99 = 1.93 >= 0); without the absolute value (printed-signed) the left side
+  // is -1.425 + 0.505 < 0 and it is rejected, as the exact geometry says.
+  const glm::vec4 behind(0.0f, 0.0f, -10.0f, 0.5f);
+  CHECK_FALSE(refs::ExactNodeMeetsSphere(n, behind));
+  CHECK(emu::cone::PrintedTest(n, behind));
+  CHECK(emu::cone::TestBy(layout::kConeTestPrinted, n, behind, 0.0f));
+  CHECK_FALSE(emu::cone::PrintedSignedTest(n, behind, 0.0f));
+  CHECK_FALSE(emu::cone::TestBy(layout::kConeTestPrintedSigned, n, behind, 0.0f));
+  CHECK(emu::cone::PrintedSignedTest(n, glm::vec4(0.0f, 0.0f, 10.0f, 0.5f), 0.0f));
   // The traversal's eps widens the sphere: a sphere 1 off a zero-angle cone's axis needs r + eps >= 1.
   n.cone.w = 1.0f;
   n.extra.x = 0.0f;
@@ -409,9 +419,21 @@ TEST_CASE("traverse: cone_test printed runs eq. 3.16 in every traversal pass, th
   om.cone_test = layout::kConeTestPrinted;
   CHECK(PassObjectMask(om) == ObjectMaskWith(printed, om));
   CHECK(PassObjectMask(om) != mask_conservative);
+  // printed-signed, in the same passes: its own pairs.
+  const auto signed_test = [](const layout::ConeNode& n, glm::vec4 s, float eps) { return emu::cone::PrintedSignedTest(n, s, eps); };
+  call::TraverseTop top_signed = tc.Call(0, 150, 0, 170, false, 0.05f);
+  top_signed.cone_test = layout::kConeTestPrintedSigned;
+  const Compacted ps = CheckMirror(top_signed);
+  CHECK(Same(ps, TraverseTopCompactedWith(signed_test, top_signed)));
+  level.cone_test = layout::kConeTestPrintedSigned;
+  const Compacted ls = CheckMirror(level);
+  CHECK(Same(ls, TraverseLevelCompactedWith(signed_test, level)));
+  CHECK(ls.pairs != p.pairs);
+  om.cone_test = layout::kConeTestPrintedSigned;
+  CHECK(PassObjectMask(om) == ObjectMaskWith(signed_test, om));
   // An unknown test is refused with the call's name.
-  om.cone_test = 2;
-  CHECK_THROWS_WITH_AS(CheckInputs(om), doctest::Contains("traverse.objects: cone_test 2"), InputError);
+  om.cone_test = 3;
+  CHECK_THROWS_WITH_AS(CheckInputs(om), doctest::Contains("traverse.objects: cone_test 3"), InputError);
 }
 
 TEST_CASE("hierarchy: --cone-test printed changes what a real frame's traversal keeps, on both emulated paths") {

@@ -175,8 +175,8 @@ void CheckInputs(const call::BuildParents& c) {
 
 namespace {
 void CheckConeTest(std::string_view call, std::uint32_t cone_test) {
-  if (cone_test != layout::kConeTestConservative && cone_test != layout::kConeTestPrinted)
-    ThrowInput("{}: cone_test {} is neither conservative (0) nor printed (1)", call, cone_test);
+  if (cone_test != layout::kConeTestConservative && cone_test != layout::kConeTestPrinted && cone_test != layout::kConeTestPrintedSigned)
+    ThrowInput("{}: cone_test {} is neither conservative (0), printed (1) nor printed-signed (2)", call, cone_test);
 }
 }  // namespace
 

@@ -68,7 +68,8 @@ class Impl final : public HierarchyTracer {
     RS_CHECK(cfg.subdivision >= 2 && cfg.depth >= 1 && cfg.component_size >= 1);
     RS_CHECK(cfg.max_batch_triangles >= 1 && cfg.max_batch_triangles <= (1u << kTriBits));
     RS_CHECK_MSG(cfg.cone_test == layout::kConeTestConservative ||
-                     (cfg.cone_test == layout::kConeTestPrinted && !cfg.object_tree && cfg.auto_tree_spread <= 0.0f),
+                     ((cfg.cone_test == layout::kConeTestPrinted || cfg.cone_test == layout::kConeTestPrintedSigned) && !cfg.object_tree &&
+                      cfg.auto_tree_spread <= 0.0f),
                  "cone test {}: the object tree's descent has only the conservative test", cfg.cone_test);
 
     eps_ = TraversalEpsilon(scene);
@@ -93,6 +94,7 @@ class Impl final : public HierarchyTracer {
     out["object_spheres"] = cfg_.algorithm == Algorithm::kCrsh;
     out["backend"] = passes_.Name();
     if (cfg_.cone_test == layout::kConeTestPrinted) out["cone_test"] = "printed";  // the default's description unchanged
+    if (cfg_.cone_test == layout::kConeTestPrintedSigned) out["cone_test"] = "printed-signed";
   }
   void Prepare(const std::vector<glm::vec4>& tri_spheres, const std::vector<glm::vec4>& obj_spheres) override {
     RS_CHECK(tri_spheres.size() == scene_.triangles.size() && obj_spheres.size() == scene_.objects.size());

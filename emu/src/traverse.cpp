@@ -22,6 +22,7 @@ constexpr std::string_view kCompactPass = "traverse.compact";
 // Chosen once per call, so the default loops keep the conservative test inlined with no branch.
 template <typename Loop, typename Call>
 auto WithConeTest(Loop&& loop, const Call& c) {
+  if (c.cone_test == layout::kConeTestPrintedSigned) return loop(cone::kPrintedSignedTestFn, c);
   return c.cone_test == layout::kConeTestPrinted ? loop(cone::kPrintedTestFn, c) : loop(cone::kTestFn, c);
 }
 }  // namespace

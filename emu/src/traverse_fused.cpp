@@ -105,6 +105,7 @@ cone::Isa FusedIsa() {
 // --cone-test printed has no lanes: the scalar fused loops give the same slot order and test counts.
 Compacted PassTraverseTopCompacted(const call::TraverseTop& c) {
   if (c.cone_test == layout::kConeTestPrinted) return TraverseTopCompactedWith(cone::kPrintedTestFn, c);
+  if (c.cone_test == layout::kConeTestPrintedSigned) return TraverseTopCompactedWith(cone::kPrintedSignedTestFn, c);
   const std::uint32_t T = c.b1 - c.b0;
   const std::size_t grid = static_cast<std::size_t>(c.t1 - c.t0) * T;
   const std::span<const glm::vec4> batch = c.tri_spheres.subspan(c.b0, T);
@@ -125,6 +126,7 @@ Compacted PassTraverseTopCompacted(const call::TraverseTop& c) {
 
 Compacted PassTraverseLevelCompacted(const call::TraverseLevel& c) {
   if (c.cone_test == layout::kConeTestPrinted) return TraverseLevelCompactedWith(cone::kPrintedTestFn, c);
+  if (c.cone_test == layout::kConeTestPrintedSigned) return TraverseLevelCompactedWith(cone::kPrintedSignedTestFn, c);
   const cone::NodeArrays nodes = cone::ToArrays(c.nodes);
   const cone::PairLevel lv{c.pairs, c.first, c.base_up, c.base, c.tri_spheres.data() + c.b0};
   const std::size_t per_block = std::max<std::size_t>(1, kFusedBlock / std::max<std::uint32_t>(c.children_max, 1));

@@ -15,9 +15,9 @@ void ApplyFaithful(const FaithfulArgs& args, emu::HierarchyConfig& hc) {
   hc.hash.polar_bits = hc.hash.azimuth_bits = args.hash_bits;
   hc.leaf_test = args.leaf_test == "ray-sphere" ? layout::kLeafTestRaySphere : layout::kLeafTestNode;
   hc.child_merge = args.child_merge == "pairwise" ? layout::kChildMergePairwise : layout::kChildMergeSequential;
-  if (args.cone_test != "printed") return;
-  if (hc.object_tree) ThrowInput("--cone-test printed: the object tree (--objects tree) has only the conservative test");
-  hc.cone_test = layout::kConeTestPrinted;
+  if (args.cone_test != "printed" && args.cone_test != "printed-signed") return;
+  if (hc.object_tree) ThrowInput("--cone-test {}: the object tree (--objects tree) has only the conservative test", args.cone_test);
+  hc.cone_test = args.cone_test == "printed" ? layout::kConeTestPrinted : layout::kConeTestPrintedSigned;
   hc.auto_tree_spread = 0.0f;  // --objects auto: flat, the only descent with the printed test
   hc.auto_tree_triangles = 0;
 }

@@ -176,7 +176,8 @@ bool ConeTest(ConeNode n, vec4 sphere, float eps) {
 // eps widening the sphere; the same operations in the same order, each rounded on its own (precise:
 // no contraction into FMAs), so both backends keep the same pairs. Cones at or past a half-space
 // (cos alpha <= 0) are kept, where the equation's division by cos alpha would flip its sense.
-bool PrintedConeTest(ConeNode n, vec4 sphere, float eps) {
+// `signed_axis` (kConeTestPrintedSigned): the distance along the axis without its absolute value.
+bool PrintedConeTest(ConeNode n, vec4 sphere, float eps, bool signed_axis) {
   const float c = n.cone.w, s = n.extra.x;
   if (!(c > 0.0)) return true;
   precise const float r = sphere.w + eps;
@@ -185,11 +186,12 @@ bool PrintedConeTest(ConeNode n, vec4 sphere, float eps) {
   const float a = Dot3(v, x);
   precise const vec3 off = v - x * a;
   precise const float reach = n.sphere.w + r;
-  precise const float lhs = abs(a) * Div(s, c) + Div(reach, c);
+  precise const float lhs = (signed_axis ? a : abs(a)) * Div(s, c) + Div(reach, c);
   return lhs >= Length3(off);
 }
 
-// The test the push block's cone_test names (kConeTestConservative or kConeTestPrinted).
+// The test the push block's cone_test names (kConeTestConservative, kConeTestPrinted or
+// kConeTestPrintedSigned).
 bool ConeTestBy(uint cone_test, ConeNode n, vec4 sphere, float eps) {
-  return cone_test == kConeTestPrinted ? PrintedConeTest(n, sphere, eps) : ConeTest(n, sphere, eps);
+  return cone_test == kConeTestConservative ? ConeTest(n, sphere, eps) : PrintedConeTest(n, sphere, eps, cone_test == kConeTestPrintedSigned);
 }

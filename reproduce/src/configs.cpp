@@ -103,6 +103,7 @@ const std::vector<std::vector<std::string>>& AblationSwitches() {
   static const std::vector<std::vector<std::string>> variants = {
       {},
       {"--cone-test", "printed"},
+      {"--cone-test", "printed-signed"},
       {"--hash-order", "polar-first"},
       {"--hash-bits", "8"},
       {"--hash-order", "polar-first", "--hash-bits", "8"},

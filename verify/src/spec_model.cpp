@@ -495,6 +495,8 @@ bool TestMayFlip(const layout::ConeNode& n, glm::vec4 sphere, float eps, std::ui
   ScopedSpecTrace trace(flush);
   if (cone_test == layout::kConeTestPrinted)
     (void)emu::cone::PrintedTestOf<SpecReal>(n, sphere, eps);
+  else if (cone_test == layout::kConeTestPrintedSigned)
+    (void)emu::cone::PrintedTestOf<SpecReal, true>(n, sphere, eps);
   else
     (void)emu::cone::TestOf<SpecReal>(n, sphere, eps);
   return trace.trace().ambiguous != 0;

@@ -255,11 +255,13 @@ RS_CONST(uint, kTraversePhaseObjects, 2u);    // top nodes x object spheres (CRS
 RS_CONST(uint, kTraverseTopRun, 8u);
 // Which cone-sphere test the traversal runs (--cone-test; docs/hierarchy.md, "Faithful to the
 // thesis"): the conservative one (cone.glsl ConeTest, emu cone::Test) or eq. 3.16 as the thesis prints
-// it (PrintedConeTest, emu cone::PrintedTest), which can lose hits. A push field, not a specialization
-// constant: it is a frame's data like eps, carried by the emulator's calls and their saved replays,
-// and one pipeline serves both.
+// it (PrintedConeTest, emu cone::PrintedTest), which can lose hits, or the same without the absolute
+// value of the distance along the axis (kConeTestPrintedSigned: one cone, not two apex to apex). A push
+// field, not a specialization constant: it is a frame's data like eps, carried by the emulator's calls
+// and their saved replays, and one pipeline serves all three.
 RS_CONST(uint, kConeTestConservative, 0u);
 RS_CONST(uint, kConeTestPrinted, 1u);
+RS_CONST(uint, kConeTestPrintedSigned, 2u);
 struct TraversePush {
   uint phase;
   uint count;

@@ -272,7 +272,9 @@ inline bool RayMayMeetSphere(const layout::Ray& r, glm::vec4 sphere, float eps) 
 // evaluate the printed test the same way (cone.glsl PrintedConeTest: the same operations in order).
 // The traversal's absolute margin eps widens the sphere. Templated over the scalar like TestOf
 // (verify::SpecReal bounds what a device may decide).
-template <typename S>
+// `signed_axis` (--cone-test printed-signed): the distance along the axis without its absolute value,
+// one cone opening forward, where |C - H| makes two apex to apex.
+template <typename S, bool signed_axis = false>
 [[gnu::always_inline]] inline bool PrintedTestOf(const layout::ConeNode& n, glm::vec4 sphere, float eps) {
   using V = Vec3<S>;
   const S c(n.cone.w), s(n.extra.x);
@@ -281,9 +283,13 @@ template <typename S>
   const V v = V(Xyz(sphere)) - V(Xyz(n.sphere)), x = V(Xyz(n.cone));
   const S a = Dot(v, x);
   const V off = v - x * a;
+  if constexpr (signed_axis) return a * (s / c) + (S(n.sphere.w) + r) / c >= Length(off);
   return Abs(a) * (s / c) + (S(n.sphere.w) + r) / c >= Length(off);
 }
 inline bool PrintedTest(const layout::ConeNode& n, glm::vec4 sphere, float eps) { return PrintedTestOf<float>(n, sphere, eps); }
+inline bool PrintedSignedTest(const layout::ConeNode& n, glm::vec4 sphere, float eps) {
+  return PrintedTestOf<float, true>(n, sphere, eps);
+}
 // The geometric question alone (accuracy's per-query table): no margin, sphere.w + 0 = sphere.w.
 inline bool PrintedTest(const layout::ConeNode& n, glm::vec4 sphere) { return PrintedTest(n, sphere, 0.0f); }
 
@@ -292,10 +298,15 @@ inline constexpr auto kTestFn = [](const layout::ConeNode& n, glm::vec4 sphere, 
 inline constexpr auto kPrintedTestFn = [](const layout::ConeNode& n, glm::vec4 sphere, float eps) {
   return PrintedTest(n, sphere, eps);
 };
+inline constexpr auto kPrintedSignedTestFn = [](const layout::ConeNode& n, glm::vec4 sphere, float eps) {
+  return PrintedSignedTest(n, sphere, eps);
+};
 
 // The test a traversal's cone_test (layout::kConeTest*) names.
 [[gnu::always_inline]] inline bool TestBy(std::uint32_t cone_test, const layout::ConeNode& n, glm::vec4 sphere, float eps) {
-  return cone_test == layout::kConeTestPrinted ? PrintedTest(n, sphere, eps) : Test(n, sphere, eps);
+  return cone_test == layout::kConeTestPrinted         ? PrintedTest(n, sphere, eps)
+         : cone_test == layout::kConeTestPrintedSigned ? PrintedSignedTest(n, sphere, eps)
+                                                       : Test(n, sphere, eps);
 }
 
 // One step of a leaf build: the node grown by one ray (origin o, unit direction r) with eqs. 3.8-3.11

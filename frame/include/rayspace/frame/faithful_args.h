@@ -18,7 +18,7 @@ struct FaithfulArgs {
   std::string shadow_rule = "all";                       // --shadow-rule all|lit
   std::string shadow_bounces = "all";                    // --shadow-bounces all|first
   bool one_object = false;                               // --one-object
-  std::string cone_test = "conservative";                // --cone-test conservative|printed
+  std::string cone_test = "conservative";                // --cone-test conservative|printed|printed-signed
   std::string leaf_test = "node";                        // --leaf-test node|ray-sphere
   std::string child_merge = "sequential";                // --child-merge sequential|pairwise
 };
