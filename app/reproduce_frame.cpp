@@ -3,6 +3,8 @@
 #include <mutex>
 
 #include "rayspace/frame/render_frame.h"
+#include "rayspace/parallel.h"
+#include "rayspace/settings.h"
 #include "frame_options.h"
 
 namespace rayspace::reproduce {
@@ -71,6 +73,8 @@ std::mutex g_backend_mutex;
 
 FrameOutput RenderConfig(const Config& c, const Scene& scene, const SceneBuffers& buffers) {
   const app::RenderArgs args = Args(c);
+  // A configuration with its own thread count (hunt-mark's scaling) runs with it; the others with the run's.
+  const ScopedSettings threads([&](Settings& s) { s.threads = c.threads > 0 ? c.threads : s.threads; });
   emu::FrameOptions fo;
   fo.width = c.width;
   fo.height = c.height;
@@ -92,7 +96,7 @@ FrameOutput RenderConfig(const Config& c, const Scene& scene, const SceneBuffers
   nlohmann::json passes = nlohmann::json::array();
   for (const emu::PassRecord& p : f->result.passes)
     if (p.ran) passes.push_back({{"pass", p.name}, {"ms", p.ms}});
-  out.timings = {{"frame_ms", f->result.total_ms}, {"phases", phases}, {"passes", passes}};
+  out.timings = {{"frame_ms", f->result.total_ms}, {"phases", phases}, {"passes", passes}, {"threads", ThreadCount()}};
   // The grids' build time is a time: with the timings, out of the reproducible statistics.
   if (out.statistics.contains("grids")) {
     out.timings["grid_build_ms"] = out.statistics["grids"].value("build_ms", 0.0);

@@ -310,6 +310,13 @@ TEST_CASE("reproduce: the canonical text names every setting, and keeps the defa
   CHECK(grid.RenderArgs().find(" --grid-regular-cells 160000") != std::string::npos);
   r.config = grid;
   CHECK(ResultFromJson(ToJson(r), "a result").config.grid_regular_cells == 160000u);
+  // A configuration's own thread count (hunt-mark's scaling) names its results too.
+  grid.threads = 1;
+  CHECK(grid.Canonical().ends_with("backend=emu threads=1"));
+  CHECK(grid.RenderArgs().find(" --threads 1") != std::string::npos);
+  CHECK(grid.Name().ends_with(" threads 1"));
+  r.config = grid;
+  CHECK(ResultFromJson(ToJson(r), "a result").config.threads == 1);
 }
 
 TEST_CASE("reproduce toczek: the node definition is the traversal event closest to the fit row, never a scale") {

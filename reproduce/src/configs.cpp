@@ -65,6 +65,7 @@ std::string Config::Canonical() const {
     faithful_text += "]";
   }
   if (one_object) faithful_text += " one-object";
+  if (threads > 0) faithful_text += fmt::format(" threads={}", threads);
   return fmt::format("target={} scene={} file={} algo={} {} bounces={} size={}x{} objects=flat backend=emu{}{}", target, scene,
                      scene_file, algo, shape, bounces, width, height, path.empty() ? "" : " path=" + path, faithful_text);
 }
@@ -80,6 +81,7 @@ std::string Config::Name() const {
   const std::string sized = target == "thesis" ? name : fmt::format("{} {}x{}", name, width, height);
   std::string with;
   for (const std::string& w : switches) with += " " + w;
+  if (threads > 0) with += fmt::format(" threads {}", threads);
   return (faithful.empty() ? sized : sized + " faithful") + with;
 }
 
@@ -94,6 +96,7 @@ std::string Config::RenderArgs() const {
   std::string faithful_args =
       faithful.empty() ? "" : fmt::format(" --faithful {}{}", faithful, one_object ? " --one-object" : "");
   for (const std::string& w : switches) faithful_args += " " + w;
+  if (threads > 0) faithful_args += fmt::format(" --threads {}", threads);
   return fmt::format("scenes/{} --algo {}{} --bounces {} --objects flat --size {}x{}{}{} --no-oracle", scene_file, algo, shape,
                      bounces, width, height, path.empty() ? "" : " --path " + path, faithful_args);
 }

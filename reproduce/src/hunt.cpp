@@ -36,6 +36,13 @@ std::vector<Config> HuntConfigs(int width, int height) {
     if (s.table == 1) {
       c.primary = true;  // eye rays through the eye's grid
       configs.push_back(c);
+      // The traversal's scaling with threads (the paper: "around 90% of linear with 8 cores"): the
+      // largest bunny and the conference room again on one thread.
+      if (s.name == "BUNNY-69K" || s.name == "CONFERENCE") {
+        c.threads = 1;
+        configs.push_back(c);
+        c.threads = 0;
+      }
     } else {
       // The regular grid 54 along the longest side (rayspace's default), then sized to the
       // perspective grid's cells of one face (the fitted reading).
@@ -68,9 +75,11 @@ const std::vector<Table1Row>& PaperTable1() {
 constexpr double kPaperRegularSteps = 52.0, kPaperPerspectiveSteps = 12.7;  // table 5, Courtyard
 
 const Result* FindScene(const std::vector<const Result*>& results, const std::string& scene, const std::string& area = "",
-                        std::uint64_t regular_cells = 0) {
+                        std::uint64_t regular_cells = 0, int threads = 0) {
   for (const Result* r : results)
-    if (r->config.scene == scene && r->config.grid_area == area && r->config.grid_regular_cells == regular_cells) return r;
+    if (r->config.scene == scene && r->config.grid_area == area && r->config.grid_regular_cells == regular_cells &&
+        r->config.threads == threads)
+      return r;
   return nullptr;
 }
 
@@ -239,6 +248,31 @@ Table Table1(const std::vector<const Result*>& results) {
 
 }  // namespace
 
+// The traversal's scaling: each scene's grid.trace on one thread against the run's threads.
+constexpr double kPaperScaling = 0.9, kScalingWell = 0.8;
+Table ScalingTable(const std::vector<const Result*>& results) {
+  Table t{"hunt-scaling", "Hunt and Mark section 6: the traversal's scaling with threads (ours: this run, this machine)",
+          {"scene", "threads", "grid.trace ms, 1 thread", "grid.trace ms", "speed-up", "of linear", "relation", "ours", "published"},
+          {}, {}};
+  for (const HuntScene& s : HuntScenes()) {
+    const Result* one = FindScene(results, s.name, "", 0, 1);
+    const Result* many = FindScene(results, s.name);
+    if (!one || !many) continue;
+    const int n = many->timings.value("threads", 0);
+    const double t1 = PassMs(*one, "grid.trace"), tn = PassMs(*many, "grid.trace");
+    const double speedup = tn > 0 ? t1 / tn : 0.0, of_linear = n > 0 ? speedup / n : 0.0;
+    t.rows.push_back({s.name, std::to_string(n), fmt::format("{:.1f}", t1), fmt::format("{:.1f}", tn), fmt::format("x{:.2f}", speedup),
+                      fmt::format("{:.0f}%", 100 * of_linear), "the traversal scales at least 80 % of linear",
+                      n > 1 && of_linear >= kScalingWell ? "holds" : "fails", fmt::format("holds (about {:.0f}% with 8 cores)", 100 * kPaperScaling)});
+  }
+  t.notes.push_back(
+      "The paper (section 6): \"We have already parallelized the traversal algorithm, and as expected we observe good scaling "
+      "(around 90% of linear with 8 cores)\"; its build was not parallel. Ours: the eye and shadow rays' grid.trace passes "
+      "(the build excluded, as the paper's claim), one thread against the run's (cores / --jobs); the 80 % bound is the "
+      "project's reading of \"good scaling\". A machine shared with other work lowers the speed-up.");
+  return t;
+}
+
 void AddHuntReport(Report& report, Report& timings, const std::vector<const Result*>& results) {
   if (results.empty()) return;
   std::vector<std::vector<std::string>> verdicts;
@@ -255,6 +289,7 @@ void AddHuntReport(Report& report, Report& timings, const std::vector<const Resu
     report.tables.push_back(std::move(t5));
   }
   if (t1.rows.size() > PaperTable1().size()) timings.tables.push_back(std::move(t1));  // some of ours beside the published
+  if (Table scaling = ScalingTable(results); !scaling.rows.empty()) timings.tables.push_back(std::move(scaling));
 }
 
 }  // namespace rayspace::reproduce

@@ -128,11 +128,11 @@ std::vector<const Result*> TableOrder(std::vector<const Result*> sorted) {
     return std::make_tuple(a->config.target, scene_rank(a->config.scene), a->config.quadtree(), a->config.subdivision, a->config.levels,
                            a->config.algo, a->config.width, a->config.height, a->config.faithful, a->config.one_object, a->config.path,
                            a->config.lists, a->config.node_order, a->config.cull, a->config.heads, a->config.primary,
-                           a->config.frustum, a->config.grid_area, a->config.grid_regular_cells) <
+                           a->config.frustum, a->config.grid_area, a->config.grid_regular_cells, a->config.threads) <
            std::make_tuple(b->config.target, scene_rank(b->config.scene), b->config.quadtree(), b->config.subdivision, b->config.levels,
                            b->config.algo, b->config.width, b->config.height, b->config.faithful, b->config.one_object, b->config.path,
                            b->config.lists, b->config.node_order, b->config.cull, b->config.heads, b->config.primary,
-                           b->config.frustum, b->config.grid_area, b->config.grid_regular_cells);
+                           b->config.frustum, b->config.grid_area, b->config.grid_regular_cells, b->config.threads);
   });
   return sorted;
 }

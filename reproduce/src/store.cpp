@@ -50,6 +50,7 @@ nlohmann::json ConfigJson(const Config& c) {
   if (c.frustum) j["frustum"] = true;
   if (!c.grid_area.empty()) j["grid_area"] = c.grid_area;
   if (c.grid_regular_cells) j["grid_regular_cells"] = c.grid_regular_cells;
+  if (c.threads > 0) j["threads"] = c.threads;
   return j;
 }
 
@@ -76,6 +77,7 @@ Config ConfigFromJson(const nlohmann::json& j) {
   c.frustum = j.value("frustum", false);
   c.grid_area = j.value("grid_area", std::string());
   c.grid_regular_cells = j.value("grid_regular_cells", std::uint64_t{0});
+  c.threads = j.value("threads", 0);
   return c;
 }
 

@@ -60,6 +60,8 @@ struct Config {
   std::string grid_area;
   // --grid-regular-cells (0: not given, the regular grid is 54 along the longest side).
   std::uint64_t grid_regular_cells = 0;
+  // The frame's worker threads (hunt-mark's thread scaling); 0: the run's (cores / --jobs).
+  int threads = 0;
   bool grid() const { return algo == "grid"; }
   bool tl() const { return algo == "tl"; }
   bool quadtree() const { return algo == "rah-quadtree"; }
