@@ -37,6 +37,10 @@ inline constexpr double kHuntRatioTolerance = 0.25;
 
 inline constexpr const char* kHuntFewerSteps = "a 3D perspective grid needs fewer cells per soft-shadow ray than a regular grid (table 5)";
 inline constexpr const char* kHuntRaysFall = "rays per second fall from the smallest bunny to the largest (table 1)";
+inline constexpr const char* kHuntHardSlower = "hard-shadow rays are not quite as fast as eye rays, in rays per second (table 1's text)";
+inline constexpr const char* kHuntSoftSlower =
+    "soft-shadow rays are substantially slower than hard-shadow rays, under half their rays per second (table 1's text)";
+inline constexpr const char* kHuntSoftBuild = "the build is a smaller share of the frame for soft shadows than for hard shadows (table 1's text)";
 inline constexpr const char* kHuntBuildRises = "the build's share of the frame rises from the smallest bunny to the largest (table 1)";
 
 // Table 5 and the relations on counts into `report`; table 1 (times) into `timings`.
