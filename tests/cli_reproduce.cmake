@@ -160,8 +160,9 @@ if(NOT EXISTS "${WORK}/hunt-mark-first/timing-plots/table-hunt-1.svg")
 endif()
 # The toczek target's results stay out of the thesis's phase timings.
 file(READ "${WORK}/toczek-first/timings.csv" toczek_timings)
-if(toczek_timings MATCHES "CUBES|BUNNY|DRAGON|SUZANNE")
-  set(FAILURES "${FAILURES}\n  [toczek] timings.csv holds toczek rows")
+# Its own times (section 4's 6 lists against 1) are there; none of its frames is in the thesis's phase table.
+if(toczek_timings MATCHES "tl K[0-9]" OR NOT toczek_timings MATCHES "6 lists trace faster than 1")
+  set(FAILURES "${FAILURES}\n  [toczek] timings.csv holds toczek frames in the phase table, or lacks the 6-lists claim")
 endif()
 file(MAKE_DIRECTORY "${WORK}/nobunny")
 expect_error(NAME roger-data NEEDLES "bunny/bun_zipper_res4.ply: missing under the data root"
