@@ -151,6 +151,13 @@ void StepRegular(Walk& k, float tmin, float tmax) {
   }
 }
 
+// The core cube's part of an area light's shadow ray: the regular grid's cells, counted apart too.
+void StepCore(Walk& k, float t0, float t1) {
+  const std::uint32_t before = k.steps;
+  StepRegular(k, t0, t1);
+  k.core_steps += k.steps - before;
+}
+
 // An area light's shadow ray through its 3D perspective grid: the part in the core through the
 // regular grid, the part in each face's frustum through the face's cells, in order of entry, each each a 3D DDA along the straight line the ray is in perspective
 // space (Hunt and Mark 5.3). Returns early on a hit (shadow) or once the best hit lies before where
@@ -189,9 +196,7 @@ void StepVolume(Walk& k, std::uint32_t index) {
     const float t0 = r0[s], t1 = r1[s];
     if (k.best != kMissPacked && HitT(k.best) < t0) return;
     if (s == layout::kGridFaces) {  // the core: the regular grid's cells
-      const std::uint32_t before = k.steps;
-      StepRegular(k, t0, t1);
-      k.core_steps += k.steps - before;
+      StepCore(k, t0, t1);
       if (k.Done()) return;
       continue;
     }
