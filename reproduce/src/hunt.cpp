@@ -100,18 +100,6 @@ std::uint64_t Triangles(const Result& r) {
   return 0;
 }
 
-// A pass's time from the frame's timings (grid.trace.primary.b0, ...), summed over the passes whose
-// name starts with `prefix`; or over those named exactly `prefix` (grid.build, the lights' grids,
-// apart from grid.build.eye).
-double PassMs(const Result& r, const std::string& prefix, bool exact = false) {
-  double ms = 0;
-  for (const nlohmann::json& p : r.timings.value("passes", nlohmann::json::array())) {
-    const std::string name = p.value("pass", std::string());
-    if (exact ? name == prefix : name.rfind(prefix, 0) == 0) ms += p.value("ms", 0.0);
-  }
-  return ms;
-}
-
 void AddRelation(Table& t, std::vector<std::vector<std::string>>& rows, const std::string& relation, const std::string& where,
                  const Outcome& ours, const Outcome& published) {
   t.notes.push_back(fmt::format("- {}: {}: ours {} ({}); published {} ({})", where, relation, ours.holds ? "holds" : "fails", ours.detail,

@@ -44,14 +44,16 @@ Outcome RahTopLevel(const Measurement& rah, int depth) {
   return Equal(top, expected);
 }
 
-Outcome Identity(const Measurement& m, int subdivision) {
+std::uint64_t AccountedTotal(const Measurement& m, int subdivision) {
   std::uint64_t sum = 0;
   for (const auto& [type, levels] : m.levels) {
     for (const LevelCounts& l : levels) sum += l.intersections;
     if (!levels.empty()) sum += levels[0].hits * static_cast<std::uint64_t>(subdivision);
   }
-  return Equal(m.total, sum);
+  return sum;
 }
+
+Outcome Identity(const Measurement& m, int subdivision) { return Equal(m.total, AccountedTotal(m, subdivision)); }
 
 std::optional<Measurement> PublishedMeasurement(const Published& p, HierarchyShape s, const std::string& scene,
                                                 const std::string& algorithm) {

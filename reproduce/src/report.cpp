@@ -303,19 +303,14 @@ Table MisprintsTable(const Published& p) {
     for (const SceneChoice& sc : ThesisScenes())
       for (const char* alg : {"RAH", "CRSH"}) {
         const std::optional<Measurement> m = PublishedMeasurement(p, s, sc.paper, alg);
-        if (!m || Identity(*m, s.subdivision).holds) continue;
-        std::string terms;
-        std::uint64_t sum = 0;
+        if (!m || m->total == AccountedTotal(*m, s.subdivision)) continue;
+        std::string terms;  // AccountedTotal's terms, written out
         for (const auto& [type, levels] : m->levels) {
-          for (std::size_t L = levels.size(); L-- > 0;) {
+          for (std::size_t L = levels.size(); L-- > 0;)
             terms += fmt::format("{}{} level {} {}", terms.empty() ? "" : " + ", type, L + 1, Thousands(levels[L].intersections));
-            sum += levels[L].intersections;
-          }
-          if (!levels.empty()) {
-            terms += fmt::format(" + {} level-1 hits {} x {}", type, Thousands(levels[0].hits), s.subdivision);
-            sum += levels[0].hits * static_cast<std::uint64_t>(s.subdivision);
-          }
+          if (!levels.empty()) terms += fmt::format(" + {} level-1 hits {} x {}", type, Thousands(levels[0].hits), s.subdivision);
         }
+        const std::uint64_t sum = AccountedTotal(*m, s.subdivision);
         std::string equals;
         for (const auto& [key, total] : p.totals)
           if (total.first == m->total && !(std::get<0>(key) == s.subdivision && std::get<1>(key) == s.depth && std::get<2>(key) == sc.paper &&

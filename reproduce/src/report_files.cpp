@@ -26,14 +26,18 @@ nlohmann::json ResultsJson(const std::vector<const Result*>& sorted) {
   return {{"version", Version()}, {"configurations", list}};
 }
 
-// The thesis's ms per frame of a phase (tables 4.25-4.27: subdivision 8, depth 2), or -1.
+// The thesis's ms per frame of a phase of a scene's RAH or CRSH frame (tables 4.25-4.27), or -1.
+double PublishedMs(const Published& p, const std::string& scene, const std::string& algorithm, const std::string& phase) {
+  for (const PublishedTiming& t : p.timings)
+    if (t.scene == scene && t.algorithm == algorithm && t.phase == phase) return t.total_ms_58_frames / 58.0;
+  return -1.0;
+}
+// The same for a result: the tables' configuration is subdivision 8, depth 2.
 double PublishedMs(const Published& p, const Result& r, const std::string& phase) {
   if (r.config.subdivision != 8 || r.config.levels != 2 || r.config.quadtree()) return -1.0;
   std::string alg = r.config.algo;
   for (char& c : alg) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  for (const PublishedTiming& t : p.timings)
-    if (t.scene == r.config.scene && t.algorithm == alg && t.phase == phase) return t.total_ms_58_frames / 58.0;
-  return -1.0;
+  return PublishedMs(p, r.config.scene, alg, phase);
 }
 
 Table TimingsTable(const std::vector<const Result*>& sorted, const Published& p) {
@@ -64,11 +68,6 @@ Table TimingRelationsTable(const std::vector<const Result*>& sorted, const Publi
       if (ph.value("phase", std::string()) == phase) return ph.value("ms", 0.0);
     return 0.0;
   };
-  const auto published_ms = [&](const std::string& scene, const std::string& alg, const std::string& phase) {
-    for (const PublishedTiming& x : p.timings)
-      if (x.scene == scene && x.algorithm == alg && x.phase == phase) return x.total_ms_58_frames / 58.0;
-    return -1.0;
-  };
   const auto verdict = [](bool holds) { return std::string(holds ? "holds" : "fails"); };
   for (const SceneChoice& sc : ThesisScenes()) {
     const Result* by_alg[2] = {nullptr, nullptr};
@@ -79,12 +78,12 @@ Table TimingRelationsTable(const std::vector<const Result*>& sorted, const Publi
     for (int a = 0; a < 2; ++a) {
       const Result* r = by_alg[a];
       const std::string alg = a ? "CRSH" : "RAH";
-      if (!r || published_ms(sc.paper, alg, "hierarchy_traversal") < 0) continue;
+      if (!r || PublishedMs(p, sc.paper, alg, "hierarchy_traversal") < 0) continue;
       // The largest of the seven phases, each side.
       std::string ours_top, pub_top;
       double ours_best = -1, pub_best = -1, ours_sum = 0, pub_sum = 0;
       for (const char* ph : kPhases) {
-        const double o = ours_ms(*r, ph), q = published_ms(sc.paper, alg, ph);
+        const double o = ours_ms(*r, ph), q = PublishedMs(p, sc.paper, alg, ph);
         ours_sum += o, pub_sum += q;
         if (o > ours_best) ours_best = o, ours_top = ph;
         if (q > pub_best) pub_best = q, pub_top = ph;
@@ -97,9 +96,9 @@ Table TimingRelationsTable(const std::vector<const Result*>& sorted, const Publi
                         verdict(pub_top == "hierarchy_traversal"), detail(pub_top, pub_best, pub_sum),
                         "4.4.14: \"the hierarchy traversal still takes up most of the rendering time\""});
     }
-    if (by_alg[0] && by_alg[1] && published_ms(sc.paper, "CRSH", "hierarchy_traversal") >= 0) {
+    if (by_alg[0] && by_alg[1] && PublishedMs(p, sc.paper, "CRSH", "hierarchy_traversal") >= 0) {
       const double o_rah = ours_ms(*by_alg[0], "hierarchy_traversal"), o_crsh = ours_ms(*by_alg[1], "hierarchy_traversal");
-      const double p_rah = published_ms(sc.paper, "RAH", "hierarchy_traversal"), p_crsh = published_ms(sc.paper, "CRSH", "hierarchy_traversal");
+      const double p_rah = PublishedMs(p, sc.paper, "RAH", "hierarchy_traversal"), p_crsh = PublishedMs(p, sc.paper, "CRSH", "hierarchy_traversal");
       const auto cmp = [](double rah, double crsh) { return fmt::format("CRSH {:.1f} ms, RAH {:.1f} ms: x{:.2f}", crsh, rah, rah > 0 ? crsh / rah : 0.0); };
       t.rows.push_back({"CRSH traverses its hierarchy in less time than RAH", fmt::format("{} s8 d2", sc.paper), verdict(o_crsh < o_rah),
                         cmp(o_rah, o_crsh), verdict(p_crsh < p_rah), cmp(p_rah, p_crsh),

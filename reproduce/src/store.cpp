@@ -105,6 +105,15 @@ nlohmann::json ToJson(const Result& r) {
           {"timings", r.timings}};
 }
 
+double PassMs(const Result& r, const std::string& prefix, bool exact) {
+  double ms = 0;
+  for (const nlohmann::json& p : r.timings.value("passes", nlohmann::json::array())) {
+    const std::string name = p.value("pass", std::string());
+    if (exact ? name == prefix : name.rfind(prefix, 0) == 0) ms += p.value("ms", 0.0);
+  }
+  return ms;
+}
+
 Result ResultFromJson(const nlohmann::json& j, const std::string& what) {
   try {
     Result r;

@@ -161,14 +161,6 @@ const Result* FindRun(const std::vector<const Result*>& results, const std::stri
   return nullptr;
 }
 
-// The walks' time: every tl.trace pass of the frame (this run, this machine).
-double TraceMs(const Result& r) {
-  double ms = 0;
-  for (const nlohmann::json& p : r.timings.value("passes", nlohmann::json::array()))
-    if (p.value("pass", std::string()).rfind("tl.trace.", 0) == 0) ms += p.value("ms", 0.0);
-  return ms;
-}
-
 constexpr const char* kToczekListsSource =
     "section 4: against the 1-list case \"the gains of our approach range from 5% to 15% on our test scenes, the more "
     "complex a scene the higher the gain\"";
@@ -190,7 +182,7 @@ void ListsTables(const std::vector<const Result*>& results, std::vector<Table>& 
       if (c.rays) triangles = c.brute_force / c.rays;
     const double n6 = WalksOf(*six).NodesPerRay(), n1 = WalksOf(*one).NodesPerRay();
     counts.rows.push_back({s.name, Thousands(triangles), Fixed(n1), Fixed(n6), fmt::format("{:.3f}", n1 > 0 ? n6 / n1 : 0.0)});
-    const double t6 = TraceMs(*six), t1 = TraceMs(*one), gain = t1 > 0 ? 1.0 - t6 / t1 : 0.0;
+    const double t6 = PassMs(*six, "tl.trace."), t1 = PassMs(*one, "tl.trace."), gain = t1 > 0 ? 1.0 - t6 / t1 : 0.0;
     times.rows.push_back({s.name, Thousands(triangles), fmt::format("{:.1f}", t1), fmt::format("{:.1f}", t6), fmt::format("{:.1f}%", 100 * gain)});
     gains.push_back({triangles, gain});
   }

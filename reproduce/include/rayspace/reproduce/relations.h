@@ -43,6 +43,8 @@ Outcome CrshBelowRah(const Measurement& rah, const Measurement& crsh);
 Outcome Below(const Measurement& m, const Measurement& reference);
 Outcome Above(const Measurement& m, const Measurement& reference);
 Outcome RahTopLevel(const Measurement& rah, int depth);
+// Every level's intersections plus level 1's hits x subdivision (each hit's child slots tested).
+std::uint64_t AccountedTotal(const Measurement& m, int subdivision);
 Outcome Identity(const Measurement& m, int subdivision);
 Outcome BelowBrute(const Measurement& m);
 

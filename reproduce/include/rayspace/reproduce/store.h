@@ -34,6 +34,9 @@ struct Result {
 nlohmann::json ToJson(const Result& r);
 // Throws InputError naming `what` when a field is missing or malformed.
 Result ResultFromJson(const nlohmann::json& j, const std::string& what);
+// A result's pass time (its timings' "passes"), summed over the passes whose name starts with
+// `prefix` (grid.trace covers grid.trace.primary.b0, ...), or over those named exactly `prefix`.
+double PassMs(const Result& r, const std::string& prefix, bool exact = false);
 
 // Writes `text` as the whole file at `path`, atomically; `what` names it in errors.
 void WriteText(const std::filesystem::path& path, const std::string& text, const char* what);
