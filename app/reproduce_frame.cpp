@@ -89,6 +89,8 @@ FrameOutput RenderConfig(const Config& c, const Scene& scene, const SceneBuffers
   const std::unique_ptr<app::RenderedFrame> f = app::RenderOnBackend(args, scene, buffers, fo, *backend);
   FrameOutput out;
   out.counts = ToCounts(f->stats, c);
+  for (const std::uint64_t n : f->result.rays[layout::kRayShadow]) out.shadow_rays += n;
+  for (const std::uint64_t n : f->result.unoccluded_shadow_rays) out.unoccluded_shadow_rays += n;
   f->stats.ToJson(out.statistics);
   nlohmann::json phases = nlohmann::json::array();
   for (const app::Phase& p : f->phases) phases.push_back({{"phase", p.name}, {"ms", p.ms}});

@@ -200,16 +200,18 @@ run(ablation thesis-ablation --size 16x16 --scenes "${SRC}/scenes" --data "${DAT
 expect_in(ablation ablation/report.md "# CRSH thesis: the faithful switches on SPONZA" "| (rayspace's defaults) |"
           "| --cone-test printed |" "| --hash-order polar-first --hash-bits 8 |" "| --one-object |" "| --child-merge pairwise |"
           "| --shadow-rule lit |")
-# The fit, on a search of a few frames: its summary, its frames and the fitted scene, which renders.
+# The fit, on a search of a few frames (protocol 2, the default): its summary, its frames and the
+# fitted scene, which renders.
 run(fit thesis --fit --fit-small --scenes "${SRC}/scenes" --data "${DATA}" --out fit)
-foreach(f fit-thesis-sponza.json fit-thesis-sponza-frames.json sponza-thesis-fit.json)
+foreach(f fit-thesis-sponza-2.json fit-thesis-sponza-2-frames.json sponza-thesis-fit-2.json)
   if(NOT EXISTS "${WORK}/fit/${f}")
     set(FAILURES "${FAILURES}\n  [fit] no ${f}")
   endif()
 endforeach()
-expect_in(fit fit/fit-thesis-sponza.json "\"best\"" "\"sensitivity\"" "\"starts\"" "\"level2_hits\": 32686844")
-expect_in(fit fit/sponza-thesis-fit.json "\"name\": \"sponza-thesis-fit\"")
-execute_process(COMMAND "${RAYSPACE}" render "${WORK}/fit/sponza-thesis-fit.json" --data "${DATA}" --size 16x16 --no-oracle --out fit.png
+expect_in(fit fit/fit-thesis-sponza-2.json "\"best\"" "\"sensitivity\"" "\"starts\"" "\"level2_hits\": 32686844" "\"protocol\": 2"
+          "\"min_lit_share\": 0.5" "\"lit_share\"")
+expect_in(fit fit/sponza-thesis-fit-2.json "\"name\": \"sponza-thesis-fit-2\"")
+execute_process(COMMAND "${RAYSPACE}" render "${WORK}/fit/sponza-thesis-fit-2.json" --data "${DATA}" --size 16x16 --no-oracle --out fit.png
                 WORKING_DIRECTORY "${WORK}" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 120)
 if(NOT rc EQUAL 0)
   set(FAILURES "${FAILURES}\n  [fit] the fitted scene does not render: ${err}")
@@ -217,6 +219,8 @@ endif()
 expect_error(NAME fit-target NEEDLES "--fit toczek: only the thesis's fit" ARGS reproduce toczek --fit --out f2)
 expect_error(NAME fit-shard NEEDLES "--fit takes none of --shard" ARGS reproduce --fit --shard 1/2 --out f3)
 expect_error(NAME fit-small NEEDLES "--fit-small: only with --fit" ARGS reproduce thesis --fit-small --out f4)
+expect_error(NAME fit-protocol NEEDLES "--fit-protocol: only with --fit" ARGS reproduce thesis --fit-protocol 1 --out f5)
+expect_error(NAME fit-protocol-range NEEDLES "--fit-protocol" ARGS reproduce thesis --fit --fit-protocol 3 --out f6)
 expect_error(NAME scenes NEEDLES "nowhere/office.json: cannot open scene file" ARGS reproduce thesis --scenes nowhere --out x)
 
 if(NOT FAILURES STREQUAL "")

@@ -88,3 +88,26 @@ TEST_CASE("frame: transparency turns on refraction and max_depth 0 turns bounces
   CHECK(p->reason == "max_depth is 0");
   CHECK(z.rays[layout::kRayReflection].size() == 1);
 }
+
+TEST_CASE("frame: shadow rays reaching the light, counted against known answers (an open floor, a roofed one)") {
+  // A floor at y = 0 seen from above; the point light at y = 5. Every covered pixel's shadow ray is
+  // unoccluded; a roof at y = 2, wider than the floor and above the eye's view, occludes every one.
+  Scene s;
+  s.camera.eye = {0, 1.5f, 2};
+  s.camera.target = {0, 0, 0};
+  s.materials.push_back(test::Diffuse("m", glm::vec3(0.5f)));
+  LightDesc light;
+  light.position = {0, 5, 0};
+  s.lights = {light};
+  test::AddQuad(s, "floor", {-4, 0, 4}, {4, 0, 4}, {4, 0, -4}, {-4, 0, -4});
+  const emu::FrameResult open = Render(s, 16, 16);
+  REQUIRE(open.rays[layout::kRayShadow].size() == 1);
+  CHECK(open.rays[layout::kRayShadow][0] > 100);
+  REQUIRE(open.unoccluded_shadow_rays.size() == 1);
+  CHECK(open.unoccluded_shadow_rays[0] == open.rays[layout::kRayShadow][0]);
+  test::AddQuad(s, "roof", {-40, 2, -40}, {40, 2, -40}, {40, 2, 40}, {-40, 2, 40});
+  const emu::FrameResult roofed = Render(s, 16, 16);
+  CHECK(roofed.rays[layout::kRayShadow][0] == open.rays[layout::kRayShadow][0]);
+  REQUIRE(roofed.unoccluded_shadow_rays.size() == 1);
+  CHECK(roofed.unoccluded_shadow_rays[0] == 0);
+}

@@ -1,5 +1,6 @@
 #include "rayspace/emu/frame.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <map>
@@ -228,6 +229,8 @@ class Runner {
         return shadow_trim.rays.size();
       });
       if (observer_) observer_({"shadow." + bs, layout::kRayShadow, bounce, &shadow_trim.rays, nullptr, &occluded});
+      r_.unoccluded_shadow_rays.resize(std::max<std::size_t>(r_.unoccluded_shadow_rays.size(), bounce + 1), 0);
+      r_.unoccluded_shadow_rays[bounce] += static_cast<std::uint64_t>(std::count(occluded.begin(), occluded.begin() + static_cast<std::ptrdiff_t>(shadow_trim.rays.size()), 0u));
       CountSoftShadows(bounce, surfaces.size(), shadow.flags, shadow_trim.offsets, occluded);
     } else {
       Skip("raygen.shadow." + bs, "the scene has no lights");

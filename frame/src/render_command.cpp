@@ -83,7 +83,8 @@ nlohmann::json StatsJson(const RenderArgs& args, const Outcome& o) {
   j["threads"] = ThreadCount();
   j["rays"] = {{"shadow", RaysJson(r.rays[layout::kRayShadow], false)},
                {"reflection", RaysJson(r.rays[layout::kRayReflection], true)},
-               {"refraction", RaysJson(r.rays[layout::kRayRefraction], true)}};
+               {"refraction", RaysJson(r.rays[layout::kRayRefraction], true)},
+               {"shadow_unoccluded", RaysJson(r.unoccluded_shadow_rays, false)}};
   if (r.primary_rays > 0)
     j["primary"] = {{"rays", r.primary_rays},
                     {"pixels_differing_from_raster", r.primary_differing},

@@ -26,6 +26,8 @@ std::pair<CLI::App*, CLI::App*> AddReproduceCommand(CLI::App& app, ReproduceArgs
   rc->add_flag("--progress", a.progress, "Print progress on stderr (default when stderr is a terminal)");
   rc->add_flag("--fit", a.fit, "Fit what the paper does not publish (thesis: Sponza's camera and light) by the search "
               "docs/reproduce.md fixes; writes the record and the fitted scene into --out");
+  rc->add_option("--fit-protocol", a.fit_protocol, "With --fit: the protocol's ranges and constraint (docs/reproduce.md, \"Fits\"): 1, or 2 (plausible poses; the default)")
+      ->check(CLI::Range(1, 2));
   rc->add_flag("--fit-small", a.fit_small, "With --fit: a search of a few frames (test use)")->group("");
   rc->add_option("--size", a.size, "Frame size WxH in place of --quick/--full (test use)")->group("");
   rc->add_option("--stop-after", a.stop_after, "Stop as Ctrl-C does after this many configurations (test use)")

@@ -189,19 +189,21 @@ ExitCode RunFit(const ReproduceArgs& args, const FrameFn& frame) {
   o.scene_file = fs::path(args.scenes) / sponza.scene_file;
   o.progress = args.progress || isatty(STDERR_FILENO);
   if (args.fit_small) o.screen = 8, o.keep = 2, o.lights = 2, o.starts = 1, o.halvings = 1, o.frames_per_start = 6;
+  o.protocol = args.fit_protocol > 0 ? args.fit_protocol : kFitProtocolLatest;
   nlohmann::json record = FitThesisSponza(scenes.begin()->second, o, frame);
   fs::create_directories(args.out);
   // Every frame of the search apart from the summary the report reads (the binary carries it).
   nlohmann::json frames = nlohmann::json::object();
   for (const nlohmann::json& r : record["refine"]) record["starts"].push_back({{"start", r.at("start")}, {"end", r.at("end")}});
   for (const char* stage : {"screen", "grid", "refine"}) frames[stage] = std::move(record[stage]), record.erase(stage);
-  WriteText(fs::path(args.out) / "fit-thesis-sponza-frames.json", frames.dump() + "\n", "the fit's frames");
-  WriteText(fs::path(args.out) / "fit-thesis-sponza.json", record.dump(1) + "\n", "the fit's record");
+  const std::string stem = FitRecordStem(o.protocol), scene_name = FittedSceneStem(o.protocol) + ".json";
+  WriteText(fs::path(args.out) / (stem + "-frames.json"), frames.dump() + "\n", "the fit's frames");
+  WriteText(fs::path(args.out) / (stem + ".json"), record.dump(1) + "\n", "the fit's record");
   const nlohmann::json scene_file = nlohmann::json::parse(ReadInputFile(o.scene_file, {"scene file", kMaxTextFileBytes}));
-  WriteText(fs::path(args.out) / kFittedSponzaFile, FittedSceneJson(scene_file, record).dump(2) + "\n", "the fitted scene");
-  std::printf("rayspace reproduce --fit: %d frames, J = %s; %s (%s beside it) and %s\n", record.at("frames").get<int>(),
-              record.at("best").at("J").dump().c_str(), (fs::path(args.out) / "fit-thesis-sponza.json").c_str(),
-              "fit-thesis-sponza-frames.json", (fs::path(args.out) / kFittedSponzaFile).c_str());
+  WriteText(fs::path(args.out) / scene_name, FittedSceneJson(scene_file, record).dump(2) + "\n", "the fitted scene");
+  std::printf("rayspace reproduce --fit (protocol %d): %d frames, J = %s; %s (%s beside it) and %s\n", o.protocol,
+              record.at("frames").get<int>(), record.at("best").at("J").dump().c_str(), (fs::path(args.out) / (stem + ".json")).c_str(),
+              (stem + "-frames.json").c_str(), (fs::path(args.out) / scene_name).c_str());
   return ExitCode::kOk;
 }
 
@@ -209,6 +211,7 @@ ExitCode RunReproduce(const ReproduceArgs& args, const FrameFn& frame) {
   if (args.list) return List(args);
   if (args.fit) return RunFit(args, frame);
   if (args.fit_small) ThrowInput("--fit-small: only with --fit");
+  if (args.fit_protocol > 0) ThrowInput("--fit-protocol: only with --fit");
   const Shard shard = ParseShard(args.shard);
   if (!args.junit.empty() && shard.count > 1)
     ThrowInput("--junit with --shard {}: a shard writes no report; give --junit to reproduce merge", args.shard);

@@ -7,6 +7,7 @@
 #include <numeric>
 #include <optional>
 
+#include <fmt/format.h>
 #include <glm/glm.hpp>
 
 #include "rayspace/error.h"
@@ -15,18 +16,33 @@
 
 namespace rayspace::reproduce {
 
-const std::array<FitRange, kFitParams>& ThesisFitRanges() {
-  static const std::array<FitRange, kFitParams> ranges = {{{"eye_x", -15, 15},
-                                                          {"eye_y", -6, 6},
-                                                          {"eye_z", 0.5, 10},
-                                                          {"yaw_deg", -180, 180},
-                                                          {"pitch_deg", -20, 50},
-                                                          {"fov_y_deg", 40, 80},
-                                                          {"light_x", -15, 15},
-                                                          {"light_y", -6, 6},
-                                                          {"light_z", 1, 30}}};
-  return ranges;
+const std::array<FitRange, kFitParams>& ThesisFitRanges(int protocol) {
+  static const std::array<FitRange, kFitParams> first = {{{"eye_x", -15, 15},
+                                                         {"eye_y", -6, 6},
+                                                         {"eye_z", 0.5, 10},
+                                                         {"yaw_deg", -180, 180},
+                                                         {"pitch_deg", -20, 50},
+                                                         {"fov_y_deg", 40, 80},
+                                                         {"light_x", -15, 15},
+                                                         {"light_y", -6, 6},
+                                                         {"light_z", 1, 30}}};
+  // Protocol 2: the eye in the open court from the floor to the first gallery, the light inside the
+  // walls below the roof's top (Sponza spans x -17.4..17.4, y -7.8..7.8, z -0.9..15.65).
+  static const std::array<FitRange, kFitParams> plausible = {{{"eye_x", -12, 12},
+                                                             {"eye_y", -3, 3},
+                                                             {"eye_z", 1, 8},
+                                                             {"yaw_deg", -180, 180},
+                                                             {"pitch_deg", -15, 30},
+                                                             {"fov_y_deg", 40, 80},
+                                                             {"light_x", -12, 12},
+                                                             {"light_y", -3, 3},
+                                                             {"light_z", 2, 15}}};
+  if (protocol != 1 && protocol != 2) ThrowInput("--fit-protocol {}: the protocols are 1 and 2 (docs/reproduce.md, \"Fits\")", protocol);
+  return protocol == 1 ? first : plausible;
 }
+
+std::string FitRecordStem(int protocol) { return protocol == 1 ? "fit-thesis-sponza" : fmt::format("fit-thesis-sponza-{}", protocol); }
+std::string FittedSceneStem(int protocol) { return protocol == 1 ? "sponza-thesis-fit" : fmt::format("sponza-thesis-fit-{}", protocol); }
 
 double Halton(std::uint64_t index, unsigned base) {
   double f = 1.0, r = 0.0;
@@ -37,9 +53,10 @@ double Halton(std::uint64_t index, unsigned base) {
   return r;
 }
 
-FitPoint FromUnit(const std::array<double, kFitParams>& unit) {
+FitPoint FromUnit(const std::array<double, kFitParams>& unit, int protocol) {
+  const std::array<FitRange, kFitParams>& r = ThesisFitRanges(protocol);
   FitPoint p{};
-  for (std::size_t k = 0; k < kFitParams; ++k) p[k] = ThesisFitRanges()[k].lo + unit[k] * (ThesisFitRanges()[k].hi - ThesisFitRanges()[k].lo);
+  for (std::size_t k = 0; k < kFitParams; ++k) p[k] = r[k].lo + unit[k] * (r[k].hi - r[k].lo);
   return p;
 }
 
@@ -92,22 +109,24 @@ struct Evaluated {
   FitCounts counts;
   double j = 0.0;
   int size = 0;
+  double lit_share = 0.0;  // unoccluded shadow rays over shadow rays (0 with none)
 };
 
 nlohmann::json ToJson(const Evaluated& e) {
   nlohmann::json p = nlohmann::json::object();
   for (std::size_t k = 0; k < kFitParams; ++k) p[ThesisFitRanges()[k].name] = e.point[k];
   return {{"point", p}, {"size", e.size}, {"rays", e.counts.rays}, {"level2_hits", e.counts.level2_hits},
-          {"level1_hits", e.counts.level1_hits}, {"J", std::isfinite(e.j) ? nlohmann::json(e.j) : nlohmann::json(nullptr)}};
+          {"level1_hits", e.counts.level1_hits}, {"lit_share", e.lit_share},
+          {"J", std::isfinite(e.j) ? nlohmann::json(e.j) : nlohmann::json(nullptr)}};
 }
 
 // One frame of SPONZA RAH s8 d2 at size x size with the point's camera and light, counted as the
-// thesis counts.
+// thesis counts. `min_lit_share`: a frame whose lit share is below it is no candidate (J infinite).
 class Evaluator {
  public:
   Evaluator(const LoadedScene& sponza, const FrameFn& frame, bool progress) : sponza_(sponza), frame_(frame), progress_(progress) {}
 
-  Evaluated operator()(const FitPoint& p, int size) {
+  Evaluated operator()(const FitPoint& p, int size, double min_lit_share = 0.0) {
     Config c;
     c.scene = "SPONZA";
     c.scene_file = "sponza-thesis.json";
@@ -118,11 +137,13 @@ class Evaluator {
     c.width = c.height = size;
     const Scene scene = WithPose(sponza_.scene, p);
     const SceneBuffers buffers = FlattenScene(scene);
-    const Counts counts = SlotAccounting(frame_(c, scene, buffers).counts, c.subdivision);
+    const FrameOutput out = frame_(c, scene, buffers);
+    const Counts counts = SlotAccounting(out.counts, c.subdivision);
     Evaluated e{p, {}, 0.0, size};
     if (const auto it = counts.types.find("shadow"); it != counts.types.end() && it->second.levels.size() == 2)
       e.counts = {it->second.rays, it->second.levels[1].hits, it->second.levels[0].hits};
-    e.j = FitObjective(e.counts);
+    e.lit_share = out.shadow_rays == 0 ? 0.0 : static_cast<double>(out.unoccluded_shadow_rays) / static_cast<double>(out.shadow_rays);
+    e.j = e.lit_share < min_lit_share ? std::numeric_limits<double>::infinity() : FitObjective(e.counts);
     if (++frames_ % 64 == 0 && progress_) std::fprintf(stderr, "rayspace reproduce --fit: %d frames\n", frames_);
     return e;
   }
@@ -146,7 +167,7 @@ std::vector<Evaluated> ScreenCameras(Evaluator& eval, const LoadedScene& sponza,
   for (int i = 1; i <= o.screen; ++i) {
     std::array<double, kFitParams> unit{};
     for (std::size_t k = 0; k < 6; ++k) unit[k] = Halton(static_cast<std::uint64_t>(i), kCameraBases[k]);
-    FitPoint p = FromUnit(unit);
+    FitPoint p = FromUnit(unit, o.protocol);
     p[6] = light.x, p[7] = light.y, p[8] = light.z;
     const Evaluated e = eval(p, size);
     const double covered = static_cast<double>(e.counts.rays) / (size * size);
@@ -160,8 +181,8 @@ std::vector<Evaluated> ScreenCameras(Evaluator& eval, const LoadedScene& sponza,
 }
 
 // A parameter moved by `delta`: yaw wraps around the circle, the others stay in their ranges.
-FitPoint Moved(FitPoint p, std::size_t k, double delta) {
-  const FitRange& r = ThesisFitRanges()[k];
+FitPoint Moved(FitPoint p, std::size_t k, double delta, int protocol) {
+  const FitRange& r = ThesisFitRanges(protocol)[k];
   double v = p[k] + delta;
   if (k == 3) {
     while (v >= r.hi) v -= r.hi - r.lo;
@@ -173,18 +194,22 @@ FitPoint Moved(FitPoint p, std::size_t k, double delta) {
   return p;
 }
 
+// Protocol 2's plausibility bound on the lit share, from stage 2 on; none under protocol 1.
+double MinLitShare(const FitOptions& o) { return o.protocol >= 2 ? kMinLitShare : 0.0; }
+
 // Stage 3: the compass search from one start (docs/reproduce.md).
 Evaluated Compass(Evaluator& eval, Evaluated x, const FitOptions& o, nlohmann::json& path) {
   std::array<double, kFitParams> step{};
-  for (std::size_t k = 0; k < kFitParams; ++k) step[k] = (ThesisFitRanges()[k].hi - ThesisFitRanges()[k].lo) / 8.0;
+  const std::array<FitRange, kFitParams>& ranges = ThesisFitRanges(o.protocol);
+  for (std::size_t k = 0; k < kFitParams; ++k) step[k] = (ranges[k].hi - ranges[k].lo) / 8.0;
   int frames = 0, halvings = 0;
   while (frames < o.frames_per_start) {
     bool improved = false;
     for (std::size_t k = 0; k < kFitParams && frames < o.frames_per_start; ++k)
       for (const double sign : {1.0, -1.0}) {
-        const FitPoint y = Moved(x.point, k, sign * step[k]);
+        const FitPoint y = Moved(x.point, k, sign * step[k], o.protocol);
         if (y == x.point || frames >= o.frames_per_start) continue;
-        const Evaluated e = eval(y, 512);
+        const Evaluated e = eval(y, 512, MinLitShare(o));
         ++frames;
         path.push_back(ToJson(e));
         if (e.j < x.j) {
@@ -210,7 +235,10 @@ nlohmann::json FitThesisSponza(const LoadedScene& sponza, const FitOptions& o, c
                                        {"halvings", o.halvings}, {"frames_per_start", o.frames_per_start}}},
                            {"screen", nlohmann::json::array()}, {"grid", nlohmann::json::array()},
                            {"refine", nlohmann::json::array()}, {"sensitivity", nlohmann::json::array()}};
-  for (const FitRange& r : ThesisFitRanges()) record["ranges"][r.name] = {r.lo, r.hi};
+  const std::array<FitRange, kFitParams>& ranges = ThesisFitRanges(o.protocol);
+  for (const FitRange& r : ranges) record["ranges"][r.name] = {r.lo, r.hi};
+  record["protocol"] = o.protocol;
+  if (MinLitShare(o) > 0.0) record["min_lit_share"] = MinLitShare(o);
   Evaluator eval(sponza, frame, o.progress);
   const std::vector<Evaluated> cameras = ScreenCameras(eval, sponza, o, record);
   // Stage 2: each kept camera under each Halton light, at the thesis's size.
@@ -218,9 +246,9 @@ nlohmann::json FitThesisSponza(const LoadedScene& sponza, const FitOptions& o, c
   for (const Evaluated& c : cameras)
     for (int j = 1; j <= o.lights; ++j) {
       FitPoint p = c.point;
-      const FitPoint l = FromUnit({0, 0, 0, 0, 0, 0, Halton(j, 2), Halton(j, 3), Halton(j, 5)});
+      const FitPoint l = FromUnit({0, 0, 0, 0, 0, 0, Halton(j, 2), Halton(j, 3), Halton(j, 5)}, o.protocol);
       p[6] = l[6], p[7] = l[7], p[8] = l[8];
-      grid.push_back(eval(p, 512));
+      grid.push_back(eval(p, 512, MinLitShare(o)));
       record["grid"].push_back(ToJson(grid.back()));
     }
   std::vector<std::size_t> order(grid.size());
@@ -235,11 +263,14 @@ nlohmann::json FitThesisSponza(const LoadedScene& sponza, const FitOptions& o, c
     if (!best || end.j < best->j) best = end;
   }
   if (!best) ThrowInput("--fit: the search evaluated no point");
+  if (!std::isfinite(best->j))
+    ThrowInput("--fit: no pose of protocol {} is a candidate (every frame's J is infinite: a zero count, or a lit share below {})",
+               o.protocol, MinLitShare(o));
   // Stage 4: each parameter moved by +-1/16 and +-1/8 of its range from the fit.
   for (std::size_t k = 0; k < kFitParams; ++k)
     for (const double f : {-0.125, -0.0625, 0.0625, 0.125}) {
-      const Evaluated e = eval(Moved(best->point, k, f * (ThesisFitRanges()[k].hi - ThesisFitRanges()[k].lo)), 512);
-      record["sensitivity"].push_back({{"parameter", ThesisFitRanges()[k].name}, {"fraction", f}, {"frame", ToJson(e)}});
+      const Evaluated e = eval(Moved(best->point, k, f * (ranges[k].hi - ranges[k].lo), o.protocol), 512, MinLitShare(o));
+      record["sensitivity"].push_back({{"parameter", ranges[k].name}, {"fraction", f}, {"frame", ToJson(e)}});
     }
   record["best"] = ToJson(*best);
   record["frames"] = eval.frames();
@@ -252,7 +283,7 @@ nlohmann::json FittedSceneJson(const nlohmann::json& scene_file, const nlohmann:
   for (std::size_t k = 0; k < kFitParams; ++k) p[k] = point.at(ThesisFitRanges()[k].name).get<double>();
   const PoseCamera c = CameraOf(p);
   nlohmann::json s = scene_file;
-  s["name"] = "sponza-thesis-fit";
+  s["name"] = FittedSceneStem(record.value("protocol", 1));
   s["camera"] = {{"eye", Vec(c.eye)}, {"target", Vec(c.target)}, {"up", {0, 0, 1}}, {"fov_y_deg", c.fov_y_deg}};
   s["lights"].at(0)["position"] = {p[6], p[7], p[8]};
   return s;

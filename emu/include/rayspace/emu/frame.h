@@ -48,6 +48,9 @@ struct FrameResult {
   std::vector<PassRecord> passes;
   // rays[kind][bounce]: shadow bounces 0..max_depth, reflection/refraction 1..max_depth (index 0 unused).
   std::vector<std::uint64_t> rays[3];
+  // Per bounce, the traced shadow rays that reach their light (none occluded it): the frame's lit share
+  // is their sum over the shadow rays'.
+  std::vector<std::uint64_t> unoccluded_shadow_rays;
   // --primary tl: the eye rays traced, and the pixels whose hit (primitive, or none) differs from the
   // raster's primitive.
   std::uint64_t primary_rays = 0, primary_differing = 0;

@@ -17,6 +17,7 @@ struct ReproduceArgs {
   std::vector<std::string> targets;
   std::string out = "reproduce", shard = "0/1", only, data, scenes = "scenes", size, junit;
   bool quick = false, full = false, list = false, resume = false, progress = false, fit = false, fit_small = false;
+  int fit_protocol = 0;  // --fit-protocol; 0: not given (the latest, fit_thesis.h)
   int jobs = 1, stop_after = 0;
   std::string merge_out;
   std::vector<std::string> merge_dirs;

@@ -1,6 +1,7 @@
 // Runs a reproduce run's configurations: each once, in-process, `jobs` at a time, each result written
 // atomically as it finishes, with a progress line on stderr.
 #pragma once
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -16,6 +17,8 @@ namespace rayspace::reproduce {
 struct FrameOutput {
   Counts counts;
   nlohmann::json statistics, timings;
+  // The shadow rays traced over all bounces, and those that reach their light (the fit's lit share).
+  std::uint64_t shadow_rays = 0, unoccluded_shadow_rays = 0;
 };
 // Renders one configuration's frame (the `rayspace` executable's frame code; tests pass their own).
 using FrameFn = std::function<FrameOutput(const Config&, const Scene&, const SceneBuffers&)>;
