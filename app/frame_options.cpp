@@ -169,10 +169,10 @@ void AddTlOptions(CLI::App& command, FrameArgs& args) {
   command
       .add_option("--primary", args.primary,
                   "primary visibility: the raster's G-buffer (raster), or also an eye ray per pixel traced beside it "
-                  "through the traversal lists (tl, --algo tl) or the eye's perspective grid (grid, --algo grid: one "
-                  "cell of about 100x100 pixels per ray, Hunt and Mark's eye rays); checked by the oracle and counted, "
-                  "the G-buffer still shades")
-      ->check(CLI::IsMember({"raster", "tl", "grid"}))
+                  "through the traversal lists (tl, --algo tl), the eye's perspective grid (grid, --algo grid: one "
+                  "cell of about 100x100 pixels per ray, Hunt and Mark's eye rays) or Embree's BVH (embree, --algo "
+                  "embree: the reference's eye rays); checked by the oracle and counted, the G-buffer still shades")
+      ->check(CLI::IsMember({"raster", "tl", "grid", "embree"}))
       ->capture_default_str();
   command
       .add_option("--frustum-cull", args.frustum_cull,

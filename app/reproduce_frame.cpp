@@ -24,6 +24,8 @@ app::RenderArgs Args(const Config& c) {
     if (!c.grid_area.empty()) args.grid_area = c.grid_area;
     args.grid_regular_cells = c.grid_regular_cells;
     args.primary = c.primary ? "grid" : "raster";
+  } else if (c.embree()) {
+    args.primary = c.primary ? "embree" : "raster";
   } else if (!c.quadtree()) {
     args.subdivision = c.subdivision;
     args.depth = c.levels;

@@ -286,3 +286,28 @@ TEST_CASE("planted fault: a tracer that reports the right triangle at the wrong 
     CHECK(oracle.oracle_wrong().empty());
   });
 }
+
+TEST_CASE("embree: the BVH is built before the first batch, timed once as the sub-pass embree.build; an oracle's query builds it too") {
+  const Scene s = test::LoadBundled("cornell-mirrors.json");
+  const SceneBuffers b = FlattenScene(s);
+  auto tracer = refs::MakeEmbreeTracer(b, 0);
+  emu::FrameOptions fo;
+  fo.width = fo.height = 16;
+  const emu::FrameResult r = emu::RenderFrame(s, b, *tracer, fo);
+  int builds = 0;
+  std::string first_trace;
+  for (const emu::PassRecord& p : r.passes) {
+    if (first_trace.empty() && p.name.rfind("trace.", 0) == 0 && p.ran) first_trace = p.name;
+    if (p.name != "embree.build") continue;
+    ++builds;
+    CHECK(p.ran);
+    CHECK(p.elements == b.triangles.size());
+    CHECK(first_trace.empty());  // listed before the batch that ran it, as every sub-pass
+  }
+  CHECK(builds == 1);
+  // Without a frame (the oracle's use): the first query builds the BVH and answers.
+  auto oracle = refs::MakeEmbreeTracer(b, 0);
+  std::vector<std::uint32_t> occluded;
+  oracle->Occluded({test::MakeRay({0, 0, 0}, {0, 1, 0})}, occluded);
+  CHECK(occluded.size() == 1);
+}

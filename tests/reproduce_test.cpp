@@ -9,6 +9,7 @@
 
 #include "rayspace/error.h"
 #include "rayspace/reproduce/faithful_table.h"
+#include "rayspace/reproduce/hunt.h"
 #include "rayspace/reproduce/relations.h"
 #include "rayspace/reproduce/runner.h"
 #include "rayspace/reproduce/report.h"
@@ -317,6 +318,14 @@ TEST_CASE("reproduce: the canonical text names every setting, and keeps the defa
   CHECK(grid.Name().ends_with(" threads 1"));
   r.config = grid;
   CHECK(ResultFromJson(ToJson(r), "a result").config.threads == 1);
+  // Embree beside the grids (tables 2-4): its own key and command line.
+  Config bvh = grid;
+  bvh.algo = "embree", bvh.primary = true, bvh.threads = 0, bvh.grid_area.clear(), bvh.grid_regular_cells = 0;
+  CHECK(bvh.Canonical() ==
+        "target=hunt-mark scene=SPONZA-SOFT file=sponza-soft.json algo=embree bvh primary=embree bounces=0 size=512x512 objects=flat "
+        "backend=emu");
+  CHECK(bvh.RenderArgs().find(" --algo embree --primary embree --bounces 0") != std::string::npos);
+  CHECK(bvh.Name() == "SPONZA-SOFT embree primary 512x512");
 }
 
 TEST_CASE("reproduce toczek: the node definition is the traversal event closest to the fit row, never a scale") {
@@ -400,4 +409,69 @@ TEST_CASE("reproduce: the report does not depend on --jobs, and a failing frame 
 }
 
 }  // namespace
+}  // namespace rayspace::reproduce
+
+namespace rayspace::reproduce {
+namespace {
+
+Result Timed(const std::string& scene, const std::string& algo, const std::vector<std::pair<std::string, double>>& passes) {
+  Result r;
+  r.config.target = "hunt-mark";
+  r.config.scene = scene;
+  r.config.algo = algo;
+  r.config.primary = true;
+  r.config.bounces = 0;
+  TypeCounts& t = r.counts.types["shadow"];
+  t.rays = 100;
+  t.brute_force = 100 * 1000;  // 1,000 triangles
+  nlohmann::json ps = nlohmann::json::array();
+  for (const auto& [name, ms] : passes) ps.push_back({{"pass", name}, {"ms", ms}});
+  r.timings = {{"passes", ps}};
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("reproduce hunt-mark: tables 2-4 set the grids' times beside Embree's and the raster's, and judge each relation") {
+  // The grids: eye build 10 + eye trace 10, lights' build 20 + shadow trace 20; the raster 5 ms.
+  const std::vector<std::pair<std::string, double>> grid = {{"grid.build.eye", 10}, {"grid.trace.primary.b0", 10}, {"grid.build", 20},
+                                                            {"grid.trace.shadow.b0", 20}, {"raster", 5}};
+  const Result conf = Timed("CONFERENCE", "grid", grid), bunny = Timed("BUNNY-69K", "grid", grid);
+  // Embree: built in its first batch (5 of the eye pass's 15 ms), shadows 10 ms: faster than the grids.
+  const Result bvh = Timed("CONFERENCE", "embree", {{"embree.build", 5}, {"trace.primary.b0", 15}, {"trace.shadow.b0", 10}});
+  const Table t = Tables234({&conf, &bunny, &bvh});
+  REQUIRE(t.rows.size() == 4);  // CONFERENCE's three comparisons and BUNNY-69K's raster; BUNNY-1K has no results
+  const auto find = [&](const std::string& table, const char* relation) {
+    for (const auto& row : t.rows)
+      if (row[0] == table && row[3] == relation) return row;
+    FAIL("no row for table " << table);
+    return std::vector<std::string>{};
+  };
+  const auto eye = find("2", kHuntFasterEye);
+  CHECK(eye[4] == "20.0 ms");
+  CHECK(eye[5] == "15.0 ms");  // build 5 + eye 10
+  CHECK(eye[6] == "x0.75");
+  CHECK(eye[7] == "fails");
+  CHECK(eye[9] == "holds");  // 22 against 16
+  const auto both = find("2", kHuntFasterShadow);
+  CHECK(both[4] == "60.0 ms");
+  CHECK(both[5] == "25.0 ms");
+  CHECK(both[9] == "fails");  // 6.8 against 7.2
+  const auto stat = find("3", kHuntFasterStatic);
+  CHECK(stat[5] == "10.0 ms");  // the build left out
+  CHECK(stat[6] == "x0.50");
+  const auto z = find("4", kHuntZBuffer);
+  CHECK(z[4] == "0.05 Mtri/s");  // 1,000 triangles in 20 ms
+  CHECK(z[5] == "0.20 Mtri/s");  // in 5 ms
+  CHECK(z[6] == "x0.25");
+  CHECK(z[7] == "fails");  // outside 2x
+  CHECK(z[9] == "holds");
+  // The grids' eye rays as fast as the raster: within 2x holds.
+  const Result quick = Timed("BUNNY-69K", "grid", {{"grid.build.eye", 2}, {"grid.trace.primary.b0", 3}, {"raster", 5}});
+  const Table q = Tables234({&quick});
+  REQUIRE(q.rows.size() == 1);
+  CHECK(q.rows[0][6] == "x1.00");
+  CHECK(q.rows[0][7] == "holds");
+}
+
 }  // namespace rayspace::reproduce

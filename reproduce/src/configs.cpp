@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "rayspace/reproduce/faithful_presets.h"
+#include "rayspace/reproduce/fit_thesis.h"
 
 namespace rayspace::reproduce {
 
@@ -11,13 +12,22 @@ const std::vector<SceneChoice>& ThesisScenes() {
       {"OFFICE", {{"office.json", "stand-in office model, 2 lights"}}, 1},
       {"CORNELL", {{"cornell-mirrors.json", "stand-in: cornell-mirrors, shadow rays after each of 2 bounces"}}, 2},
       {"SPONZA",
-       {{kFittedSponzaFile,
-         "34 objects, not one mesh; camera and light fitted on RAH s8 d2's rays and level hits (docs/reproduce.md, \"Fits\")"},
+       {{"sponza-thesis-fit-2.json",
+         "34 objects, not one mesh; camera and light fitted on RAH s8 d2's rays and level hits among plausible poses (docs/reproduce.md, \"Fits\", "
+         "protocol 2)"},
+        {"sponza-thesis-fit.json",
+         "34 objects, not one mesh; camera and light fitted on RAH s8 d2's rays and level hits (docs/reproduce.md, \"Fits\", protocol 1)"},
         {"sponza-thesis.json", "34 objects, not one mesh; our viewpoint, chosen for the thesis's shadow-ray count (its camera is not published)"}},
        1,
        true},
   };
   return scenes;
+}
+
+int FitProtocolOfScene(const std::string& scene_file) {
+  for (int protocol = 1; protocol <= kFitProtocolLatest; ++protocol)
+    if (scene_file == FittedSceneStem(protocol) + ".json") return protocol;
+  return 0;
 }
 
 const std::vector<Target>& Targets() {
@@ -26,7 +36,7 @@ const std::vector<Target>& Targets() {
       {"roger", "", "Roger et al. 2007 figures 9(a-c), 13(a-c): phase shares, work against the bunny's LOD, against cos(nx)cos(ny), tests per ray, against pixels; rah-quadtree and rah"},
       {"toczek", "", "Toczek et al. 2010 tables 1-2: traversed nodes per ray against the node order (table 1, bunny without ground) and against the triangle count (table 2: cubes, Suzanne, bunny, dragon); --algo tl"},
       {"thesis-ablation", "", "CRSH thesis: each faithful switch alone (cone test, hash layout and bits, shadow rule, one object, child merge) on SPONZA's 12 configurations, scored against tables 4.3-4.24"},
-      {"hunt-mark", "", "Hunt and Mark 2008 tables 1 and 5: eye-ray and hard-shadow rates and build share against the triangle count (bunny LODs, conference), grid cells per soft-shadow ray, regular against 3D perspective grid (Sponza, conference); --algo grid"},
+      {"hunt-mark", "", "Hunt and Mark 2008 tables 1-5: eye-ray and hard-shadow rates and build share against the triangle count (bunny LODs, conference), against Embree and the raster (tables 2-4), grid cells per soft-shadow ray, regular against 3D perspective grid (Sponza, conference); --algo grid"},
   };
   return targets;
 }
@@ -45,6 +55,7 @@ const std::vector<std::pair<int, int>>& ThesisShapes() {
 std::string Config::Canonical() const {
   // The quadtree's subdivision is 4 and its depth log2 of the image size: both follow from the size.
   const std::string shape = quadtree() ? "quadtree"
+                            : embree() ? (primary ? "bvh primary=embree" : "bvh")
                             : grid()   ? fmt::format("grid{}{}{}", grid_area.empty() ? "" : " area=" + grid_area, primary ? " primary=grid" : "",
                                                    grid_regular_cells ? fmt::format(" regular-cells={}", grid_regular_cells) : "")
                             : tl()     ? fmt::format("lists={} order={}{}{}{}{}", lists, node_order, cull ? " cull=on" : "", heads.empty() ? "" : " heads=" + heads,
@@ -72,6 +83,7 @@ std::string Config::Canonical() const {
 
 std::string Config::Name() const {
   const std::string name = quadtree() ? fmt::format("{} {}", scene, algo)
+                           : embree() ? fmt::format("{} embree{}", scene, primary ? " primary" : "")
                            : grid()   ? fmt::format("{} grid{}{}{}", scene, grid_area.empty() ? "" : " " + grid_area, primary ? " primary" : "",
                                                     grid_regular_cells ? fmt::format(" regular ~{}", grid_regular_cells) : "")
                            : tl()     ? fmt::format("{} tl K{} {}{}{}{}{}", scene, lists, node_order, cull ? " culled" : "", heads.empty() ? "" : " heads " + heads,
@@ -87,6 +99,7 @@ std::string Config::Name() const {
 
 std::string Config::RenderArgs() const {
   const std::string shape = quadtree() ? ""
+                            : embree() ? (primary ? " --primary embree" : "")
                             : grid()   ? fmt::format("{}{}{}", grid_area.empty() ? "" : " --grid-area " + grid_area, primary ? " --primary grid" : "",
                                                    grid_regular_cells ? fmt::format(" --grid-regular-cells {}", grid_regular_cells) : "")
                             : tl()     ? fmt::format(" --lists {} --node-order {}{}{}{}{}", lists, node_order, cull ? " --backface-cull on" : "",
@@ -121,8 +134,10 @@ const std::vector<std::vector<std::string>>& AblationSwitches() {
 
 std::vector<Config> AblationConfigs(const std::filesystem::path& scenes_dir, int width, int height) {
   std::vector<Config> configs;
+  std::string current;
   for (const Config& base : ThesisConfigs(scenes_dir, width, height)) {
     if (base.scene != "SPONZA" || base.quadtree() || !base.faithful.empty()) continue;
+    current = base.scene_file;
     for (const std::vector<std::string>& v : AblationSwitches()) {
       Config c = base;
       c.target = "thesis-ablation";
@@ -130,6 +145,18 @@ std::vector<Config> AblationConfigs(const std::filesystem::path& scenes_dir, int
       configs.push_back(c);
     }
   }
+  // Every other committed fit's scene, under the defaults and the last variant (the switches that
+  // alone gain cells, together), to score the fits side by side out of sample.
+  const std::size_t first = configs.size();
+  for (const SceneChoice& sc : ThesisScenes())
+    for (const SceneFile& f : sc.files)
+      if (FitProtocolOfScene(f.file) > 0 && f.file != current && std::filesystem::exists(scenes_dir / f.file))
+        for (std::size_t i = 0; i < first; ++i)
+          if (configs[i].switches.empty() || configs[i].switches == AblationSwitches().back()) {
+            Config c = configs[i];
+            c.scene_file = f.file;
+            configs.push_back(c);
+          }
   return configs;
 }
 

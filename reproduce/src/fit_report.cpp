@@ -7,13 +7,16 @@
 
 #include "rayspace/reproduce/configs.h"
 #include "rayspace/reproduce/fit_thesis.h"
-#include "thesis_sponza_fit_json.h"
+#include "thesis_sponza_fit_1_json.h"
+#include "thesis_sponza_fit_2_json.h"
 
 namespace rayspace::reproduce {
 
-const nlohmann::json& ThesisSponzaFit() {
-  static const nlohmann::json record = std::string(kThesisSponzaFitJson).empty() ? nlohmann::json() : nlohmann::json::parse(kThesisSponzaFitJson);
-  return record;
+const nlohmann::json& ThesisSponzaFit(int protocol) {
+  static const auto parse = [](const char* text) { return std::string(text).empty() ? nlohmann::json() : nlohmann::json::parse(text); };
+  static const nlohmann::json first = parse(kThesisSponzaFit1Json), second = parse(kThesisSponzaFit2Json), none;
+  static_assert(kFitProtocolLatest == 2, "a new protocol's record is embedded (reproduce/CMakeLists.txt) and returned here");
+  return protocol == 1 ? first : protocol == 2 ? second : none;
 }
 
 namespace {
@@ -32,9 +35,11 @@ std::string JText(const nlohmann::json& j) { return j.is_number() ? fmt::format(
 }  // namespace
 
 Table FitTable(const nlohmann::json& record, const Result* rah, std::vector<RelationRow>& relations) {
-  Table t{"fit-thesis", "The fit: SPONZA's camera and light (docs/reproduce.md, \"Fits\")", {"parameter", "range", "fitted"}, {}, {}};
+  const int protocol = record.value("protocol", 1);
+  Table t{"fit-thesis", fmt::format("The fit: SPONZA's camera and light (docs/reproduce.md, \"Fits\", protocol {})", protocol),
+          {"parameter", "range", "fitted"}, {}, {}};
   const nlohmann::json& best = record.at("best");
-  for (const FitRange& r : ThesisFitRanges())
+  for (const FitRange& r : ThesisFitRanges(protocol))
     t.rows.push_back({r.name, fmt::format("[{}, {}]", r.lo, r.hi), fmt::format("{:.4f}", best.at("point").at(r.name).get<double>())});
   const FitCounts fitted = CountsOf(best);
   t.notes.push_back(fmt::format(
@@ -63,7 +68,7 @@ Table SensitivityTable(const nlohmann::json& record) {
   std::map<std::string, std::map<double, std::string>> j;
   for (const nlohmann::json& s : record.at("sensitivity")) j[s.at("parameter")][s.at("fraction").get<double>()] = JText(s.at("frame").at("J"));
   const std::string fitted = JText(record.at("best").at("J"));
-  for (const FitRange& r : ThesisFitRanges()) {
+  for (const FitRange& r : ThesisFitRanges(record.value("protocol", 1))) {
     auto& m = j[r.name];
     t.rows.push_back({r.name, m[-0.125], m[-0.0625], fitted, m[0.0625], m[0.125]});
   }
@@ -82,7 +87,7 @@ struct SponzaScore {
   std::string in_total = "n/a", in_ratio = "n/a";
   double sq_log = 0.0;
   int sq_n = 0;
-  bool fitted_scene = false;
+  std::string scene_file;
   double MeanSqLog() const { return sq_n ? sq_log / sq_n : 0.0; }
 };
 
@@ -92,7 +97,7 @@ SponzaScore ScoreSponza(const std::vector<const Result*>& results, const Publish
   for (const Result* r : results)
     if (r->config.scene == "SPONZA" && r->config.faithful.empty() && !r->config.quadtree()) {
       by[{r->config.algo, {r->config.subdivision, r->config.levels}}] = r;
-      sc.fitted_scene = sc.fitted_scene || r->config.scene_file == kFittedSponzaFile;
+      sc.scene_file = r->config.scene_file;
     }
   for (const auto& [sub, depth] : ThesisShapes()) {
     const HierarchyShape s{sub, depth};
@@ -152,35 +157,107 @@ Table SponzaTargetsTable(const std::vector<Result>& results, const Published& p)
   t.rows.push_back({"CRSH/RAH (6 shapes)", fmt::format("s8 d2, partly (its RAH total): {} ({})", sc.ratio_in ? "within" : "outside", sc.in_ratio),
                     fmt::format("{} of {}", sc.ratios, sc.ratios_n), "5 of 6"});
   t.rows.push_back({"per-level cells (108)", fmt::format("RAH s8 d2: {} of 6", sc.cells_in), fmt::format("{} of {}", sc.cells, sc.cells_n), "70 of 108"});
+  const int protocol = FitProtocolOfScene(sc.scene_file);
   t.notes.push_back(fmt::format("Out of sample: every number outside the fit set (SPONZA RAH s8 d2 and the ray count), with {} "
                                 "fixed; ours counted as the thesis counts.",
-                                sc.fitted_scene ? "the fitted scene (sponza-thesis-fit.json)" : "the hand-chosen viewpoint (sponza-thesis.json: no fit used)"));
+                                protocol > 0 ? fmt::format("the fitted scene ({}, protocol {})", sc.scene_file, protocol)
+                                             : fmt::format("the hand-chosen viewpoint ({}: no fit used)", sc.scene_file)));
   return t;
 }
+
+Table FitsTable() {
+  Table t{"fit-thesis-protocols", "The fits side by side: each protocol's fitted point on the fit set (in sample)",
+          {"protocol", "frames", "J", "shadow rays (x)", "level-2 hits (x)", "level-1 hits (x)", "lit share"}, {}, {}};
+  for (int protocol = 1; protocol <= kFitProtocolLatest; ++protocol) {
+    const nlohmann::json& record = ThesisSponzaFit(protocol);
+    if (record.is_null()) continue;
+    const nlohmann::json& best = record.at("best");
+    const FitCounts c = CountsOf(best);
+    t.rows.push_back({fmt::format("{}", protocol), fmt::format("{}", record.at("frames").get<int>()), JText(best.at("J")),
+                      Ratio(c.rays, kThesisFitSet.rays), Ratio(c.level2_hits, kThesisFitSet.level2_hits),
+                      Ratio(c.level1_hits, kThesisFitSet.level1_hits),
+                      best.contains("lit_share") ? fmt::format("{:.3f}", best.at("lit_share").get<double>()) : "not measured"});
+  }
+  t.notes.push_back("(x): ours over the thesis's. Protocol 1's search measured no lit share (its record predates the statistic); "
+                    "the out-of-sample scores of both fitted scenes are in the thesis-ablation report.");
+  return t;
+}
+
+namespace {
+
+// The SPONZA scene files of the ablation's results, best choice first (ThesisScenes' order): the first
+// is the scene the variants render; the others are earlier fits'.
+std::vector<std::string> AblationScenes(const std::vector<Result>& results) {
+  std::vector<std::string> files;
+  for (const SceneChoice& sc : ThesisScenes())
+    for (const SceneFile& f : sc.files)
+      for (const Result& r : results)
+        if (r.config.target == "thesis-ablation" && r.config.scene_file == f.file) {
+          files.push_back(f.file);
+          break;
+        }
+  return files;
+}
+
+std::string SwitchesText(const std::vector<std::string>& v) {
+  std::string name;
+  for (const std::string& w : v) name += (name.empty() ? "" : " ") + w;
+  return name.empty() ? "(rayspace's defaults)" : name;
+}
+
+}  // namespace
 
 Table AblationTable(const std::vector<Result>& results, const Published& p) {
   Table t{"ablation", "Ablation: each faithful switch alone on SPONZA, against the thesis's numbers (out of sample)",
           {"switches", "totals within 15 %", "CRSH/RAH within 15 %", "per-level cells within 15 %", "mean squared log ratio (non-zero cells)",
            "cells against the defaults"},
           {}, {}};
+  const std::vector<std::string> scenes = AblationScenes(results);
   std::map<std::vector<std::string>, std::vector<const Result*>> by;
   for (const Result& r : results)
-    if (r.config.target == "thesis-ablation") by[r.config.switches].push_back(&r);
+    if (r.config.target == "thesis-ablation" && r.config.scene_file == scenes.front()) by[r.config.switches].push_back(&r);
   int base = -1;  // the defaults' cells: AblationSwitches lists the defaults first
   for (const std::vector<std::string>& v : AblationSwitches()) {
     const auto it = by.find(v);
     if (it == by.end()) continue;
     const SponzaScore sc = ScoreSponza(it->second, p);
     if (v.empty()) base = sc.cells;
-    std::string name;
-    for (const std::string& w : v) name += (name.empty() ? "" : " ") + w;
-    t.rows.push_back({name.empty() ? "(rayspace's defaults)" : name, fmt::format("{} of {}", sc.totals, sc.totals_n),
+    t.rows.push_back({SwitchesText(v), fmt::format("{} of {}", sc.totals, sc.totals_n),
                       fmt::format("{} of {}", sc.ratios, sc.ratios_n), fmt::format("{} of {}", sc.cells, sc.cells_n),
-                      fmt::format("{:.3f}", sc.MeanSqLog()), base < 0 || name.empty() ? "" : fmt::format("{:+d}", sc.cells - base)});
+                      fmt::format("{:.3f}", sc.MeanSqLog()), base < 0 || v.empty() ? "" : fmt::format("{:+d}", sc.cells - base)});
   }
-  t.notes.push_back("Each variant renders SPONZA's 12 configurations with one switch of the faithful family and every other "
-                    "setting rayspace's default; counts out of sample (RAH s8 d2, the fit set, left out). --shadow-bounces "
-                    "first changes nothing on SPONZA (one bounce, no mirror) and is not a variant.");
+  t.notes.push_back(fmt::format("Each variant renders SPONZA ({}) in its 12 configurations with one switch of the faithful family and every "
+                                "other setting rayspace's default; counts out of sample (RAH s8 d2, the fit set, left out). --shadow-bounces "
+                                "first changes nothing on SPONZA (one bounce, no mirror) and is not a variant.",
+                                scenes.front()));
+  return t;
+}
+
+Table AblationFitsTable(const std::vector<Result>& results, const Published& p) {
+  Table t{"ablation-fits", "The fits side by side: each fitted scene's out-of-sample scores",
+          {"scene", "protocol", "switches", "totals within 15 %", "CRSH/RAH within 15 %", "per-level cells within 15 %",
+           "mean squared log ratio (non-zero cells)"},
+          {}, {}};
+  const std::vector<std::string> scenes = AblationScenes(results);
+  for (const std::string& file : scenes) {
+    if (FitProtocolOfScene(file) == 0) continue;
+    for (const std::vector<std::string>& v : {AblationSwitches().front(), AblationSwitches().back()}) {
+      std::vector<const Result*> rs;
+      for (const Result& r : results)
+        if (r.config.target == "thesis-ablation" && r.config.scene_file == file && r.config.switches == v) rs.push_back(&r);
+      if (rs.empty()) continue;
+      const SponzaScore sc = ScoreSponza(rs, p);
+      t.rows.push_back({file, fmt::format("{}", FitProtocolOfScene(file)), SwitchesText(v), fmt::format("{} of {}", sc.totals, sc.totals_n),
+                        fmt::format("{} of {}", sc.ratios, sc.ratios_n), fmt::format("{} of {}", sc.cells, sc.cells_n),
+                        fmt::format("{:.3f}", sc.MeanSqLog())});
+    }
+  }
+  if (t.rows.size() < 4) {  // one fit: nothing to set beside it
+    t.rows.clear();
+    return t;
+  }
+  t.notes.push_back("Out of sample, as the targets: each fit's scene under rayspace's defaults and under the switches that alone gain "
+                    "cells, together. The report's scene is the first row's.");
   return t;
 }
 

@@ -353,10 +353,11 @@ Report BuildReport(const std::vector<Result>& tested, const Published& published
   report.tables.push_back(ScenesTable(idx));
   // The committed fit, where this run's SPONZA is the fitted scene.
   const Result* sponza = Find(idx, "SPONZA", "rah", {8, 2});
-  if (!ThesisSponzaFit().is_null() && sponza && sponza->config.scene_file == kFittedSponzaFile) {
-    report.tables.push_back(FitTable(ThesisSponzaFit(), sponza->config.width == 512 && sponza->config.height == 512 ? sponza : nullptr,
-                                     report.relations));
-    report.tables.push_back(SensitivityTable(ThesisSponzaFit()));
+  if (const int protocol = sponza ? FitProtocolOfScene(sponza->config.scene_file) : 0; protocol > 0 && !ThesisSponzaFit(protocol).is_null()) {
+    const nlohmann::json& record = ThesisSponzaFit(protocol);
+    report.tables.push_back(FitTable(record, sponza->config.width == 512 && sponza->config.height == 512 ? sponza : nullptr, report.relations));
+    report.tables.push_back(SensitivityTable(record));
+    report.tables.push_back(FitsTable());
   }
   for (std::size_t c = 0; c < ThesisShapes().size(); ++c) {
     const HierarchyShape s{ThesisShapes()[c].first, ThesisShapes()[c].second};

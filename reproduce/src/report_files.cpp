@@ -182,6 +182,7 @@ Report WriteReport(const std::filesystem::path& out, const std::vector<Result>& 
     for (Result& r : ablation) r.counts = SlotAccounting(r.counts, r.config.subdivision);
     if (thesis.empty()) report.title = "CRSH thesis: the faithful switches on SPONZA";
     report.tables.push_back(AblationTable(ablation, published));
+    if (Table fits = AblationFitsTable(ablation, published); !fits.rows.empty()) report.tables.push_back(std::move(fits));
   }
   if (thesis.empty() && ablation.empty()) {
     const int targets = !roger.empty() + !toczek.empty() + !hunt.empty();

@@ -22,8 +22,9 @@ struct SceneChoice {
   int bounces = 1;               // --bounces: reflection bounces the thesis's frame traces
   bool one_object = false;       // the thesis's model is one object: --one-object in faithful runs
 };
-// SPONZA's scene with the fitted camera and light (`reproduce thesis --fit`, committed under scenes/).
-inline constexpr const char* kFittedSponzaFile = "sponza-thesis-fit.json";
+// The fitted protocol whose SPONZA scene (`reproduce thesis --fit`, committed under scenes/ as
+// sponza-thesis-fit.json, -2.json, ...) `scene_file` is; 0 for any other file.
+int FitProtocolOfScene(const std::string& scene_file);
 // The thesis's scenes, the one table to change when a scene's stand-in changes.
 const std::vector<SceneChoice>& ThesisScenes();
 
@@ -65,6 +66,7 @@ struct Config {
   bool grid() const { return algo == "grid"; }
   bool tl() const { return algo == "tl"; }
   bool quadtree() const { return algo == "rah-quadtree"; }
+  bool embree() const { return algo == "embree"; }  // hunt-mark's BVH beside the grids (`primary`: --primary embree)
   // Every setting that changes the counts, as one line (part of the result's key).
   std::string Canonical() const;
   // Short, for progress lines and tables: "OFFICE crsh s8 d2".

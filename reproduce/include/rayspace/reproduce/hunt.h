@@ -41,9 +41,19 @@ inline constexpr const char* kHuntHardSlower = "hard-shadow rays are not quite a
 inline constexpr const char* kHuntSoftSlower =
     "soft-shadow rays are substantially slower than hard-shadow rays, under half their rays per second (table 1's text)";
 inline constexpr const char* kHuntSoftBuild = "the build is a smaller share of the frame for soft shadows than for hard shadows (table 1's text)";
+inline constexpr const char* kHuntFasterEye = "faster than a BVH rebuilt each frame, for eye rays (table 2; section 6.2: always, 1.37x to 2.83x)";
+inline constexpr const char* kHuntFasterShadow =
+    "faster than a BVH rebuilt each frame, for eye and hard-shadow rays (table 2; section 6.2: in most cases, 0.94x to 2.36x)";
+inline constexpr const char* kHuntFasterStatic = "faster for eye rays than a static BVH whose build is not counted (table 3)";
+inline constexpr const char* kHuntZBuffer =
+    "eye rays through the perspective grid are comparable to a software Z-buffer, in triangles per second (table 4; within 2x: "
+    "the project's reading of \"comparable\")";
 inline constexpr const char* kHuntBuildRises = "the build's share of the frame rises from the smallest bunny to the largest (table 1)";
 
 // Table 5 and the relations on counts into `report`; table 1 (times) into `timings`.
+// Tables 2-4 (timings.md): the grids' frame against Embree's (tables 2 and 3) and against the frame's
+// raster pass (table 4), as the relations the paper's numbers support.
+Table Tables234(const std::vector<const Result*>& results);
 void AddHuntReport(Report& report, Report& timings, const std::vector<const Result*>& results);
 
 }  // namespace rayspace::reproduce
