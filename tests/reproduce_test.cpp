@@ -475,3 +475,41 @@ TEST_CASE("reproduce hunt-mark: tables 2-4 set the grids' times beside Embree's 
 }
 
 }  // namespace rayspace::reproduce
+
+namespace rayspace::reproduce {
+
+TEST_CASE("reproduce toczek: table 2's frame and ray rates, ours beside the published, and their relations") {
+  const auto run = [](const std::string& scene, std::uint64_t triangles, double frame_ms, double trace_ms) {
+    Result r;
+    r.config.target = "toczek";
+    r.config.scene = scene;
+    r.config.algo = "tl";
+    r.config.lists = 6;
+    r.config.node_order = "earliest-first";
+    TypeCounts& t = r.counts.types["shadow"];
+    t.rays = 1000;
+    t.brute_force = 1000 * triangles;
+    r.timings = {{"frame_ms", frame_ms}, {"passes", nlohmann::json::array({{{"pass", "trace.shadow.b0"}, {"ms", trace_ms}}})}};
+    return r;
+  };
+  // 1,000 rays: 1 ms of trace is 1 M rays/s.
+  const Result cubes = run("CUBES", 222, 10, 1), dragon = run("DRAGON", 100002, 100, 10);
+  const Table t = ToczekRatesTable({&dragon, &cubes});
+  REQUIRE(t.rows.size() == ToczekTable2().size() + 2);
+  CHECK(t.rows[ToczekTable2().size()][0] == "CUBES");  // ours in ToczekScenes' order
+  CHECK(t.rows[ToczekTable2().size()][4] == "100.00");
+  CHECK(t.rows[ToczekTable2().size()][7] == "1.00");
+  const auto note = [&](const char* relation) {
+    for (const std::string& n : t.notes)
+      if (n.find(relation) != std::string::npos) return n;
+    return std::string();
+  };
+  CHECK(note(kToczekRateFalls).find("ours holds (1.00 to 0.10 M rays/s); published holds") != std::string::npos);
+  CHECK(note(kToczekTenTimes).find("ours holds (smallest against largest frames/s: x10.0); published holds (x9.8)") != std::string::npos);
+  // The small scene 30x the large one's frame rate: not "about 10 times".
+  const Result fast = run("CUBES", 222, 10, 1), slow = run("DRAGON", 100002, 300, 10);
+  CHECK(ToczekRatesTable({&fast, &slow}).notes.back().find("ours fails (smallest against largest frames/s: x30.0)") != std::string::npos);
+  CHECK(ToczekRatesTable({&fast}).rows.empty());  // one scene: no relation to judge
+}
+
+}  // namespace rayspace::reproduce

@@ -14,6 +14,7 @@
 namespace rayspace::reproduce {
 
 struct Result;
+struct Table;
 struct Report;
 
 // The paper's frames: 1024x1024, one point light, direct illumination.
@@ -40,6 +41,7 @@ struct ToczekTable1Row {
   std::string order;
   bool culling = false, heads = false, frustum = false;
   double rays_per_s = 0, nodes_per_s = 0;
+  double fps = 0;  // at 1024x1024, one point light (GTX 280)
   double NodesPerRay() const { return nodes_per_s / rays_per_s; }
 };
 const std::vector<ToczekTable1Row>& ToczekTable1();
@@ -47,6 +49,7 @@ struct ToczekTable2Row {
   std::string scene;  // the paper's
   std::uint64_t triangles = 0;
   double rays_per_s = 0, nodes_per_s = 0;
+  double fps = 0;  // at 1024x1024, one point light (GTX 280)
   double NodesPerRay() const { return nodes_per_s / rays_per_s; }
 };
 const std::vector<ToczekTable2Row>& ToczekTable2();
@@ -55,6 +58,14 @@ inline constexpr const char* kToczekOrder = "the node order changes nodes per ra
 inline constexpr const char* kToczekCulling = "back-face culling lowers nodes per ray (table 1)";
 inline constexpr const char* kToczekFrustum = "frustum culling lowers nodes per ray (table 1)";
 inline constexpr const char* kToczekHeads = "regular per-polygon heads lower nodes per ray (table 1)";
+// Table 2's frames and rays per second (timings.md): ours (6 lists, earliest first, every switch
+// off) beside the published, and the two relations they support; empty with fewer than two scenes.
+Table ToczekRatesTable(const std::vector<const Result*>& results);
+inline constexpr const char* kToczekRateFalls =
+    "rays per second fall from the smallest scene to the largest (table 2's caption: the traversal rate falls with the polygon count)";
+inline constexpr const char* kToczekTenTimes =
+    "the small scenes' frame rate is about 10 times the big ones' (section 4: \"10 times higher framerates\"; 5x to 20x, the "
+    "project's reading of \"about\")";
 inline constexpr const char* kToczekFlat = "nodes per ray within 3x from the smallest scene to the largest (table 2)";
 
 // Holds when the two differ by at most `bound` of the larger; detail "1604 vs 1725: 7.0% <= 20%".
