@@ -94,21 +94,20 @@ endif()
 # --faithful thesis: the same frame as its switches given one by one (the preset is only a list of
 # switches), and a switch given beside it wins over the preset's value.
 math(EXPR CASES "${CASES} + 1")
-set(thesis_switches --hash-order polar-first --hash-bits 8 --shadow-bounces first --objects flat --child-merge pairwise)
+set(thesis_switches --shadow-bounces first --objects flat --child-merge pairwise)
 render_stats(preset cornell-mirrors --faithful thesis)
 render_stats(spelled cornell-mirrors ${thesis_switches})
-render_stats(preset10 cornell-mirrors --faithful thesis --hash-bits 12)
-render_stats(spelled10 cornell-mirrors --hash-order polar-first --hash-bits 12 --shadow-bounces first --objects flat
-             --child-merge pairwise)
+render_stats(preset10 cornell-mirrors --faithful thesis --shadow-bounces all)
+render_stats(spelled10 cornell-mirrors --shadow-bounces all --objects flat --child-merge pairwise)
 foreach(path "total_tests" "rays;shadow;total" "rays;reflection;total" "object_sphere_tests")
   expect_equal_json(preset spelled "--faithful thesis: ${path}" ${path})
-  expect_equal_json(preset10 spelled10 "--faithful thesis --hash-bits 12: ${path}" ${path})
+  expect_equal_json(preset10 spelled10 "--faithful thesis --shadow-bounces all: ${path}" ${path})
 endforeach()
 string(JSON preset_total GET "${preset_stats}" total_tests)
 string(JSON preset10_total GET "${preset10_stats}" total_tests)
 string(JSON every_total GET "${every_stats}" total_tests)
 if(preset_total EQUAL preset10_total OR preset_total EQUAL every_total)
-  string(APPEND FAILURES "\n--faithful thesis: ${preset_total} tests, the same as with --hash-bits 12 (${preset10_total}) "
+  string(APPEND FAILURES "\n--faithful thesis: ${preset_total} tests, the same as with --shadow-bounces all (${preset10_total}) "
                          "or without the preset (${every_total}): the preset changes nothing here")
 endif()
 foreach(img preset spelled)

@@ -278,7 +278,7 @@ TEST_CASE("reproduce: the canonical text names every setting, and keeps the defa
   c.one_object = true;
   // A preset is keyed by the switches it stands for, so a preset that changes names new results.
   CHECK(c.Canonical().ends_with(
-      " faithful=thesis [--hash-order polar-first --hash-bits 8 --shadow-bounces first --objects flat --child-merge pairwise] "
+      " faithful=thesis [--shadow-bounces first --objects flat --child-merge pairwise] "
       "one-object"));
   Config merged_only = c;
   merged_only.faithful.clear();
