@@ -290,6 +290,31 @@ TEST_CASE("tl.heads: a hand-worked window") {
   CHECK(held(simple, 2, 5) == std::vector<std::uint32_t>{0, 2, 3});
 }
 
+TEST_CASE("tl.heads: a triangle touching a plane's margin is kept, one ulp past it is rejected") {
+  // T0 spans x in [0, 1] in y = 0 with normal (0, 1, 0): its reach and a vertex's side (its y) are
+  // exact, and so are, in list 0 of 8 (facet normal (1, 0, 0)), its starting bound less the margin
+  // (-2^-8) and a vertex's projection (its x). A margin of 2^-8 makes the boundaries exact floats.
+  const glm::vec3 v0(0, 0, 0), v1(0, 0, 1), v2(1, 0, 0);
+  const float margin = 0x1p-8f, below = std::nextafter(-margin, -1.0f);
+  const tl::HeadPlanes plane = tl::MakePlanes(v0, v1, v2, 0, 8, 0, layout::kTlHeadsSimple, margin);
+  const tl::HeadPlanes facets = tl::MakePlanes(v0, v1, v2, 0, 8, 0, layout::kTlHeadsRegular, margin);
+  for (int at = 0; at < 3; ++at) {
+    CAPTURE(at);
+    // Behind the plane: two vertices past the reach, one exactly on it, then one ulp past it.
+    glm::vec3 v[3] = {{0, -0.5f, 0}, {1, -0.5f, 0}, {0, -0.5f, 1}};
+    v[at].y = -margin;
+    CHECK_FALSE(tl::TriangleRejected(plane, v[0], v[1], v[2]));
+    v[at].y = below;
+    CHECK(tl::TriangleRejected(plane, v[0], v[1], v[2]));
+    // In front of the plane, beside the facet x >= 0: the same with x.
+    glm::vec3 u[3] = {{-1, 0.5f, 0}, {-1, 0.75f, 1}, {-0.5f, 0.6f, 0.5f}};
+    u[at].x = -margin;
+    CHECK_FALSE(tl::TriangleRejected(facets, u[0], u[1], u[2]));
+    u[at].x = below;
+    CHECK(tl::TriangleRejected(facets, u[0], u[1], u[2]));
+  }
+}
+
 TEST_CASE("tl.heads: the same bits on every schedule (threads, chunk sizes)") {
   rayspace::test::TestSettings settings;
   const std::vector<Triangle> tris = Soup(300, 9);

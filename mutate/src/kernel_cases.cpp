@@ -338,6 +338,39 @@ verify::BufferSet TlHeadsSliversCall() {
   return verify::EncodeCall(c);
 }
 
+// Per-polygon heads (regular, 8 lists) where triangles touch a facet's margin exactly. The margin
+// is 2^-8 and the first triangle spans x in [0, 1], so for a list whose class has the facet normal
+// (1, 0, 0) its starting rays' bound is 0 - 2^-8, and a vertex's side of it is its x, both exact.
+// In front of that triangle lie three others, each with one vertex exactly on the bound (x = -2^-8)
+// and two past it (x <= -0.5), one triangle per vertex position: touching the margin keeps a
+// triangle, and each of the three is the first triangle kept by one window, so a rejection moved
+// onto the boundary at any vertex moves a head or a tail.
+verify::BufferSet TlHeadsTouchingCall() {
+  std::vector<layout::Triangle> triangles = {{vec4(0, 0, 0, 1), vec4(0, 0, 1, 1), vec4(1, 0, 0, 1)}};
+  for (int at = 0; at < 3; ++at) {
+    const float y = 0.5f * static_cast<float>(at + 1);
+    glm::vec3 v[3] = {{-1.0f, y, 0.0f}, {-1.0f, y + 0.25f, 1.0f}, {-0.5f, y + 0.125f, 0.5f}};
+    v[at].x = -0x1p-8f;
+    triangles.push_back({vec4(v[0], 1), vec4(v[1], 1), vec4(v[2], 1)});
+  }
+  const emu::tl::Options options;
+  const emu::tl::Tree tree = emu::tl::PrepareTree(triangles, options.tree);
+  const std::vector<vec4> directions = emu::tl::Directions(8);
+  emu::tl::Lists lists = emu::tl::Assemble(
+      tree, 8, emu::PassTlLists({.tree = tree.View(), .directions = directions, .order = layout::kTlOrderEarliestFirst}), false);
+  emu::call::TlHeads c;
+  c.first = lists.first;
+  c.escapes = lists.escapes;
+  c.words = lists.words;
+  c.vertices = lists.vertices;
+  c.tri_words = tree.tri_words;
+  c.mode = layout::kTlHeadsRegular;
+  // The scene and its light lie within [-4, 4]^3: the margin is 4 x 2^-10.
+  const std::vector<glm::vec3> lights = {glm::vec3(0, 4, 0)};
+  c.margin = emu::tl::HeadsMargin(glm::vec3(-4), glm::vec3(4), lights);
+  return verify::EncodeCall(c);
+}
+
 // Walks through a regular grid of 2 x 2 x 2 cells over [0, 2]^3, every cell listing three walls, of
 // rays with zero direction components: along each axis and in the coordinate planes, from inside the
 // box, from outside it along the moving axis, outside a slab they do not move across, and exactly on
@@ -405,6 +438,9 @@ std::vector<KernelCase> KernelCases() {
       {"tl-heads-slivers", "tl.heads", "tl.heads",
        "per-polygon heads of sliver triangles (normal short against the edges: whole lists) across a lattice",
        TlHeadsSliversCall()},
+      {"tl-heads-touching", "tl.heads", "tl.heads",
+       "per-polygon heads (regular, 8 lists) of triangles with one vertex exactly on a facet's bound less the margin, the others past it",
+       TlHeadsTouchingCall()},
   };
 }
 
