@@ -314,19 +314,13 @@ verify::BufferSet TlTraceTiesCall() {
   return verify::EncodeCall(c);
 }
 
-// Per-polygon heads over the lattice and three slivers (triangles whose normal is short against their
-// edges: their float plane cannot bound a window, so they walk whole lists) lying across it.
-verify::BufferSet TlHeadsSliversCall() {
-  std::vector<layout::Triangle> triangles = LatticeTriangles();
-  for (const float y : {0.5f, 1.5f})
-    triangles.push_back({vec4(-0.5f, y, -0.5f, 1), vec4(2.5f, y, 2.5f, 1), vec4(1.0f, y + 1e-3f, 1.0f, 1)});
-  triangles.push_back({vec4(0, 0, 2.5f, 1), vec4(2.5f, 2.5f, 2.5f, 1), vec4(1.25f, 1.25f, 2.5f + 1e-3f, 1)});
+// A tl.heads call (regular heads) over the triangles' earliest-first lists, `count` of them.
+verify::BufferSet TlHeadsCall(const std::vector<layout::Triangle>& triangles, std::uint32_t count, float margin) {
   const emu::tl::Options options;
   const emu::tl::Tree tree = emu::tl::PrepareTree(triangles, options.tree);
-  const std::vector<vec4> directions = emu::tl::Directions(6);
+  const std::vector<vec4> directions = emu::tl::Directions(count);
   emu::tl::Lists lists = emu::tl::Assemble(
-      tree, 6, emu::PassTlLists({.tree = tree.View(), .directions = directions, .order = layout::kTlOrderEarliestFirst}), false);
-  const std::vector<glm::vec3> lights = {glm::vec3(1, 5, 1)};
+      tree, count, emu::PassTlLists({.tree = tree.View(), .directions = directions, .order = layout::kTlOrderEarliestFirst}), false);
   emu::call::TlHeads c;
   c.first = lists.first;
   c.escapes = lists.escapes;
@@ -334,8 +328,19 @@ verify::BufferSet TlHeadsSliversCall() {
   c.vertices = lists.vertices;
   c.tri_words = tree.tri_words;
   c.mode = layout::kTlHeadsRegular;
-  c.margin = emu::tl::HeadsMargin(glm::vec3(-0.5f), glm::vec3(2.5f, 3.0f, 2.6f), lights);
+  c.margin = margin;
   return verify::EncodeCall(c);
+}
+
+// Per-polygon heads over the lattice and three slivers (triangles whose normal is short against their
+// edges: their float plane cannot bound a window, so they walk whole lists) lying across it.
+verify::BufferSet TlHeadsSliversCall() {
+  std::vector<layout::Triangle> triangles = LatticeTriangles();
+  for (const float y : {0.5f, 1.5f})
+    triangles.push_back({vec4(-0.5f, y, -0.5f, 1), vec4(2.5f, y, 2.5f, 1), vec4(1.0f, y + 1e-3f, 1.0f, 1)});
+  triangles.push_back({vec4(0, 0, 2.5f, 1), vec4(2.5f, 2.5f, 2.5f, 1), vec4(1.25f, 1.25f, 2.5f + 1e-3f, 1)});
+  const std::vector<glm::vec3> lights = {glm::vec3(1, 5, 1)};
+  return TlHeadsCall(triangles, 6, emu::tl::HeadsMargin(glm::vec3(-0.5f), glm::vec3(2.5f, 3.0f, 2.6f), lights));
 }
 
 // Per-polygon heads (regular, 8 lists) where triangles touch a facet's margin exactly. The margin
@@ -353,22 +358,9 @@ verify::BufferSet TlHeadsTouchingCall() {
     v[at].x = -0x1p-8f;
     triangles.push_back({vec4(v[0], 1), vec4(v[1], 1), vec4(v[2], 1)});
   }
-  const emu::tl::Options options;
-  const emu::tl::Tree tree = emu::tl::PrepareTree(triangles, options.tree);
-  const std::vector<vec4> directions = emu::tl::Directions(8);
-  emu::tl::Lists lists = emu::tl::Assemble(
-      tree, 8, emu::PassTlLists({.tree = tree.View(), .directions = directions, .order = layout::kTlOrderEarliestFirst}), false);
-  emu::call::TlHeads c;
-  c.first = lists.first;
-  c.escapes = lists.escapes;
-  c.words = lists.words;
-  c.vertices = lists.vertices;
-  c.tri_words = tree.tri_words;
-  c.mode = layout::kTlHeadsRegular;
   // The scene and its light lie within [-4, 4]^3: the margin is 4 x 2^-10.
   const std::vector<glm::vec3> lights = {glm::vec3(0, 4, 0)};
-  c.margin = emu::tl::HeadsMargin(glm::vec3(-4), glm::vec3(4), lights);
-  return verify::EncodeCall(c);
+  return TlHeadsCall(triangles, 8, emu::tl::HeadsMargin(glm::vec3(-4), glm::vec3(4), lights));
 }
 
 // Walks through a regular grid of 2 x 2 x 2 cells over [0, 2]^3, every cell listing three walls, of
