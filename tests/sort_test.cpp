@@ -42,7 +42,9 @@ TEST_CASE("sort: the radix mirror is a stable sort at every local size and sched
   std::vector<std::uint32_t> expect(keys.size());
   std::iota(expect.begin(), expect.end(), 0u);
   std::stable_sort(expect.begin(), expect.end(), [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
-  for (std::uint32_t local : {1u, 7u, 64u, 256u})
+  // 4 blocks: the bin scan takes a workgroup per bin at local sizes 1 and 7, and packs 2, 16, 64 and
+  // 128 bins into a workgroup at 12, 64, 256 and 1024 (layout::SortBinsPerGroup).
+  for (std::uint32_t local : {1u, 7u, 12u, 64u, 256u, 1024u})
     for (wg::Schedule s : {wg::Schedule{wg::Order::kForward, 0}, wg::Schedule{wg::Order::kReverse, 0},
                            wg::Schedule{wg::Order::kRandom, 21}}) {
       INFO("local size " << local << " order " << static_cast<int>(s.order));

@@ -48,8 +48,10 @@ class RadixPass {
 
   void Run() {
     DispatchKernel(site_, "Histograms", blocks_, [&](wg::Workgroup& w) { Histogram(w); });
-    DispatchKernel(site_, "BinScan", kBins, [&](wg::Workgroup& w) {  // scratch[bin * blocks + block]
+    const std::uint32_t per = layout::SortBinsPerGroup(blocks_, wg::LocalSize());
+    DispatchKernel(site_, "BinScan", kBins / per, [&](wg::Workgroup& w) {  // scratch[bin * blocks + block]
       auto& tile = WorkgroupTile(w);
+      if (per > 1) return ScanPackedBins(w, tile, per);
       const std::uint32_t total = WorkgroupScanInPlace(w, tile, &scratch_[w.id() * blocks_], blocks_, WorkgroupRank(w, tile), site_.fault);
       w.Phase([&](wg::Inv& i) {
         if (i.local_id == 0) scratch_[kBins * blocks_ + w.id()] = total;
@@ -79,6 +81,27 @@ class RadixPass {
     w.Barrier();
     w.Phase([&](wg::Inv& i) {
       for (std::uint32_t b = i.local_id; b < kBins; b += step) scratch_[b * blocks_ + g] = bins[b];
+    });
+  }
+
+  // sort.comp's ScanPackedBins: `per` whole bins (per * blocks counts side by side) in one inclusive
+  // scan of the workgroup; each bin's first element publishes the scan before the bin.
+  void ScanPackedBins(wg::Workgroup& w, wg::Shared<std::uint32_t>& tile, std::uint32_t per) {
+    auto& bins = w.Shared<std::uint32_t>(kBins, "bins");
+    const std::uint32_t count = per * blocks_, first = w.id() * count;
+    const wg::Private<std::uint32_t> r = WorkgroupRank(w, tile);
+    wg::Private<std::uint32_t> v = w.Private<std::uint32_t>(), total = w.Private<std::uint32_t>();
+    w.Phase([&](wg::Inv& i) { v[i] = r[i] < count ? scratch_[first + r[i]] : 0u; });
+    const wg::Private<std::uint32_t> inc = WorkgroupInclusiveAdd(w, tile, v, total, site_.fault);
+    w.Phase([&](wg::Inv& i) {
+      if (r[i] < count && r[i] % blocks_ == 0u) bins[r[i] / blocks_] = inc[i] - v[i];
+    });
+    w.Barrier();
+    w.Phase([&](wg::Inv& i) {
+      if (r[i] >= count) return;
+      const std::uint32_t bin = r[i] / blocks_, base = bins[bin];
+      scratch_[first + r[i]] = inc[i] - v[i] - base;
+      if (r[i] % blocks_ + 1u == blocks_) scratch_[kBins * blocks_ + w.id() * per + bin] = inc[i] - base;
     });
   }
 

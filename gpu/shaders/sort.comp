@@ -63,6 +63,36 @@ void RankAndScatter(uint g, uint n, uint blocks) {
   }
 }
 
+// The bins per workgroup of the bin scan (rayspace/contract.h's SortBinsPerGroup, which the host
+// sizes the launch by): one while a bin's blocks fill half a workgroup, else as many whole bins (a
+// power of two, so they divide 256) as one pass of the workgroup holds. With few blocks a workgroup per
+// bin would leave most invocations idle through every barrier, 256 workgroups per radix pass; packed,
+// a frame of a few blocks scans in 256 / per workgroups of one step each.
+uint SortBinsPerGroup(uint blocks) {
+  uint per = 1u;
+  for (uint k = 0u; k < 8u && blocks > 0u && 2u * per * blocks <= kLocalSize; ++k) per *= 2u;
+  return per;
+}
+
+// Bins g * per .. (g + 1) * per - 1 in one pass of the workgroup: their per * blocks counts lie side by
+// side (bin-major), so one inclusive scan over the workgroup covers them; the first element of each bin
+// publishes the scan before its bin in `bins`, and every element subtracts its bin's, which leaves each
+// bin's own exclusive scan. The last element of a bin writes the bin's total.
+void ScanPackedBins(uint g, uint per, uint blocks) {
+  const uint r = WorkgroupRank(), count = per * blocks, first = g * count;
+  const uint v = r < count ? scratch[first + r] : 0u;
+  uint total;
+  const uint inclusive = WorkgroupInclusiveAdd(v, total);
+  const uint bin = r / blocks, j = r - bin * blocks;
+  if (r < count && j == 0u) bins[bin] = inclusive - v;
+  barrier();  // every bin's start published
+  if (r < count) {
+    const uint base = bins[bin];
+    scratch[first + r] = inclusive - v - base;
+    if (j + 1u == blocks) scratch[256u * blocks + g * per + bin] = inclusive - base;
+  }
+}
+
 void main() {
   const uint t = GlobalIndex(), g = WorkGroupIndex(), l = gl_LocalInvocationID.x;
   const uint n = pc.n, blocks = pc.blocks;
@@ -128,12 +158,18 @@ void main() {
         for (uint b = l; b < 256u; b += kLocalSize) scratch[b * blocks + g] = bins[b];
       }
       break;
-    case kSortPhaseBinScan:  // one workgroup per bin: exclusive scan over blocks, total to scratch[256 * blocks + bin]
-      if (g < 256u) {
-        WORKGROUP_SCAN_IN_PLACE(scratch, g * blocks, blocks, WorkgroupRank(), total);
-        if (l == 0u) scratch[256u * blocks + g] = total;
+    case kSortPhaseBinScan: {  // per bin: exclusive scan over blocks, total to scratch[256 * blocks + bin]
+      const uint per = SortBinsPerGroup(blocks);
+      if (g < 256u / per) {
+        if (per == 1u) {
+          WORKGROUP_SCAN_IN_PLACE(scratch, g * blocks, blocks, WorkgroupRank(), total);
+          if (l == 0u) scratch[256u * blocks + g] = total;
+        } else {
+          ScanPackedBins(g, per, blocks);
+        }
       }
       break;
+    }
     case kSortPhaseTotalScan:  // one workgroup: exclusive scan of the bin totals
       if (g == 0u) WORKGROUP_SCAN_IN_PLACE(scratch, 256u * blocks, 256u, WorkgroupRank(), total);
       break;

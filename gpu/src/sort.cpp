@@ -82,10 +82,11 @@ vk::Status VulkanPasses::Run(const emu::call::SortChunks& call, std::vector<std:
   vk::Recorder rec(*ctx_);
   const vk::Kernel& k = K(PassId::kSort);
   RS_TRY(Phase(rec, k, b, {chunks, layout::kSortPhaseInit, 0, 0, 0, blocks}, Elements(chunks)));
+  const std::uint32_t bins_per_group = layout::SortBinsPerGroup(blocks, k.local_size());
   std::uint32_t src = 0, dst = chunks;
   for (std::uint32_t shift = 0; shift < 32; shift += 8) {
     RS_TRY(Phase(rec, k, b, {chunks, layout::kSortPhaseHistograms, shift, src, dst, blocks}, Groups(blocks)));
-    RS_TRY(Phase(rec, k, b, {chunks, layout::kSortPhaseBinScan, shift, src, dst, blocks}, Groups(256)));
+    RS_TRY(Phase(rec, k, b, {chunks, layout::kSortPhaseBinScan, shift, src, dst, blocks}, Groups(256 / bins_per_group)));
     RS_TRY(Phase(rec, k, b, {chunks, layout::kSortPhaseTotalScan, shift, src, dst, blocks}, Groups(1)));
     RS_TRY(Phase(rec, k, b, {chunks, layout::kSortPhaseScatter, shift, src, dst, blocks}, Groups(blocks)));
     std::swap(src, dst);

@@ -195,6 +195,17 @@ RS_CONST(uint, kSortPhaseScatter, 14u);
 // per digit, 8 KB of shared memory whatever the local size.
 RS_CONST(uint, kSortRankStep, 256u);
 RS_CONST(uint, kSortRankWords, 8u);
+// BinScan runs 256 / per workgroups, `per` bins each: one while a bin's blocks fill half a workgroup,
+// else as many whole bins as one pass of the workgroup holds (sort.comp's SortBinsPerGroup).
+#ifdef __cplusplus
+constexpr uint SortBinsPerGroup(uint blocks, uint local_size) {
+  uint per = 1u;
+  for (uint k = 0u; k < 8u && blocks > 0u && 2u * per * blocks <= local_size; ++k) per *= 2u;
+  return per;
+}
+static_assert(SortBinsPerGroup(5u, 1024u) == 128u && SortBinsPerGroup(5u, 64u) == 8u && SortBinsPerGroup(33u, 64u) == 1u &&
+              SortBinsPerGroup(1u, 1024u) == 256u && SortBinsPerGroup(0u, 64u) == 1u);
+#endif
 // decompress: sizes in sorted order, scan, then every ray finds its chunk
 RS_CONST(uint, kDecompressPhaseSizes, 20u);
 RS_CONST(uint, kDecompressPhaseBlockSums, 21u);
