@@ -24,6 +24,7 @@ ExitCode RunAccuracy(const AccuracyArgs& args) {
   CheckFitsMachine(EstimateFrameMemory(scene, fo.width, fo.height, {.copies = 2}), fo.width, fo.height, "--size",
                    "the accuracy run");
   if (args.samples < 100 || args.samples > 10000000) ThrowInput("--samples {}: expected 100 to 10000000", args.samples);
+  if (!(args.min_time >= 0.001 && args.min_time <= 60)) ThrowInput("--min-time {}: expected 0.001 to 60 seconds", args.min_time);
   plot::CheckTool();  // before the measurements, not after them
   MakeOutputDirectory(args.out, "--out");
   accuracy::ReportFiles files = accuracy::OpenReportFiles(args.out, scene);
@@ -37,11 +38,11 @@ ExitCode RunAccuracy(const AccuracyArgs& args) {
   report.height = fo.height;
   report.workload = &workload;
   // 2. Cone-sphere modes, 3. ray-triangle modes, each against the exact answer.
-  accuracy::MeasureConeModes(workload, report.rows);
-  accuracy::MeasureTriModes(workload, report.rows);
+  accuracy::MeasureConeModes(workload, report.rows, args.min_time);
+  accuracy::MeasureTriModes(workload, report.rows, args.min_time);
   const accuracy::SphereWorkload spheres = accuracy::SampleSpheres(scene, b, fo, args.samples);
   report.spheres = &spheres;
-  accuracy::MeasureSphereModes(spheres, report.rows);
+  accuracy::MeasureSphereModes(spheres, report.rows, args.min_time);
   // 4. End to end: the frame with each mode in the traversal or the final tests, against the exact one.
   if (args.end_to_end) {
     report.cone_e2e = accuracy::ConeEndToEnd(scene, b, fo);

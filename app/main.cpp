@@ -70,6 +70,8 @@ void AddAccuracy(CLI::App& app, Commands& cmds) {
   ac->add_option("--data", cmds.accuracy.data, "Data root for mesh paths (default: $RAYSPACE_DATA)");
   ac->add_option("--size", cmds.accuracy.size, "Image size WxH of the sampled frame (default 128x128)");
   ac->add_option("--samples", cmds.accuracy.samples, "Queries sampled per test (default 100000)");
+  ac->add_option("--min-time", cmds.accuracy.min_time,
+                 "Seconds each of a mode's three timed passes runs at the least; ns/test is their median (default 0.2)");
   ac->add_option("--out", cmds.accuracy.out, "Directory for <scene>-accuracy.md, .csv and .png (default .)");
   ac->add_flag("!--no-end-to-end", cmds.accuracy.end_to_end, "Skip the frames with each cone-sphere mode");
 }

@@ -18,8 +18,8 @@
 namespace rayspace::accuracy {
 namespace {
 
-double NsPerTest(const std::function<bool(std::size_t)>& f, std::size_t n) {
-  // Median of three timed passes; each pass repeats the samples until it has run 0.2 s.
+double NsPerTest(const std::function<bool(std::size_t)>& f, std::size_t n, double min_time) {
+  // Median of three timed passes; each pass repeats the samples until it has run min_time seconds.
   std::vector<double> runs;
   volatile std::size_t sink = 0;
   for (int r = 0; r < 3; ++r) {
@@ -30,7 +30,7 @@ double NsPerTest(const std::function<bool(std::size_t)>& f, std::size_t n) {
       for (std::size_t i = 0; i < n; ++i) sink = sink + f(i);
       done += n;
       s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    } while (s < 0.2);
+    } while (s < min_time);
     runs.push_back(s * 1e9 / static_cast<double>(done));
   }
   std::sort(runs.begin(), runs.end());
@@ -40,7 +40,7 @@ double NsPerTest(const std::function<bool(std::size_t)>& f, std::size_t n) {
 }  // namespace
 
 void Evaluate(const std::string& test, const std::string& set, std::size_t n, const std::vector<Mode>& modes,
-              const std::vector<char>& truth, std::vector<Row>& rows, const std::vector<char>* in_plane) {
+              const std::vector<char>& truth, std::vector<Row>& rows, double min_time, const std::vector<char>* in_plane) {
   for (const Mode& m : modes) {
     Row r{test, set, m.name, n};
     const std::size_t timed = m.slow ? std::min<std::size_t>(n, 2000) : n;
@@ -50,7 +50,7 @@ void Evaluate(const std::string& test, const std::string& set, std::size_t n, co
       r.fp += !truth[i] && a;
       r.in_plane += (truth[i] != a) && in_plane && (*in_plane)[i];
     }
-    r.ns = NsPerTest(m.answer, timed);
+    r.ns = NsPerTest(m.answer, timed, min_time);
     rows.push_back(r);
     std::fprintf(stderr, "[accuracy] %-13s %-13s %-34s %8.1f ns  FN %zu  FP %zu\n", test.c_str(), set.c_str(), m.name.c_str(),
                  r.ns, r.fn, r.fp);
@@ -191,7 +191,7 @@ FrameOutcome RunFrame(const Scene& scene, const SceneBuffers& b, const emu::Fram
   return out;
 }
 
-void MeasureConeModes(const Workload& w, std::vector<Row>& rows) {
+void MeasureConeModes(const Workload& w, std::vector<Row>& rows, double min_time) {
   const std::vector<ConeQuery>& cones = w.cones;
   const std::vector<ConeQuery>& cones_edge = w.cones_edge;
   for (int set = 0; set < 2; ++set) {
@@ -208,11 +208,11 @@ void MeasureConeModes(const Workload& w, std::vector<Row>& rows) {
          true},
         {"CGAL Epeck lazy exact",
          [&](std::size_t i) { return refs::ExactNodeMeetsSphere(qs[i].node, qs[i].sphere, refs::ExactArithmetic::kLazy); }, true}};
-    Evaluate("cone-sphere", set == 0 ? "workload" : "near-boundary", qs.size(), modes, truth, rows);
+    Evaluate("cone-sphere", set == 0 ? "workload" : "near-boundary", qs.size(), modes, truth, rows, min_time);
   }
 }
 
-void MeasureTriModes(const Workload& w, std::vector<Row>& rows) {
+void MeasureTriModes(const Workload& w, std::vector<Row>& rows, double min_time) {
   const std::vector<TriQuery>& tris = w.tris;
   const std::vector<TriQuery>& tris_edge = w.tris_edge;
   for (int set = 0; set < 2; ++set) {
@@ -236,7 +236,7 @@ void MeasureTriModes(const Workload& w, std::vector<Row>& rows) {
         {"CGAL exact rationals (Gmpq)", [&](std::size_t i) { return refs::ExactHitDecision(qs[i].ray, qs[i].tri, false); }, true},
         {"CGAL Epeck constructions", [&](std::size_t i) { return refs::ExactContact(qs[i].ray, qs[i].tri) != refs::Contact::kMiss; },
          true}};
-    Evaluate("ray-triangle", set == 0 ? "workload" : "near-boundary", qs.size(), modes, truth, rows, &in_plane);
+    Evaluate("ray-triangle", set == 0 ? "workload" : "near-boundary", qs.size(), modes, truth, rows, min_time, &in_plane);
   }
 }
 

@@ -109,7 +109,7 @@ SphereWorkload SampleSpheres(const Scene& scene, const SceneBuffers& b, const em
   return w;
 }
 
-void MeasureSphereModes(const SphereWorkload& w, std::vector<Row>& rows) {
+void MeasureSphereModes(const SphereWorkload& w, std::vector<Row>& rows, double min_time) {
   for (int set = 0; set < 2; ++set) {
     const std::vector<SphereQuery>& qs = set == 0 ? w.spheres : w.spheres_edge;
     std::vector<char> truth(qs.size());
@@ -120,7 +120,7 @@ void MeasureSphereModes(const SphereWorkload& w, std::vector<Row>& rows) {
     const std::vector<Mode> modes = {{"float, no margins", mode(PlainFloat)},
                                      {"float, conservative (rayspace)", mode(emu::tl::SphereMayHit)},
                                      {"CGAL filtered (interval + exact)", mode(Exact)}};
-    Evaluate("ray-sphere", set == 0 ? "workload" : "near-boundary", qs.size(), modes, truth, rows);
+    Evaluate("ray-sphere", set == 0 ? "workload" : "near-boundary", qs.size(), modes, truth, rows, min_time);
   }
 }
 
