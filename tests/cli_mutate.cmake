@@ -179,13 +179,13 @@ if(PART STREQUAL "targeted")
 # A mutant only the clamping device kills: a loop one past the window's four corners reads and writes
 # private arrays out of bounds, which lavapipe lets pass unseen; clamped, the fifth side plane
 # overwrites the fourth. One only the case tl-heads-slivers kills: the sliver test reading a zero
-# edge, so that slivers get windows from planes their float normal cannot give. And three only
-# tl-heads-touching kills: a facet's rejection moved onto its bound less the margin, at each vertex.
-mutate_one(clamped tl-heads "^(tl_cells.comp:32:23:comparison:<=|tl_heads.comp:60:58:component:y|tl_heads.comp:89:(54|65|76):comparison:<=)$")
+# edge, so that slivers get windows from planes their float normal cannot give. And one only
+# tl-heads-touching kills: a facet's rejection moved onto its bound less the margin, at its first
+# vertex (89:65 and 89:76 are the same mistake at the other two, and cost a case run each).
+mutate_one(clamped tl-heads "^(tl_cells.comp:32:23:comparison:<=|tl_heads.comp:60:58:component:y|tl_heads.comp:89:54:comparison:<=)$")
 verdicts("${json}")
 set(want "tl_cells.comp:32:23:comparison:<==killed::clamped;tl_heads.comp:60:58:component:y=killed:tl-heads-slivers:"
-         "tl_heads.comp:89:54:comparison:<==killed:tl-heads-touching:" "tl_heads.comp:89:65:comparison:<==killed:tl-heads-touching:"
-         "tl_heads.comp:89:76:comparison:<==killed:tl-heads-touching:")
+         "tl_heads.comp:89:54:comparison:<==killed:tl-heads-touching:")
 if(json)
   string(JSON base ERROR_VARIABLE no_base GET "${json}" clamped_baseline tl-heads)
   if(NOT seen STREQUAL want OR NOT base STREQUAL "equal")
