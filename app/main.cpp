@@ -309,7 +309,7 @@ void AddMutate(CLI::App& app, Commands& cmds) {
   mc->add_option("scene", m.scene, "Scene JSON file (default scenes/cornell-mirrors.json)");
   mc->add_option("--pass", m.passes, "Only these passes' kernels (repeatable; default every kernel the scene runs, and their include files)");
   mc->add_option("--config", m.configs, "Only these diff configurations (repeatable; default all: docs/verification.md lists them)");
-  mc->add_option("--limit", m.limit, "Mutants to run, taken in turn from each file's seeded shuffle; 0: every one (default 30)")
+  mc->add_option("--limit", m.limit, "Mutants to run, taken in turn from each file's seeded shuffle, the files in a seeded order; 0: every one (default 30)")
       ->check(CLI::Range(0, 1000000));
   mc->add_option("--seed", m.seed, "Seed of the choice: a number, a word, or 'commit' (this binary's commit) (default 1)");
   mc->add_option("--report", m.report, "Write every mutant, verdict and variant as JSON to this file");
