@@ -9,7 +9,7 @@ namespace rayspace::app {
 struct AccuracyArgs {
   std::string scene, data, size = "128x128", out = ".";
   std::size_t samples = 100000;
-  double min_time = 0.2;  // seconds per timed pass of a mode (accuracy::kDefaultMinTime)
+  double min_time = 0.2;  // seconds each timed pass of a mode runs at the least (--min-time)
   bool end_to_end = true;
 };
 

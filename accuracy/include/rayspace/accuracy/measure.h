@@ -43,12 +43,9 @@ struct Mode {
   std::function<bool(std::size_t)> answer;
   bool slow = false;  // exact rationals: timed on a subsample
 };
-// How long each of the three timed passes of a mode runs at the least (the samples repeated until
-// then): `accuracy --min-time`.
-inline constexpr double kDefaultMinTime = 0.2;
 // Each mode on n samples against `truth` (the exact decisions): one row each, FN and FP counted, time
-// per test the median of three timed passes of at least `min_time` seconds each; `in_plane` marks
-// rays in the triangle's plane.
+// per test the median of three timed passes of at least `min_time` seconds each (the samples repeated
+// until then; `accuracy --min-time`); `in_plane` marks rays in the triangle's plane.
 void Evaluate(const std::string& test, const std::string& set, std::size_t n, const std::vector<Mode>& modes,
               const std::vector<char>& truth, std::vector<Row>& rows, double min_time, const std::vector<char>* in_plane = nullptr);
 // Rays whose packed hit or occlusion differs between two frames.
@@ -58,9 +55,9 @@ std::size_t RaysChanged(const FrameOutcome& a, const FrameOutcome& b);
 FrameOutcome RunFrame(const Scene& scene, const SceneBuffers& b, const emu::FrameOptions& fo, emu::HierarchyPasses& passes);
 
 // Each cone-sphere mode on the workload's sampled and near-boundary queries; rows appended.
-void MeasureConeModes(const Workload& w, std::vector<Row>& rows, double min_time = kDefaultMinTime);
+void MeasureConeModes(const Workload& w, std::vector<Row>& rows, double min_time);
 // Each ray-triangle mode likewise, counting disagreements on rays in the triangle's plane.
-void MeasureTriModes(const Workload& w, std::vector<Row>& rows, double min_time = kDefaultMinTime);
+void MeasureTriModes(const Workload& w, std::vector<Row>& rows, double min_time);
 // The frame with each cone-sphere mode in the traversal, against the exact traversal.
 std::vector<EndToEnd> ConeEndToEnd(const Scene& scene, const SceneBuffers& b, const emu::FrameOptions& fo);
 // The frame with each ray-triangle mode in the final tests (traversal conservative), against exact

@@ -28,7 +28,7 @@ struct SphereWorkload {
 SphereWorkload SampleSpheres(const Scene& scene, const SceneBuffers& b, const emu::FrameOptions& fo, std::size_t samples);
 
 // Each mode (float without margins, the conservative test, CGAL) on both sets; rows appended.
-void MeasureSphereModes(const SphereWorkload& w, std::vector<Row>& rows, double min_time = kDefaultMinTime);
+void MeasureSphereModes(const SphereWorkload& w, std::vector<Row>& rows, double min_time);
 // The --algo tl frame with each mode in its walks, against the frame with the exact test.
 std::vector<EndToEnd> SphereEndToEnd(const Scene& scene, const SceneBuffers& b, const emu::FrameOptions& fo);
 
