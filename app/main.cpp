@@ -331,7 +331,13 @@ void AddMutate(CLI::App& app, Commands& cmds) {
                                              "source tree's docs/mutation-survivors.json, 'none' for no classifications");
   mc->add_option("--only", m.only, "Only mutants whose id (file:line:column:operator:replacement) matches this regular expression");
   mc->add_option("--work", m.work, "Keep each mutant's files, diff log and report in this directory (default: a temporary one, removed)");
-  mc->add_flag("--list", m.list, "Print the chosen mutants and exit");
+  CLI::Option* list = mc->add_flag("--list", m.list, "Print the chosen mutants and exit");
+  CLI::Option* cases = mc->add_flag("--cases-only", m.cases_only,
+                                    "Replay every kernel case (docs/verification.md) with the built-in kernels and exit: 0 when each "
+                                    "is equal, 4 when one is not (a mutant run replays only the cases of the passes its mutants change)");
+  cases->excludes(list);
+  for (const char* chooser : {"--pass", "--config", "--limit", "--seed", "--shard", "--junit", "--variants", "--jobs", "--survivors", "--only"})
+    cases->excludes(mc->get_option(chooser));
   mc->add_option("--backends", m.backends,
                  "Where each mutant's diffs run: emu,vulkan (default), emu,sim (the kernels' SPIR-V on the simulated GPU, its "
                  "checkers on) or emu,vulkan,sim (both: each side's score, and the mutants whose verdicts differ, in one report)")

@@ -5,7 +5,8 @@
 #                               or driver finding to report, not to pass).
 #   PART=targeted (default)     mutants the diff must kill (comparisons flipped in trim), one only a
 #                               hand-made kernel case kills (the cone union's sign test), one only the
-#                               clamping device kills (a private array read one past its end), and bad
+#                               clamping device kills (a private array read one past its end), every
+#                               kernel case equal on the built-in kernels (--cases-only), and bad
 #                               arguments refused with one line.
 #   PART=configs (full tier)    mutants only the traversal lists' kernel cases and the added scenes'
 #                               configurations kill.
@@ -129,20 +130,46 @@ if(PART STREQUAL "targeted")
 # the full tier meets the others). And, in the same run (one baseline for both), a mutant only a
 # kernel case kills: the cone union's sign test moved one ulp (0.0 -> the smallest subnormal, written
 # as its bits) changes the answer only where the union's sine is exactly 0, which no frame's build
-# meets and the case build-parents-boundaries holds. The built-in kernels must replay every case equal
-# first (the command fails otherwise).
+# meets and the case build-parents-boundaries holds. The built-in kernels must replay equal first
+# (the command fails otherwise) the cases of the passes these mutants change, build's three and
+# intersect's (cone.glsl is in both kernels), and only those: the other eight are listed as skipped.
 mutate_one(crsh crsh "^(trim.comp:(26:16|32:11|51:63|53:15):comparison:|cone.glsl:118:12:float-ulp:)")
 verdicts("${json}")
 if(json)
   string(JSON by GET "${json}" summary per_file trim.comp passes 0)
   string(JSON ncases LENGTH "${json}" kernel_cases)
+  set(replayed "")
+  math(EXPR last "${ncases} - 1")
+  foreach(i RANGE ${last})
+    string(JSON name GET "${json}" kernel_cases ${i} name)
+    string(JSON skipped ERROR_VARIABLE ran GET "${json}" kernel_cases ${i} skipped)
+    if(ran)
+      list(APPEND replayed "${name}")
+    endif()
+  endforeach()
   list(LENGTH seen n)
   list(FILTER seen INCLUDE REGEX "^trim\\.comp:.*=killed::$|^cone\\.glsl:118:12:float-ulp:.*=killed:build-parents-boundaries:$")
   list(LENGTH seen k)
-  if(NOT n EQUAL 5 OR NOT k EQUAL 5 OR NOT by STREQUAL "trim" OR ncases LESS 10)
+  set(want_replayed "build-parents-boundaries;build-parents-boundaries-pairwise;build-leaves-boundaries;intersect-axis-rays")
+  if(NOT n EQUAL 5 OR NOT k EQUAL 5 OR NOT by STREQUAL "trim" OR ncases LESS 12 OR NOT replayed STREQUAL want_replayed)
     string(APPEND FAILURES "\ntrim's comparisons killed by the diff in trim, cone.glsl:118's sign test by the case "
-           "build-parents-boundaries: ${k} of ${n} (5 expected), trim.comp's passes '${by}', ${ncases} kernel cases\n${log}")
+           "build-parents-boundaries: ${k} of ${n} (5 expected), trim.comp's passes '${by}', ${ncases} kernel cases listed, "
+           "replayed '${replayed}' (want '${want_replayed}')\n${log}")
   endif()
+endif()
+# --cases-only replays every case with the built-in kernels and nothing else; each is named equal.
+execute_process(COMMAND "${RAYSPACE}" mutate "${SRC}/scenes/cornell-mirrors.json" --cases-only --report "${WORK}/cases.json"
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 600)
+string(REGEX MATCHALL "\n  [a-z-]+ \\([a-z.]+\\): equal" equal_lines "${out}")
+list(LENGTH equal_lines nequal)
+set(ncases 0)
+if(EXISTS "${WORK}/cases.json")
+  file(READ "${WORK}/cases.json" cases_json)
+  string(JSON ncases ERROR_VARIABLE jerr LENGTH "${cases_json}" kernel_cases)
+endif()
+if(NOT rc EQUAL 0 OR nequal LESS 12 OR NOT nequal EQUAL ncases OR NOT out MATCHES "every kernel case equal")
+  string(APPEND FAILURES "\n--cases-only: exit ${rc}, ${nequal} cases named equal, ${ncases} in the report (12 or more, all equal "
+         "expected)\n${out}${err}")
 endif()
 
 endif()
@@ -194,7 +221,7 @@ if(json)
 endif()
 
 # Bad arguments: one line naming the option, exit 2.
-foreach(bad "--pass;nosuch" "--variants;x" "--pass;raster" "--config;nosuch" "--survivors;${WORK}/none.json")
+foreach(bad "--pass;nosuch" "--variants;x" "--pass;raster" "--config;nosuch" "--survivors;${WORK}/none.json" "--cases-only;--list")
   execute_process(COMMAND "${RAYSPACE}" mutate "${SRC}/scenes/cornell-mirrors.json" ${bad} --limit 1 RESULT_VARIABLE rc OUTPUT_QUIET
                   ERROR_VARIABLE err TIMEOUT 300)
   list(GET bad 0 flag)

@@ -83,21 +83,6 @@ struct Baseline {
   json configs = json::array(), case_runs = json::array();
 };
 
-// Saves every kernel case and replays it with the built-in kernels: each must be equal, or the
-// emulator and the driver disagree at a boundary, a finding that no mutant's verdict may hide.
-void RunBaselineCases(Baseline& b, const fs::path& work, int timeout, const std::string& backends) {
-  for (const mutate::KernelCase& k : mutate::KernelCases()) {
-    const fs::path dir = work / "cases" / k.name;
-    k.call.Save(dir.string(), k.method);
-    const mutate_runs::DiffRun run = mutate_runs::RunReplay(dir, {}, work / "baseline" / ("case-" + k.name), timeout, backends);
-    if (run.code != 0)
-      ThrowInput("kernel case {} ({}): the built-in kernels do not replay it equal (exit {}: {}); the emulator and the driver "
-                 "disagree at a boundary", k.name, k.method, run.code, run.last_line);
-    b.cases.push_back({k.name, k.pass, dir});
-    b.case_runs.push_back({{"name", k.name}, {"pass", k.pass}, {"method", k.method}, {"why", k.why}, {"seconds", run.seconds}});
-  }
-}
-
 Baseline RunBaseline(const mutate_runs::Frame& frame, const std::vector<std::string>& only, const fs::path& work) {
   Baseline b;
   const auto& configs = mutate_runs::Configs();
@@ -234,15 +219,53 @@ std::vector<std::pair<std::string, std::string>> Prepare(const Mutant& mu, std::
   return kernels;
 }
 
-// The override for a kernel case of `pass`: the kernel that runs the pass, from the mutant's
-// directory (Prepare wrote the mutated file there); none when the mutation does not reach that kernel.
-std::vector<std::pair<std::string, std::string>> PrepareCase(const Mutant& mu, const std::string& pass,
-                                                            const std::map<std::string, Kernel>& all, const fs::path& dir) {
+// Whether `pass`'s kernel is `file` or includes it: a mutant of `file` changes what a call of `pass` computes.
+bool KernelRuns(const std::string& pass, const std::string& file, const std::map<std::string, Kernel>& all) {
   const auto id = FindPass(pass);
   RS_CHECK_MSG(id.has_value(), "mutate: kernel case for an unknown pass {}", pass);
   const std::string k = std::string(Pass(*id).kernel) + ".comp";
   const auto it = all.find(k);
-  if (it == all.end() || (k != mu.m.file && !it->second.includes.count(mu.m.file))) return {};
+  return it != all.end() && (k == file || it->second.includes.count(file));
+}
+
+// Saves the kernel cases and replays each with the built-in kernels: each must be equal, or the
+// emulator and the driver disagree at a boundary, a finding that no mutant's verdict may hide. With
+// `chosen`, only the cases of a pass one of those mutants changes (the others could kill none of
+// them); the rest are listed as skipped. Returns the cases that are not equal (the report's entries).
+std::vector<json> RunBaselineCases(Baseline& b, const fs::path& work, int timeout, const std::string& backends,
+                                   const std::vector<Mutant>* chosen) {
+  std::vector<json> unequal;
+  for (const mutate::KernelCase& k : mutate::KernelCases()) {
+    json entry = {{"name", k.name}, {"pass", k.pass}, {"method", k.method}, {"why", k.why}};
+    if (chosen && std::none_of(chosen->begin(), chosen->end(), [&](const Mutant& mu) { return KernelRuns(k.pass, mu.m.file, b.kernels); })) {
+      entry["skipped"] = fmt::format("no chosen mutant changes {}'s kernel", k.pass);
+      b.case_runs.push_back(entry);
+      continue;
+    }
+    const fs::path dir = work / "cases" / k.name;
+    k.call.Save(dir.string(), k.method);
+    const mutate_runs::DiffRun run = mutate_runs::RunReplay(dir, {}, work / "baseline" / ("case-" + k.name), timeout, backends);
+    entry["seconds"] = run.seconds;
+    entry["exit"] = run.code;
+    if (run.code != 0) {
+      if (chosen)
+        ThrowInput("kernel case {} ({}): the built-in kernels do not replay it equal (exit {}: {}); the emulator and the driver "
+                   "disagree at a boundary", k.name, k.method, run.code, run.last_line);
+      entry["last_line"] = run.last_line;
+      unequal.push_back(entry);
+    }
+    b.cases.push_back({k.name, k.pass, dir});
+    b.case_runs.push_back(entry);
+  }
+  return unequal;
+}
+
+// The override for a kernel case of `pass`: the kernel that runs the pass, from the mutant's
+// directory (Prepare wrote the mutated file there); none when the mutation does not reach that kernel.
+std::vector<std::pair<std::string, std::string>> PrepareCase(const Mutant& mu, const std::string& pass,
+                                                            const std::map<std::string, Kernel>& all, const fs::path& dir) {
+  if (!KernelRuns(pass, mu.m.file, all)) return {};
+  const std::string k = std::string(Pass(*FindPass(pass)).kernel) + ".comp";
   if (k != mu.m.file) fs::copy_file(mutate_runs::ShaderDir() / k, dir / k, fs::copy_options::overwrite_existing);
   return {{pass, (dir / k).string()}};  // the case replays a call of `pass` alone
 }
@@ -466,7 +489,7 @@ void CheckArgs(const MutateArgs& args) {
     }
   }
   std::error_code ec;
-  if (!fs::is_regular_file(args.scene, ec)) ThrowInput("'{}': scene file not found", args.scene);
+  if (!args.cases_only && !fs::is_regular_file(args.scene, ec)) ThrowInput("'{}': scene file not found", args.scene);  // the cases bring their own inputs
   if (!args.work.empty() && fs::exists(args.work, ec) && !fs::is_directory(args.work, ec))
     ThrowInput("--work {}: not a directory", args.work);
 }
@@ -531,10 +554,10 @@ json RunSide(const MutateArgs& args, const std::string& side, const mutate_runs:
   Baseline other = RunBaseline(frame, args.configs, work);
   other.kernels = kernels;
   const std::vector<Target> targets = Targets(args, kernels, other);
-  RunBaselineCases(other, work, args.timeout, frame.backends);
+  const std::vector<Mutant> on_side = OnSide(chosen, targets);
+  RunBaselineCases(other, work, args.timeout, frame.backends, &on_side);
   if (side == "vulkan") other.clamped = std::make_unique<mutate_runs::ClampedBaseline>(frame, work);
   std::printf("  on %s:\n", side.c_str());
-  const std::vector<Mutant> on_side = OnSide(chosen, targets);
   const std::vector<json> results = RunShard(on_side, shard, frame, other, work, explained, args.jobs);
   const json summary = mutate_shards::Summaries(results);
   PrintScores(summary, json::array());
@@ -544,6 +567,30 @@ json RunSide(const MutateArgs& args, const std::string& side, const mutate_runs:
     std::printf("    %s: %s %s, %s %s%s\n", d["id"].get<std::string>().c_str(), first_side.c_str(), d[first_side].get<std::string>().c_str(),
                 side.c_str(), d[side].get<std::string>().c_str(), d.contains("reason") ? (" (" + d["reason"].get<std::string>() + ")").c_str() : "");
   return {{"configs", other.configs}, {"mutants_run", on_side.size()}, {"mutants", results}, {"summary", summary}, {"differences", differ}};
+}
+
+// --cases-only: every kernel case on the built-in kernels, on each side, each named with its verdict.
+ExitCode RunCasesOnly(const std::vector<std::string>& sides, const std::vector<std::string>& replay_backends, int timeout,
+                      const fs::path& work, OutputFile& report) {
+  json j = {{"backends", sides}};
+  std::size_t unequal = 0;
+  for (std::size_t k = 0; k < sides.size(); ++k) {
+    std::printf("rayspace mutate: the kernel cases with the built-in kernels, emu against %s\n", sides[k].c_str());
+    Baseline b;
+    b.kernels = Kernels();
+    unequal += RunBaselineCases(b, work / sides[k], timeout, replay_backends[k], nullptr).size();
+    for (const json& c : b.case_runs) {
+      const int code = c["exit"].get<int>();
+      std::printf("  %s (%s): %s\n", c["name"].get<std::string>().c_str(), c["pass"].get<std::string>().c_str(),
+                  code == 0 ? "equal" : fmt::format("not equal (exit {}: {})", code, c.value("last_line", std::string())).c_str());
+    }
+    j[k == 0 ? std::string("kernel_cases") : "on_" + sides[k]] = b.case_runs;
+  }
+  std::printf("  %s\n", unequal == 0 ? "every kernel case equal" : fmt::format("{} kernel case(s) not equal", unequal).c_str());
+  AddVersion(j);
+  mutate_shards::MakeDeterministic(j, work.string());
+  report.Commit(JsonText(j));
+  return unequal == 0 ? ExitCode::kOk : ExitCode::kDivergence;
 }
 
 }  // namespace
@@ -563,6 +610,11 @@ ExitCode RunMutate(const MutateArgs& args) {
     return mutate_runs::Frame{fs::absolute(args.scene).string(), args.data, args.size, args.timeout, side == "sim" ? "emu,sim" : ""};
   };
   const mutate_runs::Frame frame = frame_on(sides[0]);
+  if (args.cases_only) {
+    std::vector<std::string> replay_backends;
+    for (const std::string& side : sides) replay_backends.push_back(frame_on(side).backends);
+    return RunCasesOnly(sides, replay_backends, args.timeout, work, report);
+  }
   std::printf("rayspace mutate: %s at %s, seed %s (%016llx), on %s%s\n", args.scene.c_str(), args.size.c_str(), seed_text.c_str(),
               static_cast<unsigned long long>(seed), args.backends.c_str(),
               shard.count > 1 ? fmt::format(", shard {}/{}", shard.index, shard.count).c_str() : "");
@@ -579,7 +631,7 @@ ExitCode RunMutate(const MutateArgs& args) {
         std::printf("  %s  (%s)\n", chosen[i].m.Id().c_str(), mutate_runs::Configs()[chosen[i].target->configs[0]].name.c_str());
     return ExitCode::kOk;
   }
-  RunBaselineCases(base, work, args.timeout, frame.backends);
+  RunBaselineCases(base, work, args.timeout, frame.backends, &chosen);
   // The clamping device is a Vulkan pipeline's robust access; on the simulator memcheck names the access.
   if (sides[0] == "vulkan") base.clamped = std::make_unique<mutate_runs::ClampedBaseline>(frame, work);
   if (sides.size() > 1) std::printf("  on %s:\n", sides[0].c_str());

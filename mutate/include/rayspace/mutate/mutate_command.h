@@ -22,6 +22,7 @@ struct MutateArgs {
   int timeout = 60;            // seconds per diff before a mutant counts as hung
   int jobs = 1;
   bool list = false;
+  bool cases_only = false;  // --cases-only: replay every kernel case with the built-in kernels, no mutants
   // The actual sides every mutant runs on: emu,vulkan (default), emu,sim (the simulated GPU, its
   // checkers on) or emu,vulkan,sim (both, their scores side by side in one report).
   std::string backends = "emu,vulkan";
