@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$PWD}"
 # The bootstrap installs the Vulkan backend's dependencies: a missing one must fail the build here.
 # Ninja when it is there: it starts a target's compiles before the libraries it links are linked,
-# which Make does not (a cold build of `rayspace` takes about 190 s with Ninja, 240 s with Make). A
+# which Make does not (a cold build of `rayspace` took about 210 s with Ninja on 2 cores). A
 # build folder made by another generator keeps it.
 generator=()
 if command -v ninja >/dev/null && { [ ! -f build/CMakeCache.txt ] || grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$' build/CMakeCache.txt; }; then
