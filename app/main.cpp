@@ -334,10 +334,13 @@ void AddMutate(CLI::App& app, Commands& cmds) {
   CLI::Option* list = mc->add_flag("--list", m.list, "Print the chosen mutants and exit");
   CLI::Option* cases = mc->add_flag("--cases-only", m.cases_only,
                                     "Replay every kernel case (docs/verification.md) with the built-in kernels and exit: 0 when each "
-                                    "is equal, 4 when one is not (a mutant run replays only the cases of the passes its mutants change)");
+                                    "is equal, 4 when one is not, 6 for a checker's finding on the simulator (a mutant run replays only the cases of the "
+                                    "passes its mutants change)");
   cases->excludes(list);
-  for (const char* chooser : {"--pass", "--config", "--limit", "--seed", "--shard", "--junit", "--variants", "--jobs", "--survivors", "--only"})
-    cases->excludes(mc->get_option(chooser));
+  // What chooses mutants or renders frames does nothing here: refused, not ignored.
+  for (const char* unused : {"scene", "--pass", "--config", "--limit", "--seed", "--shard", "--junit", "--variants", "--jobs",
+                             "--survivors", "--only", "--size", "--data"})
+    cases->excludes(mc->get_option(unused));
   mc->add_option("--backends", m.backends,
                  "Where each mutant's diffs run: emu,vulkan (default), emu,sim (the kernels' SPIR-V on the simulated GPU, its "
                  "checkers on) or emu,vulkan,sim (both: each side's score, and the mutants whose verdicts differ, in one report)")

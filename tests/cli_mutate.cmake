@@ -158,7 +158,7 @@ if(json)
   endif()
 endif()
 # --cases-only replays every case with the built-in kernels and nothing else; each is named equal.
-execute_process(COMMAND "${RAYSPACE}" mutate "${SRC}/scenes/cornell-mirrors.json" --cases-only --report "${WORK}/cases.json"
+execute_process(COMMAND "${RAYSPACE}" mutate --cases-only --report "${WORK}/cases.json"
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 600)
 string(REGEX MATCHALL "\n  [a-z-]+ \\([a-z.]+\\): equal" equal_lines "${out}")
 list(LENGTH equal_lines nequal)
@@ -221,7 +221,8 @@ if(json)
 endif()
 
 # Bad arguments: one line naming the option, exit 2.
-foreach(bad "--pass;nosuch" "--variants;x" "--pass;raster" "--config;nosuch" "--survivors;${WORK}/none.json" "--cases-only;--list")
+foreach(bad "--pass;nosuch" "--variants;x" "--pass;raster" "--config;nosuch" "--survivors;${WORK}/none.json" "--cases-only;--list"
+        "--cases-only;--size;8x8")
   execute_process(COMMAND "${RAYSPACE}" mutate "${SRC}/scenes/cornell-mirrors.json" ${bad} --limit 1 RESULT_VARIABLE rc OUTPUT_QUIET
                   ERROR_VARIABLE err TIMEOUT 300)
   list(GET bad 0 flag)

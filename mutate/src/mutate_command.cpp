@@ -228,10 +228,9 @@ bool KernelRuns(const std::string& pass, const std::string& file, const std::map
   return it != all.end() && (k == file || it->second.includes.count(file));
 }
 
-// Saves the kernel cases and replays each with the built-in kernels: each must be equal, or the
-// emulator and the driver disagree at a boundary, a finding that no mutant's verdict may hide. With
-// `chosen`, only the cases of a pass one of those mutants changes (the others could kill none of
-// them); the rest are listed as skipped. Returns the cases that are not equal (the report's entries).
+// Saves the kernel cases and replays each with the built-in kernels. With `chosen`, only the cases of
+// a pass one of those mutants changes (the others could kill none of them); the rest are listed as
+// skipped. Returns the cases whose replay did not exit 0 (their report entries, in order).
 std::vector<json> RunBaselineCases(Baseline& b, const fs::path& work, int timeout, const std::string& backends,
                                    const std::vector<Mutant>* chosen) {
   std::vector<json> unequal;
@@ -248,9 +247,6 @@ std::vector<json> RunBaselineCases(Baseline& b, const fs::path& work, int timeou
     entry["seconds"] = run.seconds;
     entry["exit"] = run.code;
     if (run.code != 0) {
-      if (chosen)
-        ThrowInput("kernel case {} ({}): the built-in kernels do not replay it equal (exit {}: {}); the emulator and the driver "
-                   "disagree at a boundary", k.name, k.method, run.code, run.last_line);
       entry["last_line"] = run.last_line;
       unequal.push_back(entry);
     }
@@ -258,6 +254,16 @@ std::vector<json> RunBaselineCases(Baseline& b, const fs::path& work, int timeou
     b.case_runs.push_back(entry);
   }
   return unequal;
+}
+
+// Before any mutant: every replayed case must be equal, or the emulator and the driver disagree at a
+// boundary, a finding that no mutant's verdict may hide.
+void RequireCasesEqual(const std::vector<json>& unequal) {
+  if (unequal.empty()) return;
+  const json& c = unequal.front();
+  ThrowInput("kernel case {} ({}): the built-in kernels do not replay it equal (exit {}: {}); the emulator and the driver "
+             "disagree at a boundary", c["name"].get<std::string>(), c["method"].get<std::string>(), c["exit"].get<int>(),
+             c["last_line"].get<std::string>());
 }
 
 // The override for a kernel case of `pass`: the kernel that runs the pass, from the mutant's
@@ -555,7 +561,7 @@ json RunSide(const MutateArgs& args, const std::string& side, const mutate_runs:
   other.kernels = kernels;
   const std::vector<Target> targets = Targets(args, kernels, other);
   const std::vector<Mutant> on_side = OnSide(chosen, targets);
-  RunBaselineCases(other, work, args.timeout, frame.backends, &on_side);
+  RequireCasesEqual(RunBaselineCases(other, work, args.timeout, frame.backends, &on_side));
   if (side == "vulkan") other.clamped = std::make_unique<mutate_runs::ClampedBaseline>(frame, work);
   std::printf("  on %s:\n", side.c_str());
   const std::vector<json> results = RunShard(on_side, shard, frame, other, work, explained, args.jobs);
@@ -570,27 +576,34 @@ json RunSide(const MutateArgs& args, const std::string& side, const mutate_runs:
 }
 
 // --cases-only: every kernel case on the built-in kernels, on each side, each named with its verdict.
+// The exit is the first failing replay's: 4 for a divergence, 6 for a checker's finding on the
+// simulator, and an error's own code when a replay could not run (never 4 for work not done).
 ExitCode RunCasesOnly(const std::vector<std::string>& sides, const std::vector<std::string>& replay_backends, int timeout,
                       const fs::path& work, OutputFile& report) {
   json j = {{"backends", sides}};
-  std::size_t unequal = 0;
+  int first_code = 0;
+  std::size_t failed = 0;
   for (std::size_t k = 0; k < sides.size(); ++k) {
     std::printf("rayspace mutate: the kernel cases with the built-in kernels, emu against %s\n", sides[k].c_str());
     Baseline b;
     b.kernels = Kernels();
-    unequal += RunBaselineCases(b, work / sides[k], timeout, replay_backends[k], nullptr).size();
+    const std::vector<json> unequal = RunBaselineCases(b, work / sides[k], timeout, replay_backends[k], nullptr);
+    failed += unequal.size();
+    if (first_code == 0 && !unequal.empty()) first_code = unequal.front()["exit"].get<int>();
     for (const json& c : b.case_runs) {
       const int code = c["exit"].get<int>();
-      std::printf("  %s (%s): %s\n", c["name"].get<std::string>().c_str(), c["pass"].get<std::string>().c_str(),
-                  code == 0 ? "equal" : fmt::format("not equal (exit {}: {})", code, c.value("last_line", std::string())).c_str());
+      const std::string verdict = code == 0 ? "equal"
+                                  : fmt::format("{} (exit {}: {})", code == 4 ? "not equal" : "failed", code, c.value("last_line", std::string()));
+      std::printf("  %s (%s): %s\n", c["name"].get<std::string>().c_str(), c["pass"].get<std::string>().c_str(), verdict.c_str());
     }
     j[k == 0 ? std::string("kernel_cases") : "on_" + sides[k]] = b.case_runs;
   }
-  std::printf("  %s\n", unequal == 0 ? "every kernel case equal" : fmt::format("{} kernel case(s) not equal", unequal).c_str());
+  std::printf("  %s\n", failed == 0 ? "every kernel case equal" : fmt::format("{} kernel case(s) not equal or not run", failed).c_str());
   AddVersion(j);
   mutate_shards::MakeDeterministic(j, work.string());
   report.Commit(JsonText(j));
-  return unequal == 0 ? ExitCode::kOk : ExitCode::kDivergence;
+  if (first_code == 0) return ExitCode::kOk;
+  return first_code >= 1 && first_code <= 6 ? static_cast<ExitCode>(first_code) : ExitCode::kInternal;
 }
 
 }  // namespace
@@ -607,7 +620,7 @@ ExitCode RunMutate(const MutateArgs& args) {
   const WorkDir work_dir(args.work);
   const fs::path& work = work_dir.path();
   const auto frame_on = [&](const std::string& side) {
-    return mutate_runs::Frame{fs::absolute(args.scene).string(), args.data, args.size, args.timeout, side == "sim" ? "emu,sim" : ""};
+    return mutate_runs::Frame{fs::absolute(args.scene).string(), args.data, args.size, args.timeout, side == "sim" ? "emu,sim" : "emu,vulkan"};
   };
   const mutate_runs::Frame frame = frame_on(sides[0]);
   if (args.cases_only) {
@@ -631,7 +644,7 @@ ExitCode RunMutate(const MutateArgs& args) {
         std::printf("  %s  (%s)\n", chosen[i].m.Id().c_str(), mutate_runs::Configs()[chosen[i].target->configs[0]].name.c_str());
     return ExitCode::kOk;
   }
-  RunBaselineCases(base, work, args.timeout, frame.backends, &chosen);
+  RequireCasesEqual(RunBaselineCases(base, work, args.timeout, frame.backends, &chosen));
   // The clamping device is a Vulkan pipeline's robust access; on the simulator memcheck names the access.
   if (sides[0] == "vulkan") base.clamped = std::make_unique<mutate_runs::ClampedBaseline>(frame, work);
   if (sides.size() > 1) std::printf("  on %s:\n", sides[0].c_str());
