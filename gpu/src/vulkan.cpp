@@ -552,7 +552,6 @@ Status Context::CreateKernel(const std::string& name, std::span<const std::uint3
   k.spirv_.assign(spirv.begin(), spirv.end());
   if (!simulated_) {
     // The float controls the device offers, requested (rayspace/gpu/float_controls.h).
-    if (Status st = CreateModule(device_, WithFloatControls(spirv, float_controls_), k.module_); !st) return st;
     if (Status st = CreateLayouts(device_, bindings, VK_SHADER_STAGE_COMPUTE_BIT, 128, k.set_layout_, k.layout_); !st)
       return st;
   }
@@ -564,14 +563,18 @@ Status Context::CreateKernel(const std::string& name, std::span<const std::uint3
   return Status::Ok();
 }
 
+// common.glsl's specialization constants as spirv-opt reads them (SpecId -> text).
+static std::map<std::uint32_t, std::string> SpecText(const std::uint32_t spec[3]) {
+  return {{0, std::to_string(spec[0])}, {1, std::to_string(spec[1])}, {2, spec[2] ? "true" : "false"}};
+}
+
 // --strict-math's promise holds only for a kernel whose strict pipeline has no division or root
 // left that a device may round loosely (the grids' build, in double, has); checked once per kernel
 // on the pipeline as it would run (gpu/tests/strict_spirv_test.cpp holds every built-in kernel to it).
 Status StrictMathRefusal(const Kernel& k, std::span<const std::uint32_t> spirv, const std::uint32_t spec[3]) {
   std::vector<std::string> loose;
   try {
-    loose = sim::LooselyRounded(sim::Specialized(
-        spirv, {{0, std::to_string(spec[0])}, {1, std::to_string(spec[1])}, {2, spec[2] ? "true" : "false"}}, k.name()));
+    loose = sim::LooselyRounded(sim::Specialized(spirv, SpecText(spec), k.name()));
   } catch (const std::exception& e) {
     return Status::Fail(fmt::format("kernel {}: {}", k.name(), e.what()));
   }
@@ -598,6 +601,18 @@ Status Context::CreatePipeline(const Kernel& k) const {
     return Status::Ok();
   }
   if (k.pipeline_ != VK_NULL_HANDLE) return Status::Ok();
+  // The device gets the module with these constants frozen and the branches they decide removed
+  // (sim::WithBranchesDecided): lavapipe inlines every call before it drops dead code, so the
+  // strict-math path, dead unless --strict-math, would be copied into every Div and Sqrt call site.
+  std::vector<std::uint32_t> decided;
+  try {
+    decided = sim::WithBranchesDecided(k.spirv_, SpecText(k.spec_), k.name_);
+  } catch (const std::exception& e) {
+    return Status::Fail(fmt::format("kernel {}: {}", k.name_, e.what()));
+  }
+  vkDestroyShaderModule(device_, k.module_, nullptr);
+  k.module_ = VK_NULL_HANDLE;
+  RS_TRY(CreateModule(device_, WithFloatControls(decided, float_controls_), k.module_));
   const VkSpecializationMapEntry entries[3] = {{0, 0, 4}, {1, 4, 4}, {2, 8, 4}};
   VkSpecializationInfo si{3, entries, sizeof k.spec_, k.spec_};
   VkComputePipelineCreateInfo cp{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};

@@ -69,6 +69,24 @@ std::vector<std::uint32_t> Specialized(std::span<const std::uint32_t> spirv, con
   return out;
 }
 
+std::vector<std::uint32_t> WithBranchesDecided(std::span<const std::uint32_t> spirv, const std::map<std::uint32_t, std::string>& spec,
+                                               const std::string& what) {
+  spvtools::Optimizer opt(SPV_ENV_VULKAN_1_2);
+  std::string first;
+  opt.SetMessageConsumer([&first](spv_message_level_t level, const char*, const spv_position_t&, const char* message) {
+    if (level <= SPV_MSG_ERROR && first.empty()) first = OneLine(message);
+  });
+  const std::unordered_map<std::uint32_t, std::string> values(spec.begin(), spec.end());
+  opt.RegisterPass(spvtools::CreateSetSpecConstantDefaultValuePass(values))
+      .RegisterPass(spvtools::CreateFreezeSpecConstantValuePass())
+      .RegisterPass(spvtools::CreateFoldSpecConstantOpAndCompositePass())
+      .RegisterPass(spvtools::CreateDeadBranchElimPass())
+      .RegisterPass(spvtools::CreateEliminateDeadFunctionsPass());
+  std::vector<std::uint32_t> out;
+  if (!opt.Run(spirv.data(), spirv.size(), &out)) ThrowInput("{}: spirv-opt could not freeze its specialization constants: {}", what, first);
+  return out;
+}
+
 std::vector<std::string> LooselyRounded(std::span<const std::uint32_t> spirv) {
   std::vector<std::string> found;
   if (spirv.size() < 5 || spirv[0] != spv::MagicNumber) return found;

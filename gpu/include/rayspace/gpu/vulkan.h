@@ -145,7 +145,8 @@ class Kernel {
   std::string name_;
   mutable std::uint64_t launches_ = 0;
   std::uint32_t bindings_ = 0, local_size_ = 64;
-  VkShaderModule module_ = VK_NULL_HANDLE;
+  // The module the pipeline was made from: spirv_ with spec_'s branches decided (CreatePipeline).
+  mutable VkShaderModule module_ = VK_NULL_HANDLE;
   VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
   // Made at the kernel's first dispatch (Context::CreateKernel says why).
@@ -327,12 +328,13 @@ class Context {
   // `poison`: fill a mappable storage buffer with Buffer::kPoisonWord; false only for a buffer the
   // caller overwrites whole at once (an upload).
   Status CreateBuffer(std::size_t bytes, Buffer& out, bool storage = true, bool poison = true);
-  // Checks the kernel against the device's limits and makes its module and layouts; its pipeline is
+  // Checks the kernel against the device's limits and makes its layouts; its module and pipeline are
   // made at its first dispatch (Recorder::Dispatch), since a frame runs a few of the passes and
-  // lavapipe spends up to half a second on a pipeline even from its shader cache.
+  // lavapipe spends up to a tenth of a second on a pipeline even from its shader cache.
   Status CreateKernel(const std::string& name, std::span<const std::uint32_t> spirv, std::uint32_t bindings,
                       std::uint32_t fault, Kernel& out, std::uint32_t local_size = 64);
-  // Makes `k`'s pipeline unless it has one.
+  // Makes `k`'s pipeline unless it has one, from its SPIR-V with the branches its specialization
+  // constants decide removed (sim::WithBranchesDecided; docs/gpu.md says why).
   Status CreatePipeline(const Kernel& k) const;
   // Plants `fault` in `k` (specialization constant 0) in place of its current one: a pipeline made
   // with the old constant is destroyed, and the next dispatch makes one with the new. Only between

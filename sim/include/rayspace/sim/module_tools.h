@@ -32,6 +32,14 @@ std::vector<std::uint32_t> WithoutDebugInfo(std::span<const std::uint32_t> spirv
 std::vector<std::uint32_t> Specialized(std::span<const std::uint32_t> spirv, const std::map<std::uint32_t, std::string>& spec,
                                        const std::string& what);
 
+// The module with these specialization constants frozen, the branches they decide removed and the
+// functions no longer called dropped (spirv-opt's set-spec-const-default-value, freeze-spec-const,
+// fold-spec-const-op-composite, eliminate-dead-branches, eliminate-dead-functions): no instruction
+// that computes is changed, inlined or folded. What the Vulkan runtime gives a device. Throws
+// InputError naming `what` when SPIRV-Tools rejects it.
+std::vector<std::uint32_t> WithBranchesDecided(std::span<const std::uint32_t> spirv, const std::map<std::uint32_t, std::string>& spec,
+                                               const std::string& what);
+
 // The instructions a conformant Vulkan device may round loosely that a module still holds: OpFDiv,
 // and GLSL.std.450 Sqrt and InverseSqrt, of any float width. Each as "FILE:LINE OpFDiv (64-bit)"
 // (the OpLine before it; "?" without debug information).
