@@ -5,6 +5,7 @@
 #include <spirv/unified1/GLSL.std.450.h>
 #include <spirv/unified1/spirv.hpp11>
 
+#include <functional>
 #include <unordered_map>
 
 #include <fmt/format.h>
@@ -34,57 +35,60 @@ std::string ValidationError(std::span<const std::uint32_t> spirv) {
   return first.empty() ? "invalid (no message)" : first;
 }
 
-std::vector<std::uint32_t> WithoutDebugInfo(std::span<const std::uint32_t> spirv, const std::string& what) {
+namespace {
+
+// spirv-opt's passes that `add` registers run on the module; a failure throws InputError naming
+// `what` and `failed` with SPIRV-Tools' first message (of any level when `any_message`, else its
+// first error).
+std::vector<std::uint32_t> Optimize(std::span<const std::uint32_t> spirv, const std::string& what, std::string_view failed,
+                                    const std::function<void(spvtools::Optimizer&)>& add, bool any_message = false) {
   spvtools::Optimizer opt(SPV_ENV_VULKAN_1_2);
   std::string first;
-  opt.SetMessageConsumer([&first](spv_message_level_t, const char*, const spv_position_t&, const char* message) {
-    if (first.empty()) first = OneLine(message);
+  opt.SetMessageConsumer([&first, any_message](spv_message_level_t level, const char*, const spv_position_t&, const char* message) {
+    if ((any_message || level <= SPV_MSG_ERROR) && first.empty()) first = OneLine(message);
   });
-  opt.RegisterPass(spvtools::CreateStripDebugInfoPass()).RegisterPass(spvtools::CreateCompactIdsPass());
+  add(opt);
   std::vector<std::uint32_t> out;
-  if (!opt.Run(spirv.data(), spirv.size(), &out)) ThrowInput("{}: spirv-opt --strip-debug failed: {}", what, first);
+  if (!opt.Run(spirv.data(), spirv.size(), &out)) ThrowInput("{}: {}: {}", what, failed, first);
   return out;
+}
+
+// The pipeline's specialization constants set and frozen, and the operations on them folded.
+void Freeze(spvtools::Optimizer& opt, const std::map<std::uint32_t, std::string>& spec) {
+  const std::unordered_map<std::uint32_t, std::string> values(spec.begin(), spec.end());
+  opt.RegisterPass(spvtools::CreateSetSpecConstantDefaultValuePass(values))
+      .RegisterPass(spvtools::CreateFreezeSpecConstantValuePass())
+      .RegisterPass(spvtools::CreateFoldSpecConstantOpAndCompositePass());
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> WithoutDebugInfo(std::span<const std::uint32_t> spirv, const std::string& what) {
+  return Optimize(spirv, what, "spirv-opt --strip-debug failed", [](spvtools::Optimizer& opt) {
+    opt.RegisterPass(spvtools::CreateStripDebugInfoPass()).RegisterPass(spvtools::CreateCompactIdsPass());
+  }, /*any_message=*/true);
 }
 
 std::vector<std::uint32_t> Specialized(std::span<const std::uint32_t> spirv, const std::map<std::uint32_t, std::string>& spec,
                                        const std::string& what) {
-  spvtools::Optimizer opt(SPV_ENV_VULKAN_1_2);
-  std::string first;
-  opt.SetMessageConsumer([&first](spv_message_level_t level, const char*, const spv_position_t&, const char* message) {
-    if (level <= SPV_MSG_ERROR && first.empty()) first = OneLine(message);
+  return Optimize(spirv, what, "spirv-opt could not specialise it", [&spec](spvtools::Optimizer& opt) {
+    Freeze(opt, spec);
+    opt.RegisterPass(spvtools::CreateMergeReturnPass())
+        .RegisterPass(spvtools::CreateInlineExhaustivePass())
+        .RegisterPass(spvtools::CreateLocalSingleStoreElimPass())
+        .RegisterPass(spvtools::CreateCCPPass())
+        .RegisterPass(spvtools::CreateDeadBranchElimPass())
+        .RegisterPass(spvtools::CreateAggressiveDCEPass())
+        .RegisterPass(spvtools::CreateEliminateDeadFunctionsPass());
   });
-  const std::unordered_map<std::uint32_t, std::string> values(spec.begin(), spec.end());
-  opt.RegisterPass(spvtools::CreateSetSpecConstantDefaultValuePass(values))
-      .RegisterPass(spvtools::CreateFreezeSpecConstantValuePass())
-      .RegisterPass(spvtools::CreateFoldSpecConstantOpAndCompositePass())
-      .RegisterPass(spvtools::CreateMergeReturnPass())
-      .RegisterPass(spvtools::CreateInlineExhaustivePass())
-      .RegisterPass(spvtools::CreateLocalSingleStoreElimPass())
-      .RegisterPass(spvtools::CreateCCPPass())
-      .RegisterPass(spvtools::CreateDeadBranchElimPass())
-      .RegisterPass(spvtools::CreateAggressiveDCEPass())
-      .RegisterPass(spvtools::CreateEliminateDeadFunctionsPass());
-  std::vector<std::uint32_t> out;
-  if (!opt.Run(spirv.data(), spirv.size(), &out)) ThrowInput("{}: spirv-opt could not specialise it: {}", what, first);
-  return out;
 }
 
 std::vector<std::uint32_t> WithBranchesDecided(std::span<const std::uint32_t> spirv, const std::map<std::uint32_t, std::string>& spec,
                                                const std::string& what) {
-  spvtools::Optimizer opt(SPV_ENV_VULKAN_1_2);
-  std::string first;
-  opt.SetMessageConsumer([&first](spv_message_level_t level, const char*, const spv_position_t&, const char* message) {
-    if (level <= SPV_MSG_ERROR && first.empty()) first = OneLine(message);
+  return Optimize(spirv, what, "spirv-opt could not freeze its specialization constants", [&spec](spvtools::Optimizer& opt) {
+    Freeze(opt, spec);
+    opt.RegisterPass(spvtools::CreateDeadBranchElimPass()).RegisterPass(spvtools::CreateEliminateDeadFunctionsPass());
   });
-  const std::unordered_map<std::uint32_t, std::string> values(spec.begin(), spec.end());
-  opt.RegisterPass(spvtools::CreateSetSpecConstantDefaultValuePass(values))
-      .RegisterPass(spvtools::CreateFreezeSpecConstantValuePass())
-      .RegisterPass(spvtools::CreateFoldSpecConstantOpAndCompositePass())
-      .RegisterPass(spvtools::CreateDeadBranchElimPass())
-      .RegisterPass(spvtools::CreateEliminateDeadFunctionsPass());
-  std::vector<std::uint32_t> out;
-  if (!opt.Run(spirv.data(), spirv.size(), &out)) ThrowInput("{}: spirv-opt could not freeze its specialization constants: {}", what, first);
-  return out;
 }
 
 std::vector<std::string> LooselyRounded(std::span<const std::uint32_t> spirv) {
