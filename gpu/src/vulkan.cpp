@@ -551,7 +551,6 @@ Status Context::CreateKernel(const std::string& name, std::span<const std::uint3
   k.bindings_ = bindings;
   k.spirv_.assign(spirv.begin(), spirv.end());
   if (!simulated_) {
-    // The float controls the device offers, requested (rayspace/gpu/float_controls.h).
     if (Status st = CreateLayouts(device_, bindings, VK_SHADER_STAGE_COMPUTE_BIT, 128, k.set_layout_, k.layout_); !st)
       return st;
   }
@@ -612,7 +611,10 @@ Status Context::CreatePipeline(const Kernel& k) const {
   }
   vkDestroyShaderModule(device_, k.module_, nullptr);
   k.module_ = VK_NULL_HANDLE;
+  // The float controls the device offers, requested (rayspace/gpu/float_controls.h).
   RS_TRY(CreateModule(device_, WithFloatControls(decided, float_controls_), k.module_));
+  // The constants are frozen in the module already; they are still given, as the pipeline's
+  // record of what it was made with (the layer and a capture tool show them).
   const VkSpecializationMapEntry entries[3] = {{0, 0, 4}, {1, 4, 4}, {2, 8, 4}};
   VkSpecializationInfo si{3, entries, sizeof k.spec_, k.spec_};
   VkComputePipelineCreateInfo cp{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
