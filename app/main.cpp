@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "rayspace/emu/backend.h"
 #include "rayspace/emu/output_checks.h"
 #include "rayspace/error.h"
 #include "rayspace/frame/version.h"
@@ -176,7 +177,7 @@ void AddSimulate(CLI::App& app, Commands& cmds) {
 
 // The simulated GPU's device options of a command that runs frames on it (`where`: how it is chosen).
 void AddSimulatedDeviceOptions(CLI::App& cmd, const std::string& where, std::uint32_t& subgroup_size, std::string& checks,
-                               std::string& model, std::string& layout) {
+                               std::string& model, std::string& layout, std::uint64_t& step_limit) {
   cmd.add_option("--subgroup-size", subgroup_size,
                  where + ": invocations per subgroup of the simulated GPU, and of the emulated kernels' mirrors (default 8, "
                  "lavapipe's)")
@@ -184,13 +185,17 @@ void AddSimulatedDeviceOptions(CLI::App& cmd, const std::string& where, std::uin
   AddSimChecksOption(cmd, checks);
   AddDeviceModelOption(cmd, model);
   AddSubgroupLayoutOption(cmd, layout);
+  cmd.add_option("--step-limit", step_limit,
+                 where + ": lane-instructions one workgroup of the simulated GPU may run before it counts as a hang (default "
+                 "2^34; the kernel's fault is exit 7)")
+      ->check(CLI::Range(std::uint64_t{1}, ~std::uint64_t{0}));
 }
 
 void AddRender(CLI::App& app, Commands& cmds) {
   CLI::App* rc = cmds.render_cmd = app.add_subcommand("render", "Render a scene through the emulated pipeline and check it with an oracle");
   rayspace::app::AddRenderOptions(*rc, cmds.render);
   AddSimulatedDeviceOptions(*rc, "--backend sim", cmds.render.subgroup_size, cmds.render.sim_checks, cmds.render.device_model,
-                            cmds.render.subgroup_layout);
+                            cmds.render.subgroup_layout, cmds.render.step_limit);
 }
 
 #ifdef RAYSPACE_HAVE_VULKAN
@@ -241,7 +246,7 @@ void AddDiffAndReplay(CLI::App& app, Commands& cmds) {
   AddCompareOption(*dc, cmds.diff.compare);
   AddBackendsOption(*dc, cmds.diff.backends, cmds.diff.backends_given);
   AddSimulatedDeviceOptions(*dc, "--backends emu,sim", cmds.diff.subgroup_size, cmds.diff.sim_checks, cmds.diff.device_model,
-                            cmds.diff.subgroup_layout);
+                            cmds.diff.subgroup_layout, cmds.diff.step_limit);
   dc->add_flag("--coverage-options", cmds.diff.coverage_options,
                "--backends emu,sim with --kernel: after the diff, probe the configurations that run every kernel's rarer "
                "paths (mutate's; 16x16 frames on the simulated GPU) and print which options reach the kernel's unreached "
@@ -494,6 +499,11 @@ int main(int argc, char** argv) {
   } catch (const rayspace::wg::CheckError& e) {
     std::fprintf(stderr, "rayspace: workgroup checker: %s\n", e.what());
     return ToInt(ExitCode::kWorkgroupFault);
+  } catch (const rayspace::emu::BackendError& e) {
+    // A kernel's fault on a device (render --backend sim or vulkan): a checker's finding, or a failure
+    // no checker owns (a device error, the simulated GPU's step limit). Not an internal failure.
+    std::fprintf(stderr, "rayspace: %s: %s\n", e.checker().empty() ? "backend failed" : e.checker().c_str(), e.what());
+    return ToInt(e.checker().empty() ? ExitCode::kBackendFault : ExitCode::kWorkgroupFault);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "rayspace: failure: %s\n", e.what());
     return ToInt(ExitCode::kInternal);

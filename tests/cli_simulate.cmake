@@ -10,7 +10,8 @@
 #   PART=backend (default tier) diff --backends emu,sim on a 16x16 cornell-mirrors pass by pass, and
 #                               fused under a random schedule at subgroup size 4, all equal; render --backend sim gives the emulator's
 #                               digest, and refuses the simulated GPU's options on other backends; a planted reduce
-#                               fault diverges; every planted GPU fault is caught on the kernel by its checker (exit 6)
+#                               fault diverges; a workgroup past --step-limit is exit 7, not a divergence; every
+#                               planted GPU fault is caught on the kernel by its checker (exit 6)
 #   PART=backend-all (full)     the same diffs at 32x32 on cornell-mirrors, the quadtree too, subgroup
 #                               sizes 1, 4, 32 and 64, the grids at 16x16, and office fused and pass by pass;
 #                               each planted fault not caught by its checker when --sim-checks leaves it out
@@ -284,6 +285,31 @@ elseif(PART STREQUAL "backend" OR PART STREQUAL "backend-faults" OR PART STREQUA
     if(NOT rc EQUAL 4 OR NOT err MATCHES "first divergent pass: reduce" OR NOT actual STREQUAL "sim"
        OR NOT err MATCHES "impact: not measured: the sim backend's frame failed")
       set(failures "${failures}\ndiff --backends emu,sim --inject reduce:1: exit ${rc}, expected 4 at reduce with the impact's actual side sim (got '${actual}'): ${err}")
+    endif()
+    # A workgroup past the step limit is the simulated GPU's fault, not a divergence: exit 7 naming the
+    # pass, the pass reported failed (not equal), no verdict; render alike. At the default limit the
+    # same frames are equal (above).
+    file(REMOVE "${WORK}/hang.json")
+    execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backends emu,sim --step-limit 1000
+                            --report "${WORK}/hang.json"
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    set(failed "")
+    if(EXISTS "${WORK}/hang.json")
+      file(READ "${WORK}/hang.json" j)
+      string(JSON fault_pass ERROR_VARIABLE jerr GET "${j}" backend_fault pass)
+      string(JSON failed ERROR_VARIABLE jerr GET "${j}" passes 1 failed)
+      string(JSON failed_equal ERROR_VARIABLE jerr GET "${j}" passes 1 equal)
+    endif()
+    if(NOT rc EQUAL 7 OR NOT err MATCHES "rayspace diff: the actual backend failed at pass surfaces; nothing was compared from there"
+       OR NOT err MATCHES "workgroup \\(0, 0\\) ran more than 1000 lane-instructions: a hang" OR err MATCHES "divergent"
+       OR NOT fault_pass STREQUAL "surfaces" OR NOT failed STREQUAL "ON" OR NOT failed_equal STREQUAL "OFF" OR out MATCHES "all passes equal")
+      set(failures "${failures}\ndiff --step-limit 1000: exit ${rc}, expected 7 at surfaces reported failed (failed ${failed}): ${out}${err}")
+    endif()
+    execute_process(COMMAND "${RAYSPACE}" render "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --no-oracle --backend sim --step-limit 1000
+                            --out "${WORK}/hang.png"
+                    RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+    if(NOT rc EQUAL 7 OR NOT err MATCHES "^rayspace: backend failed: .*a hang" OR EXISTS "${WORK}/hang.png")
+      set(failures "${failures}\nrender --backend sim --step-limit 1000: exit ${rc}, expected 7 and no image: ${err}")
     endif()
   endif()
   # The planted faults, on the kernel (backend-faults, default tier): each stops the diff with exit 6

@@ -130,6 +130,7 @@ struct PassTotals {
   std::map<std::string, std::pair<std::size_t, std::size_t>> buffers;  // elements, mismatches
   double emu_ms = 0, vulkan_ms = 0;
   bool equal = true;
+  bool failed = false;  // a call of the pass failed on a backend: compared nothing
   const verify::CallRecord* first_divergent = nullptr;
   std::uint64_t max_ulp = 0;
 };
@@ -161,6 +162,10 @@ DiffTotals Totals(const std::vector<verify::CallRecord>& calls) {
       e.second += b.mismatches + (b.expected_elements != b.actual_elements ? 1 : 0);
       t.max_ulp = std::max(t.max_ulp, b.max_ulp);
     }
+    if (!c.error.empty()) {  // a backend's failure compared nothing: not a divergence, not equal
+      t.failed = true;
+      continue;
+    }
     if (!c.equal && c.within_spec) {
       ++d.within_spec;
       if (!d.first_within) d.first_within = &c;
@@ -190,8 +195,9 @@ nlohmann::json PrintPasses(DiffTotals& d, const std::string& expected, const std
       bufs += fmt::format("{}{} ({})", bufs.empty() ? "" : ", ", name, em.first);
       bj.push_back({{"buffer", name}, {"elements", em.first}, {"mismatches", em.second}});
     }
-    std::printf("  %-18s %6zu %12zu %11.1f %11.1f  %s\n", p.c_str(), t.calls, mism, t.emu_ms, t.vulkan_ms, bufs.c_str());
-    nlohmann::json pj = {{"pass", p}, {"calls", t.calls}, {"equal", t.equal}, {"buffers", bj}, {"max_ulp", t.max_ulp},
+    std::printf("  %-18s %6zu %12zu %11.1f %11.1f  %s%s\n", p.c_str(), t.calls, mism, t.emu_ms, t.vulkan_ms, bufs.c_str(),
+                t.failed ? (bufs.empty() ? "failed on a backend" : "; a call failed on a backend") : "");
+    nlohmann::json pj = {{"pass", p}, {"calls", t.calls}, {"equal", t.equal && !t.failed}, {"failed", t.failed}, {"buffers", bj}, {"max_ulp", t.max_ulp},
                          {"emu_ms", t.emu_ms}, {"vulkan_ms", t.vulkan_ms}};
     if (t.first_divergent) pj["first_divergent_call"] = CallJson(*t.first_divergent);
     passes.push_back(pj);
@@ -263,6 +269,9 @@ struct DiffOutcome {
   // The simulated device's checker finding on a kernel (racecheck, initcheck, synccheck, memcheck)
   // that stopped the frame: {"checker", "pass", "finding"}.
   nlohmann::json sim_checker = nullptr;
+  // A backend's failure on a pass that no checker owns (a device error, the simulated GPU's step
+  // limit): {"pass", "error"}. Nothing was compared from that pass on: a fault, not a divergence.
+  nlohmann::json backend_fault = nullptr;
 };
 
 // A simulated device's checker finding on a pass's kernel, from the backend's error: {"checker",
@@ -400,9 +409,10 @@ struct DiffTracer {
 Backend MakeActualBackend(const std::string& backends, bool given, int device, int local_size,
                           const std::map<std::string, std::uint32_t>& faults, const TestLimits& limits, const KernelFiles& kernels,
                           std::uint32_t subgroup_size = 0, const std::string& schedule = "forward", const std::string& sim_checks = "",
-                          const std::string& device_model = "", const std::string& subgroup_layout = "") {
+                          const std::string& device_model = "", const std::string& subgroup_layout = "", std::uint64_t step_limit = 0) {
   const std::string actual = backends.substr(backends.find(',') + 1);
-  const sim::DeviceConfig simulated = SimulatedConfig(backends, subgroup_size, schedule, sim_checks, device_model, subgroup_layout);
+  const sim::DeviceConfig simulated =
+      SimulatedConfig(backends, subgroup_size, schedule, sim_checks, device_model, subgroup_layout, step_limit);
   if (given || actual != "vulkan") return MakeBackend(actual, device, local_size, faults, limits, kernels, simulated);
   try {
     return MakeBackend("vulkan", device, local_size, faults, limits, kernels);
@@ -442,6 +452,7 @@ DiffOutcome RunDiffFrame(const Scene& scene, const SceneBuffers& buffers, Tracer
   } catch (const verify::DiffStop& stop) {
     run.stopped = stop.what();
     if (!stop.checker().empty()) run.sim_checker = SimCheckerJson(stop.checker(), stop.pass(), stop.finding());
+    else if (!stop.pass().empty()) run.backend_fault = {{"pass", stop.pass()}, {"error", stop.what()}};
   } catch (const emu::DeviceOutputError& e) {
     // The Differ compared the call's outputs before the host checked them: the pass is reported.
     run.stopped = std::string("device output error: ") + e.what();
@@ -484,6 +495,9 @@ void PrintDiffVerdict(const DiffArgs& args, const Injection& injection, const Di
     std::printf("  all passes equal\n");
   else if (totals.first)
     std::fprintf(stderr, "rayspace diff: first divergent pass: %s\n", totals.first->pass.c_str());
+  else if (!run.backend_fault.is_null())
+    std::fprintf(stderr, "rayspace diff: the actual backend failed at pass %s; nothing was compared from there\n",
+                 run.backend_fault["pass"].get<std::string>().c_str());
   else
     std::fprintf(stderr, "rayspace diff: no pass compared unequal before the stop\n");
   PrintFirstDivergence(totals.first);
@@ -583,7 +597,10 @@ FaultRun DiffFrame(const DiffArgs& args, const Scene& scene, SceneBuffers& buffe
     r.report["simulator_checker"] = run.sim_checker;
     PrintSimChecker(run.sim_checker);
   }
+  if (!run.backend_fault.is_null()) r.report["backend_fault"] = run.backend_fault;
   r.verdict = !run.checker.is_null() || !run.sim_checker.is_null() ? ExitCode::kWorkgroupFault
+              : totals.first                                       ? ExitCode::kDivergence
+              : !run.backend_fault.is_null()                       ? ExitCode::kBackendFault
               : equal                                              ? ExitCode::kOk
                                                                    : ExitCode::kDivergence;
   return r;
@@ -645,13 +662,13 @@ DiffResult DiffToReport(const DiffArgs& args, const std::function<void(const Sce
   CheckFitsMachine(estimate, fo.width, fo.height, SizeFrom(args.size, scene).c_str(), "the diff");
   const Backend gpu = MakeActualBackend(args.backends, args.backends_given, args.device, args.local_size, injection.kernel, args.Limits(),
                                         args.kernels, args.subgroup_size, args.model.schedule, args.sim_checks, args.device_model,
-                                        args.subgroup_layout);
+                                        args.subgroup_layout, args.step_limit);
   // --backends sim,vulkan: the kernels on the simulated GPU are the expected side.
   std::optional<Backend> reference;
   if (args.backends == "sim,vulkan")
     reference = MakeBackend("sim", args.device, args.local_size, {}, args.Limits(), args.kernels,
                             SimulatedConfig(args.backends, args.subgroup_size, args.model.schedule, args.sim_checks, args.device_model,
-                                            args.subgroup_layout));
+                                            args.subgroup_layout, args.step_limit));
   const ScopedSettings model = EmulatedKernels(args.model, static_cast<std::uint32_t>(args.local_size), gpu.subgroup_size, injection);
   SceneBuffers buffers = FlattenForFrame(scene, args.faithful);
   buffers.one_sided = one_sided;
@@ -675,9 +692,12 @@ DiffResult DiffToReport(const DiffArgs& args, const std::function<void(const Sce
       std::printf("rayspace diff: planted fault %s (%zu of %zu)\n", one.inject.c_str(), i + 1, args.inject_each.size());
       FaultRun r = DiffFrame(one, scene, buffers, fo, gpu, estimate, reference ? &*reference : nullptr);
       j["faults"].push_back(std::move(r.report));
-      // A frame the workgroup checker stopped outranks a divergence, which outranks equality.
-      if (r.verdict == ExitCode::kWorkgroupFault || (r.verdict == ExitCode::kDivergence && verdict == ExitCode::kOk))
-        verdict = r.verdict;
+      // A frame the workgroup checker stopped outranks a divergence, which outranks a backend's
+      // failure, which outranks equality.
+      const auto rank = [](ExitCode c) {
+        return c == ExitCode::kWorkgroupFault ? 3 : c == ExitCode::kDivergence ? 2 : c == ExitCode::kBackendFault ? 1 : 0;
+      };
+      if (rank(r.verdict) > rank(verdict)) verdict = r.verdict;
     }
   }
   // A simulated subgroup layout other than lavapipe's: what a kernel that fails under it assumes.
@@ -924,6 +944,13 @@ ExitCode RunReplay(const ReplayArgs& given) {
     j["simulator_checker"] = SimCheckerJson(r.error_checker, r.pass, r.error_finding);
     PrintSimChecker(j["simulator_checker"]);
     return WriteOutputs(ExitCode::kWorkgroupFault, [&] { report.Commit(JsonText(j)); });
+  }
+  // A backend's failure no checker owns compared nothing: exit 7, as diff gives it.
+  if (!r.error.empty()) {
+    j["backend_fault"] = {{"pass", r.pass}, {"error", r.error}};
+    std::fprintf(stderr, "rayspace replay: the actual backend failed at pass %s; nothing was compared: %s\n", r.pass.c_str(),
+                 r.error.c_str());
+    return WriteOutputs(ExitCode::kBackendFault, [&] { report.Commit(JsonText(j)); });
   }
   // A fault given here that cannot fire leaves no verdict; the recording's own fault may belong to
   // another call of its frame, which is worth a note only.

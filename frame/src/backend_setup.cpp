@@ -132,7 +132,8 @@ void CheckGridBuild(const Backend& backend) {
 }
 
 sim::DeviceConfig SimulatedConfig(const std::string& backends, std::uint32_t subgroup_size, const std::string& schedule,
-                                  const std::string& sim_checks, const std::string& device_model, const std::string& subgroup_layout) {
+                                  const std::string& sim_checks, const std::string& device_model, const std::string& subgroup_layout,
+                                  std::uint64_t step_limit) {
   const bool sim_side = backends.find("sim") != std::string::npos;
   if (subgroup_size && !sim_side)
     ThrowInput("--subgroup-size {}: only the simulated GPU's subgroup size is chosen (--backends emu,sim, --backend sim); a Vulkan device has its own",
@@ -145,6 +146,8 @@ sim::DeviceConfig SimulatedConfig(const std::string& backends, std::uint32_t sub
   if (!subgroup_layout.empty() && !sim_side)
     ThrowInput("--subgroup-layout {}: only the simulated GPU's subgroup layout is chosen (--backends emu,sim, --backend sim); a Vulkan device has its own",
                subgroup_layout);
+  if (step_limit && !sim_side)
+    ThrowInput("--step-limit {}: only the simulated GPU has a step limit (--backends emu,sim, --backend sim)", step_limit);
   // The simulated GPU takes --schedule too: the order of its workgroups and subgroups.
   std::string error;
   const std::optional<sim::Checks> checks = sim::ParseChecks(sim_checks.empty() ? "all" : sim_checks, error);
@@ -153,11 +156,12 @@ sim::DeviceConfig SimulatedConfig(const std::string& backends, std::uint32_t sub
   if (!model) ThrowInput("--device-model {}: {}", device_model, error);
   const std::optional<sim::SubgroupLayoutChoice> layout = sim::ParseSubgroupLayout(subgroup_layout.empty() ? "linear" : subgroup_layout, error);
   if (!layout) ThrowInput("--subgroup-layout {}: {}", subgroup_layout, error);
-  return {.subgroup_size = subgroup_size ? subgroup_size : 8u,
-          .schedule = ParseSchedule(schedule),
-          .checks = *checks,
-          .arithmetic = *model,
-          .layout = *layout};
+  sim::DeviceConfig config{.subgroup_size = subgroup_size ? subgroup_size : 8u, .schedule = ParseSchedule(schedule)};
+  if (step_limit) config.step_limit = step_limit;
+  config.checks = *checks;
+  config.arithmetic = *model;
+  config.layout = *layout;
+  return config;
 }
 
 Backend MakeBackend(const std::string& name, int device, int local_size, const std::map<std::string, std::uint32_t>& faults,

@@ -90,7 +90,7 @@ MemoryUse RenderMemoryUse(const RenderArgs& args) {
 Backend MakeRenderBackend(const RenderArgs& args) {
   // The simulated GPU takes --schedule too, as in diff: the order of its workgroups and subgroups.
   const sim::DeviceConfig simulated = SimulatedConfig(args.backend, args.subgroup_size, args.model.schedule, args.sim_checks,
-                                                      args.device_model, args.subgroup_layout);
+                                                      args.device_model, args.subgroup_layout, args.step_limit);
   return MakeBackend(args.backend, args.device, 64, {}, args.Limits(), args.kernels, simulated);
 }
 

@@ -167,6 +167,8 @@ class Workgroup {
     orders_storage_ = false;
     pending_race_.reset();
     interval_ = 0;
+    // The limit is a workgroup's: a dispatch's work grows with its size, a hang is one workgroup's.
+    step_end_ = stats_.lane_instructions + std::min<std::uint64_t>(d_.step_limit, ~0ull - stats_.lane_instructions);
     for (;;) {
       for (std::uint32_t s : Order(subgroups_, ++interval_)) RunSubgroup(s * sg_, std::min(slots_, (s + 1) * sg_));
       std::uint32_t waiting = 0, done = 0;
@@ -486,9 +488,11 @@ class Workgroup {
     for (std::uint32_t i = seg.first; i < seg.end; ++i) {
       const Inst& in = p_.code[i];
       stats_.lane_instructions += lanes_.size();
-      if (stats_.lane_instructions > d_.step_limit && pending_race_) throw *pending_race_;
-      if (stats_.lane_instructions > d_.step_limit)
-        throw SimError(fmt::format("{}: more than {} lane-instructions: a hang, or raise the step limit", p_.name, d_.step_limit));
+      if (stats_.lane_instructions > step_end_) {
+        if (pending_race_) throw *pending_race_;
+        throw SimError(fmt::format("{}: {} ran more than {} lane-instructions: a hang, or raise the step limit (--step-limit)",
+                                   p_.name, group_, d_.step_limit));
+      }
       if (d_.coverage) d_.coverage[i] = 1;
       if (init_) TrackBefore(in);
       const bool ended = Execute(in, s);
@@ -544,6 +548,7 @@ class Workgroup {
   std::vector<std::uint32_t> regs_, seg_, prev_;
   std::vector<LaneState> state_;
   std::vector<std::uint32_t> lanes_;
+  std::uint64_t step_end_ = 0;  // the lane-instruction count past which this workgroup has hung
   std::uint32_t sub_first_ = 0, sub_end_ = 0;
   SharedCheck shared_check_;
   std::vector<std::uint64_t> scan_;  // a subgroup scan's exclusive values, reused across instructions

@@ -37,6 +37,7 @@ struct DiffArgs : FrameArgs {
   std::string sim_checks;               // --sim-checks: the simulated GPU's checkers ("": all)
   std::string device_model;             // --device-model: the simulated GPU's arithmetic ("": lavapipe)
   std::string subgroup_layout;          // --subgroup-layout: how it fills its subgroups ("": linear)
+  std::uint64_t step_limit = 0;         // --step-limit: lane-instructions of a simulated workgroup before a hang (0: 2^34)
   bool coverage_options = false;        // --coverage-options: probe the options that reach a user kernel's unreached lines
 };
 

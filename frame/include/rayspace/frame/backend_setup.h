@@ -85,7 +85,8 @@ void CheckKernelsRan(const Backend& backend, const KernelFiles& kernels);
 // arithmetic and layout, every checker). `backends` is diff's list ("emu,sim", ...) or render's one
 // backend; an option given where no side is the simulated GPU is an InputError naming it.
 sim::DeviceConfig SimulatedConfig(const std::string& backends, std::uint32_t subgroup_size, const std::string& schedule,
-                                  const std::string& sim_checks, const std::string& device_model, const std::string& subgroup_layout);
+                                  const std::string& sim_checks, const std::string& device_model, const std::string& subgroup_layout,
+                                  std::uint64_t step_limit = 0);
 
 // name "emu" or "vulkan"; `faults` plants kernel faults (pass -> fault, diff --inject). A bad --device
 // or a build without Vulkan is an InputError; a failing driver a runtime_error naming the call.

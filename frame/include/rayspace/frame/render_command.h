@@ -19,6 +19,7 @@ struct RenderArgs : FrameArgs {
   // --backend sim: the simulated GPU's subgroup size (0: 8), checkers, arithmetic and subgroup layout
   std::uint32_t subgroup_size = 0;
   std::string sim_checks, device_model, subgroup_layout;
+  std::uint64_t step_limit = 0;  // lane-instructions of a simulated workgroup before a hang (0: 2^34)
   int threads = 0;
   bool no_oracle = false, progress = false, timings = false;
 };

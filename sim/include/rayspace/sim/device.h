@@ -62,7 +62,7 @@ struct DeviceConfig {
   // The order of a dispatch's workgroups and, between two barriers, of a workgroup's subgroups:
   // forward, reverse, or a permutation drawn from the seed per dispatch and per interval.
   wg::Schedule schedule;
-  std::uint64_t step_limit = 1ull << 34;  // lane-instructions before a dispatch counts as a hang
+  std::uint64_t step_limit = 1ull << 34;  // lane-instructions of one workgroup before it counts as a hang
   // The checkers that run. One switched off lets the kernel go on as a lenient device would: an access
   // outside a binding reads zero and writes nothing, a division by zero gives zero, a divergent
   // barrier releases whoever waits; races and undefined reads go unreported.

@@ -47,7 +47,7 @@ struct Dispatch {
   std::vector<Binding> bindings;          // by binding number (set 0)
   std::span<const std::uint8_t> push;     // the push-constant block
   std::uint32_t subgroup_size = 8;        // lavapipe's
-  std::uint64_t step_limit = 1ull << 34;  // lane-instructions before the run counts as a hang
+  std::uint64_t step_limit = 1ull << 34;  // lane-instructions of one workgroup before it counts as a hang
   wg::Schedule schedule;                  // workgroup and subgroup order (DeviceConfig::schedule)
   std::uint64_t dispatch_index = 0;       // mixed into a random schedule's seed: each dispatch its own order
   Checks checks;                          // the checkers that run (DeviceConfig::checks)
