@@ -40,6 +40,7 @@ const char* ToString(Verdict v) {
     case Verdict::kEqual: return "equal";
     case Verdict::kDivergent: return "divergent";
     case Verdict::kCheckerStopped: return "checker stopped";
+    case Verdict::kBackendFailed: return "backend failed";
   }
   return "?";
 }
@@ -47,9 +48,10 @@ const char* ToString(Verdict v) {
 DiffReport Diff(const DiffRequest& request) {
   const app::DiffResult r = app::DiffToReport(ToArgs(request));
   DiffReport out;
-  out.verdict = r.verdict == ExitCode::kOk           ? Verdict::kEqual
-                : r.verdict == ExitCode::kDivergence ? Verdict::kDivergent
-                                                          : Verdict::kCheckerStopped;
+  out.verdict = r.verdict == ExitCode::kOk             ? Verdict::kEqual
+                : r.verdict == ExitCode::kDivergence   ? Verdict::kDivergent
+                : r.verdict == ExitCode::kBackendFault ? Verdict::kBackendFailed
+                                                       : Verdict::kCheckerStopped;
   const nlohmann::json& j = r.report;
   if (j["first_divergent_pass"].is_string()) out.first_divergent_pass = j["first_divergent_pass"];
   if (j["stopped"].is_string()) out.stopped = j["stopped"];

@@ -52,7 +52,9 @@ struct DiffRequest {
 enum class Verdict {
   kEqual,          // every pass call equal (or, relaxed, within what a conformant device may compute)
   kDivergent,      // a pass call differs
-  kCheckerStopped  // a workgroup or simulator checker found a fault of a kernel and stopped the frame
+  kCheckerStopped,  // a workgroup or simulator checker found a fault of a kernel and stopped the frame
+  kBackendFailed    // a backend failed on a pass without a checker's finding (a device error, the simulator's
+                    // step limit): nothing was compared from that pass on
 };
 const char* ToString(Verdict v);
 
