@@ -88,6 +88,23 @@ TEST_CASE("reproduce roger: relations hold on good counts and fail on bad ones")
   CHECK_FALSE(linear.holds);
   CHECK(linear.detail == "x4.00 >= x4 pixels (1,000 -> 4,000)");
   CHECK_FALSE(SubLinear(0, 10, 4.0).holds);
+  // Figure 10: the irregular reflector's work grows faster with the room than the smooth one's.
+  const Outcome faster = GrowsFaster(3.68, 2.97);
+  CHECK(faster.holds);
+  CHECK(faster.detail == "x3.68 > x2.97");
+  CHECK_FALSE(GrowsFaster(2.97, 2.97).holds);
+  CHECK(GrowsFaster(1.5, 2.0).detail == "x1.50 <= x2.00");
+  // Figure 12: the loose frame's work is no more than the tight one's (equal holds).
+  CHECK(NotAbove(657.2, 657.2).holds);
+  const Outcome above = NotAbove(671.9, 657.2);
+  CHECK_FALSE(above.holds);
+  CHECK(above.detail == "671.90 > 657.20");
+  // Museum8: shadows more than double the time; the published ratio 3330 / 1316 rides along.
+  const Outcome doubled = MoreThanDouble(2.31, 1.0);
+  CHECK(doubled.holds);
+  CHECK(doubled.detail == "x2.31 > x2 (published x2.53)");
+  CHECK_FALSE(MoreThanDouble(2.0, 1.0).holds);
+  CHECK_FALSE(MoreThanDouble(5.0, 0.0).holds);
 }
 
 TEST_CASE("reproduce roger: the report's verdicts follow the counts") {

@@ -128,11 +128,63 @@ Table PixelsTimes(const std::vector<const Result*>& results) {
   return t;
 }
 
+bool ShadowsFirst(const Config& c) { return !c.switches.empty() && c.switches.front() == "--shadow-bounces"; }
+
+// Figure 10 and the Museum in time: frame growth from the 5x5 room to the 40x40 one, the bunny's
+// against the sphere's per hierarchy shape, and the mirror-walled room's frame with and without the
+// shadow rays inside the reflection.
+Table ReflectorTimes(const std::vector<const Result*>& results) {
+  Table t{"roger-10-times", "Roger et al. 2007, figure 10 and Museum8: frame time against the scene's polygons and shadow rays",
+          {"claim", "configuration", "frame ms", "against", "frame ms", "x", "verdict"}, {}, {}};
+  const auto frame = [](const Result* r) { return r->timings.value("frame_ms", 0.0); };
+  // shape -> reflector -> room -> frame
+  std::map<std::string, std::map<std::string, std::map<int, const Result*>>> rooms;
+  std::map<std::string, const Result*> walls;  // shape -> WALLS frame, shadow rays after every bounce
+  std::map<std::string, const Result*> walls_first;
+  for (const Result* r : results) {
+    const RogerScene* s = RogerSceneOf(r->config);
+    if (!s || frame(r) <= 0) continue;
+    const std::string shape = RogerShape(r->config);
+    if (s->name == "WALLS" && ShadowsFirst(r->config))
+      walls_first[shape.substr(0, shape.find(" --shadow-bounces"))] = r;
+    else if (s->name == "WALLS")
+      walls[shape] = r;
+    else if (!s->reflector.empty() && !ShadowsFirst(r->config))
+      rooms[shape][s->reflector][s->room] = r;
+  }
+  for (const auto& [shape, by_reflector] : rooms) {
+    const auto growth = [&, &by = by_reflector](const char* reflector) {
+      const auto it = by.find(reflector);
+      if (it == by.end() || !it->second.contains(5) || !it->second.contains(40)) return 0.0;
+      return frame(it->second.at(40)) / frame(it->second.at(5));
+    };
+    const double irregular = growth("bunny res3"), smooth = growth("sphere");
+    if (irregular <= 0 || smooth <= 0) continue;
+    const Result* big = by_reflector.at("bunny res3").at(40);
+    const Result* small = by_reflector.at("bunny res3").at(5);
+    const Outcome o = GrowsFaster(irregular, smooth);
+    t.rows.push_back({kRogerIrregular, Name(*big), fmt::format("{:.1f}", frame(big)), Name(*small), fmt::format("{:.1f}", frame(small)),
+                      fmt::format("{:.2f}", irregular),
+                      fmt::format("{} (the sphere's x{:.2f})", o.holds ? "holds" : "fails", smooth)});
+  }
+  for (const auto& [shape, without] : walls_first) {
+    const auto with = walls.find(shape);
+    if (with == walls.end()) continue;
+    const Outcome o = MoreThanDouble(frame(with->second), frame(without));
+    t.rows.push_back({kRogerShadows, Name(*with->second), fmt::format("{:.1f}", frame(with->second)), Name(*without),
+                      fmt::format("{:.1f}", frame(without)), fmt::format("{:.2f}", frame(with->second) / frame(without)),
+                      fmt::format("{} ({})", o.holds ? "holds" : "fails", o.detail)});
+  }
+  return t;
+}
+
 }  // namespace
 
 std::vector<Table> RogerTimings(const std::vector<const Result*>& results) {
   if (results.empty()) return {};
-  return {PhasesTable(results), CorrelationTable(results), PixelsTimes(results)};
+  std::vector<Table> tables = {PhasesTable(results), CorrelationTable(results), PixelsTimes(results)};
+  if (Table t = ReflectorTimes(results); !t.rows.empty()) tables.push_back(std::move(t));
+  return tables;
 }
 
 }  // namespace rayspace::reproduce

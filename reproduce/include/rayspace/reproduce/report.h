@@ -49,6 +49,10 @@ Table MisprintsTable(const Published& published);
 // Appends the sections of `reproduce roger` (roger_report.cpp): a summary of its claims' verdicts, then a
 // table per figure; each relation's verdict under its table and in the summary.
 void AddRogerReport(Report& report, const std::vector<const Result*>& results);
+// Figures 10 and 12 and the Museum's shadow rays (roger_reflectors.cpp), at the base frame width
+// `side`; their claims are appended to `verdicts`. A table with no rows is left out.
+std::vector<Table> RogerReflectorTables(const std::vector<const Result*>& results, int side,
+                                        std::vector<std::vector<std::string>>& verdicts);
 // The timings of `reproduce roger`: Roger's four phases per frame with the figure 9(a) claims judged,
 // and time against cone-sphere tests (figures 13(b) and 13(c)). Not byte-identical.
 std::vector<Table> RogerTimings(const std::vector<const Result*>& results);
