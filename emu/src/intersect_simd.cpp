@@ -69,26 +69,31 @@ std::uint32_t EndRay(const call::Intersect& c, std::size_t p) { return c.first1[
 
 // Where runs start: consecutive pairs of one triangle whose nodes' rays are adjacent (a level-1
 // parent's children that all passed) are one run of rays, the same tests in fuller lane groups.
-std::vector<std::size_t> RunStarts(const call::Intersect& c) {
-  std::vector<std::uint8_t> starts(c.pairs.size());
-  ParallelFor(c.pairs.size(), [&](std::size_t p) {
-    starts[p] = p == 0 || (c.pairs[p] & kPairTriangleMask) != (c.pairs[p - 1] & kPairTriangleMask) || EndRay(c, p - 1) != FirstRay(c, p);
-  });
-  std::vector<std::size_t> runs;
-  for (std::size_t p = 0; p < starts.size(); ++p)
-    if (starts[p]) runs.push_back(p);
-  runs.push_back(c.pairs.size());
-  return runs;
+bool RunStartsAt(const call::Intersect& c, std::size_t p) {
+  return p == 0 || (c.pairs[p] & kPairTriangleMask) != (c.pairs[p - 1] & kPairTriangleMask) || EndRay(c, p - 1) != FirstRay(c, p);
 }
+
+// The runs found and tested chunk by chunk: a chunk owns the runs that start in it (one may reach
+// past its end), so no array of run starts is built. Every record is an atomic minimum or a store of
+// 1, so the chunks' order changes no bit.
+constexpr std::size_t kRunChunk = 4096;
 
 template <int W>
 void TestRuns(const call::Intersect& c, const WatertightArrays& w) {
   const intersect_lanes::RayArrays r = View(w);
   const std::vector<intersect_lanes::Triangle> tris = BatchTriangles(c);
-  const std::vector<std::size_t> runs = RunStarts(c);
-  ParallelForDynamic(runs.size() - 1, 64, [&](std::size_t i) {
-    const std::uint32_t local = c.pairs[runs[i]] & kPairTriangleMask;
-    TestRays<W>(c, r, tris[local], c.b0 + local, FirstRay(c, runs[i]), EndRay(c, runs[i + 1] - 1));
+  const std::size_t n = c.pairs.size();
+  ParallelForDynamic((n + kRunChunk - 1) / kRunChunk, 1, [&](std::size_t k) {
+    const std::size_t end = std::min(n, (k + 1) * kRunChunk);
+    std::size_t p = k * kRunChunk;
+    while (p < end && !RunStartsAt(c, p)) ++p;
+    while (p < end) {
+      std::size_t q = p + 1;
+      while (q < n && !RunStartsAt(c, q)) ++q;
+      const std::uint32_t local = c.pairs[p] & kPairTriangleMask;
+      TestRays<W>(c, r, tris[local], c.b0 + local, FirstRay(c, p), EndRay(c, q - 1));
+      p = q;
+    }
   });
 }
 

@@ -57,7 +57,7 @@ namespace {
 }  // namespace
 
 
-Compacted ConcatenateBlocks(std::vector<std::vector<std::uint32_t>>& parts, const std::vector<std::uint64_t>& tested) {
+Compacted ConcatenateBlocks(std::vector<BlockSurvivors>& parts, const std::vector<std::uint64_t>& tested) {
   Compacted r;
   std::size_t total = 0;
   for (std::size_t b = 0; b < parts.size(); ++b) {

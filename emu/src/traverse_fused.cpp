@@ -82,7 +82,7 @@ std::size_t TestCulled(const call::TraverseTop& c, const TopSpheres& s, const co
 
 // The batch-local triangles [ta, tb) of one top node: the object runs the node's mask keeps.
 void TestNodeRow(const call::TraverseTop& c, const TopSpheres& spheres, const std::vector<ObjectRun>& runs,
-                 std::uint32_t node, std::uint32_t ta, std::uint32_t tb, std::vector<std::uint32_t>& buf, std::size_t& n,
+                 std::uint32_t node, std::uint32_t ta, std::uint32_t tb, BlockSurvivors& buf, std::size_t& n,
                  std::uint64_t& tested) {
   const cone::CullNode cull = cone::CullNodeOf(c.top[node], c.eps);
   auto run = std::upper_bound(runs.begin(), runs.end(), ta, [](std::uint32_t t, const ObjectRun& r) { return t < r.t1; });
@@ -111,8 +111,8 @@ Compacted PassTraverseTopCompacted(const call::TraverseTop& c) {
   const std::span<const glm::vec4> batch = c.tri_spheres.subspan(c.b0, T);
   const TopSpheres spheres{cone::ToArrays(batch), cone::GroupsOf(batch, cone::kCullCoarse), cone::GroupsOf(batch, cone::kCullGroup)};
   const std::vector<ObjectRun> runs = ObjectRuns(c);
-  return CompactInBlocks(grid, kFusedBlock, [&](std::size_t e0, std::size_t e1, std::vector<std::uint32_t>& out, std::uint64_t& tested) {
-    std::vector<std::uint32_t> buf(e1 - e0 + cone::kLanePad);
+  return CompactInBlocks(grid, kFusedBlock, [&](std::size_t e0, std::size_t e1, BlockSurvivors& out, std::uint64_t& tested) {
+    BlockSurvivors buf(e1 - e0 + cone::kLanePad);  // freed with the block: the heap reuses it for the next
     std::size_t n = 0;
     for (std::size_t e = e0; e < e1;) {
       const std::uint32_t node = c.t0 + static_cast<std::uint32_t>(e / T), ta = static_cast<std::uint32_t>(e % T);
@@ -130,14 +130,14 @@ Compacted PassTraverseLevelCompacted(const call::TraverseLevel& c) {
   const cone::NodeArrays nodes = cone::ToArrays(c.nodes);
   const cone::PairLevel lv{c.pairs, c.first, c.base_up, c.base, c.tri_spheres.data() + c.b0};
   const std::size_t per_block = std::max<std::size_t>(1, kFusedBlock / std::max<std::uint32_t>(c.children_max, 1));
-  return CompactInBlocks(c.pairs.size(), per_block, [&](std::size_t p0, std::size_t p1, std::vector<std::uint32_t>& out,
+  return CompactInBlocks(c.pairs.size(), per_block, [&](std::size_t p0, std::size_t p1, BlockSurvivors& out,
                                                         std::uint64_t& tested) {
     std::size_t children = 0;
     for (std::size_t p = p0; p < p1; ++p) {
       const std::uint32_t parent = c.base_up + (c.pairs[p] >> kPairTriangleBits);
       children += c.first[parent + 1] - c.first[parent];
     }
-    std::vector<std::uint32_t> buf(children + cone::kLanePad);
+    BlockSurvivors buf(children + cone::kLanePad);
     const std::size_t n = cone::TestPairs(FusedIsa(), nodes, lv, p0, p1, c.eps, buf.data(), tested);
     out.assign(buf.begin(), buf.begin() + static_cast<std::ptrdiff_t>(n));
   });

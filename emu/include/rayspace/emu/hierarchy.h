@@ -202,15 +202,39 @@ inline constexpr std::size_t kFusedBlock = 8192;
 // (cone_cull.h) to *Settings::culled_slots when set: a diagnostic, so tests can see that the culling
 // ran; the statistics count every slot.
 
+// An allocator whose resize leaves new elements uninitialised: a block's survivors are written by
+// the lanes straight into its slots, so zeroing them first is wasted memory traffic.
+template <typename T>
+struct UninitAllocator : std::allocator<T> {
+  template <typename U>
+  struct rebind {
+    using other = UninitAllocator<U>;
+  };
+  UninitAllocator() = default;
+  template <typename U>
+  UninitAllocator(const UninitAllocator<U>&) noexcept {}
+  template <typename U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <typename U, typename... A>
+  void construct(U* p, A&&... a) {
+    ::new (static_cast<void*>(p)) U(std::forward<A>(a)...);
+  }
+};
+// One block's survivors: sized for the block's slots (plus the lanes' padding), written in place, then
+// cut to the survivors.
+using BlockSurvivors = std::vector<std::uint32_t, UninitAllocator<std::uint32_t>>;
+
 // Concatenates per-block survivors in block order.
-Compacted ConcatenateBlocks(std::vector<std::vector<std::uint32_t>>& parts, const std::vector<std::uint64_t>& tested);
+Compacted ConcatenateBlocks(std::vector<BlockSurvivors>& parts, const std::vector<std::uint64_t>& tested);
 
 // Runs block(i0, i1, survivors, tested) over [0, items) in blocks of `per_block` items, in parallel,
 // and concatenates the blocks' survivors in order.
 template <typename BlockFn>
 Compacted CompactInBlocks(std::size_t items, std::size_t per_block, BlockFn&& block) {
   const std::size_t blocks = (items + per_block - 1) / per_block;
-  std::vector<std::vector<std::uint32_t>> parts(blocks);
+  std::vector<BlockSurvivors> parts(blocks);
   std::vector<std::uint64_t> tested(blocks, 0);
   ParallelForDynamic(blocks, 1, [&](std::size_t b) { block(b * per_block, std::min(items, (b + 1) * per_block), parts[b], tested[b]); });
   return ConcatenateBlocks(parts, tested);
@@ -220,7 +244,7 @@ template <typename TestFn>
 Compacted TraverseTopCompactedWith(TestFn&& test, const call::TraverseTop& c) {
   const std::uint32_t T = c.b1 - c.b0;
   const std::size_t grid = static_cast<std::size_t>(c.t1 - c.t0) * T;
-  return CompactInBlocks(grid, kFusedBlock, [&](std::size_t e0, std::size_t e1, std::vector<std::uint32_t>& out, std::uint64_t& tested) {
+  return CompactInBlocks(grid, kFusedBlock, [&](std::size_t e0, std::size_t e1, BlockSurvivors& out, std::uint64_t& tested) {
     for (std::size_t e = e0; e < e1; ++e) {
       const std::uint32_t node = c.t0 + static_cast<std::uint32_t>(e / T), tri = c.b0 + static_cast<std::uint32_t>(e % T);
       if (!TopSlotTested(c, node, tri)) continue;
@@ -234,7 +258,7 @@ template <typename TestFn>
 Compacted TraverseLevelCompactedWith(TestFn&& test, const call::TraverseLevel& c) {
   // Blocks of pairs whose children make about kFusedBlock slots.
   const std::size_t per_block = std::max<std::size_t>(1, kFusedBlock / std::max<std::uint32_t>(c.children_max, 1));
-  return CompactInBlocks(c.pairs.size(), per_block, [&](std::size_t p0, std::size_t p1, std::vector<std::uint32_t>& out,
+  return CompactInBlocks(c.pairs.size(), per_block, [&](std::size_t p0, std::size_t p1, BlockSurvivors& out,
                                                         std::uint64_t& tested) {
     for (std::size_t p = p0; p < p1; ++p) {
       const std::uint32_t parent = c.base_up + (c.pairs[p] >> kPairTriangleBits), tri_local = c.pairs[p] & kPairTriangleMask;
