@@ -50,7 +50,7 @@ expect(unknown-scene 2 "rayspace: error: data check: scene 'nonesuch' is neither
 expect(no-root-dir 2 "--data ${WORK}/none: not a directory" --data "${WORK}/none")
 
 # The real data root: every bundled scene.
-expect(real 0 "conference-soft.json: ok\nconference.json: ok\ncornell-mirrors.json: ok\ncornell-soft.json: ok\ndragon-closeup.json: ok\noffice.json: ok\nroger-bunny-full.json: ok\nroger-bunny-res2.json: ok\nroger-bunny-res3-room40.json: ok\nroger-bunny-res3.json: ok\nroger-bunny-res4.json: ok\nroger-sphere-room40.json: ok\nroger-sphere.json: ok\nroger-walls.json: ok\nroger-wavy-n16.json: ok\nroger-wavy-n32.json: ok\nroger-wavy-n4.json: ok\nroger-wavy-n8.json: ok\nsponza-soft.json: ok\nsponza-thesis-fit-2.json: ok\nsponza-thesis-fit.json: ok\nsponza-thesis.json: ok\nsponza.json: ok\ntoczek-bunny-noground.json: ok\ntoczek-bunny.json: ok\ntoczek-cubes.json: ok\ntoczek-dragon.json: ok\ntoczek-suzanne.json: ok" --data "${DATA}")
+expect(real 0 "conference-soft.json: ok\nconference.json: ok\ncornell-mirrors.json: ok\ncornell-soft.json: ok\ndragon-closeup.json: ok\noffice.json: ok\nroger-bunny-full.json: ok\nroger-bunny-res2.json: ok\nroger-bunny-res3-room40.json: ok\nroger-bunny-res3.json: ok\nroger-bunny-res4.json: ok\nroger-sphere-room40.json: ok\nroger-sphere.json: ok\nroger-walls.json: ok\nroger-wavy-n16.json: ok\nroger-wavy-n32.json: ok\nroger-wavy-n4.json: ok\nroger-wavy-n8.json: ok\nsponza-glass.json: ok\nsponza-soft.json: ok\nsponza-thesis-fit-2.json: ok\nsponza-thesis-fit.json: ok\nsponza-thesis.json: ok\nsponza.json: ok\ntoczek-bunny-noground.json: ok\ntoczek-bunny.json: ok\ntoczek-cubes.json: ok\ntoczek-dragon.json: ok\ntoczek-suzanne.json: ok" --data "${DATA}")
 
 # The manifest is current.
 find_program(PYTHON3 python3 REQUIRED)
