@@ -101,9 +101,6 @@ class Impl final : public HierarchyTracer {
     tri_spheres_ = &tri_spheres;
     obj_spheres_ = &obj_spheres;
     scene_radius_ = SceneRadius(scene_);
-    // The object tree depends on the scene alone: built once, as Embree's and the direct tracer's BVHs.
-    if ((cfg_.object_tree || cfg_.auto_tree_spread > 0.0f) && tree_.tree.nodes.empty())
-      tree_ = IndexObjectTree(BuildObjectTree(scene_.triangles, scene_.objects, cfg_.object_tree_options, tri_spheres), tri_spheres, scene_.triangles);
   }
   void BeginBatch(const BatchContext& ctx) override { ctx_ = ctx; }
   const std::vector<BatchStats>& Stats() const override { return stats_; }
@@ -368,6 +365,13 @@ class Impl final : public HierarchyTracer {
   // top-node groups.
   void TraceTree(const Hierarchy& h, const std::vector<layout::Ray>& rays, const std::vector<std::uint32_t>& order, BatchStats& st,
                  std::vector<std::uint64_t>* hits, std::vector<std::uint32_t>* occluded) {
+    // The object tree depends on the scene alone: built once, as Embree's and the direct tracer's BVHs,
+    // when the first batch takes it (with --objects auto, a frame of flat batches never does).
+    if (tree_.tree.nodes.empty())
+      tree_ = Sub("build.objects", scene_.triangles.size(), [&] {
+        return IndexObjectTree(BuildObjectTree(scene_.triangles, scene_.objects, cfg_.object_tree_options, *tri_spheres_), *tri_spheres_,
+                               scene_.triangles);
+      });
     const std::vector<std::uint32_t> singles = Fixed(order.size(), 1);
     const std::vector<layout::ConeNode> ray_nodes =
         Sub("build.rays", rays.size(), [&] { return passes_.BuildLeaves({.rays = rays, .order = order, .first = singles}); });
