@@ -54,6 +54,20 @@ function(export_call call)
   set(out "${out}" PARENT_SCOPE)
 endfunction()
 
+# Runs `diff ARGN --report WORK/NAME.json`; sets rc, out, err and j (the report's text, "" without one).
+function(diff_with_report name)
+  file(REMOVE "${WORK}/${name}.json")
+  execute_process(COMMAND "${RAYSPACE}" diff ${ARGN} --report "${WORK}/${name}.json" RESULT_VARIABLE r OUTPUT_VARIABLE o ERROR_VARIABLE e)
+  set(text "")
+  if(EXISTS "${WORK}/${name}.json")
+    file(READ "${WORK}/${name}.json" text)
+  endif()
+  set(rc "${r}" PARENT_SCOPE)
+  set(out "${o}" PARENT_SCOPE)
+  set(err "${e}" PARENT_SCOPE)
+  set(j "${text}" PARENT_SCOPE)
+endfunction()
+
 function(simulate_equal dir)
   execute_process(COMMAND "${RAYSPACE}" simulate "${dir}" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(NOT rc EQUAL 0 OR NOT out MATCHES "\nequal: every read-back has the expected bytes\n")
@@ -273,13 +287,9 @@ elseif(PART STREQUAL "backend" OR PART STREQUAL "backend-faults" OR PART STREQUA
     endif()
     # A planted fault in the kernel's arithmetic is a divergence; its impact runs the frame on the
     # simulated GPU as the actual side, and names it so (here that frame fails on the bad pairs).
-    file(REMOVE "${WORK}/reduce-fault.json")
-    execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backends emu,sim --inject reduce:1
-                            --report "${WORK}/reduce-fault.json"
-                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    diff_with_report(reduce-fault "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backends emu,sim --inject reduce:1)
     set(actual "")
-    if(EXISTS "${WORK}/reduce-fault.json")
-      file(READ "${WORK}/reduce-fault.json" j)
+    if(j)
       string(JSON actual ERROR_VARIABLE jerr GET "${j}" impact actual)
     endif()
     if(NOT rc EQUAL 4 OR NOT err MATCHES "first divergent pass: reduce" OR NOT actual STREQUAL "sim"
@@ -289,13 +299,9 @@ elseif(PART STREQUAL "backend" OR PART STREQUAL "backend-faults" OR PART STREQUA
     # A workgroup past the step limit is the simulated GPU's fault, not a divergence: exit 7 naming the
     # pass, the pass reported failed (not equal), no verdict; render alike. At the default limit the
     # same frames are equal (above).
-    file(REMOVE "${WORK}/hang.json")
-    execute_process(COMMAND "${RAYSPACE}" diff "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backends emu,sim --step-limit 1000
-                            --report "${WORK}/hang.json"
-                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    diff_with_report(hang "${SRC}/scenes/cornell-mirrors.json" --size 16x16 --backends emu,sim --step-limit 1000)
     set(failed "")
-    if(EXISTS "${WORK}/hang.json")
-      file(READ "${WORK}/hang.json" j)
+    if(j)
       string(JSON fault_pass ERROR_VARIABLE jerr GET "${j}" backend_fault pass)
       string(JSON failed ERROR_VARIABLE jerr GET "${j}" passes 1 failed)
       string(JSON failed_equal ERROR_VARIABLE jerr GET "${j}" passes 1 equal)
