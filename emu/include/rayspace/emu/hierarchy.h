@@ -16,6 +16,7 @@
 #include "rayspace/object_tree.h"
 #include "rayspace/emu/cone_simd.h"
 #include "rayspace/emu/tracer.h"
+#include "rayspace/emu/uninit_vector.h"
 #include "rayspace/parallel.h"
 
 namespace rayspace::emu {
@@ -202,29 +203,9 @@ inline constexpr std::size_t kFusedBlock = 8192;
 // (cone_cull.h) to *Settings::culled_slots when set: a diagnostic, so tests can see that the culling
 // ran; the statistics count every slot.
 
-// An allocator whose resize leaves new elements uninitialised: a block's survivors are written by
-// the lanes straight into its slots, so zeroing them first is wasted memory traffic.
-template <typename T>
-struct UninitAllocator : std::allocator<T> {
-  template <typename U>
-  struct rebind {
-    using other = UninitAllocator<U>;
-  };
-  UninitAllocator() = default;
-  template <typename U>
-  UninitAllocator(const UninitAllocator<U>&) noexcept {}
-  template <typename U>
-  void construct(U* p) noexcept {
-    ::new (static_cast<void*>(p)) U;
-  }
-  template <typename U, typename... A>
-  void construct(U* p, A&&... a) {
-    ::new (static_cast<void*>(p)) U(std::forward<A>(a)...);
-  }
-};
 // One block's survivors: sized for the block's slots (plus the lanes' padding), written in place, then
 // cut to the survivors.
-using BlockSurvivors = std::vector<std::uint32_t, UninitAllocator<std::uint32_t>>;
+using BlockSurvivors = UninitVector<std::uint32_t>;
 
 // Concatenates per-block survivors in block order.
 Compacted ConcatenateBlocks(std::vector<BlockSurvivors>& parts, const std::vector<std::uint64_t>& tested);

@@ -1,0 +1,33 @@
+// A std::vector whose resize leaves new elements uninitialised: for scratch the lanes write before
+// anything reads it (the fused levels' blocks), where zeroing first is a pass over memory that every
+// element's own write repeats.
+#pragma once
+#include <memory>
+#include <utility>
+#include <vector>
+
+namespace rayspace::emu {
+
+template <typename T>
+struct UninitAllocator : std::allocator<T> {
+  template <typename U>
+  struct rebind {
+    using other = UninitAllocator<U>;
+  };
+  UninitAllocator() = default;
+  template <typename U>
+  UninitAllocator(const UninitAllocator<U>&) noexcept {}
+  template <typename U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <typename U, typename... A>
+  void construct(U* p, A&&... a) {
+    ::new (static_cast<void*>(p)) U(std::forward<A>(a)...);
+  }
+};
+
+template <typename T>
+using UninitVector = std::vector<T, UninitAllocator<T>>;
+
+}  // namespace rayspace::emu
