@@ -420,6 +420,19 @@ rayspace::ExitCode Run(const Commands& cmds) {
   return ExitCode::kOk;
 }
 
+// render --backend sim or vulkan: a simulated checker's finding (6), or a device that could not finish
+// a call (7: a failed Vulkan call, the step limit); a kernel's output breaking its contract stays a
+// failure (1).
+rayspace::ExitCode BackendFailureExit(const rayspace::emu::BackendError& e) {
+  using rayspace::ExitCode;
+  if (!e.checker().empty() || e.device_fault()) {
+    std::fprintf(stderr, "rayspace: %s: %s\n", e.checker().empty() ? "backend failed" : e.checker().c_str(), e.what());
+    return e.checker().empty() ? ExitCode::kBackendFault : ExitCode::kWorkgroupFault;
+  }
+  std::fprintf(stderr, "rayspace: failure: %s\n", e.what());
+  return ExitCode::kInternal;
+}
+
 }  // namespace
 
 // An empty value is never what a user means by a path, a size or a name: `--out ""` would fall
@@ -500,10 +513,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "rayspace: workgroup checker: %s\n", e.what());
     return ToInt(ExitCode::kWorkgroupFault);
   } catch (const rayspace::emu::BackendError& e) {
-    // A kernel's fault on a device (render --backend sim or vulkan): a checker's finding, or a failure
-    // no checker owns (a device error, the simulated GPU's step limit). Not an internal failure.
-    std::fprintf(stderr, "rayspace: %s: %s\n", e.checker().empty() ? "backend failed" : e.checker().c_str(), e.what());
-    return ToInt(e.checker().empty() ? ExitCode::kBackendFault : ExitCode::kWorkgroupFault);
+    return rayspace::ToInt(BackendFailureExit(e));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "rayspace: failure: %s\n", e.what());
     return ToInt(ExitCode::kInternal);

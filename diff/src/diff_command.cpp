@@ -162,7 +162,7 @@ DiffTotals Totals(const std::vector<verify::CallRecord>& calls) {
       e.second += b.mismatches + (b.expected_elements != b.actual_elements ? 1 : 0);
       t.max_ulp = std::max(t.max_ulp, b.max_ulp);
     }
-    if (!c.error.empty()) {  // a backend's failure compared nothing: not a divergence, not equal
+    if (c.error_device_fault) {  // the device could not finish the call: nothing compared, not a divergence
       t.failed = true;
       continue;
     }
@@ -452,7 +452,7 @@ DiffOutcome RunDiffFrame(const Scene& scene, const SceneBuffers& buffers, Tracer
   } catch (const verify::DiffStop& stop) {
     run.stopped = stop.what();
     if (!stop.checker().empty()) run.sim_checker = SimCheckerJson(stop.checker(), stop.pass(), stop.finding());
-    else if (!stop.pass().empty()) run.backend_fault = {{"pass", stop.pass()}, {"error", stop.what()}};
+    else if (stop.device_fault()) run.backend_fault = {{"pass", stop.pass()}, {"error", stop.what()}};
   } catch (const emu::DeviceOutputError& e) {
     // The Differ compared the call's outputs before the host checked them: the pass is reported.
     run.stopped = std::string("device output error: ") + e.what();
@@ -945,8 +945,8 @@ ExitCode RunReplay(const ReplayArgs& given) {
     PrintSimChecker(j["simulator_checker"]);
     return WriteOutputs(ExitCode::kWorkgroupFault, [&] { report.Commit(JsonText(j)); });
   }
-  // A backend's failure no checker owns compared nothing: exit 7, as diff gives it.
-  if (!r.error.empty()) {
+  // The device could not finish the call: nothing compared, exit 7 as diff gives it.
+  if (r.error_device_fault) {
     j["backend_fault"] = {{"pass", r.pass}, {"error", r.error}};
     std::fprintf(stderr, "rayspace replay: the actual backend failed at pass %s; nothing was compared: %s\n", r.pass.c_str(),
                  r.error.c_str());

@@ -16,7 +16,7 @@ typename C::Result Launch(VulkanPasses& gpu, const C& c) {
     ThrowInput("{}, pass {}: {}", gpu.context().simulated() ? "simulated GPU" : "Vulkan backend", C::kName, s.message);
   else if (!s)
     throw emu::BackendError(fmt::format("{}, pass {}: {}", gpu.context().simulated() ? "simulated GPU" : "Vulkan backend", C::kName, s.message),
-                            s.checker, s.finding);
+                            s.checker, s.finding, s.device_fault);
   if constexpr (!std::is_void_v<typename C::Result>) return out;
 }
 

@@ -89,7 +89,9 @@ Status CreateLayouts(VkDevice device, std::uint32_t bindings, VkShaderStageFlags
 Status Status::Fail(const std::string& call, VkResult r) {
   std::string name = call.substr(0, call.find('('));
   std::string message = fmt::format("{} failed: {} ({})", name, ResultName(r), static_cast<int>(r));
-  return {false, r, std::move(name), std::move(message), {}, {}};
+  Status s{false, r, std::move(name), std::move(message), {}, {}};
+  s.device_fault = true;
+  return s;
 }
 
 Buffer& Buffer::operator=(Buffer&& o) noexcept {
@@ -1059,6 +1061,8 @@ Status Recorder::SubmitSimulated() {
       if (e.checker()) {
         st.checker = sim::CheckerName(*e.checker());
         st.finding = e.what();
+      } else {
+        st.device_fault = true;
       }
       return st;
     }

@@ -141,6 +141,7 @@ CallRecord RunAndCompare(const PassMethod& method, const BufferSet& in, Backends
     r.error = err.what();
     r.error_checker = err.checker();
     r.error_finding = err.finding();
+    r.error_device_fault = err.device_fault();
     r.equal = false;
     return r;
   }
@@ -238,7 +239,7 @@ BufferSet Differ::Call(const std::string& method_name, const BufferSet& in) {
   const CallRecord& rec = calls_.back();
   if (!rec.error.empty())
     throw DiffStop(fmt::format("{} ({}): the actual backend failed: {}", rec.pass, rec.label, rec.error), rec.error_checker, rec.pass,
-                   rec.error_finding);
+                   rec.error_finding, rec.error_device_fault);
   for (const BufferComparison& c : rec.buffers)
     if (!c.Equal() && !rec.within_spec && method.index_outputs.count(c.buffer))
       throw DiffStop(fmt::format("{} ({}): '{}' differs, and later passes index with it", rec.pass, rec.label, c.buffer));

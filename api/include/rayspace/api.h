@@ -53,7 +53,7 @@ enum class Verdict {
   kEqual,          // every pass call equal (or, relaxed, within what a conformant device may compute)
   kDivergent,      // a pass call differs
   kCheckerStopped,  // a workgroup or simulator checker found a fault of a kernel and stopped the frame
-  kBackendFailed    // a backend failed on a pass without a checker's finding (a device error, the simulator's
+  kBackendFailed    // the device could not finish a pass (a failed Vulkan call, the simulator's
                     // step limit): nothing was compared from that pass on
 };
 const char* ToString(Verdict v);

@@ -31,7 +31,7 @@ inline constexpr ExitCodeMeaning kExitCodes[] = {
     {ExitCode::kDivergence, "diff or replay: a pass diverged; simulate: a read-back differs from the expected bytes; bench: configurations of one tracer gave different frames"},
     {ExitCode::kNotReproduced, "replay: the recorded comparison was not reproduced"},
     {ExitCode::kWorkgroupFault, "render, diff or replay: the workgroup checker found a race, a read of an unwritten shared word or a divergent barrier in an emulated kernel, or a checker of the simulated GPU in a kernel; simulate: the kernel faulted on the simulated GPU"},
-    {ExitCode::kBackendFault, "render, diff or replay: a backend failed on a pass without a checker's finding (a device error, the simulated GPU's step limit): nothing was compared from that pass on"},
+    {ExitCode::kBackendFault, "render, diff or replay: the device could not finish a pass (a failed Vulkan call, the simulated GPU's step limit): nothing was compared from that pass on"},
 };
 
 // The value main() returns.

@@ -25,13 +25,17 @@ class BackendError : public std::runtime_error {
  public:
   // `checker`: the simulated device's checker whose finding failed the call ("racecheck", ...), or "";
   // `finding`: that finding's own text (what names the backend and pass around it).
-  explicit BackendError(const std::string& what, std::string checker = {}, std::string finding = {})
-      : std::runtime_error(what), checker_(std::move(checker)), finding_(std::move(finding)) {}
+  // `device_fault`: the device could not finish the call (a failed Vulkan call, the simulated GPU's step
+  // limit), so no output was judged; otherwise the kernel's output broke its contract.
+  explicit BackendError(const std::string& what, std::string checker = {}, std::string finding = {}, bool device_fault = false)
+      : std::runtime_error(what), checker_(std::move(checker)), finding_(std::move(finding)), device_fault_(device_fault) {}
   const std::string& checker() const { return checker_; }
   const std::string& finding() const { return finding_; }
+  bool device_fault() const { return device_fault_; }
 
  private:
   std::string checker_, finding_;
+  bool device_fault_ = false;
 };
 
 // One virtual method per call (emu/calls.h), named like the call: `Result TraverseTop(const

@@ -32,6 +32,10 @@ struct Status {
   // The device cannot run the kernel as asked (a subgroup feature it lacks, a loose operation under
   // --strict-math): the run is refused as bad input, naming it, not failed.
   bool refused = false;
+  // The device could not finish the work (a Vulkan call failed, or the simulated GPU stopped outside
+  // its checkers: the step limit): no output was judged. Otherwise a failure is the kernel's output
+  // breaking its contract (a guard word overwritten, a value out of range): a wrong output.
+  bool device_fault = false;
   static Status Ok() { return {}; }
   static Status Refuse(const std::string& msg) { return {false, VK_SUCCESS, {}, msg, {}, {}, true}; }
   // `call` may be the call's whole source text (RS_VK passes it): the name is what precedes '('.

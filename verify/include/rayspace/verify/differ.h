@@ -35,21 +35,27 @@ struct CallRecord {
   std::string error;  // the actual backend failed on this call
   std::string error_checker;  // ... on a simulated device's checker finding: which checker ("racecheck", ...)
   std::string error_finding;  // ... and the finding's own text
+  bool error_device_fault = false;  // ... the device could not finish the call: nothing judged (exit 7)
   std::string saved;  // directory of the saved inputs, when saving
 };
 
 class DiffStop : public std::runtime_error {
  public:
-  explicit DiffStop(const std::string& what, std::string checker = {}, std::string pass = {}, std::string finding = {})
-      : std::runtime_error(what), checker_(std::move(checker)), pass_(std::move(pass)), finding_(std::move(finding)) {}
+  explicit DiffStop(const std::string& what, std::string checker = {}, std::string pass = {}, std::string finding = {},
+                    bool device_fault = false)
+      : std::runtime_error(what), checker_(std::move(checker)), pass_(std::move(pass)), finding_(std::move(finding)),
+        device_fault_(device_fault) {}
   // A stop on a simulated device's checker finding: the checker, the pass whose kernel it was in and
   // the finding's own text.
   const std::string& checker() const { return checker_; }
   const std::string& pass() const { return pass_; }
   const std::string& finding() const { return finding_; }
+  // The device could not finish the pass's call (CallRecord::error_device_fault): nothing was judged.
+  bool device_fault() const { return device_fault_; }
 
  private:
   std::string checker_, pass_, finding_;
+  bool device_fault_ = false;
 };
 
 struct DiffOptions {
