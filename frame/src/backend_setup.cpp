@@ -156,12 +156,12 @@ sim::DeviceConfig SimulatedConfig(const std::string& backends, std::uint32_t sub
   if (!model) ThrowInput("--device-model {}: {}", device_model, error);
   const std::optional<sim::SubgroupLayoutChoice> layout = sim::ParseSubgroupLayout(subgroup_layout.empty() ? "linear" : subgroup_layout, error);
   if (!layout) ThrowInput("--subgroup-layout {}: {}", subgroup_layout, error);
-  sim::DeviceConfig config{.subgroup_size = subgroup_size ? subgroup_size : 8u, .schedule = ParseSchedule(schedule)};
-  if (step_limit) config.step_limit = step_limit;
-  config.checks = *checks;
-  config.arithmetic = *model;
-  config.layout = *layout;
-  return config;
+  return {.subgroup_size = subgroup_size ? subgroup_size : 8u,
+          .schedule = ParseSchedule(schedule),
+          .step_limit = step_limit ? step_limit : sim::DeviceConfig{}.step_limit,
+          .checks = *checks,
+          .arithmetic = *model,
+          .layout = *layout};
 }
 
 Backend MakeBackend(const std::string& name, int device, int local_size, const std::map<std::string, std::uint32_t>& faults,

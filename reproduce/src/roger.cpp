@@ -82,6 +82,8 @@ std::string RogerShape(const Config& c) {
   return c.faithful.empty() ? shape : shape + " --faithful " + c.faithful;
 }
 
+bool ShadowsFirstOnly(const Config& c) { return !c.switches.empty() && c.switches.front() == "--shadow-bounces"; }
+
 const RogerScene* RogerSceneOf(const Config& c) {
   for (const RogerScene& s : RogerScenes())
     if (s.name == c.scene) return &s;

@@ -32,8 +32,6 @@ std::uint64_t SceneTriangles(const Counts& c) {
   return 0;
 }
 
-bool Plain(const Config& c) { return c.switches.empty() || c.switches.front() != "--shadow-bounces"; }
-
 void Judge(Table& t, RogerVerdicts& v, const char* relation, const std::string& where, const Outcome& o) {
   t.notes.push_back(fmt::format("- {}: {}: ours {} ({})", where, relation, o.holds ? "holds" : "fails", o.detail));
   v.push_back({relation, where, o.holds ? "holds" : "fails", o.detail});
@@ -50,7 +48,7 @@ Table IrregularTable(const std::vector<const Result*>& results, int side, RogerV
   std::map<std::string, std::map<std::string, std::map<int, double>>> per_ray;  // algorithm -> reflector -> room -> tests per ray
   for (const Result* r : results) {
     const RogerScene* s = RogerSceneOf(r->config);
-    if (!s || s->reflector.empty() || r->config.width != side || !Plain(r->config)) continue;
+    if (!s || s->reflector.empty() || r->config.width != side || ShadowsFirstOnly(r->config)) continue;
     const std::string algo = RogerShape(r->config);
     per_ray[algo][s->reflector][s->room] = Ratio(r->counts.total, Rays(r->counts));
     t.rows.push_back({algo, s->reflector, r->config.scene, Thousands(SceneTriangles(r->counts)), Thousands(Rays(r->counts)),
@@ -85,7 +83,7 @@ Table LooseTable(const std::vector<const Result*>& results, int side, RogerVerdi
   for (const Result* r : results) {
     const RogerScene* s = RogerSceneOf(r->config);
     const std::string algo = RogerShape(r->config);
-    if (!s || s->series != "loose" || r->config.width != side || !Plain(r->config) || !bunny.contains(algo)) continue;
+    if (!s || s->series != "loose" || r->config.width != side || ShadowsFirstOnly(r->config) || !bunny.contains(algo)) continue;
     const double per_ray = Ratio(ReflectionConeSphereTests(r->counts), ReflectionRays(r->counts));
     t.rows.push_back({algo, r->config.scene, Thousands(ReflectionRays(r->counts)), Thousands(ReflectionConeSphereTests(r->counts)),
                       fmt::format("{:.2f}", per_ray), fmt::format("{:.2f}", bunny[algo])});
@@ -106,7 +104,7 @@ Table ShadowsTable(const std::vector<const Result*>& results, int side, RogerVer
   for (const Result* r : results) {
     if (r->config.scene != "WALLS" || r->config.width != side || !r->config.quadtree() || !r->config.faithful.empty()) continue;
     if (r->config.switches.empty()) with = r;
-    if (!Plain(r->config)) without = r;
+    if (ShadowsFirstOnly(r->config)) without = r;
   }
   if (!with || !without) return t;
   for (const Result* r : {with, without})

@@ -128,8 +128,6 @@ Table PixelsTimes(const std::vector<const Result*>& results) {
   return t;
 }
 
-bool ShadowsFirst(const Config& c) { return !c.switches.empty() && c.switches.front() == "--shadow-bounces"; }
-
 // Figure 10 and the Museum in time: frame growth from the 5x5 room to the 40x40 one, the bunny's
 // against the sphere's per hierarchy shape, and the mirror-walled room's frame with and without the
 // shadow rays inside the reflection.
@@ -145,11 +143,11 @@ Table ReflectorTimes(const std::vector<const Result*>& results) {
     const RogerScene* s = RogerSceneOf(r->config);
     if (!s || frame(r) <= 0) continue;
     const std::string shape = RogerShape(r->config);
-    if (s->name == "WALLS" && ShadowsFirst(r->config))
+    if (s->name == "WALLS" && ShadowsFirstOnly(r->config))
       walls_first[shape.substr(0, shape.find(" --shadow-bounces"))] = r;
     else if (s->name == "WALLS")
       walls[shape] = r;
-    else if (!s->reflector.empty() && !ShadowsFirst(r->config))
+    else if (!s->reflector.empty() && !ShadowsFirstOnly(r->config))
       rooms[shape][s->reflector][s->room] = r;
   }
   for (const auto& [shape, by_reflector] : rooms) {

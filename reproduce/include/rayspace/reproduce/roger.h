@@ -64,6 +64,9 @@ inline constexpr double kRogerMuseumWith = 3330, kRogerMuseumWithout = 1316;  //
 std::string RogerShape(const Config& c);
 // The stand-in scene of a configuration; nullptr for a scene not in RogerScenes().
 const RogerScene* RogerSceneOf(const Config& c);
+// The WALLS frame with shadow rays from the primary hits only (`--shadow-bounces first`), the Museum
+// claim's "without" side.
+bool ShadowsFirstOnly(const Config& c);
 
 // The report's claims as rows: claim, where, "holds" or "fails", the compared numbers.
 using RogerVerdicts = std::vector<std::vector<std::string>>;
