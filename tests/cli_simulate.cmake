@@ -248,7 +248,8 @@ elseif(PART STREQUAL "backend" OR PART STREQUAL "backend-faults" OR PART STREQUA
     foreach(bad "emu;--device-model;worst@--device-model worst: only the simulated GPU's arithmetic is chosen"
                 "vulkan;--subgroup-layout;shuffled@--subgroup-layout shuffled: only the simulated GPU's subgroup layout is chosen"
                 "emu;--sim-checks;none@--sim-checks none: only the simulated GPU runs these checkers"
-                "vulkan;--subgroup-size;4@--subgroup-size 4: only the simulated GPU's subgroup size is chosen")
+                "vulkan;--subgroup-size;4@--subgroup-size 4: only the simulated GPU's subgroup size is chosen"
+                "emu;--step-limit;1000@--step-limit 1000: only the simulated GPU has a step limit")
       string(REPLACE "@" ";" bad "${bad}")
       list(POP_BACK bad message)
       list(POP_FRONT bad backend)
