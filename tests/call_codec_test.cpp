@@ -336,7 +336,7 @@ template <typename S>
 void FillResult(S& s, std::uint8_t& seed) {
   auto fill = [&](auto& v) {
     using V = std::decay_t<decltype(v)>;
-    if constexpr (cd::IsVector<V>::value) {
+    if constexpr (cd::IsVector<V>::value || cd::IsUninitVector<V>::value) {
       v.resize(2 + seed % 3);
       auto* p = reinterpret_cast<std::uint8_t*>(v.data());
       for (std::size_t i = 0; i < v.size() * sizeof(typename V::value_type); ++i) p[i] = static_cast<std::uint8_t>(seed * 17 + i);

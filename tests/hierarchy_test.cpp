@@ -119,7 +119,7 @@ TEST_CASE("leaf test: ray-sphere cuts the ray-triangle tests per ray on cornell-
     CHECK(sphere_finals * 2 < node_finals);
     CHECK(Results(sphere.frame) == Results(node.frame));
     CHECK(sphere.frame.rgb == node.frame.rgb);
-    // The fused path's final tests run on lanes (PassIntersectLanes): the same counts and hits.
+    // The fused path's final tests run on lanes (IntersectLanes): the same counts and hits.
     cfg.fused = true;
     const HRun lanes = RunHierarchy(s, 64, 64, cfg);
     REQUIRE(lanes.stats.size() == sphere.stats.size());

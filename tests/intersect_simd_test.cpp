@@ -94,7 +94,8 @@ Case RandomCase(std::mt19937& rng) {
 }
 
 struct Outcome {
-  std::vector<std::uint32_t> tests, occluded;
+  std::uint64_t tests = 0;  // the per-pair tests summed: all the lanes return
+  std::vector<std::uint32_t> occluded;
   std::vector<std::uint64_t> hits;
 };
 
@@ -104,7 +105,11 @@ Outcome Run(const Case& k, bool lanes, bool shadow) {
   o.occluded.assign(k.rays.size(), 0u);
   const emu::call::Intersect c{.pairs = k.pairs, .first1 = k.first1, .base1 = 0, .b0 = 0, .order = k.order, .rays = k.rays,
                           .scene = &k.scene, .hits = shadow ? nullptr : &o.hits, .occluded = shadow ? &o.occluded : nullptr};
-  o.tests = lanes ? emu::PassIntersectLanes(c, emu::ToWatertightArrays(k.rays, k.order)) : emu::PassIntersect(c);
+  if (lanes) {
+    o.tests = emu::IntersectLanes(c, emu::ToWatertightArrays(k.rays, k.order));
+  } else {
+    for (const std::uint32_t t : emu::PassIntersect(c)) o.tests += t;
+  }
   return o;
 }
 

@@ -200,7 +200,8 @@ Compacted TwoPasses(const C& c) {
     s = PassTraverseLevel(c);
   Compacted r;
   for (std::uint8_t t : s.tested) r.tested += t;
-  r.pairs = ReduceScan(s.flags, s.values);
+  const std::vector<std::uint32_t> pairs = ReduceScan(s.flags, s.values);
+  r.pairs.assign(pairs.begin(), pairs.end());
   return r;
 }
 

@@ -256,15 +256,15 @@ class Impl final : public HierarchyTracer {
   }
 
   // The fused path on the emulator's own passes: the sort and the final tests take host shortcuts
-  // with the same results (SortChunksHost, PassIntersectLanes). A backend runs its kernels.
+  // with the same results (SortChunksHost, IntersectLanes). A backend runs its kernels.
   bool HostFastPath() const { return cfg_.fused && cfg_.passes == nullptr; }
 
   // One level of a block: its tests and the compaction of the survivors, fused in one pass
   // (traverse.compact) or as the two passes traverse and reduce; the same pairs in the same order.
   template <typename Call>
-  std::vector<std::uint32_t> TestAndCompact(int L, std::size_t slots_n, const Call& call, LevelStats& st) {
+  UninitVector<std::uint32_t> TestAndCompact(int L, std::size_t slots_n, const Call& call, LevelStats& st) {
     const std::string level = std::to_string(L);
-    std::vector<std::uint32_t> pairs;
+    UninitVector<std::uint32_t> pairs;
     if (cfg_.fused) {
       Compacted c = Sub("traverse.compact.L" + level, slots_n, [&] {
         if constexpr (std::is_same_v<Call, call::TraverseTop>)
@@ -282,10 +282,11 @@ class Impl final : public HierarchyTracer {
           return passes_.TraverseLevel(call);
       });
       st.intersections = Sum(slots.tested);
-      pairs = Sub("reduce.L" + level, slots.flags.size(), [&] { return Reduce(slots.flags, slots.values); });
+      const std::vector<std::uint32_t> reduced = Sub("reduce.L" + level, slots.flags.size(), [&] { return Reduce(slots.flags, slots.values); });
+      pairs.assign(reduced.begin(), reduced.end());
     }
     st.hits = pairs.size();
-    if (cfg_.pair_log) cfg_.pair_log->push_back(pairs);
+    if (cfg_.pair_log) cfg_.pair_log->emplace_back(pairs.begin(), pairs.end());
     return pairs;
   }
 
@@ -306,7 +307,7 @@ class Impl final : public HierarchyTracer {
     const call::TraverseTop top{.top = h.nodes[D - 1], .t0 = t0, .t1 = t1, .b0 = b0, .b1 = b1, .tri_spheres = *tri_spheres_,
                                 .scene = &scene_, .object_mask = crsh ? object_mask : kNoMask, .eps = eps_,
                                 .cone_test = cfg_.cone_test};
-    std::vector<std::uint32_t> pairs = TestAndCompact(D, grid, top, lv[D - 1]);
+    UninitVector<std::uint32_t> pairs = TestAndCompact(D, grid, top, lv[D - 1]);
     if (pairs.size() > cfg_.pair_capacity) return false;
 
     // Levels D-1 .. 1: each surviving pair tests the node's children.
@@ -323,13 +324,17 @@ class Impl final : public HierarchyTracer {
     // Final ray-triangle tests on the surviving level-1 pairs.
     const std::uint32_t base1 = Descendants(h, 1, t0, t1).first;
     const auto& f1 = h.first[0];
-    const std::vector<std::uint32_t> tests =
-        Sub("intersect", pairs.size(), [&] {
-          const call::Intersect call{.pairs = pairs, .first1 = f1, .base1 = base1, .b0 = b0, .order = order, .rays = rays,
-                                     .scene = &scene_, .hits = hits, .occluded = occluded, .leaf_test = cfg_.leaf_test,
-                                     .tri_spheres = *tri_spheres_, .eps = eps_};
-          return HostFastPath() ? PassIntersectLanes(call, watertight_) : passes_.Intersect(call);
-        });
+    std::uint64_t performed = 0, expected = 0;
+    Sub("intersect", pairs.size(), [&] {
+      const call::Intersect call{.pairs = pairs, .first1 = f1, .base1 = base1, .b0 = b0, .order = order, .rays = rays,
+                                 .scene = &scene_, .hits = hits, .occluded = occluded, .leaf_test = cfg_.leaf_test,
+                                 .tri_spheres = *tri_spheres_, .eps = eps_};
+      if (HostFastPath()) {
+        performed = IntersectLanes(call, watertight_);
+        return;
+      }
+      for (const std::uint32_t t : passes_.Intersect(call)) performed += t;
+    });
     if (cfg_.candidate_log) {
       for (std::uint32_t pair : pairs) {
         const std::uint32_t node = base1 + (pair >> kTriBits), prim = b0 + (pair & kTriMask);
@@ -338,11 +343,7 @@ class Impl final : public HierarchyTracer {
             cfg_.candidate_log->push_back((static_cast<std::uint64_t>(order[j]) << 32) | prim);
       }
     }
-    std::uint64_t performed = 0, expected = 0;
-    for (std::size_t p = 0; p < pairs.size(); ++p) {
-      performed += tests[p];
-      expected += static_cast<std::uint64_t>(h.nodes[0][base1 + (pairs[p] >> kTriBits)].extra.y);
-    }
+    for (const std::uint32_t pair : pairs) expected += static_cast<std::uint64_t>(h.nodes[0][base1 + (pair >> kTriBits)].extra.y);
     // The thesis's accounting: final tests = rays below the surviving level-1 nodes; with the leaf
     // sphere test those rays are its tests, and the final tests the ones that passed.
     if (cfg_.leaf_test == layout::kLeafTestRaySphere) {

@@ -78,23 +78,37 @@ bool RunStartsAt(const call::Intersect& c, std::size_t p) {
 // 1, so the chunks' order changes no bit.
 constexpr std::size_t kRunChunk = 4096;
 
+// The tests a run of rays [j0, j1) counts against `prim`: every ray, or with the leaf sphere test
+// the rays whose sphere test passes (the lanes test every ray; only the count and the hits see it).
+std::uint64_t RunTests(const call::Intersect& c, std::uint32_t prim, std::uint32_t j0, std::uint32_t j1) {
+  if (c.leaf_test != layout::kLeafTestRaySphere) return j1 - j0;
+  std::uint64_t n = 0;
+  for (std::uint32_t j = j0; j < j1; ++j) n += cone::RayMayMeetSphere(c.rays[c.order[j]], c.tri_spheres[prim], c.eps);
+  return n;
+}
+
 template <int W>
-void TestRuns(const call::Intersect& c, const WatertightArrays& w) {
+std::uint64_t TestRuns(const call::Intersect& c, const WatertightArrays& w) {
   const intersect_lanes::RayArrays r = View(w);
   const std::vector<intersect_lanes::Triangle> tris = BatchTriangles(c);
-  const std::size_t n = c.pairs.size();
-  ParallelForDynamic((n + kRunChunk - 1) / kRunChunk, 1, [&](std::size_t k) {
+  const std::size_t n = c.pairs.size(), chunks = (n + kRunChunk - 1) / kRunChunk;
+  std::vector<std::uint64_t> tests(chunks, 0);
+  ParallelForDynamic(chunks, 1, [&](std::size_t k) {
     const std::size_t end = std::min(n, (k + 1) * kRunChunk);
     std::size_t p = k * kRunChunk;
     while (p < end && !RunStartsAt(c, p)) ++p;
     while (p < end) {
       std::size_t q = p + 1;
       while (q < n && !RunStartsAt(c, q)) ++q;
-      const std::uint32_t local = c.pairs[p] & kPairTriangleMask;
-      TestRays<W>(c, r, tris[local], c.b0 + local, FirstRay(c, p), EndRay(c, q - 1));
+      const std::uint32_t local = c.pairs[p] & kPairTriangleMask, j0 = FirstRay(c, p), j1 = EndRay(c, q - 1);
+      TestRays<W>(c, r, tris[local], c.b0 + local, j0, j1);
+      tests[k] += RunTests(c, c.b0 + local, j0, j1);
       p = q;
     }
   });
+  std::uint64_t total = 0;
+  for (const std::uint64_t t : tests) total += t;
+  return total;
 }
 
 }  // namespace
@@ -133,8 +147,14 @@ void IntersectRaysScalar(const call::Intersect& c, std::uint32_t prim, std::uint
 WatertightArrays ToWatertightArrays(std::span<const layout::Ray> rays, std::span<const std::uint32_t> order) {
   const std::size_t n = order.size(), padded = n + WatertightArrays::kPad;
   WatertightArrays w;
-  for (auto* v : {&w.ox, &w.oy, &w.oz, &w.dx, &w.dy, &w.dz, &w.sx, &w.sy, &w.tmin, &w.tmax}) v->assign(padded, 0.0f);
-  for (auto* v : {&w.kx, &w.ky, &w.kz}) v->assign(padded, 0);
+  for (auto* v : {&w.ox, &w.oy, &w.oz, &w.dx, &w.dy, &w.dz, &w.sx, &w.sy, &w.tmin, &w.tmax}) {
+    v->resize(padded);
+    std::fill(v->begin() + static_cast<std::ptrdiff_t>(n), v->end(), 0.0f);
+  }
+  for (auto* v : {&w.kx, &w.ky, &w.kz}) {
+    v->resize(padded);
+    std::fill(v->begin() + static_cast<std::ptrdiff_t>(n), v->end(), 0);
+  }
   ParallelFor(n, [&](std::size_t j) {
     const layout::Ray& r = rays[order[j]];
     const WatertightRay s = SetupWatertight(Xyz(r.origin_tmin), Xyz(r.direction_tmax));
@@ -146,19 +166,14 @@ WatertightArrays ToWatertightArrays(std::span<const layout::Ray> rays, std::span
   return w;
 }
 
-std::vector<std::uint32_t> PassIntersectLanes(const call::Intersect& c, const WatertightArrays& w) {
+std::uint64_t IntersectLanes(const call::Intersect& c, const WatertightArrays& w) {
   const cone::Isa isa = IntersectIsa();
-  if (isa == cone::Isa::kScalar) return PassIntersect(c);
-  std::vector<std::uint32_t> tests(c.pairs.size());
-  ParallelFor(c.pairs.size(), [&](std::size_t p) {
-    tests[p] = EndRay(c, p) - FirstRay(c, p);
-    if (c.leaf_test != layout::kLeafTestRaySphere) return;
-    // The lanes test every ray of the pair; the count is of those whose sphere test passes.
-    const glm::vec4 sphere = c.tri_spheres[c.b0 + (c.pairs[p] & kPairTriangleMask)];
-    for (std::uint32_t j = FirstRay(c, p); j < EndRay(c, p); ++j) tests[p] -= !cone::RayMayMeetSphere(c.rays[c.order[j]], sphere, c.eps);
-  });
-  if (!c.pairs.empty()) (isa == cone::Isa::kAvx512 ? TestRuns<16> : TestRuns<8>)(c, w);
-  return tests;
+  if (isa == cone::Isa::kScalar) {
+    std::uint64_t total = 0;
+    for (const std::uint32_t t : PassIntersect(c)) total += t;
+    return total;
+  }
+  return c.pairs.empty() ? 0 : (isa == cone::Isa::kAvx512 ? TestRuns<16> : TestRuns<8>)(c, w);
 }
 
 }  // namespace rayspace::emu

@@ -7,6 +7,7 @@
 #include "rayspace/emu/cone.h"
 #include "rayspace/emu/hierarchy.h"
 #include "rayspace/emu/workgroup_ops.h"
+#include "rayspace/parallel.h"
 #include "rayspace/settings.h"
 
 namespace rayspace::emu {
@@ -59,14 +60,16 @@ namespace {
 
 Compacted ConcatenateBlocks(std::vector<BlockSurvivors>& parts, const std::vector<std::uint64_t>& tested) {
   Compacted r;
-  std::size_t total = 0;
+  std::vector<std::size_t> at(parts.size() + 1, 0);  // where each block's survivors go
   for (std::size_t b = 0; b < parts.size(); ++b) {
     if (CurrentSettings().fused_fault && !parts[b].empty()) parts[b].pop_back();
-    total += parts[b].size();
+    at[b + 1] = at[b] + parts[b].size();
     r.tested += tested[b];
   }
-  r.pairs.reserve(total);
-  for (const auto& part : parts) r.pairs.insert(r.pairs.end(), part.begin(), part.end());
+  r.pairs.resize(at.back());
+  ParallelForDynamic(parts.size(), 64, [&](std::size_t b) {
+    std::copy(parts[b].begin(), parts[b].end(), r.pairs.begin() + static_cast<std::ptrdiff_t>(at[b]));
+  });
   return r;
 }
 

@@ -66,7 +66,8 @@ emu::Compacted TwoPassesOnGpu(gpu_backend::VulkanPasses& gpu, const C& call) {
   emu::Compacted r;
   for (std::uint8_t t : slots.tested) r.tested += t;
   const emu::call::Reduce reduce{.reduction = emu::Reduction::kScan, .flags = slots.flags, .values = slots.values};
-  r.pairs = RunOnGpu<std::vector<std::uint32_t>>(gpu, reduce);
+  const auto pairs = RunOnGpu<std::vector<std::uint32_t>>(gpu, reduce);
+  r.pairs.assign(pairs.begin(), pairs.end());
   return r;
 }
 
@@ -289,7 +290,8 @@ class CompactChecker final : public emu::ForwardingHierarchyPasses {
   template <typename C>
   void Check(const C& c, const emu::PairSlots& s) {
     emu::Compacted two;
-    two.pairs = emu::ReduceScan(s.flags, s.values);
+    const std::vector<std::uint32_t> reduced = emu::ReduceScan(s.flags, s.values);
+    two.pairs.assign(reduced.begin(), reduced.end());
     for (std::uint8_t t : s.tested) two.tested += t;
     const emu::Compacted got = OnGpu(gpu_, c);
     const std::string d = Difference(Emulated(c), got), d2 = Difference(two, got);

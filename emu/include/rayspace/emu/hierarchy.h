@@ -207,7 +207,7 @@ inline constexpr std::size_t kFusedBlock = 8192;
 // cut to the survivors.
 using BlockSurvivors = UninitVector<std::uint32_t>;
 
-// Concatenates per-block survivors in block order.
+// Concatenates per-block survivors in block order, the blocks copied in parallel.
 Compacted ConcatenateBlocks(std::vector<BlockSurvivors>& parts, const std::vector<std::uint64_t>& tested);
 
 // Runs block(i0, i1, survivors, tested) over [0, items) in blocks of `per_block` items, in parallel,

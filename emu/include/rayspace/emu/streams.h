@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "rayspace/emu/fields.h"
+#include "rayspace/emu/uninit_vector.h"
 #include "rayspace/contract.h"
 #include "rayspace/layout.h"
 
@@ -58,7 +59,9 @@ struct PairSlots {
 // order, what PairSlots followed by a reduction give, and the number of tests run. `tested` is a
 // one-element buffer in a buffer set, so the diff compares it (verify/call_codec.h).
 struct Compacted {
-  std::vector<std::uint32_t> pairs;
+  // Unzeroed, so the fused path fills it from its blocks in parallel, faulting its pages in on every
+  // thread instead of zeroing them on one first.
+  UninitVector<std::uint32_t> pairs;
   std::uint64_t tested = 0;
   RS_FIELDS(pairs, tested)
 };

@@ -2,6 +2,7 @@
 // anything reads it (the fused levels' blocks), where zeroing first is a pass over memory that every
 // element's own write repeats.
 #pragma once
+#include <algorithm>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -29,5 +30,11 @@ struct UninitAllocator : std::allocator<T> {
 
 template <typename T>
 using UninitVector = std::vector<T, UninitAllocator<T>>;
+
+// The same elements in the same order, whichever allocator holds them.
+template <typename T>
+bool operator==(const UninitVector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin());
+}
 
 }  // namespace rayspace::emu

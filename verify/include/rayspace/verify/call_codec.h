@@ -28,6 +28,9 @@ template <typename T> struct IsSpan : std::false_type {};
 template <typename T> struct IsSpan<std::span<const T>> : std::true_type { using Elem = T; };
 template <typename T> struct IsVector : std::false_type {};
 template <typename T> struct IsVector<std::vector<T>> : std::true_type { using Elem = T; };
+// An unzeroed vector (emu::UninitVector: Compacted's pairs) travels as its elements.
+template <typename T> struct IsUninitVector : std::false_type {};
+template <typename T> struct IsUninitVector<emu::UninitVector<T>> : std::true_type { using Elem = T; };
 template <typename T> struct IsVectorPtr : std::false_type {};
 template <typename T> struct IsVectorPtr<std::vector<T>*> : std::true_type { using Elem = T; };
 
@@ -85,6 +88,10 @@ void EncodeField(BufferSet& out, std::string_view name_view, F& f) {
     else out.Put(name, f);
   } else if constexpr (IsVector<V>::value) {
     PutArray<H, typename IsVector<V>::Elem>(out, name, f);
+  } else if constexpr (IsUninitVector<V>::value) {
+    using T = typename IsUninitVector<V>::Elem;
+    if constexpr (H == Hold::kView) out.PutView(name, std::span<const T>(f));
+    else out.Put(name, std::span<const T>(f));
   } else if constexpr (IsVectorPtr<V>::value) {
     if (f) PutArray<H, typename IsVectorPtr<V>::Elem>(out, name, *f);
   } else if constexpr (std::is_same_v<V, const SceneBuffers*>) {
@@ -115,6 +122,9 @@ void DecodeField(const BufferSet& in, std::string_view name_view, F& f, Store& s
     store.KeepAlive(in.Owner(name));
   } else if constexpr (IsVector<F>::value) {
     f = in.Get<typename IsVector<F>::Elem>(name);
+  } else if constexpr (IsUninitVector<F>::value) {
+    const auto v = in.Get<typename IsUninitVector<F>::Elem>(name);
+    f.assign(v.begin(), v.end());
   } else if constexpr (IsVectorPtr<F>::value) {
     f = in.Has(name) ? &store.Keep(in.Get<typename IsVectorPtr<F>::Elem>(name)) : nullptr;
   } else if constexpr (std::is_same_v<F, const SceneBuffers*>) {
@@ -174,7 +184,7 @@ template <typename S, typename F>
 void ForEachRange(const S& s, F&& f) {
   emu::ForEachField(s, [&](std::string_view name, const auto& v) {
     using V = std::decay_t<decltype(v)>;
-    if constexpr (IsVector<V>::value) {
+    if constexpr (IsVector<V>::value || IsUninitVector<V>::value) {
       f(name, static_cast<const void*>(v.data()), v.size() * sizeof(typename V::value_type), sizeof(typename V::value_type));
     } else if constexpr (std::is_same_v<V, std::uint64_t>) {
       f(name, static_cast<const void*>(&v), sizeof v, sizeof v);
