@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include <nlohmann/json.hpp>
 
@@ -249,10 +250,9 @@ class Impl final : public HierarchyTracer {
     return passes_.Reduce({.reduction = cfg_.reduction, .component = cfg_.component_size, .flags = flags, .values = values});
   }
 
-  static std::uint64_t Sum(const std::vector<std::uint8_t>& v) {
-    std::uint64_t s = 0;
-    for (std::uint8_t x : v) s += x;
-    return s;
+  template <typename V>
+  static std::uint64_t Sum(const V& v) {
+    return std::accumulate(v.begin(), v.end(), std::uint64_t{0});
   }
 
   // The fused path on the emulator's own passes: the sort and the final tests take host shortcuts
@@ -333,7 +333,7 @@ class Impl final : public HierarchyTracer {
         performed = IntersectLanes(call, watertight_);
         return;
       }
-      for (const std::uint32_t t : passes_.Intersect(call)) performed += t;
+      performed = Sum(passes_.Intersect(call));
     });
     if (cfg_.candidate_log) {
       for (std::uint32_t pair : pairs) {

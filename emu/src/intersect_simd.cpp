@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
+#include <numeric>
 
 #include "rayspace/emu/cone.h"
 #include "rayspace/emu/hierarchy.h"
@@ -74,8 +75,8 @@ bool RunStartsAt(const call::Intersect& c, std::size_t p) {
 }
 
 // The runs found and tested chunk by chunk: a chunk owns the runs that start in it (one may reach
-// past its end), so no array of run starts is built. Every record is an atomic minimum or a store of
-// 1, so the chunks' order changes no bit.
+// past its end) and counts their tests, so no array of run starts is built. Every record is an
+// atomic minimum or a store of 1, so the chunks' order changes no bit.
 constexpr std::size_t kRunChunk = 4096;
 
 // The tests a run of rays [j0, j1) counts against `prim`: every ray, or with the leaf sphere test
@@ -106,9 +107,7 @@ std::uint64_t TestRuns(const call::Intersect& c, const WatertightArrays& w) {
       p = q;
     }
   });
-  std::uint64_t total = 0;
-  for (const std::uint64_t t : tests) total += t;
-  return total;
+  return std::accumulate(tests.begin(), tests.end(), std::uint64_t{0});
 }
 
 }  // namespace
@@ -147,14 +146,12 @@ void IntersectRaysScalar(const call::Intersect& c, std::uint32_t prim, std::uint
 WatertightArrays ToWatertightArrays(std::span<const layout::Ray> rays, std::span<const std::uint32_t> order) {
   const std::size_t n = order.size(), padded = n + WatertightArrays::kPad;
   WatertightArrays w;
-  for (auto* v : {&w.ox, &w.oy, &w.oz, &w.dx, &w.dy, &w.dz, &w.sx, &w.sy, &w.tmin, &w.tmax}) {
-    v->resize(padded);
-    std::fill(v->begin() + static_cast<std::ptrdiff_t>(n), v->end(), 0.0f);
-  }
-  for (auto* v : {&w.kx, &w.ky, &w.kz}) {
-    v->resize(padded);
-    std::fill(v->begin() + static_cast<std::ptrdiff_t>(n), v->end(), 0);
-  }
+  auto padded_array = [&](auto& v) {  // the rays' entries are written below; only the pad is zeroed
+    v.resize(padded);
+    std::fill(v.begin() + static_cast<std::ptrdiff_t>(n), v.end(), 0);
+  };
+  for (auto* v : {&w.ox, &w.oy, &w.oz, &w.dx, &w.dy, &w.dz, &w.sx, &w.sy, &w.tmin, &w.tmax}) padded_array(*v);
+  for (auto* v : {&w.kx, &w.ky, &w.kz}) padded_array(*v);
   ParallelFor(n, [&](std::size_t j) {
     const layout::Ray& r = rays[order[j]];
     const WatertightRay s = SetupWatertight(Xyz(r.origin_tmin), Xyz(r.direction_tmax));
@@ -169,9 +166,8 @@ WatertightArrays ToWatertightArrays(std::span<const layout::Ray> rays, std::span
 std::uint64_t IntersectLanes(const call::Intersect& c, const WatertightArrays& w) {
   const cone::Isa isa = IntersectIsa();
   if (isa == cone::Isa::kScalar) {
-    std::uint64_t total = 0;
-    for (const std::uint32_t t : PassIntersect(c)) total += t;
-    return total;
+    const std::vector<std::uint32_t> tests = PassIntersect(c);
+    return std::accumulate(tests.begin(), tests.end(), std::uint64_t{0});
   }
   return c.pairs.empty() ? 0 : (isa == cone::Isa::kAvx512 ? TestRuns<16> : TestRuns<8>)(c, w);
 }

@@ -54,10 +54,6 @@ Compacted PassTraverseLevelCompacted(const call::TraverseLevelCompacted& c) {
   return PassTraverseLevelCompacted(static_cast<const call::TraverseLevel&>(c));
 }
 
-namespace {
-}  // namespace
-
-
 Compacted ConcatenateBlocks(std::vector<BlockSurvivors>& parts, const std::vector<std::uint64_t>& tested) {
   Compacted r;
   std::vector<std::size_t> at(parts.size() + 1, 0);  // where each block's survivors go
