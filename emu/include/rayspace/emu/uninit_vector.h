@@ -3,9 +3,12 @@
 // element's own write repeats.
 #pragma once
 #include <algorithm>
+#include <cstddef>
 #include <memory>
 #include <utility>
 #include <vector>
+
+#include "rayspace/large_memory.h"
 
 namespace rayspace::emu {
 
@@ -18,6 +21,14 @@ struct UninitAllocator : std::allocator<T> {
   UninitAllocator() = default;
   template <typename U>
   UninitAllocator(const UninitAllocator<U>&) noexcept {}
+  T* allocate(std::size_t n) {
+    if (n * sizeof(T) < kLargeBytes) return std::allocator<T>::allocate(n);
+    return static_cast<T*>(AllocateLarge(n * sizeof(T)));
+  }
+  void deallocate(T* p, std::size_t n) noexcept {
+    if (n * sizeof(T) < kLargeBytes) std::allocator<T>::deallocate(p, n);
+    else FreeLarge(p);
+  }
   template <typename U>
   void construct(U* p) noexcept {
     ::new (static_cast<void*>(p)) U;
