@@ -105,6 +105,19 @@ TEST_CASE("reproduce roger: relations hold on good counts and fail on bad ones")
   CHECK(doubled.detail == "x2.31 > x2 (published x2.53)");
   CHECK_FALSE(MoreThanDouble(2.0, 1.0).holds);
   CHECK_FALSE(MoreThanDouble(5.0, 0.0).holds);
+  // Figure 14(c): faster than the BVH's frame; equal or no BVH frame is not faster.
+  const Outcome half = FasterThanBvh(50.0, 100.0);
+  CHECK(half.holds);
+  CHECK(half.detail == "x0.50 the BVH's frame (published about x0.5)");
+  CHECK_FALSE(FasterThanBvh(100.0, 100.0).holds);
+  CHECK_FALSE(FasterThanBvh(100.0, 0.0).holds);
+  // Figure 14(b): the ratio to the BVH crosses 1 from the fewest polygons to the most, in polygon order.
+  const Outcome crosses = OvertakesBvh({{69451, 0.8}, {948, 1.4}, {3851, 1.1}});
+  CHECK(crosses.holds);
+  CHECK(crosses.detail == "x1.40, x1.10, x0.80 from the fewest polygons to the most");
+  CHECK_FALSE(OvertakesBvh({{948, 4.5}, {3851, 11.7}}).holds);   // slower and slower
+  CHECK_FALSE(OvertakesBvh({{948, 0.5}, {3851, 0.4}}).holds);    // faster throughout: never slower
+  CHECK_FALSE(OvertakesBvh({{948, 1.5}}).holds);                 // one point compares nothing
 }
 
 TEST_CASE("reproduce roger: the report's verdicts follow the counts") {
@@ -150,6 +163,43 @@ TEST_CASE("reproduce roger: the report's verdicts follow the counts") {
   CHECK(v.at(lod) == "fails");     // the finer bunny took fewer tests
   CHECK(v.at(pixels) == "fails");  // 600 -> 2400: x4
   CHECK(v.at(per_ray) == "fails");  // 9 per ray
+}
+
+TEST_CASE("reproduce roger: the report's rows do not depend on the results' order, configurations that differ by a switch included") {
+  // The quadtree with and without --leaf-test differ only in their switches: the table order must
+  // tell them apart, or the rows of a tie follow the order the results came in.
+  auto result = [](const std::string& scene, bool leaf_test, std::uint64_t cone) {
+    Result r;
+    r.config.target = "roger";
+    r.config.scene = scene;
+    r.config.algo = "rah-quadtree";
+    r.config.width = r.config.height = 64;
+    if (leaf_test) r.config.switches = {"--leaf-test", "ray-sphere"};
+    TypeCounts& t = r.counts.types["reflection"];
+    t.levels = {{cone / 2, 1}, {cone - cone / 2, 1}};
+    t.final_tests = cone / 3;
+    t.rays = 100;
+    t.brute_force = 100 * 100;
+    r.counts.total = cone + t.final_tests;
+    r.timings = {{"frame_ms", 1.0}, {"phases", nlohmann::json::array()}};
+    return r;
+  };
+  std::vector<Result> forward;
+  for (const char* scene : {"BUNNY res4", "BUNNY res3", "WAVY n=4", "WAVY n=8"})
+    for (const bool leaf : {false, true}) forward.push_back(result(scene, leaf, leaf ? 900 : 1200));
+  const std::vector<Result> backward(forward.rbegin(), forward.rend());
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "rayspace-roger-order";
+  auto report = [&](const std::vector<Result>& results) {
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    WriteReport(dir, results);
+    std::ifstream in(dir / "report.md");
+    return std::string{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  };
+  const std::string a = report(forward), b = report(backward);
+  std::filesystem::remove_all(dir);
+  CHECK(a.find("rah-quadtree --leaf-test ray-sphere, BUNNY res4, 64x64") != std::string::npos);
+  CHECK(a == b);
 }
 
 TEST_CASE("reproduce: the summary counts each relation's verdicts, the paper's apart from the project's") {

@@ -127,11 +127,11 @@ std::vector<const Result*> TableOrder(std::vector<const Result*> sorted) {
     return std::make_tuple(a->config.target, scene_rank(a->config.scene), a->config.quadtree(), a->config.subdivision, a->config.levels,
                            a->config.algo, a->config.width, a->config.height, a->config.faithful, a->config.one_object, a->config.path,
                            a->config.lists, a->config.node_order, a->config.cull, a->config.heads, a->config.primary,
-                           a->config.frustum, a->config.grid_area, a->config.grid_regular_cells, a->config.threads) <
+                           a->config.frustum, a->config.grid_area, a->config.grid_regular_cells, a->config.threads, a->config.switches) <
            std::make_tuple(b->config.target, scene_rank(b->config.scene), b->config.quadtree(), b->config.subdivision, b->config.levels,
                            b->config.algo, b->config.width, b->config.height, b->config.faithful, b->config.one_object, b->config.path,
                            b->config.lists, b->config.node_order, b->config.cull, b->config.heads, b->config.primary,
-                           b->config.frustum, b->config.grid_area, b->config.grid_regular_cells, b->config.threads);
+                           b->config.frustum, b->config.grid_area, b->config.grid_regular_cells, b->config.threads, b->config.switches);
   });
   return sorted;
 }
@@ -192,7 +192,11 @@ Report WriteReport(const std::filesystem::path& out, const std::vector<Result>& 
                    : !roger.empty()           ? "Roger et al. 2007: its claims and ours"
                                               : "Toczek et al. 2010: its tables and ours";
   }
-  AddRogerReport(report, roger_sorted);
+  // Embree's frames (figure 14) are times only: the report's counts are the hierarchy's.
+  std::vector<const Result*> roger_hierarchy;
+  for (const Result* r : roger_sorted)
+    if (!r->config.embree()) roger_hierarchy.push_back(r);
+  AddRogerReport(report, roger_hierarchy);
   Report paper_timings;
   AddToczekReport(report, paper_timings, TableOrder(toczek));
   AddHuntReport(report, paper_timings, TableOrder(hunt));
