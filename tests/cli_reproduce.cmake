@@ -142,6 +142,10 @@ string(FIND "${timings}" "figure 9(a): share of frame time per phase" at)
 if(at EQUAL -1)
   set(FAILURES "${FAILURES}\n  [roger] timings.md lacks the figure 9(a) phase shares")
 endif()
+# Figure 14: the bunny's frames beside Embree's, and both relations judged per hierarchy shape.
+expect_in(roger roger-first/timings.md "figure 14(b, c): the frame against a BVH's" "| BUNNY res4 rah-quadtree 16x16 | 948 |"
+          "- faster than a BVH on a reflecting bunny (fig. 14(c): about 2x), rah-quadtree on BUNNY res3:"
+          "- against a BVH, slower on simple scenes, faster on complex ones (fig. 14(b)), rah s8 d2:")
 target_sharded(toczek 4 "# Toczek et al. 2010: its tables and ours" "## Toczek et al. table 1" "## Toczek et al. table 2"
                "| the node order changes nodes per ray by at most 20% (table 1) |" "| DRAGON | ours | 100,002 |"
                "| back-face culling lowers nodes per ray (table 1) | bunny, earliest-first, heads and frustum culling disabled |")

@@ -55,6 +55,13 @@ std::vector<Config> RogerConfigs(int width, int height, bool full) {
     c.levels = 2;
     configs.push_back(c);
     if (!faithful) return;
+    // Figure 14: the same frame through Embree's BVH, on the bunny's LODs.
+    if (s.series == "bunny") {
+      Config e = c;
+      e.algo = "embree";
+      e.path.clear();
+      configs.push_back(e);
+    }
     // The quadtree as the paper describes it (--faithful roger: its leaf-level ray-sphere test and its
     // printed cone test), beside rayspace's: figure 13(a)'s tests per ray depend on the leaf test.
     c.algo = "rah-quadtree";
@@ -136,6 +143,22 @@ Outcome MoreThanDouble(double with, double without) {
   const double ratio = without > 0 ? with / without : 0.0;
   const bool holds = without > 0 && ratio > 2.0;
   return {holds, fmt::format("x{:.2f} {} x2 (published x{:.2f})", ratio, holds ? ">" : "<=", kRogerMuseumWith / kRogerMuseumWithout)};
+}
+
+Outcome FasterThanBvh(double ours_ms, double bvh_ms) {
+  const double ratio = bvh_ms > 0 ? ours_ms / bvh_ms : 0.0;
+  const bool holds = bvh_ms > 0 && ours_ms > 0 && ratio < 1.0;
+  return {holds, fmt::format("x{:.2f} the BVH's frame (published about x0.5)", ratio)};
+}
+
+Outcome OvertakesBvh(std::vector<std::pair<double, double>> points) {
+  std::stable_sort(points.begin(), points.end());
+  if (points.size() < 2) return {false, fmt::format("{} point(s): nothing to compare", points.size())};
+  const double first = points.front().second, last = points.back().second;
+  const bool holds = first > 1.0 && last < 1.0;
+  std::string detail;
+  for (const auto& [polygons, ratio] : points) detail += fmt::format("{}x{:.2f}", detail.empty() ? "" : ", ", ratio);
+  return {holds, detail + " from the fewest polygons to the most"};
 }
 
 Outcome InRange(double v, double lo, double hi) {
