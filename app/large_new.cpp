@@ -1,6 +1,6 @@
 // The executable's operator new: allocations of at least kLargeBytes in huge pages
 // (rayspace/large_memory.h). Most of a frame's arrays are std::vectors, filled once, so their pages
-// are first touched by the pass that fills them; in huge pages a frame takes about a quarter of the
+// are first touched by the pass that fills them; in huge pages a frame takes about a third of the
 // faults. Both paths are the C heap, so every operator delete is free(). The library does not
 // replace operator new: a program that links it chooses its own.
 #include <cstdlib>

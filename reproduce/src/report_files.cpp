@@ -192,11 +192,7 @@ Report WriteReport(const std::filesystem::path& out, const std::vector<Result>& 
                    : !roger.empty()           ? "Roger et al. 2007: its claims and ours"
                                               : "Toczek et al. 2010: its tables and ours";
   }
-  // Embree's frames (figure 14) are times only: the report's counts are the hierarchy's.
-  std::vector<const Result*> roger_hierarchy;
-  for (const Result* r : roger_sorted)
-    if (!r->config.embree()) roger_hierarchy.push_back(r);
-  AddRogerReport(report, roger_hierarchy);
+  AddRogerReport(report, roger_sorted);
   Report paper_timings;
   AddToczekReport(report, paper_timings, TableOrder(toczek));
   AddHuntReport(report, paper_timings, TableOrder(hunt));

@@ -250,7 +250,11 @@ Table FitTable(const std::vector<const Result*>& results, int side, const Verdic
 
 }  // namespace
 
-void AddRogerReport(Report& report, const std::vector<const Result*>& results) {
+void AddRogerReport(Report& report, const std::vector<const Result*>& all) {
+  // Embree's frames (figure 14) are times only (timings.md): the report's counts are the hierarchy's.
+  std::vector<const Result*> results;
+  for (const Result* r : all)
+    if (!r->config.embree()) results.push_back(r);
   if (results.empty()) return;
   const int side = BaseSide(results);
   Verdicts v;

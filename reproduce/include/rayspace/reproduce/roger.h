@@ -87,8 +87,8 @@ struct GrowthPoint {
 Outcome GrowsWith(std::vector<GrowthPoint> points);
 // Holds when ours takes less time than the BVH's frame; detail: the ratio.
 Outcome FasterThanBvh(double ours_ms, double bvh_ms);
-// Figure 14(b): holds when ours over the BVH's frame falls from the fewest polygons to the most and
-// crosses 1 (slower on the simplest, faster on the most complex). Points: (polygons, ratio).
+// Figure 14(b): holds when ours over the BVH's frame is above 1 on the fewest polygons and below 1
+// on the most (slower on the simplest scene, faster on the most complex). Points: (polygons, ratio).
 Outcome OvertakesBvh(std::vector<std::pair<double, double>> points);
 // Holds when the irregular reflector's growth (work per ray in the larger room over the smaller)
 // exceeds the smooth one's; detail "x1.80 > x1.20".
