@@ -37,6 +37,24 @@ std::vector<std::uint32_t> ScheduleOrder(std::uint32_t n, const wg::Schedule& s,
   return order;
 }
 constexpr std::uint32_t kNone = ~0u;
+
+// Moves `words` words (register words, or their initcheck shadows, one byte a word): 1 to 4 nearly
+// always, as constant-size moves the compiler inlines rather than a call into the C library.
+template <class Word>
+inline void MoveWords(Word* to, const Word* from, std::size_t words) {
+  switch (words * sizeof(Word)) {
+    case 1: std::memmove(to, from, 1); return;
+    case 2: std::memmove(to, from, 2); return;
+    case 4: std::memmove(to, from, 4); return;
+    case 8: std::memmove(to, from, 8); return;
+    case 12: std::memmove(to, from, 12); return;
+    case 16: std::memmove(to, from, 16); return;
+    default: std::memmove(to, from, words * sizeof(Word));
+  }
+}
+inline void MoveBytes(void* to, const void* from, std::size_t bytes) {
+  MoveWords(static_cast<std::uint8_t*>(to), static_cast<const std::uint8_t*>(from), bytes);
+}
 // The register words before member or element `index` of a value of `type`, and that part's type.
 static std::pair<std::uint32_t, std::uint32_t> Part(const Program& p, std::uint32_t type, std::uint32_t index);
 
@@ -450,7 +468,7 @@ class Workgroup {
   void MoveComposite(const Inst& in, File file) {
     const auto ops = p_.Ops(in);
     using Word = std::remove_pointer_t<decltype(file(0u, 0u))>;
-    const auto move = [](Word* to, const Word* from, std::uint32_t words) { std::memmove(to, from, words * sizeof(Word)); };
+    const auto move = [](Word* to, const Word* from, std::uint32_t words) { MoveWords(to, from, words); };
     if (static_cast<Op>(in.op) == Op::OpCompositeConstruct) {
       for (std::uint32_t l : lanes_) {
         std::uint32_t at = 0;
@@ -589,7 +607,7 @@ void Workgroup::TrackBefore(const Inst& in) {
       for (std::uint32_t l : lanes_) {
         const std::size_t w = PrivateWord(l, ops[0], words);
         if (w != kNone) {
-          std::memcpy(private_undef_.data() + w, U(l, ops[1]), words);
+          MoveBytes(private_undef_.data() + w, U(l, ops[1]), words);
         } else if (Undefined(l, ops[1])) {
           undefined(l, "stores to memory other invocations see");
         }
@@ -611,13 +629,13 @@ void Workgroup::Propagate(const Inst& in) {
   const auto ops = p_.Ops(in);
   const auto op = static_cast<Op>(in.op);
   const std::uint32_t words = p_.T(in.type).words;
-  const auto copy = [&](std::uint32_t l, std::uint32_t from, std::uint32_t at = 0) { std::memcpy(U(l, in.result), U(l, from) + at, words); };
+  const auto copy = [&](std::uint32_t l, std::uint32_t from, std::uint32_t at = 0) { MoveBytes(U(l, in.result), U(l, from) + at, words); };
   const auto set = [&](std::uint32_t l, bool u) { std::fill_n(U(l, in.result), words, static_cast<std::uint8_t>(u)); };
   switch (op) {
     case Op::OpLoad:
       for (std::uint32_t l : lanes_) {
         const std::size_t w = PrivateWord(l, ops[0], words);
-        if (w != kNone) std::memcpy(U(l, in.result), private_undef_.data() + w, words);
+        if (w != kNone) MoveBytes(U(l, in.result), private_undef_.data() + w, words);
         else set(l, false);  // shared memory has its own initcheck; storage buffers are the host's
       }
       return;
@@ -678,7 +696,7 @@ void Workgroup::Propagate(const Inst& in) {
         continue;
       }
       const std::uint32_t src = op == Op::OpGroupNonUniformBroadcastFirst ? lanes_[0] : sub_first_ + R(l, ops[2])[0];
-      if (Active(active, src)) std::memcpy(U(l, in.result), U(src, ops[1]), words);
+      if (Active(active, src)) MoveBytes(U(l, in.result), U(src, ops[1]), words);
       else set(l, true);
     }
     return;
@@ -709,7 +727,8 @@ bool Workgroup::Execute(const Inst& in, std::uint32_t s) {
   const std::uint32_t label = p_.segments[s].label;
   const auto jump = [&](std::uint32_t l, std::uint32_t target) {
     prev_[l] = label;
-    seg_[l] = p_.segment_of_label.at(target);
+    seg_[l] = p_.segment_of_label[target];
+    if (seg_[l] == kNone) [[unlikely]] Fail(in, "a branch to no block of the entry function");
   };
   switch (static_cast<Op>(in.op)) {
     case Op::OpNop:
@@ -768,7 +787,7 @@ bool Workgroup::Execute(const Inst& in, std::uint32_t s) {
         bool found = false;
         for (std::size_t k = 0; k + 1 < ops.size(); k += 2)
           if (ops[k + 1] == prev_[l]) {
-            std::memmove(R(l, in.result), R(l, ops[k]), words * 4);
+            MoveWords(R(l, in.result), R(l, ops[k]), words);
             found = true;
             break;
           }
@@ -850,8 +869,8 @@ std::uint8_t* Workgroup::Address(const Inst& in, std::uint32_t lane, std::uint32
 void Workgroup::Copy(const Inst& in, std::uint32_t type, bool expl, std::uint8_t* mem, std::uint32_t* reg, bool load) {
   const Type& t = p_.T(type);
   const auto move = [&](std::uint8_t* m, std::uint32_t* r, std::size_t words) {
-    if (load) std::memcpy(r, m, words * 4);
-    else std::memcpy(m, r, words * 4);
+    if (load) MoveBytes(r, m, words * 4);
+    else MoveBytes(m, r, words * 4);
   };
   if (!expl || t.kind == TypeKind::kInt || t.kind == TypeKind::kFloat || t.kind == TypeKind::kBool || t.kind == TypeKind::kPointer) {
     move(mem, reg, t.words);
@@ -958,7 +977,7 @@ void Workgroup::Memory(const Inst& in) {
     }
     default: {  // OpCopyObject, OpCopyLogical: the same register words
       const std::uint32_t words = p_.T(in.type).words;
-      for (std::uint32_t l : lanes_) std::memmove(R(l, in.result), R(l, ops[0]), words * 4);
+      for (std::uint32_t l : lanes_) MoveWords(R(l, in.result), R(l, ops[0]), words);
       return;
     }
   }
@@ -1165,7 +1184,7 @@ void Workgroup::Arithmetic(const Inst& in) {
       const Comp cc = CompOf(TypeOfValue(ops[0]));
       const std::uint32_t words = p_.T(in.type).words;
       if (cc.n == 1) {
-        for (std::uint32_t l : lanes_) std::memmove(R(l, in.result), R(l, R(l, ops[0])[0] ? ops[1] : ops[2]), words * 4);
+        for (std::uint32_t l : lanes_) MoveWords(R(l, in.result), R(l, R(l, ops[0])[0] ? ops[1] : ops[2]), words);
       } else {
         const Comp rc = CompOf(in.type);
         for (std::uint32_t l : lanes_)
@@ -1214,7 +1233,7 @@ void Workgroup::Arithmetic(const Inst& in) {
     }
     case Op::OpBitcast: {
       const std::uint32_t words = p_.T(in.type).words;
-      for (std::uint32_t l : lanes_) std::memmove(R(l, in.result), R(l, ops[0]), words * 4);
+      for (std::uint32_t l : lanes_) MoveWords(R(l, in.result), R(l, ops[0]), words);
       return;
     }
     case Op::OpCompositeConstruct:
@@ -1238,7 +1257,7 @@ void Workgroup::Arithmetic(const Inst& in) {
         const std::uint64_t idx = Get(R(l, ops[insert ? 2 : 1]), ic, 0);
         if (idx >= vc.n) Fail(in, fmt::format("component {} of a {}-component vector", idx, vc.n));
         if (insert) {
-          std::memmove(R(l, in.result), R(l, ops[0]), vc.n * vc.words * 4);
+          MoveWords(R(l, in.result), R(l, ops[0]), vc.n * vc.words);
           Put(R(l, in.result), vc, static_cast<std::uint32_t>(idx), Get(R(l, ops[1]), vc, 0));
         } else {
           Put(R(l, in.result), vc, 0, Get(R(l, ops[0]), vc, static_cast<std::uint32_t>(idx)));
@@ -1430,7 +1449,7 @@ void Workgroup::Subgroup(const Inst& in) {
         }
         // An inactive lane's value is undefined (initcheck says so): 0 here, not what its register
         // holds from an earlier invocation, so the bits do not depend on the schedule.
-        if (Active(active, src)) std::memmove(R(l, in.result), R(src, ops[1]), words * 4);
+        if (Active(active, src)) MoveWords(R(l, in.result), R(src, ops[1]), words);
         else std::fill_n(R(l, in.result), words, 0u);
       }
       return;

@@ -80,6 +80,7 @@ class Builder {
     p_.types.resize(bound);
     p_.reg.assign(bound, ~0u);
     p_.value_type.assign(bound, 0);
+    p_.segment_of_label.assign(bound, ~0u);
   }
 
   void Decorations(const std::vector<RawInst>& insts) {

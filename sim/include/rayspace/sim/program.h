@@ -63,7 +63,7 @@ struct Program {
   std::vector<Inst> code;
   std::vector<std::uint32_t> operands;
   std::vector<Segment> segments;             // in function order
-  std::map<std::uint32_t, std::uint32_t> segment_of_label;  // label id -> its first segment
+  std::vector<std::uint32_t> segment_of_label;  // by label id: its first segment (~0u: not a label); a branch looks it up per lane
   std::vector<Variable> variables;           // module-scope and the entry function's
   std::uint32_t local_size[3] = {1, 1, 1};
   std::uint32_t glsl_set = 0;                // the GLSL.std.450 import's id
